@@ -1,0 +1,70 @@
+/* The case: every input parameter of a run, in the units engineers use for the specimen
+ * (mm, N/mm^3, deg, kg/m^3), read from an INI file and validated before anything runs.
+ * Conversion to SI happens once, where the geometry and the model are built. */
+#ifndef VOUSSOIR_CASE_H
+#define VOUSSOIR_CASE_H
+
+#include "voussoir/status.h"
+
+typedef struct {
+  /* [arch] segmental circular arch */
+  double radius_mm;     /* intrados radius R, > 0, default 300 */
+  double thickness_mm;  /* radial thickness t, > 0, default 24 */
+  double embrace_deg;   /* angle of embrace, (0, 180], default 125 (symmetric about the crown) */
+  int voussoirs;        /* number of voussoirs, 1..20000, default 55 */
+  double depth_mm;      /* out-of-plane depth b, > 0, default 120 */
+  double density_kg_m3; /* density, > 0, default 1640 */
+  double gravity_m_s2;  /* gravitational acceleration, > 0, default 9.81 */
+
+  /* [joints] no-tension, frictional, elastic interfaces */
+  double kn_N_mm3; /* normal stiffness per unit area, > 0, default 3 */
+  double ks_ratio; /* shear stiffness k_s / k_n, > 0, default 0.5 */
+  double friction; /* Coulomb friction coefficient mu, > 0, default 0.7 */
+
+  /* [support] the right support moves, the left is fixed */
+  double alpha_deg; /* direction from the vertical: 0 = settlement down, 90 = outward; [-180, 180], default 0 */
+  double rate_mm_s; /* support speed, > 0, default 0.04 (used by the dynamic phase) */
+  double max_mm;    /* largest support displacement followed, > 0, default 300 */
+
+  /* [solver] quasi-static path (KINSOL) */
+  double step_mm;      /* initial increment of the support displacement, > 0, default 0.5 */
+  double step_max_mm;  /* largest increment, >= step_mm, default 2 */
+  double limit_tol_mm; /* bisection tolerance on a limit point, (0, step_mm], default 1e-3 */
+  double newton_tol;   /* scaled residual tolerance (fraction of a voussoir's weight), (0, 1e-2], default 1e-8 */
+  int newton_maxiter;  /* Newton iterations per increment, 2..1000, default 25 */
+
+  /* [hinges] what counts as a hinge */
+  double open_mm;     /* edge opening beyond which a joint is open (a hinge), > 0, default 0.05 */
+  int migrate_joints; /* a hinge that reappears within this many joints of where it was, on the
+                         same side, is the same hinge that migrated; 0..100, default 3 */
+} vs_case;
+
+/* Fill c with the defaults: the reference specimen of DOMAIN.md with k_n = 3 N/mm^3, alpha = 0. */
+void vs_case_defaults(vs_case *c);
+
+/* Read an INI case file (libinih) over the current contents of c (call vs_case_defaults first).
+ * Every value is parsed and range-checked; the first problem is reported in err as
+ * "FILE:LINE: section.key = value: reason (allowed: ...)" with VS_ERR_PARSE (malformed line,
+ * unknown section or key, not a number, empty value, nan/inf) or VS_ERR_INVALID (out of range);
+ * a file that cannot be opened or read gives VS_ERR_IO ("FILE: cannot open: reason").
+ * Section and key names are case-sensitive; a key may appear twice, the later value wins.
+ * Comments start with ';' or '#' at the beginning of a line or after a blank; leading blanks are
+ * ignored (there are no continuation lines). c is changed only if the whole file is accepted.
+ * If text_out is not NULL, *text_out receives a malloc'd copy of the file's text (caller frees)
+ * for echoing, or NULL on failure. */
+vs_status vs_case_read(vs_case *c, const char *path, char **text_out, vs_error *err);
+
+/* Apply one "section.key=value" override (the CLI's --set); blanks around the parts are
+ * ignored. Errors as vs_case_read, with "--set section.key=value" in place of FILE:LINE;
+ * c is unchanged on failure. */
+vs_status vs_case_set(vs_case *c, const char *assignment, vs_error *err);
+
+/* Check every field's range again (fields may have been set in code) and the relations between
+ * fields: limit_tol_mm <= step_mm <= step_max_mm and step_mm < max_mm. Call it after all
+ * overrides. Fails with VS_ERR_INVALID; err names the field(s) and the allowed range. */
+vs_status vs_case_validate(const vs_case *c, vs_error *err);
+
+/* Intrados span L = 2 R sin(embrace/2), in mm: the length the study normalises by. */
+double vs_case_span_mm(const vs_case *c);
+
+#endif

@@ -1,0 +1,51 @@
+/* Hinges: which joints are open, on which side, grouped into (possibly spread) hinges, tracked
+ * as the support moves (onset, migration, closing) and labelled A-E as DOMAIN.md defines. */
+#ifndef VOUSSOIR_HINGES_H
+#define VOUSSOIR_HINGES_H
+
+#include <stddef.h>
+
+#include "voussoir/joint.h"
+#include "voussoir/status.h"
+
+typedef struct {
+  double open;   /* edge opening (m) beyond which a joint counts as open */
+  int migrate;   /* a same-side group within this many joints of a hinge is that hinge */
+} vs_hinge_opts;
+
+typedef struct {
+  char label;            /* 'A'..'E' ('F'.. beyond), '?' until three hinges have formed */
+  char side;             /* 'I' intrados or 'E' extrados: the edge that stays in contact */
+  int first, last;       /* current joints (1-based); last > first for a spread hinge */
+  int onset_first, onset_last; /* joints when it formed */
+  double delta_onset;    /* support displacement at onset, m */
+  int order;             /* order of appearance, 1-based */
+  int open;              /* 1 while open */
+  double delta_closed;   /* support displacement at which it closed, m (NaN while open) */
+} vs_hinge;
+
+typedef struct vs_hinges vs_hinges;
+
+/* Tracker for n_joints joints. */
+vs_status vs_hinges_create(int n_joints, const vs_hinge_opts *opts, vs_hinges **out,
+                           vs_error *err);
+void vs_hinges_destroy(vs_hinges **h);
+
+/* Open side of one joint: 'I' (hinge at the intrados: the extrados opened), 'E', or 0 closed. */
+char vs_hinges_joint_side(const vs_hinge_opts *opts, const vs_joint_state *st);
+
+/* Classify every joint at support displacement delta (m) and update the hinges.
+ * Returns the number of hinges that formed in this update. */
+int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st);
+
+/* Hinges in order of appearance. */
+int vs_hinges_count(const vs_hinges *h);
+const vs_hinge *vs_hinges_get(const vs_hinges *h, int i);
+
+/* Number of hinges open now. */
+int vs_hinges_open_count(const vs_hinges *h);
+
+/* "9-I" or "44-45-46-I" for the current joints (onset = 0) or the onset joints (onset = 1). */
+void vs_hinge_name(const vs_hinge *hg, int onset, char *buf, size_t size);
+
+#endif

@@ -1,0 +1,67 @@
+/* The joint law: a zero-thickness, no-tension, frictional, elastic interface between two rigid
+ * bodies, with exact large-rotation kinematics. One evaluation returns the joint forces, their
+ * exact derivatives (for the Jacobian) and the diagnostics the hinge detector reads.
+ *
+ * Kinematics. Let d(eta) be the displacement of the face of b relative to the face of a at the
+ * joint point eta, and let the joint frame rotate with the mean rotation (theta_a + theta_b)/2:
+ * n (from a to b) and s (along the joint, intrados to extrados). Then, exactly,
+ *   gap(xi)  = d_c . n - w xi,  w = 2 sin((theta_b - theta_a)/2),  xi = eta - t/2 in [-t/2, t/2],
+ *   slip     = d_c . s          (uniform along the joint),
+ * where d_c is d at the joint centre. A common rigid motion of a and b gives d = 0: the law is
+ * objective. The penetration p(xi) = a + w xi with a = -d_c . n.
+ *
+ * Normal law: sigma = k_n <p>, integrated in closed form over the compressed length (Winkler,
+ * no tension). Shear: T = k_s b t (slip - slip_p) over the whole joint, so that its energy is a
+ * function of the state and opening/reclosing creates no energy; Coulomb |T| <= mu N with the
+ * plastic slip slip_p updated by return mapping (irreversible). SI units. */
+#ifndef VOUSSOIR_JOINT_H
+#define VOUSSOIR_JOINT_H
+
+#include "voussoir/geometry.h"
+
+typedef struct {
+  double kn; /* normal stiffness per unit area, N/m^3 */
+  double ks; /* shear stiffness per unit area, N/m^3 */
+  double mu; /* Coulomb friction coefficient */
+} vs_joint_law;
+
+/* Normal response of a no-tension Winkler joint of length t and depth b to the affine
+ * penetration p(xi) = a + w xi, xi in [-t/2, t/2] (xi > 0 towards the extrados). */
+typedef struct {
+  double N;       /* normal force, compression > 0, N */
+  double M;       /* moment of the contact stresses about the joint centre, N m
+                     (> 0 when the extrados side carries more) */
+  double N_a, N_w, M_w; /* exact partial derivatives (M_a = N_w) */
+  double energy;  /* elastic energy stored, J */
+  double contact; /* compressed length, m, in [0, t] */
+} vs_normal_response;
+
+/* Closed-form normal response (see vs_normal_response). kn in N/m^3, b and t in m, a in m,
+ * w dimensionless (the gap slope). Never fails. */
+void vs_joint_normal(double kn, double b, double t, double a, double w, vs_normal_response *r);
+
+/* Everything one joint evaluation yields. */
+typedef struct {
+  double N, T, M;     /* normal force (compression > 0), shear along s, moment about the centre */
+  double a, w;        /* penetration at the centre (m) and gap slope (see above) */
+  double slip;        /* total tangential displacement of b relative to a, m */
+  double slip_p;      /* plastic slip after the return mapping, m */
+  double contact;     /* compressed length, m */
+  double gap_i;       /* opening at the intrados edge, m (> 0 open, < 0 penetration) */
+  double gap_e;       /* opening at the extrados edge, m */
+  int sliding;        /* 1 when the Coulomb limit is active */
+  double energy;      /* elastic energy (normal + shear), J */
+} vs_joint_state;
+
+/* Evaluate the joint between bodies a and b.
+ * qa, qb: displacement of each body's reference point (ux, uz, m) and rotation (theta, rad,
+ * counter-clockwise) ; ra, rb: vector from each body's reference point to the joint centre in
+ * the reference configuration (m); slip_p_old: plastic slip at the last converged state.
+ * Outputs (any may be NULL): st, the state; f[6], the gradient of the joint energy with respect
+ * to (qa, qb) -- the internal generalised force, so that equilibrium reads sum f = external
+ * load; K[36], row-major df/d(qa, qb), exact (consistent tangent of the return mapping). */
+void vs_joint_eval(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
+                   const double qb[3], const double ra[2], const double rb[2], double slip_p_old,
+                   vs_joint_state *st, double f[6], double K[36]);
+
+#endif

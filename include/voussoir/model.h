@@ -1,0 +1,65 @@
+/* The model: equilibrium of the rigid voussoirs under gravity and the joint forces, with the
+ * right support moved by delta along a fixed direction. Residual and analytic CSC Jacobian share
+ * one evaluation of the joint law; the sparsity pattern is built once. SI units. */
+#ifndef VOUSSOIR_MODEL_H
+#define VOUSSOIR_MODEL_H
+
+#include <sundials/sundials_matrix.h>
+
+#include "voussoir/geometry.h"
+#include "voussoir/joint.h"
+#include "voussoir/status.h"
+
+typedef struct vs_model vs_model;
+
+/* Create a model over geometry g (borrowed: it must outlive the model) with joint law law and
+ * the right support moving along alpha_rad measured from the vertical: the support
+ * displacement is delta (sin alpha, -cos alpha). Fails with VS_ERR_INVALID on a bad law. */
+vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double alpha_rad,
+                          vs_model **out, vs_error *err);
+
+/* Free m and NULL *m; NULL allowed. */
+void vs_model_destroy(vs_model **m);
+
+/* Number of unknowns (3 per block: ux, uz in m, theta in rad) and Jacobian non-zeros. */
+int vs_model_size(const vs_model *m);
+int vs_model_nnz(const vs_model *m);
+const vs_geometry *vs_model_geometry(const vs_model *m);
+const vs_joint_law *vs_model_law(const vs_model *m);
+
+/* Displacement of the right support (ux, uz, m) for support displacement delta (m). */
+void vs_model_support_displacement(const vs_model *m, double delta, double u[2]);
+
+/* Residual G(q; delta) = joint forces - gravity, per block (Fx, Fz in N, moment in N m).
+ * Equilibrium is G = 0. Uses the committed plastic slips. */
+void vs_model_residual(const vs_model *m, const double *q, double delta, double *G);
+
+/* Jacobian dG/dq at (q, delta) into J, a CSC SUNSparseMatrix of size vs_model_size and
+ * capacity >= vs_model_nnz; the pattern is written too (it never changes). Returns 0. */
+int vs_model_jacobian(const vs_model *m, const double *q, double delta, SUNMatrix J);
+
+/* dG/d(delta) at (q, delta), the load vector of the support motion. */
+void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double *out);
+
+/* States of all joints at (q, delta) with the committed plastic slips; st has n_joints entries. */
+void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_joint_state *st);
+
+/* Accept (q, delta) as a converged state: the plastic slips of sliding joints are updated.
+ * Returns the number of joints that slid in this step. */
+int vs_model_commit(vs_model *m, const double *q, double delta);
+
+/* Plastic slip of every joint (m), committed; n_joints entries. */
+const double *vs_model_slips(const vs_model *m);
+
+/* Forces exerted by the arch on the left and right supports (Fx, Fz in N). */
+void vs_model_reactions(const vs_model *m, const double *q, double delta, double left[2],
+                        double right[2]);
+
+/* Total potential energy: joint elastic energy minus the work of gravity, J. */
+double vs_model_energy(const vs_model *m, const double *q, double delta);
+
+/* Typical force (N) and moment (N m) of each equation, for scaling: the block's weight and its
+ * weight times the joint length. scale has vs_model_size entries. */
+void vs_model_residual_scale(const vs_model *m, double *scale);
+
+#endif

@@ -1,0 +1,64 @@
+/* Quasi-static path: self-weight, then displacement control of the right support, each
+ * equilibrium solved by KINSOL (Newton with line search, KLU on the analytic CSC Jacobian).
+ * Increments adapt; a limit point is bracketed by bisecting the increment and confirmed as a
+ * loss of stability of the tangent stiffness, never inferred from a failed Newton alone. */
+#ifndef VOUSSOIR_QUASISTATIC_H
+#define VOUSSOIR_QUASISTATIC_H
+
+#include "voussoir/model.h"
+#include "voussoir/status.h"
+
+typedef struct {
+  double step;       /* initial increment of delta, m */
+  double step_max;   /* largest increment, m */
+  double limit_tol;  /* bisection tolerance on a limit point, m */
+  double max_delta;  /* stop when delta reaches this, m */
+  double newton_tol; /* scaled residual tolerance (residual / typical force) */
+  int newton_maxiter;
+} vs_path_opts;
+
+/* Options from a case (mm -> m). */
+void vs_path_opts_from_case(const vs_case *c, vs_path_opts *o);
+
+typedef enum {
+  VS_PATH_LIMIT_POINT = 1,     /* stopped at a confirmed limit point */
+  VS_PATH_MAX_DISPLACEMENT = 2 /* reached max_delta without one */
+} vs_path_end;
+
+/* Tangent-stiffness evidence at the limit point. */
+typedef struct {
+  double lambda_start;  /* smallest |eigenvalue| of the scaled tangent after self-weight, N/m */
+  double lambda_last;   /* the same at the last equilibrium before the limit, N/m */
+  double delta_extrap;  /* delta (m) where lambda^2, linear in delta near a fold, reaches 0 */
+  int det_sign;         /* sign of det K at the last equilibrium (KLU factors) */
+} vs_limit_evidence;
+
+typedef struct {
+  vs_path_end end;
+  double delta_limit;    /* last equilibrium delta, m (the limit point within limit_tol) */
+  double delta_fail;     /* smallest delta tried beyond it with no equilibrium nearby, m */
+  vs_limit_evidence evidence;
+  long steps;            /* accepted increments (self-weight included) */
+  long rejected;         /* rejected increments (bisection) */
+  long newton_iterations;/* all Newton iterations, accepted or not */
+  long jacobian_evals;
+} vs_path_result;
+
+/* Called after every accepted equilibrium (delta = 0 is the self-weight state). q has
+ * vs_model_size entries. Return non-zero to stop the path (reported as VS_ERR_INTERNAL with
+ * "stopped by caller"). */
+typedef int (*vs_path_step_fn)(void *user, double delta, const double *q, const vs_model *m);
+
+/* Follow the path of model m. q (vs_model_size entries) is the start guess on entry (zeros:
+ * the reference configuration) and the last equilibrium on return. Errors: VS_ERR_NO_EQUILIBRIUM
+ * when self-weight has no equilibrium (the arch cannot stand) or a Newton failure is not a limit
+ * point (cause in err); VS_ERR_SOLVER when SUNDIALS fails. res is filled as far as the path got. */
+vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double *q, vs_path_step_fn step_fn,
+                      void *user, vs_path_result *res, vs_error *err);
+
+/* One equilibrium solve at support displacement delta from the guess q (replaced by the
+ * solution). Used by tests and the dynamic phase. *iters receives the Newton iterations. */
+vs_status vs_equilibrium_solve(vs_model *m, const vs_path_opts *o, double delta, double *q,
+                               long *iters, vs_error *err);
+
+#endif

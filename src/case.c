@@ -1,0 +1,524 @@
+/* The case: every input parameter of a run. One table (section, key, type, range, unit, default)
+ * drives the defaults, the INI reader, --set overrides, the range checks and every message, so a
+ * key cannot exist in one of them and be missing from another. */
+#include "voussoir/case.h"
+
+#include <ini.h>
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---------------------------------------------------------------------------------------------
+ * The table */
+
+typedef enum { KEY_DOUBLE, KEY_INT } key_type;
+
+typedef struct {
+  const char *section;
+  const char *name;
+  key_type type;
+  size_t offset; /* of the field in vs_case */
+  double def;
+  double min, max; /* -INFINITY / INFINITY: unbounded on that side */
+  bool min_incl, max_incl;
+  const char *unit; /* "" when dimensionless */
+  const char *what;
+} key_spec;
+
+/* The field's own type picks the storage, so a row cannot write a double into an int. */
+#define FIELD_TYPE(field) _Generic(((vs_case *)0)->field, double: KEY_DOUBLE, int: KEY_INT)
+#define KEY(sec, field, def, lo, lo_in, hi, hi_in, unit, what)                                    \
+  {#sec, #field, FIELD_TYPE(field), offsetof(vs_case, field), def, lo, hi, lo_in, hi_in, unit, what}
+
+#define INF INFINITY
+static const key_spec keys[] = {
+    /*  section  key           default  min  incl   max   incl   unit      meaning */
+    KEY(arch, radius_mm, 300.0, 0.0, false, INF, false, "mm", "intrados radius R"),
+    KEY(arch, thickness_mm, 24.0, 0.0, false, INF, false, "mm", "radial thickness t"),
+    KEY(arch, embrace_deg, 125.0, 0.0, false, 180.0, true, "deg",
+        "angle of embrace, symmetric about the crown"),
+    KEY(arch, voussoirs, 55.0, 1.0, true, 20000.0, true, "", "number of voussoirs (equal angles)"),
+    KEY(arch, depth_mm, 120.0, 0.0, false, INF, false, "mm", "out-of-plane depth b"),
+    KEY(arch, density_kg_m3, 1640.0, 0.0, false, INF, false, "kg/m^3", "density of the blocks"),
+    KEY(arch, gravity_m_s2, 9.81, 0.0, false, INF, false, "m/s^2", "gravitational acceleration"),
+    KEY(joints, kn_N_mm3, 3.0, 0.0, false, INF, false, "N/mm^3", "normal stiffness k_n"),
+    KEY(joints, ks_ratio, 0.5, 0.0, false, INF, false, "", "shear stiffness ratio k_s / k_n"),
+    KEY(joints, friction, 0.7, 0.0, false, INF, false, "", "Coulomb friction coefficient mu"),
+    KEY(support, alpha_deg, 0.0, -180.0, true, 180.0, true, "deg",
+        "direction of the right support's motion from the vertical (0 down, 90 outward)"),
+    KEY(support, rate_mm_s, 0.04, 0.0, false, INF, false, "mm/s", "speed of the right support"),
+    KEY(support, max_mm, 300.0, 0.0, false, INF, false, "mm",
+        "largest support displacement followed"),
+    KEY(solver, step_mm, 0.5, 0.0, false, INF, false, "mm",
+        "initial increment of the support displacement"),
+    KEY(solver, step_max_mm, 2.0, 0.0, false, INF, false, "mm", "largest increment"),
+    KEY(solver, limit_tol_mm, 1e-3, 0.0, false, INF, false, "mm",
+        "bisection tolerance on a limit point"),
+    KEY(solver, newton_tol, 1e-8, 0.0, false, 1e-2, true, "",
+        "scaled residual tolerance (fraction of a voussoir's weight)"),
+    KEY(solver, newton_maxiter, 25.0, 2.0, true, 1000.0, true, "",
+        "Newton iterations per increment"),
+    KEY(hinges, open_mm, 0.05, 0.0, false, INF, false, "mm",
+        "edge opening beyond which a joint counts as a hinge"),
+    KEY(hinges, migrate_joints, 3.0, 0.0, true, 100.0, true, "joints",
+        "a hinge reappearing within this many joints, same side, has migrated"),
+};
+#undef INF
+#undef KEY
+#undef FIELD_TYPE
+
+#define NKEYS (sizeof keys / sizeof keys[0])
+
+/* Relations between fields checked by vs_case_validate: lo < hi (strict) or lo <= hi. */
+typedef struct {
+  const char *lo_section, *lo_name, *hi_section, *hi_name;
+  bool strict;
+  const char *rule;
+} relation;
+
+static const relation relations[] = {
+    {"solver", "limit_tol_mm", "solver", "step_mm", false,
+     "limit_tol_mm <= step_mm <= step_max_mm, mm"},
+    {"solver", "step_mm", "solver", "step_max_mm", false,
+     "limit_tol_mm <= step_mm <= step_max_mm, mm"},
+    {"solver", "step_mm", "support", "max_mm", true, "solver.step_mm < support.max_mm, mm"},
+};
+
+/* ---------------------------------------------------------------------------------------------
+ * Table access */
+
+static const key_spec *find_key(const char *section, const char *name) {
+  for (size_t i = 0; i < NKEYS; i++)
+    if (strcmp(keys[i].section, section) == 0 && strcmp(keys[i].name, name) == 0) return &keys[i];
+  return NULL;
+}
+
+/* section need not be NUL-terminated: the reader checks "[name]" in place. */
+static bool section_known(const char *section, size_t len) {
+  for (size_t i = 0; i < NKEYS; i++)
+    if (strlen(keys[i].section) == len && memcmp(keys[i].section, section, len) == 0) return true;
+  return false;
+}
+
+static double get_value(const vs_case *c, const key_spec *k) {
+  const char *p = (const char *)c + k->offset;
+  return k->type == KEY_INT ? (double)*(const int *)(const void *)p
+                            : *(const double *)(const void *)p;
+}
+
+/* v has been range-checked, so the int conversion is exact. */
+static void set_value(vs_case *c, const key_spec *k, double v) {
+  char *p = (char *)c + k->offset;
+  if (k->type == KEY_INT)
+    *(int *)(void *)p = (int)v;
+  else
+    *(double *)(void *)p = v;
+}
+
+static bool in_range(const key_spec *k, double v) {
+  if (!isfinite(v)) return false;
+  if (k->min_incl ? v < k->min : v <= k->min) return false;
+  if (k->max_incl ? v > k->max : v >= k->max) return false;
+  return true;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Message pieces */
+
+static void append(char *buf, size_t size, const char *s) {
+  size_t used = strlen(buf);
+  if (used + 1 < size) snprintf(buf + used, size - used, "%s", s);
+}
+
+/* "> 0 N/mm^3", "(0, 180] deg", "integer in [1, 20000]" */
+static void range_text(const key_spec *k, char *buf, size_t size) {
+  bool lo = isfinite(k->min), hi = isfinite(k->max);
+  const char *integer = k->type == KEY_INT ? "integer " : "";
+  if (lo && hi)
+    snprintf(buf, size, "%s%s%c%g, %g%c", integer, *integer ? "in " : "", k->min_incl ? '[' : '(',
+             k->min, k->max, k->max_incl ? ']' : ')');
+  else if (lo)
+    snprintf(buf, size, "%s%s %g", integer, k->min_incl ? ">=" : ">", k->min);
+  else if (hi)
+    snprintf(buf, size, "%s%s %g", integer, k->max_incl ? "<=" : "<", k->max);
+  else
+    snprintf(buf, size, "%sany finite value", integer);
+  if (k->unit[0] != '\0') {
+    append(buf, size, " ");
+    append(buf, size, k->unit);
+  }
+}
+
+static void list_sections(char *buf, size_t size) {
+  buf[0] = '\0';
+  for (size_t i = 0; i < NKEYS; i++) {
+    if (i > 0 && strcmp(keys[i].section, keys[i - 1].section) == 0) continue;
+    if (i > 0) append(buf, size, ", ");
+    append(buf, size, keys[i].section);
+  }
+}
+
+static void list_keys(const char *section, char *buf, size_t size) {
+  buf[0] = '\0';
+  for (size_t i = 0; i < NKEYS; i++) {
+    if (strcmp(keys[i].section, section) != 0) continue;
+    if (buf[0] != '\0') append(buf, size, ", ");
+    append(buf, size, keys[i].name);
+  }
+}
+
+/* Echo user text into a message, shortened so the reason and the allowed range still fit. */
+enum { ECHO_MAX = 64 };
+typedef struct {
+  char s[ECHO_MAX + 4];
+} echo_buf;
+
+static const char *clip(const char *s, echo_buf *b) {
+  if (strlen(s) <= ECHO_MAX) return s;
+  memcpy(b->s, s, ECHO_MAX);
+  memcpy(b->s + ECHO_MAX, "...", 4);
+  return b->s;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Numbers. strtod/strtol follow the C locale's decimal point; the program never calls setlocale. */
+
+typedef enum { NUM_OK, NUM_EMPTY, NUM_NOT_NUMBER, NUM_TRAILING, NUM_NOT_INTEGER, NUM_NOT_FINITE,
+               NUM_OVERFLOW } num_result;
+
+static const char *num_reason(num_result r) {
+  switch (r) {
+  case NUM_OK: return "ok";
+  case NUM_EMPTY: return "empty value (expected a number)";
+  case NUM_NOT_NUMBER: return "not a number";
+  case NUM_TRAILING: return "unexpected characters after the number";
+  case NUM_NOT_INTEGER: return "integer expected";
+  case NUM_NOT_FINITE: return "not a finite number";
+  case NUM_OVERFLOW: return "out of range";
+  }
+  return "invalid";
+}
+
+static num_result parse_double(const char *s, double *out) {
+  if (*s == '\0') return NUM_EMPTY;
+  char *end;
+  errno = 0;
+  double v = strtod(s, &end);
+  if (end == s) return NUM_NOT_NUMBER;
+  if (*end != '\0') return NUM_TRAILING;
+  if (isinf(v) && errno == ERANGE) return NUM_OVERFLOW; /* 1e999: a number, just too big */
+  if (!isfinite(v)) return NUM_NOT_FINITE;              /* "nan", "inf" written as such */
+  *out = v;
+  return NUM_OK;
+}
+
+static num_result parse_int(const char *s, double *out) {
+  if (*s == '\0') return NUM_EMPTY;
+  char *end;
+  errno = 0;
+  long v = strtol(s, &end, 10);
+  if (end != s && *end == '\0') {
+    if (errno == ERANGE || v < INT_MIN || v > INT_MAX) return NUM_OVERFLOW;
+    *out = (double)v;
+    return NUM_OK;
+  }
+  /* Not a plain integer: say whether it is a number of the wrong kind or no number at all. */
+  double d;
+  num_result r = parse_double(s, &d);
+  return r == NUM_OK || r == NUM_OVERFLOW ? NUM_NOT_INTEGER : r;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * One assignment, shared by the file reader and --set. where is "FILE:LINE" or "--set ...".
+ * c is written only when the value is accepted. */
+
+static vs_status assign(vs_case *c, const char *section, const char *name, const char *value,
+                        const char *where, vs_error *err) {
+  echo_buf bs, bn, bv;
+  const char *sec = clip(section, &bs), *key = clip(name, &bn), *val = clip(value, &bv);
+  char list[256];
+  const key_spec *k = find_key(section, name);
+  if (k == NULL) {
+    if (section_known(section, strlen(section))) {
+      list_keys(section, list, sizeof list);
+      return vs_error_set(err, VS_ERR_PARSE, "%s: %s.%s = %s: unknown key (allowed keys in [%s]: %s)",
+                          where, sec, key, val, sec, list);
+    }
+    list_sections(list, sizeof list);
+    if (section[0] == '\0')
+      return vs_error_set(err, VS_ERR_PARSE,
+                          "%s: %s = %s: key outside any [section] (allowed sections: %s)", where, key,
+                          val, list);
+    return vs_error_set(err, VS_ERR_PARSE, "%s: %s.%s = %s: unknown section (allowed sections: %s)",
+                        where, sec, key, val, list);
+  }
+
+  char range[96];
+  range_text(k, range, sizeof range);
+  double v = 0.0;
+  num_result r = k->type == KEY_INT ? parse_int(value, &v) : parse_double(value, &v);
+  if (r == NUM_OK && !in_range(k, v)) r = NUM_OVERFLOW;
+  if (r != NUM_OK)
+    return vs_error_set(err, r == NUM_OVERFLOW ? VS_ERR_INVALID : VS_ERR_PARSE,
+                        "%s: %s.%s = %s: %s (allowed: %s)", where, sec, key, val, num_reason(r),
+                        range);
+  set_value(c, k, v);
+  return VS_OK;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * The file reader. inih gets the text one line per call from next_line, so our line count is
+ * exactly inih's and every message can name its line, whatever INI_HANDLER_LINENO the installed
+ * libinih was built with. next_line also normalises each line so that inih's build options do not
+ * change the meaning of a case file: leading blanks go (no multi-line continuations), ';' and '#'
+ * comments go (at the start of a line, or after a blank), a UTF-8 byte-order mark goes. */
+
+typedef struct {
+  vs_case value;          /* working copy, committed only if the whole file is accepted */
+  const char *path;
+  const char *pos, *end;  /* unread text */
+  int lineno;             /* line last handed to inih */
+  int error_line;         /* line of the first error found by next_line or on_pair, 0 = none */
+  vs_status status;
+  vs_error *err;
+} reader_ctx;
+
+static bool is_blank(char ch) { return ch == ' ' || ch == '\t' || ch == '\r' || ch == '\f' || ch == '\v'; }
+
+static const char *comment_start(const char *start, const char *stop) {
+  for (const char *p = start; p < stop; p++)
+    if ((*p == ';' || *p == '#') && (p == start || is_blank(p[-1]))) return p;
+  return stop;
+}
+
+static char *reader_fail(reader_ctx *x, vs_status status) {
+  x->error_line = x->lineno;
+  x->status = status;
+  return NULL;
+}
+
+static char *next_line(char *buf, int size, void *stream) {
+  reader_ctx *x = stream;
+  if (x->error_line > 0 || x->pos >= x->end) return NULL;
+  const char *start = x->pos;
+  const char *nl = memchr(start, '\n', (size_t)(x->end - start));
+  const char *stop = nl != NULL ? nl : x->end;
+  x->pos = nl != NULL ? nl + 1 : x->end;
+  x->lineno++;
+
+  if (memchr(start, '\0', (size_t)(stop - start)) != NULL) {
+    vs_error_set(x->err, VS_ERR_PARSE, "%s:%d: NUL character (a case file is plain text)", x->path,
+                 x->lineno);
+    return reader_fail(x, VS_ERR_PARSE);
+  }
+  if (x->lineno == 1 && stop - start >= 3 && memcmp(start, "\xEF\xBB\xBF", 3) == 0) start += 3;
+  while (start < stop && is_blank(*start)) start++;
+  stop = comment_start(start, stop);
+  while (stop > start && is_blank(stop[-1])) stop--;
+
+  size_t len = (size_t)(stop - start);
+  if (size < 1 || len >= (size_t)size) {
+    vs_error_set(x->err, VS_ERR_PARSE,
+                 "%s:%d: line too long (at most %d characters, not counting indentation and "
+                 "comments)",
+                 x->path, x->lineno, size > 0 ? size - 1 : 0);
+    return reader_fail(x, VS_ERR_PARSE);
+  }
+  memcpy(buf, start, len);
+  buf[len] = '\0';
+
+  /* inih does not tell the handler about a section until it holds a key; check "[name]" here so
+   * an unknown (even empty) section is reported on its own line. "[name" is left to inih. */
+  const char *close = buf[0] == '[' ? strchr(buf, ']') : NULL;
+  if (close != NULL && !section_known(buf + 1, (size_t)(close - buf - 1))) {
+    char list[256];
+    echo_buf b;
+    list_sections(list, sizeof list);
+    buf[close - buf] = '\0';
+    vs_error_set(x->err, VS_ERR_PARSE, "%s:%d: [%s]: unknown section (allowed sections: %s)",
+                 x->path, x->lineno, clip(buf + 1, &b), list);
+    return reader_fail(x, VS_ERR_PARSE);
+  }
+  return buf;
+}
+
+static int on_pair_at_line(reader_ctx *x, const char *section, const char *name,
+                           const char *value) {
+  if (x->error_line > 0) return 0;
+  if (name == NULL) return 1; /* start-of-section call, when inih is built to make one */
+  char where[sizeof x->err->msg];
+  snprintf(where, sizeof where, "%s:%d", x->path, x->lineno);
+  vs_status st;
+  if (name[0] == '\0') /* "= 3": inih accepts it, we do not */
+    st = vs_error_set(x->err, VS_ERR_PARSE, "%s: malformed line (expected key = value or [section])",
+                      where);
+  else if (value == NULL) /* only when inih is built to allow keys without values */
+    st = vs_error_set(x->err, VS_ERR_PARSE, "%s: %s.%s: no value (expected key = value)", where,
+                      section, name);
+  else
+    st = assign(&x->value, section, name, value, where, x->err);
+  if (st == VS_OK) return 1;
+  x->error_line = x->lineno;
+  x->status = st;
+  return 0;
+}
+
+#if INI_HANDLER_LINENO
+static int on_pair(void *user, const char *section, const char *name, const char *value,
+                   int lineno) {
+  (void)lineno; /* same as our own count */
+  return on_pair_at_line(user, section, name, value);
+}
+#else
+static int on_pair(void *user, const char *section, const char *name, const char *value) {
+  return on_pair_at_line(user, section, name, value);
+}
+#endif
+
+/* Read the whole file into a NUL-terminated malloc'd buffer. */
+static vs_status read_text(const char *path, char **text, size_t *len, vs_error *err) {
+  FILE *f = fopen(path, "rb");
+  if (f == NULL) return vs_error_set(err, VS_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  size_t cap = 4096, used = 0;
+  char *buf = malloc(cap);
+  while (buf != NULL && !feof(f) && !ferror(f)) {
+    if (cap - used < 2) {
+      char *bigger = cap <= SIZE_MAX / 2 ? realloc(buf, cap * 2) : NULL;
+      if (bigger == NULL) {
+        free(buf);
+        buf = NULL;
+        break;
+      }
+      buf = bigger;
+      cap *= 2;
+    }
+    used += fread(buf + used, 1, cap - used - 1, f);
+  }
+  int read_errno = errno;
+  bool failed = buf != NULL && ferror(f);
+  fclose(f);
+  if (buf == NULL) return vs_error_set(err, VS_ERR_NOMEM, "%s: out of memory reading the file", path);
+  if (failed) {
+    free(buf);
+    return vs_error_set(err, VS_ERR_IO, "%s: cannot read: %s", path, strerror(read_errno));
+  }
+  buf[used] = '\0';
+  *text = buf;
+  *len = used;
+  return VS_OK;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Public functions */
+
+void vs_case_defaults(vs_case *c) {
+  if (c == NULL) return;
+  memset(c, 0, sizeof *c);
+  for (size_t i = 0; i < NKEYS; i++) set_value(c, &keys[i], keys[i].def);
+}
+
+vs_status vs_case_read(vs_case *c, const char *path, char **text_out, vs_error *err) {
+  if (text_out != NULL) *text_out = NULL;
+  if (c == NULL || path == NULL)
+    return vs_error_set(err, VS_ERR_INVALID, "vs_case_read: %s is NULL", c == NULL ? "case" : "path");
+  char *text = NULL;
+  size_t len = 0;
+  vs_status st = read_text(path, &text, &len, err);
+  if (st != VS_OK) return st;
+
+  reader_ctx x = {.value = *c, .path = path, .pos = text, .end = text + len, .status = VS_OK,
+                  .err = err};
+  int ret = ini_parse_stream(next_line, &x, on_pair, &x);
+  /* inih returns the first line it could not parse; ours may be earlier or later. */
+  if (ret > 0 && (x.error_line == 0 || ret < x.error_line))
+    st = vs_error_set(err, VS_ERR_PARSE, "%s:%d: malformed line (expected key = value or [section])",
+                      path, ret);
+  else if (x.error_line > 0)
+    st = x.status;
+  else if (ret < 0)
+    st = vs_error_set(err, VS_ERR_NOMEM, "%s: out of memory while parsing", path);
+  if (st != VS_OK) {
+    free(text);
+    return st;
+  }
+  *c = x.value;
+  if (text_out != NULL)
+    *text_out = text;
+  else
+    free(text);
+  return VS_OK;
+}
+
+static char *trim(char *s) {
+  while (is_blank(*s)) s++;
+  size_t n = strlen(s);
+  while (n > 0 && is_blank(s[n - 1])) s[--n] = '\0';
+  return s;
+}
+
+vs_status vs_case_set(vs_case *c, const char *assignment, vs_error *err) {
+  if (c == NULL || assignment == NULL)
+    return vs_error_set(err, VS_ERR_INVALID, "vs_case_set: %s is NULL",
+                        c == NULL ? "case" : "assignment");
+  echo_buf b;
+  char where[sizeof err->msg];
+  snprintf(where, sizeof where, "--set %s", clip(assignment, &b));
+
+  size_t n = strlen(assignment) + 1;
+  char *copy = malloc(n);
+  if (copy == NULL) return vs_error_set(err, VS_ERR_NOMEM, "%s: out of memory", where);
+  memcpy(copy, assignment, n);
+
+  vs_status st;
+  char *eq = strchr(copy, '=');
+  char *dot = eq != NULL ? memchr(copy, '.', (size_t)(eq - copy)) : NULL;
+  char *section = copy, *key = NULL;
+  if (dot != NULL) {
+    *eq = '\0';
+    *dot = '\0';
+    section = trim(copy);
+    key = trim(dot + 1);
+  }
+  if (dot == NULL || section[0] == '\0' || key[0] == '\0')
+    st = vs_error_set(err, VS_ERR_PARSE, "%s: malformed (expected section.key=value)", where);
+  else
+    st = assign(c, section, key, trim(eq + 1), where, err);
+  free(copy);
+  return st;
+}
+
+vs_status vs_case_validate(const vs_case *c, vs_error *err) {
+  if (c == NULL) return vs_error_set(err, VS_ERR_INVALID, "vs_case_validate: case is NULL");
+  char range[96];
+  for (size_t i = 0; i < NKEYS; i++) {
+    const key_spec *k = &keys[i];
+    double v = get_value(c, k);
+    if (in_range(k, v)) continue;
+    range_text(k, range, sizeof range);
+    return vs_error_set(err, VS_ERR_INVALID, "%s.%s = %.15g: out of range (allowed: %s)",
+                        k->section, k->name, v, range);
+  }
+  for (size_t i = 0; i < sizeof relations / sizeof relations[0]; i++) {
+    const relation *r = &relations[i];
+    double lo = get_value(c, find_key(r->lo_section, r->lo_name));
+    double hi = get_value(c, find_key(r->hi_section, r->hi_name));
+    if (r->strict ? lo < hi : lo <= hi) continue;
+    return vs_error_set(err, VS_ERR_INVALID, "%s.%s = %.15g: must be %s %s.%s = %.15g (allowed: %s)",
+                        r->lo_section, r->lo_name, lo, r->strict ? "<" : "<=", r->hi_section,
+                        r->hi_name, hi, r->rule);
+  }
+  return VS_OK;
+}
+
+double vs_case_span_mm(const vs_case *c) {
+  const double pi = 3.14159265358979323846;
+  if (c == NULL) return NAN;
+  return 2.0 * c->radius_mm * sin(0.5 * c->embrace_deg * pi / 180.0);
+}

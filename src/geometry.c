@@ -1,0 +1,90 @@
+/* Block-assembly geometry and the segmental circular arch builder: exact annular-sector
+ * properties, radial joints, joint k between voussoir k-1 and voussoir k. */
+#include "voussoir/geometry.h"
+
+#include "voussoir/units.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+vs_status vs_geometry_create(int n_blocks, int n_joints, vs_geometry **out, vs_error *err) {
+  *out = NULL;
+  if (n_blocks < 1 || n_joints < 1)
+    return vs_error_set(err, VS_ERR_INVALID, "geometry: %d blocks, %d joints (allowed: >= 1 each)",
+                        n_blocks, n_joints);
+  vs_geometry *g = calloc(1, sizeof *g);
+  if (g == NULL) return vs_error_set(err, VS_ERR_NOMEM, "geometry: out of memory");
+  g->blocks = calloc((size_t)n_blocks, sizeof *g->blocks);
+  g->joints = calloc((size_t)n_joints, sizeof *g->joints);
+  if (g->blocks == NULL || g->joints == NULL) {
+    vs_geometry_destroy(&g);
+    return vs_error_set(err, VS_ERR_NOMEM, "geometry: out of memory");
+  }
+  g->n_blocks = n_blocks;
+  g->n_joints = n_joints;
+  g->gravity = 9.81;
+  *out = g;
+  return VS_OK;
+}
+
+void vs_geometry_destroy(vs_geometry **g) {
+  if (g == NULL || *g == NULL) return;
+  free((*g)->blocks);
+  free((*g)->joints);
+  free(*g);
+  *g = NULL;
+}
+
+double vs_geometry_weight(const vs_geometry *g) {
+  double m = 0.0;
+  for (int i = 0; i < g->n_blocks; i++) m += g->blocks[i].mass;
+  return m * g->gravity;
+}
+
+/* Annular sector ri..re over the angle phi0..phi1 (from the crown, clockwise positive). */
+static void sector_block(double ri, double re, double phi0, double phi1, double rho_b,
+                         vs_block *blk) {
+  double dphi = phi1 - phi0, half = 0.5 * dphi, mid = 0.5 * (phi0 + phi1);
+  double area = half * (re * re - ri * ri);
+  double rc = (2.0 / 3.0) * (re * re * re - ri * ri * ri) / (re * re - ri * ri) * sin(half) / half;
+  double jo = dphi * (pow(re, 4) - pow(ri, 4)) / 4.0; /* polar second moment about the centre */
+  blk->area = area;
+  blk->mass = rho_b * area;
+  blk->inertia = rho_b * (jo - area * rc * rc);
+  blk->cx = rc * sin(mid);
+  blk->cz = rc * cos(mid);
+  blk->phi0 = phi0;
+  blk->phi1 = phi1;
+}
+
+vs_status vs_geometry_create_arch(const vs_case *c, vs_geometry **out, vs_error *err) {
+  const double mm = VS_MM, deg = VS_DEG;
+  const int n = c->voussoirs;
+  vs_status st = vs_geometry_create(n, n + 1, out, err);
+  if (st != VS_OK) return st;
+  vs_geometry *g = *out;
+  const double ri = c->radius_mm * mm, t = c->thickness_mm * mm, b = c->depth_mm * mm;
+  const double beta = 0.5 * c->embrace_deg * deg, dphi = 2.0 * beta / n;
+  g->radius = ri;
+  g->thickness = t;
+  g->embrace = 2.0 * beta;
+  g->span = 2.0 * ri * sin(beta);
+  g->rise = ri * (1.0 - cos(beta));
+  g->gravity = c->gravity_m_s2;
+  for (int i = 0; i < n; i++)
+    sector_block(ri, ri + t, -beta + i * dphi, -beta + (i + 1) * dphi, c->density_kg_m3 * b,
+                 &g->blocks[i]);
+  for (int k = 0; k <= n; k++) {
+    double phi = -beta + k * dphi, rm = ri + 0.5 * t;
+    vs_joint_geom *j = &g->joints[k];
+    j->a = (k == 0) ? VS_SUPPORT_LEFT : k - 1;
+    j->b = (k == n) ? VS_SUPPORT_RIGHT : k;
+    j->px = rm * sin(phi);
+    j->pz = rm * cos(phi);
+    j->nx = cos(phi);
+    j->nz = -sin(phi);
+    j->length = t;
+    j->depth = b;
+  }
+  return VS_OK;
+}

@@ -1,0 +1,177 @@
+/* The joint law: closed-form no-tension Winkler normal response, elastic-frictional shear with
+ * return mapping, and exact large-rotation kinematics with first and second derivatives. */
+#include "voussoir/joint.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Response for w >= 0 (extrados side at least as compressed as the intrados). */
+static void normal_pos(double kn, double b, double t, double a, double w, vs_normal_response *r) {
+  const double K = kn * b;
+  const double pmax = a + 0.5 * w * t, pmin = a - 0.5 * w * t;
+  memset(r, 0, sizeof *r);
+  if (pmax < 0.0) return; /* fully open; p == 0 everywhere (just touching) counts as closed, so
+                              that the reference configuration has the contact tangent */
+  if (pmin >= 0.0) {       /* full contact */
+    r->N = K * t * a;
+    r->M = K * w * t * t * t / 12.0;
+    r->N_a = K * t;
+    r->N_w = 0.0;
+    r->M_w = K * t * t * t / 12.0;
+    r->energy = 0.5 * K * (a * a * t + w * w * t * t * t / 12.0);
+    r->contact = t;
+    return;
+  }
+  /* partial contact: p > 0 over the length c = pmax / w next to the extrados (w > 0 here) */
+  const double c = pmax / w;
+  r->N = 0.5 * K * w * c * c;
+  r->M = r->N * (0.5 * t - c / 3.0);
+  r->N_a = K * c;
+  r->N_w = 0.5 * K * c * (t - c);
+  r->M_w = K * (c * t * t / 4.0 - c * c * t / 2.0 + c * c * c / 3.0);
+  r->energy = K * w * w * c * c * c / 6.0;
+  r->contact = c;
+}
+
+void vs_joint_normal(double kn, double b, double t, double a, double w, vs_normal_response *r) {
+  if (w >= 0.0) {
+    normal_pos(kn, b, t, a, w, r);
+    return;
+  }
+  /* mirror xi -> -xi: N(a, w) = N+(a, -w), M(a, w) = -M+(a, -w) */
+  normal_pos(kn, b, t, a, -w, r);
+  r->M = -r->M;
+  r->N_w = -r->N_w;
+  /* M_w: d(-M+(a,-w))/dw = M+_w, unchanged */
+}
+
+/* J v: v turned +90 degrees. */
+static inline void perp(const double v[2], double out[2]) {
+  out[0] = -v[1];
+  out[1] = v[0];
+}
+
+static inline double dot(const double u[2], const double v[2]) { return u[0] * v[0] + u[1] * v[1]; }
+
+static inline void rot(double th, const double v[2], double out[2]) {
+  double c = cos(th), s = sin(th);
+  out[0] = c * v[0] - s * v[1];
+  out[1] = s * v[0] + c * v[1];
+}
+
+/* Kinematic measures of the joint and their gradients/Hessians in (qa, qb). */
+typedef struct {
+  double g, sl, w;            /* gap at the centre, slip, gap slope */
+  double dg[6], ds[6], dw[6]; /* gradients */
+  double Hg[36], Hs[36], Hw[36];
+} kinematics;
+
+static void sym_set(double *H, int i, int j, double v) {
+  H[i * 6 + j] = v;
+  H[j * 6 + i] = v;
+}
+
+static void joint_kinematics(const vs_joint_geom *jg, const double qa[3], const double qb[3],
+                             const double ra[2], const double rb[2], kinematics *k) {
+  const double n0[2] = {jg->nx, jg->nz};
+  double pa[2], pb[2], va[2], vb[2], n[2], s[2], d[2];
+  rot(qa[2], ra, pa);
+  rot(qb[2], rb, pb);
+  perp(pa, va);
+  perp(pb, vb);
+  rot(0.5 * (qa[2] + qb[2]), n0, n);
+  perp(n, s);
+  for (int i = 0; i < 2; i++) d[i] = qb[i] - qa[i] + (pb[i] - rb[i]) - (pa[i] - ra[i]);
+  const double half = 0.5 * (qb[2] - qa[2]);
+  memset(k, 0, sizeof *k);
+  k->g = dot(d, n);
+  k->sl = dot(d, s);
+  k->w = 2.0 * sin(half);
+  const double dn = dot(d, n), ds_ = dot(d, s);
+  for (int i = 0; i < 2; i++) {
+    k->dg[i] = -n[i];
+    k->dg[3 + i] = n[i];
+    k->ds[i] = -s[i];
+    k->ds[3 + i] = s[i];
+  }
+  k->dg[2] = -dot(va, n) + 0.5 * ds_;
+  k->dg[5] = dot(vb, n) + 0.5 * ds_;
+  k->ds[2] = -dot(va, s) - 0.5 * dn;
+  k->ds[5] = dot(vb, s) - 0.5 * dn;
+  k->dw[2] = -cos(half);
+  k->dw[5] = cos(half);
+  /* mixed translation-rotation terms come from the rotating frame n(theta_m), s(theta_m) */
+  for (int i = 0; i < 2; i++) {
+    sym_set(k->Hg, i, 2, -0.5 * s[i]);
+    sym_set(k->Hg, i, 5, -0.5 * s[i]);
+    sym_set(k->Hg, 3 + i, 2, 0.5 * s[i]);
+    sym_set(k->Hg, 3 + i, 5, 0.5 * s[i]);
+    sym_set(k->Hs, i, 2, 0.5 * n[i]);
+    sym_set(k->Hs, i, 5, 0.5 * n[i]);
+    sym_set(k->Hs, 3 + i, 2, -0.5 * n[i]);
+    sym_set(k->Hs, 3 + i, 5, -0.5 * n[i]);
+  }
+  sym_set(k->Hg, 2, 2, dot(pa, n) - dot(va, s) - 0.25 * dn);
+  sym_set(k->Hg, 5, 5, -dot(pb, n) + dot(vb, s) - 0.25 * dn);
+  sym_set(k->Hg, 2, 5, 0.5 * (dot(vb, s) - dot(va, s)) - 0.25 * dn);
+  sym_set(k->Hs, 2, 2, dot(pa, s) + dot(va, n) - 0.25 * ds_);
+  sym_set(k->Hs, 5, 5, -dot(pb, s) - dot(vb, n) - 0.25 * ds_);
+  sym_set(k->Hs, 2, 5, 0.5 * (dot(va, n) - dot(vb, n)) - 0.25 * ds_);
+  sym_set(k->Hw, 2, 2, -0.5 * sin(half));
+  sym_set(k->Hw, 5, 5, -0.5 * sin(half));
+  sym_set(k->Hw, 2, 5, 0.5 * sin(half));
+}
+
+void vs_joint_eval(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
+                   const double qb[3], const double ra[2], const double rb[2], double slip_p_old,
+                   vs_joint_state *st, double f[6], double K[36]) {
+  kinematics k;
+  joint_kinematics(jg, qa, qb, ra, rb, &k);
+  const double t = jg->length, b = jg->depth, a = -k.g;
+  vs_normal_response nr;
+  vs_joint_normal(law->kn, b, t, a, k.w, &nr);
+
+  /* shear over the whole joint, Coulomb limit by return mapping */
+  const double kst = law->ks * b * t;
+  const double T_trial = kst * (k.sl - slip_p_old);
+  const double T_max = law->mu * nr.N;
+  double T = T_trial, slip_p = slip_p_old;
+  int sliding = 0;
+  double sgn = 1.0;
+  if (fabs(T_trial) > T_max) {
+    sgn = (T_trial > 0.0) ? 1.0 : -1.0;
+    T = sgn * T_max;
+    slip_p = k.sl - T / kst;
+    sliding = 1;
+  }
+
+  if (st != NULL) {
+    st->N = nr.N;
+    st->T = T;
+    st->M = nr.M;
+    st->a = a;
+    st->w = k.w;
+    st->slip = k.sl;
+    st->slip_p = slip_p;
+    st->contact = nr.contact;
+    st->gap_i = -(a - 0.5 * k.w * t);
+    st->gap_e = -(a + 0.5 * k.w * t);
+    st->sliding = sliding;
+    st->energy = nr.energy + 0.5 * kst * (k.sl - slip_p) * (k.sl - slip_p);
+  }
+  /* f = N grad(a) + M grad(w) + T grad(slip), grad(a) = -grad(g) */
+  if (f != NULL)
+    for (int i = 0; i < 6; i++) f[i] = -nr.N * k.dg[i] + nr.M * k.dw[i] + T * k.ds[i];
+  if (K != NULL) {
+    for (int i = 0; i < 6; i++) {
+      for (int j = 0; j < 6; j++) {
+        const double da_j = -k.dg[j], dw_j = k.dw[j];
+        const double dN = nr.N_a * da_j + nr.N_w * dw_j;
+        const double dM = nr.N_w * da_j + nr.M_w * dw_j;
+        const double dT = sliding ? sgn * law->mu * dN : kst * k.ds[j];
+        K[i * 6 + j] = -k.dg[i] * dN + k.dw[i] * dM + k.ds[i] * dT - nr.N * k.Hg[i * 6 + j] +
+                       nr.M * k.Hw[i * 6 + j] + T * k.Hs[i * 6 + j];
+      }
+    }
+  }
+}

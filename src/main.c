@@ -1,0 +1,187 @@
+/* voussoir command line: create -> configure -> run -> report -> destroy. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "voussoir/case.h"
+#include "voussoir/report.h"
+#include "voussoir/run.h"
+#include "voussoir/units.h"
+#include "voussoir/version.h"
+
+enum { EXIT_RUN_FAILED = 1, EXIT_BAD_INPUT = 2 };
+
+static const char *USAGE =
+    "usage: voussoir run CASE [options]\n"
+    "       voussoir --help | --version\n"
+    "\n"
+    "Simulates a masonry arch of rigid voussoirs on dry, no-tension, frictional, elastic joints\n"
+    "while its right support moves along a direction alpha (from the vertical). Follows the\n"
+    "quasi-static equilibrium path from self-weight to its first limit point and reports the\n"
+    "support displacement there and the hinges (joint, side, onset).\n"
+    "\n"
+    "options for run:\n"
+    "  --alpha DEG            support direction from the vertical, deg (0 = settlement,\n"
+    "                         90 = outward spreading); same as --set support.alpha_deg=DEG\n"
+    "  --kn N_MM3             joint normal stiffness, N/mm^3; same as --set joints.kn_N_mm3=N_MM3\n"
+    "  --set SECTION.KEY=VAL  override any case key (repeatable; see README for all keys)\n"
+    "  --json                 print one JSON object on stdout instead of the summary\n"
+    "  -o FILE                also write the path history (CSV: one row per equilibrium)\n"
+    "  -q                     no progress line\n"
+    "  -h, --help             this help\n"
+    "  --version              program version\n"
+    "\n"
+    "CASE is an INI file (runs/reference.ini is the reference specimen). Units: mm, N/mm^3, deg.\n"
+    "exit status: 0 ok, 1 the run failed (solver; the cause is printed), 2 bad input.\n";
+
+typedef struct {
+  FILE *csv;
+  int progress;
+  long rows;
+} cli_sink;
+
+static int on_step(void *user, const vs_run *run, double delta, const double *q) {
+  cli_sink *s = user;
+  const vs_hinges *h = vs_run_hinges(run);
+  if (s->csv != NULL) {
+    const vs_model *m = vs_run_model(run);
+    const vs_case *c = vs_run_case(run);
+    double rl[2], rr[2], u[2];
+    vs_model_reactions(m, q, delta, rl, rr);
+    vs_model_support_displacement(m, delta, u);
+    const int crown = c->voussoirs / 2;
+    fprintf(s->csv, "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%d,\"", delta / VS_MM,
+            -u[1] / VS_MM, u[0] / VS_MM, rl[0], rl[1], rr[0], rr[1], q[3 * crown + 1] / VS_MM,
+            vs_hinges_open_count(h));
+    for (int i = 0, first = 1; i < vs_hinges_count(h); i++) {
+      const vs_hinge *hg = vs_hinges_get(h, i);
+      if (!hg->open) continue;
+      char name[64];
+      vs_hinge_name(hg, 0, name, sizeof name);
+      fprintf(s->csv, "%s%c:%s", first ? "" : " ", hg->label, name);
+      first = 0;
+    }
+    fputs("\"\n", s->csv);
+    fflush(s->csv);
+    s->rows++;
+  }
+  if (s->progress) {
+    fprintf(stderr, "\r  delta = %9.4f mm   equilibria %5ld   hinges open %d   ", delta / VS_MM,
+            vs_run_path(run)->steps, vs_hinges_open_count(h));
+    fflush(stderr);
+  }
+  return 0;
+}
+
+static int cmd_run(int argc, char **argv) {
+  const char *case_path = NULL, *out_path = NULL;
+  int json = 0, quiet = 0, rc = EXIT_BAD_INPUT;
+  vs_case c;
+  vs_error err;
+  vs_run *run = NULL;
+  cli_sink sink = {0};
+  vs_error_clear(&err);
+  vs_case_defaults(&c);
+  /* the case file first, then the overrides in the order given */
+  for (int i = 2; i < argc; i++) {
+    const char *a = argv[i];
+    if (a[0] != '-' || strcmp(a, "-") == 0) {
+      if (case_path != NULL) {
+        fprintf(stderr, "voussoir: more than one case file (%s, %s)\n", case_path, a);
+        return EXIT_BAD_INPUT;
+      }
+      case_path = a;
+    } else if (strcmp(a, "--alpha") == 0 || strcmp(a, "--kn") == 0 || strcmp(a, "--set") == 0 ||
+               strcmp(a, "-o") == 0) {
+      if (++i >= argc) {
+        fprintf(stderr, "voussoir: %s needs a value\n%s", a, USAGE);
+        return EXIT_BAD_INPUT;
+      }
+      if (strcmp(a, "-o") == 0) out_path = argv[i];
+    } else if (strcmp(a, "--json") == 0) {
+      json = 1;
+    } else if (strcmp(a, "-q") == 0) {
+      quiet = 1;
+    } else {
+      fprintf(stderr, "voussoir: unknown option %s\n%s", a, USAGE);
+      return EXIT_BAD_INPUT;
+    }
+  }
+  if (case_path == NULL) {
+    fprintf(stderr, "voussoir: run needs a CASE file\n%s", USAGE);
+    return EXIT_BAD_INPUT;
+  }
+  if (vs_case_read(&c, case_path, NULL, &err) != VS_OK) goto input_error;
+  for (int i = 2; i < argc; i++) {
+    char buf[512];
+    const char *a = argv[i];
+    if (strcmp(a, "--alpha") == 0) snprintf(buf, sizeof buf, "support.alpha_deg=%s", argv[++i]);
+    else if (strcmp(a, "--kn") == 0) snprintf(buf, sizeof buf, "joints.kn_N_mm3=%s", argv[++i]);
+    else if (strcmp(a, "--set") == 0) snprintf(buf, sizeof buf, "%s", argv[++i]);
+    else {
+      if (strcmp(a, "-o") == 0) i++;
+      continue;
+    }
+    if (vs_case_set(&c, buf, &err) != VS_OK) goto input_error;
+  }
+  if (vs_case_validate(&c, &err) != VS_OK) goto input_error;
+
+  /* everything is valid: only now create outputs */
+  if (vs_run_create(&c, &run, &err) != VS_OK) goto input_error;
+  if (out_path != NULL) {
+    sink.csv = fopen(out_path, "w");
+    if (sink.csv == NULL) {
+      fprintf(stderr, "voussoir: -o %s: cannot create: %s\n", out_path, strerror(errno));
+      goto cleanup;
+    }
+    fputs("delta_mm,dz_mm,dx_mm,left_Fx_N,left_Fz_N,right_Fx_N,right_Fz_N,crown_uz_mm,"
+          "open_hinges,hinges\n",
+          sink.csv);
+  }
+  sink.progress = !quiet && isatty(STDERR_FILENO);
+  vs_status st = vs_run_execute(run, on_step, &sink, &err);
+  if (sink.progress) fputs("\r\033[K", stderr);
+  if (json) vs_report_json(stdout, run, st, &err, case_path);
+  else vs_report_text(stdout, run, st, &err, case_path);
+  if (st != VS_OK) fprintf(stderr, "voussoir: run failed: %s\n", err.msg);
+  rc = (st == VS_OK) ? EXIT_SUCCESS : EXIT_RUN_FAILED;
+  goto cleanup;
+
+input_error:
+  fprintf(stderr, "voussoir: %s\n", err.msg);
+  rc = EXIT_BAD_INPUT;
+cleanup:
+  if (sink.csv != NULL && fclose(sink.csv) != 0) {
+    fprintf(stderr, "voussoir: -o %s: write failed: %s\n", out_path, strerror(errno));
+    rc = EXIT_RUN_FAILED;
+  }
+  vs_run_destroy(&run);
+  return rc;
+}
+
+int main(int argc, char **argv) {
+  if (argc < 2) {
+    fputs(USAGE, stderr);
+    return EXIT_BAD_INPUT;
+  }
+  if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+    fputs(USAGE, stdout);
+    return EXIT_SUCCESS;
+  }
+  if (strcmp(argv[1], "--version") == 0) {
+    printf("voussoir %s\n", VS_VERSION);
+    return EXIT_SUCCESS;
+  }
+  if (strcmp(argv[1], "run") == 0) {
+    for (int i = 2; i < argc; i++)
+      if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+        fputs(USAGE, stdout);
+        return EXIT_SUCCESS;
+      }
+    return cmd_run(argc, argv);
+  }
+  fprintf(stderr, "voussoir: unknown command '%s'\n%s", argv[1], USAGE);
+  return EXIT_BAD_INPUT;
+}

@@ -1,0 +1,312 @@
+/* The model: equilibrium residual of the rigid blocks and its analytic CSC Jacobian, both
+ * assembled from one joint-law evaluation per joint. The block adjacency (and so the CSC
+ * pattern and the scatter map of every joint's 6x6 stiffness) is built once at creation. */
+#include "voussoir/model.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sunmatrix/sunmatrix_sparse.h>
+
+struct vs_model {
+  const vs_geometry *g;
+  vs_joint_law law;
+  double dir[2];   /* unit direction of the right support's motion */
+  int n;           /* unknowns, 3 per block */
+  double *ra, *rb; /* per joint: reference point of body a/b -> joint centre, m */
+  double *slip_p;  /* per joint: committed plastic slip, m */
+  sunindextype *colptr, *rowind;
+  int nnz;
+  int *blk_start;  /* CSC: per block column, offset of its first row-block in adj[] */
+  int *adj;        /* per block column, the sorted blocks coupled to it */
+};
+
+static int body_is_block(int body) { return body >= 0; }
+
+static void body_q(const vs_model *m, const double *q, double delta, int body, double out[3]) {
+  if (body_is_block(body)) {
+    memcpy(out, q + 3 * body, 3 * sizeof(double));
+  } else if (body == VS_SUPPORT_RIGHT) {
+    out[0] = delta * m->dir[0];
+    out[1] = delta * m->dir[1];
+    out[2] = 0.0;
+  } else {
+    out[0] = out[1] = out[2] = 0.0;
+  }
+}
+
+static int cmp_int(const void *x, const void *y) {
+  int a = *(const int *)x, b = *(const int *)y;
+  return (a > b) - (a < b);
+}
+
+/* Block adjacency (each block with itself and its joint neighbours) -> CSC pattern. */
+static vs_status build_pattern(vs_model *m, vs_error *err) {
+  const vs_geometry *g = m->g;
+  const int nb = g->n_blocks;
+  int *deg = calloc((size_t)nb + 1, sizeof *deg);
+  if (deg == NULL) return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
+  for (int i = 0; i < nb; i++) deg[i] = 1;
+  for (int k = 0; k < g->n_joints; k++) {
+    const vs_joint_geom *j = &g->joints[k];
+    if (body_is_block(j->a) && body_is_block(j->b) && j->a != j->b) {
+      deg[j->a]++;
+      deg[j->b]++;
+    }
+  }
+  m->blk_start = malloc(((size_t)nb + 1) * sizeof *m->blk_start);
+  int total = 0;
+  for (int i = 0; i < nb; i++) total += deg[i];
+  m->adj = malloc((size_t)total * sizeof *m->adj);
+  if (m->blk_start == NULL || m->adj == NULL) {
+    free(deg);
+    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
+  }
+  m->blk_start[0] = 0;
+  for (int i = 0; i < nb; i++) m->blk_start[i + 1] = m->blk_start[i] + deg[i];
+  for (int i = 0; i < nb; i++) {
+    m->adj[m->blk_start[i]] = i;
+    deg[i] = 1; /* reuse as fill counter */
+  }
+  for (int k = 0; k < g->n_joints; k++) {
+    const vs_joint_geom *j = &g->joints[k];
+    if (body_is_block(j->a) && body_is_block(j->b) && j->a != j->b) {
+      m->adj[m->blk_start[j->a] + deg[j->a]++] = j->b;
+      m->adj[m->blk_start[j->b] + deg[j->b]++] = j->a;
+    }
+  }
+  free(deg);
+  /* sort and remove duplicates (two joints between the same blocks) */
+  int w = 0;
+  for (int i = 0; i < nb; i++) {
+    int s = m->blk_start[i], e = m->blk_start[i + 1];
+    qsort(m->adj + s, (size_t)(e - s), sizeof(int), cmp_int);
+    m->blk_start[i] = w;
+    for (int p = s; p < e; p++)
+      if (p == s || m->adj[p] != m->adj[p - 1]) m->adj[w++] = m->adj[p];
+  }
+  m->blk_start[nb] = w;
+  m->nnz = 9 * w;
+  m->colptr = malloc(((size_t)m->n + 1) * sizeof *m->colptr);
+  m->rowind = malloc((size_t)m->nnz * sizeof *m->rowind);
+  if (m->colptr == NULL || m->rowind == NULL)
+    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
+  sunindextype p = 0;
+  for (int bj = 0; bj < nb; bj++) {
+    for (int cj = 0; cj < 3; cj++) {
+      m->colptr[3 * bj + cj] = p;
+      for (int q = m->blk_start[bj]; q < m->blk_start[bj + 1]; q++)
+        for (int ci = 0; ci < 3; ci++) m->rowind[p++] = 3 * m->adj[q] + ci;
+    }
+  }
+  m->colptr[m->n] = p;
+  return VS_OK;
+}
+
+vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double alpha_rad,
+                          vs_model **out, vs_error *err) {
+  *out = NULL;
+  if (!(law->kn > 0.0) || !(law->ks > 0.0) || !(law->mu > 0.0))
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "model: joint law kn = %g, ks = %g N/m^3, mu = %g (allowed: all > 0)",
+                        law->kn, law->ks, law->mu);
+  vs_model *m = calloc(1, sizeof *m);
+  if (m == NULL) return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
+  m->g = g;
+  m->law = *law;
+  m->dir[0] = sin(alpha_rad);
+  m->dir[1] = -cos(alpha_rad);
+  m->n = 3 * g->n_blocks;
+  size_t nj = (size_t)g->n_joints;
+  m->ra = calloc(2 * nj, sizeof(double));
+  m->rb = calloc(2 * nj, sizeof(double));
+  m->slip_p = calloc(nj, sizeof(double));
+  if (m->ra == NULL || m->rb == NULL || m->slip_p == NULL) {
+    vs_model_destroy(&m);
+    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
+  }
+  for (int k = 0; k < g->n_joints; k++) {
+    const vs_joint_geom *j = &g->joints[k];
+    if (body_is_block(j->a)) {
+      m->ra[2 * k] = j->px - g->blocks[j->a].cx;
+      m->ra[2 * k + 1] = j->pz - g->blocks[j->a].cz;
+    }
+    if (body_is_block(j->b)) {
+      m->rb[2 * k] = j->px - g->blocks[j->b].cx;
+      m->rb[2 * k + 1] = j->pz - g->blocks[j->b].cz;
+    }
+  }
+  vs_status st = build_pattern(m, err);
+  if (st != VS_OK) {
+    vs_model_destroy(&m);
+    return st;
+  }
+  *out = m;
+  return VS_OK;
+}
+
+void vs_model_destroy(vs_model **m) {
+  if (m == NULL || *m == NULL) return;
+  vs_model *p = *m;
+  free(p->ra);
+  free(p->rb);
+  free(p->slip_p);
+  free(p->colptr);
+  free(p->rowind);
+  free(p->blk_start);
+  free(p->adj);
+  free(p);
+  *m = NULL;
+}
+
+int vs_model_size(const vs_model *m) { return m->n; }
+int vs_model_nnz(const vs_model *m) { return m->nnz; }
+const vs_geometry *vs_model_geometry(const vs_model *m) { return m->g; }
+const vs_joint_law *vs_model_law(const vs_model *m) { return &m->law; }
+const double *vs_model_slips(const vs_model *m) { return m->slip_p; }
+
+void vs_model_support_displacement(const vs_model *m, double delta, double u[2]) {
+  u[0] = delta * m->dir[0];
+  u[1] = delta * m->dir[1];
+}
+
+static void eval_joint(const vs_model *m, const double *q, double delta, int k, vs_joint_state *st,
+                       double f[6], double K[36]) {
+  const vs_joint_geom *j = &m->g->joints[k];
+  double qa[3], qb[3];
+  body_q(m, q, delta, j->a, qa);
+  body_q(m, q, delta, j->b, qb);
+  vs_joint_eval(j, &m->law, qa, qb, m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k], st, f, K);
+}
+
+void vs_model_residual(const vs_model *m, const double *q, double delta, double *G) {
+  const vs_geometry *g = m->g;
+  for (int i = 0; i < g->n_blocks; i++) {
+    G[3 * i] = 0.0;
+    G[3 * i + 1] = g->blocks[i].mass * g->gravity; /* minus the external load -m g */
+    G[3 * i + 2] = 0.0;
+  }
+  for (int k = 0; k < g->n_joints; k++) {
+    double f[6];
+    eval_joint(m, q, delta, k, NULL, f, NULL);
+    const int body[2] = {g->joints[k].a, g->joints[k].b};
+    for (int s = 0; s < 2; s++)
+      if (body_is_block(body[s]))
+        for (int c = 0; c < 3; c++) G[3 * body[s] + c] += f[3 * s + c];
+  }
+}
+
+/* Position in the CSC data of entry (row block bi, column block bj), component (0, 0). */
+static sunindextype csc_pos(const vs_model *m, int bi, int bj) {
+  int lo = m->blk_start[bj], hi = m->blk_start[bj + 1] - 1;
+  while (lo < hi) { /* adjacency lists are sorted */
+    int mid = (lo + hi) / 2;
+    if (m->adj[mid] < bi) lo = mid + 1;
+    else hi = mid;
+  }
+  return m->colptr[3 * bj] + 3 * (lo - m->blk_start[bj]);
+}
+
+int vs_model_jacobian(const vs_model *m, const double *q, double delta, SUNMatrix J) {
+  sunindextype *cp = SUNSparseMatrix_IndexPointers(J), *ri = SUNSparseMatrix_IndexValues(J);
+  double *data = SUNSparseMatrix_Data(J);
+  memcpy(cp, m->colptr, ((size_t)m->n + 1) * sizeof *cp);
+  memcpy(ri, m->rowind, (size_t)m->nnz * sizeof *ri);
+  memset(data, 0, (size_t)m->nnz * sizeof *data);
+  const vs_geometry *g = m->g;
+  for (int k = 0; k < g->n_joints; k++) {
+    double K[36];
+    eval_joint(m, q, delta, k, NULL, NULL, K);
+    const int body[2] = {g->joints[k].a, g->joints[k].b};
+    for (int si = 0; si < 2; si++) {
+      if (!body_is_block(body[si])) continue;
+      for (int sj = 0; sj < 2; sj++) {
+        if (!body_is_block(body[sj])) continue;
+        const sunindextype p0 = csc_pos(m, body[si], body[sj]);
+        const sunindextype stride = m->colptr[3 * body[sj] + 1] - m->colptr[3 * body[sj]];
+        for (int cj = 0; cj < 3; cj++)
+          for (int ci = 0; ci < 3; ci++)
+            data[p0 + cj * stride + ci] += K[(3 * si + ci) * 6 + 3 * sj + cj];
+      }
+    }
+  }
+  return 0;
+}
+
+void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double *out) {
+  const vs_geometry *g = m->g;
+  memset(out, 0, (size_t)m->n * sizeof *out);
+  for (int k = 0; k < g->n_joints; k++) {
+    const int body[2] = {g->joints[k].a, g->joints[k].b};
+    int ss = (body[1] == VS_SUPPORT_RIGHT) ? 1 : (body[0] == VS_SUPPORT_RIGHT) ? 0 : -1;
+    if (ss < 0) continue;
+    double K[36];
+    eval_joint(m, q, delta, k, NULL, NULL, K);
+    for (int si = 0; si < 2; si++) {
+      if (!body_is_block(body[si])) continue;
+      for (int ci = 0; ci < 3; ci++) {
+        const double *row = K + (3 * si + ci) * 6 + 3 * ss;
+        out[3 * body[si] + ci] += row[0] * m->dir[0] + row[1] * m->dir[1];
+      }
+    }
+  }
+}
+
+void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_joint_state *st) {
+  for (int k = 0; k < m->g->n_joints; k++) eval_joint(m, q, delta, k, &st[k], NULL, NULL);
+}
+
+int vs_model_commit(vs_model *m, const double *q, double delta) {
+  int slid = 0;
+  for (int k = 0; k < m->g->n_joints; k++) {
+    vs_joint_state st;
+    eval_joint(m, q, delta, k, &st, NULL, NULL);
+    if (st.sliding) slid++;
+    m->slip_p[k] = st.slip_p;
+  }
+  return slid;
+}
+
+void vs_model_reactions(const vs_model *m, const double *q, double delta, double left[2],
+                        double right[2]) {
+  left[0] = left[1] = right[0] = right[1] = 0.0;
+  for (int k = 0; k < m->g->n_joints; k++) {
+    const vs_joint_geom *j = &m->g->joints[k];
+    double f[6];
+    eval_joint(m, q, delta, k, NULL, f, NULL);
+    /* f on a support's translation is dE/du_support; the arch pushes it with -f */
+    const int body[2] = {j->a, j->b};
+    for (int s = 0; s < 2; s++) {
+      double *r = (body[s] == VS_SUPPORT_LEFT) ? left : (body[s] == VS_SUPPORT_RIGHT) ? right : NULL;
+      if (r == NULL) continue;
+      r[0] -= f[3 * s];
+      r[1] -= f[3 * s + 1];
+    }
+  }
+}
+
+double vs_model_energy(const vs_model *m, const double *q, double delta) {
+  const vs_geometry *g = m->g;
+  double e = 0.0;
+  for (int i = 0; i < g->n_blocks; i++) e += g->blocks[i].mass * g->gravity * q[3 * i + 1];
+  for (int k = 0; k < g->n_joints; k++) {
+    vs_joint_state st;
+    eval_joint(m, q, delta, k, &st, NULL, NULL);
+    e += st.energy;
+  }
+  return e;
+}
+
+void vs_model_residual_scale(const vs_model *m, double *scale) {
+  const vs_geometry *g = m->g;
+  for (int i = 0; i < g->n_blocks; i++) {
+    double len = 0.0;
+    for (int k = 0; k < g->n_joints; k++)
+      if (g->joints[k].a == i || g->joints[k].b == i) len = fmax(len, g->joints[k].length);
+    if (!(len > 0.0)) len = sqrt(g->blocks[i].area);
+    const double w = g->blocks[i].mass * g->gravity;
+    scale[3 * i] = w;
+    scale[3 * i + 1] = w;
+    scale[3 * i + 2] = w * len;
+  }
+}

@@ -1,0 +1,473 @@
+/* Quasi-static path following: KINSOL (Newton + line search, KLU on the analytic Jacobian) at
+ * each support displacement, a tangent predictor, adaptive increments, and a limit point
+ * bracketed by bisection of the increment and confirmed on the tangent stiffness. */
+#include "voussoir/quasistatic.h"
+
+#include <klu.h>
+#include <kinsol/kinsol.h>
+#include <math.h>
+#include <stdio.h>
+#include <nvector/nvector_serial.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_klu.h>
+#include <sunmatrix/sunmatrix_sparse.h>
+
+#include "voussoir/units.h"
+
+/* A converged corrector may move the state away from the tangent predictor by at most this
+ * multiple of the predictor's own length: a larger jump means Newton left the branch being
+ * followed (for instance across a snap), and the increment is cut instead. */
+static const double VS_CORRECTOR_RATIO = 1.0;
+/* Inverse iteration on the tangent: relative change of the eigenvalue estimate that stops it,
+ * and the iteration cap. */
+static const double VS_EIG_RTOL = 1e-10;
+static const int VS_EIG_MAXIT = 200;
+
+typedef struct {
+  vs_model *m;
+  const vs_path_opts *o;
+  double delta;
+  int n;
+  SUNContext ctx;
+  N_Vector u, uscale, fscale;
+  SUNMatrix J, Jt;            /* KINSOL's Jacobian; the tangent at accepted states */
+  SUNLinearSolver LS, LSt;
+  void *kin;
+  double *len;                /* per unknown: 1 for translations, block length for rotations */
+  long iters, jac_evals;
+  char kin_msg[256];
+} qs_solver;
+
+static int sys_fn(N_Vector u, N_Vector f, void *user) {
+  qs_solver *s = user;
+  vs_model_residual(s->m, N_VGetArrayPointer(u), s->delta, N_VGetArrayPointer(f));
+  return 0;
+}
+
+static int jac_fn(N_Vector u, N_Vector fu, SUNMatrix J, void *user, N_Vector t1, N_Vector t2) {
+  (void)fu;
+  (void)t1;
+  (void)t2;
+  qs_solver *s = user;
+  s->jac_evals++;
+  return vs_model_jacobian(s->m, N_VGetArrayPointer(u), s->delta, J);
+}
+
+/* KINSOL's messages go to the error detail, never to stderr. */
+static void kin_err(int code, const char *module, const char *function, char *msg, void *user) {
+  qs_solver *s = user;
+  (void)code;
+  snprintf(s->kin_msg, sizeof s->kin_msg, "%s/%s: %s", module, function, msg);
+}
+
+static void qs_destroy(qs_solver *s) {
+  if (s->kin != NULL) KINFree(&s->kin);
+  if (s->LS != NULL) SUNLinSolFree(s->LS);
+  if (s->LSt != NULL) SUNLinSolFree(s->LSt);
+  if (s->J != NULL) SUNMatDestroy(s->J);
+  if (s->Jt != NULL) SUNMatDestroy(s->Jt);
+  if (s->u != NULL) N_VDestroy(s->u);
+  if (s->uscale != NULL) N_VDestroy(s->uscale);
+  if (s->fscale != NULL) N_VDestroy(s->fscale);
+  if (s->ctx != NULL) SUNContext_Free(&s->ctx);
+  free(s->len);
+  memset(s, 0, sizeof *s);
+}
+
+static vs_status qs_fail(qs_solver *s, vs_error *err, const char *what, int flag) {
+  qs_destroy(s);
+  return vs_error_set(err, VS_ERR_SOLVER, "quasi-static solver setup: %s failed (flag %d)", what,
+                      flag);
+}
+
+static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_error *err) {
+  memset(s, 0, sizeof *s);
+  s->m = m;
+  s->o = o;
+  s->n = vs_model_size(m);
+  const sunindextype n = s->n, nnz = vs_model_nnz(m);
+  int flag = SUNContext_Create(NULL, &s->ctx);
+  if (flag != 0) return qs_fail(s, err, "SUNContext_Create", flag);
+  s->u = N_VNew_Serial(n, s->ctx);
+  s->uscale = N_VNew_Serial(n, s->ctx);
+  s->fscale = N_VNew_Serial(n, s->ctx);
+  s->J = SUNSparseMatrix(n, n, nnz, CSC_MAT, s->ctx);
+  s->Jt = SUNSparseMatrix(n, n, nnz, CSC_MAT, s->ctx);
+  s->len = malloc((size_t)n * sizeof *s->len);
+  if (s->u == NULL || s->uscale == NULL || s->fscale == NULL || s->J == NULL || s->Jt == NULL ||
+      s->len == NULL) {
+    qs_destroy(s);
+    return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
+  }
+  s->LS = SUNLinSol_KLU(s->u, s->J, s->ctx);
+  s->LSt = SUNLinSol_KLU(s->u, s->Jt, s->ctx);
+  if (s->LS == NULL || s->LSt == NULL) return qs_fail(s, err, "SUNLinSol_KLU", 0);
+
+  /* Scalings: residuals in units of each block's weight (moments: weight x joint length);
+   * unknowns in units of that length (rotations in rad). */
+  double *fs = N_VGetArrayPointer(s->fscale), *us = N_VGetArrayPointer(s->uscale);
+  vs_model_residual_scale(m, fs);
+  for (int i = 0; i < s->n; i += 3) {
+    const double len = fs[i + 2] / fs[i];
+    s->len[i] = s->len[i + 1] = 1.0;
+    s->len[i + 2] = len;
+    us[i] = us[i + 1] = 1.0 / len;
+    us[i + 2] = 1.0;
+  }
+  for (int i = 0; i < s->n; i++) fs[i] = 1.0 / fs[i];
+
+  s->kin = KINCreate(s->ctx);
+  if (s->kin == NULL) return qs_fail(s, err, "KINCreate", 0);
+  if ((flag = KINInit(s->kin, sys_fn, s->u)) != KIN_SUCCESS) return qs_fail(s, err, "KINInit", flag);
+  if ((flag = KINSetUserData(s->kin, s)) != KIN_SUCCESS) return qs_fail(s, err, "KINSetUserData", flag);
+  if ((flag = KINSetErrHandlerFn(s->kin, kin_err, s)) != KIN_SUCCESS)
+    return qs_fail(s, err, "KINSetErrHandlerFn", flag);
+  if ((flag = KINSetLinearSolver(s->kin, s->LS, s->J)) != KIN_SUCCESS)
+    return qs_fail(s, err, "KINSetLinearSolver", flag);
+  if ((flag = KINSetJacFn(s->kin, jac_fn)) != KIN_SUCCESS) return qs_fail(s, err, "KINSetJacFn", flag);
+  if ((flag = KINSetMaxSetupCalls(s->kin, 1)) != KIN_SUCCESS) /* exact Newton: J every iteration */
+    return qs_fail(s, err, "KINSetMaxSetupCalls", flag);
+  if ((flag = KINSetNumMaxIters(s->kin, o->newton_maxiter)) != KIN_SUCCESS)
+    return qs_fail(s, err, "KINSetNumMaxIters", flag);
+  if ((flag = KINSetFuncNormTol(s->kin, o->newton_tol)) != KIN_SUCCESS)
+    return qs_fail(s, err, "KINSetFuncNormTol", flag);
+  if ((flag = KINSetScaledStepTol(s->kin, 1e-3 * o->newton_tol)) != KIN_SUCCESS)
+    return qs_fail(s, err, "KINSetScaledStepTol", flag);
+  return VS_OK;
+}
+
+/* Largest scaled residual |G_i| / scale_i at (q, delta). */
+static double scaled_residual(qs_solver *s, const double *q, double delta) {
+  double *f = malloc((size_t)s->n * sizeof *f), r = 0.0;
+  if (f == NULL) return INFINITY;
+  vs_model_residual(s->m, q, delta, f);
+  const double *fs = N_VGetArrayPointer(s->fscale);
+  for (int i = 0; i < s->n; i++) r = fmax(r, fabs(f[i]) * fs[i]);
+  free(f);
+  return r;
+}
+
+/* Solve G(q; delta) = 0 from the guess q. Returns 0 on convergence, else the KINSOL flag. */
+static int qs_solve(qs_solver *s, double delta, double *q, long *iters) {
+  s->delta = delta;
+  s->kin_msg[0] = '\0';
+  memcpy(N_VGetArrayPointer(s->u), q, (size_t)s->n * sizeof *q);
+  int flag = KINSol(s->kin, s->u, KIN_LINESEARCH, s->uscale, s->fscale);
+  long nni = 0;
+  KINGetNumNonlinSolvIters(s->kin, &nni);
+  s->iters += nni;
+  if (iters != NULL) *iters = nni;
+  if (flag == KIN_SUCCESS || flag == KIN_INITIAL_GUESS_OK || flag == KIN_STEP_LT_STPTOL) {
+    const double *u = N_VGetArrayPointer(s->u);
+    /* a stalled step is accepted only if the residual test holds */
+    if (scaled_residual(s, u, delta) > s->o->newton_tol) return KIN_STEP_LT_STPTOL;
+    memcpy(q, u, (size_t)s->n * sizeof *q);
+    return 0;
+  }
+  return flag;
+}
+
+/* Sign of a permutation (+1 even, -1 odd); work has n bytes of scratch. */
+static int perm_sign(const SuiteSparse_long *p, long n, unsigned char *seen) {
+  memset(seen, 0, (size_t)n);
+  long transpositions = 0;
+  for (long i = 0; i < n; i++) {
+    if (seen[i]) continue;
+    long len = 0;
+    for (long j = i; !seen[j]; j = p[j]) {
+      seen[j] = 1;
+      len++;
+    }
+    transpositions += len - 1;
+  }
+  return (transpositions % 2 == 0) ? 1 : -1;
+}
+
+/* Factor the tangent at (q, delta) with KLU; *det_sign = sign of det K from the factors:
+ * KLU factors P (R\K) Q = L U with R > 0, so sign(det K) = sign(P) sign(Q) prod sign(U_ii). */
+static int tangent_factor(qs_solver *s, const double *q, double delta, int *det_sign) {
+  vs_model_jacobian(s->m, q, delta, s->Jt);
+  int flag = SUNLinSolSetup(s->LSt, s->Jt);
+  if (flag != 0) {
+    *det_sign = 0;
+    return flag;
+  }
+  sun_klu_symbolic *sym = SUNLinSol_KLUGetSymbolic(s->LSt);
+  sun_klu_numeric *num = SUNLinSol_KLUGetNumeric(s->LSt);
+  const long n = s->n;
+  unsigned char *seen = malloc((size_t)n);
+  if (seen == NULL) return -1;
+  int sign = perm_sign(num->Pnum, n, seen) * perm_sign(sym->Q, n, seen);
+  const double *ud = num->Udiag;
+  for (long i = 0; i < n; i++) {
+    if (ud[i] == 0.0) sign = 0;
+    else if (ud[i] < 0.0) sign = -sign;
+  }
+  free(seen);
+  *det_sign = sign;
+  return 0;
+}
+
+/* x <- K^-1 b with the factors of tangent_factor. */
+static int tangent_solve(qs_solver *s, N_Vector x, N_Vector b) {
+  return SUNLinSolSolve(s->LSt, s->Jt, x, b, 0.0);
+}
+
+/* Smallest |eigenvalue| of the scaled tangent D K D (rotations scaled by the block length,
+ * so that every entry is in N/m), by inverse iteration on the factored tangent. */
+static double tangent_min_eig(qs_solver *s) {
+  N_Vector y = N_VClone(s->u), z = N_VClone(s->u);
+  if (y == NULL || z == NULL) {
+    if (y) N_VDestroy(y);
+    if (z) N_VDestroy(z);
+    return NAN;
+  }
+  double *py = N_VGetArrayPointer(y), *pz = N_VGetArrayPointer(z);
+  unsigned long seed = 12345u;
+  for (int i = 0; i < s->n; i++) { /* deterministic pseudo-random start */
+    seed = seed * 6364136223846793005ul + 1442695040888963407ul;
+    py[i] = (double)(seed >> 11) / 9007199254740992.0 - 0.5;
+  }
+  double nrm = sqrt(N_VDotProd(y, y)), mu = 0.0;
+  N_VScale(1.0 / nrm, y, y);
+  for (int it = 0; it < VS_EIG_MAXIT; it++) {
+    /* A = D K D with D = diag(1, 1, 1/len): A^-1 y = D^-1 K^-1 D^-1 y */
+    for (int i = 0; i < s->n; i++) py[i] *= s->len[i];
+    if (tangent_solve(s, z, y) != 0) {
+      mu = NAN;
+      break;
+    }
+    for (int i = 0; i < s->n; i++) pz[i] *= s->len[i];
+    nrm = sqrt(N_VDotProd(z, z));
+    const double mu_new = 1.0 / nrm;
+    N_VScale(1.0 / nrm, z, y);
+    if (it > 2 && fabs(mu_new - mu) <= VS_EIG_RTOL * mu_new) {
+      mu = mu_new;
+      break;
+    }
+    mu = mu_new;
+  }
+  N_VDestroy(y);
+  N_VDestroy(z);
+  return mu;
+}
+
+/* Tangent of the path, dq/ddelta = -K^-1 dG/ddelta, with the factors of tangent_factor. */
+static int path_tangent(qs_solver *s, const double *q, double delta, double *dq) {
+  N_Vector b = N_VClone(s->u), x = N_VClone(s->u);
+  if (b == NULL || x == NULL) {
+    if (b) N_VDestroy(b);
+    if (x) N_VDestroy(x);
+    return -1;
+  }
+  vs_model_dG_ddelta(s->m, q, delta, N_VGetArrayPointer(b));
+  N_VScale(-1.0, b, b);
+  int flag = tangent_solve(s, x, b);
+  if (flag == 0) memcpy(dq, N_VGetArrayPointer(x), (size_t)s->n * sizeof *dq);
+  N_VDestroy(b);
+  N_VDestroy(x);
+  return flag;
+}
+
+/* Scaled distance between two states: translations / block length, rotations in rad. */
+static double scaled_norm(const qs_solver *s, const double *a, const double *b) {
+  double r = 0.0;
+  for (int i = 0; i < s->n; i++) {
+    const double len = (i % 3 == 2) ? 1.0 : s->len[i - i % 3 + 2];
+    r = fmax(r, fabs(a[i] - b[i]) / len);
+  }
+  return r;
+}
+
+void vs_path_opts_from_case(const vs_case *c, vs_path_opts *o) {
+  o->step = c->step_mm * VS_MM;
+  o->step_max = c->step_max_mm * VS_MM;
+  o->limit_tol = c->limit_tol_mm * VS_MM;
+  o->max_delta = c->max_mm * VS_MM;
+  o->newton_tol = c->newton_tol;
+  o->newton_maxiter = c->newton_maxiter;
+}
+
+static const char *kin_cause(int flag) {
+  switch (flag) {
+  case KIN_LINESEARCH_NONCONV: return "line search could not reduce the residual";
+  case KIN_MAXITER_REACHED: return "Newton iteration limit reached";
+  case KIN_MXNEWT_5X_EXCEEDED: return "five consecutive maximum-length Newton steps (diverging)";
+  case KIN_LINESEARCH_BCFAIL: return "line search could not satisfy the beta condition";
+  case KIN_LSETUP_FAIL: return "KLU could not factor the Jacobian (singular tangent)";
+  case KIN_LSOLVE_FAIL: return "KLU solve failed";
+  case KIN_STEP_LT_STPTOL: return "Newton stalled with the residual above tolerance";
+  default: return "KINSOL failure";
+  }
+}
+
+vs_status vs_equilibrium_solve(vs_model *m, const vs_path_opts *o, double delta, double *q,
+                               long *iters, vs_error *err) {
+  qs_solver s;
+  vs_status st = qs_create(&s, m, o, err);
+  if (st != VS_OK) return st;
+  int flag = qs_solve(&s, delta, q, iters);
+  if (flag != 0) {
+    char cause[128];
+    snprintf(cause, sizeof cause, "%s", kin_cause(flag));
+    st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
+                      "no equilibrium at support displacement %.6g mm: %s (KINSOL flag %d)",
+                      delta / VS_MM, cause, flag);
+  }
+  qs_destroy(&s);
+  return st;
+}
+
+/* Confirm a bracketed limit point at delta_lo (last equilibrium q_lo): near a fold the smallest
+ * eigenvalue of the tangent vanishes like sqrt(delta_L - delta), so lambda^2 is linear in delta.
+ * Take a second equilibrium a little behind (delta_b, solved from the interpolation between the
+ * previous accepted state and q_lo: Newton from q_lo itself is useless there, its tangent is
+ * nearly singular), extrapolate lambda^2 to zero and require the zero to fall in the bracket
+ * (within its width plus the bisection tolerance). */
+static vs_status confirm_limit(qs_solver *s, const double *q_prev, double delta_prev,
+                               const double *q_lo, double delta_lo, double delta_fail,
+                               vs_path_result *res, vs_error *err) {
+  const double width = delta_fail - delta_lo;
+  const double delta_b = fmax(delta_lo - 10.0 * fmax(width, s->o->limit_tol), delta_prev);
+  vs_limit_evidence *ev = &res->evidence;
+  int sign = 0;
+  if (tangent_factor(s, q_lo, delta_lo, &sign) != 0)
+    return vs_error_set(err, VS_ERR_SOLVER, "KLU failed to factor the tangent at %.6g mm",
+                        delta_lo / VS_MM);
+  ev->det_sign = sign;
+  const double lam_lo = tangent_min_eig(s);
+  ev->lambda_last = lam_lo;
+  double *qb = malloc((size_t)s->n * sizeof *qb);
+  if (qb == NULL) return vs_error_set(err, VS_ERR_NOMEM, "out of memory");
+  const double f = (delta_lo > delta_prev) ? (delta_b - delta_prev) / (delta_lo - delta_prev) : 0.0;
+  for (int i = 0; i < s->n; i++) qb[i] = q_prev[i] + f * (q_lo[i] - q_prev[i]);
+  int flag = (delta_b > delta_prev) ? qs_solve(s, delta_b, qb, NULL) : 0;
+  double lam_b = NAN;
+  int sign_b = 0;
+  if (flag == 0 && tangent_factor(s, qb, delta_b, &sign_b) == 0) lam_b = tangent_min_eig(s);
+  free(qb);
+  if (flag != 0 || !isfinite(lam_b))
+    return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
+                        "Newton failed beyond %.6g mm but the path could not be re-solved at "
+                        "%.6g mm to examine the tangent (%s)",
+                        delta_lo / VS_MM, delta_b / VS_MM, kin_cause(flag));
+  const double l2b = lam_b * lam_b, l2 = lam_lo * lam_lo;
+  ev->delta_extrap = (l2b > l2) ? delta_lo + (delta_lo - delta_b) * l2 / (l2b - l2) : INFINITY;
+  const double slack = width + s->o->limit_tol;
+  if (sign > 0 && ev->delta_extrap <= delta_fail + slack) return VS_OK;
+  return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
+                      "Newton failed beyond %.6g mm (%s) but the tangent stiffness there is not "
+                      "vanishing (smallest eigenvalue %.4g N/m, extrapolated to zero at %.6g mm, "
+                      "det sign %+d): not a limit point",
+                      delta_lo / VS_MM, s->kin_msg[0] ? s->kin_msg : "no convergence", lam_lo,
+                      ev->delta_extrap / VS_MM, sign);
+}
+
+/* Accept a converged state as on the followed stable branch: the tangent must be positive
+ * definite along the path (det K > 0 on the stable branch that starts from self-weight). */
+static int stable_state(qs_solver *s, const double *q, double delta) {
+  int sign = 0;
+  if (tangent_factor(s, q, delta, &sign) != 0) return 0;
+  return sign > 0;
+}
+
+vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double *q, vs_path_step_fn step_fn,
+                      void *user, vs_path_result *res, vs_error *err) {
+  memset(res, 0, sizeof *res);
+  res->evidence.delta_extrap = NAN;
+  qs_solver s;
+  vs_status st = qs_create(&s, m, o, err);
+  if (st != VS_OK) return st;
+  const size_t bytes = (size_t)s.n * sizeof(double);
+  double *tan = malloc(bytes), *qtry = malloc(bytes), *qpred = malloc(bytes);
+  double *qprev = malloc(bytes), delta_prev = 0.0;
+  if (tan == NULL || qtry == NULL || qpred == NULL || qprev == NULL) {
+    st = vs_error_set(err, VS_ERR_NOMEM, "path: out of memory");
+    goto cleanup;
+  }
+  /* 1. self-weight, supports in place */
+  long it = 0;
+  int flag = qs_solve(&s, 0.0, q, &it);
+  res->newton_iterations = s.iters;
+  if (flag != 0) {
+    st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
+                      "no equilibrium under self-weight: the arch cannot stand (%s)",
+                      kin_cause(flag));
+    goto cleanup;
+  }
+  if (!stable_state(&s, q, 0.0)) {
+    st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
+                      "the self-weight equilibrium is unstable (tangent not positive definite)");
+    goto cleanup;
+  }
+  res->evidence.lambda_start = tangent_min_eig(&s);
+  vs_model_commit(m, q, 0.0);
+  memcpy(qprev, q, bytes);
+  res->steps = 1;
+  if (step_fn != NULL && step_fn(user, 0.0, q, m) != 0) {
+    st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+    goto cleanup;
+  }
+  /* 2. displacement control of the right support */
+  double delta = 0.0, h = o->step;
+  if (path_tangent(&s, q, delta, tan) != 0) {
+    st = vs_error_set(err, VS_ERR_SOLVER, "KLU failed to solve for the path tangent");
+    goto cleanup;
+  }
+  for (;;) {
+    if (delta >= o->max_delta * (1.0 - 1e-12)) {
+      res->end = VS_PATH_MAX_DISPLACEMENT;
+      break;
+    }
+    h = fmin(h, o->max_delta - delta);
+    for (int i = 0; i < s.n; i++) qtry[i] = qpred[i] = q[i] + h * tan[i];
+    flag = qs_solve(&s, delta + h, qtry, &it);
+    int ok = (flag == 0);
+    if (ok && scaled_norm(&s, qtry, qpred) > VS_CORRECTOR_RATIO * scaled_norm(&s, qpred, q) +
+                                                 10.0 * o->newton_tol)
+      ok = 0; /* left the branch */
+    if (ok && !stable_state(&s, qtry, delta + h)) ok = 0; /* passed a limit point */
+    if (!ok) {
+      res->rejected++;
+      if (h <= o->limit_tol) {
+        res->delta_limit = delta;
+        res->delta_fail = delta + h;
+        st = confirm_limit(&s, qprev, delta_prev, q, delta, delta + h, res, err);
+        if (st == VS_OK) res->end = VS_PATH_LIMIT_POINT;
+        break;
+      }
+      h *= 0.5;
+      continue;
+    }
+    /* accepted: the tangent is factored at the new state by stable_state */
+    memcpy(qprev, q, bytes);
+    delta_prev = delta;
+    memcpy(q, qtry, bytes);
+    delta += h;
+    vs_model_commit(m, q, delta);
+    res->steps++;
+    res->delta_limit = delta;
+    if (path_tangent(&s, q, delta, tan) != 0) {
+      st = vs_error_set(err, VS_ERR_SOLVER, "KLU failed to solve for the path tangent at %.6g mm",
+                        delta / VS_MM);
+      break;
+    }
+    if (step_fn != NULL && step_fn(user, delta, q, m) != 0) {
+      st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+      break;
+    }
+    if (it <= 3) h = fmin(2.0 * h, o->step_max);
+    else if (it <= 6) h = fmin(1.25 * h, o->step_max);
+  }
+cleanup:
+  res->newton_iterations = s.iters;
+  res->jacobian_evals = s.jac_evals;
+  free(tan);
+  free(qtry);
+  free(qpred);
+  free(qprev);
+  qs_destroy(&s);
+  return st;
+}

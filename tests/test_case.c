@@ -1,0 +1,688 @@
+/* Tests of the case module: defaults, INI reading, every range and syntax error with its
+ * FILE:LINE message, --set overrides, cross-field validation and the span.
+ * Expected values are written out here, independently of the key table in src/case.c. */
+#define _POSIX_C_SOURCE 200809L /* mkstemp, fdopen */
+
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include "voussoir/case.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+/* ---------------------------------------------------------------------------------------------
+ * Helpers */
+
+typedef struct {
+  char path[64];
+} tmpfile_t;
+
+/* Write text to a fresh temporary file; the test removes it with drop(). */
+static void write_tmp(tmpfile_t *t, const char *text) {
+  snprintf(t->path, sizeof t->path, "/tmp/vs_test_case_XXXXXX");
+  int fd = mkstemp(t->path);
+  assert_true(fd >= 0);
+  FILE *f = fdopen(fd, "wb");
+  assert_non_null(f);
+  size_t n = strlen(text);
+  assert_int_equal(fwrite(text, 1, n, f), n);
+  assert_int_equal(fclose(f), 0);
+}
+
+static void drop(tmpfile_t *t) { remove(t->path); }
+
+static void expect_in(const char *msg, const char *needle) {
+  if (strstr(msg, needle) == NULL) fail_msg("message \"%s\" lacks \"%s\"", msg, needle);
+}
+
+static void expect_prefix(const char *msg, const char *prefix) {
+  if (strncmp(msg, prefix, strlen(prefix)) != 0)
+    fail_msg("message \"%s\" does not start with \"%s\"", msg, prefix);
+}
+
+/* Read text as a case file over the defaults; return the status, leave message in err. */
+static vs_status read_text(const char *text, vs_case *c, vs_error *err, tmpfile_t *t) {
+  write_tmp(t, text);
+  vs_case_defaults(c);
+  vs_error_clear(err);
+  return vs_case_read(c, t->path, NULL, err);
+}
+
+/* Expect reading text to fail with status at line; message starts with "PATH:LINE: ". */
+static void expect_read_error(const char *text, vs_status status, int line, const char *needle) {
+  tmpfile_t t;
+  vs_case c;
+  vs_error err;
+  vs_status st = read_text(text, &c, &err, &t);
+  if (st != status) fail_msg("status %d, expected %d; message \"%s\"", st, status, err.msg);
+  assert_int_equal(err.status, status);
+  char prefix[96];
+  snprintf(prefix, sizeof prefix, "%s:%d: ", t.path, line);
+  expect_prefix(err.msg, prefix);
+  expect_in(err.msg, needle);
+  drop(&t);
+}
+
+static int same_case(const vs_case *a, const vs_case *b) {
+  return a->radius_mm == b->radius_mm && a->thickness_mm == b->thickness_mm &&
+         a->embrace_deg == b->embrace_deg && a->voussoirs == b->voussoirs &&
+         a->depth_mm == b->depth_mm && a->density_kg_m3 == b->density_kg_m3 &&
+         a->gravity_m_s2 == b->gravity_m_s2 && a->kn_N_mm3 == b->kn_N_mm3 &&
+         a->ks_ratio == b->ks_ratio && a->friction == b->friction && a->alpha_deg == b->alpha_deg &&
+         a->rate_mm_s == b->rate_mm_s && a->max_mm == b->max_mm && a->step_mm == b->step_mm &&
+         a->step_max_mm == b->step_max_mm && a->limit_tol_mm == b->limit_tol_mm &&
+         a->newton_tol == b->newton_tol && a->newton_maxiter == b->newton_maxiter &&
+         a->open_mm == b->open_mm && a->migrate_joints == b->migrate_joints;
+}
+
+/* Every key, with a value just outside each bound (NULL: no bound on that side) and values on
+ * the inclusive bounds that must be accepted. Independent of the table in case.c. */
+typedef struct {
+  const char *section, *key;
+  const char *below, *above;
+  const char *edge_ok[2];
+} key_case;
+
+static const key_case all_keys[] = {
+    {"arch", "radius_mm", "0", NULL, {"1e-9", "1e9"}},
+    {"arch", "thickness_mm", "-1", NULL, {"0.001", NULL}},
+    {"arch", "embrace_deg", "0", "180.0001", {"180", "0.01"}},
+    {"arch", "voussoirs", "0", "20001", {"1", "20000"}},
+    {"arch", "depth_mm", "-120", NULL, {"1", NULL}},
+    {"arch", "density_kg_m3", "0", NULL, {"2400", NULL}},
+    {"arch", "gravity_m_s2", "-9.81", NULL, {"1.62", NULL}},
+    {"joints", "kn_N_mm3", "-3", NULL, {"48", NULL}},
+    {"joints", "ks_ratio", "0", NULL, {"1", NULL}},
+    {"joints", "friction", "0", NULL, {"0.01", NULL}},
+    {"support", "alpha_deg", "-180.5", "181", {"-180", "180"}},
+    {"support", "rate_mm_s", "0", NULL, {"1", NULL}},
+    {"support", "max_mm", "0", NULL, {"100", NULL}},
+    {"solver", "step_mm", "0", NULL, {"0.1", NULL}},
+    {"solver", "step_max_mm", "-2", NULL, {"5", NULL}},
+    {"solver", "limit_tol_mm", "0", NULL, {"1e-6", NULL}},
+    {"solver", "newton_tol", "0", "0.0101", {"1e-2", "1e-14"}},
+    {"solver", "newton_maxiter", "1", "1001", {"2", "1000"}},
+    {"hinges", "open_mm", "0", NULL, {"1e-4", NULL}},
+    {"hinges", "migrate_joints", "-1", "101", {"0", "100"}},
+};
+#define NKEYS_TESTED (sizeof all_keys / sizeof all_keys[0])
+
+/* ---------------------------------------------------------------------------------------------
+ * Defaults and a valid file */
+
+static void test_defaults(void **state) {
+  (void)state;
+  vs_case c;
+  vs_case_defaults(&c);
+  assert_true(c.radius_mm == 300.0);
+  assert_true(c.thickness_mm == 24.0);
+  assert_true(c.embrace_deg == 125.0);
+  assert_int_equal(c.voussoirs, 55);
+  assert_true(c.depth_mm == 120.0);
+  assert_true(c.density_kg_m3 == 1640.0);
+  assert_true(c.gravity_m_s2 == 9.81);
+  assert_true(c.kn_N_mm3 == 3.0);
+  assert_true(c.ks_ratio == 0.5);
+  assert_true(c.friction == 0.7);
+  assert_true(c.alpha_deg == 0.0);
+  assert_true(c.rate_mm_s == 0.04);
+  assert_true(c.max_mm == 300.0);
+  assert_true(c.step_mm == 0.5);
+  assert_true(c.step_max_mm == 2.0);
+  assert_true(c.limit_tol_mm == 1e-3);
+  assert_true(c.newton_tol == 1e-8);
+  assert_int_equal(c.newton_maxiter, 25);
+  assert_true(c.open_mm == 0.05);
+  assert_int_equal(c.migrate_joints, 3);
+
+  vs_error err;
+  vs_error_clear(&err);
+  assert_int_equal(vs_case_validate(&c, &err), VS_OK);
+  vs_case_defaults(NULL); /* allowed, does nothing */
+}
+
+static const char full_file[] =
+    "; every key, none at its default\n"
+    "# both comment styles\n"
+    "[arch]\n"
+    "radius_mm = 250\n"
+    "thickness_mm = 30.5   ; inline comment\n"
+    "embrace_deg = 180     # inline comment too\n"
+    "voussoirs = 41\n"
+    "  depth_mm = 100      \n"
+    "density_kg_m3 = 2000\n"
+    "gravity_m_s2 = 9.8\n"
+    "\n"
+    "[joints]\n"
+    "kn_N_mm3 = 48\n"
+    "ks_ratio = 0.4\n"
+    "friction = 0.6\n"
+    "[support]\n"
+    "alpha_deg = -45\n"
+    "rate_mm_s = 0.02\n"
+    "max_mm = 150\n"
+    "[solver]\n"
+    "step_mm = 0.25\n"
+    "step_max_mm = 1.5\n"
+    "limit_tol_mm = 1e-4\n"
+    "newton_tol = 1e-9\n"
+    "newton_maxiter = 40\n"
+    "[hinges]\n"
+    "open_mm = 0.02\n"
+    "migrate_joints = 5\n";
+
+static void test_full_file(void **state) {
+  (void)state;
+  tmpfile_t t;
+  write_tmp(&t, full_file);
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_error err;
+  vs_error_clear(&err);
+  char *text = NULL;
+  vs_status st = vs_case_read(&c, t.path, &text, &err);
+  if (st != VS_OK) fail_msg("%s", err.msg);
+  vs_case want = {.radius_mm = 250, .thickness_mm = 30.5, .embrace_deg = 180, .voussoirs = 41,
+                  .depth_mm = 100, .density_kg_m3 = 2000, .gravity_m_s2 = 9.8, .kn_N_mm3 = 48,
+                  .ks_ratio = 0.4, .friction = 0.6, .alpha_deg = -45, .rate_mm_s = 0.02,
+                  .max_mm = 150, .step_mm = 0.25, .step_max_mm = 1.5, .limit_tol_mm = 1e-4,
+                  .newton_tol = 1e-9, .newton_maxiter = 40, .open_mm = 0.02,
+                  .migrate_joints = 5};
+  assert_true(same_case(&c, &want));
+  assert_non_null(text);
+  assert_string_equal(text, full_file);
+  free(text);
+  assert_int_equal(vs_case_validate(&c, &err), VS_OK);
+  drop(&t);
+}
+
+/* A partial file changes only what it names; text_out may be NULL. */
+static void test_partial_file_keeps_rest(void **state) {
+  (void)state;
+  tmpfile_t t;
+  vs_case c, want;
+  vs_error err;
+  assert_int_equal(read_text("[joints]\nkn_N_mm3 = 0.1\n", &c, &err, &t), VS_OK);
+  vs_case_defaults(&want);
+  want.kn_N_mm3 = 0.1;
+  assert_true(same_case(&c, &want));
+  drop(&t);
+}
+
+static void test_empty_file(void **state) {
+  (void)state;
+  tmpfile_t t;
+  write_tmp(&t, "");
+  vs_case c, want;
+  vs_case_defaults(&c);
+  vs_case_defaults(&want);
+  char *text = NULL;
+  vs_error err;
+  assert_int_equal(vs_case_read(&c, t.path, &text, &err), VS_OK);
+  assert_true(same_case(&c, &want));
+  assert_non_null(text);
+  assert_string_equal(text, "");
+  free(text);
+  drop(&t);
+}
+
+static void test_duplicate_key_later_wins(void **state) {
+  (void)state;
+  tmpfile_t t;
+  vs_case c;
+  vs_error err;
+  assert_int_equal(read_text("[arch]\nvoussoirs = 10\n[joints]\nfriction=0.5\n[arch]\nvoussoirs = 12\n",
+                             &c, &err, &t),
+                   VS_OK);
+  assert_int_equal(c.voussoirs, 12);
+  assert_true(c.friction == 0.5);
+  drop(&t);
+}
+
+static void test_crlf_bom_and_colon(void **state) {
+  (void)state;
+  tmpfile_t t;
+  vs_case c;
+  vs_error err;
+  vs_status st = read_text("\xEF\xBB\xBF[arch]\r\nradius_mm = 310\r\n\r\nthickness_mm: 20\r\n", &c,
+                           &err, &t);
+  if (st != VS_OK) fail_msg("%s", err.msg);
+  assert_true(c.radius_mm == 310.0);
+  assert_true(c.thickness_mm == 20.0);
+  drop(&t);
+  expect_read_error("[arch]\r\n\r\nradius_mm = -1\r\n", VS_ERR_INVALID, 3, "arch.radius_mm = -1:");
+}
+
+/* An indented line is a key of its own, not a continuation of the previous value. */
+static void test_indented_lines(void **state) {
+  (void)state;
+  tmpfile_t t;
+  vs_case c;
+  vs_error err;
+  vs_status st = read_text("[arch]\nradius_mm = 310\n    depth_mm = 110\n\t[joints]\n\tfriction = 0.65\n",
+                           &c, &err, &t);
+  if (st != VS_OK) fail_msg("%s", err.msg);
+  assert_true(c.radius_mm == 310.0);
+  assert_true(c.depth_mm == 110.0);
+  assert_true(c.friction == 0.65);
+  drop(&t);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Range errors, every key */
+
+static void check_out_of_range(const key_case *k, const char *value) {
+  char text[256], needle[128];
+  snprintf(text, sizeof text, "# range check\n[%s]\n\n%s = %s\n", k->section, k->key, value);
+  snprintf(needle, sizeof needle, "%s.%s = %s: out of range (allowed: ", k->section, k->key,
+           value);
+  expect_read_error(text, VS_ERR_INVALID, 4, needle);
+}
+
+static void test_every_key_out_of_range(void **state) {
+  (void)state;
+  assert_int_equal(NKEYS_TESTED, 20);
+  for (size_t i = 0; i < NKEYS_TESTED; i++) {
+    check_out_of_range(&all_keys[i], all_keys[i].below);
+    if (all_keys[i].above != NULL) check_out_of_range(&all_keys[i], all_keys[i].above);
+  }
+}
+
+static void test_every_key_edges_accepted(void **state) {
+  (void)state;
+  for (size_t i = 0; i < NKEYS_TESTED; i++) {
+    for (int j = 0; j < 2; j++) {
+      const char *v = all_keys[i].edge_ok[j];
+      if (v == NULL) continue;
+      char text[256];
+      snprintf(text, sizeof text, "[%s]\n%s = %s\n", all_keys[i].section, all_keys[i].key, v);
+      tmpfile_t t;
+      vs_case c;
+      vs_error err;
+      vs_status st = read_text(text, &c, &err, &t);
+      if (st != VS_OK) fail_msg("%s.%s = %s rejected: %s", all_keys[i].section, all_keys[i].key, v,
+                                err.msg);
+      drop(&t);
+    }
+  }
+}
+
+static void test_range_message_exact(void **state) {
+  (void)state;
+  tmpfile_t t;
+  vs_case c;
+  vs_error err;
+  const char *text = "[arch]\n"
+                     "radius_mm = 300\n"
+                     "[joints]\n"
+                     "kn_N_mm3 = -3\n";
+  assert_int_equal(read_text(text, &c, &err, &t), VS_ERR_INVALID);
+  char want[256];
+  snprintf(want, sizeof want, "%s:4: joints.kn_N_mm3 = -3: out of range (allowed: > 0 N/mm^3)",
+           t.path);
+  assert_string_equal(err.msg, want);
+  drop(&t);
+
+  expect_read_error("[arch]\nembrace_deg = 200\n", VS_ERR_INVALID, 2,
+                    "arch.embrace_deg = 200: out of range (allowed: (0, 180] deg)");
+  expect_read_error("[arch]\nvoussoirs = 0\n", VS_ERR_INVALID, 2,
+                    "arch.voussoirs = 0: out of range (allowed: integer in [1, 20000])");
+  expect_read_error("[solver]\nnewton_tol = 1\n", VS_ERR_INVALID, 2, "(allowed: (0, 0.01])");
+}
+
+/* A rejected file leaves the case as it was. */
+static void test_error_leaves_case_unchanged(void **state) {
+  (void)state;
+  tmpfile_t t;
+  write_tmp(&t, "[arch]\nradius_mm = 111\nthickness_mm = nope\n");
+  vs_case c, want;
+  vs_case_defaults(&c);
+  vs_case_defaults(&want);
+  char *text = (char *)&t; /* must be reset to NULL */
+  vs_error err;
+  assert_int_equal(vs_case_read(&c, t.path, &text, &err), VS_ERR_PARSE);
+  assert_null(text);
+  assert_true(same_case(&c, &want));
+  drop(&t);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Syntax errors */
+
+static void test_unknown_key(void **state) {
+  (void)state;
+  expect_read_error("[arch]\nradius_mm = 300\nfoo = 1\n", VS_ERR_PARSE, 3,
+                    "arch.foo = 1: unknown key (allowed keys in [arch]: radius_mm, thickness_mm, "
+                    "embrace_deg, voussoirs, depth_mm, density_kg_m3, gravity_m_s2)");
+  expect_read_error("[joints]\nkn = 3\n", VS_ERR_PARSE, 2,
+                    "joints.kn = 3: unknown key (allowed keys in [joints]: kn_N_mm3, ks_ratio, "
+                    "friction)");
+  /* names are case-sensitive */
+  expect_read_error("[arch]\nRadius_mm = 300\n", VS_ERR_PARSE, 2, "unknown key");
+}
+
+static void test_unknown_section(void **state) {
+  (void)state;
+  expect_read_error("[arch]\nradius_mm = 300\n\n[archh]\nradius_mm = 300\n", VS_ERR_PARSE, 4,
+                    "[archh]: unknown section (allowed sections: arch, joints, support, solver, "
+                    "hinges)");
+  /* an empty unknown section is still reported, on its own line */
+  expect_read_error("; x\n[nothing]\n", VS_ERR_PARSE, 2, "[nothing]: unknown section");
+  expect_read_error("[]\n", VS_ERR_PARSE, 1, "[]: unknown section");
+  expect_read_error("radius_mm = 300\n", VS_ERR_PARSE, 1,
+                    "radius_mm = 300: key outside any [section] (allowed sections: arch");
+}
+
+static void test_malformed_line(void **state) {
+  (void)state;
+  const char *want = "malformed line (expected key = value or [section])";
+  expect_read_error("[arch]\nradius_mm 300\n", VS_ERR_PARSE, 2, want);
+  expect_read_error("[arch]\n\n\nradius_mm\n", VS_ERR_PARSE, 4, want); /* key without '=' */
+  expect_read_error("[arch\nradius_mm = 300\n", VS_ERR_PARSE, 1, want);
+  expect_read_error("[arch]\n= 300\n", VS_ERR_PARSE, 2, want);
+  /* the first error wins, whichever kind it is */
+  expect_read_error("[arch]\nradius_mm 300\nthickness_mm = -1\n", VS_ERR_PARSE, 2, want);
+  expect_read_error("[arch]\nthickness_mm = -1\nradius_mm 300\n", VS_ERR_INVALID, 2,
+                    "arch.thickness_mm = -1: out of range");
+}
+
+static void test_not_a_number(void **state) {
+  (void)state;
+  expect_read_error("[arch]\nradius_mm = abc\n", VS_ERR_PARSE, 2,
+                    "arch.radius_mm = abc: not a number (allowed: > 0 mm)");
+  expect_read_error("[arch]\nradius_mm = 300mm\n", VS_ERR_PARSE, 2,
+                    "arch.radius_mm = 300mm: unexpected characters after the number");
+  expect_read_error("[arch]\nradius_mm = 300 mm\n", VS_ERR_PARSE, 2,
+                    "arch.radius_mm = 300 mm: unexpected characters after the number");
+  expect_read_error("[arch]\nradius_mm = 3,5\n", VS_ERR_PARSE, 2, "unexpected characters");
+  expect_read_error("[arch]\nradius_mm = 300;x\n", VS_ERR_PARSE, 2, "unexpected characters");
+}
+
+static void test_integer_expected(void **state) {
+  (void)state;
+  expect_read_error("[arch]\nvoussoirs = 55.5\n", VS_ERR_PARSE, 2,
+                    "arch.voussoirs = 55.5: integer expected (allowed: integer in [1, 20000])");
+  expect_read_error("[arch]\nvoussoirs = 55.0\n", VS_ERR_PARSE, 2, "integer expected");
+  expect_read_error("[arch]\nvoussoirs = 5e1\n", VS_ERR_PARSE, 2, "integer expected");
+  expect_read_error("[arch]\nvoussoirs = 55x\n", VS_ERR_PARSE, 2, "unexpected characters");
+  expect_read_error("[arch]\nvoussoirs = many\n", VS_ERR_PARSE, 2, "not a number");
+  expect_read_error("[solver]\nnewton_maxiter = 99999999999999999999\n", VS_ERR_INVALID, 2,
+                    "out of range");
+}
+
+static void test_nan_inf(void **state) {
+  (void)state;
+  expect_read_error("[joints]\nkn_N_mm3 = nan\n", VS_ERR_PARSE, 2,
+                    "joints.kn_N_mm3 = nan: not a finite number");
+  expect_read_error("[joints]\nkn_N_mm3 = inf\n", VS_ERR_PARSE, 2, "not a finite number");
+  expect_read_error("[joints]\nkn_N_mm3 = -Infinity\n", VS_ERR_PARSE, 2, "not a finite number");
+  expect_read_error("[arch]\nvoussoirs = nan\n", VS_ERR_PARSE, 2, "not a finite number");
+  expect_read_error("[joints]\nkn_N_mm3 = 1e999\n", VS_ERR_INVALID, 2,
+                    "joints.kn_N_mm3 = 1e999: out of range");
+}
+
+static void test_empty_value(void **state) {
+  (void)state;
+  expect_read_error("[arch]\nradius_mm =\n", VS_ERR_PARSE, 2,
+                    "arch.radius_mm = : empty value (expected a number)");
+  expect_read_error("[arch]\nradius_mm =   ; nothing\n", VS_ERR_PARSE, 2, "empty value");
+}
+
+static void test_missing_file(void **state) {
+  (void)state;
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_error err;
+  char *text = (char *)&c;
+  const char *path = "/nonexistent/voussoir/case.ini";
+  assert_int_equal(vs_case_read(&c, path, &text, &err), VS_ERR_IO);
+  assert_null(text);
+  assert_int_equal(err.status, VS_ERR_IO);
+  assert_string_equal(err.msg, "/nonexistent/voussoir/case.ini: cannot open: No such file or directory");
+  /* a directory opens but cannot be read */
+  assert_int_equal(vs_case_read(&c, "/tmp", NULL, &err), VS_ERR_IO);
+  expect_prefix(err.msg, "/tmp: cannot read: ");
+  /* NULL arguments */
+  assert_int_equal(vs_case_read(NULL, path, NULL, &err), VS_ERR_INVALID);
+  assert_int_equal(vs_case_read(&c, NULL, NULL, &err), VS_ERR_INVALID);
+  assert_int_equal(vs_case_read(&c, path, NULL, NULL), VS_ERR_IO); /* err may be NULL */
+}
+
+static void test_line_numbers(void **state) {
+  (void)state;
+  const char *text = "; header comment\n"                     /* 1 */
+                     "# another\n"                            /* 2 */
+                     "\n"                                     /* 3 */
+                     "[arch]\n"                               /* 4 */
+                     "radius_mm = 300 ; R\n"                  /* 5 */
+                     "  thickness_mm = 24\n"                  /* 6 */
+                     "\n"                                     /* 7 */
+                     "[joints]\n"                             /* 8 */
+                     "kn_N_mm3 = 3\n"                         /* 9 */
+                     "; a comment line with = and [x] in it\n" /* 10 */
+                     "# ditto = [y]\n"                        /* 11 */
+                     "\n"                                     /* 12 */
+                     "[solver]\n"                             /* 13 */
+                     "step_mm = 0.5\n"                        /* 14 */
+                     "newton_maxiter = 1\n"                   /* 15 */
+                     "step_max_mm = 2\n";                     /* 16 */
+  expect_read_error(text, VS_ERR_INVALID, 15, "solver.newton_maxiter = 1: out of range");
+  /* last line without a newline */
+  expect_read_error("[arch]\n\nvoussoirs = x", VS_ERR_PARSE, 3, "arch.voussoirs = x");
+}
+
+static void test_long_and_binary_lines(void **state) {
+  (void)state;
+  char text[1024];
+  /* a long comment is fine */
+  snprintf(text, sizeof text, "[arch]\nradius_mm = 300 ; %0600d\n", 0);
+  tmpfile_t t;
+  vs_case c;
+  vs_error err;
+  vs_status st = read_text(text, &c, &err, &t);
+  if (st != VS_OK) fail_msg("%s", err.msg);
+  drop(&t);
+  /* a long value is not */
+  snprintf(text, sizeof text, "[arch]\nradius_mm = 3%0600d\n", 0);
+  expect_read_error(text, VS_ERR_PARSE, 2, "line too long");
+  /* a NUL byte: written by hand since the helpers take C strings */
+  write_tmp(&t, "");
+  FILE *f = fopen(t.path, "wb");
+  assert_non_null(f);
+  assert_int_equal(fwrite("[arch]\nradius_mm = 3\0\n", 1, 22, f), 22);
+  assert_int_equal(fclose(f), 0);
+  vs_case_defaults(&c);
+  assert_int_equal(vs_case_read(&c, t.path, NULL, &err), VS_ERR_PARSE);
+  expect_in(err.msg, ":2: NUL character");
+  drop(&t);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * --set */
+
+static void test_set_success(void **state) {
+  (void)state;
+  vs_case c, want;
+  vs_case_defaults(&c);
+  vs_case_defaults(&want);
+  vs_error err;
+  assert_int_equal(vs_case_set(&c, "joints.kn_N_mm3=48", &err), VS_OK);
+  assert_int_equal(vs_case_set(&c, " solver.newton_maxiter = 40 ", &err), VS_OK);
+  assert_int_equal(vs_case_set(&c, "support.alpha_deg=-90", &err), VS_OK);
+  want.kn_N_mm3 = 48;
+  want.newton_maxiter = 40;
+  want.alpha_deg = -90;
+  assert_true(same_case(&c, &want));
+}
+
+static void expect_set_error(const char *assignment, vs_status status, const char *needle) {
+  vs_case c, want;
+  vs_case_defaults(&c);
+  vs_case_defaults(&want);
+  vs_error err;
+  vs_error_clear(&err);
+  vs_status st = vs_case_set(&c, assignment, &err);
+  if (st != status) fail_msg("status %d, expected %d; message \"%s\"", st, status, err.msg);
+  char prefix[160];
+  snprintf(prefix, sizeof prefix, "--set %s: ", assignment);
+  expect_prefix(err.msg, prefix);
+  expect_in(err.msg, needle);
+  assert_true(same_case(&c, &want));
+}
+
+static void test_set_errors(void **state) {
+  (void)state;
+  const char *malformed = "malformed (expected section.key=value)";
+  expect_set_error("joints.kn_N_mm3", VS_ERR_PARSE, malformed);
+  expect_set_error("kn_N_mm3=3", VS_ERR_PARSE, malformed);
+  expect_set_error(".kn_N_mm3=3", VS_ERR_PARSE, malformed);
+  expect_set_error("joints.=3", VS_ERR_PARSE, malformed);
+  expect_set_error("", VS_ERR_PARSE, malformed);
+  expect_set_error("joints.kn_N_mm3=-3", VS_ERR_INVALID,
+                   "joints.kn_N_mm3 = -3: out of range (allowed: > 0 N/mm^3)");
+  expect_set_error("joints.kn=3", VS_ERR_PARSE,
+                   "joints.kn = 3: unknown key (allowed keys in [joints]: kn_N_mm3");
+  expect_set_error("joint.kn_N_mm3=3", VS_ERR_PARSE,
+                   "joint.kn_N_mm3 = 3: unknown section (allowed sections: arch, joints");
+  expect_set_error("arch.radius_mm=big", VS_ERR_PARSE, "arch.radius_mm = big: not a number");
+  expect_set_error("arch.radius_mm=3x", VS_ERR_PARSE, "unexpected characters after the number");
+  expect_set_error("arch.voussoirs=5.5", VS_ERR_PARSE, "integer expected");
+  expect_set_error("arch.radius_mm=nan", VS_ERR_PARSE, "not a finite number");
+  expect_set_error("arch.radius_mm=", VS_ERR_PARSE, "arch.radius_mm = : empty value");
+  expect_set_error("hinges.migrate_joints=101", VS_ERR_INVALID,
+                   "out of range (allowed: integer in [0, 100] joints)");
+
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_error err;
+  assert_int_equal(vs_case_set(NULL, "arch.voussoirs=3", &err), VS_ERR_INVALID);
+  assert_int_equal(vs_case_set(&c, NULL, &err), VS_ERR_INVALID);
+  assert_int_equal(vs_case_set(&c, "arch.voussoirs=0", NULL), VS_ERR_INVALID);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Cross-field validation */
+
+static void expect_invalid(const vs_case *c, const char *needle1, const char *needle2) {
+  vs_error err;
+  vs_error_clear(&err);
+  assert_int_equal(vs_case_validate(c, &err), VS_ERR_INVALID);
+  assert_int_equal(err.status, VS_ERR_INVALID);
+  expect_in(err.msg, needle1);
+  expect_in(err.msg, needle2);
+  expect_in(err.msg, "allowed:");
+}
+
+static void test_validate(void **state) {
+  (void)state;
+  vs_case c;
+  vs_error err;
+
+  vs_case_defaults(&c);
+  c.limit_tol_mm = 0.6; /* > step_mm = 0.5 */
+  expect_invalid(&c, "solver.limit_tol_mm = 0.6", "solver.step_mm = 0.5");
+
+  vs_case_defaults(&c);
+  c.limit_tol_mm = c.step_mm; /* equality allowed */
+  assert_int_equal(vs_case_validate(&c, &err), VS_OK);
+
+  vs_case_defaults(&c);
+  c.step_mm = 3; /* > step_max_mm = 2 */
+  expect_invalid(&c, "solver.step_mm = 3", "solver.step_max_mm = 2");
+
+  vs_case_defaults(&c);
+  c.step_max_mm = c.step_mm;
+  assert_int_equal(vs_case_validate(&c, &err), VS_OK);
+
+  vs_case_defaults(&c);
+  c.max_mm = 0.5; /* must exceed step_mm = 0.5 */
+  expect_invalid(&c, "solver.step_mm = 0.5", "support.max_mm = 0.5");
+
+  /* thicker than the radius is allowed */
+  vs_case_defaults(&c);
+  c.thickness_mm = 2 * c.radius_mm;
+  assert_int_equal(vs_case_validate(&c, &err), VS_OK);
+
+  /* fields set in code are range-checked too */
+  vs_case_defaults(&c);
+  c.embrace_deg = 190;
+  expect_invalid(&c, "arch.embrace_deg = 190", "(0, 180] deg");
+  vs_case_defaults(&c);
+  c.kn_N_mm3 = NAN;
+  expect_invalid(&c, "joints.kn_N_mm3", "> 0 N/mm^3");
+  vs_case_defaults(&c);
+  c.voussoirs = 0;
+  expect_invalid(&c, "arch.voussoirs = 0", "integer in [1, 20000]");
+
+  assert_int_equal(vs_case_validate(NULL, &err), VS_ERR_INVALID);
+  assert_int_equal(vs_case_validate(&c, NULL), VS_ERR_INVALID);
+}
+
+/* Relations are checked after --set, on the final values, not key by key. */
+static void test_validate_after_overrides(void **state) {
+  (void)state;
+  vs_case c;
+  vs_error err;
+  vs_case_defaults(&c);
+  assert_int_equal(vs_case_set(&c, "solver.step_mm=4", &err), VS_OK);
+  assert_int_equal(vs_case_validate(&c, &err), VS_ERR_INVALID);
+  assert_int_equal(vs_case_set(&c, "solver.step_max_mm=8", &err), VS_OK);
+  assert_int_equal(vs_case_validate(&c, &err), VS_OK);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Span */
+
+static void test_span(void **state) {
+  (void)state;
+  vs_case c;
+  vs_case_defaults(&c);
+  const double pi = 3.14159265358979323846;
+  double closed_form = 2.0 * 300.0 * sin(62.5 * pi / 180.0);
+  assert_true(fabs(vs_case_span_mm(&c) - closed_form) < 1e-9);
+  assert_true(fabs(vs_case_span_mm(&c) - 532.2065) < 1e-3); /* DOMAIN.md: about 532-533 mm */
+  c.embrace_deg = 180.0; /* semicircle: the span is the diameter */
+  c.radius_mm = 100.0;
+  assert_true(fabs(vs_case_span_mm(&c) - 200.0) < 1e-9);
+  c.embrace_deg = 60.0; /* chord of 60 deg equals the radius */
+  assert_true(fabs(vs_case_span_mm(&c) - 100.0) < 1e-9);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_defaults),
+      cmocka_unit_test(test_full_file),
+      cmocka_unit_test(test_partial_file_keeps_rest),
+      cmocka_unit_test(test_empty_file),
+      cmocka_unit_test(test_duplicate_key_later_wins),
+      cmocka_unit_test(test_crlf_bom_and_colon),
+      cmocka_unit_test(test_indented_lines),
+      cmocka_unit_test(test_every_key_out_of_range),
+      cmocka_unit_test(test_every_key_edges_accepted),
+      cmocka_unit_test(test_range_message_exact),
+      cmocka_unit_test(test_error_leaves_case_unchanged),
+      cmocka_unit_test(test_unknown_key),
+      cmocka_unit_test(test_unknown_section),
+      cmocka_unit_test(test_malformed_line),
+      cmocka_unit_test(test_not_a_number),
+      cmocka_unit_test(test_integer_expected),
+      cmocka_unit_test(test_nan_inf),
+      cmocka_unit_test(test_empty_value),
+      cmocka_unit_test(test_missing_file),
+      cmocka_unit_test(test_line_numbers),
+      cmocka_unit_test(test_long_and_binary_lines),
+      cmocka_unit_test(test_set_success),
+      cmocka_unit_test(test_set_errors),
+      cmocka_unit_test(test_validate),
+      cmocka_unit_test(test_validate_after_overrides),
+      cmocka_unit_test(test_span),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
