@@ -63,7 +63,7 @@ static const key_spec keys[] = {
         "bisection tolerance on a limit point"),
     KEY(solver, newton_tol, 1e-8, 0.0, false, 1e-2, true, "",
         "scaled residual tolerance (fraction of a voussoir's weight)"),
-    KEY(solver, newton_maxiter, 25.0, 2.0, true, 1000.0, true, "",
+    KEY(solver, newton_maxiter, 8.0, 2.0, true, 1000.0, true, "",
         "Newton iterations per increment"),
     KEY(hinges, open_mm, 0.05, 0.0, false, INF, false, "mm",
         "edge opening beyond which a joint counts as a hinge"),

@@ -50,10 +50,11 @@ char vs_hinges_joint_side(const vs_hinge_opts *opts, const vs_joint_state *st) {
   return (st->gap_e > st->gap_i) ? 'I' : 'E';
 }
 
-/* Joints between the intervals [a0, a1] and [b0, b1] (0 when they overlap or touch). */
+/* How many joints the interval [a0, a1] is from [b0, b1]: 0 when they overlap, 1 for
+ * neighbouring joints, and so on. */
 static int interval_gap(int a0, int a1, int b0, int b1) {
-  if (a1 < b0) return b0 - a1 - 1;
-  if (b1 < a0) return a0 - b1 - 1;
+  if (a1 < b0) return b0 - a1;
+  if (b1 < a0) return a0 - b1;
   return 0;
 }
 
@@ -83,28 +84,29 @@ static void label_first_three(vs_hinges *h) {
   for (int i = 0; i < 3; i++) first[i]->label = (char)('A' + i);
 }
 
-/* Match the group [g0, g1] on side sd to a hinge: the nearest open one on the same side within
- * the migration distance, else the nearest closed one (it reopens). -1 if none. */
-static int match_group(vs_hinges *h, int g0, int g1, char sd) {
-  int best = -1, best_gap = 0, best_open = 0;
-  for (int i = 0; i < h->count; i++) {
-    const vs_hinge *hg = &h->h[i];
-    if (hg->side != sd || h->matched[i]) continue;
-    int gap = interval_gap(g0, g1, hg->first, hg->last);
-    if (gap > h->opts.migrate) continue;
-    if (best < 0 || hg->open > best_open || (hg->open == best_open && gap < best_gap)) {
-      best = i;
-      best_gap = gap;
-      best_open = hg->open;
-    }
-  }
-  return best;
+/* Open joints grouped into maximal runs of the same side. */
+typedef struct {
+  int first, last; /* 1-based joints */
+  char side;
+  int hinge;       /* matched hinge, -1 if new */
+} group;
+
+/* Candidate pairing of a group with a hinge, ranked: open hinges before closed ones (which
+ * reopen), then the smaller distance, then left to right. */
+typedef struct {
+  int g, h, closed, dist;
+} pairing;
+
+static int cmp_pairing(const void *x, const void *y) {
+  const pairing *a = x, *b = y;
+  if (a->closed != b->closed) return a->closed - b->closed;
+  if (a->dist != b->dist) return a->dist - b->dist;
+  if (a->g != b->g) return a->g - b->g;
+  return a->h - b->h;
 }
 
-int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st) {
-  for (int k = 0; k < h->n_joints; k++) h->side[k] = vs_hinges_joint_side(&h->opts, &st[k]);
-  for (int i = 0; i < h->count; i++) h->matched[i] = 0;
-  int formed = 0, before = h->count;
+static int collect_groups(const vs_hinges *h, group *gr) {
+  int n = 0;
   for (int k = 0; k < h->n_joints;) {
     if (h->side[k] == 0) {
       k++;
@@ -112,30 +114,70 @@ int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st) {
     }
     int e = k;
     while (e + 1 < h->n_joints && h->side[e + 1] == h->side[k]) e++;
-    const int g0 = k + 1, g1 = e + 1; /* 1-based joints */
-    int i = match_group(h, g0, g1, h->side[k]);
-    if (i < 0 && grow(h) == 0) {
+    gr[n++] = (group){.first = k + 1, .last = e + 1, .side = h->side[k], .hinge = -1};
+    k = e + 1;
+  }
+  return n;
+}
+
+/* Give each group the nearest same-side hinge within the migration distance, nearest pairs
+ * first, each hinge and each group used once: a hinge that moves keeps its identity even when
+ * another group opens on its other side. */
+static int match_groups(vs_hinges *h, group *gr, int ng) {
+  pairing *p = malloc((size_t)(ng > 0 ? ng : 1) * (size_t)(h->count > 0 ? h->count : 1) * sizeof *p);
+  if (p == NULL) return -1;
+  int np = 0;
+  for (int g = 0; g < ng; g++)
+    for (int i = 0; i < h->count; i++) {
+      const vs_hinge *hg = &h->h[i];
+      if (hg->side != gr[g].side) continue;
+      int d = interval_gap(gr[g].first, gr[g].last, hg->first, hg->last);
+      if (d <= h->opts.migrate) p[np++] = (pairing){.g = g, .h = i, .closed = !hg->open, .dist = d};
+    }
+  qsort(p, (size_t)np, sizeof *p, cmp_pairing);
+  for (int k = 0; k < np; k++)
+    if (gr[p[k].g].hinge < 0 && !h->matched[p[k].h]) {
+      gr[p[k].g].hinge = p[k].h;
+      h->matched[p[k].h] = 1;
+    }
+  free(p);
+  return 0;
+}
+
+int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st) {
+  for (int k = 0; k < h->n_joints; k++) h->side[k] = vs_hinges_joint_side(&h->opts, &st[k]);
+  for (int i = 0; i < h->count; i++) h->matched[i] = 0;
+  group *gr = malloc((size_t)h->n_joints * sizeof *gr);
+  if (gr == NULL) return -1;
+  const int ng = collect_groups(h, gr), before = h->count;
+  int formed = 0;
+  if (match_groups(h, gr, ng) != 0) {
+    free(gr);
+    return -1;
+  }
+  for (int g = 0; g < ng; g++) { /* left to right, so same-update hinges are ordered by place */
+    int i = gr[g].hinge;
+    if (i < 0) {
+      if (grow(h) != 0) continue;
       i = h->count++;
       vs_hinge *hg = &h->h[i];
       memset(hg, 0, sizeof *hg);
       hg->label = '?';
-      hg->side = h->side[k];
-      hg->onset_first = g0;
-      hg->onset_last = g1;
+      hg->side = gr[g].side;
+      hg->onset_first = gr[g].first;
+      hg->onset_last = gr[g].last;
       hg->delta_onset = delta;
       hg->order = i + 1;
+      h->matched[i] = 1;
       formed++;
     }
-    if (i >= 0) {
-      vs_hinge *hg = &h->h[i];
-      hg->first = g0;
-      hg->last = g1;
-      hg->open = 1;
-      hg->delta_closed = NAN;
-      h->matched[i] = 1;
-    }
-    k = e + 1;
+    vs_hinge *hg = &h->h[i];
+    hg->first = gr[g].first;
+    hg->last = gr[g].last;
+    hg->open = 1;
+    hg->delta_closed = NAN;
   }
+  free(gr);
   for (int i = 0; i < before; i++) {
     if (!h->matched[i] && h->h[i].open) {
       h->h[i].open = 0;

@@ -53,12 +53,6 @@ static inline void perp(const double v[2], double out[2]) {
 
 static inline double dot(const double u[2], const double v[2]) { return u[0] * v[0] + u[1] * v[1]; }
 
-static inline void rot(double th, const double v[2], double out[2]) {
-  double c = cos(th), s = sin(th);
-  out[0] = c * v[0] - s * v[1];
-  out[1] = s * v[0] + c * v[1];
-}
-
 /* Kinematic measures of the joint and their gradients/Hessians in (qa, qb). */
 typedef struct {
   double g, sl, w;            /* gap at the centre, slip, gap slope */
@@ -71,23 +65,33 @@ static void sym_set(double *H, int i, int j, double v) {
   H[j * 6 + i] = v;
 }
 
+static void rot_cs(double c, double sn, const double v[2], double out[2]) {
+  out[0] = c * v[0] - sn * v[1];
+  out[1] = sn * v[0] + c * v[1];
+}
+
+/* hess = 0 computes values and gradients only (residual evaluations); 1 adds the Hessians. */
 static void joint_kinematics(const vs_joint_geom *jg, const double qa[3], const double qb[3],
-                             const double ra[2], const double rb[2], kinematics *k) {
+                             const double ra[2], const double rb[2], int hess, kinematics *k) {
   const double n0[2] = {jg->nx, jg->nz};
   double pa[2], pb[2], va[2], vb[2], n[2], s[2], d[2];
-  rot(qa[2], ra, pa);
-  rot(qb[2], rb, pb);
+  /* two sincos per joint: R(theta_b) = R(theta_a) R(2 half), R(theta_m) = R(theta_a) R(half) */
+  const double half = 0.5 * (qb[2] - qa[2]);
+  const double ca = cos(qa[2]), sa = sin(qa[2]), ch = cos(half), sh = sin(half);
+  const double c2 = 1.0 - 2.0 * sh * sh, s2 = 2.0 * sh * ch;
+  rot_cs(ca, sa, ra, pa);
+  rot_cs(ca * c2 - sa * s2, sa * c2 + ca * s2, rb, pb);
+  rot_cs(ca * ch - sa * sh, sa * ch + ca * sh, n0, n);
   perp(pa, va);
   perp(pb, vb);
-  rot(0.5 * (qa[2] + qb[2]), n0, n);
   perp(n, s);
   for (int i = 0; i < 2; i++) d[i] = qb[i] - qa[i] + (pb[i] - rb[i]) - (pa[i] - ra[i]);
-  const double half = 0.5 * (qb[2] - qa[2]);
-  memset(k, 0, sizeof *k);
+  if (hess) memset(k, 0, sizeof *k);
+  else memset(k->dw, 0, sizeof k->dw);
   k->g = dot(d, n);
   k->sl = dot(d, s);
-  k->w = 2.0 * sin(half);
-  const double dn = dot(d, n), ds_ = dot(d, s);
+  k->w = 2.0 * sh;
+  const double dn = k->g, ds_ = k->sl;
   for (int i = 0; i < 2; i++) {
     k->dg[i] = -n[i];
     k->dg[3 + i] = n[i];
@@ -98,8 +102,9 @@ static void joint_kinematics(const vs_joint_geom *jg, const double qa[3], const 
   k->dg[5] = dot(vb, n) + 0.5 * ds_;
   k->ds[2] = -dot(va, s) - 0.5 * dn;
   k->ds[5] = dot(vb, s) - 0.5 * dn;
-  k->dw[2] = -cos(half);
-  k->dw[5] = cos(half);
+  k->dw[2] = -ch;
+  k->dw[5] = ch;
+  if (!hess) return;
   /* mixed translation-rotation terms come from the rotating frame n(theta_m), s(theta_m) */
   for (int i = 0; i < 2; i++) {
     sym_set(k->Hg, i, 2, -0.5 * s[i]);
@@ -117,16 +122,16 @@ static void joint_kinematics(const vs_joint_geom *jg, const double qa[3], const 
   sym_set(k->Hs, 2, 2, dot(pa, s) + dot(va, n) - 0.25 * ds_);
   sym_set(k->Hs, 5, 5, -dot(pb, s) - dot(vb, n) - 0.25 * ds_);
   sym_set(k->Hs, 2, 5, 0.5 * (dot(va, n) - dot(vb, n)) - 0.25 * ds_);
-  sym_set(k->Hw, 2, 2, -0.5 * sin(half));
-  sym_set(k->Hw, 5, 5, -0.5 * sin(half));
-  sym_set(k->Hw, 2, 5, 0.5 * sin(half));
+  sym_set(k->Hw, 2, 2, -0.5 * sh);
+  sym_set(k->Hw, 5, 5, -0.5 * sh);
+  sym_set(k->Hw, 2, 5, 0.5 * sh);
 }
 
 void vs_joint_eval(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
                    const double qb[3], const double ra[2], const double rb[2], double slip_p_old,
                    vs_joint_state *st, double f[6], double K[36]) {
   kinematics k;
-  joint_kinematics(jg, qa, qb, ra, rb, &k);
+  joint_kinematics(jg, qa, qb, ra, rb, K != NULL, &k);
   const double t = jg->length, b = jg->depth, a = -k.g;
   vs_normal_response nr;
   vs_joint_normal(law->kn, b, t, a, k.w, &nr);
@@ -163,15 +168,17 @@ void vs_joint_eval(const vs_joint_geom *jg, const vs_joint_law *law, const doubl
   if (f != NULL)
     for (int i = 0; i < 6; i++) f[i] = -nr.N * k.dg[i] + nr.M * k.dw[i] + T * k.ds[i];
   if (K != NULL) {
-    for (int i = 0; i < 6; i++) {
-      for (int j = 0; j < 6; j++) {
-        const double da_j = -k.dg[j], dw_j = k.dw[j];
-        const double dN = nr.N_a * da_j + nr.N_w * dw_j;
-        const double dM = nr.N_w * da_j + nr.M_w * dw_j;
-        const double dT = sliding ? sgn * law->mu * dN : kst * k.ds[j];
-        K[i * 6 + j] = -k.dg[i] * dN + k.dw[i] * dM + k.ds[i] * dT - nr.N * k.Hg[i * 6 + j] +
-                       nr.M * k.Hw[i * 6 + j] + T * k.Hs[i * 6 + j];
-      }
+    /* K = grad(a) dN^T + grad(w) dM^T + grad(s) dT^T + N H_a + M H_w + T H_s */
+    double dN[6], dM[6], dT[6];
+    for (int j = 0; j < 6; j++) {
+      const double da_j = -k.dg[j], dw_j = k.dw[j];
+      dN[j] = nr.N_a * da_j + nr.N_w * dw_j;
+      dM[j] = nr.N_w * da_j + nr.M_w * dw_j;
+      dT[j] = sliding ? sgn * law->mu * dN[j] : kst * k.ds[j];
     }
+    for (int i = 0; i < 6; i++)
+      for (int j = 0; j < 6; j++)
+        K[i * 6 + j] = -k.dg[i] * dN[j] + k.dw[i] * dM[j] + k.ds[i] * dT[j] -
+                       nr.N * k.Hg[i * 6 + j] + nr.M * k.Hw[i * 6 + j] + T * k.Hs[i * 6 + j];
   }
 }

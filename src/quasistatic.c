@@ -23,7 +23,17 @@ static const double VS_CORRECTOR_RATIO = 1.0;
 /* Inverse iteration on the tangent: relative change of the eigenvalue estimate that stops it,
  * and the iteration cap. */
 static const double VS_EIG_RTOL = 1e-10;
+/* The same along the path, where the estimate only steers the increment towards a fold. */
+static const double VS_EIG_TRACK_RTOL = 1e-4;
+static const int VS_EIG_TRACK_MAXIT = 6;
 static const int VS_EIG_MAXIT = 200;
+/* Near a fold the smallest eigenvalue of the tangent vanishes like (delta_L - delta)^1/2, so
+ * lambda^2 is linear in delta and its extrapolation from the last two equilibria predicts
+ * delta_L; an increment goes at most this fraction of the way there, so that the fold is
+ * approached by converging steps rather than by failing ones. */
+static const double VS_FOLD_APPROACH = 0.5;
+/* KLU fill-reducing ordering: 0 AMD, 1 COLAMD, 2 natural (see below). */
+static const int VS_KLU_ORDERING = 2;
 
 typedef struct {
   vs_model *m;
@@ -104,6 +114,12 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
   s->LS = SUNLinSol_KLU(s->u, s->J, s->ctx);
   s->LSt = SUNLinSol_KLU(s->u, s->Jt, s->ctx);
   if (s->LS == NULL || s->LSt == NULL) return qs_fail(s, err, "SUNLinSol_KLU", 0);
+  /* The blocks form a chain (an arch) or a tree: the Jacobian is block-banded in the natural
+   * order, which then has no fill-in and needs no ordering pass (KINSOL re-analyses at every
+   * solve, so COLAMD would be paid each time). */
+  if ((flag = SUNLinSol_KLUSetOrdering(s->LS, VS_KLU_ORDERING)) != 0 ||
+      (flag = SUNLinSol_KLUSetOrdering(s->LSt, VS_KLU_ORDERING)) != 0)
+    return qs_fail(s, err, "SUNLinSol_KLUSetOrdering", flag);
 
   /* Scalings: residuals in units of each block's weight (moments: weight x joint length);
    * unknowns in units of that length (rotations in rad). */
@@ -216,8 +232,11 @@ static int tangent_solve(qs_solver *s, N_Vector x, N_Vector b) {
 }
 
 /* Smallest |eigenvalue| of the scaled tangent D K D (rotations scaled by the block length,
- * so that every entry is in N/m), by inverse iteration on the factored tangent. */
-static double tangent_min_eig(qs_solver *s) {
+ * so that every entry is in N/m), by inverse iteration on the factored tangent. vec (n entries)
+ * is the start vector and receives the eigenvector; all zeros means a fixed pseudo-random start.
+ * rtol: relative change of the estimate that ends the iteration, maxit: the iteration cap.
+ * NaN if a solve fails. */
+static double tangent_min_eig(qs_solver *s, double *vec, double rtol, int maxit) {
   N_Vector y = N_VClone(s->u), z = N_VClone(s->u);
   if (y == NULL || z == NULL) {
     if (y) N_VDestroy(y);
@@ -225,14 +244,18 @@ static double tangent_min_eig(qs_solver *s) {
     return NAN;
   }
   double *py = N_VGetArrayPointer(y), *pz = N_VGetArrayPointer(z);
-  unsigned long seed = 12345u;
-  for (int i = 0; i < s->n; i++) { /* deterministic pseudo-random start */
-    seed = seed * 6364136223846793005ul + 1442695040888963407ul;
-    py[i] = (double)(seed >> 11) / 9007199254740992.0 - 0.5;
-  }
+  memcpy(py, vec, (size_t)s->n * sizeof *py);
   double nrm = sqrt(N_VDotProd(y, y)), mu = 0.0;
+  if (!(nrm > 0.0)) {
+    unsigned long seed = 12345u;
+    for (int i = 0; i < s->n; i++) {
+      seed = seed * 6364136223846793005ul + 1442695040888963407ul;
+      py[i] = (double)(seed >> 11) / 9007199254740992.0 - 0.5;
+    }
+    nrm = sqrt(N_VDotProd(y, y));
+  }
   N_VScale(1.0 / nrm, y, y);
-  for (int it = 0; it < VS_EIG_MAXIT; it++) {
+  for (int it = 0; it < maxit; it++) {
     /* A = D K D with D = diag(1, 1, 1/len): A^-1 y = D^-1 K^-1 D^-1 y */
     for (int i = 0; i < s->n; i++) py[i] *= s->len[i];
     if (tangent_solve(s, z, y) != 0) {
@@ -243,12 +266,13 @@ static double tangent_min_eig(qs_solver *s) {
     nrm = sqrt(N_VDotProd(z, z));
     const double mu_new = 1.0 / nrm;
     N_VScale(1.0 / nrm, z, y);
-    if (it > 2 && fabs(mu_new - mu) <= VS_EIG_RTOL * mu_new) {
+    if (it > 0 && fabs(mu_new - mu) <= rtol * mu_new) {
       mu = mu_new;
       break;
     }
     mu = mu_new;
   }
+  memcpy(vec, py, (size_t)s->n * sizeof *vec);
   N_VDestroy(y);
   N_VDestroy(z);
   return mu;
@@ -337,17 +361,24 @@ static vs_status confirm_limit(qs_solver *s, const double *q_prev, double delta_
     return vs_error_set(err, VS_ERR_SOLVER, "KLU failed to factor the tangent at %.6g mm",
                         delta_lo / VS_MM);
   ev->det_sign = sign;
-  const double lam_lo = tangent_min_eig(s);
+  double *vec = calloc((size_t)s->n, sizeof *vec);
+  if (vec == NULL) return vs_error_set(err, VS_ERR_NOMEM, "out of memory");
+  const double lam_lo = tangent_min_eig(s, vec, VS_EIG_RTOL, VS_EIG_MAXIT);
   ev->lambda_last = lam_lo;
   double *qb = malloc((size_t)s->n * sizeof *qb);
-  if (qb == NULL) return vs_error_set(err, VS_ERR_NOMEM, "out of memory");
+  if (qb == NULL) {
+    free(vec);
+    return vs_error_set(err, VS_ERR_NOMEM, "out of memory");
+  }
   const double f = (delta_lo > delta_prev) ? (delta_b - delta_prev) / (delta_lo - delta_prev) : 0.0;
   for (int i = 0; i < s->n; i++) qb[i] = q_prev[i] + f * (q_lo[i] - q_prev[i]);
   int flag = (delta_b > delta_prev) ? qs_solve(s, delta_b, qb, NULL) : 0;
   double lam_b = NAN;
   int sign_b = 0;
-  if (flag == 0 && tangent_factor(s, qb, delta_b, &sign_b) == 0) lam_b = tangent_min_eig(s);
+  if (flag == 0 && tangent_factor(s, qb, delta_b, &sign_b) == 0)
+    lam_b = tangent_min_eig(s, vec, VS_EIG_RTOL, VS_EIG_MAXIT);
   free(qb);
+  free(vec);
   if (flag != 0 || !isfinite(lam_b))
     return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
                         "Newton failed beyond %.6g mm but the path could not be re-solved at "
@@ -382,8 +413,9 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double *q, vs_path_ste
   if (st != VS_OK) return st;
   const size_t bytes = (size_t)s.n * sizeof(double);
   double *tan = malloc(bytes), *qtry = malloc(bytes), *qpred = malloc(bytes);
-  double *qprev = malloc(bytes), delta_prev = 0.0;
-  if (tan == NULL || qtry == NULL || qpred == NULL || qprev == NULL) {
+  double *qprev = malloc(bytes), *eig = calloc((size_t)s.n, sizeof(double));
+  double delta_prev = 0.0;
+  if (tan == NULL || qtry == NULL || qpred == NULL || qprev == NULL || eig == NULL) {
     st = vs_error_set(err, VS_ERR_NOMEM, "path: out of memory");
     goto cleanup;
   }
@@ -402,7 +434,8 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double *q, vs_path_ste
                       "the self-weight equilibrium is unstable (tangent not positive definite)");
     goto cleanup;
   }
-  res->evidence.lambda_start = tangent_min_eig(&s);
+  double lam = tangent_min_eig(&s, eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT), lam_prev = NAN;
+  res->evidence.lambda_start = lam;
   vs_model_commit(m, q, 0.0);
   memcpy(qprev, q, bytes);
   res->steps = 1;
@@ -422,6 +455,11 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double *q, vs_path_ste
       break;
     }
     h = fmin(h, o->max_delta - delta);
+    /* fold predictor from the smallest eigenvalue at the last two equilibria */
+    if (isfinite(lam_prev) && isfinite(lam) && lam < lam_prev && delta > delta_prev) {
+      const double l2 = lam * lam, fold = delta + l2 * (delta - delta_prev) / (lam_prev * lam_prev - l2);
+      h = fmin(h, fmax(VS_FOLD_APPROACH * (fold - delta), o->limit_tol));
+    }
     for (int i = 0; i < s.n; i++) qtry[i] = qpred[i] = q[i] + h * tan[i];
     flag = qs_solve(&s, delta + h, qtry, &it);
     int ok = (flag == 0);
@@ -449,6 +487,8 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double *q, vs_path_ste
     vs_model_commit(m, q, delta);
     res->steps++;
     res->delta_limit = delta;
+    lam_prev = lam;
+    lam = tangent_min_eig(&s, eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT); /* tangent factored by stable_state */
     if (path_tangent(&s, q, delta, tan) != 0) {
       st = vs_error_set(err, VS_ERR_SOLVER, "KLU failed to solve for the path tangent at %.6g mm",
                         delta / VS_MM);
@@ -468,6 +508,7 @@ cleanup:
   free(qtry);
   free(qpred);
   free(qprev);
+  free(eig);
   qs_destroy(&s);
   return st;
 }

@@ -138,7 +138,7 @@ static void test_defaults(void **state) {
   assert_true(c.step_max_mm == 2.0);
   assert_true(c.limit_tol_mm == 1e-3);
   assert_true(c.newton_tol == 1e-8);
-  assert_int_equal(c.newton_maxiter, 25);
+  assert_int_equal(c.newton_maxiter, 8);
   assert_true(c.open_mm == 0.05);
   assert_int_equal(c.migrate_joints, 3);
 

@@ -56,6 +56,7 @@ static void sector_quadrature(double ri, double re, double p0, double p1, sector
   gauss_legendre(x, wt);
   const int P = 4;
   double A = 0, Sx = 0, Sz = 0;
+  *sp = (sector_props){0, 0, 0, 0};
   for (int pass = 0; pass < 2; pass++) {
     double J = 0;
     for (int ir = 0; ir < P; ir++) {

@@ -31,7 +31,7 @@ typedef struct {
   double step_max_mm;  /* largest increment, >= step_mm, default 2 */
   double limit_tol_mm; /* bisection tolerance on a limit point, (0, step_mm], default 1e-3 */
   double newton_tol;   /* scaled residual tolerance (fraction of a voussoir's weight), (0, 1e-2], default 1e-8 */
-  int newton_maxiter;  /* Newton iterations per increment, 2..1000, default 25 */
+  int newton_maxiter;  /* Newton iterations per increment, 2..1000, default 8 (an increment that needs more is cut) */
 
   /* [hinges] what counts as a hinge */
   double open_mm;     /* edge opening beyond which a joint is open (a hinge), > 0, default 0.05 */

@@ -1,0 +1,396 @@
+/* Statics of the model (model.h, quasistatic.h) against independent arguments: global
+ * equilibrium of the support reactions, mirror symmetry of the symmetric arch, the horizontal
+ * thrust inside the [H_min, H_max] range of a thrust-line analysis written here, and a block on
+ * an incline that holds below the friction angle and slides above it. SI units. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "voussoir/case.h"
+#include "voussoir/geometry.h"
+#include "voussoir/joint.h"
+#include "voussoir/model.h"
+#include "voussoir/quasistatic.h"
+
+static void check_close(double got, double want, double rtol, double atol, const char *what,
+                        int line) {
+  if (!(fabs(got - want) <= rtol * fabs(want) + atol))
+    fail_msg("line %d: %s = %.17g, expected %.17g (rtol %g, atol %g, diff %g)", line, what, got,
+             want, rtol, atol, got - want);
+}
+#define CHECK(got, want, rtol, atol) check_close((got), (want), (rtol), (atol), #got, __LINE__)
+
+static double deg(double d) { return d * acos(-1.0) / 180; }
+
+/* ------------------------ the arch under self-weight (the model) ------------------------ */
+
+typedef struct {
+  vs_case c;
+  vs_geometry *g;
+  vs_model *m;
+  double *q;
+  int n;
+} arch_run;
+
+/* Build the arch of case c, solve self-weight equilibrium from q = 0 at delta = 0. */
+static void arch_solve(arch_run *r) {
+  vs_error err;
+  vs_error_clear(&err);
+  vs_status s = vs_geometry_create_arch(&r->c, &r->g, &err);
+  if (s != VS_OK) fail_msg("geometry: %s: %s", vs_strerror(s), err.msg);
+  vs_joint_law law = {r->c.kn_N_mm3 * 1e9, r->c.ks_ratio * r->c.kn_N_mm3 * 1e9, r->c.friction};
+  s = vs_model_create(r->g, &law, deg(r->c.alpha_deg), &r->m, &err);
+  if (s != VS_OK) fail_msg("model: %s: %s", vs_strerror(s), err.msg);
+  r->n = vs_model_size(r->m);
+  assert_int_equal(r->n, 3 * r->c.voussoirs);
+  r->q = calloc((size_t)r->n, sizeof(double));
+  assert_non_null(r->q);
+  vs_path_opts o;
+  vs_path_opts_from_case(&r->c, &o);
+  long iters = 0;
+  s = vs_equilibrium_solve(r->m, &o, 0.0, r->q, &iters, &err);
+  if (s != VS_OK) fail_msg("self-weight equilibrium: %s: %s", vs_strerror(s), err.msg);
+}
+
+static void arch_free(arch_run *r) {
+  free(r->q);
+  vs_model_destroy(&r->m);
+  assert_null(r->m);
+  vs_geometry_destroy(&r->g);
+}
+
+/* Closed-form weight of the arch: rho b g (E/2)(Re^2 - Ri^2). */
+static double arch_weight(const vs_case *c) {
+  double Ri = c->radius_mm * 1e-3, Re = Ri + c->thickness_mm * 1e-3;
+  return c->density_kg_m3 * c->depth_mm * 1e-3 * c->gravity_m_s2 * 0.5 * deg(c->embrace_deg) *
+         (Re * Re - Ri * Ri);
+}
+
+static arch_run reference_run(double kn) {
+  arch_run r = {0};
+  vs_case_defaults(&r.c);
+  r.c.kn_N_mm3 = kn;
+  arch_solve(&r);
+  return r;
+}
+
+/* The supports carry the whole weight, downwards, half each by symmetry; the horizontal
+ * reactions are equal and opposite and push the supports outwards. */
+static void test_reactions(void **state) {
+  (void)state;
+  const double kns[] = {3.0, 48.0};
+  for (int k = 0; k < 2; k++) {
+    arch_run r = reference_run(kns[k]);
+    double W = arch_weight(&r.c), left[2], right[2];
+    vs_model_reactions(r.m, r.q, 0.0, left, right);
+    CHECK(left[1] + right[1], -W, 1e-8, 0);
+    CHECK(left[1], -0.5 * W, 1e-7, 0);
+    CHECK(right[1], -0.5 * W, 1e-7, 0);
+    CHECK(left[0], -right[0], 0, 1e-8 * W);
+    assert_true(right[0] > 0 && left[0] < 0);
+    CHECK(vs_geometry_weight(r.g), W, 1e-12, 0);
+    arch_free(&r);
+  }
+}
+
+/* Mirror x -> -x maps block i to n-1-i: ux and theta change sign, uz does not. */
+static void test_symmetry(void **state) {
+  (void)state;
+  const double kns[] = {3.0, 48.0};
+  for (int k = 0; k < 2; k++) {
+    arch_run r = reference_run(kns[k]);
+    int nb = r.n / 3;
+    double U = 0, TH = 0;
+    for (int i = 0; i < nb; i++) {
+      U = fmax(U, fmax(fabs(r.q[3 * i]), fabs(r.q[3 * i + 1])));
+      TH = fmax(TH, fabs(r.q[3 * i + 2]));
+    }
+    assert_true(U > 0 && TH > 0); /* the arch did deform */
+    for (int i = 0; i < nb; i++) {
+      int j = nb - 1 - i;
+      CHECK(r.q[3 * i], -r.q[3 * j], 0, 1e-6 * U);
+      CHECK(r.q[3 * i + 1], r.q[3 * j + 1], 0, 1e-6 * U);
+      CHECK(r.q[3 * i + 2], -r.q[3 * j + 2], 0, 1e-6 * TH);
+    }
+    /* The crown block (odd count) neither moves sideways nor turns. */
+    CHECK(r.q[3 * (nb / 2)], 0, 0, 1e-6 * U);
+    CHECK(r.q[3 * (nb / 2) + 2], 0, 0, 1e-6 * TH);
+    arch_free(&r);
+  }
+}
+
+/* ------------------------ independent thrust-line analysis ------------------------------
+ * Symmetric arch, circle centre at the origin, phi from the crown (x = r sin phi,
+ * z = r cos phi). By symmetry the force across the vertical plane x = 0 is horizontal, H, at
+ * height z0. Free body: the material between x = 0 and the radial section at phi > 0 (right
+ * half); weight V (down) at x = S / V (S its first moment about x = 0). The rest of the arch
+ * pushes on it at the section with (-H, +V), at radius r. Moments about the origin
+ * (x F_z - z F_x): crown force (H, 0) at (0, z0): -H z0; weight: -S; section force at
+ * r (sin phi, cos phi): r (V sin phi + H cos phi). Their sum is zero, so
+ *   r = (H z0 + S) / (H cos phi + V sin phi).
+ * (Check: H -> inf gives r cos phi = z0, a horizontal line.) Feasibility R <= r <= R + t at
+ * every section is, with y = H z0, R D - S <= y <= (R + t) D - S, D = H cos phi + V sin phi:
+ * linear in (H, y), so the feasible set is a convex polygon and
+ *   g(H) = min_k [(R + t) D_k - S_k] - max_k [R D_k - S_k]
+ * is concave; H_min and H_max are its zeros on either side of its maximum.
+ * For the annular sector 0 <= phi' <= phi: V = rho b g phi (Re^2 - Ri^2) / 2,
+ * S = rho b g (Re^3 - Ri^3)(1 - cos phi) / 3. */
+typedef struct {
+  int n;
+  double R, t;
+  double *cphi, *sphi, *V, *S;
+} thrust_problem;
+
+static void thrust_init(thrust_problem *p, double Ri, double t, double wgt, const double *phi,
+                        int n) {
+  double Re = Ri + t;
+  p->n = n;
+  p->R = Ri;
+  p->t = t;
+  p->cphi = malloc(4 * (size_t)n * sizeof(double));
+  assert_non_null(p->cphi);
+  p->sphi = p->cphi + n;
+  p->V = p->sphi + n;
+  p->S = p->V + n;
+  for (int k = 0; k < n; k++) {
+    p->cphi[k] = cos(phi[k]);
+    p->sphi[k] = sin(phi[k]);
+    p->V[k] = wgt * phi[k] * (Re * Re - Ri * Ri) / 2;
+    p->S[k] = wgt * (Re * Re * Re - Ri * Ri * Ri) * (1 - cos(phi[k])) / 3;
+  }
+}
+
+static void thrust_free(thrust_problem *p) { free(p->cphi); }
+
+static double thrust_g(const thrust_problem *p, double H) {
+  double lo = -HUGE_VAL, hi = HUGE_VAL;
+  for (int k = 0; k < p->n; k++) {
+    double D = H * p->cphi[k] + p->V[k] * p->sphi[k];
+    lo = fmax(lo, p->R * D - p->S[k]);
+    hi = fmin(hi, (p->R + p->t) * D - p->S[k]);
+  }
+  return hi - lo;
+}
+
+/* H_min, H_max in (0, Hhi); returns 0 when no thrust line fits. */
+static int thrust_bounds(const thrust_problem *p, double Hhi, double *Hmin, double *Hmax) {
+  const double gr = 0.5 * (sqrt(5.0) - 1);
+  double a = 0, b = Hhi, c = b - gr * (b - a), d = a + gr * (b - a);
+  double gc = thrust_g(p, c), gd = thrust_g(p, d);
+  for (int it = 0; it < 200 && b - a > 1e-15 * Hhi; it++) {
+    if (gc < gd) {
+      a = c;
+      c = d;
+      gc = gd;
+      d = a + gr * (b - a);
+      gd = thrust_g(p, d);
+    } else {
+      b = d;
+      d = c;
+      gd = gc;
+      c = b - gr * (b - a);
+      gc = thrust_g(p, c);
+    }
+  }
+  double Hs = 0.5 * (a + b);
+  if (thrust_g(p, Hs) < 0) return 0;
+  assert_true(thrust_g(p, 0) < 0 && thrust_g(p, Hhi) < 0);
+  double lo = 0, hi = Hs;
+  for (int it = 0; it < 200 && hi - lo > 1e-14 * Hs; it++) {
+    double m = 0.5 * (lo + hi);
+    if (thrust_g(p, m) >= 0) hi = m;
+    else lo = m;
+  }
+  *Hmin = hi;
+  lo = Hs;
+  hi = Hhi;
+  for (int it = 0; it < 200 && hi - lo > 1e-14 * Hs; it++) {
+    double m = 0.5 * (lo + hi);
+    if (thrust_g(p, m) >= 0) lo = m;
+    else hi = m;
+  }
+  *Hmax = lo;
+  return 1;
+}
+
+/* Semicircle of centre-line radius 1 and thickness t, radial sections densely spaced (the
+ * continuous arch, crown section included). */
+static int semicircle_bounds(double t, double *Hmin, double *Hmax) {
+  enum { K = 2000 };
+  double *phi = malloc((K + 1) * sizeof(double));
+  assert_non_null(phi);
+  for (int k = 0; k <= K; k++) phi[k] = 0.5 * acos(-1.0) * k / K;
+  thrust_problem p;
+  thrust_init(&p, 1 - 0.5 * t, t, 1.0, phi, K + 1);
+  int ok = thrust_bounds(&p, 100.0, Hmin, Hmax);
+  thrust_free(&p);
+  free(phi);
+  return ok;
+}
+
+/* Sanity of the analysis itself: the least thickness of a semicircular arch with radial joints
+ * under self-weight is t / R_centre = 0.1075 (Milankovitch), where H_min meets H_max. */
+static void test_thrust_line_semicircle(void **state) {
+  (void)state;
+  double lo = 0.09, hi = 0.13, a, b;
+  assert_int_equal(semicircle_bounds(lo, &a, &b), 0);
+  assert_int_equal(semicircle_bounds(hi, &a, &b), 1);
+  for (int it = 0; it < 30; it++) {
+    double m = 0.5 * (lo + hi);
+    if (semicircle_bounds(m, &a, &b)) hi = m;
+    else lo = m;
+  }
+  assert_true(hi > 0.1065 && hi < 0.1085);
+  assert_int_equal(semicircle_bounds(hi * (1 + 1e-6), &a, &b), 1);
+  CHECK(b, a, 1e-3, 0);
+  /* Thicker: a clear range. */
+  assert_int_equal(semicircle_bounds(0.12, &a, &b), 1);
+  assert_true(b > 1.05 * a);
+}
+
+/* [H_min, H_max] of the discrete arch of case c: the radial joints of the right half (for an
+ * odd voussoir count the plane x = 0 cuts the crown voussoir, which is rigid, so it is not a
+ * section; for an even count it is joint n/2 + 1). */
+static void arch_thrust_bounds(const vs_case *c, double *Hmin, double *Hmax) {
+  int n = c->voussoirs;
+  double E = deg(c->embrace_deg), dphi = E / n;
+  int ns = n / 2 + 1;
+  double *phi = malloc((size_t)ns * sizeof(double));
+  assert_non_null(phi);
+  for (int k = 0; k < ns; k++) phi[k] = (n % 2 ? 0.5 * dphi : 0.0) + k * dphi;
+  CHECK(phi[ns - 1], 0.5 * E, 1e-14, 0);
+  thrust_problem p;
+  thrust_init(&p, c->radius_mm * 1e-3, c->thickness_mm * 1e-3,
+              c->density_kg_m3 * c->depth_mm * 1e-3 * c->gravity_m_s2, phi, ns);
+  int ok = thrust_bounds(&p, 100 * arch_weight(c), Hmin, Hmax);
+  thrust_free(&p);
+  free(phi);
+  assert_int_equal(ok, 1);
+}
+
+/* The model's thrust under self-weight must be statically admissible for the undeformed arch
+ * (to the order of the deformation: 1 %). */
+static void test_thrust_in_range(void **state) {
+  (void)state;
+  const double kns[] = {3.0, 48.0};
+  double Hmin, Hmax;
+  vs_case c;
+  vs_case_defaults(&c);
+  arch_thrust_bounds(&c, &Hmin, &Hmax);
+  assert_true(Hmax > Hmin && Hmin > 0);
+  for (int k = 0; k < 2; k++) {
+    arch_run r = reference_run(kns[k]);
+    double left[2], right[2];
+    vs_model_reactions(r.m, r.q, 0.0, left, right);
+    double H = right[0];
+    if (!(H >= 0.99 * Hmin && H <= 1.01 * Hmax))
+      fail_msg("kn = %g N/mm^3: thrust H = %.6g N outside [%.6g, %.6g] N", kns[k], H, Hmin,
+               Hmax);
+    arch_free(&r);
+  }
+}
+
+/* ---------------------------------- block on an incline ---------------------------------
+ * A rectangular block (base w along the plane, height h, depth b) rests on the fixed support
+ * over a plane inclined at beta, rising to the left: normal from the support into the block
+ * n = (-sin beta, cos beta); centroid at h/2 along n above the joint centre (origin).
+ * Equilibrium of the block (gravity (0, -m g), joint force on b = N n - T s with s = n turned
+ * +90 degrees, frame turned by the mean rotation theta/2 of the joint):
+ *   N = m g cos(beta + theta/2), T = m g sin(beta + theta/2) -> T/N = tan(beta + theta/2),
+ * possible only while tan(beta + theta/2) <= mu. */
+typedef struct {
+  vs_geometry *g;
+  vs_model *m;
+  double q[3];
+  double mass;
+  vs_status status;
+  vs_joint_state st;
+} incline_run;
+
+static void incline_solve(double tanb, incline_run *r) {
+  const double wd = 0.1, hh = 0.04, b = 0.1, rho = 2000, beta = atan(tanb);
+  vs_error err;
+  vs_error_clear(&err);
+  assert_int_equal(vs_geometry_create(1, 1, &r->g, &err), VS_OK);
+  vs_geometry *g = r->g;
+  double nx = -sin(beta), nz = cos(beta);
+  r->mass = rho * wd * hh * b;
+  g->blocks[0] = (vs_block){.mass = r->mass,
+                            .inertia = r->mass * (wd * wd + hh * hh) / 12,
+                            .cx = 0.5 * hh * nx,
+                            .cz = 0.5 * hh * nz,
+                            .area = wd * hh,
+                            .phi0 = 0,
+                            .phi1 = 0};
+  g->joints[0] = (vs_joint_geom){.a = VS_SUPPORT_LEFT, .b = 0, .px = 0, .pz = 0, .nx = nx,
+                                 .nz = nz, .length = wd, .depth = b};
+  g->gravity = 9.81;
+  g->span = wd;
+  g->rise = 0;
+  g->radius = 0;
+  g->thickness = wd;
+  g->embrace = 0;
+  vs_joint_law law = {3e9, 1.5e9, 0.7};
+  assert_int_equal(vs_model_create(g, &law, 0.0, &r->m, &err), VS_OK);
+  assert_int_equal(vs_model_size(r->m), 3);
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_path_opts o;
+  vs_path_opts_from_case(&c, &o);
+  r->q[0] = r->q[1] = r->q[2] = 0;
+  long iters = 0;
+  r->status = vs_equilibrium_solve(r->m, &o, 0.0, r->q, &iters, &err);
+  if (r->status == VS_OK) vs_model_joint_states(r->m, r->q, 0.0, &r->st);
+  else assert_true(err.msg[0] != '\0');
+}
+
+static void incline_free(incline_run *r) {
+  vs_model_destroy(&r->m);
+  vs_geometry_destroy(&r->g);
+}
+
+static void test_incline_holds(void **state) {
+  (void)state;
+  const double tans[] = {0.0, 0.3, 0.6};
+  for (int k = 0; k < 3; k++) {
+    incline_run r = {0};
+    incline_solve(tans[k], &r);
+    if (r.status != VS_OK) fail_msg("tan beta = %g: no equilibrium (%s)", tans[k],
+                                    vs_strerror(r.status));
+    double mg = r.mass * 9.81, be = atan(tans[k]) + 0.5 * r.q[2];
+    CHECK(r.st.N, mg * cos(be), 1e-8, 0);
+    CHECK(r.st.T, mg * sin(be), 1e-8, 1e-10 * mg);
+    CHECK(r.st.T / r.st.N, tan(be), 1e-8, 1e-10);
+    CHECK(r.st.T / r.st.N, tans[k], 1e-4, 1e-10); /* theta is tiny */
+    CHECK(r.st.N, mg * cos(atan(tans[k])), 1e-4, 0);
+    assert_int_equal(r.st.sliding, 0);
+    incline_free(&r);
+  }
+}
+
+static void test_incline_slides(void **state) {
+  (void)state;
+  incline_run r = {0};
+  incline_solve(0.8, &r);
+  if (!(r.status == VS_ERR_NO_EQUILIBRIUM || r.status == VS_ERR_SOLVER))
+    fail_msg("tan beta = 0.8 > mu = 0.7: expected no equilibrium, got %s (T/N = %g)",
+             vs_strerror(r.status), r.status == VS_OK ? r.st.T / r.st.N : 0.0);
+  incline_free(&r);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_reactions),
+      cmocka_unit_test(test_symmetry),
+      cmocka_unit_test(test_thrust_line_semicircle),
+      cmocka_unit_test(test_thrust_in_range),
+      cmocka_unit_test(test_incline_holds),
+      cmocka_unit_test(test_incline_slides),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
