@@ -261,7 +261,7 @@ int vs_model_commit(vs_model *m, const double *q, double delta) {
   for (int k = 0; k < m->g->n_joints; k++) {
     vs_joint_state st;
     eval_joint(m, q, delta, k, &st, NULL, NULL);
-    if (st.sliding) slid++;
+    if (st.sliding && st.N > 0.0) slid++;
     m->slip_p[k] = st.slip_p;
   }
   return slid;

@@ -5,6 +5,7 @@
 
 #include <klu.h>
 #include <kinsol/kinsol.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <nvector/nvector_serial.h>
@@ -34,6 +35,13 @@ static const int VS_EIG_MAXIT = 200;
 static const double VS_FOLD_APPROACH = 0.5;
 /* KLU fill-reducing ordering: 0 AMD, 1 COLAMD, 2 natural (see below). */
 static const int VS_KLU_ORDERING = 2;
+/* Newton stops when its scaled step (in units of the joint length) falls below this: about
+ * a hundred ulps of a position, the resolution of double precision. */
+static const double VS_NEWTON_STEPTOL = 1e-14;
+/* Round-off floor of the residual: positions carry a relative error of eps, which the joint
+ * stiffness k_n b t turns into a force error of about eps k_n b t (|u| + t); a Newton iteration
+ * that stalls within this margin times that floor has converged as far as doubles allow. */
+static const double VS_FLOOR_MARGIN = 16.0;
 
 typedef struct {
   vs_model *m;
@@ -46,7 +54,9 @@ typedef struct {
   SUNLinearSolver LS, LSt;
   void *kin;
   double *len;                /* per unknown: 1 for translations, block length for rotations */
-  long iters, jac_evals;
+  double kmax, lmax, wmin;    /* stiffest joint k_n b t (N/m), longest joint (m), lightest block (N) */
+  long iters, jac_evals, floor_limited;
+  double max_residual;        /* largest scaled residual among accepted equilibria */
   char kin_msg[256];
 } qs_solver;
 
@@ -132,7 +142,15 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
     us[i] = us[i + 1] = 1.0 / len;
     us[i + 2] = 1.0;
   }
+  s->wmin = INFINITY;
+  for (int i = 0; i < s->n; i += 3) s->wmin = fmin(s->wmin, fs[i]);
   for (int i = 0; i < s->n; i++) fs[i] = 1.0 / fs[i];
+  const vs_geometry *g = vs_model_geometry(m);
+  for (int k = 0; k < g->n_joints; k++) {
+    const vs_joint_geom *j = &g->joints[k];
+    s->kmax = fmax(s->kmax, vs_model_law(m)->kn * j->depth * j->length);
+    s->lmax = fmax(s->lmax, j->length);
+  }
 
   s->kin = KINCreate(s->ctx);
   if (s->kin == NULL) return qs_fail(s, err, "KINCreate", 0);
@@ -149,7 +167,7 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
     return qs_fail(s, err, "KINSetNumMaxIters", flag);
   if ((flag = KINSetFuncNormTol(s->kin, o->newton_tol)) != KIN_SUCCESS)
     return qs_fail(s, err, "KINSetFuncNormTol", flag);
-  if ((flag = KINSetScaledStepTol(s->kin, 1e-3 * o->newton_tol)) != KIN_SUCCESS)
+  if ((flag = KINSetScaledStepTol(s->kin, VS_NEWTON_STEPTOL)) != KIN_SUCCESS)
     return qs_fail(s, err, "KINSetScaledStepTol", flag);
   return VS_OK;
 }
@@ -175,10 +193,21 @@ static int qs_solve(qs_solver *s, double delta, double *q, long *iters) {
   KINGetNumNonlinSolvIters(s->kin, &nni);
   s->iters += nni;
   if (iters != NULL) *iters = nni;
-  if (flag == KIN_SUCCESS || flag == KIN_INITIAL_GUESS_OK || flag == KIN_STEP_LT_STPTOL) {
+  /* a stall is a tiny Newton step or a line search finding no distinct iterate */
+  const int stalled = (flag == KIN_STEP_LT_STPTOL || flag == KIN_LINESEARCH_NONCONV);
+  if (flag == KIN_SUCCESS || flag == KIN_INITIAL_GUESS_OK || stalled) {
     const double *u = N_VGetArrayPointer(s->u);
-    /* a stalled step is accepted only if the residual test holds */
-    if (scaled_residual(s, u, delta) > s->o->newton_tol) return KIN_STEP_LT_STPTOL;
+    const double r = scaled_residual(s, u, delta);
+    if (r > s->o->newton_tol) {
+      /* stalled: accept only at the round-off floor of the residual */
+      double umax = 0.0;
+      for (int i = 0; i < s->n; i++)
+        if (i % 3 != 2) umax = fmax(umax, fabs(u[i]));
+      const double floor = VS_FLOOR_MARGIN * DBL_EPSILON * s->kmax * (umax + s->lmax) / s->wmin;
+      if (!stalled || r > floor) return flag == KIN_SUCCESS ? KIN_STEP_LT_STPTOL : flag;
+      s->floor_limited++;
+    }
+    s->max_residual = fmax(s->max_residual, r);
     memcpy(q, u, (size_t)s->n * sizeof *q);
     return 0;
   }
@@ -504,6 +533,8 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double *q, vs_path_ste
 cleanup:
   res->newton_iterations = s.iters;
   res->jacobian_evals = s.jac_evals;
+  res->floor_limited = s.floor_limited;
+  res->max_residual = s.max_residual;
   free(tan);
   free(qtry);
   free(qpred);

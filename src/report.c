@@ -74,8 +74,10 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
           c->voussoirs);
   fprintf(out,
           ",\"stats\":{\"steps\":%ld,\"rejected_steps\":%ld,\"newton_iterations\":%ld,"
-          "\"jacobian_evaluations\":%ld,\"wall_s\":%.6g}}\n",
-          p->steps, p->rejected, p->newton_iterations, p->jacobian_evals, vs_run_wall_s(r));
+          "\"jacobian_evaluations\":%ld,\"max_residual\":%.3g,\"floor_limited\":%ld,"
+          "\"wall_s\":%.6g}}\n",
+          p->steps, p->rejected, p->newton_iterations, p->jacobian_evals, p->max_residual,
+          p->floor_limited, vs_run_wall_s(r));
 }
 
 void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error *err,
@@ -139,6 +141,10 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
   fprintf(out, "\nstats    %ld equilibria (%ld rejected increments), %ld Newton iterations, "
                "%ld Jacobians, %.3f s\n",
           p->steps, p->rejected, p->newton_iterations, p->jacobian_evals, vs_run_wall_s(r));
+  fprintf(out, "         largest residual %.2g x voussoir weight", p->max_residual);
+  if (p->floor_limited > 0)
+    fprintf(out, " (%ld equilibria limited by round-off, above the tolerance)", p->floor_limited);
+  fputc('\n', out);
   if (status == VS_OK && p->end == VS_PATH_LIMIT_POINT)
     fprintf(out, "note     the run stops at the first limit point; what follows it (snap-through "
                  "or collapse) is not followed yet\n");

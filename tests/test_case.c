@@ -98,7 +98,7 @@ static const key_case all_keys[] = {
     {"arch", "depth_mm", "-120", NULL, {"1", NULL}},
     {"arch", "density_kg_m3", "0", NULL, {"2400", NULL}},
     {"arch", "gravity_m_s2", "-9.81", NULL, {"1.62", NULL}},
-    {"joints", "kn_N_mm3", "-3", NULL, {"48", NULL}},
+    {"joints", "kn_N_mm3", "-3", "1e5", {"48", "10000"}},
     {"joints", "ks_ratio", "0", NULL, {"1", NULL}},
     {"joints", "friction", "0", NULL, {"0.01", NULL}},
     {"support", "alpha_deg", "-180.5", "181", {"-180", "180"}},
@@ -325,7 +325,7 @@ static void test_range_message_exact(void **state) {
                      "kn_N_mm3 = -3\n";
   assert_int_equal(read_text(text, &c, &err, &t), VS_ERR_INVALID);
   char want[256];
-  snprintf(want, sizeof want, "%s:4: joints.kn_N_mm3 = -3: out of range (allowed: > 0 N/mm^3)",
+  snprintf(want, sizeof want, "%s:4: joints.kn_N_mm3 = -3: out of range (allowed: (0, 10000] N/mm^3)",
            t.path);
   assert_string_equal(err.msg, want);
   drop(&t);
@@ -546,7 +546,7 @@ static void test_set_errors(void **state) {
   expect_set_error("joints.=3", VS_ERR_PARSE, malformed);
   expect_set_error("", VS_ERR_PARSE, malformed);
   expect_set_error("joints.kn_N_mm3=-3", VS_ERR_INVALID,
-                   "joints.kn_N_mm3 = -3: out of range (allowed: > 0 N/mm^3)");
+                   "joints.kn_N_mm3 = -3: out of range (allowed: (0, 10000] N/mm^3)");
   expect_set_error("joints.kn=3", VS_ERR_PARSE,
                    "joints.kn = 3: unknown key (allowed keys in [joints]: kn_N_mm3");
   expect_set_error("joint.kn_N_mm3=3", VS_ERR_PARSE,
@@ -616,7 +616,7 @@ static void test_validate(void **state) {
   expect_invalid(&c, "arch.embrace_deg = 190", "(0, 180] deg");
   vs_case_defaults(&c);
   c.kn_N_mm3 = NAN;
-  expect_invalid(&c, "joints.kn_N_mm3", "> 0 N/mm^3");
+  expect_invalid(&c, "joints.kn_N_mm3", "(0, 10000] N/mm^3");
   vs_case_defaults(&c);
   c.voussoirs = 0;
   expect_invalid(&c, "arch.voussoirs = 0", "integer in [1, 20000]");

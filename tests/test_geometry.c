@@ -113,8 +113,10 @@ static vs_geometry *build(const vs_case *c) {
 
 /* The cases: the reference specimen, a semicircle with few thick voussoirs, a shallow arch
  * with an even voussoir count. */
-static const double CASES[][5] = {
-    {300, 24, 125, 55, 120}, {1000, 200, 180, 7, 500}, {2500, 80, 40, 12, 300}, {300, 24, 90, 1, 120}};
+static const double CASES[][5] = {{300, 24, 125, 55, 120},
+                                   {1000, 200, 180, 7, 500},
+                                   {2500, 80, 40, 12, 300},
+                                   {300, 24, 90, 1, 120}};
 #define NCASES (sizeof CASES / sizeof CASES[0])
 
 static void test_blocks_against_quadrature(void **state) {

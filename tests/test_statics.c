@@ -297,8 +297,10 @@ static void test_thrust_in_range(void **state) {
 
 /* ---------------------------------- block on an incline ---------------------------------
  * A rectangular block (base w along the plane, height h, depth b) rests on the fixed support
- * over a plane inclined at beta, rising to the left: normal from the support into the block
- * n = (-sin beta, cos beta); centroid at h/2 along n above the joint centre (origin).
+ * over a plane inclined at beta, rising to the right (the block tends to slide down to the
+ * left); normal from the support into the block n = (-sin beta, cos beta); centroid at h/2
+ * along n above the joint centre (origin); the resultant's eccentricity (h/2) tan beta stays
+ * below w/6, so the joint stays fully closed.
  * Equilibrium of the block (gravity (0, -m g), joint force on b = N n - T s with s = n turned
  * +90 degrees, frame turned by the mean rotation theta/2 of the joint):
  *   N = m g cos(beta + theta/2), T = m g sin(beta + theta/2) -> T/N = tan(beta + theta/2),

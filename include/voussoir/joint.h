@@ -33,7 +33,9 @@ typedef struct {
                      (> 0 when the extrados side carries more) */
   double N_a, N_w, M_w; /* exact partial derivatives (M_a = N_w) */
   double energy;  /* elastic energy stored, J */
-  double contact; /* compressed length, m, in [0, t] */
+  double contact; /* compressed length, m, in [0, t]. A joint that just touches everywhere
+                     (a = w = 0) counts as closed: contact t and the full-contact tangent, so
+                     that the stress-free reference state has a stiffness */
 } vs_normal_response;
 
 /* Closed-form normal response (see vs_normal_response). kn in N/m^3, b and t in m, a in m,

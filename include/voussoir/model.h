@@ -21,7 +21,9 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
 /* Free m and NULL *m; NULL allowed. */
 void vs_model_destroy(vs_model **m);
 
-/* Number of unknowns (3 per block: ux, uz in m, theta in rad) and Jacobian non-zeros. */
+/* Number of unknowns and Jacobian non-zeros. The state q is block-major: q[3i], q[3i+1] are the
+ * displacement (m) of block i's centroid (its reference point) and q[3i+2] its rotation (rad,
+ * counter-clockwise). */
 int vs_model_size(const vs_model *m);
 int vs_model_nnz(const vs_model *m);
 const vs_geometry *vs_model_geometry(const vs_model *m);
@@ -45,7 +47,7 @@ void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double
 void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_joint_state *st);
 
 /* Accept (q, delta) as a converged state: the plastic slips of sliding joints are updated.
- * Returns the number of joints that slid in this step. */
+ * Returns the number of joints in contact (N > 0) that slid in this step. */
 int vs_model_commit(vs_model *m, const double *q, double delta);
 
 /* Plastic slip of every joint (m), committed; n_joints entries. */

@@ -42,6 +42,9 @@ typedef struct {
   long rejected;         /* rejected increments (bisection) */
   long newton_iterations;/* all Newton iterations, accepted or not */
   long jacobian_evals;
+  long floor_limited;    /* equilibria whose residual stalled at the round-off floor, above
+                            newton_tol (accepted: Newton could not improve them further) */
+  double max_residual;   /* largest scaled residual (x voussoir weight) accepted */
 } vs_path_result;
 
 /* Called after every accepted equilibrium (delta = 0 is the self-weight state). q has
