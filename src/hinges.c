@@ -14,6 +14,8 @@ struct vs_hinges {
   vs_hinge *h;
   char *side;   /* per joint, this update */
   int *matched; /* per hinge, this update */
+  double *gap_i, *gap_e; /* per joint, edge openings at the previous update (m) */
+  double delta_prev;     /* support displacement of the previous update (NaN before one) */
 };
 
 vs_status vs_hinges_create(int n_joints, const vs_hinge_opts *opts, vs_hinges **out,
@@ -28,7 +30,10 @@ vs_status vs_hinges_create(int n_joints, const vs_hinge_opts *opts, vs_hinges **
   h->opts = *opts;
   h->n_joints = n_joints;
   h->side = calloc((size_t)n_joints, 1);
-  if (h->side == NULL) {
+  h->gap_i = calloc((size_t)n_joints, sizeof *h->gap_i);
+  h->gap_e = calloc((size_t)n_joints, sizeof *h->gap_e);
+  h->delta_prev = NAN;
+  if (h->side == NULL || h->gap_i == NULL || h->gap_e == NULL) {
     vs_hinges_destroy(&h);
     return vs_error_set(err, VS_ERR_NOMEM, "hinges: out of memory");
   }
@@ -41,6 +46,8 @@ void vs_hinges_destroy(vs_hinges **h) {
   free((*h)->h);
   free((*h)->side);
   free((*h)->matched);
+  free((*h)->gap_i);
+  free((*h)->gap_e);
   free(*h);
   *h = NULL;
 }
@@ -144,6 +151,22 @@ static int match_groups(vs_hinges *h, group *gr, int ng) {
   return 0;
 }
 
+/* Support displacement at which the group's largest opening (on its open edge) crossed the
+ * threshold, by linear interpolation between the previous update and this one. */
+static double onset_delta(const vs_hinges *h, const group *g, double delta,
+                          const vs_joint_state *st) {
+  if (!isfinite(h->delta_prev)) return delta;
+  double now = -INFINITY, before = -INFINITY;
+  for (int k = g->first - 1; k < g->last; k++) {
+    /* a hinge at the intrados ('I') has its extrados edge open */
+    now = fmax(now, g->side == 'I' ? st[k].gap_e : st[k].gap_i);
+    before = fmax(before, g->side == 'I' ? h->gap_e[k] : h->gap_i[k]);
+  }
+  if (!(now > before)) return delta;
+  const double f = fmin(fmax((h->opts.open - before) / (now - before), 0.0), 1.0);
+  return h->delta_prev + f * (delta - h->delta_prev);
+}
+
 int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st) {
   for (int k = 0; k < h->n_joints; k++) h->side[k] = vs_hinges_joint_side(&h->opts, &st[k]);
   for (int i = 0; i < h->count; i++) h->matched[i] = 0;
@@ -166,7 +189,7 @@ int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st) {
       hg->side = gr[g].side;
       hg->onset_first = gr[g].first;
       hg->onset_last = gr[g].last;
-      hg->delta_onset = delta;
+      hg->delta_onset = onset_delta(h, &gr[g], delta, st);
       hg->order = i + 1;
       h->matched[i] = 1;
       formed++;
@@ -178,6 +201,11 @@ int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st) {
     hg->delta_closed = NAN;
   }
   free(gr);
+  for (int k = 0; k < h->n_joints; k++) {
+    h->gap_i[k] = st[k].gap_i;
+    h->gap_e[k] = st[k].gap_e;
+  }
+  h->delta_prev = delta;
   for (int i = 0; i < before; i++) {
     if (!h->matched[i] && h->h[i].open) {
       h->h[i].open = 0;

@@ -53,6 +53,18 @@ static void expect_name(const vs_hinge *hg, int onset, const char *want) {
   if (strcmp(buf, want) != 0) fail_msg("hinge name \"%s\", expected \"%s\"", buf, want);
 }
 
+/* Onset of a joint that was closed (gap -1e-6 m) at update d0 and opened (gap 4 OPEN_M) at d1:
+ * the tracker interpolates linearly where the opening crossed OPEN_M. */
+static double crossing(double d0, double d1) {
+  const double before = -1e-6, now = 4.0 * OPEN_M;
+  return d0 + (OPEN_M - before) / (now - before) * (d1 - d0);
+}
+
+static void expect_onset(const vs_hinge *hg, double want) {
+  if (fabs(hg->delta_onset - want) > 1e-15)
+    fail_msg("delta_onset %.17g, expected %.17g", hg->delta_onset, want);
+}
+
 /* The hinge whose current joints start at j, or NULL. */
 static const vs_hinge *at_joint(const vs_hinges *h, int j) {
   for (int i = 0; i < vs_hinges_count(h); i++)
@@ -235,8 +247,8 @@ static void test_labels_left_to_right(void **state) {
   assert_int_equal(at_joint(h, 56)->label, 'C');
   for (int i = 0; i < 3; i++) assert_int_equal(vs_hinges_get(h, i)->order, i + 1);
   assert_true(at_joint(h, 56)->delta_onset == 1e-3);
-  assert_true(at_joint(h, 8)->delta_onset == 2e-3);
-  assert_true(at_joint(h, 30)->delta_onset == 3e-3);
+  expect_onset(at_joint(h, 8), crossing(1e-3, 2e-3));
+  expect_onset(at_joint(h, 30), crossing(2e-3, 3e-3));
 
   /* 4th and 5th in order of appearance, wherever they are */
   open_joint(st, 1, 'E');
@@ -301,8 +313,8 @@ static void test_same_update(void **state) {
   open_joint(st, 50, 'I');
   assert_int_equal(vs_hinges_update(h, 3e-3, st), 2);
   assert_int_equal(vs_hinges_count(h), 4);
-  assert_true(at_joint(h, 5)->delta_onset == 3e-3);
-  assert_true(at_joint(h, 50)->delta_onset == 3e-3);
+  expect_onset(at_joint(h, 5), crossing(2e-3, 3e-3));
+  expect_onset(at_joint(h, 50), crossing(2e-3, 3e-3));
   expect_abc_then_d(h);
   int n_d = 0;
   for (int i = 0; i < 4; i++) n_d += vs_hinges_get(h, i)->label == 'D';
@@ -418,7 +430,7 @@ static void expect_new_hinge(int migrate, int jump) {
   assert_int_equal(d->label, 'D');
   assert_int_equal(d->first, 20 + jump);
   assert_int_equal(d->onset_first, 20 + jump);
-  assert_true(d->delta_onset == 2e-3);
+  expect_onset(d, crossing(1e-3, 2e-3));
   assert_int_equal(vs_hinges_open_count(h), 3);
   vs_hinges_destroy(&h);
 }
@@ -497,9 +509,28 @@ static void test_close_reopen(void **state) {
   vs_hinges_destroy(&h);
 }
 
+/* An opening growing linearly with delta, gap_e = c (delta - d0), crosses the threshold at
+ * d0 + open / c exactly; linear interpolation between two updates must recover it. */
+static void test_onset_interpolated(void **state) {
+  (void)state;
+  vs_hinges *h = make(3);
+  vs_joint_state st[NJ];
+  const double c = 0.1, d0 = 0.7e-3;
+  for (int u = 0; u <= 2; u++) {
+    const double delta = u * 1e-3;
+    all_closed(st, NJ);
+    st[19].gap_e = c * (delta - d0);
+    vs_hinges_update(h, delta, st);
+  }
+  assert_int_equal(vs_hinges_count(h), 1);
+  expect_onset(vs_hinges_get(h, 0), d0 + OPEN_M / c);
+  vs_hinges_destroy(&h);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_create_errors),
+      cmocka_unit_test(test_onset_interpolated),
       cmocka_unit_test(test_threshold),
       cmocka_unit_test(test_side),
       cmocka_unit_test(test_spread),

@@ -18,7 +18,8 @@ typedef struct {
   char side;             /* 'I' intrados or 'E' extrados: the edge that stays in contact */
   int first, last;       /* current joints (1-based); last > first for a spread hinge */
   int onset_first, onset_last; /* joints when it formed */
-  double delta_onset;    /* support displacement at onset, m */
+  double delta_onset;    /* support displacement at onset, m: where the opening crossed the
+                            threshold, interpolated linearly between consecutive updates */
   int order;             /* order of appearance, 1-based */
   int open;              /* 1 while open */
   double delta_closed;   /* support displacement at which it closed, m (NaN while open) */
