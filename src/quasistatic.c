@@ -33,6 +33,9 @@ static const int VS_EIG_MAXIT = 200;
  * delta_L; an increment goes at most this fraction of the way there, so that the fold is
  * approached by converging steps rather than by failing ones. */
 static const double VS_FOLD_APPROACH = 0.5;
+/* Two successive fold predictions agree when they differ by less than this fraction of the
+ * distance to the fold. */
+static const double VS_FOLD_AGREE = 0.5;
 /* KLU fill-reducing ordering: 0 AMD, 1 COLAMD, 2 natural (see below). */
 static const int VS_KLU_ORDERING = 2;
 /* Newton stops when its scaled step (in units of the joint length) falls below this: about
@@ -464,6 +467,7 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double *q, vs_path_ste
     goto cleanup;
   }
   double lam = tangent_min_eig(&s, eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT), lam_prev = NAN;
+  double fold = INFINITY, fold_prev = INFINITY;
   res->evidence.lambda_start = lam;
   vs_model_commit(m, q, 0.0);
   memcpy(qprev, q, bytes);
@@ -484,11 +488,15 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double *q, vs_path_ste
       break;
     }
     h = fmin(h, o->max_delta - delta);
-    /* fold predictor from the smallest eigenvalue at the last two equilibria */
-    if (isfinite(lam_prev) && isfinite(lam) && lam < lam_prev && delta > delta_prev) {
-      const double l2 = lam * lam, fold = delta + l2 * (delta - delta_prev) / (lam_prev * lam_prev - l2);
+    /* fold predictor: lambda^2 extrapolated from the last two equilibria, trusted once two
+     * successive predictions agree (lambda^2 linear in delta, as near a fold; a hinge forming
+     * also lowers lambda, but not along a line) */
+    fold = (isfinite(lam_prev) && lam < lam_prev && delta > delta_prev)
+               ? delta + lam * lam * (delta - delta_prev) / (lam_prev * lam_prev - lam * lam)
+               : INFINITY;
+    if (isfinite(fold) && isfinite(fold_prev) &&
+        fabs(fold - fold_prev) <= VS_FOLD_AGREE * (fold - delta))
       h = fmin(h, fmax(VS_FOLD_APPROACH * (fold - delta), o->limit_tol));
-    }
     for (int i = 0; i < s.n; i++) qtry[i] = qpred[i] = q[i] + h * tan[i];
     flag = qs_solve(&s, delta + h, qtry, &it);
     int ok = (flag == 0);
@@ -517,6 +525,7 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double *q, vs_path_ste
     res->steps++;
     res->delta_limit = delta;
     lam_prev = lam;
+    fold_prev = fold;
     lam = tangent_min_eig(&s, eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT); /* tangent factored by stable_state */
     if (path_tangent(&s, q, delta, tan) != 0) {
       st = vs_error_set(err, VS_ERR_SOLVER, "KLU failed to solve for the path tangent at %.6g mm",
