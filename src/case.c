@@ -70,6 +70,22 @@ static const key_spec keys[] = {
         "edge opening beyond which a joint counts as a hinge"),
     KEY(hinges, migrate_joints, 3.0, 0.0, true, 100.0, true, "joints",
         "a hinge reappearing within this many joints, same side, has migrated"),
+    KEY(dynamic, follow, 1.0, 0.0, true, 1.0, true, "",
+        "1: follow the limit points dynamically to the collapse; 0: stop at the first"),
+    KEY(dynamic, full, 0.0, 0.0, true, 1.0, true, "",
+        "1: integrate the whole loading dynamically from rest"),
+    KEY(dynamic, damping, 0.05, 0.0, true, 1.0, true, "",
+        "joint damping, fraction of each joint's critical damping"),
+    KEY(dynamic, rtol, 1e-6, 0.0, false, 1e-2, true, "", "IDA relative tolerance"),
+    KEY(dynamic, atol_mm, 1e-5, 0.0, false, INF, false, "mm",
+        "IDA absolute tolerance on positions"),
+    KEY(dynamic, rest_factor, 100.0, 1.0, true, 1e12, true, "",
+        "at rest below this many times the kinetic energy of the arch moving at the support rate"),
+    KEY(dynamic, rest_s, 1.0, 0.0, false, INF, false, "s", "... for this long"),
+    KEY(dynamic, collapse_ke, 0.1, 0.0, false, INF, false, "",
+        "collapsing beyond this kinetic energy, as a fraction of weight x thickness"),
+    KEY(dynamic, fall_s, 0.5, 0.0, true, INF, false, "s", "the fall is followed this long"),
+    KEY(dynamic, sample_s, 0.01, 0.0, false, INF, false, "s", "interval between dynamic samples"),
 };
 #undef INF
 #undef KEY

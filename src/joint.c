@@ -182,3 +182,59 @@ void vs_joint_eval(const vs_joint_geom *jg, const vs_joint_law *law, const doubl
                        nr.N * k.Hg[i * 6 + j] + nr.M * k.Hw[i * 6 + j] + T * k.Hs[i * 6 + j];
   }
 }
+
+/* Below this contact length, as a fraction of the joint length, the damping fades linearly to
+ * zero, so that it vanishes continuously when the joint separates completely. */
+static const double VS_DAMP_RAMP = 0.02;
+
+void vs_joint_damping(const vs_joint_geom *jg, const vs_joint_law *law, double cn, double cs,
+                      const double qa[3], const double qb[3], const double va[3],
+                      const double vb[3], const double ra[2], const double rb[2], double f[6],
+                      double C[36], double *power) {
+  kinematics k;
+  joint_kinematics(jg, qa, qb, ra, rb, 0, &k);
+  const double t = jg->length, b = jg->depth;
+  vs_normal_response nr;
+  vs_joint_normal(law->kn, b, t, -k.g, k.w, &nr);
+  const double phi = fmin(1.0, nr.contact / (VS_DAMP_RAMP * t));
+  /* full-section viscous damping: normal b c_n t, rotational b c_n t^3/12, shear b c_s t */
+  const double ca = phi * b * cn * t, cw = phi * b * cn * t * t * t / 12.0, csl = phi * b * cs * t;
+  const double vel[6] = {va[0], va[1], va[2], vb[0], vb[1], vb[2]};
+  double adot = 0.0, wdot = 0.0, sdot = 0.0;
+  for (int i = 0; i < 6; i++) {
+    adot -= k.dg[i] * vel[i];
+    wdot += k.dw[i] * vel[i];
+    sdot += k.ds[i] * vel[i];
+  }
+  const double Nd = ca * adot, Md = cw * wdot, Td = csl * sdot;
+  if (f != NULL)
+    for (int i = 0; i < 6; i++) f[i] = -Nd * k.dg[i] + Md * k.dw[i] + Td * k.ds[i];
+  if (power != NULL) *power = Nd * adot + Md * wdot + Td * sdot;
+  if (C != NULL)
+    for (int i = 0; i < 6; i++)
+      for (int j = 0; j < 6; j++)
+        C[i * 6 + j] = ca * k.dg[i] * k.dg[j] + cw * k.dw[i] * k.dw[j] + csl * k.ds[i] * k.ds[j];
+}
+
+double vs_joint_friction_power(const vs_joint_geom *jg, const vs_joint_law *law,
+                               const double qa[3], const double qb[3], const double va[3],
+                               const double vb[3], const double ra[2], const double rb[2],
+                               double slip_p_old) {
+  kinematics k;
+  joint_kinematics(jg, qa, qb, ra, rb, 0, &k);
+  const double t = jg->length, b = jg->depth, a = -k.g, kst = law->ks * b * t;
+  vs_normal_response nr;
+  vs_joint_normal(law->kn, b, t, a, k.w, &nr);
+  const double T_trial = kst * (k.sl - slip_p_old), T_max = law->mu * nr.N;
+  if (!(fabs(T_trial) > T_max)) return 0.0;
+  const double vel[6] = {va[0], va[1], va[2], vb[0], vb[1], vb[2]};
+  double adot = 0.0, wdot = 0.0, sdot = 0.0;
+  for (int i = 0; i < 6; i++) {
+    adot -= k.dg[i] * vel[i];
+    wdot += k.dw[i] * vel[i];
+    sdot += k.ds[i] * vel[i];
+  }
+  const double sgn = T_trial > 0.0 ? 1.0 : -1.0, T = sgn * T_max;
+  const double Tdot = sgn * law->mu * (nr.N_a * adot + nr.N_w * wdot);
+  return T * (sdot - Tdot / kst);
+}

@@ -19,16 +19,21 @@ static const char *USAGE =
     "\n"
     "Simulates a masonry arch of rigid voussoirs on dry, no-tension, frictional, elastic joints\n"
     "while its right support moves along a direction alpha (from the vertical). Follows the\n"
-    "quasi-static equilibrium path from self-weight to its first limit point and reports the\n"
-    "support displacement there and the hinges (joint, side, onset).\n"
+    "quasi-static equilibrium path (KINSOL) from self-weight; at every limit point integrates the\n"
+    "motion (IDA) until it settles on another branch (a snap-through) or collapses, and reports\n"
+    "the collapse displacement, the limit points and the hinges (joint, side, onset, label).\n"
     "\n"
     "options for run:\n"
     "  --alpha DEG            support direction from the vertical, deg (0 = settlement,\n"
     "                         90 = outward spreading); same as --set support.alpha_deg=DEG\n"
     "  --kn N_MM3             joint normal stiffness, N/mm^3; same as --set joints.kn_N_mm3=N_MM3\n"
     "  --set SECTION.KEY=VAL  override any case key (repeatable; see README for all keys)\n"
+    "  --dynamic              integrate the whole loading dynamically from rest at the support\n"
+    "                         rate (no quasi-static phase); same as --set dynamic.full=1\n"
+    "  --first-limit          stop at the first limit point (no dynamics); --set dynamic.follow=0\n"
     "  --json                 print one JSON object on stdout instead of the summary\n"
-    "  -o FILE                also write the path history (CSV: one row per equilibrium)\n"
+    "  -o FILE                also write the history (CSV: one row per equilibrium or dynamic\n"
+    "                         sample: phase, time, support displacement, reactions, hinges)\n"
     "  -q                     no progress line\n"
     "  -h, --help             this help\n"
     "  --version              program version\n"
@@ -42,34 +47,29 @@ typedef struct {
   long rows;
 } cli_sink;
 
-static int on_step(void *user, const vs_run *run, double delta, const double *q) {
+static int on_sample(void *user, const vs_run *run, const vs_run_sample *smp) {
   cli_sink *s = user;
   const vs_hinges *h = vs_run_hinges(run);
   if (s->csv != NULL) {
     const vs_model *m = vs_run_model(run);
     const vs_case *c = vs_run_case(run);
     double rl[2], rr[2], u[2];
-    vs_model_reactions(m, q, delta, rl, rr);
-    vs_model_support_displacement(m, delta, u);
+    vs_model_reactions(m, smp->q, smp->delta, rl, rr);
+    vs_model_support_displacement(m, smp->delta, u);
     const int crown = c->voussoirs / 2;
-    fprintf(s->csv, "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%d,\"", delta / VS_MM,
-            -u[1] / VS_MM, u[0] / VS_MM, rl[0], rl[1], rr[0], rr[1], q[3 * crown + 1] / VS_MM,
-            vs_hinges_open_count(h));
-    for (int i = 0, first = 1; i < vs_hinges_count(h); i++) {
-      const vs_hinge *hg = vs_hinges_get(h, i);
-      if (!hg->open) continue;
-      char name[64];
-      vs_hinge_name(hg, 0, name, sizeof name);
-      fprintf(s->csv, "%s%c:%s", first ? "" : " ", hg->label, name);
-      first = 0;
-    }
-    fputs("\"\n", s->csv);
+    char hinges[256];
+    vs_run_open_hinges(run, hinges, sizeof hinges);
+    fprintf(s->csv, "%s,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%d,\"%s\"\n",
+            smp->phase == VS_PHASE_DYNAMIC ? "dynamic" : "quasistatic", smp->t, smp->delta / VS_MM,
+            -u[1] / VS_MM, u[0] / VS_MM, rl[0], rl[1], rr[0], rr[1], smp->q[3 * crown + 1] / VS_MM,
+            smp->energy != NULL ? smp->energy->kinetic : 0.0, vs_hinges_open_count(h), hinges);
     fflush(s->csv);
     s->rows++;
   }
   if (s->progress) {
-    fprintf(stderr, "\r  delta = %9.4f mm   equilibria %5ld   hinges open %d   ", delta / VS_MM,
-            vs_run_path(run)->steps, vs_hinges_open_count(h));
+    fprintf(stderr, "\r  %s  t = %10.2f s  delta = %9.4f mm   hinges open %d   ",
+            smp->phase == VS_PHASE_DYNAMIC ? "dynamic     " : "quasi-static", smp->t,
+            smp->delta / VS_MM, vs_hinges_open_count(h));
     fflush(stderr);
   }
   return 0;
@@ -100,6 +100,8 @@ static int cmd_run(int argc, char **argv) {
         return EXIT_BAD_INPUT;
       }
       if (strcmp(a, "-o") == 0) out_path = argv[i];
+    } else if (strcmp(a, "--dynamic") == 0 || strcmp(a, "--first-limit") == 0) {
+      /* applied with the overrides below */
     } else if (strcmp(a, "--json") == 0) {
       json = 1;
     } else if (strcmp(a, "-q") == 0) {
@@ -120,6 +122,8 @@ static int cmd_run(int argc, char **argv) {
     if (strcmp(a, "--alpha") == 0) snprintf(buf, sizeof buf, "support.alpha_deg=%s", argv[++i]);
     else if (strcmp(a, "--kn") == 0) snprintf(buf, sizeof buf, "joints.kn_N_mm3=%s", argv[++i]);
     else if (strcmp(a, "--set") == 0) snprintf(buf, sizeof buf, "%s", argv[++i]);
+    else if (strcmp(a, "--dynamic") == 0) snprintf(buf, sizeof buf, "dynamic.full=1");
+    else if (strcmp(a, "--first-limit") == 0) snprintf(buf, sizeof buf, "dynamic.follow=0");
     else {
       if (strcmp(a, "-o") == 0) i++;
       continue;
@@ -136,12 +140,12 @@ static int cmd_run(int argc, char **argv) {
       fprintf(stderr, "voussoir: -o %s: cannot create: %s\n", out_path, strerror(errno));
       goto cleanup;
     }
-    fputs("delta_mm,dz_mm,dx_mm,left_Fx_N,left_Fz_N,right_Fx_N,right_Fz_N,crown_uz_mm,"
-          "open_hinges,hinges\n",
+    fputs("phase,time_s,delta_mm,dz_mm,dx_mm,left_Fx_N,left_Fz_N,right_Fx_N,right_Fz_N,"
+          "crown_uz_mm,kinetic_J,open_hinges,hinges\n",
           sink.csv);
   }
   sink.progress = !quiet && isatty(STDERR_FILENO);
-  vs_status st = vs_run_execute(run, on_step, &sink, &err);
+  vs_status st = vs_run_execute(run, on_sample, NULL, &sink, &err);
   if (sink.progress) fputs("\r\033[K", stderr);
   if (json) vs_report_json(stdout, run, st, &err, case_path);
   else vs_report_text(stdout, run, st, &err, case_path);

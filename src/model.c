@@ -15,6 +15,8 @@ struct vs_model {
   int n;           /* unknowns, 3 per block */
   double *ra, *rb; /* per joint: reference point of body a/b -> joint centre, m */
   double *slip_p;  /* per joint: committed plastic slip, m */
+  double zeta;     /* damping ratio */
+  double *cn, *cs; /* per joint: damping coefficients, N s/m^3 */
   sunindextype *colptr, *rowind;
   int nnz;
   int *blk_start;  /* CSC: per block column, offset of its first row-block in adj[] */
@@ -121,7 +123,9 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
   m->ra = calloc(2 * nj, sizeof(double));
   m->rb = calloc(2 * nj, sizeof(double));
   m->slip_p = calloc(nj, sizeof(double));
-  if (m->ra == NULL || m->rb == NULL || m->slip_p == NULL) {
+  m->cn = calloc(nj, sizeof(double));
+  m->cs = calloc(nj, sizeof(double));
+  if (m->ra == NULL || m->rb == NULL || m->slip_p == NULL || m->cn == NULL || m->cs == NULL) {
     vs_model_destroy(&m);
     return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
   }
@@ -151,6 +155,8 @@ void vs_model_destroy(vs_model **m) {
   free(p->ra);
   free(p->rb);
   free(p->slip_p);
+  free(p->cn);
+  free(p->cs);
   free(p->colptr);
   free(p->rowind);
   free(p->blk_start);
@@ -309,4 +315,140 @@ void vs_model_residual_scale(const vs_model *m, double *scale) {
     scale[3 * i + 1] = w;
     scale[3 * i + 2] = w * len;
   }
+}
+
+/* --- dynamics --- */
+
+void vs_model_set_damping(vs_model *m, double zeta) {
+  const vs_geometry *g = m->g;
+  m->zeta = zeta;
+  for (int k = 0; k < g->n_joints; k++) {
+    const vs_joint_geom *j = &g->joints[k];
+    const double A = j->depth * j->length;
+    double ma = body_is_block(j->a) ? g->blocks[j->a].mass : INFINITY;
+    double mb = body_is_block(j->b) ? g->blocks[j->b].mass : INFINITY;
+    const double mr = isinf(ma) ? mb : isinf(mb) ? ma : ma * mb / (ma + mb);
+    m->cn[k] = 2.0 * zeta * sqrt(m->law.kn * A * mr) / A;
+    m->cs[k] = 2.0 * zeta * sqrt(m->law.ks * A * mr) / A;
+  }
+}
+
+double vs_model_damping_ratio(const vs_model *m) { return m->zeta; }
+
+static void body_v(const vs_model *m, const double *v, double rate, int body, double out[3]) {
+  if (body_is_block(body)) {
+    memcpy(out, v + 3 * body, 3 * sizeof(double));
+  } else if (body == VS_SUPPORT_RIGHT) {
+    out[0] = rate * m->dir[0];
+    out[1] = rate * m->dir[1];
+    out[2] = 0.0;
+  } else {
+    out[0] = out[1] = out[2] = 0.0;
+  }
+}
+
+void vs_model_damping(const vs_model *m, const double *q, const double *v, double delta,
+                      double ddelta_dt, double *fd, double *dissipated, double *support_power,
+                      SUNMatrix C) {
+  const vs_geometry *g = m->g;
+  double *data = NULL;
+  if (fd != NULL) memset(fd, 0, (size_t)m->n * sizeof *fd);
+  if (C != NULL) {
+    memcpy(SUNSparseMatrix_IndexPointers(C), m->colptr, ((size_t)m->n + 1) * sizeof(sunindextype));
+    memcpy(SUNSparseMatrix_IndexValues(C), m->rowind, (size_t)m->nnz * sizeof(sunindextype));
+    data = SUNSparseMatrix_Data(C);
+    memset(data, 0, (size_t)m->nnz * sizeof *data);
+  }
+  double diss = 0.0, sup = 0.0;
+  if (m->zeta > 0.0) {
+    for (int k = 0; k < g->n_joints; k++) {
+      const vs_joint_geom *j = &g->joints[k];
+      double qa[3], qb[3], va[3], vb[3], f[6], Ck[36], p;
+      body_q(m, q, delta, j->a, qa);
+      body_q(m, q, delta, j->b, qb);
+      body_v(m, v, ddelta_dt, j->a, va);
+      body_v(m, v, ddelta_dt, j->b, vb);
+      vs_joint_damping(j, &m->law, m->cn[k], m->cs[k], qa, qb, va, vb, m->ra + 2 * k, m->rb + 2 * k,
+                       f, C != NULL ? Ck : NULL, &p);
+      diss += p;
+      const int body[2] = {j->a, j->b};
+      for (int s = 0; s < 2; s++) {
+        if (body[s] == VS_SUPPORT_RIGHT)
+          sup -= f[3 * s] * ddelta_dt * m->dir[0] + f[3 * s + 1] * ddelta_dt * m->dir[1];
+        if (!body_is_block(body[s])) continue;
+        if (fd != NULL)
+          for (int c = 0; c < 3; c++) fd[3 * body[s] + c] += f[3 * s + c];
+      }
+      if (C == NULL) continue;
+      for (int si = 0; si < 2; si++) {
+        if (!body_is_block(body[si])) continue;
+        for (int sj = 0; sj < 2; sj++) {
+          if (!body_is_block(body[sj])) continue;
+          const sunindextype p0 = csc_pos(m, body[si], body[sj]);
+          const sunindextype stride = m->colptr[3 * body[sj] + 1] - m->colptr[3 * body[sj]];
+          for (int cj = 0; cj < 3; cj++)
+            for (int ci = 0; ci < 3; ci++)
+              data[p0 + cj * stride + ci] += Ck[(3 * si + ci) * 6 + 3 * sj + cj];
+        }
+      }
+    }
+  }
+  /* the support does the work -f . u_dot on the arch through the damper: the dissipated power
+   * splits into what the blocks lose (fd . v) and what the support supplies */
+  if (dissipated != NULL) *dissipated = diss;
+  if (support_power != NULL) *support_power = -sup;
+}
+
+void vs_model_mass(const vs_model *m, double *mdiag) {
+  for (int i = 0; i < m->g->n_blocks; i++) {
+    mdiag[3 * i] = mdiag[3 * i + 1] = m->g->blocks[i].mass;
+    mdiag[3 * i + 2] = m->g->blocks[i].inertia;
+  }
+}
+
+double vs_model_kinetic_energy(const vs_model *m, const double *v) {
+  double e = 0.0;
+  for (int i = 0; i < m->g->n_blocks; i++) {
+    const vs_block *b = &m->g->blocks[i];
+    e += 0.5 * (b->mass * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1]) +
+                b->inertia * v[3 * i + 2] * v[3 * i + 2]);
+  }
+  return e;
+}
+
+double vs_model_friction_power(const vs_model *m, const double *q, const double *v, double delta,
+                               double ddelta_dt) {
+  double p = 0.0;
+  for (int k = 0; k < m->g->n_joints; k++) {
+    const vs_joint_geom *j = &m->g->joints[k];
+    double qa[3], qb[3], va[3], vb[3];
+    body_q(m, q, delta, j->a, qa);
+    body_q(m, q, delta, j->b, qb);
+    body_v(m, v, ddelta_dt, j->a, va);
+    body_v(m, v, ddelta_dt, j->b, vb);
+    p += vs_joint_friction_power(j, &m->law, qa, qb, va, vb, m->ra + 2 * k, m->rb + 2 * k,
+                                 m->slip_p[k]);
+  }
+  return p;
+}
+
+double vs_model_support_force(const vs_model *m, const double *q, double delta) {
+  double left[2], right[2];
+  vs_model_reactions(m, q, delta, left, right);
+  /* dE/du_support = f = -(force of the arch on the support) */
+  return -(right[0] * m->dir[0] + right[1] * m->dir[1]);
+}
+
+void vs_model_energies(const vs_model *m, const double *q, double delta, double *elastic,
+                       double *gravity) {
+  const vs_geometry *g = m->g;
+  double eg = 0.0, ee = 0.0;
+  for (int i = 0; i < g->n_blocks; i++) eg += g->blocks[i].mass * g->gravity * q[3 * i + 1];
+  for (int k = 0; k < g->n_joints; k++) {
+    vs_joint_state st;
+    eval_joint(m, q, delta, k, &st, NULL, NULL);
+    ee += st.energy;
+  }
+  *elastic = ee;
+  *gravity = eg;
 }

@@ -436,8 +436,8 @@ static int stable_state(qs_solver *s, const double *q, double delta) {
   return sign > 0;
 }
 
-vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double *q, vs_path_step_fn step_fn,
-                      void *user, vs_path_result *res, vs_error *err) {
+vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double *q,
+                      vs_path_step_fn step_fn, void *user, vs_path_result *res, vs_error *err) {
   memset(res, 0, sizeof *res);
   res->evidence.delta_extrap = NAN;
   qs_solver s;
@@ -451,33 +451,41 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double *q, vs_path_ste
     st = vs_error_set(err, VS_ERR_NOMEM, "path: out of memory");
     goto cleanup;
   }
-  /* 1. self-weight, supports in place */
+  /* 1. the starting equilibrium: self-weight with the supports in place (delta0 = 0), or the
+   * state a snap-through settled in */
   long it = 0;
-  int flag = qs_solve(&s, 0.0, q, &it);
+  int flag = qs_solve(&s, delta0, q, &it);
   res->newton_iterations = s.iters;
   if (flag != 0) {
-    st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                      "no equilibrium under self-weight: the arch cannot stand (%s)",
-                      kin_cause(flag));
+    if (delta0 == 0.0)
+      st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
+                        "no equilibrium under self-weight: the arch cannot stand (%s)",
+                        kin_cause(flag));
+    else
+      st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM, "no equilibrium at %.6g mm to resume from (%s)",
+                        delta0 / VS_MM, kin_cause(flag));
     goto cleanup;
   }
-  if (!stable_state(&s, q, 0.0)) {
+  if (!stable_state(&s, q, delta0)) {
     st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                      "the self-weight equilibrium is unstable (tangent not positive definite)");
+                      "the equilibrium at %.6g mm is unstable (tangent not positive definite)",
+                      delta0 / VS_MM);
     goto cleanup;
   }
   double lam = tangent_min_eig(&s, eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT), lam_prev = NAN;
   double fold = INFINITY, fold_prev = INFINITY;
   res->evidence.lambda_start = lam;
-  vs_model_commit(m, q, 0.0);
+  vs_model_commit(m, q, delta0);
   memcpy(qprev, q, bytes);
+  delta_prev = delta0;
   res->steps = 1;
-  if (step_fn != NULL && step_fn(user, 0.0, q, m) != 0) {
+  res->delta_limit = delta0;
+  if (step_fn != NULL && step_fn(user, delta0, q, m) != 0) {
     st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
     goto cleanup;
   }
   /* 2. displacement control of the right support */
-  double delta = 0.0, h = o->step;
+  double delta = delta0, h = o->step;
   if (path_tangent(&s, q, delta, tan) != 0) {
     st = vs_error_set(err, VS_ERR_SOLVER, "KLU failed to solve for the path tangent");
     goto cleanup;

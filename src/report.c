@@ -24,128 +24,242 @@ static void components_pct(const vs_case *c, double delta_m, double *dz, double 
   *dx = 100.0 * d * sin(a) / L;
 }
 
-static const char *end_name(const vs_path_result *p, vs_status st) {
+static const char *end_name(const vs_run *r, vs_status st) {
   if (st != VS_OK) return "failed";
-  return p->end == VS_PATH_LIMIT_POINT ? "limit_point" : "max_displacement";
+  if (vs_run_collapse(r)->found) return "collapse";
+  if (!vs_run_case(r)->follow && !vs_run_case(r)->full && vs_run_limit_count(r) > 0)
+    return "limit_point";
+  return "max_displacement";
+}
+
+static void json_number_or_null(FILE *out, double x) {
+  if (isfinite(x)) fprintf(out, "%.10g", x);
+  else fputs("null", out);
+}
+
+static void json_hinges(FILE *out, const vs_run *r, const vs_hinge *h, int n, int with_onset) {
+  const double rate = vs_run_case(r)->rate_mm_s * VS_MM;
+  fputc('[', out);
+  for (int i = 0; i < n; i++) {
+    fprintf(out, "%s{\"label\":\"%c\",\"side\":\"%c\",\"joints\":[", i ? "," : "", h[i].label,
+            h[i].side);
+    for (int j = h[i].first; j <= h[i].last; j++) fprintf(out, "%s%d", j > h[i].first ? "," : "", j);
+    if (with_onset) {
+      fputs("],\"joints_onset\":[", out);
+      for (int j = h[i].onset_first; j <= h[i].onset_last; j++)
+        fprintf(out, "%s%d", j > h[i].onset_first ? "," : "", j);
+    }
+    fprintf(out, "],\"delta_onset_mm\":%.10g,\"time_onset_s\":%.10g,\"open\":%s,\"order\":%d}",
+            h[i].delta_onset / VS_MM, h[i].delta_onset / rate, h[i].open ? "true" : "false",
+            h[i].order);
+  }
+  fputc(']', out);
+}
+
+static void json_first_limit(FILE *out, const vs_run *r) {
+  const vs_path_result *p = vs_run_path(r);
+  double dz, dx;
+  if (p->end != VS_PATH_LIMIT_POINT || vs_run_limit_count(r) == 0) {
+    fputs("null", out);
+    return;
+  }
+  components_pct(vs_run_case(r), p->delta_limit, &dz, &dx);
+  fprintf(out,
+          "{\"delta_mm\":%.10g,\"dz_over_L_pct\":%.10g,\"dx_over_L_pct\":%.10g,"
+          "\"bracket_mm\":[%.10g,%.10g],\"det_sign\":%d,\"lambda_start_N_m\":%.6g,"
+          "\"lambda_last_N_m\":%.6g,\"delta_extrapolated_mm\":%.10g}",
+          p->delta_limit / VS_MM, dz, dx, p->delta_limit / VS_MM, p->delta_fail / VS_MM,
+          p->evidence.det_sign, p->evidence.lambda_start, p->evidence.lambda_last,
+          p->evidence.delta_extrap / VS_MM);
+}
+
+static void json_collapse(FILE *out, const vs_run *r) {
+  const vs_collapse_record *col = vs_run_collapse(r);
+  double dz, dx;
+  if (!col->found) {
+    fputs("null", out);
+    return;
+  }
+  components_pct(vs_run_case(r), col->delta, &dz, &dx);
+  fprintf(out,
+          "{\"delta_mm\":%.10g,\"dz_over_L_pct\":%.10g,\"dx_over_L_pct\":%.10g,\"time_s\":%.10g,"
+          "\"criterion_time_s\":%.10g,\"hinges\":",
+          col->delta / VS_MM, dz, dx, col->t, col->t_criterion);
+  json_hinges(out, r, col->hinges, col->n_hinges, 0);
+  fputc('}', out);
+}
+
+static void json_limits(FILE *out, const vs_run *r) {
+  fputc('[', out);
+  for (int i = 0; i < vs_run_limit_count(r); i++) {
+    const vs_limit_record *l = vs_run_limit(r, i);
+    fprintf(out, "%s{\"delta_mm\":%.10g,\"kind\":\"%s\",\"delta_settled_mm\":", i ? "," : "",
+            l->delta / VS_MM, l->collapse ? "collapse" : "snap");
+    json_number_or_null(out, l->delta_settled / VS_MM);
+    fputs(",\"hinges_before\":", out);
+    vs_json_string(out, l->hinges_before);
+    fputs(",\"hinges_after\":", out);
+    vs_json_string(out, l->hinges_after);
+    fputc('}', out);
+  }
+  fputc(']', out);
 }
 
 void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error *err,
                     const char *case_path) {
   const vs_case *c = vs_run_case(r);
-  const vs_path_result *p = vs_run_path(r);
   const vs_hinges *h = vs_run_hinges(r);
   fprintf(out, "{\"program\":\"voussoir\",\"version\":\"%s\",\"case\":", VS_VERSION);
   vs_json_string(out, case_path ? case_path : "");
-  fprintf(out, ",\"status\":\"%s\",\"error\":", end_name(p, status));
+  fprintf(out, ",\"status\":\"%s\",\"error\":", end_name(r, status));
   if (status != VS_OK && err != NULL) vs_json_string(out, err->msg);
   else fputs("null", out);
-  fprintf(out, ",\"alpha_deg\":%.17g,\"kn_N_mm3\":%.17g,\"span_mm\":%.17g", c->alpha_deg,
-          c->kn_N_mm3, vs_case_span_mm(c));
+  fprintf(out, ",\"alpha_deg\":%.17g,\"kn_N_mm3\":%.17g,\"span_mm\":%.17g,\"mode_of_run\":\"%s\"",
+          c->alpha_deg, c->kn_N_mm3, vs_case_span_mm(c),
+          c->full ? "dynamic" : c->follow ? "quasistatic+dynamic" : "quasistatic");
   fputs(",\"first_limit\":", out);
-  if (status == VS_OK && p->end == VS_PATH_LIMIT_POINT) {
-    double dz, dx;
-    components_pct(c, p->delta_limit, &dz, &dx);
-    fprintf(out,
-            "{\"delta_mm\":%.10g,\"dz_over_L_pct\":%.10g,\"dx_over_L_pct\":%.10g,"
-            "\"bracket_mm\":[%.10g,%.10g],\"det_sign\":%d,\"lambda_start_N_m\":%.6g,"
-            "\"lambda_last_N_m\":%.6g,\"delta_extrapolated_mm\":%.10g}",
-            p->delta_limit / VS_MM, dz, dx, p->delta_limit / VS_MM, p->delta_fail / VS_MM,
-            p->evidence.det_sign, p->evidence.lambda_start, p->evidence.lambda_last,
-            p->evidence.delta_extrap / VS_MM);
-  } else {
-    fputs("null", out);
-  }
-  fprintf(out, ",\"last_delta_mm\":%.10g,\"hinges\":[", vs_run_delta(r) / VS_MM);
-  for (int i = 0; i < vs_hinges_count(h); i++) {
-    const vs_hinge *hg = vs_hinges_get(h, i);
-    fprintf(out, "%s{\"label\":\"%c\",\"side\":\"%c\",\"joints\":[", i ? "," : "", hg->label,
-            hg->side);
-    for (int j = hg->first; j <= hg->last; j++) fprintf(out, "%s%d", j > hg->first ? "," : "", j);
-    fputs("],\"joints_onset\":[", out);
-    for (int j = hg->onset_first; j <= hg->onset_last; j++)
-      fprintf(out, "%s%d", j > hg->onset_first ? "," : "", j);
-    fprintf(out, "],\"delta_onset_mm\":%.10g,\"open\":%s,\"order\":%d}", hg->delta_onset / VS_MM,
-            hg->open ? "true" : "false", hg->order);
-  }
+  json_first_limit(out, r);
+  fputs(",\"collapse\":", out);
+  json_collapse(out, r);
+  fputs(",\"limit_points\":", out);
+  json_limits(out, r);
+  const char *mode = vs_run_mode(r);
+  fputs(",\"mode\":", out);
+  if (mode) fprintf(out, "\"%s\"", mode);
+  else fputs("null", out);
+  fputs(",\"hinge_sides_initial\":", out);
+  vs_json_string(out, vs_run_pattern_initial(r));
+  fputs(",\"hinge_sides_collapse\":", out);
+  vs_json_string(out, vs_run_pattern_collapse(r));
+  fprintf(out, ",\"last_delta_mm\":%.10g,\"last_time_s\":%.10g,\"hinges\":",
+          vs_run_delta(r) / VS_MM, vs_run_time(r));
+  vs_hinge all[64];
+  int n = 0;
+  for (int i = 0; i < vs_run_hinge_count(r) && n < 64; i++) all[n++] = *vs_hinges_get(h, i);
+  json_hinges(out, r, all, n, 1);
+  fprintf(out, ",\"hinges_in_fall\":%d", vs_hinges_count(h) - vs_run_hinge_count(r));
+  const vs_dyn_result *d = vs_run_dynamic_totals(r);
+  fprintf(out, ",\"energy\":{\"balance_error_rel\":%.6g,\"max_kinetic_J\":%.6g}",
+          d->balance_error_rel, d->max_kinetic);
   fprintf(out,
-          "],\"parameters\":{\"open_mm\":%.10g,\"migrate_joints\":%d,\"limit_tol_mm\":%.10g,"
-          "\"newton_tol\":%.10g,\"ks_ratio\":%.10g,\"friction\":%.10g,\"voussoirs\":%d}",
+          ",\"parameters\":{\"open_mm\":%.10g,\"migrate_joints\":%d,\"limit_tol_mm\":%.10g,"
+          "\"newton_tol\":%.10g,\"ks_ratio\":%.10g,\"friction\":%.10g,\"voussoirs\":%d,"
+          "\"damping\":%.10g,\"rate_mm_s\":%.10g,\"rtol\":%.10g,\"atol_mm\":%.10g}",
           c->open_mm, c->migrate_joints, c->limit_tol_mm, c->newton_tol, c->ks_ratio, c->friction,
-          c->voussoirs);
+          c->voussoirs, c->damping, c->rate_mm_s, c->rtol, c->atol_mm);
+  const vs_path_result *p = vs_run_path_totals(r);
   fprintf(out,
           ",\"stats\":{\"steps\":%ld,\"rejected_steps\":%ld,\"newton_iterations\":%ld,"
           "\"jacobian_evaluations\":%ld,\"max_residual\":%.3g,\"floor_limited\":%ld,"
+          "\"dynamic_steps\":%ld,\"dynamic_newton_iterations\":%ld,\"root_events\":%ld,"
           "\"wall_s\":%.6g}}\n",
           p->steps, p->rejected, p->newton_iterations, p->jacobian_evals, p->max_residual,
-          p->floor_limited, vs_run_wall_s(r));
+          p->floor_limited, d->steps, d->newton_iterations, d->root_events, vs_run_wall_s(r));
 }
 
-void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error *err,
-                    const char *case_path) {
+static void text_header(FILE *out, const vs_run *r, const char *case_path) {
   const vs_case *c = vs_run_case(r);
   const vs_geometry *g = vs_run_geometry(r);
-  const vs_path_result *p = vs_run_path(r);
-  const vs_hinges *h = vs_run_hinges(r);
   fprintf(out, "voussoir %s  case %s\n", VS_VERSION, case_path ? case_path : "(defaults)");
   fprintf(out,
           "arch     R = %g mm, t = %g mm, embrace %g deg, %d voussoirs, b = %g mm\n"
           "         span L = %.2f mm, rise %.2f mm, weight %.3f N\n",
           c->radius_mm, c->thickness_mm, c->embrace_deg, c->voussoirs, c->depth_mm,
           g->span / VS_MM, g->rise / VS_MM, vs_geometry_weight(g));
-  fprintf(out, "joints   k_n = %g N/mm^3, k_s = %g k_n, mu = %g\n", c->kn_N_mm3, c->ks_ratio,
-          c->friction);
-  fprintf(out, "support  right support moved at alpha = %g deg from the vertical (left fixed)\n",
-          c->alpha_deg);
+  fprintf(out, "joints   k_n = %g N/mm^3, k_s = %g k_n, mu = %g, damping %g of critical\n",
+          c->kn_N_mm3, c->ks_ratio, c->friction, c->damping);
+  fprintf(out, "support  right support moved at alpha = %g deg from the vertical, %g mm/s (left fixed)\n",
+          c->alpha_deg, c->rate_mm_s);
   fprintf(out,
           "criteria hinge: edge opening > %g mm, migration within %d joints;\n"
-          "         limit point bracketed to %g mm; Newton tolerance %g x voussoir weight\n\n",
-          c->open_mm, c->migrate_joints, c->limit_tol_mm, c->newton_tol);
-  if (status == VS_OK && p->end == VS_PATH_LIMIT_POINT) {
-    double dz, dx;
+          "         limit point bracketed to %g mm; Newton tolerance %g x voussoir weight;\n"
+          "         at rest below %g x the kinetic energy of the arch at the support rate for %g s;\n"
+          "         collapsing beyond a kinetic energy of %g x weight x thickness\n\n",
+          c->open_mm, c->migrate_joints, c->limit_tol_mm, c->newton_tol, c->rest_factor, c->rest_s,
+          c->collapse_ke);
+}
+
+static void text_hinge_row(FILE *out, const vs_case *c, const vs_hinge *hg, int onset_name) {
+  char a[96];
+  vs_hinge_name(hg, onset_name, a, sizeof a);
+  double dz, dx;
+  components_pct(c, hg->delta_onset, &dz, &dx);
+  const char *nth = hg->order == 4 ? " (4th hinge)" : hg->order == 5 ? " (5th hinge)" : "";
+  fprintf(out, "  %c  %-16s %9.3f mm %9.2f s  %6.3f %%  %6.3f %%%s\n", hg->label, a,
+          hg->delta_onset / VS_MM, hg->delta_onset / (c->rate_mm_s * VS_MM), dz, dx, nth);
+}
+
+void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error *err,
+                    const char *case_path) {
+  const vs_case *c = vs_run_case(r);
+  const vs_path_result *p = vs_run_path(r);
+  const vs_hinges *h = vs_run_hinges(r);
+  const vs_collapse_record *col = vs_run_collapse(r);
+  text_header(out, r, case_path);
+  double dz, dx;
+  if (p->end == VS_PATH_LIMIT_POINT && vs_run_limit_count(r) > 0) {
     components_pct(c, p->delta_limit, &dz, &dx);
     fprintf(out, "first limit point  delta = %.4f mm   dz/L = %.3f %%   dx/L = %.3f %%\n",
             p->delta_limit / VS_MM, dz, dx);
     fprintf(out,
             "  confirmed: no equilibrium at %.4f mm; smallest tangent eigenvalue %.3g N/m "
-            "(%.3g after self-weight),\n  extrapolated to zero at %.4f mm; det K %s 0 on the path\n",
+            "(%.3g N/m after self-weight),\n  extrapolated to zero at %.4f mm; det K %s 0 on the path\n",
             p->delta_fail / VS_MM, p->evidence.lambda_last, p->evidence.lambda_start,
             p->evidence.delta_extrap / VS_MM, p->evidence.det_sign > 0 ? ">" : "<=");
-  } else if (status == VS_OK) {
-    double dz, dx;
-    components_pct(c, vs_run_delta(r), &dz, &dx);
-    fprintf(out, "no limit point up to delta = %.4f mm (dz/L = %.3f %%, dx/L = %.3f %%)\n",
-            vs_run_delta(r) / VS_MM, dz, dx);
-  } else {
-    fprintf(out, "FAILED at delta = %.4f mm: %s\n", vs_run_delta(r) / VS_MM,
-            err != NULL ? err->msg : vs_strerror(status));
   }
-  fprintf(out, "\nhinges (in order of appearance; side = edge that stays in contact)\n");
-  fprintf(out, "  label  at onset        now             delta_onset    dz/L     dx/L\n");
+  if (vs_run_limit_count(r) > 0) {
+    fprintf(out, "\nlimit points\n");
+    for (int i = 0; i < vs_run_limit_count(r); i++) {
+      const vs_limit_record *l = vs_run_limit(r, i);
+      fprintf(out, "  %9.4f mm  %-8s", l->delta / VS_MM, l->collapse ? "collapse" : "snap");
+      if (isfinite(l->delta_settled))
+        fprintf(out, " settled at %.4f mm: %s  ->  %s", l->delta_settled / VS_MM, l->hinges_before,
+                l->hinges_after);
+      else if (!l->collapse)
+        fprintf(out, " (not followed)");
+      fputc('\n', out);
+    }
+  }
+  if (col->found) {
+    components_pct(c, col->delta, &dz, &dx);
+    fprintf(out, "\nCOLLAPSE  delta_u = %.4f mm   dz/L = %.3f %%   dx/L = %.3f %%   at t = %.2f s\n",
+            col->delta / VS_MM, dz, dx, col->t);
+    const char *mode = vs_run_mode(r);
+    fprintf(out, "  hinges at collapse (left to right): %s;  first three: %s;  mode %s\n",
+            vs_run_pattern_collapse(r), vs_run_pattern_initial(r), mode ? mode : "unclassified");
+    fprintf(out, "  label  joints          onset delta   onset time    dz/L     dx/L\n");
+    for (int i = 0; i < col->n_hinges; i++) text_hinge_row(out, c, &col->hinges[i], 0);
+  } else if (status == VS_OK && (c->follow || c->full)) {
+    components_pct(c, vs_run_delta(r), &dz, &dx);
+    fprintf(out, "\nno collapse up to delta = %.4f mm (dz/L = %.3f %%, dx/L = %.3f %%)\n",
+            vs_run_delta(r) / VS_MM, dz, dx);
+  }
+  if (status != VS_OK)
+    fprintf(out, "\nFAILED at delta = %.4f mm: %s\n", vs_run_delta(r) / VS_MM,
+            err != NULL ? err->msg : vs_strerror(status));
+  fprintf(out, "\nhinges in order of appearance (side = edge that stays in contact; joints at onset)\n");
+  fprintf(out, "  label  joints          onset delta   onset time    dz/L     dx/L\n");
   int spread = 0;
-  for (int i = 0; i < vs_hinges_count(h); i++) {
+  for (int i = 0; i < vs_run_hinge_count(r); i++) {
     const vs_hinge *hg = vs_hinges_get(h, i);
-    char a[64], b[64];
-    vs_hinge_name(hg, 1, a, sizeof a);
-    if (hg->open) vs_hinge_name(hg, 0, b, sizeof b);
-    else snprintf(b, sizeof b, "closed@%.2fmm", hg->delta_closed / VS_MM);
-    double dz, dx;
-    components_pct(c, hg->delta_onset, &dz, &dx);
-    fprintf(out, "  %c      %-15s %-15s %8.3f mm  %6.3f %%  %6.3f %%\n", hg->label, a, b,
-            hg->delta_onset / VS_MM, dz, dx);
+    text_hinge_row(out, c, hg, 1);
     spread |= (hg->last > hg->first) || (hg->onset_last > hg->onset_first);
   }
   if (vs_hinges_count(h) == 0) fprintf(out, "  (none)\n");
+  if (vs_hinges_count(h) > vs_run_hinge_count(r))
+    fprintf(out, "  (%d more opened as the arch fell; see the event log)\n",
+            vs_hinges_count(h) - vs_run_hinge_count(r));
   if (spread)
     fprintf(out, "  a name like 44-45-46-I is one hinge spread over consecutive joints that are "
                  "each slightly open\n");
-  fprintf(out, "\nstats    %ld equilibria (%ld rejected increments), %ld Newton iterations, "
-               "%ld Jacobians, %.3f s\n",
-          p->steps, p->rejected, p->newton_iterations, p->jacobian_evals, vs_run_wall_s(r));
-  fprintf(out, "         largest residual %.2g x voussoir weight", p->max_residual);
-  if (p->floor_limited > 0)
-    fprintf(out, " (%ld equilibria limited by round-off, above the tolerance)", p->floor_limited);
-  fputc('\n', out);
-  if (status == VS_OK && p->end == VS_PATH_LIMIT_POINT)
-    fprintf(out, "note     the run stops at the first limit point; what follows it (snap-through "
-                 "or collapse) is not followed yet\n");
+  const vs_path_result *t = vs_run_path_totals(r);
+  const vs_dyn_result *d = vs_run_dynamic_totals(r);
+  fprintf(out, "\nstats    quasi-static: %ld equilibria (%ld rejected increments), %ld Newton iterations, "
+               "largest residual %.2g x voussoir weight\n",
+          t->steps, t->rejected, t->newton_iterations, t->max_residual);
+  if (d->steps > 0)
+    fprintf(out, "         dynamic: %ld IDA steps, %ld Newton iterations, %ld root events, "
+                 "energy balance %.2g (relative)\n",
+            d->steps, d->newton_iterations, d->root_events, d->balance_error_rel);
+  fprintf(out, "         wall time %.3f s\n", vs_run_wall_s(r));
 }

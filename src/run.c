@@ -1,7 +1,10 @@
-/* One run: case -> geometry -> model -> quasi-static path, hinges updated at each equilibrium. */
+/* One run: case -> geometry -> model -> quasi-static path; at each limit point the dynamic phase
+ * (IDA) until the motion settles (a snap-through: the path resumes) or collapses. Hinges are
+ * updated at every equilibrium and dynamic sample; events and limit points are recorded. */
 #include "voussoir/run.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -13,15 +16,50 @@ struct vs_run {
   vs_geometry *g;
   vs_model *m;
   vs_hinges *h;
+  vs_dynamic *dyn;
   vs_hinge_opts hopts;
   vs_path_opts popts;
-  vs_path_result path;
-  double *q;
+  vs_dyn_opts dopts;
+  vs_path_result first, totals;
+  int have_first;
+  vs_dyn_result dtot;
+  double *q, *v;
   vs_joint_state *js;
-  double delta, wall_s;
-  vs_run_step_fn fn;
+  double delta, t, wall_s;
+  vs_phase phase;
+  vs_limit_record *limits;
+  int n_limits, cap_limits;
+  vs_run_event *events;
+  int n_events, cap_events;
+  vs_collapse_record collapse;
+  vs_hinge onset[8];     /* open hinges early in the current motion (collapse candidates) */
+  int n_onset, onset_taken, frozen;
+  int hinges_at_onset; /* hinges formed up to the snapshot of the collapse's onset */
+  char pattern0[16], pattern_u[16];
+  const char *mode;
+  vs_run_sample_fn sample_fn;
+  vs_run_event_fn event_fn;
   void *user;
 };
+
+static void dyn_opts_from_case(const vs_case *c, const vs_geometry *g, vs_dyn_opts *o) {
+  double mass = 0.0;
+  for (int i = 0; i < g->n_blocks; i++) mass += g->blocks[i].mass;
+  o->rate = c->rate_mm_s * VS_MM;
+  o->rtol = c->rtol;
+  o->atol_q = c->atol_mm * VS_MM;
+  o->open = c->open_mm * VS_MM;
+  o->rest_ke = c->rest_factor * 0.5 * mass * o->rate * o->rate;
+  o->rest_time = c->rest_s;
+  /* the threshold rides on the kinetic energy of the arch moving bodily at the support's rate,
+   * which fast loading reaches without any collapse */
+  o->collapse_ke = c->collapse_ke * vs_geometry_weight(g) * c->thickness_mm * VS_MM +
+                   0.5 * mass * o->rate * o->rate;
+  o->fall_time = c->fall_s;
+  o->max_delta = c->max_mm * VS_MM;
+  o->sample_dt = c->sample_s;
+  o->settle = 1;
+}
 
 vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
   *out = NULL;
@@ -36,20 +74,28 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
     st = vs_model_create(r->g, &law, c->alpha_deg * VS_DEG, &r->m, err);
   }
   if (st == VS_OK) {
+    vs_model_set_damping(r->m, c->damping);
     r->hopts.open = c->open_mm * VS_MM;
     r->hopts.migrate = c->migrate_joints;
     st = vs_hinges_create(r->g->n_joints, &r->hopts, &r->h, err);
   }
   if (st == VS_OK) {
     r->q = calloc((size_t)vs_model_size(r->m), sizeof *r->q);
+    r->v = calloc((size_t)vs_model_size(r->m), sizeof *r->v);
     r->js = calloc((size_t)r->g->n_joints, sizeof *r->js);
-    if (r->q == NULL || r->js == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
+    if (r->q == NULL || r->v == NULL || r->js == NULL)
+      st = vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
+  }
+  if (st == VS_OK) {
+    vs_path_opts_from_case(c, &r->popts);
+    dyn_opts_from_case(c, r->g, &r->dopts);
+    if (c->follow || c->full) st = vs_dynamic_create(r->m, &r->dopts, &r->dyn, err);
   }
   if (st != VS_OK) {
     vs_run_destroy(&r);
     return st;
   }
-  vs_path_opts_from_case(c, &r->popts);
+  r->collapse.delta = r->collapse.t = r->collapse.t_criterion = NAN;
   *out = r;
   return VS_OK;
 }
@@ -58,7 +104,11 @@ void vs_run_destroy(vs_run **r) {
   if (r == NULL || *r == NULL) return;
   vs_run *p = *r;
   free(p->q);
+  free(p->v);
   free(p->js);
+  free(p->limits);
+  free(p->events);
+  vs_dynamic_destroy(&p->dyn);
   vs_hinges_destroy(&p->h);
   vs_model_destroy(&p->m);
   vs_geometry_destroy(&p->g);
@@ -66,12 +116,127 @@ void vs_run_destroy(vs_run **r) {
   *r = NULL;
 }
 
-static int on_step(void *user, double delta, const double *q, const vs_model *m) {
-  vs_run *r = user;
-  vs_model_joint_states(m, q, delta, r->js);
+/* --- records --- */
+
+static int log_event(vs_run *r, vs_event_kind kind, double t, double delta, int joint, char side,
+                     char label, int order) {
+  if (r->n_events == r->cap_events) {
+    int cap = r->cap_events ? 2 * r->cap_events : 64;
+    vs_run_event *e = realloc(r->events, (size_t)cap * sizeof *e);
+    if (e == NULL) return -1;
+    r->events = e;
+    r->cap_events = cap;
+  }
+  vs_run_event *e = &r->events[r->n_events++];
+  *e = (vs_run_event){.kind = kind, .phase = r->phase, .t = t, .delta = delta, .joint = joint,
+                      .side = side, .label = label, .order = order};
+  return r->event_fn != NULL ? r->event_fn(r->user, r, e) : 0;
+}
+
+void vs_run_open_hinges(const vs_run *r, char *buf, size_t size) {
+  size_t used = 0;
+  if (size == 0) return;
+  buf[0] = '\0';
+  for (int i = 0; i < vs_hinges_count(r->h); i++) {
+    const vs_hinge *hg = vs_hinges_get(r->h, i);
+    if (!hg->open) continue;
+    char name[96];
+    vs_hinge_name(hg, 0, name, sizeof name);
+    int n = snprintf(buf + used, size - used, "%s%c:%s", used ? " " : "", hg->label, name);
+    if (n < 0 || (size_t)n >= size - used) return;
+    used += (size_t)n;
+  }
+}
+
+static int add_limit(vs_run *r, double delta) {
+  if (r->n_limits == r->cap_limits) {
+    int cap = r->cap_limits ? 2 * r->cap_limits : 8;
+    vs_limit_record *l = realloc(r->limits, (size_t)cap * sizeof *l);
+    if (l == NULL) return -1;
+    r->limits = l;
+    r->cap_limits = cap;
+  }
+  vs_limit_record *l = &r->limits[r->n_limits++];
+  memset(l, 0, sizeof *l);
+  l->delta = delta;
+  l->delta_settled = NAN;
+  vs_run_open_hinges(r, l->hinges_before, sizeof l->hinges_before);
+  return log_event(r, VS_EVENT_LIMIT_POINT, delta / r->dopts.rate, delta, 0, 0, 0, 0);
+}
+
+/* Update the hinges at (delta, q); log the hinges that formed. */
+static int track_hinges(vs_run *r, double t, double delta, const double *q) {
+  const int before = vs_hinges_count(r->h);
+  vs_model_joint_states(r->m, q, delta, r->js);
   vs_hinges_update(r->h, delta, r->js);
+  for (int i = before; i < vs_hinges_count(r->h); i++) {
+    const vs_hinge *hg = vs_hinges_get(r->h, i);
+    if (log_event(r, VS_EVENT_HINGE_FORMED, t, hg->delta_onset, hg->first, hg->side, hg->label,
+                  hg->order) != 0)
+      return -1;
+  }
+  /* the first three get their labels together: fix up the events logged before */
+  if (before < 3 && vs_hinges_count(r->h) >= 3)
+    for (int e = 0; e < r->n_events; e++)
+      if (r->events[e].kind == VS_EVENT_HINGE_FORMED && r->events[e].order <= 3)
+        r->events[e].label = vs_hinges_get(r->h, r->events[e].order - 1)->label;
+  return 0;
+}
+
+/* --- callbacks from the solvers --- */
+
+static int on_equilibrium(void *user, double delta, const double *q, const vs_model *m) {
+  (void)m;
+  vs_run *r = user;
   r->delta = delta;
-  return r->fn != NULL ? r->fn(r->user, r, delta, q) : 0;
+  r->t = delta / r->dopts.rate;
+  r->phase = VS_PHASE_QUASISTATIC;
+  if (track_hinges(r, r->t, delta, q) != 0) return 1;
+  vs_run_sample s = {.phase = VS_PHASE_QUASISTATIC, .t = r->t, .delta = delta, .q = q};
+  return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
+}
+
+/* The mechanism of a collapse is read early in its motion, once the kinetic energy has passed this
+ * fraction of the collapse threshold (blocks have then moved by hundredths of a millimetre):
+ * later, the falling arch opens joints everywhere. Hinge tracking stops there. */
+static const double VS_ONSET_FRACTION = 0.01;
+
+static void snapshot_onset(vs_run *r) {
+  r->n_onset = 0;
+  r->hinges_at_onset = vs_hinges_count(r->h);
+  for (int i = 0; i < vs_hinges_count(r->h) && r->n_onset < 8; i++)
+    if (vs_hinges_get(r->h, i)->open) r->onset[r->n_onset++] = *vs_hinges_get(r->h, i);
+}
+
+static int on_dyn_sample(void *user, double t, double delta, const double *q, const double *v,
+                         const vs_energy *e) {
+  vs_run *r = user;
+  r->delta = delta;
+  r->t = t;
+  r->phase = VS_PHASE_DYNAMIC;
+  if (!r->frozen && track_hinges(r, t, delta, q) != 0) return 1;
+  if (e->kinetic < r->dopts.rest_ke) {
+    r->onset_taken = 0;
+  } else if (!r->onset_taken && e->kinetic >= VS_ONSET_FRACTION * r->dopts.collapse_ke) {
+    snapshot_onset(r);
+    r->onset_taken = 1;
+  }
+  vs_run_sample s = {.phase = VS_PHASE_DYNAMIC, .t = t, .delta = delta, .q = q, .v = v, .energy = e};
+  return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
+}
+
+static int on_dyn_event(void *user, const vs_dyn_event *ev, const double *q) {
+  vs_run *r = user;
+  if (!r->frozen && track_hinges(r, ev->t, ev->delta, q) != 0) return 1;
+  char label = 0;
+  for (int i = 0; i < vs_hinges_count(r->h); i++) {
+    const vs_hinge *hg = vs_hinges_get(r->h, i);
+    if (hg->side == ev->side && ev->joint >= hg->first - r->hopts.migrate &&
+        ev->joint <= hg->last + r->hopts.migrate && (hg->open || !ev->opened))
+      label = hg->label;
+  }
+  return log_event(r, ev->opened ? VS_EVENT_JOINT_OPENED : VS_EVENT_JOINT_CLOSED, ev->t, ev->delta,
+                   ev->joint, ev->side, label, 0);
 }
 
 static double now_s(void) {
@@ -80,11 +245,176 @@ static double now_s(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-vs_status vs_run_execute(vs_run *r, vs_run_step_fn fn, void *user, vs_error *err) {
-  r->fn = fn;
+static void add_path_totals(vs_run *r, const vs_path_result *p) {
+  if (!r->have_first) {
+    r->first = *p;
+    r->have_first = 1;
+  }
+  r->totals.steps += p->steps;
+  r->totals.rejected += p->rejected;
+  r->totals.newton_iterations += p->newton_iterations;
+  r->totals.jacobian_evals += p->jacobian_evals;
+  r->totals.floor_limited += p->floor_limited;
+  r->totals.max_residual = fmax(r->totals.max_residual, p->max_residual);
+  r->totals.end = p->end;
+  r->totals.delta_limit = p->delta_limit;
+  r->totals.delta_fail = p->delta_fail;
+  r->totals.evidence = p->evidence;
+}
+
+static void add_dyn_totals(vs_run *r, const vs_dyn_result *d) {
+  r->dtot.steps += d->steps;
+  r->dtot.newton_iterations += d->newton_iterations;
+  r->dtot.root_events += d->root_events;
+  r->dtot.jac_evals += d->jac_evals;
+  r->dtot.max_kinetic = fmax(r->dtot.max_kinetic, d->max_kinetic);
+  r->dtot.balance_error_rel = fmax(r->dtot.balance_error_rel, d->balance_error_rel);
+  r->dtot.end = d->end;
+  r->dtot.t_end = d->t_end;
+  r->dtot.delta_end = d->delta_end;
+}
+
+static int cmp_hinge_first(const void *x, const void *y) {
+  const vs_hinge *a = x, *b = y;
+  return (a->first > b->first) - (a->first < b->first);
+}
+
+/* Sides of hinges left to right, "I-E-E". */
+static void side_pattern(const vs_hinge *h, int n, char *buf, size_t size) {
+  size_t used = 0;
+  buf[0] = '\0';
+  for (int i = 0; i < n && used + 2 < size; i++) {
+    buf[used++] = h[i].side;
+    if (i + 1 < n) buf[used++] = '-';
+  }
+  buf[used] = '\0';
+}
+
+static void record_collapse(vs_run *r, const vs_dyn_result *d) {
+  vs_collapse_record *c = &r->collapse;
+  c->found = 1;
+  c->t = d->t_motion;
+  c->delta = d->delta_motion;
+  c->t_criterion = d->t_collapse;
+  if (!r->onset_taken) snapshot_onset(r);
+  c->n_hinges = r->n_onset;
+  memcpy(c->hinges, r->onset, (size_t)r->n_onset * sizeof r->onset[0]);
+  qsort(c->hinges, (size_t)c->n_hinges, sizeof c->hinges[0], cmp_hinge_first);
+}
+
+/* Modes of DOMAIN.md from the first three hinges (A, B, C, left to right) and the hinges at the
+ * collapse. */
+static void classify(vs_run *r) {
+  r->mode = NULL;
+  r->pattern0[0] = r->pattern_u[0] = '\0';
+  if (vs_hinges_count(r->h) >= 3) {
+    vs_hinge abc[3];
+    for (int i = 0; i < 3; i++) abc[i] = *vs_hinges_get(r->h, i);
+    qsort(abc, 3, sizeof abc[0], cmp_hinge_first);
+    side_pattern(abc, 3, r->pattern0, sizeof r->pattern0);
+  }
+  if (r->collapse.found)
+    side_pattern(r->collapse.hinges, r->collapse.n_hinges, r->pattern_u, sizeof r->pattern_u);
+  if (!r->collapse.found || r->pattern0[0] == '\0') return;
+  if (strcmp(r->pattern0, "I-E-E") == 0 && strcmp(r->pattern_u, "E-I-E-E") == 0) r->mode = "I";
+  else if (strcmp(r->pattern0, "I-E-E") == 0 && strcmp(r->pattern_u, "E-I-E-I") == 0) r->mode = "II";
+  else if (strcmp(r->pattern0, "I-E-I") == 0 &&
+           (strcmp(r->pattern_u, "E-I-E-I") == 0 || strcmp(r->pattern_u, "E-I-E-I-E") == 0))
+    r->mode = "III";
+}
+
+/* The motion from a limit point (or from rest at the start, full-dynamic): integrate; whenever
+ * the arch is at rest, look for a stable equilibrium there and resume the quasi-static path from
+ * it. Returns through *resume_at the delta to resume from (NaN: the run is over). */
+static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
+  const int n = vs_model_size(r->m);
+  double *qs = malloc((size_t)n * sizeof *qs);
+  if (qs == NULL) return vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
+  *resume_at = NAN;
+  r->phase = VS_PHASE_DYNAMIC;
+  vs_status st = VS_OK;
+  for (;;) {
+    vs_dyn_result d;
+    st = vs_dynamic_run(r->dyn, r->t, r->q, r->v, on_dyn_sample, on_dyn_event, r, &d, err);
+    add_dyn_totals(r, &d);
+    r->t = d.t_end;
+    r->delta = d.delta_end;
+    if (st != VS_OK) break;
+    if (d.end == VS_DYN_COLLAPSED) {
+      record_collapse(r, &d);
+      r->frozen = 1;
+      if (r->n_limits > 0) r->limits[r->n_limits - 1].collapse = 1;
+      st = log_event(r, VS_EVENT_COLLAPSE, d.t_collapse, d.t_collapse * r->dopts.rate, 0, 0, 0, 0)
+               ? vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller")
+               : VS_OK;
+      break;
+    }
+    if (d.end == VS_DYN_MAX_DELTA) break;
+    /* at rest: is there a stable equilibrium here, beyond the limit point? */
+    memcpy(qs, r->q, (size_t)n * sizeof *qs);
+    vs_path_opts probe = r->popts;
+    probe.max_delta = r->delta; /* only the start: solve and check stability */
+    vs_path_result pr;
+    vs_error perr;
+    vs_error_clear(&perr);
+    vs_model *m = r->m;
+    if (vs_path_run(m, &probe, r->delta, qs, NULL, NULL, &pr, &perr) == VS_OK) {
+      *resume_at = r->delta;
+      break;
+    }
+  }
+  free(qs);
+  return st;
+}
+
+vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn event, void *user,
+                         vs_error *err) {
+  r->sample_fn = sample;
+  r->event_fn = event;
   r->user = user;
   const double t0 = now_s();
-  vs_status st = vs_path_run(r->m, &r->popts, r->q, on_step, r, &r->path, err);
+  vs_status st = VS_OK;
+  double delta0 = 0.0;
+  if (r->c.full) {
+    /* self-weight by KINSOL, then the whole loading dynamically from rest */
+    vs_path_opts sw = r->popts;
+    sw.max_delta = 0.0;
+    vs_path_result p;
+    st = vs_path_run(r->m, &sw, 0.0, r->q, on_equilibrium, r, &p, err);
+    add_path_totals(r, &p);
+    if (st == VS_OK) {
+      r->dopts.settle = 0;
+      vs_dynamic_destroy(&r->dyn);
+      st = vs_dynamic_create(r->m, &r->dopts, &r->dyn, err);
+    }
+    if (st == VS_OK) st = dynamic_phase(r, &delta0, err);
+  } else {
+    for (;;) {
+      vs_path_result p;
+      r->phase = VS_PHASE_QUASISTATIC;
+      st = vs_path_run(r->m, &r->popts, delta0, r->q, on_equilibrium, r, &p, err);
+      add_path_totals(r, &p);
+      if (delta0 > 0.0 && r->n_limits > 0) { /* a snap-through settled */
+        vs_limit_record *l = &r->limits[r->n_limits - 1];
+        l->delta_settled = delta0;
+        vs_run_open_hinges(r, l->hinges_after, sizeof l->hinges_after);
+        if (log_event(r, VS_EVENT_SNAP_SETTLED, delta0 / r->dopts.rate, delta0, 0, 0, 0, 0) != 0)
+          st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+      }
+      if (st != VS_OK || p.end != VS_PATH_LIMIT_POINT) break;
+      r->delta = p.delta_limit;
+      r->t = r->delta / r->dopts.rate;
+      if (add_limit(r, p.delta_limit) != 0) {
+        st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+        break;
+      }
+      if (!r->c.follow) break;
+      memset(r->v, 0, (size_t)vs_model_size(r->m) * sizeof *r->v);
+      st = dynamic_phase(r, &delta0, err);
+      if (st != VS_OK || isnan(delta0)) break;
+    }
+  }
+  classify(r);
   r->wall_s = now_s() - t0;
   return st;
 }
@@ -93,8 +423,26 @@ const vs_case *vs_run_case(const vs_run *r) { return &r->c; }
 const vs_geometry *vs_run_geometry(const vs_run *r) { return r->g; }
 const vs_model *vs_run_model(const vs_run *r) { return r->m; }
 const vs_hinges *vs_run_hinges(const vs_run *r) { return r->h; }
-const vs_path_result *vs_run_path(const vs_run *r) { return &r->path; }
 const vs_hinge_opts *vs_run_hinge_opts(const vs_run *r) { return &r->hopts; }
+const vs_path_result *vs_run_path(const vs_run *r) { return &r->first; }
+const vs_path_result *vs_run_path_totals(const vs_run *r) { return &r->totals; }
+int vs_run_limit_count(const vs_run *r) { return r->n_limits; }
+const vs_limit_record *vs_run_limit(const vs_run *r, int i) {
+  return (i >= 0 && i < r->n_limits) ? &r->limits[i] : NULL;
+}
+const vs_collapse_record *vs_run_collapse(const vs_run *r) { return &r->collapse; }
+const vs_dyn_result *vs_run_dynamic_totals(const vs_run *r) { return &r->dtot; }
+int vs_run_event_count(const vs_run *r) { return r->n_events; }
+const vs_run_event *vs_run_event_get(const vs_run *r, int i) {
+  return (i >= 0 && i < r->n_events) ? &r->events[i] : NULL;
+}
+const char *vs_run_mode(const vs_run *r) { return r->mode; }
+int vs_run_hinge_count(const vs_run *r) {
+  return r->collapse.found ? r->hinges_at_onset : vs_hinges_count(r->h);
+}
+const char *vs_run_pattern_initial(const vs_run *r) { return r->pattern0; }
+const char *vs_run_pattern_collapse(const vs_run *r) { return r->pattern_u; }
 const double *vs_run_state(const vs_run *r) { return r->q; }
 double vs_run_delta(const vs_run *r) { return r->delta; }
+double vs_run_time(const vs_run *r) { return r->t; }
 double vs_run_wall_s(const vs_run *r) { return r->wall_s; }

@@ -111,6 +111,16 @@ static const key_case all_keys[] = {
     {"solver", "newton_maxiter", "1", "1001", {"2", "1000"}},
     {"hinges", "open_mm", "0", NULL, {"1e-4", NULL}},
     {"hinges", "migrate_joints", "-1", "101", {"0", "100"}},
+    {"dynamic", "follow", "-1", "2", {"0", "1"}},
+    {"dynamic", "full", "-1", "2", {"0", "1"}},
+    {"dynamic", "damping", "-0.01", "1.01", {"0", "1"}},
+    {"dynamic", "rtol", "0", "0.011", {"1e-10", "1e-2"}},
+    {"dynamic", "atol_mm", "0", NULL, {"1e-9", NULL}},
+    {"dynamic", "rest_factor", "0.5", "2e12", {"1", "1e12"}},
+    {"dynamic", "rest_s", "0", NULL, {"0.01", NULL}},
+    {"dynamic", "collapse_ke", "0", NULL, {"0.001", NULL}},
+    {"dynamic", "fall_s", "-0.1", NULL, {"0", NULL}},
+    {"dynamic", "sample_s", "0", NULL, {"1e-4", NULL}},
 };
 #define NKEYS_TESTED (sizeof all_keys / sizeof all_keys[0])
 
@@ -288,7 +298,7 @@ static void check_out_of_range(const key_case *k, const char *value) {
 
 static void test_every_key_out_of_range(void **state) {
   (void)state;
-  assert_int_equal(NKEYS_TESTED, 20);
+  assert_int_equal(NKEYS_TESTED, 30);
   for (size_t i = 0; i < NKEYS_TESTED; i++) {
     check_out_of_range(&all_keys[i], all_keys[i].below);
     if (all_keys[i].above != NULL) check_out_of_range(&all_keys[i], all_keys[i].above);
@@ -372,7 +382,7 @@ static void test_unknown_section(void **state) {
   (void)state;
   expect_read_error("[arch]\nradius_mm = 300\n\n[archh]\nradius_mm = 300\n", VS_ERR_PARSE, 4,
                     "[archh]: unknown section (allowed sections: arch, joints, support, solver, "
-                    "hinges)");
+                    "hinges, dynamic)");
   /* an empty unknown section is still reported, on its own line */
   expect_read_error("; x\n[nothing]\n", VS_ERR_PARSE, 2, "[nothing]: unknown section");
   expect_read_error("[]\n", VS_ERR_PARSE, 1, "[]: unknown section");

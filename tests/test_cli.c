@@ -403,9 +403,10 @@ static void test_reference_json_csv(void **state) {
 
   char *text = slurp(csv);
   assert_non_null(text);
-  if (strncmp(text, "delta_mm", 8) != 0) fail_msg("CSV header: %.80s", text);
+  if (strncmp(text, "phase,time_s,delta_mm", 21) != 0) fail_msg("CSV header: %.80s", text);
   const int cd = column(text, "delta_mm"), cl = column(text, "left_Fz_N"),
-            cr = column(text, "right_Fz_N");
+            cr = column(text, "right_Fz_N"), ct = column(text, "time_s");
+  long qs_rows = 0;
   int ncol = 1;
   for (const char *p = text; *p != '\n'; p++) ncol += *p == ',';
   long rows = 0;
@@ -421,6 +422,11 @@ static void test_reference_json_csv(void **state) {
     if (commas + 1 != ncol) fail_msg("CSV row %ld has %d fields, header %d", rows + 1, commas + 1, ncol);
     const double d = field(line, cd);
     if (!(d >= last)) fail_msg("CSV row %ld: delta %g after %g", rows + 1, d, last);
+    qs_rows += strncmp(line, "quasistatic,", 12) == 0;
+    if (strncmp(line, "quasistatic,", 12) != 0 && strncmp(line, "dynamic,", 8) != 0)
+      fail_msg("CSV row %ld: phase %.12s", rows + 1, line);
+    /* loading time is support displacement over the rate, 0.04 mm/s in the reference case */
+    expect_close(field(line, ct), d / 0.04, 1e-9, "time_s = delta_mm / rate");
     if (rows == 0) {
       assert_true(d == 0.0);
       /* self-weight only: the supports carry the whole arch (forces of the arch on them) */
@@ -429,8 +435,63 @@ static void test_reference_json_csv(void **state) {
     last = d;
     line = nl + 1;
   }
-  assert_int_equal(rows, steps);
+  assert_int_equal(qs_rows, steps);
+  assert_true(rows > qs_rows); /* the run goes on dynamically past the limit points */
   free(text);
+}
+
+/* The run to collapse: the collapse object, the limit points and their kinds, the mode and the
+ * energy balance, with relations that hold independently of the numbers: time = delta / rate,
+ * the collapse after (or at) the last limit point, which is the one marked "collapse". */
+static void test_collapse_json(void **state) {
+  (void)state;
+  char *json = NULL;
+  check_json_run("", 0.0, 3.0, &json);
+  span o = one_object(json);
+  span col = need(o, "collapse");
+  if (*col.b != '{') fail_msg("collapse is %.10s", col.b);
+  const double du = number(col, "delta_mm"), L = span_mm();
+  assert_true(du > 0.0);
+  expect_close(number(col, "dz_over_L_pct"), 100.0 * du / L, 1e-8, "collapse dz_over_L_pct");
+  expect_close(number(col, "dx_over_L_pct"), 0.0, 0.0, "collapse dx_over_L_pct");
+  expect_close(number(col, "time_s"), du / 0.04, 1e-8, "collapse time_s = delta / rate");
+  span ch = need(col, "hinges");
+  assert_true(*ch.b == '[');
+  int nh = 0;
+  for (const char *p = ch.b + 1; *p == '{';) {
+    const char *e = value_end(p);
+    span h = {p, e};
+    (void)need(h, "label");
+    (void)need(h, "joints");
+    (void)need(h, "side");
+    expect_close(number(h, "time_onset_s"), number(h, "delta_onset_mm") / 0.04, 1e-8,
+                 "hinge time_onset_s = delta / rate");
+    nh++;
+    p = (*e == ',') ? e + 1 : e;
+  }
+  if (nh < 4) fail_msg("%d hinges at collapse: a mechanism needs at least four", nh);
+  span lp = need(o, "limit_points");
+  assert_true(*lp.b == '[');
+  double last_delta = -1.0;
+  int n = 0, last_is_collapse = 0;
+  for (const char *p = lp.b + 1; *p == '{';) {
+    const char *e = value_end(p);
+    span l = {p, e};
+    last_delta = number(l, "delta_mm");
+    span kind = need(l, "kind");
+    last_is_collapse = strncmp(kind.b, "\"collapse\"", 10) == 0;
+    if (!last_is_collapse && strncmp(kind.b, "\"snap\"", 6) != 0) fail_msg("kind %.12s", kind.b);
+    n++;
+    p = (*e == ',') ? e + 1 : e;
+  }
+  assert_true(n >= 1);
+  assert_true(last_is_collapse);
+  assert_true(du >= last_delta);
+  span mode = need(o, "mode");
+  assert_true(*mode.b == '"' || strncmp(mode.b, "null", 4) == 0);
+  const double bal = number(need(o, "energy"), "balance_error_rel");
+  assert_true(bal >= 0.0 && bal < 1e-3);
+  free(json);
 }
 
 static void test_alpha_kn_override(void **state) {
@@ -454,6 +515,7 @@ int main(void) {
       cmocka_unit_test(test_bad_input),
       cmocka_unit_test(test_reference_json_csv),
       cmocka_unit_test(test_alpha_kn_override),
+      cmocka_unit_test(test_collapse_json),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

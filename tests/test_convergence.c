@@ -32,7 +32,7 @@ static vs_run *run_case(vs_case *c, limit *out) {
   vs_error_clear(&err);
   assert_int_equal(vs_case_validate(c, &err), VS_OK);
   assert_int_equal(vs_run_create(c, &r, &err), VS_OK);
-  vs_status st = vs_run_execute(r, NULL, NULL, &err);
+  vs_status st = vs_run_execute(r, NULL, NULL, NULL, &err);
   if (st != VS_OK) fail_msg("run failed: %s", err.msg);
   const vs_path_result *p = vs_run_path(r);
   assert_int_equal(p->end, VS_PATH_LIMIT_POINT);
@@ -44,6 +44,7 @@ static vs_run *run_case(vs_case *c, limit *out) {
 
 static void base(vs_case *c, double alpha, double kn) {
   vs_case_defaults(c);
+  c->follow = 0; /* the quasi-static engine alone: stop at the first limit point */
   c->alpha_deg = alpha;
   c->kn_N_mm3 = kn;
 }

@@ -37,6 +37,23 @@ typedef struct {
   double open_mm;     /* edge opening beyond which a joint is open (a hinge), > 0, default 0.05 */
   int migrate_joints; /* a hinge that reappears within this many joints of where it was, on the
                          same side, is the same hinge that migrated; 0..100, default 3 */
+
+  /* [dynamic] beyond the limit points (IDA) */
+  int follow;          /* 1: follow every limit point dynamically to the collapse; 0: stop at the
+                          first limit point. Default 1 */
+  int full;            /* 1: integrate the whole loading dynamically from rest (no quasi-static
+                          phase). Default 0 */
+  double damping;      /* joint damping, fraction of each joint's critical damping, [0, 1], 0.05 */
+  double rtol;         /* IDA relative tolerance, (0, 1e-2], default 1e-6 */
+  double atol_mm;      /* IDA absolute tolerance on positions, > 0, default 1e-5 mm */
+  double rest_factor;  /* at rest when the kinetic energy stays below this many times that of the
+                          whole arch moving at the support's rate, [1, 1e12], default 100 */
+  double rest_s;       /* ... for this long, > 0, default 1 s */
+  double collapse_ke;  /* collapsing when the kinetic energy exceeds this fraction of the arch's
+                          weight times its thickness, > 0, default 0.1 */
+  double fall_s;       /* after the collapse criterion, the fall is followed this long, >= 0,
+                          default 0.5 s */
+  double sample_s;     /* at most one dynamic sample per this interval, > 0, default 0.01 s */
 } vs_case;
 
 /* Fill c with the defaults: the reference specimen of DOMAIN.md with k_n = 3 N/mm^3, alpha = 0. */

@@ -66,4 +66,27 @@ void vs_joint_eval(const vs_joint_geom *jg, const vs_joint_law *law, const doubl
                    const double qb[3], const double ra[2], const double rb[2], double slip_p_old,
                    vs_joint_state *st, double f[6], double K[36]);
 
+/* Viscous damping of a joint in contact: the full section's dashpots, normal b c_n t adot,
+ * rotational b c_n t^3/12 wdot and shear b c_s t sdot (c_n, c_s in N s/m^3, adot, wdot, sdot the
+ * rates of the joint measures), acting while the joint is in contact and fading linearly to zero
+ * as the contact length drops below 2 % of t (continuous at separation). A hinge thus damps its
+ * rotation as the closed joint would, which is what makes a rocking mechanism lose energy; a
+ * law on the compressed part only would damp a hinge like c^3 and leave rocking undamped.
+ * The generalised force is f = C v with C symmetric positive semi-definite: it only dissipates.
+ * va, vb: velocities of the bodies' reference points and their angular velocities. Outputs
+ * (any may be NULL): f[6]; C[36] = df/d(va, vb), row-major (its dependence on the positions is
+ * not included); *power = dissipated power, W (>= 0). */
+void vs_joint_damping(const vs_joint_geom *jg, const vs_joint_law *law, double cn, double cs,
+                      const double qa[3], const double qb[3], const double va[3],
+                      const double vb[3], const double ra[2], const double rb[2], double f[6],
+                      double C[36], double *power);
+
+/* Power dissipated by frictional slip, W: T (sdot - Tdot / (k_s b t)) for a sliding joint
+ * (the shear power T sdot minus the rate of the shear energy T^2 / (2 k_s b t)), 0 when the
+ * joint sticks. Rates from the bodies' velocities va, vb as in vs_joint_damping. */
+double vs_joint_friction_power(const vs_joint_geom *jg, const vs_joint_law *law,
+                               const double qa[3], const double qb[3], const double va[3],
+                               const double vb[3], const double ra[2], const double rb[2],
+                               double slip_p_old);
+
 #endif

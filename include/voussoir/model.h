@@ -64,4 +64,42 @@ double vs_model_energy(const vs_model *m, const double *q, double delta);
  * weight times the joint length. scale has vs_model_size entries. */
 void vs_model_residual_scale(const vs_model *m, double *scale);
 
+/* --- dynamics --- */
+
+/* Joint damping as a fraction zeta (>= 0) of each joint's own critical damping: for a joint of
+ * area A = b t with normal stiffness k_n A between blocks of masses m_a, m_b (reduced mass
+ * m = m_a m_b / (m_a + m_b); the block's mass at a support), c_n = 2 zeta sqrt(k_n A m) / A and
+ * likewise c_s with k_s. Acts only where the joint is in contact (vs_joint_damping).
+ * Default 0 (no damping) until set. */
+void vs_model_set_damping(vs_model *m, double zeta);
+double vs_model_damping_ratio(const vs_model *m);
+
+/* Damping forces at (q, v) with the right support moving at ddelta_dt (m/s): fd (3n entries,
+ * may be NULL) adds to the residual of the equations of motion; *dissipated = power dissipated
+ * in all joints (W, >= 0); *support_power = power of the damping force on the moving support
+ * (W, part of the support's work); C (may be NULL): dfd/dv as a CSC matrix with the pattern of
+ * vs_model_jacobian. */
+void vs_model_damping(const vs_model *m, const double *q, const double *v, double delta,
+                      double ddelta_dt, double *fd, double *dissipated, double *support_power,
+                      SUNMatrix C);
+
+/* Power dissipated by frictional slip in all joints at (q, v), W (vs_joint_friction_power). */
+double vs_model_friction_power(const vs_model *m, const double *q, const double *v, double delta,
+                               double ddelta_dt);
+
+/* Diagonal of the mass matrix (3n: m, m, I per block; constant for centroid coordinates). */
+void vs_model_mass(const vs_model *m, double *mdiag);
+
+/* Kinetic energy of velocities v, J. */
+double vs_model_kinetic_energy(const vs_model *m, const double *v);
+
+/* Force (N) the moving support exerts on the arch along its direction of motion, through the
+ * joint's elastic and frictional forces; times d(delta)/dt it is the support's power. */
+double vs_model_support_force(const vs_model *m, const double *q, double delta);
+
+/* Joint elastic energy and gravitational potential separately (J; potential zero in the
+ * reference configuration). */
+void vs_model_energies(const vs_model *m, const double *q, double delta, double *elastic,
+                       double *gravity);
+
 #endif

@@ -52,12 +52,15 @@ typedef struct {
  * "stopped by caller"). */
 typedef int (*vs_path_step_fn)(void *user, double delta, const double *q, const vs_model *m);
 
-/* Follow the path of model m. q (vs_model_size entries) is the start guess on entry (zeros:
- * the reference configuration) and the last equilibrium on return. Errors: VS_ERR_NO_EQUILIBRIUM
- * when self-weight has no equilibrium (the arch cannot stand) or a Newton failure is not a limit
- * point (cause in err); VS_ERR_SOLVER when SUNDIALS fails. res is filled as far as the path got. */
-vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double *q, vs_path_step_fn step_fn,
-                      void *user, vs_path_result *res, vs_error *err);
+/* Follow the path of model m from support displacement delta0 (m): 0 starts with self-weight
+ * from the reference configuration, > 0 resumes from a state near an equilibrium there (after a
+ * snap-through), with the model's committed slips. q (vs_model_size entries) is the start guess
+ * on entry (zeros: the reference configuration) and the last equilibrium on return. Errors:
+ * VS_ERR_NO_EQUILIBRIUM when the start has no stable equilibrium (under self-weight: the arch
+ * cannot stand) or a Newton failure is not a limit point (cause in err); VS_ERR_SOLVER when
+ * SUNDIALS fails. res is filled as far as the path got. */
+vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double *q,
+                      vs_path_step_fn step_fn, void *user, vs_path_result *res, vs_error *err);
 
 /* One equilibrium solve at support displacement delta from the guess q (replaced by the
  * solution). Used by tests and the dynamic phase. *iters receives the Newton iterations. */

@@ -1,11 +1,12 @@
-/* A run: one case taken from self-weight along the quasi-static path to its first limit point,
- * with hinges tracked at every equilibrium. Owns its geometry, model and hinge tracker. */
+/* A run: one case from self-weight along the quasi-static path; at every limit point the motion
+ * is integrated dynamically until it either settles on another stable branch (a snap-through,
+ * after which the quasi-static path resumes) or collapses (the fall is then followed). Hinges
+ * are tracked throughout. Owns its geometry, model, integrators and records. */
 #ifndef VOUSSOIR_RUN_H
 #define VOUSSOIR_RUN_H
 
-#include <stdio.h>
-
 #include "voussoir/case.h"
+#include "voussoir/dynamic.h"
 #include "voussoir/geometry.h"
 #include "voussoir/hinges.h"
 #include "voussoir/model.h"
@@ -13,27 +14,105 @@
 
 typedef struct vs_run vs_run;
 
-/* Called after every equilibrium with the run (for progress and recording). Non-zero stops. */
-typedef int (*vs_run_step_fn)(void *user, const vs_run *run, double delta, const double *q);
+typedef enum { VS_PHASE_QUASISTATIC = 0, VS_PHASE_DYNAMIC = 1 } vs_phase;
+
+/* One recorded state: an equilibrium of the quasi-static path or a sample of the motion. */
+typedef struct {
+  vs_phase phase;
+  double t, delta;         /* loading time (delta / rate), s; support displacement, m */
+  const double *q, *v;     /* state (v is NULL on the quasi-static path: at rest) */
+  const vs_energy *energy; /* NULL on the quasi-static path */
+} vs_run_sample;
+
+typedef enum {
+  VS_EVENT_JOINT_OPENED = 0, /* an edge of a joint opened past hinges.open_mm (IDA root) */
+  VS_EVENT_JOINT_CLOSED,     /* ... closed back */
+  VS_EVENT_HINGE_FORMED,     /* a hinge formed (tracker); label and order are set */
+  VS_EVENT_LIMIT_POINT,      /* a limit point of the quasi-static path */
+  VS_EVENT_SNAP_SETTLED,     /* the motion after a limit point settled on a stable branch */
+  VS_EVENT_COLLAPSE          /* the collapse criterion fired */
+} vs_event_kind;
+
+typedef struct {
+  vs_event_kind kind;
+  vs_phase phase;
+  double t, delta;  /* s, m */
+  int joint;        /* 1-based, 0 if none */
+  char side;        /* 'I', 'E' or 0 */
+  char label;       /* hinge label, or 0 */
+  int order;        /* hinge order of appearance (4 = the fourth hinge), or 0 */
+} vs_run_event;
+
+/* A limit point and what followed it. */
+typedef struct {
+  double delta;         /* m */
+  int collapse;         /* 1 if the motion it started was the collapse, 0 a snap-through */
+  double delta_settled; /* snap: where the quasi-static path resumed, m (NaN for a collapse) */
+  char hinges_before[160], hinges_after[160]; /* open hinges, e.g. "A:8-I B:30-E C:56-E" */
+} vs_limit_record;
+
+typedef struct {
+  int found;
+  double delta;        /* collapse displacement delta_u: onset of the final motion, m */
+  double t;            /* its time, s */
+  double t_criterion;  /* when the kinetic energy passed the collapse threshold, s */
+  int n_hinges;        /* hinges open at the criterion */
+  vs_hinge hinges[8];  /* their copies, left to right */
+} vs_collapse_record;
+
+/* Called for every recorded state and every event (either may be NULL). Non-zero stops. */
+typedef int (*vs_run_sample_fn)(void *user, const vs_run *run, const vs_run_sample *s);
+typedef int (*vs_run_event_fn)(void *user, const vs_run *run, const vs_run_event *e);
 
 /* Build everything for case c (copied). Errors: VS_ERR_INVALID / VS_ERR_NOMEM. */
 vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err);
 void vs_run_destroy(vs_run **r);
 
-/* Follow the path. The status is that of the path (VS_OK at a confirmed limit point or at
- * max_mm); the run keeps the last equilibrium and everything recorded up to the failure. */
-vs_status vs_run_execute(vs_run *r, vs_run_step_fn fn, void *user, vs_error *err);
+/* Run the case. The status is that of the solvers (VS_OK when the run reached the collapse, the
+ * first limit point with dynamic.follow = 0, or support.max_mm); everything recorded up to a
+ * failure stays available. */
+vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn event, void *user,
+                         vs_error *err);
 
 const vs_case *vs_run_case(const vs_run *r);
 const vs_geometry *vs_run_geometry(const vs_run *r);
 const vs_model *vs_run_model(const vs_run *r);
 const vs_hinges *vs_run_hinges(const vs_run *r);
-const vs_path_result *vs_run_path(const vs_run *r);
 const vs_hinge_opts *vs_run_hinge_opts(const vs_run *r);
-/* Last equilibrium: state (vs_model_size entries) and support displacement (m). */
+
+/* The first quasi-static segment (to the first limit point) and the totals of all segments. */
+const vs_path_result *vs_run_path(const vs_run *r);
+const vs_path_result *vs_run_path_totals(const vs_run *r);
+
+/* Limit points in order; the collapse; the dynamic phases' totals (steps, Newton iterations,
+ * root events, the worst energy balance). */
+int vs_run_limit_count(const vs_run *r);
+const vs_limit_record *vs_run_limit(const vs_run *r, int i);
+const vs_collapse_record *vs_run_collapse(const vs_run *r);
+const vs_dyn_result *vs_run_dynamic_totals(const vs_run *r);
+
+/* Hinges to report: all of them, or after a collapse those formed up to its onset (the falling
+ * arch opens joints everywhere; they stay in the event log). */
+int vs_run_hinge_count(const vs_run *r);
+
+/* Logged events in order. */
+int vs_run_event_count(const vs_run *r);
+const vs_run_event *vs_run_event_get(const vs_run *r, int i);
+
+/* Evolution mode (DOMAIN.md): "I", "II", "III", or NULL when the hinge sides match none; and the
+ * side patterns it was read from (first three hinges, left to right; hinges at the collapse). */
+const char *vs_run_mode(const vs_run *r);
+const char *vs_run_pattern_initial(const vs_run *r);
+const char *vs_run_pattern_collapse(const vs_run *r);
+
+/* Last state: positions (vs_model_size entries), support displacement (m), time (s). */
 const double *vs_run_state(const vs_run *r);
 double vs_run_delta(const vs_run *r);
+double vs_run_time(const vs_run *r);
 /* Wall-clock time of vs_run_execute, s. */
 double vs_run_wall_s(const vs_run *r);
+
+/* Name of the open hinges, "A:8-I B:30-E C:56-E", into buf. */
+void vs_run_open_hinges(const vs_run *r, char *buf, size_t size);
 
 #endif

@@ -1,0 +1,80 @@
+/* Dynamic phase: the equations of motion of the blocks integrated by IDA (BDF, KLU on the
+ * analytic sparse Jacobian dF/dy + cj dF/dy'), with the right support still moving at its rate,
+ * root finding on the joints' edge openings and on the collapse criterion, and an energy
+ * balance. SI units; time t is the loading time, delta(t) = rate t. */
+#ifndef VOUSSOIR_DYNAMIC_H
+#define VOUSSOIR_DYNAMIC_H
+
+#include "voussoir/model.h"
+#include "voussoir/status.h"
+
+typedef struct {
+  double rate;          /* support speed, m/s */
+  double rtol;          /* IDA relative tolerance */
+  double atol_q;        /* absolute tolerance on positions, m (rotations: atol_q / joint length) */
+  double open;          /* edge opening of a hinge event, m (as the hinge detector) */
+  double rest_ke;       /* kinetic energy below which the arch is at rest, J */
+  double rest_time;     /* ... for this long, s */
+  double collapse_ke;   /* kinetic energy (J) beyond which the arch is collapsing: a falling
+                           mechanism releases far more than any snap-through */
+  double fall_time;     /* after a collapse, the fall is followed this long, s */
+  double max_delta;     /* stop when the support displacement reaches this, m */
+  double sample_dt;     /* at most one sample per this interval (and one per event), s */
+  int settle;           /* 1: return VS_DYN_SETTLED whenever the arch has been at rest for
+                           rest_time (the caller then looks for an equilibrium and calls again
+                           if there is none); 0: never (full-dynamic loading) */
+} vs_dyn_opts;
+
+typedef enum {
+  VS_DYN_SETTLED = 1,   /* at rest: kinetic energy < rest_ke for rest_time */
+  VS_DYN_COLLAPSED = 2, /* the kinetic energy passed collapse_ke; the fall was then followed */
+  VS_DYN_MAX_DELTA = 3  /* reached max_delta */
+} vs_dyn_end;
+
+/* Energies at one instant, J. balance = kinetic + gravity + elastic - support_work + damped
+ * + friction - (its value at the start) should stay at integrator tolerance. */
+typedef struct {
+  double kinetic, gravity, elastic;
+  double support_work; /* work done on the arch by the moving support */
+  double damped;       /* dissipated by joint damping */
+  double friction;     /* dissipated by frictional slip */
+  double balance;      /* energy balance residual */
+} vs_energy;
+
+/* A joint edge crossing the opening threshold (a located IDA root). */
+typedef struct {
+  double t, delta; /* s, m */
+  int joint;       /* 1-based */
+  char side;       /* hinge side: 'I' when the extrados edge opened, 'E' when the intrados did */
+  int opened;      /* 1 opened, 0 closed */
+} vs_dyn_event;
+
+typedef struct {
+  vs_dyn_end end;
+  double t_end, delta_end;     /* where it stopped */
+  double t_motion, delta_motion; /* onset of the last motion: the last time the kinetic
+                                    energy rose above rest_ke before the end */
+  double t_collapse;           /* when the collapse criterion fired (NaN if not) */
+  double max_kinetic;          /* J */
+  double balance_error_rel;    /* max |balance| / max(|energy terms|) over the phase */
+  long steps, newton_iterations, root_events, jac_evals;
+} vs_dyn_result;
+
+/* Called at samples (at most every sample_dt, and at each event); non-zero stops. */
+typedef int (*vs_dyn_sample_fn)(void *user, double t, double delta, const double *q,
+                                const double *v, const vs_energy *e);
+typedef int (*vs_dyn_event_fn)(void *user, const vs_dyn_event *ev, const double *q);
+
+typedef struct vs_dynamic vs_dynamic;
+
+/* Create the integrator for model m (borrowed; its damping ratio set beforehand). */
+vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out, vs_error *err);
+void vs_dynamic_destroy(vs_dynamic **d);
+
+/* Integrate from time t0 (delta = rate t0) with positions q and velocities v (updated to the
+ * final state). Friction slips are committed after every step. Energies accumulate from zero
+ * at t0. Errors: VS_ERR_SOLVER with IDA's cause. */
+vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_sample_fn sample,
+                         vs_dyn_event_fn event, void *user, vs_dyn_result *res, vs_error *err);
+
+#endif

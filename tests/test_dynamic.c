@@ -1,0 +1,736 @@
+/* Dynamics (dynamic.h) against independent references worked out here:
+ *  - free fall of a lifted block: z = h0 - g t^2/2 until the joint closes at
+ *    t = sqrt(2 (h0 - open)/g); then the elastic bounce on the full-contact Winkler foundation
+ *    (a linear spring k = k_n b t while z < 0), closed form, and the free flight after it;
+ *  - the damped vertical vibration of a block set down on the foundation: a linear oscillator of
+ *    damping ratio exactly zeta (vs_model_set_damping), closed form, and the energy it dissipates;
+ *  - Housner's rocking block released from a tilt about its corner: the exact rigid-body equation
+ *    I_O theta'' = -m g R sin(a - theta) (I_O = 4/3 m R^2) integrated here by RK4, and Housner's
+ *    linearised closed form theta = a - (a - theta0) cosh(p t);
+ *  - the energy balance (undamped and damped);
+ *  - the reference arch at its first limit point: a small snap that settles (k_n = 3 N/mm^3) and
+ *    a collapse (k_n = 150 N/mm^3).
+ * SI units. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "voussoir/case.h"
+#include "voussoir/dynamic.h"
+#include "voussoir/geometry.h"
+#include "voussoir/joint.h"
+#include "voussoir/model.h"
+#include "voussoir/quasistatic.h"
+
+static const double PI = 3.14159265358979323846;
+static const double GRAV = 9.81;
+
+static void check_close(double got, double want, double rtol, double atol, const char *what,
+                        int line) {
+  if (!(fabs(got - want) <= rtol * fabs(want) + atol))
+    fail_msg("line %d: %s = %.17g, expected %.17g (rtol %g, atol %g, diff %g)", line, what, got,
+             want, rtol, atol, got - want);
+}
+#define CHECK(got, want, rtol, atol) check_close((got), (want), (rtol), (atol), #got, __LINE__)
+
+static double now_s(void) {
+  struct timespec ts;
+  timespec_get(&ts, TIME_UTC);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* ------------------------------- recording a run ------------------------------- */
+
+typedef struct {
+  double t, delta, q[3], v[3];
+  vs_energy e;
+} rec_sample;
+
+typedef struct {
+  rec_sample *s;
+  int ns, cap;
+  vs_dyn_event ev[256];
+  int ne;
+  double max_abs_balance, min_damped_step; /* min over samples of damped(k) - damped(k-1) */
+  double last_damped;
+} recorder;
+
+static void rec_init(recorder *r, int cap) {
+  memset(r, 0, sizeof *r);
+  r->cap = cap;
+  r->s = calloc((size_t)cap, sizeof *r->s);
+  assert_non_null(r->s);
+  r->min_damped_step = INFINITY;
+}
+
+static void rec_free(recorder *r) { free(r->s); }
+
+static int on_sample(void *user, double t, double delta, const double *q, const double *v,
+                     const vs_energy *e) {
+  recorder *r = user;
+  r->max_abs_balance = fmax(r->max_abs_balance, fabs(e->balance));
+  r->min_damped_step = fmin(r->min_damped_step, e->damped - r->last_damped);
+  r->last_damped = e->damped;
+  if (r->ns < r->cap) {
+    rec_sample *s = &r->s[r->ns++];
+    s->t = t;
+    s->delta = delta;
+    memcpy(s->q, q, sizeof s->q);
+    memcpy(s->v, v, sizeof s->v);
+    s->e = *e;
+  }
+  return 0;
+}
+
+static int on_event(void *user, const vs_dyn_event *ev, const double *q) {
+  (void)q;
+  recorder *r = user;
+  if (r->ne < (int)(sizeof r->ev / sizeof r->ev[0])) r->ev[r->ne++] = *ev;
+  return 0;
+}
+
+/* The n-th (0-based) event of joint `joint` on side `side` with opened == `opened`, or NULL. */
+static const vs_dyn_event *find_event(const recorder *r, int joint, char side, int opened, int n) {
+  for (int i = 0; i < r->ne; i++)
+    if (r->ev[i].joint == joint && r->ev[i].side == side && r->ev[i].opened == opened && n-- == 0)
+      return &r->ev[i];
+  return NULL;
+}
+
+/* ------------------------------- one block on the ground ------------------------------- */
+
+/* A rectangular block B wide, H high, depth b, density rho, standing centred on x = 0 on a
+ * horizontal ground joint (the fixed left support below, the block above: n = (0, 1), so the
+ * intrados end of the joint is at x = +B/2 and the extrados end at x = -B/2). */
+static vs_geometry *block_geometry(double B, double H, double b, double rho) {
+  vs_geometry *g = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  vs_status st = vs_geometry_create(1, 1, &g, &err);
+  if (st != VS_OK) fail_msg("geometry: %s: %s", vs_strerror(st), err.msg);
+  vs_block *blk = &g->blocks[0];
+  blk->area = B * H;
+  blk->mass = rho * b * B * H;
+  blk->inertia = blk->mass * (B * B + H * H) / 12.0;
+  blk->cx = 0.0;
+  blk->cz = 0.5 * H;
+  vs_joint_geom *j = &g->joints[0];
+  j->a = VS_SUPPORT_LEFT;
+  j->b = 0;
+  j->px = 0.0;
+  j->pz = 0.0;
+  j->nx = 0.0;
+  j->nz = 1.0;
+  j->length = B;
+  j->depth = b;
+  g->gravity = GRAV;
+  return g;
+}
+
+static vs_model *block_model(const vs_geometry *g, double kn, double mu, double zeta) {
+  vs_joint_law law = {.kn = kn, .ks = 0.5 * kn, .mu = mu};
+  vs_model *m = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  vs_status st = vs_model_create(g, &law, 0.0, &m, &err);
+  if (st != VS_OK) fail_msg("model: %s: %s", vs_strerror(st), err.msg);
+  vs_model_set_damping(m, zeta);
+  return m;
+}
+
+/* Options for a run of t_end seconds with no settling and no collapse criterion. */
+static vs_dyn_opts block_opts(double t_end, double rtol, double atol_q, double open,
+                              double sample_dt) {
+  vs_dyn_opts o;
+  memset(&o, 0, sizeof o);
+  o.rate = 1e-3; /* no joint touches the right support: the rate only clocks delta = rate t */
+  o.rtol = rtol;
+  o.atol_q = atol_q;
+  o.open = open;
+  o.rest_ke = 0.0;
+  o.rest_time = INFINITY;
+  o.collapse_ke = 1e30; /* never */
+  o.fall_time = 0.0;
+  o.max_delta = o.rate * t_end;
+  o.sample_dt = sample_dt;
+  o.settle = 0;
+  return o;
+}
+
+/* Run model m from rest-or-not state (q, v) at t0 = 0 for the options o, recording. */
+static void block_run(vs_model *m, const vs_dyn_opts *o, double q[3], double v[3], recorder *r,
+                      vs_dyn_result *res, double *wall) {
+  vs_dynamic *d = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  vs_status st = vs_dynamic_create(m, o, &d, &err);
+  if (st != VS_OK) fail_msg("vs_dynamic_create: %s: %s", vs_strerror(st), err.msg);
+  const double t0 = now_s();
+  st = vs_dynamic_run(d, 0.0, q, v, on_sample, on_event, r, res, &err);
+  *wall = now_s() - t0;
+  vs_dynamic_destroy(&d);
+  assert_null(d);
+  if (st != VS_OK) fail_msg("vs_dynamic_run: %s: %s", vs_strerror(st), err.msg);
+}
+
+/* --------------------------------------- 1. free fall --------------------------------------- */
+
+/* A level block lifted by h0 (the joint open by h0 everywhere) falls freely: z = h0 - g t^2/2,
+ * vz = -g t, x = theta = 0. Both edge gaps equal z, so both cross the threshold `open` downward
+ * together at t_c = sqrt(2 (h0 - open) / g) (joint 1, sides I and E, opened = 0).
+ * Then the block lands level (w = 0: full contact), and while z < 0 the Winkler foundation is the
+ * linear spring k = k_n b B: m z'' = -k z - m g. With z_s = -m g / k, omega^2 = k/m and the landing
+ * speed v0 = sqrt(2 g h0), z - z_s = A sin(...), A = sqrt(z_s^2 + (v0/omega)^2); the time spent at
+ * z < 0 is (pi + 2 asin(|z_s| / A)) / omega. Undamped, the motion is time-symmetric about the
+ * deepest point: the edges reopen (opened = 1) at t_r = t_c + 2 t1 + T_contact with t1 the flight
+ * time from z = open to z = 0, and the block leaves with the speed it landed with:
+ * z(t) = open + v_c (t - t_r) - g (t - t_r)^2 / 2, v_c = sqrt(2 g (h0 - open)). The energy
+ * (kinetic + gravity + elastic) is conserved throughout. */
+static void test_free_fall(void **state) {
+  (void)state;
+  const double B = 0.2, H = 0.4, b = 0.1, rho = 2000.0, kn = 1e10; /* 10 N/mm^3 */
+  const double h0 = 1e-3, open = 1e-5, t_end = 0.02;
+  vs_geometry *g = block_geometry(B, H, b, rho);
+  vs_model *m = block_model(g, kn, 0.7, 0.0);
+  const double mass = g->blocks[0].mass;
+  vs_dyn_opts o = block_opts(t_end, 1e-8, 1e-10, open, 2e-4);
+  double q[3] = {0.0, h0, 0.0}, v[3] = {0.0, 0.0, 0.0};
+  recorder r;
+  rec_init(&r, 10000);
+  vs_dyn_result res;
+  double wall = 0.0;
+  block_run(m, &o, q, v, &r, &res, &wall);
+  print_message("free fall: %ld steps, %ld Newton iterations, %ld root events, %.3f s wall, "
+                "max |balance| %.3g J\n",
+                res.steps, res.newton_iterations, res.root_events, wall, r.max_abs_balance);
+  assert_int_equal(res.end, VS_DYN_MAX_DELTA);
+  CHECK(res.t_end, t_end, 1e-12, 0.0);
+
+  /* the closed forms */
+  const double t_c = sqrt(2.0 * (h0 - open) / GRAV);
+  const double t1 = sqrt(2.0 * h0 / GRAV) - t_c;
+  const double k = kn * b * B, omega = sqrt(k / mass), zs = -mass * GRAV / k;
+  const double v0 = sqrt(2.0 * GRAV * h0), A = sqrt(zs * zs + (v0 / omega) * (v0 / omega));
+  const double T_contact = (PI + 2.0 * asin(fabs(zs) / A)) / omega;
+  const double t_r = t_c + 2.0 * t1 + T_contact;
+  const double v_c = sqrt(2.0 * GRAV * (h0 - open));
+  assert_true(t_r < t_end);
+
+  /* samples in flight, before the landing: the parabola. IDA controls the local error to
+   * rtol |z| + atol (~1e-11 m); 1e-9 m (1e-6 h0) and 1e-7 m/s leave room for its accumulation. */
+  int n_before = 0;
+  for (int i = 0; i < r.ns; i++) {
+    const rec_sample *s = &r.s[i];
+    if (s->t < t_c) {
+      n_before++;
+      CHECK(s->q[1], h0 - 0.5 * GRAV * s->t * s->t, 0.0, 1e-9);
+      CHECK(s->v[1], -GRAV * s->t, 0.0, 1e-7);
+      CHECK(s->q[0], 0.0, 0.0, 1e-12);
+      CHECK(s->q[2], 0.0, 0.0, 1e-12);
+      CHECK(s->v[0], 0.0, 0.0, 1e-12);
+      CHECK(s->v[2], 0.0, 0.0, 1e-12);
+      CHECK(s->e.kinetic, 0.5 * mass * GRAV * GRAV * s->t * s->t, 1e-6, 1e-9);
+      CHECK(s->e.elastic, 0.0, 0.0, 0.0); /* the joint is open */
+    }
+  }
+  assert_true(n_before >= 20);
+
+  /* the landing: both edges close together at t_c; a time error dt shows as a height error
+   * v_c dt, so 1e-9 m of height is 7e-9 s, 5e-7 of t_c */
+  const vs_dyn_event *ci = find_event(&r, 1, 'I', 0, 0), *ce = find_event(&r, 1, 'E', 0, 0);
+  assert_non_null(ci);
+  assert_non_null(ce);
+  CHECK(ci->t, t_c, 1e-6, 0.0);
+  CHECK(ce->t, t_c, 1e-6, 0.0);
+  CHECK(ci->delta, o.rate * ci->t, 1e-12, 0.0);
+  /* no opening event before the landing, and none of any kind before t_c */
+  for (int i = 0; i < r.ne; i++) assert_true(r.ev[i].t >= t_c * (1.0 - 1e-6));
+
+  /* the rebound: both edges reopen at t_r. The contact lasts ~1 ms with omega ~ 3.5e3 rad/s;
+   * 1e-5 relative of t_r is 1.5e-7 s, 5e-4 rad of the contact oscillation's phase. */
+  const vs_dyn_event *oi = find_event(&r, 1, 'I', 1, 0), *oe = find_event(&r, 1, 'E', 1, 0);
+  assert_non_null(oi);
+  assert_non_null(oe);
+  CHECK(oi->t, t_r, 1e-5, 0.0);
+  CHECK(oe->t, t_r, 1e-5, 0.0);
+  /* free flight after it, up to the end: the block left with the landing speed */
+  const double tau = res.t_end - t_r;
+  CHECK(q[1], open + v_c * tau - 0.5 * GRAV * tau * tau, 0.0, 1e-3 * open + 1e-8);
+  CHECK(v[1], v_c - GRAV * tau, 1e-5, 1e-6);
+  CHECK(q[0], 0.0, 0.0, 1e-12);
+  CHECK(q[2], 0.0, 0.0, 1e-12);
+
+  /* the energy: conserved at the integrator's tolerance, through the elastic impact too; in
+   * units of m g H (the block's own potential scale) and of the drop energy m g h0 */
+  assert_true(r.max_abs_balance / (mass * GRAV * H) < 1e-6);
+  assert_true(r.max_abs_balance / (mass * GRAV * h0) < 1e-4);
+  CHECK(res.balance_error_rel, 0.0, 0.0, 1e-4);
+  for (int i = 0; i < r.ns; i++) {
+    CHECK(r.s[i].e.support_work, 0.0, 0.0, 0.0);
+    CHECK(r.s[i].e.damped, 0.0, 0.0, 0.0);
+    CHECK(r.s[i].e.friction, 0.0, 0.0, 0.0);
+  }
+  rec_free(&r);
+  vs_model_destroy(&m);
+  vs_geometry_destroy(&g);
+}
+
+/* ------------------------------ 2. damped vertical vibration ------------------------------ */
+
+/* A level block set down on the foundation at z = 0 (touching, unloaded) with zero velocity
+ * stays in full contact (it never rises above z = 0) and, level, does not rotate: the joint is a
+ * linear spring k = k_n b B with the normal dashpot c = b c_n B = 2 zeta sqrt(k m) (the support's
+ * side is rigid: the reduced mass is the block's). So m z'' + c z' + k z = -m g with damping ratio
+ * exactly zeta: z = z_s [1 - e^{-zeta w t} (cos w_d t + zeta / sqrt(1 - zeta^2) sin w_d t)],
+ * z_s = -m g / k, w_d = w sqrt(1 - zeta^2). The energy dissipated up to t is
+ * m g (-z) - (1/2) k z^2 - (1/2) m z'^2, which tends to (1/2) m g |z_s|. */
+static void test_damped_vibration(void **state) {
+  (void)state;
+  const double B = 0.2, H = 0.4, b = 0.1, rho = 2000.0, kn = 1e9, zeta = 0.05;
+  vs_geometry *g = block_geometry(B, H, b, rho);
+  vs_model *m = block_model(g, kn, 0.7, zeta);
+  const double mass = g->blocks[0].mass, k = kn * b * B, w = sqrt(k / mass);
+  const double wd = w * sqrt(1.0 - zeta * zeta), zs = -mass * GRAV / k;
+  const double t_end = 12.0 * 2.0 * PI / w; /* 12 periods: e^{-2 pi 12 zeta} = 2.3 % left */
+  vs_dyn_opts o = block_opts(t_end, 1e-8, 1e-13, 1e-3, t_end / 400.0);
+  double q[3] = {0.0, 0.0, 0.0}, v[3] = {0.0, 0.0, 0.0};
+  recorder r;
+  rec_init(&r, 10000);
+  vs_dyn_result res;
+  double wall = 0.0;
+  block_run(m, &o, q, v, &r, &res, &wall);
+  print_message("damped vibration: %ld steps, %.3f s wall, max |balance| %.3g J of %.3g J "
+                "dissipated\n",
+                res.steps, wall, r.max_abs_balance, r.s[r.ns - 1].e.damped);
+  assert_int_equal(res.end, VS_DYN_MAX_DELTA);
+  assert_int_equal(r.ne, 0); /* it never opens */
+  assert_true(r.ns > 300);
+  for (int i = 0; i < r.ns; i++) {
+    const rec_sample *s = &r.s[i];
+    const double ex = exp(-zeta * w * s->t), c = cos(wd * s->t), sn = sin(wd * s->t);
+    const double z = zs * (1.0 - ex * (c + zeta / sqrt(1.0 - zeta * zeta) * sn));
+    const double vz = -zs * ex * (w / sqrt(1.0 - zeta * zeta)) * sn;
+    /* the amplitude is |z_s| = 7.8e-6 m: 2e-4 of it */
+    CHECK(s->q[1], z, 0.0, 2e-4 * fabs(zs));
+    CHECK(s->v[1], vz, 0.0, 2e-4 * fabs(zs) * w);
+    CHECK(s->q[0], 0.0, 0.0, 1e-15);
+    CHECK(s->q[2], 0.0, 0.0, 1e-15);
+    assert_true(s->q[1] <= 1e-15); /* full contact throughout */
+    const double lost = mass * GRAV * (-z) - 0.5 * k * z * z - 0.5 * mass * vz * vz;
+    CHECK(s->e.damped, lost, 0.0, 1e-3 * 0.5 * mass * GRAV * fabs(zs));
+  }
+  const double e_final = 0.5 * mass * GRAV * fabs(zs);
+  const rec_sample *last = &r.s[r.ns - 1];
+  /* after 12 periods the vibration energy left is (2.3 %)^2 of the initial: almost all lost */
+  CHECK(last->e.damped, e_final, 2e-3, 0.0);
+  assert_true(r.min_damped_step >= -1e-12 * e_final); /* dissipation never negative */
+  assert_true(r.max_abs_balance < 1e-4 * e_final);
+  rec_free(&r);
+  vs_model_destroy(&m);
+  vs_geometry_destroy(&g);
+}
+
+/* ------------------------------------ 3. rocking block ------------------------------------ */
+
+/* Rigid rocking about the corner O = (-B/2, 0): tilt theta (counter-clockwise, the +x edge
+ * lifts), centroid at O + R (sin(a - theta), cos(a - theta)), a = atan(B/H), R the half diagonal,
+ * I_O = m (B^2 + H^2)/3 = 4/3 m R^2, so theta'' = -p^2 sin(a - theta), p^2 = 3 g / (4 R).
+ * rk4_theta integrates it from (theta0, 0) to time t. */
+typedef struct {
+  double a, p2, theta0;
+} rocking;
+
+static void rk4_step(const rocking *rk, double *th, double *om, double h) {
+  const double k1t = *om, k1o = -rk->p2 * sin(rk->a - *th);
+  const double k2t = *om + 0.5 * h * k1o, k2o = -rk->p2 * sin(rk->a - (*th + 0.5 * h * k1t));
+  const double k3t = *om + 0.5 * h * k2o, k3o = -rk->p2 * sin(rk->a - (*th + 0.5 * h * k2t));
+  const double k4t = *om + h * k3o, k4o = -rk->p2 * sin(rk->a - (*th + h * k3t));
+  *th += h / 6.0 * (k1t + 2.0 * k2t + 2.0 * k3t + k4t);
+  *om += h / 6.0 * (k1o + 2.0 * k2o + 2.0 * k3o + k4o);
+}
+
+static void rk4_theta(const rocking *rk, double t, double *th, double *om) {
+  const int n = 1 + (int)ceil(t / 1e-5);
+  const double h = t / n;
+  *th = rk->theta0;
+  *om = 0.0;
+  for (int i = 0; i < n; i++) rk4_step(rk, th, om, h);
+}
+
+/* First time theta falls to theta_c (RK4 at 1e-6 s, the crossing interpolated by a cubic
+ * Hermite on the step: error far below 1e-9 s). */
+static double rk4_crossing(const rocking *rk, double theta_c) {
+  const double h = 1e-6;
+  double th = rk->theta0, om = 0.0, t = 0.0;
+  for (;;) {
+    double th1 = th, om1 = om;
+    rk4_step(rk, &th1, &om1, h);
+    if (th1 <= theta_c) {
+      double lo = 0.0, hi = 1.0; /* bisection on the Hermite interpolant in s = (t' - t)/h */
+      for (int it = 0; it < 60; it++) {
+        const double s = 0.5 * (lo + hi), s2 = s * s, s3 = s2 * s;
+        const double val = (2 * s3 - 3 * s2 + 1) * th + (s3 - 2 * s2 + s) * h * om +
+                           (-2 * s3 + 3 * s2) * th1 + (s3 - s2) * h * om1;
+        if (val > theta_c) lo = s;
+        else hi = s;
+      }
+      return t + 0.5 * (lo + hi) * h;
+    }
+    th = th1;
+    om = om1;
+    t += h;
+    if (t > 100.0) fail_msg("rk4_crossing: no crossing");
+  }
+}
+
+typedef struct {
+  double B, H, b, rho, kn, mu, theta0, open, t_end;
+} rock_case;
+
+/* The block tilted rigidly about O by theta0, then pressed into the ground along the joint's
+ * normal n = (-sin(theta0/2), cos(theta0/2)) (the mean-rotation normal of joint.h) by the corner
+ * penetration p0 under which the triangular Winkler contact carries the weight:
+ * N = K p0^2 / (2 w), K = k_n b, w = 2 sin(theta0/2) -- so that the release does not start with a
+ * drop onto the corner. */
+static void rock_initial_state(const rock_case *c, double mass, double q[3]) {
+  const double a = atan(c->B / c->H), R = 0.5 * hypot(c->B, c->H);
+  const double w = 2.0 * sin(0.5 * c->theta0), p0 = sqrt(2.0 * w * mass * GRAV / (c->kn * c->b));
+  q[0] = -0.5 * c->B + R * sin(a - c->theta0) + p0 * sin(0.5 * c->theta0);
+  q[1] = R * cos(a - c->theta0) - 0.5 * c->H - p0 * cos(0.5 * c->theta0);
+  q[2] = c->theta0;
+}
+
+/* Slender block, 0.1 x 0.6 m: a = 0.165 rad, R = 0.304 m, p = 4.91 rad/s. Very stiff joints
+ * (k_n = 1e4 N/mm^3): the contact under the corner is c = sqrt(2 N / (K w)) ~ 7e-5 m, and the
+ * pivot (the centroid of the triangular stresses) sits c/3 ~ 2e-5 m inside the corner, 7e-4 of
+ * the lever arm R sin(a - theta) at the release and less than 2e-3 of it until the last
+ * milliradians before the impact: the rigid solution holds to ~1e-3. Friction mu = 5 rules out
+ * sliding (the release needs |T|/N ~ 0.1). */
+static const rock_case ROCK = {.B = 0.1, .H = 0.6, .b = 0.1, .rho = 2000.0, .kn = 1e13, .mu = 5.0,
+                               .theta0 = 0.0, .open = 1e-5, .t_end = 0.0};
+
+static void test_rocking(void **state) {
+  (void)state;
+  rock_case c = ROCK;
+  const double a = atan(c.B / c.H), R = 0.5 * hypot(c.B, c.H), p = sqrt(3.0 * GRAV / (4.0 * R));
+  c.theta0 = 0.3 * a;
+  const rocking rk = {.a = a, .p2 = p * p, .theta0 = c.theta0};
+  /* the impact edge: the lifted +x edge is the joint's intrados end. With the corner O pinned its
+   * gap, measured along the mean normal n(theta/2), is exactly |(B cos th - B, B sin th) . n| =
+   * 2 B sin(theta/2): it closes through `open` (joint 1, side 'E' -- the hinge at the extrados
+   * while the intrados edge is open -- opened = 0) at theta_c = 2 asin(open / (2 B)). */
+  const double theta_c = 2.0 * asin(c.open / (2.0 * c.B));
+  const double t_impact = rk4_crossing(&rk, theta_c);
+  const double t_housner = acosh((a - theta_c) / (a - c.theta0)) / p;
+  const double t_star = acosh(a / (a - c.theta0)) / p;
+  c.t_end = 0.98 * t_impact; /* the rocking phase only; the impact is test_rocking_energy's */
+  vs_geometry *g = block_geometry(c.B, c.H, c.b, c.rho);
+  vs_model *m = block_model(g, c.kn, c.mu, 0.0);
+  const double mass = g->blocks[0].mass;
+  /* the impact time itself: run to just past it */
+  vs_dyn_opts o = block_opts(1.02 * t_impact, 1e-8, 1e-11, c.open, 2e-3);
+  double q[3], v[3] = {0.0, 0.0, 0.0};
+  rock_initial_state(&c, mass, q);
+  recorder r;
+  rec_init(&r, 10000);
+  vs_dyn_result res;
+  double wall = 0.0;
+  block_run(m, &o, q, v, &r, &res, &wall);
+  print_message("rocking: a = %.6f rad, theta0 = %.6f rad, p = %.6f rad/s; impact at %.9f s "
+                "(rigid, RK4), %.9f s (Housner), t* = %.9f s; %ld steps, %.3f s wall\n",
+                a, c.theta0, p, t_impact, t_housner, t_star, res.steps, wall);
+  /* 1. theta(t) against the exact rigid rocking, and the centroid on its circle about O */
+  int n_checked = 0;
+  double worst = 0.0, worst_h = 0.0;
+  for (int i = 0; i < r.ns; i++) {
+    const rec_sample *s = &r.s[i];
+    if (s->t > c.t_end) break;
+    double th, om;
+    rk4_theta(&rk, s->t, &th, &om);
+    worst = fmax(worst, fabs(s->q[2] - th) / c.theta0);
+    CHECK(s->q[2], th, 0.0, 2e-3 * c.theta0);
+    CHECK(s->v[2], om, 0.0, 2e-3 * c.theta0 * p);
+    const double xc = -0.5 * c.B + R * sin(a - s->q[2]), zc = R * cos(a - s->q[2]) - 0.5 * c.H;
+    CHECK(s->q[0], xc, 0.0, 1e-5 * c.B); /* the elastic compliance moves O by ~1e-6 m */
+    CHECK(s->q[1], zc, 0.0, 1e-5 * c.B);
+    /* Housner's linearised closed form; sin x ~ x for x <= a costs a^2/6 = 0.45 % */
+    const double th_h = a - (a - c.theta0) * cosh(p * s->t);
+    worst_h = fmax(worst_h, fabs(s->q[2] - th_h) / c.theta0);
+    CHECK(s->q[2], th_h, 0.0, 1e-2 * c.theta0);
+    n_checked++;
+  }
+  print_message("rocking: %d samples, worst |theta - rigid| = %.3g theta0, |theta - Housner| = "
+                "%.3g theta0\n",
+                n_checked, worst, worst_h);
+  assert_true(n_checked >= 50);
+  /* 2. the impact: the intrados edge closing (side 'E', opened = 0) is the first event */
+  assert_true(r.ne >= 1);
+  const vs_dyn_event *ev = &r.ev[0];
+  assert_int_equal(ev->joint, 1);
+  assert_int_equal(ev->side, 'E');
+  assert_int_equal(ev->opened, 0);
+  CHECK(ev->t, t_impact, 2e-3, 0.0);
+  CHECK(ev->t, t_housner, 1e-2, 0.0);
+  CHECK(ev->t, t_star, 1e-2, 0.0);
+  /* 3. the energy up to the impact, at integrator tolerance */
+  double bal = 0.0;
+  for (int i = 0; i < r.ns && r.s[i].t < ev->t; i++) bal = fmax(bal, fabs(r.s[i].e.balance));
+  print_message("rocking: max |balance| before the impact %.3g m g H\n", bal / (mass * GRAV * c.H));
+  assert_true(bal / (mass * GRAV * c.H) < 1e-4);
+  rec_free(&r);
+  vs_model_destroy(&m);
+  vs_geometry_destroy(&g);
+}
+
+/* -------------------------------- 4. energy through impacts -------------------------------- */
+
+/* The rocking block followed through its impact and beyond (to 2.5 t*). Undamped, the energy
+ * balance (kinetic + gravity + elastic) holds at integrator tolerance across the impact; with
+ * zeta = 0.05 the dissipated energy is positive, never decreases, accounts for what the block
+ * loses (the balance still holds), and the block rocks less afterwards. */
+static void run_rocking_through(double zeta, recorder *r, vs_dyn_result *res, double *mgH,
+                                double *t_imp, double *wall) {
+  rock_case c = ROCK;
+  const double a = atan(c.B / c.H);
+  c.theta0 = 0.3 * a;
+  const rocking rk = {.a = a, .p2 = 3.0 * GRAV / (4.0 * 0.5 * hypot(c.B, c.H)), .theta0 = c.theta0};
+  *t_imp = rk4_crossing(&rk, 2.0 * asin(c.open / (2.0 * c.B)));
+  vs_geometry *g = block_geometry(c.B, c.H, c.b, c.rho);
+  vs_model *m = block_model(g, c.kn, c.mu, zeta);
+  const double mass = g->blocks[0].mass;
+  *mgH = mass * GRAV * c.H;
+  vs_dyn_opts o = block_opts(2.5 * *t_imp, 1e-7, 1e-10, c.open, 1e-3);
+  double q[3], v[3] = {0.0, 0.0, 0.0};
+  rock_initial_state(&c, mass, q);
+  rec_init(r, 10000);
+  block_run(m, &o, q, v, r, res, wall);
+  vs_model_destroy(&m);
+  vs_geometry_destroy(&g);
+}
+
+static void test_rocking_energy(void **state) {
+  (void)state;
+  recorder r0, r1;
+  vs_dyn_result res0, res1;
+  double mgH = 0.0, t_imp = 0.0, w0 = 0.0, w1 = 0.0;
+  run_rocking_through(0.0, &r0, &res0, &mgH, &t_imp, &w0);
+  run_rocking_through(0.05, &r1, &res1, &mgH, &t_imp, &w1);
+  double ke_max0 = 0.0, ke_max1 = 0.0, ke_before = 0.0;
+  for (int i = 0; i < r0.ns; i++)
+    if (r0.s[i].t < t_imp) ke_before = fmax(ke_before, r0.s[i].e.kinetic);
+  for (int i = 0; i < r0.ns; i++)
+    if (r0.s[i].t > 1.2 * t_imp) ke_max0 = fmax(ke_max0, r0.s[i].e.kinetic);
+  for (int i = 0; i < r1.ns; i++)
+    if (r1.s[i].t > 1.2 * t_imp) ke_max1 = fmax(ke_max1, r1.s[i].e.kinetic);
+  const rec_sample *l0 = &r0.s[r0.ns - 1], *l1 = &r1.s[r1.ns - 1];
+  print_message("rocking through the impact: undamped %ld steps %.3f s wall, max |balance| %.3g "
+                "m g H (rel %.3g); damped %ld steps %.3f s wall, max |balance| %.3g m g H, "
+                "dissipated %.4g J of %.4g J kinetic before the impact; KE after: %.4g J "
+                "undamped, %.4g J damped\n",
+                res0.steps, w0, r0.max_abs_balance / mgH, res0.balance_error_rel, res1.steps, w1,
+                r1.max_abs_balance / mgH, l1->e.damped, ke_before, ke_max0, ke_max1);
+  /* undamped: nothing dissipated, the balance at integrator tolerance (rtol 1e-7) */
+  assert_true(r0.max_abs_balance / mgH < 1e-4);
+  CHECK(l0->e.damped, 0.0, 0.0, 0.0);
+  CHECK(l0->e.friction, 0.0, 0.0, 0.0);
+  /* damped: positive, monotone, in the balance */
+  assert_true(l1->e.damped > 0.0);
+  assert_true(r1.min_damped_step >= -1e-9 * mgH);
+  assert_true(r1.max_abs_balance / mgH < 1e-4);
+  assert_true(r1.max_abs_balance < 1e-2 * l1->e.damped);
+  /* the damped block keeps less kinetic energy after the impact than the undamped one */
+  assert_true(ke_max1 < ke_max0);
+  rec_free(&r0);
+  rec_free(&r1);
+}
+
+/* ------------------------------- 5. the arch: snap vs collapse ------------------------------- */
+
+typedef struct {
+  vs_case c;
+  vs_geometry *g;
+  vs_model *m;
+  double *q, *v;
+  int n;
+  vs_path_opts po;
+  vs_path_result pres;
+  double wall_path;
+} arch;
+
+static void arch_to_limit(arch *A, double kn_N_mm3) {
+  memset(A, 0, sizeof *A);
+  vs_case_defaults(&A->c);
+  A->c.kn_N_mm3 = kn_N_mm3;
+  A->c.alpha_deg = 0.0;
+  vs_error err;
+  vs_error_clear(&err);
+  vs_status st = vs_geometry_create_arch(&A->c, &A->g, &err);
+  if (st != VS_OK) fail_msg("geometry: %s: %s", vs_strerror(st), err.msg);
+  vs_joint_law law = {.kn = kn_N_mm3 * 1e9, .ks = A->c.ks_ratio * kn_N_mm3 * 1e9,
+                      .mu = A->c.friction};
+  st = vs_model_create(A->g, &law, 0.0, &A->m, &err);
+  if (st != VS_OK) fail_msg("model: %s: %s", vs_strerror(st), err.msg);
+  A->n = vs_model_size(A->m);
+  A->q = calloc((size_t)A->n, sizeof *A->q);
+  A->v = calloc((size_t)A->n, sizeof *A->v);
+  assert_non_null(A->q);
+  assert_non_null(A->v);
+  vs_path_opts_from_case(&A->c, &A->po);
+  const double t0 = now_s();
+  st = vs_path_run(A->m, &A->po, 0.0, A->q, NULL, NULL, &A->pres, &err);
+  A->wall_path = now_s() - t0;
+  if (st != VS_OK) fail_msg("path: %s: %s", vs_strerror(st), err.msg);
+  assert_int_equal(A->pres.end, VS_PATH_LIMIT_POINT);
+}
+
+static void arch_free(arch *A) {
+  free(A->q);
+  free(A->v);
+  vs_model_destroy(&A->m);
+  vs_geometry_destroy(&A->g);
+}
+
+static vs_dyn_opts arch_dyn_opts(const arch *A) {
+  vs_dyn_opts o;
+  memset(&o, 0, sizeof o);
+  double mtot = 0.0;
+  for (int i = 0; i < A->g->n_blocks; i++) mtot += A->g->blocks[i].mass;
+  o.rate = 0.04e-3;
+  o.rtol = 1e-6;
+  o.atol_q = 1e-8;
+  o.open = 0.05e-3;
+  o.rest_ke = 100.0 * 0.5 * mtot * o.rate * o.rate;
+  o.rest_time = 1.0;
+  o.collapse_ke = 0.1 * vs_geometry_weight(A->g) * A->g->thickness;
+  o.fall_time = 0.2;
+  o.max_delta = 0.3; /* the case's max_mm */
+  o.sample_dt = 0.01;
+  o.settle = 1;
+  return o;
+}
+
+static void arch_dynamic(arch *A, const vs_dyn_opts *o, recorder *r, vs_dyn_result *res,
+                         double *wall) {
+  vs_model_set_damping(A->m, 0.05);
+  vs_dynamic *d = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  vs_status st = vs_dynamic_create(A->m, o, &d, &err);
+  if (st != VS_OK) fail_msg("vs_dynamic_create: %s: %s", vs_strerror(st), err.msg);
+  memset(A->v, 0, (size_t)A->n * sizeof *A->v);
+  rec_init(r, 100000);
+  const double t0 = now_s();
+  st = vs_dynamic_run(d, A->pres.delta_limit / o->rate, A->q, A->v, on_sample, on_event, r, res,
+                      &err);
+  *wall = now_s() - t0;
+  vs_dynamic_destroy(&d);
+  if (st != VS_OK) fail_msg("vs_dynamic_run: %s: %s", vs_strerror(st), err.msg);
+}
+
+/* k_n = 3 N/mm^3: the first limit point (~66.3 mm) is a small snap. The motion it starts must
+ * come to rest (VS_DYN_SETTLED) a little beyond the limit point, far below the collapse
+ * threshold, on a state from which an equilibrium at the same support displacement is found and
+ * which differs from the pre-snap state (a hinge jumped: some voussoir turned). */
+static void test_arch_snap_settles(void **state) {
+  (void)state;
+  arch A;
+  arch_to_limit(&A, 3.0);
+  const double dl = A.pres.delta_limit;
+  print_message("snap: first limit point %.4f mm (%.3f s wall)\n", dl * 1e3, A.wall_path);
+  CHECK(dl, 66.3e-3, 0.0, 1.0e-3);
+  double *q_lim = malloc((size_t)A.n * sizeof *q_lim);
+  assert_non_null(q_lim);
+  memcpy(q_lim, A.q, (size_t)A.n * sizeof *q_lim);
+  vs_dyn_opts o = arch_dyn_opts(&A);
+  recorder r;
+  vs_dyn_result res;
+  double wall = 0.0;
+  arch_dynamic(&A, &o, &r, &res, &wall);
+  print_message("snap: end %d at %.4f mm (t = %.3f s after the limit point), motion onset %.4f mm, "
+                "max KE %.3g J (rest %.3g J, collapse %.3g J), balance %.3g, %ld steps, %ld "
+                "Newton, %ld roots, %.3f s wall\n",
+                (int)res.end, res.delta_end * 1e3, res.t_end - dl / o.rate,
+                res.delta_motion * 1e3, res.max_kinetic, o.rest_ke, o.collapse_ke,
+                res.balance_error_rel, res.steps, res.newton_iterations, res.root_events, wall);
+  assert_int_equal(res.end, VS_DYN_SETTLED);
+  assert_true(isnan(res.t_collapse));
+  assert_true(res.max_kinetic < o.collapse_ke);
+  assert_true(res.max_kinetic > o.rest_ke); /* it did move: a snap, not a creep */
+  /* a little beyond the limit point: the rest time (1 s = 0.04 mm) and the snap's own duration */
+  assert_true(res.delta_end > dl);
+  assert_true(res.delta_end < dl + 1e-3);
+  assert_true(res.balance_error_rel < 1e-3);
+  /* an equilibrium at that delta, near the settled state */
+  double *q_eq = malloc((size_t)A.n * sizeof *q_eq);
+  assert_non_null(q_eq);
+  memcpy(q_eq, A.q, (size_t)A.n * sizeof *q_eq);
+  vs_error err;
+  vs_error_clear(&err);
+  long iters = 0;
+  vs_status st = vs_equilibrium_solve(A.m, &A.po, res.delta_end, q_eq, &iters, &err);
+  if (st != VS_OK) fail_msg("equilibrium after the snap: %s: %s", vs_strerror(st), err.msg);
+  double dq_settle = 0.0, dth_snap = 0.0;
+  for (int i = 0; i < A.n; i += 3) {
+    dq_settle = fmax(dq_settle, fabs(q_eq[i + 2] - A.q[i + 2]));
+    dth_snap = fmax(dth_snap, fabs(A.q[i + 2] - q_lim[i + 2]));
+  }
+  print_message("snap: equilibrium in %ld Newton iterations, max |rotation change| settled -> "
+                "equilibrium %.3g rad, limit point -> settled %.3g rad\n",
+                iters, dq_settle, dth_snap);
+  /* at rest means close to it: rest_ke bounds the residual motion */
+  assert_true(dq_settle < 0.1 * dth_snap);
+  assert_true(dth_snap > 1e-4); /* a hinge jumped */
+  free(q_eq);
+  free(q_lim);
+  rec_free(&r);
+  arch_free(&A);
+}
+
+/* k_n = 150 N/mm^3: the first limit point (~110.3 mm) is the collapse. The kinetic energy passes
+ * collapse_ke = 0.1 W t and the fall is followed for fall_time. */
+static void test_arch_collapse(void **state) {
+  (void)state;
+  arch A;
+  arch_to_limit(&A, 150.0);
+  const double dl = A.pres.delta_limit;
+  print_message("collapse: first limit point %.4f mm (%.3f s wall)\n", dl * 1e3, A.wall_path);
+  CHECK(dl, 110.3e-3, 0.0, 1.0e-3);
+  vs_dyn_opts o = arch_dyn_opts(&A);
+  recorder r;
+  vs_dyn_result res;
+  double wall = 0.0;
+  arch_dynamic(&A, &o, &r, &res, &wall);
+  print_message("collapse: end %d at %.4f mm, criterion at t - t_L = %.4f s, motion onset %.4f "
+                "mm, max KE %.4g J (collapse_ke %.4g J), balance %.3g, %ld steps, %ld roots, "
+                "%.3f s wall\n",
+                (int)res.end, res.delta_end * 1e3, res.t_collapse - dl / o.rate,
+                res.delta_motion * 1e3, res.max_kinetic, o.collapse_ke, res.balance_error_rel,
+                res.steps, res.root_events, wall);
+  assert_int_equal(res.end, VS_DYN_COLLAPSED);
+  assert_true(!isnan(res.t_collapse));
+  CHECK(res.t_end, res.t_collapse + o.fall_time, 1e-9, 0.0);
+  assert_true(res.max_kinetic > o.collapse_ke);
+  assert_true(res.balance_error_rel < 1e-3);
+  rec_free(&r);
+  arch_free(&A);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_free_fall),
+      cmocka_unit_test(test_damped_vibration),
+      cmocka_unit_test(test_rocking),
+      cmocka_unit_test(test_rocking_energy),
+      cmocka_unit_test(test_arch_snap_settles),
+      cmocka_unit_test(test_arch_collapse),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
