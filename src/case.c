@@ -84,7 +84,7 @@ static const key_spec keys[] = {
     KEY(dynamic, rest_s, 1.0, 0.0, false, INF, false, "s", "... for this long"),
     KEY(dynamic, collapse_ke, 0.1, 0.0, false, INF, false, "",
         "collapsing beyond this kinetic energy, as a fraction of weight x thickness"),
-    KEY(dynamic, fall_s, 0.5, 0.0, true, INF, false, "s", "the fall is followed this long"),
+    KEY(dynamic, fall_s, 0.25, 0.0, true, INF, false, "s", "the fall is followed this long"),
     KEY(dynamic, sample_s, 0.01, 0.0, false, INF, false, "s", "interval between dynamic samples"),
 };
 #undef INF

@@ -306,10 +306,11 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     /* motion episodes: moving while the kinetic energy is above rest_ke; at rest once it has
      * stayed below for rest_time (a single mode passes through zero at its turning points) */
     if (e.kinetic >= d->o.rest_ke) {
-      if (!moving) {
+      if (!moving && !collapsed) {
         moving = 1;
         res->t_motion = t;
         res->delta_motion = delta;
+        res->onset_found = 1;
       }
       t_rest = t;
     } else {

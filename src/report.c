@@ -83,8 +83,12 @@ static void json_collapse(FILE *out, const vs_run *r) {
   components_pct(vs_run_case(r), col->delta, &dz, &dx);
   fprintf(out,
           "{\"delta_mm\":%.10g,\"dz_over_L_pct\":%.10g,\"dx_over_L_pct\":%.10g,\"time_s\":%.10g,"
-          "\"criterion_time_s\":%.10g,\"hinges\":",
-          col->delta / VS_MM, dz, dx, col->t, col->t_criterion);
+          "\"onset_time_s\":",
+          col->delta / VS_MM, dz, dx, col->t);
+  json_number_or_null(out, col->t_onset);
+  fputs(",\"delta_onset_mm\":", out);
+  json_number_or_null(out, col->t_onset * vs_run_case(r)->rate_mm_s);
+  fputs(",\"hinges\":", out);
   json_hinges(out, r, col->hinges, col->n_hinges, 0);
   fputc('}', out);
 }

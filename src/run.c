@@ -20,6 +20,7 @@ struct vs_run {
   vs_hinge_opts hopts;
   vs_path_opts popts;
   vs_dyn_opts dopts;
+  double ke_move; /* kinetic energy of the whole arch moving at the support's rate, J */
   vs_path_result first, totals;
   int have_first;
   vs_dyn_result dtot;
@@ -42,6 +43,10 @@ struct vs_run {
   void *user;
 };
 
+/* Rest is at most this fraction of the collapse threshold (fast loading would otherwise put the
+ * rest threshold above it). */
+static const double VS_REST_OF_COLLAPSE = 0.01;
+
 static void dyn_opts_from_case(const vs_case *c, const vs_geometry *g, vs_dyn_opts *o) {
   double mass = 0.0;
   for (int i = 0; i < g->n_blocks; i++) mass += g->blocks[i].mass;
@@ -49,12 +54,13 @@ static void dyn_opts_from_case(const vs_case *c, const vs_geometry *g, vs_dyn_op
   o->rtol = c->rtol;
   o->atol_q = c->atol_mm * VS_MM;
   o->open = c->open_mm * VS_MM;
-  o->rest_ke = c->rest_factor * 0.5 * mass * o->rate * o->rate;
-  o->rest_time = c->rest_s;
-  /* the threshold rides on the kinetic energy of the arch moving bodily at the support's rate,
-   * which fast loading reaches without any collapse */
+  /* the collapse threshold rides on the kinetic energy of the arch moving bodily at the
+   * support's rate, which fast loading reaches without any collapse; rest stays well below it */
   o->collapse_ke = c->collapse_ke * vs_geometry_weight(g) * c->thickness_mm * VS_MM +
                    0.5 * mass * o->rate * o->rate;
+  o->rest_ke = fmin(c->rest_factor * 0.5 * mass * o->rate * o->rate,
+                    VS_REST_OF_COLLAPSE * o->collapse_ke);
+  o->rest_time = c->rest_s;
   o->fall_time = c->fall_s;
   o->max_delta = c->max_mm * VS_MM;
   o->sample_dt = c->sample_s;
@@ -89,13 +95,16 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
   if (st == VS_OK) {
     vs_path_opts_from_case(c, &r->popts);
     dyn_opts_from_case(c, r->g, &r->dopts);
+    double mass = 0.0;
+    for (int i = 0; i < r->g->n_blocks; i++) mass += r->g->blocks[i].mass;
+    r->ke_move = 0.5 * mass * r->dopts.rate * r->dopts.rate;
     if (c->follow || c->full) st = vs_dynamic_create(r->m, &r->dopts, &r->dyn, err);
   }
   if (st != VS_OK) {
     vs_run_destroy(&r);
     return st;
   }
-  r->collapse.delta = r->collapse.t = r->collapse.t_criterion = NAN;
+  r->collapse.delta = r->collapse.t = r->collapse.t_criterion = r->collapse.t_onset = NAN;
   *out = r;
   return VS_OK;
 }
@@ -196,9 +205,10 @@ static int on_equilibrium(void *user, double delta, const double *q, const vs_mo
   return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
 }
 
-/* The mechanism of a collapse is read early in its motion, once the kinetic energy has passed this
- * fraction of the collapse threshold (blocks have then moved by hundredths of a millimetre):
- * later, the falling arch opens joints everywhere. Hinge tracking stops there. */
+/* The mechanism of a collapse is read early in its motion, once the kinetic energy beyond that of
+ * the arch moving bodily at the support's rate has passed this fraction of the collapse threshold
+ * (blocks have then moved by hundredths of a millimetre): later, the falling arch opens joints
+ * everywhere. */
 static const double VS_ONSET_FRACTION = 0.01;
 
 static void snapshot_onset(vs_run *r) {
@@ -217,7 +227,8 @@ static int on_dyn_sample(void *user, double t, double delta, const double *q, co
   if (!r->frozen && track_hinges(r, t, delta, q) != 0) return 1;
   if (e->kinetic < r->dopts.rest_ke) {
     r->onset_taken = 0;
-  } else if (!r->onset_taken && e->kinetic >= VS_ONSET_FRACTION * r->dopts.collapse_ke) {
+  } else if (!r->onset_taken &&
+             e->kinetic >= r->ke_move + VS_ONSET_FRACTION * (r->dopts.collapse_ke - r->ke_move)) {
     snapshot_onset(r);
     r->onset_taken = 1;
   }
@@ -293,9 +304,10 @@ static void side_pattern(const vs_hinge *h, int n, char *buf, size_t size) {
 static void record_collapse(vs_run *r, const vs_dyn_result *d) {
   vs_collapse_record *c = &r->collapse;
   c->found = 1;
-  c->t = d->t_motion;
-  c->delta = d->delta_motion;
   c->t_criterion = d->t_collapse;
+  c->t = d->t_collapse;
+  c->delta = c->t * r->dopts.rate;
+  c->t_onset = (d->onset_found && d->t_motion <= d->t_collapse) ? d->t_motion : NAN;
   if (!r->onset_taken) snapshot_onset(r);
   c->n_hinges = r->n_onset;
   memcpy(c->hinges, r->onset, (size_t)r->n_onset * sizeof r->onset[0]);

@@ -241,30 +241,47 @@ static void test_free_fall(void **state) {
       CHECK(s->e.elastic, 0.0, 0.0, 0.0); /* the joint is open */
     }
   }
-  assert_true(n_before >= 20);
+  print_message("free fall: %d samples before the landing\n", n_before);
+  assert_true(n_before >= 10);
+  /* in flight the energy is exactly conserved by the exact (quadratic) trajectory */
+  double bal_flight = 0.0;
+  for (int i = 0; i < r.ns && r.s[i].t < t_c; i++) bal_flight = fmax(bal_flight, fabs(r.s[i].e.balance));
+  print_message("free fall: max |balance| in flight %.3g J = %.3g m g h0\n", bal_flight,
+                bal_flight / (mass * GRAV * h0));
+  /* the velocity tolerance IDA is given (~1e-6 m/s here) allows m v dv ~ 2e-6 J = 1.4e-5 m g h0 */
+  assert_true(bal_flight < 1e-5 * mass * GRAV * h0);
 
   /* the landing: both edges close together at t_c; a time error dt shows as a height error
-   * v_c dt, so 1e-9 m of height is 7e-9 s, 5e-7 of t_c */
+   * v_c dt, so 2e-9 m of height (twice the flight tolerance above) is 1.4e-8 s, 1e-6 of t_c */
   const vs_dyn_event *ci = find_event(&r, 1, 'I', 0, 0), *ce = find_event(&r, 1, 'E', 0, 0);
   assert_non_null(ci);
   assert_non_null(ce);
+  const vs_dyn_event *lift = find_event(&r, 1, 'I', 1, 0);
+  print_message("free fall: landing at %.12f s (closed form %.12f s, rel. error %.2g), "
+                "lift-off at %.9f s (closed form %.9f s, rel. error %.2g)\n",
+                ci->t, t_c, (ci->t - t_c) / t_c, lift ? lift->t : NAN, t_r,
+                lift ? (lift->t - t_r) / t_r : NAN);
   CHECK(ci->t, t_c, 1e-6, 0.0);
   CHECK(ce->t, t_c, 1e-6, 0.0);
+  assert_true(ci->t == ce->t); /* one root return for both edges */
   CHECK(ci->delta, o.rate * ci->t, 1e-12, 0.0);
   /* no opening event before the landing, and none of any kind before t_c */
   for (int i = 0; i < r.ne; i++) assert_true(r.ev[i].t >= t_c * (1.0 - 1e-6));
 
   /* the rebound: both edges reopen at t_r. The contact lasts ~1 ms with omega ~ 3.5e3 rad/s;
-   * 1e-5 relative of t_r is 1.5e-7 s, 5e-4 rad of the contact oscillation's phase. */
+   * 3e-5 relative of t_r is 4.6e-7 s, 1.6e-3 rad of the contact oscillation's phase. */
   const vs_dyn_event *oi = find_event(&r, 1, 'I', 1, 0), *oe = find_event(&r, 1, 'E', 1, 0);
   assert_non_null(oi);
   assert_non_null(oe);
-  CHECK(oi->t, t_r, 1e-5, 0.0);
-  CHECK(oe->t, t_r, 1e-5, 0.0);
+  CHECK(oi->t, t_r, 3e-5, 0.0);
+  CHECK(oe->t, t_r, 3e-5, 0.0);
+  assert_int_equal(r.ne, 4); /* landing and lift-off, two edges each; nothing else */
   /* free flight after it, up to the end: the block left with the landing speed */
   const double tau = res.t_end - t_r;
   CHECK(q[1], open + v_c * tau - 0.5 * GRAV * tau * tau, 0.0, 1e-3 * open + 1e-8);
-  CHECK(v[1], v_c - GRAV * tau, 1e-5, 1e-6);
+  /* the rebound speed carries the integrator's energy error through the impact:
+   * |dv| <= |balance| / (m v_c) ~ 4e-6 m/s */
+  CHECK(v[1], v_c - GRAV * tau, 0.0, 1e-5);
   CHECK(q[0], 0.0, 0.0, 1e-12);
   CHECK(q[2], 0.0, 0.0, 1e-12);
 
@@ -317,7 +334,7 @@ static void test_damped_vibration(void **state) {
     const rec_sample *s = &r.s[i];
     const double ex = exp(-zeta * w * s->t), c = cos(wd * s->t), sn = sin(wd * s->t);
     const double z = zs * (1.0 - ex * (c + zeta / sqrt(1.0 - zeta * zeta) * sn));
-    const double vz = -zs * ex * (w / sqrt(1.0 - zeta * zeta)) * sn;
+    const double vz = zs * ex * (w / sqrt(1.0 - zeta * zeta)) * sn;
     /* the amplitude is |z_s| = 7.8e-6 m: 2e-4 of it */
     CHECK(s->q[1], z, 0.0, 2e-4 * fabs(zs));
     CHECK(s->v[1], vz, 0.0, 2e-4 * fabs(zs) * w);
@@ -336,6 +353,89 @@ static void test_damped_vibration(void **state) {
   rec_free(&r);
   vs_model_destroy(&m);
   vs_geometry_destroy(&g);
+}
+
+/* --------------------------------- 2b. the moving support --------------------------------- */
+
+/* A block resting on the RIGHT support, which moves at the rate along alpha (from the vertical:
+ * u = delta (sin alpha, -cos alpha)). Started at its self-weight equilibrium (full contact,
+ * z = z_s = -m g / k, k = k_n b B) it is jerked into motion and, once the joint damping has
+ * taken out that transient, rides along: q = (delta sin alpha, z_s - delta cos alpha, 0). The
+ * support does the work W = -m g delta cos alpha (it lowers the weight: negative work) plus what
+ * the start-up costs: the kinetic energy m rate^2 / 2 and the energy the dampers took. So the
+ * gravity term is -m g delta cos alpha, the support work equals gravity + kinetic + damped +
+ * change of elastic energy, and the balance closes. */
+static void moving_support_case(double alpha_deg) {
+  const double B = 0.2, H = 0.4, b = 0.1, rho = 2000.0, kn = 1e9, zeta = 0.2, rate = 1e-3;
+  const double alpha = alpha_deg * PI / 180.0, t_end = 1.0;
+  vs_geometry *g = block_geometry(B, H, b, rho);
+  g->joints[0].a = VS_SUPPORT_RIGHT;
+  vs_joint_law law = {.kn = kn, .ks = 0.5 * kn, .mu = 0.7};
+  vs_model *m = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  vs_status st = vs_model_create(g, &law, alpha, &m, &err);
+  if (st != VS_OK) fail_msg("model: %s: %s", vs_strerror(st), err.msg);
+  vs_model_set_damping(m, zeta);
+  const double mass = g->blocks[0].mass, k = kn * b * B, zs = -mass * GRAV / k;
+  vs_dyn_opts o = block_opts(t_end, 1e-8, 1e-12, 1e-4, 2e-2);
+  o.rate = rate;
+  o.max_delta = rate * t_end;
+  double q[3] = {0.0, zs, 0.0}, v[3] = {0.0, 0.0, 0.0};
+  recorder r;
+  rec_init(&r, 10000);
+  vs_dyn_result res;
+  double wall = 0.0;
+  block_run(m, &o, q, v, &r, &res, &wall);
+  const rec_sample *last = &r.s[r.ns - 1];
+  const vs_energy *e = &last->e;
+  /* energies at the last sample (the final step is sampled only if sample_dt has passed) */
+  const double delta = last->delta;
+  print_message("moving support, alpha %g deg: %ld steps, %.3f s wall; at %.4f mm: W_support "
+                "%.6g J (-m g delta cos alpha = %.6g J), gravity %.6g J, kinetic %.3g J, damped "
+                "%.3g J, elastic %.3g J, balance %.3g J\n",
+                alpha_deg, res.steps, wall, delta * 1e3, e->support_work,
+                -mass * GRAV * delta * cos(alpha), e->gravity, e->kinetic, e->damped, e->elastic,
+                e->balance);
+  assert_int_equal(res.end, VS_DYN_MAX_DELTA);
+  CHECK(res.t_end, t_end, 1e-12, 0.0);
+  assert_true(last->t > 0.9 * t_end);
+  /* riding along: the start-up vibration (amplitude ~ rate / omega ~ 1e-6 m) decays. Its
+   * slowest mode is the block's rocking on the foundation (base stiffness k_n b B^3 / 12 against
+   * the inertia about the base, I_b = 0.91 kg m^2: 272 rad/s), whose damping ratio is only
+   * zeta sqrt((m B^2 / 12) / I_b) = 0.24 zeta: with zeta = 0.2, e^{-13} by t_end = 1 s. */
+  const double de = res.delta_end;
+  CHECK(q[0], de * sin(alpha), 0.0, 1e-9);
+  CHECK(q[1], zs - de * cos(alpha), 0.0, 1e-9);
+  CHECK(q[2], 0.0, 0.0, 1e-9);
+  CHECK(v[0], rate * sin(alpha), 0.0, 1e-7);
+  CHECK(v[1], -rate * cos(alpha), 0.0, 1e-7);
+  CHECK(last->q[0], delta * sin(alpha), 0.0, 1e-9);
+  CHECK(last->q[1], zs - delta * cos(alpha), 0.0, 1e-9);
+  /* gravity is m g z (zero in the reference configuration): the initial settlement z_s too */
+  CHECK(e->gravity, mass * GRAV * (zs - delta * cos(alpha)), 0.0, 1e-6 * mass * GRAV * delta);
+  CHECK(e->elastic, 0.5 * k * zs * zs, 1e-6, 0.0);
+  CHECK(e->kinetic, 0.5 * mass * rate * rate, 1e-3, 0.0);
+  /* the support's work: lowering the weight, plus the start-up's kinetic and damped energy (the
+   * elastic energy of the joint is back to its initial value) */
+  CHECK(e->support_work, -mass * GRAV * delta * cos(alpha) + e->kinetic + e->damped, 0.0,
+        1e-6 * mass * GRAV * delta);
+  /* seen from a frame moving with the support (a Galilean change: same forces), the block starts
+   * with the relative kinetic energy m rate^2 / 2 and ends at rest: the dampers take exactly
+   * that, whatever zeta and alpha */
+  CHECK(e->damped, 0.5 * mass * rate * rate, 1e-3, 0.0);
+  assert_true(r.max_abs_balance < 1e-6 * mass * GRAV * delta);
+  CHECK(e->friction, 0.0, 0.0, 0.0); /* |T| / N ~ 0 */
+  rec_free(&r);
+  vs_model_destroy(&m);
+  vs_geometry_destroy(&g);
+}
+
+static void test_moving_support(void **state) {
+  (void)state;
+  moving_support_case(0.0);  /* settlement */
+  moving_support_case(90.0); /* outward: drags the block along by the joint's shear */
+  moving_support_case(30.0);
 }
 
 /* ------------------------------------ 3. rocking block ------------------------------------ */
@@ -459,8 +559,11 @@ static void test_rocking(void **state) {
     CHECK(s->q[2], th, 0.0, 2e-3 * c.theta0);
     CHECK(s->v[2], om, 0.0, 2e-3 * c.theta0 * p);
     const double xc = -0.5 * c.B + R * sin(a - s->q[2]), zc = R * cos(a - s->q[2]) - 0.5 * c.H;
-    CHECK(s->q[0], xc, 0.0, 1e-5 * c.B); /* the elastic compliance moves O by ~1e-6 m */
-    CHECK(s->q[1], zc, 0.0, 1e-5 * c.B);
+    /* the corner sinks into the foundation by p = sqrt(2 w N / K) <= 3.4e-6 m (rock_initial_state)
+     * and the shear spring yields by |T| / (k_s b B) < 1e-9 m */
+    CHECK(s->q[0], xc, 0.0, 5e-6);
+    CHECK(s->q[1], zc, 0.0, 5e-6);
+    CHECK(s->e.friction, 0.0, 0.0, 0.0); /* no sliding while it rocks (|T|/N ~ 0.1 < mu) */
     /* Housner's linearised closed form; sin x ~ x for x <= a costs a^2/6 = 0.45 % */
     const double th_h = a - (a - c.theta0) * cosh(p * s->t);
     worst_h = fmax(worst_h, fabs(s->q[2] - th_h) / c.theta0);
@@ -537,10 +640,15 @@ static void test_rocking_energy(void **state) {
                 "undamped, %.4g J damped\n",
                 res0.steps, w0, r0.max_abs_balance / mgH, res0.balance_error_rel, res1.steps, w1,
                 r1.max_abs_balance / mgH, l1->e.damped, ke_before, ke_max0, ke_max1);
-  /* undamped: nothing dissipated, the balance at integrator tolerance (rtol 1e-7) */
+  /* undamped: nothing damped, the balance at integrator tolerance (rtol 1e-7), also against the
+   * kinetic energy the impact exchanges. The elastic impact throws the block up and the joint
+   * unloads completely: the shear energy T^2 / (2 k_s b B) the impact stored in the joint is then
+   * dissipated by the Coulomb limit (|T| <= mu N -> 0), a small frictional loss. */
   assert_true(r0.max_abs_balance / mgH < 1e-4);
+  assert_true(r0.max_abs_balance < 1e-3 * ke_before);
   CHECK(l0->e.damped, 0.0, 0.0, 0.0);
-  CHECK(l0->e.friction, 0.0, 0.0, 0.0);
+  assert_true(l0->e.friction >= 0.0);
+  assert_true(l0->e.friction < 1e-3 * ke_before);
   /* damped: positive, monotone, in the balance */
   assert_true(l1->e.damped > 0.0);
   assert_true(r1.min_damped_step >= -1e-9 * mgH);
@@ -617,77 +725,149 @@ static vs_dyn_opts arch_dyn_opts(const arch *A) {
   return o;
 }
 
-static void arch_dynamic(arch *A, const vs_dyn_opts *o, recorder *r, vs_dyn_result *res,
+/* One dynamic call from time t0 with the state (A->q, A->v), updated. */
+static void arch_dynamic(arch *A, vs_dynamic *d, double t0, recorder *r, vs_dyn_result *res,
                          double *wall) {
+  vs_error err;
+  vs_error_clear(&err);
+  const double w0 = now_s();
+  vs_status st = vs_dynamic_run(d, t0, A->q, A->v, on_sample, on_event, r, res, &err);
+  *wall += now_s() - w0;
+  if (st != VS_OK) fail_msg("vs_dynamic_run: %s: %s", vs_strerror(st), err.msg);
+}
+
+static vs_dynamic *arch_integrator(arch *A, const vs_dyn_opts *o) {
   vs_model_set_damping(A->m, 0.05);
   vs_dynamic *d = NULL;
   vs_error err;
   vs_error_clear(&err);
   vs_status st = vs_dynamic_create(A->m, o, &d, &err);
   if (st != VS_OK) fail_msg("vs_dynamic_create: %s: %s", vs_strerror(st), err.msg);
-  memset(A->v, 0, (size_t)A->n * sizeof *A->v);
-  rec_init(r, 100000);
-  const double t0 = now_s();
-  st = vs_dynamic_run(d, A->pres.delta_limit / o->rate, A->q, A->v, on_sample, on_event, r, res,
-                      &err);
-  *wall = now_s() - t0;
-  vs_dynamic_destroy(&d);
-  if (st != VS_OK) fail_msg("vs_dynamic_run: %s: %s", vs_strerror(st), err.msg);
+  return d;
 }
 
-/* k_n = 3 N/mm^3: the first limit point (~66.3 mm) is a small snap. The motion it starts must
- * come to rest (VS_DYN_SETTLED) a little beyond the limit point, far below the collapse
- * threshold, on a state from which an equilibrium at the same support displacement is found and
- * which differs from the pre-snap state (a hinge jumped: some voussoir turned). */
+/* Open edges (gap > open) of all joints at (q, delta) as a string "26E:0.12 56I:0.30 ..." (side
+ * of the hinge, as the event's; opening in mm). */
+static void open_edges(const vs_model *m, const double *q, double delta, double open, char *buf,
+                       size_t size) {
+  const int nj = vs_model_geometry(m)->n_joints;
+  vs_joint_state *js = calloc((size_t)nj, sizeof *js);
+  assert_non_null(js);
+  vs_model_joint_states(m, q, delta, js);
+  size_t len = 0;
+  buf[0] = '\0';
+  for (int k = 0; k < nj && len + 24 < size; k++) {
+    if (js[k].gap_i > open)
+      len += (size_t)snprintf(buf + len, size - len, "%dE:%.3f ", k + 1, js[k].gap_i * 1e3);
+    if (js[k].gap_e > open)
+      len += (size_t)snprintf(buf + len, size - len, "%dI:%.3f ", k + 1, js[k].gap_e * 1e3);
+  }
+  free(js);
+}
+
+/* The internal joint (1-based, not a springing) whose intrados edge is open the most: the centre
+ * of the crown's distributed hinge at the extrados. */
+static int dominant_crown_hinge(const vs_model *m, const double *q, double delta) {
+  const int nj = vs_model_geometry(m)->n_joints;
+  vs_joint_state *js = calloc((size_t)nj, sizeof *js);
+  assert_non_null(js);
+  vs_model_joint_states(m, q, delta, js);
+  int best = 0;
+  for (int k = 1; k < nj - 1; k++)
+    if (best == 0 || js[k].gap_i > js[best - 1].gap_i) best = k + 1;
+  free(js);
+  return best;
+}
+
+/* k_n = 3 N/mm^3: the first limit point (~66.3 mm) is a small snap. Driven as dynamic.h says a
+ * caller must: run with settle = 1; on VS_DYN_SETTLED look for an equilibrium at that delta from
+ * that state; if there is none, call again from where it stopped. The snap of this arch is slow
+ * and gentle (heavily damped: its peak kinetic energy, ~1e-7 J, stays below rest_ke = 2.6e-7 J),
+ * so the first calls come back "at rest" while the arch still creeps past the fold with no
+ * equilibrium nearby; the snap itself develops a few seconds (~0.3 mm) after the limit point.
+ * Checked: every call ends VS_DYN_SETTLED, never near the collapse threshold; the loop ends on an
+ * equilibrium a little beyond the limit point, stable (vs_path_run resumes from it), close to the
+ * settled state, and on another branch: some voussoir turned by more than 1e-3 rad and the crown
+ * hinge (spread over several joints) moved its centre to the neighbouring joint. */
 static void test_arch_snap_settles(void **state) {
   (void)state;
   arch A;
   arch_to_limit(&A, 3.0);
   const double dl = A.pres.delta_limit;
   print_message("snap: first limit point %.4f mm (%.3f s wall)\n", dl * 1e3, A.wall_path);
-  CHECK(dl, 66.3e-3, 0.0, 1.0e-3);
-  double *q_lim = malloc((size_t)A.n * sizeof *q_lim);
+  CHECK(dl, 66.3e-3, 0.0, 0.1e-3);
+  double *q_lim = malloc((size_t)A.n * sizeof *q_lim), *q_eq = malloc((size_t)A.n * sizeof *q_eq);
   assert_non_null(q_lim);
-  memcpy(q_lim, A.q, (size_t)A.n * sizeof *q_lim);
-  vs_dyn_opts o = arch_dyn_opts(&A);
-  recorder r;
-  vs_dyn_result res;
-  double wall = 0.0;
-  arch_dynamic(&A, &o, &r, &res, &wall);
-  print_message("snap: end %d at %.4f mm (t = %.3f s after the limit point), motion onset %.4f mm, "
-                "max KE %.3g J (rest %.3g J, collapse %.3g J), balance %.3g, %ld steps, %ld "
-                "Newton, %ld roots, %.3f s wall\n",
-                (int)res.end, res.delta_end * 1e3, res.t_end - dl / o.rate,
-                res.delta_motion * 1e3, res.max_kinetic, o.rest_ke, o.collapse_ke,
-                res.balance_error_rel, res.steps, res.newton_iterations, res.root_events, wall);
-  assert_int_equal(res.end, VS_DYN_SETTLED);
-  assert_true(isnan(res.t_collapse));
-  assert_true(res.max_kinetic < o.collapse_ke);
-  assert_true(res.max_kinetic > o.rest_ke); /* it did move: a snap, not a creep */
-  /* a little beyond the limit point: the rest time (1 s = 0.04 mm) and the snap's own duration */
-  assert_true(res.delta_end > dl);
-  assert_true(res.delta_end < dl + 1e-3);
-  assert_true(res.balance_error_rel < 1e-3);
-  /* an equilibrium at that delta, near the settled state */
-  double *q_eq = malloc((size_t)A.n * sizeof *q_eq);
   assert_non_null(q_eq);
-  memcpy(q_eq, A.q, (size_t)A.n * sizeof *q_eq);
+  memcpy(q_lim, A.q, (size_t)A.n * sizeof *q_lim);
+  const vs_dyn_opts o = arch_dyn_opts(&A);
+  vs_dynamic *d = arch_integrator(&A, &o);
+  recorder r;
+  rec_init(&r, 100000);
+  vs_dyn_result res;
+  double wall = 0.0, t = dl / o.rate, max_ke = 0.0, ke_creep = NAN, worst_balance = 0.0;
+  long steps = 0;
+  int calls = 0, found = 0;
+  memset(A.v, 0, (size_t)A.n * sizeof *A.v);
   vs_error err;
   vs_error_clear(&err);
   long iters = 0;
-  vs_status st = vs_equilibrium_solve(A.m, &A.po, res.delta_end, q_eq, &iters, &err);
-  if (st != VS_OK) fail_msg("equilibrium after the snap: %s: %s", vs_strerror(st), err.msg);
+  while (!found && calls < 30) {
+    arch_dynamic(&A, d, t, &r, &res, &wall);
+    calls++;
+    steps += res.steps;
+    max_ke = fmax(max_ke, res.max_kinetic);
+    worst_balance = fmax(worst_balance, res.balance_error_rel);
+    if (calls == 1) ke_creep = r.s[r.ns - 1].e.kinetic; /* 1 s on, before the snap */
+    assert_int_equal(res.end, VS_DYN_SETTLED);
+    assert_true(isnan(res.t_collapse));
+    assert_true(res.t_end >= t + o.rest_time * (1.0 - 1e-9));
+    t = res.t_end;
+    memcpy(q_eq, A.q, (size_t)A.n * sizeof *q_eq);
+    found = vs_equilibrium_solve(A.m, &A.po, res.delta_end, q_eq, &iters, &err) == VS_OK;
+  }
+  vs_dynamic_destroy(&d);
+  char before[1024], after[1024];
+  open_edges(A.m, q_lim, dl, o.open, before, sizeof before);
+  open_edges(A.m, q_eq, res.delta_end, o.open, after, sizeof after);
+  const int h_before = dominant_crown_hinge(A.m, q_lim, dl);
+  const int h_after = dominant_crown_hinge(A.m, q_eq, res.delta_end);
   double dq_settle = 0.0, dth_snap = 0.0;
   for (int i = 0; i < A.n; i += 3) {
     dq_settle = fmax(dq_settle, fabs(q_eq[i + 2] - A.q[i + 2]));
-    dth_snap = fmax(dth_snap, fabs(A.q[i + 2] - q_lim[i + 2]));
+    dth_snap = fmax(dth_snap, fabs(q_eq[i + 2] - q_lim[i + 2]));
   }
-  print_message("snap: equilibrium in %ld Newton iterations, max |rotation change| settled -> "
-                "equilibrium %.3g rad, limit point -> settled %.3g rad\n",
-                iters, dq_settle, dth_snap);
-  /* at rest means close to it: rest_ke bounds the residual motion */
-  assert_true(dq_settle < 0.1 * dth_snap);
-  assert_true(dth_snap > 1e-4); /* a hinge jumped */
+  print_message("snap: %d calls, equilibrium %s at %.4f mm (+%.4f mm, %.2f s after the limit "
+                "point) in %ld Newton iterations; max KE %.3g J (creeping %.3g J, rest %.3g J, "
+                "collapse %.3g J); worst balance %.3g; %ld steps, %.3f s wall\n"
+                "snap: max |rotation| settled -> equilibrium %.3g rad, limit point -> equilibrium "
+                "%.3g rad; open edges (mm) before: %s; after: %s; crown hinge centred at joint %d "
+                "-> %d\n",
+                calls, found ? "found" : "NOT found", res.delta_end * 1e3,
+                (res.delta_end - dl) * 1e3, (res.delta_end - dl) / o.rate, iters, max_ke, ke_creep,
+                o.rest_ke, o.collapse_ke, worst_balance, steps, wall, dq_settle, dth_snap, before,
+                after, h_before, h_after);
+  assert_true(found);
+  assert_true(calls >= 2); /* the first rest is the creep past the fold: no equilibrium there */
+  assert_true(res.delta_end > dl);
+  assert_true(res.delta_end < dl + 1e-3); /* a little beyond: within 1 mm */
+  /* a snap, not a creep: the kinetic energy rose well above that of following the support, but
+   * stayed far below the collapse threshold */
+  assert_true(max_ke > 20.0 * ke_creep);
+  assert_true(max_ke < 1e-3 * o.collapse_ke);
+  assert_true(worst_balance < 1e-3);
+  /* at rest means close to the equilibrium; the snap moved the arch to another branch */
+  assert_true(dq_settle < 0.05 * dth_snap);
+  assert_true(dth_snap > 1e-3);
+  assert_int_equal(abs(h_after - h_before), 1); /* the crown hinge jumped to the next joint */
+  assert_true(r.ne >= 1); /* the hinge change happened during the dynamic phase */
+  /* stable: the quasi-static path resumes from it (it refuses an unstable start) */
+  vs_path_opts po = A.po;
+  po.max_delta = res.delta_end + 0.2e-3;
+  vs_path_result pres;
+  memcpy(A.q, q_eq, (size_t)A.n * sizeof *q_eq);
+  vs_status st = vs_path_run(A.m, &po, res.delta_end, A.q, NULL, NULL, &pres, &err);
+  if (st != VS_OK) fail_msg("path resumed after the snap: %s: %s", vs_strerror(st), err.msg);
   free(q_eq);
   free(q_lim);
   rec_free(&r);
@@ -702,22 +882,37 @@ static void test_arch_collapse(void **state) {
   arch_to_limit(&A, 150.0);
   const double dl = A.pres.delta_limit;
   print_message("collapse: first limit point %.4f mm (%.3f s wall)\n", dl * 1e3, A.wall_path);
-  CHECK(dl, 110.3e-3, 0.0, 1.0e-3);
-  vs_dyn_opts o = arch_dyn_opts(&A);
+  CHECK(dl, 110.3e-3, 0.0, 0.1e-3);
+  const vs_dyn_opts o = arch_dyn_opts(&A);
+  vs_dynamic *d = arch_integrator(&A, &o);
   recorder r;
+  rec_init(&r, 100000);
   vs_dyn_result res;
   double wall = 0.0;
-  arch_dynamic(&A, &o, &r, &res, &wall);
-  print_message("collapse: end %d at %.4f mm, criterion at t - t_L = %.4f s, motion onset %.4f "
-                "mm, max KE %.4g J (collapse_ke %.4g J), balance %.3g, %ld steps, %ld roots, "
-                "%.3f s wall\n",
+  memset(A.v, 0, (size_t)A.n * sizeof *A.v);
+  arch_dynamic(&A, d, dl / o.rate, &r, &res, &wall);
+  vs_dynamic_destroy(&d);
+  print_message("collapse: end %d at %.4f mm, criterion %.4f s after the limit point, motion "
+                "onset %.4f mm, max KE %.4g J (collapse_ke %.4g J), balance %.3g, %ld steps, %ld "
+                "roots, %.3f s wall; first event: joint %d side %c %s\n",
                 (int)res.end, res.delta_end * 1e3, res.t_collapse - dl / o.rate,
                 res.delta_motion * 1e3, res.max_kinetic, o.collapse_ke, res.balance_error_rel,
-                res.steps, res.root_events, wall);
+                res.steps, res.root_events, wall, r.ne > 0 ? r.ev[0].joint : 0,
+                r.ne > 0 ? r.ev[0].side : '-', r.ne > 0 && r.ev[0].opened ? "opened" : "closed");
   assert_int_equal(res.end, VS_DYN_COLLAPSED);
   assert_true(!isnan(res.t_collapse));
+  assert_true(res.t_collapse > dl / o.rate);
   CHECK(res.t_end, res.t_collapse + o.fall_time, 1e-9, 0.0);
-  assert_true(res.max_kinetic > o.collapse_ke);
+  /* the fourth hinge: the left springing opens at its intrados, the thrust on its extrados */
+  assert_true(r.ne >= 1);
+  assert_int_equal(r.ev[0].joint, 1);
+  assert_int_equal(r.ev[0].side, 'E');
+  assert_int_equal(r.ev[0].opened, 1);
+  /* the margin: the criterion fires at 0.1 W t; a mechanism that keeps falling for
+   * fall_time = 0.2 s releases far more -- the weight dropping through one ring thickness (24 mm,
+   * 0.07 s of free fall) is W t = 10 collapse_ke. The snap of test_arch_snap_settles stays below
+   * 1e-3 collapse_ke: the two are four orders of magnitude apart. */
+  assert_true(res.max_kinetic > 10.0 * o.collapse_ke);
   assert_true(res.balance_error_rel < 1e-3);
   rec_free(&r);
   arch_free(&A);
@@ -727,6 +922,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_free_fall),
       cmocka_unit_test(test_damped_vibration),
+      cmocka_unit_test(test_moving_support),
       cmocka_unit_test(test_rocking),
       cmocka_unit_test(test_rocking_energy),
       cmocka_unit_test(test_arch_snap_settles),

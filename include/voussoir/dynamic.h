@@ -54,6 +54,8 @@ typedef struct {
   double t_end, delta_end;     /* where it stopped */
   double t_motion, delta_motion; /* onset of the last motion: the last time the kinetic
                                     energy rose above rest_ke before the end */
+  int onset_found;             /* 0 if it never rose above rest_ke from below (fast loading:
+                                  the arch never was at rest) */
   double t_collapse;           /* when the collapse criterion fired (NaN if not) */
   double max_kinetic;          /* J */
   double balance_error_rel;    /* max |balance| / max(|energy terms|) over the phase */

@@ -53,9 +53,12 @@ typedef struct {
 
 typedef struct {
   int found;
-  double delta;        /* collapse displacement delta_u: onset of the final motion, m */
+  double delta;        /* collapse displacement delta_u: the support's displacement when the
+                          kinetic energy passed the collapse threshold (the arch is falling), m */
   double t;            /* its time, s */
-  double t_criterion;  /* when the kinetic energy passed the collapse threshold, s */
+  double t_criterion;  /* the same time (kept for the record), s */
+  double t_onset;      /* when the final motion began (the kinetic energy last rose above the
+                          rest threshold), s; NaN where the arch was never at rest (fast loading) */
   int n_hinges;        /* hinges open at the criterion */
   vs_hinge hinges[8];  /* their copies, left to right */
 } vs_collapse_record;
