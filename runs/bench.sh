@@ -1,27 +1,47 @@
 #!/usr/bin/env bash
-# Benchmark: wall time, equilibria and Newton iterations of runs to the first limit point of
-# the reference specimen, alpha = 0 and 90 deg, k_n = 3 and 48 N/mm^3. Each case is run
-# REPEAT times (default 20); the median wall time of the path (JSON stats.wall_s) is printed.
+# Benchmark of the reference specimen, each case run REPEAT times (default 10), median wall time
+# of the run (JSON stats.wall_s):
+#  1. to the first limit point (quasi-static only), alpha = 0 and 90 deg, k_n = 3 and 48 N/mm^3:
+#     wall time, equilibria, Newton iterations, time per iteration;
+#  2. to the collapse (quasi-static + dynamic), and the whole loading dynamically at the
+#     laboratory rate 0.04 mm/s (about 35 minutes of simulated time): wall time, IDA steps.
 # usage: runs/bench.sh [BINARY] [REPEAT]
 set -euo pipefail
-here="$(cd "$(dirname "$0")" && pwd)"
-bin="${1:-$here/../build/voussoir}"
-repeat="${2:-20}"
-[ -x "$bin" ] || { echo "bench: $bin not built (cmake --build build)" >&2; exit 2; }
-field() { sed -E "s/.*\"$1\":([-0-9.eE+]+).*/\1/" <<<"$2"; }
-printf '%-8s %-10s %14s %12s %8s %10s %12s\n' alpha_deg kn_N_mm3 "limit (mm)" "wall (ms)" steps newton "ms/newton"
+VOUSSOIR="${1:-${VOUSSOIR:-$(cd "$(dirname "$0")" && pwd)/../build/voussoir}}"
+repeat="${2:-10}"
+source "$(dirname "$0")/lib.sh"
+median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
+lastfile="$out_dir/bench_last.json"
+run_median() { # args...: prints the median wall time; the last run's JSON goes to $lastfile
+  local times=() j
+  for ((i = 0; i < repeat; i++)); do
+    j="$("$bin" run "$here/reference.ini" "$@" --json -q)"
+    times+=("$(jnum wall_s "$j")")
+  done
+  printf '%s\n' "$j" >"$lastfile"
+  printf '%s\n' "${times[@]}" | median
+}
+echo "1. to the first limit point (quasi-static)"
+printf '   %-6s %-6s %12s %10s %7s %7s %10s\n' alpha kn "limit mm" "wall ms" steps newton "ms/newton"
 for alpha in 0 90; do
   for kn in 3 48; do
-    times=()
-    for ((i = 0; i < repeat; i++)); do
-      out="$("$bin" run "$here/reference.ini" --alpha "$alpha" --kn "$kn" --json -q)"
-      times+=("$(field wall_s "$out")")
-    done
-    med="$(printf '%s\n' "${times[@]}" | sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}')"
-    lim="$(sed -E 's/.*"first_limit":\{"delta_mm":([-0-9.eE+]+).*/\1/' <<<"$out")"
-    steps="$(field steps "$out")"
-    newton="$(field newton_iterations "$out")"
+    med="$(run_median --alpha "$alpha" --kn "$kn" --first-limit)"
+    last="$(cat "$lastfile")"
+    lim="$(sed -E 's/.*"first_limit":\{"delta_mm":([-0-9.eE+]+).*/\1/' <<<"$last")"
+    steps="$(jnum steps "$last")"; newton="$(jnum newton_iterations "$last")"
     awk -v a="$alpha" -v k="$kn" -v l="$lim" -v w="$med" -v s="$steps" -v n="$newton" \
-      'BEGIN {printf "%-8s %-10s %14.4f %12.2f %8d %10d %12.3f\n", a, k, l, 1e3*w, s, n, 1e3*w/n}'
+      'BEGIN {printf "   %-6s %-6s %12.4f %10.2f %7d %7d %10.3f\n", a, k, l, 1e3*w, s, n, 1e3*w/n}'
   done
+done
+echo "2. to the collapse"
+printf '   %-32s %12s %10s %9s %9s\n' case "delta_u mm" "wall ms" "q-s eq." "IDA steps"
+for spec in "quasi-static + dynamic, k_n 3|--kn 3" "quasi-static + dynamic, k_n 48|--kn 48" \
+            "dynamic from rest, 0.04 mm/s, k_n 3|--kn 3 --dynamic"; do
+  name="${spec%%|*}"; args="${spec#*|}"
+  # shellcheck disable=SC2086
+  med="$(run_median $args)"
+  last="$(cat "$lastfile")"
+  du="$(jcollapse delta_mm "$last")"
+  awk -v c="$name" -v d="$du" -v w="$med" -v s="$(jnum steps "$last")" -v ds="$(jnum dynamic_steps "$last")" \
+    'BEGIN {printf "   %-32s %12.4f %10.1f %9d %9d\n", c, d, 1e3*w, s, ds}'
 done

@@ -25,6 +25,9 @@ static const int VS_DYN_MAX_ORDER = 2;
 /* A velocity error is judged by the position error it makes over this time (s), about the period
  * of the contact modes: tighter velocity tolerances would make IDA resolve those vibrations. */
 static const double VS_DYN_VEL_TIME = 1e-4;
+/* After the collapse criterion the fall is integrated with tolerances this many times looser:
+ * it is recorded to be looked at, not measured. */
+static const double VS_DYN_FALL_TOL = 100.0;
 
 struct vs_dynamic {
   vs_model *m;
@@ -266,6 +269,8 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   N_VConst(0.0, d->yp);
   d->msg[0] = '\0';
   int flag = IDAReInit(d->ida, t0, d->y, d->yp);
+  if (flag == IDA_SUCCESS) flag = IDASVtolerances(d->ida, d->o.rtol, d->atol);
+  if (flag == IDA_SUCCESS) flag = IDARootInit(d->ida, 2 * d->nj + 1, root_fn);
   if (flag != IDA_SUCCESS)
     return vs_error_set(err, VS_ERR_SOLVER, "IDAReInit failed (flag %d)", flag);
   /* consistent initial derivatives: q' = v given, v' from the equations of motion */
@@ -301,7 +306,8 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     energies(d, t, y, e0, &e);
     scale = fmax(scale, fmax(fabs(e.kinetic), fmax(fabs(e.gravity), fabs(e.elastic))));
     scale = fmax(scale, fmax(fabs(e.support_work), fabs(e.damped)));
-    res->balance_error_rel = fmax(res->balance_error_rel, fabs(e.balance) / scale);
+    if (!collapsed) res->balance_error_rel = fmax(res->balance_error_rel, fabs(e.balance) / scale);
+    else res->balance_error_fall = fmax(res->balance_error_fall, fabs(e.balance) / scale);
     res->max_kinetic = fmax(res->max_kinetic, e.kinetic);
     /* motion episodes: moving while the kinetic energy is above rest_ke; at rest once it has
      * stayed below for rest_time (a single mode passes through zero at its turning points) */
@@ -331,7 +337,21 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
         collapsed = 1;
         res->t_collapse = t;
         t_stop = fmin(t_end, t + d->o.fall_time);
-        IDASetStopTime(d->ida, t_stop);
+        /* the fall is followed for the record only: restart from here without events and
+         * with looser tolerances (set on a restarted integrator: IDA re-reads them then) */
+        N_Vector at = N_VClone(d->atol);
+        int rf = (at == NULL) ? -1 : IDAReInit(d->ida, t, d->y, d->yp);
+        if (rf == IDA_SUCCESS) {
+          N_VScale(VS_DYN_FALL_TOL, d->atol, at);
+          rf = IDASVtolerances(d->ida, VS_DYN_FALL_TOL * d->o.rtol, at);
+        }
+        if (rf == IDA_SUCCESS) rf = IDARootInit(d->ida, 0, NULL);
+        if (rf == IDA_SUCCESS) rf = IDASetStopTime(d->ida, t_stop);
+        if (at != NULL) N_VDestroy(at);
+        if (rf != IDA_SUCCESS) {
+          st = vs_error_set(err, VS_ERR_SOLVER, "IDA restart for the fall failed (flag %d)", rf);
+          break;
+        }
       }
     }
     if (sample != NULL && (t - t_last_sample >= d->o.sample_dt || flag == IDA_ROOT_RETURN)) {

@@ -280,6 +280,7 @@ static void add_dyn_totals(vs_run *r, const vs_dyn_result *d) {
   r->dtot.jac_evals += d->jac_evals;
   r->dtot.max_kinetic = fmax(r->dtot.max_kinetic, d->max_kinetic);
   r->dtot.balance_error_rel = fmax(r->dtot.balance_error_rel, d->balance_error_rel);
+  r->dtot.balance_error_fall = fmax(r->dtot.balance_error_fall, d->balance_error_fall);
   r->dtot.end = d->end;
   r->dtot.t_end = d->t_end;
   r->dtot.delta_end = d->delta_end;

@@ -58,7 +58,9 @@ typedef struct {
                                   the arch never was at rest) */
   double t_collapse;           /* when the collapse criterion fired (NaN if not) */
   double max_kinetic;          /* J */
-  double balance_error_rel;    /* max |balance| / max(|energy terms|) over the phase */
+  double balance_error_rel;    /* max |balance| / max(|energy terms|) up to the collapse
+                                  criterion (or the end) */
+  double balance_error_fall;   /* the same during the fall after it (looser tolerances) */
   long steps, newton_iterations, root_events, jac_evals;
 } vs_dyn_result;
 

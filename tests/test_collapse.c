@@ -1,0 +1,132 @@
+/* The run to collapse of the reference specimen: the quasi-static path with its limit points
+ * followed dynamically, against the whole loading integrated dynamically at the laboratory rate
+ * (0.04 mm/s: slow enough that inertia cannot matter, so both must give the same collapse), the
+ * collapse's insensitivity to the time tolerances, the energy balance, and the hinge
+ * configuration the specimen is known to collapse in (DOMAIN.md: three hinges A, B, C first,
+ * the fourth D at the left support; spreading is symmetric enough for a fifth at the right). */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <string.h>
+
+#include "voussoir/run.h"
+
+static vs_run *run_case(const vs_case *c) {
+  vs_run *r = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  assert_int_equal(vs_case_validate(c, &err), VS_OK);
+  assert_int_equal(vs_run_create(c, &r, &err), VS_OK);
+  if (vs_run_execute(r, NULL, NULL, NULL, &err) != VS_OK) fail_msg("run failed: %s", err.msg);
+  if (!vs_run_collapse(r)->found) fail_msg("no collapse up to %g mm", vs_run_delta(r) * 1e3);
+  return r;
+}
+
+static double collapse_mm(const vs_case *c) {
+  vs_run *r = run_case(c);
+  const double d = vs_run_collapse(r)->delta * 1e3;
+  vs_run_destroy(&r);
+  return d;
+}
+
+/* Slow-loading fidelity: at 0.04 mm/s the full dynamic integration and the quasi-static path
+ * with dynamic transitions collapse at the same support displacement (within 1 %). */
+static void test_slow_dynamic_equals_quasistatic(void **s) {
+  (void)s;
+  vs_case c;
+  vs_case_defaults(&c);
+  const double qs = collapse_mm(&c);
+  c.full = 1;
+  const double dyn = collapse_mm(&c);
+  if (fabs(dyn - qs) > 0.01 * qs)
+    fail_msg("collapse %.4f mm (quasi-static + dynamic) vs %.4f mm (dynamic)", qs, dyn);
+}
+
+/* Tightening the time tolerances tenfold moves the collapse by less than 0.5 %. */
+static void test_time_tolerances(void **s) {
+  (void)s;
+  vs_case c;
+  vs_case_defaults(&c);
+  const double a = collapse_mm(&c);
+  c.rtol /= 10.0;
+  c.atol_mm /= 10.0;
+  const double b = collapse_mm(&c);
+  if (fabs(a - b) > 0.005 * b) fail_msg("collapse %.4f mm, tightened %.4f mm", a, b);
+}
+
+/* The energy balance holds through snaps and the collapse (until the fall, integrated loosely
+ * for the record), at the level of the integrator's tolerance. */
+static void test_energy_balance(void **s) {
+  (void)s;
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_run *r = run_case(&c);
+  const vs_dyn_result *d = vs_run_dynamic_totals(r);
+  assert_true(d->steps > 0);
+  if (!(d->balance_error_rel < 1e-4)) fail_msg("energy balance %.3g", d->balance_error_rel);
+  vs_run_destroy(&r);
+}
+
+static int has_hinge(const vs_collapse_record *col, int joint, char side) {
+  for (int i = 0; i < col->n_hinges; i++)
+    if (col->hinges[i].first <= joint && joint <= col->hinges[i].last && col->hinges[i].side == side)
+      return 1;
+  return 0;
+}
+
+/* Settlement: three hinges first, I-E-E from the left; the collapse adds D at the left support
+ * on the extrados: E-I-E-E, mode I. The first limit point is a snap-through that settles. */
+static void test_settlement_mode_I(void **s) {
+  (void)s;
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_run *r = run_case(&c);
+  const vs_collapse_record *col = vs_run_collapse(r);
+  assert_string_equal(vs_run_pattern_initial(r), "I-E-E");
+  assert_string_equal(vs_run_pattern_collapse(r), "E-I-E-E");
+  assert_non_null(vs_run_mode(r));
+  assert_string_equal(vs_run_mode(r), "I");
+  assert_true(has_hinge(col, 1, 'E'));
+  const vs_hinge *first = &col->hinges[0];
+  assert_int_equal(first->label, 'D');
+  assert_int_equal(first->order, 4);
+  assert_true(vs_run_limit_count(r) >= 2);
+  const vs_limit_record *l0 = vs_run_limit(r, 0);
+  assert_false(l0->collapse);
+  assert_true(l0->delta_settled > l0->delta);
+  assert_true(vs_run_limit(r, vs_run_limit_count(r) - 1)->collapse);
+  assert_true(col->delta >= vs_run_limit(r, vs_run_limit_count(r) - 1)->delta);
+  vs_run_destroy(&r);
+}
+
+/* Horizontal spreading (symmetric enough): I-E-I first, collapse E-I-E-I(-E), mode III, with the
+ * hinges at both supports on the extrados. */
+static void test_spreading_mode_III(void **s) {
+  (void)s;
+  vs_case c;
+  vs_case_defaults(&c);
+  c.alpha_deg = 90.0;
+  vs_run *r = run_case(&c);
+  const vs_collapse_record *col = vs_run_collapse(r);
+  assert_string_equal(vs_run_pattern_initial(r), "I-E-I");
+  assert_non_null(vs_run_mode(r));
+  assert_string_equal(vs_run_mode(r), "III");
+  assert_true(has_hinge(col, 1, 'E'));
+  assert_true(strncmp(vs_run_pattern_collapse(r), "E-I-E-I", 7) == 0);
+  vs_run_destroy(&r);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_slow_dynamic_equals_quasistatic),
+      cmocka_unit_test(test_time_tolerances),
+      cmocka_unit_test(test_energy_balance),
+      cmocka_unit_test(test_settlement_mode_I),
+      cmocka_unit_test(test_spreading_mode_III),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
