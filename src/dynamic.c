@@ -292,6 +292,10 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   double scale = fabs(e0), t = t0, t_last_sample = -INFINITY, t_rest = t0, t_stop = t_end;
   int moving = 0, collapsed = 0;
   vs_status st = VS_OK;
+  e.balance = 0.0; /* the reference of the balance */
+  if (sample != NULL && sample(user, t0, delta_at(d, t0), y, y + n, &e) != 0)
+    return vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+  t_last_sample = t0;
   res->t_motion = t0;
   res->delta_motion = delta_at(d, t0);
   for (;;) {
@@ -377,6 +381,9 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   }
   res->t_end = t;
   res->delta_end = delta_at(d, t);
+  if (st == VS_OK && sample != NULL && t > t_last_sample &&
+      sample(user, t, res->delta_end, y, y + n, &e) != 0) /* the final state */
+    st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
   IDAGetNumSteps(d->ida, &res->steps);
   IDAGetNumNonlinSolvIters(d->ida, &res->newton_iterations);
   res->jac_evals = d->jac_evals;

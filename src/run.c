@@ -36,6 +36,7 @@ struct vs_run {
   vs_hinge onset[8];     /* open hinges early in the current motion (collapse candidates) */
   int n_onset, onset_taken, frozen;
   int hinges_at_onset; /* hinges formed up to the snapshot of the collapse's onset */
+  int pending_snap;    /* limit record waiting for the equilibrium its snap settled in, or -1 */
   char pattern0[16], pattern_u[16];
   const char *mode;
   vs_run_sample_fn sample_fn;
@@ -105,6 +106,7 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
     return st;
   }
   r->collapse.delta = r->collapse.t = r->collapse.t_criterion = r->collapse.t_onset = NAN;
+  r->pending_snap = -1;
   *out = r;
   return VS_OK;
 }
@@ -201,6 +203,13 @@ static int on_equilibrium(void *user, double delta, const double *q, const vs_mo
   r->t = delta / r->dopts.rate;
   r->phase = VS_PHASE_QUASISTATIC;
   if (track_hinges(r, r->t, delta, q) != 0) return 1;
+  if (r->pending_snap >= 0) { /* the first equilibrium after a snap-through */
+    vs_limit_record *l = &r->limits[r->pending_snap];
+    r->pending_snap = -1;
+    l->delta_settled = delta;
+    vs_run_open_hinges(r, l->hinges_after, sizeof l->hinges_after);
+    if (log_event(r, VS_EVENT_SNAP_SETTLED, r->t, delta, 0, 0, 0, 0) != 0) return 1;
+  }
   vs_run_sample s = {.phase = VS_PHASE_QUASISTATIC, .t = r->t, .delta = delta, .q = q};
   return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
 }
@@ -405,15 +414,9 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
     for (;;) {
       vs_path_result p;
       r->phase = VS_PHASE_QUASISTATIC;
+      r->pending_snap = (delta0 > 0.0 && r->n_limits > 0) ? r->n_limits - 1 : -1;
       st = vs_path_run(r->m, &r->popts, delta0, r->q, on_equilibrium, r, &p, err);
       add_path_totals(r, &p);
-      if (delta0 > 0.0 && r->n_limits > 0) { /* a snap-through settled */
-        vs_limit_record *l = &r->limits[r->n_limits - 1];
-        l->delta_settled = delta0;
-        vs_run_open_hinges(r, l->hinges_after, sizeof l->hinges_after);
-        if (log_event(r, VS_EVENT_SNAP_SETTLED, delta0 / r->dopts.rate, delta0, 0, 0, 0, 0) != 0)
-          st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
-      }
       if (st != VS_OK || p.end != VS_PATH_LIMIT_POINT) break;
       r->delta = p.delta_limit;
       r->t = r->delta / r->dopts.rate;
