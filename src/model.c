@@ -278,6 +278,7 @@ void vs_model_reactions(const vs_model *m, const double *q, double delta, double
   left[0] = left[1] = right[0] = right[1] = 0.0;
   for (int k = 0; k < m->g->n_joints; k++) {
     const vs_joint_geom *j = &m->g->joints[k];
+    if (body_is_block(j->a) && body_is_block(j->b)) continue; /* not at a support */
     double f[6];
     eval_joint(m, q, delta, k, NULL, f, NULL);
     /* f on a support's translation is dE/du_support; the arch pushes it with -f */
