@@ -1,4 +1,5 @@
 /* voussoir command line: create -> configure -> run -> report -> destroy. */
+#define _POSIX_C_SOURCE 200809L /* readlink, isatty */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -8,6 +9,7 @@
 #include "voussoir/case.h"
 #include "voussoir/report.h"
 #include "voussoir/run.h"
+#include "voussoir/sweep.h"
 #include "voussoir/units.h"
 #include "voussoir/version.h"
 
@@ -15,6 +17,8 @@ enum { EXIT_RUN_FAILED = 1, EXIT_BAD_INPUT = 2 };
 
 static const char *USAGE =
     "usage: voussoir run CASE [options]\n"
+    "       voussoir sweep CASE --alpha LIST --kn LIST [...]   (voussoir sweep --help)\n"
+    "       voussoir calibrate CASE --target-dz-pct X [...]  (voussoir calibrate --help)\n"
     "       voussoir --help | --version\n"
     "\n"
     "Simulates a masonry arch of rigid voussoirs on dry, no-tension, frictional, elastic joints\n"
@@ -178,6 +182,14 @@ int main(int argc, char **argv) {
     printf("voussoir %s\n", VS_VERSION);
     return EXIT_SUCCESS;
   }
+  if (strcmp(argv[1], "sweep") == 0) {
+    char self[4096];
+    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (n <= 0) return vs_cmd_sweep(argc, argv, argv[0]);
+    self[n] = '\0';
+    return vs_cmd_sweep(argc, argv, self);
+  }
+  if (strcmp(argv[1], "calibrate") == 0) return vs_cmd_calibrate(argc, argv);
   if (strcmp(argv[1], "run") == 0) {
     for (int i = 2; i < argc; i++)
       if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {

@@ -98,7 +98,8 @@ static void json_limits(FILE *out, const vs_run *r) {
   for (int i = 0; i < vs_run_limit_count(r); i++) {
     const vs_limit_record *l = vs_run_limit(r, i);
     fprintf(out, "%s{\"delta_mm\":%.10g,\"kind\":\"%s\",\"delta_settled_mm\":", i ? "," : "",
-            l->delta / VS_MM, l->collapse ? "collapse" : "snap");
+            l->delta / VS_MM,
+            l->collapse ? "collapse" : isfinite(l->delta_settled) ? "snap" : "unfollowed");
     json_number_or_null(out, l->delta_settled / VS_MM);
     fputs(",\"hinges_before\":", out);
     vs_json_string(out, l->hinges_before);
@@ -216,7 +217,8 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
     fprintf(out, "\nlimit points\n");
     for (int i = 0; i < vs_run_limit_count(r); i++) {
       const vs_limit_record *l = vs_run_limit(r, i);
-      fprintf(out, "  %9.4f mm  %-8s", l->delta / VS_MM, l->collapse ? "collapse" : "snap");
+      fprintf(out, "  %9.4f mm  %-8s", l->delta / VS_MM,
+              l->collapse ? "collapse" : isfinite(l->delta_settled) ? "snap" : "limit");
       if (isfinite(l->delta_settled))
         fprintf(out, " settled at %.4f mm: %s  ->  %s", l->delta_settled / VS_MM, l->hinges_before,
                 l->hinges_after);

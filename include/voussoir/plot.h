@@ -1,0 +1,118 @@
+/* Pictures with cairo, PNG or SVG: the arch in a deformed state at true scale (voussoirs, open
+ * joints, hinges, supports) and curves against the support displacement (reactions, hinge
+ * joints). A pure drawing module: it reads no records; the caller passes the data, in SI units. */
+#ifndef VOUSSOIR_PLOT_H
+#define VOUSSOIR_PLOT_H
+
+#include "voussoir/geometry.h"
+#include "voussoir/hinges.h"
+#include "voussoir/status.h"
+
+typedef enum { VS_PLOT_PNG = 0, VS_PLOT_SVG = 1 } vs_plot_format;
+
+/* Picture sizes: pixels for PNG, points (1/72 in) for SVG. */
+#define VS_PLOT_ARCH_WIDTH 1200
+#define VS_PLOT_ARCH_HEIGHT 700
+#define VS_PLOT_CURVES_WIDTH 1200
+#define VS_PLOT_CURVES_HEIGHT 800
+
+/* Most panels vs_plot_curves stacks, and most series per panel. */
+#define VS_PLOT_MAX_PANELS 4
+#define VS_PLOT_MAX_SERIES 16
+
+/* Format named by a file name's extension: ".svg" (any case) is SVG, anything else PNG. */
+vs_plot_format vs_plot_format_from_path(const char *path);
+
+/* ---------------------------------------------------------------------------------------------
+ * The arch */
+
+/* Mapping of the arch picture from model coordinates (x right, z up, m) to picture coordinates
+ * (px from the top-left corner, y down): px = x0 + scale x, py = y0 - scale z. One scale for x
+ * and z: the picture is at true scale. */
+typedef struct {
+  int width, height; /* picture size, px */
+  double scale;      /* px per m */
+  double x0, y0;     /* picture position of the model origin (the arch's centre), px */
+} vs_plot_frame;
+
+static inline void vs_plot_to_px(const vs_plot_frame *f, double x, double z, double *px,
+                                 double *py) {
+  *px = f->x0 + f->scale * x;
+  *py = f->y0 - f->scale * z;
+}
+
+/* The frame vs_plot_arch uses for the same g, q, delta_m and alpha_rad: the smallest box holding
+ * the reference arch, the deformed voussoirs and both supports (the right one at its fixed and
+ * its moved position), fitted with margins into VS_PLOT_ARCH_WIDTH x VS_PLOT_ARCH_HEIGHT and
+ * centred. Arguments and errors as vs_plot_arch. */
+vs_status vs_plot_arch_frame(const vs_geometry *g, const double *q, double delta_m,
+                             double alpha_rad, vs_plot_frame *f, vs_error *err);
+
+/* Draw the arch of g (from vs_geometry_create_arch: blocks with phi0/phi1, n_blocks + 1 joints)
+ * in state q into the file path (created or truncated) as a PNG or SVG picture of
+ * VS_PLOT_ARCH_WIDTH x VS_PLOT_ARCH_HEIGHT at true scale:
+ *   - the reference arch faint in the background, each voussoir of state q as a filled polygon
+ *     (its intrados and extrados arcs sampled at least every degree, moved rigidly:
+ *     x = c + u + R(theta)(X - c));
+ *   - the supports: the left fixed; the right moved by delta_m along alpha_rad from the vertical,
+ *     (sin alpha, -cos alpha), its fixed position dashed and an arrow for the displacement;
+ *   - open joints: where joint k's gap joint_gap_i[k-1] or joint_gap_e[k-1] (m, > 0 open,
+ *     n_joints entries each, as vs_joint_state) exceeds open_m, a wedge between the two moved
+ *     faces and the joint line, in red. Either array NULL: no joint is shaded;
+ *   - each open hinge of hinges[0..n_hinges-1] (closed ones are skipped) as a dot in its label's
+ *     colour on the side that stays in contact ('I' intrados, 'E' extrados) of its middle joint,
+ *     smaller dots on the other joints of a spread hinge, and its label ("A  9-I") beside it;
+ *   - the title (NULL: none), "delta = .. mm (dz .. mm, dx .. mm)", a scale bar in mm and a key.
+ * q: 3 n_blocks entries (ux, uz in m, theta in rad per block, as vs_model); NULL draws the
+ * reference configuration. hinges may be NULL when n_hinges is 0.
+ * Errors: VS_ERR_INVALID for NULL path or g, a geometry that is not an arch, non-finite q or
+ * delta_m or alpha_rad, n_hinges < 0, a hinge whose joints are outside 1..n_joints or whose side
+ * is not 'I'/'E', a negative open_m; VS_ERR_IO when the file cannot be created or written or
+ * cairo fails ("PATH: ...: cairo's status string"; a partly written file is removed);
+ * VS_ERR_NOMEM. Nothing is printed. */
+vs_status vs_plot_arch(const char *path, vs_plot_format fmt, const vs_geometry *g,
+                       const double *q, double delta_m, double alpha_rad, const vs_hinge *hinges,
+                       int n_hinges, const double *joint_gap_i, const double *joint_gap_e,
+                       double open_m, const char *title, vs_error *err);
+
+/* ---------------------------------------------------------------------------------------------
+ * Curves */
+
+/* An axis: its label with the unit shown, and the factor from the data (SI) to that unit. */
+typedef struct {
+  const char *label; /* e.g. "support displacement delta (mm)"; NULL: none */
+  double scale;      /* shown value = data * scale (1e3: m -> mm); 0 means 1 */
+  int integer;       /* 1: ticks on whole numbers only (joint numbers) */
+} vs_plot_axis;
+
+/* One curve: n values (the n of vs_plot_curves) against the shared x. A NaN leaves a gap (a
+ * hinge not yet formed, or closed). Named "A".."E" it takes that hinge label's colour, the same
+ * as in vs_plot_arch; other names take colours in order. */
+typedef struct {
+  const char *name; /* legend entry; NULL or "" for none */
+  const double *y;  /* n values, in the units of the panel's data (SI) */
+} vs_plot_series;
+
+/* A panel: a y axis and its curves. */
+typedef struct {
+  vs_plot_axis y;
+  const vs_plot_series *series;
+  int n_series; /* 1..VS_PLOT_MAX_SERIES */
+} vs_plot_panel;
+
+/* Draw n_panels panels stacked top to bottom, sharing the x axis x_axis with data x (n values,
+ * NaN skipped), into the file path as a PNG or SVG picture of VS_PLOT_CURVES_WIDTH x
+ * VS_PLOT_CURVES_HEIGHT, with the title (NULL: none) on top. Each panel has its own y range
+ * (the finite data rounded out to ticks), ticks with labels, grid lines and a legend; the x tick
+ * labels are on the bottom panel. Typically: x = delta (m, scale 1e3, "delta (mm)"); panel 1 the
+ * vertical reaction at the moved support (N); panel 2 one series per hinge label, the joint
+ * number of that hinge (the middle joint of a spread hinge) or NaN where it is not open.
+ * Errors: VS_ERR_INVALID for NULL path, x or panels, n < 1, n_panels outside
+ * 1..VS_PLOT_MAX_PANELS, a panel with NULL series or n_series outside 1..VS_PLOT_MAX_SERIES, a
+ * series with NULL y, a non-finite or negative axis scale; VS_ERR_IO and VS_ERR_NOMEM as
+ * vs_plot_arch. Nothing is printed. */
+vs_status vs_plot_curves(const char *path, vs_plot_format fmt, const char *title,
+                         const vs_plot_axis *x_axis, const double *x, int n,
+                         const vs_plot_panel *panels, int n_panels, vs_error *err);
+
+#endif

@@ -1,0 +1,27 @@
+/* Studies over many runs: lists of values ("0:90:5", "0,5,10", "0.1,1:10:1"), the cartesian
+ * product of axes, runs as independent processes on all cores with a summary table, and the
+ * calibration of k_n against a measured collapse displacement. */
+#ifndef VOUSSOIR_SWEEP_H
+#define VOUSSOIR_SWEEP_H
+
+#include <stddef.h>
+
+#include "voussoir/case.h"
+#include "voussoir/status.h"
+
+/* Parse a list of numbers: comma-separated items, each a number or an inclusive range
+ * "first:last:step" (step > 0, last >= first; the last value is included when it falls on the
+ * grid within 1e-9 of a step). *values is malloc'd (caller frees); *n its length (>= 1).
+ * Errors: VS_ERR_USAGE naming what (e.g. "--alpha") and the offending item. */
+vs_status vs_parse_list(const char *what, const char *text, double **values, int *n,
+                        vs_error *err);
+
+/* Log-spaced list "a:b:n" helper for studies: n values from a to b (a, b > 0, n >= 2). */
+vs_status vs_logspace(double a, double b, int n, double **values, vs_error *err);
+
+/* The sweep and calibrate commands of the CLI (argv as given to main, argv[1] the command).
+ * They print to stdout/stderr and return an exit status (0 ok, 1 a failure, 2 bad input). */
+int vs_cmd_sweep(int argc, char **argv, const char *self_path);
+int vs_cmd_calibrate(int argc, char **argv);
+
+#endif

@@ -1,0 +1,563 @@
+/* The sweep and calibrate commands: many runs of one case. A sweep runs every combination of its
+ * axes as an independent process of this program on all cores and collects their JSON into a
+ * summary table; calibrate finds the k_n that reproduces a measured collapse displacement. */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "voussoir/run.h"
+#include "voussoir/sweep.h"
+#include "voussoir/units.h"
+
+enum { EXIT_FAIL = 1, EXIT_USAGE = 2, MAX_AXES = 8, MAX_SETS = 64 };
+
+static const char *SWEEP_USAGE =
+    "usage: voussoir sweep CASE [--alpha LIST] [--kn LIST] [--vary SECTION.KEY=LIST]...\n"
+    "                      [--set SECTION.KEY=VALUE]... [--first-limit | --dynamic]\n"
+    "                      [-j N] [-o DIR] [-q]\n"
+    "Runs the case for every combination of the lists, as independent processes (-j, default:\n"
+    "the number of cores), and writes DIR/run_NNNN.json per run and DIR/summary.csv. A run that\n"
+    "fails is reported in the table with its cause; the others go on.\n"
+    "LIST: comma-separated numbers and inclusive ranges first:last:step, e.g. 0:45:5,60,75,90.\n"
+    "--alpha and --kn are the axes support.alpha_deg and joints.kn_N_mm3; --vary sweeps any key.\n"
+    "-o DIR: default sweep_out. Exit status 0 when every run worked, 1 if any failed, 2 bad input.\n";
+
+static const char *CAL_USAGE =
+    "usage: voussoir calibrate CASE (--target-dz-pct X | --target-dx-pct X) [--kn-min N_MM3]\n"
+    "                          [--kn-max N_MM3] [--tol-pct X] [--set SECTION.KEY=VALUE]... [-q]\n"
+    "Finds the joint stiffness k_n (N/mm^3) whose collapse displacement component dz/L (or\n"
+    "dx/L), in %, equals the target: a log-spaced scan of [kn-min, kn-max] (default 0.1, 100)\n"
+    "brackets the first crossing, then bracketed false position (Illinois) on log k_n refines it\n"
+    "to tol-pct (default 0.01 % of L). Reports the bracket, every iteration and the sensitivity\n"
+    "d(delta_u/L)/d(log10 k_n) at the answer; says so when no k_n in the range reaches the target.\n";
+
+typedef struct {
+  char key[96];  /* section.key */
+  double *v;
+  int n;
+} axis;
+
+/* --- a tiny reader of the fields of voussoir's own JSON --- */
+
+static const char *after(const char *s, const char *anchor) {
+  const char *p = s ? strstr(s, anchor) : NULL;
+  return p ? p + strlen(anchor) : NULL;
+}
+
+static double num_after(const char *s, const char *anchor) {
+  const char *p = after(s, anchor);
+  if (p == NULL || strncmp(p, "null", 4) == 0) return NAN;
+  return strtod(p, NULL);
+}
+
+/* The string value after anchor (which ends with the opening quote), unescaped naively. */
+static void str_after(const char *s, const char *anchor, char *out, size_t size) {
+  const char *p = after(s, anchor);
+  size_t k = 0;
+  out[0] = '\0';
+  if (p == NULL) return;
+  for (; *p && *p != '"' && k + 1 < size; p++) {
+    if (*p == '\\' && p[1]) p++;
+    out[k++] = *p;
+  }
+  out[k] = '\0';
+}
+
+/* "D:1-E A:9-10-I ..." from the collapse object's hinges. */
+static void collapse_hinges(const char *json, char *out, size_t size) {
+  out[0] = '\0';
+  const char *c = after(json, "\"collapse\":{");
+  const char *h = c ? after(c, "\"hinges\":[") : NULL;
+  size_t used = 0;
+  while (h && *h == '{') {
+    char label[8], side[8], joints[128] = "";
+    str_after(h, "\"label\":\"", label, sizeof label);
+    str_after(h, "\"side\":\"", side, sizeof side);
+    const char *j = after(h, "\"joints\":[");
+    size_t k = 0;
+    for (; j && *j && *j != ']' && k + 1 < sizeof joints; j++) joints[k++] = (*j == ',') ? '-' : *j;
+    joints[k] = '\0';
+    int w = snprintf(out + used, size - used, "%s%s:%s-%s", used ? " " : "", label, joints, side);
+    if (w < 0 || (size_t)w >= size - used) break;
+    used += (size_t)w;
+    h = strchr(h, '}');
+    if (h == NULL) break;
+    h += (h[1] == ',') ? 2 : 1;
+  }
+}
+
+static char *slurp(const char *path) {
+  FILE *f = fopen(path, "rb");
+  if (f == NULL) return NULL;
+  size_t cap = 4096, n = 0;
+  char *buf = malloc(cap);
+  for (size_t r; buf != NULL && (r = fread(buf + n, 1, cap - n - 1, f)) > 0;) {
+    n += r;
+    if (cap - n < 2) {
+      char *nb = realloc(buf, cap *= 2);
+      if (nb == NULL) {
+        free(buf);
+        buf = NULL;
+      } else {
+        buf = nb;
+      }
+    }
+  }
+  fclose(f);
+  if (buf) buf[n] = '\0';
+  return buf;
+}
+
+/* --- sweep --- */
+
+typedef struct {
+  pid_t pid;
+  int index;
+} child;
+
+static double now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Start run `index` (values[a] of every axis) as a child writing DIR/run_NNNN.json/.err. */
+static pid_t start_run(const char *self, const char *case_path, const char *dir, int index,
+                       const axis *ax, int nax, const int *pick, char **sets, int nsets,
+                       const char *mode_flag) {
+  char *args[2 * (MAX_AXES + MAX_SETS) + 16];
+  char vals[MAX_AXES][160], json[1100], errp[1100];
+  int a = 0;
+  args[a++] = (char *)self;
+  args[a++] = "run";
+  args[a++] = (char *)case_path;
+  for (int s = 0; s < nsets; s++) {
+    args[a++] = "--set";
+    args[a++] = sets[s];
+  }
+  for (int x = 0; x < nax; x++) {
+    snprintf(vals[x], sizeof vals[x], "%.95s=%.17g", ax[x].key, ax[x].v[pick[x]]);
+    args[a++] = "--set";
+    args[a++] = vals[x];
+  }
+  if (mode_flag != NULL) args[a++] = (char *)mode_flag;
+  args[a++] = "--json";
+  args[a++] = "-q";
+  args[a] = NULL;
+  snprintf(json, sizeof json, "%s/run_%04d.json", dir, index);
+  snprintf(errp, sizeof errp, "%s/run_%04d.err", dir, index);
+  pid_t pid = fork();
+  if (pid != 0) return pid; /* parent (or -1) */
+  int fo = open(json, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  int fe = open(errp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fo < 0 || fe < 0 || dup2(fo, STDOUT_FILENO) < 0 || dup2(fe, STDERR_FILENO) < 0) _exit(127);
+  execv(self, args);
+  _exit(127);
+}
+
+static void write_row(FILE *csv, int index, const axis *ax, int nax, const int *pick,
+                      const char *dir, int exit_status) {
+  char path[1024], status[32] = "failed", error[512] = "", mode[8] = "", hinges[512] = "";
+  snprintf(path, sizeof path, "%s/run_%04d.json", dir, index);
+  char *json = slurp(path);
+  fprintf(csv, "%d", index);
+  for (int x = 0; x < nax; x++) fprintf(csv, ",%.10g", ax[x].v[pick[x]]);
+  if (json != NULL && strstr(json, "\"program\":\"voussoir\"") != NULL) {
+    str_after(json, "\"status\":\"", status, sizeof status);
+    str_after(json, "\"error\":\"", error, sizeof error);
+    str_after(json, "\"mode\":\"", mode, sizeof mode);
+    collapse_hinges(json, hinges, sizeof hinges);
+  } else {
+    snprintf(path, sizeof path, "%s/run_%04d.err", dir, index);
+    char *e = slurp(path);
+    snprintf(error, sizeof error, "exit status %d: %s", exit_status, e ? e : "");
+    free(e);
+    char *nl = strchr(error, '\n');
+    if (nl) *nl = '\0';
+  }
+  int snaps = 0;
+  for (const char *p = json; p && (p = strstr(p, "\"kind\":\"snap\"")) != NULL; p++) snaps++;
+  for (char *p = error; *p; p++)
+    if (*p == '"') *p = '\'';
+  fprintf(csv, ",%s,%.10g,%.10g,%.10g,%.10g,\"%s\",%s,%d,%.4g,\"%s\"\n", status,
+          num_after(json, "\"first_limit\":{\"delta_mm\":"),
+          num_after(json, "\"collapse\":{\"delta_mm\":"),
+          num_after(after(json, "\"collapse\":{"), "\"dz_over_L_pct\":"),
+          num_after(after(json, "\"collapse\":{"), "\"dx_over_L_pct\":"), hinges, mode, snaps,
+          num_after(json, "\"wall_s\":"), error);
+  fflush(csv);
+  free(json);
+}
+
+static int cmp_rows(const void *x, const void *y) {
+  return atoi(*(char *const *)x) - atoi(*(char *const *)y);
+}
+
+/* Rewrite the table (written in completion order) in run order, atomically. */
+static void sort_table(const char *path) {
+  char *text = slurp(path), tmp[1100];
+  if (text == NULL) return;
+  char *header = text, *body = strchr(text, '\n');
+  int n = 0, cap = 64;
+  char **rows = malloc((size_t)cap * sizeof *rows);
+  if (body == NULL || rows == NULL) {
+    free(text);
+    free(rows);
+    return;
+  }
+  *body++ = '\0';
+  for (char *line = strtok(body, "\n"); line; line = strtok(NULL, "\n")) {
+    if (n == cap) {
+      char **nr = realloc(rows, (size_t)(cap *= 2) * sizeof *rows);
+      if (nr == NULL) break;
+      rows = nr;
+    }
+    rows[n++] = line;
+  }
+  qsort(rows, (size_t)n, sizeof *rows, cmp_rows);
+  snprintf(tmp, sizeof tmp, "%s.tmp", path);
+  FILE *f = fopen(tmp, "w");
+  if (f != NULL) {
+    fprintf(f, "%s\n", header);
+    for (int i = 0; i < n; i++) fprintf(f, "%s\n", rows[i]);
+    if (fclose(f) == 0) rename(tmp, path);
+  }
+  free(rows);
+  free(text);
+}
+
+static int parse_common(int argc, char **argv, int i, char **sets, int *nsets, const char **q) {
+  (void)q;
+  if (strcmp(argv[i], "--set") == 0 && i + 1 < argc && *nsets < MAX_SETS) {
+    sets[(*nsets)++] = argv[i + 1];
+    return 2;
+  }
+  return 0;
+}
+
+/* Validate the case with the fixed overrides and every value of every axis. */
+static int validate_all(const char *case_path, char **sets, int nsets, const axis *ax, int nax) {
+  vs_case c;
+  vs_error err;
+  vs_error_clear(&err);
+  vs_case_defaults(&c);
+  if (vs_case_read(&c, case_path, NULL, &err) != VS_OK) goto bad;
+  for (int s = 0; s < nsets; s++)
+    if (vs_case_set(&c, sets[s], &err) != VS_OK) goto bad;
+  for (int x = 0; x < nax; x++)
+    for (int k = 0; k < ax[x].n; k++) {
+      vs_case t = c;
+      char buf[160];
+      snprintf(buf, sizeof buf, "%.95s=%.17g", ax[x].key, ax[x].v[k]);
+      if (vs_case_set(&t, buf, &err) != VS_OK || vs_case_validate(&t, &err) != VS_OK) goto bad;
+    }
+  return 0;
+bad:
+  fprintf(stderr, "voussoir sweep: %s\n", err.msg);
+  return -1;
+}
+
+int vs_cmd_sweep(int argc, char **argv, const char *self) {
+  const char *case_path = NULL, *dir = "sweep_out", *mode_flag = NULL;
+  char *sets[MAX_SETS];
+  int nsets = 0, nax = 0, jobs = (int)sysconf(_SC_NPROCESSORS_ONLN), quiet = 0, rc = EXIT_USAGE;
+  axis ax[MAX_AXES];
+  memset(ax, 0, sizeof ax);
+  vs_error err;
+  vs_error_clear(&err);
+  for (int i = 2; i < argc; i++) {
+    const char *a = argv[i];
+    int used = parse_common(argc, argv, i, sets, &nsets, NULL);
+    if (used) {
+      i += used - 1;
+    } else if ((strcmp(a, "--alpha") == 0 || strcmp(a, "--kn") == 0 || strcmp(a, "--vary") == 0) &&
+               i + 1 < argc) {
+      if (nax == MAX_AXES) {
+        fprintf(stderr, "voussoir sweep: at most %d axes\n", MAX_AXES);
+        goto cleanup;
+      }
+      const char *list = argv[++i];
+      if (strcmp(a, "--vary") == 0) {
+        const char *eq = strchr(list, '=');
+        if (eq == NULL || (size_t)(eq - list) >= sizeof ax[nax].key) {
+          fprintf(stderr, "voussoir sweep: --vary %s: expected SECTION.KEY=LIST\n", list);
+          goto cleanup;
+        }
+        snprintf(ax[nax].key, sizeof ax[nax].key, "%.*s", (int)(eq - list), list);
+        list = eq + 1;
+      } else {
+        snprintf(ax[nax].key, sizeof ax[nax].key, "%s",
+                 strcmp(a, "--alpha") == 0 ? "support.alpha_deg" : "joints.kn_N_mm3");
+      }
+      if (vs_parse_list(a, list, &ax[nax].v, &ax[nax].n, &err) != VS_OK) {
+        fprintf(stderr, "voussoir sweep: %s\n", err.msg);
+        goto cleanup;
+      }
+      nax++;
+    } else if (strcmp(a, "-j") == 0 && i + 1 < argc) {
+      jobs = atoi(argv[++i]);
+      if (jobs < 1 || jobs > 1024) {
+        fprintf(stderr, "voussoir sweep: -j %s (allowed: 1..1024)\n", argv[i]);
+        goto cleanup;
+      }
+    } else if (strcmp(a, "-o") == 0 && i + 1 < argc) {
+      dir = argv[++i];
+    } else if (strcmp(a, "-q") == 0) {
+      quiet = 1;
+    } else if (strcmp(a, "--first-limit") == 0 || strcmp(a, "--dynamic") == 0) {
+      mode_flag = a;
+    } else if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
+      fputs(SWEEP_USAGE, stdout);
+      rc = 0;
+      goto cleanup;
+    } else if (a[0] != '-' && case_path == NULL) {
+      case_path = a;
+    } else {
+      fprintf(stderr, "voussoir sweep: unexpected argument %s\n%s", a, SWEEP_USAGE);
+      goto cleanup;
+    }
+  }
+  if (case_path == NULL || nax == 0) {
+    fprintf(stderr, "voussoir sweep: needs a CASE and at least one list\n%s", SWEEP_USAGE);
+    goto cleanup;
+  }
+  if (validate_all(case_path, sets, nsets, ax, nax) != 0) goto cleanup;
+  if (mkdir(dir, 0755) != 0 && errno != EEXIST) {
+    fprintf(stderr, "voussoir sweep: -o %s: cannot create: %s\n", dir, strerror(errno));
+    goto cleanup;
+  }
+  int total = 1;
+  for (int x = 0; x < nax; x++) total *= ax[x].n;
+  char path[1024];
+  snprintf(path, sizeof path, "%s/summary.csv", dir);
+  FILE *csv = fopen(path, "w");
+  if (csv == NULL) {
+    fprintf(stderr, "voussoir sweep: %s: cannot create: %s\n", path, strerror(errno));
+    goto cleanup;
+  }
+  fputs("run", csv);
+  for (int x = 0; x < nax; x++) fprintf(csv, ",%s", ax[x].key);
+  fputs(",status,first_limit_mm,delta_u_mm,dz_over_L_pct,dx_over_L_pct,hinges_at_collapse,mode,"
+        "snaps,wall_s,error\n",
+        csv);
+  /* the rows are written in completion order; each carries its run number */
+  child *running = calloc((size_t)jobs, sizeof *running);
+  int (*picks)[MAX_AXES] = calloc((size_t)total, sizeof *picks);
+  if (running == NULL || picks == NULL) {
+    fprintf(stderr, "voussoir sweep: out of memory\n");
+    fclose(csv);
+    free(running);
+    free(picks);
+    goto cleanup;
+  }
+  for (int r = 0; r < total; r++)
+    for (int x = nax - 1, rem = r; x >= 0; x--) {
+      picks[r][x] = rem % ax[x].n;
+      rem /= ax[x].n;
+    }
+  int next = 0, done = 0, failed = 0, active = 0;
+  const double t0 = now_s();
+  const int progress = !quiet && isatty(STDERR_FILENO);
+  while (done < total) {
+    while (active < jobs && next < total) {
+      pid_t pid = start_run(self, case_path, dir, next + 1, ax, nax, picks[next], sets, nsets,
+                            mode_flag);
+      if (pid < 0) {
+        fprintf(stderr, "voussoir sweep: fork failed: %s\n", strerror(errno));
+        break;
+      }
+      for (int k = 0; k < jobs; k++)
+        if (running[k].pid == 0) {
+          running[k] = (child){pid, next};
+          break;
+        }
+      active++;
+      next++;
+    }
+    if (active == 0) break;
+    int status = 0;
+    pid_t pid = wait(&status);
+    if (pid < 0) break;
+    for (int k = 0; k < jobs; k++) {
+      if (running[k].pid != pid) continue;
+      const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      write_row(csv, running[k].index + 1, ax, nax, picks[running[k].index], dir, code);
+      failed += code != 0;
+      running[k].pid = 0;
+      active--;
+      done++;
+    }
+    if (progress)
+      fprintf(stderr, "\r  runs %d/%d done, %d running, %d failed, %.1f s   ", done, total, active,
+              failed, now_s() - t0);
+  }
+  if (progress) fputs("\r\033[K", stderr);
+  fclose(csv);
+  sort_table(path);
+  free(running);
+  free(picks);
+  printf("%d runs (%d failed) in %.1f s on %d processes; table: %s\n", total, failed,
+         now_s() - t0, jobs, path);
+  rc = failed ? EXIT_FAIL : 0;
+cleanup:
+  for (int x = 0; x < nax; x++) free(ax[x].v);
+  return rc;
+}
+
+/* --- calibrate --- */
+
+typedef struct {
+  vs_case base;
+  int dx;        /* 1: the dx component, 0: dz */
+  int quiet;
+  int runs;
+} cal_ctx;
+
+/* Collapse displacement component (% of L) at k_n; NaN if the run has no collapse. */
+static double cal_eval(cal_ctx *c, double kn) {
+  vs_case k = c->base;
+  k.kn_N_mm3 = kn;
+  vs_run *r = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  double out = NAN;
+  c->runs++;
+  if (vs_run_create(&k, &r, &err) == VS_OK && vs_run_execute(r, NULL, NULL, NULL, &err) == VS_OK &&
+      vs_run_collapse(r)->found) {
+    const double d = vs_run_collapse(r)->delta / VS_MM, a = k.alpha_deg * VS_DEG;
+    out = 100.0 * d * (c->dx ? sin(a) : cos(a)) / vs_case_span_mm(&k);
+  }
+  vs_run_destroy(&r);
+  if (!c->quiet) fprintf(stderr, "  k_n = %-12.6g  collapse %s/L = %.4f %%\n", kn, c->dx ? "dx" : "dz", out);
+  return out;
+}
+
+int vs_cmd_calibrate(int argc, char **argv) {
+  const char *case_path = NULL;
+  char *sets[MAX_SETS];
+  int nsets = 0, have_target = 0;
+  double target = NAN, kmin = 0.1, kmax = 100.0, tol = 0.01;
+  cal_ctx c = {0};
+  vs_error err;
+  vs_error_clear(&err);
+  for (int i = 2; i < argc; i++) {
+    const char *a = argv[i];
+    int used = parse_common(argc, argv, i, sets, &nsets, NULL);
+    if (used) {
+      i += used - 1;
+    } else if ((strcmp(a, "--target-dz-pct") == 0 || strcmp(a, "--target-dx-pct") == 0) && i + 1 < argc) {
+      c.dx = strcmp(a, "--target-dx-pct") == 0;
+      target = atof(argv[++i]);
+      have_target = 1;
+    } else if (strcmp(a, "--kn-min") == 0 && i + 1 < argc) {
+      kmin = atof(argv[++i]);
+    } else if (strcmp(a, "--kn-max") == 0 && i + 1 < argc) {
+      kmax = atof(argv[++i]);
+    } else if (strcmp(a, "--tol-pct") == 0 && i + 1 < argc) {
+      tol = atof(argv[++i]);
+    } else if (strcmp(a, "-q") == 0) {
+      c.quiet = 1;
+    } else if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
+      fputs(CAL_USAGE, stdout);
+      return 0;
+    } else if (a[0] != '-' && case_path == NULL) {
+      case_path = a;
+    } else {
+      fprintf(stderr, "voussoir calibrate: unexpected argument %s\n%s", a, CAL_USAGE);
+      return EXIT_USAGE;
+    }
+  }
+  if (case_path == NULL || !have_target || !(target > 0.0) || !isfinite(target)) {
+    fprintf(stderr, "voussoir calibrate: needs a CASE and a target > 0 %%\n%s", CAL_USAGE);
+    return EXIT_USAGE;
+  }
+  if (!(kmin > 0.0) || !(kmax > kmin) || kmax > 1e4 || !(tol > 0.0)) {
+    fprintf(stderr, "voussoir calibrate: --kn-min %g, --kn-max %g, --tol-pct %g (allowed: "
+                    "0 < kn-min < kn-max <= 10000 N/mm^3, tol > 0)\n", kmin, kmax, tol);
+    return EXIT_USAGE;
+  }
+  vs_case_defaults(&c.base);
+  if (vs_case_read(&c.base, case_path, NULL, &err) != VS_OK) goto bad;
+  for (int s = 0; s < nsets; s++)
+    if (vs_case_set(&c.base, sets[s], &err) != VS_OK) goto bad;
+  c.base.follow = 1;
+  c.base.full = 0;
+  if (vs_case_validate(&c.base, &err) != VS_OK) goto bad;
+  if (c.dx && fabs(sin(c.base.alpha_deg * VS_DEG)) < 1e-12) {
+    fprintf(stderr, "voussoir calibrate: --target-dx-pct with alpha = 0: dx is always 0\n");
+    return EXIT_USAGE;
+  }
+  /* scan: log-spaced k_n, the first bracket of the target */
+  enum { SCAN = 9 };
+  double kn[SCAN], f[SCAN];
+  int lo = -1;
+  for (int i = 0; i < SCAN; i++) {
+    kn[i] = kmin * pow(kmax / kmin, (double)i / (SCAN - 1));
+    f[i] = cal_eval(&c, kn[i]) - target;
+    if (i > 0 && isfinite(f[i]) && isfinite(f[i - 1]) && (f[i - 1] <= 0.0) != (f[i] <= 0.0)) {
+      lo = i - 1;
+      break;
+    }
+  }
+  if (lo < 0) {
+    double fmin_ = INFINITY, fmax_ = -INFINITY;
+    for (int i = 0; i < SCAN; i++)
+      if (isfinite(f[i])) {
+        fmin_ = fmin(fmin_, f[i] + target);
+        fmax_ = fmax(fmax_, f[i] + target);
+      }
+    printf("no k_n in [%g, %g] N/mm^3 gives a collapse %s/L of %g %%: the scan gives %.4f..%.4f %%\n",
+           kmin, kmax, c.dx ? "dx" : "dz", target, fmin_, fmax_);
+    return EXIT_FAIL;
+  }
+  /* Illinois false position on log k_n within the bracket */
+  double xa = log10(kn[lo]), xb = log10(kn[lo + 1]), fa = f[lo], fb = f[lo + 1], x = xa, fx = fa;
+  printf("bracket: k_n in [%.6g, %.6g] N/mm^3 (%s/L %.4f .. %.4f %%)\n", kn[lo], kn[lo + 1],
+         c.dx ? "dx" : "dz", fa + target, fb + target);
+  int side = 0, it = 0;
+  for (; it < 40; it++) {
+    x = (xa * fb - xb * fa) / (fb - fa);
+    fx = cal_eval(&c, pow(10.0, x)) - target;
+    if (!isfinite(fx)) { /* no collapse there: bisect instead */
+      x = 0.5 * (xa + xb);
+      fx = cal_eval(&c, pow(10.0, x)) - target;
+      if (!isfinite(fx)) break;
+    }
+    printf("  iteration %2d: k_n = %.6g N/mm^3, %s/L = %.4f %%\n", it + 1, pow(10.0, x),
+           c.dx ? "dx" : "dz", fx + target);
+    if (fabs(fx) <= tol || xb - xa < 1e-5) break;
+    if ((fx <= 0.0) == (fa <= 0.0)) {
+      xa = x;
+      fa = fx;
+      if (side == -1) fb *= 0.5;
+      side = -1;
+    } else {
+      xb = x;
+      fb = fx;
+      if (side == 1) fa *= 0.5;
+      side = 1;
+    }
+  }
+  if (!isfinite(fx)) {
+    printf("calibration failed: no collapse within support.max_mm near k_n = %.6g\n", pow(10.0, x));
+    return EXIT_FAIL;
+  }
+  const double k = pow(10.0, x), h = 0.01; /* central difference over +-0.01 in log10 k_n */
+  const double fp = cal_eval(&c, pow(10.0, x + h)), fm = cal_eval(&c, pow(10.0, x - h));
+  printf("k_n = %.6g N/mm^3 gives collapse %s/L = %.4f %% (target %g %%, tolerance %g %%)\n", k,
+         c.dx ? "dx" : "dz", fx + target, target, tol);
+  printf("sensitivity d(%s/L)/d(log10 k_n) = %.4g %% per decade; %d runs\n", c.dx ? "dx" : "dz",
+         (fp - fm) / (2.0 * h), c.runs);
+  return fabs(fx) <= tol ? 0 : EXIT_FAIL;
+bad:
+  fprintf(stderr, "voussoir calibrate: %s\n", err.msg);
+  return EXIT_USAGE;
+}
