@@ -16,6 +16,7 @@ struct vs_model {
   double *ra, *rb; /* per joint: reference point of body a/b -> joint centre, m */
   double *slip_p;  /* per joint: committed plastic slip, m */
   double zeta;     /* damping ratio */
+  double gscale;   /* gravity load factor (1: the arch's own weight) */
   double *cn, *cs; /* per joint: damping coefficients, N s/m^3 */
   sunindextype *colptr, *rowind;
   int nnz;
@@ -118,6 +119,7 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
   m->law = *law;
   m->dir[0] = sin(alpha_rad);
   m->dir[1] = -cos(alpha_rad);
+  m->gscale = 1.0;
   m->n = 3 * g->n_blocks;
   size_t nj = (size_t)g->n_joints;
   m->ra = calloc(2 * nj, sizeof(double));
@@ -189,7 +191,7 @@ void vs_model_residual(const vs_model *m, const double *q, double delta, double 
   const vs_geometry *g = m->g;
   for (int i = 0; i < g->n_blocks; i++) {
     G[3 * i] = 0.0;
-    G[3 * i + 1] = g->blocks[i].mass * g->gravity; /* minus the external load -m g */
+    G[3 * i + 1] = m->gscale * g->blocks[i].mass * g->gravity; /* minus the load -m g */
     G[3 * i + 2] = 0.0;
   }
   for (int k = 0; k < g->n_joints; k++) {
@@ -295,7 +297,7 @@ void vs_model_reactions(const vs_model *m, const double *q, double delta, double
 double vs_model_energy(const vs_model *m, const double *q, double delta) {
   const vs_geometry *g = m->g;
   double e = 0.0;
-  for (int i = 0; i < g->n_blocks; i++) e += g->blocks[i].mass * g->gravity * q[3 * i + 1];
+  for (int i = 0; i < g->n_blocks; i++) e += m->gscale * g->blocks[i].mass * g->gravity * q[3 * i + 1];
   for (int k = 0; k < g->n_joints; k++) {
     vs_joint_state st;
     eval_joint(m, q, delta, k, &st, NULL, NULL);
@@ -335,6 +337,9 @@ void vs_model_set_damping(vs_model *m, double zeta) {
 }
 
 double vs_model_damping_ratio(const vs_model *m) { return m->zeta; }
+
+void vs_model_set_gravity_scale(vs_model *m, double lambda) { m->gscale = lambda; }
+double vs_model_gravity_scale(const vs_model *m) { return m->gscale; }
 
 static void body_v(const vs_model *m, const double *v, double rate, int body, double out[3]) {
   if (body_is_block(body)) {
@@ -444,7 +449,7 @@ void vs_model_energies(const vs_model *m, const double *q, double delta, double 
                        double *gravity) {
   const vs_geometry *g = m->g;
   double eg = 0.0, ee = 0.0;
-  for (int i = 0; i < g->n_blocks; i++) eg += g->blocks[i].mass * g->gravity * q[3 * i + 1];
+  for (int i = 0; i < g->n_blocks; i++) eg += m->gscale * g->blocks[i].mass * g->gravity * q[3 * i + 1];
   for (int k = 0; k < g->n_joints; k++) {
     vs_joint_state st;
     eval_joint(m, q, delta, k, &st, NULL, NULL);

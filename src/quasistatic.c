@@ -45,6 +45,10 @@ static const double VS_NEWTON_STEPTOL = 1e-14;
  * stiffness k_n b t turns into a force error of about eps k_n b t (|u| + t); a Newton iteration
  * that stalls within this margin times that floor has converged as far as doubles allow. */
 static const double VS_FLOOR_MARGIN = 16.0;
+/* Self-weight continuation: largest and smallest increments of the gravity factor. */
+static const double VS_RAMP_STEP = 0.25;
+static const double VS_RAMP_MIN = 1e-4;
+static const long VS_RAMP_MAXITER = 200;
 
 typedef struct {
   vs_model *m;
@@ -436,6 +440,59 @@ static int stable_state(qs_solver *s, const double *q, double delta) {
   return sign > 0;
 }
 
+/* Self-weight by continuation in the gravity factor lambda: the reference configuration is the
+ * exact equilibrium at lambda = 0; lambda grows by increments that halve when Newton fails (tangent
+ * predictor dq/dlambda = -K^-1 dG/dlambda). Returns 0 when lambda = 1 is reached (q holds the
+ * equilibrium), else -1 with *lambda_max the largest factor that had an equilibrium. */
+static int gravity_ramp(qs_solver *s, double *q, double *lambda_max) {
+  vs_model *m = s->m;
+  const size_t bytes = (size_t)s->n * sizeof(double);
+  double *qt = malloc(bytes), *dq = malloc(bytes), lam = 0.0, h = VS_RAMP_STEP;
+  N_Vector b = N_VClone(s->u), x = N_VClone(s->u);
+  int ok = -1;
+  if (qt == NULL || dq == NULL || b == NULL || x == NULL) goto done;
+  memset(q, 0, bytes);
+  /* the contact pattern is found at any load level alike (the no-tension law is homogeneous):
+   * the ramp's solves may take many iterations */
+  KINSetNumMaxIters(s->kin, VS_RAMP_MAXITER);
+  for (;;) {
+    const double next = fmin(1.0, lam + h);
+    /* predictor: dG/dlambda is the weight on the vertical equations */
+    vs_model_set_gravity_scale(m, lam);
+    int sign = 0;
+    int have_tangent = tangent_factor(s, q, 0.0, &sign) == 0;
+    if (have_tangent) {
+      double *pb = N_VGetArrayPointer(b);
+      vs_model_residual_scale(m, pb); /* weights on 3i, 3i+1 */
+      for (int i = 0; i < s->n; i++) pb[i] = (i % 3 == 1) ? -pb[i] : 0.0;
+      have_tangent = tangent_solve(s, x, b) == 0;
+    }
+    for (int i = 0; i < s->n; i++)
+      qt[i] = q[i] + (have_tangent ? (next - lam) * N_VGetArrayPointer(x)[i] : 0.0);
+    vs_model_set_gravity_scale(m, next);
+    if (qs_solve(s, 0.0, qt, NULL) == 0 && stable_state(s, qt, 0.0)) {
+      memcpy(q, qt, bytes);
+      lam = next;
+      if (lam >= 1.0) {
+        ok = 0;
+        break;
+      }
+      h = fmin(2.0 * h, VS_RAMP_STEP);
+    } else if ((h *= 0.5) < VS_RAMP_MIN) {
+      break;
+    }
+  }
+done:
+  KINSetNumMaxIters(s->kin, s->o->newton_maxiter);
+  vs_model_set_gravity_scale(m, 1.0);
+  *lambda_max = lam;
+  free(qt);
+  free(dq);
+  if (b) N_VDestroy(b);
+  if (x) N_VDestroy(x);
+  return ok;
+}
+
 vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double *q,
                       vs_path_step_fn step_fn, void *user, vs_path_result *res, vs_error *err) {
   memset(res, 0, sizeof *res);
@@ -455,12 +512,16 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
    * state a snap-through settled in */
   long it = 0;
   int flag = qs_solve(&s, delta0, q, &it);
+  double lambda_max = 1.0;
+  if (flag != 0 && delta0 == 0.0 && gravity_ramp(&s, q, &lambda_max) == 0) flag = 0;
   res->newton_iterations = s.iters;
   if (flag != 0) {
     if (delta0 == 0.0)
       st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                        "no equilibrium under self-weight: the arch cannot stand (%s)",
-                        kin_cause(flag));
+                        "the arch cannot stand: no equilibrium under self-weight (growing the "
+                        "weight from zero, equilibrium was followed up to %.4g of it and none "
+                        "was found beyond, with increments down to %.1e)",
+                        lambda_max, VS_RAMP_MIN);
     else
       st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM, "no equilibrium at %.6g mm to resume from (%s)",
                         delta0 / VS_MM, kin_cause(flag));

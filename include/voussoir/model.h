@@ -64,6 +64,11 @@ double vs_model_energy(const vs_model *m, const double *q, double delta);
  * weight times the joint length. scale has vs_model_size entries. */
 void vs_model_residual_scale(const vs_model *m, double *scale);
 
+/* Gravity load factor lambda (default 1: the arch's own weight), for the self-weight
+ * continuation; residual and energies use lambda m g. */
+void vs_model_set_gravity_scale(vs_model *m, double lambda);
+double vs_model_gravity_scale(const vs_model *m);
+
 /* --- dynamics --- */
 
 /* Joint damping as a fraction zeta (>= 0) of each joint's own critical damping: for a joint of

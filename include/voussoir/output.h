@@ -1,0 +1,87 @@
+/* The record of a run: an HDF5 file laid out in the spirit of H5MD (the case's parameters, the
+ * reference geometry, one group per time-dependent quantity, an event table and a summary) and
+ * an XDMF sidecar with which ParaView plays the motion. SI units; every floating-point dataset
+ * carries a "unit" attribute. A run killed at any moment leaves a file that HDF5 opens, holding
+ * everything up to the last flush (see vs_output_opts). */
+#ifndef VOUSSOIR_OUTPUT_H
+#define VOUSSOIR_OUTPUT_H
+
+#include "voussoir/run.h"
+#include "voussoir/status.h"
+
+typedef struct vs_output vs_output;
+
+typedef struct {
+  int arc_points;     /* points inside each arc (intrados, extrados) of a voussoir's outline, in
+                         [0, 64]; default 2: polygons of 2 + 2 corners + 2 x 2 arc points */
+  int flush_rows;     /* rows held in memory before they are written and the file is flushed,
+                         >= 1, default 64 (the file is also flushed at every event and phase
+                         switch) */
+  int chunk_rows;     /* rows per chunk of the time series, >= 1, default 64 (a chunk is capped
+                         at about 1 MiB for wide rows) */
+  int deflate;        /* deflate level, 0 (no compression) to 9, default 4; with shuffle */
+  int xdmf_max_grids; /* the XDMF lists at most this many rows (>= 2, default 2000): every k-th
+                         row with k = ceil(rows / xdmf_max_grids), and always the last one */
+} vs_output_opts;
+
+/* Fill o with the defaults above. */
+void vs_output_opts_default(vs_output_opts *o);
+
+/* Create the HDF5 file at path (replaced if it exists) for run (borrowed: its geometry and model
+ * are read now and at every sample), with opts (NULL: defaults) copied. Writes the root
+ * attributes (program "voussoir", version, layout, created: ISO 8601 UTC, case: case_text or ""
+ * when NULL, status "running"), /parameters (the case's values, as attributes named after the
+ * case keys, in the case's units), /geometry (the reference configuration), creates the empty
+ * time series and the event table, and flushes. The XDMF sidecar's path is path with its
+ * extension (".h5", ".hdf5", ".hdf") replaced by ".xmf" (or ".xmf" appended); it is written by
+ * vs_output_finish. *out receives the writer (NULL on failure). Errors: VS_ERR_IO with the HDF5
+ * cause (the file is removed), VS_ERR_INVALID for bad options, VS_ERR_NOMEM. */
+vs_status vs_output_create(const char *path, const vs_run *run, const char *case_text,
+                           const vs_output_opts *opts, vs_output **out, vs_error *err);
+
+/* A vs_run_sample_fn: user is the vs_output. Appends one row to every time series (buffered;
+ * written and flushed every flush_rows rows and whenever the phase changes). Returns 0, or 1
+ * when the file cannot be written (the run then stops; vs_output_error has the cause) or after
+ * vs_output_interrupt. */
+int vs_output_sample(void *user, const vs_run *run, const vs_run_sample *s);
+
+/* A vs_run_event_fn: user is the vs_output. Appends the event to /events, writes the buffered
+ * rows and flushes. Returns as vs_output_sample. */
+int vs_output_event(void *user, const vs_run *run, const vs_run_event *e);
+
+/* Mark the run as interrupted (e.g. after SIGINT; call it from normal code, not from a signal
+ * handler): the next sample or event callback returns 1 so that the run stops, and
+ * vs_output_finish records status "failed: interrupted". NULL is ignored. */
+void vs_output_interrupt(vs_output *o);
+
+/* Close the record of run: write the buffered rows, rewrite /events from the run's log (hinge
+ * labels are assigned after the first three hinge events were emitted), write /summary (limit
+ * points, collapse, hinges, mode, totals, energy balance), set the root attributes status
+ * ("completed" when run_status is VS_OK, else "failed: <cause>" with run_err's message when
+ * given, "failed: interrupted" after vs_output_interrupt) and finished (ISO 8601 UTC), flush,
+ * and write the XDMF sidecar. Call it at most once, after vs_run_execute. Returns VS_OK or
+ * VS_ERR_IO (err has the cause); the file stays open until vs_output_destroy. */
+vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status,
+                           const vs_error *run_err, vs_error *err);
+
+/* The first write error of o (status VS_OK if none); never NULL for a non-NULL o. */
+const vs_error *vs_output_error(const vs_output *o);
+
+/* Rows written so far (flushed or buffered). */
+long vs_output_rows(const vs_output *o);
+
+/* Path of the XDMF sidecar. */
+const char *vs_output_xdmf_path(const vs_output *o);
+
+/* Close every HDF5 object and the file (flushing it), free o and NULL *o; NULL and *o == NULL
+ * are allowed. Without vs_output_finish the buffered rows are written but the status stays
+ * "running" and there is no XDMF. */
+void vs_output_destroy(vs_output **o);
+
+/* Write the XDMF sidecar of an existing record (e.g. of a run that was killed) next to it, from
+ * the datasets it holds; max_grids as in vs_output_opts (<= 0: the default). Errors: VS_ERR_IO
+ * (cannot open or read the file, or write the sidecar), VS_ERR_INVALID (not a voussoir
+ * record). */
+vs_status vs_output_write_xdmf(const char *h5_path, int max_grids, vs_error *err);
+
+#endif
