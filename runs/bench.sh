@@ -5,6 +5,8 @@
 #     wall time, equilibria, Newton iterations, time per iteration;
 #  2. to the collapse (quasi-static + dynamic), and the whole loading dynamically at the
 #     laboratory rate 0.04 mm/s (about 35 minutes of simulated time): wall time, IDA steps.
+#  3. the limit displacement domain (26 runs to collapse) end to end on all cores;
+#  4. one run to collapse with 55 to 880 voussoirs: wall time and time per Newton iteration.
 # usage: runs/bench.sh [BINARY] [REPEAT]
 set -euo pipefail
 VOUSSOIR="${1:-${VOUSSOIR:-$(cd "$(dirname "$0")" && pwd)/../build/voussoir}}"
@@ -44,4 +46,16 @@ for spec in "quasi-static + dynamic, k_n 3|--kn 3" "quasi-static + dynamic, k_n 
   du="$(jcollapse delta_mm "$last")"
   awk -v c="$name" -v d="$du" -v w="$med" -v s="$(jnum steps "$last")" -v ds="$(jnum dynamic_steps "$last")" \
     'BEGIN {printf "   %-32s %12.4f %10.1f %9d %9d\n", c, d, 1e3*w, s, ds}'
+done
+echo "3. the limit displacement domain end to end (26 runs to collapse, runs/domain_study.sh's sweep)"
+t0="$(date +%s.%N)"
+"$bin" sweep "$here/reference.ini" --alpha 0:45:5,60,75,90 --kn 3,48 -o "$out_dir/bench_domain" -q >/dev/null || true
+awk -v a="$t0" -v b="$(date +%s.%N)" -v j="$(nproc)" 'BEGIN {printf "   %.2f s on %d processes\n", b - a, j}'
+echo "4. one run to collapse against the voussoir count (same arch and k_n, finer subdivision)"
+printf '   %-9s %12s %10s %10s %10s %14s\n' voussoirs "delta_u mm" "wall s" "q-s Newton" "IDA Newton" "ms/iteration"
+for nv in 55 110 220 440 880; do
+  j="$("$bin" run "$here/reference.ini" --set arch.voussoirs="$nv" --json -q || true)"
+  awk -v n="$nv" -v d="$(jcollapse delta_mm "$j")" -v w="$(jnum wall_s "$j")" -v a="$(jnum newton_iterations "$j")" \
+    -v b="$(jnum dynamic_newton_iterations "$j")" \
+    'BEGIN {printf "   %-9d %12.4f %10.3f %10d %10d %14.4f\n", n, d, w, a, b, 1e3 * w / (a + b)}'
 done
