@@ -1,6 +1,7 @@
 /* voussoir command line: create -> configure -> run -> report -> destroy. */
 #define _POSIX_C_SOURCE 200809L /* readlink, isatty */
 #include <errno.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,7 +14,25 @@
 #include "voussoir/units.h"
 #include "voussoir/version.h"
 
-enum { EXIT_RUN_FAILED = 1, EXIT_BAD_INPUT = 2 };
+enum { EXIT_RUN_FAILED = 1, EXIT_BAD_INPUT = 2, EXIT_INTERRUPTED = 130 };
+
+/* Set by SIGINT/SIGTERM; the run stops at its next recorded state and the outputs are closed
+ * with the status "failed: interrupted". */
+static volatile sig_atomic_t g_interrupted = 0;
+
+static void on_signal(int sig) {
+  (void)sig;
+  g_interrupted = 1;
+}
+
+static void catch_signals(void) {
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+}
 
 static const char *USAGE =
     "usage: voussoir run CASE [options]\n"
@@ -53,6 +72,7 @@ typedef struct {
 
 static int on_sample(void *user, const vs_run *run, const vs_run_sample *smp) {
   cli_sink *s = user;
+  if (g_interrupted) return 1;
   const vs_hinges *h = vs_run_hinges(run);
   if (s->csv != NULL) {
     const vs_model *m = vs_run_model(run);
@@ -149,12 +169,14 @@ static int cmd_run(int argc, char **argv) {
           sink.csv);
   }
   sink.progress = !quiet && isatty(STDERR_FILENO);
+  catch_signals();
   vs_status st = vs_run_execute(run, on_sample, NULL, &sink, &err);
   if (sink.progress) fputs("\r\033[K", stderr);
+  if (st != VS_OK && g_interrupted) vs_error_set(&err, st, "interrupted");
   if (json) vs_report_json(stdout, run, st, &err, case_path);
   else vs_report_text(stdout, run, st, &err, case_path);
   if (st != VS_OK) fprintf(stderr, "voussoir: run failed: %s\n", err.msg);
-  rc = (st == VS_OK) ? EXIT_SUCCESS : EXIT_RUN_FAILED;
+  rc = (st == VS_OK) ? EXIT_SUCCESS : g_interrupted ? EXIT_INTERRUPTED : EXIT_RUN_FAILED;
   goto cleanup;
 
 input_error:

@@ -1,6 +1,7 @@
 /* Pictures with cairo (PNG, SVG): the deformed arch at true scale, and curves against the
  * support displacement. Drawing only: the caller passes the data; nothing is read or printed.
  * Every picture is drawn by one function on a cairo context; emit() owns the file and surface. */
+#define _POSIX_C_SOURCE 200809L /* stat */
 #include "voussoir/plot.h"
 
 #include "voussoir/units.h"
@@ -9,9 +10,11 @@
 #include <cairo.h>
 #include <ctype.h>
 #include <errno.h>
+#include <fontconfig/fontconfig.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /* ---------------------------------------------------------------------------------------------
  * Output: a file, a surface, one drawing function */
@@ -41,11 +44,13 @@ static vs_status cairo_fail(vs_error *err, const char *path, const char *what,
   return vs_error_set(err, st, "%s: cannot %s: %s", path, what, cairo_status_to_string(cst));
 }
 
-/* Close the file; on failure (or if st already failed) remove it. */
+/* Close the file; on failure (or if st already failed) remove it if it is a regular file (not
+ * a device such as /dev/full). */
 static vs_status sink_close(sink *s, const char *path, vs_status st, vs_error *err) {
   if (fclose(s->fp) != 0 && st == VS_OK)
     st = vs_error_set(err, VS_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
-  if (st != VS_OK) remove(path);
+  struct stat sb;
+  if (st != VS_OK && stat(path, &sb) == 0 && S_ISREG(sb.st_mode)) remove(path);
   return st;
 }
 
@@ -86,6 +91,7 @@ static vs_status emit_svg(const char *path, int w, int h, draw_fn draw, const vo
   vs_status st = open_sink(&s, path, err);
   if (st != VS_OK) return st;
   cairo_surface_t *sf = cairo_svg_surface_create_for_stream(sink_write, &s, w, h);
+  cairo_svg_surface_set_document_unit(sf, CAIRO_SVG_UNIT_PX); /* the PNG's size in a browser */
   cairo_t *cr = cairo_create(sf);
   draw(cr, data);
   cairo_status_t cst = cairo_status(cr);
@@ -110,6 +116,11 @@ vs_plot_format vs_plot_format_from_path(const char *path) {
       tolower((unsigned char)path[n - 2]) == 'v' && tolower((unsigned char)path[n - 1]) == 'g')
     return VS_PLOT_SVG;
   return VS_PLOT_PNG;
+}
+
+void vs_plot_release(void) {
+  cairo_debug_reset_static_data(); /* first: cairo's font caches hold fontconfig patterns */
+  FcFini();
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -426,7 +437,7 @@ static void draw_support_arrow(cairo_t *cr, const arch_data *d) {
   double ax, ay, bx, by;
   vs_plot_to_px(&d->f, j->px, j->pz, &ax, &ay);
   vs_plot_to_px(&d->f, j->px + d->su[0], j->pz + d->su[1], &bx, &by);
-  if (hypot(bx - ax, by - ay) > 6.0) arrow(cr, ax, ay, bx, by, 10.0, C_CRACK);
+  if (hypot(bx - ax, by - ay) > 6.0) arrow(cr, ax, ay, bx, by, 10.0, (rgb){0.2, 0.2, 0.2});
 }
 
 /* Moved ends of joint k (0-based) on faces a and b: fa, fb = intrados x, z, extrados x, z. */
@@ -480,30 +491,45 @@ static void hinge_point(const arch_data *d, int k, char side, double *px, double
   *uy = l > 0.0 ? (ey - iy) / l : -1.0;
 }
 
+/* A hinge's name in the picture: "9-I", "44-45-46-I"; beyond four joints "12-...-40-E". */
+static void hinge_label(const vs_hinge *hg, char *buf, size_t size) {
+  char name[96];
+  if (hg->last - hg->first < 4)
+    vs_hinge_name(hg, 0, name, sizeof name);
+  else
+    snprintf(name, sizeof name, "%d-...-%d-%c", hg->first, hg->last, hg->side);
+  snprintf(buf, size, "%c  %s", hg->label, name);
+}
+
 static void draw_hinges(cairo_t *cr, const arch_data *d) {
   font(cr, 17.0, 1);
   for (int h = 0; h < d->n_hinges; h++) {
     const vs_hinge *hg = &d->hinges[h];
     if (!hg->open) continue;
     rgb c = label_colour(hg->label);
-    int mid = (hg->first + hg->last) / 2;
-    double px, py, ux, uy;
+    /* the middle joint, or half-way between the two middle ones of an even spread */
+    int m0 = (hg->first + hg->last) / 2, m1 = (hg->first + hg->last + 1) / 2;
+    double px, py, ux, uy, qx, qy, vx, vy;
     for (int j = hg->first; j <= hg->last; j++) {
       hinge_point(d, j - 1, hg->side, &px, &py, &ux, &uy);
-      if (j != mid) dot(cr, px, py, 4.0, c);
+      if (j != m0 || m1 != m0) dot(cr, px, py, 4.0, c);
     }
-    hinge_point(d, mid - 1, hg->side, &px, &py, &ux, &uy);
+    hinge_point(d, m0 - 1, hg->side, &px, &py, &ux, &uy);
+    hinge_point(d, m1 - 1, hg->side, &qx, &qy, &vx, &vy);
+    px = 0.5 * (px + qx), py = 0.5 * (py + qy);
     dot(cr, px, py, 7.0, c);
     /* the label outside the section on the hinge's side: beyond the extrados for 'E', inside
-     * the intrados for 'I' */
+     * the intrados for 'I'; kept inside the picture */
     double sgn = hg->side == 'E' ? 1.0 : -1.0, dx = sgn * ux, dy = sgn * uy;
-    char name[96], text[112];
-    vs_hinge_name(hg, 0, name, sizeof name);
-    snprintf(text, sizeof text, "%c  %s", hg->label, name);
+    char text[112];
+    hinge_label(hg, text, sizeof text);
     cairo_text_extents_t e;
     cairo_text_extents(cr, text, &e);
     double reach = 14.0 + fabs(dx) * 0.5 * e.width + fabs(dy) * 0.5 * e.height;
-    text_at(cr, text, px + dx * reach, py + dy * reach, 0.5, 0.5, c, 1);
+    double tx = px + dx * reach, ty = py + dy * reach;
+    tx = fmax(4.0 + 0.5 * e.width, fmin(d->f.width - 4.0 - 0.5 * e.width, tx));
+    ty = fmax(4.0 + 0.5 * e.height, fmin(d->f.height - 4.0 - 0.5 * e.height, ty));
+    text_at(cr, text, tx, ty, 0.5, 0.5, c, 1);
   }
 }
 
@@ -616,7 +642,8 @@ vs_status vs_plot_arch(const char *path, vs_plot_format fmt, const vs_geometry *
 enum { CV_LEFT = 95, CV_RIGHT = 30, CV_TOP = 60, CV_BOTTOM = 70, CV_GAP = 40 }; /* px */
 
 typedef struct {
-  double lo, hi, step; /* shown units */
+  double lo, hi, step; /* bounds and tick spacing, shown units */
+  double first;        /* the first tick, a multiple of step */
   double scale;
   int integer;
 } range;
@@ -628,7 +655,7 @@ static double axis_scale(const vs_plot_axis *a) {
 /* The range of the shown values v = data * scale, padded by pad of its width and rounded out to
  * ticks; integer axes step by whole numbers. */
 static range make_range(double lo, double hi, const vs_plot_axis *a, double pad) {
-  range r = {0.0, 1.0, 0.2, axis_scale(a), a != NULL && a->integer};
+  range r = {0.0, 1.0, 0.2, 0.0, axis_scale(a), a != NULL && a->integer};
   if (!(lo <= hi)) lo = 0.0, hi = r.integer ? 2.0 : 1.0;
   if (hi - lo < 1e-12 * fmax(1.0, fabs(lo))) {
     double h = r.integer ? 1.0 : fmax(0.1 * fabs(lo), 1.0);
@@ -641,6 +668,7 @@ static range make_range(double lo, double hi, const vs_plot_axis *a, double pad)
   r.lo = floor(lo / r.step + 1e-9) * r.step;
   r.hi = ceil(hi / r.step - 1e-9) * r.step;
   if (r.hi <= r.lo) r.hi = r.lo + r.step;
+  r.first = r.lo;
   return r;
 }
 
@@ -685,7 +713,7 @@ static void draw_axes(cairo_t *cr, const panel_box *b, int xlabels) {
   font(cr, 13.0, 0);
   cairo_set_line_width(cr, 1.0);
   for (int k = 0; k <= 200; k++) {
-    double v = b->rx.lo + k * b->rx.step;
+    double v = b->rx.first + k * b->rx.step;
     if (v > b->rx.hi + 1e-9 * b->rx.step) break;
     double px = b->x + (v - b->rx.lo) / (b->rx.hi - b->rx.lo) * b->w;
     set_rgb(cr, C_GRID);
@@ -700,7 +728,7 @@ static void draw_axes(cairo_t *cr, const panel_box *b, int xlabels) {
     if (xlabels) text_at(cr, buf, px, b->y + b->h + 9.0, 0.5, 0.0, C_TEXT, 0);
   }
   for (int k = 0; k <= 200; k++) {
-    double v = b->ry.lo + k * b->ry.step;
+    double v = b->ry.first + k * b->ry.step;
     if (v > b->ry.hi + 1e-9 * b->ry.step) break;
     double py = b->y + b->h - (v - b->ry.lo) / (b->ry.hi - b->ry.lo) * b->h;
     set_rgb(cr, C_GRID);
@@ -758,14 +786,35 @@ static void draw_series(cairo_t *cr, const panel_box *b, const double *x, const 
     }
 }
 
-/* Legend of the named series, top right inside the plot. */
-static void draw_legend(cairo_t *cr, const panel_box *b, const vs_plot_panel *p) {
+static int has_data(const double *x, const double *y, int n) {
+  for (int k = 0; k < n; k++)
+    if (isfinite(x[k]) && isfinite(y[k])) return 1;
+  return 0;
+}
+
+/* Points of the panel's curves inside the picture rectangle (x, y, w, h). */
+static int points_in(const panel_box *b, const vs_plot_panel *p, const double *x, int n,
+                     double rx, double ry, double rw, double rh) {
+  int count = 0;
+  for (int s = 0; s < p->n_series; s++)
+    for (int k = 0; k < n; k++) {
+      const double *y = p->series[s].y;
+      if (!isfinite(x[k]) || !isfinite(y[k])) continue;
+      double px = map_x(b, x[k]), py = map_y(b, y[k]);
+      count += px >= rx && px <= rx + rw && py >= ry && py <= ry + rh;
+    }
+  return count;
+}
+
+/* Legend of the named series that have data, in the corner of the plot with the fewest points. */
+static void draw_legend(cairo_t *cr, const panel_box *b, const vs_plot_panel *p, const double *x,
+                        int n) {
   font(cr, 13.0, 0);
   double wmax = 0.0;
   int rows = 0;
   for (int s = 0; s < p->n_series; s++) {
     const char *nm = p->series[s].name;
-    if (nm == NULL || nm[0] == '\0') continue;
+    if (nm == NULL || nm[0] == '\0' || !has_data(x, p->series[s].y, n)) continue;
     cairo_text_extents_t e;
     cairo_text_extents(cr, nm, &e);
     wmax = fmax(wmax, e.x_advance);
@@ -773,8 +822,15 @@ static void draw_legend(cairo_t *cr, const panel_box *b, const vs_plot_panel *p)
   }
   if (rows == 0) return;
   const double row = 18.0, bw = wmax + 48.0, bh = rows * row + 8.0;
-  double x = b->x + b->w - bw - 8.0, y = b->y + 8.0;
-  cairo_rectangle(cr, x, y, bw, bh);
+  double lx = b->x + b->w - bw - 8.0, ly = b->y + 8.0;
+  int best = -1;
+  for (int corner = 0; corner < 4; corner++) { /* top right, top left, bottom right, left */
+    double cx = corner % 2 ? b->x + 8.0 : b->x + b->w - bw - 8.0;
+    double cy = corner < 2 ? b->y + 8.0 : b->y + b->h - bh - 8.0;
+    int c = points_in(b, p, x, n, cx - 4.0, cy - 4.0, bw + 8.0, bh + 8.0);
+    if (best < 0 || c < best) best = c, lx = cx, ly = cy;
+  }
+  cairo_rectangle(cr, lx, ly, bw, bh);
   cairo_set_source_rgba(cr, 1.0, 1.0, 1.0, 0.9);
   cairo_fill_preserve(cr);
   set_rgb(cr, C_GRID);
@@ -783,14 +839,14 @@ static void draw_legend(cairo_t *cr, const panel_box *b, const vs_plot_panel *p)
   int r = 0;
   for (int s = 0; s < p->n_series; s++) {
     const char *nm = p->series[s].name;
-    if (nm == NULL || nm[0] == '\0') continue;
-    double yy = y + 4.0 + (r++ + 0.5) * row;
+    if (nm == NULL || nm[0] == '\0' || !has_data(x, p->series[s].y, n)) continue;
+    double yy = ly + 4.0 + (r++ + 0.5) * row;
     set_rgb(cr, series_colour(&p->series[s], s));
     cairo_set_line_width(cr, 2.5);
-    cairo_move_to(cr, x + 8.0, yy);
-    cairo_line_to(cr, x + 32.0, yy);
+    cairo_move_to(cr, lx + 8.0, yy);
+    cairo_line_to(cr, lx + 32.0, yy);
     cairo_stroke(cr);
-    text_at(cr, nm, x + 40.0, yy, 0.0, 0.5, C_TEXT, 0);
+    text_at(cr, nm, lx + 40.0, yy, 0.0, 0.5, C_TEXT, 0);
   }
 }
 
@@ -824,7 +880,7 @@ static void draw_curves(cairo_t *cr, const void *data) {
     for (int s = 0; s < pn->n_series; s++)
       draw_series(cr, &b, d->x, pn->series[s].y, d->n, series_colour(&pn->series[s], s));
     cairo_restore(cr);
-    draw_legend(cr, &b, pn);
+    draw_legend(cr, &b, pn, d->x, d->n);
     if (pn->y.label != NULL) {
       font(cr, 15.0, 0);
       cairo_save(cr);

@@ -17,7 +17,7 @@ typedef struct {
   int flush_rows;     /* rows held in memory before they are written and the file is flushed,
                          >= 1, default 64 (the file is also flushed at every event and phase
                          switch) */
-  int chunk_rows;     /* rows per chunk of the time series, >= 1, default 64 (a chunk is capped
+  int chunk_rows;     /* rows per chunk of the time series, >= 1, default 16 (a chunk is capped
                          at about 1 MiB for wide rows) */
   int deflate;        /* deflate level, 0 (no compression) to 9, default 4; with shuffle */
   int xdmf_max_grids; /* the XDMF lists at most this many rows (>= 2, default 2000): every k-th

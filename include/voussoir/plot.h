@@ -10,7 +10,7 @@
 
 typedef enum { VS_PLOT_PNG = 0, VS_PLOT_SVG = 1 } vs_plot_format;
 
-/* Picture sizes: pixels for PNG, points (1/72 in) for SVG. */
+/* Picture sizes, px (SVG: the same size in CSS px). */
 #define VS_PLOT_ARCH_WIDTH 1200
 #define VS_PLOT_ARCH_HEIGHT 700
 #define VS_PLOT_CURVES_WIDTH 1200
@@ -22,6 +22,12 @@ typedef enum { VS_PLOT_PNG = 0, VS_PLOT_SVG = 1 } vs_plot_format;
 
 /* Format named by a file name's extension: ".svg" (any case) is SVG, anything else PNG. */
 vs_plot_format vs_plot_format_from_path(const char *path);
+
+/* Release the caches that cairo and fontconfig keep for the whole process (fonts, font
+ * patterns), so that a leak checker (the sanitizer build) reports only real leaks. Call it at the
+ * end of a process that drew pictures (main's cleanup, a test's teardown), when no other thread
+ * draws; pictures drawn afterwards still work, the caches are rebuilt. */
+void vs_plot_release(void);
 
 /* ---------------------------------------------------------------------------------------------
  * The arch */
@@ -60,8 +66,11 @@ vs_status vs_plot_arch_frame(const vs_geometry *g, const double *q, double delta
  *     n_joints entries each, as vs_joint_state) exceeds open_m, a wedge between the two moved
  *     faces and the joint line, in red. Either array NULL: no joint is shaded;
  *   - each open hinge of hinges[0..n_hinges-1] (closed ones are skipped) as a dot in its label's
- *     colour on the side that stays in contact ('I' intrados, 'E' extrados) of its middle joint,
- *     smaller dots on the other joints of a spread hinge, and its label ("A  9-I") beside it;
+ *     colour on the side that stays in contact ('I' intrados, 'E' extrados) of its middle joint
+ *     (between the two middle ones of an even spread), smaller dots on the other joints of a
+ *     spread hinge, and its label beside it, outside the section on that side: "A  9-I",
+ *     "B  27-28-29-30-E", beyond four joints "E  12-...-40-E". Pass the hinges worth naming
+ *     (those of the report): every one passed is drawn and labelled;
  *   - the title (NULL: none), "delta = .. mm (dz .. mm, dx .. mm)", a scale bar in mm and a key.
  * q: 3 n_blocks entries (ux, uz in m, theta in rad per block, as vs_model); NULL draws the
  * reference configuration. hinges may be NULL when n_hinges is 0.
