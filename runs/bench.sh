@@ -17,7 +17,7 @@ lastfile="$out_dir/bench_last.json"
 run_median() { # args...: prints the median wall time; the last run's JSON goes to $lastfile
   local times=() j
   for ((i = 0; i < repeat; i++)); do
-    j="$("$bin" run "$here/reference.ini" "$@" --json -q)"
+    j="$("$bin" run "$here/reference.ini" "$@" --json -q --no-record)"
     times+=("$(jnum wall_s "$j")")
   done
   printf '%s\n' "$j" >"$lastfile"
@@ -54,7 +54,7 @@ awk -v a="$t0" -v b="$(date +%s.%N)" -v j="$(nproc)" 'BEGIN {printf "   %.2f s o
 echo "4. one run to collapse against the voussoir count (same arch and k_n, finer subdivision)"
 printf '   %-9s %12s %10s %10s %10s %14s\n' voussoirs "delta_u mm" "wall s" "q-s Newton" "IDA Newton" "ms/iteration"
 for nv in 55 110 220 440 880; do
-  j="$("$bin" run "$here/reference.ini" --set arch.voussoirs="$nv" --json -q || true)"
+  j="$("$bin" run "$here/reference.ini" --set arch.voussoirs="$nv" --json -q --no-record || true)"
   awk -v n="$nv" -v d="$(jcollapse delta_mm "$j")" -v w="$(jnum wall_s "$j")" -v a="$(jnum newton_iterations "$j")" \
     -v b="$(jnum dynamic_newton_iterations "$j")" \
     'BEGIN {printf "   %-9d %12.4f %10.3f %10d %10d %14.4f\n", n, d, w, a, b, 1e3 * w / (a + b)}'

@@ -11,7 +11,7 @@ printf '%-6s %-5s %-8s %12s %8s %8s %6s %-5s %-10s %9s %8s\n' alpha kn damping "
 for alpha in 0 45 90; do
   for kn in 3 48; do
     for z in 0 0.02 0.05 0.2; do
-      j="$("$bin" run "$here/reference.ini" --alpha "$alpha" --kn "$kn" --set dynamic.damping="$z" --json -q || true)"
+      j="$("$bin" run "$here/reference.ini" --alpha "$alpha" --kn "$kn" --set dynamic.damping="$z" --json -q --no-record || true)"
       du="$(jcollapse delta_mm "$j")"; dz="$(jcollapse dz_over_L_pct "$j")"; dx="$(jcollapse dx_over_L_pct "$j")"
       mode="$(jstr mode "$j")"; sides="$(jstr hinge_sides_collapse "$j")"
       bal="$(jnum balance_error_rel "$j")"; wall="$(jnum wall_s "$j")"; snaps="$(count snap "$j")"

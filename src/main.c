@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "voussoir/case.h"
+#include "voussoir/output.h"
 #include "voussoir/report.h"
 #include "voussoir/run.h"
 #include "voussoir/sweep.h"
@@ -55,24 +56,33 @@ static const char *USAGE =
     "                         rate (no quasi-static phase); same as --set dynamic.full=1\n"
     "  --first-limit          stop at the first limit point (no dynamics); --set dynamic.follow=0\n"
     "  --json                 print one JSON object on stdout instead of the summary\n"
-    "  -o FILE                also write the history (CSV: one row per equilibrium or dynamic\n"
+    "  -o FILE.h5             the HDF5 record of the run (default: the case's name with .h5, in\n"
+    "                         the current directory) and its XDMF sidecar FILE.xmf (ParaView)\n"
+    "  --no-record            no HDF5 record\n"
+    "  --csv FILE             also write the history as CSV (one row per equilibrium or dynamic\n"
     "                         sample: phase, time, support displacement, reactions, hinges)\n"
     "  -q                     no progress line\n"
     "  -h, --help             this help\n"
     "  --version              program version\n"
     "\n"
     "CASE is an INI file (runs/reference.ini is the reference specimen). Units: mm, N/mm^3, deg.\n"
-    "exit status: 0 ok, 1 the run failed (solver; the cause is printed), 2 bad input.\n";
+    "exit status: 0 ok, 1 the run failed (solver; the cause is printed), 2 bad input,\n"
+    "130 interrupted (SIGINT/SIGTERM: the record is closed with status 'failed: interrupted').\n";
 
 typedef struct {
   FILE *csv;
+  vs_output *record; /* the HDF5 record, or NULL */
   int progress;
   long rows;
 } cli_sink;
 
 static int on_sample(void *user, const vs_run *run, const vs_run_sample *smp) {
   cli_sink *s = user;
-  if (g_interrupted) return 1;
+  if (g_interrupted) {
+    vs_output_interrupt(s->record);
+    return 1;
+  }
+  if (s->record != NULL && vs_output_sample(s->record, run, smp) != 0) return 1;
   const vs_hinges *h = vs_run_hinges(run);
   if (s->csv != NULL) {
     const vs_model *m = vs_run_model(run);
@@ -99,9 +109,25 @@ static int on_sample(void *user, const vs_run *run, const vs_run_sample *smp) {
   return 0;
 }
 
+static int on_event(void *user, const vs_run *run, const vs_run_event *e) {
+  cli_sink *s = user;
+  return s->record != NULL ? vs_output_event(s->record, run, e) : 0;
+}
+
+/* Default record name: the case's file name with its extension replaced by ".h5", in the
+ * current directory. */
+static void default_record_path(const char *case_path, char *buf, size_t size) {
+  const char *base = strrchr(case_path, '/');
+  base = base ? base + 1 : case_path;
+  const char *dot = strrchr(base, '.');
+  const int n = dot && dot != base ? (int)(dot - base) : (int)strlen(base);
+  snprintf(buf, size, "%.*s.h5", n, base);
+}
+
 static int cmd_run(int argc, char **argv) {
-  const char *case_path = NULL, *out_path = NULL;
-  int json = 0, quiet = 0, rc = EXIT_BAD_INPUT;
+  const char *case_path = NULL, *out_path = NULL, *csv_path = NULL;
+  int json = 0, quiet = 0, record = 1, rc = EXIT_BAD_INPUT;
+  char *case_text = NULL, default_path[1024];
   vs_case c;
   vs_error err;
   vs_run *run = NULL;
@@ -118,12 +144,15 @@ static int cmd_run(int argc, char **argv) {
       }
       case_path = a;
     } else if (strcmp(a, "--alpha") == 0 || strcmp(a, "--kn") == 0 || strcmp(a, "--set") == 0 ||
-               strcmp(a, "-o") == 0) {
+               strcmp(a, "-o") == 0 || strcmp(a, "--csv") == 0) {
       if (++i >= argc) {
         fprintf(stderr, "voussoir: %s needs a value\n%s", a, USAGE);
         return EXIT_BAD_INPUT;
       }
       if (strcmp(a, "-o") == 0) out_path = argv[i];
+      if (strcmp(a, "--csv") == 0) csv_path = argv[i];
+    } else if (strcmp(a, "--no-record") == 0) {
+      record = 0;
     } else if (strcmp(a, "--dynamic") == 0 || strcmp(a, "--first-limit") == 0) {
       /* applied with the overrides below */
     } else if (strcmp(a, "--json") == 0) {
@@ -139,7 +168,7 @@ static int cmd_run(int argc, char **argv) {
     fprintf(stderr, "voussoir: run needs a CASE file\n%s", USAGE);
     return EXIT_BAD_INPUT;
   }
-  if (vs_case_read(&c, case_path, NULL, &err) != VS_OK) goto input_error;
+  if (vs_case_read(&c, case_path, &case_text, &err) != VS_OK) goto input_error;
   for (int i = 2; i < argc; i++) {
     char buf[512];
     const char *a = argv[i];
@@ -149,7 +178,7 @@ static int cmd_run(int argc, char **argv) {
     else if (strcmp(a, "--dynamic") == 0) snprintf(buf, sizeof buf, "dynamic.full=1");
     else if (strcmp(a, "--first-limit") == 0) snprintf(buf, sizeof buf, "dynamic.follow=0");
     else {
-      if (strcmp(a, "-o") == 0) i++;
+      if (strcmp(a, "-o") == 0 || strcmp(a, "--csv") == 0) i++;
       continue;
     }
     if (vs_case_set(&c, buf, &err) != VS_OK) goto input_error;
@@ -158,10 +187,22 @@ static int cmd_run(int argc, char **argv) {
 
   /* everything is valid: only now create outputs */
   if (vs_run_create(&c, &run, &err) != VS_OK) goto input_error;
-  if (out_path != NULL) {
-    sink.csv = fopen(out_path, "w");
+  if (record) {
+    if (out_path == NULL) {
+      default_record_path(case_path, default_path, sizeof default_path);
+      out_path = default_path;
+    }
+    if (vs_output_create(out_path, run, case_text, NULL, &sink.record, &err) != VS_OK) {
+      fprintf(stderr, "voussoir: -o %s: %s\n", out_path, err.msg);
+      rc = EXIT_RUN_FAILED;
+      goto cleanup;
+    }
+  }
+  if (csv_path != NULL) {
+    sink.csv = fopen(csv_path, "w");
     if (sink.csv == NULL) {
-      fprintf(stderr, "voussoir: -o %s: cannot create: %s\n", out_path, strerror(errno));
+      fprintf(stderr, "voussoir: --csv %s: cannot create: %s\n", csv_path, strerror(errno));
+      rc = EXIT_RUN_FAILED;
       goto cleanup;
     }
     fputs("phase,time_s,delta_mm,dz_mm,dx_mm,left_Fx_N,left_Fz_N,right_Fx_N,right_Fz_N,"
@@ -170,9 +211,19 @@ static int cmd_run(int argc, char **argv) {
   }
   sink.progress = !quiet && isatty(STDERR_FILENO);
   catch_signals();
-  vs_status st = vs_run_execute(run, on_sample, NULL, &sink, &err);
+  vs_status st = vs_run_execute(run, on_sample, on_event, &sink, &err);
   if (sink.progress) fputs("\r\033[K", stderr);
   if (st != VS_OK && g_interrupted) vs_error_set(&err, st, "interrupted");
+  if (st != VS_OK && sink.record != NULL && vs_output_error(sink.record)->status != VS_OK)
+    err = *vs_output_error(sink.record); /* the run stopped because the record failed */
+  if (sink.record != NULL) {
+    vs_error oerr;
+    vs_error_clear(&oerr);
+    if (vs_output_finish(sink.record, run, st, &err, &oerr) != VS_OK) {
+      fprintf(stderr, "voussoir: -o %s: %s\n", out_path, oerr.msg);
+      if (st == VS_OK) st = oerr.status;
+    }
+  }
   if (json) vs_report_json(stdout, run, st, &err, case_path);
   else vs_report_text(stdout, run, st, &err, case_path);
   if (st != VS_OK) fprintf(stderr, "voussoir: run failed: %s\n", err.msg);
@@ -184,10 +235,12 @@ input_error:
   rc = EXIT_BAD_INPUT;
 cleanup:
   if (sink.csv != NULL && fclose(sink.csv) != 0) {
-    fprintf(stderr, "voussoir: -o %s: write failed: %s\n", out_path, strerror(errno));
+    fprintf(stderr, "voussoir: --csv %s: write failed: %s\n", csv_path, strerror(errno));
     rc = EXIT_RUN_FAILED;
   }
+  vs_output_destroy(&sink.record);
   vs_run_destroy(&run);
+  free(case_text);
   return rc;
 }
 

@@ -1249,25 +1249,28 @@ static void xdmf_dims(FILE *f, int rank, const hsize_t *d) {
   for (int i = 0; i < rank; i++) fprintf(f, "%s%llu", i ? " " : "", (unsigned long long)d[i]);
 }
 
-/* Row r of dataset x, columns [col, col + ncol) of the last dimension (ncol 0: all of them). */
+/* Row r of dataset `which`, columns [col, col + ncol) of its last dimension (ncol 0: all), in
+ * XDMF 3's own hyperslab syntax: "file:/path|start:stride:count:dataset dimensions". ParaView's
+ * default XDMF reader (Xdmf3ReaderS/T) reads it; it crashes on an ItemType="HyperSlab" item used as
+ * a geometry (it asks the array's type before reading the slab), and the legacy "XDMF Reader"
+ * reads only that older form, so there is no syntax both accept. */
 static void xdmf_slab(const xdmf_ctx *x, int which, hsize_t r, hsize_t col, hsize_t ncol,
                       const char *type, int prec, const char *ind) {
   const xdmf_ds *d = &x->ds[which];
-  hsize_t start[3] = {r, 0, 0}, count[3] = {1, d->dims[1], d->dims[2]};
+  hsize_t start[3] = {r, 0, 0}, stride[3] = {1, 1, 1}, count[3] = {1, d->dims[1], d->dims[2]};
   if (ncol > 0) start[d->rank - 1] = col, count[d->rank - 1] = ncol;
-  fprintf(x->f, "%s<DataItem ItemType=\"HyperSlab\" Dimensions=\"", ind);
+  fprintf(x->f, "%s<DataItem Dimensions=\"", ind);
   xdmf_dims(x->f, d->rank, count);
-  fprintf(x->f, "\" Type=\"HyperSlab\">\n%s  <DataItem Dimensions=\"3 %d\" Format=\"XML\">", ind,
-          d->rank);
+  fprintf(x->f, "\" NumberType=\"%s\" Precision=\"%d\" Format=\"HDF\">%s:%s|", type, prec,
+          x->h5name, d->path);
   xdmf_dims(x->f, d->rank, start);
-  fputs("  ", x->f);
-  for (int i = 0; i < d->rank; i++) fprintf(x->f, "%s1", i ? " " : "");
-  fputs("  ", x->f);
+  fputc(':', x->f);
+  xdmf_dims(x->f, d->rank, stride);
+  fputc(':', x->f);
   xdmf_dims(x->f, d->rank, count);
-  fprintf(x->f, "</DataItem>\n%s  <DataItem Dimensions=\"", ind);
+  fputc(':', x->f);
   xdmf_dims(x->f, d->rank, d->dims);
-  fprintf(x->f, "\" NumberType=\"%s\" Precision=\"%d\" Format=\"HDF\">%s:%s</DataItem>\n%s</DataItem>\n",
-          type, prec, x->h5name, d->path, ind);
+  fputs("</DataItem>\n", x->f);
 }
 
 static void xdmf_attribute(const xdmf_ctx *x, const char *name, int which, hsize_t r, hsize_t col,

@@ -24,7 +24,8 @@ static const char *SWEEP_USAGE =
     "                      [--set SECTION.KEY=VALUE]... [--first-limit | --dynamic]\n"
     "                      [-j N] [-o DIR] [-q]\n"
     "Runs the case for every combination of the lists, as independent processes (-j, default:\n"
-    "the number of cores), and writes DIR/run_NNNN.json per run and DIR/summary.csv. A run that\n"
+    "the number of cores), and writes DIR/run_NNNN.h5 (the record) and .json per run and\n"
+    "DIR/summary.csv. A run that\n"
     "fails is reported in the table with its cause; the others go on.\n"
     "LIST: comma-separated numbers and inclusive ranges first:last:step, e.g. 0:45:5,60,75,90.\n"
     "--alpha and --kn are the axes support.alpha_deg and joints.kn_N_mm3; --vary sweeps any key.\n"
@@ -134,7 +135,7 @@ static pid_t start_run(const char *self, const char *case_path, const char *dir,
                        const axis *ax, int nax, const int *pick, char **sets, int nsets,
                        const char *mode_flag) {
   char *args[2 * (MAX_AXES + MAX_SETS) + 16];
-  char vals[MAX_AXES][160], json[1100], errp[1100];
+  char vals[MAX_AXES][160], json[1100], errp[1100], h5[1100];
   int a = 0;
   args[a++] = (char *)self;
   args[a++] = "run";
@@ -149,6 +150,9 @@ static pid_t start_run(const char *self, const char *case_path, const char *dir,
     args[a++] = vals[x];
   }
   if (mode_flag != NULL) args[a++] = (char *)mode_flag;
+  snprintf(h5, sizeof h5, "%s/run_%04d.h5", dir, index);
+  args[a++] = "-o";
+  args[a++] = h5;
   args[a++] = "--json";
   args[a++] = "-q";
   args[a] = NULL;

@@ -395,7 +395,7 @@ static void test_reference_json_csv(void **state) {
   const path_t pcsv = scratch("path.csv");
   const char *csv = pcsv.p;
   char extra[512], *json = NULL;
-  snprintf(extra, sizeof extra, "-o '%s'", csv);
+  snprintf(extra, sizeof extra, "--csv '%s' --no-record", csv);
   const long steps = check_json_run(extra, 0.0, 3.0, &json);
   span fl = need(one_object(json), "first_limit");
   expect_close(number(fl, "dx_over_L_pct"), 0.0, 0.0, "dx_over_L_pct at alpha 0");

@@ -70,7 +70,13 @@ const vs_error *vs_output_error(const vs_output *o);
 /* Rows written so far (flushed or buffered). */
 long vs_output_rows(const vs_output *o);
 
-/* Path of the XDMF sidecar. */
+/* Path of the XDMF sidecar: an XDMF 3 temporal collection with one spatial collection per listed
+ * row (Time = the loading time, s; rows whose time does not increase are skipped), holding two
+ * grids in the x-z plane (GeometryType XY: x, z): "blocks", one polygon per voussoir (cell
+ * attributes theta, rad, and speed, m/s) and "joints", one segment per joint from intrados to
+ * extrados (N, N; gap_i, gap_e, m; hinge 0/1/2). Rows are XDMF 3 hyperslabs of the time series
+ * ("file:/path|start:stride:count:dims"): ParaView's default reader for .xmf (Xdmf3ReaderS/T)
+ * plays it; its legacy "XDMF Reader" does not read this form. */
 const char *vs_output_xdmf_path(const vs_output *o);
 
 /* Close every HDF5 object and the file (flushing it), free o and NULL *o; NULL and *o == NULL

@@ -1,0 +1,914 @@
+/* Tests of the HDF5 record and its XDMF sidecar (output.h): runs are written and read back with
+ * the HDF5 C API, and compared with what is recomputed here from the run and the geometry: the
+ * last positions against vs_run_state, delta = rate t, reactions against the arch's weight and
+ * against the first joint's forces, hinge flags against the edge openings, outlines against the
+ * rigid motion of the arch's sectors, kinetic and gravitational energy from the velocities and
+ * positions; units on every floating-point dataset; the events; the summary; the XDMF's tags and
+ * the shapes of every dataset it refers to; a run killed by SIGKILL (its file opens and holds
+ * the flushed rows, equal to a run recorded in memory); error paths. */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp, fork, kill, nanosleep */
+
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <hdf5.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <poll.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "voussoir/output.h"
+#include "voussoir/units.h"
+#include "voussoir/version.h"
+
+static char g_dir[64];
+
+static int setup(void **state) {
+  (void)state;
+  snprintf(g_dir, sizeof g_dir, "/tmp/vs_test_output_XXXXXX");
+  return mkdtemp(g_dir) == NULL ? -1 : 0;
+}
+
+static int teardown(void **state) {
+  (void)state;
+  char cmd[128];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", g_dir);
+  return system(cmd) == 0 ? 0 : -1;
+}
+
+static void path_in(char *buf, size_t size, const char *name) {
+  snprintf(buf, size, "%s/%s", g_dir, name);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Writing a run */
+
+typedef struct {
+  vs_output *o;
+  long samples;
+  long interrupt_after; /* call vs_output_interrupt after this many samples (0: never) */
+} sink;
+
+static int on_sample(void *user, const vs_run *run, const vs_run_sample *s) {
+  sink *k = user;
+  k->samples++;
+  int rc = vs_output_sample(k->o, run, s);
+  if (k->interrupt_after > 0 && k->samples == k->interrupt_after) vs_output_interrupt(k->o);
+  return rc;
+}
+
+static int on_event(void *user, const vs_run *run, const vs_run_event *e) {
+  sink *k = user;
+  return vs_output_event(k->o, run, e);
+}
+
+static vs_case small_case(int follow) {
+  vs_case c;
+  vs_case_defaults(&c);
+  c.voussoirs = 11;
+  c.follow = follow;
+  return c;
+}
+
+/* Run c, recording it at path; returns the run (caller destroys), the run status in *st. */
+static vs_run *record(const vs_case *c, const char *path, const char *text, long interrupt_after,
+                      long *samples, vs_status *st) {
+  vs_error err;
+  vs_run *run = NULL;
+  assert_int_equal(vs_run_create(c, &run, &err), VS_OK);
+  sink k = {NULL, 0, interrupt_after};
+  if (vs_output_create(path, run, text, NULL, &k.o, &err) != VS_OK) fail_msg("%s", err.msg);
+  vs_error rerr;
+  vs_error_clear(&rerr);
+  *st = vs_run_execute(run, on_sample, on_event, &k, &rerr);
+  /* after an interruption, the sample that was refused is not a row */
+  assert_int_equal(vs_output_rows(k.o),
+                   k.samples - (interrupt_after > 0 && k.samples > interrupt_after));
+  if (vs_output_finish(k.o, run, *st, &rerr, &err) != VS_OK) fail_msg("%s", err.msg);
+  vs_output_destroy(&k.o);
+  assert_null(k.o);
+  *samples = k.samples;
+  return run;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Reading back */
+
+static int rank_of(hid_t f, const char *path, hsize_t dims[3]) {
+  dims[0] = dims[1] = dims[2] = 1;
+  hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
+  if (d < 0) fail_msg("dataset %s missing", path);
+  hid_t s = H5Dget_space(d);
+  int r = H5Sget_simple_extent_ndims(s);
+  H5Sget_simple_extent_dims(s, dims, NULL);
+  H5Sclose(s);
+  H5Dclose(d);
+  return r;
+}
+
+/* Whole dataset as doubles (malloc'd); *n receives the element count. */
+static double *read_all(hid_t f, const char *path, size_t *n) {
+  hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
+  if (d < 0) fail_msg("dataset %s missing", path);
+  hid_t s = H5Dget_space(d);
+  hssize_t np = H5Sget_simple_extent_npoints(s);
+  double *v = malloc((size_t)(np > 0 ? np : 1) * sizeof *v);
+  assert_non_null(v);
+  if (np > 0) assert_true(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
+  H5Sclose(s);
+  H5Dclose(d);
+  *n = (size_t)np;
+  return v;
+}
+
+static double read_scalar(hid_t f, const char *path) {
+  size_t n;
+  double *v = read_all(f, path, &n);
+  assert_int_equal(n, 1);
+  double x = v[0];
+  free(v);
+  return x;
+}
+
+/* Attribute name of obj as a string into buf; checks it is a variable-length UTF-8 string. */
+static void read_attr_str(hid_t obj, const char *name, char *buf, size_t size) {
+  hid_t a = H5Aopen(obj, name, H5P_DEFAULT);
+  if (a < 0) fail_msg("attribute %s missing", name);
+  hid_t t = H5Aget_type(a);
+  assert_int_equal(H5Tget_class(t), H5T_STRING);
+  assert_true(H5Tis_variable_str(t) > 0);
+  assert_int_equal(H5Tget_cset(t), H5T_CSET_UTF8);
+  char *s = NULL;
+  hid_t mt = H5Tcopy(t);
+  assert_true(H5Aread(a, mt, &s) >= 0);
+  snprintf(buf, size, "%s", s != NULL ? s : "");
+  hid_t sp = H5Aget_space(a);
+  H5Dvlen_reclaim(mt, sp, H5P_DEFAULT, &s);
+  H5Sclose(sp);
+  H5Tclose(mt);
+  H5Tclose(t);
+  H5Aclose(a);
+}
+
+static long long read_attr_int(hid_t obj, const char *name) {
+  long long v = 0;
+  hid_t a = H5Aopen(obj, name, H5P_DEFAULT);
+  if (a < 0) fail_msg("attribute %s missing", name);
+  assert_true(H5Aread(a, H5T_NATIVE_LLONG, &v) >= 0);
+  H5Aclose(a);
+  return v;
+}
+
+/* Every floating-point dataset, and every table with a floating-point field, has a "unit"
+ * attribute, a variable-length UTF-8 string; multi-column datasets with "columns" give one unit
+ * per column; tables one per field. */
+static int has_float(hid_t t) {
+  if (H5Tget_class(t) == H5T_FLOAT) return 1;
+  if (H5Tget_class(t) != H5T_COMPOUND) return 0;
+  for (int i = 0; i < H5Tget_nmembers(t); i++)
+    if (H5Tget_member_class(t, (unsigned)i) == H5T_FLOAT) return 1;
+  return 0;
+}
+
+static int count_fields(const char *s) {
+  int n = 1;
+  for (; *s; s++) n += *s == ',';
+  return n;
+}
+
+static herr_t check_unit_cb(hid_t loc, const char *name, const H5O_info_t *info, void *data) {
+  int *checked = data;
+  if (info->type != H5O_TYPE_DATASET) return 0;
+  hid_t d = H5Dopen2(loc, name, H5P_DEFAULT);
+  hid_t t = H5Dget_type(d);
+  if (has_float(t)) {
+    if (H5Aexists(d, "unit") <= 0) fail_msg("%s: no unit attribute", name);
+    char unit[256];
+    read_attr_str(d, "unit", unit, sizeof unit);
+    if (H5Tget_class(t) == H5T_COMPOUND) {
+      if (count_fields(unit) != H5Tget_nmembers(t)) fail_msg("%s: unit '%s' per field", name, unit);
+    } else if (H5Aexists(d, "columns") > 0) {
+      char cols[256];
+      read_attr_str(d, "columns", cols, sizeof cols);
+      hsize_t dims[3];
+      int r = rank_of(loc, name, dims);
+      if (count_fields(unit) != count_fields(cols) || (hsize_t)count_fields(cols) != dims[r - 1])
+        fail_msg("%s: unit '%s', columns '%s', last dimension %llu", name, unit, cols,
+                 (unsigned long long)dims[r - 1]);
+    } else if (strchr(unit, ',') != NULL) {
+      fail_msg("%s: unit '%s' lists columns but there is no columns attribute", name, unit);
+    }
+    (*checked)++;
+  }
+  H5Tclose(t);
+  H5Dclose(d);
+  return 0;
+}
+
+/* at_least: floating-point datasets expected */
+static void check_units(hid_t f, int at_least) {
+  int checked = 0;
+  assert_true(H5Ovisit(f, H5_INDEX_NAME, H5_ITER_NATIVE, check_unit_cb, &checked) >= 0);
+  assert_true(checked >= at_least);
+}
+
+static const char *const SERIES_GROUPS[] = {
+    "delta", "support_displacement", "phase", "block_position", "block_velocity", "block_speed",
+    "joint_N", "joint_T", "joint_M", "joint_contact", "joint_gap_i", "joint_gap_e", "joint_slip",
+    "joint_slip_plastic", "joint_hinge", "reactions", "energy", "block_points", "joint_points"};
+
+/* Every observable has value, step and time with the same number of rows; returns it. */
+static hsize_t check_series_rows(hid_t f) {
+  hsize_t rows = 0;
+  for (size_t i = 0; i < sizeof SERIES_GROUPS / sizeof SERIES_GROUPS[0]; i++) {
+    const char *ds[] = {"value", "step", "time"};
+    for (int k = 0; k < 3; k++) {
+      char path[128];
+      hsize_t dims[3];
+      snprintf(path, sizeof path, "/observables/%s/%s", SERIES_GROUPS[i], ds[k]);
+      rank_of(f, path, dims);
+      if (i == 0 && k == 0) rows = dims[0];
+      if (dims[0] != rows) fail_msg("%s has %llu rows, expected %llu", path,
+                                    (unsigned long long)dims[0], (unsigned long long)rows);
+    }
+  }
+  return rows;
+}
+
+static void check_root(hid_t f, const char *text, const char *status) {
+  char buf[1024];
+  read_attr_str(f, "program", buf, sizeof buf);
+  assert_string_equal(buf, "voussoir");
+  read_attr_str(f, "version", buf, sizeof buf);
+  assert_string_equal(buf, VS_VERSION);
+  read_attr_str(f, "case", buf, sizeof buf);
+  assert_string_equal(buf, text);
+  read_attr_str(f, "status", buf, sizeof buf);
+  assert_string_equal(buf, status);
+  read_attr_str(f, "created", buf, sizeof buf);
+  int y, mo, d, h, mi, s;
+  char z = 0;
+  assert_int_equal(sscanf(buf, "%4d-%2d-%2dT%2d:%2d:%2d%c", &y, &mo, &d, &h, &mi, &s, &z), 7);
+  assert_int_equal(strlen(buf), 20);
+  assert_int_equal(z, 'Z');
+  assert_true(y >= 2024 && mo >= 1 && mo <= 12 && d >= 1 && d <= 31);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * XDMF: balanced tags; every HDF data item names an existing dataset of the shape it states;
+ * hyperslabs inside their datasets; times strictly increasing. */
+
+static const char *attr_in_tag(const char *tag, const char *end, const char *name, char *out,
+                               size_t size) {
+  char key[64];
+  snprintf(key, sizeof key, " %s=\"", name);
+  const char *p = strstr(tag, key);
+  if (p == NULL || p > end) return NULL;
+  p += strlen(key);
+  const char *q = strchr(p, '"');
+  size_t n = (size_t)(q - p) < size - 1 ? (size_t)(q - p) : size - 1;
+  memcpy(out, p, n);
+  out[n] = '\0';
+  return out;
+}
+
+static int parse_dims(const char *s, hsize_t *d, int max) {
+  int n = 0;
+  char *end;
+  for (;;) {
+    unsigned long long v = strtoull(s, &end, 10);
+    if (end == s || n == max) break;
+    d[n++] = v;
+    s = end;
+  }
+  return n;
+}
+
+typedef struct {
+  int grids, hdf_items, slabs;
+  double t_last;
+} xdmf_stats;
+
+static char *slurp(const char *path) {
+  FILE *fp = fopen(path, "rb");
+  if (fp == NULL) fail_msg("cannot open %s", path);
+  fseek(fp, 0, SEEK_END);
+  long n = ftell(fp);
+  fseek(fp, 0, SEEK_SET);
+  char *s = malloc((size_t)n + 1);
+  assert_non_null(s);
+  assert_int_equal(fread(s, 1, (size_t)n, fp), (size_t)n);
+  s[n] = '\0';
+  fclose(fp);
+  return s;
+}
+
+/* One HDF data item: "file:/path" (the whole dataset, of the stated dimensions) or an XDMF 3
+ * hyperslab "file:/path|start:stride:count:dims" (stated dimensions = count; dims = the
+ * dataset's; the slab inside it). Returns 1 for a hyperslab. */
+static int check_hdf_item(hid_t f, const char *h5base, const char *text, const hsize_t *stated,
+                          int rank) {
+  const char *colon = strchr(text, ':');
+  assert_non_null(colon);
+  if (strncmp(text, h5base, (size_t)(colon - text)) != 0 || strlen(h5base) != (size_t)(colon - text))
+    fail_msg("XDMF names file %.*s, not %s", (int)(colon - text), text, h5base);
+  char path[256];
+  snprintf(path, sizeof path, "%s", colon + 1);
+  char *bar = strchr(path, '|');
+  if (bar != NULL) *bar = '\0';
+  hsize_t real[3];
+  const int r = rank_of(f, path, real);
+  if (bar == NULL) {
+    if (r != rank) fail_msg("XDMF: %s has rank %d, stated %d", path, r, rank);
+    for (int i = 0; i < r; i++)
+      if (real[i] != stated[i]) fail_msg("XDMF: %s dimension %d is %llu, stated %llu", path, i,
+                                         (unsigned long long)real[i], (unsigned long long)stated[i]);
+    return 0;
+  }
+  hsize_t part[4][8];
+  char *p = bar + 1;
+  for (int k = 0; k < 4; k++) {
+    char *next = strchr(p, ':');
+    if (k < 3) assert_non_null(next);
+    if (next != NULL) *next = '\0';
+    if (parse_dims(p, part[k], 8) != r) fail_msg("XDMF: %s: slab part %d of rank != %d", path, k, r);
+    p = next != NULL ? next + 1 : p;
+  }
+  if (rank != r) fail_msg("XDMF: %s: stated rank %d, dataset rank %d", path, rank, r);
+  for (int i = 0; i < r; i++) {
+    if (part[3][i] != real[i]) fail_msg("XDMF: %s dimension %d is %llu, stated %llu", path, i,
+                                        (unsigned long long)real[i], (unsigned long long)part[3][i]);
+    if (part[2][i] != stated[i]) fail_msg("XDMF: %s: count differs from Dimensions", path);
+    if (part[1][i] != 1 || part[0][i] + part[2][i] > real[i]) fail_msg("XDMF: %s: slab outside", path);
+  }
+  return 1;
+}
+
+static xdmf_stats check_xdmf(const char *xmf_path, hid_t f, const char *h5base) {
+  char *s = slurp(xmf_path);
+  const char *stack[16];
+  size_t stack_len[16];
+  int depth = 0;
+  xdmf_stats st = {0, 0, 0, -INFINITY};
+  for (const char *p = strchr(s, '<'); p != NULL; p = strchr(p + 1, '<')) {
+    if (strncmp(p, "<?", 2) == 0 || strncmp(p, "<!DOCTYPE", 9) == 0) continue;
+    if (strncmp(p, "<!--", 4) == 0) {
+      p = strstr(p, "-->");
+      assert_non_null(p);
+      continue;
+    }
+    const char *end = strchr(p, '>');
+    assert_non_null(end);
+    if (p[1] == '/') { /* closing tag */
+      assert_true(depth > 0);
+      depth--;
+      if (strncmp(p + 2, stack[depth], stack_len[depth]) != 0 || p[2 + stack_len[depth]] != '>')
+        fail_msg("XDMF: </%.*s> closes <%.*s>", (int)(end - p - 2), p + 2, (int)stack_len[depth],
+                 stack[depth]);
+      continue;
+    }
+    const size_t nlen = strcspn(p + 1, " />");
+    const int self_closing = end[-1] == '/';
+    if (strncmp(p + 1, "Time", 4) == 0 && nlen == 4) {
+      char v[64];
+      assert_non_null(attr_in_tag(p, end, "Value", v, sizeof v));
+      double t = strtod(v, NULL);
+      if (!(t > st.t_last)) fail_msg("XDMF: time %g after %g", t, st.t_last);
+      st.t_last = t;
+      st.grids++;
+    }
+    char fmt[16];
+    if (strncmp(p + 1, "DataItem", 8) == 0 && nlen == 8 &&
+        attr_in_tag(p, end, "Format", fmt, sizeof fmt) && strcmp(fmt, "HDF") == 0) {
+      char dimtxt[128], item[512];
+      hsize_t dims[8];
+      assert_non_null(attr_in_tag(p, end, "Dimensions", dimtxt, sizeof dimtxt));
+      const int rank = parse_dims(dimtxt, dims, 8);
+      const char *text = end + 1, *close = strstr(text, "</DataItem>");
+      assert_non_null(close);
+      size_t len = (size_t)(close - text) < sizeof item - 1 ? (size_t)(close - text) : sizeof item - 1;
+      memcpy(item, text, len);
+      item[len] = '\0';
+      st.slabs += check_hdf_item(f, h5base, item, dims, rank);
+      st.hdf_items++;
+    }
+    if (!self_closing) {
+      assert_true(depth < 16);
+      stack[depth] = p + 1;
+      stack_len[depth] = nlen;
+      depth++;
+    }
+  }
+  assert_int_equal(depth, 0);
+  free(s);
+  return st;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * A quasi-static run to the first limit point */
+
+static void check_joint_states(hid_t f, const vs_run *run, size_t rows) {
+  const vs_geometry *g = vs_run_geometry(run);
+  const size_t nj = (size_t)g->n_joints;
+  size_t n;
+  double *N = read_all(f, "/observables/joint_N/value", &n);
+  double *T = read_all(f, "/observables/joint_T/value", &n);
+  double *gi = read_all(f, "/observables/joint_gap_i/value", &n);
+  double *ge = read_all(f, "/observables/joint_gap_e/value", &n);
+  double *h = read_all(f, "/observables/joint_hinge/value", &n);
+  double *R = read_all(f, "/observables/reactions/value", &n);
+  const double W = vs_geometry_weight(g), open = vs_run_case(run)->open_mm * VS_MM;
+  int hinges = 0;
+  for (size_t r = 0; r < rows; r++) {
+    const double *rr = R + 4 * r;
+    /* the supports carry the arch's weight: the arch pushes them down by W in all */
+    assert_true(fabs(rr[1] + rr[3] + W) <= 1e-6 * W);
+    /* the left reaction is the force through joint 1 */
+    assert_true(fabs(hypot(rr[0], rr[1]) - hypot(N[r * nj], T[r * nj])) <= 1e-9 * W);
+    for (size_t k = 0; k < nj; k++) {
+      const double a = gi[r * nj + k], b = ge[r * nj + k];
+      const int want = fmax(a, b) <= open ? 0 : b > a ? 1 : 2;
+      assert_int_equal((int)h[r * nj + k], want);
+      hinges += want != 0;
+    }
+  }
+  assert_true(hinges > 0);
+  free(N), free(T), free(gi), free(ge), free(h), free(R);
+}
+
+/* The first outline point of every block is its intrados corner at phi0, moved rigidly. */
+static void check_outlines(hid_t f, const vs_run *run, size_t row, const double *q) {
+  const vs_geometry *g = vs_run_geometry(run);
+  hsize_t dims[3];
+  rank_of(f, "/observables/block_points/value", dims);
+  const size_t P = (size_t)dims[1] / (size_t)g->n_blocks;
+  assert_int_equal(P, 8); /* 2 + 2 corners and 2 x 2 arc points, the default */
+  size_t n;
+  double *pts = read_all(f, "/observables/block_points/value", &n);
+  for (int b = 0; b < g->n_blocks; b++) {
+    const vs_block *blk = &g->blocks[b];
+    const double X = g->radius * sin(blk->phi0), Z = g->radius * cos(blk->phi0);
+    const double th = q[3 * b + 2], dx = X - blk->cx, dz = Z - blk->cz;
+    const double x = blk->cx + q[3 * b] + cos(th) * dx - sin(th) * dz;
+    const double z = blk->cz + q[3 * b + 1] + sin(th) * dx + cos(th) * dz;
+    const double *p = pts + 2 * (row * (size_t)dims[1] + (size_t)b * P);
+    assert_true(fabs(p[0] - x) < 1e-6 && fabs(p[1] - z) < 1e-6); /* float32 */
+    /* the extrados corner at phi0 is the last point */
+    const double Xe = (g->radius + g->thickness) * sin(blk->phi0);
+    const double Ze = (g->radius + g->thickness) * cos(blk->phi0);
+    const double xe = blk->cx + q[3 * b] + cos(th) * (Xe - blk->cx) - sin(th) * (Ze - blk->cz);
+    assert_true(fabs(p[2 * (P - 1)] - xe) < 1e-6);
+  }
+  free(pts);
+}
+
+static void check_events(hid_t f, const vs_run *run) {
+  typedef struct {
+    double time, delta;
+    int joint;
+    char *kind;
+  } ev;
+  hid_t d = H5Dopen2(f, "/events", H5P_DEFAULT);
+  hid_t s = H5Dget_space(d);
+  const hssize_t n = H5Sget_simple_extent_npoints(s);
+  assert_int_equal(n, vs_run_event_count(run));
+  hid_t kt = H5Tcopy(H5T_C_S1);
+  H5Tset_size(kt, H5T_VARIABLE);
+  H5Tset_cset(kt, H5T_CSET_UTF8);
+  hid_t mt = H5Tcreate(H5T_COMPOUND, sizeof(ev));
+  H5Tinsert(mt, "time", HOFFSET(ev, time), H5T_NATIVE_DOUBLE);
+  H5Tinsert(mt, "delta", HOFFSET(ev, delta), H5T_NATIVE_DOUBLE);
+  H5Tinsert(mt, "joint", HOFFSET(ev, joint), H5T_NATIVE_INT);
+  H5Tinsert(mt, "kind", HOFFSET(ev, kind), kt);
+  ev *rows = calloc((size_t)(n > 0 ? n : 1), sizeof *rows);
+  assert_non_null(rows);
+  if (n > 0) assert_true(H5Dread(d, mt, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows) >= 0);
+  static const char *const kinds[] = {"joint_opened", "joint_closed", "hinge_formed",
+                                      "limit_point", "snap_settled", "collapse"};
+  for (int i = 0; i < (int)n; i++) {
+    const vs_run_event *e = vs_run_event_get(run, i);
+    assert_true(rows[i].time == e->t && rows[i].delta == e->delta);
+    assert_int_equal(rows[i].joint, e->joint);
+    assert_string_equal(rows[i].kind, kinds[e->kind]);
+  }
+  if (n > 0) H5Dvlen_reclaim(mt, s, H5P_DEFAULT, rows);
+  free(rows);
+  H5Tclose(mt);
+  H5Tclose(kt);
+  H5Sclose(s);
+  H5Dclose(d);
+}
+
+static void test_quasistatic_record(void **state) {
+  (void)state;
+  char path[128], xmf[128];
+  path_in(path, sizeof path, "qs.h5");
+  path_in(xmf, sizeof xmf, "qs.xmf");
+  vs_case c = small_case(0);
+  long samples;
+  vs_status st;
+  const char *text = "[arch]\nvoussoirs = 11 ; coarse\n";
+  vs_run *run = record(&c, path, text, 0, &samples, &st);
+  assert_int_equal(st, VS_OK);
+  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  check_root(f, text, "completed");
+  check_units(f, 50);
+  const hsize_t rows = check_series_rows(f);
+  assert_int_equal(rows, samples);
+  assert_true(rows > 20);
+
+  /* last row = the run's last state; every row at rest, quasi-static, delta = rate t */
+  const vs_model *m = vs_run_model(run);
+  const size_t n3 = (size_t)vs_model_size(m);
+  size_t n;
+  double *q = read_all(f, "/observables/block_position/value", &n);
+  double *v = read_all(f, "/observables/block_velocity/value", &n);
+  double *t = read_all(f, "/observables/delta/time", &n);
+  double *dl = read_all(f, "/observables/delta/value", &n);
+  double *ph = read_all(f, "/observables/phase/value", &n);
+  double *en = read_all(f, "/observables/energy/value", &n);
+  double *step = read_all(f, "/observables/joint_N/step", &n);
+  assert_memory_equal(q + (rows - 1) * n3, vs_run_state(run), n3 * sizeof(double));
+  const double rate = c.rate_mm_s * VS_MM;
+  for (size_t r = 0; r < rows; r++) {
+    assert_true(fabs(dl[r] - rate * t[r]) <= 1e-14 * fabs(dl[r]));
+    assert_true(r == 0 || dl[r] > dl[r - 1]);
+    assert_true(ph[r] == 0.0 && step[r] == (double)r);
+    for (size_t i = 0; i < n3; i++) assert_true(v[r * n3 + i] == 0.0);
+    assert_true(en[7 * r] == 0.0 && isnan(en[7 * r + 3]) && isnan(en[7 * r + 6]));
+    double eg = 0.0; /* gravitational potential from the positions */
+    for (int b = 0; b < vs_run_geometry(run)->n_blocks; b++)
+      eg += vs_run_geometry(run)->blocks[b].mass * c.gravity_m_s2 * q[r * n3 + 3 * (size_t)b + 1];
+    assert_true(fabs(en[7 * r + 1] - eg) <= 1e-12 * fabs(eg) + 1e-15);
+  }
+  assert_true(dl[0] == 0.0); /* self-weight */
+  check_joint_states(f, run, rows);
+  check_outlines(f, run, rows - 1, q + (rows - 1) * n3);
+  check_events(f, run);
+
+  /* summary */
+  assert_true(read_scalar(f, "/summary/first_limit/delta") == vs_run_path(run)->delta_limit);
+  hsize_t dims[3];
+  rank_of(f, "/summary/limit_points", dims);
+  assert_int_equal(dims[0], vs_run_limit_count(run));
+  rank_of(f, "/summary/hinges", dims);
+  assert_int_equal(dims[0], vs_hinges_count(vs_run_hinges(run)));
+  hid_t sum = H5Gopen2(f, "/summary", H5P_DEFAULT);
+  assert_int_equal(read_attr_int(sum, "rows"), (long long)rows);
+  char pattern[64];
+  read_attr_str(sum, "pattern_initial", pattern, sizeof pattern);
+  assert_string_equal(pattern, vs_run_pattern_initial(run));
+  H5Gclose(sum);
+  hid_t par = H5Gopen2(f, "/parameters/arch", H5P_DEFAULT);
+  assert_int_equal(read_attr_int(par, "voussoirs"), 11);
+  H5Gclose(par);
+
+  xdmf_stats xs = check_xdmf(xmf, f, "qs.h5");
+  assert_int_equal(xs.grids, (int)rows); /* few rows: all of them, times increasing */
+  assert_true(xs.hdf_items == xs.grids * 10 && xs.slabs == xs.grids * 8);
+  free(q), free(v), free(t), free(dl), free(ph), free(en), free(step);
+  H5Fclose(f);
+  assert_int_equal(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0); /* nothing left open */
+  vs_run_destroy(&run);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * A run followed dynamically to the collapse */
+
+static void test_dynamic_record(void **state) {
+  (void)state;
+  char path[128], xmf[128];
+  path_in(path, sizeof path, "dyn.hdf5");
+  path_in(xmf, sizeof xmf, "dyn.xmf");
+  vs_case c = small_case(1);
+  long samples;
+  vs_status st;
+  vs_run *run = record(&c, path, NULL, 0, &samples, &st);
+  assert_int_equal(st, VS_OK);
+  assert_true(vs_run_collapse(run)->found);
+  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  check_root(f, "", "completed");
+  check_units(f, 50);
+  const hsize_t rows = check_series_rows(f);
+  assert_int_equal(rows, samples);
+  const vs_geometry *g = vs_run_geometry(run);
+  const size_t n3 = 3 * (size_t)g->n_blocks;
+  size_t n;
+  double *ph = read_all(f, "/observables/phase/value", &n);
+  double *v = read_all(f, "/observables/block_velocity/value", &n);
+  double *sp = read_all(f, "/observables/block_speed/value", &n);
+  double *en = read_all(f, "/observables/energy/value", &n);
+  double *t = read_all(f, "/observables/reactions/time", &n);
+  double *dl = read_all(f, "/observables/delta/value", &n);
+  int dyn = 0, qs = 0, switches = 0;
+  double ke_max = 0.0;
+  for (size_t r = 0; r < rows; r++) {
+    assert_true(fabs(dl[r] - c.rate_mm_s * VS_MM * t[r]) <= 1e-14 * fabs(dl[r]));
+    assert_true(r == 0 || t[r] >= t[r - 1] * (1.0 - 1e-15));
+    switches += r > 0 && ph[r] != ph[r - 1];
+    if (ph[r] == 0.0) {
+      qs++;
+      continue;
+    }
+    dyn++;
+    double ke = 0.0; /* kinetic energy from the velocities, masses and inertias */
+    for (int b = 0; b < g->n_blocks; b++) {
+      const double *vb = v + r * n3 + 3 * (size_t)b;
+      ke += 0.5 * (g->blocks[b].mass * (vb[0] * vb[0] + vb[1] * vb[1]) +
+                   g->blocks[b].inertia * vb[2] * vb[2]);
+      assert_true(fabs(sp[r * (size_t)g->n_blocks + (size_t)b] - hypot(vb[0], vb[1])) <= 1e-15);
+    }
+    assert_true(fabs(en[7 * r] - ke) <= 1e-12 * ke + 1e-300);
+    assert_true(isfinite(en[7 * r + 6]));
+    ke_max = fmax(ke_max, ke);
+  }
+  assert_true(qs > 10 && dyn > 10 && switches >= 1);
+  assert_true(ke_max > 0.0);
+  assert_true(fabs(read_scalar(f, "/summary/dynamic/max_kinetic") -
+                   vs_run_dynamic_totals(run)->max_kinetic) == 0.0);
+  assert_true(read_scalar(f, "/summary/collapse/delta") == vs_run_collapse(run)->delta);
+  check_events(f, run);
+  /* the first three hinges got their labels after their events: the table was rewritten */
+  hid_t d = H5Dopen2(f, "/events", H5P_DEFAULT);
+  typedef struct {
+    char label;
+    int order;
+  } lab;
+  hid_t c1 = H5Tcopy(H5T_C_S1);
+  H5Tset_size(c1, 1);
+  H5Tset_strpad(c1, H5T_STR_NULLPAD);
+  hid_t mt = H5Tcreate(H5T_COMPOUND, sizeof(lab));
+  H5Tinsert(mt, "label", HOFFSET(lab, label), c1);
+  H5Tinsert(mt, "order", HOFFSET(lab, order), H5T_NATIVE_INT);
+  const int ne = vs_run_event_count(run);
+  lab *labs = calloc((size_t)ne, sizeof *labs);
+  assert_true(H5Dread(d, mt, H5S_ALL, H5S_ALL, H5P_DEFAULT, labs) >= 0);
+  int formed = 0;
+  for (int i = 0; i < ne; i++) {
+    assert_int_equal(labs[i].label, vs_run_event_get(run, i)->label);
+    if (vs_run_event_get(run, i)->kind == VS_EVENT_HINGE_FORMED && labs[i].order <= 3) {
+      assert_true(labs[i].label >= 'A' && labs[i].label <= 'C');
+      formed++;
+    }
+  }
+  assert_int_equal(formed, 3);
+  free(labs);
+  H5Tclose(mt), H5Tclose(c1), H5Dclose(d);
+  hid_t sum = H5Gopen2(f, "/summary", H5P_DEFAULT);
+  char mode[16];
+  read_attr_str(sum, "mode", mode, sizeof mode);
+  assert_string_equal(mode, vs_run_mode(run) != NULL ? vs_run_mode(run) : "");
+  H5Gclose(sum);
+  xdmf_stats xs = check_xdmf(xmf, f, "dyn.hdf5");
+  assert_true(xs.grids > (int)rows / 2 && xs.grids <= (int)rows);
+  free(ph), free(v), free(sp), free(en), free(t), free(dl);
+  H5Fclose(f);
+  assert_int_equal(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0);
+  vs_run_destroy(&run);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Killed with SIGKILL */
+
+typedef struct {
+  int n, cap, n3;
+  double *delta, *q;
+  int stop_after;
+} memrec;
+
+static int mem_sample(void *user, const vs_run *run, const vs_run_sample *s) {
+  (void)run;
+  memrec *m = user;
+  if (m->n == m->cap) return 1;
+  m->delta[m->n] = s->delta;
+  memcpy(m->q + (size_t)m->n * (size_t)m->n3, s->q, (size_t)m->n3 * sizeof(double));
+  m->n++;
+  return m->n >= m->stop_after;
+}
+
+typedef struct {
+  vs_output *o;
+  long rows, signal_at, die_at;
+  int fd;
+} child_sink;
+
+static int child_sample(void *user, const vs_run *run, const vs_run_sample *s) {
+  child_sink *k = user;
+  int rc = vs_output_sample(k->o, run, s);
+  k->rows++;
+  if (k->rows == k->signal_at && write(k->fd, "x", 1) != 1) _exit(3);
+  if (k->rows == k->die_at) raise(SIGKILL);
+  return rc;
+}
+
+static int child_event(void *user, const vs_run *run, const vs_run_event *e) {
+  child_sink *k = user;
+  return vs_output_event(k->o, run, e);
+}
+
+/* In a child: record case c at path, write a byte to fd after signal_at rows, SIGKILL itself
+ * after die_at rows (0: never); at the end wait to be killed. */
+static void child_run(const vs_case *c, const char *path, int fd, long signal_at, long die_at) {
+  vs_error err;
+  vs_run *run = NULL;
+  child_sink k = {NULL, 0, signal_at, die_at, fd};
+  if (vs_run_create(c, &run, &err) != VS_OK || vs_output_create(path, run, "", NULL, &k.o, &err))
+    _exit(2);
+  vs_status st = vs_run_execute(run, child_sample, child_event, &k, &err);
+  vs_output_finish(k.o, run, st, &err, &err);
+  vs_output_destroy(&k.o);
+  if (k.rows < signal_at && write(fd, "x", 1) != 1) _exit(3);
+  for (;;) pause();
+}
+
+static void check_killed(const char *path, const memrec *ref, long at_least) {
+  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) fail_msg("%s: H5Fopen failed after SIGKILL", path);
+  char status[64];
+  read_attr_str(f, "status", status, sizeof status);
+  const hsize_t rows = check_series_rows(f);
+  if (strcmp(status, "running") == 0) {
+    assert_true((long)rows >= at_least);
+  } else {
+    assert_string_equal(status, "completed"); /* the child got to the end first */
+  }
+  assert_true((int)rows <= ref->n);
+  print_message("  %s: status %s, %llu of %d rows\n", strrchr(path, '/') + 1, status,
+                (unsigned long long)rows, ref->n);
+  size_t n;
+  double *dl = read_all(f, "/observables/delta/value", &n);
+  double *q = read_all(f, "/observables/block_position/value", &n);
+  const size_t nr = (size_t)rows, nq = nr * (size_t)ref->n3;
+  assert_memory_equal(dl, ref->delta, nr * sizeof(double));
+  assert_memory_equal(q, ref->q, nq * sizeof(double));
+  free(dl), free(q);
+  hsize_t dims[3];
+  rank_of(f, "/events", dims); /* readable */
+  check_units(f, 30);
+  H5Fclose(f);
+  /* the sidecar can be written from what survived */
+  vs_error err;
+  assert_int_equal(vs_output_write_xdmf(path, 0, &err), VS_OK);
+  char xmf[160];
+  snprintf(xmf, sizeof xmf, "%.*s.xmf", (int)(strlen(path) - 3), path);
+  f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  const char *base = strrchr(path, '/') + 1;
+  xdmf_stats xs = check_xdmf(xmf, f, base);
+  assert_true(xs.grids >= 1 && xs.grids <= (int)rows);
+  H5Fclose(f);
+}
+
+static void test_killed(void **state) {
+  (void)state;
+  vs_case c;
+  vs_case_defaults(&c); /* the reference specimen: 294 rows, long enough to be killed in */
+  vs_error err;
+  vs_run *run = NULL;
+  assert_int_equal(vs_run_create(&c, &run, &err), VS_OK);
+  memrec ref = {0, 4096, vs_model_size(vs_run_model(run)), NULL, NULL, 1 << 30};
+  ref.delta = malloc((size_t)ref.cap * sizeof *ref.delta);
+  ref.q = malloc((size_t)ref.cap * (size_t)ref.n3 * sizeof *ref.q);
+  assert_true(ref.delta != NULL && ref.q != NULL);
+  vs_run_execute(run, mem_sample, NULL, &ref, &err);
+  vs_run_destroy(&run);
+  assert_true(ref.n > 200);
+
+  const long signal_at = 100;
+  const int delays_ms[] = {-1, 0, 7, 23}; /* -1: the child kills itself at row 137 */
+  for (size_t i = 0; i < sizeof delays_ms / sizeof delays_ms[0]; i++) {
+    char path[128];
+    snprintf(path, sizeof path, "%s/killed%zu.h5", g_dir, i);
+    int fds[2];
+    assert_int_equal(pipe(fds), 0);
+    fflush(NULL);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+      close(fds[0]);
+      child_run(&c, path, fds[1], signal_at, delays_ms[i] < 0 ? 137 : 0);
+    }
+    close(fds[1]);
+    struct pollfd pfd = {fds[0], POLLIN, 0};
+    char b;
+    if (poll(&pfd, 1, 30000) != 1 || read(fds[0], &b, 1) != 1) {
+      kill(pid, SIGKILL);
+      waitpid(pid, NULL, 0);
+      fail_msg("the child wrote no rows");
+    }
+    if (delays_ms[i] > 0) {
+      struct timespec ts = {0, delays_ms[i] * 1000000L};
+      nanosleep(&ts, NULL);
+    }
+    if (delays_ms[i] >= 0) kill(pid, SIGKILL);
+    int wst;
+    assert_int_equal(waitpid(pid, &wst, 0), pid);
+    assert_true(WIFSIGNALED(wst) && WTERMSIG(wst) == SIGKILL);
+    close(fds[0]);
+    /* rows are flushed at least every 64 rows (and at every event and phase switch) */
+    check_killed(path, &ref, delays_ms[i] < 0 ? 137 - 63 : signal_at - 63);
+    if (delays_ms[i] < 0) {
+      hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+      char status[64];
+      read_attr_str(f, "status", status, sizeof status);
+      assert_string_equal(status, "running");
+      H5Fclose(f);
+    }
+  }
+  free(ref.delta);
+  free(ref.q);
+  assert_int_equal(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Errors and interruption */
+
+static void test_errors(void **state) {
+  (void)state;
+  vs_case c = small_case(0);
+  vs_error err;
+  vs_run *run = NULL;
+  assert_int_equal(vs_run_create(&c, &run, &err), VS_OK);
+  vs_output *o = (vs_output *)&err; /* must be set to NULL on failure */
+  char path[160];
+  snprintf(path, sizeof path, "%s/no/such/dir/x.h5", g_dir);
+  assert_int_equal(vs_output_create(path, run, NULL, NULL, &o, &err), VS_ERR_IO);
+  assert_null(o);
+  assert_non_null(strstr(err.msg, path));
+  vs_output_opts bad;
+  vs_output_opts_default(&bad);
+  bad.deflate = 10;
+  path_in(path, sizeof path, "bad.h5");
+  assert_int_equal(vs_output_create(path, run, NULL, &bad, &o, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "deflate = 10"));
+  assert_int_equal(access(path, F_OK), -1); /* nothing created */
+  vs_output_destroy(NULL);
+  vs_output_destroy(&o);
+
+  /* finishing twice */
+  path_in(path, sizeof path, "twice.h5");
+  assert_int_equal(vs_output_create(path, run, NULL, NULL, &o, &err), VS_OK);
+  assert_int_equal(vs_output_finish(o, run, VS_OK, NULL, &err), VS_OK);
+  assert_int_equal(vs_output_finish(o, run, VS_OK, NULL, &err), VS_ERR_INVALID);
+  assert_int_equal(vs_output_error(o)->status, VS_OK);
+  vs_output_destroy(&o);
+
+  /* the sidecar of something that is not a record, or of nothing */
+  path_in(path, sizeof path, "other.h5");
+  hid_t f = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  H5Fclose(f);
+  assert_int_equal(vs_output_write_xdmf(path, 0, &err), VS_ERR_INVALID);
+  path_in(path, sizeof path, "missing.h5");
+  assert_int_equal(vs_output_write_xdmf(path, 0, &err), VS_ERR_IO);
+  assert_non_null(strstr(err.msg, "missing.h5"));
+  vs_run_destroy(&run);
+
+  /* interrupted after 5 rows: the run stops, the status says so */
+  path_in(path, sizeof path, "int.h5");
+  long samples;
+  vs_status st;
+  run = record(&c, path, NULL, 5, &samples, &st);
+  assert_int_not_equal(st, VS_OK);
+  assert_true(samples == 5 || samples == 6); /* a sixth row, or an event, is refused */
+  f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  char status[128];
+  read_attr_str(f, "status", status, sizeof status);
+  assert_string_equal(status, "failed: interrupted");
+  assert_int_equal(check_series_rows(f), 5);
+  H5Fclose(f);
+  vs_run_destroy(&run);
+
+  /* a failed run: its cause is recorded */
+  path_in(path, sizeof path, "failed.h5");
+  assert_int_equal(vs_run_create(&c, &run, &err), VS_OK);
+  assert_int_equal(vs_output_create(path, run, NULL, NULL, &o, &err), VS_OK);
+  vs_error rerr;
+  vs_error_set(&rerr, VS_ERR_SOLVER, "IDA failed at t = 1 s");
+  assert_int_equal(vs_output_finish(o, run, VS_ERR_SOLVER, &rerr, &err), VS_OK);
+  vs_output_destroy(&o);
+  f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  read_attr_str(f, "status", status, sizeof status);
+  assert_string_equal(status, "failed: solver failure: IDA failed at t = 1 s");
+  H5Fclose(f);
+  vs_run_destroy(&run);
+  assert_int_equal(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_quasistatic_record),
+      cmocka_unit_test(test_dynamic_record),
+      cmocka_unit_test(test_killed),
+      cmocka_unit_test(test_errors),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}
