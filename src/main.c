@@ -12,6 +12,8 @@
 #include "voussoir/report.h"
 #include "voussoir/run.h"
 #include "voussoir/sweep.h"
+
+int vs_cmd_plot(int argc, char **argv); /* plot_cmd.c */
 #include "voussoir/units.h"
 #include "voussoir/version.h"
 
@@ -39,6 +41,7 @@ static const char *USAGE =
     "usage: voussoir run CASE [options]\n"
     "       voussoir sweep CASE --alpha LIST --kn LIST [...]   (voussoir sweep --help)\n"
     "       voussoir calibrate CASE --target-dz-pct X [...]  (voussoir calibrate --help)\n"
+    "       voussoir plot RUN.h5 [-o DIR] [--svg]            (voussoir plot --help)\n"
     "       voussoir --help | --version\n"
     "\n"
     "Simulates a masonry arch of rigid voussoirs on dry, no-tension, frictional, elastic joints\n"
@@ -265,6 +268,7 @@ int main(int argc, char **argv) {
     return vs_cmd_sweep(argc, argv, self);
   }
   if (strcmp(argv[1], "calibrate") == 0) return vs_cmd_calibrate(argc, argv);
+  if (strcmp(argv[1], "plot") == 0) return vs_cmd_plot(argc, argv);
   if (strcmp(argv[1], "run") == 0) {
     for (int i = 2; i < argc; i++)
       if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
