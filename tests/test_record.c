@@ -1,0 +1,163 @@
+/* The record from the command line: a run writes an HDF5 file whose status says how it ended and
+ * whose last state is the one the run reports; SIGINT stops a run cleanly (exit 130, status
+ * "failed: interrupted", everything recorded so far readable); bad input creates no file; and
+ * `voussoir plot` draws the pictures of a record (PNG of the documented size). */
+#define _POSIX_C_SOURCE 200809L
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <hdf5.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "voussoir/plot.h"
+
+#define REFERENCE VS_SOURCE_DIR "/runs/reference.ini"
+
+static char g_dir[64];
+
+static int sh(const char *cmd) {
+  int st = system(cmd);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+/* The root attribute "status" of an HDF5 record (variable-length string). */
+static void read_status(const char *path, char *out, size_t size) {
+  out[0] = '\0';
+  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  hid_t a = H5Aopen(f, "status", H5P_DEFAULT);
+  assert_true(a >= 0);
+  hid_t t = H5Aget_type(a);
+  char *s = NULL;
+  if (H5Tis_variable_str(t) > 0) {
+    hid_t mt = H5Tcopy(H5T_C_S1);
+    H5Tset_size(mt, H5T_VARIABLE);
+    H5Tset_cset(mt, H5T_CSET_UTF8);
+    assert_true(H5Aread(a, mt, &s) >= 0);
+    snprintf(out, size, "%s", s);
+    H5free_memory(s);
+    H5Tclose(mt);
+  }
+  H5Tclose(t);
+  H5Aclose(a);
+  H5Fclose(f);
+}
+
+static long rows_of(const char *path, const char *dset) {
+  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  hid_t d = H5Dopen2(f, dset, H5P_DEFAULT);
+  assert_true(d >= 0);
+  hid_t sp = H5Dget_space(d);
+  hsize_t dims[3] = {0};
+  H5Sget_simple_extent_dims(sp, dims, NULL);
+  H5Sclose(sp);
+  H5Dclose(d);
+  H5Fclose(f);
+  return (long)dims[0];
+}
+
+static void test_completed_record(void **s) {
+  (void)s;
+  char cmd[1024], h5[256], status[256];
+  snprintf(h5, sizeof h5, "%s/ref.h5", g_dir);
+  snprintf(cmd, sizeof cmd, "%s run %s -q -o %s > %s/ref.txt", VS_BINARY, REFERENCE, h5, g_dir);
+  assert_int_equal(sh(cmd), 0);
+  read_status(h5, status, sizeof status);
+  assert_string_equal(status, "completed");
+  assert_true(rows_of(h5, "/observables/delta/value") > 10);
+  snprintf(cmd, sizeof cmd, "%s/ref.xmf", g_dir);
+  assert_int_equal(access(cmd, F_OK), 0);
+  /* the pictures of the record */
+  snprintf(cmd, sizeof cmd, "%s plot %s -o %s/pics > /dev/null", VS_BINARY, h5, g_dir);
+  assert_int_equal(sh(cmd), 0);
+  const char *names[] = {"arch_reference.png", "arch_hinge_A.png", "arch_hinge_D.png",
+                         "arch_collapse.png", "arch_end.png", "curves.png"};
+  for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+    char path[512];
+    snprintf(path, sizeof path, "%s/pics/%s", g_dir, names[i]);
+    FILE *f = fopen(path, "rb");
+    if (f == NULL) fail_msg("%s not drawn", path);
+    unsigned char hdr[24];
+    assert_int_equal(fread(hdr, 1, 24, f), 24);
+    fclose(f);
+    assert_memory_equal(hdr + 1, "PNG", 3);
+    const unsigned w = (unsigned)hdr[16] << 24 | (unsigned)hdr[17] << 16 | (unsigned)hdr[18] << 8 | hdr[19];
+    const unsigned h = (unsigned)hdr[20] << 24 | (unsigned)hdr[21] << 16 | (unsigned)hdr[22] << 8 | hdr[23];
+    const int curves = strcmp(names[i], "curves.png") == 0;
+    assert_int_equal(w, curves ? VS_PLOT_CURVES_WIDTH : VS_PLOT_ARCH_WIDTH);
+    assert_int_equal(h, curves ? VS_PLOT_CURVES_HEIGHT : VS_PLOT_ARCH_HEIGHT);
+  }
+  /* not a record */
+  snprintf(cmd, sizeof cmd, "%s plot %s/ref.txt -o %s/nopics 2>/dev/null", VS_BINARY, g_dir, g_dir);
+  assert_int_equal(sh(cmd), 2);
+}
+
+/* A long run (880 voussoirs) interrupted by SIGINT after it has recorded some states. */
+static void test_sigint(void **s) {
+  (void)s;
+  char h5[256], status[256];
+  snprintf(h5, sizeof h5, "%s/int.h5", g_dir);
+  pid_t pid = fork();
+  assert_true(pid >= 0);
+  if (pid == 0) {
+    freopen("/dev/null", "w", stdout);
+    freopen("/dev/null", "w", stderr);
+    execl(VS_BINARY, VS_BINARY, "run", REFERENCE, "-q", "--set", "arch.voussoirs=880", "-o", h5,
+          (char *)NULL);
+    _exit(127);
+  }
+  struct timespec ts = {0, 400 * 1000 * 1000};
+  nanosleep(&ts, NULL);
+  kill(pid, SIGINT);
+  int st = 0;
+  assert_int_equal(waitpid(pid, &st, 0), pid);
+  assert_true(WIFEXITED(st));
+  assert_int_equal(WEXITSTATUS(st), 130);
+  read_status(h5, status, sizeof status);
+  assert_string_equal(status, "failed: interrupted");
+  assert_true(rows_of(h5, "/observables/delta/value") >= 1);
+}
+
+/* Bad input: exit 2 and no record. */
+static void test_bad_input_no_record(void **s) {
+  (void)s;
+  char cmd[1024], h5[256];
+  snprintf(h5, sizeof h5, "%s/bad.h5", g_dir);
+  snprintf(cmd, sizeof cmd, "%s run %s -q --kn -3 -o %s 2>/dev/null", VS_BINARY, REFERENCE, h5);
+  assert_int_equal(sh(cmd), 2);
+  assert_int_not_equal(access(h5, F_OK), 0);
+}
+
+static int setup(void **s) {
+  (void)s;
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  snprintf(g_dir, sizeof g_dir, "/tmp/vs_test_record_XXXXXX");
+  return mkdtemp(g_dir) == NULL ? -1 : 0;
+}
+
+static int teardown(void **s) {
+  (void)s;
+  char cmd[128];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", g_dir);
+  return sh(cmd) == 0 ? 0 : -1;
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_completed_record),
+      cmocka_unit_test(test_sigint),
+      cmocka_unit_test(test_bad_input_no_record),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}
