@@ -13,6 +13,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <hdf5.h>
+
 #include "voussoir/run.h"
 #include "voussoir/sweep.h"
 #include "voussoir/units.h"
@@ -119,6 +121,15 @@ static char *slurp(const char *path) {
 
 /* --- sweep --- */
 
+/* One row of the summary, as parsed from a run's JSON. */
+typedef struct {
+  int run;
+  double axis[MAX_AXES];
+  char status[32], mode[8], hinges[512], error[512];
+  double first_limit, delta_u, dz, dx, wall;
+  int snaps;
+} sweep_row;
+
 typedef struct {
   pid_t pid;
   int index;
@@ -167,8 +178,8 @@ static pid_t start_run(const char *self, const char *case_path, const char *dir,
   _exit(127);
 }
 
-static void write_row(FILE *csv, int index, const axis *ax, int nax, const int *pick,
-                      const char *dir, int exit_status) {
+static void write_row(FILE *csv, sweep_row *row, int index, const axis *ax, int nax,
+                      const int *pick, const char *dir, int exit_status) {
   char path[1024], status[32] = "failed", error[512] = "", mode[8] = "", hinges[512] = "";
   snprintf(path, sizeof path, "%s/run_%04d.json", dir, index);
   char *json = slurp(path);
@@ -191,14 +202,100 @@ static void write_row(FILE *csv, int index, const axis *ax, int nax, const int *
   for (const char *p = json; p && (p = strstr(p, "\"kind\":\"snap\"")) != NULL; p++) snaps++;
   for (char *p = error; *p; p++)
     if (*p == '"') *p = '\'';
-  fprintf(csv, ",%s,%.10g,%.10g,%.10g,%.10g,\"%s\",%s,%d,%.4g,\"%s\"\n", status,
-          num_after(json, "\"first_limit\":{\"delta_mm\":"),
-          num_after(json, "\"collapse\":{\"delta_mm\":"),
-          num_after(after(json, "\"collapse\":{"), "\"dz_over_L_pct\":"),
-          num_after(after(json, "\"collapse\":{"), "\"dx_over_L_pct\":"), hinges, mode, snaps,
-          num_after(json, "\"wall_s\":"), error);
+  row->run = index;
+  for (int x = 0; x < nax; x++) row->axis[x] = ax[x].v[pick[x]];
+  snprintf(row->status, sizeof row->status, "%s", status);
+  snprintf(row->mode, sizeof row->mode, "%s", mode);
+  snprintf(row->hinges, sizeof row->hinges, "%s", hinges);
+  snprintf(row->error, sizeof row->error, "%s", error);
+  row->first_limit = num_after(json, "\"first_limit\":{\"delta_mm\":");
+  row->delta_u = num_after(json, "\"collapse\":{\"delta_mm\":");
+  row->dz = num_after(after(json, "\"collapse\":{"), "\"dz_over_L_pct\":");
+  row->dx = num_after(after(json, "\"collapse\":{"), "\"dx_over_L_pct\":");
+  row->wall = num_after(json, "\"wall_s\":");
+  row->snaps = snaps;
+  fprintf(csv, ",%s,%.10g,%.10g,%.10g,%.10g,\"%s\",%s,%d,%.4g,\"%s\"\n", status, row->first_limit,
+          row->delta_u, row->dz, row->dx, hinges, mode, snaps, row->wall, error);
   fflush(csv);
   free(json);
+}
+
+static int cmp_sweep_rows(const void *x, const void *y) {
+  return ((const sweep_row *)x)->run - ((const sweep_row *)y)->run;
+}
+
+/* The summary as an HDF5 compound table DIR/summary.h5 (/summary), units in an attribute. */
+static int write_summary_h5(const char *dir, const axis *ax, int nax, sweep_row *rows, int n) {
+  char path[1100];
+  snprintf(path, sizeof path, "%s/summary.h5", dir);
+  qsort(rows, (size_t)n, sizeof *rows, cmp_sweep_rows);
+  typedef struct {
+    int run;
+    double axis[MAX_AXES];
+    const char *status, *mode, *hinges, *error;
+    double first_limit, delta_u, dz, dx, wall;
+    int snaps;
+  } mem;
+  mem *m = calloc((size_t)(n > 0 ? n : 1), sizeof *m);
+  if (m == NULL) return -1;
+  for (int i = 0; i < n; i++) {
+    m[i].run = rows[i].run;
+    memcpy(m[i].axis, rows[i].axis, sizeof m[i].axis);
+    m[i].status = rows[i].status;
+    m[i].mode = rows[i].mode;
+    m[i].hinges = rows[i].hinges;
+    m[i].error = rows[i].error;
+    m[i].first_limit = rows[i].first_limit;
+    m[i].delta_u = rows[i].delta_u;
+    m[i].dz = rows[i].dz;
+    m[i].dx = rows[i].dx;
+    m[i].wall = rows[i].wall;
+    m[i].snaps = rows[i].snaps;
+  }
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  hid_t str = H5Tcopy(H5T_C_S1);
+  H5Tset_size(str, H5T_VARIABLE);
+  H5Tset_cset(str, H5T_CSET_UTF8);
+  hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(mem));
+  H5Tinsert(t, "run", HOFFSET(mem, run), H5T_NATIVE_INT);
+  char units[1024] = "run: -";
+  size_t used = strlen(units);
+  for (int x = 0; x < nax; x++) {
+    H5Tinsert(t, ax[x].key, HOFFSET(mem, axis) + (size_t)x * sizeof(double), H5T_NATIVE_DOUBLE);
+    used += (size_t)snprintf(units + used, sizeof units - used, "; %s: case units", ax[x].key);
+  }
+  H5Tinsert(t, "status", HOFFSET(mem, status), str);
+  H5Tinsert(t, "first_limit_mm", HOFFSET(mem, first_limit), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t, "delta_u_mm", HOFFSET(mem, delta_u), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t, "dz_over_L_pct", HOFFSET(mem, dz), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t, "dx_over_L_pct", HOFFSET(mem, dx), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t, "hinges_at_collapse", HOFFSET(mem, hinges), str);
+  H5Tinsert(t, "mode", HOFFSET(mem, mode), str);
+  H5Tinsert(t, "snaps", HOFFSET(mem, snaps), H5T_NATIVE_INT);
+  H5Tinsert(t, "wall_s", HOFFSET(mem, wall), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t, "error", HOFFSET(mem, error), str);
+  snprintf(units + used, sizeof units - used,
+           "; status, hinges_at_collapse, mode, error: text; first_limit_mm, delta_u_mm: mm; "
+           "dz_over_L_pct, dx_over_L_pct: %% of the intrados span; snaps: count; wall_s: s");
+  hid_t f = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  hsize_t dims[1] = {(hsize_t)n};
+  hid_t sp = H5Screate_simple(1, dims, NULL);
+  hid_t d = f >= 0 ? H5Dcreate2(f, "summary", t, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT) : -1;
+  int ok = d >= 0 && H5Dwrite(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, m) >= 0;
+  if (ok) {
+    hid_t as = H5Screate(H5S_SCALAR), a = H5Acreate2(d, "unit", str, as, H5P_DEFAULT, H5P_DEFAULT);
+    const char *u = units;
+    ok = a >= 0 && H5Awrite(a, str, &u) >= 0;
+    if (a >= 0) H5Aclose(a);
+    H5Sclose(as);
+  }
+  if (d >= 0) H5Dclose(d);
+  H5Sclose(sp);
+  if (f >= 0) H5Fclose(f);
+  H5Tclose(t);
+  H5Tclose(str);
+  free(m);
+  return ok ? 0 : -1;
 }
 
 static int cmp_rows(const void *x, const void *y) {
@@ -355,7 +452,9 @@ int vs_cmd_sweep(int argc, char **argv, const char *self) {
   /* the rows are written in completion order; each carries its run number */
   child *running = calloc((size_t)jobs, sizeof *running);
   int (*picks)[MAX_AXES] = calloc((size_t)total, sizeof *picks);
-  if (running == NULL || picks == NULL) {
+  sweep_row *rows = calloc((size_t)total, sizeof *rows);
+  if (running == NULL || picks == NULL || rows == NULL) {
+    free(rows);
     fprintf(stderr, "voussoir sweep: out of memory\n");
     fclose(csv);
     free(running);
@@ -393,7 +492,7 @@ int vs_cmd_sweep(int argc, char **argv, const char *self) {
     for (int k = 0; k < jobs; k++) {
       if (running[k].pid != pid) continue;
       const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-      write_row(csv, running[k].index + 1, ax, nax, picks[running[k].index], dir, code);
+      write_row(csv, &rows[done], running[k].index + 1, ax, nax, picks[running[k].index], dir, code);
       failed += code != 0;
       running[k].pid = 0;
       active--;
@@ -406,10 +505,13 @@ int vs_cmd_sweep(int argc, char **argv, const char *self) {
   if (progress) fputs("\r\033[K", stderr);
   fclose(csv);
   sort_table(path);
+  if (write_summary_h5(dir, ax, nax, rows, done) != 0)
+    fprintf(stderr, "voussoir sweep: %s/summary.h5: cannot write\n", dir);
   free(running);
   free(picks);
-  printf("%d runs (%d failed) in %.1f s on %d processes; table: %s\n", total, failed,
-         now_s() - t0, jobs, path);
+  free(rows);
+  printf("%d runs (%d failed) in %.1f s on %d processes; table: %s (and summary.h5)\n", total,
+         failed, now_s() - t0, jobs, path);
   rc = failed ? EXIT_FAIL : 0;
 cleanup:
   for (int x = 0; x < nax; x++) free(ax[x].v);
