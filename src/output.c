@@ -1519,7 +1519,19 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
                        attr_str(o->file, "finished", now) < 0 ||
                        H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0) && st == VS_OK)
     st = h5_fail(&o->err, o->path, "cannot write the status");
-  if (st == VS_OK) st = xdmf_write(o->file, o->path, o->xmf_path, o->opts.xdmf_max_grids, &o->err);
+  /* closing clears the file's "open for writing" mark: a kill from here on leaves a file that
+   * opens normally; the sidecar is written from a read-only open */
+  h5_close(o->events);
+  o->events = H5I_INVALID_HID;
+  if (o->file >= 0 && H5Fclose(o->file) < 0 && st == VS_OK)
+    st = h5_fail(&o->err, o->path, "cannot close");
+  o->file = H5I_INVALID_HID;
+  if (st == VS_OK) {
+    hid_t f = H5Fopen(o->path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    st = f < 0 ? h5_fail(&o->err, o->path, "cannot reopen")
+               : xdmf_write(f, o->path, o->xmf_path, o->opts.xdmf_max_grids, &o->err);
+    h5_close(f);
+  }
   H5Eclear2(H5E_DEFAULT);
   quiet_end(q);
   if (st != VS_OK && err != NULL) *err = o->err;

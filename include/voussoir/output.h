@@ -54,13 +54,14 @@ int vs_output_event(void *user, const vs_run *run, const vs_run_event *e);
  * vs_output_finish records status "failed: interrupted". NULL is ignored. */
 void vs_output_interrupt(vs_output *o);
 
-/* Close the record of run: write the buffered rows, rewrite /events from the run's log (hinge
- * labels are assigned after the first three hinge events were emitted), write /summary (limit
- * points, collapse, hinges, mode, totals, energy balance), set the root attributes status
- * ("completed" when run_status is VS_OK, else "failed: <cause>" with run_err's message when
- * given, "failed: interrupted" after vs_output_interrupt) and finished (ISO 8601 UTC), flush,
- * and write the XDMF sidecar. Call it at most once, after vs_run_execute. Returns VS_OK or
- * VS_ERR_IO (err has the cause); the file stays open until vs_output_destroy. */
+/* Close the record of run: write the buffered rows, leave SWMR writing, rewrite /events from the
+ * run's log (hinge labels are assigned after the first three hinge events were emitted), write
+ * /summary (limit points, first limit point, collapse, hinges, mode, totals, energy balance),
+ * set the root attributes status ("completed" when run_status is VS_OK, else "failed: <cause>"
+ * with run_err's message when given, "failed: <cause>" of a write error, "failed: interrupted"
+ * after vs_output_interrupt) and finished (ISO 8601 UTC), close the file and write the XDMF
+ * sidecar. Call it at most once, after vs_run_execute (a second call fails with
+ * VS_ERR_INVALID). Returns VS_OK or VS_ERR_IO (err, and vs_output_error, have the cause). */
 vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status,
                            const vs_error *run_err, vs_error *err);
 
