@@ -127,6 +127,18 @@ static void joint_kinematics(const vs_joint_geom *jg, const double qa[3], const 
   sym_set(k->Hw, 2, 5, 0.5 * sh);
 }
 
+/* Rates of the joint measures (penetration a, gap slope w, slip) from the bodies' velocities. */
+static void joint_rates(const kinematics *k, const double va[3], const double vb[3], double *adot,
+                        double *wdot, double *sdot) {
+  const double vel[6] = {va[0], va[1], va[2], vb[0], vb[1], vb[2]};
+  *adot = *wdot = *sdot = 0.0;
+  for (int i = 0; i < 6; i++) {
+    *adot -= k->dg[i] * vel[i];
+    *wdot += k->dw[i] * vel[i];
+    *sdot += k->ds[i] * vel[i];
+  }
+}
+
 void vs_joint_eval(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
                    const double qb[3], const double ra[2], const double rb[2], double slip_p_old,
                    vs_joint_state *st, double f[6], double K[36]) {
@@ -199,13 +211,8 @@ void vs_joint_damping(const vs_joint_geom *jg, const vs_joint_law *law, double c
   const double phi = fmin(1.0, nr.contact / (VS_DAMP_RAMP * t));
   /* full-section viscous damping: normal b c_n t, rotational b c_n t^3/12, shear b c_s t */
   const double ca = phi * b * cn * t, cw = phi * b * cn * t * t * t / 12.0, csl = phi * b * cs * t;
-  const double vel[6] = {va[0], va[1], va[2], vb[0], vb[1], vb[2]};
-  double adot = 0.0, wdot = 0.0, sdot = 0.0;
-  for (int i = 0; i < 6; i++) {
-    adot -= k.dg[i] * vel[i];
-    wdot += k.dw[i] * vel[i];
-    sdot += k.ds[i] * vel[i];
-  }
+  double adot, wdot, sdot;
+  joint_rates(&k, va, vb, &adot, &wdot, &sdot);
   const double Nd = ca * adot, Md = cw * wdot, Td = csl * sdot;
   if (f != NULL)
     for (int i = 0; i < 6; i++) f[i] = -Nd * k.dg[i] + Md * k.dw[i] + Td * k.ds[i];
@@ -227,13 +234,8 @@ double vs_joint_friction_power(const vs_joint_geom *jg, const vs_joint_law *law,
   vs_joint_normal(law->kn, b, t, a, k.w, &nr);
   const double T_trial = kst * (k.sl - slip_p_old), T_max = law->mu * nr.N;
   if (!(fabs(T_trial) > T_max)) return 0.0;
-  const double vel[6] = {va[0], va[1], va[2], vb[0], vb[1], vb[2]};
-  double adot = 0.0, wdot = 0.0, sdot = 0.0;
-  for (int i = 0; i < 6; i++) {
-    adot -= k.dg[i] * vel[i];
-    wdot += k.dw[i] * vel[i];
-    sdot += k.ds[i] * vel[i];
-  }
+  double adot, wdot, sdot;
+  joint_rates(&k, va, vb, &adot, &wdot, &sdot);
   const double sgn = T_trial > 0.0 ? 1.0 : -1.0, T = sgn * T_max;
   const double Tdot = sgn * law->mu * (nr.N_a * adot + nr.N_w * wdot);
   return T * (sdot - Tdot / kst);

@@ -26,6 +26,8 @@ struct vs_model {
 
 static int body_is_block(int body) { return body >= 0; }
 
+/* The (ux, uz, theta) of a body -- or its velocities, given v and the support's speed: a block's
+ * from the state vector, the right support's its scalar motion along dir, the left support's 0. */
 static void body_q(const vs_model *m, const double *q, double delta, int body, double out[3]) {
   if (body_is_block(body)) {
     memcpy(out, q + 3 * body, 3 * sizeof(double));
@@ -341,18 +343,6 @@ double vs_model_damping_ratio(const vs_model *m) { return m->zeta; }
 void vs_model_set_gravity_scale(vs_model *m, double lambda) { m->gscale = lambda; }
 double vs_model_gravity_scale(const vs_model *m) { return m->gscale; }
 
-static void body_v(const vs_model *m, const double *v, double rate, int body, double out[3]) {
-  if (body_is_block(body)) {
-    memcpy(out, v + 3 * body, 3 * sizeof(double));
-  } else if (body == VS_SUPPORT_RIGHT) {
-    out[0] = rate * m->dir[0];
-    out[1] = rate * m->dir[1];
-    out[2] = 0.0;
-  } else {
-    out[0] = out[1] = out[2] = 0.0;
-  }
-}
-
 void vs_model_damping(const vs_model *m, const double *q, const double *v, double delta,
                       double ddelta_dt, double *fd, double *dissipated, double *support_power,
                       SUNMatrix C) {
@@ -372,8 +362,8 @@ void vs_model_damping(const vs_model *m, const double *q, const double *v, doubl
       double qa[3], qb[3], va[3], vb[3], f[6], Ck[36], p;
       body_q(m, q, delta, j->a, qa);
       body_q(m, q, delta, j->b, qb);
-      body_v(m, v, ddelta_dt, j->a, va);
-      body_v(m, v, ddelta_dt, j->b, vb);
+      body_q(m, v, ddelta_dt, j->a, va);
+      body_q(m, v, ddelta_dt, j->b, vb);
       vs_joint_damping(j, &m->law, m->cn[k], m->cs[k], qa, qb, va, vb, m->ra + 2 * k, m->rb + 2 * k,
                        f, C != NULL ? Ck : NULL, &p);
       diss += p;
@@ -430,8 +420,8 @@ double vs_model_friction_power(const vs_model *m, const double *q, const double 
     double qa[3], qb[3], va[3], vb[3];
     body_q(m, q, delta, j->a, qa);
     body_q(m, q, delta, j->b, qb);
-    body_v(m, v, ddelta_dt, j->a, va);
-    body_v(m, v, ddelta_dt, j->b, vb);
+    body_q(m, v, ddelta_dt, j->a, va);
+    body_q(m, v, ddelta_dt, j->b, vb);
     p += vs_joint_friction_power(j, &m->law, qa, qb, va, vb, m->ra + 2 * k, m->rb + 2 * k,
                                  m->slip_p[k]);
   }
