@@ -229,6 +229,9 @@ static int cmd_run(int argc, char **argv) {
   }
   if (json) vs_report_json(stdout, run, st, &err, case_path);
   else vs_report_text(stdout, run, st, &err, case_path);
+  if (!json && sink.record != NULL)
+    printf("record   %s (%ld states; ParaView: %s; pictures: voussoir plot %s)\n", out_path,
+           vs_output_rows(sink.record), vs_output_xdmf_path(sink.record), out_path);
   if (st != VS_OK) fprintf(stderr, "voussoir: run failed: %s\n", err.msg);
   rc = (st == VS_OK) ? EXIT_SUCCESS : g_interrupted ? EXIT_INTERRUPTED : EXIT_RUN_FAILED;
   goto cleanup;
