@@ -254,7 +254,7 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
   }
   if (vs_hinges_count(h) == 0) fprintf(out, "  (none)\n");
   if (vs_hinges_count(h) > vs_run_hinge_count(r))
-    fprintf(out, "  (%d more opened as the arch fell; see the event log)\n",
+    fprintf(out, "  (%d more opened as the arch fell; see /events in the record)\n",
             vs_hinges_count(h) - vs_run_hinge_count(r));
   if (spread)
     fprintf(out, "  a name like 44-45-46-I is one hinge spread over consecutive joints that are "
