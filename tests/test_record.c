@@ -78,6 +78,32 @@ static void test_completed_record(void **s) {
   assert_true(rows_of(h5, "/observables/delta/value") > 10);
   snprintf(cmd, sizeof cmd, "%s/ref.xmf", g_dir);
   assert_int_equal(access(cmd, F_OK), 0);
+  /* h5dump (Debian hdf5-tools) lists the layout the README documents */
+  snprintf(cmd, sizeof cmd, "h5dump -n %s > %s/layout.txt 2>&1", h5, g_dir);
+  assert_int_equal(sh(cmd), 0);
+  {
+    char lp[256];
+    snprintf(lp, sizeof lp, "%s/layout.txt", g_dir);
+    FILE *f = fopen(lp, "r");
+    assert_non_null(f);
+    static char text[1 << 16];
+    const size_t n = fread(text, 1, sizeof text - 1, f);
+    text[n] = '\0';
+    fclose(f);
+    const char *documented[] = {
+        "group      /parameters/arch", "group      /geometry", "dataset    /events",
+        "dataset    /observables/delta/step", "dataset    /observables/delta/time",
+        "dataset    /observables/delta/value", "dataset    /observables/phase/value",
+        "dataset    /observables/block_position/value", "dataset    /observables/block_velocity/value",
+        "dataset    /observables/joint_N/value", "dataset    /observables/joint_T/value",
+        "dataset    /observables/joint_M/value", "dataset    /observables/joint_contact/value",
+        "dataset    /observables/joint_gap_i/value", "dataset    /observables/joint_gap_e/value",
+        "dataset    /observables/joint_slip_plastic/value", "dataset    /observables/joint_hinge/value",
+        "dataset    /observables/reactions/value", "dataset    /observables/energy/value",
+        "group      /summary", "dataset    /summary/limit_points", "dataset    /summary/hinges"};
+    for (size_t i = 0; i < sizeof documented / sizeof documented[0]; i++)
+      if (strstr(text, documented[i]) == NULL) fail_msg("h5dump -n lacks \"%s\"", documented[i]);
+  }
   /* the pictures of the record */
   snprintf(cmd, sizeof cmd, "%s plot %s -o %s/pics > /dev/null", VS_BINARY, h5, g_dir);
   assert_int_equal(sh(cmd), 0);
