@@ -258,7 +258,7 @@ typedef struct {
   char side, label;
   int8_t phase;
   int32_t order;
-  char kind[16]; /* fixed length: nothing variable-length is appended under SWMR */
+  char kind[16]; /* fixed length, NUL-padded */
 } event_row;
 
 struct vs_output {
@@ -330,6 +330,16 @@ static hid_t series_dcpl(const vs_output *o, const series *s) {
   if (rows * row_bytes > VS_OUT_CHUNK_BYTES) rows = VS_OUT_CHUNK_BYTES / row_bytes;
   hsize_t chunk[3] = {rows > 0 ? (hsize_t)rows : 1, s->dims[1], s->dims[2]};
   herr_t rc = H5Pset_chunk(p, s->rank, chunk);
+  /* rows that a torn flush exposed without their data read as NaN (or -1), never as zeros */
+  const double nan_d = NAN;
+  const float nan_f = NAN;
+  const int64_t minus1 = -1;
+  const int8_t minus1_8 = -1;
+  const void *fill = s->mtype == H5T_NATIVE_DOUBLE ? (const void *)&nan_d
+                     : s->mtype == H5T_NATIVE_FLOAT ? (const void *)&nan_f
+                     : s->mtype == H5T_NATIVE_INT8  ? (const void *)&minus1_8
+                                                    : (const void *)&minus1;
+  if (rc >= 0) rc = H5Pset_fill_value(p, s->mtype, fill);
   if (rc >= 0 && o->opts.deflate > 0) rc = H5Pset_shuffle(p);
   if (rc >= 0 && o->opts.deflate > 0) rc = H5Pset_deflate(p, (unsigned)o->opts.deflate);
   if (rc < 0) {
@@ -754,34 +764,24 @@ static size_t buffer_rows(const vs_output *o) {
   return rows > 0 ? rows : 1;
 }
 
-/* File access: the latest format (SWMR needs it). */
-static hid_t latest_fapl(void) {
-  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
-  if (fapl >= 0 && H5Pset_libver_bounds(fapl, H5F_LIBVER_LATEST, H5F_LIBVER_LATEST) < 0) {
-    H5Pclose(fapl);
-    return H5I_INVALID_HID;
-  }
-  return fapl;
-}
-
-/* Crash safety (measured with kill -9 at random moments):
+/* Crash safety, measured with kill -9 at random moments of a run (runs/reference.ini):
  *  - the file never reuses freed space (H5F_FSPACE_STRATEGY_NONE): a partial chunk rewritten at a
- *    flush goes to new space, so chunks that the last flushed index points to are never
- *    overwritten (with HDF5's default strategy most killed files had chunks that failed to
- *    inflate);
- *  - the rows are written under SWMR (single writer, multiple readers): HDF5 then writes the
- *    metadata of a flush in dependency order, data before the index that points to it before the
- *    dimensions that expose it. Without it, about 1 kill in 100 (one that lands inside a flush)
- *    left datasets whose new rows read back as zeros.
- * The price: a killed file still carries the "open for SWMR writing" mark, so it opens only for
- * SWMR reading (h5py: File(path, "r", swmr=True); C: H5F_ACC_RDONLY | H5F_ACC_SWMR_READ) or after
- * `h5clear -s`. A run that ends normally closes it and clears the mark. */
+ *    flush goes to new space, so the chunks that the last flushed index points to are never
+ *    overwritten. With HDF5's default strategy 22 killed files in 25 had chunks that failed to
+ *    inflate or held other data;
+ *  - between flushes nothing is written (rows wait in memory), so a kill there leaves the state
+ *    of the last flush. A kill inside a flush (about 1 in 200 random kills) can leave some
+ *    datasets with a few more rows than others, rows whose data did not reach the disk: they
+ *    read as NaN (-1 for integers: the fill value), never as plausible numbers;
+ *  - the file is built as PATH.part and renamed once its layout is complete.
+ * SWMR writing (H5Fstart_swmr_write, latest format) was measured too and rejected: a killed file
+ * keeps an "open for writing" mark that makes an ordinary open fail (h5py needs swmr=True, or
+ * h5clear -s), a kill while /summary is written leaves a file that no open accepts, and one
+ * killed file made an SWMR reader retry a torn index block for minutes. */
 static hid_t file_create(const char *path) {
-  hid_t fcpl = H5Pcreate(H5P_FILE_CREATE), fapl = latest_fapl(), f = H5I_INVALID_HID;
-  if (fcpl >= 0 && fapl >= 0 &&
-      H5Pset_file_space_strategy(fcpl, H5F_FSPACE_STRATEGY_NONE, 0, 1) >= 0)
-    f = H5Fcreate(path, H5F_ACC_TRUNC, fcpl, fapl);
-  h5_close(fapl);
+  hid_t fcpl = H5Pcreate(H5P_FILE_CREATE), f = H5I_INVALID_HID;
+  if (fcpl >= 0 && H5Pset_file_space_strategy(fcpl, H5F_FSPACE_STRATEGY_NONE, 0, 1) >= 0)
+    f = H5Fcreate(path, H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
   h5_close(fcpl);
   return f;
 }
@@ -848,8 +848,6 @@ vs_status vs_output_create(const char *path, const vs_run *run, const char *case
   o->file = file_create(part);
   st = o->file < 0 ? h5_fail(&o->err, part, "cannot create the file")
                    : create_layout(o, run, case_text);
-  if (st == VS_OK && H5Fstart_swmr_write(o->file) < 0)
-    st = h5_fail(&o->err, part, "cannot start SWMR writing");
   if (st == VS_OK && rename(part, path) != 0)
     st = vs_error_set(&o->err, VS_ERR_IO, "output: %s: cannot rename to %s", part, path);
   quiet_end(q);
@@ -1452,10 +1450,6 @@ vs_status vs_output_write_xdmf(const char *h5_path, int max_grids, vs_error *err
   if (xmf == NULL) return vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
   h5_quiet q = quiet_begin();
   hid_t f = H5Fopen(h5_path, H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) { /* a killed run's file is still marked as open for SWMR writing */
-    H5Eclear2(H5E_DEFAULT);
-    f = H5Fopen(h5_path, H5F_ACC_RDONLY | H5F_ACC_SWMR_READ, H5P_DEFAULT);
-  }
   vs_status st = f < 0 ? h5_fail(err, h5_path, "cannot open") : VS_OK;
   if (st == VS_OK) st = xdmf_write(f, h5_path, xmf, max_grids, err);
   h5_close(f);
@@ -1481,37 +1475,15 @@ static void status_text(const vs_output *o, vs_status run_status, const vs_error
     snprintf(buf, size, "completed");
 }
 
-/* Leave SWMR writing: close the file and open it again for ordinary writing (under SWMR no
- * object or attribute can be added, and /summary and the status need both). */
-static vs_status reopen_plain(vs_output *o) {
-  for (int i = 0; i < S_COUNT; i++) {
-    h5_close(o->s[i].dset);
-    o->s[i].dset = H5I_INVALID_HID;
-  }
-  h5_close(o->events);
-  o->events = H5I_INVALID_HID;
-  herr_t rc = H5Fclose(o->file);
-  o->file = H5I_INVALID_HID;
-  if (rc < 0) return h5_fail(&o->err, o->path, "cannot close after SWMR writing");
-  hid_t fapl = latest_fapl();
-  o->file = fapl >= 0 ? H5Fopen(o->path, H5F_ACC_RDWR, fapl) : H5I_INVALID_HID;
-  h5_close(fapl);
-  if (o->file < 0) return h5_fail(&o->err, o->path, "cannot reopen");
-  o->events = H5Dopen2(o->file, "events", H5P_DEFAULT);
-  return o->events < 0 ? h5_fail(&o->err, o->path, "cannot reopen /events") : VS_OK;
-}
-
 vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status,
                            const vs_error *run_err, vs_error *err) {
   if (o->finished) return vs_error_set(err, VS_ERR_INVALID, "output: %s: finished twice", o->path);
   o->finished = 1;
   h5_quiet q = quiet_begin();
   vs_status st = o->err.status == VS_OK ? write_pending(o) : o->err.status;
-  /* the status is recorded even when the record is incomplete */
-  const vs_status st_reopen = o->file >= 0 ? reopen_plain(o) : VS_ERR_IO;
-  if (st == VS_OK) st = st_reopen;
   if (st == VS_OK) st = rewrite_events(o, run);
   if (st == VS_OK) st = write_summary(o, run);
+  /* the status is recorded even when the record is incomplete */
   char status[sizeof o->err.msg + 64], now[32];
   status_text(o, run_status, run_err, status, sizeof status);
   iso8601_utc(now, sizeof now);
@@ -1519,8 +1491,11 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
                        attr_str(o->file, "finished", now) < 0 ||
                        H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0) && st == VS_OK)
     st = h5_fail(&o->err, o->path, "cannot write the status");
-  /* closing clears the file's "open for writing" mark: a kill from here on leaves a file that
-   * opens normally; the sidecar is written from a read-only open */
+  /* the sidecar is written from what the closed file holds */
+  for (int i = 0; i < S_COUNT; i++) {
+    h5_close(o->s[i].dset);
+    o->s[i].dset = H5I_INVALID_HID;
+  }
   h5_close(o->events);
   o->events = H5I_INVALID_HID;
   if (o->file >= 0 && H5Fclose(o->file) < 0 && st == VS_OK)

@@ -744,43 +744,41 @@ static void series_rows_range(hid_t f, hsize_t *lo, hsize_t *hi) {
   }
 }
 
-/* A killed run's file is still marked as open for SWMR writing: an ordinary open fails, an open
- * for SWMR reading works. */
-static hid_t open_killed(const char *path, char *status, size_t size) {
-  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f >= 0) {
-    read_attr_str(f, "status", status, size);
-    assert_string_equal(status, "completed"); /* the child got to the end first */
-    return f;
+/* Rows of a killed run's dataset (n rows of width w) against the run recorded in memory: each
+ * row is the run's, bit for bit, or entirely NaN (the fill value: rows of a flush cut short by
+ * the kill, whose data did not reach the disk), and NaN rows only at the end. Returns the rows
+ * that hold data. */
+static size_t check_rows(const double *got, const double *want, size_t n, size_t w) {
+  size_t good = 0;
+  for (size_t r = 0; r < n; r++) {
+    if (good == r && memcmp(got + r * w, want + r * w, w * sizeof(double)) == 0) {
+      good++;
+      continue;
+    }
+    for (size_t i = 0; i < w; i++)
+      if (!isnan(got[r * w + i])) fail_msg("row %zu is neither the run's nor NaN", r);
   }
-  H5Eclear2(H5E_DEFAULT);
-  f = H5Fopen(path, H5F_ACC_RDONLY | H5F_ACC_SWMR_READ, H5P_DEFAULT);
-  if (f < 0) fail_msg("%s: H5Fopen failed after SIGKILL, even for SWMR reading", path);
-  read_attr_str(f, "status", status, size);
-  assert_string_equal(status, "running");
-  return f;
+  return good;
 }
 
 static void check_killed(const char *path, const memrec *ref, long at_least) {
   char status[64];
-  H5E_auto2_t fn;
-  void *data;
-  H5Eget_auto2(H5E_DEFAULT, &fn, &data);
-  H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* the first open is expected to fail */
-  hid_t f = open_killed(path, status, sizeof status);
-  H5Eset_auto2(H5E_DEFAULT, fn, data);
+  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT); /* an ordinary open */
+  if (f < 0) fail_msg("%s: H5Fopen failed after SIGKILL", path);
+  read_attr_str(f, "status", status, sizeof status);
   hsize_t lo, hi;
   series_rows_range(f, &lo, &hi);
-  if (strcmp(status, "running") == 0) assert_true((long)lo >= at_least);
+  if (strcmp(status, "running") != 0) assert_string_equal(status, "completed"); /* got there */
   assert_true((int)hi <= ref->n);
-  print_message("  %s: status %s, %llu to %llu of %d rows\n", strrchr(path, '/') + 1, status,
-                (unsigned long long)lo, (unsigned long long)hi, ref->n);
-  /* what each dataset holds is the run's first rows, bit for bit */
   size_t nd, nq;
   double *dl = read_all(f, "/observables/delta/value", &nd);
   double *q = read_all(f, "/observables/block_position/value", &nq);
-  assert_memory_equal(dl, ref->delta, nd * sizeof(double));
-  assert_memory_equal(q, ref->q, nq * sizeof(double));
+  const size_t good = check_rows(dl, ref->delta, nd, 1);
+  const size_t good_q = check_rows(q, ref->q, nq / (size_t)ref->n3, (size_t)ref->n3);
+  if (strcmp(status, "running") == 0) assert_true((long)good >= at_least && (long)good_q >= at_least);
+  print_message("  %s: status %s, %zu rows (datasets of %llu to %llu rows) of %d\n",
+                strrchr(path, '/') + 1, status, good, (unsigned long long)lo,
+                (unsigned long long)hi, ref->n);
   free(dl), free(q);
   hsize_t dims[3];
   rank_of(f, "/events", dims); /* readable */
@@ -791,8 +789,7 @@ static void check_killed(const char *path, const memrec *ref, long at_least) {
   assert_int_equal(vs_output_write_xdmf(path, 0, &err), VS_OK);
   char xmf[160];
   snprintf(xmf, sizeof xmf, "%.*s.xmf", (int)(strlen(path) - 3), path);
-  f = H5Fopen(path, H5F_ACC_RDONLY | H5F_ACC_SWMR_READ, H5P_DEFAULT);
-  if (f < 0) f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   const char *base = strrchr(path, '/') + 1;
   xdmf_stats xs = check_xdmf(xmf, f, base);
   assert_true(xs.grids >= 1 && xs.grids <= (int)hi);
@@ -848,7 +845,7 @@ static void test_killed(void **state) {
     /* rows are flushed at least every 64 rows (and at every event and phase switch) */
     check_killed(path, &ref, delays_ms[i] < 0 ? 137 - 63 : signal_at - 63);
     if (delays_ms[i] < 0) { /* killed itself mid-run: never completed */
-      hid_t f = H5Fopen(path, H5F_ACC_RDONLY | H5F_ACC_SWMR_READ, H5P_DEFAULT);
+      hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
       char status[64];
       read_attr_str(f, "status", status, sizeof status);
       assert_string_equal(status, "running");

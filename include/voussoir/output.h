@@ -1,8 +1,9 @@
 /* The record of a run: an HDF5 file laid out in the spirit of H5MD (the case's parameters, the
  * reference geometry, one group per time-dependent quantity, an event table and a summary) and
  * an XDMF sidecar with which ParaView plays the motion. SI units; every floating-point dataset
- * carries a "unit" attribute. A run killed at any moment leaves a file that HDF5 opens, holding
- * everything up to the last flush (see vs_output_opts). */
+ * carries a "unit" attribute. A run killed at any moment (even by SIGKILL) leaves a file that
+ * HDF5 opens normally, holding every row up to the last flush (see vs_output_opts); a kill that
+ * lands inside a flush may add, in some datasets, rows that read as NaN (-1 for integers). */
 #ifndef VOUSSOIR_OUTPUT_H
 #define VOUSSOIR_OUTPUT_H
 
@@ -54,8 +55,7 @@ int vs_output_event(void *user, const vs_run *run, const vs_run_event *e);
  * vs_output_finish records status "failed: interrupted". NULL is ignored. */
 void vs_output_interrupt(vs_output *o);
 
-/* Close the record of run: write the buffered rows, leave SWMR writing, rewrite /events from the
- * run's log (hinge labels are assigned after the first three hinge events were emitted), write
+/* Close the record of run: write the buffered rows, rewrite /events from the run's log (hinge labels are assigned after the first three hinge events were emitted), write
  * /summary (limit points, first limit point, collapse, hinges, mode, totals, energy balance),
  * set the root attributes status ("completed" when run_status is VS_OK, else "failed: <cause>"
  * with run_err's message when given, "failed: <cause>" of a write error, "failed: interrupted"
