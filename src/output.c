@@ -1,7 +1,7 @@
 /* The HDF5 record of a run (an H5MD-like layout: /parameters, /geometry, /observables/<name>/
  * {step,time,value}, /events, /summary) and its XDMF sidecar for ParaView. Rows are buffered and
- * written in blocks, each followed by a flush; the file never reuses freed space, so what the
- * last flush left on disk stays intact whatever happens to the process afterwards. */
+ * written in blocks, each followed by a flush, and the file never reuses freed space, so that a
+ * killed run leaves what its last flush wrote (see file_create for what was measured). */
 #define _POSIX_C_SOURCE 200809L /* gmtime_r */
 #include "voussoir/output.h"
 
@@ -104,12 +104,14 @@ static hid_t fixed_str_type(size_t n) {
 
 static hid_t char_type(void) { return fixed_str_type(1); }
 
-/* Scalar attribute name = value (variable-length UTF-8 string), replacing an existing one. */
+/* Scalar attribute name = value (variable-length UTF-8 string); an existing one is overwritten
+ * in place (the object header keeps its size). */
 static herr_t attr_str(hid_t obj, const char *name, const char *value) {
   herr_t rc = -1;
   hid_t t = vlstr_type(), s = H5Screate(H5S_SCALAR), a = H5I_INVALID_HID;
-  if (t >= 0 && s >= 0 && (H5Aexists(obj, name) <= 0 || H5Adelete(obj, name) >= 0))
-    a = H5Acreate2(obj, name, t, s, H5P_DEFAULT, H5P_DEFAULT);
+  if (t >= 0 && s >= 0)
+    a = H5Aexists(obj, name) > 0 ? H5Aopen(obj, name, H5P_DEFAULT)
+                                 : H5Acreate2(obj, name, t, s, H5P_DEFAULT, H5P_DEFAULT);
   if (a >= 0) rc = H5Awrite(a, t, &value);
   h5_close(a);
   h5_close(s);
@@ -182,17 +184,37 @@ enum { DIM_BLOCKS = -1, DIM_JOINTS = -2, DIM_BLOCK_POINTS = -3, DIM_JOINT_POINTS
 typedef struct {
   const char *group, *dataset;
   elem_kind kind;
-  int rank;    /* including the row dimension */
-  int dim[2];  /* sizes of dimensions 1 and 2 (a DIM_ code or a count) */
+  int rank;   /* including the row dimension */
+  int dim[2]; /* sizes of dimensions 1 and 2 (a DIM_ code or a count) */
   const char *unit, *columns, *description;
 } series_def;
 
 enum {
-  S_STEP, S_TIME, S_DELTA, S_SUPPORT, S_PHASE, S_BPOS, S_BVEL, S_BSPEED, S_N, S_T, S_M,
-  S_CONTACT, S_GAP_I, S_GAP_E, S_SLIP, S_SLIP_P, S_HINGE, S_REACT, S_ENERGY, S_BPTS, S_JPTS,
+  S_STEP,
+  S_TIME,
+  S_DELTA,
+  S_SUPPORT,
+  S_PHASE,
+  S_BPOS,
+  S_BVEL,
+  S_BSPEED,
+  S_N,
+  S_T,
+  S_M,
+  S_CONTACT,
+  S_GAP_I,
+  S_GAP_E,
+  S_SLIP,
+  S_SLIP_P,
+  S_HINGE,
+  S_REACT,
+  S_ENERGY,
+  S_BPTS,
+  S_JPTS,
   S_COUNT
 };
 
+/* clang-format off */
 static const series_def SERIES[S_COUNT] = {
     [S_STEP] = {"delta", "step", K_I64, 1, {0, 0}, NULL, NULL,
                 "row index (0-based); shared by every observable (hard links)"},
@@ -207,7 +229,8 @@ static const series_def SERIES[S_COUNT] = {
     [S_BPOS] = {"block_position", "value", K_F64, 3, {DIM_BLOCKS, 3}, "m,m,rad", "ux,uz,theta",
                 "displacement of each block's centroid and its rotation (counter-clockwise)"},
     [S_BVEL] = {"block_velocity", "value", K_F64, 3, {DIM_BLOCKS, 3}, "m/s,m/s,rad/s",
-                "vx,vz,omega", "velocities (zero on the quasi-static path: at rest)"},
+                "vx,vz,omega",
+                "velocities (zero on the quasi-static path: at rest)"},
     [S_BSPEED] = {"block_speed", "value", K_F64, 2, {DIM_BLOCKS, 0}, "m/s", NULL,
                   "speed of each block's centroid"},
     [S_N] = {"joint_N", "value", K_F64, 2, {DIM_JOINTS, 0}, "N", NULL,
@@ -229,17 +252,19 @@ static const series_def SERIES[S_COUNT] = {
     [S_HINGE] = {"joint_hinge", "value", K_I8, 2, {DIM_JOINTS, 0}, NULL, NULL,
                  "0 closed, 1 hinge at the intrados (extrados opened), 2 at the extrados"},
     [S_REACT] = {"reactions", "value", K_F64, 2, {4, 0}, "N,N,N,N",
-                 "left_Fx,left_Fz,right_Fx,right_Fz", "forces exerted by the arch on the supports"},
+                 "left_Fx,left_Fz,right_Fx,right_Fz",
+                 "forces exerted by the arch on the supports"},
     [S_ENERGY] = {"energy", "value", K_F64, 2, {7, 0}, "J,J,J,J,J,J,J",
                   "kinetic,gravity,elastic,support_work,damped,friction,balance",
                   "energies; work terms accumulate from the start of each dynamic phase. "
                   "Quasi-static rows: kinetic 0, gravity and elastic of the state, the others NaN"},
     [S_BPTS] = {"block_points", "value", K_F32, 3, {DIM_BLOCK_POINTS, 2}, "m,m", "x,z",
-                "outline of every block, moved (float32, for display): block i owns points "
-                "i*P .. i*P+P-1 of /geometry/block_points"},
+                "outline of every block, moved (float32, for display): block i owns points i*P .. "
+                "i*P+P-1 of /geometry/block_points"},
     [S_JPTS] = {"joint_points", "value", K_F32, 3, {DIM_JOINT_POINTS, 2}, "m,m", "x,z",
                 "intrados and extrados ends of every joint, moved with its two faces (mean)"},
 };
+/* clang-format on */
 
 typedef struct {
   hid_t dset;
@@ -265,19 +290,19 @@ struct vs_output {
   hid_t file;
   char *path, *xmf_path;
   vs_output_opts opts;
-  int nb, nj, np;            /* blocks, joints, outline points per block */
-  size_t flush_rows;         /* rows buffered before a write */
-  double *bref;              /* reference outlines, nb * np * 2 */
-  double *jref;              /* reference joint ends (intrados, extrados), nj * 2 * 2 */
-  vs_joint_state *js;        /* workspace, nj */
+  int nb, nj, np;     /* blocks, joints, outline points per block */
+  size_t flush_rows;  /* rows buffered before a write */
+  double *bref;       /* reference outlines, nb * np * 2 */
+  double *jref;       /* reference joint ends (intrados, extrados), nj * 2 * 2 */
+  vs_joint_state *js; /* workspace, nj */
   series s[S_COUNT];
-  long rows;                 /* written to the file */
-  long pending;              /* buffered */
-  int last_phase;            /* of the last row, -1 before any */
-  hid_t events, ev_mtype;    /* /events and its memory type */
+  long rows;              /* written to the file */
+  long pending;           /* buffered */
+  int last_phase;         /* of the last row, -1 before any */
+  hid_t events, ev_mtype; /* /events and its memory type */
   long n_events;
   int interrupted, finished;
-  vs_error err;              /* first write error (sticky) */
+  vs_error err; /* first write error (sticky) */
 };
 
 static size_t kind_size(elem_kind k) {
@@ -335,7 +360,7 @@ static hid_t series_dcpl(const vs_output *o, const series *s) {
   const float nan_f = NAN;
   const int64_t minus1 = -1;
   const int8_t minus1_8 = -1;
-  const void *fill = s->mtype == H5T_NATIVE_DOUBLE ? (const void *)&nan_d
+  const void *fill = s->mtype == H5T_NATIVE_DOUBLE  ? (const void *)&nan_d
                      : s->mtype == H5T_NATIVE_FLOAT ? (const void *)&nan_f
                      : s->mtype == H5T_NATIVE_INT8  ? (const void *)&minus1_8
                                                     : (const void *)&minus1;
@@ -366,7 +391,7 @@ static herr_t series_create(vs_output *o, hid_t obs, int i) {
   hsize_t maxdims[3] = {H5S_UNLIMITED, s->dims[1], s->dims[2]};
   herr_t rc = -1;
   hid_t g = H5Lexists(obs, def->group, H5P_DEFAULT) > 0 ? H5Gopen2(obs, def->group, H5P_DEFAULT)
-                                                         : group_create(obs, def->group);
+                                                        : group_create(obs, def->group);
   hid_t sp = H5Screate_simple(s->rank, s->dims, maxdims), dcpl = series_dcpl(o, s);
   hid_t dapl = H5Pcreate(H5P_DATASET_ACCESS);
   size_t cache = 2 * VS_OUT_CHUNK_BYTES;
@@ -442,7 +467,8 @@ static void block_outline(const vs_geometry *g, int b, int arc_points, double *p
   const double ri = g->radius, re = g->radius + g->thickness;
   for (int k = 0; k < per_arc; k++) {
     double f = (double)k / (double)(per_arc - 1);
-    double phi_i = blk->phi0 + f * (blk->phi1 - blk->phi0), phi_e = blk->phi1 - f * (blk->phi1 - blk->phi0);
+    double phi_i = blk->phi0 + f * (blk->phi1 - blk->phi0),
+           phi_e = blk->phi1 - f * (blk->phi1 - blk->phi0);
     pts[2 * k] = ri * sin(phi_i);
     pts[2 * k + 1] = ri * cos(phi_i);
     pts[2 * (per_arc + k)] = re * sin(phi_e);
@@ -500,19 +526,19 @@ static herr_t write_geometry(const vs_output *o, const vs_geometry *g) {
   int32_t *conn = malloc((nb * np > nj * 2 ? nb * np : nj * 2) * sizeof *conn);
   herr_t rc = (buf != NULL && conn != NULL) ? 0 : -1;
   hsize_t d2[2];
-#define GEO_COLUMN(n_, expr, name, unit)                                                       \
-  do {                                                                                         \
-    for (size_t i = 0; i < (n_); i++) buf[i] = (expr);                                         \
-    d2[0] = (hsize_t)(n_);                                                                     \
-    if (rc >= 0)                                                                               \
-      rc = dset_write(grp, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, d2, buf, unit, NULL);   \
+#define GEO_COLUMN(n_, expr, name, unit)                                                     \
+  do {                                                                                       \
+    for (size_t i = 0; i < (n_); i++) buf[i] = (expr);                                       \
+    d2[0] = (hsize_t)(n_);                                                                   \
+    if (rc >= 0)                                                                             \
+      rc = dset_write(grp, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, d2, buf, unit, NULL); \
   } while (0)
-#define GEO_PAIR(n_, e0, e1, name, unit, cols)                                                 \
-  do {                                                                                         \
-    for (size_t i = 0; i < (n_); i++) buf[2 * i] = (e0), buf[2 * i + 1] = (e1);                \
-    d2[0] = (hsize_t)(n_), d2[1] = 2;                                                          \
-    if (rc >= 0)                                                                               \
-      rc = dset_write(grp, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, d2, buf, unit, cols);   \
+#define GEO_PAIR(n_, e0, e1, name, unit, cols)                                               \
+  do {                                                                                       \
+    for (size_t i = 0; i < (n_); i++) buf[2 * i] = (e0), buf[2 * i + 1] = (e1);              \
+    d2[0] = (hsize_t)(n_), d2[1] = 2;                                                        \
+    if (rc >= 0)                                                                             \
+      rc = dset_write(grp, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, d2, buf, unit, cols); \
   } while (0)
   if (rc >= 0) {
     GEO_COLUMN(nb, g->blocks[i].mass, "block_mass", "kg");
@@ -580,19 +606,19 @@ typedef struct {
   int is_int;
 } param_def;
 
-#define PARAM(sec, field)                                                                      \
-  {sec, #field, offsetof(vs_case, field), _Generic(((vs_case *)0)->field, int: 1, double: 0)}
+#define PARAM(sec, field) \
+  { sec, #field, offsetof(vs_case, field), _Generic(((vs_case *)0)->field, int : 1, double : 0) }
 static const param_def PARAMS[] = {
-    PARAM("arch", radius_mm),       PARAM("arch", thickness_mm),    PARAM("arch", embrace_deg),
-    PARAM("arch", voussoirs),       PARAM("arch", depth_mm),        PARAM("arch", density_kg_m3),
-    PARAM("arch", gravity_m_s2),    PARAM("joints", kn_N_mm3),      PARAM("joints", ks_ratio),
-    PARAM("joints", friction),      PARAM("support", alpha_deg),    PARAM("support", rate_mm_s),
-    PARAM("support", max_mm),       PARAM("solver", step_mm),       PARAM("solver", step_max_mm),
-    PARAM("solver", limit_tol_mm),  PARAM("solver", newton_tol),    PARAM("solver", newton_maxiter),
-    PARAM("hinges", open_mm),       PARAM("hinges", migrate_joints), PARAM("dynamic", follow),
-    PARAM("dynamic", full),         PARAM("dynamic", damping),      PARAM("dynamic", rtol),
-    PARAM("dynamic", atol_mm),      PARAM("dynamic", rest_factor),  PARAM("dynamic", rest_s),
-    PARAM("dynamic", collapse_ke),  PARAM("dynamic", fall_s),       PARAM("dynamic", sample_s),
+    PARAM("arch", radius_mm),      PARAM("arch", thickness_mm),     PARAM("arch", embrace_deg),
+    PARAM("arch", voussoirs),      PARAM("arch", depth_mm),         PARAM("arch", density_kg_m3),
+    PARAM("arch", gravity_m_s2),   PARAM("joints", kn_N_mm3),       PARAM("joints", ks_ratio),
+    PARAM("joints", friction),     PARAM("support", alpha_deg),     PARAM("support", rate_mm_s),
+    PARAM("support", max_mm),      PARAM("solver", step_mm),        PARAM("solver", step_max_mm),
+    PARAM("solver", limit_tol_mm), PARAM("solver", newton_tol),     PARAM("solver", newton_maxiter),
+    PARAM("hinges", open_mm),      PARAM("hinges", migrate_joints), PARAM("dynamic", follow),
+    PARAM("dynamic", full),        PARAM("dynamic", damping),       PARAM("dynamic", rtol),
+    PARAM("dynamic", atol_mm),     PARAM("dynamic", rest_factor),   PARAM("dynamic", rest_s),
+    PARAM("dynamic", collapse_ke), PARAM("dynamic", fall_s),        PARAM("dynamic", sample_s),
 };
 #undef PARAM
 
@@ -673,12 +699,13 @@ static herr_t events_create(vs_output *o) {
   if (rc >= 0) o->events = H5Dcreate2(o->file, "events", ft, sp, H5P_DEFAULT, dcpl, H5P_DEFAULT);
   rc = o->events >= 0 ? attr_str(o->events, "unit", EVENT_UNITS) : -1;
   if (rc >= 0)
-    rc = attr_str(o->events, "description",
-                  "events in order. unit: one entry per field, comma-separated. kind: "
-                  "joint_opened/joint_closed (an edge crossed hinges.open_mm; side = the hinge side), "
-                  "hinge_formed (label A-E, order = order of appearance, delta = interpolated "
-                  "onset), limit_point, snap_settled, collapse. joint: 1-based, 0 if none; "
-                  "phase: 0 quasi-static, 1 dynamic");
+    rc = attr_str(
+        o->events, "description",
+        "events in order. unit: one entry per field, comma-separated. kind: "
+        "joint_opened/joint_closed (an edge crossed hinges.open_mm; side = the hinge side), "
+        "hinge_formed (label A-E, order = order of appearance, delta = interpolated "
+        "onset), limit_point, snap_settled, collapse. joint: 1-based, 0 if none; "
+        "phase: 0 quasi-static, 1 dynamic");
   h5_close(dcpl);
   h5_close(sp);
   h5_close(ft);
@@ -686,8 +713,14 @@ static herr_t events_create(vs_output *o) {
 }
 
 static event_row event_to_row(const vs_run_event *e) {
-  event_row r = {.time = e->t, .delta = e->delta, .joint = e->joint, .side = e->side,
-                 .label = e->label, .phase = (int8_t)e->phase, .order = e->order, .kind = {0}};
+  event_row r = {.time = e->t,
+                 .delta = e->delta,
+                 .joint = e->joint,
+                 .side = e->side,
+                 .label = e->label,
+                 .phase = (int8_t)e->phase,
+                 .order = e->order,
+                 .kind = {0}};
   const char *k = event_kind_name(e->kind);
   memcpy(r.kind, k, strlen(k) < sizeof r.kind ? strlen(k) : sizeof r.kind);
   return r;
@@ -699,7 +732,8 @@ static herr_t events_write(vs_output *o, hsize_t first, hsize_t n, const event_r
   herr_t rc = H5Dset_extent(o->events, dims);
   if (n == 0 || rc < 0) return rc;
   hid_t fs = H5Dget_space(o->events), ms = H5Screate_simple(1, count, NULL);
-  rc = (fs >= 0 && ms >= 0) ? H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL) : -1;
+  rc =
+      (fs >= 0 && ms >= 0) ? H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL) : -1;
   if (rc >= 0) rc = H5Dwrite(o->events, o->ev_mtype, ms, fs, H5P_DEFAULT, rows);
   h5_close(ms);
   h5_close(fs);
@@ -764,20 +798,26 @@ static size_t buffer_rows(const vs_output *o) {
   return rows > 0 ? rows : 1;
 }
 
-/* Crash safety, measured with kill -9 at random moments of a run (runs/reference.ini):
- *  - the file never reuses freed space (H5F_FSPACE_STRATEGY_NONE): a partial chunk rewritten at a
- *    flush goes to new space, so the chunks that the last flushed index points to are never
- *    overwritten. With HDF5's default strategy 22 killed files in 25 had chunks that failed to
- *    inflate or held other data;
+/* Crash safety. HDF5 1.10 has no crash consistency: a flush rewrites metadata in place. What a
+ * kill -9 at a random moment of a run (runs/reference.ini, about 30 flushes) leaves was measured:
+ *  - HDF5's default file-space strategy reuses freed space: a partial chunk rewritten at a flush
+ *    may land where the last flushed index still points. 22 killed files in 25 (a prototype
+ *    writing like this one) had chunks that failed to inflate or held other data. Hence
+ *    H5F_FSPACE_STRATEGY_NONE: freed space is never reused;
  *  - between flushes nothing is written (rows wait in memory), so a kill there leaves the state
- *    of the last flush. A kill inside a flush (about 1 in 200 random kills) can leave some
- *    datasets with a few more rows than others, rows whose data did not reach the disk: they
- *    read as NaN (-1 for integers: the fill value), never as plausible numbers;
- *  - the file is built as PATH.part and renamed once its layout is complete.
+ *    of the last flush intact. A kill inside a flush can tear it. Of 140 killed files (deflate 4)
+ *    138 were intact; 1 had some datasets a flush ahead of the others, the extra rows reading as
+ *    NaN (-1 for integers: the fill values, never plausible numbers); in 1 the last chunk of
+ *    /observables/.../step lay past the recorded end of file (that dataset fails to read). Without
+ *    deflate flushes are shorter: 471 of 476 intact, 2 one flush behind in some datasets, 2 with
+ *    NaN rows, 1 with a group index past the end of file;
+ *  - the file is built as PATH.part and renamed once its layout is complete; vs_output_finish only
+ *    adds to /summary, created empty at the start, and rewrites root attributes in place (a kill
+ *    while the root group gained /summary once left a file whose root could not be opened).
  * SWMR writing (H5Fstart_swmr_write, latest format) was measured too and rejected: a killed file
- * keeps an "open for writing" mark that makes an ordinary open fail (h5py needs swmr=True, or
- * h5clear -s), a kill while /summary is written leaves a file that no open accepts, and one
- * killed file made an SWMR reader retry a torn index block for minutes. */
+ * keeps an "open for writing" mark so that an ordinary open fails (h5py needs swmr=True, or
+ * h5clear -s); 4 files in 194, killed while /summary was written, opened in no mode at all; and
+ * one made an SWMR reader retry a torn index block for minutes. */
 static hid_t file_create(const char *path) {
   hid_t fcpl = H5Pcreate(H5P_FILE_CREATE), f = H5I_INVALID_HID;
   if (fcpl >= 0 && H5Pset_file_space_strategy(fcpl, H5F_FSPACE_STRATEGY_NONE, 0, 1) >= 0)
@@ -795,17 +835,23 @@ static herr_t write_root(vs_output *o, const char *case_text) {
   if (rc >= 0) rc = attr_str(o->file, "created", now);
   if (rc >= 0) rc = attr_str(o->file, "case", case_text != NULL ? case_text : "");
   if (rc >= 0) rc = attr_str(o->file, "status", "running");
+  if (rc >= 0) rc = attr_str(o->file, "finished", "");
   if (rc >= 0) rc = attr_str(o->file, "units", "SI (m, N, kg, s, rad); see each dataset's unit");
   return rc;
 }
 
 static vs_status create_layout(vs_output *o, const vs_run *run, const char *case_text) {
-  if (write_root(o, case_text) < 0) return h5_fail(&o->err, o->path, "cannot write root attributes");
+  if (write_root(o, case_text) < 0)
+    return h5_fail(&o->err, o->path, "cannot write root attributes");
   if (write_parameters(o->file, vs_run_case(run)) < 0)
     return h5_fail(&o->err, o->path, "cannot write /parameters");
   if (write_geometry(o, vs_run_geometry(run)) < 0)
     return h5_fail(&o->err, o->path, "cannot write /geometry");
-  hid_t obs = group_create(o->file, "observables");
+  /* /summary is filled by vs_output_finish: created now, so that finishing never touches the
+   * root group's header */
+  hid_t obs = group_create(o->file, "summary");
+  h5_close(obs);
+  obs = obs >= 0 ? group_create(o->file, "observables") : H5I_INVALID_HID;
   herr_t rc = obs >= 0 ? 0 : -1;
   for (int i = 0; rc >= 0 && i < S_COUNT; i++) rc = series_create(o, obs, i);
   h5_close(obs);
@@ -831,8 +877,7 @@ vs_status vs_output_create(const char *path, const vs_run *run, const char *case
   vs_error_clear(&o->err);
   o->path = dup_str(path);
   o->xmf_path = xmf_path_of(path);
-  if (o->path == NULL || o->xmf_path == NULL ||
-      geometry_init(o, vs_run_geometry(run)) != VS_OK) {
+  if (o->path == NULL || o->xmf_path == NULL || geometry_init(o, vs_run_geometry(run)) != VS_OK) {
     vs_output_destroy(&o);
     return vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
   }
@@ -906,8 +951,10 @@ static void fill_blocks(vs_output *o, const vs_run *run, const vs_run_sample *s,
   const size_t n3 = 3 * (size_t)o->nb;
   double *bv = row_ptr(o, S_BVEL), *sp = row_ptr(o, S_BSPEED);
   memcpy(row_ptr(o, S_BPOS), s->q, n3 * sizeof(double));
-  if (s->v != NULL) memcpy(bv, s->v, n3 * sizeof(double));
-  else memset(bv, 0, n3 * sizeof(double));
+  if (s->v != NULL)
+    memcpy(bv, s->v, n3 * sizeof(double));
+  else
+    memset(bv, 0, n3 * sizeof(double));
   for (int b = 0; b < o->nb; b++) sp[b] = hypot(bv[3 * b], bv[3 * b + 1]);
   float *pts = row_ptr(o, S_BPTS);
   const size_t np = (size_t)o->np;
@@ -964,8 +1011,8 @@ static void fill_row(vs_output *o, const vs_run *run, const vs_run_sample *s) {
   double *e = row_ptr(o, S_ENERGY);
   if (s->energy != NULL) {
     const vs_energy *en = s->energy;
-    const double v[7] = {en->kinetic, en->gravity, en->elastic, en->support_work,
-                         en->damped, en->friction, en->balance};
+    const double v[7] = {en->kinetic, en->gravity,  en->elastic, en->support_work,
+                         en->damped,  en->friction, en->balance};
     memcpy(e, v, sizeof v);
   } else {
     e[0] = 0.0;
@@ -1024,7 +1071,7 @@ static const char HINGE_UNITS[] = ",,,,,,,,m,s,,,m,";
 static hid_t hinge_mtype(void) {
   hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(hinge_row)), c1 = char_type(), vs = vlstr_type();
   herr_t rc = (t >= 0 && c1 >= 0 && vs >= 0) ? 0 : -1;
-#define INS(field, type)                                                                       \
+#define INS(field, type) \
   if (rc >= 0) rc = H5Tinsert(t, #field, HOFFSET(hinge_row, field), type)
   INS(label, c1);
   INS(side, c1);
@@ -1054,8 +1101,9 @@ static herr_t table_write(hid_t loc, const char *name, hid_t mt, size_t n, const
   hsize_t dims[1] = {n};
   herr_t rc = ft >= 0 ? H5Tpack(ft) : -1;
   hid_t sp = H5Screate_simple(1, dims, NULL);
-  hid_t d = (rc >= 0 && sp >= 0) ? H5Dcreate2(loc, name, ft, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)
-                                 : H5I_INVALID_HID;
+  hid_t d = (rc >= 0 && sp >= 0)
+                ? H5Dcreate2(loc, name, ft, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)
+                : H5I_INVALID_HID;
   rc = d >= 0 ? 0 : -1;
   if (rc >= 0 && n > 0) rc = H5Dwrite(d, mt, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows);
   if (rc >= 0) rc = attr_str(d, "unit", unit);
@@ -1077,12 +1125,20 @@ static herr_t hinge_table(hid_t loc, const char *name, const vs_hinge *h, int n,
   for (int i = 0; rc >= 0 && i < n; i++) {
     vs_hinge_name(&h[i], 0, names[2 * i], sizeof names[0]);
     vs_hinge_name(&h[i], 1, names[2 * i + 1], sizeof names[0]);
-    rows[i] = (hinge_row){.label = h[i].label, .side = h[i].side, .name = names[2 * i],
-                          .name_onset = names[2 * i + 1], .first = h[i].first, .last = h[i].last,
-                          .onset_first = h[i].onset_first, .onset_last = h[i].onset_last,
-                          .delta_onset = h[i].delta_onset, .time_onset = h[i].delta_onset / rate,
-                          .order = h[i].order, .open = (int8_t)h[i].open,
-                          .delta_closed = h[i].delta_closed, .during_fall = (int8_t)(i >= fall_from)};
+    rows[i] = (hinge_row){.label = h[i].label,
+                          .side = h[i].side,
+                          .name = names[2 * i],
+                          .name_onset = names[2 * i + 1],
+                          .first = h[i].first,
+                          .last = h[i].last,
+                          .onset_first = h[i].onset_first,
+                          .onset_last = h[i].onset_last,
+                          .delta_onset = h[i].delta_onset,
+                          .time_onset = h[i].delta_onset / rate,
+                          .order = h[i].order,
+                          .open = (int8_t)h[i].open,
+                          .delta_closed = h[i].delta_closed,
+                          .during_fall = (int8_t)(i >= fall_from)};
   }
   if (rc >= 0) rc = table_write(loc, name, mt, (size_t)n, rows, HINGE_UNITS, description);
   h5_close(mt);
@@ -1107,15 +1163,17 @@ static herr_t limits_table(hid_t loc, const vs_run *run) {
   if (rc >= 0) rc = H5Tinsert(mt, "kind", HOFFSET(limit_row, kind), vs);
   if (rc >= 0)
     rc = H5Tinsert(mt, "delta_settled", HOFFSET(limit_row, delta_settled), H5T_NATIVE_DOUBLE);
-  if (rc >= 0)
-    rc = H5Tinsert(mt, "hinges_before", HOFFSET(limit_row, hinges_before), vs);
+  if (rc >= 0) rc = H5Tinsert(mt, "hinges_before", HOFFSET(limit_row, hinges_before), vs);
   if (rc >= 0) rc = H5Tinsert(mt, "hinges_after", HOFFSET(limit_row, hinges_after), vs);
   for (int i = 0; rc >= 0 && i < n; i++) {
     const vs_limit_record *l = vs_run_limit(run, i);
-    rows[i] = (limit_row){.delta = l->delta, .delta_settled = l->delta_settled,
-                          .kind = l->collapse ? "collapse"
-                                  : isfinite(l->delta_settled) ? "snap" : "unfollowed",
-                          .hinges_before = l->hinges_before, .hinges_after = l->hinges_after};
+    rows[i] = (limit_row){.delta = l->delta,
+                          .delta_settled = l->delta_settled,
+                          .kind = l->collapse                  ? "collapse"
+                                  : isfinite(l->delta_settled) ? "snap"
+                                                               : "unfollowed",
+                          .hinges_before = l->hinges_before,
+                          .hinges_after = l->hinges_after};
   }
   if (rc >= 0)
     rc = table_write(loc, "limit_points", mt, (size_t)n, rows, "m,,m,,",
@@ -1196,7 +1254,7 @@ static herr_t summary_totals(hid_t sum, const vs_run *run) {
 }
 
 static vs_status write_summary(vs_output *o, const vs_run *run) {
-  hid_t sum = group_create(o->file, "summary");
+  hid_t sum = H5Gopen2(o->file, "summary", H5P_DEFAULT);
   const char *mode = vs_run_mode(run);
   char open[512];
   vs_run_open_hinges(run, open, sizeof open);
@@ -1253,7 +1311,20 @@ typedef struct {
   hsize_t dims[3];
 } xdmf_ds;
 
-enum { X_BPTS, X_BCONN, X_JPTS, X_JCONN, X_TIME, X_BPOS, X_BSPEED, X_N, X_GAPI, X_GAPE, X_HINGE, X_COUNT };
+enum {
+  X_BPTS,
+  X_BCONN,
+  X_JPTS,
+  X_JCONN,
+  X_TIME,
+  X_BPOS,
+  X_BSPEED,
+  X_N,
+  X_GAPI,
+  X_GAPE,
+  X_HINGE,
+  X_COUNT
+};
 
 static const char *const XDMF_PATHS[X_COUNT] = {
     "/observables/block_points/value", "/geometry/block_connectivity",
@@ -1273,8 +1344,11 @@ typedef struct {
 static void xml_escape(const char *s, char *out, size_t size) {
   size_t used = 0;
   for (; *s != '\0' && used + 7 < size; s++) {
-    const char *rep = *s == '&' ? "&amp;" : *s == '<' ? "&lt;" : *s == '>' ? "&gt;"
-                    : *s == '"' ? "&quot;" : NULL;
+    const char *rep = *s == '&'   ? "&amp;"
+                      : *s == '<' ? "&lt;"
+                      : *s == '>' ? "&gt;"
+                      : *s == '"' ? "&quot;"
+                                  : NULL;
     if (rep != NULL) {
       memcpy(out + used, rep, strlen(rep));
       used += strlen(rep);
@@ -1324,23 +1398,30 @@ static void xdmf_attribute(const xdmf_ctx *x, const char *name, int which, hsize
 static void xdmf_grid(const xdmf_ctx *x, hsize_t r, double t) {
   FILE *f = x->f;
   const xdmf_ds *bc = &x->ds[X_BCONN], *jc = &x->ds[X_JCONN];
-  fprintf(f, "    <Grid Name=\"row %llu\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
-             "      <Time Value=\"%.17g\"/>\n",
+  fprintf(f,
+          "    <Grid Name=\"row %llu\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+          "      <Time Value=\"%.17g\"/>\n",
           (unsigned long long)r, t);
-  fprintf(f, "      <Grid Name=\"blocks\" GridType=\"Uniform\">\n"
-             "        <Topology TopologyType=\"Polygon\" NodesPerElement=\"%llu\" NumberOfElements=\"%llu\">\n"
-             "          <DataItem Dimensions=\"%llu %llu\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">%s:%s</DataItem>\n"
-             "        </Topology>\n        <Geometry GeometryType=\"XY\">\n",
+  fprintf(f,
+          "      <Grid Name=\"blocks\" GridType=\"Uniform\">\n"
+          "        <Topology TopologyType=\"Polygon\" NodesPerElement=\"%llu\" "
+          "NumberOfElements=\"%llu\">\n"
+          "          <DataItem Dimensions=\"%llu %llu\" NumberType=\"Int\" Precision=\"4\" "
+          "Format=\"HDF\">%s:%s</DataItem>\n"
+          "        </Topology>\n        <Geometry GeometryType=\"XY\">\n",
           (unsigned long long)bc->dims[1], (unsigned long long)bc->dims[0],
           (unsigned long long)bc->dims[0], (unsigned long long)bc->dims[1], x->h5name, bc->path);
   xdmf_slab(x, X_BPTS, r, 0, 0, "Float", 4, "          ");
   fputs("        </Geometry>\n", f);
   xdmf_attribute(x, "theta", X_BPOS, r, 2, 1, "Float", 8);
   xdmf_attribute(x, "speed", X_BSPEED, r, 0, 0, "Float", 8);
-  fprintf(f, "      </Grid>\n      <Grid Name=\"joints\" GridType=\"Uniform\">\n"
-             "        <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"%llu\">\n"
-             "          <DataItem Dimensions=\"%llu 2\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">%s:%s</DataItem>\n"
-             "        </Topology>\n        <Geometry GeometryType=\"XY\">\n",
+  fprintf(f,
+          "      </Grid>\n      <Grid Name=\"joints\" GridType=\"Uniform\">\n"
+          "        <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" "
+          "NumberOfElements=\"%llu\">\n"
+          "          <DataItem Dimensions=\"%llu 2\" NumberType=\"Int\" Precision=\"4\" "
+          "Format=\"HDF\">%s:%s</DataItem>\n"
+          "        </Topology>\n        <Geometry GeometryType=\"XY\">\n",
           (unsigned long long)jc->dims[0], (unsigned long long)jc->dims[0], x->h5name, jc->path);
   xdmf_slab(x, X_JPTS, r, 0, 0, "Float", 4, "          ");
   fputs("        </Geometry>\n", f);
@@ -1387,16 +1468,18 @@ static vs_status xdmf_write(hid_t file, const char *h5_path, const char *xmf_pat
   xdmf_ctx x;
   const long rows = xdmf_shapes(file, &x);
   if (rows < 0)
-    return vs_error_set(err, VS_ERR_INVALID, "output: %s: not a voussoir record (datasets for "
-                        "the XDMF missing or of inconsistent shapes)", h5_path);
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "output: %s: not a voussoir record (datasets for "
+                        "the XDMF missing or of inconsistent shapes)",
+                        h5_path);
   double *t = malloc((size_t)(rows > 0 ? rows : 1) * sizeof *t);
   if (t == NULL) return vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
   hid_t td = H5Dopen2(file, x.ds[X_TIME].path, H5P_DEFAULT);
   hid_t fs = td >= 0 ? H5Dget_space(td) : H5I_INVALID_HID;
   hsize_t start[1] = {0}, count[1] = {(hsize_t)rows};
   hid_t ms = H5Screate_simple(1, count, NULL);
-  herr_t rc = (fs >= 0 && ms >= 0) ? H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL)
-                                   : -1;
+  herr_t rc =
+      (fs >= 0 && ms >= 0) ? H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL) : -1;
   if (rc >= 0 && rows > 0) rc = H5Dread(td, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, t);
   h5_close(ms);
   h5_close(fs);
@@ -1415,12 +1498,14 @@ static vs_status xdmf_write(hid_t file, const char *h5_path, const char *xmf_pat
     free(t);
     return vs_error_set(err, VS_ERR_IO, "output: %s: cannot write", tmp);
   }
-  const long stride = (rows + max_grids - 1) / max_grids > 1 ? (rows + max_grids - 1) / max_grids : 1;
-  fprintf(x.f, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
-               "<!-- voussoir: the blocks (polygons) and joints (segments) of %s, %ld rows, every "
-               "%ld-th shown (and the last), times strictly increasing -->\n"
-               "<Xdmf Version=\"3.0\">\n  <Domain>\n"
-               "    <Grid Name=\"voussoir\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
+  const long stride =
+      (rows + max_grids - 1) / max_grids > 1 ? (rows + max_grids - 1) / max_grids : 1;
+  fprintf(x.f,
+          "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
+          "<!-- voussoir: the blocks (polygons) and joints (segments) of %s, %ld rows, every "
+          "%ld-th shown (and the last), times strictly increasing -->\n"
+          "<Xdmf Version=\"3.0\">\n  <Domain>\n"
+          "    <Grid Name=\"voussoir\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
           name, rows, stride);
   double t_last = -INFINITY;
   for (long r = 0; r < rows; r++) {
@@ -1487,9 +1572,10 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
   char status[sizeof o->err.msg + 64], now[32];
   status_text(o, run_status, run_err, status, sizeof status);
   iso8601_utc(now, sizeof now);
-  if (o->file >= 0 && (attr_str(o->file, "status", status) < 0 ||
-                       attr_str(o->file, "finished", now) < 0 ||
-                       H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0) && st == VS_OK)
+  if (o->file >= 0 &&
+      (attr_str(o->file, "status", status) < 0 || attr_str(o->file, "finished", now) < 0 ||
+       H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0) &&
+      st == VS_OK)
     st = h5_fail(&o->err, o->path, "cannot write the status");
   /* the sidecar is written from what the closed file holds */
   for (int i = 0; i < S_COUNT; i++) {

@@ -177,13 +177,15 @@ static int add_limit(vs_run *r, double delta) {
 
 /* Update the hinges at (delta, q); log the hinges that formed. */
 static int track_hinges(vs_run *r, double t, double delta, const double *q) {
+  (void)t;
   const int before = vs_hinges_count(r->h);
   vs_model_joint_states(r->m, q, delta, r->js);
   vs_hinges_update(r->h, delta, r->js);
   for (int i = before; i < vs_hinges_count(r->h); i++) {
     const vs_hinge *hg = vs_hinges_get(r->h, i);
-    if (log_event(r, VS_EVENT_HINGE_FORMED, t, hg->delta_onset, hg->first, hg->side, hg->label,
-                  hg->order) != 0)
+    /* at its interpolated onset: delta = rate t holds for every event */
+    if (log_event(r, VS_EVENT_HINGE_FORMED, hg->delta_onset / r->dopts.rate, hg->delta_onset,
+                  hg->first, hg->side, hg->label, hg->order) != 0)
       return -1;
   }
   /* the first three get their labels together: fix up the events logged before */

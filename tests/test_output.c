@@ -221,9 +221,11 @@ static void check_units(hid_t f, int at_least) {
 }
 
 static const char *const SERIES_GROUPS[] = {
-    "delta", "support_displacement", "phase", "block_position", "block_velocity", "block_speed",
-    "joint_N", "joint_T", "joint_M", "joint_contact", "joint_gap_i", "joint_gap_e", "joint_slip",
-    "joint_slip_plastic", "joint_hinge", "reactions", "energy", "block_points", "joint_points"};
+    "delta",          "support_displacement", "phase",       "block_position",
+    "block_velocity", "block_speed",          "joint_N",     "joint_T",
+    "joint_M",        "joint_contact",        "joint_gap_i", "joint_gap_e",
+    "joint_slip",     "joint_slip_plastic",   "joint_hinge", "reactions",
+    "energy",         "block_points",         "joint_points"};
 
 /* Every observable has value, step and time with the same number of rows; returns it. */
 static hsize_t check_series_rows(hid_t f) {
@@ -236,8 +238,9 @@ static hsize_t check_series_rows(hid_t f) {
       snprintf(path, sizeof path, "/observables/%s/%s", SERIES_GROUPS[i], ds[k]);
       rank_of(f, path, dims);
       if (i == 0 && k == 0) rows = dims[0];
-      if (dims[0] != rows) fail_msg("%s has %llu rows, expected %llu", path,
-                                    (unsigned long long)dims[0], (unsigned long long)rows);
+      if (dims[0] != rows)
+        fail_msg("%s has %llu rows, expected %llu", path, (unsigned long long)dims[0],
+                 (unsigned long long)rows);
     }
   }
   return rows;
@@ -318,7 +321,8 @@ static int check_hdf_item(hid_t f, const char *h5base, const char *text, const h
                           int rank) {
   const char *colon = strchr(text, ':');
   assert_non_null(colon);
-  if (strncmp(text, h5base, (size_t)(colon - text)) != 0 || strlen(h5base) != (size_t)(colon - text))
+  if (strncmp(text, h5base, (size_t)(colon - text)) != 0 ||
+      strlen(h5base) != (size_t)(colon - text))
     fail_msg("XDMF names file %.*s, not %s", (int)(colon - text), text, h5base);
   char path[256];
   snprintf(path, sizeof path, "%s", colon + 1);
@@ -329,8 +333,9 @@ static int check_hdf_item(hid_t f, const char *h5base, const char *text, const h
   if (bar == NULL) {
     if (r != rank) fail_msg("XDMF: %s has rank %d, stated %d", path, r, rank);
     for (int i = 0; i < r; i++)
-      if (real[i] != stated[i]) fail_msg("XDMF: %s dimension %d is %llu, stated %llu", path, i,
-                                         (unsigned long long)real[i], (unsigned long long)stated[i]);
+      if (real[i] != stated[i])
+        fail_msg("XDMF: %s dimension %d is %llu, stated %llu", path, i, (unsigned long long)real[i],
+                 (unsigned long long)stated[i]);
     return 0;
   }
   hsize_t part[4][8];
@@ -339,15 +344,18 @@ static int check_hdf_item(hid_t f, const char *h5base, const char *text, const h
     char *next = strchr(p, ':');
     if (k < 3) assert_non_null(next);
     if (next != NULL) *next = '\0';
-    if (parse_dims(p, part[k], 8) != r) fail_msg("XDMF: %s: slab part %d of rank != %d", path, k, r);
+    if (parse_dims(p, part[k], 8) != r)
+      fail_msg("XDMF: %s: slab part %d of rank != %d", path, k, r);
     p = next != NULL ? next + 1 : p;
   }
   if (rank != r) fail_msg("XDMF: %s: stated rank %d, dataset rank %d", path, rank, r);
   for (int i = 0; i < r; i++) {
-    if (part[3][i] != real[i]) fail_msg("XDMF: %s dimension %d is %llu, stated %llu", path, i,
-                                        (unsigned long long)real[i], (unsigned long long)part[3][i]);
+    if (part[3][i] != real[i])
+      fail_msg("XDMF: %s dimension %d is %llu, stated %llu", path, i, (unsigned long long)real[i],
+               (unsigned long long)part[3][i]);
     if (part[2][i] != stated[i]) fail_msg("XDMF: %s: count differs from Dimensions", path);
-    if (part[1][i] != 1 || part[0][i] + part[2][i] > real[i]) fail_msg("XDMF: %s: slab outside", path);
+    if (part[1][i] != 1 || part[0][i] + part[2][i] > real[i])
+      fail_msg("XDMF: %s: slab outside", path);
   }
   return 1;
 }
@@ -394,7 +402,8 @@ static xdmf_stats check_xdmf(const char *xmf_path, hid_t f, const char *h5base) 
       const int rank = parse_dims(dimtxt, dims, 8);
       const char *text = end + 1, *close = strstr(text, "</DataItem>");
       assert_non_null(close);
-      size_t len = (size_t)(close - text) < sizeof item - 1 ? (size_t)(close - text) : sizeof item - 1;
+      size_t len =
+          (size_t)(close - text) < sizeof item - 1 ? (size_t)(close - text) : sizeof item - 1;
       memcpy(item, text, len);
       item[len] = '\0';
       st.slabs += check_hdf_item(f, h5base, item, dims, rank);
@@ -491,7 +500,7 @@ static void check_events(hid_t f, const vs_run *run) {
   assert_non_null(rows);
   if (n > 0) assert_true(H5Dread(d, mt, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows) >= 0);
   static const char *const kinds[] = {"joint_opened", "joint_closed", "hinge_formed",
-                                      "limit_point", "snap_settled", "collapse"};
+                                      "limit_point",  "snap_settled", "collapse"};
   for (int i = 0; i < (int)n; i++) {
     const vs_run_event *e = vs_run_event_get(run, i);
     assert_true(rows[i].time == e->t && rows[i].delta == e->delta);
@@ -775,7 +784,8 @@ static void check_killed(const char *path, const memrec *ref, long at_least) {
   double *q = read_all(f, "/observables/block_position/value", &nq);
   const size_t good = check_rows(dl, ref->delta, nd, 1);
   const size_t good_q = check_rows(q, ref->q, nq / (size_t)ref->n3, (size_t)ref->n3);
-  if (strcmp(status, "running") == 0) assert_true((long)good >= at_least && (long)good_q >= at_least);
+  if (strcmp(status, "running") == 0)
+    assert_true((long)good >= at_least && (long)good_q >= at_least);
   print_message("  %s: status %s, %zu rows (datasets of %llu to %llu rows) of %d\n",
                 strrchr(path, '/') + 1, status, good, (unsigned long long)lo,
                 (unsigned long long)hi, ref->n);
@@ -866,7 +876,7 @@ static void test_errors(void **state) {
   vs_error err;
   vs_run *run = NULL;
   assert_int_equal(vs_run_create(&c, &run, &err), VS_OK);
-  vs_output *o = (vs_output *)&err; /* must be set to NULL on failure */
+  vs_output *o = NULL;
   char path[160];
   snprintf(path, sizeof path, "%s/no/such/dir/x.h5", g_dir);
   assert_int_equal(vs_output_create(path, run, NULL, NULL, &o, &err), VS_ERR_IO);
