@@ -539,3 +539,20 @@ double vs_case_span_mm(const vs_case *c) {
   if (c == NULL) return NAN;
   return 2.0 * c->radius_mm * sin(0.5 * c->embrace_deg * pi / 180.0);
 }
+
+int vs_case_key_count(void) { return (int)NKEYS; }
+
+int vs_case_key(const vs_case *c, int i, const char **section, const char **key, const char **unit,
+                int *is_int, double *value) {
+  if (i < 0 || (size_t)i >= NKEYS) return -1;
+  const key_spec *k = &keys[i];
+  const char *field = (const char *)c + k->offset;
+  if (section != NULL) *section = k->section;
+  if (key != NULL) *key = k->name;
+  if (unit != NULL) *unit = k->unit;
+  if (is_int != NULL) *is_int = k->type == KEY_INT;
+  if (value != NULL)
+    *value = k->type == KEY_INT ? (double)*(const int *)(const void *)field
+                                : *(const double *)(const void *)field;
+  return 0;
+}

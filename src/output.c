@@ -600,28 +600,6 @@ static herr_t write_geometry(const vs_output *o, const vs_geometry *g) {
 /* ------------------------------------------------------------------------------------------ */
 /* Parameters: the case's values under the case's keys and units                               */
 
-typedef struct {
-  const char *section, *key;
-  size_t offset;
-  int is_int;
-} param_def;
-
-#define PARAM(sec, field) \
-  { sec, #field, offsetof(vs_case, field), _Generic(((vs_case *)0)->field, int : 1, double : 0) }
-static const param_def PARAMS[] = {
-    PARAM("arch", radius_mm),      PARAM("arch", thickness_mm),     PARAM("arch", embrace_deg),
-    PARAM("arch", voussoirs),      PARAM("arch", depth_mm),         PARAM("arch", density_kg_m3),
-    PARAM("arch", gravity_m_s2),   PARAM("joints", kn_N_mm3),       PARAM("joints", ks_ratio),
-    PARAM("joints", friction),     PARAM("support", alpha_deg),     PARAM("support", rate_mm_s),
-    PARAM("support", max_mm),      PARAM("solver", step_mm),        PARAM("solver", step_max_mm),
-    PARAM("solver", limit_tol_mm), PARAM("solver", newton_tol),     PARAM("solver", newton_maxiter),
-    PARAM("hinges", open_mm),      PARAM("hinges", migrate_joints), PARAM("dynamic", follow),
-    PARAM("dynamic", full),        PARAM("dynamic", damping),       PARAM("dynamic", rtol),
-    PARAM("dynamic", atol_mm),     PARAM("dynamic", rest_factor),   PARAM("dynamic", rest_s),
-    PARAM("dynamic", collapse_ke), PARAM("dynamic", fall_s),        PARAM("dynamic", sample_s),
-};
-#undef PARAM
-
 static herr_t write_parameters(hid_t file, const vs_case *c) {
   hid_t grp = group_create(file, "parameters");
   herr_t rc = grp >= 0 ? attr_str(grp, "description",
@@ -631,18 +609,18 @@ static herr_t write_parameters(hid_t file, const vs_case *c) {
                        : -1;
   hid_t sec = H5I_INVALID_HID;
   const char *open_name = "";
-  for (size_t i = 0; rc >= 0 && i < sizeof PARAMS / sizeof PARAMS[0]; i++) {
-    const param_def *p = &PARAMS[i];
-    if (strcmp(open_name, p->section) != 0) {
+  for (int i = 0; rc >= 0 && i < vs_case_key_count(); i++) {
+    const char *section = NULL, *key = NULL;
+    int is_int = 0;
+    double value = 0.0;
+    vs_case_key(c, i, &section, &key, NULL, &is_int, &value);
+    if (strcmp(open_name, section) != 0) {
       h5_close(sec);
-      sec = group_create(grp, p->section);
-      open_name = p->section;
+      sec = group_create(grp, section);
+      open_name = section;
       if (sec < 0) rc = -1;
     }
-    const char *field = (const char *)c + p->offset;
-    if (rc >= 0)
-      rc = p->is_int ? attr_int(sec, p->key, *(const int *)(const void *)field)
-                     : attr_double(sec, p->key, *(const double *)(const void *)field);
+    if (rc >= 0) rc = is_int ? attr_int(sec, key, (int)value) : attr_double(sec, key, value);
   }
   h5_close(sec);
   h5_close(grp);

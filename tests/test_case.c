@@ -665,8 +665,38 @@ static void test_span(void **state) {
   assert_true(fabs(vs_case_span_mm(&c) - 100.0) < 1e-9);
 }
 
+/* The key iterator enumerates every key of the documented list, and reads what --set wrote. */
+static void test_key_iterator(void **state) {
+  (void)state;
+  assert_int_equal(vs_case_key_count(), (int)NKEYS_TESTED);
+  assert_int_equal(vs_case_key(NULL, -1, NULL, NULL, NULL, NULL, NULL), -1);
+  assert_int_equal(vs_case_key(NULL, vs_case_key_count(), NULL, NULL, NULL, NULL, NULL), -1);
+  for (size_t i = 0; i < NKEYS_TESTED; i++) {
+    const key_case *kc = &all_keys[i];
+    int found = -1;
+    for (int k = 0; k < vs_case_key_count(); k++) {
+      const char *sec = NULL, *key = NULL;
+      vs_case_key(NULL, k, &sec, &key, NULL, NULL, NULL);
+      if (strcmp(sec, kc->section) == 0 && strcmp(key, kc->key) == 0) found = k;
+    }
+    if (found < 0) fail_msg("%s.%s not enumerated", kc->section, kc->key);
+    vs_case c;
+    vs_error err;
+    vs_case_defaults(&c);
+    char buf[128];
+    snprintf(buf, sizeof buf, "%s.%s=%s", kc->section, kc->key, kc->edge_ok[0]);
+    assert_int_equal(vs_case_set(&c, buf, &err), VS_OK);
+    double v = NAN;
+    int is_int = -1;
+    assert_int_equal(vs_case_key(&c, found, NULL, NULL, NULL, &is_int, &v), 0);
+    assert_true(fabs(v - strtod(kc->edge_ok[0], NULL)) <= 1e-12 * fabs(v));
+    assert_true(is_int == 0 || is_int == 1);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_key_iterator),
       cmocka_unit_test(test_defaults),
       cmocka_unit_test(test_full_file),
       cmocka_unit_test(test_partial_file_keeps_rest),

@@ -81,6 +81,14 @@ vs_status vs_case_set(vs_case *c, const char *assignment, vs_error *err);
  * overrides. Fails with VS_ERR_INVALID; err names the field(s) and the allowed range. */
 vs_status vs_case_validate(const vs_case *c, vs_error *err);
 
+/* The case's keys, from the one table that defines them (so that records and tools cannot miss
+ * a key): how many, and key i (0-based, in the table's order) with its section, name, unit ("" if
+ * dimensionless), whether it is an integer, and its value in c. Returns 0, or -1 when i is out of
+ * range (the outputs are then untouched). Any output pointer may be NULL. */
+int vs_case_key_count(void);
+int vs_case_key(const vs_case *c, int i, const char **section, const char **key, const char **unit,
+                int *is_int, double *value);
+
 /* Intrados span L = 2 R sin(embrace/2), in mm: the length the study normalises by. */
 double vs_case_span_mm(const vs_case *c);
 
