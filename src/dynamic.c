@@ -291,6 +291,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   const double e0 = e.kinetic + e.gravity + e.elastic;
   double scale = fabs(e0), t = t0, t_last_sample = -INFINITY, t_rest = t0, t_stop = t_end;
   int moving = 0, collapsed = 0;
+  long base_steps = 0, base_newton = 0;
   vs_status st = VS_OK;
   e.balance = 0.0; /* the reference of the balance */
   if (sample != NULL && sample(user, t0, delta_at(d, t0), y, y + n, &e) != 0)
@@ -343,6 +344,11 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
         t_stop = fmin(t_end, t + d->o.fall_time);
         /* the fall is followed for the record only: restart from here without events and
          * with looser tolerances (set on a restarted integrator: IDA re-reads them then) */
+        long ns = 0, nn = 0; /* IDAReInit resets IDA's counters: carry the phase's */
+        IDAGetNumSteps(d->ida, &ns);
+        IDAGetNumNonlinSolvIters(d->ida, &nn);
+        base_steps += ns;
+        base_newton += nn;
         N_Vector at = N_VClone(d->atol);
         int rf = (at == NULL) ? -1 : IDAReInit(d->ida, t, d->y, d->yp);
         if (rf == IDA_SUCCESS) {
@@ -360,6 +366,10 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     }
     if (sample != NULL && (t - t_last_sample >= d->o.sample_dt || flag == IDA_ROOT_RETURN)) {
       t_last_sample = t;
+      IDAGetNumSteps(d->ida, &res->steps); /* kept current for the callback */
+      IDAGetNumNonlinSolvIters(d->ida, &res->newton_iterations);
+      res->steps += base_steps;
+      res->newton_iterations += base_newton;
       if (sample(user, t, delta, y, y + n, &e) != 0) stop = 1;
     }
     if (stop) {
@@ -381,11 +391,13 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   }
   res->t_end = t;
   res->delta_end = delta_at(d, t);
+  IDAGetNumSteps(d->ida, &res->steps);
+  IDAGetNumNonlinSolvIters(d->ida, &res->newton_iterations);
+  res->steps += base_steps;
+  res->newton_iterations += base_newton;
   if (st == VS_OK && sample != NULL && t > t_last_sample &&
       sample(user, t, res->delta_end, y, y + n, &e) != 0) /* the final state */
     st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
-  IDAGetNumSteps(d->ida, &res->steps);
-  IDAGetNumNonlinSolvIters(d->ida, &res->newton_iterations);
   res->jac_evals = d->jac_evals;
   memcpy(q, y, (size_t)n * sizeof *q);
   memcpy(v, y + n, (size_t)n * sizeof *v);

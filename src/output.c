@@ -211,6 +211,7 @@ enum {
   S_ENERGY,
   S_BPTS,
   S_JPTS,
+  S_SOLVER,
   S_COUNT
 };
 
@@ -263,6 +264,11 @@ static const series_def SERIES[S_COUNT] = {
                 "i*P+P-1 of /geometry/block_points"},
     [S_JPTS] = {"joint_points", "value", K_F32, 3, {DIM_JOINT_POINTS, 2}, "m,m", "x,z",
                 "intrados and extrados ends of every joint, moved with its two faces (mean)"},
+    [S_SOLVER] = {"solver", "value", K_I64, 2, {3, 0}, NULL,
+                  "newton_iterations,ida_steps,ida_newton_iterations",
+                  "solver statistics up to this row, cumulative over the run: KINSOL Newton "
+                  "iterations of the quasi-static path (equilibrium searches after snaps "
+                  "included), IDA steps and IDA Newton iterations of the dynamic phases"},
 };
 /* clang-format on */
 
@@ -986,6 +992,10 @@ static void fill_row(vs_output *o, const vs_run *run, const vs_run_sample *s) {
   fill_joints(o, run, s, usup);
   double *r = row_ptr(o, S_REACT);
   vs_model_reactions(m, s->q, s->delta, r, r + 2);
+  int64_t *sv = row_ptr(o, S_SOLVER);
+  sv[0] = (int64_t)s->newton_iterations;
+  sv[1] = (int64_t)s->ida_steps;
+  sv[2] = (int64_t)s->ida_newton_iterations;
   double *e = row_ptr(o, S_ENERGY);
   if (s->energy != NULL) {
     const vs_energy *en = s->energy;

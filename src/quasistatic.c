@@ -541,6 +541,7 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
   delta_prev = delta0;
   res->steps = 1;
   res->delta_limit = delta0;
+  res->newton_iterations = s.iters; /* kept current for the callback */
   if (step_fn != NULL && step_fn(user, delta0, q, m) != 0) {
     st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
     goto cleanup;
@@ -601,6 +602,7 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
                         delta / VS_MM);
       break;
     }
+    res->newton_iterations = s.iters;
     if (step_fn != NULL && step_fn(user, delta, q, m) != 0) {
       st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
       break;

@@ -37,6 +37,8 @@ struct vs_run {
   int n_onset, onset_taken, frozen;
   int hinges_at_onset; /* hinges formed up to the snapshot of the collapse's onset */
   int pending_snap;    /* limit record waiting for the equilibrium its snap settled in, or -1 */
+  const vs_path_result *live_path; /* the segment or phase under way (its counters so far) */
+  const vs_dyn_result *live_dyn;
   char pattern0[16], pattern_u[16];
   const char *mode;
   vs_run_sample_fn sample_fn;
@@ -198,6 +200,15 @@ static int track_hinges(vs_run *r, double t, double delta, const double *q) {
 
 /* --- callbacks from the solvers --- */
 
+/* Cumulative solver statistics: the finished segments and phases plus the one under way. */
+static void fill_counters(const vs_run *r, vs_run_sample *s) {
+  s->newton_iterations = r->totals.newton_iterations +
+                         (r->live_path != NULL ? r->live_path->newton_iterations : 0);
+  s->ida_steps = r->dtot.steps + (r->live_dyn != NULL ? r->live_dyn->steps : 0);
+  s->ida_newton_iterations =
+      r->dtot.newton_iterations + (r->live_dyn != NULL ? r->live_dyn->newton_iterations : 0);
+}
+
 static int on_equilibrium(void *user, double delta, const double *q, const vs_model *m) {
   (void)m;
   vs_run *r = user;
@@ -213,6 +224,7 @@ static int on_equilibrium(void *user, double delta, const double *q, const vs_mo
     if (log_event(r, VS_EVENT_SNAP_SETTLED, r->t, delta, 0, 0, 0, 0) != 0) return 1;
   }
   vs_run_sample s = {.phase = VS_PHASE_QUASISTATIC, .t = r->t, .delta = delta, .q = q};
+  fill_counters(r, &s);
   return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
 }
 
@@ -244,6 +256,7 @@ static int on_dyn_sample(void *user, double t, double delta, const double *q, co
     r->onset_taken = 1;
   }
   vs_run_sample s = {.phase = VS_PHASE_DYNAMIC, .t = t, .delta = delta, .q = q, .v = v, .energy = e};
+  fill_counters(r, &s);
   return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
 }
 
@@ -359,7 +372,10 @@ static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
   vs_status st = VS_OK;
   for (;;) {
     vs_dyn_result d;
+    memset(&d, 0, sizeof d);
+    r->live_dyn = &d;
     st = vs_dynamic_run(r->dyn, r->t, r->q, r->v, on_dyn_sample, on_dyn_event, r, &d, err);
+    r->live_dyn = NULL;
     add_dyn_totals(r, &d);
     r->t = d.t_end;
     r->delta = d.delta_end;
@@ -404,7 +420,10 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
     vs_path_opts sw = r->popts;
     sw.max_delta = 0.0;
     vs_path_result p;
+    memset(&p, 0, sizeof p);
+    r->live_path = &p;
     st = vs_path_run(r->m, &sw, 0.0, r->q, on_equilibrium, r, &p, err);
+    r->live_path = NULL;
     add_path_totals(r, &p);
     if (st == VS_OK) {
       r->dopts.settle = 0;
@@ -417,7 +436,10 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
       vs_path_result p;
       r->phase = VS_PHASE_QUASISTATIC;
       r->pending_snap = (delta0 > 0.0 && r->n_limits > 0) ? r->n_limits - 1 : -1;
+      memset(&p, 0, sizeof p);
+      r->live_path = &p;
       st = vs_path_run(r->m, &r->popts, delta0, r->q, on_equilibrium, r, &p, err);
+      r->live_path = NULL;
       add_path_totals(r, &p);
       if (st != VS_OK || p.end != VS_PATH_LIMIT_POINT) break;
       r->delta = p.delta_limit;

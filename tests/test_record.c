@@ -78,6 +78,23 @@ static void test_completed_record(void **s) {
   assert_true(rows_of(h5, "/observables/delta/value") > 10);
   snprintf(cmd, sizeof cmd, "%s/ref.xmf", g_dir);
   assert_int_equal(access(cmd, F_OK), 0);
+  /* solver statistics: cumulative, so never decreasing, and both phases at work */
+  {
+    hid_t f = H5Fopen(h5, H5F_ACC_RDONLY, H5P_DEFAULT);
+    hid_t d = H5Dopen2(f, "/observables/solver/value", H5P_DEFAULT);
+    assert_true(d >= 0);
+    const long n = rows_of(h5, "/observables/solver/value");
+    long long *v = malloc((size_t)n * 3 * sizeof *v);
+    assert_non_null(v);
+    assert_true(H5Dread(d, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
+    for (long i = 1; i < n; i++)
+      for (int c = 0; c < 3; c++)
+        if (v[3 * i + c] < v[3 * (i - 1) + c]) fail_msg("solver column %d decreases at row %ld", c, i);
+    assert_true(v[3 * (n - 1)] > 0 && v[3 * (n - 1) + 1] > 0 && v[3 * (n - 1) + 2] > 0);
+    free(v);
+    H5Dclose(d);
+    H5Fclose(f);
+  }
   /* h5dump (Debian hdf5-tools) lists the layout the README documents */
   snprintf(cmd, sizeof cmd, "h5dump -n %s > %s/layout.txt 2>&1", h5, g_dir);
   assert_int_equal(sh(cmd), 0);
@@ -100,6 +117,7 @@ static void test_completed_record(void **s) {
         "dataset    /observables/joint_gap_i/value", "dataset    /observables/joint_gap_e/value",
         "dataset    /observables/joint_slip_plastic/value", "dataset    /observables/joint_hinge/value",
         "dataset    /observables/reactions/value", "dataset    /observables/energy/value",
+        "dataset    /observables/solver/value",
         "group      /summary", "dataset    /summary/limit_points", "dataset    /summary/hinges"};
     for (size_t i = 0; i < sizeof documented / sizeof documented[0]; i++)
       if (strstr(text, documented[i]) == NULL) fail_msg("h5dump -n lacks \"%s\"", documented[i]);

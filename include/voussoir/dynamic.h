@@ -64,7 +64,9 @@ typedef struct {
   long steps, newton_iterations, root_events, jac_evals;
 } vs_dyn_result;
 
-/* Called at samples (at most every sample_dt, and at each event); non-zero stops. */
+/* Called at samples (at most every sample_dt, at each event, at the start and at the end);
+ * the result given to vs_dynamic_run then holds the steps and Newton iterations so far.
+ * Non-zero stops. */
 typedef int (*vs_dyn_sample_fn)(void *user, double t, double delta, const double *q,
                                 const double *v, const vs_energy *e);
 typedef int (*vs_dyn_event_fn)(void *user, const vs_dyn_event *ev, const double *q);

@@ -47,8 +47,8 @@ typedef struct {
   double max_residual;   /* largest scaled residual (x voussoir weight) accepted */
 } vs_path_result;
 
-/* Called after every accepted equilibrium (delta = 0 is the self-weight state). q has
- * vs_model_size entries. Return non-zero to stop the path (reported as VS_ERR_INTERNAL with
+/* Called after every accepted equilibrium (delta = 0 is the self-weight state); the path result
+ * given to vs_path_run then holds the Newton iterations so far. q has vs_model_size entries. Return non-zero to stop the path (reported as VS_ERR_INTERNAL with
  * "stopped by caller"). */
 typedef int (*vs_path_step_fn)(void *user, double delta, const double *q, const vs_model *m);
 

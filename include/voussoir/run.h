@@ -22,6 +22,8 @@ typedef struct {
   double t, delta;         /* loading time (delta / rate), s; support displacement, m */
   const double *q, *v;     /* state (v is NULL on the quasi-static path: at rest) */
   const vs_energy *energy; /* NULL on the quasi-static path */
+  long newton_iterations;  /* solver statistics so far, cumulative over the run: KINSOL Newton */
+  long ida_steps, ida_newton_iterations; /* iterations; IDA steps and Newton iterations */
 } vs_run_sample;
 
 typedef enum {
