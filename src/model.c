@@ -217,28 +217,37 @@ static sunindextype csc_pos(const vs_model *m, int bi, int bj) {
   return m->colptr[3 * bj] + 3 * (lo - m->blk_start[bj]);
 }
 
-int vs_model_jacobian(const vs_model *m, const double *q, double delta, SUNMatrix J) {
-  sunindextype *cp = SUNSparseMatrix_IndexPointers(J), *ri = SUNSparseMatrix_IndexValues(J);
-  double *data = SUNSparseMatrix_Data(J);
-  memcpy(cp, m->colptr, ((size_t)m->n + 1) * sizeof *cp);
-  memcpy(ri, m->rowind, (size_t)m->nnz * sizeof *ri);
+/* Write the CSC pattern into A, zero its values and return them. */
+static double *csc_reset(const vs_model *m, SUNMatrix A) {
+  memcpy(SUNSparseMatrix_IndexPointers(A), m->colptr, ((size_t)m->n + 1) * sizeof(sunindextype));
+  memcpy(SUNSparseMatrix_IndexValues(A), m->rowind, (size_t)m->nnz * sizeof(sunindextype));
+  double *data = SUNSparseMatrix_Data(A);
   memset(data, 0, (size_t)m->nnz * sizeof *data);
+  return data;
+}
+
+/* Add a joint's 6x6 matrix (row-major, rows and columns (body a, body b)) into the CSC values. */
+static void scatter_joint(const vs_model *m, const int body[2], const double Kj[36], double *data) {
+  for (int si = 0; si < 2; si++) {
+    if (!body_is_block(body[si])) continue;
+    for (int sj = 0; sj < 2; sj++) {
+      if (!body_is_block(body[sj])) continue;
+      const sunindextype p0 = csc_pos(m, body[si], body[sj]);
+      const sunindextype stride = m->colptr[3 * body[sj] + 1] - m->colptr[3 * body[sj]];
+      for (int cj = 0; cj < 3; cj++)
+        for (int ci = 0; ci < 3; ci++) data[p0 + cj * stride + ci] += Kj[(3 * si + ci) * 6 + 3 * sj + cj];
+    }
+  }
+}
+
+int vs_model_jacobian(const vs_model *m, const double *q, double delta, SUNMatrix J) {
+  double *data = csc_reset(m, J);
   const vs_geometry *g = m->g;
   for (int k = 0; k < g->n_joints; k++) {
     double K[36];
     eval_joint(m, q, delta, k, NULL, NULL, K);
     const int body[2] = {g->joints[k].a, g->joints[k].b};
-    for (int si = 0; si < 2; si++) {
-      if (!body_is_block(body[si])) continue;
-      for (int sj = 0; sj < 2; sj++) {
-        if (!body_is_block(body[sj])) continue;
-        const sunindextype p0 = csc_pos(m, body[si], body[sj]);
-        const sunindextype stride = m->colptr[3 * body[sj] + 1] - m->colptr[3 * body[sj]];
-        for (int cj = 0; cj < 3; cj++)
-          for (int ci = 0; ci < 3; ci++)
-            data[p0 + cj * stride + ci] += K[(3 * si + ci) * 6 + 3 * sj + cj];
-      }
-    }
+    scatter_joint(m, body, K, data);
   }
   return 0;
 }
@@ -349,12 +358,7 @@ void vs_model_damping(const vs_model *m, const double *q, const double *v, doubl
   const vs_geometry *g = m->g;
   double *data = NULL;
   if (fd != NULL) memset(fd, 0, (size_t)m->n * sizeof *fd);
-  if (C != NULL) {
-    memcpy(SUNSparseMatrix_IndexPointers(C), m->colptr, ((size_t)m->n + 1) * sizeof(sunindextype));
-    memcpy(SUNSparseMatrix_IndexValues(C), m->rowind, (size_t)m->nnz * sizeof(sunindextype));
-    data = SUNSparseMatrix_Data(C);
-    memset(data, 0, (size_t)m->nnz * sizeof *data);
-  }
+  if (C != NULL) data = csc_reset(m, C);
   double diss = 0.0, sup = 0.0;
   if (m->zeta > 0.0) {
     for (int k = 0; k < g->n_joints; k++) {
@@ -375,18 +379,7 @@ void vs_model_damping(const vs_model *m, const double *q, const double *v, doubl
         if (fd != NULL)
           for (int c = 0; c < 3; c++) fd[3 * body[s] + c] += f[3 * s + c];
       }
-      if (C == NULL) continue;
-      for (int si = 0; si < 2; si++) {
-        if (!body_is_block(body[si])) continue;
-        for (int sj = 0; sj < 2; sj++) {
-          if (!body_is_block(body[sj])) continue;
-          const sunindextype p0 = csc_pos(m, body[si], body[sj]);
-          const sunindextype stride = m->colptr[3 * body[sj] + 1] - m->colptr[3 * body[sj]];
-          for (int cj = 0; cj < 3; cj++)
-            for (int ci = 0; ci < 3; ci++)
-              data[p0 + cj * stride + ci] += Ck[(3 * si + ci) * 6 + 3 * sj + cj];
-        }
-      }
+      if (C != NULL) scatter_joint(m, body, Ck, data);
     }
   }
   /* the support does the work -f . u_dot on the arch through the damper: the dissipated power
