@@ -61,6 +61,11 @@ typedef struct {
   SUNLinearSolver LS, LSt;
   void *kin;
   double *len;                /* per unknown: 1 for translations, block length for rotations */
+  /* workspaces, allocated once: two vectors for the tangent's solves (never used by two callers
+   * at once), a residual, and the marks of a permutation's cycles */
+  N_Vector w1, w2;
+  double *fwork;
+  unsigned char *seen;
   double kmax, lmax, wmin;    /* stiffest joint k_n b t (N/m), longest joint (m), lightest block (N) */
   long iters, jac_evals, floor_limited;
   double max_residual;        /* largest scaled residual among accepted equilibria */
@@ -98,7 +103,11 @@ static void qs_destroy(qs_solver *s) {
   if (s->u != NULL) N_VDestroy(s->u);
   if (s->uscale != NULL) N_VDestroy(s->uscale);
   if (s->fscale != NULL) N_VDestroy(s->fscale);
+  if (s->w1 != NULL) N_VDestroy(s->w1);
+  if (s->w2 != NULL) N_VDestroy(s->w2);
   if (s->ctx != NULL) SUNContext_Free(&s->ctx);
+  free(s->fwork);
+  free(s->seen);
   free(s->len);
   memset(s, 0, sizeof *s);
 }
@@ -123,8 +132,12 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
   s->J = SUNSparseMatrix(n, n, nnz, CSC_MAT, s->ctx);
   s->Jt = SUNSparseMatrix(n, n, nnz, CSC_MAT, s->ctx);
   s->len = malloc((size_t)n * sizeof *s->len);
+  s->w1 = N_VNew_Serial(n, s->ctx);
+  s->w2 = N_VNew_Serial(n, s->ctx);
+  s->fwork = malloc((size_t)n * sizeof *s->fwork);
+  s->seen = malloc((size_t)n);
   if (s->u == NULL || s->uscale == NULL || s->fscale == NULL || s->J == NULL || s->Jt == NULL ||
-      s->len == NULL) {
+      s->len == NULL || s->w1 == NULL || s->w2 == NULL || s->fwork == NULL || s->seen == NULL) {
     qs_destroy(s);
     return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
   }
@@ -181,12 +194,10 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
 
 /* Largest scaled residual |G_i| / scale_i at (q, delta). */
 static double scaled_residual(qs_solver *s, const double *q, double delta) {
-  double *f = malloc((size_t)s->n * sizeof *f), r = 0.0;
-  if (f == NULL) return INFINITY;
+  double *f = s->fwork, r = 0.0;
   vs_model_residual(s->m, q, delta, f);
   const double *fs = N_VGetArrayPointer(s->fscale);
   for (int i = 0; i < s->n; i++) r = fmax(r, fabs(f[i]) * fs[i]);
-  free(f);
   return r;
 }
 
@@ -221,8 +232,9 @@ static int qs_solve(qs_solver *s, double delta, double *q, long *iters) {
   return flag;
 }
 
-/* Sign of a permutation (+1 even, -1 odd); work has n bytes of scratch. */
+/* Sign of a permutation of n >= 0 entries (+1 even, -1 odd); seen has n bytes of scratch. */
 static int perm_sign(const SuiteSparse_long *p, long n, unsigned char *seen) {
+  if (n <= 0) return 1;
   memset(seen, 0, (size_t)n);
   long transpositions = 0;
   for (long i = 0; i < n; i++) {
@@ -249,15 +261,12 @@ static int tangent_factor(qs_solver *s, const double *q, double delta, int *det_
   sun_klu_symbolic *sym = SUNLinSol_KLUGetSymbolic(s->LSt);
   sun_klu_numeric *num = SUNLinSol_KLUGetNumeric(s->LSt);
   const long n = s->n;
-  unsigned char *seen = malloc((size_t)n);
-  if (seen == NULL) return -1;
-  int sign = perm_sign(num->Pnum, n, seen) * perm_sign(sym->Q, n, seen);
+  int sign = perm_sign(num->Pnum, n, s->seen) * perm_sign(sym->Q, n, s->seen);
   const double *ud = num->Udiag;
   for (long i = 0; i < n; i++) {
     if (ud[i] == 0.0) sign = 0;
     else if (ud[i] < 0.0) sign = -sign;
   }
-  free(seen);
   *det_sign = sign;
   return 0;
 }
@@ -273,12 +282,7 @@ static int tangent_solve(qs_solver *s, N_Vector x, N_Vector b) {
  * rtol: relative change of the estimate that ends the iteration, maxit: the iteration cap.
  * NaN if a solve fails. */
 static double tangent_min_eig(qs_solver *s, double *vec, double rtol, int maxit) {
-  N_Vector y = N_VClone(s->u), z = N_VClone(s->u);
-  if (y == NULL || z == NULL) {
-    if (y) N_VDestroy(y);
-    if (z) N_VDestroy(z);
-    return NAN;
-  }
+  N_Vector y = s->w1, z = s->w2;
   double *py = N_VGetArrayPointer(y), *pz = N_VGetArrayPointer(z);
   memcpy(py, vec, (size_t)s->n * sizeof *py);
   double nrm = sqrt(N_VDotProd(y, y)), mu = 0.0;
@@ -309,25 +313,16 @@ static double tangent_min_eig(qs_solver *s, double *vec, double rtol, int maxit)
     mu = mu_new;
   }
   memcpy(vec, py, (size_t)s->n * sizeof *vec);
-  N_VDestroy(y);
-  N_VDestroy(z);
   return mu;
 }
 
 /* Tangent of the path, dq/ddelta = -K^-1 dG/ddelta, with the factors of tangent_factor. */
 static int path_tangent(qs_solver *s, const double *q, double delta, double *dq) {
-  N_Vector b = N_VClone(s->u), x = N_VClone(s->u);
-  if (b == NULL || x == NULL) {
-    if (b) N_VDestroy(b);
-    if (x) N_VDestroy(x);
-    return -1;
-  }
+  N_Vector b = s->w1, x = s->w2;
   vs_model_dG_ddelta(s->m, q, delta, N_VGetArrayPointer(b));
   N_VScale(-1.0, b, b);
   int flag = tangent_solve(s, x, b);
   if (flag == 0) memcpy(dq, N_VGetArrayPointer(x), (size_t)s->n * sizeof *dq);
-  N_VDestroy(b);
-  N_VDestroy(x);
   return flag;
 }
 
@@ -447,10 +442,10 @@ static int stable_state(qs_solver *s, const double *q, double delta) {
 static int gravity_ramp(qs_solver *s, double *q, double *lambda_max) {
   vs_model *m = s->m;
   const size_t bytes = (size_t)s->n * sizeof(double);
-  double *qt = malloc(bytes), *dq = malloc(bytes), lam = 0.0, h = VS_RAMP_STEP;
-  N_Vector b = N_VClone(s->u), x = N_VClone(s->u);
+  double *qt = malloc(bytes), lam = 0.0, h = VS_RAMP_STEP;
+  N_Vector b = s->w1, x = s->w2; /* qs_solve and stable_state do not use them */
   int ok = -1;
-  if (qt == NULL || dq == NULL || b == NULL || x == NULL) goto done;
+  if (qt == NULL) goto done;
   memset(q, 0, bytes);
   /* the contact pattern is found at any load level alike (the no-tension law is homogeneous):
    * the ramp's solves may take many iterations */
@@ -487,9 +482,6 @@ done:
   vs_model_set_gravity_scale(m, 1.0);
   *lambda_max = lam;
   free(qt);
-  free(dq);
-  if (b) N_VDestroy(b);
-  if (x) N_VDestroy(x);
   return ok;
 }
 
