@@ -178,8 +178,7 @@ static int add_limit(vs_run *r, double delta) {
 }
 
 /* Update the hinges at (delta, q); log the hinges that formed. */
-static int track_hinges(vs_run *r, double t, double delta, const double *q) {
-  (void)t;
+static int track_hinges(vs_run *r, double delta, const double *q) {
   const int before = vs_hinges_count(r->h);
   vs_model_joint_states(r->m, q, delta, r->js);
   vs_hinges_update(r->h, delta, r->js);
@@ -215,7 +214,7 @@ static int on_equilibrium(void *user, double delta, const double *q, const vs_mo
   r->delta = delta;
   r->t = delta / r->dopts.rate;
   r->phase = VS_PHASE_QUASISTATIC;
-  if (track_hinges(r, r->t, delta, q) != 0) return 1;
+  if (track_hinges(r, delta, q) != 0) return 1;
   if (r->pending_snap >= 0) { /* the first equilibrium after a snap-through */
     vs_limit_record *l = &r->limits[r->pending_snap];
     r->pending_snap = -1;
@@ -247,7 +246,7 @@ static int on_dyn_sample(void *user, double t, double delta, const double *q, co
   r->delta = delta;
   r->t = t;
   r->phase = VS_PHASE_DYNAMIC;
-  if (!r->frozen && track_hinges(r, t, delta, q) != 0) return 1;
+  if (!r->frozen && track_hinges(r, delta, q) != 0) return 1;
   if (e->kinetic < r->dopts.rest_ke) {
     r->onset_taken = 0;
   } else if (!r->onset_taken &&
@@ -262,7 +261,7 @@ static int on_dyn_sample(void *user, double t, double delta, const double *q, co
 
 static int on_dyn_event(void *user, const vs_dyn_event *ev, const double *q) {
   vs_run *r = user;
-  if (!r->frozen && track_hinges(r, ev->t, ev->delta, q) != 0) return 1;
+  if (!r->frozen && track_hinges(r, ev->delta, q) != 0) return 1;
   char label = 0;
   for (int i = 0; i < vs_hinges_count(r->h); i++) {
     const vs_hinge *hg = vs_hinges_get(r->h, i);

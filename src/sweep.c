@@ -335,8 +335,7 @@ static void sort_table(const char *path) {
   free(text);
 }
 
-static int parse_common(int argc, char **argv, int i, char **sets, int *nsets, const char **q) {
-  (void)q;
+static int parse_common(int argc, char **argv, int i, char **sets, int *nsets) {
   if (strcmp(argv[i], "--set") == 0 && i + 1 < argc && *nsets < MAX_SETS) {
     sets[(*nsets)++] = argv[i + 1];
     return 2;
@@ -344,15 +343,21 @@ static int parse_common(int argc, char **argv, int i, char **sets, int *nsets, c
   return 0;
 }
 
+/* The case file with the --set overrides applied (in order), not yet validated. */
+static vs_status load_case(const char *case_path, char **sets, int nsets, vs_case *c,
+                           vs_error *err) {
+  vs_case_defaults(c);
+  vs_status st = vs_case_read(c, case_path, NULL, err);
+  for (int s = 0; st == VS_OK && s < nsets; s++) st = vs_case_set(c, sets[s], err);
+  return st;
+}
+
 /* Validate the case with the fixed overrides and every value of every axis. */
 static int validate_all(const char *case_path, char **sets, int nsets, const axis *ax, int nax) {
   vs_case c;
   vs_error err;
   vs_error_clear(&err);
-  vs_case_defaults(&c);
-  if (vs_case_read(&c, case_path, NULL, &err) != VS_OK) goto bad;
-  for (int s = 0; s < nsets; s++)
-    if (vs_case_set(&c, sets[s], &err) != VS_OK) goto bad;
+  if (load_case(case_path, sets, nsets, &c, &err) != VS_OK) goto bad;
   for (int x = 0; x < nax; x++)
     for (int k = 0; k < ax[x].n; k++) {
       vs_case t = c;
@@ -376,7 +381,7 @@ int vs_cmd_sweep(int argc, char **argv, const char *self) {
   vs_error_clear(&err);
   for (int i = 2; i < argc; i++) {
     const char *a = argv[i];
-    int used = parse_common(argc, argv, i, sets, &nsets, NULL);
+    int used = parse_common(argc, argv, i, sets, &nsets);
     if (used) {
       i += used - 1;
     } else if ((strcmp(a, "--alpha") == 0 || strcmp(a, "--kn") == 0 || strcmp(a, "--vary") == 0) &&
@@ -556,7 +561,7 @@ int vs_cmd_calibrate(int argc, char **argv) {
   vs_error_clear(&err);
   for (int i = 2; i < argc; i++) {
     const char *a = argv[i];
-    int used = parse_common(argc, argv, i, sets, &nsets, NULL);
+    int used = parse_common(argc, argv, i, sets, &nsets);
     if (used) {
       i += used - 1;
     } else if ((strcmp(a, "--target-dz-pct") == 0 || strcmp(a, "--target-dx-pct") == 0) && i + 1 < argc) {
@@ -590,10 +595,7 @@ int vs_cmd_calibrate(int argc, char **argv) {
                     "0 < kn-min < kn-max <= 10000 N/mm^3, tol > 0)\n", kmin, kmax, tol);
     return EXIT_USAGE;
   }
-  vs_case_defaults(&c.base);
-  if (vs_case_read(&c.base, case_path, NULL, &err) != VS_OK) goto bad;
-  for (int s = 0; s < nsets; s++)
-    if (vs_case_set(&c.base, sets[s], &err) != VS_OK) goto bad;
+  if (load_case(case_path, sets, nsets, &c.base, &err) != VS_OK) goto bad;
   c.base.follow = 1;
   c.base.full = 0;
   if (vs_case_validate(&c.base, &err) != VS_OK) goto bad;
