@@ -158,9 +158,11 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
           ",\"stats\":{\"steps\":%ld,\"rejected_steps\":%ld,\"newton_iterations\":%ld,"
           "\"jacobian_evaluations\":%ld,\"max_residual\":%.3g,\"floor_limited\":%ld,"
           "\"dynamic_steps\":%ld,\"dynamic_newton_iterations\":%ld,\"root_events\":%ld,"
-          "\"wall_s\":%.6g}}\n",
+          "\"constraint_drift_m\":%.3g,\"dae\":{\"differential\":%d,\"algebraic\":%d,"
+          "\"index\":%d},\"wall_s\":%.6g}}\n",
           p->steps, p->rejected, p->newton_iterations, p->jacobian_evals, p->max_residual,
-          p->floor_limited, d->steps, d->newton_iterations, d->root_events, vs_run_wall_s(r));
+          p->floor_limited, d->steps, d->newton_iterations, d->root_events, d->max_drift,
+          d->dae_differential, d->dae_algebraic, d->dae_index, vs_run_wall_s(r));
 }
 
 static void text_header(FILE *out, const vs_run *r, const char *case_path) {
@@ -266,8 +268,11 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
           t->steps, t->rejected, t->newton_iterations, t->max_residual);
   if (d->steps > 0)
     fprintf(out, "         dynamic: %ld IDA steps, %ld Newton iterations, %ld root events, "
-                 "energy balance %.2g (relative; %.2g in the fall)\n",
+                 "energy balance %.2g (relative; %.2g in the fall)\n"
+                 "         DAE of index %d: %d differential, %d algebraic unknowns; "
+                 "constraint drift %.2g m\n",
             d->steps, d->newton_iterations, d->root_events, d->balance_error_rel,
-            d->balance_error_fall);
+            d->balance_error_fall, d->dae_index, d->dae_differential, d->dae_algebraic,
+            d->max_drift);
   fprintf(out, "         wall time %.3f s\n", vs_run_wall_s(r));
 }

@@ -304,6 +304,10 @@ static void add_dyn_totals(vs_run *r, const vs_dyn_result *d) {
   r->dtot.max_kinetic = fmax(r->dtot.max_kinetic, d->max_kinetic);
   r->dtot.balance_error_rel = fmax(r->dtot.balance_error_rel, d->balance_error_rel);
   r->dtot.balance_error_fall = fmax(r->dtot.balance_error_fall, d->balance_error_fall);
+  r->dtot.max_drift = fmax(r->dtot.max_drift, d->max_drift);
+  r->dtot.dae_differential = d->dae_differential;
+  r->dtot.dae_algebraic = d->dae_algebraic;
+  r->dtot.dae_index = d->dae_index;
   r->dtot.end = d->end;
   r->dtot.t_end = d->t_end;
   r->dtot.delta_end = d->delta_end;
