@@ -385,6 +385,10 @@ void vs_dynamic_jacobian(vs_dynamic *d, double t, double cj, double *y, SUNMatri
   N_VDestroy(vy);
 }
 
+void vs_dynamic_accelerations(const vs_dynamic *d, double *a) {
+  memcpy(a, N_VGetArrayPointer(d->yp) + d->iv, (size_t)d->n * sizeof *a);
+}
+
 void vs_dynamic_reactions(const vs_dynamic *d, double out[6]) {
   memcpy(out, N_VGetArrayPointer(d->y) + d->il, VS_DYN_NC * sizeof *out);
 }

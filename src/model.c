@@ -363,6 +363,24 @@ void vs_model_reactions(const vs_model *m, const double *q, double delta, double
   }
 }
 
+void vs_model_support_reactions(const vs_model *m, const double *q, double delta, double out[6]) {
+  double qs[6];
+  sup_state(m, delta, qs);
+  memset(out, 0, 6 * sizeof *out);
+  for (int k = 0; k < m->g->n_joints; k++) {
+    const vs_joint_geom *j = &m->g->joints[k];
+    if (body_is_block(j->a) && body_is_block(j->b)) continue; /* not at a support */
+    double f[6];
+    eval_joint(m, q, qs, k, NULL, f, NULL);
+    /* f on a support's coordinates is dE/dq_support: the arch pulls the support with -f, the
+     * support pushes the arch with +f */
+    const int body[2] = {j->a, j->b};
+    for (int s = 0; s < 2; s++)
+      if (!body_is_block(body[s]))
+        for (int c = 0; c < 3; c++) out[(body[s] == VS_SUPPORT_LEFT ? 0 : 3) + c] += f[3 * s + c];
+  }
+}
+
 static void energies_core(const vs_model *m, const double *q, const double qs[6], double *elastic,
                           double *gravity) {
   const vs_geometry *g = m->g;

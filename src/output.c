@@ -252,9 +252,11 @@ static const series_def SERIES[S_COUNT] = {
                   "plastic (frictional) slip of each joint, committed"},
     [S_HINGE] = {"joint_hinge", "value", K_I8, 2, {DIM_JOINTS, 0}, NULL, NULL,
                  "0 closed, 1 hinge at the intrados (extrados opened), 2 at the extrados"},
-    [S_REACT] = {"reactions", "value", K_F64, 2, {4, 0}, "N,N,N,N",
-                 "left_Fx,left_Fz,right_Fx,right_Fz",
-                 "forces exerted by the arch on the supports"},
+    [S_REACT] = {"reactions", "value", K_F64, 2, {6, 0}, "N,N,N m,N,N,N m",
+                 "left_Fx,left_Fz,left_M,right_Fx,right_Fz,right_M",
+                 "forces the supports exert on the arch (x right, z up; M counter-clockwise about "
+                 "the centre of the springing joint): the Lagrange multipliers of the support "
+                 "constraints in the dynamic phase, the springing joints' forces at equilibria"},
     [S_ENERGY] = {"energy", "value", K_F64, 2, {7, 0}, "J,J,J,J,J,J,J",
                   "kinetic,gravity,elastic,support_work,damped,friction,balance",
                   "energies; work terms accumulate from the start of each dynamic phase. "
@@ -991,7 +993,8 @@ static void fill_row(vs_output *o, const vs_run *run, const vs_run_sample *s) {
   fill_blocks(o, run, s, usup);
   fill_joints(o, run, s, usup);
   double *r = row_ptr(o, S_REACT);
-  vs_model_reactions(m, s->q, s->delta, r, r + 2);
+  if (s->reactions != NULL) memcpy(r, s->reactions, 6 * sizeof *r);
+  else vs_model_support_reactions(m, s->q, s->delta, r);
   int64_t *sv = row_ptr(o, S_SOLVER);
   sv[0] = (int64_t)s->newton_iterations;
   sv[1] = (int64_t)s->ida_steps;

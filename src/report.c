@@ -73,6 +73,18 @@ static void json_first_limit(FILE *out, const vs_run *r) {
           p->evidence.delta_extrap / VS_MM);
 }
 
+/* {"left":[Fx,Fz,M],"right":[...]} (N, N, N m; null where NaN). */
+static void json_reactions(FILE *out, const double rc[6]) {
+  for (int s = 0; s < 2; s++) {
+    fputs(s ? "],\"right\":[" : "{\"left\":[", out);
+    for (int c = 0; c < 3; c++) {
+      if (c) fputc(',', out);
+      json_number_or_null(out, rc[3 * s + c]);
+    }
+  }
+  fputs("]}", out);
+}
+
 static void json_collapse(FILE *out, const vs_run *r) {
   const vs_collapse_record *col = vs_run_collapse(r);
   double dz, dx;
@@ -88,6 +100,8 @@ static void json_collapse(FILE *out, const vs_run *r) {
   json_number_or_null(out, col->t_onset);
   fputs(",\"delta_onset_mm\":", out);
   json_number_or_null(out, col->t_onset * vs_run_case(r)->rate_mm_s);
+  fputs(",\"reactions_at_limit\":", out);
+  json_reactions(out, col->reactions_limit);
   fputs(",\"hinges\":", out);
   json_hinges(out, r, col->hinges, col->n_hinges, 0);
   fputc('}', out);
@@ -136,8 +150,10 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   vs_json_string(out, vs_run_pattern_initial(r));
   fputs(",\"hinge_sides_collapse\":", out);
   vs_json_string(out, vs_run_pattern_collapse(r));
-  fprintf(out, ",\"last_delta_mm\":%.10g,\"last_time_s\":%.10g,\"hinges\":",
+  fprintf(out, ",\"last_delta_mm\":%.10g,\"last_time_s\":%.10g,\"reactions_last\":",
           vs_run_delta(r) / VS_MM, vs_run_time(r));
+  json_reactions(out, vs_run_reactions(r));
+  fputs(",\"hinges\":", out);
   vs_hinge all[64];
   int n = 0;
   for (int i = 0; i < vs_run_hinge_count(r) && n < 64; i++) all[n++] = *vs_hinges_get(h, i);
@@ -236,6 +252,11 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
     const char *mode = vs_run_mode(r);
     fprintf(out, "  hinges at collapse (left to right): %s;  first three: %s;  mode %s\n",
             vs_run_pattern_collapse(r), vs_run_pattern_initial(r), mode ? mode : "unclassified");
+    const double *rc = col->reactions_limit;
+    if (isfinite(rc[0]))
+      fprintf(out, "  reactions on the arch at the collapsing limit point: left Fx %.3f N, Fz %.3f N, "
+                   "M %.4f N m; right Fx %.3f N, Fz %.3f N, M %.4f N m\n",
+              rc[0], rc[1], rc[2], rc[3], rc[4], rc[5]);
     fprintf(out, "  label  joints          onset delta   onset time    dz/L     dx/L\n");
     for (int i = 0; i < col->n_hinges; i++) text_hinge_row(out, c, &col->hinges[i], 0);
   } else if (status == VS_OK && (c->follow || c->full)) {

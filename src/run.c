@@ -28,6 +28,8 @@ struct vs_run {
   vs_joint_state *js;
   double delta, t, wall_s;
   vs_phase phase;
+  double react[6];    /* reactions at the last recorded state (vs_run_sample.reactions) */
+  double react_eq[6]; /* ... at the last equilibrium of the quasi-static path (NaN: none) */
   vs_limit_record *limits;
   int n_limits, cap_limits;
   vs_run_event *events;
@@ -75,6 +77,7 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
   vs_run *r = calloc(1, sizeof *r);
   if (r == NULL) return vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
   r->c = *c;
+  for (int i = 0; i < 6; i++) r->react[i] = r->react_eq[i] = NAN;
   vs_status st = vs_geometry_create_arch(c, &r->g, err);
   if (st == VS_OK) {
     vs_joint_law law = {.kn = c->kn_N_mm3 * VS_N_MM3,
@@ -222,7 +225,10 @@ static int on_equilibrium(void *user, double delta, const double *q, const vs_mo
     vs_run_open_hinges(r, l->hinges_after, sizeof l->hinges_after);
     if (log_event(r, VS_EVENT_SNAP_SETTLED, r->t, delta, 0, 0, 0, 0) != 0) return 1;
   }
-  vs_run_sample s = {.phase = VS_PHASE_QUASISTATIC, .t = r->t, .delta = delta, .q = q};
+  vs_model_support_reactions(r->m, q, delta, r->react);
+  memcpy(r->react_eq, r->react, sizeof r->react);
+  vs_run_sample s = {.phase = VS_PHASE_QUASISTATIC, .t = r->t, .delta = delta, .q = q,
+                     .reactions = r->react};
   fill_counters(r, &s);
   return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
 }
@@ -254,7 +260,9 @@ static int on_dyn_sample(void *user, double t, double delta, const double *q, co
     snapshot_onset(r);
     r->onset_taken = 1;
   }
-  vs_run_sample s = {.phase = VS_PHASE_DYNAMIC, .t = t, .delta = delta, .q = q, .v = v, .energy = e};
+  vs_dynamic_reactions(r->dyn, r->react);
+  vs_run_sample s = {.phase = VS_PHASE_DYNAMIC, .t = t, .delta = delta, .q = q, .v = v,
+                     .energy = e, .reactions = r->react};
   fill_counters(r, &s);
   return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
 }
@@ -340,6 +348,7 @@ static void record_collapse(vs_run *r, const vs_dyn_result *d) {
   c->n_hinges = r->n_onset;
   memcpy(c->hinges, r->onset, (size_t)r->n_onset * sizeof r->onset[0]);
   qsort(c->hinges, (size_t)c->n_hinges, sizeof c->hinges[0], cmp_hinge_first);
+  memcpy(c->reactions_limit, r->react_eq, sizeof r->react_eq);
 }
 
 /* Modes of DOMAIN.md from the first three hinges (A, B, C, left to right) and the hinges at the
@@ -428,6 +437,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
     st = vs_path_run(r->m, &sw, 0.0, r->q, on_equilibrium, r, &p, err);
     r->live_path = NULL;
     add_path_totals(r, &p);
+    for (int i = 0; i < 6; i++) r->react_eq[i] = NAN; /* no limit point to depart from */
     if (st == VS_OK) {
       r->dopts.settle = 0;
       vs_dynamic_destroy(&r->dyn);
@@ -447,6 +457,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
       if (st != VS_OK || p.end != VS_PATH_LIMIT_POINT) break;
       r->delta = p.delta_limit;
       r->t = r->delta / r->dopts.rate;
+      vs_model_support_reactions(r->m, r->q, r->delta, r->react_eq);
       if (add_limit(r, p.delta_limit) != 0) {
         st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
         break;
@@ -488,4 +499,5 @@ const char *vs_run_pattern_collapse(const vs_run *r) { return r->pattern_u; }
 const double *vs_run_state(const vs_run *r) { return r->q; }
 double vs_run_delta(const vs_run *r) { return r->delta; }
 double vs_run_time(const vs_run *r) { return r->t; }
+const double *vs_run_reactions(const vs_run *r) { return r->react; }
 double vs_run_wall_s(const vs_run *r) { return r->wall_s; }

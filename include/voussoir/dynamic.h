@@ -106,5 +106,7 @@ void vs_dynamic_jacobian(vs_dynamic *d, double t, double cj, double *y, SUNMatri
  * body's reference point, the centre of its joint with the arch, N m, counter-clockwise) that
  * the support exerts on the arch. */
 void vs_dynamic_reactions(const vs_dynamic *d, double out[6]);
+/* The blocks' accelerations v' at the current state of d (3 n_blocks). */
+void vs_dynamic_accelerations(const vs_dynamic *d, double *a);
 
 #endif

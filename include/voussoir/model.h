@@ -57,6 +57,11 @@ const double *vs_model_slips(const vs_model *m);
 void vs_model_reactions(const vs_model *m, const double *q, double delta, double left[2],
                         double right[2]);
 
+/* Forces and moments the supports exert on the arch at an equilibrium (q, delta): left (Fx, Fz
+ * in N, M in N m counter-clockwise about the centre of the springing joint), then right. The
+ * quasi-static phase's reactions; in the dynamic phase they are the multipliers lambda
+ * (vs_dynamic_reactions), which add the joints' damping forces. */
+void vs_model_support_reactions(const vs_model *m, const double *q, double delta, double out[6]);
 /* Total potential energy: joint elastic energy minus the work of gravity, J. */
 double vs_model_energy(const vs_model *m, const double *q, double delta);
 

@@ -22,6 +22,10 @@ typedef struct {
   double t, delta;         /* loading time (delta / rate), s; support displacement, m */
   const double *q, *v;     /* state (v is NULL on the quasi-static path: at rest) */
   const vs_energy *energy; /* NULL on the quasi-static path */
+  const double *reactions; /* forces the supports exert on the arch: left (Fx, Fz N, M N m about
+                              the springing joint's centre, counter-clockwise), right; from the
+                              joint forces on the quasi-static path, the multipliers lambda in
+                              the dynamic phase */
   long newton_iterations;  /* solver statistics so far, cumulative over the run: KINSOL Newton */
   long ida_steps, ida_newton_iterations; /* iterations; IDA steps and Newton iterations */
 } vs_run_sample;
@@ -63,6 +67,8 @@ typedef struct {
                           rest threshold), s; NaN where the arch was never at rest (fast loading) */
   int n_hinges;        /* hinges open at the criterion */
   vs_hinge hinges[8];  /* their copies, left to right */
+  double reactions_limit[6]; /* forces the supports exert on the arch at the collapsing limit
+                                point (as vs_run_sample.reactions); NaN without one (--dynamic) */
 } vs_collapse_record;
 
 /* Called for every recorded state and every event (either may be NULL). Non-zero stops. */
@@ -114,6 +120,8 @@ const char *vs_run_pattern_collapse(const vs_run *r);
 const double *vs_run_state(const vs_run *r);
 double vs_run_delta(const vs_run *r);
 double vs_run_time(const vs_run *r);
+/* Forces the supports exert on the arch at the last recorded state (as vs_run_sample.reactions). */
+const double *vs_run_reactions(const vs_run *r);
 /* Wall-clock time of vs_run_execute, s. */
 double vs_run_wall_s(const vs_run *r);
 
