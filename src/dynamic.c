@@ -173,7 +173,8 @@ static int jac_fn(double t, double cj, N_Vector yy, N_Vector yp, N_Vector rr, SU
 }
 
 /* Roots: for every joint, its intrados and extrados edge openings minus the hinge threshold;
- * last, the kinetic energy minus the collapse threshold. */
+ * then the kinetic energy minus the collapse threshold, and minus the rest level (the departure
+ * of a motion: where it rises through it). */
 static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user) {
   (void)yp;
   (void)t;
@@ -184,7 +185,9 @@ static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user) {
     g[2 * k] = d->js[k].gap_i - d->o.open;
     g[2 * k + 1] = d->js[k].gap_e - d->o.open;
   }
-  g[2 * d->nj] = vs_model_kinetic_energy(d->m, q + d->iv) - d->o.collapse_ke;
+  const double ke = vs_model_kinetic_energy(d->m, q + d->iv);
+  g[2 * d->nj] = ke - d->o.collapse_ke;
+  g[2 * d->nj + 1] = ke - d->o.rest_ke;
   return 0;
 }
 
@@ -296,7 +299,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   d->mass = malloc((size_t)ne * sizeof *d->mass);
   d->work = malloc((size_t)ne * sizeof *d->work);
   d->js = malloc((size_t)d->nj * sizeof *d->js);
-  d->roots = malloc((size_t)(2 * d->nj + 1) * sizeof *d->roots);
+  d->roots = malloc((size_t)(2 * d->nj + 2) * sizeof *d->roots);
   if (d->y == NULL || d->yp == NULL || d->id == NULL || d->atol == NULL || d->J == NULL ||
       d->K == NULL || d->C == NULL || d->mass == NULL || d->work == NULL ||
       d->js == NULL || d->roots == NULL) {
@@ -333,7 +336,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
     return dyn_fail(&d, err, "IDASetMaxOrd", flag);
   if ((flag = IDASetMaxNumSteps(d->ida, 100000)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDASetMaxNumSteps", flag);
-  if ((flag = IDARootInit(d->ida, 2 * d->nj + 1, root_fn)) != IDA_SUCCESS)
+  if ((flag = IDARootInit(d->ida, 2 * d->nj + 2, root_fn)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDARootInit", flag);
   if ((flag = IDASetNoInactiveRootWarn(d->ida)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDASetNoInactiveRootWarn", flag);
@@ -411,7 +414,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   d->msg[0] = '\0';
   int flag = IDAReInit(d->ida, t0, d->y, d->yp);
   if (flag == IDA_SUCCESS) flag = IDASVtolerances(d->ida, d->rtol, d->atol);
-  if (flag == IDA_SUCCESS) flag = IDARootInit(d->ida, 2 * d->nj + 1, root_fn);
+  if (flag == IDA_SUCCESS) flag = IDARootInit(d->ida, 2 * d->nj + 2, root_fn);
   if (flag != IDA_SUCCESS)
     return vs_error_set(err, VS_ERR_SOLVER, "IDAReInit failed (flag %d)", flag);
   /* consistent initial values: q, v given (the supports' from the constraints), v' from the
@@ -460,12 +463,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     /* motion episodes: moving while the kinetic energy is above rest_ke; at rest once it has
      * stayed below for rest_time (a single mode passes through zero at its turning points) */
     if (e.kinetic >= d->o.rest_ke) {
-      if (!moving && !collapsed) {
-        moving = 1;
-        res->t_motion = t;
-        res->delta_motion = delta;
-        res->onset_found = 1;
-      }
+      moving = 1;
       t_rest = t;
     } else {
       moving = 0;
@@ -480,6 +478,11 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
         vs_dyn_event ev = {.t = t, .delta = delta, .joint = k / 2 + 1,
                            .side = (k % 2 == 0) ? 'E' : 'I', .opened = d->roots[k] > 0};
         if (event(user, &ev, y) != 0) stop = 1;
+      }
+      if (d->roots[2 * d->nj + 1] > 0 && !collapsed) { /* a departure, located */
+        res->t_motion = t;
+        res->delta_motion = delta;
+        res->onset_found = 1;
       }
       if (d->roots[2 * d->nj] > 0 && !collapsed) {
         collapsed = 1;

@@ -1188,6 +1188,8 @@ static herr_t summary_collapse(hid_t sum, const vs_run *run) {
   if (rc >= 0) rc = dset_scalar(g, "dz_over_L", c->found ? c->delta * cos(alpha) / L : NAN, "1");
   if (rc >= 0) rc = dset_scalar(g, "dx_over_L", c->found ? c->delta * sin(alpha) / L : NAN, "1");
   if (rc >= 0) rc = dset_scalar(g, "time", c->found ? c->t : NAN, "s");
+  if (rc >= 0) rc = dset_scalar(g, "delta_detected", c->found ? c->delta_detected : NAN, "m");
+  if (rc >= 0) rc = dset_scalar(g, "time_detected", c->found ? c->t_criterion : NAN, "s");
   if (rc >= 0) rc = dset_scalar(g, "time_onset", c->found ? c->t_onset : NAN, "s");
   if (rc >= 0) rc = dset_scalar(g, "delta_onset", c->found ? c->t_onset * rate : NAN, "m");
   if (rc >= 0)
@@ -1195,9 +1197,12 @@ static herr_t summary_collapse(hid_t sum, const vs_run *run) {
                      "hinges open at the collapse's onset, left to right");
   if (rc >= 0)
     rc = attr_str(g, "description",
-                  "collapse: delta is the support displacement when the kinetic energy passed "
-                  "the collapse threshold; time_onset when the final motion began (NaN if the "
-                  "arch was never at rest); NaN everywhere when found = 0");
+                  "collapse: delta (delta_u) is the support displacement at which the arch "
+                  "departs from its last stable equilibrium: the collapsing limit point, or "
+                  "with --dynamic the kinetic energy's last rise through the rest level (an "
+                  "IDA root); delta_detected when the kinetic energy passed the collapse "
+                  "threshold; time_onset when the final motion began (NaN if the arch was never "
+                  "at rest); NaN everywhere when found = 0");
   h5_close(g);
   return rc;
 }

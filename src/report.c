@@ -93,10 +93,14 @@ static void json_collapse(FILE *out, const vs_run *r) {
     return;
   }
   components_pct(vs_run_case(r), col->delta, &dz, &dx);
-  fprintf(out,
-          "{\"delta_mm\":%.10g,\"dz_over_L_pct\":%.10g,\"dx_over_L_pct\":%.10g,\"time_s\":%.10g,"
-          "\"onset_time_s\":",
-          col->delta / VS_MM, dz, dx, col->t);
+  const double v[4] = {col->delta / VS_MM, dz, dx, col->t};
+  const char *key[4] = {"{\"delta_mm\":", ",\"dz_over_L_pct\":", ",\"dx_over_L_pct\":", ",\"time_s\":"};
+  for (int i = 0; i < 4; i++) {
+    fputs(key[i], out);
+    json_number_or_null(out, v[i]);
+  }
+  fprintf(out, ",\"delta_detected_mm\":%.10g,\"time_detected_s\":%.10g,\"onset_time_s\":",
+          col->delta_detected / VS_MM, col->t_criterion);
   json_number_or_null(out, col->t_onset);
   fputs(",\"delta_onset_mm\":", out);
   json_number_or_null(out, col->t_onset * vs_run_case(r)->rate_mm_s);
@@ -249,6 +253,10 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
     components_pct(c, col->delta, &dz, &dx);
     fprintf(out, "\nCOLLAPSE  delta_u = %.4f mm   dz/L = %.3f %%   dx/L = %.3f %%   at t = %.2f s\n",
             col->delta / VS_MM, dz, dx, col->t);
+    fprintf(out, "  departure from the last stable equilibrium (%s); detected (kinetic energy past "
+                 "the collapse threshold) at %.4f mm, t = %.2f s\n",
+            c->full ? "the kinetic energy's last rise through the rest level" : "the collapsing limit point",
+            col->delta_detected / VS_MM, col->t_criterion);
     const char *mode = vs_run_mode(r);
     fprintf(out, "  hinges at collapse (left to right): %s;  first three: %s;  mode %s\n",
             vs_run_pattern_collapse(r), vs_run_pattern_initial(r), mode ? mode : "unclassified");

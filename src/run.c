@@ -341,9 +341,12 @@ static void record_collapse(vs_run *r, const vs_dyn_result *d) {
   vs_collapse_record *c = &r->collapse;
   c->found = 1;
   c->t_criterion = d->t_collapse;
-  c->t = d->t_collapse;
-  c->delta = c->t * r->dopts.rate;
+  c->delta_detected = d->t_collapse * r->dopts.rate;
   c->t_onset = (d->onset_found && d->t_motion <= d->t_collapse) ? d->t_motion : NAN;
+  /* the departure: the limit point the motion started from, or (--dynamic) its located onset */
+  c->delta = (!r->c.full && r->n_limits > 0) ? r->limits[r->n_limits - 1].delta
+                                             : c->t_onset * r->dopts.rate;
+  c->t = c->delta / r->dopts.rate;
   if (!r->onset_taken) snapshot_onset(r);
   c->n_hinges = r->n_onset;
   memcpy(c->hinges, r->onset, (size_t)r->n_onset * sizeof r->onset[0]);

@@ -58,6 +58,34 @@ static void test_time_tolerances(void **s) {
   if (fabs(a - b) > 0.005 * b) fail_msg("collapse %.4f mm, tightened %.4f mm", a, b);
 }
 
+/* delta_u is the departure, not the detection: the collapsing limit point, located to
+ * limit_tol_mm (1e-3 mm). Neither the collapse criterion (collapse_ke 0.01 -> 1: a hundredfold)
+ * nor the path's largest step (step_max_mm 2 -> 0.1) moves it by more than 0.005 mm, while the
+ * detection itself moves with the criterion. */
+static void test_departure_not_detection(void **s) {
+  (void)s;
+  vs_case c;
+  vs_case_defaults(&c);
+  double du[4], det[4];
+  const double cke[4] = {0.01, 1.0, 0.1, 0.1}, smax[4] = {2.0, 2.0, 2.0, 0.1};
+  for (int i = 0; i < 4; i++) {
+    c.collapse_ke = cke[i];
+    c.step_max_mm = smax[i];
+    c.step_mm = fmin(c.step_mm, c.step_max_mm);
+    vs_run *r = run_case(&c);
+    du[i] = vs_run_collapse(r)->delta * 1e3;
+    det[i] = vs_run_collapse(r)->delta_detected * 1e3;
+    print_message("collapse_ke %g, step_max_mm %g: delta_u %.5f mm, detected at %.5f mm\n",
+                  cke[i], smax[i], du[i], det[i]);
+    assert_true(det[i] > du[i]);
+    vs_run_destroy(&r);
+  }
+  if (fabs(du[0] - du[1]) > 0.005 || fabs(du[2] - du[3]) > 0.005)
+    fail_msg("delta_u moved: %.5f / %.5f mm (collapse_ke), %.5f / %.5f mm (step_max_mm)", du[0],
+             du[1], du[2], du[3]);
+  assert_true(det[1] - det[0] > 0.005); /* the detection does move with the criterion */
+}
+
 /* The energy balance holds through snaps and the collapse (until the fall, integrated loosely
  * for the record), at the level of the integrator's tolerance. */
 static void test_energy_balance(void **s) {
@@ -124,6 +152,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_slow_dynamic_equals_quasistatic),
       cmocka_unit_test(test_time_tolerances),
+      cmocka_unit_test(test_departure_not_detection),
       cmocka_unit_test(test_energy_balance),
       cmocka_unit_test(test_settlement_mode_I),
       cmocka_unit_test(test_spreading_mode_III),

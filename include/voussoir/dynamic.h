@@ -54,10 +54,11 @@ typedef struct {
 typedef struct {
   vs_dyn_end end;
   double t_end, delta_end;     /* where it stopped */
-  double t_motion, delta_motion; /* onset of the last motion: the last time the kinetic
-                                    energy rose above rest_ke before the end */
-  int onset_found;             /* 0 if it never rose above rest_ke from below (fast loading:
-                                  the arch never was at rest) */
+  double t_motion, delta_motion; /* departure of the last motion: the last instant before the
+                                    collapse criterion (or the end) at which the kinetic energy
+                                    rose through rest_ke, located as an IDA root */
+  int onset_found;             /* 0 if it never rose through rest_ke (fast loading: the arch
+                                  never was at rest) */
   double t_collapse;           /* when the collapse criterion fired (NaN if not) */
   double max_kinetic;          /* J */
   double balance_error_rel;    /* max |balance| / max(|energy terms|) up to the collapse

@@ -59,10 +59,15 @@ typedef struct {
 
 typedef struct {
   int found;
-  double delta;        /* collapse displacement delta_u: the support's displacement when the
-                          kinetic energy passed the collapse threshold (the arch is falling), m */
+  double delta;        /* collapse displacement delta_u: where the arch departs from its last
+                          stable equilibrium. On the quasi-static path, the collapsing limit
+                          point (located to limit_tol_mm); with --dynamic, the last instant
+                          before the detection at which the kinetic energy rose through the
+                          rest level (an IDA root; NaN if the arch was never at rest), m */
   double t;            /* its time, s */
-  double t_criterion;  /* the same time (kept for the record), s */
+  double t_criterion;  /* the detection: when the kinetic energy passed the collapse threshold
+                          (the arch is falling), s */
+  double delta_detected; /* the support displacement then, m */
   double t_onset;      /* when the final motion began (the kinetic energy last rose above the
                           rest threshold), s; NaN where the arch was never at rest (fast loading) */
   int n_hinges;        /* hinges open at the criterion */
