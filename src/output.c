@@ -1271,12 +1271,13 @@ static vs_status write_summary(vs_output *o, const vs_run *run) {
   const int n = vs_hinges_count(h);
   vs_hinge *all = calloc((size_t)(n > 0 ? n : 1), sizeof *all);
   if (all == NULL) rc = -1;
-  for (int i = 0; rc >= 0 && i < n; i++) all[i] = *vs_hinges_get(h, i);
+  for (int i = 0; rc >= 0 && i < n; i++) all[i] = *vs_run_hinge(run, i);
   if (rc >= 0)
     rc = hinge_table(sum, "hinges", all, n, vs_run_hinge_count(run),
                      vs_run_case(run)->rate_mm_s * VS_MM,
                      "hinges in order of appearance. label A-E; side: the edge that stays in "
-                     "contact (I intrados, E extrados); name: current joints (e.g. 44-45-46-I, "
+                     "contact (I intrados, E extrados); name: joints (e.g. 44-45-46-I, "
+                     "after a collapse those at its onset, not at the end of the fall; "
                      "a hinge spread over consecutive joints), name_onset: joints when it formed; "
                      "during_fall = 1: opened as the arch fell after the collapse's onset");
   free(all);

@@ -160,7 +160,7 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   fputs(",\"hinges\":", out);
   vs_hinge all[64];
   int n = 0;
-  for (int i = 0; i < vs_run_hinge_count(r) && n < 64; i++) all[n++] = *vs_hinges_get(h, i);
+  for (int i = 0; i < vs_run_hinge_count(r) && n < 64; i++) all[n++] = *vs_run_hinge(r, i);
   json_hinges(out, r, all, n, 1);
   fprintf(out, ",\"hinges_in_fall\":%d", vs_hinges_count(h) - vs_run_hinge_count(r));
   const vs_dyn_result *d = vs_run_dynamic_totals(r);
@@ -279,7 +279,7 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
   fprintf(out, "  label  joints          onset delta   onset time    dz/L     dx/L\n");
   int spread = 0;
   for (int i = 0; i < vs_run_hinge_count(r); i++) {
-    const vs_hinge *hg = vs_hinges_get(h, i);
+    const vs_hinge *hg = vs_run_hinge(r, i);
     text_hinge_row(out, c, hg, 1);
     spread |= (hg->last > hg->first) || (hg->onset_last > hg->onset_first);
   }

@@ -38,6 +38,7 @@ struct vs_run {
   vs_hinge onset[8];     /* open hinges early in the current motion (collapse candidates) */
   int n_onset, onset_taken, frozen;
   int hinges_at_onset; /* hinges formed up to the snapshot of the collapse's onset */
+  vs_hinge onset_all[64]; /* all of them as they were then (joints, open) */
   int pending_snap;    /* limit record waiting for the equilibrium its snap settled in, or -1 */
   const vs_path_result *live_path; /* the segment or phase under way (its counters so far) */
   const vs_dyn_result *live_dyn;
@@ -242,6 +243,8 @@ static const double VS_ONSET_FRACTION = 0.01;
 static void snapshot_onset(vs_run *r) {
   r->n_onset = 0;
   r->hinges_at_onset = vs_hinges_count(r->h);
+  if (r->hinges_at_onset > 64) r->hinges_at_onset = 64;
+  for (int i = 0; i < r->hinges_at_onset; i++) r->onset_all[i] = *vs_hinges_get(r->h, i);
   for (int i = 0; i < vs_hinges_count(r->h) && r->n_onset < 8; i++)
     if (vs_hinges_get(r->h, i)->open) r->onset[r->n_onset++] = *vs_hinges_get(r->h, i);
 }
@@ -494,6 +497,11 @@ const vs_run_event *vs_run_event_get(const vs_run *r, int i) {
   return (i >= 0 && i < r->n_events) ? &r->events[i] : NULL;
 }
 const char *vs_run_mode(const vs_run *r) { return r->mode; }
+const vs_hinge *vs_run_hinge(const vs_run *r, int i) {
+  if (r->collapse.found && i < r->hinges_at_onset) return &r->onset_all[i];
+  return vs_hinges_get(r->h, i);
+}
+
 int vs_run_hinge_count(const vs_run *r) {
   return r->collapse.found ? r->hinges_at_onset : vs_hinges_count(r->h);
 }

@@ -128,6 +128,19 @@ static void test_settlement_mode_I(void **s) {
   assert_true(l0->delta_settled > l0->delta);
   assert_true(vs_run_limit(r, vs_run_limit_count(r) - 1)->collapse);
   assert_true(col->delta >= vs_run_limit(r, vs_run_limit_count(r) - 1)->delta);
+  /* the reported hinges are those at the collapse's onset, not at the end of the fall: the four
+   * of the mechanism, all open, each over a few joints, and the same as the collapse record's */
+  assert_int_equal(vs_run_hinge_count(r), 4);
+  for (int i = 0; i < vs_run_hinge_count(r); i++) {
+    const vs_hinge *h = vs_run_hinge(r, i);
+    assert_true(h->open);
+    assert_true(h->last - h->first <= 5);
+    int same = 0;
+    for (int k = 0; k < col->n_hinges; k++)
+      same |= col->hinges[k].label == h->label && col->hinges[k].first == h->first &&
+              col->hinges[k].last == h->last;
+    assert_true(same);
+  }
   vs_run_destroy(&r);
 }
 

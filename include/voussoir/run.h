@@ -110,6 +110,10 @@ const vs_dyn_result *vs_run_dynamic_totals(const vs_run *r);
 /* Hinges to report: all of them, or after a collapse those formed up to its onset (the falling
  * arch opens joints everywhere; they stay in the event log). */
 int vs_run_hinge_count(const vs_run *r);
+/* Hinge i (0-based, in order of appearance) as reported: after a collapse, as it was at the
+ * collapse's onset (its joints and whether it was open then), not at the end of the fall; beyond
+ * vs_run_hinge_count (hinges of the fall) and without a collapse, the tracker's current state. */
+const vs_hinge *vs_run_hinge(const vs_run *r, int i);
 
 /* Logged events in order. */
 int vs_run_event_count(const vs_run *r);
