@@ -2,6 +2,7 @@
  * each support displacement, a tangent predictor, adaptive increments, and a limit point
  * bracketed by bisection of the increment and confirmed on the tangent stiffness. */
 #include "voussoir/quasistatic.h"
+#include "voussoir/stability.h"
 
 #include <klu.h>
 #include <kinsol/kinsol.h>
@@ -66,6 +67,7 @@ typedef struct {
   N_Vector w1, w2;
   double *fwork;
   unsigned char *seen;
+  vs_spd *spd;                /* the stability test: Cholesky of the tangent's symmetric part */
   double kmax, lmax, wmin;    /* stiffest joint k_n b t (N/m), longest joint (m), lightest block (N) */
   long iters, jac_evals, floor_limited;
   double max_residual;        /* largest scaled residual among accepted equilibria */
@@ -106,6 +108,7 @@ static void qs_destroy(qs_solver *s) {
   if (s->w1 != NULL) N_VDestroy(s->w1);
   if (s->w2 != NULL) N_VDestroy(s->w2);
   if (s->ctx != NULL) SUNContext_Free(&s->ctx);
+  vs_spd_destroy(&s->spd);
   free(s->fwork);
   free(s->seen);
   free(s->len);
@@ -140,6 +143,10 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
       s->len == NULL || s->w1 == NULL || s->w2 == NULL || s->fwork == NULL || s->seen == NULL) {
     qs_destroy(s);
     return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
+  }
+  if (vs_spd_create(s->n, &s->spd, err) != VS_OK) {
+    qs_destroy(s);
+    return VS_ERR_NOMEM;
   }
   s->LS = SUNLinSol_KLU(s->u, s->J, s->ctx);
   s->LSt = SUNLinSol_KLU(s->u, s->Jt, s->ctx);
@@ -428,11 +435,12 @@ static vs_status confirm_limit(qs_solver *s, const double *q_prev, double delta_
 }
 
 /* Accept a converged state as on the followed stable branch: the tangent must be positive
- * definite along the path (det K > 0 on the stable branch that starts from self-weight). */
+ * definite, established by a Cholesky factorisation of its symmetric part (stability.h; the sign
+ * of det K alone would not). The tangent is also factored by KLU for the eigenvalue tracking. */
 static int stable_state(qs_solver *s, const double *q, double delta) {
   int sign = 0;
   if (tangent_factor(s, q, delta, &sign) != 0) return 0;
-  return sign > 0;
+  return vs_spd_test(s->spd, s->Jt) == 1;
 }
 
 /* Self-weight by continuation in the gravity factor lambda: the reference configuration is the

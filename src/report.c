@@ -231,9 +231,10 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
             p->delta_limit / VS_MM, dz, dx);
     fprintf(out,
             "  confirmed: no equilibrium at %.4f mm; smallest tangent eigenvalue %.3g N/m "
-            "(%.3g N/m after self-weight),\n  extrapolated to zero at %.4f mm; det K %s 0 on the path\n",
+            "(%.3g N/m after self-weight),\n  extrapolated to zero at %.4f mm; tangent positive "
+            "definite on the path (Cholesky of its symmetric part)\n",
             p->delta_fail / VS_MM, p->evidence.lambda_last, p->evidence.lambda_start,
-            p->evidence.delta_extrap / VS_MM, p->evidence.det_sign > 0 ? ">" : "<=");
+            p->evidence.delta_extrap / VS_MM);
   }
   if (vs_run_limit_count(r) > 0) {
     fprintf(out, "\nlimit points\n");
