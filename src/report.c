@@ -175,12 +175,13 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
           c->voussoirs, c->damping, c->rate_mm_s, c->rtol, c->atol_mm);
   const vs_path_result *p = vs_run_path_totals(r);
   fprintf(out,
-          ",\"stats\":{\"steps\":%ld,\"rejected_steps\":%ld,\"newton_iterations\":%ld,"
+          ",\"stats\":{\"steps\":%ld,\"rejected_steps\":%ld,\"located_equilibria\":%ld,"
+          "\"newton_iterations\":%ld,"
           "\"jacobian_evaluations\":%ld,\"max_residual\":%.3g,\"floor_limited\":%ld,"
           "\"dynamic_steps\":%ld,\"dynamic_newton_iterations\":%ld,\"root_events\":%ld,"
           "\"constraint_drift_m\":%.3g,\"dae\":{\"differential\":%d,\"algebraic\":%d,"
           "\"index\":%d},\"wall_s\":%.6g}}\n",
-          p->steps, p->rejected, p->newton_iterations, p->jacobian_evals, p->max_residual,
+          p->steps, p->rejected, p->located, p->newton_iterations, p->jacobian_evals, p->max_residual,
           p->floor_limited, d->steps, d->newton_iterations, d->root_events, d->max_drift,
           d->dae_differential, d->dae_algebraic, d->dae_index, vs_run_wall_s(r));
 }
@@ -293,9 +294,9 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
                  "each slightly open\n");
   const vs_path_result *t = vs_run_path_totals(r);
   const vs_dyn_result *d = vs_run_dynamic_totals(r);
-  fprintf(out, "\nstats    quasi-static: %ld equilibria (%ld rejected increments), %ld Newton iterations, "
-               "largest residual %.2g x voussoir weight\n",
-          t->steps, t->rejected, t->newton_iterations, t->max_residual);
+  fprintf(out, "\nstats    quasi-static: %ld equilibria (%ld rejected increments) + %ld locating hinge "
+               "onsets, %ld Newton iterations, largest residual %.2g x voussoir weight\n",
+          t->steps, t->rejected, t->located, t->newton_iterations, t->max_residual);
   if (d->steps > 0)
     fprintf(out, "         dynamic: %ld IDA steps, %ld Newton iterations, %ld root events, "
                  "energy balance %.2g (relative; %.2g in the fall)\n"

@@ -297,6 +297,7 @@ static void add_path_totals(vs_run *r, const vs_path_result *p) {
   }
   r->totals.steps += p->steps;
   r->totals.rejected += p->rejected;
+  r->totals.located += p->located;
   r->totals.newton_iterations += p->newton_iterations;
   r->totals.jacobian_evals += p->jacobian_evals;
   r->totals.floor_limited += p->floor_limited;

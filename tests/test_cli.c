@@ -360,7 +360,7 @@ static long check_json_run(const char *extra, double alpha_deg, double kn, char 
   assert_true(n >= 1);
 
   span st = need(o, "stats");
-  const double steps = number(st, "steps");
+  const double steps = number(st, "steps") + number(st, "located_equilibria");
   assert_true(number(st, "newton_iterations") >= steps);
   assert_true(number(st, "wall_s") >= 0.0);
   assert_true(steps >= 2.0);
@@ -429,7 +429,7 @@ static void test_reference_json_csv(void **state) {
     expect_close(field(line, ct), d / 0.04, 1e-9, "time_s = delta_mm / rate");
     if (rows == 0) {
       assert_true(d == 0.0);
-      /* self-weight only: the supports carry the whole arch (forces of the arch on them) */
+      /* self-weight only: the supports carry the whole arch (forces they exert on it) */
       expect_close(field(line, cl) + field(line, cr), weight_N(), 1e-6, "left + right Fz at 0");
     }
     last = d;

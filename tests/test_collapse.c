@@ -61,12 +61,15 @@ static void test_time_tolerances(void **s) {
 /* delta_u is the departure, not the detection: the collapsing limit point, located to
  * limit_tol_mm (1e-3 mm). Neither the collapse criterion (collapse_ke 0.01 -> 1: a hundredfold)
  * nor the path's largest step (step_max_mm 2 -> 0.1) moves it by more than 0.005 mm, while the
- * detection itself moves with the criterion. */
+ * detection itself moves with the criterion. The hinge onsets, located on the path to
+ * limit_tol_mm, move by at most 0.005 mm with the step and keep their joints. */
 static void test_departure_not_detection(void **s) {
   (void)s;
   vs_case c;
   vs_case_defaults(&c);
   double du[4], det[4];
+  vs_hinge hs[2][8];
+  int nh[2] = {0, 0};
   const double cke[4] = {0.01, 1.0, 0.1, 0.1}, smax[4] = {2.0, 2.0, 2.0, 0.1};
   for (int i = 0; i < 4; i++) {
     c.collapse_ke = cke[i];
@@ -78,7 +81,24 @@ static void test_departure_not_detection(void **s) {
     print_message("collapse_ke %g, step_max_mm %g: delta_u %.5f mm, detected at %.5f mm\n",
                   cke[i], smax[i], du[i], det[i]);
     assert_true(det[i] > du[i]);
+    if (i >= 2) {
+      nh[i - 2] = vs_run_hinge_count(r) < 8 ? vs_run_hinge_count(r) : 8;
+      for (int k = 0; k < nh[i - 2]; k++) hs[i - 2][k] = *vs_run_hinge(r, k);
+    }
     vs_run_destroy(&r);
+  }
+  assert_int_equal(nh[0], nh[1]);
+  assert_true(nh[0] >= 4);
+  for (int k = 0; k < nh[0]; k++) {
+    const vs_hinge *p = &hs[0][k], *q = &hs[1][k];
+    print_message("hinge %c: onset %.5f / %.5f mm at joints %d-%d / %d-%d (step_max_mm 2 / 0.1)\n",
+                  p->label, p->delta_onset * 1e3, q->delta_onset * 1e3, p->onset_first,
+                  p->onset_last, q->onset_first, q->onset_last);
+    assert_int_equal(p->label, q->label);
+    assert_int_equal(p->side, q->side);
+    assert_int_equal(p->onset_first, q->onset_first);
+    assert_int_equal(p->onset_last, q->onset_last);
+    assert_true(fabs(p->delta_onset - q->delta_onset) <= 0.005e-3);
   }
   if (fabs(du[0] - du[1]) > 0.005 || fabs(du[2] - du[3]) > 0.005)
     fail_msg("delta_u moved: %.5f / %.5f mm (collapse_ke), %.5f / %.5f mm (step_max_mm)", du[0],
