@@ -179,11 +179,15 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
           "\"newton_iterations\":%ld,"
           "\"jacobian_evaluations\":%ld,\"max_residual\":%.3g,\"floor_limited\":%ld,"
           "\"dynamic_steps\":%ld,\"dynamic_newton_iterations\":%ld,\"root_events\":%ld,"
-          "\"constraint_drift_m\":%.3g,\"dae\":{\"differential\":%d,\"algebraic\":%d,"
-          "\"index\":%d},\"wall_s\":%.6g}}\n",
+          "\"constraint_drift_m\":%.3g,\"dae\":",
           p->steps, p->rejected, p->located, p->newton_iterations, p->jacobian_evals, p->max_residual,
-          p->floor_limited, d->steps, d->newton_iterations, d->root_events, d->max_drift,
-          d->dae_differential, d->dae_algebraic, d->dae_index, vs_run_wall_s(r));
+          p->floor_limited, d->steps, d->newton_iterations, d->root_events, d->max_drift);
+  if (d->dae_index > 0) /* null when no dynamic phase ran */
+    fprintf(out, "{\"differential\":%d,\"algebraic\":%d,\"index\":%d}", d->dae_differential,
+            d->dae_algebraic, d->dae_index);
+  else
+    fputs("null", out);
+  fprintf(out, ",\"wall_s\":%.6g}}\n", vs_run_wall_s(r));
 }
 
 static void text_header(FILE *out, const vs_run *r, const char *case_path) {

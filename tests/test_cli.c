@@ -455,6 +455,13 @@ static void test_collapse_json(void **state) {
   expect_close(number(col, "dz_over_L_pct"), 100.0 * du / L, 1e-8, "collapse dz_over_L_pct");
   expect_close(number(col, "dx_over_L_pct"), 0.0, 0.0, "collapse dx_over_L_pct");
   expect_close(number(col, "time_s"), du / 0.04, 1e-8, "collapse time_s = delta / rate");
+  /* the departure precedes the detection; the dynamic phase was a DAE of index 2 with the
+   * supports' 6 reactions and 6 velocity-constraint multipliers as algebraic unknowns */
+  assert_true(number(col, "delta_detected_mm") > du);
+  span dae = need(need(o, "stats"), "dae");
+  expect_close(number(dae, "index"), 2.0, 0.0, "stats.dae.index");
+  expect_close(number(dae, "algebraic"), 12.0, 0.0, "stats.dae.algebraic");
+  assert_true(number(dae, "differential") > 12.0);
   span ch = need(col, "hinges");
   assert_true(*ch.b == '[');
   int nh = 0;
