@@ -354,8 +354,8 @@ static void energies(vs_dynamic *d, const double *y, double e0, vs_energy *e) {
   e->balance = e->kinetic + e->gravity + e->elastic - e->support_work + e->damped + e->friction - e0;
 }
 
-/* Constraint drift max |g| (m; rotations times the joint scale are not needed: all are
- * translations or exact zeros) at the current state. */
+/* Constraint drift max |g| at the current state (m for the translations, rad for the
+ * rotations: both stay at round-off). */
 static double drift(const vs_dynamic *d, double t, const double *y) {
   double g[VS_DYN_NC], worst = 0.0;
   constraints(d, t, y, y + d->iv, g, NULL);
