@@ -68,7 +68,7 @@ typedef struct {
   int dae_differential;        /* components of y that are differential (q, v, energy integrals) */
   int dae_algebraic;           /* ... and algebraic (lambda, mu); the DAE has index 2 */
   int dae_index;
-  double max_drift;            /* max |g(q, t)| over the accepted steps, m */
+  double max_drift;            /* max |g(q, t)| over the accepted steps (m; rad for rotations) */
 } vs_dyn_result;
 
 /* Called at samples (at most every sample_dt, at each event, at the start and at the end);
