@@ -482,11 +482,55 @@ static void test_pinned_supports(void **state) {
   arch_free(&r);
 }
 
+/* First limit point of the reference arch for alpha = 90 (spreading) with one springer pinned,
+ * and the springer's rotation there. */
+static double spreading_limit(vs_support_kind left, vs_support_kind right, double *theta) {
+  arch_run r = {0};
+  vs_case_defaults(&r.c);
+  r.c.alpha_deg = 90.0;
+  r.c.left_kind = (int)left;
+  r.c.right_kind = (int)right;
+  arch_solve(&r);
+  vs_path_opts o;
+  vs_path_opts_from_case(&r.c, &o);
+  vs_path_result res;
+  vs_error err;
+  vs_error_clear(&err);
+  for (int i = 0; i < r.n; i++) r.q[i] = 0.0;
+  vs_status s = vs_path_run(r.m, &o, 0.0, r.q, NULL, NULL, &res, &err);
+  if (s != VS_OK) fail_msg("path: %s: %s", vs_strerror(s), err.msg);
+  assert_int_equal(res.end, VS_PATH_LIMIT_POINT);
+  *theta = r.q[vs_model_support_dof(r.m, right == VS_SUPPORT_PINNED)];
+  arch_free(&r);
+  return res.delta_limit;
+}
+
+/* Mirror symmetry: moving the right support outwards by delta is, up to a rigid translation
+ * (which changes nothing: the joint law is objective and gravity acts vertically), the mirror
+ * image of moving the left one outwards. So the arch with its left springer pinned and the one
+ * with its right springer pinned must reach their first limit points at the same delta (within
+ * the two brackets, limit_tol each) with opposite springer rotations. */
+static void test_pinned_mirror(void **state) {
+  (void)state;
+  double thl = 0.0, thr = 0.0;
+  const double dl = spreading_limit(VS_SUPPORT_PINNED, VS_SUPPORT_FIXED, &thl);
+  const double dr = spreading_limit(VS_SUPPORT_FIXED, VS_SUPPORT_PINNED, &thr);
+  vs_case c;
+  vs_case_defaults(&c);
+  print_message("spreading: first limit point %.5f mm (left pinned, springer %.4g rad), %.5f mm "
+                "(right pinned, %.4g rad)\n", dl * 1e3, thl, dr * 1e3, thr);
+  assert_true(dl > 1e-3);
+  CHECK(dl, dr, 0, 2.0 * c.limit_tol_mm * 1e-3);
+  assert_true(fabs(thl) > 1e-4);
+  CHECK(thl, -thr, 1e-3, 0);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_reactions),
       cmocka_unit_test(test_symmetry),
       cmocka_unit_test(test_pinned_supports),
+      cmocka_unit_test(test_pinned_mirror),
       cmocka_unit_test(test_thrust_line_semicircle),
       cmocka_unit_test(test_thrust_in_range),
       cmocka_unit_test(test_incline_holds),
