@@ -322,7 +322,8 @@ static void print_record_line(const run_args *a, const cli_sink *sink) {
   printf("; pictures: voussoir plot %s)\n", a->out_path);
 }
 
-static int cmd_run(int argc, char **argv) {
+/* *h5_clean becomes 0 when the record failed to be written (see vs_output_process_end). */
+static int cmd_run(int argc, char **argv, int *h5_clean) {
   run_args a;
   int rc = parse_run_args(argc, argv, &a);
   if (rc != 0) return rc;
@@ -342,6 +343,7 @@ static int cmd_run(int argc, char **argv) {
   vs_run_set_stop(run, &g_interrupted);
   /* everything is valid: only now create outputs */
   if (g_interrupted || (rc = open_outputs(&a, run, case_text, &sink, &csv_lock)) != 0) {
+    *h5_clean = rc != EXIT_RUN_FAILED;
     if (rc == 0) fputs("voussoir: interrupted before the run started\n", stderr);
     rc = rc != 0 ? rc : EXIT_INTERRUPTED;
     goto cleanup;
@@ -372,15 +374,27 @@ cleanup:
     rc = EXIT_RUN_FAILED;
   }
   vs_outlock_release(&csv_lock);
+  if (sink.record != NULL && vs_output_error(sink.record)->status != VS_OK) *h5_clean = 0;
   vs_output_destroy(&sink.record);
   vs_run_destroy(&run);
   free(case_text);
   return rc;
 }
 
+static int dispatch(int argc, char **argv, int *h5_clean);
+
 int main(int argc, char **argv) {
   catch_signals(); /* first: a signal at any moment of a run ends it cleanly */
   if (argc < 2 || strcmp(argv[1], "run") != 0) release_signals();
+  signal(SIGXFSZ, SIG_IGN); /* a file size limit: the write fails with EFBIG, reported */
+  vs_output_process_init();
+  int h5_clean = 1;
+  const int rc = dispatch(argc, argv, &h5_clean);
+  vs_output_process_end(h5_clean);
+  return rc;
+}
+
+static int dispatch(int argc, char **argv, int *h5_clean) {
   if (argc < 2) {
     fputs(USAGE, stderr);
     return EXIT_BAD_INPUT;
@@ -408,7 +422,7 @@ int main(int argc, char **argv) {
         fputs(USAGE, stdout);
         return EXIT_SUCCESS;
       }
-    return cmd_run(argc, argv);
+    return cmd_run(argc, argv, h5_clean);
   }
   fprintf(stderr, "voussoir: unknown command '%s'\n%s", argv[1], USAGE);
   return EXIT_BAD_INPUT;

@@ -823,12 +823,14 @@ static size_t buffer_rows(const vs_output *o) {
  * keeps an "open for writing" mark so that an ordinary open fails (h5py needs swmr=True, or
  * h5clear -s); 4 files in 194, killed while /summary was written, opened in no mode at all; and
  * one made an SWMR reader retry a torn index block for minutes. */
-static hid_t file_create(const char *path) {
-  hid_t fcpl = H5Pcreate(H5P_FILE_CREATE), f = H5I_INVALID_HID;
+static vs_status file_create(vs_output *o, const char *path) {
+  hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
   if (fcpl >= 0 && H5Pset_file_space_strategy(fcpl, H5F_FSPACE_STRATEGY_NONE, 0, 1) >= 0)
-    f = H5Fcreate(path, H5F_ACC_EXCL, fcpl, H5P_DEFAULT);
+    o->file = H5Fcreate(path, H5F_ACC_EXCL, fcpl, H5P_DEFAULT);
+  /* the cause is read before closing fcpl (any API call clears the error stack) */
+  vs_status st = o->file < 0 ? h5_fail(&o->err, path, "cannot create the file") : VS_OK;
   h5_close(fcpl);
-  return f;
+  return st;
 }
 
 static herr_t write_root(vs_output *o, const char *case_text) {
@@ -931,20 +933,19 @@ vs_status vs_output_create(const char *path, const vs_run *run, const char *case
   snprintf(part, strlen(path) + sizeof VS_OUT_PART, "%s%s", path, VS_OUT_PART);
   h5_quiet q = quiet_begin();
   st = remove_stale_part(o, part);
+  const int made = st == VS_OK; /* a part file from here on is ours */
   if (st == VS_OK) {
-    o->file = file_create(part);
-    st = o->file < 0 ? h5_fail(&o->err, part, "cannot create the file")
-                     : create_layout(o, run, case_text);
+    st = file_create(o, part);
+    if (st == VS_OK) st = create_layout(o, run, case_text);
   }
   if (st == VS_OK) st = replace_target(o, part);
   quiet_end(q);
   if (st != VS_OK) {
     if (err != NULL) *err = o->err;
-    const int created = o->file >= 0;
     o->pending = 0;
     o->err.status = VS_ERR_IO; /* destroy must not flush */
     vs_output_destroy(&o);
-    if (created) remove(part);
+    if (made) remove(part);
     free(part);
     return st;
   }
@@ -953,11 +954,23 @@ vs_status vs_output_create(const char *path, const vs_run *run, const char *case
   return VS_OK;
 }
 
+/* After a failed write or flush HDF5 1.10.8 cannot close the file: every later flush fails
+ * ("slist already enabled?") and a failed close leaves a half-torn file object on which the
+ * library crashes at exit. Such a file is abandoned: its identifiers are left open (the process
+ * releases them when it ends; see vs_output_process_end), and the file on disk keeps what the
+ * last good flush wrote (status "running"). */
+static void abandon_file(vs_output *o) {
+  for (int i = 0; i < S_COUNT; i++) o->s[i].dset = H5I_INVALID_HID;
+  o->events = H5I_INVALID_HID;
+  o->file = H5I_INVALID_HID;
+}
+
 void vs_output_destroy(vs_output **op) {
   if (op == NULL || *op == NULL) return;
   vs_output *o = *op;
   h5_quiet q = quiet_begin();
   if (o->file >= 0 && o->err.status == VS_OK) flush_file(o);
+  if (o->err.status != VS_OK) abandon_file(o);
   for (int i = 0; i < S_COUNT; i++) {
     h5_close(o->s[i].dset);
     free(o->s[i].buf);
@@ -975,6 +988,12 @@ void vs_output_destroy(vs_output **op) {
   free(o->js);
   free(o);
   *op = NULL;
+}
+
+void vs_output_process_init(void) { H5dont_atexit(); }
+
+void vs_output_process_end(int clean) {
+  if (clean && H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_FILE) == 0) H5close();
 }
 
 const vs_error *vs_output_error(const vs_output *o) { return &o->err; }
@@ -1629,17 +1648,17 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
   /* what the status vouches for is on disk before the status is written */
   if (st == VS_OK && H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0)
     st = h5_fail(&o->err, o->path, "cannot flush /events and /summary");
-  fault_point("before-status");
-  /* the status is recorded even when the record is incomplete */
+  if (st == VS_OK) fault_point("before-status");
+  /* the status is recorded when the run failed but the file is sound (see abandon_file) */
   char status[sizeof o->err.msg + 64], now[32];
   status_text(o, run_status, run_err, status, sizeof status);
   iso8601_utc(now, sizeof now);
-  if (o->file >= 0 &&
+  if (o->err.status == VS_OK && o->file >= 0 &&
       (attr_str(o->file, "status", status) < 0 || attr_str(o->file, "finished", now) < 0 ||
-       H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0) &&
-      st == VS_OK)
+       H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0))
     st = h5_fail(&o->err, o->path, "cannot write the status");
   if (st == VS_OK) fault_point("after-status");
+  if (o->err.status != VS_OK) abandon_file(o);
   /* the sidecar is written from what the closed file holds */
   for (int i = 0; i < S_COUNT; i++) {
     h5_close(o->s[i].dset);

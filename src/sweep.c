@@ -15,6 +15,7 @@
 
 #include <hdf5.h>
 
+#include "voussoir/outpath.h"
 #include "voussoir/run.h"
 #include "voussoir/sweep.h"
 #include "voussoir/units.h"
@@ -436,6 +437,10 @@ int vs_cmd_sweep(int argc, char **argv, const char *self) {
     goto cleanup;
   }
   if (validate_all(case_path, sets, nsets, ax, nax) != 0) goto cleanup;
+  if (vs_outpath_check_dir(dir, &err) != VS_OK) {
+    fprintf(stderr, "voussoir sweep: -o %s\n", err.msg);
+    goto cleanup;
+  }
   if (mkdir(dir, 0755) != 0 && errno != EEXIST) {
     fprintf(stderr, "voussoir sweep: -o %s: cannot create: %s\n", dir, strerror(errno));
     goto cleanup;

@@ -102,6 +102,16 @@ char *vs_output_xdmf_path_for(const char *h5_path);
  * "running" and there is no XDMF. */
 void vs_output_destroy(vs_output **o);
 
+/* For a program: call vs_output_process_init before anything else uses HDF5 and
+ * vs_output_process_end before it exits, with clean = 0 if a record failed to be created or
+ * written (vs_output_create returned VS_ERR_IO, or vs_output_error is set). HDF5 1.10 cannot
+ * close a file after a failed write (a full disk) and would crash, or loop, in its exit handler;
+ * such a file is abandoned (it keeps what its last good flush wrote, status "running"), the exit
+ * handler is not installed, and process_end shuts HDF5 down only when it is clean and no file
+ * is left open. */
+void vs_output_process_init(void);
+void vs_output_process_end(int clean);
+
 /* Write the XDMF sidecar of an existing record (e.g. of a run that was killed) next to it, from
  * the datasets it holds; max_grids as in vs_output_opts (<= 0: the default). Errors: VS_ERR_IO
  * (cannot open or read the file, or write the sidecar), VS_ERR_INVALID (not a voussoir
