@@ -82,7 +82,8 @@ static const char *USAGE =
     "  --version              program version\n"
     "\n"
     "CASE is an INI file (runs/reference.ini is the reference specimen). Units: mm, N/mm^3, deg.\n"
-    "exit status: 0 ok, 1 the run failed (solver; the cause is printed), 2 bad input,\n"
+    "exit status: 0 ok, 1 the run failed (solver, full disk; the cause is printed), 2 bad input\n"
+    "(also an output that is not a regular file, is the case file, or another run is writing),\n"
     "130 interrupted (SIGINT/SIGTERM: the record is closed with status 'failed: interrupted').\n";
 
 typedef struct {

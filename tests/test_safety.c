@@ -345,6 +345,29 @@ static void test_killed_at_final_write(void **s) {
   }
 }
 
+/* `plot -o DIR`: a regular file as DIR, or a FIFO where a picture would go, is refused (exit 2)
+ * before anything is drawn, and left as it was. Uses the completed record of the test above. */
+static void test_plot_dir_refused(void **s) {
+  (void)s;
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd, "cd %s && touch plainfile && mkdir pics && mkfifo pics/arch_end.png && "
+           "%s plot k1.h5 -o plainfile > out.txt 2> err.txt", g_dir, VS_BINARY);
+  assert_int_equal(sh(cmd), 2);
+  char *err = slurp(in_dir("err.txt"));
+  assert_non_null(strstr(err, "voussoir plot: -o plainfile: exists and is a regular file"));
+  free(err);
+  snprintf(cmd, sizeof cmd, "cd %s && %s plot k1.h5 -o pics > out.txt 2> err.txt", g_dir,
+           VS_BINARY);
+  assert_int_equal(sh(cmd), 2);
+  err = slurp(in_dir("err.txt"));
+  assert_non_null(strstr(err, "arch_end.png exists and is not a regular file"));
+  free(err);
+  struct stat st;
+  assert_int_equal(lstat(in_dir("pics/arch_end.png"), &st), 0);
+  assert_true(S_ISFIFO(st.st_mode));
+  assert_int_not_equal(access(in_dir("pics/arch_reference.png"), F_OK), 0); /* nothing drawn */
+}
+
 /* ---------------------------------------------------------------------------------------------
  * Full disk */
 
@@ -425,6 +448,7 @@ int main(void) {
       cmocka_unit_test(test_nonfinite_residual_ends),
       cmocka_unit_test(test_stop_flag_in_solvers),
       cmocka_unit_test(test_killed_at_final_write),
+      cmocka_unit_test(test_plot_dir_refused),
       cmocka_unit_test(test_full_disk),
       cmocka_unit_test(test_file_size_limit),
   };
