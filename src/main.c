@@ -301,17 +301,19 @@ static int open_outputs(const run_args *a, const vs_run *run, const char *case_t
   return rc;
 }
 
-/* Close the record after the run (status st, cause err); the record's error, unless it is the
- * run's own, is printed. Returns the run's status, or the record's error after a good run. */
-static vs_status finish_record(cli_sink *sink, const vs_run *run, vs_status st,
-                               const vs_error *err) {
+/* Close the record after the run (status st, cause err). When the record fails after a good
+ * run, its error becomes the run's (*err); after a failed run it is printed unless it is the
+ * run's own cause. Returns the run's status, or the record's error after a good run. */
+static vs_status finish_record(cli_sink *sink, const vs_run *run, vs_status st, vs_error *err) {
   if (sink->record == NULL) return st;
   vs_error oerr;
   vs_error_clear(&oerr);
-  if (vs_output_finish(sink->record, run, st, err, &oerr) != VS_OK) {
-    if (strcmp(oerr.msg, err->msg) != 0) fprintf(stderr, "voussoir: %s\n", oerr.msg);
-    if (st == VS_OK) st = oerr.status;
+  if (vs_output_finish(sink->record, run, st, err, &oerr) == VS_OK) return st;
+  if (st == VS_OK) {
+    *err = oerr;
+    return oerr.status;
   }
+  if (strcmp(oerr.msg, err->msg) != 0) fprintf(stderr, "voussoir: %s\n", oerr.msg);
   return st;
 }
 

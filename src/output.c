@@ -1561,6 +1561,15 @@ static vs_status xdmf_write(hid_t file, const char *h5_path, const char *xmf_pat
   xml_escape(base != NULL ? base + 1 : h5_path, name, sizeof name);
   x.h5name = name;
   snprintf(tmp, sizeof tmp, "%s.tmp", xmf_path);
+  /* never written through, nor renamed over, anything but a regular file */
+  struct stat sb;
+  const char *odd = lstat(tmp, &sb) == 0 && !S_ISREG(sb.st_mode)        ? tmp
+                    : lstat(xmf_path, &sb) == 0 && !S_ISREG(sb.st_mode) ? xmf_path
+                                                                        : NULL;
+  if (odd != NULL) {
+    free(t);
+    return vs_error_set(err, VS_ERR_INVALID, "output: %s: exists and is not a regular file", odd);
+  }
   x.f = fopen(tmp, "w");
   if (x.f == NULL) {
     free(t);

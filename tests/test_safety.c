@@ -122,7 +122,7 @@ static void test_refused_targets(void **s) {
   (void)s;
   char cmd[1024];
   snprintf(cmd, sizeof cmd,
-           "cd %s && cp %s case.ini && mkfifo fifo && mkdir dir && ln -s case.ini link && "
+           "cd %s && cp %s case.ini && mkfifo fifo y.xmf && mkdir dir && ln -s case.ini link && "
            "ln -s dir dlink && ln -s nowhere dangling && ln case.ini hard.ini",
            g_dir, REFERENCE);
   assert_int_equal(sh(cmd), 0);
@@ -146,6 +146,7 @@ static void test_refused_targets(void **s) {
       {"-o x.h5 --csv link", "--csv", "link"},
       {"-o x.h5 --csv x.xmf", "--csv", "x.xmf"},
       {"-o x.h5 --csv x.h5", "-o", "x.h5"},
+      {"-o y.h5", "-o", "y.xmf"}, /* the record's sidecar */
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     const int rc = run_cli("case.ini", cases[i].args);
@@ -167,11 +168,13 @@ static void test_refused_targets(void **s) {
   struct stat st;
   assert_int_equal(lstat(in_dir("fifo"), &st), 0);
   assert_true(S_ISFIFO(st.st_mode));
+  assert_int_equal(lstat(in_dir("y.xmf"), &st), 0);
+  assert_true(S_ISFIFO(st.st_mode));
   assert_int_equal(lstat(in_dir("link"), &st), 0);
   assert_true(S_ISLNK(st.st_mode));
   assert_int_equal(lstat(in_dir("dangling"), &st), 0);
   assert_true(S_ISLNK(st.st_mode));
-  const char *absent[] = {"x.h5", "x.xmf", "x.h5.part", "x.h5.lock", "fifo.part", "fifo.lock",
+  const char *absent[] = {"x.h5", "x.xmf", "y.h5", "x.h5.part", "x.h5.lock", "fifo.part", "fifo.lock",
                           "case.ini.part", "case.ini.lock", "nowhere"};
   for (size_t i = 0; i < sizeof absent / sizeof absent[0]; i++)
     if (access(in_dir(absent[i]), F_OK) == 0) fail_msg("%s was created", absent[i]);
