@@ -437,7 +437,10 @@ int vs_cmd_sweep(int argc, char **argv, const char *self) {
     goto cleanup;
   }
   if (validate_all(case_path, sets, nsets, ax, nax) != 0) goto cleanup;
-  if (vs_outpath_check_dir(dir, &err) != VS_OK) {
+  char path[1024];
+  snprintf(path, sizeof path, "%s/summary.csv", dir);
+  if (vs_outpath_check_dir(dir, &err) != VS_OK ||
+      (access(dir, F_OK) == 0 && vs_outpath_check(path, NULL, 0, &err) != VS_OK)) {
     fprintf(stderr, "voussoir sweep: -o %s\n", err.msg);
     goto cleanup;
   }
@@ -447,8 +450,6 @@ int vs_cmd_sweep(int argc, char **argv, const char *self) {
   }
   int total = 1;
   for (int x = 0; x < nax; x++) total *= ax[x].n;
-  char path[1024];
-  snprintf(path, sizeof path, "%s/summary.csv", dir);
   FILE *csv = fopen(path, "w");
   if (csv == NULL) {
     fprintf(stderr, "voussoir sweep: %s: cannot create: %s\n", path, strerror(errno));

@@ -374,6 +374,26 @@ static void test_plot_dir_refused(void **s) {
   assert_int_not_equal(access(in_dir("pics/arch_reference.png"), F_OK), 0); /* nothing drawn */
 }
 
+/* `sweep -o DIR`: a regular file as DIR, or a FIFO as its summary.csv: exit 2, no run started. */
+static void test_sweep_dir_refused(void **s) {
+  (void)s;
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd, "cd %s && mkdir sw && mkfifo sw/summary.csv && timeout -s KILL 60 "
+           "%s sweep %s --alpha 0 --kn 3 -q -o sw > out.txt 2> err.txt", g_dir, VS_BINARY,
+           REFERENCE);
+  assert_int_equal(sh(cmd), 2);
+  char *err = slurp(in_dir("err.txt"));
+  assert_non_null(strstr(err, "voussoir sweep: -o sw/summary.csv: exists and is a FIFO"));
+  free(err);
+  struct stat st;
+  assert_int_equal(lstat(in_dir("sw/summary.csv"), &st), 0);
+  assert_true(S_ISFIFO(st.st_mode));
+  assert_int_not_equal(access(in_dir("sw/run_0000.h5"), F_OK), 0);
+  snprintf(cmd, sizeof cmd, "cd %s && touch swfile && %s sweep %s --alpha 0 --kn 3 -q -o swfile "
+           "> out.txt 2> err.txt", g_dir, VS_BINARY, REFERENCE);
+  assert_int_equal(sh(cmd), 2);
+}
+
 /* ---------------------------------------------------------------------------------------------
  * Full disk */
 
@@ -455,6 +475,7 @@ int main(void) {
       cmocka_unit_test(test_stop_flag_in_solvers),
       cmocka_unit_test(test_killed_at_final_write),
       cmocka_unit_test(test_plot_dir_refused),
+      cmocka_unit_test(test_sweep_dir_refused),
       cmocka_unit_test(test_full_disk),
       cmocka_unit_test(test_file_size_limit),
   };
