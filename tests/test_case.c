@@ -91,36 +91,36 @@ typedef struct {
 } key_case;
 
 static const key_case all_keys[] = {
-    {"arch", "radius_mm", "0", NULL, {"1e-9", "1e9"}},
-    {"arch", "thickness_mm", "-1", NULL, {"0.001", NULL}},
-    {"arch", "embrace_deg", "0", "180.0001", {"180", "0.01"}},
-    {"arch", "voussoirs", "0", "20001", {"1", "20000"}},
-    {"arch", "depth_mm", "-120", NULL, {"1", NULL}},
-    {"arch", "density_kg_m3", "0", NULL, {"2400", NULL}},
-    {"arch", "gravity_m_s2", "-9.81", NULL, {"1.62", NULL}},
-    {"joints", "kn_N_mm3", "-3", "1e5", {"48", "10000"}},
-    {"joints", "ks_ratio", "0", NULL, {"1", NULL}},
-    {"joints", "friction", "0", NULL, {"0.01", NULL}},
+    {"arch", "radius_mm", "0.0009", "1.1e6", {"1e-3", "1e6"}},
+    {"arch", "thickness_mm", "-1", "1000001", {"0.001", "1e6"}},
+    {"arch", "embrace_deg", "0.99", "180.0001", {"180", "1"}},
+    {"arch", "voussoirs", "0", "1001", {"1", "1000"}},
+    {"arch", "depth_mm", "-120", "2e6", {"1", "1e6"}},
+    {"arch", "density_kg_m3", "9.99", "100001", {"2400", "10"}},
+    {"arch", "gravity_m_s2", "-9.81", "1000.5", {"1.62", "0.1"}},
+    {"joints", "kn_N_mm3", "-3", "1e5", {"48", "1e-4"}},
+    {"joints", "ks_ratio", "0", "100.5", {"1", "100"}},
+    {"joints", "friction", "0", "101", {"0.01", "100"}},
     {"support", "alpha_deg", "-180.5", "181", {"-180", "180"}},
-    {"support", "rate_mm_s", "0", NULL, {"1", NULL}},
-    {"support", "max_mm", "0", NULL, {"100", NULL}},
-    {"solver", "step_mm", "0", NULL, {"0.1", NULL}},
-    {"solver", "step_max_mm", "-2", NULL, {"5", NULL}},
-    {"solver", "limit_tol_mm", "0", NULL, {"1e-6", NULL}},
+    {"support", "rate_mm_s", "9e-7", "1.5e6", {"1", "1e-6"}},
+    {"support", "max_mm", "0", "1e7", {"100", "1e6"}},
+    {"solver", "step_mm", "0", "1000001", {"0.1", "1e6"}},
+    {"solver", "step_max_mm", "-2", "2e6", {"5", "1e6"}},
+    {"solver", "limit_tol_mm", "9e-10", "2e6", {"1e-6", "1e-9"}},
     {"solver", "newton_tol", "0", "0.0101", {"1e-2", "1e-14"}},
     {"solver", "newton_maxiter", "1", "1001", {"2", "1000"}},
-    {"hinges", "open_mm", "0", NULL, {"1e-4", NULL}},
+    {"hinges", "open_mm", "0", "2e6", {"1e-4", "1e6"}},
     {"hinges", "migrate_joints", "-1", "101", {"0", "100"}},
     {"dynamic", "follow", "-1", "2", {"0", "1"}},
     {"dynamic", "full", "-1", "2", {"0", "1"}},
     {"dynamic", "damping", "-0.01", "1.01", {"0", "1"}},
     {"dynamic", "rtol", "0", "0.011", {"1e-10", "1e-2"}},
-    {"dynamic", "atol_mm", "0", NULL, {"1e-9", NULL}},
+    {"dynamic", "atol_mm", "0", "2e6", {"1e-9", "1e6"}},
     {"dynamic", "rest_factor", "0.5", "2e12", {"1", "1e12"}},
-    {"dynamic", "rest_s", "0", NULL, {"0.01", NULL}},
-    {"dynamic", "collapse_ke", "0", NULL, {"0.001", NULL}},
-    {"dynamic", "fall_s", "-0.1", NULL, {"0", NULL}},
-    {"dynamic", "sample_s", "0", NULL, {"1e-4", NULL}},
+    {"dynamic", "rest_s", "0", "2e6", {"0.01", "1e6"}},
+    {"dynamic", "collapse_ke", "0", "2e6", {"0.001", "1e6"}},
+    {"dynamic", "fall_s", "-0.1", "2e6", {"0", "1e6"}},
+    {"dynamic", "sample_s", "9e-7", "2e6", {"1e-4", "1e-6"}},
 };
 #define NKEYS_TESTED (sizeof all_keys / sizeof all_keys[0])
 
@@ -335,15 +335,15 @@ static void test_range_message_exact(void **state) {
                      "kn_N_mm3 = -3\n";
   assert_int_equal(read_text(text, &c, &err, &t), VS_ERR_INVALID);
   char want[256];
-  snprintf(want, sizeof want, "%s:4: joints.kn_N_mm3 = -3: out of range (allowed: (0, 10000] N/mm^3)",
+  snprintf(want, sizeof want, "%s:4: joints.kn_N_mm3 = -3: out of range (allowed: [0.0001, 10000] N/mm^3)",
            t.path);
   assert_string_equal(err.msg, want);
   drop(&t);
 
   expect_read_error("[arch]\nembrace_deg = 200\n", VS_ERR_INVALID, 2,
-                    "arch.embrace_deg = 200: out of range (allowed: (0, 180] deg)");
+                    "arch.embrace_deg = 200: out of range (allowed: [1, 180] deg)");
   expect_read_error("[arch]\nvoussoirs = 0\n", VS_ERR_INVALID, 2,
-                    "arch.voussoirs = 0: out of range (allowed: integer in [1, 20000])");
+                    "arch.voussoirs = 0: out of range (allowed: integer in [1, 1000])");
   expect_read_error("[solver]\nnewton_tol = 1\n", VS_ERR_INVALID, 2, "(allowed: (0, 0.01])");
 }
 
@@ -406,7 +406,7 @@ static void test_malformed_line(void **state) {
 static void test_not_a_number(void **state) {
   (void)state;
   expect_read_error("[arch]\nradius_mm = abc\n", VS_ERR_PARSE, 2,
-                    "arch.radius_mm = abc: not a number (allowed: > 0 mm)");
+                    "arch.radius_mm = abc: not a number (allowed: [0.001, 1e+06] mm)");
   expect_read_error("[arch]\nradius_mm = 300mm\n", VS_ERR_PARSE, 2,
                     "arch.radius_mm = 300mm: unexpected characters after the number");
   expect_read_error("[arch]\nradius_mm = 300 mm\n", VS_ERR_PARSE, 2,
@@ -418,7 +418,7 @@ static void test_not_a_number(void **state) {
 static void test_integer_expected(void **state) {
   (void)state;
   expect_read_error("[arch]\nvoussoirs = 55.5\n", VS_ERR_PARSE, 2,
-                    "arch.voussoirs = 55.5: integer expected (allowed: integer in [1, 20000])");
+                    "arch.voussoirs = 55.5: integer expected (allowed: integer in [1, 1000])");
   expect_read_error("[arch]\nvoussoirs = 55.0\n", VS_ERR_PARSE, 2, "integer expected");
   expect_read_error("[arch]\nvoussoirs = 5e1\n", VS_ERR_PARSE, 2, "integer expected");
   expect_read_error("[arch]\nvoussoirs = 55x\n", VS_ERR_PARSE, 2, "unexpected characters");
@@ -456,9 +456,9 @@ static void test_missing_file(void **state) {
   assert_null(text);
   assert_int_equal(err.status, VS_ERR_IO);
   assert_string_equal(err.msg, "/nonexistent/voussoir/case.ini: cannot open: No such file or directory");
-  /* a directory opens but cannot be read */
+  /* a directory is not read */
   assert_int_equal(vs_case_read(&c, "/tmp", NULL, &err), VS_ERR_IO);
-  expect_prefix(err.msg, "/tmp: cannot read: ");
+  expect_prefix(err.msg, "/tmp: not a regular file");
   /* NULL arguments */
   assert_int_equal(vs_case_read(NULL, path, NULL, &err), VS_ERR_INVALID);
   assert_int_equal(vs_case_read(&c, NULL, NULL, &err), VS_ERR_INVALID);
@@ -556,7 +556,7 @@ static void test_set_errors(void **state) {
   expect_set_error("joints.=3", VS_ERR_PARSE, malformed);
   expect_set_error("", VS_ERR_PARSE, malformed);
   expect_set_error("joints.kn_N_mm3=-3", VS_ERR_INVALID,
-                   "joints.kn_N_mm3 = -3: out of range (allowed: (0, 10000] N/mm^3)");
+                   "joints.kn_N_mm3 = -3: out of range (allowed: [0.0001, 10000] N/mm^3)");
   expect_set_error("joints.kn=3", VS_ERR_PARSE,
                    "joints.kn = 3: unknown key (allowed keys in [joints]: kn_N_mm3");
   expect_set_error("joint.kn_N_mm3=3", VS_ERR_PARSE,
@@ -623,13 +623,13 @@ static void test_validate(void **state) {
   /* fields set in code are range-checked too */
   vs_case_defaults(&c);
   c.embrace_deg = 190;
-  expect_invalid(&c, "arch.embrace_deg = 190", "(0, 180] deg");
+  expect_invalid(&c, "arch.embrace_deg = 190", "[1, 180] deg");
   vs_case_defaults(&c);
   c.kn_N_mm3 = NAN;
-  expect_invalid(&c, "joints.kn_N_mm3", "(0, 10000] N/mm^3");
+  expect_invalid(&c, "joints.kn_N_mm3", "[0.0001, 10000] N/mm^3");
   vs_case_defaults(&c);
   c.voussoirs = 0;
-  expect_invalid(&c, "arch.voussoirs = 0", "integer in [1, 20000]");
+  expect_invalid(&c, "arch.voussoirs = 0", "integer in [1, 1000]");
 
   assert_int_equal(vs_case_validate(NULL, &err), VS_ERR_INVALID);
   assert_int_equal(vs_case_validate(&c, NULL), VS_ERR_INVALID);
