@@ -127,6 +127,19 @@ static void default_record_path(const char *case_path, char *buf, size_t size) {
   snprintf(buf, size, "%.*s.h5", n, base);
 }
 
+/* Apply "KEY=VALUE" (key not NULL: --alpha, --kn) or the assignment VALUE (--set), whatever
+ * its length: the whole text reaches the parser, so nothing is cut and trailing junk is seen. */
+static vs_status set_option(vs_case *c, const char *key, const char *value, vs_error *err) {
+  if (key == NULL) return vs_case_set(c, value, err);
+  size_t n = strlen(key) + strlen(value) + 2;
+  char *assignment = malloc(n);
+  if (assignment == NULL) return vs_error_set(err, VS_ERR_NOMEM, "out of memory");
+  snprintf(assignment, n, "%s=%s", key, value);
+  vs_status st = vs_case_set(c, assignment, err);
+  free(assignment);
+  return st;
+}
+
 static int cmd_run(int argc, char **argv) {
   const char *case_path = NULL, *out_path = NULL, *csv_path = NULL;
   int json = 0, quiet = 0, record = 1, rc = EXIT_BAD_INPUT;
@@ -173,18 +186,17 @@ static int cmd_run(int argc, char **argv) {
   }
   if (vs_case_read(&c, case_path, &case_text, &err) != VS_OK) goto input_error;
   for (int i = 2; i < argc; i++) {
-    char buf[512];
-    const char *a = argv[i];
-    if (strcmp(a, "--alpha") == 0) snprintf(buf, sizeof buf, "support.alpha_deg=%s", argv[++i]);
-    else if (strcmp(a, "--kn") == 0) snprintf(buf, sizeof buf, "joints.kn_N_mm3=%s", argv[++i]);
-    else if (strcmp(a, "--set") == 0) snprintf(buf, sizeof buf, "%s", argv[++i]);
-    else if (strcmp(a, "--dynamic") == 0) snprintf(buf, sizeof buf, "dynamic.full=1");
-    else if (strcmp(a, "--first-limit") == 0) snprintf(buf, sizeof buf, "dynamic.follow=0");
+    const char *a = argv[i], *key = NULL, *value = NULL;
+    if (strcmp(a, "--alpha") == 0) key = "support.alpha_deg", value = argv[++i];
+    else if (strcmp(a, "--kn") == 0) key = "joints.kn_N_mm3", value = argv[++i];
+    else if (strcmp(a, "--set") == 0) value = argv[++i];
+    else if (strcmp(a, "--dynamic") == 0) value = "dynamic.full=1";
+    else if (strcmp(a, "--first-limit") == 0) value = "dynamic.follow=0";
     else {
       if (strcmp(a, "-o") == 0 || strcmp(a, "--csv") == 0) i++;
       continue;
     }
-    if (vs_case_set(&c, buf, &err) != VS_OK) goto input_error;
+    if (set_option(&c, key, value, &err) != VS_OK) goto input_error;
   }
   if (vs_case_validate(&c, &err) != VS_OK) goto input_error;
 
