@@ -352,9 +352,10 @@ static char *next_line(char *buf, int size, void *stream) {
   }
   if (close != NULL && close[1] != '\0') { /* inih would drop "radius_mm=3" in "[arch] radius_mm=3" */
     echo_buf b;
+    while (is_blank(*++close)) {}
     vs_error_set(x->err, VS_ERR_PARSE,
                  "%s:%d: '%s' after the section header (put each key = value on its own line)",
-                 x->path, x->lineno, clip(close + 1, &b));
+                 x->path, x->lineno, clip(close, &b));
     return reader_fail(x, VS_ERR_PARSE);
   }
   return buf;

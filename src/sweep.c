@@ -698,7 +698,7 @@ static int sweep_run(const sweep_opts *o, const char *manifest) {
   int failed = 0, n = 0, skipped = 0;
   if (o->resume) {
     n = skipped = resumed_rows(o, total, picks, state, rows, csv, &failed);
-    if (!o->quiet) fprintf(stderr, "voussoir sweep: resuming: %d of %d runs already complete\n", skipped, total);
+    fprintf(stderr, "voussoir sweep: resuming: %d of %d runs already complete\n", skipped, total);
   }
   int ran = run_all(o, total, picks, state, rows + n, csv, &failed);
   n += ran > 0 ? ran : 0;
