@@ -6,7 +6,11 @@ set -euo pipefail
 secs="${1:-60}"
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
-work="${2:-$(mktemp -d /tmp/voussoir-fuzz.XXXXXX)}"
+work="${2:-}"
+if [ -z "$work" ]; then # our own scratch directory: removed unless there is a finding
+  work="$(mktemp -d /tmp/voussoir-fuzz.XXXXXX)"
+  trap 'rc=$?; [ "$rc" -eq 0 ] && rm -rf "$work"; exit "$rc"' EXIT
+fi
 mkdir -p "$work/corpus"
 cp -n "$here"/corpus/* "$work/corpus/" 2>/dev/null || true
 # shellcheck disable=SC2046
