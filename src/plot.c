@@ -130,6 +130,7 @@ typedef struct {
   double r, g, b;
 } rgb;
 
+static const rgb C_THRUST = {0.05, 0.35, 0.85};
 static const rgb C_BLACK = {0.0, 0.0, 0.0}, C_WHITE = {1.0, 1.0, 1.0}, C_TEXT = {0.1, 0.1, 0.1},
                  C_GRID = {0.88, 0.88, 0.88}, C_CRACK = {0.80, 0.05, 0.15};
 
@@ -359,6 +360,7 @@ typedef struct {
   int n_hinges;
   const double *gap_i, *gap_e;
   double open;
+  const double *N, *M; /* joint forces for the thrust line, or NULL */
   const char *title;
   vs_plot_frame f;
 } arch_data;
@@ -534,6 +536,35 @@ static void draw_hinges(cairo_t *cr, const arch_data *d) {
 }
 
 /* The scale bar: four alternating segments of a round length in mm, bottom left. */
+/* The thrust line: through the centre of pressure of every compressed joint, e = M / N from the
+ * joint's centre towards the extrados along the moved joint (the mean of its two faces); the
+ * resultant of the contact stresses acts there. Broken where a joint carries no compression. */
+static void draw_thrust(cairo_t *cr, const arch_data *d) {
+  if (d->N == NULL || d->M == NULL) return;
+  int pen = 0;
+  cairo_new_path(cr);
+  for (int k = 0; k < d->g->n_joints; k++) {
+    if (!(d->N[k] > 0.0) || !isfinite(d->M[k])) {
+      pen = 0;
+      continue;
+    }
+    double fa[4], fb[4];
+    joint_faces(d, k, fa, fb);
+    const double ix = 0.5 * (fa[0] + fb[0]), iz = 0.5 * (fa[1] + fb[1]);
+    const double ex = 0.5 * (fa[2] + fb[2]), ez = 0.5 * (fa[3] + fb[3]);
+    const double len = hypot(ex - ix, ez - iz), e = d->M[k] / d->N[k];
+    const double x = 0.5 * (ix + ex) + e * (ex - ix) / len, z = 0.5 * (iz + ez) + e * (ez - iz) / len;
+    double px, py;
+    vs_plot_to_px(&d->f, x, z, &px, &py);
+    if (pen) cairo_line_to(cr, px, py);
+    else cairo_move_to(cr, px, py);
+    pen = 1;
+  }
+  cairo_set_source_rgb(cr, C_THRUST.r, C_THRUST.g, C_THRUST.b);
+  cairo_set_line_width(cr, 2.0);
+  cairo_stroke(cr);
+}
+
 static void draw_scale_bar(cairo_t *cr, const vs_plot_frame *f) {
   double len_mm = nice_step(0.2 * (f->width - 2.0 * ARCH_SIDE) / f->scale / VS_MM, 1);
   double len = len_mm * VS_MM * f->scale, x = ARCH_SIDE, y = f->height - 32.0, hh = 7.0;
@@ -554,7 +585,7 @@ static void draw_scale_bar(cairo_t *cr, const vs_plot_frame *f) {
 }
 
 /* The key, bottom right: hinge dot, open joint, fixed position. */
-static void draw_key(cairo_t *cr, const vs_plot_frame *f) {
+static void draw_key(cairo_t *cr, const vs_plot_frame *f, int thrust) {
   font(cr, 14.0, 0);
   double y = f->height - 28.0, x = f->width - ARCH_SIDE;
   x -= text_at(cr, "fixed position of the moved support", x, y, 1.0, 0.5, C_TEXT, 0) + 8.0;
@@ -569,8 +600,20 @@ static void draw_key(cairo_t *cr, const vs_plot_frame *f) {
   cairo_rectangle(cr, x - 6.0, y - 8.0, 6.0, 16.0);
   set_rgb(cr, C_CRACK);
   cairo_fill(cr);
-  x -= 30.0;
-  x -= text_at(cr, "hinge, on the side in contact", x, y, 1.0, 0.5, C_TEXT, 0) + 12.0;
+  /* second row: the thrust line and the hinge */
+  y -= 24.0;
+  x = f->width - ARCH_SIDE;
+  if (thrust) {
+    x -= text_at(cr, "thrust line (centres of pressure, e = M/N)", x, y, 1.0, 0.5, C_TEXT, 0) + 8.0;
+    set_rgb(cr, C_THRUST);
+    cairo_set_line_width(cr, 2.0);
+    cairo_move_to(cr, x - 24.0, y);
+    cairo_line_to(cr, x, y);
+    cairo_stroke(cr);
+    x -= 40.0;
+  }
+  x -= text_at(cr, "hinge, on the side in contact (I intrados, E extrados)", x, y, 1.0, 0.5,
+               C_TEXT, 0) + 12.0;
   dot(cr, x, y, 6.0, label_colour('?'));
 }
 
@@ -582,6 +625,7 @@ static void draw_arch(cairo_t *cr, const void *data) {
   draw_blocks(cr, d, NULL, 1);
   draw_blocks(cr, d, d->q, 0);
   draw_open_joints(cr, d);
+  draw_thrust(cr, d);
   draw_support_arrow(cr, d);
   draw_hinges(cr, d);
 
@@ -598,7 +642,7 @@ static void draw_arch(cairo_t *cr, const void *data) {
   font(cr, 16.0, 0);
   text_at(cr, buf, ARCH_SIDE, y, 0.0, 1.0, C_TEXT, 0);
   draw_scale_bar(cr, &d->f);
-  draw_key(cr, &d->f);
+  draw_key(cr, &d->f, d->N != NULL && d->M != NULL);
 }
 
 static vs_status check_hinges(const vs_geometry *g, const vs_hinge *hinges, int n,
@@ -622,6 +666,15 @@ vs_status vs_plot_arch(const char *path, vs_plot_format fmt, const vs_geometry *
                        const double *q, double delta_m, double alpha_rad, const vs_hinge *hinges,
                        int n_hinges, const double *joint_gap_i, const double *joint_gap_e,
                        double open_m, const char *title, vs_error *err) {
+  return vs_plot_arch_thrust(path, fmt, g, q, delta_m, alpha_rad, hinges, n_hinges, joint_gap_i,
+                             joint_gap_e, open_m, NULL, NULL, title, err);
+}
+
+vs_status vs_plot_arch_thrust(const char *path, vs_plot_format fmt, const vs_geometry *g,
+                              const double *q, double delta_m, double alpha_rad,
+                              const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
+                              const double *joint_gap_e, double open_m, const double *joint_N,
+                              const double *joint_M, const char *title, vs_error *err) {
   if (path == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no file name");
   vs_status st = check_arch(g, q, delta_m, alpha_rad, err);
   if (st == VS_OK) st = check_hinges(g, hinges, n_hinges, err);
@@ -630,7 +683,7 @@ vs_status vs_plot_arch(const char *path, vs_plot_format fmt, const vs_geometry *
     return vs_error_set(err, VS_ERR_INVALID, "plot: open = %g m (allowed: >= 0)", open_m);
   arch_data d = {.g = g, .q = q, .delta = delta_m, .alpha = alpha_rad, .hinges = hinges,
                  .n_hinges = n_hinges, .gap_i = joint_gap_i, .gap_e = joint_gap_e,
-                 .open = open_m, .title = title};
+                 .open = open_m, .N = joint_N, .M = joint_M, .title = title};
   support_displacement(delta_m, alpha_rad, d.su);
   arch_frame(g, q, d.su, &d.f);
   return emit(path, fmt, d.f.width, d.f.height, draw_arch, &d, err);

@@ -37,7 +37,7 @@ typedef struct {
   vs_case c;
   vs_geometry *g;
   int rows, nb, nj;
-  double *delta, *pos, *gap_i, *gap_e, *react;
+  double *delta, *pos, *gap_i, *gap_e, *react, *jN, *jM;
   signed char *hinge; /* rows x nj: 0 closed, 1 intrados, 2 extrados */
   rec_hinge *h;
   int nh;
@@ -110,6 +110,8 @@ static void record_free(record *r) {
   free(r->pos);
   free(r->gap_i);
   free(r->gap_e);
+  free(r->jN);
+  free(r->jM);
   free(r->react);
   free(r->hinge);
   free(r->h);
@@ -207,8 +209,10 @@ static int record_open(const char *path, record *r) {
   r->gap_i = malloc(n * (size_t)r->nj * sizeof(double));
   r->gap_e = malloc(n * (size_t)r->nj * sizeof(double));
   r->react = malloc(n * 4 * sizeof(double));
+  r->jN = malloc(n * (size_t)r->nj * sizeof(double));
+  r->jM = malloc(n * (size_t)r->nj * sizeof(double));
   r->hinge = malloc(n * (size_t)r->nj);
-  if (!r->delta || !r->pos || !r->gap_i || !r->gap_e || !r->react || !r->hinge) {
+  if (!r->delta || !r->pos || !r->gap_i || !r->gap_e || !r->react || !r->hinge || !r->jN || !r->jM) {
     snprintf(r->msg, sizeof r->msg, "out of memory");
     return -1;
   }
@@ -217,7 +221,9 @@ static int record_open(const char *path, record *r) {
                   read_doubles(r->file, "/observables/block_position/value", r->pos, n * 3 * (size_t)r->nb) ||
                   read_doubles(r->file, "/observables/joint_gap_i/value", r->gap_i, n * (size_t)r->nj) ||
                   read_doubles(r->file, "/observables/joint_gap_e/value", r->gap_e, n * (size_t)r->nj) ||
-                  read_doubles(r->file, "/observables/reactions/value", r->react, n * 4) || hd < 0 ||
+                  read_doubles(r->file, "/observables/reactions/value", r->react, n * 4) ||
+                  read_doubles(r->file, "/observables/joint_N/value", r->jN, n * (size_t)r->nj) ||
+                  read_doubles(r->file, "/observables/joint_M/value", r->jM, n * (size_t)r->nj) || hd < 0 ||
                   H5Dread(hd, H5T_NATIVE_SCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, r->hinge) < 0;
   if (hd >= 0) H5Dclose(hd);
   if (bad || read_hinges(r) || read_limits(r)) {
@@ -275,9 +281,11 @@ static int draw_row(const record *r, int row, const char *dir, const char *name,
   snprintf(title, sizeof title, "%s (row %d)", what, row);
   vs_error err;
   vs_error_clear(&err);
-  if (vs_plot_arch(path, vs_plot_format_from_path(path), r->g, r->pos + (size_t)row * 3 * (size_t)r->nb,
-                   r->delta[row], r->c.alpha_deg * VS_DEG, h, nh, r->gap_i + (size_t)row * (size_t)r->nj,
-                   r->gap_e + (size_t)row * (size_t)r->nj, r->c.open_mm * VS_MM, title, &err) != VS_OK) {
+  const size_t off = (size_t)row * (size_t)r->nj;
+  if (vs_plot_arch_thrust(path, vs_plot_format_from_path(path), r->g,
+                          r->pos + (size_t)row * 3 * (size_t)r->nb, r->delta[row],
+                          r->c.alpha_deg * VS_DEG, h, nh, r->gap_i + off, r->gap_e + off,
+                          r->c.open_mm * VS_MM, r->jN + off, r->jM + off, title, &err) != VS_OK) {
     fprintf(stderr, "voussoir plot: %s\n", err.msg);
     return -1;
   }
