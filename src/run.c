@@ -338,7 +338,7 @@ static void record_collapse(vs_run *r, const vs_dyn_result *d) {
   qsort(c->hinges, (size_t)c->n_hinges, sizeof c->hinges[0], cmp_hinge_first);
 }
 
-/* Modes of DOMAIN.md from the first three hinges (A, B, C, left to right) and the hinges at the
+/* Modes (docs/vocabulary.md) from the first three hinges (A, B, C, left to right) and the hinges at the
  * collapse. */
 static void classify(vs_run *r) {
   r->mode = NULL;
