@@ -272,25 +272,75 @@ static int hinges_at(const record *r, int row, vs_hinge *out, int cap) {
   return n;
 }
 
-static int draw_row(const record *r, int row, const char *dir, const char *name, const char *ext,
-                    const char *what) {
+/* One state to draw: positions (3 nb), joint gaps, N, M (nj each), the support displacement and
+ * the row whose open hinges are labelled. */
+typedef struct {
+  const double *pos, *gap_i, *gap_e, *N, *M;
+  double delta;
+  int hinge_row;
+} state;
+
+static state state_of_row(const record *r, int row) {
+  const size_t o = (size_t)row * (size_t)r->nj;
+  return (state){r->pos + (size_t)row * 3 * (size_t)r->nb, r->gap_i + o, r->gap_e + o,
+                 r->jN + o, r->jM + o, r->delta[row], row};
+}
+
+static int draw_state(const record *r, const state *st, const char *dir, const char *name,
+                      const char *ext, const char *title) {
   vs_hinge h[32];
-  const int nh = hinges_at(r, row, h, 32);
-  char path[1200], title[160];
+  const int nh = hinges_at(r, st->hinge_row, h, 32);
+  char path[1200];
   snprintf(path, sizeof path, "%s/arch_%s.%s", dir, name, ext);
-  snprintf(title, sizeof title, "%s (row %d)", what, row);
   vs_error err;
   vs_error_clear(&err);
-  const size_t off = (size_t)row * (size_t)r->nj;
-  if (vs_plot_arch_thrust(path, vs_plot_format_from_path(path), r->g,
-                          r->pos + (size_t)row * 3 * (size_t)r->nb, r->delta[row],
-                          r->c.alpha_deg * VS_DEG, h, nh, r->gap_i + off, r->gap_e + off,
-                          r->c.open_mm * VS_MM, r->jN + off, r->jM + off, title, &err) != VS_OK) {
+  if (vs_plot_arch_thrust(path, vs_plot_format_from_path(path), r->g, st->pos, st->delta,
+                          r->c.alpha_deg * VS_DEG, h, nh, st->gap_i, st->gap_e,
+                          r->c.open_mm * VS_MM, st->N, st->M, title, &err) != VS_OK) {
     fprintf(stderr, "voussoir plot: %s\n", err.msg);
     return -1;
   }
   printf("  %s\n", path);
   return 0;
+}
+
+static int draw_row(const record *r, int row, const char *dir, const char *name, const char *ext,
+                    const char *what) {
+  char title[200];
+  snprintf(title, sizeof title, "%s (recorded state at delta = %.3f mm)", what, r->delta[row] / VS_MM);
+  const state st = state_of_row(r, row);
+  return draw_state(r, &st, dir, name, ext, title);
+}
+
+/* a + w (b - a), n values, into out. */
+static void lerp(const double *a, const double *b, double w, size_t n, double *out) {
+  for (size_t k = 0; k < n; k++) out[k] = a[k] + w * (b[k] - a[k]);
+}
+
+/* The state at support displacement delta: a recorded one if delta falls on a row, else
+ * interpolated linearly between the two rows around it (the title says which). */
+static int draw_at(const record *r, double delta, const char *dir, const char *name,
+                   const char *ext, const char *what) {
+  const int j = row_at(r, delta);
+  if (j == 0 || fabs(r->delta[j] - delta) <= 1e-9 || !(r->delta[j - 1] < delta))
+    return draw_row(r, j, dir, name, ext, what);
+  const size_t nq = 3 * (size_t)r->nb, nj = (size_t)r->nj;
+  double *buf = malloc((nq + 4 * nj) * sizeof *buf);
+  if (buf == NULL) return draw_row(r, j, dir, name, ext, what);
+  const state a = state_of_row(r, j - 1), b = state_of_row(r, j);
+  const double w = (delta - a.delta) / (b.delta - a.delta);
+  lerp(a.pos, b.pos, w, nq, buf);
+  lerp(a.gap_i, b.gap_i, w, nj, buf + nq);
+  lerp(a.gap_e, b.gap_e, w, nj, buf + nq + nj);
+  lerp(a.N, b.N, w, nj, buf + nq + 2 * nj);
+  lerp(a.M, b.M, w, nj, buf + nq + 3 * nj);
+  const state st = {buf, buf + nq, buf + nq + nj, buf + nq + 2 * nj, buf + nq + 3 * nj, delta, j};
+  char title[240];
+  snprintf(title, sizeof title, "%s at delta = %.3f mm (interpolated between the states at %.3f "
+           "and %.3f mm)", what, delta / VS_MM, a.delta / VS_MM, b.delta / VS_MM);
+  const int rc = draw_state(r, &st, dir, name, ext, title);
+  free(buf);
+  return rc;
 }
 
 static int draw_curves(const record *r, const char *dir, const char *ext) {
@@ -376,22 +426,22 @@ int vs_cmd_plot(int argc, char **argv) {
     if (r.h[i].during_fall) continue;
     char name[32], what[96];
     snprintf(name, sizeof name, "hinge_%c", r.h[i].label);
-    snprintf(what, sizeof what, "Hinge %c forms (%s)", r.h[i].label,
-             r.h[i].order == 4 ? "the fourth" : r.h[i].order == 5 ? "the fifth" : "hinge onset");
-    bad |= draw_row(&r, row_at(&r, r.h[i].delta_onset), dir, name, ext, what);
+    snprintf(what, sizeof what, "Hinge %c forms%s", r.h[i].label,
+             r.h[i].order == 4 ? " (the fourth)" : r.h[i].order == 5 ? " (the fifth)" : "");
+    bad |= draw_at(&r, r.h[i].delta_onset, dir, name, ext, what);
   }
   for (int i = 0; i < r.nl; i++) {
     char name[32], what[96];
     snprintf(name, sizeof name, "limit_%d", i + 1);
     snprintf(what, sizeof what, "Limit point %d", i + 1);
-    bad |= draw_row(&r, row_at(&r, r.limits[i]), dir, name, ext, what);
+    bad |= draw_at(&r, r.limits[i], dir, name, ext, what);
     if (isfinite(r.settled[i])) {
       snprintf(name, sizeof name, "snap_%d_settled", i + 1);
       snprintf(what, sizeof what, "Snap-through %d settled", i + 1);
-      bad |= draw_row(&r, row_at(&r, r.settled[i]), dir, name, ext, what);
+      bad |= draw_at(&r, r.settled[i], dir, name, ext, what);
     }
   }
-  if (isfinite(r.collapse)) bad |= draw_row(&r, row_at(&r, r.collapse), dir, "collapse", ext, "Collapse");
+  if (isfinite(r.collapse)) bad |= draw_at(&r, r.collapse, dir, "collapse", ext, "Collapse");
   bad |= draw_row(&r, r.rows - 1, dir, "end", ext, "End of the record");
   bad |= draw_curves(&r, dir, ext);
   record_free(&r);
