@@ -740,6 +740,7 @@ typedef struct {
   int n;
   const vs_plot_panel *panels;
   int n_panels;
+  const vs_plot_marks *marks;
 } curves_data;
 
 typedef struct {
@@ -903,6 +904,47 @@ static void draw_legend(cairo_t *cr, const panel_box *b, const vs_plot_panel *p,
   }
 }
 
+/* The marks across the panels from y0 to y1, labelled above y0. */
+static void draw_marks(cairo_t *cr, const panel_box *b, const vs_plot_marks *m, double y0,
+                       double y1) {
+  const double dash[2] = {5.0, 4.0};
+  font(cr, 13.0, 0);
+  for (int i = 0; i < m->n; i++) {
+    if (!isfinite(m->x[i])) continue;
+    const double px = map_x(b, m->x[i]);
+    if (px < b->x || px > b->x + b->w) continue;
+    cairo_set_dash(cr, dash, 2, 0.0);
+    cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
+    cairo_set_line_width(cr, 1.2);
+    cairo_move_to(cr, px, y0);
+    cairo_line_to(cr, px, y1);
+    cairo_stroke(cr);
+    cairo_set_dash(cr, NULL, 0, 0.0);
+    if (m->label != NULL && m->label[i] != NULL)
+      text_at(cr, m->label[i], px + 3.0, y0 + 3.0 + 15.0 * (i % 2), 0.0, 0.0, C_TEXT, 0);
+  }
+}
+
+/* The second x axis along the top of panel b: ticks of x * x2.scale, its label above. */
+static void draw_x2(cairo_t *cr, const panel_box *b, const vs_plot_axis *x2) {
+  const double s = axis_scale(x2), lo = b->rx.lo / b->rx.scale * s, hi = b->rx.hi / b->rx.scale * s;
+  const double step = nice_step(fabs(hi - lo), 6);
+  char buf[48];
+  font(cr, 13.0, 0);
+  set_rgb(cr, C_TEXT);
+  cairo_set_line_width(cr, 1.0);
+  for (double v = ceil(fmin(lo, hi) / step - 1e-9) * step; v <= fmax(lo, hi) + 1e-9 * step; v += step) {
+    const double px = b->x + (v / s * b->rx.scale - b->rx.lo) / (b->rx.hi - b->rx.lo) * b->w;
+    cairo_move_to(cr, px, b->y);
+    cairo_line_to(cr, px, b->y - 5.0);
+    cairo_stroke(cr);
+    tick_label(buf, sizeof buf, v, step);
+    text_at(cr, buf, px, b->y - 7.0, 0.5, 1.0, C_TEXT, 0);
+  }
+  font(cr, 15.0, 0);
+  text_at(cr, x2->label, b->x + 0.5 * b->w, b->y - 26.0, 0.5, 1.0, C_TEXT, 0);
+}
+
 static void draw_curves(cairo_t *cr, const void *data) {
   const curves_data *d = data;
   const double W = VS_PLOT_CURVES_WIDTH, H = VS_PLOT_CURVES_HEIGHT;
@@ -913,11 +955,17 @@ static void draw_curves(cairo_t *cr, const void *data) {
     font(cr, 21.0, 1);
     text_at(cr, d->title, CV_LEFT, 36.0, 0.0, 1.0, C_TEXT, 0);
   }
+  const int x2 = d->marks != NULL && d->marks->x2.label != NULL;
+  if (x2) top += 45.0;
   double xlo = INFINITY, xhi = -INFINITY;
   range rx;
   data_range(d->x, d->n, axis_scale(d->xa), &xlo, &xhi);
   rx = make_range(xlo, xhi, d->xa, 0.0);
   const double ph = (H - top - CV_BOTTOM - (d->n_panels - 1) * CV_GAP) / d->n_panels;
+  if (d->marks != NULL) {
+    panel_box all = {CV_LEFT, top, W - CV_LEFT - CV_RIGHT, H - top - CV_BOTTOM, rx, rx};
+    if (x2) draw_x2(cr, &all, &d->marks->x2);
+  }
   for (int p = 0; p < d->n_panels; p++) {
     const vs_plot_panel *pn = &d->panels[p];
     double lo = INFINITY, hi = -INFINITY;
@@ -943,6 +991,10 @@ static void draw_curves(cairo_t *cr, const void *data) {
       cairo_restore(cr);
     }
   }
+  if (d->marks != NULL) {
+    panel_box all = {CV_LEFT, top, W - CV_LEFT - CV_RIGHT, H - top - CV_BOTTOM, rx, rx};
+    draw_marks(cr, &all, d->marks, top, H - CV_BOTTOM);
+  }
   if (d->xa != NULL && d->xa->label != NULL) {
     font(cr, 15.0, 0);
     text_at(cr, d->xa->label, CV_LEFT + 0.5 * (W - CV_LEFT - CV_RIGHT), H - 14.0, 0.5, 1.0,
@@ -960,6 +1012,16 @@ static vs_status check_axis(const vs_plot_axis *a, const char *what, vs_error *e
 vs_status vs_plot_curves(const char *path, vs_plot_format fmt, const char *title,
                          const vs_plot_axis *x_axis, const double *x, int n,
                          const vs_plot_panel *panels, int n_panels, vs_error *err) {
+  return vs_plot_curves_marked(path, fmt, title, x_axis, x, n, panels, n_panels, NULL, err);
+}
+
+vs_status vs_plot_curves_marked(const char *path, vs_plot_format fmt, const char *title,
+                                const vs_plot_axis *x_axis, const double *x, int n,
+                                const vs_plot_panel *panels, int n_panels,
+                                const vs_plot_marks *marks, vs_error *err) {
+  if (marks != NULL && (marks->n < 0 || (marks->n > 0 && marks->x == NULL)))
+    return vs_error_set(err, VS_ERR_INVALID, "plot: %d marks (allowed: >= 0, with x)", marks->n);
+  if (marks != NULL && check_axis(&marks->x2, "second x", err) != VS_OK) return err->status;
   if (path == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no file name");
   if (x == NULL || n < 1)
     return vs_error_set(err, VS_ERR_INVALID, "plot: %d points (allowed: >= 1, with x)", n);
@@ -979,6 +1041,6 @@ vs_status vs_plot_curves(const char *path, vs_plot_format fmt, const char *title
     st = check_axis(&pn->y, "y", err);
   }
   if (st != VS_OK) return st;
-  curves_data d = {title, x_axis, x, n, panels, n_panels};
+  curves_data d = {title, x_axis, x, n, panels, n_panels, marks};
   return emit(path, fmt, VS_PLOT_CURVES_WIDTH, VS_PLOT_CURVES_HEIGHT, draw_curves, &d, err);
 }

@@ -345,10 +345,11 @@ static int draw_at(const record *r, double delta, const char *dir, const char *n
 
 static int draw_curves(const record *r, const char *dir, const char *ext) {
   const size_t n = (size_t)r->rows;
-  double *reac = malloc(n * sizeof(double)), *joint[5];
+  double *reac = malloc(4 * n * sizeof(double)), *joint[5];
   vs_plot_series hs[5];
   int ns = 0, rc = 0;
-  for (size_t i = 0; reac && i < n; i++) reac[i] = -r->react[4 * i + 3]; /* upward on the arch */
+  for (size_t i = 0; reac && i < n; i++) /* the supports' forces on the arch: minus the record's */
+    for (int c = 0; c < 4; c++) reac[(size_t)c * n + i] = -r->react[4 * i + (size_t)c];
   for (int l = 0; l < 5; l++) {
     joint[l] = malloc(n * sizeof(double));
     if (joint[l] == NULL) continue;
@@ -366,15 +367,33 @@ static int draw_curves(const record *r, const char *dir, const char *ext) {
     static const char *names[5] = {"A", "B", "C", "D", "E"};
     if (any) hs[ns++] = (vs_plot_series){names[l], joint[l]};
   }
-  vs_plot_series rs = {"right support, vertical", reac};
-  vs_plot_panel panels[2] = {{{"support reaction (N)", 1.0, 0}, &rs, 1}, {{"hinge joint", 1.0, 1}, hs, ns}};
+  vs_plot_series rs[4] = {{"left support, horizontal H (x right)", reac},
+                          {"left support, vertical V (z up)", reac + n},
+                          {"right (moved) support, horizontal H", reac + 2 * n},
+                          {"right (moved) support, vertical V", reac + 3 * n}};
+  vs_plot_panel panels[2] = {{{"support reactions on the arch (N)", 1.0, 0}, rs, 4},
+                             {{"hinge joint", 1.0, 1}, hs, ns}};
   vs_plot_axis x = {"support displacement delta (mm)", 1e3, 0};
+  char lbl[8][32];
+  const char *labels[8];
+  double mx[8];
+  int nm = 0;
+  for (int i = 0; i < r->nl && nm < 8; i++, nm++) {
+    snprintf(lbl[nm], sizeof lbl[nm], "limit %d", i + 1);
+    labels[nm] = lbl[nm], mx[nm] = r->limits[i];
+  }
+  if (isfinite(r->collapse) && nm < 8) labels[nm] = "collapse", mx[nm++] = r->collapse;
+  const double L = r->g->span, ca = cos(r->c.alpha_deg * VS_DEG);
+  vs_plot_marks marks = {nm, mx, labels, {NULL, 1.0, 0}};
+  if (fabs(ca) > 1e-9 && L > 0.0) marks.x2 = (vs_plot_axis){"dz/L (%)", 100.0 * ca / L, 0};
   char path[1200];
   snprintf(path, sizeof path, "%s/curves.%s", dir, ext);
   vs_error err;
   vs_error_clear(&err);
-  if (reac == NULL || vs_plot_curves(path, vs_plot_format_from_path(path), "Reaction and hinges against the support displacement",
-                                     &x, r->delta, (int)n, panels, ns > 0 ? 2 : 1, &err) != VS_OK) {
+  if (reac == NULL ||
+      vs_plot_curves_marked(path, vs_plot_format_from_path(path),
+                            "Reactions and hinges against the support displacement", &x, r->delta,
+                            (int)n, panels, ns > 0 ? 2 : 1, &marks, &err) != VS_OK) {
     fprintf(stderr, "voussoir plot: %s\n", reac ? err.msg : "out of memory");
     rc = -1;
   } else {

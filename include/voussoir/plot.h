@@ -135,4 +135,21 @@ vs_status vs_plot_curves(const char *path, vs_plot_format fmt, const char *title
                          const vs_plot_axis *x_axis, const double *x, int n,
                          const vs_plot_panel *panels, int n_panels, vs_error *err);
 
+/* Extras for vs_plot_curves_marked: vertical marks at n x values (e.g. the limit points), each
+ * with a label (NULL: none), dashed across every panel; and a second x axis on top of the first
+ * panel showing x * x2.scale (x2.label NULL: none), e.g. dz/L in % for x = delta. */
+typedef struct {
+  int n;
+  const double *x;
+  const char *const *label;
+  vs_plot_axis x2;
+} vs_plot_marks;
+
+/* vs_plot_curves with marks (NULL: none); errors as vs_plot_curves, and VS_ERR_INVALID for
+ * n < 0, NULL x with n > 0 or a bad x2 scale. */
+vs_status vs_plot_curves_marked(const char *path, vs_plot_format fmt, const char *title,
+                                const vs_plot_axis *x_axis, const double *x, int n,
+                                const vs_plot_panel *panels, int n_panels,
+                                const vs_plot_marks *marks, vs_error *err);
+
 #endif
