@@ -19,12 +19,14 @@
 int vs_cmd_plot(int argc, char **argv);
 
 static const char *PLOT_USAGE =
-    "usage: voussoir plot RUN.h5 [-o DIR] [--svg]\n"
+    "usage: voussoir plot RUN.h5|SWEEP/summary.h5 [-o DIR] [--svg]\n"
     "Draws the recorded run at true scale: the reference state, each hinge's onset, each limit\n"
     "point and settled snap-through, the collapse and the end of the record (open joints shaded,\n"
     "hinges marked on their side with labels A-E, the support displacement annotated), and the\n"
     "support reaction and hinge joints against the support displacement. Files arch_*.png (or\n"
-    ".svg) and curves.png go to DIR (default: RUN_plots next to the record).\n";
+    ".svg) and curves.png go to DIR (default: RUN_plots next to the record).\n"
+    "Given a sweep's summary.h5, draws domain.png: the support displacement at collapse, dz/L\n"
+    "against dx/L, one line per k_n through the directions alpha.\n";
 
 typedef struct {
   char label, side;
@@ -404,6 +406,105 @@ static int draw_curves(const record *r, const char *dir, const char *ext) {
   return rc;
 }
 
+/* --- a sweep's summary table: the limit displacement domain --- */
+
+typedef struct {
+  double kn, alpha, dz, dx;
+  char *status;
+} sweep_pt;
+
+static int cmp_pt(const void *pa, const void *pb) {
+  const sweep_pt *a = pa, *b = pb;
+  if (a->kn != b->kn) return a->kn < b->kn ? -1 : 1;
+  return (a->alpha > b->alpha) - (a->alpha < b->alpha);
+}
+
+/* Rows of /summary (a compound dataset written by voussoir sweep); -1 if it is not one. Columns
+ * the sweep did not vary (k_n, alpha) read as NaN. */
+static int read_sweep(hid_t f, sweep_pt **out) {
+  *out = NULL;
+  H5O_info_t info;
+  if (H5Lexists(f, "/summary", H5P_DEFAULT) <= 0 ||
+      H5Oget_info_by_name2(f, "/summary", &info, H5O_INFO_BASIC, H5P_DEFAULT) < 0 ||
+      info.type != H5O_TYPE_DATASET)
+    return -1;
+  hid_t d = H5Dopen2(f, "/summary", H5P_DEFAULT), ft = H5Dget_type(d);
+  const int n = dataset_rows(f, "/summary");
+  hid_t str = H5Tcopy(H5T_C_S1);
+  H5Tset_size(str, H5T_VARIABLE);
+  H5Tset_cset(str, H5T_CSET_UTF8);
+  hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(sweep_pt));
+  if (H5Tget_member_index(ft, "joints.kn_N_mm3") >= 0)
+    H5Tinsert(t, "joints.kn_N_mm3", HOFFSET(sweep_pt, kn), H5T_NATIVE_DOUBLE);
+  if (H5Tget_member_index(ft, "support.alpha_deg") >= 0)
+    H5Tinsert(t, "support.alpha_deg", HOFFSET(sweep_pt, alpha), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t, "dz_over_L_pct", HOFFSET(sweep_pt, dz), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t, "dx_over_L_pct", HOFFSET(sweep_pt, dx), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t, "status", HOFFSET(sweep_pt, status), str);
+  sweep_pt *p = n > 0 ? calloc((size_t)n, sizeof *p) : NULL;
+  for (int i = 0; p != NULL && i < n; i++) p[i].kn = p[i].alpha = NAN;
+  const int ok = p != NULL && H5Dread(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, p) >= 0;
+  H5Tclose(t), H5Tclose(str), H5Tclose(ft), H5Dclose(d);
+  if (!ok) {
+    free(p);
+    return -1;
+  }
+  *out = p;
+  return n;
+}
+
+/* domain.png: collapse dz/L against dx/L, one line per k_n through the directions alpha. */
+static int plot_sweep(const char *path, hid_t f, const char *dir, const char *ext) {
+  sweep_pt *p;
+  const int n = read_sweep(f, &p);
+  if (n < 0) {
+    fprintf(stderr, "voussoir plot: %s: /summary is not a sweep's summary table\n", path);
+    return -1;
+  }
+  int m = 0, ns = 0, rc = 0;
+  for (int i = 0; i < n; i++) { /* collapses only */
+    const int keep = p[i].status != NULL && strcmp(p[i].status, "collapse") == 0 && isfinite(p[i].dz);
+    free(p[i].status); /* HDF5 allocates variable-length strings with malloc */
+    p[i].status = NULL;
+    if (keep) p[m++] = p[i];
+  }
+  qsort(p, (size_t)m, sizeof *p, cmp_pt);
+  double *x = malloc((size_t)(m > 0 ? m : 1) * sizeof *x), *y = malloc(VS_PLOT_MAX_SERIES * (size_t)(m > 0 ? m : 1) * sizeof *y);
+  vs_plot_series s[VS_PLOT_MAX_SERIES];
+  char names[VS_PLOT_MAX_SERIES][48];
+  for (int i = 0; x != NULL && y != NULL && i < m; i++) {
+    x[i] = p[i].dz;
+    if (i == 0 || !(p[i].kn == p[i - 1].kn || (isnan(p[i].kn) && isnan(p[i - 1].kn)))) {
+      if (ns == VS_PLOT_MAX_SERIES) break;
+      double *col = y + (size_t)ns * (size_t)m;
+      for (int k = 0; k < m; k++) col[k] = NAN;
+      snprintf(names[ns], sizeof names[ns], isnan(p[i].kn) ? "k_n of the case" : "k_n = %g N/mm^3", p[i].kn);
+      s[ns] = (vs_plot_series){names[ns], col};
+      ns++;
+    }
+    y[(size_t)(ns - 1) * (size_t)m + (size_t)i] = p[i].dx;
+  }
+  char out[1200];
+  snprintf(out, sizeof out, "%s/domain.%s", dir, ext);
+  vs_error err;
+  vs_error_clear(&err);
+  vs_plot_panel panel = {{"collapse spreading dx/L (%)", 1.0, 0}, s, ns};
+  vs_plot_axis xa = {"collapse settlement dz/L (%)", 1.0, 0};
+  if (x == NULL || y == NULL || m == 0) {
+    fprintf(stderr, "voussoir plot: %s: %s\n", path, m == 0 ? "no run of the sweep collapsed" : "out of memory");
+    rc = -1;
+  } else if (vs_plot_curves(out, vs_plot_format_from_path(out),
+                            "Limit displacement domain: the support displacement at collapse, per k_n",
+                            &xa, x, m, &panel, 1, &err) != VS_OK) {
+    fprintf(stderr, "voussoir plot: %s\n", err.msg);
+    rc = -1;
+  } else {
+    printf("domain of %s (%d collapses of %d runs):\n  %s\n", path, m, n, out);
+  }
+  free(p), free(x), free(y);
+  return rc;
+}
+
 int vs_cmd_plot(int argc, char **argv) {
   const char *run = NULL, *dir = NULL, *ext = "png";
   char defdir[1100];
@@ -423,16 +524,36 @@ int vs_cmd_plot(int argc, char **argv) {
     fprintf(stderr, "voussoir plot: needs a RUN.h5 record\n%s", PLOT_USAGE);
     return 2;
   }
+  if (dir == NULL) {
+    const char *dot = strrchr(run, '.');
+    snprintf(defdir, sizeof defdir, "%.*s_plots", dot ? (int)(dot - run) : (int)strlen(run), run);
+    dir = defdir;
+  }
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  hid_t sf = H5Fopen(run, H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (sf >= 0) { /* a sweep's summary.h5: the domain */
+    H5O_info_t info;
+    const int is_sweep = H5Lexists(sf, "/summary", H5P_DEFAULT) > 0 &&
+                         H5Oget_info_by_name2(sf, "/summary", &info, H5O_INFO_BASIC, H5P_DEFAULT) >= 0 &&
+                         info.type == H5O_TYPE_DATASET;
+    int rc = 0;
+    if (is_sweep && mkdir(dir, 0755) != 0 && errno != EEXIST) {
+      fprintf(stderr, "voussoir plot: %s: cannot create: %s\n", dir, strerror(errno));
+      rc = -1;
+    } else if (is_sweep) {
+      rc = plot_sweep(run, sf, dir, ext);
+    }
+    H5Fclose(sf);
+    if (is_sweep) {
+      vs_plot_release();
+      return rc == 0 ? 0 : 1;
+    }
+  }
   record r;
   if (record_open(run, &r) != 0) {
     fprintf(stderr, "voussoir plot: %s\n", r.msg);
     record_free(&r);
     return 2;
-  }
-  if (dir == NULL) {
-    const char *dot = strrchr(run, '.');
-    snprintf(defdir, sizeof defdir, "%.*s_plots", dot ? (int)(dot - run) : (int)strlen(run), run);
-    dir = defdir;
   }
   if (mkdir(dir, 0755) != 0 && errno != EEXIST) {
     fprintf(stderr, "voussoir plot: %s: cannot create: %s\n", dir, strerror(errno));
