@@ -53,11 +53,11 @@ def main():
         fail("theta_rad in ParaView differs from the record's last row")
     if not pv_theta.max() - pv_theta.min() > 1e-3:
         fail(f"theta_rad range {pv_theta.min()}..{pv_theta.max()} rad is trivial")
-    # The supports carry the weight: the forces of the arch on them sum to -W vertically and
-    # cancel horizontally (quasi-static rows).
+    # The supports carry the weight: their forces on the arch sum to W upward and cancel
+    # horizontally (a quasi-static row).
     fz = sum(float(np.asarray(dsa.WrapDataObject(grids[s]).CellData["Fz_N"])[0]) for s in ("support_left", "support_right"))
     fx = sum(float(np.asarray(dsa.WrapDataObject(grids[s]).CellData["Fx_N"])[0]) for s in ("support_left", "support_right"))
-    if abs(fz + weight) > 1e-6 * weight or abs(fx) > 1e-6 * weight:
+    if abs(fz - weight) > 1e-6 * weight or abs(fx) > 1e-6 * weight:
         fail(f"support forces Fx {fx} N, Fz {fz} N; weight {weight} N")
 
     view = CreateRenderView()

@@ -29,7 +29,7 @@ with voussoir.open_record(rec_path) as r:
     # The JSON summary (mm) and the record (m) tell the same first limit point.
     check(abs(r.summary()["first_limit"]["delta"] * 1e3 - res["first_limit"]["delta_mm"]) < 1e-6,
           "first limit point differs between record and JSON")
-    # Statics: on every quasi-static row the forces of the arch on its supports carry its weight
+    # Statics: on every quasi-static row the supports' forces on the arch carry its weight
     # (independent of the solver: the weight comes from the geometry's masses).
     weight = r.geometry("block_mass").values.sum() * r.parameters()["arch.gravity_m_s2"]
     react = r.series("reactions")
@@ -37,7 +37,7 @@ with voussoir.open_record(rec_path) as r:
     fx = react.column("left_Fx").values + react.column("right_Fx").values
     qs = r.series("phase").values == 0
     check(react.column("right_Fz").unit == "N", react.unit)
-    check(np.abs(fz[qs] + weight).max() < 1e-6 * weight, f"sum Fz {fz[qs].min()} vs W {weight}")
+    check(np.abs(fz[qs] - weight).max() < 1e-6 * weight, f"sum Fz {fz[qs].min()} vs W {weight}")
     check(np.abs(fx[qs]).max() < 1e-6 * weight, "horizontal forces do not cancel")
     kinds = [e["kind"] for e in r.events()]
     check("limit_point" in kinds, f"events {kinds}")

@@ -31,14 +31,16 @@ def draw_mechanism(rec, row=-1, ax=None):
 
 
 def draw_curves(rec, ax=None):
-    """Both reaction components at both supports against the support displacement."""
+    """Both force components at both supports (on the arch) against the support displacement."""
     ax = _axes(ax)
     delta = rec.series("delta").values * 1e3
     r = rec.series("reactions")
+    units = r.unit.split(",")
     for i, name in enumerate(r.columns):
-        ax.plot(delta, r.values[:, i], label=f"{name} ({r.unit.split(',')[i]})")
+        if units[i].strip() == "N":  # the force components (moments have their own unit)
+            ax.plot(delta, r.values[:, i], label=f"{name} (N)")
     ax.set_xlabel("support displacement delta (mm)")
-    ax.set_ylabel("force of the arch on the support (N)")
+    ax.set_ylabel("force of the support on the arch (N)")
     ax.grid(True, alpha=0.3)
     ax.legend()
     return ax
