@@ -1,52 +1,37 @@
 #!/usr/bin/env python3
-"""Read a voussoir record with h5py and plot the reaction curve (matplotlib).
+"""Print a voussoir record's status, collapse and hinges and plot its support reactions: a thin
+wrapper over the Python package in python/ (used from the source tree when not installed).
 
 usage: /usr/bin/python3 runs/read_run.py RUN.h5 [OUT.png]
-
-Every dimensional dataset carries its unit as an attribute, so the axes are labelled from the
-file itself. Debian packages: python3-h5py, python3-matplotlib.
+Debian packages: python3-h5py, python3-numpy, python3-matplotlib.
 """
+import os
 import sys
 
-import h5py
-import matplotlib
+sys.path.insert(1, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+import voussoir  # noqa: E402
+
 
 def main(path, png):
-    with h5py.File(path, "r") as f:
-        print(f"{path}: {f.attrs['program']} {f.attrs['version']}, status: {f.attrs['status']}")
-        obs = f["observables"]
-        delta = obs["delta/value"][:]
-        reactions = obs["reactions/value"][:]  # left Fx, Fz, M, right Fx, Fz, M: forces the supports exert on the arch
-        units = obs["reactions/value"].attrs["unit"].split(",")
-        phase = obs["phase/value"][:]
-        print(f"{len(delta)} recorded states, delta up to {delta.max() * 1e3:.3f} mm "
-              f"({(phase == 1).sum()} dynamic samples)")
-        summary = f["summary"]
-        if "collapse" in summary:
-            c = summary["collapse"]
-            print(f"collapse at delta_u = {c['delta'][()] * 1e3:.3f} mm, "
-                  f"dz/L = {100 * c['dz_over_L'][()]:.3f} %, mode {summary.attrs.get('mode', '?')}")
-            for h in c["hinges"][:]:
-                print(f"  hinge {h['label'].decode()}: {h['name'].decode() if isinstance(h['name'], bytes) else h['name']}"
-                      f", onset at {h['delta_onset'] * 1e3:.3f} mm")
-        for kind in ("limit_point", "collapse"):
-            n = sum(1 for e in f["events"][:] if (e["kind"].decode() if isinstance(e["kind"], bytes) else e["kind"]) == kind)
-            print(f"{n} '{kind}' events")
-
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    ax.plot(delta * 1e3, reactions[:, 4], label="right (moved) support, vertical")
-    ax.plot(delta * 1e3, reactions[:, 1], label="left (fixed) support, vertical")
-    ax.plot(delta * 1e3, reactions[:, 0], label="horizontal thrust")
-    ax.set_xlabel("support displacement delta (mm)")
-    ax.set_ylabel(f"support reaction ({units[1]})")
-    ax.grid(True, alpha=0.3)
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(png, dpi=120)
+    with voussoir.open_record(path) as r:
+        delta = r.series("delta").values
+        print(f"{path}: status {r.status}; {len(delta)} recorded states, delta up to {delta.max() * 1e3:.3f} mm")
+        s = r.summary()
+        col = s.get("collapse")
+        if col and col.get("delta") == col.get("delta"):  # not NaN
+            print(f"collapse at delta_u = {col['delta'] * 1e3:.3f} mm, dz/L = {100 * col['dz_over_L']:.3f} %, "
+                  f"mode {s.get('mode', '?')}")
+        for h in s.get("hinges", []):
+            print(f"  hinge {h.get('label')}: {h.get('name_onset')} at onset, {h.get('name')} at the end, onset at {h.get('delta_onset', float('nan')) * 1e3:.3f} mm")
+        fig, ax = plt.subplots(figsize=(8, 4.5))
+        voussoir.draw_curves(r, ax)
+        fig.tight_layout()
+        fig.savefig(png, dpi=120)
     print(f"figure: {png}")
 
 

@@ -1397,9 +1397,13 @@ enum {
   X_BPOS,
   X_BSPEED,
   X_N,
+  X_T,
+  X_M,
   X_GAPI,
   X_GAPE,
   X_HINGE,
+  X_REACT,
+  X_SUPPORT,
   X_COUNT
 };
 
@@ -1408,13 +1412,15 @@ static const char *const XDMF_PATHS[X_COUNT] = {
     "/observables/joint_points/value", "/geometry/joint_connectivity",
     "/observables/delta/time",         "/observables/block_position/value",
     "/observables/block_speed/value",  "/observables/joint_N/value",
+    "/observables/joint_T/value",      "/observables/joint_M/value",
     "/observables/joint_gap_i/value",  "/observables/joint_gap_e/value",
-    "/observables/joint_hinge/value"};
-static const int XDMF_RANKS[X_COUNT] = {3, 2, 3, 2, 1, 3, 2, 2, 2, 2, 2};
+    "/observables/joint_hinge/value",  "/observables/reactions/value",
+    "/observables/support_displacement/value"};
+static const int XDMF_RANKS[X_COUNT] = {3, 2, 3, 2, 1, 3, 2, 2, 2, 2, 2, 2, 2, 2, 2};
 
 typedef struct {
   FILE *f;
-  const char *h5name; /* XML-escaped file name of the HDF5 file */
+  const char *h5name; /* XML-escaped name of the HDF5 file, relative to the sidecar */
   xdmf_ds ds[X_COUNT];
 } xdmf_ctx;
 
@@ -1440,16 +1446,15 @@ static void xdmf_dims(FILE *f, int rank, const hsize_t *d) {
   for (int i = 0; i < rank; i++) fprintf(f, "%s%llu", i ? " " : "", (unsigned long long)d[i]);
 }
 
-/* Row r of dataset `which`, columns [col, col + ncol) of its last dimension (ncol 0: all), in
- * XDMF 3's own hyperslab syntax: "file:/path|start:stride:count:dataset dimensions". ParaView's
- * default XDMF reader (Xdmf3ReaderS/T) reads it; it crashes on an ItemType="HyperSlab" item used as
- * a geometry (it asks the array's type before reading the slab), and the legacy "XDMF Reader"
- * reads only that older form, so there is no syntax both accept. */
-static void xdmf_slab(const xdmf_ctx *x, int which, hsize_t r, hsize_t col, hsize_t ncol,
-                      const char *type, int prec, const char *ind) {
+/* The block [start, start + count) of dataset `which`, in XDMF 3's own hyperslab syntax:
+ * "file:/path|start:stride:count:dataset dimensions". ParaView's default XDMF reader
+ * (Xdmf3ReaderS/T) reads it; it crashes on an ItemType="HyperSlab" item used as a geometry (it
+ * asks the array's type before reading the slab), and the legacy "XDMF Reader" reads only that
+ * older form, so there is no syntax both accept. */
+static void xdmf_block(const xdmf_ctx *x, int which, const hsize_t *start, const hsize_t *count,
+                       const char *type, int prec, const char *ind) {
   const xdmf_ds *d = &x->ds[which];
-  hsize_t start[3] = {r, 0, 0}, stride[3] = {1, 1, 1}, count[3] = {1, d->dims[1], d->dims[2]};
-  if (ncol > 0) start[d->rank - 1] = col, count[d->rank - 1] = ncol;
+  const hsize_t stride[3] = {1, 1, 1};
   fprintf(x->f, "%s<DataItem Dimensions=\"", ind);
   xdmf_dims(x->f, d->rank, count);
   fprintf(x->f, "\" NumberType=\"%s\" Precision=\"%d\" Format=\"HDF\">%s:%s|", type, prec,
@@ -1464,6 +1469,16 @@ static void xdmf_slab(const xdmf_ctx *x, int which, hsize_t r, hsize_t col, hsiz
   fputs("</DataItem>\n", x->f);
 }
 
+/* Row r of dataset `which`, columns [col, col + ncol) of its last dimension (ncol 0: all). */
+static void xdmf_slab(const xdmf_ctx *x, int which, hsize_t r, hsize_t col, hsize_t ncol,
+                      const char *type, int prec, const char *ind) {
+  const xdmf_ds *d = &x->ds[which];
+  hsize_t start[3] = {r, 0, 0}, count[3] = {1, d->dims[1], d->dims[2]};
+  if (ncol > 0) start[d->rank - 1] = col, count[d->rank - 1] = ncol;
+  xdmf_block(x, which, start, count, type, prec, ind);
+}
+
+/* A cell field; its name carries its unit (ParaView shows names only). */
 static void xdmf_attribute(const xdmf_ctx *x, const char *name, int which, hsize_t r, hsize_t col,
                            hsize_t ncol, const char *type, int prec) {
   const char *ind = "          ";
@@ -1472,15 +1487,15 @@ static void xdmf_attribute(const xdmf_ctx *x, const char *name, int which, hsize
   fputs("        </Attribute>\n", x->f);
 }
 
-static void xdmf_grid(const xdmf_ctx *x, hsize_t r, double t) {
-  FILE *f = x->f;
-  const xdmf_ds *bc = &x->ds[X_BCONN], *jc = &x->ds[X_JCONN];
-  fprintf(f,
-          "    <Grid Name=\"row %llu\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
-          "      <Time Value=\"%.17g\"/>\n",
-          (unsigned long long)r, t);
-  fprintf(f,
-          "      <Grid Name=\"blocks\" GridType=\"Uniform\">\n"
+static void xdmf_grid_open(const xdmf_ctx *x, const char *name) {
+  fprintf(x->f, "      <Grid Name=\"%s\" GridType=\"Uniform\">\n", name);
+}
+
+/* The blocks at row r: one polygon each, moved. */
+static void xdmf_blocks(const xdmf_ctx *x, hsize_t r) {
+  const xdmf_ds *bc = &x->ds[X_BCONN];
+  xdmf_grid_open(x, "blocks");
+  fprintf(x->f,
           "        <Topology TopologyType=\"Polygon\" NodesPerElement=\"%llu\" "
           "NumberOfElements=\"%llu\">\n"
           "          <DataItem Dimensions=\"%llu %llu\" NumberType=\"Int\" Precision=\"4\" "
@@ -1489,11 +1504,19 @@ static void xdmf_grid(const xdmf_ctx *x, hsize_t r, double t) {
           (unsigned long long)bc->dims[1], (unsigned long long)bc->dims[0],
           (unsigned long long)bc->dims[0], (unsigned long long)bc->dims[1], x->h5name, bc->path);
   xdmf_slab(x, X_BPTS, r, 0, 0, "Float", 4, "          ");
-  fputs("        </Geometry>\n", f);
-  xdmf_attribute(x, "theta", X_BPOS, r, 2, 1, "Float", 8);
-  xdmf_attribute(x, "speed", X_BSPEED, r, 0, 0, "Float", 8);
-  fprintf(f,
-          "      </Grid>\n      <Grid Name=\"joints\" GridType=\"Uniform\">\n"
+  fputs("        </Geometry>\n", x->f);
+  xdmf_attribute(x, "theta_rad", X_BPOS, r, 2, 1, "Float", 8);
+  xdmf_attribute(x, "ux_m", X_BPOS, r, 0, 1, "Float", 8);
+  xdmf_attribute(x, "uz_m", X_BPOS, r, 1, 1, "Float", 8);
+  xdmf_attribute(x, "speed_m_s", X_BSPEED, r, 0, 0, "Float", 8);
+  fputs("      </Grid>\n", x->f);
+}
+
+/* The joints at row r: one segment each, intrados to extrados. */
+static void xdmf_joints(const xdmf_ctx *x, hsize_t r) {
+  const xdmf_ds *jc = &x->ds[X_JCONN];
+  xdmf_grid_open(x, "joints");
+  fprintf(x->f,
           "        <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" "
           "NumberOfElements=\"%llu\">\n"
           "          <DataItem Dimensions=\"%llu 2\" NumberType=\"Int\" Precision=\"4\" "
@@ -1501,12 +1524,52 @@ static void xdmf_grid(const xdmf_ctx *x, hsize_t r, double t) {
           "        </Topology>\n        <Geometry GeometryType=\"XY\">\n",
           (unsigned long long)jc->dims[0], (unsigned long long)jc->dims[0], x->h5name, jc->path);
   xdmf_slab(x, X_JPTS, r, 0, 0, "Float", 4, "          ");
-  fputs("        </Geometry>\n", f);
-  xdmf_attribute(x, "N", X_N, r, 0, 0, "Float", 8);
-  xdmf_attribute(x, "gap_i", X_GAPI, r, 0, 0, "Float", 8);
-  xdmf_attribute(x, "gap_e", X_GAPE, r, 0, 0, "Float", 8);
-  xdmf_attribute(x, "hinge", X_HINGE, r, 0, 0, "Char", 1);
-  fputs("      </Grid>\n    </Grid>\n", f);
+  fputs("        </Geometry>\n", x->f);
+  xdmf_attribute(x, "N_N", X_N, r, 0, 0, "Float", 8);
+  xdmf_attribute(x, "T_N", X_T, r, 0, 0, "Float", 8);
+  xdmf_attribute(x, "M_N_m", X_M, r, 0, 0, "Float", 8);
+  xdmf_attribute(x, "gap_i_m", X_GAPI, r, 0, 0, "Float", 8);
+  xdmf_attribute(x, "gap_e_m", X_GAPE, r, 0, 0, "Float", 8);
+  xdmf_attribute(x, "hinge_0closed_1intrados_2extrados", X_HINGE, r, 0, 0, "Char", 1);
+  fputs("      </Grid>\n", x->f);
+}
+
+/* A support at row r: the springing face it carries (joint 1 on the left, n+1 on the right),
+ * with the force it exerts on the arch and, for the moved right support, its displacement. */
+static void xdmf_support(const xdmf_ctx *x, int right, hsize_t r) {
+  const char *ind = "          ";
+  const hsize_t nj = x->ds[X_JCONN].dims[0];
+  const hsize_t start[3] = {r, right ? 2 * nj - 2 : 0, 0}, count[3] = {1, 2, 2};
+  xdmf_grid_open(x, right ? "support_right" : "support_left");
+  fputs("        <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" "
+        "NumberOfElements=\"1\">\n"
+        "          <DataItem Dimensions=\"1 2\" NumberType=\"Int\" Precision=\"4\" "
+        "Format=\"XML\">0 1</DataItem>\n"
+        "        </Topology>\n        <Geometry GeometryType=\"XY\">\n",
+        x->f);
+  xdmf_block(x, X_JPTS, start, count, "Float", 4, ind);
+  fputs("        </Geometry>\n", x->f);
+  xdmf_attribute(x, "Fx_N", X_REACT, r, right ? 3 : 0, 1, "Float", 8);
+  xdmf_attribute(x, "Fz_N", X_REACT, r, right ? 4 : 1, 1, "Float", 8);
+  xdmf_attribute(x, "M_N_m", X_REACT, r, right ? 5 : 2, 1, "Float", 8);
+  if (right) {
+    xdmf_attribute(x, "ux_m", X_SUPPORT, r, 0, 1, "Float", 8);
+    xdmf_attribute(x, "uz_m", X_SUPPORT, r, 1, 1, "Float", 8);
+  }
+  fputs("      </Grid>\n", x->f);
+}
+
+/* One time step: the row's objects as named grids of a spatial collection. */
+static void xdmf_step(const xdmf_ctx *x, hsize_t r, double t) {
+  fprintf(x->f,
+          "    <Grid Name=\"row %llu\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+          "      <Time Value=\"%.17g\"/>\n",
+          (unsigned long long)r, t);
+  xdmf_blocks(x, r);
+  xdmf_joints(x, r);
+  xdmf_support(x, 0, r);
+  xdmf_support(x, 1, r);
+  fputs("    </Grid>\n", x->f);
 }
 
 /* Shapes of the datasets the XDMF refers to; the number of rows they all hold; -1 if the file
@@ -1537,6 +1600,7 @@ static long xdmf_shapes(hid_t file, xdmf_ctx *x) {
     return -1;
   for (int i = X_N; i <= X_HINGE; i++)
     if (x->ds[i].dims[1] != nj) return -1;
+  if (nj < 2 || x->ds[X_REACT].dims[1] != 6 || x->ds[X_SUPPORT].dims[1] != 2) return -1;
   return rows;
 }
 
@@ -1588,8 +1652,19 @@ static vs_status xdmf_write(hid_t file, const char *h5_path, const char *xmf_pat
       (rows + max_grids - 1) / max_grids > 1 ? (rows + max_grids - 1) / max_grids : 1;
   fprintf(x.f,
           "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
-          "<!-- voussoir: the blocks (polygons) and joints (segments) of %s, %ld rows, every "
-          "%ld-th shown (and the last), times strictly increasing -->\n"
+          "<!-- voussoir: %s, %ld rows, every %ld-th shown (and the last), times strictly "
+          "increasing (the loading time delta / rate, s).\n"
+          "     ParaView: open it with the reader Xdmf3ReaderT: each step's grids become named "
+          "blocks; the default Xdmf3ReaderS makes "
+          "them pieces of one set and cannot colour by a field that only some of them carry.\n"
+          "     blocks (polygons): theta_rad rotation, ux_m uz_m centroid displacement, speed_m_s;\n"
+          "     joints (segments, intrados to extrados): N_N normal force (compression > 0), T_N "
+          "shear force, M_N_m moment about the joint centre, gap_i_m gap_e_m edge openings, "
+          "hinge code 0 closed, 1 intrados, 2 extrados;\n"
+          "     support_left, support_right (the springing faces): Fx_N Fz_N force of the support "
+          "on the arch (x right, z up), M_N_m its moment (counter-clockwise, about the springing "
+          "joint's centre), ux_m uz_m displacement of the moved support.\n"
+          "     The HDF5 file is named relative to this file. -->\n"
           "<Xdmf Version=\"3.0\">\n  <Domain>\n"
           "    <Grid Name=\"voussoir\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
           name, rows, stride);
@@ -1597,7 +1672,7 @@ static vs_status xdmf_write(hid_t file, const char *h5_path, const char *xmf_pat
   for (long r = 0; r < rows; r++) {
     if (r % stride != 0 && r != rows - 1) continue;
     if (!(t[r] > t_last)) continue;
-    xdmf_grid(&x, (hsize_t)r, t[r]);
+    xdmf_step(&x, (hsize_t)r, t[r]);
     t_last = t[r];
   }
   fputs("    </Grid>\n  </Domain>\n</Xdmf>\n", x.f);

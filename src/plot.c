@@ -130,6 +130,7 @@ typedef struct {
   double r, g, b;
 } rgb;
 
+static const rgb C_THRUST = {0.05, 0.35, 0.85};
 static const rgb C_BLACK = {0.0, 0.0, 0.0}, C_WHITE = {1.0, 1.0, 1.0}, C_TEXT = {0.1, 0.1, 0.1},
                  C_GRID = {0.88, 0.88, 0.88}, C_CRACK = {0.80, 0.05, 0.15};
 
@@ -359,6 +360,7 @@ typedef struct {
   int n_hinges;
   const double *gap_i, *gap_e;
   double open;
+  const double *N, *M; /* joint forces for the thrust line, or NULL */
   const char *title;
   vs_plot_frame f;
 } arch_data;
@@ -534,6 +536,35 @@ static void draw_hinges(cairo_t *cr, const arch_data *d) {
 }
 
 /* The scale bar: four alternating segments of a round length in mm, bottom left. */
+/* The thrust line: through the centre of pressure of every compressed joint, e = M / N from the
+ * joint's centre towards the extrados along the moved joint (the mean of its two faces); the
+ * resultant of the contact stresses acts there. Broken where a joint carries no compression. */
+static void draw_thrust(cairo_t *cr, const arch_data *d) {
+  if (d->N == NULL || d->M == NULL) return;
+  int pen = 0;
+  cairo_new_path(cr);
+  for (int k = 0; k < d->g->n_joints; k++) {
+    if (!(d->N[k] > 0.0) || !isfinite(d->M[k])) {
+      pen = 0;
+      continue;
+    }
+    double fa[4], fb[4];
+    joint_faces(d, k, fa, fb);
+    const double ix = 0.5 * (fa[0] + fb[0]), iz = 0.5 * (fa[1] + fb[1]);
+    const double ex = 0.5 * (fa[2] + fb[2]), ez = 0.5 * (fa[3] + fb[3]);
+    const double len = hypot(ex - ix, ez - iz), e = d->M[k] / d->N[k];
+    const double x = 0.5 * (ix + ex) + e * (ex - ix) / len, z = 0.5 * (iz + ez) + e * (ez - iz) / len;
+    double px, py;
+    vs_plot_to_px(&d->f, x, z, &px, &py);
+    if (pen) cairo_line_to(cr, px, py);
+    else cairo_move_to(cr, px, py);
+    pen = 1;
+  }
+  cairo_set_source_rgb(cr, C_THRUST.r, C_THRUST.g, C_THRUST.b);
+  cairo_set_line_width(cr, 2.0);
+  cairo_stroke(cr);
+}
+
 static void draw_scale_bar(cairo_t *cr, const vs_plot_frame *f) {
   double len_mm = nice_step(0.2 * (f->width - 2.0 * ARCH_SIDE) / f->scale / VS_MM, 1);
   double len = len_mm * VS_MM * f->scale, x = ARCH_SIDE, y = f->height - 32.0, hh = 7.0;
@@ -554,7 +585,7 @@ static void draw_scale_bar(cairo_t *cr, const vs_plot_frame *f) {
 }
 
 /* The key, bottom right: hinge dot, open joint, fixed position. */
-static void draw_key(cairo_t *cr, const vs_plot_frame *f) {
+static void draw_key(cairo_t *cr, const vs_plot_frame *f, int thrust) {
   font(cr, 14.0, 0);
   double y = f->height - 28.0, x = f->width - ARCH_SIDE;
   x -= text_at(cr, "fixed position of the moved support", x, y, 1.0, 0.5, C_TEXT, 0) + 8.0;
@@ -569,8 +600,20 @@ static void draw_key(cairo_t *cr, const vs_plot_frame *f) {
   cairo_rectangle(cr, x - 6.0, y - 8.0, 6.0, 16.0);
   set_rgb(cr, C_CRACK);
   cairo_fill(cr);
-  x -= 30.0;
-  x -= text_at(cr, "hinge, on the side in contact", x, y, 1.0, 0.5, C_TEXT, 0) + 12.0;
+  /* second row: the thrust line and the hinge */
+  y -= 24.0;
+  x = f->width - ARCH_SIDE;
+  if (thrust) {
+    x -= text_at(cr, "thrust line (centres of pressure, e = M/N)", x, y, 1.0, 0.5, C_TEXT, 0) + 8.0;
+    set_rgb(cr, C_THRUST);
+    cairo_set_line_width(cr, 2.0);
+    cairo_move_to(cr, x - 24.0, y);
+    cairo_line_to(cr, x, y);
+    cairo_stroke(cr);
+    x -= 40.0;
+  }
+  x -= text_at(cr, "hinge, on the side in contact (I intrados, E extrados)", x, y, 1.0, 0.5,
+               C_TEXT, 0) + 12.0;
   dot(cr, x, y, 6.0, label_colour('?'));
 }
 
@@ -582,6 +625,7 @@ static void draw_arch(cairo_t *cr, const void *data) {
   draw_blocks(cr, d, NULL, 1);
   draw_blocks(cr, d, d->q, 0);
   draw_open_joints(cr, d);
+  draw_thrust(cr, d);
   draw_support_arrow(cr, d);
   draw_hinges(cr, d);
 
@@ -598,7 +642,7 @@ static void draw_arch(cairo_t *cr, const void *data) {
   font(cr, 16.0, 0);
   text_at(cr, buf, ARCH_SIDE, y, 0.0, 1.0, C_TEXT, 0);
   draw_scale_bar(cr, &d->f);
-  draw_key(cr, &d->f);
+  draw_key(cr, &d->f, d->N != NULL && d->M != NULL);
 }
 
 static vs_status check_hinges(const vs_geometry *g, const vs_hinge *hinges, int n,
@@ -622,6 +666,15 @@ vs_status vs_plot_arch(const char *path, vs_plot_format fmt, const vs_geometry *
                        const double *q, double delta_m, double alpha_rad, const vs_hinge *hinges,
                        int n_hinges, const double *joint_gap_i, const double *joint_gap_e,
                        double open_m, const char *title, vs_error *err) {
+  return vs_plot_arch_thrust(path, fmt, g, q, delta_m, alpha_rad, hinges, n_hinges, joint_gap_i,
+                             joint_gap_e, open_m, NULL, NULL, title, err);
+}
+
+vs_status vs_plot_arch_thrust(const char *path, vs_plot_format fmt, const vs_geometry *g,
+                              const double *q, double delta_m, double alpha_rad,
+                              const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
+                              const double *joint_gap_e, double open_m, const double *joint_N,
+                              const double *joint_M, const char *title, vs_error *err) {
   if (path == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no file name");
   vs_status st = check_arch(g, q, delta_m, alpha_rad, err);
   if (st == VS_OK) st = check_hinges(g, hinges, n_hinges, err);
@@ -630,7 +683,7 @@ vs_status vs_plot_arch(const char *path, vs_plot_format fmt, const vs_geometry *
     return vs_error_set(err, VS_ERR_INVALID, "plot: open = %g m (allowed: >= 0)", open_m);
   arch_data d = {.g = g, .q = q, .delta = delta_m, .alpha = alpha_rad, .hinges = hinges,
                  .n_hinges = n_hinges, .gap_i = joint_gap_i, .gap_e = joint_gap_e,
-                 .open = open_m, .title = title};
+                 .open = open_m, .N = joint_N, .M = joint_M, .title = title};
   support_displacement(delta_m, alpha_rad, d.su);
   arch_frame(g, q, d.su, &d.f);
   return emit(path, fmt, d.f.width, d.f.height, draw_arch, &d, err);
@@ -687,6 +740,7 @@ typedef struct {
   int n;
   const vs_plot_panel *panels;
   int n_panels;
+  const vs_plot_marks *marks;
 } curves_data;
 
 typedef struct {
@@ -850,6 +904,47 @@ static void draw_legend(cairo_t *cr, const panel_box *b, const vs_plot_panel *p,
   }
 }
 
+/* The marks across the panels from y0 to y1, labelled above y0. */
+static void draw_marks(cairo_t *cr, const panel_box *b, const vs_plot_marks *m, double y0,
+                       double y1) {
+  const double dash[2] = {5.0, 4.0};
+  font(cr, 13.0, 0);
+  for (int i = 0; i < m->n; i++) {
+    if (!isfinite(m->x[i])) continue;
+    const double px = map_x(b, m->x[i]);
+    if (px < b->x || px > b->x + b->w) continue;
+    cairo_set_dash(cr, dash, 2, 0.0);
+    cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
+    cairo_set_line_width(cr, 1.2);
+    cairo_move_to(cr, px, y0);
+    cairo_line_to(cr, px, y1);
+    cairo_stroke(cr);
+    cairo_set_dash(cr, NULL, 0, 0.0);
+    if (m->label != NULL && m->label[i] != NULL)
+      text_at(cr, m->label[i], px + 3.0, y0 + 3.0 + 15.0 * (i % 2), 0.0, 0.0, C_TEXT, 0);
+  }
+}
+
+/* The second x axis along the top of panel b: ticks of x * x2.scale, its label above. */
+static void draw_x2(cairo_t *cr, const panel_box *b, const vs_plot_axis *x2) {
+  const double s = axis_scale(x2), lo = b->rx.lo / b->rx.scale * s, hi = b->rx.hi / b->rx.scale * s;
+  const double step = nice_step(fabs(hi - lo), 6);
+  char buf[48];
+  font(cr, 13.0, 0);
+  set_rgb(cr, C_TEXT);
+  cairo_set_line_width(cr, 1.0);
+  for (double v = ceil(fmin(lo, hi) / step - 1e-9) * step; v <= fmax(lo, hi) + 1e-9 * step; v += step) {
+    const double px = b->x + (v / s * b->rx.scale - b->rx.lo) / (b->rx.hi - b->rx.lo) * b->w;
+    cairo_move_to(cr, px, b->y);
+    cairo_line_to(cr, px, b->y - 5.0);
+    cairo_stroke(cr);
+    tick_label(buf, sizeof buf, v, step);
+    text_at(cr, buf, px, b->y - 7.0, 0.5, 1.0, C_TEXT, 0);
+  }
+  font(cr, 15.0, 0);
+  text_at(cr, x2->label, b->x + 0.5 * b->w, b->y - 26.0, 0.5, 1.0, C_TEXT, 0);
+}
+
 static void draw_curves(cairo_t *cr, const void *data) {
   const curves_data *d = data;
   const double W = VS_PLOT_CURVES_WIDTH, H = VS_PLOT_CURVES_HEIGHT;
@@ -860,11 +955,17 @@ static void draw_curves(cairo_t *cr, const void *data) {
     font(cr, 21.0, 1);
     text_at(cr, d->title, CV_LEFT, 36.0, 0.0, 1.0, C_TEXT, 0);
   }
+  const int x2 = d->marks != NULL && d->marks->x2.label != NULL;
+  if (x2) top += 45.0;
   double xlo = INFINITY, xhi = -INFINITY;
   range rx;
   data_range(d->x, d->n, axis_scale(d->xa), &xlo, &xhi);
   rx = make_range(xlo, xhi, d->xa, 0.0);
   const double ph = (H - top - CV_BOTTOM - (d->n_panels - 1) * CV_GAP) / d->n_panels;
+  if (d->marks != NULL) {
+    panel_box all = {CV_LEFT, top, W - CV_LEFT - CV_RIGHT, H - top - CV_BOTTOM, rx, rx};
+    if (x2) draw_x2(cr, &all, &d->marks->x2);
+  }
   for (int p = 0; p < d->n_panels; p++) {
     const vs_plot_panel *pn = &d->panels[p];
     double lo = INFINITY, hi = -INFINITY;
@@ -890,6 +991,10 @@ static void draw_curves(cairo_t *cr, const void *data) {
       cairo_restore(cr);
     }
   }
+  if (d->marks != NULL) {
+    panel_box all = {CV_LEFT, top, W - CV_LEFT - CV_RIGHT, H - top - CV_BOTTOM, rx, rx};
+    draw_marks(cr, &all, d->marks, top, H - CV_BOTTOM);
+  }
   if (d->xa != NULL && d->xa->label != NULL) {
     font(cr, 15.0, 0);
     text_at(cr, d->xa->label, CV_LEFT + 0.5 * (W - CV_LEFT - CV_RIGHT), H - 14.0, 0.5, 1.0,
@@ -907,6 +1012,16 @@ static vs_status check_axis(const vs_plot_axis *a, const char *what, vs_error *e
 vs_status vs_plot_curves(const char *path, vs_plot_format fmt, const char *title,
                          const vs_plot_axis *x_axis, const double *x, int n,
                          const vs_plot_panel *panels, int n_panels, vs_error *err) {
+  return vs_plot_curves_marked(path, fmt, title, x_axis, x, n, panels, n_panels, NULL, err);
+}
+
+vs_status vs_plot_curves_marked(const char *path, vs_plot_format fmt, const char *title,
+                                const vs_plot_axis *x_axis, const double *x, int n,
+                                const vs_plot_panel *panels, int n_panels,
+                                const vs_plot_marks *marks, vs_error *err) {
+  if (marks != NULL && (marks->n < 0 || (marks->n > 0 && marks->x == NULL)))
+    return vs_error_set(err, VS_ERR_INVALID, "plot: %d marks (allowed: >= 0, with x)", marks->n);
+  if (marks != NULL && check_axis(&marks->x2, "second x", err) != VS_OK) return err->status;
   if (path == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no file name");
   if (x == NULL || n < 1)
     return vs_error_set(err, VS_ERR_INVALID, "plot: %d points (allowed: >= 1, with x)", n);
@@ -926,6 +1041,6 @@ vs_status vs_plot_curves(const char *path, vs_plot_format fmt, const char *title
     st = check_axis(&pn->y, "y", err);
   }
   if (st != VS_OK) return st;
-  curves_data d = {title, x_axis, x, n, panels, n_panels};
+  curves_data d = {title, x_axis, x, n, panels, n_panels, marks};
   return emit(path, fmt, VS_PLOT_CURVES_WIDTH, VS_PLOT_CURVES_HEIGHT, draw_curves, &d, err);
 }

@@ -22,12 +22,14 @@
 int vs_cmd_plot(int argc, char **argv);
 
 static const char *PLOT_USAGE =
-    "usage: voussoir plot RUN.h5 [-o DIR] [--svg]\n"
+    "usage: voussoir plot RUN.h5|SWEEP/summary.h5 [-o DIR] [--svg]\n"
     "Draws the recorded run at true scale: the reference state, each hinge's onset, each limit\n"
     "point and settled snap-through, the collapse and the end of the record (open joints shaded,\n"
     "hinges marked on their side with labels A-E, the support displacement annotated), and the\n"
     "support reaction and hinge joints against the support displacement. Files arch_*.png (or\n"
-    ".svg) and curves.png go to DIR (default: RUN_plots next to the record).\n";
+    ".svg) and curves.png go to DIR (default: RUN_plots next to the record).\n"
+    "Given a sweep's summary.h5, draws domain.png: the support displacement at collapse, dz/L\n"
+    "against dx/L, one line per k_n through the directions alpha.\n";
 
 typedef struct {
   char label, side;
@@ -40,7 +42,7 @@ typedef struct {
   vs_case c;
   vs_geometry *g;
   int rows, nb, nj;
-  double *delta, *pos, *gap_i, *gap_e, *react;
+  double *delta, *pos, *gap_i, *gap_e, *react, *jN, *jM;
   signed char *hinge; /* rows x nj: 0 closed, 1 intrados, 2 extrados */
   rec_hinge *h;
   int nh;
@@ -113,6 +115,8 @@ static void record_free(record *r) {
   free(r->pos);
   free(r->gap_i);
   free(r->gap_e);
+  free(r->jN);
+  free(r->jM);
   free(r->react);
   free(r->hinge);
   free(r->h);
@@ -210,8 +214,10 @@ static int record_open(const char *path, record *r) {
   r->gap_i = malloc(n * (size_t)r->nj * sizeof(double));
   r->gap_e = malloc(n * (size_t)r->nj * sizeof(double));
   r->react = malloc(n * 6 * sizeof(double));
+  r->jN = malloc(n * (size_t)r->nj * sizeof(double));
+  r->jM = malloc(n * (size_t)r->nj * sizeof(double));
   r->hinge = malloc(n * (size_t)r->nj);
-  if (!r->delta || !r->pos || !r->gap_i || !r->gap_e || !r->react || !r->hinge) {
+  if (!r->delta || !r->pos || !r->gap_i || !r->gap_e || !r->react || !r->hinge || !r->jN || !r->jM) {
     snprintf(r->msg, sizeof r->msg, "out of memory");
     return -1;
   }
@@ -220,7 +226,9 @@ static int record_open(const char *path, record *r) {
                   read_doubles(r->file, "/observables/block_position/value", r->pos, n * 3 * (size_t)r->nb) ||
                   read_doubles(r->file, "/observables/joint_gap_i/value", r->gap_i, n * (size_t)r->nj) ||
                   read_doubles(r->file, "/observables/joint_gap_e/value", r->gap_e, n * (size_t)r->nj) ||
-                  read_doubles(r->file, "/observables/reactions/value", r->react, n * 6) || hd < 0 ||
+                  read_doubles(r->file, "/observables/reactions/value", r->react, n * 6) ||
+                  read_doubles(r->file, "/observables/joint_N/value", r->jN, n * (size_t)r->nj) ||
+                  read_doubles(r->file, "/observables/joint_M/value", r->jM, n * (size_t)r->nj) || hd < 0 ||
                   H5Dread(hd, H5T_NATIVE_SCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, r->hinge) < 0;
   if (hd >= 0) H5Dclose(hd);
   if (bad || read_hinges(r) || read_limits(r)) {
@@ -269,18 +277,31 @@ static int hinges_at(const record *r, int row, vs_hinge *out, int cap) {
   return n;
 }
 
-static int draw_row(const record *r, int row, const char *dir, const char *name, const char *ext,
-                    const char *what) {
+/* One state to draw: positions (3 nb), joint gaps, N, M (nj each), the support displacement and
+ * the row whose open hinges are labelled. */
+typedef struct {
+  const double *pos, *gap_i, *gap_e, *N, *M;
+  double delta;
+  int hinge_row;
+} state;
+
+static state state_of_row(const record *r, int row) {
+  const size_t o = (size_t)row * (size_t)r->nj;
+  return (state){r->pos + (size_t)row * 3 * (size_t)r->nb, r->gap_i + o, r->gap_e + o,
+                 r->jN + o, r->jM + o, r->delta[row], row};
+}
+
+static int draw_state(const record *r, const state *st, const char *dir, const char *name,
+                      const char *ext, const char *title) {
   vs_hinge h[32];
-  const int nh = hinges_at(r, row, h, 32);
-  char path[1200], title[160];
+  const int nh = hinges_at(r, st->hinge_row, h, 32);
+  char path[1200];
   snprintf(path, sizeof path, "%s/arch_%s.%s", dir, name, ext);
-  snprintf(title, sizeof title, "%s (row %d)", what, row);
   vs_error err;
   vs_error_clear(&err);
-  if (vs_plot_arch(path, vs_plot_format_from_path(path), r->g, r->pos + (size_t)row * 3 * (size_t)r->nb,
-                   r->delta[row], r->c.alpha_deg * VS_DEG, h, nh, r->gap_i + (size_t)row * (size_t)r->nj,
-                   r->gap_e + (size_t)row * (size_t)r->nj, r->c.open_mm * VS_MM, title, &err) != VS_OK) {
+  if (vs_plot_arch_thrust(path, vs_plot_format_from_path(path), r->g, st->pos, st->delta,
+                          r->c.alpha_deg * VS_DEG, h, nh, st->gap_i, st->gap_e,
+                          r->c.open_mm * VS_MM, st->N, st->M, title, &err) != VS_OK) {
     fprintf(stderr, "voussoir plot: %s\n", err.msg);
     return -1;
   }
@@ -288,12 +309,53 @@ static int draw_row(const record *r, int row, const char *dir, const char *name,
   return 0;
 }
 
+static int draw_row(const record *r, int row, const char *dir, const char *name, const char *ext,
+                    const char *what) {
+  char title[200];
+  snprintf(title, sizeof title, "%s (recorded state at delta = %.3f mm)", what, r->delta[row] / VS_MM);
+  const state st = state_of_row(r, row);
+  return draw_state(r, &st, dir, name, ext, title);
+}
+
+/* a + w (b - a), n values, into out. */
+static void lerp(const double *a, const double *b, double w, size_t n, double *out) {
+  for (size_t k = 0; k < n; k++) out[k] = a[k] + w * (b[k] - a[k]);
+}
+
+/* The state at support displacement delta: a recorded one if delta falls on a row, else
+ * interpolated linearly between the two rows around it (the title says which). */
+static int draw_at(const record *r, double delta, const char *dir, const char *name,
+                   const char *ext, const char *what) {
+  const int j = row_at(r, delta);
+  if (j == 0 || fabs(r->delta[j] - delta) <= 1e-9 || !(r->delta[j - 1] < delta))
+    return draw_row(r, j, dir, name, ext, what);
+  const size_t nq = 3 * (size_t)r->nb, nj = (size_t)r->nj;
+  double *buf = malloc((nq + 4 * nj) * sizeof *buf);
+  if (buf == NULL) return draw_row(r, j, dir, name, ext, what);
+  const state a = state_of_row(r, j - 1), b = state_of_row(r, j);
+  const double w = (delta - a.delta) / (b.delta - a.delta);
+  lerp(a.pos, b.pos, w, nq, buf);
+  lerp(a.gap_i, b.gap_i, w, nj, buf + nq);
+  lerp(a.gap_e, b.gap_e, w, nj, buf + nq + nj);
+  lerp(a.N, b.N, w, nj, buf + nq + 2 * nj);
+  lerp(a.M, b.M, w, nj, buf + nq + 3 * nj);
+  const state st = {buf, buf + nq, buf + nq + nj, buf + nq + 2 * nj, buf + nq + 3 * nj, delta, j};
+  char title[240];
+  snprintf(title, sizeof title, "%s at delta = %.3f mm (interpolated between the states at %.3f "
+           "and %.3f mm)", what, delta / VS_MM, a.delta / VS_MM, b.delta / VS_MM);
+  const int rc = draw_state(r, &st, dir, name, ext, title);
+  free(buf);
+  return rc;
+}
+
 static int draw_curves(const record *r, const char *dir, const char *ext) {
   const size_t n = (size_t)r->rows;
-  double *reac = malloc(n * sizeof(double)), *joint[5];
+  double *reac = malloc(4 * n * sizeof(double)), *joint[5];
   vs_plot_series hs[5];
   int ns = 0, rc = 0;
-  for (size_t i = 0; reac && i < n; i++) reac[i] = r->react[6 * i + 4]; /* upward on the arch */
+  static const int COL[4] = {0, 1, 3, 4}; /* left Fx, Fz, right Fx, Fz of the supports on the arch */
+  for (size_t i = 0; reac && i < n; i++)
+    for (int c = 0; c < 4; c++) reac[(size_t)c * n + i] = r->react[6 * i + (size_t)COL[c]];
   for (int l = 0; l < 5; l++) {
     joint[l] = malloc(n * sizeof(double));
     if (joint[l] == NULL) continue;
@@ -311,15 +373,33 @@ static int draw_curves(const record *r, const char *dir, const char *ext) {
     static const char *names[5] = {"A", "B", "C", "D", "E"};
     if (any) hs[ns++] = (vs_plot_series){names[l], joint[l]};
   }
-  vs_plot_series rs = {"right support, vertical", reac};
-  vs_plot_panel panels[2] = {{{"support reaction (N)", 1.0, 0}, &rs, 1}, {{"hinge joint", 1.0, 1}, hs, ns}};
+  vs_plot_series rs[4] = {{"left support, horizontal H (x right)", reac},
+                          {"left support, vertical V (z up)", reac + n},
+                          {"right (moved) support, horizontal H", reac + 2 * n},
+                          {"right (moved) support, vertical V", reac + 3 * n}};
+  vs_plot_panel panels[2] = {{{"support reactions on the arch (N)", 1.0, 0}, rs, 4},
+                             {{"hinge joint", 1.0, 1}, hs, ns}};
   vs_plot_axis x = {"support displacement delta (mm)", 1e3, 0};
+  char lbl[8][32];
+  const char *labels[8];
+  double mx[8];
+  int nm = 0;
+  for (int i = 0; i < r->nl && nm < 8; i++, nm++) {
+    snprintf(lbl[nm], sizeof lbl[nm], "limit %d", i + 1);
+    labels[nm] = lbl[nm], mx[nm] = r->limits[i];
+  }
+  if (isfinite(r->collapse) && nm < 8) labels[nm] = "collapse", mx[nm++] = r->collapse;
+  const double L = r->g->span, ca = cos(r->c.alpha_deg * VS_DEG);
+  vs_plot_marks marks = {nm, mx, labels, {NULL, 1.0, 0}};
+  if (fabs(ca) > 1e-9 && L > 0.0) marks.x2 = (vs_plot_axis){"dz/L (%)", 100.0 * ca / L, 0};
   char path[1200];
   snprintf(path, sizeof path, "%s/curves.%s", dir, ext);
   vs_error err;
   vs_error_clear(&err);
-  if (reac == NULL || vs_plot_curves(path, vs_plot_format_from_path(path), "Reaction and hinges against the support displacement",
-                                     &x, r->delta, (int)n, panels, ns > 0 ? 2 : 1, &err) != VS_OK) {
+  if (reac == NULL ||
+      vs_plot_curves_marked(path, vs_plot_format_from_path(path),
+                            "Reactions and hinges against the support displacement", &x, r->delta,
+                            (int)n, panels, ns > 0 ? 2 : 1, &marks, &err) != VS_OK) {
     fprintf(stderr, "voussoir plot: %s\n", reac ? err.msg : "out of memory");
     rc = -1;
   } else {
@@ -327,6 +407,105 @@ static int draw_curves(const record *r, const char *dir, const char *ext) {
   }
   free(reac);
   for (int l = 0; l < 5; l++) free(joint[l]);
+  return rc;
+}
+
+/* --- a sweep's summary table: the limit displacement domain --- */
+
+typedef struct {
+  double kn, alpha, dz, dx;
+  char *status;
+} sweep_pt;
+
+static int cmp_pt(const void *pa, const void *pb) {
+  const sweep_pt *a = pa, *b = pb;
+  if (a->kn != b->kn) return a->kn < b->kn ? -1 : 1;
+  return (a->alpha > b->alpha) - (a->alpha < b->alpha);
+}
+
+/* Rows of /summary (a compound dataset written by voussoir sweep); -1 if it is not one. Columns
+ * the sweep did not vary (k_n, alpha) read as NaN. */
+static int read_sweep(hid_t f, sweep_pt **out) {
+  *out = NULL;
+  H5O_info_t info;
+  if (H5Lexists(f, "/summary", H5P_DEFAULT) <= 0 ||
+      H5Oget_info_by_name2(f, "/summary", &info, H5O_INFO_BASIC, H5P_DEFAULT) < 0 ||
+      info.type != H5O_TYPE_DATASET)
+    return -1;
+  hid_t d = H5Dopen2(f, "/summary", H5P_DEFAULT), ft = H5Dget_type(d);
+  const int n = dataset_rows(f, "/summary");
+  hid_t str = H5Tcopy(H5T_C_S1);
+  H5Tset_size(str, H5T_VARIABLE);
+  H5Tset_cset(str, H5T_CSET_UTF8);
+  hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(sweep_pt));
+  if (H5Tget_member_index(ft, "joints.kn_N_mm3") >= 0)
+    H5Tinsert(t, "joints.kn_N_mm3", HOFFSET(sweep_pt, kn), H5T_NATIVE_DOUBLE);
+  if (H5Tget_member_index(ft, "support.alpha_deg") >= 0)
+    H5Tinsert(t, "support.alpha_deg", HOFFSET(sweep_pt, alpha), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t, "dz_over_L_pct", HOFFSET(sweep_pt, dz), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t, "dx_over_L_pct", HOFFSET(sweep_pt, dx), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t, "status", HOFFSET(sweep_pt, status), str);
+  sweep_pt *p = n > 0 ? calloc((size_t)n, sizeof *p) : NULL;
+  for (int i = 0; p != NULL && i < n; i++) p[i].kn = p[i].alpha = NAN;
+  const int ok = p != NULL && H5Dread(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, p) >= 0;
+  H5Tclose(t), H5Tclose(str), H5Tclose(ft), H5Dclose(d);
+  if (!ok) {
+    free(p);
+    return -1;
+  }
+  *out = p;
+  return n;
+}
+
+/* domain.png: collapse dz/L against dx/L, one line per k_n through the directions alpha. */
+static int plot_sweep(const char *path, hid_t f, const char *dir, const char *ext) {
+  sweep_pt *p;
+  const int n = read_sweep(f, &p);
+  if (n < 0) {
+    fprintf(stderr, "voussoir plot: %s: /summary is not a sweep's summary table\n", path);
+    return -1;
+  }
+  int m = 0, ns = 0, rc = 0;
+  for (int i = 0; i < n; i++) { /* collapses only */
+    const int keep = p[i].status != NULL && strcmp(p[i].status, "collapse") == 0 && isfinite(p[i].dz);
+    free(p[i].status); /* HDF5 allocates variable-length strings with malloc */
+    p[i].status = NULL;
+    if (keep) p[m++] = p[i];
+  }
+  qsort(p, (size_t)m, sizeof *p, cmp_pt);
+  double *x = malloc((size_t)(m > 0 ? m : 1) * sizeof *x), *y = malloc(VS_PLOT_MAX_SERIES * (size_t)(m > 0 ? m : 1) * sizeof *y);
+  vs_plot_series s[VS_PLOT_MAX_SERIES];
+  char names[VS_PLOT_MAX_SERIES][48];
+  for (int i = 0; x != NULL && y != NULL && i < m; i++) {
+    x[i] = p[i].dz;
+    if (i == 0 || !(p[i].kn == p[i - 1].kn || (isnan(p[i].kn) && isnan(p[i - 1].kn)))) {
+      if (ns == VS_PLOT_MAX_SERIES) break;
+      double *col = y + (size_t)ns * (size_t)m;
+      for (int k = 0; k < m; k++) col[k] = NAN;
+      snprintf(names[ns], sizeof names[ns], isnan(p[i].kn) ? "k_n of the case" : "k_n = %g N/mm^3", p[i].kn);
+      s[ns] = (vs_plot_series){names[ns], col};
+      ns++;
+    }
+    y[(size_t)(ns - 1) * (size_t)m + (size_t)i] = p[i].dx;
+  }
+  char out[1200];
+  snprintf(out, sizeof out, "%s/domain.%s", dir, ext);
+  vs_error err;
+  vs_error_clear(&err);
+  vs_plot_panel panel = {{"collapse spreading dx/L (%)", 1.0, 0}, s, ns};
+  vs_plot_axis xa = {"collapse settlement dz/L (%)", 1.0, 0};
+  if (x == NULL || y == NULL || m == 0) {
+    fprintf(stderr, "voussoir plot: %s: %s\n", path, m == 0 ? "no run of the sweep collapsed" : "out of memory");
+    rc = -1;
+  } else if (vs_plot_curves(out, vs_plot_format_from_path(out),
+                            "Limit displacement domain: the support displacement at collapse, per k_n",
+                            &xa, x, m, &panel, 1, &err) != VS_OK) {
+    fprintf(stderr, "voussoir plot: %s\n", err.msg);
+    rc = -1;
+  } else {
+    printf("domain of %s (%d collapses of %d runs):\n  %s\n", path, m, n, out);
+  }
+  free(p), free(x), free(y);
   return rc;
 }
 
@@ -376,16 +555,38 @@ int vs_cmd_plot(int argc, char **argv) {
     fprintf(stderr, "voussoir plot: needs a RUN.h5 record\n%s", PLOT_USAGE);
     return 2;
   }
+  if (dir == NULL) {
+    const char *dot = strrchr(run, '.');
+    snprintf(defdir, sizeof defdir, "%.*s_plots", dot ? (int)(dot - run) : (int)strlen(run), run);
+    dir = defdir;
+  }
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  hid_t sf = H5Fopen(run, H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (sf >= 0) { /* a sweep's summary.h5: the domain */
+    H5O_info_t info;
+    const int is_sweep = H5Lexists(sf, "/summary", H5P_DEFAULT) > 0 &&
+                         H5Oget_info_by_name2(sf, "/summary", &info, H5O_INFO_BASIC, H5P_DEFAULT) >= 0 &&
+                         info.type == H5O_TYPE_DATASET;
+    int rc = 0;
+    if (is_sweep && check_picture_dir(dir, ext) != 0) {
+      rc = -2;
+    } else if (is_sweep && mkdir(dir, 0755) != 0 && errno != EEXIST) {
+      fprintf(stderr, "voussoir plot: %s: cannot create: %s\n", dir, strerror(errno));
+      rc = -1;
+    } else if (is_sweep) {
+      rc = plot_sweep(run, sf, dir, ext);
+    }
+    H5Fclose(sf);
+    if (is_sweep) {
+      vs_plot_release();
+      return rc == 0 ? 0 : rc == -2 ? 2 : 1;
+    }
+  }
   record r;
   if (record_open(run, &r) != 0) {
     fprintf(stderr, "voussoir plot: %s\n", r.msg);
     record_free(&r);
     return 2;
-  }
-  if (dir == NULL) {
-    const char *dot = strrchr(run, '.');
-    snprintf(defdir, sizeof defdir, "%.*s_plots", dot ? (int)(dot - run) : (int)strlen(run), run);
-    dir = defdir;
   }
   if (check_picture_dir(dir, ext) != 0) {
     record_free(&r);
@@ -402,22 +603,22 @@ int vs_cmd_plot(int argc, char **argv) {
     if (r.h[i].during_fall) continue;
     char name[32], what[96];
     snprintf(name, sizeof name, "hinge_%c", r.h[i].label);
-    snprintf(what, sizeof what, "Hinge %c forms (%s)", r.h[i].label,
-             r.h[i].order == 4 ? "the fourth" : r.h[i].order == 5 ? "the fifth" : "hinge onset");
-    bad |= draw_row(&r, row_at(&r, r.h[i].delta_onset), dir, name, ext, what);
+    snprintf(what, sizeof what, "Hinge %c forms%s", r.h[i].label,
+             r.h[i].order == 4 ? " (the fourth)" : r.h[i].order == 5 ? " (the fifth)" : "");
+    bad |= draw_at(&r, r.h[i].delta_onset, dir, name, ext, what);
   }
   for (int i = 0; i < r.nl; i++) {
     char name[32], what[96];
     snprintf(name, sizeof name, "limit_%d", i + 1);
     snprintf(what, sizeof what, "Limit point %d", i + 1);
-    bad |= draw_row(&r, row_at(&r, r.limits[i]), dir, name, ext, what);
+    bad |= draw_at(&r, r.limits[i], dir, name, ext, what);
     if (isfinite(r.settled[i])) {
       snprintf(name, sizeof name, "snap_%d_settled", i + 1);
       snprintf(what, sizeof what, "Snap-through %d settled", i + 1);
-      bad |= draw_row(&r, row_at(&r, r.settled[i]), dir, name, ext, what);
+      bad |= draw_at(&r, r.settled[i], dir, name, ext, what);
     }
   }
-  if (isfinite(r.collapse)) bad |= draw_row(&r, row_at(&r, r.collapse), dir, "collapse", ext, "Collapse");
+  if (isfinite(r.collapse)) bad |= draw_at(&r, r.collapse, dir, "collapse", ext, "Collapse");
   bad |= draw_row(&r, r.rows - 1, dir, "end", ext, "End of the record");
   bad |= draw_curves(&r, dir, ext);
   record_free(&r);

@@ -367,7 +367,7 @@ static void record_collapse(vs_run *r, const vs_dyn_result *d) {
   memcpy(c->reactions_limit, r->react_eq, sizeof r->react_eq);
 }
 
-/* Modes of DOMAIN.md from the first three hinges (A, B, C, left to right) and the hinges at the
+/* Modes (docs/vocabulary.md) from the first three hinges (A, B, C, left to right) and the hinges at the
  * collapse. */
 static void classify(vs_run *r) {
   r->mode = NULL;

@@ -348,7 +348,7 @@ static long check_json_run(const char *extra, double alpha_deg, double kn, char 
     p = (*e == ',') ? e + 1 : e;
   }
   assert_true(hs.e[-1] == ']');
-  /* DOMAIN.md labels: '?' until three exist; then the first three A, B, C from left to right
+  /* docs/vocabulary.md labels: '?' until three exist; then the first three A, B, C from left to right
    * (by the joint where each formed), the 4th D, the 5th E in order of appearance */
   for (int i = 0; i < n; i++) {
     char want = '?';

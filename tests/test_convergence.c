@@ -155,7 +155,7 @@ static double left_springing_eccentricity(const vs_run *r) {
  * grows towards rigid joints, with a change ~ 1/k_n: 30 -> 150 -> 200 N/mm^3 shrinks it by
  * (1/30 - 1/150) / (1/150 - 1/200) = 16; at least fourfold is required. Other k_n have a
  * snap-through first (a hinge jumping joints, thrust far from that edge), whose displacement
- * is not a converging quantity (DOMAIN.md, loading and solution path, point 5). */
+ * is not a converging quantity (docs/model.md). */
 static void test_collapse_rigid_limit(void **s) {
   (void)s;
   const double kn[3] = {30.0, 150.0, 200.0};
@@ -176,7 +176,7 @@ static void test_collapse_rigid_limit(void **s) {
 }
 
 /* At the reference stiffness the first limit point is a snap-through, not the collapse: the
- * thrust at the left springing is far from the extrados (DOMAIN.md warns about reporting it). */
+ * thrust at the left springing is far from the extrados (reporting it as the collapse would be wrong). */
 static void test_reference_first_limit_is_snap(void **s) {
   (void)s;
   vs_case c;

@@ -1,6 +1,6 @@
 /* Unit tests of the hinge tracker (include/voussoir/hinges.h) on synthetic joint states: the open
  * threshold, sides, spread hinges, A-E labels, migration, closing and reopening, errors.
- * Expected values follow DOMAIN.md "Hinges, labels and modes", not the tracker's own output. */
+ * Expected values follow docs/vocabulary.md (labels and modes), not the tracker's own output. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>

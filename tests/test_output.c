@@ -296,7 +296,8 @@ static int parse_dims(const char *s, hsize_t *d, int max) {
 }
 
 typedef struct {
-  int grids, hdf_items, slabs;
+  int grids, hdf_items, slabs; /* time steps; HDF items and slabs in all */
+  int uniform;                 /* uniform grids: blocks, joints, support_left, support_right */
   double t_last;
 } xdmf_stats;
 
@@ -365,7 +366,8 @@ static xdmf_stats check_xdmf(const char *xmf_path, hid_t f, const char *h5base) 
   const char *stack[16];
   size_t stack_len[16];
   int depth = 0;
-  xdmf_stats st = {0, 0, 0, -INFINITY};
+  static const char *const NAMES[4] = {"blocks", "joints", "support_left", "support_right"};
+  xdmf_stats st = {0, 0, 0, 0, -INFINITY};
   for (const char *p = strchr(s, '<'); p != NULL; p = strchr(p + 1, '<')) {
     if (strncmp(p, "<?", 2) == 0 || strncmp(p, "<!DOCTYPE", 9) == 0) continue;
     if (strncmp(p, "<!--", 4) == 0) {
@@ -385,6 +387,13 @@ static xdmf_stats check_xdmf(const char *xmf_path, hid_t f, const char *h5base) 
     }
     const size_t nlen = strcspn(p + 1, " />");
     const int self_closing = end[-1] == '/';
+    char gtype[32], gname[64];
+    if (strncmp(p + 1, "Grid", 4) == 0 && nlen == 4 &&
+        attr_in_tag(p, end, "GridType", gtype, sizeof gtype) && strcmp(gtype, "Uniform") == 0) {
+      assert_non_null(attr_in_tag(p, end, "Name", gname, sizeof gname));
+      assert_string_equal(gname, NAMES[st.uniform % 4]); /* each step: the four, in order */
+      st.uniform++;
+    }
     if (strncmp(p + 1, "Time", 4) == 0 && nlen == 4) {
       char v[64];
       assert_non_null(attr_in_tag(p, end, "Value", v, sizeof v));
@@ -417,6 +426,7 @@ static xdmf_stats check_xdmf(const char *xmf_path, hid_t f, const char *h5base) 
     }
   }
   assert_int_equal(depth, 0);
+  assert_int_equal(st.uniform, 4 * st.grids);
   free(s);
   return st;
 }
@@ -581,7 +591,10 @@ static void test_quasistatic_record(void **state) {
 
   xdmf_stats xs = check_xdmf(xmf, f, "qs.h5");
   assert_int_equal(xs.grids, (int)rows); /* few rows: all of them, times increasing */
-  assert_true(xs.hdf_items == xs.grids * 10 && xs.slabs == xs.grids * 8);
+  /* per step: blocks 6 items (connectivity, points, 4 fields), joints 8 (connectivity, points, 6
+   * fields), left support 4 (points, Fx, Fz, M), right support 6 (and its displacement) */
+  assert_int_equal(xs.hdf_items, xs.grids * 24);
+  assert_int_equal(xs.slabs, xs.grids * 22);
   free(q), free(v), free(t), free(dl), free(ph), free(en), free(step);
   H5Fclose(f);
   assert_int_equal(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0); /* nothing left open */

@@ -59,7 +59,7 @@ typedef struct {
   double sample_s;     /* at most one dynamic sample per this interval, > 0, default 0.01 s */
 } vs_case;
 
-/* Fill c with the defaults: the reference specimen of DOMAIN.md with k_n = 3 N/mm^3, alpha = 0. */
+/* Fill c with the defaults: the reference specimen (docs/specimen.md) with k_n = 3 N/mm^3, alpha = 0. */
 void vs_case_defaults(vs_case *c);
 
 /* Read an INI case file (libinih) over the current contents of c (call vs_case_defaults first).

@@ -1,6 +1,6 @@
 /* Geometry of a block assembly: rigid blocks (mass, inertia, centroid, outline) and the
  * zero-thickness joints between them or between a block and a support. SI units throughout.
- * The arch builder makes the segmental circular arch of DOMAIN.md; tests build others. */
+ * The arch builder makes the segmental circular arch of docs/model.md; tests build others. */
 #ifndef VOUSSOIR_GEOMETRY_H
 #define VOUSSOIR_GEOMETRY_H
 

@@ -1,5 +1,5 @@
 /* Hinges: which joints are open, on which side, grouped into (possibly spread) hinges, tracked
- * as the support moves (onset, migration, closing) and labelled A-E as DOMAIN.md defines. */
+ * as the support moves (onset, migration, closing) and labelled as docs/vocabulary.md defines. */
 #ifndef VOUSSOIR_HINGES_H
 #define VOUSSOIR_HINGES_H
 

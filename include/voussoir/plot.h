@@ -84,6 +84,17 @@ vs_status vs_plot_arch(const char *path, vs_plot_format fmt, const vs_geometry *
                        int n_hinges, const double *joint_gap_i, const double *joint_gap_e,
                        double open_m, const char *title, vs_error *err);
 
+/* vs_plot_arch with the thrust line: joint_N and joint_M (n_joints entries each, N and N m, as
+ * vs_joint_state: compression > 0, moment about the joint centre > 0 when the extrados carries
+ * more) place the centre of pressure of joint k at e = M/N from its centre towards the extrados
+ * along the moved joint; the line joins those of consecutive compressed joints (a joint with
+ * N <= 0 breaks it) and the key names it. Either array NULL: no thrust line. */
+vs_status vs_plot_arch_thrust(const char *path, vs_plot_format fmt, const vs_geometry *g,
+                              const double *q, double delta_m, double alpha_rad,
+                              const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
+                              const double *joint_gap_e, double open_m, const double *joint_N,
+                              const double *joint_M, const char *title, vs_error *err);
+
 /* ---------------------------------------------------------------------------------------------
  * Curves */
 
@@ -123,5 +134,22 @@ typedef struct {
 vs_status vs_plot_curves(const char *path, vs_plot_format fmt, const char *title,
                          const vs_plot_axis *x_axis, const double *x, int n,
                          const vs_plot_panel *panels, int n_panels, vs_error *err);
+
+/* Extras for vs_plot_curves_marked: vertical marks at n x values (e.g. the limit points), each
+ * with a label (NULL: none), dashed across every panel; and a second x axis on top of the first
+ * panel showing x * x2.scale (x2.label NULL: none), e.g. dz/L in % for x = delta. */
+typedef struct {
+  int n;
+  const double *x;
+  const char *const *label;
+  vs_plot_axis x2;
+} vs_plot_marks;
+
+/* vs_plot_curves with marks (NULL: none); errors as vs_plot_curves, and VS_ERR_INVALID for
+ * n < 0, NULL x with n > 0 or a bad x2 scale. */
+vs_status vs_plot_curves_marked(const char *path, vs_plot_format fmt, const char *title,
+                                const vs_plot_axis *x_axis, const double *x, int n,
+                                const vs_plot_panel *panels, int n_panels,
+                                const vs_plot_marks *marks, vs_error *err);
 
 #endif

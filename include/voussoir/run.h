@@ -129,7 +129,7 @@ const vs_hinge *vs_run_hinge(const vs_run *r, int i);
 int vs_run_event_count(const vs_run *r);
 const vs_run_event *vs_run_event_get(const vs_run *r, int i);
 
-/* Evolution mode (DOMAIN.md): "I", "II", "III", or NULL when the hinge sides match none; and the
+/* Evolution mode (docs/vocabulary.md): "I", "II", "III", or NULL when the hinge sides match none; and the
  * side patterns it was read from (first three hinges, left to right; hinges at the collapse). */
 const char *vs_run_mode(const vs_run *r);
 const char *vs_run_pattern_initial(const vs_run *r);

@@ -1,0 +1,33 @@
+# cmake --install: the program, libvoussoir with its public headers, pkg-config and CMake
+# package files, the man page and the example cases. Paths follow GNUInstallDirs (configured
+# with a /usr prefix on Debian, the library goes to lib/<multiarch>; otherwise to lib).
+include(CMakePackageConfigHelpers)
+
+set(VS_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/voussoir)
+
+set_target_properties(voussoir PROPERTIES EXPORT_NAME voussoir-cli)
+install(TARGETS vslib voussoir EXPORT voussoirTargets
+        RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+# sweep.h declares the CLI's sweep and calibrate commands, which live in the program, not in
+# the library: it is not part of the installed API.
+file(GLOB VS_PUBLIC_HEADERS ${PROJECT_SOURCE_DIR}/include/voussoir/*.h)
+list(FILTER VS_PUBLIC_HEADERS EXCLUDE REGEX "/sweep\\.h$")
+install(FILES ${VS_PUBLIC_HEADERS} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/voussoir)
+
+install(EXPORT voussoirTargets NAMESPACE voussoir:: DESTINATION ${VS_CMAKEDIR})
+configure_package_config_file(cmake/voussoirConfig.cmake.in
+  ${PROJECT_BINARY_DIR}/voussoirConfig.cmake INSTALL_DESTINATION ${VS_CMAKEDIR})
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/voussoirConfigVersion.cmake
+  COMPATIBILITY SameMajorVersion)
+install(FILES ${PROJECT_BINARY_DIR}/voussoirConfig.cmake
+              ${PROJECT_BINARY_DIR}/voussoirConfigVersion.cmake DESTINATION ${VS_CMAKEDIR})
+
+file(RELATIVE_PATH VS_PC_TO_PREFIX "/p/${CMAKE_INSTALL_LIBDIR}/pkgconfig" "/p")
+configure_file(cmake/voussoir.pc.in ${PROJECT_BINARY_DIR}/voussoir.pc @ONLY)
+install(FILES ${PROJECT_BINARY_DIR}/voussoir.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+
+install(FILES man/voussoir.1 DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
+install(FILES runs/reference.ini examples/spreading.ini examples/run_case.c
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/voussoir)

@@ -1,0 +1,62 @@
+"""Pictures with matplotlib: the mechanism at a row, the reaction curves, a sweep's domain."""
+import numpy as np
+
+
+def _axes(ax):
+    if ax is None:
+        import matplotlib.pyplot as plt
+        _, ax = plt.subplots(figsize=(8, 4.5))
+    return ax
+
+
+def draw_mechanism(rec, row=-1, ax=None):
+    """The blocks at a recorded row, true scale (mm), open joints drawn red."""
+    ax = _axes(ax)
+    pts = rec.series("block_points").values[row] * 1e3
+    conn = rec.geometry("block_connectivity").values
+    for c in conn:
+        poly = pts[c]
+        ax.fill(poly[:, 0], poly[:, 1], facecolor="0.85", edgecolor="0.3", linewidth=0.5)
+    jp = rec.series("joint_points").values[row] * 1e3
+    hinge = rec.series("joint_hinge").values[row]
+    for j in np.nonzero(hinge)[0]:
+        seg = jp[2 * j:2 * j + 2]
+        ax.plot(seg[:, 0], seg[:, 1], color="red", linewidth=2)
+    delta = rec.series("delta").values[row] * 1e3
+    ax.set_title(f"support displacement {delta:.3f} mm (open joints red)")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("z (mm)")
+    return ax
+
+
+def draw_curves(rec, ax=None):
+    """Both force components at both supports (on the arch) against the support displacement."""
+    ax = _axes(ax)
+    delta = rec.series("delta").values * 1e3
+    r = rec.series("reactions")
+    units = r.unit.split(",")
+    for i, name in enumerate(r.columns):
+        if units[i].strip() == "N":  # the force components (moments have their own unit)
+            ax.plot(delta, r.values[:, i], label=f"{name} (N)")
+    ax.set_xlabel("support displacement delta (mm)")
+    ax.set_ylabel("force of the support on the arch (N)")
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    return ax
+
+
+def draw_domain(table, ax=None):
+    """Limit displacement domain of a sweep (read_table rows): collapse dz/L against dx/L, one
+    line per k_n."""
+    ax = _axes(ax)
+    rows = [r for r in table if r.get("status") == "collapse"]
+    for kn in sorted({r["joints.kn_N_mm3"] for r in rows}):
+        sel = sorted((r for r in rows if r["joints.kn_N_mm3"] == kn), key=lambda r: r["support.alpha_deg"])
+        ax.plot([r["dz_over_L_pct"] for r in sel], [r["dx_over_L_pct"] for r in sel], "o-",
+                label=f"k_n = {kn:g} N/mm^3")
+    ax.set_xlabel("collapse settlement dz/L (%)")
+    ax.set_ylabel("collapse spreading dx/L (%)")
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    return ax

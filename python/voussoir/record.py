@@ -1,0 +1,110 @@
+"""A voussoir HDF5 record as numpy arrays that carry their units."""
+from dataclasses import dataclass
+
+import h5py
+import numpy as np
+
+
+def _text(v):
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
+@dataclass
+class Series:
+    """One time series: values (rows first), its unit(s) and column names (None if one column)."""
+    values: np.ndarray
+    unit: str
+    columns: list = None
+
+    def column(self, name):
+        """One named column (e.g. 'right_Fz') with its unit."""
+        i = self.columns.index(name)
+        units = self.unit.split(",")
+        return Series(self.values[..., i], units[i] if len(units) > 1 else units[0])
+
+
+class Record:
+    """An open record (use as a context manager, or call close())."""
+
+    def __init__(self, path):
+        self.path = str(path)
+        self.file = h5py.File(self.path, "r")
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def close(self):
+        self.file.close()
+
+    @property
+    def status(self):
+        """'completed', 'running' or 'failed: <cause>'."""
+        return _text(self.file.attrs["status"])
+
+    @property
+    def case_text(self):
+        return _text(self.file.attrs["case"])
+
+    def parameters(self):
+        """{'arch.radius_mm': 300.0, ...}: every case key, in the case's units."""
+        out = {}
+        for sec, g in self.file["parameters"].items():
+            for k, v in g.attrs.items():
+                out[f"{sec}.{k}"] = v.item() if hasattr(v, "item") else v
+        return out
+
+    def series_names(self):
+        return sorted(self.file["observables"].keys())
+
+    def series(self, name):
+        """/observables/<name>/value with its unit attribute (SI: m, N, rad, J, ...)."""
+        ds = self.file[f"observables/{name}/value"]
+        unit = _text(ds.attrs["unit"]) if "unit" in ds.attrs else ""
+        cols = _text(ds.attrs["columns"]).split(",") if "columns" in ds.attrs else None
+        return Series(ds[:], unit, cols)
+
+    def time(self):
+        ds = self.file["observables/delta/time"]
+        return Series(ds[:], _text(ds.attrs.get("unit", "s")))
+
+    def geometry(self, name):
+        """/geometry/<name> as an array (unit in the 'unit' attribute when dimensional)."""
+        ds = self.file[f"geometry/{name}"]
+        return Series(ds[()], _text(ds.attrs["unit"]) if "unit" in ds.attrs else "")
+
+    def events(self):
+        """The event table as a list of dicts (time s, delta m, joint, side, label, phase, order,
+        kind)."""
+        rows = []
+        for e in self.file["events"][:]:
+            rows.append({k: (_text(e[k]) if e.dtype[k].kind in "SOU" else e[k].item())
+                         for k in e.dtype.names})
+        return rows
+
+    def summary(self):
+        """The summary as nested dicts: scalars as floats, tables as lists of dicts."""
+        def walk(g):
+            out = dict((k, _attr(v)) for k, v in g.attrs.items())
+            for k, obj in g.items():
+                if isinstance(obj, h5py.Group):
+                    out[k] = walk(obj)
+                elif obj.dtype.names:
+                    out[k] = [{n: _attr(r[n]) for n in obj.dtype.names} for r in obj[:]]
+                else:
+                    out[k] = _attr(obj[()])
+            return out
+        return walk(self.file["summary"])
+
+
+def _attr(v):
+    if isinstance(v, (bytes, str)):
+        return _text(v)
+    return v.item() if hasattr(v, "item") else v
+
+
+def open_record(path):
+    """Open a record: `with voussoir.open_record("reference.h5") as r: ...`."""
+    return Record(path)

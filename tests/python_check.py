@@ -1,0 +1,57 @@
+"""The Python package against a record and the program (tests/test_python.sh).
+usage: /usr/bin/python3 python_check.py CASE DIR  (voussoir importable, VOUSSOIR = the program)"""
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+import voussoir  # noqa: E402
+
+
+def check(cond, msg):
+    if not cond:
+        print("FAIL:", msg)
+        sys.exit(1)
+
+
+case, out = sys.argv[1], sys.argv[2]
+rec_path = os.path.join(out, "ref.h5")
+res = voussoir.run(case, record=rec_path, first_limit=True)
+check(res["status"] == "limit_point", f"status {res['status']}")
+with voussoir.open_record(rec_path) as r:
+    check(r.status == "completed", r.status)
+    delta = r.series("delta")
+    check(delta.unit == "m", delta.unit)
+    # The JSON summary (mm) and the record (m) tell the same first limit point.
+    check(abs(r.summary()["first_limit"]["delta"] * 1e3 - res["first_limit"]["delta_mm"]) < 1e-6,
+          "first limit point differs between record and JSON")
+    # Statics: on every quasi-static row the supports' forces on the arch carry its weight
+    # (independent of the solver: the weight comes from the geometry's masses).
+    weight = r.geometry("block_mass").values.sum() * r.parameters()["arch.gravity_m_s2"]
+    react = r.series("reactions")
+    fz = react.column("left_Fz").values + react.column("right_Fz").values
+    fx = react.column("left_Fx").values + react.column("right_Fx").values
+    qs = r.series("phase").values == 0
+    check(react.column("right_Fz").unit == "N", react.unit)
+    check(np.abs(fz[qs] - weight).max() < 1e-6 * weight, f"sum Fz {fz[qs].min()} vs W {weight}")
+    check(np.abs(fx[qs]).max() < 1e-6 * weight, "horizontal forces do not cancel")
+    kinds = [e["kind"] for e in r.events()]
+    check("limit_point" in kinds, f"events {kinds}")
+    fig, ax = plt.subplots(1, 2, figsize=(12, 4))
+    voussoir.draw_mechanism(r, -1, ax[0])
+    voussoir.draw_curves(r, ax[1])
+    fig.savefig(os.path.join(out, "record.png"))
+table = voussoir.sweep(case, os.path.join(out, "sw"), {"support.alpha_deg": [0, 90]},
+                       sets={"arch.voussoirs": 11}, first_limit=True, jobs=2)
+check(len(table) == 2 and {row["support.alpha_deg"] for row in table} == {0.0, 90.0}, f"table {table}")
+bad = False
+try:
+    voussoir.run(case, sets={"joints.kn_N_mm3": -1})
+except Exception as e:  # bad input: exit 2 raised, naming the key
+    bad = "kn_N_mm3" in str(getattr(e, "stderr", ""))
+check(bad, "bad input not raised with the key named")
+print("python: ok")
