@@ -36,12 +36,22 @@ typedef struct {
   bool min_incl, max_incl;
   const char *unit; /* "" when dimensionless */
   const char *what;
+  const char *const *names; /* a named choice: the names of values 0, 1, ... (NULL-terminated),
+                               written in the file as names; NULL for a number */
 } key_spec;
 
 /* The field's own type picks the storage, so a row cannot write a double into an int. */
 #define FIELD_TYPE(field) _Generic(((vs_case *)0)->field, double: KEY_DOUBLE, int: KEY_INT)
 #define KEY(sec, field, def, lo, lo_in, hi, hi_in, unit, what)                                    \
-  {#sec, #field, FIELD_TYPE(field), offsetof(vs_case, field), def, lo, hi, lo_in, hi_in, unit, what}
+  {#sec, #field, FIELD_TYPE(field), offsetof(vs_case, field), def, lo, hi, lo_in, hi_in, unit, what, \
+   NULL}
+/* A named choice stored as an int field: value i is names[i]. */
+#define KEY_NAMED(sec, field, def, count, names, what)                                           \
+  {#sec, #field, KEY_INT, offsetof(vs_case, field), def, 0.0, (count) - 1.0, true, true, "", what, \
+   names}
+
+/* support.left_kind, support.right_kind, in the order of vs_support_kind (model.h) */
+static const char *const support_kinds[] = {"fixed", "pinned", NULL};
 
 #define INF INFINITY
 /* Every bound is finite (except where a sign is all that matters) so that every quantity derived
@@ -75,6 +85,10 @@ static const key_spec keys[] = {
         "speed of the right support (times are delta / rate: bounded both ways)"),
     KEY(support, max_mm, 300.0, 0.0, false, LEN_MAX, true, "mm",
         "largest support displacement followed"),
+    KEY_NAMED(support, left_kind, 0.0, 2, support_kinds,
+              "left support: fixed (clamped) or pinned (free to rotate about its pivot)"),
+    KEY_NAMED(support, right_kind, 0.0, 2, support_kinds,
+              "right (moving) support: fixed (clamped) or pinned (free to rotate about its pivot)"),
     KEY(solver, step_mm, 0.5, 0.0, false, LEN_MAX, true, "mm",
         "initial increment of the support displacement"),
     KEY(solver, step_max_mm, 2.0, 0.0, false, LEN_MAX, true, "mm", "largest increment"),
@@ -109,6 +123,7 @@ static const key_spec keys[] = {
 #undef LEN_MAX
 #undef INF
 #undef KEY
+#undef KEY_NAMED
 #undef FIELD_TYPE
 
 #define NKEYS (sizeof keys / sizeof keys[0])
@@ -176,6 +191,14 @@ static void append(char *buf, size_t size, const char *s) {
 
 /* "> 0 N/mm^3", "(0, 180] deg", "integer in [1, 20000]" */
 static void range_text(const key_spec *k, char *buf, size_t size) {
+  if (k->names != NULL) {
+    snprintf(buf, size, "one of ");
+    for (int i = 0; k->names[i] != NULL; i++) {
+      if (i > 0) append(buf, size, ", ");
+      append(buf, size, k->names[i]);
+    }
+    return;
+  }
   bool lo = isfinite(k->min), hi = isfinite(k->max);
   const char *integer = k->type == KEY_INT ? "integer " : "";
   if (lo && hi)
@@ -265,6 +288,16 @@ static vs_status assign(vs_case *c, const char *section, const char *name, const
   char range[96];
   range_text(k, range, sizeof range);
   double v = 0.0;
+  if (k->names != NULL) {
+    for (int i = 0; k->names[i] != NULL; i++)
+      if (strcmp(value, k->names[i]) == 0) {
+        set_value(c, k, (double)i);
+        return VS_OK;
+      }
+    return vs_error_set(err, value[0] == '\0' ? VS_ERR_PARSE : VS_ERR_INVALID,
+                        "%s: %s.%s = %s: %s (allowed: %s)", where, sec, key, val,
+                        value[0] == '\0' ? "empty value" : "unknown name", range);
+  }
   vs_num_status r = parse_value(k, value, &v);
   if (r == VS_NUM_OK && !in_range(k, v)) r = VS_NUM_OUT_OF_RANGE;
   if (r != VS_NUM_OK)
@@ -574,6 +607,13 @@ double vs_case_span_mm(const vs_case *c) {
 }
 
 int vs_case_key_count(void) { return (int)NKEYS; }
+
+const char *vs_case_key_name_of(int i, int value) {
+  if (i < 0 || (size_t)i >= NKEYS || keys[i].names == NULL || value < 0) return NULL;
+  for (int v = 0; keys[i].names[v] != NULL; v++)
+    if (v == value) return keys[i].names[v];
+  return NULL;
+}
 
 int vs_case_key(const vs_case *c, int i, const char **section, const char **key, const char **unit,
                 int *is_int, double *value) {

@@ -4,8 +4,10 @@
  *   q' - v - G^T mu = 0,   M v' + F(q, v) - G^T lambda = 0,   g(q, t) = 0,   G v + g_t = 0,
  *   W' = lambda . v_s,   D' = damping power,   Df' = friction power,
  * F = dE/dq + C v the joints' elastic, frictional and damping forces minus gravity, g the
- * supports' rheonomic constraints (left fixed, right moved by delta(t) = rate t along alpha, both
- * without rotation; G = dg/dq, constant) and lambda the forces the supports' constraints exert:
+ * supports' rheonomic constraints (left fixed, right moved by delta(t) = rate t along alpha; a
+ * fixed support without rotation, a pinned one free to rotate about its pivot -- its reference
+ * point, so the pivot's constraints are linear too; G = dg/dq, constant, rows of the identity)
+ * and lambda the forces the supports' constraints exert:
  * on a support body moving at constant speed they equal the force the support exerts on the
  * arch. The last three are the energy bookkeeping (IDA in SUNDIALS 6 has no quadratures).
  * lambda and mu are algebraic (IDASetId 0) and left out of the error test (IDASetSuppressAlg).
@@ -28,7 +30,8 @@
  * A + A^T; KLU's partial pivoting (threshold 0.001 by default) then takes the off-diagonal
  * pivots that the zero block needs. Natural ordering would pivot too but leaves the fill. */
 static const int VS_DYN_KLU_ORDERING = 0;
-/* Constraints: 3 per support (fixed: ux, uz, theta of the support body prescribed). */
+/* Constraints: at most 3 per support (fixed: ux, uz, theta of the support body prescribed;
+ * pinned: ux, uz only). */
 enum { VS_DYN_NC = 6 };
 /* BDF order cap. The joints' contact modes are stiff, lightly damped oscillators (k_n b t over a
  * voussoir's mass: ~1e4 rad/s); BDF of order 3-5 is unstable near the imaginary axis, so it would
@@ -45,9 +48,14 @@ struct vs_dynamic {
   vs_model *m;
   vs_dyn_opts o;
   int n;  /* 3 per block */
+  int nq; /* the static state's length (vs_model_size): blocks, pinned supports' rotations */
   int ne; /* n + 6: blocks and supports */
+  int nc; /* constraints */
+  int cons[VS_DYN_NC]; /* constrained component (0..5, over the two supports) of each */
+  int cidx[VS_DYN_NC]; /* ... and the constraint of each component, -1 if it is free */
+  double *qst, *vst;   /* the static state (nq) handed to the callbacks */
   int iv, il, imu, ie; /* offsets of v, lambda, mu and the energy integrals in y */
-  int N;  /* 2 ne + 2 VS_DYN_NC + 3 */
+  int N;  /* 2 ne + 2 nc + 3 */
   int nj; /* joints */
   SUNContext ctx;
   N_Vector y, yp, id, atol;
@@ -79,9 +87,10 @@ static void constraints(const vs_dynamic *d, double t, const double *q, const do
                         double *g, double *gv) {
   double qs[6], vs[6];
   vs_model_support_states(d->m, delta_at(d, t), d->o.rate, qs, vs);
-  for (int c = 0; c < VS_DYN_NC; c++) {
-    if (g != NULL) g[c] = q[d->n + c] - qs[c];
-    if (gv != NULL) gv[c] = v[d->n + c] - vs[c];
+  for (int c = 0; c < d->nc; c++) {
+    const int i = d->cons[c];
+    if (g != NULL) g[c] = q[d->n + i] - qs[i];
+    if (gv != NULL) gv[c] = v[d->n + i] - vs[i];
   }
 }
 
@@ -105,10 +114,11 @@ static int res_fn(double t, N_Vector yy, N_Vector yp, N_Vector rr, void *user) {
     r[d->iv + i] += d->mass[i] * vd[i];
   }
   double sup = 0.0;
-  for (int c = 0; c < VS_DYN_NC; c++) { /* G = [0 I] */
-    r[n + c] -= mu[c];
-    r[d->iv + n + c] -= lam[c];
-    sup += lam[c] * v[n + c];
+  for (int c = 0; c < d->nc; c++) { /* G: rows of the identity on the supports' components */
+    const int i = n + d->cons[c];
+    r[i] -= mu[c];
+    r[d->iv + i] -= lam[c];
+    sup += lam[c] * v[i];
   }
   constraints(d, t, q, v, r + d->il, r + d->imu);
   r[d->ie] = ydot[d->ie] - sup;
@@ -154,22 +164,22 @@ static int jac_fn(double t, double cj, N_Vector yy, N_Vector yp, N_Vector rr, SU
     jp[col] = p;
     put(ji, jx, &p, col, cj);
     for (sunindextype e = kp[col]; e < kp[col + 1]; e++) put(ji, jx, &p, d->iv + ki[e], kx[e]);
-    if (col >= n) put(ji, jx, &p, d->il + col - n, 1.0);
+    if (col >= n && d->cidx[col - n] >= 0) put(ji, jx, &p, d->il + d->cidx[col - n], 1.0);
   }
   for (int col = 0; col < ne; col++) { /* v columns */
     jp[d->iv + col] = p;
     put(ji, jx, &p, col, -1.0);
     for (sunindextype e = kp[col]; e < kp[col + 1]; e++)
       put(ji, jx, &p, d->iv + ki[e], cx[e] + (ki[e] == col ? cj * d->mass[col] : 0.0));
-    if (col >= n) put(ji, jx, &p, d->imu + col - n, 1.0);
+    if (col >= n && d->cidx[col - n] >= 0) put(ji, jx, &p, d->imu + d->cidx[col - n], 1.0);
   }
-  for (int c = 0; c < VS_DYN_NC; c++) { /* lambda columns */
+  for (int c = 0; c < d->nc; c++) { /* lambda columns */
     jp[d->il + c] = p;
-    put(ji, jx, &p, d->iv + n + c, -1.0);
+    put(ji, jx, &p, d->iv + n + d->cons[c], -1.0);
   }
-  for (int c = 0; c < VS_DYN_NC; c++) { /* mu columns */
+  for (int c = 0; c < d->nc; c++) { /* mu columns */
     jp[d->imu + c] = p;
-    put(ji, jx, &p, n + c, -1.0);
+    put(ji, jx, &p, n + d->cons[c], -1.0);
   }
   for (int col = d->ie; col < d->N; col++) {
     jp[col] = p;
@@ -221,6 +231,8 @@ void vs_dynamic_destroy(vs_dynamic **dp) {
   free(d->work);
   free(d->js);
   free(d->roots);
+  free(d->qst);
+  free(d->vst);
   free(d);
   *dp = NULL;
 }
@@ -261,9 +273,9 @@ static void set_tolerances(vs_dynamic *d, double *at) {
     at[ne + i] = at[ne + i + 1] = aq / tv;
     at[ne + i + 2] = aq / len / tv;
   }
-  for (int c = 0; c < VS_DYN_NC; c++) {
-    at[d->il + c] = kmax * aq * (c % 3 == 2 ? len : 1.0);
-    at[d->imu + c] = at[ne + n + c];
+  for (int c = 0; c < d->nc; c++) {
+    at[d->il + c] = kmax * aq * (d->cons[c] % 3 == 2 ? len : 1.0);
+    at[d->imu + c] = at[ne + n + d->cons[c]];
   }
   for (int i = d->ie; i < d->N; i++) at[i] = wsum * aq;
   /* IDA's error norm is a WRMS norm divided by the full length N, masked components included.
@@ -285,12 +297,18 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   if (d == NULL) return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
   d->m = m;
   d->o = *o;
-  d->n = vs_model_size(m);
+  d->n = 3 * vs_model_geometry(m)->n_blocks;
+  d->nq = vs_model_size(m);
   d->ne = vs_model_ext_size(m);
+  for (int i = 0; i < VS_DYN_NC; i++) {
+    const int free_rot = i % 3 == 2 && vs_model_support_kind(m, i / 3) == VS_SUPPORT_PINNED;
+    d->cidx[i] = free_rot ? -1 : d->nc;
+    if (!free_rot) d->cons[d->nc++] = i;
+  }
   d->iv = d->ne;
   d->il = 2 * d->ne;
-  d->imu = d->il + VS_DYN_NC;
-  d->ie = d->imu + VS_DYN_NC;
+  d->imu = d->il + d->nc;
+  d->ie = d->imu + d->nc;
   d->N = d->ie + 3;
   d->nj = vs_model_geometry(m)->n_joints;
   const int ne = d->ne, nnzK = vs_model_ext_nnz(m);
@@ -300,16 +318,18 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   d->yp = N_VNew_Serial(d->N, d->ctx);
   d->id = N_VNew_Serial(d->N, d->ctx);
   d->atol = N_VNew_Serial(d->N, d->ctx);
-  d->J = SUNSparseMatrix(d->N, d->N, 2 * ne + 2 * nnzK + 4 * VS_DYN_NC + 3, CSC_MAT, d->ctx);
+  d->J = SUNSparseMatrix(d->N, d->N, 2 * ne + 2 * nnzK + 4 * d->nc + 3, CSC_MAT, d->ctx);
   d->K = SUNSparseMatrix(ne, ne, nnzK, CSC_MAT, d->ctx);
   d->C = SUNSparseMatrix(ne, ne, nnzK, CSC_MAT, d->ctx);
   d->mass = malloc((size_t)ne * sizeof *d->mass);
   d->work = malloc((size_t)ne * sizeof *d->work);
   d->js = malloc((size_t)d->nj * sizeof *d->js);
+  d->qst = malloc((size_t)d->nq * sizeof *d->qst);
+  d->vst = malloc((size_t)d->nq * sizeof *d->vst);
   d->roots = malloc((size_t)(2 * d->nj + 2) * sizeof *d->roots);
   if (d->y == NULL || d->yp == NULL || d->id == NULL || d->atol == NULL || d->J == NULL ||
       d->K == NULL || d->C == NULL || d->mass == NULL || d->work == NULL ||
-      d->js == NULL || d->roots == NULL) {
+      d->js == NULL || d->roots == NULL || d->qst == NULL || d->vst == NULL) {
     vs_dynamic_destroy(&d);
     return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
   }
@@ -354,6 +374,8 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
 /* Energies at the current state; balance relative to e0 (the total at the phase's start). */
 static void energies(vs_dynamic *d, const double *y, double e0, vs_energy *e) {
   e->kinetic = vs_model_kinetic_energy(d->m, y + d->iv);
+  for (int i = 0; i < VS_DYN_NC; i++) /* a pinned support's rotation: its own kinetic energy */
+    if (d->cidx[i] < 0) e->kinetic += 0.5 * d->mass[d->n + i] * y[d->iv + d->n + i] * y[d->iv + d->n + i];
   vs_model_ext_energies(d->m, y, &e->elastic, &e->gravity);
   e->support_work = y[d->ie];
   e->damped = y[d->ie + 1];
@@ -366,7 +388,7 @@ static void energies(vs_dynamic *d, const double *y, double e0, vs_energy *e) {
 static double drift(const vs_dynamic *d, double t, const double *y) {
   double g[VS_DYN_NC], worst = 0.0;
   constraints(d, t, y, y + d->iv, g, NULL);
-  for (int c = 0; c < VS_DYN_NC; c++) worst = fmax(worst, fabs(g[c]));
+  for (int c = 0; c < d->nc; c++) worst = fmax(worst, fabs(g[c]));
   return worst;
 }
 
@@ -400,7 +422,20 @@ void vs_dynamic_accelerations(const vs_dynamic *d, double *a) {
 }
 
 void vs_dynamic_reactions(const vs_dynamic *d, double out[6]) {
-  memcpy(out, N_VGetArrayPointer(d->y) + d->il, VS_DYN_NC * sizeof *out);
+  const double *lam = N_VGetArrayPointer(d->y) + d->il;
+  for (int i = 0; i < VS_DYN_NC; i++) out[i] = d->cidx[i] >= 0 ? lam[d->cidx[i]] : 0.0;
+}
+
+/* The static state (blocks, pinned supports' rotations) of y into d->qst, d->vst. */
+static void static_state(vs_dynamic *d, const double *y) {
+  memcpy(d->qst, y, (size_t)d->n * sizeof *d->qst);
+  memcpy(d->vst, y + d->iv, (size_t)d->n * sizeof *d->vst);
+  for (int s = 0; s < 2; s++) {
+    const int k = vs_model_support_dof(d->m, s);
+    if (k < 0) continue;
+    d->qst[k] = y[d->n + 3 * s + 2];
+    d->vst[k] = y[d->iv + d->n + 3 * s + 2];
+  }
 }
 
 vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_sample_fn sample,
@@ -408,8 +443,8 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   const int n = d->n;
   memset(res, 0, sizeof *res);
   res->t_collapse = NAN;
-  res->dae_differential = d->N - 2 * VS_DYN_NC;
-  res->dae_algebraic = 2 * VS_DYN_NC;
+  res->dae_differential = d->N - 2 * d->nc;
+  res->dae_algebraic = 2 * d->nc;
   res->dae_index = 2;
   d->max_drift = 0.0;
   double *y = N_VGetArrayPointer(d->y);
@@ -417,6 +452,12 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   memcpy(y, q, (size_t)n * sizeof *y);
   memcpy(y + d->iv, v, (size_t)n * sizeof *y);
   vs_model_support_states(d->m, delta_at(d, t0), d->o.rate, y + n, y + d->iv + n);
+  for (int s = 0; s < 2; s++) { /* a pinned support's rotation: the static state's */
+    const int k = vs_model_support_dof(d->m, s);
+    if (k < 0) continue;
+    y[n + 3 * s + 2] = q[k];
+    y[d->iv + n + 3 * s + 2] = v[k];
+  }
   N_VConst(0.0, d->yp);
   d->msg[0] = '\0';
   int flag = IDAReInit(d->ida, t0, d->y, d->yp);
@@ -447,7 +488,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   long base_steps = 0, base_newton = 0;
   vs_status st = VS_OK;
   e.balance = 0.0; /* the reference of the balance */
-  if (sample != NULL && sample(user, t0, delta_at(d, t0), y, y + d->iv, &e) != 0)
+  if (sample != NULL && (static_state(d, y), sample(user, t0, delta_at(d, t0), d->qst, d->vst, &e)) != 0)
     return vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
   t_last_sample = t0;
   res->t_motion = t0;
@@ -499,7 +540,8 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
         if (d->roots[k] == 0 || event == NULL) continue;
         vs_dyn_event ev = {.t = t, .delta = delta, .joint = k / 2 + 1,
                            .side = (k % 2 == 0) ? 'E' : 'I', .opened = d->roots[k] > 0};
-        if (event(user, &ev, y) != 0) stop = 1;
+        static_state(d, y);
+        if (event(user, &ev, d->qst) != 0) stop = 1;
       }
       if (d->roots[2 * d->nj + 1] > 0 && !collapsed) { /* a departure, located */
         res->t_motion = t;
@@ -538,7 +580,8 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
       IDAGetNumNonlinSolvIters(d->ida, &res->newton_iterations);
       res->steps += base_steps;
       res->newton_iterations += base_newton;
-      if (sample(user, t, delta, y, y + d->iv, &e) != 0) stop = 1;
+      static_state(d, y);
+      if (sample(user, t, delta, d->qst, d->vst, &e) != 0) stop = 1;
     }
     if (stop) {
       st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
@@ -564,11 +607,12 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   res->steps += base_steps;
   res->newton_iterations += base_newton;
   if (st == VS_OK && sample != NULL && t > t_last_sample &&
-      sample(user, t, res->delta_end, y, y + d->iv, &e) != 0) /* the final state */
+      (static_state(d, y), sample(user, t, res->delta_end, d->qst, d->vst, &e)) != 0)
     st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
   res->jac_evals = d->jac_evals;
-  memcpy(q, y, (size_t)n * sizeof *q);
-  memcpy(v, y + d->iv, (size_t)n * sizeof *v);
+  static_state(d, y);
+  memcpy(q, d->qst, (size_t)d->nq * sizeof *q);
+  memcpy(v, d->vst, (size_t)d->nq * sizeof *v);
   res->max_drift = d->max_drift;
   return st;
 }

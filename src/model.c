@@ -8,13 +8,14 @@
 #include <string.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
-/* A CSC pattern over bodies: per body column, its sorted coupled bodies (3x3 blocks). */
+/* A CSC pattern over the unknowns of a system: dof[3 slot + c] is the unknown of component c
+ * (ux, uz, theta) of body slot (block i: slot i; left support: n_blocks, right: n_blocks + 1),
+ * -1 where that component is prescribed. Per column, its rows are sorted. */
 typedef struct {
-  int nbody, n; /* bodies, unknowns (3 per body) */
+  int n; /* unknowns */
+  int *dof;
   sunindextype *colptr, *rowind;
   int nnz;
-  int *blk_start; /* per body column, offset of its first row-block in adj[] */
-  int *adj;       /* per body column, the sorted bodies coupled to it */
 } vs_pattern;
 
 struct vs_model {
@@ -27,7 +28,8 @@ struct vs_model {
   double zeta;     /* damping ratio */
   double gscale;   /* gravity load factor (1: the arch's own weight) */
   double *cn, *cs; /* per joint: damping coefficients, N s/m^3 */
-  vs_pattern pat;  /* the blocks' Jacobian pattern */
+  int pinned[2];   /* left, right: 1 if the support is pinned (its rotation free) */
+  vs_pattern pat;  /* statics: the blocks' 3 n_blocks unknowns, then the pinned supports' rotations */
   vs_pattern pate; /* with the two supports as bodies n_blocks (left) and n_blocks + 1 (right) */
 };
 
@@ -40,97 +42,110 @@ static void body_q(const double *q, const double qs[6], int body, double out[3])
   memcpy(out, src, 3 * sizeof(double));
 }
 
-/* The supports' states prescribed by delta (or their velocities, given d(delta)/dt): the left
- * one fixed, the right one translated by delta along dir. */
-static void sup_state(const vs_model *m, double delta, double qs[6]) {
-  qs[0] = qs[1] = qs[2] = qs[5] = 0.0;
-  qs[3] = delta * m->dir[0];
-  qs[4] = delta * m->dir[1];
-}
-
-/* Column block of a body in pattern p: a block's index; a support's n_blocks (left) or
- * n_blocks + 1 (right) in the extended pattern, -1 (not an unknown) in the blocks' pattern. */
-static int body_col(const vs_model *m, const vs_pattern *p, int body) {
+/* Slot of a body in a pattern's dof map: a block's index, n_blocks (left), n_blocks + 1. */
+static int body_slot(const vs_model *m, int body) {
   if (body_is_block(body)) return body;
-  if (p->nbody == m->g->n_blocks) return -1;
   return m->g->n_blocks + (body == VS_SUPPORT_LEFT ? 0 : 1);
 }
 
-static int cmp_int(const void *x, const void *y) {
-  int a = *(const int *)x, b = *(const int *)y;
-  return (a > b) - (a < b);
-}
-
-/* Body adjacency (each body with itself and its joint neighbours) -> CSC pattern p over
- * p->nbody bodies (set by the caller). */
-static vs_status build_pattern(const vs_model *m, vs_pattern *p, vs_error *err) {
-  const vs_geometry *g = m->g;
-  const int nb = p->nbody;
-  p->n = 3 * nb;
-  int *deg = calloc((size_t)nb + 1, sizeof *deg);
-  if (deg == NULL) return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
-  for (int i = 0; i < nb; i++) deg[i] = 1;
-  for (int k = 0; k < g->n_joints; k++) {
-    const int a = body_col(m, p, g->joints[k].a), b = body_col(m, p, g->joints[k].b);
-    if (a >= 0 && b >= 0 && a != b) {
-      deg[a]++;
-      deg[b]++;
-    }
+/* The supports' states prescribed by delta (or their velocities, given d(delta)/dt): the left
+ * one fixed, the right one translated by delta along dir; a pinned support's rotation is the
+ * static unknown q[dof] (NULL q: zero). */
+static void sup_state_q(const vs_model *m, const double *q, double delta, double qs[6]) {
+  qs[0] = qs[1] = qs[2] = qs[5] = 0.0;
+  qs[3] = delta * m->dir[0];
+  qs[4] = delta * m->dir[1];
+  for (int s = 0; s < 2 && q != NULL; s++) {
+    const int d = m->pat.dof[3 * (m->g->n_blocks + s) + 2];
+    if (d >= 0) qs[3 * s + 2] = q[d];
   }
-  p->blk_start = malloc(((size_t)nb + 1) * sizeof *p->blk_start);
-  int total = 0;
-  for (int i = 0; i < nb; i++) total += deg[i];
-  p->adj = malloc((size_t)total * sizeof *p->adj);
-  if (p->blk_start == NULL || p->adj == NULL) {
-    free(deg);
-    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
-  }
-  p->blk_start[0] = 0;
-  for (int i = 0; i < nb; i++) p->blk_start[i + 1] = p->blk_start[i] + deg[i];
-  for (int i = 0; i < nb; i++) {
-    p->adj[p->blk_start[i]] = i;
-    deg[i] = 1; /* reuse as fill counter */
-  }
-  for (int k = 0; k < g->n_joints; k++) {
-    const int a = body_col(m, p, g->joints[k].a), b = body_col(m, p, g->joints[k].b);
-    if (a >= 0 && b >= 0 && a != b) {
-      p->adj[p->blk_start[a] + deg[a]++] = b;
-      p->adj[p->blk_start[b] + deg[b]++] = a;
-    }
-  }
-  free(deg);
-  /* sort and remove duplicates (two joints between the same bodies) */
-  int w = 0;
-  for (int i = 0; i < nb; i++) {
-    int s = p->blk_start[i], e = p->blk_start[i + 1];
-    qsort(p->adj + s, (size_t)(e - s), sizeof(int), cmp_int);
-    p->blk_start[i] = w;
-    for (int r = s; r < e; r++)
-      if (r == s || p->adj[r] != p->adj[r - 1]) p->adj[w++] = p->adj[r];
-  }
-  p->blk_start[nb] = w;
-  p->nnz = 9 * w;
-  p->colptr = malloc(((size_t)p->n + 1) * sizeof *p->colptr);
-  p->rowind = malloc((size_t)p->nnz * sizeof *p->rowind);
-  if (p->colptr == NULL || p->rowind == NULL)
-    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
-  sunindextype pos = 0;
-  for (int bj = 0; bj < nb; bj++) {
-    for (int cj = 0; cj < 3; cj++) {
-      p->colptr[3 * bj + cj] = pos;
-      for (int r = p->blk_start[bj]; r < p->blk_start[bj + 1]; r++)
-        for (int ci = 0; ci < 3; ci++) p->rowind[pos++] = 3 * p->adj[r] + ci;
-    }
-  }
-  p->colptr[p->n] = pos;
-  return VS_OK;
 }
 
 static void pattern_free(vs_pattern *p) {
   free(p->colptr);
   free(p->rowind);
-  free(p->blk_start);
-  free(p->adj);
+  free(p->dof);
+  memset(p, 0, sizeof *p);
+}
+
+static int cmp_pair(const void *x, const void *y) {
+  const sunindextype *a = x, *b = y; /* (column, row) */
+  if (a[0] != b[0]) return (a[0] > b[0]) - (a[0] < b[0]);
+  return (a[1] > b[1]) - (a[1] < b[1]);
+}
+
+/* Add the couplings among n unknowns d[] (entries < 0 skipped) to the pair list. */
+static void add_pairs(const int *d, int n, sunindextype *pairs, size_t *np) {
+  for (int i = 0; i < n; i++)
+    for (int j = 0; j < n; j++)
+      if (d[i] >= 0 && d[j] >= 0) {
+        pairs[2 * *np] = d[j];
+        pairs[2 * *np + 1] = d[i];
+        (*np)++;
+      }
+}
+
+/* CSC pattern of p (p->n, p->dof set by the caller): every body's components with each other
+ * and every joint's two bodies' components with each other. */
+static vs_status build_pattern(const vs_model *m, vs_pattern *p, vs_error *err) {
+  const vs_geometry *g = m->g;
+  const size_t cap = 9 * (size_t)(g->n_blocks + 2) + 36 * (size_t)g->n_joints;
+  sunindextype *pairs = malloc(2 * cap * sizeof *pairs);
+  p->colptr = malloc(((size_t)p->n + 1) * sizeof *p->colptr);
+  if (pairs == NULL || p->colptr == NULL) {
+    free(pairs);
+    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
+  }
+  size_t np = 0;
+  for (int b = 0; b < g->n_blocks + 2; b++) add_pairs(p->dof + 3 * b, 3, pairs, &np);
+  for (int k = 0; k < g->n_joints; k++) {
+    const int sa = body_slot(m, g->joints[k].a), sb = body_slot(m, g->joints[k].b);
+    int d[6];
+    for (int c = 0; c < 3; c++) {
+      d[c] = p->dof[3 * sa + c];
+      d[3 + c] = p->dof[3 * sb + c];
+    }
+    add_pairs(d, 6, pairs, &np);
+  }
+  qsort(pairs, np, 2 * sizeof *pairs, cmp_pair);
+  p->rowind = malloc((np > 0 ? np : 1) * sizeof *p->rowind);
+  if (p->rowind == NULL) {
+    free(pairs);
+    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
+  }
+  int w = 0, col = 0;
+  for (size_t e = 0; e < np; e++) {
+    if (e > 0 && pairs[2 * e] == pairs[2 * e - 2] && pairs[2 * e + 1] == pairs[2 * e - 1]) continue;
+    while (col <= pairs[2 * e]) p->colptr[col++] = w;
+    p->rowind[w++] = pairs[2 * e + 1];
+  }
+  while (col <= p->n) p->colptr[col++] = w;
+  p->nnz = w;
+  free(pairs);
+  return VS_OK;
+}
+
+/* Dof maps: statics (blocks, then the pinned supports' rotations) and the extended system
+ * (blocks, then all six components of the two supports). */
+static vs_status build_patterns(vs_model *m, vs_error *err) {
+  const int nb = m->g->n_blocks, nslot = 3 * (nb + 2);
+  pattern_free(&m->pat);
+  pattern_free(&m->pate);
+  m->pat.dof = malloc((size_t)nslot * sizeof(int));
+  m->pate.dof = malloc((size_t)nslot * sizeof(int));
+  if (m->pat.dof == NULL || m->pate.dof == NULL)
+    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
+  for (int i = 0; i < nslot; i++) {
+    m->pate.dof[i] = i;
+    m->pat.dof[i] = i < 3 * nb ? i : -1;
+  }
+  m->pat.n = 3 * nb;
+  for (int s = 0; s < 2; s++)
+    if (m->pinned[s]) m->pat.dof[3 * (nb + s) + 2] = m->pat.n++;
+  m->pate.n = nslot;
+  m->n = m->pat.n;
+  vs_status st = build_pattern(m, &m->pat, err);
+  return st == VS_OK ? build_pattern(m, &m->pate, err) : st;
 }
 
 vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double alpha_rad,
@@ -169,10 +184,7 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
       m->rb[2 * k + 1] = j->pz - g->blocks[j->b].cz;
     }
   }
-  m->pat.nbody = g->n_blocks;
-  m->pate.nbody = g->n_blocks + 2;
-  vs_status st = build_pattern(m, &m->pat, err);
-  if (st == VS_OK) st = build_pattern(m, &m->pate, err);
+  vs_status st = build_patterns(m, err);
   if (st != VS_OK) {
     vs_model_destroy(&m);
     return st;
@@ -193,6 +205,26 @@ void vs_model_destroy(vs_model **m) {
   pattern_free(&p->pate);
   free(p);
   *m = NULL;
+}
+
+vs_status vs_model_set_support_kinds(vs_model *m, vs_support_kind left, vs_support_kind right,
+                                     vs_error *err) {
+  const vs_support_kind k[2] = {left, right};
+  for (int s = 0; s < 2; s++)
+    if (k[s] != VS_SUPPORT_FIXED && k[s] != VS_SUPPORT_PINNED)
+      return vs_error_set(err, VS_ERR_INVALID, "model: %s support kind %d (allowed: fixed, pinned)",
+                          s == 0 ? "left" : "right", (int)k[s]);
+  m->pinned[0] = left == VS_SUPPORT_PINNED;
+  m->pinned[1] = right == VS_SUPPORT_PINNED;
+  return build_patterns(m, err);
+}
+
+vs_support_kind vs_model_support_kind(const vs_model *m, int right) {
+  return m->pinned[right ? 1 : 0] ? VS_SUPPORT_PINNED : VS_SUPPORT_FIXED;
+}
+
+int vs_model_support_dof(const vs_model *m, int right) {
+  return m->pat.dof[3 * (m->g->n_blocks + (right ? 1 : 0)) + 2];
 }
 
 int vs_model_size(const vs_model *m) { return m->n; }
@@ -216,7 +248,16 @@ static void eval_joint(const vs_model *m, const double *q, const double qs[6], i
   vs_joint_eval(j, &m->law, qa, qb, m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k], st, f, K);
 }
 
-/* Residual over the bodies of pattern p (G has p->n entries). */
+/* The unknowns of joint k's six components (body a's, then b's) in pattern p, -1 if prescribed. */
+static void joint_dofs(const vs_model *m, const vs_pattern *p, int k, int d[6]) {
+  const int sa = body_slot(m, m->g->joints[k].a), sb = body_slot(m, m->g->joints[k].b);
+  for (int c = 0; c < 3; c++) {
+    d[c] = p->dof[3 * sa + c];
+    d[3 + c] = p->dof[3 * sb + c];
+  }
+}
+
+/* Residual over the unknowns of pattern p (G has p->n entries). */
 static void residual_core(const vs_model *m, const vs_pattern *p, const double *q,
                           const double qs[6], double *G) {
   const vs_geometry *g = m->g;
@@ -226,28 +267,28 @@ static void residual_core(const vs_model *m, const vs_pattern *p, const double *
   for (int k = 0; k < g->n_joints; k++) {
     double f[6];
     eval_joint(m, q, qs, k, NULL, f, NULL);
-    const int col[2] = {body_col(m, p, g->joints[k].a), body_col(m, p, g->joints[k].b)};
-    for (int s = 0; s < 2; s++)
-      if (col[s] >= 0)
-        for (int c = 0; c < 3; c++) G[3 * col[s] + c] += f[3 * s + c];
+    int d[6];
+    joint_dofs(m, p, k, d);
+    for (int e = 0; e < 6; e++)
+      if (d[e] >= 0) G[d[e]] += f[e];
   }
 }
 
 void vs_model_residual(const vs_model *m, const double *q, double delta, double *G) {
   double qs[6];
-  sup_state(m, delta, qs);
+  sup_state_q(m, q, delta, qs);
   residual_core(m, &m->pat, q, qs, G);
 }
 
-/* Position in the CSC data of entry (row body bi, column body bj), component (0, 0). */
-static sunindextype csc_pos(const vs_pattern *p, int bi, int bj) {
-  int lo = p->blk_start[bj], hi = p->blk_start[bj + 1] - 1;
-  while (lo < hi) { /* adjacency lists are sorted */
-    int mid = (lo + hi) / 2;
-    if (p->adj[mid] < bi) lo = mid + 1;
+/* Position in the CSC data of entry (row, col); the rows of a column are sorted. */
+static sunindextype csc_pos(const vs_pattern *p, int row, int col) {
+  sunindextype lo = p->colptr[col], hi = p->colptr[col + 1] - 1;
+  while (lo < hi) {
+    const sunindextype mid = (lo + hi) / 2;
+    if (p->rowind[mid] < row) lo = mid + 1;
     else hi = mid;
   }
-  return p->colptr[3 * bj] + 3 * (lo - p->blk_start[bj]);
+  return lo;
 }
 
 /* Write the CSC pattern into A, zero its values and return them. */
@@ -260,17 +301,12 @@ static double *csc_reset(const vs_pattern *p, SUNMatrix A) {
 }
 
 /* Add a joint's 6x6 matrix (row-major, rows and columns (body a, body b)) into the CSC values;
- * col[] are the bodies' column blocks in p (-1: not an unknown). */
-static void scatter_joint(const vs_pattern *p, const int col[2], const double Kj[36], double *data) {
-  for (int si = 0; si < 2; si++) {
-    if (col[si] < 0) continue;
-    for (int sj = 0; sj < 2; sj++) {
-      if (col[sj] < 0) continue;
-      const sunindextype p0 = csc_pos(p, col[si], col[sj]);
-      const sunindextype stride = p->colptr[3 * col[sj] + 1] - p->colptr[3 * col[sj]];
-      for (int cj = 0; cj < 3; cj++)
-        for (int ci = 0; ci < 3; ci++) data[p0 + cj * stride + ci] += Kj[(3 * si + ci) * 6 + 3 * sj + cj];
-    }
+ * d[] are the components' unknowns in p (-1: prescribed). */
+static void scatter_joint(const vs_pattern *p, const int d[6], const double Kj[36], double *data) {
+  for (int j = 0; j < 6; j++) {
+    if (d[j] < 0) continue;
+    for (int i = 0; i < 6; i++)
+      if (d[i] >= 0) data[csc_pos(p, d[i], d[j])] += Kj[6 * i + j];
   }
 }
 
@@ -281,14 +317,15 @@ static void jacobian_core(const vs_model *m, const vs_pattern *p, const double *
   for (int k = 0; k < g->n_joints; k++) {
     double K[36];
     eval_joint(m, q, qs, k, NULL, NULL, K);
-    const int col[2] = {body_col(m, p, g->joints[k].a), body_col(m, p, g->joints[k].b)};
-    scatter_joint(p, col, K, data);
+    int d[6];
+    joint_dofs(m, p, k, d);
+    scatter_joint(p, d, K, data);
   }
 }
 
 int vs_model_jacobian(const vs_model *m, const double *q, double delta, SUNMatrix J) {
   double qs[6];
-  sup_state(m, delta, qs);
+  sup_state_q(m, q, delta, qs);
   jacobian_core(m, &m->pat, q, qs, J);
   return 0;
 }
@@ -296,20 +333,20 @@ int vs_model_jacobian(const vs_model *m, const double *q, double delta, SUNMatri
 void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double *out) {
   const vs_geometry *g = m->g;
   double qs[6];
-  sup_state(m, delta, qs);
+  sup_state_q(m, q, delta, qs);
   memset(out, 0, (size_t)m->n * sizeof *out);
   for (int k = 0; k < g->n_joints; k++) {
     const int body[2] = {g->joints[k].a, g->joints[k].b};
     int ss = (body[1] == VS_SUPPORT_RIGHT) ? 1 : (body[0] == VS_SUPPORT_RIGHT) ? 0 : -1;
     if (ss < 0) continue;
     double K[36];
+    int d[6];
     eval_joint(m, q, qs, k, NULL, NULL, K);
-    for (int si = 0; si < 2; si++) {
-      if (!body_is_block(body[si])) continue;
-      for (int ci = 0; ci < 3; ci++) {
-        const double *row = K + (3 * si + ci) * 6 + 3 * ss;
-        out[3 * body[si] + ci] += row[0] * m->dir[0] + row[1] * m->dir[1];
-      }
+    joint_dofs(m, &m->pat, k, d);
+    for (int e = 0; e < 6; e++) {
+      if (d[e] < 0) continue;
+      const double *row = K + 6 * e + 3 * ss;
+      out[d[e]] += row[0] * m->dir[0] + row[1] * m->dir[1];
     }
   }
 }
@@ -321,7 +358,7 @@ static void joint_states_core(const vs_model *m, const double *q, const double q
 
 void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_joint_state *st) {
   double qs[6];
-  sup_state(m, delta, qs);
+  sup_state_q(m, q, delta, qs);
   joint_states_core(m, q, qs, st);
 }
 
@@ -338,14 +375,14 @@ static int commit_core(vs_model *m, const double *q, const double qs[6]) {
 
 int vs_model_commit(vs_model *m, const double *q, double delta) {
   double qs[6];
-  sup_state(m, delta, qs);
+  sup_state_q(m, q, delta, qs);
   return commit_core(m, q, qs);
 }
 
 void vs_model_reactions(const vs_model *m, const double *q, double delta, double left[2],
                         double right[2]) {
   double qs[6];
-  sup_state(m, delta, qs);
+  sup_state_q(m, q, delta, qs);
   left[0] = left[1] = right[0] = right[1] = 0.0;
   for (int k = 0; k < m->g->n_joints; k++) {
     const vs_joint_geom *j = &m->g->joints[k];
@@ -365,7 +402,7 @@ void vs_model_reactions(const vs_model *m, const double *q, double delta, double
 
 void vs_model_support_reactions(const vs_model *m, const double *q, double delta, double out[6]) {
   double qs[6];
-  sup_state(m, delta, qs);
+  sup_state_q(m, q, delta, qs);
   memset(out, 0, 6 * sizeof *out);
   for (int k = 0; k < m->g->n_joints; k++) {
     const vs_joint_geom *j = &m->g->joints[k];
@@ -413,6 +450,14 @@ void vs_model_residual_scale(const vs_model *m, double *scale) {
     scale[3 * i + 1] = w;
     scale[3 * i + 2] = w * len;
   }
+  /* a pinned support's rotation: the moment of its neighbouring block's weight over the joint */
+  for (int k = 0; k < g->n_joints; k++) {
+    const vs_joint_geom *j = &g->joints[k];
+    const int sup = body_is_block(j->a) ? j->b : j->a, blk = body_is_block(j->a) ? j->a : j->b;
+    if (body_is_block(sup) || !body_is_block(blk)) continue;
+    const int d = m->pat.dof[3 * body_slot(m, sup) + 2];
+    if (d >= 0) scale[d] = g->blocks[blk].mass * g->gravity * j->length;
+  }
 }
 
 /* --- dynamics --- */
@@ -457,14 +502,17 @@ static void damping_core(const vs_model *m, const vs_pattern *p, const double *q
                        f, C != NULL ? Ck : NULL, &pw);
       diss += pw;
       const int body[2] = {j->a, j->b};
-      const int col[2] = {body_col(m, p, j->a), body_col(m, p, j->b)};
+      int d[6];
+      joint_dofs(m, p, k, d);
       for (int s = 0; s < 2; s++) {
         const double *vv = s == 0 ? va : vb;
-        if (!body_is_block(body[s])) sup -= f[3 * s] * vv[0] + f[3 * s + 1] * vv[1] + f[3 * s + 2] * vv[2];
-        if (col[s] < 0 || fd == NULL) continue;
-        for (int c = 0; c < 3; c++) fd[3 * col[s] + c] += f[3 * s + c];
+        for (int c = 0; c < 3; c++) {
+          /* the support's prescribed components work on the arch; a free one is the arch's */
+          if (!body_is_block(body[s]) && d[3 * s + c] < 0) sup -= f[3 * s + c] * vv[c];
+          if (d[3 * s + c] >= 0 && fd != NULL) fd[d[3 * s + c]] += f[3 * s + c];
+        }
       }
-      if (C != NULL) scatter_joint(p, col, Ck, data);
+      if (C != NULL) scatter_joint(p, d, Ck, data);
     }
   }
   /* the support does the work -f . u_dot on the arch through the damper: the dissipated power
@@ -477,8 +525,8 @@ void vs_model_damping(const vs_model *m, const double *q, const double *v, doubl
                       double ddelta_dt, double *fd, double *dissipated, double *support_power,
                       SUNMatrix C) {
   double qs[6], vs[6];
-  sup_state(m, delta, qs);
-  sup_state(m, ddelta_dt, vs);
+  sup_state_q(m, q, delta, qs);
+  sup_state_q(m, v, ddelta_dt, vs);
   damping_core(m, &m->pat, q, v, qs, vs, fd, dissipated, support_power, C);
 }
 
@@ -518,8 +566,8 @@ static double friction_core(const vs_model *m, const double *q, const double *v,
 double vs_model_friction_power(const vs_model *m, const double *q, const double *v, double delta,
                                double ddelta_dt) {
   double qs[6], vs[6];
-  sup_state(m, delta, qs);
-  sup_state(m, ddelta_dt, vs);
+  sup_state_q(m, q, delta, qs);
+  sup_state_q(m, v, ddelta_dt, vs);
   return friction_core(m, q, v, qs, vs);
 }
 
@@ -533,7 +581,7 @@ double vs_model_support_force(const vs_model *m, const double *q, double delta) 
 void vs_model_energies(const vs_model *m, const double *q, double delta, double *elastic,
                        double *gravity) {
   double qs[6];
-  sup_state(m, delta, qs);
+  sup_state_q(m, q, delta, qs);
   energies_core(m, q, qs, elastic, gravity);
 }
 
@@ -544,8 +592,8 @@ int vs_model_ext_nnz(const vs_model *m) { return m->pate.nnz; }
 
 void vs_model_support_states(const vs_model *m, double delta, double rate, double qs[6],
                              double vs[6]) {
-  sup_state(m, delta, qs);
-  sup_state(m, rate, vs);
+  sup_state_q(m, NULL, delta, qs);
+  sup_state_q(m, NULL, rate, vs);
 }
 
 void vs_model_ext_mass(const vs_model *m, double *mdiag) {
@@ -556,35 +604,36 @@ void vs_model_ext_mass(const vs_model *m, double *mdiag) {
     mass += g->blocks[i].mass / g->n_blocks;
     inertia += g->blocks[i].inertia / g->n_blocks;
   }
+  const int nq = 3 * g->n_blocks;
   for (int s = 0; s < 2; s++) {
-    mdiag[m->n + 3 * s] = mdiag[m->n + 3 * s + 1] = mass;
-    mdiag[m->n + 3 * s + 2] = inertia;
+    mdiag[nq + 3 * s] = mdiag[nq + 3 * s + 1] = mass;
+    mdiag[nq + 3 * s + 2] = inertia;
   }
 }
 
 void vs_model_ext_residual(const vs_model *m, const double *qe, double *Ge) {
-  residual_core(m, &m->pate, qe, qe + m->n, Ge);
+  residual_core(m, &m->pate, qe, qe + 3 * m->g->n_blocks, Ge);
 }
 
 void vs_model_ext_jacobian(const vs_model *m, const double *qe, SUNMatrix J) {
-  jacobian_core(m, &m->pate, qe, qe + m->n, J);
+  jacobian_core(m, &m->pate, qe, qe + 3 * m->g->n_blocks, J);
 }
 
 void vs_model_ext_damping(const vs_model *m, const double *qe, const double *ve, double *fd,
                           double *dissipated, SUNMatrix C) {
-  damping_core(m, &m->pate, qe, ve, qe + m->n, ve + m->n, fd, dissipated, NULL, C);
+  damping_core(m, &m->pate, qe, ve, qe + 3 * m->g->n_blocks, ve + 3 * m->g->n_blocks, fd, dissipated, NULL, C);
 }
 
 double vs_model_ext_friction_power(const vs_model *m, const double *qe, const double *ve) {
-  return friction_core(m, qe, ve, qe + m->n, ve + m->n);
+  return friction_core(m, qe, ve, qe + 3 * m->g->n_blocks, ve + 3 * m->g->n_blocks);
 }
 
 void vs_model_ext_joint_states(const vs_model *m, const double *qe, vs_joint_state *st) {
-  joint_states_core(m, qe, qe + m->n, st);
+  joint_states_core(m, qe, qe + 3 * m->g->n_blocks, st);
 }
 
-int vs_model_ext_commit(vs_model *m, const double *qe) { return commit_core(m, qe, qe + m->n); }
+int vs_model_ext_commit(vs_model *m, const double *qe) { return commit_core(m, qe, qe + 3 * m->g->n_blocks); }
 
 void vs_model_ext_energies(const vs_model *m, const double *qe, double *elastic, double *gravity) {
-  energies_core(m, qe, qe + m->n, elastic, gravity);
+  energies_core(m, qe, qe + 3 * m->g->n_blocks, elastic, gravity);
 }

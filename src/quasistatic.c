@@ -55,7 +55,8 @@ typedef struct {
   vs_model *m;
   const vs_path_opts *o;
   double delta;
-  int n;
+  int n;   /* unknowns: the blocks', then the pinned supports' rotations */
+  int nb3; /* the blocks' unknowns, 3 n_blocks */
   SUNContext ctx;
   N_Vector u, uscale, fscale;
   SUNMatrix J, Jt;            /* KINSOL's Jacobian; the tangent at accepted states */
@@ -75,6 +76,9 @@ typedef struct {
   int nonfinite;              /* the last solve met a residual that is not finite */
   char kin_msg[256];
 } qs_solver;
+
+/* Unknown i is a rotation: a block's theta or a pinned support's. */
+static int is_rotation(const qs_solver *s, int i) { return i >= s->nb3 || i % 3 == 2; }
 
 static int qs_stopped(qs_solver *s) {
   if (s->o->stop != NULL && *s->o->stop) s->interrupted = 1;
@@ -143,6 +147,7 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
   s->m = m;
   s->o = o;
   s->n = vs_model_size(m);
+  s->nb3 = 3 * vs_model_geometry(m)->n_blocks;
   const sunindextype n = s->n, nnz = vs_model_nnz(m);
   int flag = SUNContext_Create(NULL, &s->ctx);
   if (flag != 0) return qs_fail(s, err, "SUNContext_Create", flag);
@@ -179,15 +184,16 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
    * unknowns in units of that length (rotations in rad). */
   double *fs = N_VGetArrayPointer(s->fscale), *us = N_VGetArrayPointer(s->uscale);
   vs_model_residual_scale(m, fs);
-  for (int i = 0; i < s->n; i += 3) {
+  for (int i = 0; i < s->nb3; i += 3) {
     const double len = fs[i + 2] / fs[i];
     s->len[i] = s->len[i + 1] = 1.0;
     s->len[i + 2] = len;
     us[i] = us[i + 1] = 1.0 / len;
     us[i + 2] = 1.0;
   }
+  for (int i = s->nb3; i < s->n; i++) s->len[i] = us[i] = 1.0; /* pinned supports' rotations */
   s->wmin = INFINITY;
-  for (int i = 0; i < s->n; i += 3) s->wmin = fmin(s->wmin, fs[i]);
+  for (int i = 0; i < s->nb3; i += 3) s->wmin = fmin(s->wmin, fs[i]);
   for (int i = 0; i < s->n; i++) fs[i] = 1.0 / fs[i];
   const vs_geometry *g = vs_model_geometry(m);
   for (int k = 0; k < g->n_joints; k++) {
@@ -246,7 +252,7 @@ static int qs_solve(qs_solver *s, double delta, double *q, long *iters) {
       /* stalled: accept only at the round-off floor of the residual */
       double umax = 0.0;
       for (int i = 0; i < s->n; i++)
-        if (i % 3 != 2) umax = fmax(umax, fabs(u[i]));
+        if (!is_rotation(s, i)) umax = fmax(umax, fabs(u[i]));
       const double floor = VS_FLOOR_MARGIN * DBL_EPSILON * s->kmax * (umax + s->lmax) / s->wmin;
       if (!stalled || r > floor) return flag == KIN_SUCCESS ? KIN_STEP_LT_STPTOL : flag;
       s->floor_limited++;
@@ -356,7 +362,7 @@ static int path_tangent(qs_solver *s, const double *q, double delta, double *dq)
 static double scaled_norm(const qs_solver *s, const double *a, const double *b) {
   double r = 0.0;
   for (int i = 0; i < s->n; i++) {
-    const double len = (i % 3 == 2) ? 1.0 : s->len[i - i % 3 + 2];
+    const double len = is_rotation(s, i) ? 1.0 : s->len[i - i % 3 + 2];
     r = fmax(r, fabs(a[i] - b[i]) / len);
   }
   return r;
@@ -572,7 +578,7 @@ static int gravity_ramp(qs_solver *s, double *q, double *lambda_max) {
     if (have_tangent) {
       double *pb = N_VGetArrayPointer(b);
       vs_model_residual_scale(m, pb); /* weights on 3i, 3i+1 */
-      for (int i = 0; i < s->n; i++) pb[i] = (i % 3 == 1) ? -pb[i] : 0.0;
+      for (int i = 0; i < s->n; i++) pb[i] = (i < s->nb3 && i % 3 == 1) ? -pb[i] : 0.0;
       have_tangent = tangent_solve(s, x, b) == 0;
     }
     for (int i = 0; i < s->n; i++)

@@ -188,6 +188,8 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   jnum(out, ",\"span_mm\":", vs_case_span_mm(c), 17);
   fprintf(out, ",\"mode_of_run\":\"%s\"",
           c->full ? "dynamic" : c->follow ? "quasistatic+dynamic" : "quasistatic");
+  fprintf(out, ",\"supports\":{\"left\":\"%s\",\"right\":\"%s\"}",
+          c->left_kind ? "pinned" : "fixed", c->right_kind ? "pinned" : "fixed");
   fputs(",\"first_limit\":", out);
   json_first_limit(out, r);
   fputs(",\"collapse\":", out);
@@ -226,8 +228,13 @@ static void text_header(FILE *out, const vs_run *r, const char *case_path) {
           g->span / VS_MM, g->rise / VS_MM, vs_geometry_weight(g));
   fprintf(out, "joints   k_n = %g N/mm^3, k_s = %g k_n, mu = %g, damping %g of critical\n",
           c->kn_N_mm3, c->ks_ratio, c->friction, c->damping);
-  fprintf(out, "support  right support moved at alpha = %g deg from the vertical, %g mm/s (left fixed)\n",
-          c->alpha_deg, c->rate_mm_s);
+  static const char *const kind[] = {"fixed", "pinned"};
+  fprintf(out, "support  right support moved at alpha = %g deg from the vertical, %g mm/s (left %s",
+          c->alpha_deg, c->rate_mm_s, kind[c->left_kind != 0]);
+  if (c->left_kind != 0 || c->right_kind != 0)
+    fprintf(out, ", right %s;\n         pinned: free to rotate about the centre of its springing face",
+            kind[c->right_kind != 0]);
+  fprintf(out, ")\n");
   fprintf(out,
           "criteria hinge: edge opening > %g mm, migration within %d joints;\n"
           "         limit point bracketed to %g mm; Newton tolerance %g x voussoir weight;\n"

@@ -85,6 +85,9 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
                         .ks = c->ks_ratio * c->kn_N_mm3 * VS_N_MM3,
                         .mu = c->friction};
     st = vs_model_create(r->g, &law, c->alpha_deg * VS_DEG, &r->m, err);
+    if (st == VS_OK)
+      st = vs_model_set_support_kinds(r->m, (vs_support_kind)c->left_kind,
+                                      (vs_support_kind)c->right_kind, err);
   }
   if (st == VS_OK) {
     vs_model_set_damping(r->m, c->damping);

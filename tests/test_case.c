@@ -126,6 +126,9 @@ static const key_case all_keys[] = {
     {"dynamic", "sample_s", "9e-7", "2e6", {"1e-4", "1e-6"}},
 };
 #define NKEYS_TESTED (sizeof all_keys / sizeof all_keys[0])
+/* Keys that are named choices, tested by name in test_support_kinds: support.left_kind and
+ * support.right_kind. */
+#define NKEYS_NAMED 2
 
 /* ---------------------------------------------------------------------------------------------
  * Defaults and a valid file */
@@ -671,7 +674,7 @@ static void test_span(void **state) {
 /* The key iterator enumerates every key of the documented list, and reads what --set wrote. */
 static void test_key_iterator(void **state) {
   (void)state;
-  assert_int_equal(vs_case_key_count(), (int)NKEYS_TESTED);
+  assert_int_equal(vs_case_key_count(), (int)(NKEYS_TESTED + NKEYS_NAMED));
   assert_int_equal(vs_case_key(NULL, -1, NULL, NULL, NULL, NULL, NULL), -1);
   assert_int_equal(vs_case_key(NULL, vs_case_key_count(), NULL, NULL, NULL, NULL, NULL), -1);
   for (size_t i = 0; i < NKEYS_TESTED; i++) {
@@ -694,6 +697,62 @@ static void test_key_iterator(void **state) {
     assert_int_equal(vs_case_key(&c, found, NULL, NULL, NULL, &is_int, &v), 0);
     assert_true(fabs(v - strtod(kc->edge_ok[0], NULL)) <= 1e-12 * fabs(v));
     assert_true(is_int == 0 || is_int == 1);
+  }
+}
+
+/* support.left_kind and support.right_kind take names only (fixed, pinned; default fixed); the
+ * iterator gives the value's index and name; anything else is an error naming the key and the
+ * allowed names, and leaves the case unchanged. */
+static void test_support_kinds(void **state) {
+  (void)state;
+  static const char *const names[] = {"fixed", "pinned"};
+  static const char *const key[] = {"left_kind", "right_kind"};
+  for (int s = 0; s < 2; s++) {
+    vs_case c;
+    vs_error err;
+    vs_case_defaults(&c);
+    int *field = s == 0 ? &c.left_kind : &c.right_kind;
+    assert_int_equal(*field, 0); /* fixed */
+    int found = -1;
+    for (int k = 0; k < vs_case_key_count(); k++) {
+      const char *sec = NULL, *name = NULL;
+      vs_case_key(&c, k, &sec, &name, NULL, NULL, NULL);
+      if (strcmp(sec, "support") == 0 && strcmp(name, key[s]) == 0) found = k;
+    }
+    assert_true(found >= 0);
+    for (int i = 0; i < 2; i++) {
+      char buf[64];
+      snprintf(buf, sizeof buf, "support.%s = %s", key[s], names[i]);
+      assert_int_equal(vs_case_set(&c, buf, &err), VS_OK);
+      assert_int_equal(*field, i);
+      double v = -1.0;
+      assert_int_equal(vs_case_key(&c, found, NULL, NULL, NULL, NULL, &v), 0);
+      assert_true(v == (double)i);
+      assert_string_equal(vs_case_key_name_of(found, i), names[i]);
+    }
+    assert_null(vs_case_key_name_of(found, 2));
+    assert_null(vs_case_key_name_of(0, 0)); /* a number */
+    const char *bad[] = {"1", "Pinned", "hinged"};
+    for (int i = 0; i < 3; i++) {
+      char buf[64];
+      vs_case_defaults(&c);
+      snprintf(buf, sizeof buf, "support.%s=%s", key[s], bad[i]);
+      assert_int_equal(vs_case_set(&c, buf, &err), VS_ERR_INVALID);
+      assert_non_null(strstr(err.msg, key[s]));
+      assert_non_null(strstr(err.msg, "unknown name (allowed: one of fixed, pinned)"));
+      assert_int_equal(*field, 0); /* unchanged */
+    }
+    char buf[64];
+    snprintf(buf, sizeof buf, "support.%s=", key[s]);
+    assert_int_equal(vs_case_set(&c, buf, &err), VS_ERR_PARSE);
+    tmpfile_t t;
+    snprintf(buf, sizeof buf, "[support]\n%s = pinned\n", key[s]);
+    assert_int_equal(read_text(buf, &c, &err, &t), VS_OK);
+    drop(&t);
+    assert_int_equal(*field, 1);
+    *field = 7; /* set in code: validate catches it */
+    assert_int_equal(vs_case_validate(&c, &err), VS_ERR_INVALID);
+    assert_non_null(strstr(err.msg, key[s]));
   }
 }
 
@@ -879,6 +938,7 @@ static void test_ranges_keep_derived_finite(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_key_iterator),
+      cmocka_unit_test(test_support_kinds),
       cmocka_unit_test(test_defaults),
       cmocka_unit_test(test_full_file),
       cmocka_unit_test(test_partial_file_keeps_rest),

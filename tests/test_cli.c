@@ -267,6 +267,9 @@ static void test_bad_input(void **state) {
   expect_bad_input("run '" REFERENCE "' --set nosuch.kn_N_mm3=1 -q", "nosuch");
   expect_bad_input("run '" REFERENCE "' --alpha abc -q", "alpha_deg");
   expect_bad_input("run '" REFERENCE "' --kn -1 -q", "kn_N_mm3");
+  expect_bad_input("run '" REFERENCE "' --set support.right_kind=hinged -q",
+                   "support.right_kind = hinged: unknown name (allowed: one of fixed, pinned)");
+  expect_bad_input("run '" REFERENCE "' --set support.left_kind=1 -q", "support.left_kind");
   snprintf(args, sizeof args, "run '%s' -q", scratch("missing.ini").p); /* no such file */
   expect_bad_input(args, "missing.ini");
 

@@ -53,8 +53,9 @@ typedef struct {
   double t; /* joint length, m */
 } fixture;
 
-/* mu > 0 overrides the case's friction coefficient. */
-static void fixture_init_mu(fixture *fx, double alpha_deg, double mu) {
+/* mu > 0 overrides the case's friction coefficient; left, right: the supports' kinds. */
+static void fixture_init_kinds(fixture *fx, double alpha_deg, double mu, vs_support_kind left,
+                               vs_support_kind right) {
   vs_case_defaults(&fx->c);
   if (mu > 0) fx->c.friction = mu;
   vs_error err;
@@ -68,12 +69,22 @@ static void fixture_init_mu(fixture *fx, double alpha_deg, double mu) {
   fx->alpha = deg(alpha_deg);
   s = vs_model_create(fx->g, &fx->law, fx->alpha, &fx->m, &err);
   if (s != VS_OK) fail_msg("model: %s", err.msg);
+  s = vs_model_set_support_kinds(fx->m, left, right, &err);
+  if (s != VS_OK) fail_msg("support kinds: %s", err.msg);
   fx->n = vs_model_size(fx->m);
   fx->nb = fx->g->n_blocks;
   fx->nj = fx->g->n_joints;
   fx->t = fx->c.thickness_mm * 1e-3;
-  assert_int_equal(fx->n, 3 * fx->nb);
+  const int npin = (left == VS_SUPPORT_PINNED) + (right == VS_SUPPORT_PINNED);
+  assert_int_equal(fx->n, 3 * fx->nb + npin);
+  assert_int_equal(vs_model_support_dof(fx->m, 0), left == VS_SUPPORT_PINNED ? 3 * fx->nb : -1);
+  assert_int_equal(vs_model_support_dof(fx->m, 1),
+                   right == VS_SUPPORT_PINNED ? 3 * fx->nb + npin - 1 : -1);
   assert_ptr_equal(vs_model_geometry(fx->m), fx->g);
+}
+
+static void fixture_init_mu(fixture *fx, double alpha_deg, double mu) {
+  fixture_init_kinds(fx, alpha_deg, mu, VS_SUPPORT_FIXED, VS_SUPPORT_FIXED);
 }
 
 static void fixture_init(fixture *fx, double alpha_deg) { fixture_init_mu(fx, alpha_deg, 0); }
@@ -108,6 +119,8 @@ static void body_q(const fixture *fx, const double *q, int body, double delta, d
     support_u(fx, delta, out);
     out[2] = 0;
   }
+  const int k = body < 0 ? vs_model_support_dof(fx->m, body == VS_SUPPORT_RIGHT) : -1;
+  if (k >= 0) out[2] = q[k]; /* a pinned support's rotation: an unknown */
 }
 static void body_r(const fixture *fx, const vs_joint_geom *jg, int body, double r[2]) {
   if (body >= 0) {
@@ -227,9 +240,11 @@ static int clear_of_transitions(const fixture *fx, const double *q, double delta
   return ok;
 }
 
+/* Unknown i is a rotation: a block's or a pinned support's (after the blocks). */
+static int is_rot(const fixture *fx, int i) { return i >= 3 * fx->nb || i % 3 == 2; }
 /* Units: moment rows / t, rotation columns * t, so every entry is in N/m. */
-static double row_scale(const fixture *fx, int i) { return i % 3 == 2 ? 1.0 / fx->t : 1.0; }
-static double col_scale(const fixture *fx, int j) { return j % 3 == 2 ? fx->t : 1.0; }
+static double row_scale(const fixture *fx, int i) { return is_rot(fx, i) ? 1.0 / fx->t : 1.0; }
+static double col_scale(const fixture *fx, int j) { return is_rot(fx, j) ? fx->t : 1.0; }
 static double step(const fixture *fx, int j) { return HU / col_scale(fx, j); }
 
 /* Dense copy of the analytic Jacobian, column-major. */
@@ -322,6 +337,7 @@ static void draw_state(rng *r, const fixture *fx, int kind, double delta, int al
                        double *q, regime_count *rc) {
   for (int attempt = 0; attempt < 200; attempt++) {
     for (int i = 0; i < fx->n; i++) q[i] = 0;
+    for (int i = 3 * fx->nb; i < fx->n; i++) q[i] = rsign(r) * urand(r, 1e-4, 1e-3); /* pinned */
     if (kind == 0) state_random(r, fx, q);
     else state_chain(r, fx, delta, all_stick, q);
     if (clear_of_transitions(fx, q, delta, rc)) return;
@@ -376,6 +392,36 @@ static void test_jacobian_random_states(void **state) {
   SUNContext_Free(&ctx);
 }
 
+/* With pinned supports (each alone and both) the static unknowns gain the supports' rotations
+ * and their moment equations: the Jacobian, dG/ddelta and G = dE/dq (the rotation's equation is
+ * the moment of the springing joint about the pivot) against central differences. */
+static void test_jacobian_pinned(void **state) {
+  (void)state;
+  SUNContext ctx = NULL;
+  assert_int_equal(SUNContext_Create(NULL, &ctx), 0);
+  const vs_support_kind kinds[3][2] = {{VS_SUPPORT_PINNED, VS_SUPPORT_FIXED},
+                                       {VS_SUPPORT_FIXED, VS_SUPPORT_PINNED},
+                                       {VS_SUPPORT_PINNED, VS_SUPPORT_PINNED}};
+  rng r = {0xA4093822299F31D0ULL};
+  for (int k = 0; k < 3; k++) {
+    fixture fx;
+    fixture_init_kinds(&fx, 60, 0, kinds[k][0], kinds[k][1]);
+    double *q = malloc((size_t)fx.n * sizeof(double));
+    assert_non_null(q);
+    for (int kind = 0; kind < 2; kind++) {
+      regime_count rc;
+      draw_state(&r, &fx, kind, 0.02, 0, q, &rc);
+      char label[96];
+      snprintf(label, sizeof label, "pinned (left %d, right %d) state %s", kinds[k][0],
+               kinds[k][1], kind ? "chain" : "random");
+      check_jacobian_at(&fx, ctx, q, 0.02, label);
+    }
+    free(q);
+    fixture_free(&fx);
+  }
+  SUNContext_Free(&ctx);
+}
+
 /* After a commit the plastic slips are those of the return mapping, and the Jacobian is still
  * the derivative of the residual that uses them. */
 static void test_jacobian_after_commit(void **state) {
@@ -416,10 +462,9 @@ static void test_jacobian_after_commit(void **state) {
 /* With every loaded joint sticking, G = d(potential energy)/dq (joint energy plus m g uz).
  * The joint where the two halves of a constructed state meet has a slip of millimetres, so a
  * high friction coefficient keeps it sticking; open joints carry no shear and no shear energy. */
-static void test_residual_is_energy_gradient(void **state) {
-  (void)state;
+static void energy_gradient_check(vs_support_kind left, vs_support_kind right) {
   fixture fx;
-  fixture_init_mu(&fx, 60, 100.0);
+  fixture_init_kinds(&fx, 60, 100.0, left, right);
   rng r = {0x13198A2E03707344ULL};
   double *q = malloc((size_t)fx.n * sizeof(double)), *G = malloc((size_t)fx.n * sizeof(double));
   assert_true(q && G);
@@ -453,18 +498,25 @@ static void test_residual_is_energy_gradient(void **state) {
   fixture_free(&fx);
 }
 
+/* ... also with both supports pinned: the equation of a pinned support's rotation is
+ * dE/dtheta_s. */
+static void test_residual_is_energy_gradient(void **state) {
+  (void)state;
+  energy_gradient_check(VS_SUPPORT_FIXED, VS_SUPPORT_FIXED);
+  energy_gradient_check(VS_SUPPORT_PINNED, VS_SUPPORT_PINNED);
+}
+
 /* The dynamic phase's DAE (dynamic.h): its iteration matrix dF/dy + cj dF/dy' against central
  * differences of its residual, at a loaded chain state with the supports displaced off their
  * prescribed positions (so that the constraint rows are not trivially satisfied), random
  * multipliers and velocities, damping on. The matrix leaves out by design the energy
  * integrals' dependence on the state and the damping forces' on the positions: the velocities
  * are zero there (damping forces vanish) and the energy rows are checked on their diagonal. */
-static void test_dae_jacobian(void **state) {
-  (void)state;
+static void dae_jacobian_check(vs_support_kind left, vs_support_kind right) {
   SUNContext ctx = NULL;
   assert_int_equal(SUNContext_Create(NULL, &ctx), 0);
   fixture fx;
-  fixture_init(&fx, 60);
+  fixture_init_kinds(&fx, 60, 0, left, right);
   vs_model_set_damping(fx.m, 0.05);
   rng r = {0x13198A2E03707344ULL};
   const double delta = 0.02, rate = 1e-3, t = delta / rate, cj = 1e4;
@@ -479,11 +531,14 @@ static void test_dae_jacobian(void **state) {
   vs_error err;
   vs_error_clear(&err);
   assert_int_equal(vs_dynamic_create(fx.m, &o, &d, &err), VS_OK);
-  const int N = vs_dynamic_size(d), n = fx.n;
+  const int N = vs_dynamic_size(d), n = 3 * fx.nb;
   int iv, il, imu, ie;
   vs_dynamic_layout(d, &iv, &il, &imu, &ie);
   assert_int_equal(iv, n + 6);
   assert_int_equal(N, ie + 3);
+  const int nc = imu - il; /* a pinned support has no rotation constraint */
+  assert_int_equal(nc, 6 - (fx.n - n));
+  assert_int_equal(ie - imu, nc);
   double *y = calloc((size_t)N, sizeof(double)), *yp = calloc((size_t)N, sizeof(double));
   double *rp = malloc((size_t)N * sizeof(double)), *rm = malloc((size_t)N * sizeof(double));
   double *Jd = calloc((size_t)N * (size_t)N, sizeof(double));
@@ -491,8 +546,10 @@ static void test_dae_jacobian(void **state) {
   for (int i = 0; i < n; i++) y[i] = q[i];
   double qs[6], vs[6];
   vs_model_support_states(fx.m, delta, rate, qs, vs);
-  for (int c = 0; c < 6; c++) {
-    y[n + c] = qs[c] + urand(&r, -1e-7, 1e-7) / (c % 3 == 2 ? fx.t : 1.0);
+  for (int s = 0; s < 2; s++) /* a pinned support's rotation from the static state */
+    if (vs_model_support_dof(fx.m, s) >= 0) qs[3 * s + 2] = q[vs_model_support_dof(fx.m, s)];
+  for (int c = 0; c < 6; c++) y[n + c] = qs[c] + urand(&r, -1e-7, 1e-7) / (c % 3 == 2 ? fx.t : 1.0);
+  for (int c = 0; c < nc; c++) {
     y[il + c] = urand(&r, -100.0, 100.0);
     y[imu + c] = urand(&r, -1e-6, 1e-6);
   }
@@ -558,10 +615,19 @@ static void test_dae_jacobian(void **state) {
   SUNContext_Free(&ctx);
 }
 
+/* ... with fixed supports, and with the right or both pinned (their rotations free). */
+static void test_dae_jacobian(void **state) {
+  (void)state;
+  dae_jacobian_check(VS_SUPPORT_FIXED, VS_SUPPORT_FIXED);
+  dae_jacobian_check(VS_SUPPORT_FIXED, VS_SUPPORT_PINNED);
+  dae_jacobian_check(VS_SUPPORT_PINNED, VS_SUPPORT_PINNED);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_support_displacement),
       cmocka_unit_test(test_jacobian_random_states),
+      cmocka_unit_test(test_jacobian_pinned),
       cmocka_unit_test(test_jacobian_after_commit),
       cmocka_unit_test(test_residual_is_energy_gradient),
       cmocka_unit_test(test_dae_jacobian),

@@ -37,7 +37,8 @@ typedef struct {
   int n;
 } arch_run;
 
-/* Build the arch of case c, solve self-weight equilibrium from q = 0 at delta = 0. */
+/* Build the arch of case c (its support kinds too), solve self-weight equilibrium from q = 0 at
+ * delta = 0. */
 static void arch_solve(arch_run *r) {
   vs_error err;
   vs_error_clear(&err);
@@ -46,8 +47,11 @@ static void arch_solve(arch_run *r) {
   vs_joint_law law = {r->c.kn_N_mm3 * 1e9, r->c.ks_ratio * r->c.kn_N_mm3 * 1e9, r->c.friction};
   s = vs_model_create(r->g, &law, deg(r->c.alpha_deg), &r->m, &err);
   if (s != VS_OK) fail_msg("model: %s: %s", vs_strerror(s), err.msg);
+  s = vs_model_set_support_kinds(r->m, (vs_support_kind)r->c.left_kind,
+                                 (vs_support_kind)r->c.right_kind, &err);
+  if (s != VS_OK) fail_msg("support kinds: %s: %s", vs_strerror(s), err.msg);
   r->n = vs_model_size(r->m);
-  assert_int_equal(r->n, 3 * r->c.voussoirs);
+  assert_int_equal(r->n, 3 * r->c.voussoirs + r->c.left_kind + r->c.right_kind);
   r->q = calloc((size_t)r->n, sizeof(double));
   assert_non_null(r->q);
   vs_path_opts o;
@@ -385,10 +389,148 @@ static void test_incline_slides(void **state) {
   incline_free(&r);
 }
 
+/* ------------------------------- pinned supports ------------------------------- */
+
+/* At an equilibrium with pinned supports: the supports' reactions carry no moment about the
+ * pivots (the rotation's equation dE/dtheta_s, the moment conjugate to the springer's rotation)
+ * and balance the weight; returns the largest |moment| / (W t). Independently, from the joint's
+ * own contact stresses: the line of thrust passes through the pivot, i.e. the eccentricity M/N
+ * of the springing joint's normal force about its centre is a small fraction of t (zero but for
+ * the second-order terms of the joint's mean-rotation frame: slip and penetration times
+ * rotations), and the joint closes almost uniformly (its edges' gaps agree). *ecc gets the
+ * largest |M/N| / t. */
+static double pinned_check(const vs_model *m, const double *q, double delta, double W,
+                           double *ecc) {
+  const vs_geometry *g = vs_model_geometry(m);
+  const double t = g->joints[0].length;
+  vs_joint_state *st = malloc((size_t)g->n_joints * sizeof *st);
+  assert_non_null(st);
+  vs_model_joint_states(m, q, delta, st);
+  double worst = 0.0;
+  for (int k = 0; k < g->n_joints; k++) {
+    const vs_joint_geom *j = &g->joints[k];
+    const int sup = j->a < 0 ? j->a : j->b < 0 ? j->b : 0;
+    if (sup == 0 || vs_model_support_kind(m, sup == VS_SUPPORT_RIGHT) != VS_SUPPORT_PINNED)
+      continue;
+    assert_true(st[k].N > 0.0);
+    *ecc = fmax(*ecc, fabs(st[k].M / st[k].N) / t);
+    CHECK(st[k].gap_i, st[k].gap_e, 0, 1e-3 * fabs(st[k].a));
+  }
+  free(st);
+  double r[6];
+  vs_model_support_reactions(m, q, delta, r);
+  for (int s = 0; s < 2; s++)
+    if (vs_model_support_kind(m, s) == VS_SUPPORT_PINNED) worst = fmax(worst, fabs(r[3 * s + 2]) / (W * t));
+  CHECK(r[1] + r[4], W, 1e-8, 0); /* the supports carry the weight */
+  CHECK(r[0], -r[3], 0, 1e-8 * W);
+  return worst;
+}
+
+typedef struct {
+  double W, worst, ecc;
+  int count;
+} pin_path;
+
+static int on_pinned_step(void *user, double delta, const double *q, const vs_model *m) {
+  pin_path *p = user;
+  p->worst = fmax(p->worst, pinned_check(m, q, delta, p->W, &p->ecc));
+  p->count++;
+  return 0;
+}
+
+/* Both springers pinned, the arch symmetric: the self-weight equilibrium is mirror symmetric
+ * (the springers turn by opposite angles, both outwards-down), and on the whole path of the
+ * settling right support to its first limit point the springing joints' moments about the
+ * pivots vanish (to the Newton tolerance, far below round-off of W t) at every equilibrium. */
+static void test_pinned_supports(void **state) {
+  (void)state;
+  arch_run r = {0};
+  vs_case_defaults(&r.c);
+  r.c.left_kind = r.c.right_kind = VS_SUPPORT_PINNED;
+  arch_solve(&r);
+  const int nb = r.c.voussoirs, kl = vs_model_support_dof(r.m, 0), kr = vs_model_support_dof(r.m, 1);
+  assert_true(kl == 3 * nb && kr == 3 * nb + 1);
+  const double W = arch_weight(&r.c), TH = fabs(r.q[kl]);
+  assert_true(TH > 1e-6); /* the springers did turn */
+  CHECK(r.q[kl], -r.q[kr], 0, 1e-6 * TH);
+  double U = 0.0;
+  for (int i = 0; i < 3 * nb; i++) U = fmax(U, fabs(r.q[i]));
+  for (int i = 0; i < nb; i++) {
+    const int j = nb - 1 - i;
+    CHECK(r.q[3 * i], -r.q[3 * j], 0, 1e-6 * U);
+    CHECK(r.q[3 * i + 1], r.q[3 * j + 1], 0, 1e-6 * U);
+  }
+  double ecc = 0.0;
+  assert_true(pinned_check(r.m, r.q, 0.0, W, &ecc) < 1e-9);
+  print_message("pinned: springing eccentricity under self-weight %.3g t\n", ecc);
+  assert_true(ecc < 1e-4);
+  vs_path_opts o;
+  vs_path_opts_from_case(&r.c, &o);
+  pin_path p = {.W = W};
+  vs_path_result res;
+  vs_error err;
+  vs_error_clear(&err);
+  for (int i = 0; i < r.n; i++) r.q[i] = 0.0;
+  vs_status s = vs_path_run(r.m, &o, 0.0, r.q, on_pinned_step, &p, &res, &err);
+  if (s != VS_OK) fail_msg("path: %s: %s", vs_strerror(s), err.msg);
+  assert_int_equal(res.end, VS_PATH_LIMIT_POINT);
+  print_message("pinned: %d equilibria to the limit point at %.4f mm, largest springing moment "
+                "%.3g W t, eccentricity %.3g t\n", p.count, res.delta_limit * 1e3, p.worst, p.ecc);
+  assert_true(p.count > 10);
+  assert_true(p.worst < 1e-9);
+  assert_true(p.ecc < 1e-4);
+  arch_free(&r);
+}
+
+/* First limit point of the reference arch for alpha = 90 (spreading) with one springer pinned,
+ * and the springer's rotation there. */
+static double spreading_limit(vs_support_kind left, vs_support_kind right, double *theta) {
+  arch_run r = {0};
+  vs_case_defaults(&r.c);
+  r.c.alpha_deg = 90.0;
+  r.c.left_kind = (int)left;
+  r.c.right_kind = (int)right;
+  arch_solve(&r);
+  vs_path_opts o;
+  vs_path_opts_from_case(&r.c, &o);
+  vs_path_result res;
+  vs_error err;
+  vs_error_clear(&err);
+  for (int i = 0; i < r.n; i++) r.q[i] = 0.0;
+  vs_status s = vs_path_run(r.m, &o, 0.0, r.q, NULL, NULL, &res, &err);
+  if (s != VS_OK) fail_msg("path: %s: %s", vs_strerror(s), err.msg);
+  assert_int_equal(res.end, VS_PATH_LIMIT_POINT);
+  *theta = r.q[vs_model_support_dof(r.m, right == VS_SUPPORT_PINNED)];
+  arch_free(&r);
+  return res.delta_limit;
+}
+
+/* Mirror symmetry: moving the right support outwards by delta is, up to a rigid translation
+ * (which changes nothing: the joint law is objective and gravity acts vertically), the mirror
+ * image of moving the left one outwards. So the arch with its left springer pinned and the one
+ * with its right springer pinned must reach their first limit points at the same delta (within
+ * the two brackets, limit_tol each) with opposite springer rotations. */
+static void test_pinned_mirror(void **state) {
+  (void)state;
+  double thl = 0.0, thr = 0.0;
+  const double dl = spreading_limit(VS_SUPPORT_PINNED, VS_SUPPORT_FIXED, &thl);
+  const double dr = spreading_limit(VS_SUPPORT_FIXED, VS_SUPPORT_PINNED, &thr);
+  vs_case c;
+  vs_case_defaults(&c);
+  print_message("spreading: first limit point %.5f mm (left pinned, springer %.4g rad), %.5f mm "
+                "(right pinned, %.4g rad)\n", dl * 1e3, thl, dr * 1e3, thr);
+  assert_true(dl > 1e-3);
+  CHECK(dl, dr, 0, 2.0 * c.limit_tol_mm * 1e-3);
+  assert_true(fabs(thl) > 1e-4);
+  CHECK(thl, -thr, 1e-3, 0);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_reactions),
       cmocka_unit_test(test_symmetry),
+      cmocka_unit_test(test_pinned_supports),
+      cmocka_unit_test(test_pinned_mirror),
       cmocka_unit_test(test_thrust_line_semicircle),
       cmocka_unit_test(test_thrust_in_range),
       cmocka_unit_test(test_incline_holds),

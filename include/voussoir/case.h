@@ -25,6 +25,9 @@ typedef struct {
   double alpha_deg; /* direction from the vertical: 0 = settlement down, 90 = outward; [-180, 180], default 0 */
   double rate_mm_s; /* support speed, > 0, default 0.04 (used by the dynamic phase) */
   double max_mm;    /* largest support displacement followed, > 0, default 300 */
+  int left_kind;    /* vs_support_kind (model.h), by name: fixed (clamped) or pinned (the springer
+                       rotates freely about the centre of its springing face); default fixed */
+  int right_kind;   /* the same for the right (moving) support; default fixed */
 
   /* [solver] quasi-static path (KINSOL) */
   double step_mm;      /* initial increment of the support displacement, > 0, default 0.5 */
@@ -101,6 +104,10 @@ vs_status vs_case_validate(const vs_case *c, vs_error *err);
 int vs_case_key_count(void);
 int vs_case_key(const vs_case *c, int i, const char **section, const char **key, const char **unit,
                 int *is_int, double *value);
+
+/* For a key that is a named choice (support.left_kind, support.right_kind), the name of value `value` of key i;
+ * NULL when key i is a number or value is out of range. */
+const char *vs_case_key_name_of(int i, int value);
 
 /* Intrados span L = 2 R sin(embrace/2), in mm: the length the study normalises by. */
 double vs_case_span_mm(const vs_case *c);

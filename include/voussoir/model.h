@@ -21,9 +21,24 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
 /* Free m and NULL *m; NULL allowed. */
 void vs_model_destroy(vs_model **m);
 
+/* Support kinds. fixed: the springer is clamped (no rotation). pinned: the springer rotates
+ * freely about its pivot, the centre of its joint with the arch (the mid-point of the springing
+ * face; a pier on a hinge), while the pivot follows the prescribed motion. */
+typedef enum { VS_SUPPORT_FIXED = 0, VS_SUPPORT_PINNED = 1 } vs_support_kind;
+
+/* Set the two supports' kinds (default both fixed); call before any other use of m, since it
+ * changes the unknowns: each pinned support's rotation theta_s (rad, counter-clockwise) becomes
+ * a static unknown after the blocks' (left first), whose equation dE/dtheta_s = 0 is the moment
+ * of the springing joint's forces about the pivot. VS_ERR_INVALID on an unknown kind. */
+vs_status vs_model_set_support_kinds(vs_model *m, vs_support_kind left, vs_support_kind right,
+                                     vs_error *err);
+vs_support_kind vs_model_support_kind(const vs_model *m, int right);
+/* Index in q of the support's rotation (right = 0: left, 1: right), -1 if it is fixed. */
+int vs_model_support_dof(const vs_model *m, int right);
+
 /* Number of unknowns and Jacobian non-zeros. The state q is block-major: q[3i], q[3i+1] are the
  * displacement (m) of block i's centroid (its reference point) and q[3i+2] its rotation (rad,
- * counter-clockwise). */
+ * counter-clockwise); then the rotations of the pinned supports (vs_model_support_dof). */
 int vs_model_size(const vs_model *m);
 int vs_model_nnz(const vs_model *m);
 const vs_geometry *vs_model_geometry(const vs_model *m);
@@ -122,11 +137,12 @@ void vs_model_energies(const vs_model *m, const double *q, double delta, double 
 int vs_model_ext_size(const vs_model *m);
 int vs_model_ext_nnz(const vs_model *m);
 /* Supports' states (qs: left (ux, uz, theta), right) prescribed by delta and their velocities
- * (vs) at the support speed rate (m/s): left fixed, right moving along alpha, no rotation. */
+ * (vs) at the support speed rate (m/s): left fixed, right moving along alpha, no rotation (a
+ * pinned support's rotation is not prescribed: the caller sets it). */
 void vs_model_support_states(const vs_model *m, double delta, double rate, double qs[6],
                              double vs[6]);
 /* Mass diagonal over qe: the blocks' (vs_model_mass), then each support body with the mean
- * voussoir's mass and inertia. Driven at constant speed, a support has no acceleration, so its
+ * voussoir's mass and inertia (for a pinned support, its rotary inertia about the pivot). Driven at constant speed, a support has no acceleration, so its
  * mass only keeps the equations of motion regular; it does not enter the reactions. */
 void vs_model_ext_mass(const vs_model *m, double *mdiag);
 /* Ge = dE/dqe (joint forces minus the load) over qe; the supports' rows are the joint forces'
