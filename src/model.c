@@ -16,6 +16,8 @@ struct vs_model {
   double *ra, *rb; /* per joint: reference point of body a/b -> joint centre, m */
   double *slip_p;  /* per joint: committed plastic slip, m */
   double zeta;     /* damping ratio */
+  double alpha_m;  /* mass-proportional damping coefficient (Rayleigh), 1/s */
+  int damped;      /* any joint dashpot coefficient > 0 */
   double gscale;   /* gravity load factor (1: the arch's own weight) */
   double *cn, *cs; /* per joint: damping coefficients, N s/m^3 */
   sunindextype *colptr, *rowind;
@@ -336,6 +338,8 @@ void vs_model_residual_scale(const vs_model *m, double *scale) {
 void vs_model_set_damping(vs_model *m, double zeta) {
   const vs_geometry *g = m->g;
   m->zeta = zeta;
+  m->alpha_m = 0.0;
+  m->damped = zeta > 0.0;
   for (int k = 0; k < g->n_joints; k++) {
     const vs_joint_geom *j = &g->joints[k];
     const double A = j->depth * j->length;
@@ -349,8 +353,36 @@ void vs_model_set_damping(vs_model *m, double zeta) {
 
 double vs_model_damping_ratio(const vs_model *m) { return m->zeta; }
 
+void vs_model_set_rayleigh(vs_model *m, double alpha, double beta) {
+  m->zeta = 0.0;
+  m->alpha_m = alpha;
+  m->damped = beta > 0.0;
+  for (int k = 0; k < m->g->n_joints; k++) {
+    m->cn[k] = beta * m->law.kn;
+    m->cs[k] = beta * m->law.ks;
+  }
+}
+
 void vs_model_set_gravity_scale(vs_model *m, double lambda) { m->gscale = lambda; }
 double vs_model_gravity_scale(const vs_model *m) { return m->gscale; }
+
+/* Rayleigh's mass-proportional part alpha M v: it acts on absolute velocities, so it also slows
+ * a rigid-body motion (a falling block reaches g / alpha). */
+static void mass_damping(const vs_model *m, const double *v, double *fd, double *diss,
+                         double *data) {
+  for (int i = 0; i < m->g->n_blocks; i++) {
+    const vs_block *b = &m->g->blocks[i];
+    const double mi[3] = {b->mass, b->mass, b->inertia};
+    for (int c = 0; c < 3; c++) {
+      const int r = 3 * i + c;
+      if (fd != NULL) fd[r] += m->alpha_m * mi[c] * v[r];
+      *diss += m->alpha_m * mi[c] * v[r] * v[r];
+      if (data == NULL) continue;
+      const sunindextype stride = m->colptr[3 * i + 1] - m->colptr[3 * i];
+      data[csc_pos(m, i, i) + c * stride + c] += m->alpha_m * mi[c];
+    }
+  }
+}
 
 void vs_model_damping(const vs_model *m, const double *q, const double *v, double delta,
                       double ddelta_dt, double *fd, double *dissipated, double *support_power,
@@ -360,7 +392,7 @@ void vs_model_damping(const vs_model *m, const double *q, const double *v, doubl
   if (fd != NULL) memset(fd, 0, (size_t)m->n * sizeof *fd);
   if (C != NULL) data = csc_reset(m, C);
   double diss = 0.0, sup = 0.0;
-  if (m->zeta > 0.0) {
+  if (m->damped) {
     for (int k = 0; k < g->n_joints; k++) {
       const vs_joint_geom *j = &g->joints[k];
       double qa[3], qb[3], va[3], vb[3], f[6], Ck[36], p;
@@ -382,6 +414,7 @@ void vs_model_damping(const vs_model *m, const double *q, const double *v, doubl
       if (C != NULL) scatter_joint(m, body, Ck, data);
     }
   }
+  if (m->alpha_m > 0.0) mass_damping(m, v, fd, &diss, data);
   /* the support does the work -f . u_dot on the arch through the damper: the dissipated power
    * splits into what the blocks lose (fd . v) and what the support supplies */
   if (dissipated != NULL) *dissipated = diss;

@@ -79,6 +79,13 @@ double vs_model_gravity_scale(const vs_model *m);
 void vs_model_set_damping(vs_model *m, double zeta);
 double vs_model_damping_ratio(const vs_model *m);
 
+/* Rayleigh damping C = alpha M + beta K_c (alpha 1/s, beta s, both >= 0), replacing the joint
+ * damping: K_c is the joints' contact stiffness, so the stiffness part is a joint dashpot
+ * c_n = beta k_n, c_s = beta k_s acting where the joint is in contact (it follows hinges as they
+ * open: no damping force across an open gap); the mass part acts on absolute velocities.
+ * vs_model_set_damping(m, 0) removes it. */
+void vs_model_set_rayleigh(vs_model *m, double alpha, double beta);
+
 /* Damping forces at (q, v) with the right support moving at ddelta_dt (m/s): fd (3n entries,
  * may be NULL) adds to the residual of the equations of motion; *dissipated = power dissipated
  * in all joints (W, >= 0); *support_power = power of the damping force on the moving support
