@@ -30,12 +30,22 @@ typedef struct {
   bool min_incl, max_incl;
   const char *unit; /* "" when dimensionless */
   const char *what;
+  const char *const *names; /* a named choice: the names of values 0, 1, ... (NULL-terminated),
+                               written in the file as names; NULL for a number */
 } key_spec;
 
 /* The field's own type picks the storage, so a row cannot write a double into an int. */
 #define FIELD_TYPE(field) _Generic(((vs_case *)0)->field, double: KEY_DOUBLE, int: KEY_INT)
 #define KEY(sec, field, def, lo, lo_in, hi, hi_in, unit, what)                                    \
-  {#sec, #field, FIELD_TYPE(field), offsetof(vs_case, field), def, lo, hi, lo_in, hi_in, unit, what}
+  {#sec, #field, FIELD_TYPE(field), offsetof(vs_case, field), def, lo, hi, lo_in, hi_in, unit, what, \
+   NULL}
+/* A named choice stored as an int field: value i is names[i]. */
+#define KEY_NAMED(sec, field, def, count, names, what)                                           \
+  {#sec, #field, KEY_INT, offsetof(vs_case, field), def, 0.0, (count) - 1.0, true, true, "", what, \
+   names}
+
+/* dynamic.damping_model, in the order of vs_damping_model (damping.h) */
+static const char *const damping_models[] = {"none", "joint", "rayleigh", "impact", NULL};
 
 #define INF INFINITY
 static const key_spec keys[] = {
@@ -74,8 +84,10 @@ static const key_spec keys[] = {
         "1: follow the limit points dynamically to the collapse; 0: stop at the first"),
     KEY(dynamic, full, 0.0, 0.0, true, 1.0, true, "",
         "1: integrate the whole loading dynamically from rest"),
+    KEY_NAMED(dynamic, damping_model, 1.0, 4, damping_models,
+              "viscous damping: none, joint (dashpots), rayleigh (alpha M + beta K), impact"),
     KEY(dynamic, damping, 0.05, 0.0, true, 1.0, true, "",
-        "joint damping, fraction of each joint's critical damping"),
+        "damping ratio: joint, of each joint's critical damping; rayleigh, of the two lowest modes"),
     KEY(dynamic, rtol, 1e-6, 0.0, false, 1e-2, true, "", "IDA relative tolerance"),
     KEY(dynamic, atol_mm, 1e-5, 0.0, false, INF, false, "mm",
         "IDA absolute tolerance on positions"),
@@ -89,6 +101,7 @@ static const key_spec keys[] = {
 };
 #undef INF
 #undef KEY
+#undef KEY_NAMED
 #undef FIELD_TYPE
 
 #define NKEYS (sizeof keys / sizeof keys[0])
@@ -156,6 +169,14 @@ static void append(char *buf, size_t size, const char *s) {
 
 /* "> 0 N/mm^3", "(0, 180] deg", "integer in [1, 20000]" */
 static void range_text(const key_spec *k, char *buf, size_t size) {
+  if (k->names != NULL) {
+    snprintf(buf, size, "one of ");
+    for (int i = 0; k->names[i] != NULL; i++) {
+      if (i > 0) append(buf, size, ", ");
+      append(buf, size, k->names[i]);
+    }
+    return;
+  }
   bool lo = isfinite(k->min), hi = isfinite(k->max);
   const char *integer = k->type == KEY_INT ? "integer " : "";
   if (lo && hi)
@@ -280,6 +301,16 @@ static vs_status assign(vs_case *c, const char *section, const char *name, const
   char range[96];
   range_text(k, range, sizeof range);
   double v = 0.0;
+  if (k->names != NULL) {
+    for (int i = 0; k->names[i] != NULL; i++)
+      if (strcmp(value, k->names[i]) == 0) {
+        set_value(c, k, (double)i);
+        return VS_OK;
+      }
+    return vs_error_set(err, value[0] == '\0' ? VS_ERR_PARSE : VS_ERR_INVALID,
+                        "%s: %s.%s = %s: %s (allowed: %s)", where, sec, key, val,
+                        value[0] == '\0' ? "empty value" : "unknown name", range);
+  }
   num_result r = k->type == KEY_INT ? parse_int(value, &v) : parse_double(value, &v);
   if (r == NUM_OK && !in_range(k, v)) r = NUM_OVERFLOW;
   if (r != NUM_OK)
@@ -541,6 +572,13 @@ double vs_case_span_mm(const vs_case *c) {
 }
 
 int vs_case_key_count(void) { return (int)NKEYS; }
+
+const char *vs_case_key_name_of(int i, int value) {
+  if (i < 0 || (size_t)i >= NKEYS || keys[i].names == NULL || value < 0) return NULL;
+  for (int v = 0; keys[i].names[v] != NULL; v++)
+    if (v == value) return keys[i].names[v];
+  return NULL;
+}
 
 int vs_case_key(const vs_case *c, int i, const char **section, const char **key, const char **unit,
                 int *is_int, double *value) {

@@ -1,6 +1,7 @@
 /* Natural frequencies and mode shapes about an equilibrium: the tangent stiffness (from the
- * model's analytic CSC Jacobian) and the diagonal mass matrix, densely, into LAPACK's dsygvx
- * for the lowest modes only; the damping ratio of each mode from the damping forces at rest. */
+ * model's analytic CSC Jacobian, banded: blocks couple to their neighbours only) and the
+ * diagonal mass matrix; the lowest eigenvalues by LAPACK's banded dsbgvx, their mode shapes by
+ * inverse iteration on a banded LU; the damping ratio of each mode from the damping forces. */
 #include "voussoir/modal.h"
 
 #include <math.h>
@@ -12,12 +13,25 @@
 #include "voussoir/units.h"
 
 /* LAPACK (Fortran ABI, gfortran: hidden lengths of the character arguments at the end). */
-extern void dsygvx_(const int *itype, const char *jobz, const char *range, const char *uplo,
-                    const int *n, double *a, const int *lda, double *b, const int *ldb,
-                    const double *vl, const double *vu, const int *il, const int *iu,
-                    const double *abstol, int *m, double *w, double *z, const int *ldz,
-                    double *work, const int *lwork, int *iwork, int *ifail, int *info,
+extern void dsbgvx_(const char *jobz, const char *range, const char *uplo, const int *n,
+                    const int *ka, const int *kb, double *ab, const int *ldab, double *bb,
+                    const int *ldbb, double *q, const int *ldq, const double *vl, const double *vu,
+                    const int *il, const int *iu, const double *abstol, int *m, double *w,
+                    double *z, const int *ldz, double *work, int *iwork, int *ifail, int *info,
                     size_t jobz_len, size_t range_len, size_t uplo_len);
+extern void dgbtrf_(const int *m, const int *n, const int *kl, const int *ku, double *ab,
+                    const int *ldab, int *ipiv, int *info);
+extern void dgbtrs_(const char *trans, const int *n, const int *kl, const int *ku,
+                    const int *nrhs, const double *ab, const int *ldab, const int *ipiv, double *b,
+                    const int *ldb, int *info, size_t trans_len);
+
+/* Index of (row offset i >= 0, column j) in LAPACK band storage of leading dimension ld. */
+static size_t bidx(int i, int j, int ld) { return (size_t)i + (size_t)j * (size_t)ld; }
+
+/* Inverse iterations per mode (from the eigenvalue itself, one or two already converge). */
+static const int VS_MODAL_INVIT = 3;
+/* Relative shift off the eigenvalue for inverse iteration (keeps the factorisation regular). */
+static const double VS_MODAL_SHIFT = 1e-10;
 
 void vs_modal_free(vs_modal *out) {
   if (out == NULL) return;
@@ -25,67 +39,147 @@ void vs_modal_free(vs_modal *out) {
   out->phi = NULL;
 }
 
-/* Dense, symmetrised tangent stiffness into Kd (n x n column-major); returns the asymmetry. */
-static vs_status dense_stiffness(const vs_model *m, const double *q, double delta, double *Kd,
-                                 double *asym, vs_error *err) {
+/* The tangent stiffness, symmetrised, in LAPACK general band storage with kl = ku = kd
+ * (S(r, c) at sb[kd + r - c + c * (2 kd + 1)]); its half-bandwidth and asymmetry. */
+typedef struct {
+  int n, kd, ld;
+  double *sb;
+  double asym;
+} band;
+
+static vs_status band_stiffness(const vs_model *m, const double *q, double delta, band *b,
+                                vs_error *err) {
   const int n = vs_model_size(m);
   SUNContext ctx = NULL;
   if (SUNContext_Create(NULL, &ctx) != 0) return vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
   SUNMatrix K = SUNSparseMatrix(n, n, vs_model_nnz(m), CSC_MAT, ctx);
-  if (K == NULL) {
-    SUNContext_Free(&ctx);
-    return vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
+  vs_status st = VS_OK;
+  if (K == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
+  if (st == VS_OK) {
+    vs_model_jacobian(m, q, delta, K);
+    const sunindextype *kp = SUNSparseMatrix_IndexPointers(K), *ki = SUNSparseMatrix_IndexValues(K);
+    const double *kx = SUNSparseMatrix_Data(K);
+    int kd = 0;
+    for (int c = 0; c < n; c++)
+      for (sunindextype e = kp[c]; e < kp[c + 1]; e++) kd = (int)fmax(kd, fabs((double)(ki[e] - c)));
+    b->n = n;
+    b->kd = kd;
+    b->ld = 2 * kd + 1;
+    b->sb = calloc((size_t)b->ld * (size_t)n, sizeof *b->sb);
+    if (b->sb == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
+    for (int c = 0; st == VS_OK && c < n; c++)
+      for (sunindextype e = kp[c]; e < kp[c + 1]; e++) {
+        const int r = (int)ki[e];
+        b->sb[bidx(kd + r - c, c, b->ld)] = kx[e];
+      }
   }
-  vs_model_jacobian(m, q, delta, K);
-  const sunindextype *kp = SUNSparseMatrix_IndexPointers(K), *ki = SUNSparseMatrix_IndexValues(K);
-  const double *kx = SUNSparseMatrix_Data(K);
-  memset(Kd, 0, (size_t)n * (size_t)n * sizeof *Kd);
-  for (int c = 0; c < n; c++)
-    for (sunindextype e = kp[c]; e < kp[c + 1]; e++) Kd[(size_t)c * (size_t)n + (size_t)ki[e]] = kx[e];
-  SUNMatDestroy(K);
+  if (K != NULL) SUNMatDestroy(K);
   SUNContext_Free(&ctx);
+  if (st != VS_OK) return st;
   double dmax = 0.0, kmax = 0.0;
   for (int c = 0; c < n; c++)
-    for (int r = 0; r <= c; r++) {
-      double *a = &Kd[(size_t)c * (size_t)n + (size_t)r], *b = &Kd[(size_t)r * (size_t)n + (size_t)c];
-      dmax = fmax(dmax, fabs(*a - *b));
-      kmax = fmax(kmax, fmax(fabs(*a), fabs(*b)));
-      *a = *b = 0.5 * (*a + *b);
+    for (int r = (c > b->kd ? c - b->kd : 0); r < c; r++) {
+      double *x = &b->sb[bidx(b->kd + r - c, c, b->ld)];
+      double *y = &b->sb[bidx(b->kd + c - r, r, b->ld)];
+      dmax = fmax(dmax, fabs(*x - *y));
+      kmax = fmax(kmax, fmax(fabs(*x), fabs(*y)));
+      *x = *y = 0.5 * (*x + *y);
     }
-  *asym = kmax > 0.0 ? dmax / kmax : 0.0;
+  b->asym = kmax > 0.0 ? dmax / kmax : 0.0;
   return VS_OK;
 }
 
-/* The lowest nm eigenpairs of (Kd, diag(mass)); Kd is destroyed. */
-static vs_status solve_lowest(int n, int nm, double *Kd, const double *mass, double *w,
-                              double *phi, vs_error *err) {
-  double *B = calloc((size_t)n * (size_t)n, sizeof *B);
-  double *wall = malloc((size_t)n * sizeof *wall);
+/* The lowest nm eigenvalues of (S, diag(mass)) by dsbgvx (banded, no vectors). */
+static vs_status band_eigenvalues(const band *b, const double *mass, int nm, double *w2,
+                                  vs_error *err) {
+  const int n = b->n, kd = b->kd, ldab = kd + 1, kb = 0, ldbb = 1, one = 1, il = 1, iu = nm;
+  double *ab = malloc((size_t)ldab * (size_t)n * sizeof *ab), *bb = malloc((size_t)n * sizeof *bb);
+  double *w = malloc((size_t)n * sizeof *w), *work = malloc(7 * (size_t)n * sizeof *work);
   int *iwork = malloc(5 * (size_t)n * sizeof *iwork), *ifail = malloc((size_t)n * sizeof *ifail);
-  const int itype = 1, il = 1, iu = nm, lwork = 8 * n;
-  double *work = malloc((size_t)lwork * sizeof *work);
   vs_status st = VS_OK;
-  if (B == NULL || wall == NULL || iwork == NULL || ifail == NULL || work == NULL) {
+  if (ab == NULL || bb == NULL || w == NULL || work == NULL || iwork == NULL || ifail == NULL) {
     st = vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
   } else {
-    for (int i = 0; i < n; i++) B[(size_t)i * (size_t)n + (size_t)i] = mass[i];
+    for (int c = 0; c < n; c++) /* upper band: AB(kd + r - c, c) = S(r, c), r <= c */
+      for (int r = (c > kd ? c - kd : 0); r <= c; r++)
+        ab[bidx(kd + r - c, c, ldab)] = b->sb[bidx(kd + r - c, c, b->ld)];
+    memcpy(bb, mass, (size_t)n * sizeof *bb);
     const double vl = 0.0, vu = 0.0, abstol = 0.0;
+    double qdummy = 0.0, zdummy = 0.0;
     int found = 0, info = 0;
-    dsygvx_(&itype, "V", "I", "U", &n, Kd, &n, B, &n, &vl, &vu, &il, &iu, &abstol, &found, wall,
-            phi, &n, work, &lwork, iwork, ifail, &info, 1, 1, 1);
+    dsbgvx_("N", "I", "U", &n, &kd, &kb, ab, &ldab, bb, &ldbb, &qdummy, &one, &vl, &vu, &il, &iu,
+            &abstol, &found, w, &zdummy, &one, work, iwork, ifail, &info, 1, 1, 1);
     if (info > n)
       st = vs_error_set(err, VS_ERR_INVALID, "modal: mass matrix not positive definite");
     else if (info != 0 || found != nm)
-      st = vs_error_set(err, VS_ERR_SOLVER, "modal: dsygvx failed (info %d, %d of %d modes)", info,
+      st = vs_error_set(err, VS_ERR_SOLVER, "modal: dsbgvx failed (info %d, %d of %d modes)", info,
                         found, nm);
     else
-      memcpy(w, wall, (size_t)nm * sizeof *w);
+      memcpy(w2, w, (size_t)nm * sizeof *w2);
   }
-  free(B);
-  free(wall);
+  free(ab);
+  free(bb);
+  free(w);
+  free(work);
   free(iwork);
   free(ifail);
-  free(work);
+  return st;
+}
+
+/* M-orthonormalise x against the modes found so far (phi, k of them) and itself. */
+static void m_orthonormalise(int n, const double *mass, const double *phi, int k, double *x) {
+  for (int j = 0; j < k; j++) {
+    const double *p = phi + (size_t)j * (size_t)n;
+    double d = 0.0;
+    for (int r = 0; r < n; r++) d += p[r] * mass[r] * x[r];
+    for (int r = 0; r < n; r++) x[r] -= d * p[r];
+  }
+  double nn = 0.0;
+  for (int r = 0; r < n; r++) nn += x[r] * mass[r] * x[r];
+  const double s = nn > 0.0 ? 1.0 / sqrt(nn) : 0.0;
+  for (int r = 0; r < n; r++) x[r] *= s;
+}
+
+/* Mode shape k by inverse iteration on S - sigma M, sigma next to eigenvalue w2 (banded LU). */
+static vs_status band_vector(const band *b, const double *mass, double w2, const double *phi,
+                             int k, double *x, double *lu, int *ipiv, vs_error *err) {
+  const int n = b->n, kd = b->kd, ldlu = 3 * kd + 1, one = 1;
+  const double sigma = w2 * (1.0 - VS_MODAL_SHIFT);
+  memset(lu, 0, (size_t)ldlu * (size_t)n * sizeof *lu);
+  for (int c = 0; c < n; c++) /* dgbtrf layout: A(r, c) at lu[2 kd + r - c + c ldlu] */
+    for (int r = (c > kd ? c - kd : 0); r <= (c + kd < n - 1 ? c + kd : n - 1); r++)
+      lu[bidx(2 * kd + r - c, c, ldlu)] =
+          b->sb[bidx(kd + r - c, c, b->ld)] - (r == c ? sigma * mass[r] : 0.0);
+  int info = 0;
+  dgbtrf_(&n, &n, &kd, &kd, lu, &ldlu, ipiv, &info);
+  if (info < 0) return vs_error_set(err, VS_ERR_SOLVER, "modal: dgbtrf failed (info %d)", info);
+  for (int r = 0; r < n; r++) x[r] = 1.0 + 0.5 * sin(1.0 + r); /* any start with all modes in it */
+  m_orthonormalise(n, mass, phi, k, x);
+  for (int it = 0; it < VS_MODAL_INVIT; it++) {
+    for (int r = 0; r < n; r++) x[r] *= mass[r];
+    dgbtrs_("N", &n, &kd, &kd, &one, lu, &ldlu, ipiv, x, &n, &info, 1);
+    if (info != 0) return vs_error_set(err, VS_ERR_SOLVER, "modal: dgbtrs failed (info %d)", info);
+    m_orthonormalise(n, mass, phi, k, x);
+  }
+  return VS_OK;
+}
+
+/* The lowest nm eigenpairs of (S, diag(mass)). */
+static vs_status band_modes(const band *b, const double *mass, int nm, double *w2, double *phi,
+                            vs_error *err) {
+  vs_status st = band_eigenvalues(b, mass, nm, w2, err);
+  if (st != VS_OK) return st;
+  if (!(w2[0] > 0.0))
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "modal: lowest eigenvalue omega^2 = %g s^-2 <= 0: not a stable equilibrium",
+                        w2[0]);
+  double *lu = malloc((size_t)(3 * b->kd + 1) * (size_t)b->n * sizeof *lu);
+  int *ipiv = malloc((size_t)b->n * sizeof *ipiv);
+  if (lu == NULL || ipiv == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
+  for (int k = 0; st == VS_OK && k < nm; k++)
+    st = band_vector(b, mass, w2[k], phi, k, phi + (size_t)k * (size_t)b->n, lu, ipiv, err);
+  free(lu);
+  free(ipiv);
   return st;
 }
 
@@ -93,32 +187,30 @@ vs_status vs_modal_compute(const vs_model *m, const double *q, double delta, int
                            vs_modal *out, vs_error *err) {
   memset(out, 0, sizeof *out);
   const int n = vs_model_size(m);
-  const int nm = n_modes < VS_MODAL_MAX ? (n_modes < n ? n_modes : n) : (VS_MODAL_MAX < n ? VS_MODAL_MAX : n);
+  int nm = n_modes < VS_MODAL_MAX ? n_modes : VS_MODAL_MAX;
+  if (nm > n) nm = n;
   if (n > VS_MODAL_MAX_DOF)
     return vs_error_set(err, VS_ERR_INVALID,
-                        "modal: %d unknowns, the dense eigensolver takes at most %d (%d voussoirs)",
-                        n, VS_MODAL_MAX_DOF, VS_MODAL_MAX_DOF / 3);
+                        "modal: %d unknowns, the eigensolver takes at most %d (%d voussoirs)", n,
+                        VS_MODAL_MAX_DOF, VS_MODAL_MAX_DOF / 3);
   if (nm < 1) return vs_error_set(err, VS_ERR_INVALID, "modal: %d modes asked (allowed: >= 1)", n_modes);
-  double *Kd = malloc((size_t)n * (size_t)n * sizeof *Kd), *mass = malloc((size_t)n * sizeof *mass);
+  band b = {0};
+  double *mass = malloc((size_t)n * sizeof *mass);
   out->phi = malloc((size_t)n * (size_t)nm * sizeof *out->phi);
   vs_status st = VS_OK;
-  if (Kd == NULL || mass == NULL || out->phi == NULL)
-    st = vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
-  if (st == VS_OK) st = dense_stiffness(m, q, delta, Kd, &out->asymmetry, err);
+  if (mass == NULL || out->phi == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
+  if (st == VS_OK) st = band_stiffness(m, q, delta, &b, err);
+  double w2[VS_MODAL_MAX];
   if (st == VS_OK) {
+    out->asymmetry = b.asym;
     vs_model_mass(m, mass);
-    double w2[VS_MODAL_MAX];
-    st = solve_lowest(n, nm, Kd, mass, w2, out->phi, err);
-    if (st == VS_OK && !(w2[0] > 0.0))
-      st = vs_error_set(err, VS_ERR_INVALID,
-                        "modal: lowest eigenvalue omega^2 = %g s^-2 <= 0: not a stable equilibrium",
-                        w2[0]);
-    for (int i = 0; st == VS_OK && i < nm; i++) {
-      out->omega[i] = sqrt(w2[i]);
-      out->freq_hz[i] = out->omega[i] / (2.0 * VS_PI);
-    }
+    st = band_modes(&b, mass, nm, w2, out->phi, err);
   }
-  free(Kd);
+  for (int i = 0; st == VS_OK && i < nm; i++) {
+    out->omega[i] = sqrt(w2[i]);
+    out->freq_hz[i] = out->omega[i] / (2.0 * VS_PI);
+  }
+  free(b.sb);
   free(mass);
   if (st != VS_OK) {
     vs_modal_free(out);

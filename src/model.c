@@ -17,6 +17,7 @@ struct vs_model {
   double *slip_p;  /* per joint: committed plastic slip, m */
   double zeta;     /* damping ratio */
   double alpha_m;  /* mass-proportional damping coefficient (Rayleigh), 1/s */
+  double beta_k;   /* stiffness-proportional damping coefficient (Rayleigh), s */
   int damped;      /* any joint dashpot coefficient > 0 */
   double gscale;   /* gravity load factor (1: the arch's own weight) */
   double *cn, *cs; /* per joint: damping coefficients, N s/m^3 */
@@ -338,7 +339,7 @@ void vs_model_residual_scale(const vs_model *m, double *scale) {
 void vs_model_set_damping(vs_model *m, double zeta) {
   const vs_geometry *g = m->g;
   m->zeta = zeta;
-  m->alpha_m = 0.0;
+  m->alpha_m = m->beta_k = 0.0;
   m->damped = zeta > 0.0;
   for (int k = 0; k < g->n_joints; k++) {
     const vs_joint_geom *j = &g->joints[k];
@@ -356,11 +357,8 @@ double vs_model_damping_ratio(const vs_model *m) { return m->zeta; }
 void vs_model_set_rayleigh(vs_model *m, double alpha, double beta) {
   m->zeta = 0.0;
   m->alpha_m = alpha;
+  m->beta_k = beta;
   m->damped = beta > 0.0;
-  for (int k = 0; k < m->g->n_joints; k++) {
-    m->cn[k] = beta * m->law.kn;
-    m->cs[k] = beta * m->law.ks;
-  }
 }
 
 void vs_model_set_gravity_scale(vs_model *m, double lambda) { m->gscale = lambda; }
@@ -400,8 +398,12 @@ void vs_model_damping(const vs_model *m, const double *q, const double *v, doubl
       body_q(m, q, delta, j->b, qb);
       body_q(m, v, ddelta_dt, j->a, va);
       body_q(m, v, ddelta_dt, j->b, vb);
-      vs_joint_damping(j, &m->law, m->cn[k], m->cs[k], qa, qb, va, vb, m->ra + 2 * k, m->rb + 2 * k,
-                       f, C != NULL ? Ck : NULL, &p);
+      if (m->beta_k > 0.0)
+        vs_joint_damping_tangent(j, &m->law, m->beta_k, qa, qb, va, vb, m->ra + 2 * k,
+                                 m->rb + 2 * k, f, C != NULL ? Ck : NULL, &p);
+      else
+        vs_joint_damping(j, &m->law, m->cn[k], m->cs[k], qa, qb, va, vb, m->ra + 2 * k,
+                         m->rb + 2 * k, f, C != NULL ? Ck : NULL, &p);
       diss += p;
       const int body[2] = {j->a, j->b};
       for (int s = 0; s < 2; s++) {

@@ -123,6 +123,8 @@ static const key_case all_keys[] = {
     {"dynamic", "sample_s", "0", NULL, {"1e-4", NULL}},
 };
 #define NKEYS_TESTED (sizeof all_keys / sizeof all_keys[0])
+/* Keys that are named choices, tested by name in test_named_key: dynamic.damping_model. */
+#define NKEYS_NAMED 1
 
 /* ---------------------------------------------------------------------------------------------
  * Defaults and a valid file */
@@ -668,7 +670,7 @@ static void test_span(void **state) {
 /* The key iterator enumerates every key of the documented list, and reads what --set wrote. */
 static void test_key_iterator(void **state) {
   (void)state;
-  assert_int_equal(vs_case_key_count(), (int)NKEYS_TESTED);
+  assert_int_equal(vs_case_key_count(), (int)(NKEYS_TESTED + NKEYS_NAMED));
   assert_int_equal(vs_case_key(NULL, -1, NULL, NULL, NULL, NULL, NULL), -1);
   assert_int_equal(vs_case_key(NULL, vs_case_key_count(), NULL, NULL, NULL, NULL, NULL), -1);
   for (size_t i = 0; i < NKEYS_TESTED; i++) {
@@ -694,9 +696,55 @@ static void test_key_iterator(void **state) {
   }
 }
 
+/* dynamic.damping_model takes names only; the iterator gives its value's index and name. */
+static void test_named_key(void **state) {
+  (void)state;
+  static const char *const names[] = {"none", "joint", "rayleigh", "impact"};
+  vs_case c;
+  vs_error err;
+  vs_case_defaults(&c);
+  assert_int_equal(c.damping_model, 1); /* joint */
+  int found = -1;
+  for (int k = 0; k < vs_case_key_count(); k++) {
+    const char *sec = NULL, *key = NULL;
+    vs_case_key(&c, k, &sec, &key, NULL, NULL, NULL);
+    if (strcmp(sec, "dynamic") == 0 && strcmp(key, "damping_model") == 0) found = k;
+  }
+  assert_true(found >= 0);
+  for (int i = 0; i < 4; i++) {
+    char buf[64];
+    snprintf(buf, sizeof buf, "dynamic.damping_model = %s", names[i]);
+    assert_int_equal(vs_case_set(&c, buf, &err), VS_OK);
+    assert_int_equal(c.damping_model, i);
+    double v = -1.0;
+    assert_int_equal(vs_case_key(&c, found, NULL, NULL, NULL, NULL, &v), 0);
+    assert_true(v == (double)i);
+    assert_string_equal(vs_case_key_name_of(found, i), names[i]);
+  }
+  assert_null(vs_case_key_name_of(found, 4));
+  assert_null(vs_case_key_name_of(0, 0)); /* a number */
+  const char *bad[] = {"dynamic.damping_model=2", "dynamic.damping_model=Rayleigh",
+                       "dynamic.damping_model=viscous"};
+  for (int i = 0; i < 3; i++) {
+    vs_case_defaults(&c);
+    assert_int_equal(vs_case_set(&c, bad[i], &err), VS_ERR_INVALID);
+    assert_non_null(strstr(err.msg, "unknown name (allowed: one of none, joint, rayleigh, impact)"));
+    assert_int_equal(c.damping_model, 1); /* unchanged */
+  }
+  assert_int_equal(vs_case_set(&c, "dynamic.damping_model=", &err), VS_ERR_PARSE);
+  tmpfile_t t;
+  assert_int_equal(read_text("[dynamic]\ndamping_model = rayleigh\n", &c, &err, &t), VS_OK);
+  drop(&t);
+  assert_int_equal(c.damping_model, 2);
+  c.damping_model = 7; /* set in code: validate catches it */
+  assert_int_equal(vs_case_validate(&c, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "dynamic.damping_model"));
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_key_iterator),
+      cmocka_unit_test(test_named_key),
       cmocka_unit_test(test_defaults),
       cmocka_unit_test(test_full_file),
       cmocka_unit_test(test_partial_file_keeps_rest),

@@ -22,6 +22,7 @@
 #include "voussoir/damping.h"
 #include "voussoir/dynamic.h"
 #include "voussoir/geometry.h"
+#include "voussoir/joint.h"
 #include "voussoir/modal.h"
 #include "voussoir/model.h"
 
@@ -265,6 +266,50 @@ static void test_rayleigh_decay(void **state) {
   block_free(&k);
 }
 
+/* The Rayleigh joint dashpot (vs_joint_damping_tangent) on a half-open joint: its matrix is
+ * df/dv (central differences; f is linear in v), symmetric, and the power f . v it dissipates is
+ * >= 0; a joint lifted clear keeps only the shear part (the elastic shear acts over the whole
+ * joint), and it scales with beta. */
+static void test_tangent_dashpot(void **state) {
+  (void)state;
+  const vs_joint_geom j = {.a = VS_SUPPORT_LEFT, .b = 0, .nz = 1.0, .length = 0.2, .depth = 0.1};
+  const vs_joint_law law = {.kn = 1e10, .ks = 5e9, .mu = 0.7};
+  const double ra[2] = {0.0, 0.0}, rb[2] = {0.0, -0.2}, qa[3] = {0.0, 0.0, 0.0};
+  const double beta = 1e-4, qb[3] = {1e-6, -2e-6, 4e-5}; /* tilted: part of the joint opens */
+  const double va[3] = {0.0, 0.0, 0.0};
+  double f[6], C[36], p;
+  for (int trial = 0; trial < 5; trial++) {
+    const double vb[3] = {1e-3 * sin(trial + 1.0), 1e-3 * cos(2.0 * trial), 1e-2 * sin(3.0 * trial + 0.5)};
+    vs_joint_damping_tangent(&j, &law, beta, qa, qb, va, vb, ra, rb, f, C, &p);
+    double fv = 0.0;
+    for (int i = 0; i < 3; i++) fv += f[3 + i] * vb[i];
+    CHECK(p, fv, 1e-12, 1e-30);
+    assert_true(p > 0.0);
+    for (int c = 0; c < 3; c++) {
+      double vp[3], vm[3], fp[6], fm[6];
+      memcpy(vp, vb, sizeof vp);
+      memcpy(vm, vb, sizeof vm);
+      const double h = 1e-6;
+      vp[c] += h;
+      vm[c] -= h;
+      vs_joint_damping_tangent(&j, &law, beta, qa, qb, va, vp, ra, rb, fp, NULL, NULL);
+      vs_joint_damping_tangent(&j, &law, beta, qa, qb, va, vm, ra, rb, fm, NULL, NULL);
+      for (int r = 0; r < 6; r++) {
+        const double fd = (fp[r] - fm[r]) / (2.0 * h);
+        CHECK(C[r * 6 + 3 + c], fd, 1e-7, 1e-9 * fabs(C[(3 + c) * 6 + 3 + c]));
+      }
+    }
+    for (int r = 0; r < 6; r++)
+      for (int c = 0; c < 6; c++) CHECK(C[r * 6 + c], C[c * 6 + r], 1e-12, 1e-20);
+  }
+  /* lifted: only the shear dashpot beta k_s b t remains */
+  const double lifted[3] = {0.0, 1e-4, 0.0}, vz[3] = {0.0, 1e-3, 1e-2}, vx[3] = {1e-3, 0.0, 0.0};
+  vs_joint_damping_tangent(&j, &law, beta, qa, lifted, va, vz, ra, rb, f, C, &p);
+  CHECK(f[4], 0.0, 0.0, 1e-20);
+  vs_joint_damping_tangent(&j, &law, beta, qa, lifted, va, vx, ra, rb, f, C, &p);
+  CHECK(p, beta * law.ks * j.depth * j.length * 1e-6, 1e-12, 0.0);
+}
+
 static void test_modal_errors(void **state) {
   (void)state;
   block k = {.B = 0.2, .H = 0.4, .b = 0.1, .rho = 2000.0, .kn = 1e10};
@@ -286,6 +331,7 @@ int main(void) {
       cmocka_unit_test(test_block_frequencies),
       cmocka_unit_test(test_rayleigh_ratios),
       cmocka_unit_test(test_rayleigh_decay),
+      cmocka_unit_test(test_tangent_dashpot),
       cmocka_unit_test(test_modal_errors),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1,7 +1,8 @@
 /* Natural vibration of the arch about an equilibrium: the generalised symmetric eigenproblem
  * K phi = omega^2 M phi on the tangent stiffness K = dG/dq and the (diagonal) mass matrix M,
- * solved densely by LAPACK dsygv; and the damping ratio a damping matrix C gives each mode,
- * zeta_i = phi_i^T C phi_i / (2 omega_i) with phi_i mass-normalised. SI units. */
+ * solved by LAPACK; and the damping ratio a damping matrix C gives each mode,
+ * zeta_i = phi_i^T C phi_i / (2 omega_i) with phi_i mass-normalised. K is banded (LAPACK dsbgvx,
+ * then inverse iteration for the shapes): the cost grows as n^2 times the half-bandwidth. SI. */
 #ifndef VOUSSOIR_MODAL_H
 #define VOUSSOIR_MODAL_H
 
@@ -11,8 +12,9 @@
 /* Modes reported (the lowest ones). */
 #define VS_MODAL_MAX 6
 
-/* The dense eigensolver is used up to this many unknowns (1000 voussoirs: 72 MB, seconds). */
-#define VS_MODAL_MAX_DOF 3000
+/* The eigensolver is used up to this many unknowns (band reduction ~ n^2: 5000 voussoirs, a few
+ * seconds). */
+#define VS_MODAL_MAX_DOF 15000
 
 typedef struct {
   int n_modes;                     /* modes computed, <= VS_MODAL_MAX (0: not computed) */
