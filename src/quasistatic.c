@@ -2,6 +2,7 @@
  * each support displacement, a tangent predictor, adaptive increments, and a limit point
  * bracketed by bisection of the increment and confirmed on the tangent stiffness. */
 #include "voussoir/quasistatic.h"
+#include "voussoir/stability.h"
 
 #include <klu.h>
 #include <kinsol/kinsol.h>
@@ -66,15 +67,32 @@ typedef struct {
   N_Vector w1, w2;
   double *fwork;
   unsigned char *seen;
+  vs_spd *spd;                /* the stability test: Cholesky of the tangent's symmetric part */
   double kmax, lmax, wmin;    /* stiffest joint k_n b t (N/m), longest joint (m), lightest block (N) */
   long iters, jac_evals, floor_limited;
   double max_residual;        /* largest scaled residual among accepted equilibria */
+  int interrupted;            /* o->stop was seen raised */
+  int nonfinite;              /* the last solve met a residual that is not finite */
   char kin_msg[256];
 } qs_solver;
 
+static int qs_stopped(qs_solver *s) {
+  if (s->o->stop != NULL && *s->o->stop) s->interrupted = 1;
+  return s->interrupted;
+}
+
+/* KINSOL's residual. A raised stop flag and a residual that is not finite are fatal (-1): KINSOL
+ * then returns KIN_SYSFUNC_FAIL at once (its line search never ends on NaN). */
 static int sys_fn(N_Vector u, N_Vector f, void *user) {
   qs_solver *s = user;
-  vs_model_residual(s->m, N_VGetArrayPointer(u), s->delta, N_VGetArrayPointer(f));
+  if (qs_stopped(s)) return -1;
+  double *fv = N_VGetArrayPointer(f);
+  vs_model_residual(s->m, N_VGetArrayPointer(u), s->delta, fv);
+  for (int i = 0; i < s->n; i++)
+    if (!isfinite(fv[i])) {
+      s->nonfinite = 1;
+      return -1;
+    }
   return 0;
 }
 
@@ -83,6 +101,7 @@ static int jac_fn(N_Vector u, N_Vector fu, SUNMatrix J, void *user, N_Vector t1,
   (void)t1;
   (void)t2;
   qs_solver *s = user;
+  if (qs_stopped(s)) return -1;
   s->jac_evals++;
   return vs_model_jacobian(s->m, N_VGetArrayPointer(u), s->delta, J);
 }
@@ -106,6 +125,7 @@ static void qs_destroy(qs_solver *s) {
   if (s->w1 != NULL) N_VDestroy(s->w1);
   if (s->w2 != NULL) N_VDestroy(s->w2);
   if (s->ctx != NULL) SUNContext_Free(&s->ctx);
+  vs_spd_destroy(&s->spd);
   free(s->fwork);
   free(s->seen);
   free(s->len);
@@ -140,6 +160,10 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
       s->len == NULL || s->w1 == NULL || s->w2 == NULL || s->fwork == NULL || s->seen == NULL) {
     qs_destroy(s);
     return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
+  }
+  if (vs_spd_create(s->n, &s->spd, err) != VS_OK) {
+    qs_destroy(s);
+    return VS_ERR_NOMEM;
   }
   s->LS = SUNLinSol_KLU(s->u, s->J, s->ctx);
   s->LSt = SUNLinSol_KLU(s->u, s->Jt, s->ctx);
@@ -205,6 +229,8 @@ static double scaled_residual(qs_solver *s, const double *q, double delta) {
 static int qs_solve(qs_solver *s, double delta, double *q, long *iters) {
   s->delta = delta;
   s->kin_msg[0] = '\0';
+  s->nonfinite = 0;
+  if (qs_stopped(s)) return KIN_SYSFUNC_FAIL;
   memcpy(N_VGetArrayPointer(s->u), q, (size_t)s->n * sizeof *q);
   int flag = KINSol(s->kin, s->u, KIN_LINESEARCH, s->uscale, s->fscale);
   long nni = 0;
@@ -343,6 +369,90 @@ void vs_path_opts_from_case(const vs_case *c, vs_path_opts *o) {
   o->max_delta = c->max_mm * VS_MM;
   o->newton_tol = c->newton_tol;
   o->newton_maxiter = c->newton_maxiter;
+  o->open = c->open_mm * VS_MM;
+  o->stop = NULL;
+}
+
+/* Which joint edges are open (gap > open) at (q, delta): 2 flags per joint. */
+static void edge_flags(const qs_solver *s, const double *q, double delta, vs_joint_state *js,
+                       unsigned char *fl) {
+  const int nj = vs_model_geometry(s->m)->n_joints;
+  vs_model_joint_states(s->m, q, delta, js);
+  for (int k = 0; k < nj; k++) {
+    fl[2 * k] = js[k].gap_i > s->o->open;
+    fl[2 * k + 1] = js[k].gap_e > s->o->open;
+  }
+}
+
+/* Hinge onsets located on the path: between the accepted equilibria (qa, a) and (qb, b), find
+ * by bisection in delta (re-solving equilibria from the linear interpolation of the two
+ * bracketing states, with the slips committed at a) the first delta at which any edge changes
+ * between open and closed, to limit_tol; pass the equilibria on both sides of it to step_fn;
+ * then the next one after it, until the edges are those at b. The onsets the hinge tracker
+ * interpolates between consecutive equilibria are then within limit_tol of the crossing, and
+ * the joints it sees open are those of the crossing, whatever the increment. Returns non-zero
+ * if step_fn asked to stop. A bisection whose Newton fails ends the location (the tracker then
+ * interpolates over what is left). */
+static int locate_edges(qs_solver *s, const double *qa0, double a0, const double *qb0, double b0,
+                        vs_path_step_fn step_fn, void *user, double *work, long *located) {
+  const int n = s->n, nj = vs_model_geometry(s->m)->n_joints;
+  vs_joint_state *js = malloc((size_t)nj * sizeof *js);
+  unsigned char *fa = malloc((size_t)(6 * nj));
+  if (js == NULL || fa == NULL) {
+    free(js);
+    free(fa);
+    return 0;
+  }
+  unsigned char *fb = fa + 2 * nj, *fm = fb + 2 * nj;
+  double *qa = work, *qb = work + n, *qm = work + 2 * n;
+  memcpy(qa, qa0, (size_t)n * sizeof *qa);
+  double a = a0;
+  edge_flags(s, qa, a, js, fa);
+  edge_flags(s, qb0, b0, js, fb);
+  int stop = 0;
+  for (int found = 0; !stop && found < 2 * nj && memcmp(fa, fb, (size_t)(2 * nj)) != 0; found++) {
+    double b = b0;
+    memcpy(qb, qb0, (size_t)n * sizeof *qb);
+    int failed = 0;
+    while (b - a > s->o->limit_tol) {
+      const double mid = 0.5 * (a + b);
+      for (int i = 0; i < n; i++) qm[i] = 0.5 * (qa[i] + qb[i]);
+      long it = 0;
+      if (qs_solve(s, mid, qm, &it) != 0) {
+        failed = 1;
+        break;
+      }
+      edge_flags(s, qm, mid, js, fm);
+      if (memcmp(fm, fa, (size_t)(2 * nj)) == 0) {
+        a = mid;
+        memcpy(qa, qm, (size_t)n * sizeof *qa);
+      } else {
+        b = mid;
+        memcpy(qb, qm, (size_t)n * sizeof *qb);
+      }
+    }
+    if (failed || b >= b0) break; /* the crossing is at the end of the increment */
+    stop = step_fn(user, a, qa, s->m) != 0 || step_fn(user, b, qb, s->m) != 0;
+    *located += 2;
+    a = b;
+    memcpy(qa, qb, (size_t)n * sizeof *qa);
+    edge_flags(s, qa, a, js, fa);
+  }
+  free(js);
+  free(fa);
+  return stop;
+}
+
+/* After a failed solve at delta: an error when the failure ends the path whatever follows (the
+ * stop flag, a residual that is not finite), else VS_OK. */
+static vs_status qs_fatal(const qs_solver *s, double delta, vs_error *err) {
+  if (s->interrupted) return vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
+  if (s->nonfinite)
+    return vs_error_set(err, VS_ERR_SOLVER,
+                        "the residual is not finite (NaN or infinity) at support displacement "
+                        "%.6g mm: the case's values are beyond double precision",
+                        delta / VS_MM);
+  return VS_OK;
 }
 
 static const char *kin_cause(int flag) {
@@ -354,6 +464,7 @@ static const char *kin_cause(int flag) {
   case KIN_LSETUP_FAIL: return "KLU could not factor the Jacobian (singular tangent)";
   case KIN_LSOLVE_FAIL: return "KLU solve failed";
   case KIN_STEP_LT_STPTOL: return "Newton stalled with the residual above tolerance";
+  case KIN_SYSFUNC_FAIL: return "the residual is not finite (NaN or infinity)";
   default: return "KINSOL failure";
   }
 }
@@ -364,7 +475,8 @@ vs_status vs_equilibrium_solve(vs_model *m, const vs_path_opts *o, double delta,
   vs_status st = qs_create(&s, m, o, err);
   if (st != VS_OK) return st;
   int flag = qs_solve(&s, delta, q, iters);
-  if (flag != 0) {
+  if (flag != 0) st = qs_fatal(&s, delta, err);
+  if (flag != 0 && st == VS_OK) {
     char cause[128];
     snprintf(cause, sizeof cause, "%s", kin_cause(flag));
     st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
@@ -428,11 +540,12 @@ static vs_status confirm_limit(qs_solver *s, const double *q_prev, double delta_
 }
 
 /* Accept a converged state as on the followed stable branch: the tangent must be positive
- * definite along the path (det K > 0 on the stable branch that starts from self-weight). */
+ * definite, established by a Cholesky factorisation of its symmetric part (stability.h; the sign
+ * of det K alone would not). The tangent is also factored by KLU for the eigenvalue tracking. */
 static int stable_state(qs_solver *s, const double *q, double delta) {
   int sign = 0;
   if (tangent_factor(s, q, delta, &sign) != 0) return 0;
-  return sign > 0;
+  return vs_spd_test(s->spd, s->Jt) == 1;
 }
 
 /* Self-weight by continuation in the gravity factor lambda: the reference configuration is the
@@ -473,7 +586,7 @@ static int gravity_ramp(qs_solver *s, double *q, double *lambda_max) {
         break;
       }
       h = fmin(2.0 * h, VS_RAMP_STEP);
-    } else if ((h *= 0.5) < VS_RAMP_MIN) {
+    } else if ((h *= 0.5) < VS_RAMP_MIN || s->interrupted || s->nonfinite) {
       break;
     }
   }
@@ -495,8 +608,9 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
   const size_t bytes = (size_t)s.n * sizeof(double);
   double *tan = malloc(bytes), *qtry = malloc(bytes), *qpred = malloc(bytes);
   double *qprev = malloc(bytes), *eig = calloc((size_t)s.n, sizeof(double));
+  double *qloc = malloc(3 * bytes); /* locate_edges' workspace */
   double delta_prev = 0.0;
-  if (tan == NULL || qtry == NULL || qpred == NULL || qprev == NULL || eig == NULL) {
+  if (tan == NULL || qtry == NULL || qpred == NULL || qprev == NULL || eig == NULL || qloc == NULL) {
     st = vs_error_set(err, VS_ERR_NOMEM, "path: out of memory");
     goto cleanup;
   }
@@ -505,9 +619,14 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
   long it = 0;
   int flag = qs_solve(&s, delta0, q, &it);
   double lambda_max = 1.0;
-  if (flag != 0 && delta0 == 0.0 && gravity_ramp(&s, q, &lambda_max) == 0) flag = 0;
+  if (flag != 0 && delta0 == 0.0 && qs_fatal(&s, delta0, NULL) == VS_OK &&
+      gravity_ramp(&s, q, &lambda_max) == 0)
+    flag = 0;
   res->newton_iterations = s.iters;
   if (flag != 0) {
+    st = qs_fatal(&s, delta0, err);
+    if (st != VS_OK)
+      goto cleanup;
     if (delta0 == 0.0)
       st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
                         "the arch cannot stand: no equilibrium under self-weight (growing the "
@@ -549,6 +668,13 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
       res->end = VS_PATH_MAX_DISPLACEMENT;
       break;
     }
+    if (res->steps + res->rejected >= VS_PATH_MAX_INCREMENTS) {
+      st = vs_error_set(err, VS_ERR_SOLVER,
+                        "the quasi-static path took %ld increments (the limit) and reached only "
+                        "%.6g mm of %.6g mm",
+                        VS_PATH_MAX_INCREMENTS, delta / VS_MM, o->max_delta / VS_MM);
+      break;
+    }
     h = fmin(h, o->max_delta - delta);
     /* fold predictor: lambda^2 extrapolated from the last two equilibria, trusted once two
      * successive predictions agree (lambda^2 linear in delta, as near a fold; a hinge forming
@@ -561,6 +687,7 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
       h = fmin(h, fmax(VS_FOLD_APPROACH * (fold - delta), o->limit_tol));
     for (int i = 0; i < s.n; i++) qtry[i] = qpred[i] = q[i] + h * tan[i];
     flag = qs_solve(&s, delta + h, qtry, &it);
+    if (flag != 0 && (st = qs_fatal(&s, delta + h, err)) != VS_OK) break;
     int ok = (flag == 0);
     if (ok && scaled_norm(&s, qtry, qpred) > VS_CORRECTOR_RATIO * scaled_norm(&s, qpred, q) +
                                                  10.0 * o->newton_tol)
@@ -572,13 +699,20 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
         res->delta_limit = delta;
         res->delta_fail = delta + h;
         st = confirm_limit(&s, qprev, delta_prev, q, delta, delta + h, res, err);
+        if (s.interrupted || s.nonfinite) st = qs_fatal(&s, delta + h, err);
         if (st == VS_OK) res->end = VS_PATH_LIMIT_POINT;
         break;
       }
       h *= 0.5;
       continue;
     }
-    /* accepted: the tangent is factored at the new state by stable_state */
+    /* accepted: the tangent is factored at the new state by stable_state (the location below
+     * solves with KINSOL's own matrix and keeps that factorisation) */
+    if (step_fn != NULL && o->open > 0.0 &&
+        locate_edges(&s, q, delta, qtry, delta + h, step_fn, user, qloc, &res->located) != 0) {
+      st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+      break;
+    }
     memcpy(qprev, q, bytes);
     delta_prev = delta;
     memcpy(q, qtry, bytes);
@@ -612,6 +746,7 @@ cleanup:
   free(qpred);
   free(qprev);
   free(eig);
+  free(qloc);
   qs_destroy(&s);
   return st;
 }

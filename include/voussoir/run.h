@@ -23,6 +23,10 @@ typedef struct {
   double t, delta;         /* loading time (delta / rate), s; support displacement, m */
   const double *q, *v;     /* state (v is NULL on the quasi-static path: at rest) */
   const vs_energy *energy; /* NULL on the quasi-static path */
+  const double *reactions; /* forces the supports exert on the arch: left (Fx, Fz N, M N m about
+                              the springing joint's centre, counter-clockwise), right; from the
+                              joint forces on the quasi-static path, the multipliers lambda in
+                              the dynamic phase */
   long newton_iterations;  /* solver statistics so far, cumulative over the run: KINSOL Newton */
   long ida_steps, ida_newton_iterations; /* iterations; IDA steps and Newton iterations */
 } vs_run_sample;
@@ -56,14 +60,21 @@ typedef struct {
 
 typedef struct {
   int found;
-  double delta;        /* collapse displacement delta_u: the support's displacement when the
-                          kinetic energy passed the collapse threshold (the arch is falling), m */
+  double delta;        /* collapse displacement delta_u: where the arch departs from its last
+                          stable equilibrium. On the quasi-static path, the collapsing limit
+                          point (located to limit_tol_mm); with --dynamic, the last instant
+                          before the detection at which the kinetic energy rose through the
+                          rest level (an IDA root; NaN if the arch was never at rest), m */
   double t;            /* its time, s */
-  double t_criterion;  /* the same time (kept for the record), s */
+  double t_criterion;  /* the detection: when the kinetic energy passed the collapse threshold
+                          (the arch is falling), s */
+  double delta_detected; /* the support displacement then, m */
   double t_onset;      /* when the final motion began (the kinetic energy last rose above the
                           rest threshold), s; NaN where the arch was never at rest (fast loading) */
   int n_hinges;        /* hinges open at the criterion */
   vs_hinge hinges[8];  /* their copies, left to right */
+  double reactions_limit[6]; /* forces the supports exert on the arch at the collapsing limit
+                                point (as vs_run_sample.reactions); NaN without one (--dynamic) */
 } vs_collapse_record;
 
 /* Called for every recorded state and every event (either may be NULL). Non-zero stops. */
@@ -74,9 +85,19 @@ typedef int (*vs_run_event_fn)(void *user, const vs_run *run, const vs_run_event
 vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err);
 void vs_run_destroy(vs_run **r);
 
+/* Stop flag of the run (NULL: none), e.g. set by a SIGINT handler: once non-zero, the solve
+ * under way stops at its next residual evaluation (KINSOL or IDA) and vs_run_execute returns
+ * VS_ERR_INTERRUPTED. The flag is borrowed and only read. */
+void vs_run_set_stop(vs_run *r, const volatile sig_atomic_t *stop);
+
+/* Bounds of a run: dynamic phases after one limit point (each ended by the arch at rest with no
+ * equilibrium there), and limit points; reaching one is an error (VS_ERR_SOLVER) that says so. */
+#define VS_RUN_MAX_RESTARTS 100000
+#define VS_RUN_MAX_LIMITS 10000
+
 /* Run the case. The status is that of the solvers (VS_OK when the run reached the collapse, the
- * first limit point with dynamic.follow = 0, or support.max_mm); everything recorded up to a
- * failure stays available. */
+ * first limit point with dynamic.follow = 0, or support.max_mm); VS_ERR_INTERRUPTED after the
+ * stop flag; everything recorded up to a failure stays available. */
 vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn event, void *user,
                          vs_error *err);
 
@@ -100,6 +121,10 @@ const vs_dyn_result *vs_run_dynamic_totals(const vs_run *r);
 /* Hinges to report: all of them, or after a collapse those formed up to its onset (the falling
  * arch opens joints everywhere; they stay in the event log). */
 int vs_run_hinge_count(const vs_run *r);
+/* Hinge i (0-based, in order of appearance) as reported: after a collapse, as it was at the
+ * collapse's onset (its joints and whether it was open then), not at the end of the fall; beyond
+ * vs_run_hinge_count (hinges of the fall) and without a collapse, the tracker's current state. */
+const vs_hinge *vs_run_hinge(const vs_run *r, int i);
 
 /* Logged events in order. */
 int vs_run_event_count(const vs_run *r);
@@ -115,6 +140,8 @@ const char *vs_run_pattern_collapse(const vs_run *r);
 const double *vs_run_state(const vs_run *r);
 double vs_run_delta(const vs_run *r);
 double vs_run_time(const vs_run *r);
+/* Forces the supports exert on the arch at the last recorded state (as vs_run_sample.reactions). */
+const double *vs_run_reactions(const vs_run *r);
 /* Wall-clock time of vs_run_execute, s. */
 double vs_run_wall_s(const vs_run *r);
 
