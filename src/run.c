@@ -242,7 +242,11 @@ static int damping_setup(vs_run *r, double delta, const double *q) {
   if (3 * r->c.voussoirs > VS_MODAL_MAX_DOF) return 0; /* not computed (not rayleigh: checked) */
   r->modal_st = vs_modal_compute(r->m, q, delta, VS_MODAL_MAX, &r->modal, &r->modal_err);
   const int rayleigh = r->c.damping_model == VS_DAMPING_RAYLEIGH;
-  if (r->modal_st != VS_OK) return rayleigh; /* otherwise the modes are only reported */
+  if (r->modal_st != VS_OK && !rayleigh) { /* the modes are only reported: none, then */
+    r->modal_st = VS_OK;
+    return 0;
+  }
+  if (r->modal_st != VS_OK) return 1;
   if (rayleigh && r->modal.n_modes >= 2) {
     r->modal_st = vs_damping_apply(r->m, VS_DAMPING_RAYLEIGH, r->c.damping, r->modal.omega[0],
                                    r->modal.omega[1], &r->ray_alpha, &r->ray_beta, &r->modal_err);

@@ -25,6 +25,7 @@
 #include "voussoir/joint.h"
 #include "voussoir/modal.h"
 #include "voussoir/model.h"
+#include "voussoir/run.h"
 
 static const double PI = 3.14159265358979323846;
 static const double GRAV = 9.81;
@@ -326,6 +327,39 @@ static void test_modal_errors(void **state) {
   block_free(&k);
 }
 
+/* A run of the reference arch with rayleigh damping: the coefficients are those of the two lowest
+ * modes under self-weight, which get the ratio (within the 1 % of the undamped geometric
+ * stiffness), and a higher mode gets alpha / 2w + beta w / 2 to the same accuracy. Too many
+ * voussoirs for the eigensolver: refused at creation. */
+static void test_run_rayleigh(void **state) {
+  (void)state;
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_error err;
+  assert_int_equal(vs_case_set(&c, "dynamic.damping_model=rayleigh", &err), VS_OK);
+  c.follow = 0;
+  c.max_mm = 1.0;
+  vs_run *r = NULL;
+  assert_int_equal(vs_run_create(&c, &r, &err), VS_OK);
+  assert_int_equal(vs_run_execute(r, NULL, NULL, NULL, &err), VS_OK);
+  const vs_modal *md = vs_run_modal(r);
+  double a, b, a_want, b_want;
+  vs_run_rayleigh(r, &a, &b);
+  assert_int_equal(md->n_modes, VS_MODAL_MAX);
+  assert_int_equal(vs_damping_rayleigh_coefficients(c.damping, md->omega[0], md->omega[1], &a_want,
+                                                    &b_want, &err), VS_OK);
+  CHECK(a, a_want, 1e-12, 0.0);
+  CHECK(b, b_want, 1e-12, 0.0);
+  for (int i = 0; i < md->n_modes; i++)
+    CHECK(md->zeta[i], vs_damping_rayleigh_ratio(a, b, md->omega[i]), 0.01, 0.0);
+  assert_true(md->omega[0] < md->omega[1]);
+  vs_run_destroy(&r);
+  c.voussoirs = VS_MODAL_MAX_DOF / 3 + 1;
+  assert_int_equal(vs_run_create(&c, &r, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "arch.voussoirs"));
+  assert_null(r);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_block_frequencies),
@@ -333,6 +367,7 @@ int main(void) {
       cmocka_unit_test(test_rayleigh_decay),
       cmocka_unit_test(test_tangent_dashpot),
       cmocka_unit_test(test_modal_errors),
+      cmocka_unit_test(test_run_rayleigh),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
