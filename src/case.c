@@ -45,7 +45,7 @@ typedef struct {
    names}
 
 /* dynamic.damping_model, in the order of vs_damping_model (damping.h) */
-static const char *const damping_models[] = {"none", "joint", "rayleigh", "impact", NULL};
+static const char *const damping_models[] = {"none", "joint", "rayleigh", NULL};
 
 #define INF INFINITY
 static const key_spec keys[] = {
@@ -84,8 +84,8 @@ static const key_spec keys[] = {
         "1: follow the limit points dynamically to the collapse; 0: stop at the first"),
     KEY(dynamic, full, 0.0, 0.0, true, 1.0, true, "",
         "1: integrate the whole loading dynamically from rest"),
-    KEY_NAMED(dynamic, damping_model, 1.0, 4, damping_models,
-              "viscous damping: none, joint (dashpots), rayleigh (alpha M + beta K), impact"),
+    KEY_NAMED(dynamic, damping_model, 1.0, 3, damping_models,
+              "viscous damping: none, joint (dashpots), rayleigh (alpha M + beta K)"),
     KEY(dynamic, damping, 0.05, 0.0, true, 1.0, true, "",
         "damping ratio: joint, of each joint's critical damping; rayleigh, of the two lowest modes"),
     KEY(dynamic, rtol, 1e-6, 0.0, false, 1e-2, true, "", "IDA relative tolerance"),

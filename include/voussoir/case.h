@@ -43,11 +43,11 @@ typedef struct {
                           first limit point. Default 1 */
   int full;            /* 1: integrate the whole loading dynamically from rest (no quasi-static
                           phase). Default 0 */
-  int damping_model;   /* vs_damping_model (damping.h): none, joint, rayleigh, impact; written by
+  int damping_model;   /* vs_damping_model (damping.h): none, joint, rayleigh; written by
                           name in the file. Default joint */
   double damping;      /* damping ratio, [0, 1], default 0.05: joint, of each joint's critical
-                          damping; rayleigh, of the two lowest modes under self-weight; none and
-                          impact do not use it */
+                          damping; rayleigh, of the two lowest modes under self-weight; none does
+                          not use it */
   double rtol;         /* IDA relative tolerance, (0, 1e-2], default 1e-6 */
   double atol_mm;      /* IDA absolute tolerance on positions, > 0, default 1e-5 mm */
   double rest_factor;  /* at rest when the kinetic energy stays below this many times that of the
