@@ -157,6 +157,7 @@ static void text_damping(FILE *out, const vs_run *r) {
   else if (dm == VS_DAMPING_RAYLEIGH)
     fprintf(out, ": %g at the two lowest modes, alpha = %.4g 1/s, beta = %.4g s", c->damping,
             alpha, beta);
+  fputc('\n', out);
   if (md->n_modes == 0) return;
   fputs("modes    under self-weight, frequency (damping ratio):", out);
   for (int i = 0; i < md->n_modes; i++)
