@@ -1,24 +1,67 @@
 #!/usr/bin/env bash
-# Damping study: the collapse displacement of the reference specimen for joint damping ratios
-# 0, 2, 5 and 20 % of critical, alpha = 0, 45, 90 deg, k_n = 3 and 48 N/mm^3 (quasi-static path
-# with every limit point followed dynamically). Prints a table; writes out/damping_study.csv.
-# usage: runs/damping_study.sh   (VOUSSOIR=path/to/binary, OUT_DIR=... to override)
+# Damping study: the collapse of the reference specimen for every damping model and ratio,
+# alpha = 0, 30, 45, 60, 90 deg, k_n = 3 and 48 N/mm^3 (quasi-static path, every limit point
+# followed dynamically). For each run: delta_u, which limit point turned into the collapse
+# (its index among the limit points and its delta), the hinge sides at collapse, the snaps, and
+# the modes' damping ratio the model gives. Writes out/damping_study.csv and the README's table
+# out/damping_study.md; prints the table.
+# none takes no ratio (run once, ratio 0); joint and rayleigh at 0.5, 2, 5, 20 % (their
+# ratio 0 is the none model: the same code path, vs_model_set_damping(m, 0)).
+# usage: runs/damping_study.sh   (VOUSSOIR=path/to/binary, OUT_DIR=..., MODELS="none joint ..." to override)
 set -euo pipefail
 source "$(dirname "$0")/lib.sh"
 csv="$out_dir/damping_study.csv"
-echo "alpha_deg,kn_N_mm3,damping,delta_u_mm,dz_over_L_pct,dx_over_L_pct,snaps,mode,hinges_at_collapse,energy_balance_rel,wall_s" >"$csv"
-printf '%-6s %-5s %-8s %12s %8s %8s %6s %-5s %-10s %9s %8s\n' alpha kn damping "delta_u mm" "dz/L %" "dx/L %" snaps mode sides balance "wall s"
-for alpha in 0 45 90; do
+md="$out_dir/damping_study.md"
+models="${MODELS:-none joint rayleigh}"
+echo "alpha_deg,kn_N_mm3,model,ratio,delta_u_mm,collapse_limit_index,collapse_limit_mm,limit_points,snaps,hinges_at_collapse,zeta_mode1,zeta_mode2,wall_s" >"$csv"
+summarise() { # JSON on stdin -> the CSV fields after ratio
+  python3 -c '
+import json, sys
+j = json.load(sys.stdin)
+lim = j.get("limit_points") or []
+idx = next((i + 1 for i, l in enumerate(lim) if l["kind"] == "collapse"), None)
+col = j.get("collapse") or {}
+modes = (j.get("damping") or {}).get("modes_self_weight") or []
+z = [m["damping_ratio"] for m in modes] + [float("nan")] * 2
+f = lambda x: "nan" if x is None else "%.4f" % x
+print(",".join([f(col.get("delta_mm")), str(idx or ""), f(lim[idx - 1]["delta_mm"]) if idx else "",
+                str(len(lim)), str(sum(l["kind"] == "snap" for l in lim)),
+                j.get("hinge_sides_collapse") or "", "%.4g" % z[0], "%.4g" % z[1],
+                "%.2f" % j["stats"]["wall_s"]]))'
+}
+for alpha in 0 30 45 60 90; do
   for kn in 3 48; do
-    for z in 0 0.02 0.05 0.2; do
-      j="$("$bin" run "$here/reference.ini" --alpha "$alpha" --kn "$kn" --set dynamic.damping="$z" --json -q --no-record || true)"
-      du="$(jcollapse delta_mm "$j")"; dz="$(jcollapse dz_over_L_pct "$j")"; dx="$(jcollapse dx_over_L_pct "$j")"
-      mode="$(jstr mode "$j")"; sides="$(jstr hinge_sides_collapse "$j")"
-      bal="$(jnum balance_error_rel "$j")"; wall="$(jnum wall_s "$j")"; snaps="$(count snap "$j")"
-      echo "$alpha,$kn,$z,$du,$dz,$dx,$snaps,$mode,$sides,$bal,$wall" >>"$csv"
-      printf '%-6s %-5s %-8s %12.4f %8.3f %8.3f %6d %-5s %-10s %9.1e %8.2f\n' "$alpha" "$kn" "$z" \
-        "${du/null/nan}" "${dz/null/nan}" "${dx/null/nan}" "$snaps" "${mode:-null}" "$sides" "$bal" "$wall"
+    for model in $models; do
+      case "$model" in none) ratios="0" ;; *) ratios="0.005 0.02 0.05 0.2" ;; esac
+      for z in $ratios; do
+        j="$("$bin" run "$here/reference.ini" --alpha "$alpha" --kn "$kn" --set dynamic.damping_model="$model" \
+             --set dynamic.damping="$z" --json -q --no-record || true)"
+        row="$alpha,$kn,$model,$z,$(summarise <<<"$j")"
+        echo "$row" >>"$csv"
+        echo "$row"
+      done
     done
   done
 done
-echo "table: $csv"
+python3 - "$csv" "$md" <<'PY'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+cols = [("none", "0"), ("joint", "0.005"), ("joint", "0.02"), ("joint", "0.05"), ("joint", "0.2"),
+        ("rayleigh", "0.005"), ("rayleigh", "0.02"), ("rayleigh", "0.05"), ("rayleigh", "0.2")]
+have = {(r["model"], r["ratio"]) for r in rows}
+cols = [c for c in cols if c in have]
+name = lambda m, z: m if m == "none" else "%s %g %%" % (m, 100 * float(z))
+out = ["delta_u in mm; in brackets the limit point (1st, 2nd, ...) whose motion became the collapse.", "",
+       "| alpha | k_n | " + " | ".join(name(*c) for c in cols) + " |",
+       "|---|---|" + "---|" * len(cols)]
+for a in ["0", "30", "45", "60", "90"]:
+    for k in ["3", "48"]:
+        cells = []
+        for m, z in cols:
+            r = next((r for r in rows if r["alpha_deg"] == a and r["kn_N_mm3"] == k and r["model"] == m and r["ratio"] == z), None)
+            cells.append("–" if r is None or r["delta_u_mm"] == "nan" else "%.1f (%s)" % (float(r["delta_u_mm"]), r["collapse_limit_index"]))
+        out.append("| %s | %s | %s |" % (a, k, " | ".join(cells)))
+open(sys.argv[2], "w").write("\n".join(out) + "\n")
+print("\n".join(out))
+PY
+echo "table: $csv, $md"

@@ -223,6 +223,30 @@ void vs_joint_damping(const vs_joint_geom *jg, const vs_joint_law *law, double c
         C[i * 6 + j] = ca * k.dg[i] * k.dg[j] + cw * k.dw[i] * k.dw[j] + csl * k.ds[i] * k.ds[j];
 }
 
+void vs_joint_damping_tangent(const vs_joint_geom *jg, const vs_joint_law *law, double beta,
+                              const double qa[3], const double qb[3], const double va[3],
+                              const double vb[3], const double ra[2], const double rb[2],
+                              double f[6], double C[36], double *power) {
+  kinematics k;
+  joint_kinematics(jg, qa, qb, ra, rb, 0, &k);
+  const double t = jg->length, b = jg->depth;
+  vs_normal_response nr;
+  vs_joint_normal(law->kn, b, t, -k.g, k.w, &nr);
+  const double cs = beta * law->ks * b * t;
+  const double caa = beta * nr.N_a, caw = beta * nr.N_w, cww = beta * nr.M_w;
+  double adot, wdot, sdot;
+  joint_rates(&k, va, vb, &adot, &wdot, &sdot);
+  const double Nd = caa * adot + caw * wdot, Md = caw * adot + cww * wdot, Td = cs * sdot;
+  if (f != NULL)
+    for (int i = 0; i < 6; i++) f[i] = -Nd * k.dg[i] + Md * k.dw[i] + Td * k.ds[i];
+  if (power != NULL) *power = Nd * adot + Md * wdot + Td * sdot;
+  if (C != NULL)
+    for (int i = 0; i < 6; i++)
+      for (int j = 0; j < 6; j++)
+        C[i * 6 + j] = caa * k.dg[i] * k.dg[j] - caw * (k.dg[i] * k.dw[j] + k.dw[i] * k.dg[j]) +
+                       cww * k.dw[i] * k.dw[j] + cs * k.ds[i] * k.ds[j];
+}
+
 double vs_joint_friction_power(const vs_joint_geom *jg, const vs_joint_law *law,
                                const double qa[3], const double qb[3], const double va[3],
                                const double vb[3], const double ra[2], const double rb[2],

@@ -26,6 +26,9 @@ struct vs_model {
   double *ra, *rb; /* per joint: reference point of body a/b -> joint centre, m */
   double *slip_p;  /* per joint: committed plastic slip, m */
   double zeta;     /* damping ratio */
+  double alpha_m;  /* mass-proportional damping coefficient (Rayleigh), 1/s */
+  double beta_k;   /* stiffness-proportional damping coefficient (Rayleigh), s */
+  int damped;      /* any joint dashpot coefficient > 0 */
   double gscale;   /* gravity load factor (1: the arch's own weight) */
   double *cn, *cs; /* per joint: damping coefficients, N s/m^3 */
   int pinned[2];   /* left, right: 1 if the support is pinned (its rotation free) */
@@ -465,6 +468,8 @@ void vs_model_residual_scale(const vs_model *m, double *scale) {
 void vs_model_set_damping(vs_model *m, double zeta) {
   const vs_geometry *g = m->g;
   m->zeta = zeta;
+  m->alpha_m = m->beta_k = 0.0;
+  m->damped = zeta > 0.0;
   for (int k = 0; k < g->n_joints; k++) {
     const vs_joint_geom *j = &g->joints[k];
     const double A = j->depth * j->length;
@@ -478,8 +483,34 @@ void vs_model_set_damping(vs_model *m, double zeta) {
 
 double vs_model_damping_ratio(const vs_model *m) { return m->zeta; }
 
+void vs_model_set_rayleigh(vs_model *m, double alpha, double beta) {
+  m->zeta = 0.0;
+  m->alpha_m = alpha;
+  m->beta_k = beta;
+  m->damped = beta > 0.0;
+}
+
 void vs_model_set_gravity_scale(vs_model *m, double lambda) { m->gscale = lambda; }
 double vs_model_gravity_scale(const vs_model *m) { return m->gscale; }
+
+/* Rayleigh's mass-proportional part alpha M v on the blocks (body columns 0..n_blocks-1 of p):
+ * it acts on absolute velocities, so it also slows a rigid-body motion (a falling block tends to
+ * g / alpha). */
+static void mass_damping(const vs_model *m, const vs_pattern *p, const double *v, double *fd,
+                         double *diss, double *data) {
+  for (int i = 0; i < m->g->n_blocks; i++) {
+    const vs_block *b = &m->g->blocks[i];
+    const double mi[3] = {b->mass, b->mass, b->inertia};
+    for (int c = 0; c < 3; c++) {
+      const int r = 3 * i + c;
+      if (fd != NULL) fd[r] += m->alpha_m * mi[c] * v[r];
+      *diss += m->alpha_m * mi[c] * v[r] * v[r];
+      if (data == NULL) continue;
+      const sunindextype stride = p->colptr[3 * i + 1] - p->colptr[3 * i];
+      data[csc_pos(p, i, i) + c * stride + c] += m->alpha_m * mi[c];
+    }
+  }
+}
 
 /* Damping forces over the bodies of p at block states (q, v) and support states (qs, vs). */
 static void damping_core(const vs_model *m, const vs_pattern *p, const double *q, const double *v,
@@ -490,7 +521,7 @@ static void damping_core(const vs_model *m, const vs_pattern *p, const double *q
   if (fd != NULL) memset(fd, 0, (size_t)p->n * sizeof *fd);
   if (C != NULL) data = csc_reset(p, C);
   double diss = 0.0, sup = 0.0;
-  if (m->zeta > 0.0) {
+  if (m->damped) {
     for (int k = 0; k < g->n_joints; k++) {
       const vs_joint_geom *j = &g->joints[k];
       double qa[3], qb[3], va[3], vb[3], f[6], Ck[36], pw;
@@ -498,8 +529,12 @@ static void damping_core(const vs_model *m, const vs_pattern *p, const double *q
       body_q(q, qs, j->b, qb);
       body_q(v, vs, j->a, va);
       body_q(v, vs, j->b, vb);
-      vs_joint_damping(j, &m->law, m->cn[k], m->cs[k], qa, qb, va, vb, m->ra + 2 * k, m->rb + 2 * k,
-                       f, C != NULL ? Ck : NULL, &pw);
+      if (m->beta_k > 0.0) /* HOOK (damping): Rayleigh's stiffness part */
+        vs_joint_damping_tangent(j, &m->law, m->beta_k, qa, qb, va, vb, m->ra + 2 * k,
+                                 m->rb + 2 * k, f, C != NULL ? Ck : NULL, &pw);
+      else
+        vs_joint_damping(j, &m->law, m->cn[k], m->cs[k], qa, qb, va, vb, m->ra + 2 * k,
+                         m->rb + 2 * k, f, C != NULL ? Ck : NULL, &pw);
       diss += pw;
       const int body[2] = {j->a, j->b};
       int d[6];
@@ -515,6 +550,7 @@ static void damping_core(const vs_model *m, const vs_pattern *p, const double *q
       if (C != NULL) scatter_joint(p, d, Ck, data);
     }
   }
+  if (m->alpha_m > 0.0) mass_damping(m, p, v, fd, &diss, data); /* HOOK (damping) */
   /* the support does the work -f . u_dot on the arch through the damper: the dissipated power
    * splits into what the blocks lose (fd . v) and what the support supplies */
   if (dissipated != NULL) *dissipated = diss;

@@ -18,6 +18,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "voussoir/damping.h"
 #include "voussoir/outpath.h"
 #include "voussoir/units.h"
 #include "voussoir/version.h"
@@ -1329,6 +1330,36 @@ static herr_t summary_totals(hid_t sum, const vs_run *run) {
   return rc;
 }
 
+/* /summary/damping: the model and the natural frequencies under self-weight with the damping
+ * ratio the model gives each mode. */
+static herr_t summary_damping(hid_t sum, const vs_run *run) {
+  const vs_case *c = vs_run_case(run);
+  const vs_modal *md = vs_run_modal(run);
+  double alpha, beta, col[3][VS_MODAL_MAX];
+  vs_run_rayleigh(run, &alpha, &beta);
+  hid_t g = group_create(sum, "damping");
+  herr_t rc = g >= 0 ? attr_str(g, "model", vs_damping_model_name((vs_damping_model)c->damping_model)) : -1;
+  if (rc >= 0) rc = attr_double(g, "ratio", c->damping);
+  if (rc >= 0) rc = dset_scalar(g, "rayleigh_alpha", alpha, "1/s");
+  if (rc >= 0) rc = dset_scalar(g, "rayleigh_beta", beta, "s");
+  for (int i = 0; i < md->n_modes; i++) {
+    col[0][i] = md->freq_hz[i];
+    col[1][i] = md->omega[i];
+    col[2][i] = md->zeta[i];
+  }
+  const hsize_t dims[1] = {(hsize_t)md->n_modes};
+  if (rc >= 0) rc = dset_write(g, "freq", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, dims, col[0], "Hz", NULL);
+  if (rc >= 0) rc = dset_write(g, "omega", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, dims, col[1], "rad/s", NULL);
+  if (rc >= 0) rc = dset_write(g, "damping_ratio", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, dims, col[2], "1", NULL);
+  if (rc >= 0)
+    rc = attr_str(g, "description",
+                  "the lowest natural modes about the self-weight equilibrium (tangent stiffness, "
+                  "block masses) and the damping ratio phi^T C phi / (2 omega) the damping model "
+                  "gives each; empty when not computed (more than 5000 voussoirs)");
+  h5_close(g);
+  return rc;
+}
+
 static vs_status write_summary(vs_output *o, const vs_run *run) {
   hid_t sum = H5Gopen2(o->file, "summary", H5P_DEFAULT);
   const char *mode = vs_run_mode(run);
@@ -1347,6 +1378,7 @@ static vs_status write_summary(vs_output *o, const vs_run *run) {
   if (rc >= 0) rc = summary_first_limit(sum, run);
   if (rc >= 0) rc = summary_collapse(sum, run);
   if (rc >= 0) rc = summary_totals(sum, run);
+  if (rc >= 0) rc = summary_damping(sum, run);
   const vs_hinges *h = vs_run_hinges(run);
   const int n = vs_hinges_count(h);
   vs_hinge *all = calloc((size_t)(n > 0 ? n : 1), sizeof *all);

@@ -1,6 +1,8 @@
 /* Human-readable and JSON summaries of a run. */
 #include "voussoir/report.h"
 
+#include "voussoir/damping.h"
+
 #include <math.h>
 
 #include "voussoir/units.h"
@@ -136,6 +138,47 @@ static void json_limits(FILE *out, const vs_run *r) {
   fputc(']', out);
 }
 
+/* The damping model and the modes under self-weight with the ratio it gives each. */
+static void json_damping(FILE *out, const vs_run *r) {
+  const vs_case *c = vs_run_case(r);
+  const vs_modal *md = vs_run_modal(r);
+  double alpha, beta;
+  vs_run_rayleigh(r, &alpha, &beta);
+  fprintf(out, ",\"damping\":{\"model\":\"%s\"",
+          vs_damping_model_name((vs_damping_model)c->damping_model));
+  jnum(out, ",\"ratio\":", c->damping, 10);
+  jnum(out, ",\"rayleigh_alpha_per_s\":", alpha, 10);
+  jnum(out, ",\"rayleigh_beta_s\":", beta, 10);
+  fputs(",\"modes_self_weight\":[", out);
+  for (int i = 0; i < md->n_modes; i++) {
+    jnum(out, i ? ",{\"freq_hz\":" : "{\"freq_hz\":", md->freq_hz[i], 10);
+    jnum(out, ",\"omega_rad_s\":", md->omega[i], 10);
+    jnum(out, ",\"damping_ratio\":", md->zeta[i], 6);
+    fputc('}', out);
+  }
+  fputs("]}", out);
+}
+
+static void text_damping(FILE *out, const vs_run *r) {
+  const vs_case *c = vs_run_case(r);
+  const vs_modal *md = vs_run_modal(r);
+  double alpha, beta;
+  vs_run_rayleigh(r, &alpha, &beta);
+  const vs_damping_model dm = (vs_damping_model)c->damping_model;
+  fprintf(out, "damping  %s", vs_damping_model_name(dm));
+  if (dm == VS_DAMPING_JOINT)
+    fprintf(out, ": joint dashpots at %g of each joint's own critical damping", c->damping);
+  else if (dm == VS_DAMPING_RAYLEIGH)
+    fprintf(out, ": %g at the two lowest modes, alpha = %.4g 1/s, beta = %.4g s", c->damping,
+            alpha, beta);
+  fputc('\n', out);
+  if (md->n_modes == 0) return;
+  fputs("modes    under self-weight, frequency (damping ratio):", out);
+  for (int i = 0; i < md->n_modes; i++)
+    fprintf(out, " %.2f Hz (%.3g %%)", md->freq_hz[i], 100.0 * md->zeta[i]);
+  fputc('\n', out);
+}
+
 static void json_tail(FILE *out, const vs_run *r) {
   const vs_case *c = vs_run_case(r);
   const vs_dyn_result *d = vs_run_dynamic_totals(r);
@@ -214,6 +257,7 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   for (int i = 0; i < vs_run_hinge_count(r) && n < 64; i++) all[n++] = *vs_run_hinge(r, i);
   json_hinges(out, r, all, n, 1);
   fprintf(out, ",\"hinges_in_fall\":%d", vs_hinges_count(h) - vs_run_hinge_count(r));
+  json_damping(out, r);
   json_tail(out, r);
 }
 
@@ -226,8 +270,8 @@ static void text_header(FILE *out, const vs_run *r, const char *case_path) {
           "         span L = %.2f mm, rise %.2f mm, weight %.3f N\n",
           c->radius_mm, c->thickness_mm, c->embrace_deg, c->voussoirs, c->depth_mm,
           g->span / VS_MM, g->rise / VS_MM, vs_geometry_weight(g));
-  fprintf(out, "joints   k_n = %g N/mm^3, k_s = %g k_n, mu = %g, damping %g of critical\n",
-          c->kn_N_mm3, c->ks_ratio, c->friction, c->damping);
+  fprintf(out, "joints   k_n = %g N/mm^3, k_s = %g k_n, mu = %g\n", c->kn_N_mm3, c->ks_ratio,
+          c->friction);
   static const char *const kind[] = {"fixed", "pinned"};
   fprintf(out, "support  right support moved at alpha = %g deg from the vertical, %g mm/s (left %s",
           c->alpha_deg, c->rate_mm_s, kind[c->left_kind != 0]);
@@ -261,6 +305,8 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
   const vs_hinges *h = vs_run_hinges(r);
   const vs_collapse_record *col = vs_run_collapse(r);
   text_header(out, r, case_path);
+  text_damping(out, r);
+  fputc('\n', out);
   double dz, dx;
   if (p->end == VS_PATH_LIMIT_POINT && vs_run_limit_count(r) > 0) {
     components_pct(c, p->delta_limit, &dz, &dx);

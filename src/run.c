@@ -9,6 +9,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "voussoir/damping.h"
 #include "voussoir/units.h"
 
 struct vs_run {
@@ -47,6 +48,12 @@ struct vs_run {
   vs_run_sample_fn sample_fn;
   vs_run_event_fn event_fn;
   void *user;
+  /* --- damping (damping.h, modal.h): modes under self-weight, set at the first equilibrium --- */
+  vs_modal modal;
+  double ray_alpha, ray_beta;
+  int modal_done;
+  vs_status modal_st;
+  vs_error modal_err;
 };
 
 /* Rest is at most this fraction of the collapse threshold (fast loading would otherwise put the
@@ -89,8 +96,15 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
       st = vs_model_set_support_kinds(r->m, (vs_support_kind)c->left_kind,
                                       (vs_support_kind)c->right_kind, err);
   }
-  if (st == VS_OK) {
-    vs_model_set_damping(r->m, c->damping);
+  if (st == VS_OK && c->damping_model == VS_DAMPING_RAYLEIGH &&
+      3 * c->voussoirs > VS_MODAL_MAX_DOF)
+    st = vs_error_set(err, VS_ERR_INVALID,
+                      "dynamic.damping_model = rayleigh needs the natural frequencies: arch.voussoirs "
+                      "= %d (allowed with rayleigh: <= %d)",
+                      c->voussoirs, VS_MODAL_MAX_DOF / 3);
+  if (st == VS_OK) { /* rayleigh is set at the self-weight equilibrium (damping_setup) */
+    if (c->damping_model == VS_DAMPING_RAYLEIGH) vs_model_set_damping(r->m, 0.0);
+    else vs_damping_apply(r->m, (vs_damping_model)c->damping_model, c->damping, 0.0, 0.0, NULL, NULL, NULL);
     r->hopts.open = c->open_mm * VS_MM;
     r->hopts.migrate = c->migrate_joints;
     st = vs_hinges_create(r->g->n_joints, &r->hopts, &r->h, err);
@@ -134,6 +148,7 @@ void vs_run_destroy(vs_run **r) {
   free(p->js);
   free(p->limits);
   free(p->events);
+  vs_modal_free(&p->modal);
   vs_dynamic_destroy(&p->dyn);
   vs_hinges_destroy(&p->h);
   vs_model_destroy(&p->m);
@@ -221,9 +236,33 @@ static void fill_counters(const vs_run *r, vs_run_sample *s) {
       r->dtot.newton_iterations + (r->live_dyn != NULL ? r->live_dyn->newton_iterations : 0);
 }
 
+/* HOOK (damping): at the self-weight equilibrium, the natural frequencies; Rayleigh damping is
+ * fitted to the two lowest; the ratio every mode gets from the model's damping. Returns non-zero
+ * (with r->modal_st, r->modal_err) when the damping cannot be set. */
+static int damping_setup(vs_run *r, double delta, const double *q) {
+  r->modal_done = 1;
+  vs_error_clear(&r->modal_err);
+  if (3 * r->c.voussoirs > VS_MODAL_MAX_DOF) return 0; /* not computed (not rayleigh: checked) */
+  r->modal_st = vs_modal_compute(r->m, q, delta, VS_MODAL_MAX, &r->modal, &r->modal_err);
+  const int rayleigh = r->c.damping_model == VS_DAMPING_RAYLEIGH;
+  if (r->modal_st != VS_OK && !rayleigh) { /* the modes are only reported: none, then */
+    r->modal_st = VS_OK;
+    return 0;
+  }
+  if (r->modal_st != VS_OK) return 1;
+  if (rayleigh && r->modal.n_modes >= 2) {
+    r->modal_st = vs_damping_apply(r->m, VS_DAMPING_RAYLEIGH, r->c.damping, r->modal.omega[0],
+                                   r->modal.omega[1], &r->ray_alpha, &r->ray_beta, &r->modal_err);
+    if (r->modal_st == VS_OK)
+      r->modal_st = vs_modal_damping_ratios(r->m, q, delta, &r->modal, &r->modal_err);
+  }
+  return r->modal_st != VS_OK;
+}
+
 static int on_equilibrium(void *user, double delta, const double *q, const vs_model *m) {
   (void)m;
   vs_run *r = user;
+  if (!r->modal_done && damping_setup(r, delta, q) != 0) return 1;
   r->delta = delta;
   r->t = delta / r->dopts.rate;
   r->phase = VS_PHASE_QUASISTATIC;
@@ -464,6 +503,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
     r->live_path = &p;
     st = vs_path_run(r->m, &sw, 0.0, r->q, on_equilibrium, r, &p, err);
     r->live_path = NULL;
+    if (r->modal_st != VS_OK) st = vs_error_set(err, r->modal_st, "%s", r->modal_err.msg);
     add_path_totals(r, &p);
     for (int i = 0; i < 6; i++) r->react_eq[i] = NAN; /* no limit point to depart from */
     if (st == VS_OK) {
@@ -481,6 +521,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
       r->live_path = &p;
       st = vs_path_run(r->m, &r->popts, delta0, r->q, on_equilibrium, r, &p, err);
       r->live_path = NULL;
+      if (r->modal_st != VS_OK) st = vs_error_set(err, r->modal_st, "%s", r->modal_err.msg);
       add_path_totals(r, &p);
       if (st != VS_OK || p.end != VS_PATH_LIMIT_POINT) break;
       if (r->n_limits >= VS_RUN_MAX_LIMITS) {
@@ -539,3 +580,8 @@ double vs_run_delta(const vs_run *r) { return r->delta; }
 double vs_run_time(const vs_run *r) { return r->t; }
 const double *vs_run_reactions(const vs_run *r) { return r->react; }
 double vs_run_wall_s(const vs_run *r) { return r->wall_s; }
+const vs_modal *vs_run_modal(const vs_run *r) { return &r->modal; }
+void vs_run_rayleigh(const vs_run *r, double *alpha, double *beta) {
+  *alpha = r->ray_alpha;
+  *beta = r->ray_beta;
+}

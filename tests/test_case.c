@@ -126,9 +126,9 @@ static const key_case all_keys[] = {
     {"dynamic", "sample_s", "9e-7", "2e6", {"1e-4", "1e-6"}},
 };
 #define NKEYS_TESTED (sizeof all_keys / sizeof all_keys[0])
-/* Keys that are named choices, tested by name in test_support_kinds: support.left_kind and
- * support.right_kind. */
-#define NKEYS_NAMED 2
+/* Keys that are named choices, tested by name in test_support_kinds (support.left_kind,
+ * support.right_kind) and test_named_key (dynamic.damping_model). */
+#define NKEYS_NAMED 3
 
 /* ---------------------------------------------------------------------------------------------
  * Defaults and a valid file */
@@ -756,6 +756,51 @@ static void test_support_kinds(void **state) {
   }
 }
 
+/* dynamic.damping_model takes names only; the iterator gives its value's index and name. */
+static void test_named_key(void **state) {
+  (void)state;
+  static const char *const names[] = {"none", "joint", "rayleigh"};
+  vs_case c;
+  vs_error err;
+  vs_case_defaults(&c);
+  assert_int_equal(c.damping_model, 1); /* joint */
+  int found = -1;
+  for (int k = 0; k < vs_case_key_count(); k++) {
+    const char *sec = NULL, *key = NULL;
+    vs_case_key(&c, k, &sec, &key, NULL, NULL, NULL);
+    if (strcmp(sec, "dynamic") == 0 && strcmp(key, "damping_model") == 0) found = k;
+  }
+  assert_true(found >= 0);
+  for (int i = 0; i < 3; i++) {
+    char buf[64];
+    snprintf(buf, sizeof buf, "dynamic.damping_model = %s", names[i]);
+    assert_int_equal(vs_case_set(&c, buf, &err), VS_OK);
+    assert_int_equal(c.damping_model, i);
+    double v = -1.0;
+    assert_int_equal(vs_case_key(&c, found, NULL, NULL, NULL, NULL, &v), 0);
+    assert_true(v == (double)i);
+    assert_string_equal(vs_case_key_name_of(found, i), names[i]);
+  }
+  assert_null(vs_case_key_name_of(found, 3));
+  assert_null(vs_case_key_name_of(0, 0)); /* a number */
+  const char *bad[] = {"dynamic.damping_model=2", "dynamic.damping_model=Rayleigh",
+                       "dynamic.damping_model=impact"};
+  for (int i = 0; i < 3; i++) {
+    vs_case_defaults(&c);
+    assert_int_equal(vs_case_set(&c, bad[i], &err), VS_ERR_INVALID);
+    assert_non_null(strstr(err.msg, "unknown name (allowed: one of none, joint, rayleigh)"));
+    assert_int_equal(c.damping_model, 1); /* unchanged */
+  }
+  assert_int_equal(vs_case_set(&c, "dynamic.damping_model=", &err), VS_ERR_PARSE);
+  tmpfile_t t;
+  assert_int_equal(read_text("[dynamic]\ndamping_model = rayleigh\n", &c, &err, &t), VS_OK);
+  drop(&t);
+  assert_int_equal(c.damping_model, 2);
+  c.damping_model = 7; /* set in code: validate catches it */
+  assert_int_equal(vs_case_validate(&c, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "dynamic.damping_model"));
+}
+
 /* ---------------------------------------------------------------------------------------------
  * Silent wrong acceptance (issue 8): each of these was read without an error and ignored part
  * of the file, or read the same number differently depending on where it was written. */
@@ -939,6 +984,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_key_iterator),
       cmocka_unit_test(test_support_kinds),
+      cmocka_unit_test(test_named_key),
       cmocka_unit_test(test_defaults),
       cmocka_unit_test(test_full_file),
       cmocka_unit_test(test_partial_file_keeps_rest),

@@ -118,7 +118,8 @@ static void test_completed_record(void **s) {
         "dataset    /observables/joint_slip_plastic/value", "dataset    /observables/joint_hinge/value",
         "dataset    /observables/reactions/value", "dataset    /observables/energy/value",
         "dataset    /observables/solver/value",
-        "group      /summary", "dataset    /summary/limit_points", "dataset    /summary/hinges"};
+        "group      /summary", "dataset    /summary/limit_points", "dataset    /summary/hinges",
+        "dataset    /summary/damping/freq", "dataset    /summary/damping/damping_ratio"};
     for (size_t i = 0; i < sizeof documented / sizeof documented[0]; i++)
       if (strstr(text, documented[i]) == NULL) fail_msg("h5dump -n lacks \"%s\"", documented[i]);
   }

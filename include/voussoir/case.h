@@ -46,7 +46,11 @@ typedef struct {
                           first limit point. Default 1 */
   int full;            /* 1: integrate the whole loading dynamically from rest (no quasi-static
                           phase). Default 0 */
-  double damping;      /* joint damping, fraction of each joint's critical damping, [0, 1], 0.05 */
+  int damping_model;   /* vs_damping_model (damping.h): none, joint, rayleigh; written by
+                          name in the file. Default joint */
+  double damping;      /* damping ratio, [0, 1], default 0.05: joint, of each joint's critical
+                          damping; rayleigh, of the two lowest modes under self-weight; none does
+                          not use it */
   double rtol;         /* IDA relative tolerance, (0, 1e-2], default 1e-6 */
   double atol_mm;      /* IDA absolute tolerance on positions, > 0, default 1e-5 mm */
   double rest_factor;  /* at rest when the kinetic energy stays below this many times that of the
@@ -105,7 +109,7 @@ int vs_case_key_count(void);
 int vs_case_key(const vs_case *c, int i, const char **section, const char **key, const char **unit,
                 int *is_int, double *value);
 
-/* For a key that is a named choice (support.left_kind, support.right_kind), the name of value `value` of key i;
+/* For a key that is a named choice (support.left_kind, support.right_kind, dynamic.damping_model), the name of value `value` of key i;
  * NULL when key i is a number or value is out of range. */
 const char *vs_case_key_name_of(int i, int value);
 

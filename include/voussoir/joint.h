@@ -81,6 +81,17 @@ void vs_joint_damping(const vs_joint_geom *jg, const vs_joint_law *law, double c
                       const double vb[3], const double ra[2], const double rb[2], double f[6],
                       double C[36], double *power);
 
+/* Stiffness-proportional damping: beta (s) times the joint's material tangent stiffness (the
+ * normal law's N_a, N_w, M_w over the compressed length, and k_s b t in shear; no geometric
+ * terms) applied to the joint's rates. A closed joint gets beta k_n b t, beta k_n b t^3 / 12,
+ * beta k_s b t; a hinge only what its compressed part carries, an open joint nothing in the
+ * normal direction. Outputs as vs_joint_damping; the power is >= 0 (the tangent is the Hessian
+ * of a convex energy). */
+void vs_joint_damping_tangent(const vs_joint_geom *jg, const vs_joint_law *law, double beta,
+                              const double qa[3], const double qb[3], const double va[3],
+                              const double vb[3], const double ra[2], const double rb[2],
+                              double f[6], double C[36], double *power);
+
 /* Power dissipated by frictional slip, W: T (sdot - Tdot / (k_s b t)) for a sliding joint
  * (the shear power T sdot minus the rate of the shear energy T^2 / (2 k_s b t)), 0 when the
  * joint sticks. Rates from the bodies' velocities va, vb as in vs_joint_damping. */

@@ -99,6 +99,12 @@ double vs_model_gravity_scale(const vs_model *m);
 void vs_model_set_damping(vs_model *m, double zeta);
 double vs_model_damping_ratio(const vs_model *m);
 
+/* Rayleigh damping C = alpha M + beta K_c (alpha 1/s, beta s, both >= 0), replacing the joint
+ * damping: K_c is the joints' current material tangent stiffness (vs_joint_damping_tangent: no
+ * damping force across an open gap, a hinge damped by what its compressed part carries); the
+ * mass part acts on absolute velocities. vs_model_set_damping(m, 0) removes it. */
+void vs_model_set_rayleigh(vs_model *m, double alpha, double beta);
+
 /* Damping forces at (q, v) with the right support moving at ddelta_dt (m/s): fd (3n entries,
  * may be NULL) adds to the residual of the equations of motion; *dissipated = power dissipated
  * in all joints (W, >= 0); *support_power = power of the damping force on the moving support

@@ -9,6 +9,7 @@
 #include "voussoir/dynamic.h"
 #include "voussoir/geometry.h"
 #include "voussoir/hinges.h"
+#include "voussoir/modal.h"
 #include "voussoir/model.h"
 #include "voussoir/quasistatic.h"
 
@@ -143,6 +144,13 @@ double vs_run_time(const vs_run *r);
 const double *vs_run_reactions(const vs_run *r);
 /* Wall-clock time of vs_run_execute, s. */
 double vs_run_wall_s(const vs_run *r);
+
+/* Natural vibration under self-weight (computed at the first equilibrium; n_modes = 0 before,
+ * or above VS_MODAL_MAX_DOF unknowns, or when the self-weight state was not stable) with the
+ * damping ratio the case's damping model gives each mode; the Rayleigh coefficients (alpha 1/s,
+ * beta s; 0 unless dynamic.damping_model = rayleigh). */
+const vs_modal *vs_run_modal(const vs_run *r);
+void vs_run_rayleigh(const vs_run *r, double *alpha, double *beta);
 
 /* Name of the open hinges, "A:8-I B:30-E C:56-E", into buf. */
 void vs_run_open_hinges(const vs_run *r, char *buf, size_t size);

@@ -85,7 +85,7 @@ class Record:
         return rows
 
     def summary(self):
-        """The summary as nested dicts: scalars as floats, tables as lists of dicts."""
+        """The summary as nested dicts: scalars as floats, arrays as lists, tables as lists of dicts."""
         def walk(g):
             out = dict((k, _attr(v)) for k, v in g.attrs.items())
             for k, obj in g.items():
@@ -102,6 +102,8 @@ class Record:
 def _attr(v):
     if isinstance(v, (bytes, str)):
         return _text(v)
+    if hasattr(v, "size") and v.size != 1:
+        return [_attr(x) for x in v]  # an array (e.g. /summary/damping's frequencies)
     return v.item() if hasattr(v, "item") else v
 
 
