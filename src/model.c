@@ -11,12 +11,15 @@
 struct vs_model {
   const vs_geometry *g;
   vs_joint_law law;
+  vs_joint_law *laws; /* per joint: the law (the nominal one unless an imperfection changed it) */
   double dir[2];   /* unit direction of the right support's motion */
+  double offset[2]; /* initial offset of the right support, m, applied with the gravity factor */
   int n;           /* unknowns, 3 per block */
   double *ra, *rb; /* per joint: reference point of body a/b -> joint centre, m */
   double *slip_p;  /* per joint: committed plastic slip, m */
   double zeta;     /* damping ratio */
   double gscale;   /* gravity load factor (1: the arch's own weight) */
+  double mscale;   /* misfit factor: fraction of the face gaps and support offset applied */
   double *cn, *cs; /* per joint: damping coefficients, N s/m^3 */
   sunindextype *colptr, *rowind;
   int nnz;
@@ -37,6 +40,15 @@ static void body_q(const vs_model *m, const double *q, double delta, int body, d
     out[2] = 0.0;
   } else {
     out[0] = out[1] = out[2] = 0.0;
+  }
+}
+
+/* body_q for positions: the right support also carries its initial offset. */
+static void body_pos(const vs_model *m, const double *q, double delta, int body, double out[3]) {
+  body_q(m, q, delta, body, out);
+  if (body == VS_SUPPORT_RIGHT && (m->offset[0] != 0.0 || m->offset[1] != 0.0)) {
+    out[0] += m->mscale * m->offset[0];
+    out[1] += m->mscale * m->offset[1];
   }
 }
 
@@ -122,6 +134,7 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
   m->dir[0] = sin(alpha_rad);
   m->dir[1] = -cos(alpha_rad);
   m->gscale = 1.0;
+  m->mscale = 1.0;
   m->n = 3 * g->n_blocks;
   size_t nj = (size_t)g->n_joints;
   m->ra = calloc(2 * nj, sizeof(double));
@@ -129,12 +142,15 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
   m->slip_p = calloc(nj, sizeof(double));
   m->cn = calloc(nj, sizeof(double));
   m->cs = calloc(nj, sizeof(double));
-  if (m->ra == NULL || m->rb == NULL || m->slip_p == NULL || m->cn == NULL || m->cs == NULL) {
+  m->laws = malloc(nj * sizeof *m->laws);
+  if (m->ra == NULL || m->rb == NULL || m->slip_p == NULL || m->cn == NULL || m->cs == NULL ||
+      m->laws == NULL) {
     vs_model_destroy(&m);
     return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
   }
   for (int k = 0; k < g->n_joints; k++) {
     const vs_joint_geom *j = &g->joints[k];
+    m->laws[k] = *law;
     if (body_is_block(j->a)) {
       m->ra[2 * k] = j->px - g->blocks[j->a].cx;
       m->ra[2 * k + 1] = j->pz - g->blocks[j->a].cz;
@@ -161,6 +177,7 @@ void vs_model_destroy(vs_model **m) {
   free(p->slip_p);
   free(p->cn);
   free(p->cs);
+  free(p->laws);
   free(p->colptr);
   free(p->rowind);
   free(p->blk_start);
@@ -176,17 +193,59 @@ const vs_joint_law *vs_model_law(const vs_model *m) { return &m->law; }
 const double *vs_model_slips(const vs_model *m) { return m->slip_p; }
 
 void vs_model_support_displacement(const vs_model *m, double delta, double u[2]) {
-  u[0] = delta * m->dir[0];
-  u[1] = delta * m->dir[1];
+  u[0] = delta * m->dir[0] + m->mscale * m->offset[0];
+  u[1] = delta * m->dir[1] + m->mscale * m->offset[1];
+}
+
+vs_status vs_model_set_joint_law(vs_model *m, int k, const vs_joint_law *law, vs_error *err) {
+  if (k < 0 || k >= m->g->n_joints)
+    return vs_error_set(err, VS_ERR_INVALID, "model: joint %d (allowed: 1..%d)", k + 1,
+                        m->g->n_joints);
+  if (!(law->kn > 0.0) || !(law->ks > 0.0) || !(law->mu > 0.0) || !isfinite(law->gap0) ||
+      !isfinite(law->gap1))
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "model: joint %d law kn = %g, ks = %g N/m^3, mu = %g, gap %g m, %g "
+                        "(allowed: kn, ks, mu > 0, gaps finite)",
+                        k + 1, law->kn, law->ks, law->mu, law->gap0, law->gap1);
+  m->laws[k] = *law;
+  vs_model_set_damping(m, m->zeta); /* the damping coefficients follow the joint's stiffness */
+  return VS_OK;
+}
+
+const vs_joint_law *vs_model_joint_law(const vs_model *m, int k) { return &m->laws[k]; }
+
+void vs_model_set_support_offset(vs_model *m, const double offset[2]) {
+  m->offset[0] = offset[0];
+  m->offset[1] = offset[1];
+}
+
+int vs_model_has_misfit(const vs_model *m) {
+  if (m->offset[0] != 0.0 || m->offset[1] != 0.0) return 1;
+  for (int k = 0; k < m->g->n_joints; k++)
+    if (m->laws[k].gap0 != 0.0 || m->laws[k].gap1 != 0.0) return 1;
+  return 0;
+}
+
+void vs_model_set_misfit_scale(vs_model *m, double s) { m->mscale = s; }
+
+/* The law of joint k at the current misfit factor (vs_model_set_misfit_scale). */
+static const vs_joint_law *law_at(const vs_model *m, int k, vs_joint_law *tmp) {
+  const vs_joint_law *l = &m->laws[k];
+  if (m->mscale == 1.0 || (l->gap0 == 0.0 && l->gap1 == 0.0)) return l;
+  *tmp = *l;
+  tmp->gap0 *= m->mscale;
+  tmp->gap1 *= m->mscale;
+  return tmp;
 }
 
 static void eval_joint(const vs_model *m, const double *q, double delta, int k, vs_joint_state *st,
                        double f[6], double K[36]) {
   const vs_joint_geom *j = &m->g->joints[k];
   double qa[3], qb[3];
-  body_q(m, q, delta, j->a, qa);
-  body_q(m, q, delta, j->b, qb);
-  vs_joint_eval(j, &m->law, qa, qb, m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k], st, f, K);
+  vs_joint_law tmp;
+  body_pos(m, q, delta, j->a, qa);
+  body_pos(m, q, delta, j->b, qb);
+  vs_joint_eval(j, law_at(m, k, &tmp), qa, qb, m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k], st, f, K);
 }
 
 void vs_model_residual(const vs_model *m, const double *q, double delta, double *G) {
@@ -342,8 +401,8 @@ void vs_model_set_damping(vs_model *m, double zeta) {
     double ma = body_is_block(j->a) ? g->blocks[j->a].mass : INFINITY;
     double mb = body_is_block(j->b) ? g->blocks[j->b].mass : INFINITY;
     const double mr = isinf(ma) ? mb : isinf(mb) ? ma : ma * mb / (ma + mb);
-    m->cn[k] = 2.0 * zeta * sqrt(m->law.kn * A * mr) / A;
-    m->cs[k] = 2.0 * zeta * sqrt(m->law.ks * A * mr) / A;
+    m->cn[k] = 2.0 * zeta * sqrt(m->laws[k].kn * A * mr) / A;
+    m->cs[k] = 2.0 * zeta * sqrt(m->laws[k].ks * A * mr) / A;
   }
 }
 
@@ -364,11 +423,12 @@ void vs_model_damping(const vs_model *m, const double *q, const double *v, doubl
     for (int k = 0; k < g->n_joints; k++) {
       const vs_joint_geom *j = &g->joints[k];
       double qa[3], qb[3], va[3], vb[3], f[6], Ck[36], p;
-      body_q(m, q, delta, j->a, qa);
-      body_q(m, q, delta, j->b, qb);
+      vs_joint_law tmp;
+      body_pos(m, q, delta, j->a, qa);
+      body_pos(m, q, delta, j->b, qb);
       body_q(m, v, ddelta_dt, j->a, va);
       body_q(m, v, ddelta_dt, j->b, vb);
-      vs_joint_damping(j, &m->law, m->cn[k], m->cs[k], qa, qb, va, vb, m->ra + 2 * k, m->rb + 2 * k,
+      vs_joint_damping(j, law_at(m, k, &tmp), m->cn[k], m->cs[k], qa, qb, va, vb, m->ra + 2 * k, m->rb + 2 * k,
                        f, C != NULL ? Ck : NULL, &p);
       diss += p;
       const int body[2] = {j->a, j->b};
@@ -411,11 +471,12 @@ double vs_model_friction_power(const vs_model *m, const double *q, const double 
   for (int k = 0; k < m->g->n_joints; k++) {
     const vs_joint_geom *j = &m->g->joints[k];
     double qa[3], qb[3], va[3], vb[3];
-    body_q(m, q, delta, j->a, qa);
-    body_q(m, q, delta, j->b, qb);
+    vs_joint_law tmp;
+    body_pos(m, q, delta, j->a, qa);
+    body_pos(m, q, delta, j->b, qb);
     body_q(m, v, ddelta_dt, j->a, va);
     body_q(m, v, ddelta_dt, j->b, vb);
-    p += vs_joint_friction_power(j, &m->law, qa, qb, va, vb, m->ra + 2 * k, m->rb + 2 * k,
+    p += vs_joint_friction_power(j, law_at(m, k, &tmp), qa, qb, va, vb, m->ra + 2 * k, m->rb + 2 * k,
                                  m->slip_p[k]);
   }
   return p;
