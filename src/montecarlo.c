@@ -117,8 +117,12 @@ static void moments(const double *v, int n, double *w, double *mean, double *cov
 static void fragility(const vs_mc_sample *s, int n, const vs_case *c, mc_stats *st) {
   const int valid = st->n_collapse + st->n_none;
   st->band_eps = valid > 0 ? sqrt(log(2.0 / VS_MC_BAND_ALPHA) / (2.0 * valid)) : NAN;
+  double top = 0.0; /* the grid runs to 1.2 x the largest collapse (at most support.max_mm) */
+  for (int i = 0; i < n; i++)
+    if (s[i].status == VS_MC_COLLAPSE) top = fmax(top, s[i].delta_u_mm);
+  top = top > 0.0 ? fmin(c->max_mm, 1.2 * top) : c->max_mm;
   for (int k = 0; k < VS_MC_FRAGILITY_POINTS; k++) {
-    const double d = c->max_mm * k / (VS_MC_FRAGILITY_POINTS - 1);
+    const double d = top * k / (VS_MC_FRAGILITY_POINTS - 1);
     int below = 0;
     for (int i = 0; i < n; i++) below += s[i].status == VS_MC_COLLAPSE && s[i].delta_u_mm <= d;
     const double p = valid > 0 ? (double)below / valid : NAN;
@@ -363,8 +367,8 @@ static vs_status write_plots(const char *dir, const vs_case *c, const mc_stats *
   char path[1200], title[160];
   const vs_plot_axis xd = {"support displacement delta (mm)", 1e3, 0};
   const vs_plot_series fs[3] = {{"P(collapse)", st->frag_p},
-                                {"DKW 95 % band", st->frag_lo},
-                                {"", st->frag_hi}};
+                                {"DKW 95 % band, lower", st->frag_lo},
+                                {"DKW 95 % band, upper", st->frag_hi}};
   const vs_plot_panel fp = {{"probability of collapse", 1.0, 0}, fs, 3};
   snprintf(path, sizeof path, "%s/fragility.png", dir);
   snprintf(title, sizeof title, "fragility, alpha = %g deg, %d samples", c->alpha_deg, st->n);
