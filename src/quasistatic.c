@@ -49,6 +49,7 @@ static const double VS_FLOOR_MARGIN = 16.0;
 static const double VS_RAMP_STEP = 0.25;
 static const double VS_RAMP_MIN = 1e-4;
 static const long VS_RAMP_MAXITER = 200;
+static const long VS_MISFIT_MAXITER = 25; /* Newton iterations per step of the misfit ramp */
 
 typedef struct {
   vs_model *m;
@@ -441,16 +442,22 @@ static int stable_state(qs_solver *s, const double *q, double delta) {
  * with *reached the largest factor that had an equilibrium. */
 static int misfit_ramp(qs_solver *s, double *q, double *reached) {
   const size_t bytes = (size_t)s->n * sizeof(double);
-  double *qt = malloc(bytes), lam = 0.0, h = VS_RAMP_STEP;
+  double *qt = malloc(bytes), *qp = malloc(bytes), lam = 0.0, lam_prev = 0.0, h = VS_RAMP_STEP;
   int ok = -1;
-  if (qt == NULL) goto done;
-  KINSetNumMaxIters(s->kin, VS_RAMP_MAXITER);
+  if (qt == NULL || qp == NULL) goto done;
+  memcpy(qp, q, bytes);
+  /* many joints touch on small wedges: Newton is slow far from the solution, so the factor
+   * advances by short steps from a secant predictor rather than by long Newton solves */
+  KINSetNumMaxIters(s->kin, VS_MISFIT_MAXITER);
   for (;;) {
     const double next = fmin(1.0, lam + h);
-    memcpy(qt, q, bytes);
+    const double r = lam > lam_prev ? (next - lam) / (lam - lam_prev) : 0.0;
+    for (int i = 0; i < s->n; i++) qt[i] = q[i] + r * (q[i] - qp[i]);
     vs_model_set_misfit_scale(s->m, next);
     if (qs_solve(s, 0.0, qt, NULL) == 0 && stable_state(s, qt, 0.0)) {
+      memcpy(qp, q, bytes);
       memcpy(q, qt, bytes);
+      lam_prev = lam;
       lam = next;
       if (lam >= 1.0) {
         ok = 0;
@@ -466,6 +473,7 @@ done:
   vs_model_set_misfit_scale(s->m, ok == 0 ? 1.0 : lam);
   *reached = lam;
   free(qt);
+  free(qp);
   return ok;
 }
 
