@@ -223,7 +223,7 @@ static void print_result(const char *dir, const vs_mc_sample *r, int n, double w
     collapses += r[i].status == VS_MC_COLLAPSE;
     failed += r[i].status == VS_MC_FAILED;
   }
-  printf("%d samples (%d collapses, %d failed) in %.1f s on %d processes; summary: %s/summary.h5, "
+  printf("%d samples (%d collapses, %d failed) in %.1f s on %d processes (or MPI ranks); summary: %s/summary.h5, "
          "statistics: %s/statistics.csv\n",
          n, collapses, failed, wall, jobs, dir, dir);
 }
@@ -248,6 +248,14 @@ int vs_cmd_montecarlo(int argc, char **argv) {
   }
   for (int i = a.shard_k - 1, k = 0; i < a.samples; i += a.shard_m) samples[k++] = i;
   const double t0 = now_s();
+#ifdef VS_HAVE_MPI
+  if (vs_mc_mpi_launched()) {
+    if (vs_mc_run_mpi(&c, samples, n, res, &a.jobs) != 0) { /* a worker rank: rank 0 reports */
+      rc = 0;
+      goto done;
+    }
+  } else
+#endif
   if (run_pool(&c, samples, n, a.jobs, a.quiet, res) != 0) {
     fprintf(stderr, "voussoir montecarlo: cannot start the workers: %s\n", strerror(errno));
     goto done;
