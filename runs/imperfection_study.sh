@@ -17,6 +17,7 @@ printf '%-6s %-8s %8s %9s %7s %12s %7s %12s\n' alpha face_mm samples collapses f
 for alpha in 0 90; do
   for f in "${faces[@]}"; do
     d="$out_dir/imperfection_study/a${alpha}_f${f}"
+    mkdir -p "$d"
     "$bin" montecarlo "$here/reference.ini" --samples "$samples" --seed 1 -q -o "$d" \
       --set support.alpha_deg="$alpha" --set joints.kn_N_mm3=48 --set imperfections.face_mm="$f" >/dev/null
     s="$d/statistics.csv"

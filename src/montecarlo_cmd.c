@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -247,6 +248,10 @@ int vs_cmd_montecarlo(int argc, char **argv) {
     goto done;
   }
   for (int i = a.shard_k - 1, k = 0; i < a.samples; i += a.shard_m) samples[k++] = i;
+  if (mkdir(a.dir, 0755) != 0 && errno != EEXIST) { /* before hours of work, not after */
+    fprintf(stderr, "voussoir montecarlo: -o %s: cannot create: %s\n", a.dir, strerror(errno));
+    goto done;
+  }
   const double t0 = now_s();
 #ifdef VS_HAVE_MPI
   if (vs_mc_mpi_launched()) {

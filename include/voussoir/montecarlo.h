@@ -28,7 +28,8 @@ typedef struct {
   char error[160];         /* the cause of a failure, "" otherwise */
 } vs_mc_sample;
 
-/* Run sample `sample` of case base (validated): base with imperfections.sample = sample.
+/* Run sample `sample` of case base (validated): base with imperfections.sample = sample and
+ * dynamic.fall_s = 0 (the collapse displacement and the mechanism are read before the fall).
  * Never fails as a function: a failed run gives status VS_MC_FAILED with its cause. */
 void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *out);
 
