@@ -235,6 +235,29 @@ static void test_scattered_arch_closes(void **state) {
   vs_imperfections_destroy(&p);
 }
 
+/* A support that stands off by d0 along the loading direction when the weight comes on is the
+ * perfect arch's path entered at delta = d0 (the misfit is followed as an equilibrium path): the
+ * first limit point comes d0 earlier, within the bisection tolerance of each. */
+static void test_support_offset_is_a_head_start(void **state) {
+  (void)state;
+  const char *dir[2][2] = {{"support.alpha_deg=0", "imperfections.support_dz_mm=5"},
+                           {"support.alpha_deg=90", "imperfections.support_dx_mm=3"}};
+  const double d0[2] = {5e-3, 3e-3};
+  for (int k = 0; k < 2; k++) {
+    vs_case c;
+    vs_case_defaults(&c);
+    c.follow = 0;
+    set(&c, dir[k][0]);
+    double q[3 * 55];
+    const double perfect = first_limit(&c, q, 3 * c.voussoirs);
+    set(&c, dir[k][1]);
+    const double moved = first_limit(&c, q, 3 * c.voussoirs);
+    if (fabs(moved + d0[k] - perfect) > 2 * c.limit_tol_mm * VS_MM)
+      fail_msg("%s: first limit %.7g mm, perfect %.7g mm, offset %.3g mm", dir[k][1], moved / VS_MM,
+               perfect / VS_MM, d0[k] / VS_MM);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_draws_depend_on_key_only),
@@ -243,6 +266,7 @@ int main(void) {
       cmocka_unit_test(test_gap_jacobian_central_differences),
       cmocka_unit_test(test_scattered_arch_closes),
       cmocka_unit_test(test_zero_amplitude_is_perfect),
+      cmocka_unit_test(test_support_offset_is_a_head_start),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
