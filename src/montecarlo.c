@@ -20,7 +20,7 @@
  * holds for the whole curve at once with probability 1 - VS_MC_BAND_ALPHA. */
 static const double VS_MC_BAND_ALPHA = 0.05;
 static const double VS_MC_QUANTILE = 0.05; /* the low quantile of delta_u / L reported */
-enum { VS_MC_FRAGILITY_POINTS = 201 };
+enum { VS_MC_FRAGILITY_POINTS = 201, VS_MC_RUNNING = 1000 };
 
 static void fill_hinges(const vs_run *r, vs_mc_sample *o) {
   const vs_collapse_record *cr = vs_run_collapse(r);
@@ -74,7 +74,8 @@ typedef struct {
   double mean_pct, cov, q05_pct;  /* of delta_u / L over the collapses */
   double mean_dz_pct, mean_dx_pct, mean_first_pct;
   int modes[4];                   /* unclassified, I, II, III */
-  double *run_n, *run_mean, *run_cov, *run_q05; /* running statistics, n entries */
+  int n_run;                      /* checkpoints of the running statistics (<= VS_MC_RUNNING) */
+  double *run_n, *run_mean, *run_cov, *run_q05; /* running statistics at n_run sample counts */
   double frag_delta[VS_MC_FRAGILITY_POINTS], frag_p[VS_MC_FRAGILITY_POINTS];
   double frag_lo[VS_MC_FRAGILITY_POINTS], frag_hi[VS_MC_FRAGILITY_POINTS], band_eps;
   int n_joints;
@@ -176,9 +177,12 @@ static vs_status compute(const vs_mc_sample *s, int n, const vs_case *c, mc_stat
   st->mean_dz_pct = st->n_collapse ? sdz / st->n_collapse : NAN;
   st->mean_dx_pct = st->n_collapse ? sdx / st->n_collapse : NAN;
   st->mean_first_pct = nfirst ? sfirst / nfirst : NAN;
-  for (int k = 1; k <= n; k++) {
-    st->run_n[k - 1] = k;
-    moments(v, k, w, &st->run_mean[k - 1], &st->run_cov[k - 1], &st->run_q05[k - 1]);
+  /* every sample count up to VS_MC_RUNNING samples, evenly spread checkpoints beyond */
+  st->n_run = n < VS_MC_RUNNING ? n : VS_MC_RUNNING;
+  for (int i = 0; i < st->n_run; i++) {
+    const int k = (int)(((long long)n * (i + 1)) / st->n_run);
+    st->run_n[i] = k;
+    moments(v, k, w, &st->run_mean[i], &st->run_cov[i], &st->run_q05[i]);
   }
   fragility(s, n, c, st);
   free(v);
@@ -334,7 +338,7 @@ static herr_t write_stats_h5(hid_t file, const mc_stats *st) {
                      "Wolfowitz band, 95 % simultaneous, half-width sqrt(ln(2/0.05)/(2n))");
   if (f >= 0) H5Gclose(f);
   hid_t c = H5Gcreate2(file, "convergence", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  const hsize_t nn = (hsize_t)st->n, dh[2] = {VS_MC_LABELS, (hsize_t)st->n_joints};
+  const hsize_t nn = (hsize_t)st->n_run, dh[2] = {VS_MC_LABELS, (hsize_t)st->n_joints};
   if (rc >= 0 && c < 0) rc = -1;
   if (rc >= 0 && st->n > 0) rc = h5_dset(c, "samples", 1, &nn, st->run_n, "1");
   if (rc >= 0 && st->n > 0) rc = h5_dset(c, "mean_delta_u_over_L", 1, &nn, st->run_mean, "%");
@@ -382,7 +386,7 @@ static vs_status write_plots(const char *dir, const vs_case *c, const mc_stats *
   const vs_plot_series ms[2] = {m1, m2};
   const vs_plot_panel cp[2] = {{{"delta_u / L (%)", 1.0, 0}, ms, 2}, {{"CoV", 1.0, 0}, &cv, 1}};
   snprintf(path, sizeof path, "%s/convergence.png", dir);
-  s = vs_plot_curves(path, VS_PLOT_PNG, "running statistics", &xn, st->run_n, st->n, cp, 2, err);
+  s = vs_plot_curves(path, VS_PLOT_PNG, "running statistics", &xn, st->run_n, st->n_run, cp, 2, err);
   if (s != VS_OK) return s;
   double *joints = malloc((size_t)st->n_joints * sizeof *joints);
   if (joints == NULL) return vs_error_set(err, VS_ERR_NOMEM, "montecarlo: out of memory");
