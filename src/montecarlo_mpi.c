@@ -2,9 +2,11 @@
  * samples one at a time to the ranks that ask for work and gathers their results; it writes the
  * summary. A sample's result depends only on (case, seed, sample), so the summary is the one a
  * single process writes. Built only when CMake finds MPI (VS_HAVE_MPI). */
+#define _POSIX_C_SOURCE 200809L /* nanosleep */
 #include "voussoir/montecarlo.h"
 
 #include <mpi.h>
+#include <time.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -17,6 +19,20 @@ int vs_mc_mpi_launched(void) {
   return 0;
 }
 
+/* Receive the next result. Open MPI busy-polls in a blocking receive, which would take a core
+ * from the workers on a machine with as many ranks as cores: test, and yield for 1 ms between
+ * tests (a sample takes far longer). */
+static void wait_result(vs_mc_sample *r, MPI_Status *st) {
+  MPI_Request req;
+  MPI_Irecv(r, (int)sizeof *r, MPI_BYTE, MPI_ANY_SOURCE, TAG_RESULT, MPI_COMM_WORLD, &req);
+  const struct timespec pause = {0, 1000000};
+  for (int done = 0;;) {
+    MPI_Test(&req, &done, st);
+    if (done) return;
+    nanosleep(&pause, NULL);
+  }
+}
+
 /* Rank 0: every message from a worker is a result (sample -1: "ready"); the reply is the next
  * sample, or -1 to stop. */
 static void dispatch(const int *samples, int n, vs_mc_sample *results, int size) {
@@ -24,7 +40,7 @@ static void dispatch(const int *samples, int n, vs_mc_sample *results, int size)
   while (stopped < size - 1) {
     vs_mc_sample r;
     MPI_Status st;
-    MPI_Recv(&r, (int)sizeof r, MPI_BYTE, MPI_ANY_SOURCE, TAG_RESULT, MPI_COMM_WORLD, &st);
+    wait_result(&r, &st);
     if (r.sample >= 0)
       for (int i = 0; i < n; i++)
         if (samples[i] == r.sample) {
