@@ -341,9 +341,14 @@ static herr_t write_stats_h5(hid_t file, const mc_stats *st) {
   const hsize_t nn = (hsize_t)st->n_run, dh[2] = {VS_MC_LABELS, (hsize_t)st->n_joints};
   if (rc >= 0 && c < 0) rc = -1;
   if (rc >= 0 && st->n > 0) rc = h5_dset(c, "samples", 1, &nn, st->run_n, "1");
-  if (rc >= 0 && st->n > 0) rc = h5_dset(c, "mean_delta_u_over_L", 1, &nn, st->run_mean, "%");
+  double *frac = malloc((size_t)(st->n_run > 0 ? st->n_run : 1) * sizeof *frac);
+  if (frac == NULL) rc = -1;
+  for (int i = 0; rc >= 0 && i < st->n_run; i++) frac[i] = st->run_mean[i] / 100.0;
+  if (rc >= 0 && st->n > 0) rc = h5_dset(c, "mean_delta_u_over_L", 1, &nn, frac, "1");
   if (rc >= 0 && st->n > 0) rc = h5_dset(c, "cov_delta_u", 1, &nn, st->run_cov, "1");
-  if (rc >= 0 && st->n > 0) rc = h5_dset(c, "q05_delta_u_over_L", 1, &nn, st->run_q05, "%");
+  for (int i = 0; rc >= 0 && i < st->n_run; i++) frac[i] = st->run_q05[i] / 100.0;
+  if (rc >= 0 && st->n > 0) rc = h5_dset(c, "q05_delta_u_over_L", 1, &nn, frac, "1");
+  free(frac);
   if (c >= 0) H5Gclose(c);
   if (rc >= 0) rc = h5_dset(file, "hinge_histogram", 2, dh, st->hist, "1");
   return rc;
