@@ -52,7 +52,7 @@ void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *o) {
   if (r != NULL && vs_run_limit_count(r) > 0) o->first_limit_mm = vs_run_limit(r, 0)->delta / VS_MM;
   if (st != VS_OK) {
     o->status = VS_MC_FAILED;
-    snprintf(o->error, sizeof o->error, "%.159s", err.msg);
+    snprintf(o->error, sizeof o->error, "%.399s", err.msg);
   } else if (vs_run_collapse(r)->found) {
     const double d = vs_run_collapse(r)->delta / VS_MM, a = c.alpha_deg * VS_DEG;
     o->status = VS_MC_COLLAPSE;

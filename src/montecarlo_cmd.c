@@ -30,7 +30,9 @@ static const char *MC_USAGE =
     "  --shard K/M   run only the samples i with i mod M = K-1 (K in 1..M), for a scheduler's\n"
     "                array job; voussoir merge then joins the shards' directories\n"
     "  -o DIR        output directory (default montecarlo_out): samples.csv, statistics.csv,\n"
-    "                summary.h5, fragility.png, convergence.png, hinges.png\n";
+    "                summary.h5, fragility.png, convergence.png, hinges.png\n"
+    "exit status: 0 done (failed samples are in the table with their cause), 1 every sample\n"
+    "failed or the summary could not be written, 2 bad input (nothing written)\n";
 
 static double now_s(void) {
   struct timespec ts;
@@ -273,6 +275,13 @@ int vs_cmd_montecarlo(int argc, char **argv) {
   }
   print_result(a.dir, res, n, now_s() - t0, a.jobs);
   rc = 0;
+  int failed = 0;
+  for (int i = 0; i < n; i++) failed += res[i].status == VS_MC_FAILED;
+  if (n > 0 && failed == n) { /* no statistics at all: say why (the first cause) */
+    fprintf(stderr, "voussoir montecarlo: every sample failed; sample %d: %s\n", res[0].sample,
+            res[0].error);
+    rc = EXIT_FAIL;
+  }
 done:
   free(samples);
   free(res);

@@ -25,7 +25,7 @@ typedef struct {
   int hinge_joint[VS_MC_LABELS]; /* hinges at collapse by label A..E: middle joint, 0 if none */
   char hinge_side[VS_MC_LABELS]; /* 'I', 'E' or 0 */
   char pattern[16];        /* sides at collapse, left to right ("E-I-E-E") */
-  char error[160];         /* the cause of a failure, "" otherwise */
+  char error[400];         /* the cause of a failure, "" otherwise */
 } vs_mc_sample;
 
 /* Run sample `sample` of case base (validated): base with imperfections.sample = sample and
