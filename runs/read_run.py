@@ -20,7 +20,7 @@ def main(path, png):
         print(f"{path}: {f.attrs['program']} {f.attrs['version']}, status: {f.attrs['status']}")
         obs = f["observables"]
         delta = obs["delta/value"][:]
-        reactions = obs["reactions/value"][:]  # left Fx, Fz, right Fx, Fz: forces of the arch on the supports
+        reactions = obs["reactions/value"][:]  # left Fx, Fz, M, right Fx, Fz, M: forces the supports exert on the arch
         units = obs["reactions/value"].attrs["unit"].split(",")
         phase = obs["phase/value"][:]
         print(f"{len(delta)} recorded states, delta up to {delta.max() * 1e3:.3f} mm "
@@ -38,8 +38,8 @@ def main(path, png):
             print(f"{n} '{kind}' events")
 
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    ax.plot(delta * 1e3, -reactions[:, 3], label="right (moved) support, vertical")
-    ax.plot(delta * 1e3, -reactions[:, 1], label="left (fixed) support, vertical")
+    ax.plot(delta * 1e3, reactions[:, 4], label="right (moved) support, vertical")
+    ax.plot(delta * 1e3, reactions[:, 1], label="left (fixed) support, vertical")
     ax.plot(delta * 1e3, reactions[:, 0], label="horizontal thrust")
     ax.set_xlabel("support displacement delta (mm)")
     ax.set_ylabel(f"support reaction ({units[1]})")

@@ -1,7 +1,14 @@
-/* Dynamic phase with IDA: F(t, y, y') = 0 for y = (q, v, W, D, Df) with
- *   q' - v = 0,   M v' + G(q, delta(t)) + C(q) v = 0,
- *   W' = support power,   D' = damping power,   Df' = friction power,
- * the last three being the energy bookkeeping (IDA in SUNDIALS 6 has no quadratures).
+/* Dynamic phase with IDA: the arch and its two springers as a semi-explicit DAE of index 2 in
+ * the stabilised (Gear-Gupta-Leimkuhler) form. Unknowns y = (q, v, lambda, mu, W, D, Df), q and v
+ * over the blocks and the two support bodies (3 each), lambda and mu one per constraint:
+ *   q' - v - G^T mu = 0,   M v' + F(q, v) - G^T lambda = 0,   g(q, t) = 0,   G v + g_t = 0,
+ *   W' = lambda . v_s,   D' = damping power,   Df' = friction power,
+ * F = dE/dq + C v the joints' elastic, frictional and damping forces minus gravity, g the
+ * supports' rheonomic constraints (left fixed, right moved by delta(t) = rate t along alpha, both
+ * without rotation; G = dg/dq, constant) and lambda the forces the supports' constraints exert:
+ * on a support body moving at constant speed they equal the force the support exerts on the
+ * arch. The last three are the energy bookkeeping (IDA in SUNDIALS 6 has no quadratures).
+ * lambda and mu are algebraic (IDASetId 0) and left out of the error test (IDASetSuppressAlg).
  * Jacobian dF/dy + cj dF/dy' in CSC with KLU; roots on the joints' edge openings and on the
  * collapse criterion; friction slips committed after every step. */
 #include "voussoir/dynamic.h"
@@ -16,8 +23,13 @@
 #include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
-/* KLU ordering: natural, the Jacobian is block-banded (see quasistatic.c). */
-static const int VS_DYN_KLU_ORDERING = 2;
+/* KLU ordering: AMD (0). The iteration matrix is a saddle-point matrix -- the constraint rows
+ * have zero diagonals -- with a structurally symmetric pattern, which AMD orders for fill on
+ * A + A^T; KLU's partial pivoting (threshold 0.001 by default) then takes the off-diagonal
+ * pivots that the zero block needs. Natural ordering would pivot too but leaves the fill. */
+static const int VS_DYN_KLU_ORDERING = 0;
+/* Constraints: 3 per support (fixed: ux, uz, theta of the support body prescribed). */
+enum { VS_DYN_NC = 6 };
 /* BDF order cap. The joints' contact modes are stiff, lightly damped oscillators (k_n b t over a
  * voussoir's mass: ~1e4 rad/s); BDF of order 3-5 is unstable near the imaginary axis, so it would
  * need steps of 1/omega throughout. BDF1-2 are A-stable and damp those modes at large steps. */
@@ -33,103 +45,149 @@ struct vs_dynamic {
   vs_model *m;
   vs_dyn_opts o;
   int n;  /* 3 per block */
-  int N;  /* 2n + 3 */
+  int ne; /* n + 6: blocks and supports */
+  int iv, il, imu, ie; /* offsets of v, lambda, mu and the energy integrals in y */
+  int N;  /* 2 ne + 2 VS_DYN_NC + 3 */
   int nj; /* joints */
   SUNContext ctx;
   N_Vector y, yp, id, atol;
   SUNMatrix J, K, C;
   SUNLinearSolver LS;
   void *ida;
-  double *mass, *work;    /* n each */
+  double *mass, *work;    /* ne each */
   vs_joint_state *js;
   int *roots;
   long jac_evals;
+  double max_drift;       /* max |g| over the accepted steps, m */
+  double rtol;            /* o.rtol scaled as the absolute tolerances (set_tolerances) */
   char msg[256];
 };
 
 static double delta_at(const vs_dynamic *d, double t) { return d->o.rate * t; }
 
+/* The generalised forces F(q, v) of the equations of motion M v' + F - G^T lambda = 0 over
+ * the blocks and supports (ne entries): joint forces minus gravity plus damping forces; *diss
+ * gets the damping power. Kept apart so that further force models add here. */
+static void dyn_forces(vs_dynamic *d, const double *q, const double *v, double *F, double *diss) {
+  vs_model_ext_residual(d->m, q, F);
+  vs_model_ext_damping(d->m, q, v, d->work, diss, NULL);
+  for (int i = 0; i < d->ne; i++) F[i] += d->work[i];
+}
+
+/* The constraints g(q, t) (VS_DYN_NC) and their velocity form G v + g_t. */
+static void constraints(const vs_dynamic *d, double t, const double *q, const double *v,
+                        double *g, double *gv) {
+  double qs[6], vs[6];
+  vs_model_support_states(d->m, delta_at(d, t), d->o.rate, qs, vs);
+  for (int c = 0; c < VS_DYN_NC; c++) {
+    if (g != NULL) g[c] = q[d->n + c] - qs[c];
+    if (gv != NULL) gv[c] = v[d->n + c] - vs[c];
+  }
+}
+
 static int res_fn(double t, N_Vector yy, N_Vector yp, N_Vector rr, void *user) {
   vs_dynamic *d = user;
-  const int n = d->n;
+  const int n = d->n, ne = d->ne;
   const double *y = N_VGetArrayPointer(yy), *ydot = N_VGetArrayPointer(yp);
   double *r = N_VGetArrayPointer(rr);
-  const double *q = y, *v = y + n, *qd = ydot, *vd = ydot + n;
-  const double delta = delta_at(d, t), rate = d->o.rate;
-  for (int i = 0; i < n; i++) r[i] = qd[i] - v[i];
-  vs_model_residual(d->m, q, delta, r + n);
-  double diss = 0.0, sup_d = 0.0;
-  vs_model_damping(d->m, q, v, delta, rate, d->work, &diss, &sup_d, NULL);
-  for (int i = 0; i < n; i++) r[n + i] += d->mass[i] * vd[i] + d->work[i];
-  const double sup = vs_model_support_force(d->m, q, delta) * rate + sup_d;
-  r[2 * n] = ydot[2 * n] - sup;
-  r[2 * n + 1] = ydot[2 * n + 1] - diss;
-  r[2 * n + 2] = ydot[2 * n + 2] - vs_model_friction_power(d->m, q, v, delta, rate);
+  const double *q = y, *v = y + d->iv, *lam = y + d->il, *mu = y + d->imu;
+  const double *qd = ydot, *vd = ydot + d->iv;
+  double diss = 0.0;
+  dyn_forces(d, q, v, r + d->iv, &diss);
+  for (int i = 0; i < ne; i++) {
+    r[i] = qd[i] - v[i];
+    r[d->iv + i] += d->mass[i] * vd[i];
+  }
+  double sup = 0.0;
+  for (int c = 0; c < VS_DYN_NC; c++) { /* G = [0 I] */
+    r[n + c] -= mu[c];
+    r[d->iv + n + c] -= lam[c];
+    sup += lam[c] * v[n + c];
+  }
+  constraints(d, t, q, v, r + d->il, r + d->imu);
+  r[d->ie] = ydot[d->ie] - sup;
+  r[d->ie + 1] = ydot[d->ie + 1] - diss;
+  r[d->ie + 2] = ydot[d->ie + 2] - vs_model_ext_friction_power(d->m, q, v);
   return 0;
 }
 
-/* J = dF/dy + cj dF/dy': [[cj I, -I], [K, cj M + C]] and cj on the bookkeeping diagonal (their
- * dependence on q, v is left out: nothing depends on them, so Newton still converges). The
- * dependence of the damping forces on the positions is left out too (IDA's Newton is a
- * modified Newton already; it converges linearly with it). */
+/* Append one entry to column-major CSC storage. */
+static void put(sunindextype *ji, double *jx, sunindextype *p, sunindextype row, double val) {
+  ji[*p] = row;
+  jx[(*p)++] = val;
+}
+
+/* J = dF/dy + cj dF/dy', rows and columns in the order of y:
+ *   q rows:  [cj I, -I, 0, -G^T],  v rows: [K, cj M + C, -G^T, 0],
+ *   lambda rows: [G, 0, 0, 0],     mu rows: [0, G, 0, 0],
+ * and cj on the bookkeeping diagonal (their dependence on the state is left out: nothing
+ * depends on them, so Newton still converges). G is constant and G^T mu, G^T lambda are
+ * linear, so there are no constraint Hessian terms. The dependence of the damping forces on the
+ * positions is left out too (IDA's Newton is a modified Newton already). */
 static int jac_fn(double t, double cj, N_Vector yy, N_Vector yp, N_Vector rr, SUNMatrix Jac,
                   void *user, N_Vector t1, N_Vector t2, N_Vector t3) {
+  (void)t;
   (void)yp;
   (void)rr;
   (void)t1;
   (void)t2;
   (void)t3;
   vs_dynamic *d = user;
-  const int n = d->n;
+  const int n = d->n, ne = d->ne;
   const double *y = N_VGetArrayPointer(yy);
-  const double delta = delta_at(d, t);
   d->jac_evals++;
-  vs_model_jacobian(d->m, y, delta, d->K);
-  vs_model_damping(d->m, y, y + n, delta, d->o.rate, NULL, NULL, NULL, d->C);
+  vs_model_ext_jacobian(d->m, y, d->K);
+  vs_model_ext_damping(d->m, y, y + d->iv, NULL, NULL, d->C);
   const sunindextype *kp = SUNSparseMatrix_IndexPointers(d->K), *ki = SUNSparseMatrix_IndexValues(d->K);
   const double *kx = SUNSparseMatrix_Data(d->K), *cx = SUNSparseMatrix_Data(d->C);
   sunindextype *jp = SUNSparseMatrix_IndexPointers(Jac), *ji = SUNSparseMatrix_IndexValues(Jac);
   double *jx = SUNSparseMatrix_Data(Jac);
   sunindextype p = 0;
-  for (int col = 0; col < n; col++) { /* q columns */
+  for (int col = 0; col < ne; col++) { /* q columns */
     jp[col] = p;
-    ji[p] = col;
-    jx[p++] = cj;
-    for (sunindextype e = kp[col]; e < kp[col + 1]; e++) {
-      ji[p] = n + ki[e];
-      jx[p++] = kx[e];
-    }
+    put(ji, jx, &p, col, cj);
+    for (sunindextype e = kp[col]; e < kp[col + 1]; e++) put(ji, jx, &p, d->iv + ki[e], kx[e]);
+    if (col >= n) put(ji, jx, &p, d->il + col - n, 1.0);
   }
-  for (int col = 0; col < n; col++) { /* v columns */
-    jp[n + col] = p;
-    ji[p] = col;
-    jx[p++] = -1.0;
-    for (sunindextype e = kp[col]; e < kp[col + 1]; e++) {
-      ji[p] = n + ki[e];
-      jx[p++] = cx[e] + (ki[e] == col ? cj * d->mass[col] : 0.0);
-    }
+  for (int col = 0; col < ne; col++) { /* v columns */
+    jp[d->iv + col] = p;
+    put(ji, jx, &p, col, -1.0);
+    for (sunindextype e = kp[col]; e < kp[col + 1]; e++)
+      put(ji, jx, &p, d->iv + ki[e], cx[e] + (ki[e] == col ? cj * d->mass[col] : 0.0));
+    if (col >= n) put(ji, jx, &p, d->imu + col - n, 1.0);
   }
-  for (int col = 2 * n; col < d->N; col++) {
+  for (int c = 0; c < VS_DYN_NC; c++) { /* lambda columns */
+    jp[d->il + c] = p;
+    put(ji, jx, &p, d->iv + n + c, -1.0);
+  }
+  for (int c = 0; c < VS_DYN_NC; c++) { /* mu columns */
+    jp[d->imu + c] = p;
+    put(ji, jx, &p, n + c, -1.0);
+  }
+  for (int col = d->ie; col < d->N; col++) {
     jp[col] = p;
-    ji[p] = col;
-    jx[p++] = cj;
+    put(ji, jx, &p, col, cj);
   }
   jp[d->N] = p;
   return 0;
 }
 
 /* Roots: for every joint, its intrados and extrados edge openings minus the hinge threshold;
- * last, the kinetic energy minus the collapse threshold. */
+ * then the kinetic energy minus the collapse threshold, and minus the rest level (the departure
+ * of a motion: where it rises through it). */
 static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user) {
   (void)yp;
+  (void)t;
   vs_dynamic *d = user;
   const double *q = N_VGetArrayPointer(yy);
-  vs_model_joint_states(d->m, q, delta_at(d, t), d->js);
+  vs_model_ext_joint_states(d->m, q, d->js);
   for (int k = 0; k < d->nj; k++) {
     g[2 * k] = d->js[k].gap_i - d->o.open;
     g[2 * k + 1] = d->js[k].gap_e - d->o.open;
   }
-  g[2 * d->nj] = vs_model_kinetic_energy(d->m, q + d->n) - d->o.collapse_ke;
+  const double ke = vs_model_kinetic_energy(d->m, q + d->iv);
+  g[2 * d->nj] = ke - d->o.collapse_ke;
+  g[2 * d->nj + 1] = ke - d->o.rest_ke;
   return 0;
 }
 
@@ -165,6 +223,51 @@ static vs_status dyn_fail(vs_dynamic **d, vs_error *err, const char *what, int f
   return vs_error_set(err, VS_ERR_SOLVER, "dynamic solver setup: %s failed (flag %d)", what, flag);
 }
 
+/* Absolute tolerances: positions atol_q (rotations atol_q / joint length; the supports' as the
+ * last block's), velocities the same over
+ * VS_DYN_VEL_TIME, mu as velocities, the energy bookkeeping the weight times atol_q. lambda
+ * (out of the error test: its tolerance only ends Newton's iterations) gets the force that the
+ * stiffest support joint makes of a position error atol_q, k_n b t atol_q (moments: times the
+ * joint length): the positions are resolved to atol_q, so the reactions cannot be resolved
+ * more finely, and a tighter tolerance makes Newton fail at contact changes. */
+static void set_tolerances(vs_dynamic *d, double *at) {
+  const int n = d->n, ne = d->ne;
+  const double tv = VS_DYN_VEL_TIME, aq = d->o.atol_q;
+  double *scale = d->work;
+  vs_model_residual_scale(d->m, scale);
+  double wsum = 0.0, len = 0.0, kmax = 0.0;
+  const vs_geometry *g = vs_model_geometry(d->m);
+  for (int k = 0; k < g->n_joints; k++)
+    if (g->joints[k].a < 0 || g->joints[k].b < 0)
+      kmax = fmax(kmax, vs_model_law(d->m)->kn * g->joints[k].depth * g->joints[k].length);
+  for (int i = 0; i < n; i += 3) {
+    len = scale[i + 2] / scale[i];
+    at[i] = at[i + 1] = aq;
+    at[ne + i] = at[ne + i + 1] = aq / tv;
+    at[i + 2] = aq / len;
+    at[ne + i + 2] = aq / len / tv;
+    wsum += scale[i];
+  }
+  for (int i = n; i < ne; i += 3) {
+    at[i] = at[i + 1] = aq;
+    at[i + 2] = aq / len;
+    at[ne + i] = at[ne + i + 1] = aq / tv;
+    at[ne + i + 2] = aq / len / tv;
+  }
+  for (int c = 0; c < VS_DYN_NC; c++) {
+    at[d->il + c] = kmax * aq * (c % 3 == 2 ? len : 1.0);
+    at[d->imu + c] = at[ne + n + c];
+  }
+  for (int i = d->ie; i < d->N; i++) at[i] = wsum * aq;
+  /* IDA's error norm is a WRMS norm divided by the full length N, masked components included.
+   * The supports' states and the multipliers carry no truncation error of their own (the
+   * constraints fix them), so the tolerances are scaled by sqrt(N_arch / N), N_arch = 2n + 3:
+   * the test on the arch's components is then the one the user's rtol and atol ask for. */
+  const double sc = sqrt((double)(2 * n + 3) / d->N);
+  for (int i = 0; i < d->N; i++) at[i] *= sc;
+  d->rtol = d->o.rtol * sc;
+}
+
 vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out, vs_error *err) {
   *out = NULL;
   if (!(o->rate > 0.0) || !(o->rtol > 0.0) || !(o->atol_q > 0.0) || !(o->open > 0.0))
@@ -176,46 +279,39 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   d->m = m;
   d->o = *o;
   d->n = vs_model_size(m);
-  d->N = 2 * d->n + 3;
+  d->ne = vs_model_ext_size(m);
+  d->iv = d->ne;
+  d->il = 2 * d->ne;
+  d->imu = d->il + VS_DYN_NC;
+  d->ie = d->imu + VS_DYN_NC;
+  d->N = d->ie + 3;
   d->nj = vs_model_geometry(m)->n_joints;
-  const int n = d->n, nnzK = vs_model_nnz(m);
+  const int ne = d->ne, nnzK = vs_model_ext_nnz(m);
   int flag = SUNContext_Create(NULL, &d->ctx);
   if (flag != 0) return dyn_fail(&d, err, "SUNContext_Create", flag);
   d->y = N_VNew_Serial(d->N, d->ctx);
   d->yp = N_VNew_Serial(d->N, d->ctx);
   d->id = N_VNew_Serial(d->N, d->ctx);
   d->atol = N_VNew_Serial(d->N, d->ctx);
-  d->J = SUNSparseMatrix(d->N, d->N, 2 * n + 2 * nnzK + 3, CSC_MAT, d->ctx);
-  d->K = SUNSparseMatrix(n, n, nnzK, CSC_MAT, d->ctx);
-  d->C = SUNSparseMatrix(n, n, nnzK, CSC_MAT, d->ctx);
-  d->mass = malloc((size_t)n * sizeof *d->mass);
-  d->work = malloc((size_t)n * sizeof *d->work);
+  d->J = SUNSparseMatrix(d->N, d->N, 2 * ne + 2 * nnzK + 4 * VS_DYN_NC + 3, CSC_MAT, d->ctx);
+  d->K = SUNSparseMatrix(ne, ne, nnzK, CSC_MAT, d->ctx);
+  d->C = SUNSparseMatrix(ne, ne, nnzK, CSC_MAT, d->ctx);
+  d->mass = malloc((size_t)ne * sizeof *d->mass);
+  d->work = malloc((size_t)ne * sizeof *d->work);
   d->js = malloc((size_t)d->nj * sizeof *d->js);
-  d->roots = malloc((size_t)(2 * d->nj + 1) * sizeof *d->roots);
+  d->roots = malloc((size_t)(2 * d->nj + 2) * sizeof *d->roots);
   if (d->y == NULL || d->yp == NULL || d->id == NULL || d->atol == NULL || d->J == NULL ||
       d->K == NULL || d->C == NULL || d->mass == NULL || d->work == NULL ||
       d->js == NULL || d->roots == NULL) {
     vs_dynamic_destroy(&d);
     return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
   }
-  vs_model_mass(m, d->mass);
-  /* tolerances: positions atol_q (rotations atol_q / joint length), velocities the same over
-   * VS_DYN_VEL_TIME, the energy bookkeeping the arch's weight times atol_q */
-  double *scale = d->work, *at = N_VGetArrayPointer(d->atol);
-  vs_model_residual_scale(m, scale);
-  double wsum = 0.0;
-  for (int i = 0; i < n; i += 3) {
-    const double len = scale[i + 2] / scale[i];
-    const double tv = VS_DYN_VEL_TIME;
-    at[i] = at[i + 1] = o->atol_q;
-    at[n + i] = at[n + i + 1] = o->atol_q / tv;
-    at[i + 2] = o->atol_q / len;
-    at[n + i + 2] = o->atol_q / len / tv;
-    wsum += scale[i];
-  }
-  for (int i = 2 * n; i < d->N; i++) at[i] = wsum * o->atol_q;
-  N_VConst(1.0, d->id); /* every component is differential */
-
+  vs_model_ext_mass(m, d->mass);
+  set_tolerances(d, N_VGetArrayPointer(d->atol));
+  /* differential: q, v and the energy integrals; algebraic: lambda and mu */
+  N_VConst(1.0, d->id);
+  double *id = N_VGetArrayPointer(d->id);
+  for (int i = d->il; i < d->ie; i++) id[i] = 0.0;
   d->LS = SUNLinSol_KLU(d->y, d->J, d->ctx);
   if (d->LS == NULL) return dyn_fail(&d, err, "SUNLinSol_KLU", 0);
   if ((flag = SUNLinSol_KLUSetOrdering(d->LS, VS_DYN_KLU_ORDERING)) != 0)
@@ -228,9 +324,11 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   if ((flag = IDASetUserData(d->ida, d)) != IDA_SUCCESS) return dyn_fail(&d, err, "IDASetUserData", flag);
   if ((flag = IDASetErrHandlerFn(d->ida, ida_err, d)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDASetErrHandlerFn", flag);
-  if ((flag = IDASVtolerances(d->ida, o->rtol, d->atol)) != IDA_SUCCESS)
+  if ((flag = IDASVtolerances(d->ida, d->rtol, d->atol)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDASVtolerances", flag);
   if ((flag = IDASetId(d->ida, d->id)) != IDA_SUCCESS) return dyn_fail(&d, err, "IDASetId", flag);
+  if ((flag = IDASetSuppressAlg(d->ida, SUNTRUE)) != IDA_SUCCESS)
+    return dyn_fail(&d, err, "IDASetSuppressAlg", flag);
   if ((flag = IDASetLinearSolver(d->ida, d->LS, d->J)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDASetLinearSolver", flag);
   if ((flag = IDASetJacFn(d->ida, jac_fn)) != IDA_SUCCESS) return dyn_fail(&d, err, "IDASetJacFn", flag);
@@ -238,7 +336,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
     return dyn_fail(&d, err, "IDASetMaxOrd", flag);
   if ((flag = IDASetMaxNumSteps(d->ida, 100000)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDASetMaxNumSteps", flag);
-  if ((flag = IDARootInit(d->ida, 2 * d->nj + 1, root_fn)) != IDA_SUCCESS)
+  if ((flag = IDARootInit(d->ida, 2 * d->nj + 2, root_fn)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDARootInit", flag);
   if ((flag = IDASetNoInactiveRootWarn(d->ida)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDASetNoInactiveRootWarn", flag);
@@ -247,14 +345,55 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
 }
 
 /* Energies at the current state; balance relative to e0 (the total at the phase's start). */
-static void energies(vs_dynamic *d, double t, const double *y, double e0, vs_energy *e) {
-  const int n = d->n;
-  e->kinetic = vs_model_kinetic_energy(d->m, y + n);
-  vs_model_energies(d->m, y, delta_at(d, t), &e->elastic, &e->gravity);
-  e->support_work = y[2 * n];
-  e->damped = y[2 * n + 1];
-  e->friction = y[2 * n + 2];
+static void energies(vs_dynamic *d, const double *y, double e0, vs_energy *e) {
+  e->kinetic = vs_model_kinetic_energy(d->m, y + d->iv);
+  vs_model_ext_energies(d->m, y, &e->elastic, &e->gravity);
+  e->support_work = y[d->ie];
+  e->damped = y[d->ie + 1];
+  e->friction = y[d->ie + 2];
   e->balance = e->kinetic + e->gravity + e->elastic - e->support_work + e->damped + e->friction - e0;
+}
+
+/* Constraint drift max |g| at the current state (m for the translations, rad for the
+ * rotations: both stay at round-off). */
+static double drift(const vs_dynamic *d, double t, const double *y) {
+  double g[VS_DYN_NC], worst = 0.0;
+  constraints(d, t, y, y + d->iv, g, NULL);
+  for (int c = 0; c < VS_DYN_NC; c++) worst = fmax(worst, fabs(g[c]));
+  return worst;
+}
+
+int vs_dynamic_size(const vs_dynamic *d) { return d->N; }
+int vs_dynamic_nnz(const vs_dynamic *d) { return (int)SUNSparseMatrix_NNZ(d->J); }
+
+void vs_dynamic_layout(const vs_dynamic *d, int *iv, int *il, int *imu, int *ie) {
+  *iv = d->iv;
+  *il = d->il;
+  *imu = d->imu;
+  *ie = d->ie;
+}
+
+void vs_dynamic_residual(vs_dynamic *d, double t, double *y, double *yp, double *r) {
+  N_Vector vy = N_VMake_Serial(d->N, y, d->ctx), vp = N_VMake_Serial(d->N, yp, d->ctx);
+  N_Vector vr = N_VMake_Serial(d->N, r, d->ctx);
+  if (vy != NULL && vp != NULL && vr != NULL) res_fn(t, vy, vp, vr, d);
+  N_VDestroy(vy);
+  N_VDestroy(vp);
+  N_VDestroy(vr);
+}
+
+void vs_dynamic_jacobian(vs_dynamic *d, double t, double cj, double *y, SUNMatrix J) {
+  N_Vector vy = N_VMake_Serial(d->N, y, d->ctx);
+  if (vy != NULL) jac_fn(t, cj, vy, NULL, NULL, J, d, NULL, NULL, NULL);
+  N_VDestroy(vy);
+}
+
+void vs_dynamic_accelerations(const vs_dynamic *d, double *a) {
+  memcpy(a, N_VGetArrayPointer(d->yp) + d->iv, (size_t)d->n * sizeof *a);
+}
+
+void vs_dynamic_reactions(const vs_dynamic *d, double out[6]) {
+  memcpy(out, N_VGetArrayPointer(d->y) + d->il, VS_DYN_NC * sizeof *out);
 }
 
 vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_sample_fn sample,
@@ -262,18 +401,24 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   const int n = d->n;
   memset(res, 0, sizeof *res);
   res->t_collapse = NAN;
+  res->dae_differential = d->N - 2 * VS_DYN_NC;
+  res->dae_algebraic = 2 * VS_DYN_NC;
+  res->dae_index = 2;
+  d->max_drift = 0.0;
   double *y = N_VGetArrayPointer(d->y);
+  N_VConst(0.0, d->y);
   memcpy(y, q, (size_t)n * sizeof *y);
-  memcpy(y + n, v, (size_t)n * sizeof *y);
-  y[2 * n] = y[2 * n + 1] = y[2 * n + 2] = 0.0;
+  memcpy(y + d->iv, v, (size_t)n * sizeof *y);
+  vs_model_support_states(d->m, delta_at(d, t0), d->o.rate, y + n, y + d->iv + n);
   N_VConst(0.0, d->yp);
   d->msg[0] = '\0';
   int flag = IDAReInit(d->ida, t0, d->y, d->yp);
-  if (flag == IDA_SUCCESS) flag = IDASVtolerances(d->ida, d->o.rtol, d->atol);
-  if (flag == IDA_SUCCESS) flag = IDARootInit(d->ida, 2 * d->nj + 1, root_fn);
+  if (flag == IDA_SUCCESS) flag = IDASVtolerances(d->ida, d->rtol, d->atol);
+  if (flag == IDA_SUCCESS) flag = IDARootInit(d->ida, 2 * d->nj + 2, root_fn);
   if (flag != IDA_SUCCESS)
     return vs_error_set(err, VS_ERR_SOLVER, "IDAReInit failed (flag %d)", flag);
-  /* consistent initial derivatives: q' = v given, v' from the equations of motion */
+  /* consistent initial values: q, v given (the supports' from the constraints), v' from the
+   * equations of motion, lambda and mu (algebraic) solved for: IDA_YA_YDP_INIT */
   const double t_end = d->o.max_delta / d->o.rate;
   if (t_end <= t0) {
     res->end = VS_DYN_MAX_DELTA;
@@ -287,14 +432,14 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   IDAGetConsistentIC(d->ida, d->y, d->yp);
   IDASetStopTime(d->ida, t_end);
   vs_energy e;
-  energies(d, t0, y, 0.0, &e);
+  energies(d, y, 0.0, &e);
   const double e0 = e.kinetic + e.gravity + e.elastic;
   double scale = fabs(e0), t = t0, t_last_sample = -INFINITY, t_rest = t0, t_stop = t_end;
   int moving = 0, collapsed = 0;
   long base_steps = 0, base_newton = 0;
   vs_status st = VS_OK;
   e.balance = 0.0; /* the reference of the balance */
-  if (sample != NULL && sample(user, t0, delta_at(d, t0), y, y + n, &e) != 0)
+  if (sample != NULL && sample(user, t0, delta_at(d, t0), y, y + d->iv, &e) != 0)
     return vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
   t_last_sample = t0;
   res->t_motion = t0;
@@ -307,8 +452,9 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
       break;
     }
     const double delta = delta_at(d, t);
-    vs_model_commit(d->m, y, delta); /* seamless: the return-mapped force is unchanged */
-    energies(d, t, y, e0, &e);
+    vs_model_ext_commit(d->m, y); /* seamless: the return-mapped force is unchanged */
+    energies(d, y, e0, &e);
+    d->max_drift = fmax(d->max_drift, drift(d, t, y));
     scale = fmax(scale, fmax(fabs(e.kinetic), fmax(fabs(e.gravity), fabs(e.elastic))));
     scale = fmax(scale, fmax(fabs(e.support_work), fabs(e.damped)));
     if (!collapsed) res->balance_error_rel = fmax(res->balance_error_rel, fabs(e.balance) / scale);
@@ -317,12 +463,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     /* motion episodes: moving while the kinetic energy is above rest_ke; at rest once it has
      * stayed below for rest_time (a single mode passes through zero at its turning points) */
     if (e.kinetic >= d->o.rest_ke) {
-      if (!moving && !collapsed) {
-        moving = 1;
-        res->t_motion = t;
-        res->delta_motion = delta;
-        res->onset_found = 1;
-      }
+      moving = 1;
       t_rest = t;
     } else {
       moving = 0;
@@ -337,6 +478,11 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
         vs_dyn_event ev = {.t = t, .delta = delta, .joint = k / 2 + 1,
                            .side = (k % 2 == 0) ? 'E' : 'I', .opened = d->roots[k] > 0};
         if (event(user, &ev, y) != 0) stop = 1;
+      }
+      if (d->roots[2 * d->nj + 1] > 0 && !collapsed) { /* a departure, located */
+        res->t_motion = t;
+        res->delta_motion = delta;
+        res->onset_found = 1;
       }
       if (d->roots[2 * d->nj] > 0 && !collapsed) {
         collapsed = 1;
@@ -353,7 +499,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
         int rf = (at == NULL) ? -1 : IDAReInit(d->ida, t, d->y, d->yp);
         if (rf == IDA_SUCCESS) {
           N_VScale(VS_DYN_FALL_TOL, d->atol, at);
-          rf = IDASVtolerances(d->ida, VS_DYN_FALL_TOL * d->o.rtol, at);
+          rf = IDASVtolerances(d->ida, VS_DYN_FALL_TOL * d->rtol, at);
         }
         if (rf == IDA_SUCCESS) rf = IDARootInit(d->ida, 0, NULL);
         if (rf == IDA_SUCCESS) rf = IDASetStopTime(d->ida, t_stop);
@@ -370,7 +516,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
       IDAGetNumNonlinSolvIters(d->ida, &res->newton_iterations);
       res->steps += base_steps;
       res->newton_iterations += base_newton;
-      if (sample(user, t, delta, y, y + n, &e) != 0) stop = 1;
+      if (sample(user, t, delta, y, y + d->iv, &e) != 0) stop = 1;
     }
     if (stop) {
       st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
@@ -396,10 +542,11 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   res->steps += base_steps;
   res->newton_iterations += base_newton;
   if (st == VS_OK && sample != NULL && t > t_last_sample &&
-      sample(user, t, res->delta_end, y, y + n, &e) != 0) /* the final state */
+      sample(user, t, res->delta_end, y, y + d->iv, &e) != 0) /* the final state */
     st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
   res->jac_evals = d->jac_evals;
   memcpy(q, y, (size_t)n * sizeof *q);
-  memcpy(v, y + n, (size_t)n * sizeof *v);
+  memcpy(v, y + d->iv, (size_t)n * sizeof *v);
+  res->max_drift = d->max_drift;
   return st;
 }

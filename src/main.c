@@ -92,15 +92,18 @@ static int on_sample(void *user, const vs_run *run, const vs_run_sample *smp) {
   if (s->csv != NULL) {
     const vs_model *m = vs_run_model(run);
     const vs_case *c = vs_run_case(run);
-    double rl[2], rr[2], u[2];
-    vs_model_reactions(m, smp->q, smp->delta, rl, rr);
+    double rc[6], u[2];
+    if (smp->reactions != NULL) memcpy(rc, smp->reactions, sizeof rc);
+    else vs_model_support_reactions(m, smp->q, smp->delta, rc);
     vs_model_support_displacement(m, smp->delta, u);
     const int crown = c->voussoirs / 2;
     char hinges[256];
     vs_run_open_hinges(run, hinges, sizeof hinges);
-    fprintf(s->csv, "%s,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%d,\"%s\"\n",
+    fprintf(s->csv,
+            "%s,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%d,\"%s\"\n",
             smp->phase == VS_PHASE_DYNAMIC ? "dynamic" : "quasistatic", smp->t, smp->delta / VS_MM,
-            -u[1] / VS_MM, u[0] / VS_MM, rl[0], rl[1], rr[0], rr[1], smp->q[3 * crown + 1] / VS_MM,
+            -u[1] / VS_MM, u[0] / VS_MM, rc[0], rc[1], rc[2], rc[3], rc[4], rc[5],
+            smp->q[3 * crown + 1] / VS_MM,
             smp->energy != NULL ? smp->energy->kinetic : 0.0, vs_hinges_open_count(h), hinges);
     fflush(s->csv);
     s->rows++;
@@ -210,7 +213,7 @@ static int cmd_run(int argc, char **argv) {
       rc = EXIT_RUN_FAILED;
       goto cleanup;
     }
-    fputs("phase,time_s,delta_mm,dz_mm,dx_mm,left_Fx_N,left_Fz_N,right_Fx_N,right_Fz_N,"
+    fputs("phase,time_s,delta_mm,dz_mm,dx_mm,left_Fx_N,left_Fz_N,left_M_Nm,right_Fx_N,right_Fz_N,right_M_Nm,"
           "crown_uz_mm,kinetic_J,open_hinges,hinges\n",
           sink.csv);
   }

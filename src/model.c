@@ -8,48 +8,65 @@
 #include <string.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+/* A CSC pattern over bodies: per body column, its sorted coupled bodies (3x3 blocks). */
+typedef struct {
+  int nbody, n; /* bodies, unknowns (3 per body) */
+  sunindextype *colptr, *rowind;
+  int nnz;
+  int *blk_start; /* per body column, offset of its first row-block in adj[] */
+  int *adj;       /* per body column, the sorted bodies coupled to it */
+} vs_pattern;
+
 struct vs_model {
   const vs_geometry *g;
   vs_joint_law law;
   vs_joint_law *laws; /* per joint: the law (the nominal one unless an imperfection changed it) */
   double dir[2];   /* unit direction of the right support's motion */
-  double offset[2]; /* initial offset of the right support, m, applied with the gravity factor */
+  double offset[2]; /* initial offset of the right support, m (imperfections) */
+  double mscale;    /* misfit factor: fraction of the face gaps and support offset applied */
   int n;           /* unknowns, 3 per block */
   double *ra, *rb; /* per joint: reference point of body a/b -> joint centre, m */
   double *slip_p;  /* per joint: committed plastic slip, m */
   double zeta;     /* damping ratio */
   double gscale;   /* gravity load factor (1: the arch's own weight) */
-  double mscale;   /* misfit factor: fraction of the face gaps and support offset applied */
   double *cn, *cs; /* per joint: damping coefficients, N s/m^3 */
-  sunindextype *colptr, *rowind;
-  int nnz;
-  int *blk_start;  /* CSC: per block column, offset of its first row-block in adj[] */
-  int *adj;        /* per block column, the sorted blocks coupled to it */
+  vs_pattern pat;  /* the blocks' Jacobian pattern */
+  vs_pattern pate; /* with the two supports as bodies n_blocks (left) and n_blocks + 1 (right) */
 };
 
 static int body_is_block(int body) { return body >= 0; }
 
-/* The (ux, uz, theta) of a body -- or its velocities, given v and the support's speed: a block's
- * from the state vector, the right support's its scalar motion along dir, the left support's 0. */
-static void body_q(const vs_model *m, const double *q, double delta, int body, double out[3]) {
-  if (body_is_block(body)) {
-    memcpy(out, q + 3 * body, 3 * sizeof(double));
-  } else if (body == VS_SUPPORT_RIGHT) {
-    out[0] = delta * m->dir[0];
-    out[1] = delta * m->dir[1];
-    out[2] = 0.0;
-  } else {
-    out[0] = out[1] = out[2] = 0.0;
+/* The (ux, uz, theta) of a body -- or its velocities: a block's from q, a support's from qs
+ * (left (ux, uz, theta), then right). */
+static void body_q(const double *q, const double qs[6], int body, double out[3]) {
+  const double *src = body_is_block(body) ? q + 3 * body : qs + (body == VS_SUPPORT_LEFT ? 0 : 3);
+  memcpy(out, src, 3 * sizeof(double));
+}
+
+/* The supports' states prescribed by delta (or their velocities, given d(delta)/dt): the left
+ * one fixed, the right one translated by delta along dir. */
+static void sup_state(const vs_model *m, double delta, double qs[6]) {
+  qs[0] = qs[1] = qs[2] = qs[5] = 0.0;
+  qs[3] = delta * m->dir[0];
+  qs[4] = delta * m->dir[1];
+}
+
+/* The supports' positions: sup_state and the right support's initial offset (times the misfit
+ * factor); velocities do not have it. */
+static void sup_pos(const vs_model *m, double delta, double qs[6]) {
+  sup_state(m, delta, qs);
+  if (m->offset[0] != 0.0 || m->offset[1] != 0.0) {
+    qs[3] += m->mscale * m->offset[0];
+    qs[4] += m->mscale * m->offset[1];
   }
 }
 
-/* body_q for positions: the right support also carries its initial offset. */
-static void body_pos(const vs_model *m, const double *q, double delta, int body, double out[3]) {
-  body_q(m, q, delta, body, out);
-  if (body == VS_SUPPORT_RIGHT && (m->offset[0] != 0.0 || m->offset[1] != 0.0)) {
-    out[0] += m->mscale * m->offset[0];
-    out[1] += m->mscale * m->offset[1];
-  }
+/* Column block of a body in pattern p: a block's index; a support's n_blocks (left) or
+ * n_blocks + 1 (right) in the extended pattern, -1 (not an unknown) in the blocks' pattern. */
+static int body_col(const vs_model *m, const vs_pattern *p, int body) {
+  if (body_is_block(body)) return body;
+  if (p->nbody == m->g->n_blocks) return -1;
+  return m->g->n_blocks + (body == VS_SUPPORT_LEFT ? 0 : 1);
 }
 
 static int cmp_int(const void *x, const void *y) {
@@ -57,67 +74,76 @@ static int cmp_int(const void *x, const void *y) {
   return (a > b) - (a < b);
 }
 
-/* Block adjacency (each block with itself and its joint neighbours) -> CSC pattern. */
-static vs_status build_pattern(vs_model *m, vs_error *err) {
+/* Body adjacency (each body with itself and its joint neighbours) -> CSC pattern p over
+ * p->nbody bodies (set by the caller). */
+static vs_status build_pattern(const vs_model *m, vs_pattern *p, vs_error *err) {
   const vs_geometry *g = m->g;
-  const int nb = g->n_blocks;
+  const int nb = p->nbody;
+  p->n = 3 * nb;
   int *deg = calloc((size_t)nb + 1, sizeof *deg);
   if (deg == NULL) return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
   for (int i = 0; i < nb; i++) deg[i] = 1;
   for (int k = 0; k < g->n_joints; k++) {
-    const vs_joint_geom *j = &g->joints[k];
-    if (body_is_block(j->a) && body_is_block(j->b) && j->a != j->b) {
-      deg[j->a]++;
-      deg[j->b]++;
+    const int a = body_col(m, p, g->joints[k].a), b = body_col(m, p, g->joints[k].b);
+    if (a >= 0 && b >= 0 && a != b) {
+      deg[a]++;
+      deg[b]++;
     }
   }
-  m->blk_start = malloc(((size_t)nb + 1) * sizeof *m->blk_start);
+  p->blk_start = malloc(((size_t)nb + 1) * sizeof *p->blk_start);
   int total = 0;
   for (int i = 0; i < nb; i++) total += deg[i];
-  m->adj = malloc((size_t)total * sizeof *m->adj);
-  if (m->blk_start == NULL || m->adj == NULL) {
+  p->adj = malloc((size_t)total * sizeof *p->adj);
+  if (p->blk_start == NULL || p->adj == NULL) {
     free(deg);
     return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
   }
-  m->blk_start[0] = 0;
-  for (int i = 0; i < nb; i++) m->blk_start[i + 1] = m->blk_start[i] + deg[i];
+  p->blk_start[0] = 0;
+  for (int i = 0; i < nb; i++) p->blk_start[i + 1] = p->blk_start[i] + deg[i];
   for (int i = 0; i < nb; i++) {
-    m->adj[m->blk_start[i]] = i;
+    p->adj[p->blk_start[i]] = i;
     deg[i] = 1; /* reuse as fill counter */
   }
   for (int k = 0; k < g->n_joints; k++) {
-    const vs_joint_geom *j = &g->joints[k];
-    if (body_is_block(j->a) && body_is_block(j->b) && j->a != j->b) {
-      m->adj[m->blk_start[j->a] + deg[j->a]++] = j->b;
-      m->adj[m->blk_start[j->b] + deg[j->b]++] = j->a;
+    const int a = body_col(m, p, g->joints[k].a), b = body_col(m, p, g->joints[k].b);
+    if (a >= 0 && b >= 0 && a != b) {
+      p->adj[p->blk_start[a] + deg[a]++] = b;
+      p->adj[p->blk_start[b] + deg[b]++] = a;
     }
   }
   free(deg);
-  /* sort and remove duplicates (two joints between the same blocks) */
+  /* sort and remove duplicates (two joints between the same bodies) */
   int w = 0;
   for (int i = 0; i < nb; i++) {
-    int s = m->blk_start[i], e = m->blk_start[i + 1];
-    qsort(m->adj + s, (size_t)(e - s), sizeof(int), cmp_int);
-    m->blk_start[i] = w;
-    for (int p = s; p < e; p++)
-      if (p == s || m->adj[p] != m->adj[p - 1]) m->adj[w++] = m->adj[p];
+    int s = p->blk_start[i], e = p->blk_start[i + 1];
+    qsort(p->adj + s, (size_t)(e - s), sizeof(int), cmp_int);
+    p->blk_start[i] = w;
+    for (int r = s; r < e; r++)
+      if (r == s || p->adj[r] != p->adj[r - 1]) p->adj[w++] = p->adj[r];
   }
-  m->blk_start[nb] = w;
-  m->nnz = 9 * w;
-  m->colptr = malloc(((size_t)m->n + 1) * sizeof *m->colptr);
-  m->rowind = malloc((size_t)m->nnz * sizeof *m->rowind);
-  if (m->colptr == NULL || m->rowind == NULL)
+  p->blk_start[nb] = w;
+  p->nnz = 9 * w;
+  p->colptr = malloc(((size_t)p->n + 1) * sizeof *p->colptr);
+  p->rowind = malloc((size_t)p->nnz * sizeof *p->rowind);
+  if (p->colptr == NULL || p->rowind == NULL)
     return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
-  sunindextype p = 0;
+  sunindextype pos = 0;
   for (int bj = 0; bj < nb; bj++) {
     for (int cj = 0; cj < 3; cj++) {
-      m->colptr[3 * bj + cj] = p;
-      for (int q = m->blk_start[bj]; q < m->blk_start[bj + 1]; q++)
-        for (int ci = 0; ci < 3; ci++) m->rowind[p++] = 3 * m->adj[q] + ci;
+      p->colptr[3 * bj + cj] = pos;
+      for (int r = p->blk_start[bj]; r < p->blk_start[bj + 1]; r++)
+        for (int ci = 0; ci < 3; ci++) p->rowind[pos++] = 3 * p->adj[r] + ci;
     }
   }
-  m->colptr[m->n] = p;
+  p->colptr[p->n] = pos;
   return VS_OK;
+}
+
+static void pattern_free(vs_pattern *p) {
+  free(p->colptr);
+  free(p->rowind);
+  free(p->blk_start);
+  free(p->adj);
 }
 
 vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double alpha_rad,
@@ -160,7 +186,10 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
       m->rb[2 * k + 1] = j->pz - g->blocks[j->b].cz;
     }
   }
-  vs_status st = build_pattern(m, err);
+  m->pat.nbody = g->n_blocks;
+  m->pate.nbody = g->n_blocks + 2;
+  vs_status st = build_pattern(m, &m->pat, err);
+  if (st == VS_OK) st = build_pattern(m, &m->pate, err);
   if (st != VS_OK) {
     vs_model_destroy(&m);
     return st;
@@ -178,16 +207,14 @@ void vs_model_destroy(vs_model **m) {
   free(p->cn);
   free(p->cs);
   free(p->laws);
-  free(p->colptr);
-  free(p->rowind);
-  free(p->blk_start);
-  free(p->adj);
+  pattern_free(&p->pat);
+  pattern_free(&p->pate);
   free(p);
   *m = NULL;
 }
 
 int vs_model_size(const vs_model *m) { return m->n; }
-int vs_model_nnz(const vs_model *m) { return m->nnz; }
+int vs_model_nnz(const vs_model *m) { return m->pat.nnz; }
 const vs_geometry *vs_model_geometry(const vs_model *m) { return m->g; }
 const vs_joint_law *vs_model_law(const vs_model *m) { return &m->law; }
 const double *vs_model_slips(const vs_model *m) { return m->slip_p; }
@@ -238,88 +265,105 @@ static const vs_joint_law *law_at(const vs_model *m, int k, vs_joint_law *tmp) {
   return tmp;
 }
 
-static void eval_joint(const vs_model *m, const double *q, double delta, int k, vs_joint_state *st,
-                       double f[6], double K[36]) {
+/* One joint at block states q and support states qs. */
+static void eval_joint(const vs_model *m, const double *q, const double qs[6], int k,
+                       vs_joint_state *st, double f[6], double K[36]) {
   const vs_joint_geom *j = &m->g->joints[k];
   double qa[3], qb[3];
+  body_q(q, qs, j->a, qa);
+  body_q(q, qs, j->b, qb);
   vs_joint_law tmp;
-  body_pos(m, q, delta, j->a, qa);
-  body_pos(m, q, delta, j->b, qb);
   vs_joint_eval(j, law_at(m, k, &tmp), qa, qb, m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k], st, f, K);
 }
 
-void vs_model_residual(const vs_model *m, const double *q, double delta, double *G) {
+/* Residual over the bodies of pattern p (G has p->n entries). */
+static void residual_core(const vs_model *m, const vs_pattern *p, const double *q,
+                          const double qs[6], double *G) {
   const vs_geometry *g = m->g;
-  for (int i = 0; i < g->n_blocks; i++) {
-    G[3 * i] = 0.0;
+  memset(G, 0, (size_t)p->n * sizeof *G);
+  for (int i = 0; i < g->n_blocks; i++)
     G[3 * i + 1] = m->gscale * g->blocks[i].mass * g->gravity; /* minus the load -m g */
-    G[3 * i + 2] = 0.0;
-  }
   for (int k = 0; k < g->n_joints; k++) {
     double f[6];
-    eval_joint(m, q, delta, k, NULL, f, NULL);
-    const int body[2] = {g->joints[k].a, g->joints[k].b};
+    eval_joint(m, q, qs, k, NULL, f, NULL);
+    const int col[2] = {body_col(m, p, g->joints[k].a), body_col(m, p, g->joints[k].b)};
     for (int s = 0; s < 2; s++)
-      if (body_is_block(body[s]))
-        for (int c = 0; c < 3; c++) G[3 * body[s] + c] += f[3 * s + c];
+      if (col[s] >= 0)
+        for (int c = 0; c < 3; c++) G[3 * col[s] + c] += f[3 * s + c];
   }
 }
 
-/* Position in the CSC data of entry (row block bi, column block bj), component (0, 0). */
-static sunindextype csc_pos(const vs_model *m, int bi, int bj) {
-  int lo = m->blk_start[bj], hi = m->blk_start[bj + 1] - 1;
+void vs_model_residual(const vs_model *m, const double *q, double delta, double *G) {
+  double qs[6];
+  sup_pos(m, delta, qs);
+  residual_core(m, &m->pat, q, qs, G);
+}
+
+/* Position in the CSC data of entry (row body bi, column body bj), component (0, 0). */
+static sunindextype csc_pos(const vs_pattern *p, int bi, int bj) {
+  int lo = p->blk_start[bj], hi = p->blk_start[bj + 1] - 1;
   while (lo < hi) { /* adjacency lists are sorted */
     int mid = (lo + hi) / 2;
-    if (m->adj[mid] < bi) lo = mid + 1;
+    if (p->adj[mid] < bi) lo = mid + 1;
     else hi = mid;
   }
-  return m->colptr[3 * bj] + 3 * (lo - m->blk_start[bj]);
+  return p->colptr[3 * bj] + 3 * (lo - p->blk_start[bj]);
 }
 
 /* Write the CSC pattern into A, zero its values and return them. */
-static double *csc_reset(const vs_model *m, SUNMatrix A) {
-  memcpy(SUNSparseMatrix_IndexPointers(A), m->colptr, ((size_t)m->n + 1) * sizeof(sunindextype));
-  memcpy(SUNSparseMatrix_IndexValues(A), m->rowind, (size_t)m->nnz * sizeof(sunindextype));
+static double *csc_reset(const vs_pattern *p, SUNMatrix A) {
+  memcpy(SUNSparseMatrix_IndexPointers(A), p->colptr, ((size_t)p->n + 1) * sizeof(sunindextype));
+  memcpy(SUNSparseMatrix_IndexValues(A), p->rowind, (size_t)p->nnz * sizeof(sunindextype));
   double *data = SUNSparseMatrix_Data(A);
-  memset(data, 0, (size_t)m->nnz * sizeof *data);
+  memset(data, 0, (size_t)p->nnz * sizeof *data);
   return data;
 }
 
-/* Add a joint's 6x6 matrix (row-major, rows and columns (body a, body b)) into the CSC values. */
-static void scatter_joint(const vs_model *m, const int body[2], const double Kj[36], double *data) {
+/* Add a joint's 6x6 matrix (row-major, rows and columns (body a, body b)) into the CSC values;
+ * col[] are the bodies' column blocks in p (-1: not an unknown). */
+static void scatter_joint(const vs_pattern *p, const int col[2], const double Kj[36], double *data) {
   for (int si = 0; si < 2; si++) {
-    if (!body_is_block(body[si])) continue;
+    if (col[si] < 0) continue;
     for (int sj = 0; sj < 2; sj++) {
-      if (!body_is_block(body[sj])) continue;
-      const sunindextype p0 = csc_pos(m, body[si], body[sj]);
-      const sunindextype stride = m->colptr[3 * body[sj] + 1] - m->colptr[3 * body[sj]];
+      if (col[sj] < 0) continue;
+      const sunindextype p0 = csc_pos(p, col[si], col[sj]);
+      const sunindextype stride = p->colptr[3 * col[sj] + 1] - p->colptr[3 * col[sj]];
       for (int cj = 0; cj < 3; cj++)
         for (int ci = 0; ci < 3; ci++) data[p0 + cj * stride + ci] += Kj[(3 * si + ci) * 6 + 3 * sj + cj];
     }
   }
 }
 
-int vs_model_jacobian(const vs_model *m, const double *q, double delta, SUNMatrix J) {
-  double *data = csc_reset(m, J);
+static void jacobian_core(const vs_model *m, const vs_pattern *p, const double *q,
+                          const double qs[6], SUNMatrix J) {
+  double *data = csc_reset(p, J);
   const vs_geometry *g = m->g;
   for (int k = 0; k < g->n_joints; k++) {
     double K[36];
-    eval_joint(m, q, delta, k, NULL, NULL, K);
-    const int body[2] = {g->joints[k].a, g->joints[k].b};
-    scatter_joint(m, body, K, data);
+    eval_joint(m, q, qs, k, NULL, NULL, K);
+    const int col[2] = {body_col(m, p, g->joints[k].a), body_col(m, p, g->joints[k].b)};
+    scatter_joint(p, col, K, data);
   }
+}
+
+int vs_model_jacobian(const vs_model *m, const double *q, double delta, SUNMatrix J) {
+  double qs[6];
+  sup_pos(m, delta, qs);
+  jacobian_core(m, &m->pat, q, qs, J);
   return 0;
 }
 
 void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double *out) {
   const vs_geometry *g = m->g;
+  double qs[6];
+  sup_pos(m, delta, qs);
   memset(out, 0, (size_t)m->n * sizeof *out);
   for (int k = 0; k < g->n_joints; k++) {
     const int body[2] = {g->joints[k].a, g->joints[k].b};
     int ss = (body[1] == VS_SUPPORT_RIGHT) ? 1 : (body[0] == VS_SUPPORT_RIGHT) ? 0 : -1;
     if (ss < 0) continue;
     double K[36];
-    eval_joint(m, q, delta, k, NULL, NULL, K);
+    eval_joint(m, q, qs, k, NULL, NULL, K);
     for (int si = 0; si < 2; si++) {
       if (!body_is_block(body[si])) continue;
       for (int ci = 0; ci < 3; ci++) {
@@ -330,29 +374,44 @@ void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double
   }
 }
 
-void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_joint_state *st) {
-  for (int k = 0; k < m->g->n_joints; k++) eval_joint(m, q, delta, k, &st[k], NULL, NULL);
+static void joint_states_core(const vs_model *m, const double *q, const double qs[6],
+                              vs_joint_state *st) {
+  for (int k = 0; k < m->g->n_joints; k++) eval_joint(m, q, qs, k, &st[k], NULL, NULL);
 }
 
-int vs_model_commit(vs_model *m, const double *q, double delta) {
+void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_joint_state *st) {
+  double qs[6];
+  sup_pos(m, delta, qs);
+  joint_states_core(m, q, qs, st);
+}
+
+static int commit_core(vs_model *m, const double *q, const double qs[6]) {
   int slid = 0;
   for (int k = 0; k < m->g->n_joints; k++) {
     vs_joint_state st;
-    eval_joint(m, q, delta, k, &st, NULL, NULL);
+    eval_joint(m, q, qs, k, &st, NULL, NULL);
     if (st.sliding && st.N > 0.0) slid++;
     m->slip_p[k] = st.slip_p;
   }
   return slid;
 }
 
+int vs_model_commit(vs_model *m, const double *q, double delta) {
+  double qs[6];
+  sup_pos(m, delta, qs);
+  return commit_core(m, q, qs);
+}
+
 void vs_model_reactions(const vs_model *m, const double *q, double delta, double left[2],
                         double right[2]) {
+  double qs[6];
+  sup_pos(m, delta, qs);
   left[0] = left[1] = right[0] = right[1] = 0.0;
   for (int k = 0; k < m->g->n_joints; k++) {
     const vs_joint_geom *j = &m->g->joints[k];
     if (body_is_block(j->a) && body_is_block(j->b)) continue; /* not at a support */
     double f[6];
-    eval_joint(m, q, delta, k, NULL, f, NULL);
+    eval_joint(m, q, qs, k, NULL, f, NULL);
     /* f on a support's translation is dE/du_support; the arch pushes it with -f */
     const int body[2] = {j->a, j->b};
     for (int s = 0; s < 2; s++) {
@@ -364,16 +423,42 @@ void vs_model_reactions(const vs_model *m, const double *q, double delta, double
   }
 }
 
-double vs_model_energy(const vs_model *m, const double *q, double delta) {
+void vs_model_support_reactions(const vs_model *m, const double *q, double delta, double out[6]) {
+  double qs[6];
+  sup_pos(m, delta, qs);
+  memset(out, 0, 6 * sizeof *out);
+  for (int k = 0; k < m->g->n_joints; k++) {
+    const vs_joint_geom *j = &m->g->joints[k];
+    if (body_is_block(j->a) && body_is_block(j->b)) continue; /* not at a support */
+    double f[6];
+    eval_joint(m, q, qs, k, NULL, f, NULL);
+    /* f on a support's coordinates is dE/dq_support: the arch pulls the support with -f, the
+     * support pushes the arch with +f */
+    const int body[2] = {j->a, j->b};
+    for (int s = 0; s < 2; s++)
+      if (!body_is_block(body[s]))
+        for (int c = 0; c < 3; c++) out[(body[s] == VS_SUPPORT_LEFT ? 0 : 3) + c] += f[3 * s + c];
+  }
+}
+
+static void energies_core(const vs_model *m, const double *q, const double qs[6], double *elastic,
+                          double *gravity) {
   const vs_geometry *g = m->g;
-  double e = 0.0;
-  for (int i = 0; i < g->n_blocks; i++) e += m->gscale * g->blocks[i].mass * g->gravity * q[3 * i + 1];
+  double eg = 0.0, ee = 0.0;
+  for (int i = 0; i < g->n_blocks; i++) eg += m->gscale * g->blocks[i].mass * g->gravity * q[3 * i + 1];
   for (int k = 0; k < g->n_joints; k++) {
     vs_joint_state st;
-    eval_joint(m, q, delta, k, &st, NULL, NULL);
-    e += st.energy;
+    eval_joint(m, q, qs, k, &st, NULL, NULL);
+    ee += st.energy;
   }
-  return e;
+  *elastic = ee;
+  *gravity = eg;
+}
+
+double vs_model_energy(const vs_model *m, const double *q, double delta) {
+  double ee, eg;
+  vs_model_energies(m, q, delta, &ee, &eg);
+  return ee + eg;
 }
 
 void vs_model_residual_scale(const vs_model *m, double *scale) {
@@ -411,41 +496,51 @@ double vs_model_damping_ratio(const vs_model *m) { return m->zeta; }
 void vs_model_set_gravity_scale(vs_model *m, double lambda) { m->gscale = lambda; }
 double vs_model_gravity_scale(const vs_model *m) { return m->gscale; }
 
-void vs_model_damping(const vs_model *m, const double *q, const double *v, double delta,
-                      double ddelta_dt, double *fd, double *dissipated, double *support_power,
-                      SUNMatrix C) {
+/* Damping forces over the bodies of p at block states (q, v) and support states (qs, vs). */
+static void damping_core(const vs_model *m, const vs_pattern *p, const double *q, const double *v,
+                         const double qs[6], const double vs[6], double *fd, double *dissipated,
+                         double *support_power, SUNMatrix C) {
   const vs_geometry *g = m->g;
   double *data = NULL;
-  if (fd != NULL) memset(fd, 0, (size_t)m->n * sizeof *fd);
-  if (C != NULL) data = csc_reset(m, C);
+  if (fd != NULL) memset(fd, 0, (size_t)p->n * sizeof *fd);
+  if (C != NULL) data = csc_reset(p, C);
   double diss = 0.0, sup = 0.0;
   if (m->zeta > 0.0) {
     for (int k = 0; k < g->n_joints; k++) {
       const vs_joint_geom *j = &g->joints[k];
-      double qa[3], qb[3], va[3], vb[3], f[6], Ck[36], p;
+      double qa[3], qb[3], va[3], vb[3], f[6], Ck[36], pw;
       vs_joint_law tmp;
-      body_pos(m, q, delta, j->a, qa);
-      body_pos(m, q, delta, j->b, qb);
-      body_q(m, v, ddelta_dt, j->a, va);
-      body_q(m, v, ddelta_dt, j->b, vb);
+      body_q(q, qs, j->a, qa);
+      body_q(q, qs, j->b, qb);
+      body_q(v, vs, j->a, va);
+      body_q(v, vs, j->b, vb);
       vs_joint_damping(j, law_at(m, k, &tmp), m->cn[k], m->cs[k], qa, qb, va, vb, m->ra + 2 * k, m->rb + 2 * k,
-                       f, C != NULL ? Ck : NULL, &p);
-      diss += p;
+                       f, C != NULL ? Ck : NULL, &pw);
+      diss += pw;
       const int body[2] = {j->a, j->b};
+      const int col[2] = {body_col(m, p, j->a), body_col(m, p, j->b)};
       for (int s = 0; s < 2; s++) {
-        if (body[s] == VS_SUPPORT_RIGHT)
-          sup -= f[3 * s] * ddelta_dt * m->dir[0] + f[3 * s + 1] * ddelta_dt * m->dir[1];
-        if (!body_is_block(body[s])) continue;
-        if (fd != NULL)
-          for (int c = 0; c < 3; c++) fd[3 * body[s] + c] += f[3 * s + c];
+        const double *vv = s == 0 ? va : vb;
+        if (!body_is_block(body[s])) sup -= f[3 * s] * vv[0] + f[3 * s + 1] * vv[1] + f[3 * s + 2] * vv[2];
+        if (col[s] < 0 || fd == NULL) continue;
+        for (int c = 0; c < 3; c++) fd[3 * col[s] + c] += f[3 * s + c];
       }
-      if (C != NULL) scatter_joint(m, body, Ck, data);
+      if (C != NULL) scatter_joint(p, col, Ck, data);
     }
   }
   /* the support does the work -f . u_dot on the arch through the damper: the dissipated power
    * splits into what the blocks lose (fd . v) and what the support supplies */
   if (dissipated != NULL) *dissipated = diss;
   if (support_power != NULL) *support_power = -sup;
+}
+
+void vs_model_damping(const vs_model *m, const double *q, const double *v, double delta,
+                      double ddelta_dt, double *fd, double *dissipated, double *support_power,
+                      SUNMatrix C) {
+  double qs[6], vs[6];
+  sup_pos(m, delta, qs);
+  sup_state(m, ddelta_dt, vs);
+  damping_core(m, &m->pat, q, v, qs, vs, fd, dissipated, support_power, C);
 }
 
 void vs_model_mass(const vs_model *m, double *mdiag) {
@@ -465,21 +560,29 @@ double vs_model_kinetic_energy(const vs_model *m, const double *v) {
   return e;
 }
 
-double vs_model_friction_power(const vs_model *m, const double *q, const double *v, double delta,
-                               double ddelta_dt) {
-  double p = 0.0;
+static double friction_core(const vs_model *m, const double *q, const double *v,
+                            const double qs[6], const double vs[6]) {
+  double pw = 0.0;
   for (int k = 0; k < m->g->n_joints; k++) {
     const vs_joint_geom *j = &m->g->joints[k];
     double qa[3], qb[3], va[3], vb[3];
     vs_joint_law tmp;
-    body_pos(m, q, delta, j->a, qa);
-    body_pos(m, q, delta, j->b, qb);
-    body_q(m, v, ddelta_dt, j->a, va);
-    body_q(m, v, ddelta_dt, j->b, vb);
-    p += vs_joint_friction_power(j, law_at(m, k, &tmp), qa, qb, va, vb, m->ra + 2 * k, m->rb + 2 * k,
-                                 m->slip_p[k]);
+    body_q(q, qs, j->a, qa);
+    body_q(q, qs, j->b, qb);
+    body_q(v, vs, j->a, va);
+    body_q(v, vs, j->b, vb);
+    pw += vs_joint_friction_power(j, law_at(m, k, &tmp), qa, qb, va, vb, m->ra + 2 * k, m->rb + 2 * k,
+                                  m->slip_p[k]);
   }
-  return p;
+  return pw;
+}
+
+double vs_model_friction_power(const vs_model *m, const double *q, const double *v, double delta,
+                               double ddelta_dt) {
+  double qs[6], vs[6];
+  sup_pos(m, delta, qs);
+  sup_state(m, ddelta_dt, vs);
+  return friction_core(m, q, v, qs, vs);
 }
 
 double vs_model_support_force(const vs_model *m, const double *q, double delta) {
@@ -491,14 +594,59 @@ double vs_model_support_force(const vs_model *m, const double *q, double delta) 
 
 void vs_model_energies(const vs_model *m, const double *q, double delta, double *elastic,
                        double *gravity) {
+  double qs[6];
+  sup_pos(m, delta, qs);
+  energies_core(m, q, qs, elastic, gravity);
+}
+
+/* --- driven supports: the extended state qe = (blocks, left support, right support) --- */
+
+int vs_model_ext_size(const vs_model *m) { return m->pate.n; }
+int vs_model_ext_nnz(const vs_model *m) { return m->pate.nnz; }
+
+void vs_model_support_states(const vs_model *m, double delta, double rate, double qs[6],
+                             double vs[6]) {
+  sup_pos(m, delta, qs);
+  sup_state(m, rate, vs);
+}
+
+void vs_model_ext_mass(const vs_model *m, double *mdiag) {
   const vs_geometry *g = m->g;
-  double eg = 0.0, ee = 0.0;
-  for (int i = 0; i < g->n_blocks; i++) eg += m->gscale * g->blocks[i].mass * g->gravity * q[3 * i + 1];
-  for (int k = 0; k < g->n_joints; k++) {
-    vs_joint_state st;
-    eval_joint(m, q, delta, k, &st, NULL, NULL);
-    ee += st.energy;
+  vs_model_mass(m, mdiag);
+  double mass = 0.0, inertia = 0.0;
+  for (int i = 0; i < g->n_blocks; i++) {
+    mass += g->blocks[i].mass / g->n_blocks;
+    inertia += g->blocks[i].inertia / g->n_blocks;
   }
-  *elastic = ee;
-  *gravity = eg;
+  for (int s = 0; s < 2; s++) {
+    mdiag[m->n + 3 * s] = mdiag[m->n + 3 * s + 1] = mass;
+    mdiag[m->n + 3 * s + 2] = inertia;
+  }
+}
+
+void vs_model_ext_residual(const vs_model *m, const double *qe, double *Ge) {
+  residual_core(m, &m->pate, qe, qe + m->n, Ge);
+}
+
+void vs_model_ext_jacobian(const vs_model *m, const double *qe, SUNMatrix J) {
+  jacobian_core(m, &m->pate, qe, qe + m->n, J);
+}
+
+void vs_model_ext_damping(const vs_model *m, const double *qe, const double *ve, double *fd,
+                          double *dissipated, SUNMatrix C) {
+  damping_core(m, &m->pate, qe, ve, qe + m->n, ve + m->n, fd, dissipated, NULL, C);
+}
+
+double vs_model_ext_friction_power(const vs_model *m, const double *qe, const double *ve) {
+  return friction_core(m, qe, ve, qe + m->n, ve + m->n);
+}
+
+void vs_model_ext_joint_states(const vs_model *m, const double *qe, vs_joint_state *st) {
+  joint_states_core(m, qe, qe + m->n, st);
+}
+
+int vs_model_ext_commit(vs_model *m, const double *qe) { return commit_core(m, qe, qe + m->n); }
+
+void vs_model_ext_energies(const vs_model *m, const double *qe, double *elastic, double *gravity) {
+  energies_core(m, qe, qe + m->n, elastic, gravity);
 }

@@ -252,9 +252,11 @@ static const series_def SERIES[S_COUNT] = {
                   "plastic (frictional) slip of each joint, committed"},
     [S_HINGE] = {"joint_hinge", "value", K_I8, 2, {DIM_JOINTS, 0}, NULL, NULL,
                  "0 closed, 1 hinge at the intrados (extrados opened), 2 at the extrados"},
-    [S_REACT] = {"reactions", "value", K_F64, 2, {4, 0}, "N,N,N,N",
-                 "left_Fx,left_Fz,right_Fx,right_Fz",
-                 "forces exerted by the arch on the supports"},
+    [S_REACT] = {"reactions", "value", K_F64, 2, {6, 0}, "N,N,N m,N,N,N m",
+                 "left_Fx,left_Fz,left_M,right_Fx,right_Fz,right_M",
+                 "forces the supports exert on the arch (x right, z up; M counter-clockwise about "
+                 "the centre of the springing joint): the Lagrange multipliers of the support "
+                 "constraints in the dynamic phase, the springing joints' forces at equilibria"},
     [S_ENERGY] = {"energy", "value", K_F64, 2, {7, 0}, "J,J,J,J,J,J,J",
                   "kinetic,gravity,elastic,support_work,damped,friction,balance",
                   "energies; work terms accumulate from the start of each dynamic phase. "
@@ -1027,7 +1029,8 @@ static void fill_row(vs_output *o, const vs_run *run, const vs_run_sample *s) {
   fill_blocks(o, run, s, usup);
   fill_joints(o, run, s, usup);
   double *r = row_ptr(o, S_REACT);
-  vs_model_reactions(m, s->q, s->delta, r, r + 2);
+  if (s->reactions != NULL) memcpy(r, s->reactions, 6 * sizeof *r);
+  else vs_model_support_reactions(m, s->q, s->delta, r);
   int64_t *sv = row_ptr(o, S_SOLVER);
   sv[0] = (int64_t)s->newton_iterations;
   sv[1] = (int64_t)s->ida_steps;
@@ -1221,6 +1224,8 @@ static herr_t summary_collapse(hid_t sum, const vs_run *run) {
   if (rc >= 0) rc = dset_scalar(g, "dz_over_L", c->found ? c->delta * cos(alpha) / L : NAN, "1");
   if (rc >= 0) rc = dset_scalar(g, "dx_over_L", c->found ? c->delta * sin(alpha) / L : NAN, "1");
   if (rc >= 0) rc = dset_scalar(g, "time", c->found ? c->t : NAN, "s");
+  if (rc >= 0) rc = dset_scalar(g, "delta_detected", c->found ? c->delta_detected : NAN, "m");
+  if (rc >= 0) rc = dset_scalar(g, "time_detected", c->found ? c->t_criterion : NAN, "s");
   if (rc >= 0) rc = dset_scalar(g, "time_onset", c->found ? c->t_onset : NAN, "s");
   if (rc >= 0) rc = dset_scalar(g, "delta_onset", c->found ? c->t_onset * rate : NAN, "m");
   if (rc >= 0)
@@ -1228,9 +1233,12 @@ static herr_t summary_collapse(hid_t sum, const vs_run *run) {
                      "hinges open at the collapse's onset, left to right");
   if (rc >= 0)
     rc = attr_str(g, "description",
-                  "collapse: delta is the support displacement when the kinetic energy passed "
-                  "the collapse threshold; time_onset when the final motion began (NaN if the "
-                  "arch was never at rest); NaN everywhere when found = 0");
+                  "collapse: delta (delta_u) is the support displacement at which the arch "
+                  "departs from its last stable equilibrium: the collapsing limit point, or "
+                  "with --dynamic the kinetic energy's last rise through the rest level (an "
+                  "IDA root); delta_detected when the kinetic energy passed the collapse "
+                  "threshold; time_onset when the final motion began (NaN if the arch was never "
+                  "at rest); NaN everywhere when found = 0");
   h5_close(g);
   return rc;
 }
@@ -1299,12 +1307,13 @@ static vs_status write_summary(vs_output *o, const vs_run *run) {
   const int n = vs_hinges_count(h);
   vs_hinge *all = calloc((size_t)(n > 0 ? n : 1), sizeof *all);
   if (all == NULL) rc = -1;
-  for (int i = 0; rc >= 0 && i < n; i++) all[i] = *vs_hinges_get(h, i);
+  for (int i = 0; rc >= 0 && i < n; i++) all[i] = *vs_run_hinge(run, i);
   if (rc >= 0)
     rc = hinge_table(sum, "hinges", all, n, vs_run_hinge_count(run),
                      vs_run_case(run)->rate_mm_s * VS_MM,
                      "hinges in order of appearance. label A-E; side: the edge that stays in "
-                     "contact (I intrados, E extrados); name: current joints (e.g. 44-45-46-I, "
+                     "contact (I intrados, E extrados); name: joints (e.g. 44-45-46-I, "
+                     "after a collapse those at its onset, not at the end of the fall; "
                      "a hinge spread over consecutive joints), name_onset: joints when it formed; "
                      "during_fall = 1: opened as the arch fell after the collapse's onset");
   free(all);

@@ -206,7 +206,7 @@ static int record_open(const char *path, record *r) {
   r->pos = malloc(n * 3 * (size_t)r->nb * sizeof(double));
   r->gap_i = malloc(n * (size_t)r->nj * sizeof(double));
   r->gap_e = malloc(n * (size_t)r->nj * sizeof(double));
-  r->react = malloc(n * 4 * sizeof(double));
+  r->react = malloc(n * 6 * sizeof(double));
   r->hinge = malloc(n * (size_t)r->nj);
   if (!r->delta || !r->pos || !r->gap_i || !r->gap_e || !r->react || !r->hinge) {
     snprintf(r->msg, sizeof r->msg, "out of memory");
@@ -217,7 +217,7 @@ static int record_open(const char *path, record *r) {
                   read_doubles(r->file, "/observables/block_position/value", r->pos, n * 3 * (size_t)r->nb) ||
                   read_doubles(r->file, "/observables/joint_gap_i/value", r->gap_i, n * (size_t)r->nj) ||
                   read_doubles(r->file, "/observables/joint_gap_e/value", r->gap_e, n * (size_t)r->nj) ||
-                  read_doubles(r->file, "/observables/reactions/value", r->react, n * 4) || hd < 0 ||
+                  read_doubles(r->file, "/observables/reactions/value", r->react, n * 6) || hd < 0 ||
                   H5Dread(hd, H5T_NATIVE_SCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, r->hinge) < 0;
   if (hd >= 0) H5Dclose(hd);
   if (bad || read_hinges(r) || read_limits(r)) {
@@ -290,7 +290,7 @@ static int draw_curves(const record *r, const char *dir, const char *ext) {
   double *reac = malloc(n * sizeof(double)), *joint[5];
   vs_plot_series hs[5];
   int ns = 0, rc = 0;
-  for (size_t i = 0; reac && i < n; i++) reac[i] = -r->react[4 * i + 3]; /* upward on the arch */
+  for (size_t i = 0; reac && i < n; i++) reac[i] = r->react[6 * i + 4]; /* upward on the arch */
   for (int l = 0; l < 5; l++) {
     joint[l] = malloc(n * sizeof(double));
     if (joint[l] == NULL) continue;

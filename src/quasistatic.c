@@ -2,6 +2,7 @@
  * each support displacement, a tangent predictor, adaptive increments, and a limit point
  * bracketed by bisection of the increment and confirmed on the tangent stiffness. */
 #include "voussoir/quasistatic.h"
+#include "voussoir/stability.h"
 
 #include <klu.h>
 #include <kinsol/kinsol.h>
@@ -67,6 +68,7 @@ typedef struct {
   N_Vector w1, w2;
   double *fwork;
   unsigned char *seen;
+  vs_spd *spd;                /* the stability test: Cholesky of the tangent's symmetric part */
   double kmax, lmax, wmin;    /* stiffest joint k_n b t (N/m), longest joint (m), lightest block (N) */
   long iters, jac_evals, floor_limited;
   double max_residual;        /* largest scaled residual among accepted equilibria */
@@ -107,6 +109,7 @@ static void qs_destroy(qs_solver *s) {
   if (s->w1 != NULL) N_VDestroy(s->w1);
   if (s->w2 != NULL) N_VDestroy(s->w2);
   if (s->ctx != NULL) SUNContext_Free(&s->ctx);
+  vs_spd_destroy(&s->spd);
   free(s->fwork);
   free(s->seen);
   free(s->len);
@@ -141,6 +144,10 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
       s->len == NULL || s->w1 == NULL || s->w2 == NULL || s->fwork == NULL || s->seen == NULL) {
     qs_destroy(s);
     return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
+  }
+  if (vs_spd_create(s->n, &s->spd, err) != VS_OK) {
+    qs_destroy(s);
+    return VS_ERR_NOMEM;
   }
   s->LS = SUNLinSol_KLU(s->u, s->J, s->ctx);
   s->LSt = SUNLinSol_KLU(s->u, s->Jt, s->ctx);
@@ -344,6 +351,77 @@ void vs_path_opts_from_case(const vs_case *c, vs_path_opts *o) {
   o->max_delta = c->max_mm * VS_MM;
   o->newton_tol = c->newton_tol;
   o->newton_maxiter = c->newton_maxiter;
+  o->open = c->open_mm * VS_MM;
+}
+
+/* Which joint edges are open (gap > open) at (q, delta): 2 flags per joint. */
+static void edge_flags(const qs_solver *s, const double *q, double delta, vs_joint_state *js,
+                       unsigned char *fl) {
+  const int nj = vs_model_geometry(s->m)->n_joints;
+  vs_model_joint_states(s->m, q, delta, js);
+  for (int k = 0; k < nj; k++) {
+    fl[2 * k] = js[k].gap_i > s->o->open;
+    fl[2 * k + 1] = js[k].gap_e > s->o->open;
+  }
+}
+
+/* Hinge onsets located on the path: between the accepted equilibria (qa, a) and (qb, b), find
+ * by bisection in delta (re-solving equilibria from the linear interpolation of the two
+ * bracketing states, with the slips committed at a) the first delta at which any edge changes
+ * between open and closed, to limit_tol; pass the equilibria on both sides of it to step_fn;
+ * then the next one after it, until the edges are those at b. The onsets the hinge tracker
+ * interpolates between consecutive equilibria are then within limit_tol of the crossing, and
+ * the joints it sees open are those of the crossing, whatever the increment. Returns non-zero
+ * if step_fn asked to stop. A bisection whose Newton fails ends the location (the tracker then
+ * interpolates over what is left). */
+static int locate_edges(qs_solver *s, const double *qa0, double a0, const double *qb0, double b0,
+                        vs_path_step_fn step_fn, void *user, double *work, long *located) {
+  const int n = s->n, nj = vs_model_geometry(s->m)->n_joints;
+  vs_joint_state *js = malloc((size_t)nj * sizeof *js);
+  unsigned char *fa = malloc((size_t)(6 * nj));
+  if (js == NULL || fa == NULL) {
+    free(js);
+    free(fa);
+    return 0;
+  }
+  unsigned char *fb = fa + 2 * nj, *fm = fb + 2 * nj;
+  double *qa = work, *qb = work + n, *qm = work + 2 * n;
+  memcpy(qa, qa0, (size_t)n * sizeof *qa);
+  double a = a0;
+  edge_flags(s, qa, a, js, fa);
+  edge_flags(s, qb0, b0, js, fb);
+  int stop = 0;
+  for (int found = 0; !stop && found < 2 * nj && memcmp(fa, fb, (size_t)(2 * nj)) != 0; found++) {
+    double b = b0;
+    memcpy(qb, qb0, (size_t)n * sizeof *qb);
+    int failed = 0;
+    while (b - a > s->o->limit_tol) {
+      const double mid = 0.5 * (a + b);
+      for (int i = 0; i < n; i++) qm[i] = 0.5 * (qa[i] + qb[i]);
+      long it = 0;
+      if (qs_solve(s, mid, qm, &it) != 0) {
+        failed = 1;
+        break;
+      }
+      edge_flags(s, qm, mid, js, fm);
+      if (memcmp(fm, fa, (size_t)(2 * nj)) == 0) {
+        a = mid;
+        memcpy(qa, qm, (size_t)n * sizeof *qa);
+      } else {
+        b = mid;
+        memcpy(qb, qm, (size_t)n * sizeof *qb);
+      }
+    }
+    if (failed || b >= b0) break; /* the crossing is at the end of the increment */
+    stop = step_fn(user, a, qa, s->m) != 0 || step_fn(user, b, qb, s->m) != 0;
+    *located += 2;
+    a = b;
+    memcpy(qa, qb, (size_t)n * sizeof *qa);
+    edge_flags(s, qa, a, js, fa);
+  }
+  free(js);
+  free(fa);
+  return stop;
 }
 
 static const char *kin_cause(int flag) {
@@ -429,11 +507,12 @@ static vs_status confirm_limit(qs_solver *s, const double *q_prev, double delta_
 }
 
 /* Accept a converged state as on the followed stable branch: the tangent must be positive
- * definite along the path (det K > 0 on the stable branch that starts from self-weight). */
+ * definite, established by a Cholesky factorisation of its symmetric part (stability.h; the sign
+ * of det K alone would not). The tangent is also factored by KLU for the eigenvalue tracking. */
 static int stable_state(qs_solver *s, const double *q, double delta) {
   int sign = 0;
   if (tangent_factor(s, q, delta, &sign) != 0) return 0;
-  return sign > 0;
+  return vs_spd_test(s->spd, s->Jt) == 1;
 }
 
 /* The misfit of an imperfect arch (vs_model_set_misfit_scale) by continuation in its factor,
@@ -537,8 +616,9 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
   const size_t bytes = (size_t)s.n * sizeof(double);
   double *tan = malloc(bytes), *qtry = malloc(bytes), *qpred = malloc(bytes);
   double *qprev = malloc(bytes), *eig = calloc((size_t)s.n, sizeof(double));
+  double *qloc = malloc(3 * bytes); /* locate_edges' workspace */
   double delta_prev = 0.0;
-  if (tan == NULL || qtry == NULL || qpred == NULL || qprev == NULL || eig == NULL) {
+  if (tan == NULL || qtry == NULL || qpred == NULL || qprev == NULL || eig == NULL || qloc == NULL) {
     st = vs_error_set(err, VS_ERR_NOMEM, "path: out of memory");
     goto cleanup;
   }
@@ -630,7 +710,13 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
       h *= 0.5;
       continue;
     }
-    /* accepted: the tangent is factored at the new state by stable_state */
+    /* accepted: the tangent is factored at the new state by stable_state (the location below
+     * solves with KINSOL's own matrix and keeps that factorisation) */
+    if (step_fn != NULL && o->open > 0.0 &&
+        locate_edges(&s, q, delta, qtry, delta + h, step_fn, user, qloc, &res->located) != 0) {
+      st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+      break;
+    }
     memcpy(qprev, q, bytes);
     delta_prev = delta;
     memcpy(q, qtry, bytes);
@@ -664,6 +750,7 @@ cleanup:
   free(qpred);
   free(qprev);
   free(eig);
+  free(qloc);
   qs_destroy(&s);
   return st;
 }

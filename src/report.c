@@ -73,6 +73,18 @@ static void json_first_limit(FILE *out, const vs_run *r) {
           p->evidence.delta_extrap / VS_MM);
 }
 
+/* {"left":[Fx,Fz,M],"right":[...]} (N, N, N m; null where NaN). */
+static void json_reactions(FILE *out, const double rc[6]) {
+  for (int s = 0; s < 2; s++) {
+    fputs(s ? "],\"right\":[" : "{\"left\":[", out);
+    for (int c = 0; c < 3; c++) {
+      if (c) fputc(',', out);
+      json_number_or_null(out, rc[3 * s + c]);
+    }
+  }
+  fputs("]}", out);
+}
+
 static void json_collapse(FILE *out, const vs_run *r) {
   const vs_collapse_record *col = vs_run_collapse(r);
   double dz, dx;
@@ -81,13 +93,19 @@ static void json_collapse(FILE *out, const vs_run *r) {
     return;
   }
   components_pct(vs_run_case(r), col->delta, &dz, &dx);
-  fprintf(out,
-          "{\"delta_mm\":%.10g,\"dz_over_L_pct\":%.10g,\"dx_over_L_pct\":%.10g,\"time_s\":%.10g,"
-          "\"onset_time_s\":",
-          col->delta / VS_MM, dz, dx, col->t);
+  const double v[4] = {col->delta / VS_MM, dz, dx, col->t};
+  const char *key[4] = {"{\"delta_mm\":", ",\"dz_over_L_pct\":", ",\"dx_over_L_pct\":", ",\"time_s\":"};
+  for (int i = 0; i < 4; i++) {
+    fputs(key[i], out);
+    json_number_or_null(out, v[i]);
+  }
+  fprintf(out, ",\"delta_detected_mm\":%.10g,\"time_detected_s\":%.10g,\"onset_time_s\":",
+          col->delta_detected / VS_MM, col->t_criterion);
   json_number_or_null(out, col->t_onset);
   fputs(",\"delta_onset_mm\":", out);
   json_number_or_null(out, col->t_onset * vs_run_case(r)->rate_mm_s);
+  fputs(",\"reactions_at_limit\":", out);
+  json_reactions(out, col->reactions_limit);
   fputs(",\"hinges\":", out);
   json_hinges(out, r, col->hinges, col->n_hinges, 0);
   fputc('}', out);
@@ -136,11 +154,13 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   vs_json_string(out, vs_run_pattern_initial(r));
   fputs(",\"hinge_sides_collapse\":", out);
   vs_json_string(out, vs_run_pattern_collapse(r));
-  fprintf(out, ",\"last_delta_mm\":%.10g,\"last_time_s\":%.10g,\"hinges\":",
+  fprintf(out, ",\"last_delta_mm\":%.10g,\"last_time_s\":%.10g,\"reactions_last\":",
           vs_run_delta(r) / VS_MM, vs_run_time(r));
+  json_reactions(out, vs_run_reactions(r));
+  fputs(",\"hinges\":", out);
   vs_hinge all[64];
   int n = 0;
-  for (int i = 0; i < vs_run_hinge_count(r) && n < 64; i++) all[n++] = *vs_hinges_get(h, i);
+  for (int i = 0; i < vs_run_hinge_count(r) && n < 64; i++) all[n++] = *vs_run_hinge(r, i);
   json_hinges(out, r, all, n, 1);
   fprintf(out, ",\"hinges_in_fall\":%d", vs_hinges_count(h) - vs_run_hinge_count(r));
   const vs_dyn_result *d = vs_run_dynamic_totals(r);
@@ -155,12 +175,19 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
           c->voussoirs, c->damping, c->rate_mm_s, c->rtol, c->atol_mm);
   const vs_path_result *p = vs_run_path_totals(r);
   fprintf(out,
-          ",\"stats\":{\"steps\":%ld,\"rejected_steps\":%ld,\"newton_iterations\":%ld,"
+          ",\"stats\":{\"steps\":%ld,\"rejected_steps\":%ld,\"located_equilibria\":%ld,"
+          "\"newton_iterations\":%ld,"
           "\"jacobian_evaluations\":%ld,\"max_residual\":%.3g,\"floor_limited\":%ld,"
           "\"dynamic_steps\":%ld,\"dynamic_newton_iterations\":%ld,\"root_events\":%ld,"
-          "\"wall_s\":%.6g}}\n",
-          p->steps, p->rejected, p->newton_iterations, p->jacobian_evals, p->max_residual,
-          p->floor_limited, d->steps, d->newton_iterations, d->root_events, vs_run_wall_s(r));
+          "\"constraint_drift_m\":%.3g,\"dae\":",
+          p->steps, p->rejected, p->located, p->newton_iterations, p->jacobian_evals, p->max_residual,
+          p->floor_limited, d->steps, d->newton_iterations, d->root_events, d->max_drift);
+  if (d->dae_index > 0) /* null when no dynamic phase ran */
+    fprintf(out, "{\"differential\":%d,\"algebraic\":%d,\"index\":%d}", d->dae_differential,
+            d->dae_algebraic, d->dae_index);
+  else
+    fputs("null", out);
+  fprintf(out, ",\"wall_s\":%.6g}}\n", vs_run_wall_s(r));
 }
 
 static void text_header(FILE *out, const vs_run *r, const char *case_path) {
@@ -209,9 +236,10 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
             p->delta_limit / VS_MM, dz, dx);
     fprintf(out,
             "  confirmed: no equilibrium at %.4f mm; smallest tangent eigenvalue %.3g N/m "
-            "(%.3g N/m after self-weight),\n  extrapolated to zero at %.4f mm; det K %s 0 on the path\n",
+            "(%.3g N/m after self-weight),\n  extrapolated to zero at %.4f mm; tangent positive "
+            "definite on the path (Cholesky of its symmetric part)\n",
             p->delta_fail / VS_MM, p->evidence.lambda_last, p->evidence.lambda_start,
-            p->evidence.delta_extrap / VS_MM, p->evidence.det_sign > 0 ? ">" : "<=");
+            p->evidence.delta_extrap / VS_MM);
   }
   if (vs_run_limit_count(r) > 0) {
     fprintf(out, "\nlimit points\n");
@@ -231,9 +259,18 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
     components_pct(c, col->delta, &dz, &dx);
     fprintf(out, "\nCOLLAPSE  delta_u = %.4f mm   dz/L = %.3f %%   dx/L = %.3f %%   at t = %.2f s\n",
             col->delta / VS_MM, dz, dx, col->t);
+    fprintf(out, "  departure from the last stable equilibrium (%s); detected (kinetic energy past "
+                 "the collapse threshold) at %.4f mm, t = %.2f s\n",
+            c->full ? "the kinetic energy's last rise through the rest level" : "the collapsing limit point",
+            col->delta_detected / VS_MM, col->t_criterion);
     const char *mode = vs_run_mode(r);
     fprintf(out, "  hinges at collapse (left to right): %s;  first three: %s;  mode %s\n",
             vs_run_pattern_collapse(r), vs_run_pattern_initial(r), mode ? mode : "unclassified");
+    const double *rc = col->reactions_limit;
+    if (isfinite(rc[0]))
+      fprintf(out, "  reactions on the arch at the collapsing limit point: left Fx %.3f N, Fz %.3f N, "
+                   "M %.4f N m; right Fx %.3f N, Fz %.3f N, M %.4f N m\n",
+              rc[0], rc[1], rc[2], rc[3], rc[4], rc[5]);
     fprintf(out, "  label  joints          onset delta   onset time    dz/L     dx/L\n");
     for (int i = 0; i < col->n_hinges; i++) text_hinge_row(out, c, &col->hinges[i], 0);
   } else if (status == VS_OK && (c->follow || c->full)) {
@@ -248,7 +285,7 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
   fprintf(out, "  label  joints          onset delta   onset time    dz/L     dx/L\n");
   int spread = 0;
   for (int i = 0; i < vs_run_hinge_count(r); i++) {
-    const vs_hinge *hg = vs_hinges_get(h, i);
+    const vs_hinge *hg = vs_run_hinge(r, i);
     text_hinge_row(out, c, hg, 1);
     spread |= (hg->last > hg->first) || (hg->onset_last > hg->onset_first);
   }
@@ -261,13 +298,16 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
                  "each slightly open\n");
   const vs_path_result *t = vs_run_path_totals(r);
   const vs_dyn_result *d = vs_run_dynamic_totals(r);
-  fprintf(out, "\nstats    quasi-static: %ld equilibria (%ld rejected increments), %ld Newton iterations, "
-               "largest residual %.2g x voussoir weight\n",
-          t->steps, t->rejected, t->newton_iterations, t->max_residual);
+  fprintf(out, "\nstats    quasi-static: %ld equilibria (%ld rejected increments) + %ld locating hinge "
+               "onsets, %ld Newton iterations, largest residual %.2g x voussoir weight\n",
+          t->steps, t->rejected, t->located, t->newton_iterations, t->max_residual);
   if (d->steps > 0)
     fprintf(out, "         dynamic: %ld IDA steps, %ld Newton iterations, %ld root events, "
-                 "energy balance %.2g (relative; %.2g in the fall)\n",
+                 "energy balance %.2g (relative; %.2g in the fall)\n"
+                 "         DAE of index %d: %d differential, %d algebraic unknowns; "
+                 "constraint drift %.2g m\n",
             d->steps, d->newton_iterations, d->root_events, d->balance_error_rel,
-            d->balance_error_fall);
+            d->balance_error_fall, d->dae_index, d->dae_differential, d->dae_algebraic,
+            d->max_drift);
   fprintf(out, "         wall time %.3f s\n", vs_run_wall_s(r));
 }

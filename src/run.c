@@ -30,6 +30,8 @@ struct vs_run {
   vs_joint_state *js;
   double delta, t, wall_s;
   vs_phase phase;
+  double react[6];    /* reactions at the last recorded state (vs_run_sample.reactions) */
+  double react_eq[6]; /* ... at the last equilibrium of the quasi-static path (NaN: none) */
   vs_limit_record *limits;
   int n_limits, cap_limits;
   vs_run_event *events;
@@ -38,6 +40,7 @@ struct vs_run {
   vs_hinge onset[8];     /* open hinges early in the current motion (collapse candidates) */
   int n_onset, onset_taken, frozen;
   int hinges_at_onset; /* hinges formed up to the snapshot of the collapse's onset */
+  vs_hinge onset_all[64]; /* all of them as they were then (joints, open) */
   int pending_snap;    /* limit record waiting for the equilibrium its snap settled in, or -1 */
   const vs_path_result *live_path; /* the segment or phase under way (its counters so far) */
   const vs_dyn_result *live_dyn;
@@ -77,6 +80,7 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
   vs_run *r = calloc(1, sizeof *r);
   if (r == NULL) return vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
   r->c = *c;
+  for (int i = 0; i < 6; i++) r->react[i] = r->react_eq[i] = NAN;
   vs_status st = vs_imperfections_draw(c, &r->imp, err);
   if (st == VS_OK) st = vs_imperfections_arch(c, r->imp, &r->g, err);
   if (st == VS_OK) {
@@ -227,7 +231,10 @@ static int on_equilibrium(void *user, double delta, const double *q, const vs_mo
     vs_run_open_hinges(r, l->hinges_after, sizeof l->hinges_after);
     if (log_event(r, VS_EVENT_SNAP_SETTLED, r->t, delta, 0, 0, 0, 0) != 0) return 1;
   }
-  vs_run_sample s = {.phase = VS_PHASE_QUASISTATIC, .t = r->t, .delta = delta, .q = q};
+  vs_model_support_reactions(r->m, q, delta, r->react);
+  memcpy(r->react_eq, r->react, sizeof r->react);
+  vs_run_sample s = {.phase = VS_PHASE_QUASISTATIC, .t = r->t, .delta = delta, .q = q,
+                     .reactions = r->react};
   fill_counters(r, &s);
   return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
 }
@@ -241,6 +248,8 @@ static const double VS_ONSET_FRACTION = 0.01;
 static void snapshot_onset(vs_run *r) {
   r->n_onset = 0;
   r->hinges_at_onset = vs_hinges_count(r->h);
+  if (r->hinges_at_onset > 64) r->hinges_at_onset = 64;
+  for (int i = 0; i < r->hinges_at_onset; i++) r->onset_all[i] = *vs_hinges_get(r->h, i);
   for (int i = 0; i < vs_hinges_count(r->h) && r->n_onset < 8; i++)
     if (vs_hinges_get(r->h, i)->open) r->onset[r->n_onset++] = *vs_hinges_get(r->h, i);
 }
@@ -259,7 +268,9 @@ static int on_dyn_sample(void *user, double t, double delta, const double *q, co
     snapshot_onset(r);
     r->onset_taken = 1;
   }
-  vs_run_sample s = {.phase = VS_PHASE_DYNAMIC, .t = t, .delta = delta, .q = q, .v = v, .energy = e};
+  vs_dynamic_reactions(r->dyn, r->react);
+  vs_run_sample s = {.phase = VS_PHASE_DYNAMIC, .t = t, .delta = delta, .q = q, .v = v,
+                     .energy = e, .reactions = r->react};
   fill_counters(r, &s);
   return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
 }
@@ -291,6 +302,7 @@ static void add_path_totals(vs_run *r, const vs_path_result *p) {
   }
   r->totals.steps += p->steps;
   r->totals.rejected += p->rejected;
+  r->totals.located += p->located;
   r->totals.newton_iterations += p->newton_iterations;
   r->totals.jacobian_evals += p->jacobian_evals;
   r->totals.floor_limited += p->floor_limited;
@@ -309,6 +321,10 @@ static void add_dyn_totals(vs_run *r, const vs_dyn_result *d) {
   r->dtot.max_kinetic = fmax(r->dtot.max_kinetic, d->max_kinetic);
   r->dtot.balance_error_rel = fmax(r->dtot.balance_error_rel, d->balance_error_rel);
   r->dtot.balance_error_fall = fmax(r->dtot.balance_error_fall, d->balance_error_fall);
+  r->dtot.max_drift = fmax(r->dtot.max_drift, d->max_drift);
+  r->dtot.dae_differential = d->dae_differential;
+  r->dtot.dae_algebraic = d->dae_algebraic;
+  r->dtot.dae_index = d->dae_index;
   r->dtot.end = d->end;
   r->dtot.t_end = d->t_end;
   r->dtot.delta_end = d->delta_end;
@@ -334,13 +350,17 @@ static void record_collapse(vs_run *r, const vs_dyn_result *d) {
   vs_collapse_record *c = &r->collapse;
   c->found = 1;
   c->t_criterion = d->t_collapse;
-  c->t = d->t_collapse;
-  c->delta = c->t * r->dopts.rate;
+  c->delta_detected = d->t_collapse * r->dopts.rate;
   c->t_onset = (d->onset_found && d->t_motion <= d->t_collapse) ? d->t_motion : NAN;
+  /* the departure: the limit point the motion started from, or (--dynamic) its located onset */
+  c->delta = (!r->c.full && r->n_limits > 0) ? r->limits[r->n_limits - 1].delta
+                                             : c->t_onset * r->dopts.rate;
+  c->t = c->delta / r->dopts.rate;
   if (!r->onset_taken) snapshot_onset(r);
   c->n_hinges = r->n_onset;
   memcpy(c->hinges, r->onset, (size_t)r->n_onset * sizeof r->onset[0]);
   qsort(c->hinges, (size_t)c->n_hinges, sizeof c->hinges[0], cmp_hinge_first);
+  memcpy(c->reactions_limit, r->react_eq, sizeof r->react_eq);
 }
 
 /* Modes of DOMAIN.md from the first three hinges (A, B, C, left to right) and the hinges at the
@@ -429,6 +449,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
     st = vs_path_run(r->m, &sw, 0.0, r->q, on_equilibrium, r, &p, err);
     r->live_path = NULL;
     add_path_totals(r, &p);
+    for (int i = 0; i < 6; i++) r->react_eq[i] = NAN; /* no limit point to depart from */
     if (st == VS_OK) {
       r->dopts.settle = 0;
       vs_dynamic_destroy(&r->dyn);
@@ -448,6 +469,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
       if (st != VS_OK || p.end != VS_PATH_LIMIT_POINT) break;
       r->delta = p.delta_limit;
       r->t = r->delta / r->dopts.rate;
+      vs_model_support_reactions(r->m, r->q, r->delta, r->react_eq);
       if (add_limit(r, p.delta_limit) != 0) {
         st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
         break;
@@ -482,6 +504,11 @@ const vs_run_event *vs_run_event_get(const vs_run *r, int i) {
   return (i >= 0 && i < r->n_events) ? &r->events[i] : NULL;
 }
 const char *vs_run_mode(const vs_run *r) { return r->mode; }
+const vs_hinge *vs_run_hinge(const vs_run *r, int i) {
+  if (r->collapse.found && i < r->hinges_at_onset) return &r->onset_all[i];
+  return vs_hinges_get(r->h, i);
+}
+
 int vs_run_hinge_count(const vs_run *r) {
   return r->collapse.found ? r->hinges_at_onset : vs_hinges_count(r->h);
 }
@@ -490,4 +517,5 @@ const char *vs_run_pattern_collapse(const vs_run *r) { return r->pattern_u; }
 const double *vs_run_state(const vs_run *r) { return r->q; }
 double vs_run_delta(const vs_run *r) { return r->delta; }
 double vs_run_time(const vs_run *r) { return r->t; }
+const double *vs_run_reactions(const vs_run *r) { return r->react; }
 double vs_run_wall_s(const vs_run *r) { return r->wall_s; }

@@ -360,7 +360,7 @@ static long check_json_run(const char *extra, double alpha_deg, double kn, char 
   assert_true(n >= 1);
 
   span st = need(o, "stats");
-  const double steps = number(st, "steps");
+  const double steps = number(st, "steps") + number(st, "located_equilibria");
   assert_true(number(st, "newton_iterations") >= steps);
   assert_true(number(st, "wall_s") >= 0.0);
   assert_true(steps >= 2.0);
@@ -429,8 +429,8 @@ static void test_reference_json_csv(void **state) {
     expect_close(field(line, ct), d / 0.04, 1e-9, "time_s = delta_mm / rate");
     if (rows == 0) {
       assert_true(d == 0.0);
-      /* self-weight only: the supports carry the whole arch (forces of the arch on them) */
-      expect_close(field(line, cl) + field(line, cr), -weight_N(), 1e-6, "left + right Fz at 0");
+      /* self-weight only: the supports carry the whole arch (forces they exert on it) */
+      expect_close(field(line, cl) + field(line, cr), weight_N(), 1e-6, "left + right Fz at 0");
     }
     last = d;
     line = nl + 1;
@@ -455,6 +455,13 @@ static void test_collapse_json(void **state) {
   expect_close(number(col, "dz_over_L_pct"), 100.0 * du / L, 1e-8, "collapse dz_over_L_pct");
   expect_close(number(col, "dx_over_L_pct"), 0.0, 0.0, "collapse dx_over_L_pct");
   expect_close(number(col, "time_s"), du / 0.04, 1e-8, "collapse time_s = delta / rate");
+  /* the departure precedes the detection; the dynamic phase was a DAE of index 2 with the
+   * supports' 6 reactions and 6 velocity-constraint multipliers as algebraic unknowns */
+  assert_true(number(col, "delta_detected_mm") > du);
+  span dae = need(need(o, "stats"), "dae");
+  expect_close(number(dae, "index"), 2.0, 0.0, "stats.dae.index");
+  expect_close(number(dae, "algebraic"), 12.0, 0.0, "stats.dae.algebraic");
+  assert_true(number(dae, "differential") > 12.0);
   span ch = need(col, "hinges");
   assert_true(*ch.b == '[');
   int nh = 0;

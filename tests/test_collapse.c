@@ -58,6 +58,54 @@ static void test_time_tolerances(void **s) {
   if (fabs(a - b) > 0.005 * b) fail_msg("collapse %.4f mm, tightened %.4f mm", a, b);
 }
 
+/* delta_u is the departure, not the detection: the collapsing limit point, located to
+ * limit_tol_mm (1e-3 mm). Neither the collapse criterion (collapse_ke 0.01 -> 1: a hundredfold)
+ * nor the path's largest step (step_max_mm 2 -> 0.1) moves it by more than 0.005 mm, while the
+ * detection itself moves with the criterion. The hinge onsets, located on the path to
+ * limit_tol_mm, move by at most 0.005 mm with the step and keep their joints. */
+static void test_departure_not_detection(void **s) {
+  (void)s;
+  vs_case c;
+  vs_case_defaults(&c);
+  double du[4], det[4];
+  vs_hinge hs[2][8];
+  int nh[2] = {0, 0};
+  const double cke[4] = {0.01, 1.0, 0.1, 0.1}, smax[4] = {2.0, 2.0, 2.0, 0.1};
+  for (int i = 0; i < 4; i++) {
+    c.collapse_ke = cke[i];
+    c.step_max_mm = smax[i];
+    c.step_mm = fmin(c.step_mm, c.step_max_mm);
+    vs_run *r = run_case(&c);
+    du[i] = vs_run_collapse(r)->delta * 1e3;
+    det[i] = vs_run_collapse(r)->delta_detected * 1e3;
+    print_message("collapse_ke %g, step_max_mm %g: delta_u %.5f mm, detected at %.5f mm\n",
+                  cke[i], smax[i], du[i], det[i]);
+    assert_true(det[i] > du[i]);
+    if (i >= 2) {
+      nh[i - 2] = vs_run_hinge_count(r) < 8 ? vs_run_hinge_count(r) : 8;
+      for (int k = 0; k < nh[i - 2]; k++) hs[i - 2][k] = *vs_run_hinge(r, k);
+    }
+    vs_run_destroy(&r);
+  }
+  assert_int_equal(nh[0], nh[1]);
+  assert_true(nh[0] >= 4);
+  for (int k = 0; k < nh[0]; k++) {
+    const vs_hinge *p = &hs[0][k], *q = &hs[1][k];
+    print_message("hinge %c: onset %.5f / %.5f mm at joints %d-%d / %d-%d (step_max_mm 2 / 0.1)\n",
+                  p->label, p->delta_onset * 1e3, q->delta_onset * 1e3, p->onset_first,
+                  p->onset_last, q->onset_first, q->onset_last);
+    assert_int_equal(p->label, q->label);
+    assert_int_equal(p->side, q->side);
+    assert_int_equal(p->onset_first, q->onset_first);
+    assert_int_equal(p->onset_last, q->onset_last);
+    assert_true(fabs(p->delta_onset - q->delta_onset) <= 0.005e-3);
+  }
+  if (fabs(du[0] - du[1]) > 0.005 || fabs(du[2] - du[3]) > 0.005)
+    fail_msg("delta_u moved: %.5f / %.5f mm (collapse_ke), %.5f / %.5f mm (step_max_mm)", du[0],
+             du[1], du[2], du[3]);
+  assert_true(det[1] - det[0] > 0.005); /* the detection does move with the criterion */
+}
+
 /* The energy balance holds through snaps and the collapse (until the fall, integrated loosely
  * for the record), at the level of the integrator's tolerance. */
 static void test_energy_balance(void **s) {
@@ -100,6 +148,19 @@ static void test_settlement_mode_I(void **s) {
   assert_true(l0->delta_settled > l0->delta);
   assert_true(vs_run_limit(r, vs_run_limit_count(r) - 1)->collapse);
   assert_true(col->delta >= vs_run_limit(r, vs_run_limit_count(r) - 1)->delta);
+  /* the reported hinges are those at the collapse's onset, not at the end of the fall: the four
+   * of the mechanism, all open, each over a few joints, and the same as the collapse record's */
+  assert_int_equal(vs_run_hinge_count(r), 4);
+  for (int i = 0; i < vs_run_hinge_count(r); i++) {
+    const vs_hinge *h = vs_run_hinge(r, i);
+    assert_true(h->open);
+    assert_true(h->last - h->first <= 5);
+    int same = 0;
+    for (int k = 0; k < col->n_hinges; k++)
+      same |= col->hinges[k].label == h->label && col->hinges[k].first == h->first &&
+              col->hinges[k].last == h->last;
+    assert_true(same);
+  }
   vs_run_destroy(&r);
 }
 
@@ -124,6 +185,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_slow_dynamic_equals_quasistatic),
       cmocka_unit_test(test_time_tolerances),
+      cmocka_unit_test(test_departure_not_detection),
       cmocka_unit_test(test_energy_balance),
       cmocka_unit_test(test_settlement_mode_I),
       cmocka_unit_test(test_spreading_mode_III),

@@ -16,6 +16,7 @@
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include "voussoir/case.h"
+#include "voussoir/dynamic.h"
 #include "voussoir/geometry.h"
 #include "voussoir/joint.h"
 #include "voussoir/model.h"
@@ -452,12 +453,118 @@ static void test_residual_is_energy_gradient(void **state) {
   fixture_free(&fx);
 }
 
+/* The dynamic phase's DAE (dynamic.h): its iteration matrix dF/dy + cj dF/dy' against central
+ * differences of its residual, at a loaded chain state with the supports displaced off their
+ * prescribed positions (so that the constraint rows are not trivially satisfied), random
+ * multipliers and velocities, damping on. The matrix leaves out by design the energy
+ * integrals' dependence on the state and the damping forces' on the positions: the velocities
+ * are zero there (damping forces vanish) and the energy rows are checked on their diagonal. */
+static void test_dae_jacobian(void **state) {
+  (void)state;
+  SUNContext ctx = NULL;
+  assert_int_equal(SUNContext_Create(NULL, &ctx), 0);
+  fixture fx;
+  fixture_init(&fx, 60);
+  vs_model_set_damping(fx.m, 0.05);
+  rng r = {0x13198A2E03707344ULL};
+  const double delta = 0.02, rate = 1e-3, t = delta / rate, cj = 1e4;
+  double *q = malloc((size_t)fx.n * sizeof(double));
+  assert_non_null(q);
+  regime_count rc;
+  draw_state(&r, &fx, 1, delta, 0, q, &rc);
+  vs_dyn_opts o = {.rate = rate, .rtol = 1e-6, .atol_q = 1e-9, .open = 1e-5, .rest_ke = 1e-9,
+                   .rest_time = 1.0, .collapse_ke = 1.0, .fall_time = 1.0, .max_delta = 1.0,
+                   .sample_dt = 1.0, .settle = 0};
+  vs_dynamic *d = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  assert_int_equal(vs_dynamic_create(fx.m, &o, &d, &err), VS_OK);
+  const int N = vs_dynamic_size(d), n = fx.n;
+  int iv, il, imu, ie;
+  vs_dynamic_layout(d, &iv, &il, &imu, &ie);
+  assert_int_equal(iv, n + 6);
+  assert_int_equal(N, ie + 3);
+  double *y = calloc((size_t)N, sizeof(double)), *yp = calloc((size_t)N, sizeof(double));
+  double *rp = malloc((size_t)N * sizeof(double)), *rm = malloc((size_t)N * sizeof(double));
+  double *Jd = calloc((size_t)N * (size_t)N, sizeof(double));
+  assert_true(y && yp && rp && rm && Jd);
+  for (int i = 0; i < n; i++) y[i] = q[i];
+  double qs[6], vs[6];
+  vs_model_support_states(fx.m, delta, rate, qs, vs);
+  for (int c = 0; c < 6; c++) {
+    y[n + c] = qs[c] + urand(&r, -1e-7, 1e-7) / (c % 3 == 2 ? fx.t : 1.0);
+    y[il + c] = urand(&r, -100.0, 100.0);
+    y[imu + c] = urand(&r, -1e-6, 1e-6);
+  }
+  for (int i = 0; i < N; i++) yp[i] = urand(&r, -1e-3, 1e-3);
+  SUNMatrix J = SUNSparseMatrix(N, N, vs_dynamic_nnz(d), CSC_MAT, ctx);
+  assert_non_null(J);
+  vs_dynamic_jacobian(d, t, cj, y, J);
+  const sunindextype *cp = SUNSparseMatrix_IndexPointers(J), *ri = SUNSparseMatrix_IndexValues(J);
+  const double *jx = SUNSparseMatrix_Data(J);
+  for (int j = 0; j < N; j++)
+    for (sunindextype p = cp[j]; p < cp[j + 1]; p++) {
+      assert_true(ri[p] >= 0 && ri[p] < N);
+      if (p > cp[j]) assert_true(ri[p] > ri[p - 1]); /* sorted, no duplicates */
+      Jd[(size_t)j * (size_t)N + (size_t)ri[p]] += jx[p];
+    }
+  /* scales: rows of moments over a length, columns of rotations times a length */
+  double mx = 0.0;
+  int bad = 0, checked = 0;
+  for (int j = 0; j < N; j++) {
+    const double h = (j < 2 * iv && (j % iv) % 3 == 2) ? HU / fx.t : (j >= il && j < ie) ? 1e-3 : HU;
+    const double y0 = y[j], p0 = yp[j];
+    y[j] = y0 + h;
+    vs_dynamic_residual(d, t, y, yp, rp);
+    y[j] = y0 - h;
+    vs_dynamic_residual(d, t, y, yp, rm);
+    y[j] = y0;
+    double *fd = malloc((size_t)N * sizeof(double));
+    assert_non_null(fd);
+    for (int i = 0; i < N; i++) fd[i] = (rp[i] - rm[i]) / (2 * h);
+    yp[j] = p0 + 1.0; /* F is linear in y': a unit step has no truncation error */
+    vs_dynamic_residual(d, t, y, yp, rp);
+    yp[j] = p0 - 1.0;
+    vs_dynamic_residual(d, t, y, yp, rm);
+    yp[j] = p0;
+    for (int i = 0; i < N; i++) fd[i] += cj * (rp[i] - rm[i]) / 2.0;
+    const double cs = (j < 2 * iv && (j % iv) % 3 == 2) ? fx.t : 1.0;
+    for (int i = 0; i < N; i++) {
+      if (i >= ie && i != j) continue; /* the energy rows: diagonal only (see above) */
+      const double rs = (i >= iv && i < 2 * iv && (i % iv) % 3 == 2) ? 1.0 / fx.t : 1.0;
+      const double an = Jd[(size_t)j * (size_t)N + (size_t)i] * rs * cs, dv = fd[i] * rs * cs;
+      mx = fmax(mx, fabs(dv));
+      checked++;
+      if (!(fabs(an - dv) <= 1e-6 * fabs(dv) + 1e-8 * 1e7)) { /* 1e7 N/m: k_n b t */
+        if (bad++ < 10) print_message("DAE J[%d][%d]: analytic %.12g, differences %.12g\n", i, j,
+                                      an / (rs * cs), dv / (rs * cs));
+      }
+    }
+    free(fd);
+  }
+  print_message("DAE Jacobian: N = %d (%d algebraic), %d entries checked, largest %.3g, %d bad\n",
+                N, ie - il, checked, mx, bad);
+  assert_true(mx > 1e5);
+  assert_int_equal(bad, 0);
+  SUNMatDestroy(J);
+  vs_dynamic_destroy(&d);
+  free(y);
+  free(yp);
+  free(rp);
+  free(rm);
+  free(Jd);
+  free(q);
+  fixture_free(&fx);
+  SUNContext_Free(&ctx);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_support_displacement),
       cmocka_unit_test(test_jacobian_random_states),
       cmocka_unit_test(test_jacobian_after_commit),
       cmocka_unit_test(test_residual_is_energy_gradient),
+      cmocka_unit_test(test_dae_jacobian),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,5 +1,7 @@
-/* Dynamic phase: the equations of motion of the blocks integrated by IDA (BDF, KLU on the
- * analytic sparse Jacobian dF/dy + cj dF/dy'), with the right support still moving at its rate,
+/* Dynamic phase: the arch and its two springers as a semi-explicit index-2 DAE (the supports
+ * driven by constraints, their reactions the Lagrange multipliers; see dynamic.c) integrated
+ * by IDA (BDF, KLU on the analytic sparse Jacobian dF/dy + cj dF/dy'), with the right support
+ * still moving at its rate,
  * root finding on the joints' edge openings and on the collapse criterion, and an energy
  * balance. SI units; time t is the loading time, delta(t) = rate t. */
 #ifndef VOUSSOIR_DYNAMIC_H
@@ -52,16 +54,21 @@ typedef struct {
 typedef struct {
   vs_dyn_end end;
   double t_end, delta_end;     /* where it stopped */
-  double t_motion, delta_motion; /* onset of the last motion: the last time the kinetic
-                                    energy rose above rest_ke before the end */
-  int onset_found;             /* 0 if it never rose above rest_ke from below (fast loading:
-                                  the arch never was at rest) */
+  double t_motion, delta_motion; /* departure of the last motion: the last instant before the
+                                    collapse criterion (or the end) at which the kinetic energy
+                                    rose through rest_ke, located as an IDA root */
+  int onset_found;             /* 0 if it never rose through rest_ke (fast loading: the arch
+                                  never was at rest) */
   double t_collapse;           /* when the collapse criterion fired (NaN if not) */
   double max_kinetic;          /* J */
   double balance_error_rel;    /* max |balance| / max(|energy terms|) up to the collapse
                                   criterion (or the end) */
   double balance_error_fall;   /* the same during the fall after it (looser tolerances) */
   long steps, newton_iterations, root_events, jac_evals;
+  int dae_differential;        /* components of y that are differential (q, v, energy integrals) */
+  int dae_algebraic;           /* ... and algebraic (lambda, mu); the DAE has index 2 */
+  int dae_index;
+  double max_drift;            /* max |g(q, t)| over the accepted steps (m; rad for rotations) */
 } vs_dyn_result;
 
 /* Called at samples (at most every sample_dt, at each event, at the start and at the end);
@@ -82,5 +89,25 @@ void vs_dynamic_destroy(vs_dynamic **d);
  * at t0. Errors: VS_ERR_SOLVER with IDA's cause. */
 vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_sample_fn sample,
                          vs_dyn_event_fn event, void *user, vs_dyn_result *res, vs_error *err);
+
+/* The DAE as IDA sees it, for checks: the length N of y, y = (q, v, lambda, mu, W, D, Df) with
+ * q, v over the blocks then the left and right support bodies (3 n_blocks + 6 each; offsets
+ * of v, lambda, mu and the energy integrals in *iv, *il, *imu, *ie); the residual F(t, y, y')
+ * into r (N entries) and the iteration matrix dF/dy + cj dF/dy' into J (CSC, N x N, capacity
+ * vs_dynamic_nnz). The matrix leaves out the energy integrals' dependence on the state and the
+ * damping forces' dependence on the positions (IDA's Newton is a modified Newton). */
+int vs_dynamic_size(const vs_dynamic *d);
+int vs_dynamic_nnz(const vs_dynamic *d);
+void vs_dynamic_layout(const vs_dynamic *d, int *iv, int *il, int *imu, int *ie);
+void vs_dynamic_residual(vs_dynamic *d, double t, double *y, double *yp, double *r);
+void vs_dynamic_jacobian(vs_dynamic *d, double t, double cj, double *y, SUNMatrix J);
+
+/* The Lagrange multipliers lambda at the current state of d (after vs_dynamic_run or inside its
+ * callbacks): per support (left, right) the force (Fx, Fz, N) and moment (about the support
+ * body's reference point, the centre of its joint with the arch, N m, counter-clockwise) that
+ * the support exerts on the arch. */
+void vs_dynamic_reactions(const vs_dynamic *d, double out[6]);
+/* The blocks' accelerations v' at the current state of d (3 n_blocks). */
+void vs_dynamic_accelerations(const vs_dynamic *d, double *a);
 
 #endif

@@ -72,6 +72,11 @@ const double *vs_model_slips(const vs_model *m);
 void vs_model_reactions(const vs_model *m, const double *q, double delta, double left[2],
                         double right[2]);
 
+/* Forces and moments the supports exert on the arch at an equilibrium (q, delta): left (Fx, Fz
+ * in N, M in N m counter-clockwise about the centre of the springing joint), then right. The
+ * quasi-static phase's reactions; in the dynamic phase they are the multipliers lambda
+ * (vs_dynamic_reactions), which add the joints' damping forces. */
+void vs_model_support_reactions(const vs_model *m, const double *q, double delta, double out[6]);
 /* Total potential energy: joint elastic energy minus the work of gravity, J. */
 double vs_model_energy(const vs_model *m, const double *q, double delta);
 
@@ -121,5 +126,36 @@ double vs_model_support_force(const vs_model *m, const double *q, double delta);
  * reference configuration). */
 void vs_model_energies(const vs_model *m, const double *q, double delta, double *elastic,
                        double *gravity);
+
+/* --- driven supports (the dynamic phase's semi-explicit DAE) ---
+ * The two springers as bodies: the extended state qe has vs_model_ext_size = 3 n_blocks + 6
+ * entries, the blocks' (as q) followed by the left and the right support's (ux, uz, theta) (m,
+ * rad) of its reference point, the centre of its joint with the arch (a support's rotation
+ * turns it about that point). The ext functions evaluate the joints at the supports' states
+ * taken from qe instead of prescribed by delta; forces and matrices cover all 3 n_blocks + 6
+ * unknowns (gravity acts on the blocks only). */
+int vs_model_ext_size(const vs_model *m);
+int vs_model_ext_nnz(const vs_model *m);
+/* Supports' states (qs: left (ux, uz, theta), right) prescribed by delta and their velocities
+ * (vs) at the support speed rate (m/s): left fixed, right moving along alpha, no rotation. */
+void vs_model_support_states(const vs_model *m, double delta, double rate, double qs[6],
+                             double vs[6]);
+/* Mass diagonal over qe: the blocks' (vs_model_mass), then each support body with the mean
+ * voussoir's mass and inertia. Driven at constant speed, a support has no acceleration, so its
+ * mass only keeps the equations of motion regular; it does not enter the reactions. */
+void vs_model_ext_mass(const vs_model *m, double *mdiag);
+/* Ge = dE/dqe (joint forces minus the load) over qe; the supports' rows are the joint forces'
+ * gradients with respect to the supports' coordinates. */
+void vs_model_ext_residual(const vs_model *m, const double *qe, double *Ge);
+/* dGe/dqe (CSC, its own pattern of vs_model_ext_nnz entries, written too). */
+void vs_model_ext_jacobian(const vs_model *m, const double *qe, SUNMatrix J);
+/* Damping forces over qe at velocities ve (3 n_blocks + 6), dissipated power and dfd/dve (any
+ * output may be NULL). */
+void vs_model_ext_damping(const vs_model *m, const double *qe, const double *ve, double *fd,
+                          double *dissipated, SUNMatrix C);
+double vs_model_ext_friction_power(const vs_model *m, const double *qe, const double *ve);
+void vs_model_ext_joint_states(const vs_model *m, const double *qe, vs_joint_state *st);
+int vs_model_ext_commit(vs_model *m, const double *qe);
+void vs_model_ext_energies(const vs_model *m, const double *qe, double *elastic, double *gravity);
 
 #endif

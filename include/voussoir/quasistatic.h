@@ -15,6 +15,10 @@ typedef struct {
   double max_delta;  /* stop when delta reaches this, m */
   double newton_tol; /* scaled residual tolerance (residual / typical force) */
   int newton_maxiter;
+  double open;       /* edge opening of a hinge (m): every joint edge crossing it within an
+                        increment is located on the path by bisection, re-solving equilibria,
+                        to limit_tol, and the equilibria on both sides are passed to the
+                        callback; 0: no location */
 } vs_path_opts;
 
 /* Options from a case (mm -> m). */
@@ -40,6 +44,7 @@ typedef struct {
   vs_limit_evidence evidence;
   long steps;            /* accepted increments (self-weight included) */
   long rejected;         /* rejected increments (bisection) */
+  long located;          /* equilibria added on the path to locate hinge onsets (open) */
   long newton_iterations;/* all Newton iterations, accepted or not */
   long jacobian_evals;
   long floor_limited;    /* equilibria whose residual stalled at the round-off floor, above

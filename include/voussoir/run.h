@@ -23,6 +23,10 @@ typedef struct {
   double t, delta;         /* loading time (delta / rate), s; support displacement, m */
   const double *q, *v;     /* state (v is NULL on the quasi-static path: at rest) */
   const vs_energy *energy; /* NULL on the quasi-static path */
+  const double *reactions; /* forces the supports exert on the arch: left (Fx, Fz N, M N m about
+                              the springing joint's centre, counter-clockwise), right; from the
+                              joint forces on the quasi-static path, the multipliers lambda in
+                              the dynamic phase */
   long newton_iterations;  /* solver statistics so far, cumulative over the run: KINSOL Newton */
   long ida_steps, ida_newton_iterations; /* iterations; IDA steps and Newton iterations */
 } vs_run_sample;
@@ -56,14 +60,21 @@ typedef struct {
 
 typedef struct {
   int found;
-  double delta;        /* collapse displacement delta_u: the support's displacement when the
-                          kinetic energy passed the collapse threshold (the arch is falling), m */
+  double delta;        /* collapse displacement delta_u: where the arch departs from its last
+                          stable equilibrium. On the quasi-static path, the collapsing limit
+                          point (located to limit_tol_mm); with --dynamic, the last instant
+                          before the detection at which the kinetic energy rose through the
+                          rest level (an IDA root; NaN if the arch was never at rest), m */
   double t;            /* its time, s */
-  double t_criterion;  /* the same time (kept for the record), s */
+  double t_criterion;  /* the detection: when the kinetic energy passed the collapse threshold
+                          (the arch is falling), s */
+  double delta_detected; /* the support displacement then, m */
   double t_onset;      /* when the final motion began (the kinetic energy last rose above the
                           rest threshold), s; NaN where the arch was never at rest (fast loading) */
   int n_hinges;        /* hinges open at the criterion */
   vs_hinge hinges[8];  /* their copies, left to right */
+  double reactions_limit[6]; /* forces the supports exert on the arch at the collapsing limit
+                                point (as vs_run_sample.reactions); NaN without one (--dynamic) */
 } vs_collapse_record;
 
 /* Called for every recorded state and every event (either may be NULL). Non-zero stops. */
@@ -102,6 +113,10 @@ const vs_dyn_result *vs_run_dynamic_totals(const vs_run *r);
 /* Hinges to report: all of them, or after a collapse those formed up to its onset (the falling
  * arch opens joints everywhere; they stay in the event log). */
 int vs_run_hinge_count(const vs_run *r);
+/* Hinge i (0-based, in order of appearance) as reported: after a collapse, as it was at the
+ * collapse's onset (its joints and whether it was open then), not at the end of the fall; beyond
+ * vs_run_hinge_count (hinges of the fall) and without a collapse, the tracker's current state. */
+const vs_hinge *vs_run_hinge(const vs_run *r, int i);
 
 /* Logged events in order. */
 int vs_run_event_count(const vs_run *r);
@@ -117,6 +132,8 @@ const char *vs_run_pattern_collapse(const vs_run *r);
 const double *vs_run_state(const vs_run *r);
 double vs_run_delta(const vs_run *r);
 double vs_run_time(const vs_run *r);
+/* Forces the supports exert on the arch at the last recorded state (as vs_run_sample.reactions). */
+const double *vs_run_reactions(const vs_run *r);
 /* Wall-clock time of vs_run_execute, s. */
 double vs_run_wall_s(const vs_run *r);
 
