@@ -85,8 +85,14 @@ static void constraints(const vs_dynamic *d, double t, const double *q, const do
   }
 }
 
+static int stopped(const vs_dynamic *d) { return d->o.stop != NULL && *d->o.stop; }
+
+void vs_dynamic_set_stop(vs_dynamic *d, const volatile sig_atomic_t *stop) { d->o.stop = stop; }
+
+/* A raised stop flag is fatal (-1): IDA returns at once. */
 static int res_fn(double t, N_Vector yy, N_Vector yp, N_Vector rr, void *user) {
   vs_dynamic *d = user;
+  if (stopped(d)) return -1;
   const int n = d->n, ne = d->ne;
   const double *y = N_VGetArrayPointer(yy), *ydot = N_VGetArrayPointer(yp);
   double *r = N_VGetArrayPointer(rr);
@@ -131,6 +137,7 @@ static int jac_fn(double t, double cj, N_Vector yy, N_Vector yp, N_Vector rr, SU
   (void)rr;
   (void)t1;
   (void)t2;
+  if (stopped(user)) return -1;
   (void)t3;
   vs_dynamic *d = user;
   const int n = d->n, ne = d->ne;
@@ -427,6 +434,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     return VS_OK;
   }
   flag = IDACalcIC(d->ida, IDA_YA_YDP_INIT, t0 + 1e-6 * (t_end - t0));
+  if (flag != IDA_SUCCESS && stopped(d)) return vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
   if (flag != IDA_SUCCESS)
     return vs_error_set(err, VS_ERR_SOLVER, "IDACalcIC failed (flag %d): %s", flag, d->msg);
   IDAGetConsistentIC(d->ida, d->y, d->yp);
@@ -444,8 +452,22 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   t_last_sample = t0;
   res->t_motion = t0;
   res->delta_motion = delta_at(d, t0);
-  for (;;) {
+  for (long step = 0;; step++) {
+    if (stopped(d)) {
+      st = vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
+      break;
+    }
+    if (step >= VS_DYN_MAX_STEPS) {
+      st = vs_error_set(err, VS_ERR_SOLVER, "IDA took %ld steps (the limit) and reached t = %.6g s "
+                        "(delta = %.6g mm) of %.6g s", VS_DYN_MAX_STEPS, t, delta_at(d, t) * 1e3,
+                        t_stop);
+      break;
+    }
     flag = IDASolve(d->ida, t_stop, &t, d->y, d->yp, IDA_ONE_STEP);
+    if (flag < 0 && stopped(d)) {
+      st = vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
+      break;
+    }
     if (flag < 0) {
       st = vs_error_set(err, VS_ERR_SOLVER, "IDA failed at t = %.6g s (delta = %.6g mm): %s", t,
                         delta_at(d, t) * 1e3, d->msg[0] ? d->msg : "unknown cause");

@@ -1,14 +1,17 @@
 /* voussoir command line: create -> configure -> run -> report -> destroy. */
 #define _POSIX_C_SOURCE 200809L /* readlink, isatty */
 #include <errno.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "voussoir/case.h"
 #include "voussoir/montecarlo.h"
+#include "voussoir/outpath.h"
 #include "voussoir/output.h"
 #include "voussoir/report.h"
 #include "voussoir/run.h"
@@ -20,12 +23,14 @@ int vs_cmd_plot(int argc, char **argv); /* plot_cmd.c */
 
 enum { EXIT_RUN_FAILED = 1, EXIT_BAD_INPUT = 2, EXIT_INTERRUPTED = 130 };
 
-/* Set by SIGINT/SIGTERM; the run stops at its next recorded state and the outputs are closed
- * with the status "failed: interrupted". */
+/* Set by SIGINT/SIGTERM (the handler is installed first thing in main); the solve under way
+ * stops at its next residual evaluation and the outputs are closed with the status "failed:
+ * interrupted". The one piece of process state: a signal handler can only reach a global. */
 static volatile sig_atomic_t g_interrupted = 0;
+static volatile sig_atomic_t g_signal = 0;
 
 static void on_signal(int sig) {
-  (void)sig;
+  g_signal = sig;
   g_interrupted = 1;
 }
 
@@ -36,6 +41,14 @@ static void catch_signals(void) {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, NULL);
   sigaction(SIGTERM, &sa, NULL);
+}
+
+/* For the commands that do not watch g_interrupted: the default disposition back, and a signal
+ * that came meanwhile delivered again (it then ends the process as it would have). */
+static void release_signals(void) {
+  signal(SIGINT, SIG_DFL);
+  signal(SIGTERM, SIG_DFL);
+  if (g_interrupted) raise(g_signal != 0 ? (int)g_signal : SIGINT);
 }
 
 static const char *USAGE =
@@ -71,7 +84,8 @@ static const char *USAGE =
     "  --version              program version\n"
     "\n"
     "CASE is an INI file (runs/reference.ini is the reference specimen). Units: mm, N/mm^3, deg.\n"
-    "exit status: 0 ok, 1 the run failed (solver; the cause is printed), 2 bad input,\n"
+    "exit status: 0 ok, 1 the run failed (solver, full disk; the cause is printed), 2 bad input\n"
+    "(also an output that is not a regular file, is the case file, or another run is writing),\n"
     "130 interrupted (SIGINT/SIGTERM: the record is closed with status 'failed: interrupted').\n";
 
 typedef struct {
@@ -132,51 +146,59 @@ static void default_record_path(const char *case_path, char *buf, size_t size) {
   snprintf(buf, size, "%.*s.h5", n, base);
 }
 
-static int cmd_run(int argc, char **argv) {
-  const char *case_path = NULL, *out_path = NULL, *csv_path = NULL;
-  int json = 0, quiet = 0, record = 1, rc = EXIT_BAD_INPUT;
-  char *case_text = NULL, default_path[1024];
-  vs_case c;
-  vs_error err;
-  vs_run *run = NULL;
-  cli_sink sink = {0};
-  vs_error_clear(&err);
-  vs_case_defaults(&c);
-  /* the case file first, then the overrides in the order given */
+typedef struct {
+  const char *case_path, *out_path, *csv_path; /* out_path NULL: no record */
+  int json, quiet, record;
+  char default_path[1024];
+} run_args;
+
+/* The command line of `run` (the overrides are applied later, in order). 0 or an exit status. */
+static int parse_run_args(int argc, char **argv, run_args *a) {
+  memset(a, 0, sizeof *a);
+  a->record = 1;
   for (int i = 2; i < argc; i++) {
-    const char *a = argv[i];
-    if (a[0] != '-' || strcmp(a, "-") == 0) {
-      if (case_path != NULL) {
-        fprintf(stderr, "voussoir: more than one case file (%s, %s)\n", case_path, a);
+    const char *s = argv[i];
+    if (s[0] != '-' || strcmp(s, "-") == 0) {
+      if (a->case_path != NULL) {
+        fprintf(stderr, "voussoir: more than one case file (%s, %s)\n", a->case_path, s);
         return EXIT_BAD_INPUT;
       }
-      case_path = a;
-    } else if (strcmp(a, "--alpha") == 0 || strcmp(a, "--kn") == 0 || strcmp(a, "--set") == 0 ||
-               strcmp(a, "-o") == 0 || strcmp(a, "--csv") == 0) {
+      a->case_path = s;
+    } else if (strcmp(s, "--alpha") == 0 || strcmp(s, "--kn") == 0 || strcmp(s, "--set") == 0 ||
+               strcmp(s, "-o") == 0 || strcmp(s, "--csv") == 0) {
       if (++i >= argc) {
-        fprintf(stderr, "voussoir: %s needs a value\n%s", a, USAGE);
+        fprintf(stderr, "voussoir: %s needs a value\n%s", s, USAGE);
         return EXIT_BAD_INPUT;
       }
-      if (strcmp(a, "-o") == 0) out_path = argv[i];
-      if (strcmp(a, "--csv") == 0) csv_path = argv[i];
-    } else if (strcmp(a, "--no-record") == 0) {
-      record = 0;
-    } else if (strcmp(a, "--dynamic") == 0 || strcmp(a, "--first-limit") == 0) {
-      /* applied with the overrides below */
-    } else if (strcmp(a, "--json") == 0) {
-      json = 1;
-    } else if (strcmp(a, "-q") == 0) {
-      quiet = 1;
+      if (strcmp(s, "-o") == 0) a->out_path = argv[i];
+      if (strcmp(s, "--csv") == 0) a->csv_path = argv[i];
+    } else if (strcmp(s, "--no-record") == 0) {
+      a->record = 0;
+    } else if (strcmp(s, "--dynamic") == 0 || strcmp(s, "--first-limit") == 0) {
+      /* applied with the overrides */
+    } else if (strcmp(s, "--json") == 0) {
+      a->json = 1;
+    } else if (strcmp(s, "-q") == 0) {
+      a->quiet = 1;
     } else {
-      fprintf(stderr, "voussoir: unknown option %s\n%s", a, USAGE);
+      fprintf(stderr, "voussoir: unknown option %s\n%s", s, USAGE);
       return EXIT_BAD_INPUT;
     }
   }
-  if (case_path == NULL) {
+  if (a->case_path == NULL) {
     fprintf(stderr, "voussoir: run needs a CASE file\n%s", USAGE);
     return EXIT_BAD_INPUT;
   }
-  if (vs_case_read(&c, case_path, &case_text, &err) != VS_OK) goto input_error;
+  if (!a->record) a->out_path = NULL;
+  else if (a->out_path == NULL) {
+    default_record_path(a->case_path, a->default_path, sizeof a->default_path);
+    a->out_path = a->default_path;
+  }
+  return 0;
+}
+
+/* The overrides of the command line, in the order given. */
+static vs_status apply_overrides(int argc, char **argv, vs_case *c, vs_error *err) {
   for (int i = 2; i < argc; i++) {
     char buf[512];
     const char *a = argv[i];
@@ -189,56 +211,166 @@ static int cmd_run(int argc, char **argv) {
       if (strcmp(a, "-o") == 0 || strcmp(a, "--csv") == 0) i++;
       continue;
     }
-    if (vs_case_set(&c, buf, &err) != VS_OK) goto input_error;
+    vs_status st = vs_case_set(c, buf, err);
+    if (st != VS_OK) return st;
   }
-  if (vs_case_validate(&c, &err) != VS_OK) goto input_error;
+  return VS_OK;
+}
 
-  /* everything is valid: only now create outputs */
+/* Every output path checked before anything is created: a regular file or absent, not the case
+ * file, not another output (the record's XDMF sidecar included). 0 or EXIT_BAD_INPUT. */
+static int check_outputs(const run_args *a) {
+  vs_error err;
+  vs_error_clear(&err);
+  char *xmf = a->out_path != NULL ? vs_output_xdmf_path_for(a->out_path) : NULL;
+  const vs_outpath_other cs = {a->case_path, "the case file"}, csv = {a->csv_path, "the --csv file"},
+                         rec = {a->out_path, "the record"}, side = {xmf, "the record's XDMF sidecar"};
+  const vs_outpath_other for_rec[] = {cs, csv, side}, for_side[] = {cs}, for_csv[] = {cs, rec, side};
+  int rc = 0;
+  if (a->out_path != NULL && (vs_outpath_check(a->out_path, for_rec, 3, &err) != VS_OK ||
+                              vs_outpath_check(xmf, for_side, 1, &err) != VS_OK)) {
+    fprintf(stderr, "voussoir: -o %s\n", err.msg);
+    rc = EXIT_BAD_INPUT;
+  }
+  if (rc == 0 && a->csv_path != NULL && vs_outpath_check(a->csv_path, for_csv, 3, &err) != VS_OK) {
+    fprintf(stderr, "voussoir: --csv %s\n", err.msg);
+    rc = EXIT_BAD_INPUT;
+  }
+  free(xmf);
+  return rc;
+}
+
+/* Lock and open the CSV without truncating it yet (*created: it did not exist). 0 or
+ * EXIT_BAD_INPUT (with the reason printed). */
+static int csv_open(const char *path, vs_outlock **lock, FILE **out, int *created) {
+  vs_error err;
+  *out = NULL;
+  *created = 0;
+  if (vs_outlock_acquire(path, lock, &err) != VS_OK) {
+    fprintf(stderr, "voussoir: --csv %s\n", err.msg);
+    return EXIT_BAD_INPUT;
+  }
+  int fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd >= 0) *created = 1;
+  else if (errno == EEXIST) fd = open(path, O_WRONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  struct stat st;
+  if (fd >= 0 && (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode))) {
+    close(fd);
+    fd = -1;
+    errno = EINVAL;
+  }
+  if (fd >= 0) *out = fdopen(fd, "w");
+  if (*out == NULL) {
+    fprintf(stderr, "voussoir: --csv %s: cannot create: %s\n", path,
+            errno == EINVAL ? "not a regular file" : strerror(errno));
+    if (fd >= 0) close(fd);
+    if (*created) unlink(path);
+    vs_outlock_release(lock);
+    return EXIT_BAD_INPUT;
+  }
+  return 0;
+}
+
+static int csv_start(FILE *csv) {
+  if (fflush(csv) != 0 || ftruncate(fileno(csv), 0) != 0) return -1;
+  fputs("phase,time_s,delta_mm,dz_mm,dx_mm,left_Fx_N,left_Fz_N,left_M_Nm,right_Fx_N,right_Fz_N,right_M_Nm,"
+        "crown_uz_mm,kinetic_J,open_hinges,hinges\n",
+        csv);
+  return fflush(csv);
+}
+
+/* The outputs, in this order: CSV (locked, not yet truncated), record, then the CSV's header.
+ * 0 or an exit status (nothing left behind). */
+static int open_outputs(const run_args *a, const vs_run *run, const char *case_text,
+                        cli_sink *sink, vs_outlock **csv_lock) {
+  int created = 0, rc = 0;
+  if (a->csv_path != NULL && (rc = csv_open(a->csv_path, csv_lock, &sink->csv, &created)) != 0)
+    return rc;
+  vs_error err;
+  vs_error_clear(&err);
+  if (a->out_path != NULL &&
+      vs_output_create(a->out_path, run, case_text, NULL, &sink->record, &err) != VS_OK) {
+    /* a refused path ("PATH: reason") is bad input; the writer's own errors name the path */
+    fprintf(stderr, "voussoir: %s%s\n", err.status == VS_ERR_INVALID ? "-o " : "", err.msg);
+    rc = err.status == VS_ERR_INVALID ? EXIT_BAD_INPUT : EXIT_RUN_FAILED;
+  } else if (sink->csv != NULL && csv_start(sink->csv) != 0) {
+    fprintf(stderr, "voussoir: --csv %s: write failed: %s\n", a->csv_path, strerror(errno));
+    rc = EXIT_RUN_FAILED;
+  }
+  if (rc != 0 && sink->csv != NULL) {
+    fclose(sink->csv);
+    sink->csv = NULL;
+    if (created) unlink(a->csv_path);
+    vs_outlock_release(csv_lock);
+  }
+  return rc;
+}
+
+/* Close the record after the run (status st, cause err). When the record fails after a good
+ * run, its error becomes the run's (*err); after a failed run it is printed unless it is the
+ * run's own cause. Returns the run's status, or the record's error after a good run. */
+static vs_status finish_record(cli_sink *sink, const vs_run *run, vs_status st, vs_error *err) {
+  if (sink->record == NULL) return st;
+  vs_error oerr;
+  vs_error_clear(&oerr);
+  if (vs_output_finish(sink->record, run, st, err, &oerr) == VS_OK) return st;
+  if (st == VS_OK) {
+    *err = oerr;
+    return oerr.status;
+  }
+  if (strcmp(oerr.msg, err->msg) != 0) fprintf(stderr, "voussoir: %s\n", oerr.msg);
+  return st;
+}
+
+static void print_record_line(const run_args *a, const cli_sink *sink) {
+  const vs_output *o = sink->record;
+  if (a->json || o == NULL || vs_output_error(o)->status != VS_OK) return; /* nothing to vouch */
+  printf("record   %s (%ld states", a->out_path, vs_output_rows(o));
+  if (vs_output_xdmf_written(o)) printf("; ParaView: %s", vs_output_xdmf_path(o));
+  printf("; pictures: voussoir plot %s)\n", a->out_path);
+}
+
+/* *h5_clean becomes 0 when the record failed to be written (see vs_output_process_end). */
+static int cmd_run(int argc, char **argv, int *h5_clean) {
+  run_args a;
+  int rc = parse_run_args(argc, argv, &a);
+  if (rc != 0) return rc;
+  char *case_text = NULL;
+  vs_case c;
+  vs_error err;
+  vs_run *run = NULL;
+  vs_outlock *csv_lock = NULL;
+  cli_sink sink = {0};
+  vs_error_clear(&err);
+  vs_case_defaults(&c);
+  if (vs_case_read(&c, a.case_path, &case_text, &err) != VS_OK ||
+      apply_overrides(argc, argv, &c, &err) != VS_OK || vs_case_validate(&c, &err) != VS_OK)
+    goto input_error;
+  if ((rc = check_outputs(&a)) != 0) goto cleanup;
   if (vs_run_create(&c, &run, &err) != VS_OK) goto input_error;
-  if (record) {
-    if (out_path == NULL) {
-      default_record_path(case_path, default_path, sizeof default_path);
-      out_path = default_path;
-    }
-    if (vs_output_create(out_path, run, case_text, NULL, &sink.record, &err) != VS_OK) {
-      fprintf(stderr, "voussoir: -o %s: %s\n", out_path, err.msg);
-      rc = EXIT_RUN_FAILED;
-      goto cleanup;
-    }
+  vs_run_set_stop(run, &g_interrupted);
+  /* everything is valid: only now create outputs */
+  if (g_interrupted || (rc = open_outputs(&a, run, case_text, &sink, &csv_lock)) != 0) {
+    *h5_clean = rc != EXIT_RUN_FAILED;
+    if (rc == 0) fputs("voussoir: interrupted before the run started\n", stderr);
+    rc = rc != 0 ? rc : EXIT_INTERRUPTED;
+    goto cleanup;
   }
-  if (csv_path != NULL) {
-    sink.csv = fopen(csv_path, "w");
-    if (sink.csv == NULL) {
-      fprintf(stderr, "voussoir: --csv %s: cannot create: %s\n", csv_path, strerror(errno));
-      rc = EXIT_RUN_FAILED;
-      goto cleanup;
-    }
-    fputs("phase,time_s,delta_mm,dz_mm,dx_mm,left_Fx_N,left_Fz_N,left_M_Nm,right_Fx_N,right_Fz_N,right_M_Nm,"
-          "crown_uz_mm,kinetic_J,open_hinges,hinges\n",
-          sink.csv);
-  }
-  sink.progress = !quiet && isatty(STDERR_FILENO);
-  catch_signals();
+  sink.progress = !a.quiet && isatty(STDERR_FILENO);
   vs_status st = vs_run_execute(run, on_sample, on_event, &sink, &err);
   if (sink.progress) fputs("\r\033[K", stderr);
-  if (st != VS_OK && g_interrupted) vs_error_set(&err, st, "interrupted");
+  if (st != VS_OK && g_interrupted) {
+    st = vs_error_set(&err, VS_ERR_INTERRUPTED, "interrupted");
+    vs_output_interrupt(sink.record);
+  }
   if (st != VS_OK && sink.record != NULL && vs_output_error(sink.record)->status != VS_OK)
     err = *vs_output_error(sink.record); /* the run stopped because the record failed */
-  if (sink.record != NULL) {
-    vs_error oerr;
-    vs_error_clear(&oerr);
-    if (vs_output_finish(sink.record, run, st, &err, &oerr) != VS_OK) {
-      fprintf(stderr, "voussoir: -o %s: %s\n", out_path, oerr.msg);
-      if (st == VS_OK) st = oerr.status;
-    }
-  }
-  if (json) vs_report_json(stdout, run, st, &err, case_path);
-  else vs_report_text(stdout, run, st, &err, case_path);
-  if (!json && sink.record != NULL)
-    printf("record   %s (%ld states; ParaView: %s; pictures: voussoir plot %s)\n", out_path,
-           vs_output_rows(sink.record), vs_output_xdmf_path(sink.record), out_path);
+  st = finish_record(&sink, run, st, &err);
+  if (a.json) vs_report_json(stdout, run, st, &err, a.case_path);
+  else vs_report_text(stdout, run, st, &err, a.case_path);
+  print_record_line(&a, &sink);
   if (st != VS_OK) fprintf(stderr, "voussoir: run failed: %s\n", err.msg);
-  rc = (st == VS_OK) ? EXIT_SUCCESS : g_interrupted ? EXIT_INTERRUPTED : EXIT_RUN_FAILED;
+  rc = (st == VS_OK) ? EXIT_SUCCESS : st == VS_ERR_INTERRUPTED ? EXIT_INTERRUPTED : EXIT_RUN_FAILED;
   goto cleanup;
 
 input_error:
@@ -246,16 +378,31 @@ input_error:
   rc = EXIT_BAD_INPUT;
 cleanup:
   if (sink.csv != NULL && fclose(sink.csv) != 0) {
-    fprintf(stderr, "voussoir: --csv %s: write failed: %s\n", csv_path, strerror(errno));
+    fprintf(stderr, "voussoir: --csv %s: write failed: %s\n", a.csv_path, strerror(errno));
     rc = EXIT_RUN_FAILED;
   }
+  vs_outlock_release(&csv_lock);
+  if (sink.record != NULL && vs_output_error(sink.record)->status != VS_OK) *h5_clean = 0;
   vs_output_destroy(&sink.record);
   vs_run_destroy(&run);
   free(case_text);
   return rc;
 }
 
+static int dispatch(int argc, char **argv, int *h5_clean);
+
 int main(int argc, char **argv) {
+  catch_signals(); /* first: a signal at any moment of a run ends it cleanly */
+  if (argc < 2 || strcmp(argv[1], "run") != 0) release_signals();
+  signal(SIGXFSZ, SIG_IGN); /* a file size limit: the write fails with EFBIG, reported */
+  vs_output_process_init();
+  int h5_clean = 1;
+  const int rc = dispatch(argc, argv, &h5_clean);
+  vs_output_process_end(h5_clean);
+  return rc;
+}
+
+static int dispatch(int argc, char **argv, int *h5_clean) {
   if (argc < 2) {
     fputs(USAGE, stderr);
     return EXIT_BAD_INPUT;
@@ -285,7 +432,7 @@ int main(int argc, char **argv) {
         fputs(USAGE, stdout);
         return EXIT_SUCCESS;
       }
-    return cmd_run(argc, argv);
+    return cmd_run(argc, argv, h5_clean);
   }
   fprintf(stderr, "voussoir: unknown command '%s'\n%s", argv[1], USAGE);
   return EXIT_BAD_INPUT;

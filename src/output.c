@@ -5,15 +5,20 @@
 #define _POSIX_C_SOURCE 200809L /* gmtime_r */
 #include "voussoir/output.h"
 
+#include <errno.h>
 #include <hdf5.h>
 #include <math.h>
+#include <signal.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
+#include "voussoir/outpath.h"
 #include "voussoir/units.h"
 #include "voussoir/version.h"
 
@@ -62,22 +67,37 @@ static void h5_close(hid_t id) {
 
 typedef struct {
   char api[64], cause[256];
+  int os_errno; /* the errno a file driver reported ("errno = 28, ..."), or 0 */
 } h5_cause;
 
 static herr_t walk_cb(unsigned n, const H5E_error2_t *e, void *data) {
   h5_cause *c = data;
   if (n == 0 && e->func_name != NULL) snprintf(c->api, sizeof c->api, "%s", e->func_name);
-  if (e->desc != NULL && e->desc[0] != '\0') snprintf(c->cause, sizeof c->cause, "%s", e->desc);
+  if (e->desc == NULL || e->desc[0] == '\0') return 0;
+  /* the first line only: a driver's message lists buffers and offsets after it */
+  snprintf(c->cause, sizeof c->cause, "%.*s", (int)strcspn(e->desc, "\n,"), e->desc);
+  const char *en = strstr(e->desc, "errno = ");
+  if (en != NULL && c->os_errno == 0) c->os_errno = atoi(en + 8);
   return 0;
 }
 
-/* Record "output: FILE: what: HDF5 cause" in err and clear HDF5's error stack. */
+/* Record "output: FILE: what: OS reason" (strerror of the errno a file driver reported, else
+ * HDF5's own cause) in err, as one line, and clear HDF5's error stack. */
 static vs_status h5_fail(vs_error *err, const char *path, const char *what) {
-  h5_cause c = {"", ""};
+  h5_cause c = {"", "", 0};
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, walk_cb, &c);
   H5Eclear2(H5E_DEFAULT);
+  if (c.os_errno > 0)
+    return vs_error_set(err, VS_ERR_IO, "output: %s: %s: %s", path, what, strerror(c.os_errno));
   return vs_error_set(err, VS_ERR_IO, "output: %s: %s%s%s%s%s", path, what, c.cause[0] ? ": " : "",
                       c.cause, c.api[0] ? " in " : "", c.api);
+}
+
+/* Fault injection for the crash tests: when the environment variable VS_FAULT_KILL names this
+ * point, the process kills itself there with SIGKILL (see vs_output_finish for the points). */
+static void fault_point(const char *name) {
+  const char *v = getenv("VS_FAULT_KILL");
+  if (v != NULL && strcmp(v, name) == 0) raise(SIGKILL);
 }
 
 static hid_t vlstr_type(void) {
@@ -309,7 +329,8 @@ struct vs_output {
   int last_phase;         /* of the last row, -1 before any */
   hid_t events, ev_mtype; /* /events and its memory type */
   long n_events;
-  int interrupted, finished;
+  int interrupted, finished, xmf_written;
+  vs_outlock *lock; /* the exclusive lock on path, held until destroy */
   vs_error err; /* first write error (sticky) */
 };
 
@@ -804,12 +825,14 @@ static size_t buffer_rows(const vs_output *o) {
  * keeps an "open for writing" mark so that an ordinary open fails (h5py needs swmr=True, or
  * h5clear -s); 4 files in 194, killed while /summary was written, opened in no mode at all; and
  * one made an SWMR reader retry a torn index block for minutes. */
-static hid_t file_create(const char *path) {
-  hid_t fcpl = H5Pcreate(H5P_FILE_CREATE), f = H5I_INVALID_HID;
+static vs_status file_create(vs_output *o, const char *path) {
+  hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
   if (fcpl >= 0 && H5Pset_file_space_strategy(fcpl, H5F_FSPACE_STRATEGY_NONE, 0, 1) >= 0)
-    f = H5Fcreate(path, H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+    o->file = H5Fcreate(path, H5F_ACC_EXCL, fcpl, H5P_DEFAULT);
+  /* the cause is read before closing fcpl (any API call clears the error stack) */
+  vs_status st = o->file < 0 ? h5_fail(&o->err, path, "cannot create the file") : VS_OK;
   h5_close(fcpl);
-  return f;
+  return st;
 }
 
 static herr_t write_root(vs_output *o, const char *case_text) {
@@ -882,6 +905,32 @@ static vs_status create_layout(vs_output *o, const vs_run *run, const char *case
   return flush_file(o);
 }
 
+/* A "<path>.part" left by a killed run is ours to remove (we hold the lock on path); anything
+ * there that is not a regular file is not. */
+static vs_status remove_stale_part(vs_output *o, const char *part) {
+  struct stat st;
+  if (lstat(part, &st) != 0) return VS_OK;
+  if (!S_ISREG(st.st_mode))
+    return vs_error_set(&o->err, VS_ERR_INVALID, "%s: exists and is not a regular file", part);
+  if (unlink(part) != 0)
+    return vs_error_set(&o->err, VS_ERR_IO, "output: %s: cannot remove the stale file: %s", part,
+                        strerror(errno));
+  return VS_OK;
+}
+
+/* Rename part over path, checked again just before: never over anything but a regular file. */
+static vs_status replace_target(vs_output *o, const char *part) {
+  struct stat st;
+  if (lstat(o->path, &st) == 0 && !S_ISREG(st.st_mode))
+    return vs_error_set(&o->err, VS_ERR_INVALID,
+                        "%s: became something other than a regular file; not replaced",
+                        o->path);
+  if (rename(part, o->path) != 0)
+    return vs_error_set(&o->err, VS_ERR_IO, "output: %s: cannot rename to %s: %s", part, o->path,
+                        strerror(errno));
+  return VS_OK;
+}
+
 vs_status vs_output_create(const char *path, const vs_run *run, const char *case_text,
                            const vs_output_opts *opts, vs_output **out, vs_error *err) {
   *out = NULL;
@@ -904,6 +953,15 @@ vs_status vs_output_create(const char *path, const vs_run *run, const char *case
     return vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
   }
   o->flush_rows = buffer_rows(o);
+  /* the target and its sidecar are absent or regular files, and no other process writes them */
+  const vs_outpath_other sidecar[1] = {{o->xmf_path, "its XDMF sidecar"}};
+  st = vs_outpath_check(path, sidecar, 1, err);
+  if (st == VS_OK) st = vs_outpath_check(o->xmf_path, NULL, 0, err);
+  if (st == VS_OK) st = vs_outlock_acquire(path, &o->lock, err);
+  if (st != VS_OK) {
+    vs_output_destroy(&o);
+    return st;
+  }
   /* built under a temporary name: a file at path always has its whole layout */
   char *part = malloc(strlen(path) + sizeof VS_OUT_PART);
   if (part == NULL) {
@@ -912,19 +970,20 @@ vs_status vs_output_create(const char *path, const vs_run *run, const char *case
   }
   snprintf(part, strlen(path) + sizeof VS_OUT_PART, "%s%s", path, VS_OUT_PART);
   h5_quiet q = quiet_begin();
-  o->file = file_create(part);
-  st = o->file < 0 ? h5_fail(&o->err, part, "cannot create the file")
-                   : create_layout(o, run, case_text);
-  if (st == VS_OK && rename(part, path) != 0)
-    st = vs_error_set(&o->err, VS_ERR_IO, "output: %s: cannot rename to %s", part, path);
+  st = remove_stale_part(o, part);
+  const int made = st == VS_OK; /* a part file from here on is ours */
+  if (st == VS_OK) {
+    st = file_create(o, part);
+    if (st == VS_OK) st = create_layout(o, run, case_text);
+  }
+  if (st == VS_OK) st = replace_target(o, part);
   quiet_end(q);
   if (st != VS_OK) {
-    *err = o->err;
-    const int created = o->file >= 0;
+    if (err != NULL) *err = o->err;
     o->pending = 0;
     o->err.status = VS_ERR_IO; /* destroy must not flush */
     vs_output_destroy(&o);
-    if (created) remove(part);
+    if (made) remove(part);
     free(part);
     return st;
   }
@@ -933,11 +992,23 @@ vs_status vs_output_create(const char *path, const vs_run *run, const char *case
   return VS_OK;
 }
 
+/* After a failed write or flush HDF5 1.10.8 cannot close the file: every later flush fails
+ * ("slist already enabled?") and a failed close leaves a half-torn file object on which the
+ * library crashes at exit. Such a file is abandoned: its identifiers are left open (the process
+ * releases them when it ends; see vs_output_process_end), and the file on disk keeps what the
+ * last good flush wrote (status "running"). */
+static void abandon_file(vs_output *o) {
+  for (int i = 0; i < S_COUNT; i++) o->s[i].dset = H5I_INVALID_HID;
+  o->events = H5I_INVALID_HID;
+  o->file = H5I_INVALID_HID;
+}
+
 void vs_output_destroy(vs_output **op) {
   if (op == NULL || *op == NULL) return;
   vs_output *o = *op;
   h5_quiet q = quiet_begin();
   if (o->file >= 0 && o->err.status == VS_OK) flush_file(o);
+  if (o->err.status != VS_OK) abandon_file(o);
   for (int i = 0; i < S_COUNT; i++) {
     h5_close(o->s[i].dset);
     free(o->s[i].buf);
@@ -947,6 +1018,7 @@ void vs_output_destroy(vs_output **op) {
   h5_close(o->file);
   H5Eclear2(H5E_DEFAULT);
   quiet_end(q);
+  vs_outlock_release(&o->lock);
   free(o->path);
   free(o->xmf_path);
   free(o->bref);
@@ -956,9 +1028,17 @@ void vs_output_destroy(vs_output **op) {
   *op = NULL;
 }
 
+void vs_output_process_init(void) { H5dont_atexit(); }
+
+void vs_output_process_end(int clean) {
+  if (clean && H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_FILE) == 0) H5close();
+}
+
 const vs_error *vs_output_error(const vs_output *o) { return &o->err; }
 long vs_output_rows(const vs_output *o) { return o->rows + o->pending; }
 const char *vs_output_xdmf_path(const vs_output *o) { return o->xmf_path; }
+int vs_output_xdmf_written(const vs_output *o) { return o->xmf_written; }
+char *vs_output_xdmf_path_for(const char *h5_path) { return xmf_path_of(h5_path); }
 
 void vs_output_interrupt(vs_output *o) {
   if (o != NULL) o->interrupted = 1;
@@ -1526,10 +1606,19 @@ static vs_status xdmf_write(hid_t file, const char *h5_path, const char *xmf_pat
   xml_escape(base != NULL ? base + 1 : h5_path, name, sizeof name);
   x.h5name = name;
   snprintf(tmp, sizeof tmp, "%s.tmp", xmf_path);
+  /* never written through, nor renamed over, anything but a regular file */
+  struct stat sb;
+  const char *odd = lstat(tmp, &sb) == 0 && !S_ISREG(sb.st_mode)        ? tmp
+                    : lstat(xmf_path, &sb) == 0 && !S_ISREG(sb.st_mode) ? xmf_path
+                                                                        : NULL;
+  if (odd != NULL) {
+    free(t);
+    return vs_error_set(err, VS_ERR_INVALID, "output: %s: exists and is not a regular file", odd);
+  }
   x.f = fopen(tmp, "w");
   if (x.f == NULL) {
     free(t);
-    return vs_error_set(err, VS_ERR_IO, "output: %s: cannot write", tmp);
+    return vs_error_set(err, VS_ERR_IO, "output: %s: cannot write: %s", tmp, strerror(errno));
   }
   const long stride =
       (rows + max_grids - 1) / max_grids > 1 ? (rows + max_grids - 1) / max_grids : 1;
@@ -1550,9 +1639,18 @@ static vs_status xdmf_write(hid_t file, const char *h5_path, const char *xmf_pat
   fputs("    </Grid>\n  </Domain>\n</Xdmf>\n", x.f);
   free(t);
   const int bad = ferror(x.f);
-  if (fclose(x.f) != 0 || bad || rename(tmp, xmf_path) != 0) {
+  errno = 0;
+  if (fflush(x.f) != 0 || bad) {
+    const int e = errno;
+    fclose(x.f);
     remove(tmp);
-    return vs_error_set(err, VS_ERR_IO, "output: %s: cannot write", xmf_path);
+    return vs_error_set(err, VS_ERR_IO, "output: %s: cannot write: %s", xmf_path,
+                        e != 0 ? strerror(e) : "write error");
+  }
+  if (fclose(x.f) != 0 || rename(tmp, xmf_path) != 0) {
+    const int e = errno;
+    remove(tmp);
+    return vs_error_set(err, VS_ERR_IO, "output: %s: cannot write: %s", xmf_path, strerror(e));
   }
   return VS_OK;
 }
@@ -1601,15 +1699,20 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
   vs_status st = o->err.status == VS_OK ? write_pending(o) : o->err.status;
   if (st == VS_OK) st = rewrite_events(o, run);
   if (st == VS_OK) st = write_summary(o, run);
-  /* the status is recorded even when the record is incomplete */
+  /* what the status vouches for is on disk before the status is written */
+  if (st == VS_OK && H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0)
+    st = h5_fail(&o->err, o->path, "cannot flush /events and /summary");
+  if (st == VS_OK) fault_point("before-status");
+  /* the status is recorded when the run failed but the file is sound (see abandon_file) */
   char status[sizeof o->err.msg + 64], now[32];
   status_text(o, run_status, run_err, status, sizeof status);
   iso8601_utc(now, sizeof now);
-  if (o->file >= 0 &&
+  if (o->err.status == VS_OK && o->file >= 0 &&
       (attr_str(o->file, "status", status) < 0 || attr_str(o->file, "finished", now) < 0 ||
-       H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0) &&
-      st == VS_OK)
+       H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0))
     st = h5_fail(&o->err, o->path, "cannot write the status");
+  if (st == VS_OK) fault_point("after-status");
+  if (o->err.status != VS_OK) abandon_file(o);
   /* the sidecar is written from what the closed file holds */
   for (int i = 0; i < S_COUNT; i++) {
     h5_close(o->s[i].dset);
@@ -1625,6 +1728,7 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
     st = f < 0 ? h5_fail(&o->err, o->path, "cannot reopen")
                : xdmf_write(f, o->path, o->xmf_path, o->opts.xdmf_max_grids, &o->err);
     h5_close(f);
+    o->xmf_written = st == VS_OK;
   }
   H5Eclear2(H5E_DEFAULT);
   quiet_end(q);

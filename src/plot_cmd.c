@@ -3,7 +3,9 @@
  * the support reaction and hinge joints against the support displacement. Reads the HDF5 record
  * written by output.c; draws with plot.c. */
 #define _POSIX_C_SOURCE 200809L
+#include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <hdf5.h>
 #include <math.h>
 #include <stdio.h>
@@ -13,6 +15,7 @@
 
 #include "voussoir/geometry.h"
 #include "voussoir/hinges.h"
+#include "voussoir/outpath.h"
 #include "voussoir/plot.h"
 #include "voussoir/units.h"
 
@@ -327,6 +330,33 @@ static int draw_curves(const record *r, const char *dir, const char *ext) {
   return rc;
 }
 
+/* Every picture this command may write in dir (arch_*.EXT, curves.EXT) is absent or a regular
+ * file, and dir is a directory or absent: checked before anything is drawn. 0, or 2 with the
+ * reason printed. */
+static int check_picture_dir(const char *dir, const char *ext) {
+  vs_error err;
+  if (vs_outpath_check_dir(dir, &err) != VS_OK) {
+    fprintf(stderr, "voussoir plot: -o %s\n", err.msg);
+    return 2;
+  }
+  DIR *d = opendir(dir);
+  if (d == NULL) return 0; /* absent: created later */
+  const size_t ne = strlen(ext);
+  int rc = 0;
+  for (struct dirent *e = readdir(d); e != NULL && rc == 0; e = readdir(d)) {
+    const size_t n = strlen(e->d_name);
+    const int ours = (strncmp(e->d_name, "arch_", 5) == 0 || strncmp(e->d_name, "curves.", 7) == 0) &&
+                     n > ne + 1 && e->d_name[n - ne - 1] == '.' && strcmp(e->d_name + n - ne, ext) == 0;
+    struct stat st;
+    if (ours && fstatat(dirfd(d), e->d_name, &st, AT_SYMLINK_NOFOLLOW) == 0 && !S_ISREG(st.st_mode)) {
+      fprintf(stderr, "voussoir plot: -o %s: %s exists and is not a regular file\n", dir, e->d_name);
+      rc = 2;
+    }
+  }
+  closedir(d);
+  return rc;
+}
+
 int vs_cmd_plot(int argc, char **argv) {
   const char *run = NULL, *dir = NULL, *ext = "png";
   char defdir[1100];
@@ -356,6 +386,10 @@ int vs_cmd_plot(int argc, char **argv) {
     const char *dot = strrchr(run, '.');
     snprintf(defdir, sizeof defdir, "%.*s_plots", dot ? (int)(dot - run) : (int)strlen(run), run);
     dir = defdir;
+  }
+  if (check_picture_dir(dir, ext) != 0) {
+    record_free(&r);
+    return 2;
   }
   if (mkdir(dir, 0755) != 0 && errno != EEXIST) {
     fprintf(stderr, "voussoir plot: %s: cannot create: %s\n", dir, strerror(errno));

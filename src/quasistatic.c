@@ -72,12 +72,28 @@ typedef struct {
   double kmax, lmax, wmin;    /* stiffest joint k_n b t (N/m), longest joint (m), lightest block (N) */
   long iters, jac_evals, floor_limited;
   double max_residual;        /* largest scaled residual among accepted equilibria */
+  int interrupted;            /* o->stop was seen raised */
+  int nonfinite;              /* the last solve met a residual that is not finite */
   char kin_msg[256];
 } qs_solver;
 
+static int qs_stopped(qs_solver *s) {
+  if (s->o->stop != NULL && *s->o->stop) s->interrupted = 1;
+  return s->interrupted;
+}
+
+/* KINSOL's residual. A raised stop flag and a residual that is not finite are fatal (-1): KINSOL
+ * then returns KIN_SYSFUNC_FAIL at once (its line search never ends on NaN). */
 static int sys_fn(N_Vector u, N_Vector f, void *user) {
   qs_solver *s = user;
-  vs_model_residual(s->m, N_VGetArrayPointer(u), s->delta, N_VGetArrayPointer(f));
+  if (qs_stopped(s)) return -1;
+  double *fv = N_VGetArrayPointer(f);
+  vs_model_residual(s->m, N_VGetArrayPointer(u), s->delta, fv);
+  for (int i = 0; i < s->n; i++)
+    if (!isfinite(fv[i])) {
+      s->nonfinite = 1;
+      return -1;
+    }
   return 0;
 }
 
@@ -86,6 +102,7 @@ static int jac_fn(N_Vector u, N_Vector fu, SUNMatrix J, void *user, N_Vector t1,
   (void)t1;
   (void)t2;
   qs_solver *s = user;
+  if (qs_stopped(s)) return -1;
   s->jac_evals++;
   return vs_model_jacobian(s->m, N_VGetArrayPointer(u), s->delta, J);
 }
@@ -213,6 +230,8 @@ static double scaled_residual(qs_solver *s, const double *q, double delta) {
 static int qs_solve(qs_solver *s, double delta, double *q, long *iters) {
   s->delta = delta;
   s->kin_msg[0] = '\0';
+  s->nonfinite = 0;
+  if (qs_stopped(s)) return KIN_SYSFUNC_FAIL;
   memcpy(N_VGetArrayPointer(s->u), q, (size_t)s->n * sizeof *q);
   int flag = KINSol(s->kin, s->u, KIN_LINESEARCH, s->uscale, s->fscale);
   long nni = 0;
@@ -352,6 +371,7 @@ void vs_path_opts_from_case(const vs_case *c, vs_path_opts *o) {
   o->newton_tol = c->newton_tol;
   o->newton_maxiter = c->newton_maxiter;
   o->open = c->open_mm * VS_MM;
+  o->stop = NULL;
 }
 
 /* Which joint edges are open (gap > open) at (q, delta): 2 flags per joint. */
@@ -424,6 +444,18 @@ static int locate_edges(qs_solver *s, const double *qa0, double a0, const double
   return stop;
 }
 
+/* After a failed solve at delta: an error when the failure ends the path whatever follows (the
+ * stop flag, a residual that is not finite), else VS_OK. */
+static vs_status qs_fatal(const qs_solver *s, double delta, vs_error *err) {
+  if (s->interrupted) return vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
+  if (s->nonfinite)
+    return vs_error_set(err, VS_ERR_SOLVER,
+                        "the residual is not finite (NaN or infinity) at support displacement "
+                        "%.6g mm: the case's values are beyond double precision",
+                        delta / VS_MM);
+  return VS_OK;
+}
+
 static const char *kin_cause(int flag) {
   switch (flag) {
   case KIN_LINESEARCH_NONCONV: return "line search could not reduce the residual";
@@ -433,6 +465,7 @@ static const char *kin_cause(int flag) {
   case KIN_LSETUP_FAIL: return "KLU could not factor the Jacobian (singular tangent)";
   case KIN_LSOLVE_FAIL: return "KLU solve failed";
   case KIN_STEP_LT_STPTOL: return "Newton stalled with the residual above tolerance";
+  case KIN_SYSFUNC_FAIL: return "the residual is not finite (NaN or infinity)";
   default: return "KINSOL failure";
   }
 }
@@ -443,7 +476,8 @@ vs_status vs_equilibrium_solve(vs_model *m, const vs_path_opts *o, double delta,
   vs_status st = qs_create(&s, m, o, err);
   if (st != VS_OK) return st;
   int flag = qs_solve(&s, delta, q, iters);
-  if (flag != 0) {
+  if (flag != 0) st = qs_fatal(&s, delta, err);
+  if (flag != 0 && st == VS_OK) {
     char cause[128];
     snprintf(cause, sizeof cause, "%s", kin_cause(flag));
     st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
@@ -543,7 +577,7 @@ static int misfit_ramp(qs_solver *s, double *q, double *reached) {
         break;
       }
       h = fmin(2.0 * h, VS_RAMP_STEP);
-    } else if ((h *= 0.5) < VS_RAMP_MIN) {
+    } else if (s->interrupted || s->nonfinite || (h *= 0.5) < VS_RAMP_MIN) {
       break;
     }
   }
@@ -594,7 +628,7 @@ static int gravity_ramp(qs_solver *s, double *q, double *lambda_max) {
         break;
       }
       h = fmin(2.0 * h, VS_RAMP_STEP);
-    } else if ((h *= 0.5) < VS_RAMP_MIN) {
+    } else if ((h *= 0.5) < VS_RAMP_MIN || s->interrupted || s->nonfinite) {
       break;
     }
   }
@@ -629,17 +663,24 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
   if (misfit) vs_model_set_misfit_scale(s.m, 0.0);
   int flag = qs_solve(&s, delta0, q, &it);
   double lambda_max = 1.0, misfit_max = 1.0;
-  if (flag != 0 && delta0 == 0.0 && gravity_ramp(&s, q, &lambda_max) == 0) flag = 0;
+  if (flag != 0 && delta0 == 0.0 && qs_fatal(&s, delta0, NULL) == VS_OK &&
+      gravity_ramp(&s, q, &lambda_max) == 0)
+    flag = 0;
   if (flag == 0 && misfit && misfit_ramp(&s, q, &misfit_max) != 0) {
-    st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                      "the imperfect arch cannot stand: no equilibrium under self-weight with its "
-                      "misfit (face gaps, support offset) beyond %.4g of it, with increments "
-                      "down to %.1e",
-                      misfit_max, VS_RAMP_MIN);
+    st = qs_fatal(&s, delta0, err); /* an interrupt or a non-finite residual says so */
+    if (st == VS_OK)
+      st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
+                        "the imperfect arch cannot stand: no equilibrium under self-weight with "
+                        "its misfit (face gaps, support offset) beyond %.4g of it, with "
+                        "increments down to %.1e",
+                        misfit_max, VS_RAMP_MIN);
     goto cleanup;
   }
   res->newton_iterations = s.iters;
   if (flag != 0) {
+    st = qs_fatal(&s, delta0, err);
+    if (st != VS_OK)
+      goto cleanup;
     if (delta0 == 0.0)
       st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
                         "the arch cannot stand: no equilibrium under self-weight (growing the "
@@ -681,6 +722,13 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
       res->end = VS_PATH_MAX_DISPLACEMENT;
       break;
     }
+    if (res->steps + res->rejected >= VS_PATH_MAX_INCREMENTS) {
+      st = vs_error_set(err, VS_ERR_SOLVER,
+                        "the quasi-static path took %ld increments (the limit) and reached only "
+                        "%.6g mm of %.6g mm",
+                        VS_PATH_MAX_INCREMENTS, delta / VS_MM, o->max_delta / VS_MM);
+      break;
+    }
     h = fmin(h, o->max_delta - delta);
     /* fold predictor: lambda^2 extrapolated from the last two equilibria, trusted once two
      * successive predictions agree (lambda^2 linear in delta, as near a fold; a hinge forming
@@ -693,6 +741,7 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
       h = fmin(h, fmax(VS_FOLD_APPROACH * (fold - delta), o->limit_tol));
     for (int i = 0; i < s.n; i++) qtry[i] = qpred[i] = q[i] + h * tan[i];
     flag = qs_solve(&s, delta + h, qtry, &it);
+    if (flag != 0 && (st = qs_fatal(&s, delta + h, err)) != VS_OK) break;
     int ok = (flag == 0);
     if (ok && scaled_norm(&s, qtry, qpred) > VS_CORRECTOR_RATIO * scaled_norm(&s, qpred, q) +
                                                  10.0 * o->newton_tol)
@@ -704,6 +753,7 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
         res->delta_limit = delta;
         res->delta_fail = delta + h;
         st = confirm_limit(&s, qprev, delta_prev, q, delta, delta + h, res, err);
+        if (s.interrupted || s.nonfinite) st = qs_fatal(&s, delta + h, err);
         if (st == VS_OK) res->end = VS_PATH_LIMIT_POINT;
         break;
       }

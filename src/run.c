@@ -121,6 +121,12 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
   return VS_OK;
 }
 
+void vs_run_set_stop(vs_run *r, const volatile sig_atomic_t *stop) {
+  r->popts.stop = stop;
+  r->dopts.stop = stop;
+  if (r->dyn != NULL) vs_dynamic_set_stop(r->dyn, stop);
+}
+
 void vs_run_destroy(vs_run **r) {
   if (r == NULL || *r == NULL) return;
   vs_run *p = *r;
@@ -394,7 +400,14 @@ static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
   *resume_at = NAN;
   r->phase = VS_PHASE_DYNAMIC;
   vs_status st = VS_OK;
-  for (;;) {
+  for (int restart = 0;; restart++) {
+    if (restart >= VS_RUN_MAX_RESTARTS) {
+      st = vs_error_set(err, VS_ERR_SOLVER,
+                        "the motion came to rest %d times (the limit) with no equilibrium there, "
+                        "up to %.6g mm",
+                        VS_RUN_MAX_RESTARTS, r->delta / VS_MM);
+      break;
+    }
     vs_dyn_result d;
     memset(&d, 0, sizeof d);
     r->live_dyn = &d;
@@ -422,8 +435,13 @@ static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
     vs_error perr;
     vs_error_clear(&perr);
     vs_model *m = r->m;
-    if (vs_path_run(m, &probe, r->delta, qs, NULL, NULL, &pr, &perr) == VS_OK) {
+    const vs_status ps = vs_path_run(m, &probe, r->delta, qs, NULL, NULL, &pr, &perr);
+    if (ps == VS_OK) {
       *resume_at = r->delta;
+      break;
+    }
+    if (ps == VS_ERR_INTERRUPTED) {
+      st = vs_error_set(err, ps, "interrupted");
       break;
     }
   }
@@ -467,6 +485,11 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
       r->live_path = NULL;
       add_path_totals(r, &p);
       if (st != VS_OK || p.end != VS_PATH_LIMIT_POINT) break;
+      if (r->n_limits >= VS_RUN_MAX_LIMITS) {
+        st = vs_error_set(err, VS_ERR_SOLVER, "%d limit points (the limit) up to %.6g mm",
+                          VS_RUN_MAX_LIMITS, p.delta_limit / VS_MM);
+        break;
+      }
       r->delta = p.delta_limit;
       r->t = r->delta / r->dopts.rate;
       vs_model_support_reactions(r->m, r->q, r->delta, r->react_eq);

@@ -15,6 +15,7 @@
 
 #include <hdf5.h>
 
+#include "voussoir/outpath.h"
 #include "voussoir/run.h"
 #include "voussoir/sweep.h"
 #include "voussoir/units.h"
@@ -436,14 +437,19 @@ int vs_cmd_sweep(int argc, char **argv, const char *self) {
     goto cleanup;
   }
   if (validate_all(case_path, sets, nsets, ax, nax) != 0) goto cleanup;
+  char path[1024];
+  snprintf(path, sizeof path, "%s/summary.csv", dir);
+  if (vs_outpath_check_dir(dir, &err) != VS_OK ||
+      (access(dir, F_OK) == 0 && vs_outpath_check(path, NULL, 0, &err) != VS_OK)) {
+    fprintf(stderr, "voussoir sweep: -o %s\n", err.msg);
+    goto cleanup;
+  }
   if (mkdir(dir, 0755) != 0 && errno != EEXIST) {
     fprintf(stderr, "voussoir sweep: -o %s: cannot create: %s\n", dir, strerror(errno));
     goto cleanup;
   }
   int total = 1;
   for (int x = 0; x < nax; x++) total *= ax[x].n;
-  char path[1024];
-  snprintf(path, sizeof path, "%s/summary.csv", dir);
   FILE *csv = fopen(path, "w");
   if (csv == NULL) {
     fprintf(stderr, "voussoir sweep: %s: cannot create: %s\n", path, strerror(errno));

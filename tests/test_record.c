@@ -147,22 +147,40 @@ static void test_completed_record(void **s) {
   assert_int_equal(sh(cmd), 2);
 }
 
-/* A long run (880 voussoirs) interrupted by SIGINT after it has recorded some states. */
+/* Lines in a file (0 if it cannot be read). */
+static int lines_of(const char *path) {
+  FILE *f = fopen(path, "r");
+  if (f == NULL) return 0;
+  int n = 0, ch;
+  while ((ch = fgetc(f)) != EOF) n += ch == '\n';
+  fclose(f);
+  return n;
+}
+
+/* A long run (880 voussoirs) interrupted by SIGINT once it has recorded a state: the test waits
+ * for a first data row in the run's CSV (written and flushed at every state), an observable
+ * state rather than a sleep that races the run under load. */
 static void test_sigint(void **s) {
   (void)s;
-  char h5[256], status[256];
+  char h5[256], csv[256], status[256];
   snprintf(h5, sizeof h5, "%s/int.h5", g_dir);
+  snprintf(csv, sizeof csv, "%s/int.csv", g_dir);
   pid_t pid = fork();
   assert_true(pid >= 0);
   if (pid == 0) {
-    freopen("/dev/null", "w", stdout);
-    freopen("/dev/null", "w", stderr);
+    if (freopen("/dev/null", "w", stdout) == NULL || freopen("/dev/null", "w", stderr) == NULL)
+      _exit(126);
     execl(VS_BINARY, VS_BINARY, "run", REFERENCE, "-q", "--set", "arch.voussoirs=880", "-o", h5,
-          (char *)NULL);
+          "--csv", csv, (char *)NULL);
     _exit(127);
   }
-  struct timespec ts = {0, 400 * 1000 * 1000};
-  nanosleep(&ts, NULL);
+  for (long i = 0; lines_of(csv) < 2; i++) {
+    int st;
+    if (waitpid(pid, &st, WNOHANG) == pid) fail_msg("the run ended before its first row");
+    if (i > 60000) fail_msg("no first row after 600 s");
+    struct timespec ts = {0, 10 * 1000 * 1000};
+    nanosleep(&ts, NULL); /* polling interval only: the condition is the row */
+  }
   kill(pid, SIGINT);
   int st = 0;
   assert_int_equal(waitpid(pid, &st, 0), pid);

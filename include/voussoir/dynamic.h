@@ -7,6 +7,8 @@
 #ifndef VOUSSOIR_DYNAMIC_H
 #define VOUSSOIR_DYNAMIC_H
 
+#include <signal.h>
+
 #include "voussoir/model.h"
 #include "voussoir/status.h"
 
@@ -25,7 +27,14 @@ typedef struct {
   int settle;           /* 1: return VS_DYN_SETTLED whenever the arch has been at rest for
                            rest_time (the caller then looks for an equilibrium and calls again
                            if there is none); 0: never (full-dynamic loading) */
+  const volatile sig_atomic_t *stop; /* NULL, or a flag (e.g. set by a signal handler) that,
+                                        once non-zero, stops the integration at its next
+                                        residual evaluation: VS_ERR_INTERRUPTED */
 } vs_dyn_opts;
+
+/* IDA steps of one vs_dynamic_run at most: reaching it is an error (VS_ERR_SOLVER) that says
+ * so. */
+#define VS_DYN_MAX_STEPS 10000000L
 
 typedef enum {
   VS_DYN_SETTLED = 1,   /* at rest: kinetic energy < rest_ke for rest_time */
@@ -84,9 +93,13 @@ typedef struct vs_dynamic vs_dynamic;
 vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out, vs_error *err);
 void vs_dynamic_destroy(vs_dynamic **d);
 
+/* Replace the stop flag of the options d was created with (NULL: none). */
+void vs_dynamic_set_stop(vs_dynamic *d, const volatile sig_atomic_t *stop);
+
 /* Integrate from time t0 (delta = rate t0) with positions q and velocities v (updated to the
  * final state). Friction slips are committed after every step. Energies accumulate from zero
- * at t0. Errors: VS_ERR_SOLVER with IDA's cause. */
+ * at t0. Errors: VS_ERR_SOLVER with IDA's cause (or VS_DYN_MAX_STEPS reached);
+ * VS_ERR_INTERRUPTED when o->stop was raised. */
 vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_sample_fn sample,
                          vs_dyn_event_fn event, void *user, vs_dyn_result *res, vs_error *err);
 

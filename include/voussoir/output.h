@@ -31,7 +31,9 @@ typedef struct {
 void vs_output_opts_default(vs_output_opts *o);
 
 /* Create the HDF5 file at path (replaced if it exists; built as "<path>.part" and renamed once
- * complete) for run (borrowed: its geometry and model are read now and at every sample), with
+ * complete). path and its sidecar must be absent or regular files (vs_outpath_check) and path
+ * is locked for this writer until vs_output_destroy (vs_outlock_acquire): otherwise
+ * VS_ERR_INVALID and nothing is created. For run (borrowed: its geometry and model are read now and at every sample), with
  * opts (NULL: defaults) copied. Writes the root attributes (program "voussoir", version, layout,
  * created: ISO 8601 UTC, case: case_text or "" when NULL, status "running", finished ""),
  * /parameters (the case's values, as attributes named after the case keys, in the case's
@@ -60,12 +62,15 @@ void vs_output_interrupt(vs_output *o);
 
 /* Close the record of run: write the buffered rows, rewrite /events from the run's log (hinge
  * labels are assigned after the first three hinge events were emitted), write /summary (limit
- * points, first limit point, collapse, hinges, mode, totals, energy balance), set the root
- * attributes status ("completed" when run_status is VS_OK, else "failed: <cause>" with run_err's
+ * points, first limit point, collapse, hinges, mode, totals, energy balance) and flush; only
+ * then (so that a "completed" on disk vouches for them) set the root attributes status ("completed" when run_status is VS_OK, else "failed: <cause>" with run_err's
  * message when given, "failed: <cause>" of a write error, "failed: interrupted" after
  * vs_output_interrupt) and finished (ISO 8601 UTC), close the file and write the XDMF sidecar. Call
  * it at most once, after vs_run_execute (a second call fails with VS_ERR_INVALID). Returns VS_OK or
- * VS_ERR_IO (err, and vs_output_error, have the cause). */
+ * VS_ERR_IO (err, and vs_output_error, have the cause). For the crash tests only: when the
+ * environment variable VS_FAULT_KILL is "before-status" (everything flushed but the status) or
+ * "after-status" (the status flushed, the file not yet closed), the process kills itself with
+ * SIGKILL at that point. */
 vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status,
                            const vs_error *run_err, vs_error *err);
 
@@ -85,10 +90,27 @@ long vs_output_rows(const vs_output *o);
  * plays it; its legacy "XDMF Reader" does not read this form. */
 const char *vs_output_xdmf_path(const vs_output *o);
 
+/* 1 once vs_output_finish has written the XDMF sidecar, else 0. */
+int vs_output_xdmf_written(const vs_output *o);
+
+/* The sidecar's path for a record at h5_path (see vs_output_xdmf_path), malloc'd (the caller
+ * frees it), or NULL when out of memory. */
+char *vs_output_xdmf_path_for(const char *h5_path);
+
 /* Close every HDF5 object and the file (flushing it), free o and NULL *o; NULL and *o == NULL
  * are allowed. Without vs_output_finish the buffered rows are written but the status stays
  * "running" and there is no XDMF. */
 void vs_output_destroy(vs_output **o);
+
+/* For a program: call vs_output_process_init before anything else uses HDF5 and
+ * vs_output_process_end before it exits, with clean = 0 if a record failed to be created or
+ * written (vs_output_create returned VS_ERR_IO, or vs_output_error is set). HDF5 1.10 cannot
+ * close a file after a failed write (a full disk) and would crash, or loop, in its exit handler;
+ * such a file is abandoned (it keeps what its last good flush wrote, status "running"), the exit
+ * handler is not installed, and process_end shuts HDF5 down only when it is clean and no file
+ * is left open. */
+void vs_output_process_init(void);
+void vs_output_process_end(int clean);
 
 /* Write the XDMF sidecar of an existing record (e.g. of a run that was killed) next to it, from
  * the datasets it holds; max_grids as in vs_output_opts (<= 0: the default). Errors: VS_ERR_IO

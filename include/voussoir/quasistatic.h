@@ -5,6 +5,8 @@
 #ifndef VOUSSOIR_QUASISTATIC_H
 #define VOUSSOIR_QUASISTATIC_H
 
+#include <signal.h>
+
 #include "voussoir/model.h"
 #include "voussoir/status.h"
 
@@ -19,7 +21,14 @@ typedef struct {
                         increment is located on the path by bisection, re-solving equilibria,
                         to limit_tol, and the equilibria on both sides are passed to the
                         callback; 0: no location */
+  const volatile sig_atomic_t *stop; /* NULL, or a flag (e.g. set by a signal handler) that,
+                                        once non-zero, stops the solve under way at its next
+                                        residual evaluation: VS_ERR_INTERRUPTED */
 } vs_path_opts;
+
+/* Increments (accepted and rejected) of one vs_path_run at most: reaching it is an error
+ * (VS_ERR_SOLVER) that says so. */
+#define VS_PATH_MAX_INCREMENTS 1000000L
 
 /* Options from a case (mm -> m). */
 void vs_path_opts_from_case(const vs_case *c, vs_path_opts *o);
@@ -63,7 +72,8 @@ typedef int (*vs_path_step_fn)(void *user, double delta, const double *q, const 
  * on entry (zeros: the reference configuration) and the last equilibrium on return. Errors:
  * VS_ERR_NO_EQUILIBRIUM when the start has no stable equilibrium (under self-weight: the arch
  * cannot stand) or a Newton failure is not a limit point (cause in err); VS_ERR_SOLVER when
- * SUNDIALS fails. res is filled as far as the path got. */
+ * SUNDIALS fails, the residual is not finite (NaN or infinity) or VS_PATH_MAX_INCREMENTS is
+ * reached; VS_ERR_INTERRUPTED when o->stop was raised. res is filled as far as the path got. */
 vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double *q,
                       vs_path_step_fn step_fn, void *user, vs_path_result *res, vs_error *err);
 

@@ -85,9 +85,19 @@ typedef int (*vs_run_event_fn)(void *user, const vs_run *run, const vs_run_event
 vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err);
 void vs_run_destroy(vs_run **r);
 
+/* Stop flag of the run (NULL: none), e.g. set by a SIGINT handler: once non-zero, the solve
+ * under way stops at its next residual evaluation (KINSOL or IDA) and vs_run_execute returns
+ * VS_ERR_INTERRUPTED. The flag is borrowed and only read. */
+void vs_run_set_stop(vs_run *r, const volatile sig_atomic_t *stop);
+
+/* Bounds of a run: dynamic phases after one limit point (each ended by the arch at rest with no
+ * equilibrium there), and limit points; reaching one is an error (VS_ERR_SOLVER) that says so. */
+#define VS_RUN_MAX_RESTARTS 100000
+#define VS_RUN_MAX_LIMITS 10000
+
 /* Run the case. The status is that of the solvers (VS_OK when the run reached the collapse, the
- * first limit point with dynamic.follow = 0, or support.max_mm); everything recorded up to a
- * failure stays available. */
+ * first limit point with dynamic.follow = 0, or support.max_mm); VS_ERR_INTERRUPTED after the
+ * stop flag; everything recorded up to a failure stays available. */
 vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn event, void *user,
                          vs_error *err);
 
