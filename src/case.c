@@ -1,9 +1,15 @@
 /* The case: every input parameter of a run. One table (section, key, type, range, unit, default)
  * drives the defaults, the INI reader, --set overrides, the range checks and every message, so a
  * key cannot exist in one of them and be missing from another. */
+#define _POSIX_C_SOURCE 200809L /* open, fstat */
 #include "voussoir/case.h"
 
 #include <ini.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "voussoir/parse.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -38,35 +44,47 @@ typedef struct {
   {#sec, #field, FIELD_TYPE(field), offsetof(vs_case, field), def, lo, hi, lo_in, hi_in, unit, what}
 
 #define INF INFINITY
+/* Every bound is finite (except where a sign is all that matters) so that every quantity derived
+ * from the case (areas, masses, weights, times delta / rate, the span) stays a finite, non-zero
+ * double; the README's table of keys gives the reason for each. Lengths: 1 um to 1 km. */
+#define LEN_MIN 1e-3
+#define LEN_MAX 1e6
 static const key_spec keys[] = {
     /*  section  key           default  min  incl   max   incl   unit      meaning */
-    KEY(arch, radius_mm, 300.0, 0.0, false, INF, false, "mm", "intrados radius R"),
-    KEY(arch, thickness_mm, 24.0, 0.0, false, INF, false, "mm", "radial thickness t"),
-    KEY(arch, embrace_deg, 125.0, 0.0, false, 180.0, true, "deg",
-        "angle of embrace, symmetric about the crown"),
-    KEY(arch, voussoirs, 55.0, 1.0, true, 20000.0, true, "", "number of voussoirs (equal angles)"),
-    KEY(arch, depth_mm, 120.0, 0.0, false, INF, false, "mm", "out-of-plane depth b"),
-    KEY(arch, density_kg_m3, 1640.0, 0.0, false, INF, false, "kg/m^3", "density of the blocks"),
-    KEY(arch, gravity_m_s2, 9.81, 0.0, false, INF, false, "m/s^2", "gravitational acceleration"),
-    KEY(joints, kn_N_mm3, 3.0, 0.0, false, 1e4, true, "N/mm^3",
-        "normal stiffness k_n (above 1e4 doubles cannot resolve joint forces against a voussoir weight)"),
-    KEY(joints, ks_ratio, 0.5, 0.0, false, INF, false, "", "shear stiffness ratio k_s / k_n"),
-    KEY(joints, friction, 0.7, 0.0, false, INF, false, "", "Coulomb friction coefficient mu"),
+    KEY(arch, radius_mm, 300.0, LEN_MIN, true, LEN_MAX, true, "mm", "intrados radius R"),
+    KEY(arch, thickness_mm, 24.0, LEN_MIN, true, LEN_MAX, true, "mm", "radial thickness t"),
+    KEY(arch, embrace_deg, 125.0, 1.0, true, 180.0, true, "deg",
+        "angle of embrace, symmetric about the crown (below 1 deg the arch is a flat beam)"),
+    KEY(arch, voussoirs, 55.0, 1.0, true, 1000.0, true, "",
+        "number of voussoirs, equal angles (the record grows by ~200 bytes per voussoir and state: "
+        "1000 voussoirs write up to ~200 MB)"),
+    KEY(arch, depth_mm, 120.0, LEN_MIN, true, LEN_MAX, true, "mm", "out-of-plane depth b"),
+    KEY(arch, density_kg_m3, 1640.0, 10.0, true, 1e5, true, "kg/m^3",
+        "density of the blocks (foams to beyond any metal; lighter blocks weigh less than the "
+        "Newton tolerance can resolve against the joint stiffness)"),
+    KEY(arch, gravity_m_s2, 9.81, 0.1, true, 1000.0, true, "m/s^2",
+        "gravitational acceleration (up to 100 g, as in a centrifuge model)"),
+    KEY(joints, kn_N_mm3, 3.0, 1e-4, true, 1e4, true, "N/mm^3",
+        "normal stiffness k_n (above 1e4 doubles cannot resolve joint forces against a voussoir "
+        "weight; below 1e-4 a lab arch sinks by its own thickness under self-weight)"),
+    KEY(joints, ks_ratio, 0.5, 0.0, false, 100.0, true, "", "shear stiffness ratio k_s / k_n"),
+    KEY(joints, friction, 0.7, 0.0, false, 100.0, true, "", "Coulomb friction coefficient mu"),
     KEY(support, alpha_deg, 0.0, -180.0, true, 180.0, true, "deg",
         "direction of the right support's motion from the vertical (0 down, 90 outward)"),
-    KEY(support, rate_mm_s, 0.04, 0.0, false, INF, false, "mm/s", "speed of the right support"),
-    KEY(support, max_mm, 300.0, 0.0, false, INF, false, "mm",
+    KEY(support, rate_mm_s, 0.04, 1e-6, true, 1e6, true, "mm/s",
+        "speed of the right support (times are delta / rate: bounded both ways)"),
+    KEY(support, max_mm, 300.0, 0.0, false, LEN_MAX, true, "mm",
         "largest support displacement followed"),
-    KEY(solver, step_mm, 0.5, 0.0, false, INF, false, "mm",
+    KEY(solver, step_mm, 0.5, 0.0, false, LEN_MAX, true, "mm",
         "initial increment of the support displacement"),
-    KEY(solver, step_max_mm, 2.0, 0.0, false, INF, false, "mm", "largest increment"),
-    KEY(solver, limit_tol_mm, 1e-3, 0.0, false, INF, false, "mm",
-        "bisection tolerance on a limit point"),
+    KEY(solver, step_max_mm, 2.0, 0.0, false, LEN_MAX, true, "mm", "largest increment"),
+    KEY(solver, limit_tol_mm, 1e-3, 1e-9, true, LEN_MAX, true, "mm",
+        "bisection tolerance on a limit point (below 1e-9 mm it is under the round-off of positions)"),
     KEY(solver, newton_tol, 1e-8, 0.0, false, 1e-2, true, "",
         "scaled residual tolerance (fraction of a voussoir's weight)"),
     KEY(solver, newton_maxiter, 8.0, 2.0, true, 1000.0, true, "",
         "Newton iterations per increment"),
-    KEY(hinges, open_mm, 0.05, 0.0, false, INF, false, "mm",
+    KEY(hinges, open_mm, 0.05, 0.0, false, LEN_MAX, true, "mm",
         "edge opening beyond which a joint counts as a hinge"),
     KEY(hinges, migrate_joints, 3.0, 0.0, true, 100.0, true, "joints",
         "a hinge reappearing within this many joints, same side, has migrated"),
@@ -77,22 +95,22 @@ static const key_spec keys[] = {
     KEY(dynamic, damping, 0.05, 0.0, true, 1.0, true, "",
         "joint damping, fraction of each joint's critical damping"),
     KEY(dynamic, rtol, 1e-6, 0.0, false, 1e-2, true, "", "IDA relative tolerance"),
-    KEY(dynamic, atol_mm, 1e-5, 0.0, false, INF, false, "mm",
+    KEY(dynamic, atol_mm, 1e-5, 0.0, false, LEN_MAX, true, "mm",
         "IDA absolute tolerance on positions"),
     KEY(dynamic, rest_factor, 100.0, 1.0, true, 1e12, true, "",
         "at rest below this many times the kinetic energy of the arch moving at the support rate"),
-    KEY(dynamic, rest_s, 1.0, 0.0, false, INF, false, "s", "... for this long"),
-    KEY(dynamic, collapse_ke, 0.1, 0.0, false, INF, false, "",
+    KEY(dynamic, rest_s, 1.0, 0.0, false, 1e6, true, "s", "... for this long"),
+    KEY(dynamic, collapse_ke, 0.1, 0.0, false, 1e6, true, "",
         "collapsing beyond this kinetic energy, as a fraction of weight x thickness"),
-    KEY(dynamic, fall_s, 0.25, 0.0, true, INF, false, "s", "the fall is followed this long"),
-    KEY(dynamic, sample_s, 0.01, 0.0, false, INF, false, "s", "interval between dynamic samples"),
+    KEY(dynamic, fall_s, 0.25, 0.0, true, 1e6, true, "s", "the fall is followed this long"),
+    KEY(dynamic, sample_s, 0.01, 1e-6, true, 1e6, true, "s", "interval between dynamic samples"),
     /* imperfections: src/imperfections.c; all amplitudes 0 give the perfect arch exactly */
     KEY(imperfections, seed, 1.0, 0.0, true, 2147483647.0, true, "", "seed of the generator"),
     KEY(imperfections, sample, 0.0, 0.0, true, 2147483647.0, true, "",
         "sample number (each sample draws its own imperfections)"),
     KEY(imperfections, kn_cov, 0.0, 0.0, true, 3.0, true, "",
         "coefficient of variation of each joint's k_n (lognormal, mean the nominal k_n)"),
-    KEY(imperfections, kn_corr_mm, 0.0, 0.0, true, INF, false, "mm",
+    KEY(imperfections, kn_corr_mm, 0.0, 0.0, true, 1e6, true, "mm",
         "correlation length of the k_n scatter along the arch (0: independent joints)"),
     KEY(imperfections, face_mm, 0.0, 0.0, true, 10.0, true, "mm",
         "non-coplanar faces: standard deviation of the as-built gap at a joint's open edge"),
@@ -105,6 +123,8 @@ static const key_spec keys[] = {
     KEY(imperfections, support_dz_mm, 0.0, -100.0, true, 100.0, true, "mm",
         "initial offset of the moving support, downward"),
 };
+#undef LEN_MIN
+#undef LEN_MAX
 #undef INF
 #undef KEY
 #undef FIELD_TYPE
@@ -223,51 +243,16 @@ static const char *clip(const char *s, echo_buf *b) {
 }
 
 /* ---------------------------------------------------------------------------------------------
- * Numbers. strtod/strtol follow the C locale's decimal point; the program never calls setlocale. */
+ * Numbers: the one parser of parse.h (same accepted forms as every command-line option). */
 
-typedef enum { NUM_OK, NUM_EMPTY, NUM_NOT_NUMBER, NUM_TRAILING, NUM_NOT_INTEGER, NUM_NOT_FINITE,
-               NUM_OVERFLOW } num_result;
-
-static const char *num_reason(num_result r) {
-  switch (r) {
-  case NUM_OK: return "ok";
-  case NUM_EMPTY: return "empty value (expected a number)";
-  case NUM_NOT_NUMBER: return "not a number";
-  case NUM_TRAILING: return "unexpected characters after the number";
-  case NUM_NOT_INTEGER: return "integer expected";
-  case NUM_NOT_FINITE: return "not a finite number";
-  case NUM_OVERFLOW: return "out of range";
-  }
-  return "invalid";
-}
-
-static num_result parse_double(const char *s, double *out) {
-  if (*s == '\0') return NUM_EMPTY;
-  char *end;
-  errno = 0;
-  double v = strtod(s, &end);
-  if (end == s) return NUM_NOT_NUMBER;
-  if (*end != '\0') return NUM_TRAILING;
-  if (isinf(v) && errno == ERANGE) return NUM_OVERFLOW; /* 1e999: a number, just too big */
-  if (!isfinite(v)) return NUM_NOT_FINITE;              /* "nan", "inf" written as such */
-  *out = v;
-  return NUM_OK;
-}
-
-static num_result parse_int(const char *s, double *out) {
-  if (*s == '\0') return NUM_EMPTY;
-  char *end;
-  errno = 0;
-  long v = strtol(s, &end, 10);
-  if (end != s && *end == '\0') {
-    if (errno == ERANGE || v < INT_MIN || v > INT_MAX) return NUM_OVERFLOW;
-    *out = (double)v;
-    return NUM_OK;
-  }
-  /* Not a plain integer: say whether it is a number of the wrong kind or no number at all. */
-  double d;
-  num_result r = parse_double(s, &d);
-  return r == NUM_OK || r == NUM_OVERFLOW ? NUM_NOT_INTEGER : r;
+static vs_num_status parse_value(const key_spec *k, const char *s, double *out) {
+  if (k->type == KEY_DOUBLE) return vs_parse_double(s, out);
+  long v = 0;
+  vs_num_status st = vs_parse_long(s, &v);
+  if (st != VS_NUM_OK) return st;
+  if (v < INT_MIN || v > INT_MAX) return VS_NUM_OUT_OF_RANGE;
+  *out = (double)v;
+  return VS_NUM_OK;
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -298,11 +283,11 @@ static vs_status assign(vs_case *c, const char *section, const char *name, const
   char range[96];
   range_text(k, range, sizeof range);
   double v = 0.0;
-  num_result r = k->type == KEY_INT ? parse_int(value, &v) : parse_double(value, &v);
-  if (r == NUM_OK && !in_range(k, v)) r = NUM_OVERFLOW;
-  if (r != NUM_OK)
-    return vs_error_set(err, r == NUM_OVERFLOW ? VS_ERR_INVALID : VS_ERR_PARSE,
-                        "%s: %s.%s = %s: %s (allowed: %s)", where, sec, key, val, num_reason(r),
+  vs_num_status r = parse_value(k, value, &v);
+  if (r == VS_NUM_OK && !in_range(k, v)) r = VS_NUM_OUT_OF_RANGE;
+  if (r != VS_NUM_OK)
+    return vs_error_set(err, r == VS_NUM_OUT_OF_RANGE ? VS_ERR_INVALID : VS_ERR_PARSE,
+                        "%s: %s.%s = %s: %s (allowed: %s)", where, sec, key, val, vs_num_reason(r),
                         range);
   set_value(c, k, v);
   return VS_OK;
@@ -342,10 +327,12 @@ static char *reader_fail(reader_ctx *x, vs_status status) {
 static char *next_line(char *buf, int size, void *stream) {
   reader_ctx *x = stream;
   if (x->error_line > 0 || x->pos >= x->end) return NULL;
-  const char *start = x->pos;
-  const char *nl = memchr(start, '\n', (size_t)(x->end - start));
-  const char *stop = nl != NULL ? nl : x->end;
-  x->pos = nl != NULL ? nl + 1 : x->end;
+  const char *start = x->pos, *stop = start;
+  while (stop < x->end && *stop != '\n' && *stop != '\r') stop++;
+  /* a line ends at LF, CR LF or a lone CR (old Mac files), so CR-only files read line by line */
+  x->pos = stop;
+  if (x->pos < x->end && *x->pos == '\r') x->pos++;
+  if (x->pos < x->end && *x->pos == '\n') x->pos++;
   x->lineno++;
 
   if (memchr(start, '\0', (size_t)(stop - start)) != NULL) {
@@ -379,6 +366,14 @@ static char *next_line(char *buf, int size, void *stream) {
     buf[close - buf] = '\0';
     vs_error_set(x->err, VS_ERR_PARSE, "%s:%d: [%s]: unknown section (allowed sections: %s)",
                  x->path, x->lineno, clip(buf + 1, &b), list);
+    return reader_fail(x, VS_ERR_PARSE);
+  }
+  if (close != NULL && close[1] != '\0') { /* inih would drop "radius_mm=3" in "[arch] radius_mm=3" */
+    echo_buf b;
+    while (is_blank(*++close)) {}
+    vs_error_set(x->err, VS_ERR_PARSE,
+                 "%s:%d: '%s' after the section header (put each key = value on its own line)",
+                 x->path, x->lineno, clip(close, &b));
     return reader_fail(x, VS_ERR_PARSE);
   }
   return buf;
@@ -417,32 +412,59 @@ static int on_pair(void *user, const char *section, const char *name, const char
 }
 #endif
 
-/* Read the whole file into a NUL-terminated malloc'd buffer. */
-static vs_status read_text(const char *path, char **text, size_t *len, vs_error *err) {
-  FILE *f = fopen(path, "rb");
-  if (f == NULL) return vs_error_set(err, VS_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-  size_t cap = 4096, used = 0;
-  char *buf = malloc(cap);
-  while (buf != NULL && !feof(f) && !ferror(f)) {
-    if (cap - used < 2) {
-      char *bigger = cap <= SIZE_MAX / 2 ? realloc(buf, cap * 2) : NULL;
-      if (bigger == NULL) {
-        free(buf);
-        buf = NULL;
-        break;
-      }
-      buf = bigger;
-      cap *= 2;
-    }
-    used += fread(buf + used, 1, cap - used - 1, f);
+/* Refuse what is not a regular file of at most VS_CASE_MAX_BYTES: a FIFO would block, a device
+ * such as /dev/zero would grow memory without bound. The file is opened without blocking (a FIFO
+ * with no writer) and checked on the open descriptor, so a swap after the check does not matter. */
+static vs_status open_case(const char *path, int *fd_out, size_t *size, vs_error *err) {
+  int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY);
+  if (fd < 0) return vs_error_set(err, VS_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  struct stat sb;
+  vs_status st = VS_OK;
+  if (fstat(fd, &sb) != 0)
+    st = vs_error_set(err, VS_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
+  else if (!S_ISREG(sb.st_mode))
+    st = vs_error_set(err, VS_ERR_IO, "%s: not a regular file (a case must be a plain file, not a "
+                                      "%s)", path, S_ISDIR(sb.st_mode) ? "directory"
+                                      : S_ISFIFO(sb.st_mode) ? "pipe" : "device or socket");
+  else if (sb.st_size > VS_CASE_MAX_BYTES)
+    st = vs_error_set(err, VS_ERR_IO, "%s: %lld bytes: too large (a case file is at most %d bytes)",
+                      path, (long long)sb.st_size, VS_CASE_MAX_BYTES);
+  if (st != VS_OK) {
+    close(fd);
+    return st;
   }
-  int read_errno = errno;
-  bool failed = buf != NULL && ferror(f);
-  fclose(f);
+  *fd_out = fd;
+  *size = (size_t)sb.st_size;
+  return VS_OK;
+}
+
+/* Read the whole file into a NUL-terminated malloc'd buffer; a file that grows past the limit
+ * while it is read is refused too. */
+static vs_status read_text(const char *path, char **text, size_t *len, vs_error *err) {
+  int fd = -1;
+  size_t size = 0;
+  vs_status st = open_case(path, &fd, &size, err);
+  if (st != VS_OK) return st;
+  char *buf = malloc((size_t)VS_CASE_MAX_BYTES + 2);
+  size_t used = 0;
+  while (buf != NULL && used <= (size_t)VS_CASE_MAX_BYTES) {
+    ssize_t n = read(fd, buf + used, (size_t)VS_CASE_MAX_BYTES + 1 - used);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      st = vs_error_set(err, VS_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
+      break;
+    }
+    if (n == 0) break;
+    used += (size_t)n;
+  }
+  close(fd);
   if (buf == NULL) return vs_error_set(err, VS_ERR_NOMEM, "%s: out of memory reading the file", path);
-  if (failed) {
+  if (st == VS_OK && used > (size_t)VS_CASE_MAX_BYTES)
+    st = vs_error_set(err, VS_ERR_IO, "%s: too large (a case file is at most %d bytes)", path,
+                      VS_CASE_MAX_BYTES);
+  if (st != VS_OK) {
     free(buf);
-    return vs_error_set(err, VS_ERR_IO, "%s: cannot read: %s", path, strerror(read_errno));
+    return st;
   }
   buf[used] = '\0';
   *text = buf;
@@ -459,6 +481,30 @@ void vs_case_defaults(vs_case *c) {
   for (size_t i = 0; i < NKEYS; i++) set_value(c, &keys[i], keys[i].def);
 }
 
+vs_status vs_case_parse(vs_case *c, const char *name, const char *text, size_t len,
+                        vs_error *err) {
+  if (c == NULL || name == NULL || text == NULL)
+    return vs_error_set(err, VS_ERR_INVALID, "vs_case_parse: %s is NULL",
+                        c == NULL ? "case" : name == NULL ? "name" : "text");
+  if (len > (size_t)VS_CASE_MAX_BYTES)
+    return vs_error_set(err, VS_ERR_IO, "%s: too large (a case file is at most %d bytes)", name,
+                        VS_CASE_MAX_BYTES);
+  reader_ctx x = {.value = *c, .path = name, .pos = text, .end = text + len, .status = VS_OK,
+                  .err = err};
+  int ret = ini_parse_stream(next_line, &x, on_pair, &x);
+  vs_status st = VS_OK;
+  /* inih returns the first line it could not parse; ours may be earlier or later. */
+  if (ret > 0 && (x.error_line == 0 || ret < x.error_line))
+    st = vs_error_set(err, VS_ERR_PARSE, "%s:%d: malformed line (expected key = value or [section])",
+                      name, ret);
+  else if (x.error_line > 0)
+    st = x.status;
+  else if (ret < 0)
+    st = vs_error_set(err, VS_ERR_NOMEM, "%s: out of memory while parsing", name);
+  if (st == VS_OK) *c = x.value;
+  return st;
+}
+
 vs_status vs_case_read(vs_case *c, const char *path, char **text_out, vs_error *err) {
   if (text_out != NULL) *text_out = NULL;
   if (c == NULL || path == NULL)
@@ -466,24 +512,11 @@ vs_status vs_case_read(vs_case *c, const char *path, char **text_out, vs_error *
   char *text = NULL;
   size_t len = 0;
   vs_status st = read_text(path, &text, &len, err);
-  if (st != VS_OK) return st;
-
-  reader_ctx x = {.value = *c, .path = path, .pos = text, .end = text + len, .status = VS_OK,
-                  .err = err};
-  int ret = ini_parse_stream(next_line, &x, on_pair, &x);
-  /* inih returns the first line it could not parse; ours may be earlier or later. */
-  if (ret > 0 && (x.error_line == 0 || ret < x.error_line))
-    st = vs_error_set(err, VS_ERR_PARSE, "%s:%d: malformed line (expected key = value or [section])",
-                      path, ret);
-  else if (x.error_line > 0)
-    st = x.status;
-  else if (ret < 0)
-    st = vs_error_set(err, VS_ERR_NOMEM, "%s: out of memory while parsing", path);
+  if (st == VS_OK) st = vs_case_parse(c, path, text, len, err);
   if (st != VS_OK) {
     free(text);
     return st;
   }
-  *c = x.value;
   if (text_out != NULL)
     *text_out = text;
   else

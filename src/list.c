@@ -1,25 +1,25 @@
 /* Lists of numbers for sweeps: comma-separated numbers and inclusive "first:last:step" ranges. */
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "voussoir/parse.h"
 #include "voussoir/sweep.h"
 
+/* The item [s, end) as a number, in the forms of parse.h. */
 static int parse_number(const char *s, const char *end, double *out) {
-  char buf[64];
   size_t n = (size_t)(end - s);
-  if (n == 0 || n >= sizeof buf) return -1;
-  memcpy(buf, s, n);
-  buf[n] = '\0';
-  char *e = NULL;
-  errno = 0;
-  *out = strtod(buf, &e);
-  if (e == buf || *e != '\0' || errno != 0 || !isfinite(*out)) return -1;
-  return 0;
+  char *item = malloc(n + 1);
+  if (item == NULL) return -1;
+  memcpy(item, s, n);
+  item[n] = '\0';
+  int rc = vs_parse_double(item, out) == VS_NUM_OK ? 0 : -1;
+  free(item);
+  return rc;
 }
 
 static int push(double **v, int *n, int *cap, double x) {
+  if (*n >= VS_LIST_MAX_VALUES) return -1;
   if (*n == *cap) {
     int c = *cap ? 2 * *cap : 16;
     double *nv = realloc(*v, (size_t)c * sizeof *nv);
@@ -30,9 +30,6 @@ static int push(double **v, int *n, int *cap, double x) {
   (*v)[(*n)++] = x;
   return 0;
 }
-
-/* Largest number of values one range may expand to. */
-static const int VS_LIST_MAX = 100000;
 
 vs_status vs_parse_list(const char *what, const char *text, double **values, int *n,
                         vs_error *err) {
@@ -54,7 +51,7 @@ vs_status vs_parse_list(const char *what, const char *text, double **values, int
       const char *c2 = memchr(c1 + 1, ':', (size_t)(end - c1 - 1));
       bad = c2 == NULL || parse_number(p, c1, &a) != 0 || parse_number(c1 + 1, c2, &b) != 0 ||
             parse_number(c2 + 1, end, &step) != 0 || !(step > 0.0) || b < a ||
-            (b - a) / step > VS_LIST_MAX;
+            (b - a) / step > VS_LIST_MAX_VALUES;
       for (int k = 0; !bad && a + k * step <= b + 1e-9 * step; k++)
         bad = push(values, n, &cap, a + k * step) != 0;
     }
@@ -63,9 +60,10 @@ vs_status vs_parse_list(const char *what, const char *text, double **values, int
       *values = NULL;
       *n = 0;
       return vs_error_set(err, VS_ERR_USAGE,
-                          "%s: '%.*s' is not a number or a range first:last:step (step > 0, "
-                          "last >= first)",
-                          what, (int)(end - p), p);
+                          "%s: '%.*s%s' is not a number or a range first:last:step (step > 0, "
+                          "last >= first; at most %d values in a list)",
+                          what, (int)(end - p > 64 ? 64 : end - p), p, end - p > 64 ? "..." : "",
+                          VS_LIST_MAX_VALUES);
     }
     if (comma == NULL) break;
     p = comma + 1;

@@ -146,6 +146,19 @@ static void default_record_path(const char *case_path, char *buf, size_t size) {
   snprintf(buf, size, "%.*s.h5", n, base);
 }
 
+/* Apply "KEY=VALUE" (key not NULL: --alpha, --kn) or the assignment VALUE (--set), whatever
+ * its length: the whole text reaches the parser, so nothing is cut and trailing junk is seen. */
+static vs_status set_option(vs_case *c, const char *key, const char *value, vs_error *err) {
+  if (key == NULL) return vs_case_set(c, value, err);
+  size_t n = strlen(key) + strlen(value) + 2;
+  char *assignment = malloc(n);
+  if (assignment == NULL) return vs_error_set(err, VS_ERR_NOMEM, "out of memory");
+  snprintf(assignment, n, "%s=%s", key, value);
+  vs_status st = vs_case_set(c, assignment, err);
+  free(assignment);
+  return st;
+}
+
 typedef struct {
   const char *case_path, *out_path, *csv_path; /* out_path NULL: no record */
   int json, quiet, record;
@@ -200,18 +213,17 @@ static int parse_run_args(int argc, char **argv, run_args *a) {
 /* The overrides of the command line, in the order given. */
 static vs_status apply_overrides(int argc, char **argv, vs_case *c, vs_error *err) {
   for (int i = 2; i < argc; i++) {
-    char buf[512];
-    const char *a = argv[i];
-    if (strcmp(a, "--alpha") == 0) snprintf(buf, sizeof buf, "support.alpha_deg=%s", argv[++i]);
-    else if (strcmp(a, "--kn") == 0) snprintf(buf, sizeof buf, "joints.kn_N_mm3=%s", argv[++i]);
-    else if (strcmp(a, "--set") == 0) snprintf(buf, sizeof buf, "%s", argv[++i]);
-    else if (strcmp(a, "--dynamic") == 0) snprintf(buf, sizeof buf, "dynamic.full=1");
-    else if (strcmp(a, "--first-limit") == 0) snprintf(buf, sizeof buf, "dynamic.follow=0");
+    const char *a = argv[i], *key = NULL, *value = NULL;
+    if (strcmp(a, "--alpha") == 0) key = "support.alpha_deg", value = argv[++i];
+    else if (strcmp(a, "--kn") == 0) key = "joints.kn_N_mm3", value = argv[++i];
+    else if (strcmp(a, "--set") == 0) value = argv[++i];
+    else if (strcmp(a, "--dynamic") == 0) value = "dynamic.full=1";
+    else if (strcmp(a, "--first-limit") == 0) value = "dynamic.follow=0";
     else {
       if (strcmp(a, "-o") == 0 || strcmp(a, "--csv") == 0) i++;
       continue;
     }
-    vs_status st = vs_case_set(c, buf, err);
+    vs_status st = set_option(c, key, value, err);
     if (st != VS_OK) return st;
   }
   return VS_OK;

@@ -16,6 +16,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "voussoir/parse.h"
 #include "voussoir/plot.h"
 
 enum { EXIT_FAIL = 1, EXIT_USAGE = 2, MAX_SETS = 64 };
@@ -140,17 +141,12 @@ static int run_pool(const vs_case *c, const int *samples, int n, int jobs, int q
   return done == n ? 0 : -1;
 }
 
-static int parse_int_arg(const char *what, const char *s, long lo, long hi, int *out) {
-  char *end;
-  errno = 0;
-  long v = strtol(s, &end, 10);
-  if (end == s || *end != '\0' || errno != 0 || v < lo || v > hi) {
-    fprintf(stderr, "voussoir montecarlo: %s %s: expected an integer in [%ld, %ld]\n", what, s, lo,
-            hi);
-    return -1;
-  }
-  *out = (int)v;
-  return 0;
+/* An integer option through the project's one number parser. */
+static int parse_int_arg(const char *what, const char *text, int lo, int hi, int *out) {
+  vs_error err;
+  if (vs_parse_option_int(what, text, lo, hi, out, &err) == VS_OK) return 0;
+  fprintf(stderr, "voussoir montecarlo: %s\n", err.msg);
+  return -1;
 }
 
 typedef struct {
@@ -179,8 +175,19 @@ static int parse_args(int argc, char **argv, mc_args *a) {
       if (parse_int_arg("-j", argv[++i], 1, 1024, &a->jobs) != 0) return -1;
     } else if (strcmp(s, "--shard") == 0 && has) {
       const char *v = argv[++i];
-      if (sscanf(v, "%d/%d", &a->shard_k, &a->shard_m) != 2 || a->shard_m < 1 ||
-          a->shard_k < 1 || a->shard_k > a->shard_m || strchr(v, '/') == NULL) {
+      char k[32], m[32];
+      const char *slash = strchr(v, '/');
+      int ok = slash != NULL && (size_t)(slash - v) < sizeof k && strlen(slash + 1) < sizeof m;
+      if (ok) {
+        snprintf(k, sizeof k, "%.*s", (int)(slash - v), v);
+        snprintf(m, sizeof m, "%s", slash + 1);
+        long lk = 0, lm = 0;
+        ok = vs_parse_long(k, &lk) == VS_NUM_OK && vs_parse_long(m, &lm) == VS_NUM_OK &&
+             lm >= 1 && lm <= 1000000 && lk >= 1 && lk <= lm;
+        a->shard_k = (int)lk;
+        a->shard_m = (int)lm;
+      }
+      if (!ok) {
         fprintf(stderr, "voussoir montecarlo: --shard %s: expected K/M with 1 <= K <= M\n", v);
         return -1;
       }
@@ -308,15 +315,20 @@ static int parse_row(char *line, vs_mc_sample *x) {
   line[strcspn(line, "\r\n")] = '\0';
   if (split_csv(line, f, 14) != 14) return -1;
   memset(x, 0, sizeof *x);
-  x->sample = atoi(f[0]);
+  long smp = -1, mode = 0;
+  if (vs_parse_long(f[0], &smp) != VS_NUM_OK || smp < 0 || smp > INT_MAX ||
+      vs_parse_long(f[6], &mode) != VS_NUM_OK || mode < 0 || mode > 3)
+    return -1;
+  x->sample = (int)smp;
+  x->mode = (int)mode;
   x->status = strcmp(f[1], "collapse") == 0           ? VS_MC_COLLAPSE
               : strcmp(f[1], "max_displacement") == 0 ? VS_MC_NO_COLLAPSE
                                                       : VS_MC_FAILED;
+  /* the table is ours: "nan" marks a missing value, which the strict parser refuses */
   x->first_limit_mm = strtod(f[2], NULL);
   x->delta_u_mm = strtod(f[3], NULL);
   x->dz_u_mm = strtod(f[4], NULL);
   x->dx_u_mm = strtod(f[5], NULL);
-  x->mode = atoi(f[6]);
   snprintf(x->pattern, sizeof x->pattern, "%s", f[7]);
   for (int l = 0; l < VS_MC_LABELS; l++) {
     char side = 0;

@@ -32,8 +32,16 @@ static const char *end_name(const vs_run *r, vs_status st) {
   return "max_displacement";
 }
 
+/* Numbers in JSON: JSON has no inf or nan, so a value that is not finite is written as null. */
 static void json_number_or_null(FILE *out, double x) {
   if (isfinite(x)) fprintf(out, "%.10g", x);
+  else fputs("null", out);
+}
+
+/* ,"key":x (or "key":x first in an object) with x finite, else null; %.17g keeps every bit. */
+static void jnum(FILE *out, const char *sep_key, double x, int digits) {
+  fputs(sep_key, out);
+  if (isfinite(x)) fprintf(out, "%.*g", digits, x);
   else fputs("null", out);
 }
 
@@ -49,9 +57,9 @@ static void json_hinges(FILE *out, const vs_run *r, const vs_hinge *h, int n, in
       for (int j = h[i].onset_first; j <= h[i].onset_last; j++)
         fprintf(out, "%s%d", j > h[i].onset_first ? "," : "", j);
     }
-    fprintf(out, "],\"delta_onset_mm\":%.10g,\"time_onset_s\":%.10g,\"open\":%s,\"order\":%d}",
-            h[i].delta_onset / VS_MM, h[i].delta_onset / rate, h[i].open ? "true" : "false",
-            h[i].order);
+    jnum(out, "],\"delta_onset_mm\":", h[i].delta_onset / VS_MM, 10);
+    jnum(out, ",\"time_onset_s\":", h[i].delta_onset / rate, 10);
+    fprintf(out, ",\"open\":%s,\"order\":%d}", h[i].open ? "true" : "false", h[i].order);
   }
   fputc(']', out);
 }
@@ -64,13 +72,16 @@ static void json_first_limit(FILE *out, const vs_run *r) {
     return;
   }
   components_pct(vs_run_case(r), p->delta_limit, &dz, &dx);
-  fprintf(out,
-          "{\"delta_mm\":%.10g,\"dz_over_L_pct\":%.10g,\"dx_over_L_pct\":%.10g,"
-          "\"bracket_mm\":[%.10g,%.10g],\"det_sign\":%d,\"lambda_start_N_m\":%.6g,"
-          "\"lambda_last_N_m\":%.6g,\"delta_extrapolated_mm\":%.10g}",
-          p->delta_limit / VS_MM, dz, dx, p->delta_limit / VS_MM, p->delta_fail / VS_MM,
-          p->evidence.det_sign, p->evidence.lambda_start, p->evidence.lambda_last,
-          p->evidence.delta_extrap / VS_MM);
+  jnum(out, "{\"delta_mm\":", p->delta_limit / VS_MM, 10);
+  jnum(out, ",\"dz_over_L_pct\":", dz, 10);
+  jnum(out, ",\"dx_over_L_pct\":", dx, 10);
+  jnum(out, ",\"bracket_mm\":[", p->delta_limit / VS_MM, 10);
+  jnum(out, ",", p->delta_fail / VS_MM, 10);
+  fprintf(out, "],\"det_sign\":%d", p->evidence.det_sign);
+  jnum(out, ",\"lambda_start_N_m\":", p->evidence.lambda_start, 6);
+  jnum(out, ",\"lambda_last_N_m\":", p->evidence.lambda_last, 6);
+  jnum(out, ",\"delta_extrapolated_mm\":", p->evidence.delta_extrap / VS_MM, 10);
+  fputc('}', out);
 }
 
 /* {"left":[Fx,Fz,M],"right":[...]} (N, N, N m; null where NaN). */
@@ -93,17 +104,14 @@ static void json_collapse(FILE *out, const vs_run *r) {
     return;
   }
   components_pct(vs_run_case(r), col->delta, &dz, &dx);
-  const double v[4] = {col->delta / VS_MM, dz, dx, col->t};
-  const char *key[4] = {"{\"delta_mm\":", ",\"dz_over_L_pct\":", ",\"dx_over_L_pct\":", ",\"time_s\":"};
-  for (int i = 0; i < 4; i++) {
-    fputs(key[i], out);
-    json_number_or_null(out, v[i]);
-  }
-  fprintf(out, ",\"delta_detected_mm\":%.10g,\"time_detected_s\":%.10g,\"onset_time_s\":",
-          col->delta_detected / VS_MM, col->t_criterion);
-  json_number_or_null(out, col->t_onset);
-  fputs(",\"delta_onset_mm\":", out);
-  json_number_or_null(out, col->t_onset * vs_run_case(r)->rate_mm_s);
+  jnum(out, "{\"delta_mm\":", col->delta / VS_MM, 10);
+  jnum(out, ",\"dz_over_L_pct\":", dz, 10);
+  jnum(out, ",\"dx_over_L_pct\":", dx, 10);
+  jnum(out, ",\"time_s\":", col->t, 10);
+  jnum(out, ",\"delta_detected_mm\":", col->delta_detected / VS_MM, 10);
+  jnum(out, ",\"time_detected_s\":", col->t_criterion, 10);
+  jnum(out, ",\"onset_time_s\":", col->t_onset, 10);
+  jnum(out, ",\"delta_onset_mm\":", col->t_onset * vs_run_case(r)->rate_mm_s, 10);
   fputs(",\"reactions_at_limit\":", out);
   json_reactions(out, col->reactions_limit);
   fputs(",\"hinges\":", out);
@@ -115,8 +123,8 @@ static void json_limits(FILE *out, const vs_run *r) {
   fputc('[', out);
   for (int i = 0; i < vs_run_limit_count(r); i++) {
     const vs_limit_record *l = vs_run_limit(r, i);
-    fprintf(out, "%s{\"delta_mm\":%.10g,\"kind\":\"%s\",\"delta_settled_mm\":", i ? "," : "",
-            l->delta / VS_MM,
+    jnum(out, i ? ",{\"delta_mm\":" : "{\"delta_mm\":", l->delta / VS_MM, 10);
+    fprintf(out, ",\"kind\":\"%s\",\"delta_settled_mm\":",
             l->collapse ? "collapse" : isfinite(l->delta_settled) ? "snap" : "unfollowed");
     json_number_or_null(out, l->delta_settled / VS_MM);
     fputs(",\"hinges_before\":", out);
@@ -128,6 +136,44 @@ static void json_limits(FILE *out, const vs_run *r) {
   fputc(']', out);
 }
 
+static void json_tail(FILE *out, const vs_run *r) {
+  const vs_case *c = vs_run_case(r);
+  const vs_dyn_result *d = vs_run_dynamic_totals(r);
+  jnum(out, ",\"energy\":{\"balance_error_rel\":", d->balance_error_rel, 6);
+  jnum(out, ",\"balance_error_fall_rel\":", d->balance_error_fall, 6);
+  jnum(out, ",\"max_kinetic_J\":", d->max_kinetic, 6);
+  jnum(out, "},\"parameters\":{\"open_mm\":", c->open_mm, 10);
+  fprintf(out, ",\"migrate_joints\":%d", c->migrate_joints);
+  jnum(out, ",\"limit_tol_mm\":", c->limit_tol_mm, 10);
+  jnum(out, ",\"newton_tol\":", c->newton_tol, 10);
+  jnum(out, ",\"ks_ratio\":", c->ks_ratio, 10);
+  jnum(out, ",\"friction\":", c->friction, 10);
+  fprintf(out, ",\"voussoirs\":%d", c->voussoirs);
+  jnum(out, ",\"damping\":", c->damping, 10);
+  jnum(out, ",\"rate_mm_s\":", c->rate_mm_s, 10);
+  jnum(out, ",\"rtol\":", c->rtol, 10);
+  jnum(out, ",\"atol_mm\":", c->atol_mm, 10);
+  const vs_path_result *p = vs_run_path_totals(r);
+  fprintf(out,
+          "},\"stats\":{\"steps\":%ld,\"rejected_steps\":%ld,\"located_equilibria\":%ld,"
+          "\"newton_iterations\":%ld,\"jacobian_evaluations\":%ld",
+          p->steps, p->rejected, p->located, p->newton_iterations, p->jacobian_evals);
+  jnum(out, ",\"max_residual\":", p->max_residual, 3);
+  fprintf(out,
+          ",\"floor_limited\":%ld,\"dynamic_steps\":%ld,\"dynamic_newton_iterations\":%ld,"
+          "\"root_events\":%ld",
+          p->floor_limited, d->steps, d->newton_iterations, d->root_events);
+  jnum(out, ",\"constraint_drift_m\":", d->max_drift, 3);
+  fputs(",\"dae\":", out);
+  if (d->dae_index > 0) /* null when no dynamic phase ran */
+    fprintf(out, "{\"differential\":%d,\"algebraic\":%d,\"index\":%d}", d->dae_differential,
+            d->dae_algebraic, d->dae_index);
+  else
+    fputs("null", out);
+  jnum(out, ",\"wall_s\":", vs_run_wall_s(r), 6);
+  fputs("}}\n", out);
+}
+
 void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error *err,
                     const char *case_path) {
   const vs_case *c = vs_run_case(r);
@@ -137,8 +183,10 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   fprintf(out, ",\"status\":\"%s\",\"error\":", end_name(r, status));
   if (status != VS_OK && err != NULL) vs_json_string(out, err->msg);
   else fputs("null", out);
-  fprintf(out, ",\"alpha_deg\":%.17g,\"kn_N_mm3\":%.17g,\"span_mm\":%.17g,\"mode_of_run\":\"%s\"",
-          c->alpha_deg, c->kn_N_mm3, vs_case_span_mm(c),
+  jnum(out, ",\"alpha_deg\":", c->alpha_deg, 17);
+  jnum(out, ",\"kn_N_mm3\":", c->kn_N_mm3, 17);
+  jnum(out, ",\"span_mm\":", vs_case_span_mm(c), 17);
+  fprintf(out, ",\"mode_of_run\":\"%s\"",
           c->full ? "dynamic" : c->follow ? "quasistatic+dynamic" : "quasistatic");
   fputs(",\"first_limit\":", out);
   json_first_limit(out, r);
@@ -154,8 +202,9 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   vs_json_string(out, vs_run_pattern_initial(r));
   fputs(",\"hinge_sides_collapse\":", out);
   vs_json_string(out, vs_run_pattern_collapse(r));
-  fprintf(out, ",\"last_delta_mm\":%.10g,\"last_time_s\":%.10g,\"reactions_last\":",
-          vs_run_delta(r) / VS_MM, vs_run_time(r));
+  jnum(out, ",\"last_delta_mm\":", vs_run_delta(r) / VS_MM, 10);
+  jnum(out, ",\"last_time_s\":", vs_run_time(r), 10);
+  fputs(",\"reactions_last\":", out);
   json_reactions(out, vs_run_reactions(r));
   fputs(",\"hinges\":", out);
   vs_hinge all[64];
@@ -163,31 +212,7 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   for (int i = 0; i < vs_run_hinge_count(r) && n < 64; i++) all[n++] = *vs_run_hinge(r, i);
   json_hinges(out, r, all, n, 1);
   fprintf(out, ",\"hinges_in_fall\":%d", vs_hinges_count(h) - vs_run_hinge_count(r));
-  const vs_dyn_result *d = vs_run_dynamic_totals(r);
-  fprintf(out, ",\"energy\":{\"balance_error_rel\":%.6g,\"balance_error_fall_rel\":%.6g,"
-               "\"max_kinetic_J\":%.6g}",
-          d->balance_error_rel, d->balance_error_fall, d->max_kinetic);
-  fprintf(out,
-          ",\"parameters\":{\"open_mm\":%.10g,\"migrate_joints\":%d,\"limit_tol_mm\":%.10g,"
-          "\"newton_tol\":%.10g,\"ks_ratio\":%.10g,\"friction\":%.10g,\"voussoirs\":%d,"
-          "\"damping\":%.10g,\"rate_mm_s\":%.10g,\"rtol\":%.10g,\"atol_mm\":%.10g}",
-          c->open_mm, c->migrate_joints, c->limit_tol_mm, c->newton_tol, c->ks_ratio, c->friction,
-          c->voussoirs, c->damping, c->rate_mm_s, c->rtol, c->atol_mm);
-  const vs_path_result *p = vs_run_path_totals(r);
-  fprintf(out,
-          ",\"stats\":{\"steps\":%ld,\"rejected_steps\":%ld,\"located_equilibria\":%ld,"
-          "\"newton_iterations\":%ld,"
-          "\"jacobian_evaluations\":%ld,\"max_residual\":%.3g,\"floor_limited\":%ld,"
-          "\"dynamic_steps\":%ld,\"dynamic_newton_iterations\":%ld,\"root_events\":%ld,"
-          "\"constraint_drift_m\":%.3g,\"dae\":",
-          p->steps, p->rejected, p->located, p->newton_iterations, p->jacobian_evals, p->max_residual,
-          p->floor_limited, d->steps, d->newton_iterations, d->root_events, d->max_drift);
-  if (d->dae_index > 0) /* null when no dynamic phase ran */
-    fprintf(out, "{\"differential\":%d,\"algebraic\":%d,\"index\":%d}", d->dae_differential,
-            d->dae_algebraic, d->dae_index);
-  else
-    fputs("null", out);
-  fprintf(out, ",\"wall_s\":%.6g}}\n", vs_run_wall_s(r));
+  json_tail(out, r);
 }
 
 static void text_header(FILE *out, const vs_run *r, const char *case_path) {

@@ -5,6 +5,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,10 +13,14 @@
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
+#ifdef __linux__
+#include <sys/prctl.h>
+#endif
 
 #include <hdf5.h>
 
 #include "voussoir/outpath.h"
+#include "voussoir/parse.h"
 #include "voussoir/run.h"
 #include "voussoir/sweep.h"
 #include "voussoir/units.h"
@@ -25,14 +30,20 @@ enum { EXIT_FAIL = 1, EXIT_USAGE = 2, MAX_AXES = 8, MAX_SETS = 64 };
 static const char *SWEEP_USAGE =
     "usage: voussoir sweep CASE [--alpha LIST] [--kn LIST] [--vary SECTION.KEY=LIST]...\n"
     "                      [--set SECTION.KEY=VALUE]... [--first-limit | --dynamic]\n"
-    "                      [-j N] [-o DIR] [-q]\n"
+    "                      [-j N] [-o DIR] [--resume] [-q]\n"
     "Runs the case for every combination of the lists, as independent processes (-j, default:\n"
     "the number of cores), and writes DIR/run_NNNN.h5 (the record) and .json per run and\n"
     "DIR/summary.csv. A run that\n"
     "fails is reported in the table with its cause; the others go on.\n"
     "LIST: comma-separated numbers and inclusive ranges first:last:step, e.g. 0:45:5,60,75,90.\n"
     "--alpha and --kn are the axes support.alpha_deg and joints.kn_N_mm3; --vary sweeps any key.\n"
-    "-o DIR: default sweep_out. Exit status 0 when every run worked, 1 if any failed, 2 bad input.\n";
+    "-o DIR: default sweep_out. At most 100000 runs.\n"
+    "SIGINT/SIGTERM: the runs under way are interrupted (the signal is passed on), the summary\n"
+    "lists what finished and marks the rest 'interrupted' or 'not_run'; exit status 130.\n"
+    "--resume: continue the sweep in DIR (same case, lists, --set and mode): a run whose\n"
+    "DIR/run_NNNN.json exists is complete and is not run again (that file appears only when\n"
+    "the run has ended).\n"
+    "Exit status 0 when every run worked, 1 if any failed, 2 bad input, 130 interrupted.\n";
 
 static const char *CAL_USAGE =
     "usage: voussoir calibrate CASE (--target-dz-pct X | --target-dx-pct X) [--kn-min N_MM3]\n"
@@ -142,6 +153,11 @@ static double now_s(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The signal that asked the sweep to stop (0: none) and how many arrived: the first is passed
+ * on to the runs under way, a second kills them. Static because a handler can reach nothing
+ * else; only vs_cmd_sweep reads them. */
+static volatile sig_atomic_t g_stop_signal = 0, g_stop_count = 0;
+
 /* Start run `index` (values[a] of every axis) as a child writing DIR/run_NNNN.json/.err. */
 static pid_t start_run(const char *self, const char *case_path, const char *dir, int index,
                        const axis *ax, int nax, const int *pick, char **sets, int nsets,
@@ -168,10 +184,21 @@ static pid_t start_run(const char *self, const char *case_path, const char *dir,
   args[a++] = "--json";
   args[a++] = "-q";
   args[a] = NULL;
-  snprintf(json, sizeof json, "%s/run_%04d.json", dir, index);
+  snprintf(json, sizeof json, "%s/run_%04d.json.part", dir, index);
   snprintf(errp, sizeof errp, "%s/run_%04d.err", dir, index);
+  const pid_t parent = getpid();
   pid_t pid = fork();
   if (pid != 0) return pid; /* parent (or -1) */
+  /* Own process group: a terminal's ^C reaches the parent only, which passes it on once. */
+  setpgid(0, 0);
+#ifdef __linux__
+  prctl(PR_SET_PDEATHSIG, SIGTERM); /* the parent killed outright: the run stops too */
+#endif
+  if (getppid() != parent) _exit(130); /* it died before prctl */
+  /* Until exec, a signal passed on to this run must not be lost in the parent's handler. */
+  signal(SIGINT, SIG_DFL);
+  signal(SIGTERM, SIG_DFL);
+  if (g_stop_count > 0) _exit(130);
   int fo = open(json, O_WRONLY | O_CREAT | O_TRUNC, 0644);
   int fe = open(errp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
   if (fo < 0 || fe < 0 || dup2(fo, STDOUT_FILENO) < 0 || dup2(fe, STDERR_FILENO) < 0) _exit(127);
@@ -179,14 +206,21 @@ static pid_t start_run(const char *self, const char *case_path, const char *dir,
   _exit(127);
 }
 
+/* One row of the summary: from DIR/run_NNNN.json, or (unfinished: "interrupted" or "not_run")
+ * with that status and no results. */
 static void write_row(FILE *csv, sweep_row *row, int index, const axis *ax, int nax,
-                      const int *pick, const char *dir, int exit_status) {
+                      const int *pick, const char *dir, int exit_status, const char *unfinished) {
   char path[1024], status[32] = "failed", error[512] = "", mode[8] = "", hinges[512] = "";
   snprintf(path, sizeof path, "%s/run_%04d.json", dir, index);
-  char *json = slurp(path);
+  char *json = unfinished == NULL ? slurp(path) : NULL;
   fprintf(csv, "%d", index);
   for (int x = 0; x < nax; x++) fprintf(csv, ",%.10g", ax[x].v[pick[x]]);
-  if (json != NULL && strstr(json, "\"program\":\"voussoir\"") != NULL) {
+  if (unfinished != NULL) {
+    snprintf(status, sizeof status, "%s", unfinished);
+    snprintf(error, sizeof error, "%s", strcmp(unfinished, "not_run") == 0
+                                            ? "not started: the sweep was interrupted"
+                                            : "interrupted (rerun with --resume)");
+  } else if (json != NULL && strstr(json, "\"program\":\"voussoir\"") != NULL) {
     str_after(json, "\"status\":\"", status, sizeof status);
     str_after(json, "\"error\":\"", error, sizeof error);
     str_after(json, "\"mode\":\"", mode, sizeof mode);
@@ -300,12 +334,12 @@ static int write_summary_h5(const char *dir, const axis *ax, int nax, sweep_row 
 }
 
 static int cmp_rows(const void *x, const void *y) {
-  return atoi(*(char *const *)x) - atoi(*(char *const *)y);
+  return (int)(strtol(*(char *const *)x, NULL, 10) - strtol(*(char *const *)y, NULL, 10));
 }
 
 /* Rewrite the table (written in completion order) in run order, atomically. */
 static void sort_table(const char *path) {
-  char *text = slurp(path), tmp[1100];
+  char *text = slurp(path), tmp[1200];
   if (text == NULL) return;
   char *header = text, *body = strchr(text, '\n');
   int n = 0, cap = 64;
@@ -372,160 +406,371 @@ bad:
   return -1;
 }
 
-int vs_cmd_sweep(int argc, char **argv, const char *self) {
-  const char *case_path = NULL, *dir = "sweep_out", *mode_flag = NULL;
-  char *sets[MAX_SETS];
-  int nsets = 0, nax = 0, jobs = (int)sysconf(_SC_NPROCESSORS_ONLN), quiet = 0, rc = EXIT_USAGE;
-  axis ax[MAX_AXES];
-  memset(ax, 0, sizeof ax);
+
+static void on_stop_signal(int sig) {
+  g_stop_signal = sig;
+  g_stop_count++;
+}
+
+static void catch_stop_signals(void) {
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+}
+
+/* A run's JSON as written by a run that ended: one object, complete. */
+static int json_complete(const char *json) {
+  size_t n = json ? strlen(json) : 0;
+  return n > 2 && strstr(json, "\"program\":\"voussoir\"") != NULL && json[n - 1] == '\n' &&
+         json[n - 2] == '}';
+}
+
+/* What the sweep is, as text: the case after --set, every axis with its values, the mode. A
+ * --resume must find the same in DIR/sweep.manifest, so that it completes the same sweep. */
+static char *manifest_text(const vs_case *c, const axis *ax, int nax, const char *mode_flag) {
+  size_t cap = 4096, used = 0;
+  for (int x = 0; x < nax; x++) cap += 128 + 26 * (size_t)ax[x].n;
+  char *t = malloc(cap);
+  if (t == NULL) return NULL;
+  t[0] = '\0';
+  for (int i = 0; i < vs_case_key_count(); i++) {
+    const char *sec, *key;
+    double v;
+    vs_case_key(c, i, &sec, &key, NULL, NULL, &v);
+    used += (size_t)snprintf(t + used, cap - used, "%s.%s=%.17g\n", sec, key, v);
+  }
+  for (int x = 0; x < nax; x++) {
+    used += (size_t)snprintf(t + used, cap - used, "axis %s:", ax[x].key);
+    for (int k = 0; k < ax[x].n; k++)
+      used += (size_t)snprintf(t + used, cap - used, " %.17g", ax[x].v[k]);
+    used += (size_t)snprintf(t + used, cap - used, "\n");
+  }
+  snprintf(t + used, cap - used, "mode %s\n", mode_flag ? mode_flag : "default");
+  return t;
+}
+
+/* Fresh sweep: write the manifest and forget the results of any earlier sweep in DIR (their
+ * run_NNNN.json would otherwise count as complete for a later --resume). Resume: require the
+ * same manifest. Returns 0, or -1 after printing why. */
+static int prepare_dir(const char *dir, const char *manifest, int total, int resume) {
+  char path[1100];
+  snprintf(path, sizeof path, "%s/sweep.manifest", dir);
+  if (resume) {
+    char *old = slurp(path);
+    int same = old != NULL && strcmp(old, manifest) == 0;
+    if (!same)
+      fprintf(stderr, "voussoir sweep: --resume: %s %s\n", path,
+              old == NULL ? "is missing: no sweep to resume in this directory"
+                          : "differs: that sweep had another case, lists, --set or mode");
+    free(old);
+    return same ? 0 : -1;
+  }
+  remove(path);
+  for (int r = 1; r <= total; r++) {
+    char json[1100];
+    snprintf(json, sizeof json, "%s/run_%04d.json", dir, r);
+    remove(json);
+  }
+  FILE *f = fopen(path, "w");
+  int ok = f != NULL && fputs(manifest, f) >= 0;
+  if (f != NULL && fclose(f) != 0) ok = 0;
+  if (!ok) fprintf(stderr, "voussoir sweep: %s: cannot write: %s\n", path, strerror(errno));
+  return ok ? 0 : -1;
+}
+
+/* The product of the axes' lengths, or -1 beyond VS_SWEEP_MAX_RUNS (checked before multiplying,
+ * so it cannot overflow). */
+static int sweep_size(const axis *ax, int nax) {
+  long total = 1;
+  for (int x = 0; x < nax; x++) {
+    if (ax[x].n > VS_SWEEP_MAX_RUNS / total) return -1;
+    total *= ax[x].n;
+  }
+  return (int)total;
+}
+
+typedef struct {
+  const char *self, *case_path, *dir, *mode_flag;
+  char **sets;
+  int nsets, nax, jobs, quiet, resume;
+  axis *ax;
+} sweep_opts;
+
+static int parse_sweep_args(int argc, char **argv, sweep_opts *o, char **sets) {
   vs_error err;
   vs_error_clear(&err);
   for (int i = 2; i < argc; i++) {
     const char *a = argv[i];
-    int used = parse_common(argc, argv, i, sets, &nsets);
+    int used = parse_common(argc, argv, i, sets, &o->nsets);
     if (used) {
       i += used - 1;
     } else if ((strcmp(a, "--alpha") == 0 || strcmp(a, "--kn") == 0 || strcmp(a, "--vary") == 0) &&
                i + 1 < argc) {
-      if (nax == MAX_AXES) {
+      if (o->nax == MAX_AXES) {
         fprintf(stderr, "voussoir sweep: at most %d axes\n", MAX_AXES);
-        goto cleanup;
+        return EXIT_USAGE;
       }
+      axis *x = &o->ax[o->nax];
       const char *list = argv[++i];
       if (strcmp(a, "--vary") == 0) {
         const char *eq = strchr(list, '=');
-        if (eq == NULL || (size_t)(eq - list) >= sizeof ax[nax].key) {
-          fprintf(stderr, "voussoir sweep: --vary %s: expected SECTION.KEY=LIST\n", list);
-          goto cleanup;
+        if (eq == NULL || (size_t)(eq - list) >= sizeof x->key) {
+          fprintf(stderr, "voussoir sweep: --vary %.64s: expected SECTION.KEY=LIST (KEY shorter "
+                          "than %d characters)\n", list, (int)sizeof x->key);
+          return EXIT_USAGE;
         }
-        snprintf(ax[nax].key, sizeof ax[nax].key, "%.*s", (int)(eq - list), list);
+        snprintf(x->key, sizeof x->key, "%.*s", (int)(eq - list), list);
         list = eq + 1;
       } else {
-        snprintf(ax[nax].key, sizeof ax[nax].key, "%s",
+        snprintf(x->key, sizeof x->key, "%s",
                  strcmp(a, "--alpha") == 0 ? "support.alpha_deg" : "joints.kn_N_mm3");
       }
-      if (vs_parse_list(a, list, &ax[nax].v, &ax[nax].n, &err) != VS_OK) {
+      if (vs_parse_list(a, list, &x->v, &x->n, &err) != VS_OK) {
         fprintf(stderr, "voussoir sweep: %s\n", err.msg);
-        goto cleanup;
+        return EXIT_USAGE;
       }
-      nax++;
+      o->nax++;
     } else if (strcmp(a, "-j") == 0 && i + 1 < argc) {
-      jobs = atoi(argv[++i]);
-      if (jobs < 1 || jobs > 1024) {
-        fprintf(stderr, "voussoir sweep: -j %s (allowed: 1..1024)\n", argv[i]);
-        goto cleanup;
+      if (vs_parse_option_int("-j", argv[++i], 1, 1024, &o->jobs, &err) != VS_OK) {
+        fprintf(stderr, "voussoir sweep: %s\n", err.msg);
+        return EXIT_USAGE;
       }
     } else if (strcmp(a, "-o") == 0 && i + 1 < argc) {
-      dir = argv[++i];
+      o->dir = argv[++i];
     } else if (strcmp(a, "-q") == 0) {
-      quiet = 1;
+      o->quiet = 1;
+    } else if (strcmp(a, "--resume") == 0) {
+      o->resume = 1;
     } else if (strcmp(a, "--first-limit") == 0 || strcmp(a, "--dynamic") == 0) {
-      mode_flag = a;
+      o->mode_flag = a;
     } else if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
       fputs(SWEEP_USAGE, stdout);
-      rc = 0;
-      goto cleanup;
-    } else if (a[0] != '-' && case_path == NULL) {
-      case_path = a;
+      return 0;
+    } else if (a[0] != '-' && o->case_path == NULL) {
+      o->case_path = a;
     } else {
       fprintf(stderr, "voussoir sweep: unexpected argument %s\n%s", a, SWEEP_USAGE);
-      goto cleanup;
+      return EXIT_USAGE;
     }
   }
-  if (case_path == NULL || nax == 0) {
+  if (strlen(o->dir) > 1000) {
+    fprintf(stderr, "voussoir sweep: -o %.64s...: directory name too long (at most 1000 "
+                    "characters)\n", o->dir);
+    return EXIT_USAGE;
+  }
+  if (o->case_path == NULL || o->nax == 0) {
     fprintf(stderr, "voussoir sweep: needs a CASE and at least one list\n%s", SWEEP_USAGE);
-    goto cleanup;
+    return EXIT_USAGE;
   }
-  if (validate_all(case_path, sets, nsets, ax, nax) != 0) goto cleanup;
-  char path[1024];
-  snprintf(path, sizeof path, "%s/summary.csv", dir);
-  if (vs_outpath_check_dir(dir, &err) != VS_OK ||
-      (access(dir, F_OK) == 0 && vs_outpath_check(path, NULL, 0, &err) != VS_OK)) {
-    fprintf(stderr, "voussoir sweep: -o %s\n", err.msg);
-    goto cleanup;
-  }
-  if (mkdir(dir, 0755) != 0 && errno != EEXIST) {
-    fprintf(stderr, "voussoir sweep: -o %s: cannot create: %s\n", dir, strerror(errno));
-    goto cleanup;
-  }
-  int total = 1;
-  for (int x = 0; x < nax; x++) total *= ax[x].n;
-  FILE *csv = fopen(path, "w");
-  if (csv == NULL) {
-    fprintf(stderr, "voussoir sweep: %s: cannot create: %s\n", path, strerror(errno));
-    goto cleanup;
-  }
-  fputs("run", csv);
-  for (int x = 0; x < nax; x++) fprintf(csv, ",%s", ax[x].key);
-  fputs(",status,first_limit_mm,delta_u_mm,dz_over_L_pct,dx_over_L_pct,hinges_at_collapse,mode,"
-        "snaps,wall_s,error\n",
-        csv);
-  /* the rows are written in completion order; each carries its run number */
-  child *running = calloc((size_t)jobs, sizeof *running);
-  int (*picks)[MAX_AXES] = calloc((size_t)total, sizeof *picks);
-  sweep_row *rows = calloc((size_t)total, sizeof *rows);
-  if (running == NULL || picks == NULL || rows == NULL) {
-    free(rows);
-    fprintf(stderr, "voussoir sweep: out of memory\n");
-    fclose(csv);
-    free(running);
-    free(picks);
-    goto cleanup;
-  }
-  for (int r = 0; r < total; r++)
-    for (int x = nax - 1, rem = r; x >= 0; x--) {
-      picks[r][x] = rem % ax[x].n;
-      rem /= ax[x].n;
-    }
-  int next = 0, done = 0, failed = 0, active = 0;
+  return -1; /* go on */
+}
+
+/* Pass the stop signal on to every run under way (a second signal: kill them). */
+static void forward_signal(const child *running, int jobs, int *forwarded) {
+  if (g_stop_count == 0 || *forwarded >= (g_stop_count > 1 ? 2 : 1)) return;
+  const int sig = g_stop_count > 1 ? SIGKILL : g_stop_signal;
+  for (int k = 0; k < jobs; k++)
+    if (running[k].pid > 0) kill(running[k].pid, sig);
+  *forwarded = g_stop_count > 1 ? 2 : 1;
+}
+
+/* Run every run not yet complete, -j at a time; rows are written in completion order. Returns
+ * the number of rows written; *failed counts the failed runs; state[r]: 0 to run, 1 running,
+ * 2 done (its row written). */
+static int run_all(const sweep_opts *o, int total, int (*picks)[MAX_AXES], char *state,
+                   sweep_row *rows, FILE *csv, int *failed) {
+  child *running = calloc((size_t)o->jobs, sizeof *running);
+  if (running == NULL) return -1;
+  int n = 0, active = 0, next = 0, forwarded = 0, todo = 0;
+  for (int r = 0; r < total; r++) todo += state[r] == 0;
   const double t0 = now_s();
-  const int progress = !quiet && isatty(STDERR_FILENO);
-  while (done < total) {
-    while (active < jobs && next < total) {
-      pid_t pid = start_run(self, case_path, dir, next + 1, ax, nax, picks[next], sets, nsets,
-                            mode_flag);
+  const int progress = !o->quiet && isatty(STDERR_FILENO);
+  for (int ended = 0; ended < todo;) {
+    while (g_stop_count == 0 && active < o->jobs && next < total) {
+      if (state[next] != 0) {
+        next++;
+        continue;
+      }
+      pid_t pid = start_run(o->self, o->case_path, o->dir, next + 1, o->ax, o->nax, picks[next],
+                            o->sets, o->nsets, o->mode_flag);
       if (pid < 0) {
         fprintf(stderr, "voussoir sweep: fork failed: %s\n", strerror(errno));
         break;
       }
-      for (int k = 0; k < jobs; k++)
+      for (int k = 0; k < o->jobs; k++)
         if (running[k].pid == 0) {
           running[k] = (child){pid, next};
           break;
         }
+      state[next++] = 1;
       active++;
-      next++;
     }
     if (active == 0) break;
+    /* Poll rather than block in wait(): a signal landing just before a blocking wait would not
+     * be passed on until some run ended by itself. 20 ms costs nothing next to a run. */
     int status = 0;
-    pid_t pid = wait(&status);
+    pid_t pid;
+    while ((pid = waitpid(-1, &status, WNOHANG)) == 0) {
+      forward_signal(running, o->jobs, &forwarded);
+      nanosleep(&(struct timespec){0, 20000000}, NULL);
+    }
+    if (pid < 0 && errno == EINTR) continue;
     if (pid < 0) break;
-    for (int k = 0; k < jobs; k++) {
+    for (int k = 0; k < o->jobs; k++) {
       if (running[k].pid != pid) continue;
-      const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-      write_row(csv, &rows[done], running[k].index + 1, ax, nax, picks[running[k].index], dir, code);
-      failed += code != 0;
+      const int r = running[k].index, code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      char part[1100], json[1100];
+      snprintf(part, sizeof part, "%s/run_%04d.json.part", o->dir, r + 1);
+      snprintf(json, sizeof json, "%s/run_%04d.json", o->dir, r + 1);
+      char *text = slurp(part);
+      /* ended (0 ok, 1 failed with its cause) and said so: from now on the run is complete */
+      const int complete = (code == 0 || code == 1) && json_complete(text);
+      free(text);
+      if (complete && rename(part, json) != 0) {
+        fprintf(stderr, "voussoir sweep: %s: cannot rename: %s\n", part, strerror(errno));
+      }
+      if (!complete) remove(part);
+      if (complete || g_stop_count == 0) { /* a run that crashed on its own is a failed row */
+        write_row(csv, &rows[n++], r + 1, o->ax, o->nax, picks[r], o->dir, code, NULL);
+        *failed += code != 0;
+        state[r] = 2;
+      } /* else interrupted: state stays 1, written as such at the end */
       running[k].pid = 0;
       active--;
-      done++;
+      ended++;
     }
     if (progress)
-      fprintf(stderr, "\r  runs %d/%d done, %d running, %d failed, %.1f s   ", done, total, active,
-              failed, now_s() - t0);
+      fprintf(stderr, "\r  runs %d/%d done, %d running, %d failed, %.1f s   ", ended, todo, active,
+              *failed, now_s() - t0);
   }
   if (progress) fputs("\r\033[K", stderr);
+  free(running);
+  return n;
+}
+
+/* Rows of the runs already complete in DIR (--resume); marks them done. */
+static int resumed_rows(const sweep_opts *o, int total, int (*picks)[MAX_AXES], char *state,
+                        sweep_row *rows, FILE *csv, int *failed) {
+  int n = 0;
+  for (int r = 0; r < total; r++) {
+    char path[1100];
+    snprintf(path, sizeof path, "%s/run_%04d.json", o->dir, r + 1);
+    char *json = slurp(path);
+    if (json_complete(json)) {
+      const int code = strstr(json, "\"status\":\"failed\"") != NULL;
+      write_row(csv, &rows[n++], r + 1, o->ax, o->nax, picks[r], o->dir, code, NULL);
+      *failed += code;
+      state[r] = 2;
+    }
+    free(json);
+  }
+  return n;
+}
+
+static int sweep_run(const sweep_opts *o, const char *manifest) {
+  const int total = sweep_size(o->ax, o->nax); /* checked by vs_cmd_sweep */
+  char path[1100];
+  snprintf(path, sizeof path, "%s/summary.csv", o->dir);
+  vs_error err;
+  vs_error_clear(&err);
+  if (vs_outpath_check_dir(o->dir, &err) != VS_OK ||
+      (access(o->dir, F_OK) == 0 && vs_outpath_check(path, NULL, 0, &err) != VS_OK)) {
+    fprintf(stderr, "voussoir sweep: -o %s\n", err.msg);
+    return EXIT_USAGE;
+  }
+  if (mkdir(o->dir, 0755) != 0 && errno != EEXIST) {
+    fprintf(stderr, "voussoir sweep: -o %s: cannot create: %s\n", o->dir, strerror(errno));
+    return EXIT_USAGE;
+  }
+  if (prepare_dir(o->dir, manifest, total, o->resume) != 0) return EXIT_USAGE;
+  FILE *csv = fopen(path, "w");
+  if (csv == NULL) {
+    fprintf(stderr, "voussoir sweep: %s: cannot create: %s\n", path, strerror(errno));
+    return EXIT_USAGE;
+  }
+  fputs("run", csv);
+  for (int x = 0; x < o->nax; x++) fprintf(csv, ",%s", o->ax[x].key);
+  fputs(",status,first_limit_mm,delta_u_mm,dz_over_L_pct,dx_over_L_pct,hinges_at_collapse,mode,"
+        "snaps,wall_s,error\n",
+        csv);
+  int (*picks)[MAX_AXES] = calloc((size_t)total, sizeof *picks);
+  sweep_row *rows = calloc((size_t)total, sizeof *rows);
+  char *state = calloc((size_t)total, 1);
+  if (picks == NULL || rows == NULL || state == NULL) {
+    fprintf(stderr, "voussoir sweep: out of memory\n");
+    fclose(csv);
+    free(picks);
+    free(rows);
+    free(state);
+    return EXIT_FAIL;
+  }
+  for (int r = 0; r < total; r++)
+    for (int x = o->nax - 1, rem = r; x >= 0; x--) {
+      picks[r][x] = rem % o->ax[x].n;
+      rem /= o->ax[x].n;
+    }
+  const double t0 = now_s();
+  int failed = 0, n = 0, skipped = 0;
+  if (o->resume) {
+    n = skipped = resumed_rows(o, total, picks, state, rows, csv, &failed);
+    fprintf(stderr, "voussoir sweep: resuming: %d of %d runs already complete\n", skipped, total);
+  }
+  int ran = run_all(o, total, picks, state, rows + n, csv, &failed);
+  n += ran > 0 ? ran : 0;
+  int unfinished = 0;
+  for (int r = 0; r < total; r++) /* interrupted or never started: marked as such */
+    if (state[r] != 2) {
+      write_row(csv, &rows[n++], r + 1, o->ax, o->nax, picks[r], o->dir, 0,
+                state[r] == 1 ? "interrupted" : "not_run");
+      unfinished++;
+    }
   fclose(csv);
   sort_table(path);
-  if (write_summary_h5(dir, ax, nax, rows, done) != 0)
-    fprintf(stderr, "voussoir sweep: %s/summary.h5: cannot write\n", dir);
-  free(running);
+  if (write_summary_h5(o->dir, o->ax, o->nax, rows, n) != 0)
+    fprintf(stderr, "voussoir sweep: %s/summary.h5: cannot write\n", o->dir);
   free(picks);
   free(rows);
-  printf("%d runs (%d failed) in %.1f s on %d processes; table: %s (and summary.h5)\n", total,
-         failed, now_s() - t0, jobs, path);
-  rc = failed ? EXIT_FAIL : 0;
-cleanup:
-  for (int x = 0; x < nax; x++) free(ax[x].v);
+  free(state);
+  if (unfinished > 0) {
+    printf("interrupted: %d of %d runs complete (%d failed), %d unfinished; table: %s; "
+           "continue with --resume\n", total - unfinished, total, failed, unfinished, path);
+    return 130;
+  }
+  printf("%d runs (%d failed%s) in %.1f s on %d processes; table: %s (and summary.h5)\n", total,
+         failed, skipped ? ", some from before --resume" : "", now_s() - t0, o->jobs, path);
+  return failed ? EXIT_FAIL : 0;
+}
+
+int vs_cmd_sweep(int argc, char **argv, const char *self) {
+  char *sets[MAX_SETS];
+  axis ax[MAX_AXES];
+  memset(ax, 0, sizeof ax);
+  sweep_opts o = {.self = self, .dir = "sweep_out", .sets = sets, .ax = ax,
+                  .jobs = (int)sysconf(_SC_NPROCESSORS_ONLN)};
+  if (o.jobs < 1) o.jobs = 1;
+  if (o.jobs > 1024) o.jobs = 1024;
+  catch_stop_signals(); /* first, so that no signal is lost while the sweep sets up */
+  int rc = parse_sweep_args(argc, argv, &o, sets);
+  if (rc < 0 && sweep_size(ax, o.nax) < 0) {
+    fprintf(stderr, "voussoir sweep: more than %d runs (the product of the lists' lengths); "
+                    "split the study\n", VS_SWEEP_MAX_RUNS);
+    rc = EXIT_USAGE;
+  }
+  if (rc < 0 && validate_all(o.case_path, sets, o.nsets, ax, o.nax) != 0) rc = EXIT_USAGE;
+  if (rc < 0) {
+    vs_case c;
+    vs_error err;
+    vs_error_clear(&err);
+    char *manifest = NULL;
+    if (load_case(o.case_path, sets, o.nsets, &c, &err) == VS_OK)
+      manifest = manifest_text(&c, ax, o.nax, o.mode_flag);
+    rc = manifest == NULL ? EXIT_FAIL : sweep_run(&o, manifest);
+    free(manifest);
+  }
+  for (int x = 0; x < o.nax; x++) free(ax[x].v);
   return rc;
 }
 
@@ -557,6 +802,15 @@ static double cal_eval(cal_ctx *c, double kn) {
   return out;
 }
 
+/* One numeric option of calibrate, in [lo, hi] (the k_n bounds are the case's range of
+ * joints.kn_N_mm3); prints the error. */
+static int cal_number(const char *option, const char *text, double lo, double hi, double *out) {
+  vs_error err;
+  if (vs_parse_option_double(option, text, lo, hi, out, &err) == VS_OK) return 0;
+  fprintf(stderr, "voussoir calibrate: %s\n", err.msg);
+  return -1;
+}
+
 int vs_cmd_calibrate(int argc, char **argv) {
   const char *case_path = NULL;
   char *sets[MAX_SETS];
@@ -572,14 +826,14 @@ int vs_cmd_calibrate(int argc, char **argv) {
       i += used - 1;
     } else if ((strcmp(a, "--target-dz-pct") == 0 || strcmp(a, "--target-dx-pct") == 0) && i + 1 < argc) {
       c.dx = strcmp(a, "--target-dx-pct") == 0;
-      target = atof(argv[++i]);
+      if (cal_number(a, argv[++i], 1e-9, 1e4, &target) != 0) return EXIT_USAGE;
       have_target = 1;
     } else if (strcmp(a, "--kn-min") == 0 && i + 1 < argc) {
-      kmin = atof(argv[++i]);
+      if (cal_number(a, argv[++i], 1e-4, 1e4, &kmin) != 0) return EXIT_USAGE;
     } else if (strcmp(a, "--kn-max") == 0 && i + 1 < argc) {
-      kmax = atof(argv[++i]);
+      if (cal_number(a, argv[++i], 1e-4, 1e4, &kmax) != 0) return EXIT_USAGE;
     } else if (strcmp(a, "--tol-pct") == 0 && i + 1 < argc) {
-      tol = atof(argv[++i]);
+      if (cal_number(a, argv[++i], 1e-12, 100.0, &tol) != 0) return EXIT_USAGE;
     } else if (strcmp(a, "-q") == 0) {
       c.quiet = 1;
     } else if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
@@ -596,9 +850,9 @@ int vs_cmd_calibrate(int argc, char **argv) {
     fprintf(stderr, "voussoir calibrate: needs a CASE and a target > 0 %%\n%s", CAL_USAGE);
     return EXIT_USAGE;
   }
-  if (!(kmin > 0.0) || !(kmax > kmin) || kmax > 1e4 || !(tol > 0.0)) {
-    fprintf(stderr, "voussoir calibrate: --kn-min %g, --kn-max %g, --tol-pct %g (allowed: "
-                    "0 < kn-min < kn-max <= 10000 N/mm^3, tol > 0)\n", kmin, kmax, tol);
+  if (!(kmax > kmin)) {
+    fprintf(stderr, "voussoir calibrate: --kn-min %g, --kn-max %g (allowed: "
+                    "1e-4 <= kn-min < kn-max <= 10000 N/mm^3)\n", kmin, kmax);
     return EXIT_USAGE;
   }
   if (load_case(case_path, sets, nsets, &c.base, &err) != VS_OK) goto bad;

@@ -1,7 +1,7 @@
 /* Tests of the case module: defaults, INI reading, every range and syntax error with its
  * FILE:LINE message, --set overrides, cross-field validation and the span.
  * Expected values are written out here, independently of the key table in src/case.c. */
-#define _POSIX_C_SOURCE 200809L /* mkstemp, fdopen */
+#define _POSIX_C_SOURCE 200809L /* mkstemp, fdopen, mkdtemp, mkfifo */
 
 #include <stdarg.h>
 #include <stddef.h>
@@ -10,11 +10,14 @@
 #include <cmocka.h>
 
 #include "voussoir/case.h"
+#include "voussoir/geometry.h"
+#include "voussoir/run.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 /* ---------------------------------------------------------------------------------------------
@@ -91,40 +94,40 @@ typedef struct {
 } key_case;
 
 static const key_case all_keys[] = {
-    {"arch", "radius_mm", "0", NULL, {"1e-9", "1e9"}},
-    {"arch", "thickness_mm", "-1", NULL, {"0.001", NULL}},
-    {"arch", "embrace_deg", "0", "180.0001", {"180", "0.01"}},
-    {"arch", "voussoirs", "0", "20001", {"1", "20000"}},
-    {"arch", "depth_mm", "-120", NULL, {"1", NULL}},
-    {"arch", "density_kg_m3", "0", NULL, {"2400", NULL}},
-    {"arch", "gravity_m_s2", "-9.81", NULL, {"1.62", NULL}},
-    {"joints", "kn_N_mm3", "-3", "1e5", {"48", "10000"}},
-    {"joints", "ks_ratio", "0", NULL, {"1", NULL}},
-    {"joints", "friction", "0", NULL, {"0.01", NULL}},
+    {"arch", "radius_mm", "0.0009", "1.1e6", {"1e-3", "1e6"}},
+    {"arch", "thickness_mm", "-1", "1000001", {"0.001", "1e6"}},
+    {"arch", "embrace_deg", "0.99", "180.0001", {"180", "1"}},
+    {"arch", "voussoirs", "0", "1001", {"1", "1000"}},
+    {"arch", "depth_mm", "-120", "2e6", {"1", "1e6"}},
+    {"arch", "density_kg_m3", "9.99", "100001", {"2400", "10"}},
+    {"arch", "gravity_m_s2", "-9.81", "1000.5", {"1.62", "0.1"}},
+    {"joints", "kn_N_mm3", "-3", "1e5", {"48", "1e-4"}},
+    {"joints", "ks_ratio", "0", "100.5", {"1", "100"}},
+    {"joints", "friction", "0", "101", {"0.01", "100"}},
     {"support", "alpha_deg", "-180.5", "181", {"-180", "180"}},
-    {"support", "rate_mm_s", "0", NULL, {"1", NULL}},
-    {"support", "max_mm", "0", NULL, {"100", NULL}},
-    {"solver", "step_mm", "0", NULL, {"0.1", NULL}},
-    {"solver", "step_max_mm", "-2", NULL, {"5", NULL}},
-    {"solver", "limit_tol_mm", "0", NULL, {"1e-6", NULL}},
+    {"support", "rate_mm_s", "9e-7", "1.5e6", {"1", "1e-6"}},
+    {"support", "max_mm", "0", "1e7", {"100", "1e6"}},
+    {"solver", "step_mm", "0", "1000001", {"0.1", "1e6"}},
+    {"solver", "step_max_mm", "-2", "2e6", {"5", "1e6"}},
+    {"solver", "limit_tol_mm", "9e-10", "2e6", {"1e-6", "1e-9"}},
     {"solver", "newton_tol", "0", "0.0101", {"1e-2", "1e-14"}},
     {"solver", "newton_maxiter", "1", "1001", {"2", "1000"}},
-    {"hinges", "open_mm", "0", NULL, {"1e-4", NULL}},
+    {"hinges", "open_mm", "0", "2e6", {"1e-4", "1e6"}},
     {"hinges", "migrate_joints", "-1", "101", {"0", "100"}},
     {"dynamic", "follow", "-1", "2", {"0", "1"}},
     {"dynamic", "full", "-1", "2", {"0", "1"}},
     {"dynamic", "damping", "-0.01", "1.01", {"0", "1"}},
     {"dynamic", "rtol", "0", "0.011", {"1e-10", "1e-2"}},
-    {"dynamic", "atol_mm", "0", NULL, {"1e-9", NULL}},
+    {"dynamic", "atol_mm", "0", "2e6", {"1e-9", "1e6"}},
     {"dynamic", "rest_factor", "0.5", "2e12", {"1", "1e12"}},
-    {"dynamic", "rest_s", "0", NULL, {"0.01", NULL}},
-    {"dynamic", "collapse_ke", "0", NULL, {"0.001", NULL}},
-    {"dynamic", "fall_s", "-0.1", NULL, {"0", NULL}},
-    {"dynamic", "sample_s", "0", NULL, {"1e-4", NULL}},
+    {"dynamic", "rest_s", "0", "2e6", {"0.01", "1e6"}},
+    {"dynamic", "collapse_ke", "0", "2e6", {"0.001", "1e6"}},
+    {"dynamic", "fall_s", "-0.1", "2e6", {"0", "1e6"}},
+    {"dynamic", "sample_s", "9e-7", "2e6", {"1e-4", "1e-6"}},
     {"imperfections", "seed", "-1", "2147483648", {"0", "2147483647"}},
     {"imperfections", "sample", "-1", "2147483648", {"0", "2147483647"}},
     {"imperfections", "kn_cov", "-0.1", "3.01", {"0", "3"}},
-    {"imperfections", "kn_corr_mm", "-1", NULL, {"0", "1e6"}},
+    {"imperfections", "kn_corr_mm", "-1", "1.1e6", {"0", "1e6"}},
     {"imperfections", "face_mm", "-0.01", "10.01", {"0", "10"}},
     {"imperfections", "angle_cov", "-0.01", "0.51", {"0", "0.5"}},
     {"imperfections", "thickness_cov", "-0.01", "0.51", {"0", "0.5"}},
@@ -344,15 +347,15 @@ static void test_range_message_exact(void **state) {
                      "kn_N_mm3 = -3\n";
   assert_int_equal(read_text(text, &c, &err, &t), VS_ERR_INVALID);
   char want[256];
-  snprintf(want, sizeof want, "%s:4: joints.kn_N_mm3 = -3: out of range (allowed: (0, 10000] N/mm^3)",
+  snprintf(want, sizeof want, "%s:4: joints.kn_N_mm3 = -3: out of range (allowed: [0.0001, 10000] N/mm^3)",
            t.path);
   assert_string_equal(err.msg, want);
   drop(&t);
 
   expect_read_error("[arch]\nembrace_deg = 200\n", VS_ERR_INVALID, 2,
-                    "arch.embrace_deg = 200: out of range (allowed: (0, 180] deg)");
+                    "arch.embrace_deg = 200: out of range (allowed: [1, 180] deg)");
   expect_read_error("[arch]\nvoussoirs = 0\n", VS_ERR_INVALID, 2,
-                    "arch.voussoirs = 0: out of range (allowed: integer in [1, 20000])");
+                    "arch.voussoirs = 0: out of range (allowed: integer in [1, 1000])");
   expect_read_error("[solver]\nnewton_tol = 1\n", VS_ERR_INVALID, 2, "(allowed: (0, 0.01])");
 }
 
@@ -415,7 +418,7 @@ static void test_malformed_line(void **state) {
 static void test_not_a_number(void **state) {
   (void)state;
   expect_read_error("[arch]\nradius_mm = abc\n", VS_ERR_PARSE, 2,
-                    "arch.radius_mm = abc: not a number (allowed: > 0 mm)");
+                    "arch.radius_mm = abc: not a number (allowed: [0.001, 1e+06] mm)");
   expect_read_error("[arch]\nradius_mm = 300mm\n", VS_ERR_PARSE, 2,
                     "arch.radius_mm = 300mm: unexpected characters after the number");
   expect_read_error("[arch]\nradius_mm = 300 mm\n", VS_ERR_PARSE, 2,
@@ -427,7 +430,7 @@ static void test_not_a_number(void **state) {
 static void test_integer_expected(void **state) {
   (void)state;
   expect_read_error("[arch]\nvoussoirs = 55.5\n", VS_ERR_PARSE, 2,
-                    "arch.voussoirs = 55.5: integer expected (allowed: integer in [1, 20000])");
+                    "arch.voussoirs = 55.5: integer expected (allowed: integer in [1, 1000])");
   expect_read_error("[arch]\nvoussoirs = 55.0\n", VS_ERR_PARSE, 2, "integer expected");
   expect_read_error("[arch]\nvoussoirs = 5e1\n", VS_ERR_PARSE, 2, "integer expected");
   expect_read_error("[arch]\nvoussoirs = 55x\n", VS_ERR_PARSE, 2, "unexpected characters");
@@ -465,9 +468,9 @@ static void test_missing_file(void **state) {
   assert_null(text);
   assert_int_equal(err.status, VS_ERR_IO);
   assert_string_equal(err.msg, "/nonexistent/voussoir/case.ini: cannot open: No such file or directory");
-  /* a directory opens but cannot be read */
+  /* a directory is not read */
   assert_int_equal(vs_case_read(&c, "/tmp", NULL, &err), VS_ERR_IO);
-  expect_prefix(err.msg, "/tmp: cannot read: ");
+  expect_prefix(err.msg, "/tmp: not a regular file");
   /* NULL arguments */
   assert_int_equal(vs_case_read(NULL, path, NULL, &err), VS_ERR_INVALID);
   assert_int_equal(vs_case_read(&c, NULL, NULL, &err), VS_ERR_INVALID);
@@ -565,7 +568,7 @@ static void test_set_errors(void **state) {
   expect_set_error("joints.=3", VS_ERR_PARSE, malformed);
   expect_set_error("", VS_ERR_PARSE, malformed);
   expect_set_error("joints.kn_N_mm3=-3", VS_ERR_INVALID,
-                   "joints.kn_N_mm3 = -3: out of range (allowed: (0, 10000] N/mm^3)");
+                   "joints.kn_N_mm3 = -3: out of range (allowed: [0.0001, 10000] N/mm^3)");
   expect_set_error("joints.kn=3", VS_ERR_PARSE,
                    "joints.kn = 3: unknown key (allowed keys in [joints]: kn_N_mm3");
   expect_set_error("joint.kn_N_mm3=3", VS_ERR_PARSE,
@@ -632,13 +635,13 @@ static void test_validate(void **state) {
   /* fields set in code are range-checked too */
   vs_case_defaults(&c);
   c.embrace_deg = 190;
-  expect_invalid(&c, "arch.embrace_deg = 190", "(0, 180] deg");
+  expect_invalid(&c, "arch.embrace_deg = 190", "[1, 180] deg");
   vs_case_defaults(&c);
   c.kn_N_mm3 = NAN;
-  expect_invalid(&c, "joints.kn_N_mm3", "(0, 10000] N/mm^3");
+  expect_invalid(&c, "joints.kn_N_mm3", "[0.0001, 10000] N/mm^3");
   vs_case_defaults(&c);
   c.voussoirs = 0;
-  expect_invalid(&c, "arch.voussoirs = 0", "integer in [1, 20000]");
+  expect_invalid(&c, "arch.voussoirs = 0", "integer in [1, 1000]");
 
   assert_int_equal(vs_case_validate(NULL, &err), VS_ERR_INVALID);
   assert_int_equal(vs_case_validate(&c, NULL), VS_ERR_INVALID);
@@ -703,6 +706,185 @@ static void test_key_iterator(void **state) {
   }
 }
 
+/* ---------------------------------------------------------------------------------------------
+ * Silent wrong acceptance (issue 8): each of these was read without an error and ignored part
+ * of the file, or read the same number differently depending on where it was written. */
+
+/* "[arch] radius_mm=3": inih takes the header and drops the rest of the line. */
+static void test_key_on_section_line(void **state) {
+  (void)state;
+  expect_read_error("[arch] radius_mm=3\n", VS_ERR_PARSE, 1,
+                    "'radius_mm=3' after the section header (put each key = value on its own line)");
+  expect_read_error("; c\n[joints]\tkn_N_mm3 = 48 ; stiff\n", VS_ERR_PARSE, 2,
+                    "'kn_N_mm3 = 48' after the section header");
+  /* a comment after the header is still fine */
+  tmpfile_t t;
+  vs_case c;
+  vs_error err;
+  vs_status st = read_text("[arch] ; the arch\nradius_mm = 3\n", &c, &err, &t);
+  if (st != VS_OK) fail_msg("%s", err.msg);
+  assert_true(c.radius_mm == 3.0);
+  drop(&t);
+}
+
+/* CR-only line endings (classic Mac): every line is read, with its own line number. */
+static void test_cr_only_lines(void **state) {
+  (void)state;
+  tmpfile_t t;
+  vs_case c;
+  vs_error err;
+  vs_status st = read_text("; cr only\r[arch]\rradius_mm = 250\rvoussoirs = 41\r\r[joints]\r"
+                           "kn_N_mm3 = 48\r", &c, &err, &t);
+  if (st != VS_OK) fail_msg("%s", err.msg);
+  assert_true(c.radius_mm == 250.0);
+  assert_int_equal(c.voussoirs, 41);
+  assert_true(c.kn_N_mm3 == 48.0);
+  drop(&t);
+  expect_read_error("[arch]\r\rvoussoirs = x\r", VS_ERR_PARSE, 3, "arch.voussoirs = x");
+  /* mixed: LF, CR LF and CR each end one line */
+  expect_read_error("[arch]\nradius_mm = 1\r\ndepth_mm = 2\rthickness_mm = -1\n", VS_ERR_INVALID, 4,
+                    "arch.thickness_mm = -1");
+}
+
+/* Hexadecimal was read by strtod for reals ("0x10" = 16) and refused for integers; now it is
+ * refused everywhere with the same reason, as are values that underflow to 0. */
+static void test_one_number_form(void **state) {
+  (void)state;
+  expect_read_error("[arch]\nradius_mm = 0x10\n", VS_ERR_PARSE, 2, "arch.radius_mm = 0x10: hexadecimal");
+  expect_read_error("[arch]\nvoussoirs = 0x10\n", VS_ERR_PARSE, 2, "arch.voussoirs = 0x10: hexadecimal");
+  expect_read_error("[support]\nalpha_deg = 0x1p3\n", VS_ERR_PARSE, 2, "hexadecimal");
+  expect_read_error("[support]\nalpha_deg = 1e-400\n", VS_ERR_INVALID, 2,
+                    "support.alpha_deg = 1e-400: out of range");
+  vs_case c;
+  vs_error err;
+  vs_case_defaults(&c);
+  assert_int_equal(vs_case_set(&c, "arch.radius_mm=0x10", &err), VS_ERR_PARSE);
+  expect_in(err.msg, "hexadecimal");
+  assert_true(c.radius_mm == 300.0);
+  /* a --set value of any length is parsed whole: junk after 600 characters is seen */
+  char set[800] = "support.alpha_deg=1.";
+  memset(set + strlen(set), '0', 600);
+  strcat(set, "x");
+  assert_int_equal(vs_case_set(&c, set, &err), VS_ERR_PARSE);
+  expect_in(err.msg, "unexpected characters after the number");
+  assert_true(c.alpha_deg == 0.0);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Size and kind of the case file */
+
+static void test_size_limit(void **state) {
+  (void)state;
+  char path[] = "/tmp/vs_test_case_big_XXXXXX";
+  int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  FILE *f = fdopen(fd, "wb");
+  assert_non_null(f);
+  /* exactly the limit: comment lines, then a key */
+  const char *key = "[arch]\nradius_mm = 7\n";
+  size_t n = strlen(key);
+  fputs(key, f);
+  char line[64];
+  memset(line, '#', 63);
+  line[63] = '\n';
+  for (; n + 64 <= (size_t)VS_CASE_MAX_BYTES; n += 64) assert_int_equal(fwrite(line, 1, 64, f), 64);
+  for (; n < (size_t)VS_CASE_MAX_BYTES; n++) fputc('\n', f);
+  assert_int_equal(fflush(f), 0);
+  vs_case c;
+  vs_error err;
+  vs_case_defaults(&c);
+  if (vs_case_read(&c, path, NULL, &err) != VS_OK) fail_msg("%s", err.msg);
+  assert_true(c.radius_mm == 7.0);
+  /* one byte more is refused, and nothing is read into c */
+  fputc('\n', f);
+  assert_int_equal(fclose(f), 0);
+  vs_case_defaults(&c);
+  char *text = (char *)&c;
+  assert_int_equal(vs_case_read(&c, path, &text, &err), VS_ERR_IO);
+  assert_null(text);
+  expect_in(err.msg, "too large (a case file is at most 1048576 bytes)");
+  assert_true(c.radius_mm == 300.0);
+  remove(path);
+  /* in memory too */
+  assert_int_equal(vs_case_parse(&c, "mem", "", (size_t)VS_CASE_MAX_BYTES + 1, &err), VS_ERR_IO);
+}
+
+/* A FIFO would block the reader (and /dev/zero would grow memory without bound): only regular
+ * files are read. A stand-in FIFO in a temporary directory, never a real device; the alarm turns
+ * a reader that blocks into a failure instead of a hung suite. */
+static void test_not_a_regular_file(void **state) {
+  (void)state;
+  char dir[] = "/tmp/vs_test_case_fifo_XXXXXX", fifo[64];
+  assert_non_null(mkdtemp(dir));
+  snprintf(fifo, sizeof fifo, "%s/case.ini", dir);
+  assert_int_equal(mkfifo(fifo, 0600), 0);
+  alarm(30);
+  vs_case c;
+  vs_error err;
+  vs_case_defaults(&c);
+  assert_int_equal(vs_case_read(&c, fifo, NULL, &err), VS_ERR_IO);
+  alarm(0);
+  expect_in(err.msg, "not a regular file");
+  expect_in(err.msg, "pipe");
+  remove(fifo);
+  rmdir(dir);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Ranges keep every derived quantity finite */
+
+static void expect_finite_model(const vs_case *c, const char *what) {
+  vs_error err;
+  vs_run *r = NULL;
+  if (vs_case_validate(c, &err) != VS_OK) return; /* a relation between keys: not this test */
+  if (vs_run_create(c, &r, &err) != VS_OK) fail_msg("%s: %s", what, err.msg);
+  const vs_geometry *g = vs_run_geometry(r);
+  const double span = vs_case_span_mm(c), weight = vs_geometry_weight(g);
+  if (!(isfinite(span) && span > 0.0 && isfinite(g->span) && g->span > 0.0 && isfinite(g->rise) &&
+        isfinite(weight) && weight > 0.0 && isfinite(c->max_mm / c->rate_mm_s)))
+    fail_msg("%s: span %g mm, rise %g m, weight %g N, max_mm / rate %g s", what, span, g->rise,
+             weight, c->max_mm / c->rate_mm_s);
+  vs_run_destroy(&r);
+}
+
+static void test_ranges_keep_derived_finite(void **state) {
+  (void)state;
+  /* every key at each of its edges, the others at their defaults */
+  for (size_t i = 0; i < NKEYS_TESTED; i++)
+    for (int j = 0; j < 2; j++) {
+      char set[128];
+      vs_case c;
+      vs_error err;
+      vs_case_defaults(&c);
+      snprintf(set, sizeof set, "%s.%s=%s", all_keys[i].section, all_keys[i].key,
+               all_keys[i].edge_ok[j]);
+      assert_int_equal(vs_case_set(&c, set, &err), VS_OK);
+      expect_finite_model(&c, set);
+    }
+  /* all the size and weight keys at their largest, then at their smallest, together */
+  const char *big[] = {"arch.radius_mm=1e6", "arch.thickness_mm=1e6", "arch.depth_mm=1e6",
+                       "arch.density_kg_m3=1e5", "arch.gravity_m_s2=1000", "arch.embrace_deg=180",
+                       "support.rate_mm_s=1e-6", "support.max_mm=1e6"};
+  const char *small[] = {"arch.radius_mm=1e-3", "arch.thickness_mm=1e-3", "arch.depth_mm=1e-3",
+                         "arch.density_kg_m3=10", "arch.gravity_m_s2=0.1", "arch.embrace_deg=1",
+                         "arch.voussoirs=1000", "solver.limit_tol_mm=1e-9"};
+  vs_case c;
+  vs_error err;
+  vs_case_defaults(&c);
+  for (size_t i = 0; i < sizeof big / sizeof big[0]; i++) assert_int_equal(vs_case_set(&c, big[i], &err), VS_OK);
+  expect_finite_model(&c, "largest arch");
+  vs_case_defaults(&c);
+  for (size_t i = 0; i < sizeof small / sizeof small[0]; i++)
+    assert_int_equal(vs_case_set(&c, small[i], &err), VS_OK);
+  expect_finite_model(&c, "smallest arch");
+  /* radius_mm = 1e308 gave an infinite span ("span_mm":inf in the JSON): refused at input now */
+  vs_case_defaults(&c);
+  assert_int_equal(vs_case_set(&c, "arch.radius_mm=1e308", &err), VS_ERR_INVALID);
+  expect_in(err.msg, "arch.radius_mm = 1e308: out of range (allowed: [0.001, 1e+06] mm)");
+  assert_int_equal(vs_case_set(&c, "arch.density_kg_m3=1e-300", &err), VS_ERR_INVALID);
+  expect_in(err.msg, "[10, 100000] kg/m^3");
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_key_iterator),
@@ -732,6 +914,12 @@ int main(void) {
       cmocka_unit_test(test_validate),
       cmocka_unit_test(test_validate_after_overrides),
       cmocka_unit_test(test_span),
+      cmocka_unit_test(test_key_on_section_line),
+      cmocka_unit_test(test_cr_only_lines),
+      cmocka_unit_test(test_one_number_form),
+      cmocka_unit_test(test_size_limit),
+      cmocka_unit_test(test_not_a_regular_file),
+      cmocka_unit_test(test_ranges_keep_derived_finite),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -2,7 +2,7 @@
  * message naming the culprit (and no output file) on bad input, the JSON summary (keys, one
  * object on one line, numbers consistent with the support direction) and the -o CSV history
  * (one row per equilibrium; self-weight reactions against the arch weight computed here). */
-#define _POSIX_C_SOURCE 200809L /* mkdtemp */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp, mkfifo */
 
 #include <stdarg.h>
 #include <stddef.h>
@@ -15,6 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -235,8 +236,8 @@ static void test_version(void **state) {
 static void expect_bad_input(const char *args, const char *needle) {
   const path_t pcsv = scratch("bad.csv");
   const char *csv = pcsv.p;
-  char full[1024];
-  snprintf(full, sizeof full, "%s -o '%s'", args, csv);
+  char full[2048];
+  if (snprintf(full, sizeof full, "%s -o '%s'", args, csv) >= (int)sizeof full) fail_msg("args too long");
   remove(csv);
   result r = run(full);
   if (r.status != 2) fail_msg("\"%s\": exit status %d, expected 2", full, r.status);
@@ -515,6 +516,55 @@ static void test_alpha_kn_override(void **state) {
   free(json);
 }
 
+/* Input that used to be accepted silently (exit 0, part of it ignored) or to reach the JSON as
+ * inf, now refused at the command line: exit 2, the culprit named, nothing on stdout or disk. */
+static void test_strict_input(void **state) {
+  (void)state;
+  char args[1536], value[700] = "0.";
+  memset(value + 2, '0', 600); /* past the old 512-byte buffer */
+  strcpy(value + 602, "1x");
+  snprintf(args, sizeof args, "run '%s' -q --set support.alpha_deg=%s", REFERENCE, value);
+  expect_bad_input(args, "unexpected characters after the number");
+  snprintf(args, sizeof args, "run '%s' -q --alpha %s", REFERENCE, value);
+  expect_bad_input(args, "unexpected characters after the number");
+  snprintf(args, sizeof args, "run '%s' -q --kn 3%s", REFERENCE, value + 1);
+  expect_bad_input(args, "joints.kn_N_mm3");
+  expect_bad_input("run '" REFERENCE "' -q --alpha 0x10", "hexadecimal");
+  /* radius 1e308: "span_mm":inf in the JSON before; refused with the allowed range now */
+  expect_bad_input("run '" REFERENCE "' -q --json --set arch.radius_mm=1e308",
+                   "arch.radius_mm = 1e308: out of range (allowed: [0.001, 1e+06] mm)");
+
+  /* a key on the section line */
+  const path_t pk = scratch("keyline.ini");
+  FILE *f = fopen(pk.p, "w");
+  assert_non_null(f);
+  fputs("[arch] radius_mm = 250\n", f);
+  assert_int_equal(fclose(f), 0);
+  snprintf(args, sizeof args, "run '%s' -q", pk.p);
+  expect_bad_input(args, "after the section header");
+
+  /* a FIFO as the case (a stand-in for a device): refused at once, not read */
+  const path_t pf = scratch("fifo.ini");
+  assert_int_equal(mkfifo(pf.p, 0600), 0);
+  snprintf(args, sizeof args, "timeout 60 '%s' run '%s' -q", VS_BINARY, pf.p);
+  int w = system(args); /* through timeout: a reader that blocks fails instead of hanging */
+  assert_true(WIFEXITED(w) && WEXITSTATUS(w) == 2);
+  snprintf(args, sizeof args, "run '%s' -q", pf.p);
+  expect_bad_input(args, "not a regular file");
+  remove(pf.p);
+
+  /* a case file over the limit (a 100 MB comment was copied into the record before) */
+  const path_t pb = scratch("big.ini");
+  f = fopen(pb.p, "w");
+  assert_non_null(f);
+  fputs("[arch]\n", f);
+  for (int i = 0; i < (1 << 20) / 64 + 1; i++) fprintf(f, ";%062d\n", i);
+  assert_int_equal(fclose(f), 0);
+  snprintf(args, sizeof args, "run '%s' -q", pb.p);
+  expect_bad_input(args, "too large (a case file is at most 1048576 bytes)");
+  remove(pb.p);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_help),
@@ -523,6 +573,7 @@ int main(void) {
       cmocka_unit_test(test_reference_json_csv),
       cmocka_unit_test(test_alpha_kn_override),
       cmocka_unit_test(test_collapse_json),
+      cmocka_unit_test(test_strict_input),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -12,7 +12,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <dirent.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "voussoir/run.h"
@@ -175,6 +179,159 @@ static void test_calibrate_inverts(void **s) {
   free(t);
 }
 
+/* Options that atoi/atof read as a prefix ("2x" as 2), and sizes whose product overflowed an
+ * int (65536 x 65536 ran 0 cases with exit 0): refused before anything is created. */
+static void test_sweep_strict_options(void **s) {
+  (void)s;
+  char cmd[1024], path[256];
+  snprintf(cmd, sizeof cmd, "%s sweep %s --alpha 0 -j 2x -o %s/strict1 2>%s/strict.err", VS_BINARY,
+           REFERENCE, g_dir, g_dir);
+  assert_int_equal(sh(cmd), 2);
+  snprintf(path, sizeof path, "%s/strict.err", g_dir);
+  char *t = slurp(path);
+  assert_non_null(strstr(t, "-j 2x: unexpected characters after the number"));
+  free(t);
+  snprintf(cmd, sizeof cmd,
+           "%s sweep %s --vary arch.radius_mm=1:65536:1 --vary arch.depth_mm=1:65536:1 -o "
+           "%s/strict2 2>%s/strict.err",
+           VS_BINARY, REFERENCE, g_dir, g_dir);
+  assert_int_equal(sh(cmd), 2);
+  t = slurp(path);
+  assert_non_null(strstr(t, "more than 100000 runs"));
+  free(t);
+  snprintf(cmd, sizeof cmd, "%s calibrate %s --target-dz-pct 16x -q 2>%s/strict.err", VS_BINARY,
+           REFERENCE, g_dir);
+  assert_int_equal(sh(cmd), 2);
+  t = slurp(path);
+  assert_non_null(strstr(t, "--target-dz-pct 16x: unexpected characters after the number"));
+  free(t);
+  snprintf(cmd, sizeof cmd, "%s calibrate %s --target-dz-pct 16 --kn-min 0x1 -q 2>/dev/null",
+           VS_BINARY, REFERENCE);
+  assert_int_equal(sh(cmd), 2);
+  for (int i = 1; i <= 2; i++) {
+    snprintf(path, sizeof path, "%s/strict%d", g_dir, i);
+    assert_int_not_equal(access(path, F_OK), 0);
+  }
+}
+
+/* Processes whose command line mentions text (the sweep's directory is in every run's -o). */
+static int processes_with(const char *text) {
+  DIR *d = opendir("/proc");
+  assert_non_null(d);
+  int n = 0;
+  struct dirent *e;
+  while ((e = readdir(d)) != NULL) {
+    if (e->d_name[0] < '1' || e->d_name[0] > '9') continue;
+    char path[300], buf[4096];
+    snprintf(path, sizeof path, "/proc/%s/cmdline", e->d_name);
+    FILE *f = fopen(path, "rb");
+    if (f == NULL) continue;
+    size_t k = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    for (size_t i = 0; i < k; i++)
+      if (buf[i] == '\0') buf[i] = ' ';
+    buf[k] = '\0';
+    n += strstr(buf, text) != NULL;
+  }
+  closedir(d);
+  return n;
+}
+
+/* Start "voussoir ARGS..." with stdout and stderr to files; returns its pid. */
+static pid_t spawn(char *const argv[], const char *out, const char *err) {
+  pid_t pid = fork();
+  assert_true(pid >= 0);
+  if (pid == 0) {
+    if (freopen(out, "w", stdout) == NULL || freopen(err, "w", stderr) == NULL) _exit(127);
+    execv(VS_BINARY, argv);
+    _exit(127);
+  }
+  return pid;
+}
+
+static int exit_code(pid_t pid) {
+  int st = 0;
+  assert_int_equal(waitpid(pid, &st, 0), pid);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+/* Field 3 (status) of the row of run r in the summary, copied to out. */
+static void row_status(const char *table, int r, char *out, size_t size) {
+  char head[16];
+  snprintf(head, sizeof head, "\n%d,", r);
+  const char *p = strstr(table, head);
+  if (p == NULL) fail_msg("no row %d in:\n%s", r, table);
+  p = strchr(strchr(p + 1, ',') + 1, ',') + 1; /* past run and the one axis */
+  size_t k = 0;
+  while (p[k] && p[k] != ',' && k + 1 < size) k++;
+  snprintf(out, size, "%.*s", (int)k, p);
+}
+
+/* SIGINT to the sweep once its first run has finished (its JSON appears only then): the run under
+ * way is stopped (no process left), the table lists the finished run and marks the others; then
+ * --resume completes the rest without running the finished one again. */
+static void test_sweep_interrupt_resume(void **s) {
+  (void)s;
+  char dir[128], out[160], err[160], json1[160], table[160];
+  snprintf(dir, sizeof dir, "%s/int", g_dir);
+  snprintf(out, sizeof out, "%s/int.out", g_dir);
+  snprintf(err, sizeof err, "%s/int.err", g_dir);
+  snprintf(json1, sizeof json1, "%s/run_0001.json", dir);
+  snprintf(table, sizeof table, "%s/summary.csv", dir);
+  /* three runs of about a second each, one at a time */
+  char *argv[] = {VS_BINARY, "sweep", REFERENCE, "--set", "arch.voussoirs=120", "--alpha", "0,1,2",
+                  "-j", "1", "-q", "-o", dir, NULL};
+  pid_t pid = spawn(argv, out, err);
+  struct stat st1;
+  for (int i = 0; stat(json1, &st1) != 0; i++) {
+    if (i > 60000) fail_msg("no %s after 600 s", json1);
+    if (waitpid(pid, NULL, WNOHANG) == pid) fail_msg("the sweep ended before its first run's JSON");
+    nanosleep(&(struct timespec){0, 10000000}, NULL);
+  }
+  assert_int_equal(kill(pid, SIGINT), 0);
+  assert_int_equal(exit_code(pid), 130);
+  assert_int_equal(processes_with(dir), 0); /* the runs were stopped and waited for */
+  char *t = slurp(table), status[32];
+  assert_non_null(t);
+  row_status(t, 1, status, sizeof status);
+  assert_string_equal(status, "collapse");
+  int unfinished = 0;
+  for (int r = 2; r <= 3; r++) {
+    row_status(t, r, status, sizeof status);
+    if (strcmp(status, "interrupted") == 0 || strcmp(status, "not_run") == 0) unfinished++;
+    else assert_string_equal(status, "collapse");
+  }
+  assert_true(unfinished >= 1);
+  free(t);
+  t = slurp(out);
+  assert_non_null(strstr(t, "interrupted:"));
+  free(t);
+
+  /* --resume: the finished run is kept as it is (same file, same time), the others run */
+  char *resume[] = {VS_BINARY, "sweep", REFERENCE, "--set", "arch.voussoirs=120", "--alpha", "0,1,2",
+                    "-j", "1", "-q", "-o", dir, "--resume", NULL};
+  assert_int_equal(exit_code(spawn(resume, out, err)), 0);
+  struct stat st2;
+  assert_int_equal(stat(json1, &st2), 0);
+  assert_true(st1.st_ino == st2.st_ino && st1.st_mtim.tv_sec == st2.st_mtim.tv_sec &&
+              st1.st_mtim.tv_nsec == st2.st_mtim.tv_nsec);
+  t = slurp(table);
+  for (int r = 1; r <= 3; r++) {
+    row_status(t, r, status, sizeof status);
+    assert_string_equal(status, "collapse");
+  }
+  free(t);
+  t = slurp(err);
+  assert_non_null(strstr(t, "resuming: "));
+  free(t);
+  /* a --resume with other lists is refused: it would mix two sweeps */
+  char *other[] = {VS_BINARY, "sweep", REFERENCE, "--alpha", "0,1,2", "-q", "-o", dir, "--resume", NULL};
+  assert_int_equal(exit_code(spawn(other, out, err)), 2);
+  t = slurp(err);
+  assert_non_null(strstr(t, "sweep.manifest differs"));
+  free(t);
+}
+
 static int setup(void **s) {
   (void)s;
   snprintf(g_dir, sizeof g_dir, "/tmp/vs_test_sweep_XXXXXX");
@@ -194,6 +351,8 @@ int main(void) {
       cmocka_unit_test(test_sweep_table),
       cmocka_unit_test(test_sweep_bad_input),
       cmocka_unit_test(test_calibrate_inverts),
+      cmocka_unit_test(test_sweep_strict_options),
+      cmocka_unit_test(test_sweep_interrupt_resume),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -59,7 +59,7 @@ typedef struct {
   int seed;             /* generator seed, 0..2147483647, default 1 */
   int sample;           /* sample number (montecarlo sets it), 0..2147483647, default 0 */
   double kn_cov;        /* CoV of each joint's k_n (lognormal, mean k_n), [0, 3], default 0 */
-  double kn_corr_mm;    /* correlation length of that scatter along the arch, >= 0 (0 independent) */
+  double kn_corr_mm;    /* correlation length of that scatter along the arch, [0, 1e6] mm (0 independent) */
   double face_mm;       /* non-coplanar faces: std. dev. of the as-built gap at a joint's open edge, [0, 10] mm */
   double angle_cov;     /* CoV of the voussoirs' angular sizes (lognormal, closed), [0, 0.5] */
   double thickness_cov; /* CoV of the voussoirs' thickness (lognormal), [0, 0.5] */
@@ -75,12 +75,25 @@ void vs_case_defaults(vs_case *c);
  * "FILE:LINE: section.key = value: reason (allowed: ...)" with VS_ERR_PARSE (malformed line,
  * unknown section or key, not a number, empty value, nan/inf) or VS_ERR_INVALID (out of range);
  * a file that cannot be opened or read gives VS_ERR_IO ("FILE: cannot open: reason").
- * Section and key names are case-sensitive; a key may appear twice, the later value wins.
+ * Numbers take the forms of voussoir/parse.h (decimal; no hex, inf or nan). Only a regular file
+ * of at most VS_CASE_MAX_BYTES is read (a FIFO, a device or a directory gives VS_ERR_IO, without
+ * blocking). Lines end at LF, CR LF or CR; a key on the line of its section header
+ * ("[arch] radius_mm = 3") is an error. Section and key names are case-sensitive; a key may appear twice, the later value wins.
  * Comments start with ';' or '#' at the beginning of a line or after a blank; leading blanks are
  * ignored (there are no continuation lines). c is changed only if the whole file is accepted.
  * If text_out is not NULL, *text_out receives a malloc'd copy of the file's text (caller frees)
  * for echoing, or NULL on failure. */
 vs_status vs_case_read(vs_case *c, const char *path, char **text_out, vs_error *err);
+
+/* Largest case file read, in bytes (1 MiB): a real case is a few hundred bytes; the text is also
+ * copied into the record, so an unbounded file (or /dev/zero) must not reach it. */
+#define VS_CASE_MAX_BYTES (1 << 20)
+
+/* As vs_case_read, from text in memory (len bytes, need not be NUL-terminated; a NUL byte is an
+ * error); name stands for the file in messages. Same rules, same messages, except that len above
+ * VS_CASE_MAX_BYTES fails with VS_ERR_IO. */
+vs_status vs_case_parse(vs_case *c, const char *name, const char *text, size_t len,
+                        vs_error *err);
 
 /* Apply one "section.key=value" override (the CLI's --set); blanks around the parts are
  * ignored. Errors as vs_case_read, with "--set section.key=value" in place of FILE:LINE;

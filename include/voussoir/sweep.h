@@ -9,9 +9,15 @@
 #include "voussoir/case.h"
 #include "voussoir/status.h"
 
-/* Parse a list of numbers: comma-separated items, each a number or an inclusive range
+/* Most values one list may hold, and most runs one sweep may make (the product of its lists'
+ * lengths, checked without overflow): a sweep's summary table and its run directory stay
+ * manageable, and a bigger study is better split into several sweeps. */
+#define VS_LIST_MAX_VALUES 100000
+#define VS_SWEEP_MAX_RUNS 100000
+
+/* Parse a list of numbers (each in the forms of voussoir/parse.h): comma-separated items, each a number or an inclusive range
  * "first:last:step" (step > 0, last >= first; the last value is included when it falls on the
- * grid within 1e-9 of a step). *values is malloc'd (caller frees); *n its length (>= 1).
+ * grid within 1e-9 of a step), at most VS_LIST_MAX_VALUES values in all. *values is malloc'd (caller frees); *n its length (>= 1).
  * Errors: VS_ERR_USAGE naming what (e.g. "--alpha") and the offending item. */
 vs_status vs_parse_list(const char *what, const char *text, double **values, int *n,
                         vs_error *err);
