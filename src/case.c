@@ -122,6 +122,24 @@ static const key_spec keys[] = {
         "collapsing beyond this kinetic energy, as a fraction of weight x thickness"),
     KEY(dynamic, fall_s, 0.25, 0.0, true, 1e6, true, "s", "the fall is followed this long"),
     KEY(dynamic, sample_s, 0.01, 1e-6, true, 1e6, true, "s", "interval between dynamic samples"),
+    /* imperfections: src/imperfections.c; all amplitudes 0 give the perfect arch exactly */
+    KEY(imperfections, seed, 1.0, 0.0, true, 2147483647.0, true, "", "seed of the generator"),
+    KEY(imperfections, sample, 0.0, 0.0, true, 2147483647.0, true, "",
+        "sample number (each sample draws its own imperfections)"),
+    KEY(imperfections, kn_cov, 0.0, 0.0, true, 3.0, true, "",
+        "coefficient of variation of each joint's k_n (lognormal, mean the nominal k_n)"),
+    KEY(imperfections, kn_corr_mm, 0.0, 0.0, true, 1e6, true, "mm",
+        "correlation length of the k_n scatter along the arch (0: independent joints)"),
+    KEY(imperfections, face_mm, 0.0, 0.0, true, 10.0, true, "mm",
+        "non-coplanar faces: standard deviation of the as-built gap at a joint's open edge"),
+    KEY(imperfections, angle_cov, 0.0, 0.0, true, 0.5, true, "",
+        "coefficient of variation of the voussoirs' angular sizes (the arch still closes)"),
+    KEY(imperfections, thickness_cov, 0.0, 0.0, true, 0.5, true, "",
+        "coefficient of variation of the voussoirs' thickness"),
+    KEY(imperfections, support_dx_mm, 0.0, -100.0, true, 100.0, true, "mm",
+        "initial offset of the moving support, outward"),
+    KEY(imperfections, support_dz_mm, 0.0, -100.0, true, 100.0, true, "mm",
+        "initial offset of the moving support, downward"),
 };
 #undef LEN_MIN
 #undef LEN_MAX

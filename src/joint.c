@@ -145,8 +145,8 @@ void vs_joint_eval(const vs_joint_geom *jg, const vs_joint_law *law, const doubl
   kinematics k;
   joint_kinematics(jg, qa, qb, ra, rb, K != NULL, &k);
   const double t = jg->length, b = jg->depth, a = -k.g;
-  vs_normal_response nr;
-  vs_joint_normal(law->kn, b, t, a, k.w, &nr);
+  vs_normal_response nr; /* the initial gap is a constant offset: the derivatives are unchanged */
+  vs_joint_normal(law->kn, b, t, a - law->gap0, k.w - law->gap1, &nr);
 
   /* shear over the whole joint, Coulomb limit by return mapping */
   const double kst = law->ks * b * t;
@@ -207,7 +207,7 @@ void vs_joint_damping(const vs_joint_geom *jg, const vs_joint_law *law, double c
   joint_kinematics(jg, qa, qb, ra, rb, 0, &k);
   const double t = jg->length, b = jg->depth;
   vs_normal_response nr;
-  vs_joint_normal(law->kn, b, t, -k.g, k.w, &nr);
+  vs_joint_normal(law->kn, b, t, -k.g - law->gap0, k.w - law->gap1, &nr);
   const double phi = fmin(1.0, nr.contact / (VS_DAMP_RAMP * t));
   /* full-section viscous damping: normal b c_n t, rotational b c_n t^3/12, shear b c_s t */
   const double ca = phi * b * cn * t, cw = phi * b * cn * t * t * t / 12.0, csl = phi * b * cs * t;
@@ -255,7 +255,7 @@ double vs_joint_friction_power(const vs_joint_geom *jg, const vs_joint_law *law,
   joint_kinematics(jg, qa, qb, ra, rb, 0, &k);
   const double t = jg->length, b = jg->depth, a = -k.g, kst = law->ks * b * t;
   vs_normal_response nr;
-  vs_joint_normal(law->kn, b, t, a, k.w, &nr);
+  vs_joint_normal(law->kn, b, t, a - law->gap0, k.w - law->gap1, &nr);
   const double T_trial = kst * (k.sl - slip_p_old), T_max = law->mu * nr.N;
   if (!(fabs(T_trial) > T_max)) return 0.0;
   double adot, wdot, sdot;

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "voussoir/case.h"
+#include "voussoir/montecarlo.h"
 #include "voussoir/outpath.h"
 #include "voussoir/output.h"
 #include "voussoir/report.h"
@@ -54,6 +55,7 @@ static const char *USAGE =
     "usage: voussoir run CASE [options]\n"
     "       voussoir sweep CASE --alpha LIST --kn LIST [...]   (voussoir sweep --help)\n"
     "       voussoir calibrate CASE --target-dz-pct X [...]  (voussoir calibrate --help)\n"
+    "       voussoir montecarlo CASE --samples N [...]  (voussoir montecarlo --help)\n"
     "       voussoir plot RUN.h5 [-o DIR] [--svg]            (voussoir plot --help)\n"
     "       voussoir --help | --version\n"
     "\n"
@@ -433,6 +435,8 @@ static int dispatch(int argc, char **argv, int *h5_clean) {
     return vs_cmd_sweep(argc, argv, self);
   }
   if (strcmp(argv[1], "calibrate") == 0) return vs_cmd_calibrate(argc, argv);
+  if (strcmp(argv[1], "montecarlo") == 0) return vs_cmd_montecarlo(argc, argv);
+  if (strcmp(argv[1], "merge") == 0) return vs_cmd_merge(argc, argv);
   if (strcmp(argv[1], "plot") == 0) return vs_cmd_plot(argc, argv);
   if (strcmp(argv[1], "run") == 0) {
     for (int i = 2; i < argc; i++)

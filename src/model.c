@@ -21,7 +21,10 @@ typedef struct {
 struct vs_model {
   const vs_geometry *g;
   vs_joint_law law;
+  vs_joint_law *laws; /* per joint: the law (the nominal one unless an imperfection changed it) */
   double dir[2];   /* unit direction of the right support's motion */
+  double offset[2]; /* initial offset of the right support, m (imperfections) */
+  double mscale;    /* misfit factor: fraction of the face gaps and support offset applied */
   int n;           /* unknowns, 3 per block */
   double *ra, *rb; /* per joint: reference point of body a/b -> joint centre, m */
   double *slip_p;  /* per joint: committed plastic slip, m */
@@ -61,6 +64,16 @@ static void sup_state_q(const vs_model *m, const double *q, double delta, double
   for (int s = 0; s < 2 && q != NULL; s++) {
     const int d = m->pat.dof[3 * (m->g->n_blocks + s) + 2];
     if (d >= 0) qs[3 * s + 2] = q[d];
+  }
+}
+
+/* The supports' positions: sup_state_q and the right support's initial offset (an
+ * imperfection, times the misfit factor); velocities do not have it. */
+static void sup_pos_q(const vs_model *m, const double *q, double delta, double qs[6]) {
+  sup_state_q(m, q, delta, qs);
+  if (m->offset[0] != 0.0 || m->offset[1] != 0.0) {
+    qs[3] += m->mscale * m->offset[0];
+    qs[4] += m->mscale * m->offset[1];
   }
 }
 
@@ -165,6 +178,7 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
   m->dir[0] = sin(alpha_rad);
   m->dir[1] = -cos(alpha_rad);
   m->gscale = 1.0;
+  m->mscale = 1.0;
   m->n = 3 * g->n_blocks;
   size_t nj = (size_t)g->n_joints;
   m->ra = calloc(2 * nj, sizeof(double));
@@ -172,12 +186,15 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
   m->slip_p = calloc(nj, sizeof(double));
   m->cn = calloc(nj, sizeof(double));
   m->cs = calloc(nj, sizeof(double));
-  if (m->ra == NULL || m->rb == NULL || m->slip_p == NULL || m->cn == NULL || m->cs == NULL) {
+  m->laws = malloc(nj * sizeof *m->laws);
+  if (m->ra == NULL || m->rb == NULL || m->slip_p == NULL || m->cn == NULL || m->cs == NULL ||
+      m->laws == NULL) {
     vs_model_destroy(&m);
     return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
   }
   for (int k = 0; k < g->n_joints; k++) {
     const vs_joint_geom *j = &g->joints[k];
+    m->laws[k] = *law;
     if (body_is_block(j->a)) {
       m->ra[2 * k] = j->px - g->blocks[j->a].cx;
       m->ra[2 * k + 1] = j->pz - g->blocks[j->a].cz;
@@ -204,6 +221,7 @@ void vs_model_destroy(vs_model **m) {
   free(p->slip_p);
   free(p->cn);
   free(p->cs);
+  free(p->laws);
   pattern_free(&p->pat);
   pattern_free(&p->pate);
   free(p);
@@ -237,8 +255,49 @@ const vs_joint_law *vs_model_law(const vs_model *m) { return &m->law; }
 const double *vs_model_slips(const vs_model *m) { return m->slip_p; }
 
 void vs_model_support_displacement(const vs_model *m, double delta, double u[2]) {
-  u[0] = delta * m->dir[0];
-  u[1] = delta * m->dir[1];
+  u[0] = delta * m->dir[0] + m->mscale * m->offset[0];
+  u[1] = delta * m->dir[1] + m->mscale * m->offset[1];
+}
+
+vs_status vs_model_set_joint_law(vs_model *m, int k, const vs_joint_law *law, vs_error *err) {
+  if (k < 0 || k >= m->g->n_joints)
+    return vs_error_set(err, VS_ERR_INVALID, "model: joint %d (allowed: 1..%d)", k + 1,
+                        m->g->n_joints);
+  if (!(law->kn > 0.0) || !(law->ks > 0.0) || !(law->mu > 0.0) || !isfinite(law->gap0) ||
+      !isfinite(law->gap1))
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "model: joint %d law kn = %g, ks = %g N/m^3, mu = %g, gap %g m, %g "
+                        "(allowed: kn, ks, mu > 0, gaps finite)",
+                        k + 1, law->kn, law->ks, law->mu, law->gap0, law->gap1);
+  m->laws[k] = *law;
+  vs_model_set_damping(m, m->zeta); /* the damping coefficients follow the joint's stiffness */
+  return VS_OK;
+}
+
+const vs_joint_law *vs_model_joint_law(const vs_model *m, int k) { return &m->laws[k]; }
+
+void vs_model_set_support_offset(vs_model *m, const double offset[2]) {
+  m->offset[0] = offset[0];
+  m->offset[1] = offset[1];
+}
+
+int vs_model_has_misfit(const vs_model *m) {
+  if (m->offset[0] != 0.0 || m->offset[1] != 0.0) return 1;
+  for (int k = 0; k < m->g->n_joints; k++)
+    if (m->laws[k].gap0 != 0.0 || m->laws[k].gap1 != 0.0) return 1;
+  return 0;
+}
+
+void vs_model_set_misfit_scale(vs_model *m, double s) { m->mscale = s; }
+
+/* The law of joint k at the current misfit factor (vs_model_set_misfit_scale). */
+static const vs_joint_law *law_at(const vs_model *m, int k, vs_joint_law *tmp) {
+  const vs_joint_law *l = &m->laws[k];
+  if (m->mscale == 1.0 || (l->gap0 == 0.0 && l->gap1 == 0.0)) return l;
+  *tmp = *l;
+  tmp->gap0 *= m->mscale;
+  tmp->gap1 *= m->mscale;
+  return tmp;
 }
 
 /* One joint at block states q and support states qs. */
@@ -248,7 +307,8 @@ static void eval_joint(const vs_model *m, const double *q, const double qs[6], i
   double qa[3], qb[3];
   body_q(q, qs, j->a, qa);
   body_q(q, qs, j->b, qb);
-  vs_joint_eval(j, &m->law, qa, qb, m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k], st, f, K);
+  vs_joint_law tmp;
+  vs_joint_eval(j, law_at(m, k, &tmp), qa, qb, m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k], st, f, K);
 }
 
 /* The unknowns of joint k's six components (body a's, then b's) in pattern p, -1 if prescribed. */
@@ -279,7 +339,7 @@ static void residual_core(const vs_model *m, const vs_pattern *p, const double *
 
 void vs_model_residual(const vs_model *m, const double *q, double delta, double *G) {
   double qs[6];
-  sup_state_q(m, q, delta, qs);
+  sup_pos_q(m, q, delta, qs);
   residual_core(m, &m->pat, q, qs, G);
 }
 
@@ -328,7 +388,7 @@ static void jacobian_core(const vs_model *m, const vs_pattern *p, const double *
 
 int vs_model_jacobian(const vs_model *m, const double *q, double delta, SUNMatrix J) {
   double qs[6];
-  sup_state_q(m, q, delta, qs);
+  sup_pos_q(m, q, delta, qs);
   jacobian_core(m, &m->pat, q, qs, J);
   return 0;
 }
@@ -336,7 +396,7 @@ int vs_model_jacobian(const vs_model *m, const double *q, double delta, SUNMatri
 void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double *out) {
   const vs_geometry *g = m->g;
   double qs[6];
-  sup_state_q(m, q, delta, qs);
+  sup_pos_q(m, q, delta, qs);
   memset(out, 0, (size_t)m->n * sizeof *out);
   for (int k = 0; k < g->n_joints; k++) {
     const int body[2] = {g->joints[k].a, g->joints[k].b};
@@ -361,7 +421,7 @@ static void joint_states_core(const vs_model *m, const double *q, const double q
 
 void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_joint_state *st) {
   double qs[6];
-  sup_state_q(m, q, delta, qs);
+  sup_pos_q(m, q, delta, qs);
   joint_states_core(m, q, qs, st);
 }
 
@@ -378,14 +438,14 @@ static int commit_core(vs_model *m, const double *q, const double qs[6]) {
 
 int vs_model_commit(vs_model *m, const double *q, double delta) {
   double qs[6];
-  sup_state_q(m, q, delta, qs);
+  sup_pos_q(m, q, delta, qs);
   return commit_core(m, q, qs);
 }
 
 void vs_model_reactions(const vs_model *m, const double *q, double delta, double left[2],
                         double right[2]) {
   double qs[6];
-  sup_state_q(m, q, delta, qs);
+  sup_pos_q(m, q, delta, qs);
   left[0] = left[1] = right[0] = right[1] = 0.0;
   for (int k = 0; k < m->g->n_joints; k++) {
     const vs_joint_geom *j = &m->g->joints[k];
@@ -405,7 +465,7 @@ void vs_model_reactions(const vs_model *m, const double *q, double delta, double
 
 void vs_model_support_reactions(const vs_model *m, const double *q, double delta, double out[6]) {
   double qs[6];
-  sup_state_q(m, q, delta, qs);
+  sup_pos_q(m, q, delta, qs);
   memset(out, 0, 6 * sizeof *out);
   for (int k = 0; k < m->g->n_joints; k++) {
     const vs_joint_geom *j = &m->g->joints[k];
@@ -476,8 +536,8 @@ void vs_model_set_damping(vs_model *m, double zeta) {
     double ma = body_is_block(j->a) ? g->blocks[j->a].mass : INFINITY;
     double mb = body_is_block(j->b) ? g->blocks[j->b].mass : INFINITY;
     const double mr = isinf(ma) ? mb : isinf(mb) ? ma : ma * mb / (ma + mb);
-    m->cn[k] = 2.0 * zeta * sqrt(m->law.kn * A * mr) / A;
-    m->cs[k] = 2.0 * zeta * sqrt(m->law.ks * A * mr) / A;
+    m->cn[k] = 2.0 * zeta * sqrt(m->laws[k].kn * A * mr) / A;
+    m->cs[k] = 2.0 * zeta * sqrt(m->laws[k].ks * A * mr) / A;
   }
 }
 
@@ -525,15 +585,16 @@ static void damping_core(const vs_model *m, const vs_pattern *p, const double *q
     for (int k = 0; k < g->n_joints; k++) {
       const vs_joint_geom *j = &g->joints[k];
       double qa[3], qb[3], va[3], vb[3], f[6], Ck[36], pw;
+      vs_joint_law tmp;
       body_q(q, qs, j->a, qa);
       body_q(q, qs, j->b, qb);
       body_q(v, vs, j->a, va);
       body_q(v, vs, j->b, vb);
       if (m->beta_k > 0.0) /* HOOK (damping): Rayleigh's stiffness part */
-        vs_joint_damping_tangent(j, &m->law, m->beta_k, qa, qb, va, vb, m->ra + 2 * k,
+        vs_joint_damping_tangent(j, law_at(m, k, &tmp), m->beta_k, qa, qb, va, vb, m->ra + 2 * k,
                                  m->rb + 2 * k, f, C != NULL ? Ck : NULL, &pw);
       else
-        vs_joint_damping(j, &m->law, m->cn[k], m->cs[k], qa, qb, va, vb, m->ra + 2 * k,
+        vs_joint_damping(j, law_at(m, k, &tmp), m->cn[k], m->cs[k], qa, qb, va, vb, m->ra + 2 * k,
                          m->rb + 2 * k, f, C != NULL ? Ck : NULL, &pw);
       diss += pw;
       const int body[2] = {j->a, j->b};
@@ -561,7 +622,7 @@ void vs_model_damping(const vs_model *m, const double *q, const double *v, doubl
                       double ddelta_dt, double *fd, double *dissipated, double *support_power,
                       SUNMatrix C) {
   double qs[6], vs[6];
-  sup_state_q(m, q, delta, qs);
+  sup_pos_q(m, q, delta, qs);
   sup_state_q(m, v, ddelta_dt, vs);
   damping_core(m, &m->pat, q, v, qs, vs, fd, dissipated, support_power, C);
 }
@@ -589,11 +650,12 @@ static double friction_core(const vs_model *m, const double *q, const double *v,
   for (int k = 0; k < m->g->n_joints; k++) {
     const vs_joint_geom *j = &m->g->joints[k];
     double qa[3], qb[3], va[3], vb[3];
+    vs_joint_law tmp;
     body_q(q, qs, j->a, qa);
     body_q(q, qs, j->b, qb);
     body_q(v, vs, j->a, va);
     body_q(v, vs, j->b, vb);
-    pw += vs_joint_friction_power(j, &m->law, qa, qb, va, vb, m->ra + 2 * k, m->rb + 2 * k,
+    pw += vs_joint_friction_power(j, law_at(m, k, &tmp), qa, qb, va, vb, m->ra + 2 * k, m->rb + 2 * k,
                                   m->slip_p[k]);
   }
   return pw;
@@ -602,7 +664,7 @@ static double friction_core(const vs_model *m, const double *q, const double *v,
 double vs_model_friction_power(const vs_model *m, const double *q, const double *v, double delta,
                                double ddelta_dt) {
   double qs[6], vs[6];
-  sup_state_q(m, q, delta, qs);
+  sup_pos_q(m, q, delta, qs);
   sup_state_q(m, v, ddelta_dt, vs);
   return friction_core(m, q, v, qs, vs);
 }
@@ -617,7 +679,7 @@ double vs_model_support_force(const vs_model *m, const double *q, double delta) 
 void vs_model_energies(const vs_model *m, const double *q, double delta, double *elastic,
                        double *gravity) {
   double qs[6];
-  sup_state_q(m, q, delta, qs);
+  sup_pos_q(m, q, delta, qs);
   energies_core(m, q, qs, elastic, gravity);
 }
 
@@ -628,7 +690,7 @@ int vs_model_ext_nnz(const vs_model *m) { return m->pate.nnz; }
 
 void vs_model_support_states(const vs_model *m, double delta, double rate, double qs[6],
                              double vs[6]) {
-  sup_state_q(m, NULL, delta, qs);
+  sup_pos_q(m, NULL, delta, qs);
   sup_state_q(m, NULL, rate, vs);
 }
 

@@ -850,6 +850,40 @@ static herr_t write_root(vs_output *o, const char *case_text) {
   return rc;
 }
 
+/* /imperfections: the values drawn for this run ([imperfections]; nominal when none), SI. */
+static herr_t write_imperfections(hid_t file, const vs_imperfections *p) {
+  hid_t grp = group_create(file, "imperfections");
+  if (grp < 0) return -1;
+  const hsize_t nj = (hsize_t)p->n_joints, nb = (hsize_t)p->n_blocks;
+  double *buf = malloc((size_t)(nj > nb ? nj : nb) * sizeof *buf);
+  herr_t rc = buf != NULL ? attr_str(grp, "description",
+                                     "drawn by the counter-based generator keyed by (seed, "
+                                     "sample); see /parameters/imperfections")
+                          : -1;
+  if (rc >= 0)
+    rc = dset_write(grp, "kn_factor", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &nj, p->kn_factor, "1",
+                    NULL);
+  for (hsize_t k = 0; rc >= 0 && k < nj; k++) buf[k] = p->face_gap_mm[k] * VS_MM;
+  if (rc >= 0)
+    rc = dset_write(grp, "face_gap", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &nj, buf, "m", NULL);
+  for (hsize_t i = 0; rc >= 0 && i < nb; i++) buf[i] = p->angle_deg[i] * VS_DEG;
+  if (rc >= 0)
+    rc = dset_write(grp, "voussoir_angle", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &nb, buf, "rad",
+                    NULL);
+  for (hsize_t i = 0; rc >= 0 && i < nb; i++) buf[i] = p->thickness_mm[i] * VS_MM;
+  if (rc >= 0)
+    rc = dset_write(grp, "voussoir_thickness", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &nb, buf, "m",
+                    NULL);
+  const hsize_t two = 2;
+  const double off[2] = {p->support_mm[0] * VS_MM, p->support_mm[1] * VS_MM};
+  if (rc >= 0)
+    rc = dset_write(grp, "support_offset", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &two, off, "m, m",
+                    "outward, downward");
+  free(buf);
+  h5_close(grp);
+  return rc;
+}
+
 static vs_status create_layout(vs_output *o, const vs_run *run, const char *case_text) {
   if (write_root(o, case_text) < 0)
     return h5_fail(&o->err, o->path, "cannot write root attributes");
@@ -857,6 +891,8 @@ static vs_status create_layout(vs_output *o, const vs_run *run, const char *case
     return h5_fail(&o->err, o->path, "cannot write /parameters");
   if (write_geometry(o, vs_run_geometry(run)) < 0)
     return h5_fail(&o->err, o->path, "cannot write /geometry");
+  if (write_imperfections(o->file, vs_run_imperfections(run)) < 0)
+    return h5_fail(&o->err, o->path, "cannot write /imperfections");
   /* /summary is filled by vs_output_finish: created now, so that finishing never touches the
    * root group's header */
   hid_t obs = group_create(o->file, "summary");

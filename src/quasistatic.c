@@ -50,6 +50,7 @@ static const double VS_FLOOR_MARGIN = 16.0;
 static const double VS_RAMP_STEP = 0.25;
 static const double VS_RAMP_MIN = 1e-4;
 static const long VS_RAMP_MAXITER = 200;
+static const long VS_MISFIT_MAXITER = 25; /* Newton iterations per step of the misfit ramp */
 
 typedef struct {
   vs_model *m;
@@ -554,6 +555,47 @@ static int stable_state(qs_solver *s, const double *q, double delta) {
   return vs_spd_test(s->spd, s->Jt) == 1;
 }
 
+/* The misfit of an imperfect arch (vs_model_set_misfit_scale) by continuation in its factor,
+ * from the self-weight equilibrium on nominal faces: increments halve when Newton fails or the
+ * state is not stable. Returns 0 when the factor 1 is reached (q holds the equilibrium), else -1
+ * with *reached the largest factor that had an equilibrium. */
+static int misfit_ramp(qs_solver *s, double *q, double *reached) {
+  const size_t bytes = (size_t)s->n * sizeof(double);
+  double *qt = malloc(bytes), *qp = malloc(bytes), lam = 0.0, lam_prev = 0.0, h = VS_RAMP_STEP;
+  int ok = -1;
+  if (qt == NULL || qp == NULL) goto done;
+  memcpy(qp, q, bytes);
+  /* many joints touch on small wedges: Newton is slow far from the solution, so the factor
+   * advances by short steps from a secant predictor rather than by long Newton solves */
+  KINSetNumMaxIters(s->kin, VS_MISFIT_MAXITER);
+  for (;;) {
+    const double next = fmin(1.0, lam + h);
+    const double r = lam > lam_prev ? (next - lam) / (lam - lam_prev) : 0.0;
+    for (int i = 0; i < s->n; i++) qt[i] = q[i] + r * (q[i] - qp[i]);
+    vs_model_set_misfit_scale(s->m, next);
+    if (qs_solve(s, 0.0, qt, NULL) == 0 && stable_state(s, qt, 0.0)) {
+      memcpy(qp, q, bytes);
+      memcpy(q, qt, bytes);
+      lam_prev = lam;
+      lam = next;
+      if (lam >= 1.0) {
+        ok = 0;
+        break;
+      }
+      h = fmin(2.0 * h, VS_RAMP_STEP);
+    } else if (s->interrupted || s->nonfinite || (h *= 0.5) < VS_RAMP_MIN) {
+      break;
+    }
+  }
+done:
+  KINSetNumMaxIters(s->kin, s->o->newton_maxiter);
+  vs_model_set_misfit_scale(s->m, ok == 0 ? 1.0 : lam);
+  *reached = lam;
+  free(qt);
+  free(qp);
+  return ok;
+}
+
 /* Self-weight by continuation in the gravity factor lambda: the reference configuration is the
  * exact equilibrium at lambda = 0; lambda grows by increments that halve when Newton fails (tangent
  * predictor dq/dlambda = -K^-1 dG/dlambda). Returns 0 when lambda = 1 is reached (q holds the
@@ -623,11 +665,23 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
   /* 1. the starting equilibrium: self-weight with the supports in place (delta0 = 0), or the
    * state a snap-through settled in */
   long it = 0;
+  const int misfit = delta0 == 0.0 && vs_model_has_misfit(s.m);
+  if (misfit) vs_model_set_misfit_scale(s.m, 0.0);
   int flag = qs_solve(&s, delta0, q, &it);
-  double lambda_max = 1.0;
+  double lambda_max = 1.0, misfit_max = 1.0;
   if (flag != 0 && delta0 == 0.0 && qs_fatal(&s, delta0, NULL) == VS_OK &&
       gravity_ramp(&s, q, &lambda_max) == 0)
     flag = 0;
+  if (flag == 0 && misfit && misfit_ramp(&s, q, &misfit_max) != 0) {
+    st = qs_fatal(&s, delta0, err); /* an interrupt or a non-finite residual says so */
+    if (st == VS_OK)
+      st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
+                        "the imperfect arch cannot stand: no equilibrium under self-weight with "
+                        "its misfit (face gaps, support offset) beyond %.4g of it, with "
+                        "increments down to %.1e",
+                        misfit_max, VS_RAMP_MIN);
+    goto cleanup;
+  }
   res->newton_iterations = s.iters;
   if (flag != 0) {
     st = qs_fatal(&s, delta0, err);

@@ -10,11 +10,13 @@
 #include <time.h>
 
 #include "voussoir/damping.h"
+#include "voussoir/imperfections.h"
 #include "voussoir/units.h"
 
 struct vs_run {
   vs_case c;
   vs_geometry *g;
+  vs_imperfections *imp; /* the drawn imperfections ([imperfections]; none: the perfect arch) */
   vs_model *m;
   vs_hinges *h;
   vs_dynamic *dyn;
@@ -86,7 +88,8 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
   if (r == NULL) return vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
   r->c = *c;
   for (int i = 0; i < 6; i++) r->react[i] = r->react_eq[i] = NAN;
-  vs_status st = vs_geometry_create_arch(c, &r->g, err);
+  vs_status st = vs_imperfections_draw(c, &r->imp, err);
+  if (st == VS_OK) st = vs_imperfections_arch(c, r->imp, &r->g, err);
   if (st == VS_OK) {
     vs_joint_law law = {.kn = c->kn_N_mm3 * VS_N_MM3,
                         .ks = c->ks_ratio * c->kn_N_mm3 * VS_N_MM3,
@@ -96,6 +99,7 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
       st = vs_model_set_support_kinds(r->m, (vs_support_kind)c->left_kind,
                                       (vs_support_kind)c->right_kind, err);
   }
+  if (st == VS_OK) st = vs_imperfections_apply(c, r->imp, r->m, err);
   if (st == VS_OK && c->damping_model == VS_DAMPING_RAYLEIGH &&
       3 * c->voussoirs > VS_MODAL_MAX_DOF)
     st = vs_error_set(err, VS_ERR_INVALID,
@@ -153,6 +157,7 @@ void vs_run_destroy(vs_run **r) {
   vs_hinges_destroy(&p->h);
   vs_model_destroy(&p->m);
   vs_geometry_destroy(&p->g);
+  vs_imperfections_destroy(&p->imp);
   free(p);
   *r = NULL;
 }
@@ -549,6 +554,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
 
 const vs_case *vs_run_case(const vs_run *r) { return &r->c; }
 const vs_geometry *vs_run_geometry(const vs_run *r) { return r->g; }
+const vs_imperfections *vs_run_imperfections(const vs_run *r) { return r->imp; }
 const vs_model *vs_run_model(const vs_run *r) { return r->m; }
 const vs_hinges *vs_run_hinges(const vs_run *r) { return r->h; }
 const vs_hinge_opts *vs_run_hinge_opts(const vs_run *r) { return &r->hopts; }

@@ -114,7 +114,7 @@ static double self_weight_thrust(double kn) {
   vs_error err;
   vs_error_clear(&err);
   assert_int_equal(vs_geometry_create_arch(&c, &g, &err), VS_OK);
-  vs_joint_law law = {kn * VS_N_MM3, c.ks_ratio * kn * VS_N_MM3, c.friction};
+  vs_joint_law law = {.kn = kn * VS_N_MM3, .ks = c.ks_ratio * kn * VS_N_MM3, .mu = c.friction};
   assert_int_equal(vs_model_create(g, &law, 0.0, &m, &err), VS_OK);
   vs_path_opts o;
   vs_path_opts_from_case(&c, &o);

@@ -65,7 +65,7 @@ static void fixture_init_kinds(fixture *fx, double alpha_deg, double mu, vs_supp
   vs_status s = vs_geometry_create_arch(&fx->c, &fx->g, &err);
   if (s != VS_OK) fail_msg("geometry: %s", err.msg);
   double kn = fx->c.kn_N_mm3 * 1e9;
-  fx->law = (vs_joint_law){kn, fx->c.ks_ratio * kn, fx->c.friction};
+  fx->law = (vs_joint_law){.kn = kn, .ks = fx->c.ks_ratio * kn, .mu = fx->c.friction};
   fx->alpha = deg(alpha_deg);
   s = vs_model_create(fx->g, &fx->law, fx->alpha, &fx->m, &err);
   if (s != VS_OK) fail_msg("model: %s", err.msg);

@@ -304,7 +304,7 @@ static vs_joint_geom joint_geom(void) {
   g.nz = -sin(0.4);
   return g;
 }
-static vs_joint_law joint_law(void) { return (vs_joint_law){KN, KS, MU}; }
+static vs_joint_law joint_law(void) { return (vs_joint_law){.kn = KN, .ks = KS, .mu = MU}; }
 
 /* Scaled comparison of 6-vectors / 6x6 matrices: rotations and moments are scaled by the joint
  * length so that all entries share units. */

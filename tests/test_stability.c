@@ -70,7 +70,7 @@ static void test_arch_tangent(void **state) {
   vs_geometry *g = NULL;
   vs_model *m = NULL;
   assert_int_equal(vs_geometry_create_arch(&c, &g, &err), VS_OK);
-  vs_joint_law law = {c.kn_N_mm3 * 1e9, c.ks_ratio * c.kn_N_mm3 * 1e9, c.friction};
+  vs_joint_law law = {.kn = c.kn_N_mm3 * 1e9, .ks = c.ks_ratio * c.kn_N_mm3 * 1e9, .mu = c.friction};
   assert_int_equal(vs_model_create(g, &law, 0.0, &m, &err), VS_OK);
   const int n = vs_model_size(m);
   double *q = calloc((size_t)n, sizeof *q);

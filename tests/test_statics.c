@@ -44,7 +44,7 @@ static void arch_solve(arch_run *r) {
   vs_error_clear(&err);
   vs_status s = vs_geometry_create_arch(&r->c, &r->g, &err);
   if (s != VS_OK) fail_msg("geometry: %s: %s", vs_strerror(s), err.msg);
-  vs_joint_law law = {r->c.kn_N_mm3 * 1e9, r->c.ks_ratio * r->c.kn_N_mm3 * 1e9, r->c.friction};
+  vs_joint_law law = {.kn = r->c.kn_N_mm3 * 1e9, .ks = r->c.ks_ratio * r->c.kn_N_mm3 * 1e9, .mu = r->c.friction};
   s = vs_model_create(r->g, &law, deg(r->c.alpha_deg), &r->m, &err);
   if (s != VS_OK) fail_msg("model: %s: %s", vs_strerror(s), err.msg);
   s = vs_model_set_support_kinds(r->m, (vs_support_kind)r->c.left_kind,
@@ -341,7 +341,7 @@ static void incline_solve(double tanb, incline_run *r) {
   g->radius = 0;
   g->thickness = wd;
   g->embrace = 0;
-  vs_joint_law law = {3e9, 1.5e9, 0.7};
+  vs_joint_law law = {.kn = 3e9, .ks = 1.5e9, .mu = 0.7};
   assert_int_equal(vs_model_create(g, &law, 0.0, &r->m, &err), VS_OK);
   assert_int_equal(vs_model_size(r->m), 3);
   vs_case c;

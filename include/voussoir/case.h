@@ -61,6 +61,17 @@ typedef struct {
   double fall_s;       /* after the collapse criterion, the fall is followed this long, >= 0,
                           default 0.25 s (the crown falls about twice the rise) */
   double sample_s;     /* at most one dynamic sample per this interval, > 0, default 0.01 s */
+
+  /* [imperfections] drawn per (seed, sample) by src/imperfections.c; all zero: the perfect arch */
+  int seed;             /* generator seed, 0..2147483647, default 1 */
+  int sample;           /* sample number (montecarlo sets it), 0..2147483647, default 0 */
+  double kn_cov;        /* CoV of each joint's k_n (lognormal, mean k_n), [0, 3], default 0 */
+  double kn_corr_mm;    /* correlation length of that scatter along the arch, [0, 1e6] mm (0 independent) */
+  double face_mm;       /* non-coplanar faces: std. dev. of the as-built gap at a joint's open edge, [0, 10] mm */
+  double angle_cov;     /* CoV of the voussoirs' angular sizes (lognormal, closed), [0, 0.5] */
+  double thickness_cov; /* CoV of the voussoirs' thickness (lognormal), [0, 0.5] */
+  double support_dx_mm; /* initial offset of the moving support, outward, [-100, 100] mm, default 0 */
+  double support_dz_mm; /* ... downward, [-100, 100] mm, default 0 */
 } vs_case;
 
 /* Fill c with the defaults: the reference specimen (docs/specimen.md) with k_n = 3 N/mm^3, alpha = 0. */

@@ -23,6 +23,10 @@ typedef struct {
   double kn; /* normal stiffness per unit area, N/m^3 */
   double ks; /* shear stiffness per unit area, N/m^3 */
   double mu; /* Coulomb friction coefficient */
+  /* As-built misfit of the two faces (non-coplanar faces, [imperfections] face_mm): the initial
+   * gap gap0 + gap1 xi (m; gap1 dimensionless) adds to the kinematic gap, so the penetration is
+   * p(xi) = (a - gap0) + (w - gap1) xi and the closed form stays exact (0, 0: coplanar faces). */
+  double gap0, gap1;
 } vs_joint_law;
 
 /* Normal response of a no-tension Winkler joint of length t and depth b to the affine
@@ -49,8 +53,9 @@ typedef struct {
   double slip;        /* total tangential displacement of b relative to a, m */
   double slip_p;      /* plastic slip after the return mapping, m */
   double contact;     /* compressed length, m */
-  double gap_i;       /* opening at the intrados edge, m (> 0 open, < 0 penetration) */
-  double gap_e;       /* opening at the extrados edge, m */
+  double gap_i;       /* opening at the intrados edge, m (> 0 open, < 0 penetration), measured
+                         from the as-built fit (the law's initial gap gap0 + gap1 xi excluded) */
+  double gap_e;       /* opening at the extrados edge, m (likewise) */
   int sliding;        /* 1 when the Coulomb limit is active */
   double energy;      /* elastic energy (normal + shear), J */
 } vs_joint_state;

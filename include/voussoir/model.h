@@ -47,6 +47,21 @@ const vs_joint_law *vs_model_law(const vs_model *m);
 /* Displacement of the right support (ux, uz, m) for support displacement delta (m). */
 void vs_model_support_displacement(const vs_model *m, double delta, double u[2]);
 
+/* Imperfections. vs_model_set_joint_law replaces the law of joint k (0-based; every joint starts
+ * with the law given at creation) and recomputes its damping coefficients; VS_ERR_INVALID on a
+ * bad k or law. vs_model_set_support_offset sets an initial offset (m) of the right support; the
+ * loading delta adds to it, and vs_model_support_displacement includes it. Default: none.
+ * The misfit (the joints' initial gaps and the support offset) is applied times the misfit
+ * factor s (default 1), which the quasi-static solver grows from 0 to 1 after self-weight: the
+ * arch stands on its nominal faces and supports, then settles into its misfit (a face touching
+ * at one edge has no stiffness, so the stress-free reference is no place to start from).
+ * vs_model_has_misfit: 1 if there is any misfit to apply. */
+vs_status vs_model_set_joint_law(vs_model *m, int k, const vs_joint_law *law, vs_error *err);
+const vs_joint_law *vs_model_joint_law(const vs_model *m, int k);
+void vs_model_set_support_offset(vs_model *m, const double offset[2]);
+int vs_model_has_misfit(const vs_model *m);
+void vs_model_set_misfit_scale(vs_model *m, double s);
+
 /* Residual G(q; delta) = joint forces - gravity, per block (Fx, Fz in N, moment in N m).
  * Equilibrium is G = 0. Uses the committed plastic slips. */
 void vs_model_residual(const vs_model *m, const double *q, double delta, double *G);

@@ -10,6 +10,7 @@
 #include "voussoir/geometry.h"
 #include "voussoir/hinges.h"
 #include "voussoir/modal.h"
+#include "voussoir/imperfections.h"
 #include "voussoir/model.h"
 #include "voussoir/quasistatic.h"
 
@@ -103,6 +104,8 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
 
 const vs_case *vs_run_case(const vs_run *r);
 const vs_geometry *vs_run_geometry(const vs_run *r);
+/* The imperfections drawn for the case (all nominal when it asks for none). */
+const vs_imperfections *vs_run_imperfections(const vs_run *r);
 const vs_model *vs_run_model(const vs_run *r);
 const vs_hinges *vs_run_hinges(const vs_run *r);
 const vs_hinge_opts *vs_run_hinge_opts(const vs_run *r);

@@ -1,0 +1,54 @@
+/* Monte Carlo over imperfect arches: sample i of a case is the case with [imperfections]
+ * sample = i (its own draws, imperfections.h), run to the collapse. The samples' results, their
+ * statistics, the empirical fragility curve with a confidence band, the hinge locations and the
+ * convergence of the statistics with the number of samples; an HDF5 summary and PNG figures.
+ * A sample's result depends only on (case, seed, sample), so the summary is the same whatever
+ * the number of processes that computed it. */
+#ifndef VOUSSOIR_MONTECARLO_H
+#define VOUSSOIR_MONTECARLO_H
+
+#include "voussoir/case.h"
+#include "voussoir/status.h"
+
+enum { VS_MC_COLLAPSE = 0, VS_MC_NO_COLLAPSE = 1, VS_MC_FAILED = 2 };
+#define VS_MC_LABELS 5 /* hinge labels A..E */
+
+/* One sample's result: plain data (it travels through pipes and MPI as bytes). */
+typedef struct {
+  int sample;           /* sample number */
+  int status;           /* VS_MC_COLLAPSE, VS_MC_NO_COLLAPSE (none within support.max_mm) or
+                           VS_MC_FAILED */
+  double first_limit_mm;   /* first limit point (NaN if none) */
+  double delta_u_mm;       /* collapse displacement (NaN unless a collapse) */
+  double dz_u_mm, dx_u_mm; /* its components, down and outward */
+  int mode;                /* 1..3 for modes I..III, 0 unclassified */
+  int hinge_joint[VS_MC_LABELS]; /* hinges at collapse by label A..E: middle joint, 0 if none */
+  char hinge_side[VS_MC_LABELS]; /* 'I', 'E' or 0 */
+  char pattern[16];        /* sides at collapse, left to right ("E-I-E-E") */
+  char error[400];         /* the cause of a failure, "" otherwise */
+} vs_mc_sample;
+
+/* Run sample `sample` of case base (validated): base with imperfections.sample = sample and
+ * dynamic.fall_s = 0 (the collapse displacement and the mechanism are read before the fall).
+ * Never fails as a function: a failed run gives status VS_MC_FAILED with its cause. */
+void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *out);
+
+/* Write the summary of n samples (sorted here by sample number) into directory dir (created if
+ * missing): samples.csv, statistics.csv, summary.h5, fragility.png, convergence.png,
+ * hinges.png. span_mm normalises (L). Errors: VS_ERR_IO, VS_ERR_NOMEM. */
+vs_status vs_mc_write_summary(const char *dir, const vs_case *base, vs_mc_sample *samples, int n,
+                              vs_error *err);
+
+/* MPI (only in a build with MPI): whether this process was started by mpirun (its environment
+ * says so), and the run of the listed samples across the ranks: rank 0 hands them out one at a
+ * time and gathers results[i] for samples[i]; *ranks receives the number of ranks. Calls
+ * MPI_Init and MPI_Finalize. Returns this process's rank (only rank 0 has the results). */
+int vs_mc_mpi_launched(void);
+int vs_mc_run_mpi(const vs_case *c, const int *samples, int n, vs_mc_sample *results, int *ranks);
+
+/* The montecarlo and merge commands of the CLI (argv as given to main, argv[1] the command);
+ * exit status 0 ok, 1 a failure, 2 bad input. */
+int vs_cmd_montecarlo(int argc, char **argv);
+int vs_cmd_merge(int argc, char **argv);
+
+#endif

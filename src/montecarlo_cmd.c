@@ -1,0 +1,453 @@
+/* The montecarlo and merge commands: samples handed out to a pool of forked workers (one process
+ * per sample, its result sent back through a pipe), --shard K/M for batch schedulers, and merge
+ * of shard directories into one summary. */
+#define _POSIX_C_SOURCE 200809L /* fork, pipe, clock_gettime */
+#include "voussoir/montecarlo.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "voussoir/parse.h"
+#include "voussoir/plot.h"
+
+enum { EXIT_FAIL = 1, EXIT_USAGE = 2, MAX_SETS = 64 };
+
+static const char *MC_USAGE =
+    "usage: voussoir montecarlo CASE --samples N [--seed S] [--set SECTION.KEY=VALUE]...\n"
+    "                           [-j N] [--shard K/M] [-o DIR] [-q]\n"
+    "       voussoir merge DIR... -o OUT\n"
+    "  --samples N   imperfect arches 0..N-1, each with its own draws ([imperfections])\n"
+    "  --seed S      generator seed (same as --set imperfections.seed=S)\n"
+    "  -j N          worker processes (default: the cores)\n"
+    "  --shard K/M   run only the samples i with i mod M = K-1 (K in 1..M), for a scheduler's\n"
+    "                array job; voussoir merge then joins the shards' directories\n"
+    "  -o DIR        output directory (default montecarlo_out): samples.csv, statistics.csv,\n"
+    "                summary.h5, fragility.png, convergence.png, hinges.png\n"
+    "exit status: 0 done (failed samples are in the table with their cause), 1 every sample\n"
+    "failed or the summary could not be written, 2 bad input (nothing written)\n";
+
+static double now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+typedef struct {
+  pid_t pid;
+  int fd, slot; /* read end of the result pipe; index into the results */
+} worker;
+
+/* Fork a worker for sample `sample`: it runs it and writes the result into a pipe. */
+static int start_worker(const vs_case *c, int sample, worker *w) {
+  int fds[2];
+  if (pipe(fds) != 0) return -1;
+  fflush(NULL);
+  pid_t pid = fork();
+  if (pid < 0) {
+    close(fds[0]);
+    close(fds[1]);
+    return -1;
+  }
+  if (pid == 0) {
+    close(fds[0]);
+    vs_mc_sample r;
+    vs_mc_run_sample(c, sample, &r);
+    const char *p = (const char *)&r;
+    size_t left = sizeof r;
+    while (left > 0) {
+      ssize_t k = write(fds[1], p, left);
+      if (k < 0 && errno == EINTR) continue;
+      if (k <= 0) _exit(3);
+      p += k;
+      left -= (size_t)k;
+    }
+    _exit(0);
+  }
+  close(fds[1]);
+  w->pid = pid;
+  w->fd = fds[0];
+  return 0;
+}
+
+/* Collect a finished worker's result (or record why there is none). */
+static void finish_worker(worker *w, int status, int sample, vs_mc_sample *out) {
+  size_t got = 0;
+  char *p = (char *)out;
+  while (got < sizeof *out) {
+    ssize_t k = read(w->fd, p + got, sizeof *out - got);
+    if (k < 0 && errno == EINTR) continue;
+    if (k <= 0) break;
+    got += (size_t)k;
+  }
+  close(w->fd);
+  if (got != sizeof *out || out->sample != sample) {
+    memset(out, 0, sizeof *out);
+    out->sample = sample;
+    out->status = VS_MC_FAILED;
+    out->first_limit_mm = out->delta_u_mm = out->dz_u_mm = out->dx_u_mm = NAN;
+    if (WIFSIGNALED(status))
+      snprintf(out->error, sizeof out->error, "worker killed by signal %d", WTERMSIG(status));
+    else
+      snprintf(out->error, sizeof out->error, "worker exited with status %d and no result",
+               WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  }
+  w->pid = 0;
+}
+
+/* Run the listed samples on `jobs` processes; results[i] for samples[i]. */
+static int run_pool(const vs_case *c, const int *samples, int n, int jobs, int quiet,
+                    vs_mc_sample *results) {
+  worker *ws = calloc((size_t)jobs, sizeof *ws);
+  if (ws == NULL) return -1;
+  int next = 0, done = 0, active = 0, failed = 0;
+  const double t0 = now_s();
+  const int progress = !quiet && isatty(STDERR_FILENO);
+  while (done < n) {
+    while (active < jobs && next < n) {
+      int k = 0;
+      while (ws[k].pid != 0) k++;
+      if (start_worker(c, samples[next], &ws[k]) != 0) break;
+      ws[k].slot = next++;
+      active++;
+    }
+    if (active == 0) break;
+    int status = 0;
+    pid_t pid = wait(&status);
+    if (pid < 0 && errno == EINTR) continue;
+    if (pid < 0) break;
+    for (int k = 0; k < jobs; k++) {
+      if (ws[k].pid != pid) continue;
+      const int slot = ws[k].slot;
+      finish_worker(&ws[k], status, samples[slot], &results[slot]);
+      failed += results[slot].status == VS_MC_FAILED;
+      active--;
+      done++;
+    }
+    if (progress)
+      fprintf(stderr, "\r  samples %d/%d done, %d running, %d failed, %.1f s   ", done, n, active,
+              failed, now_s() - t0);
+  }
+  if (progress) fputs("\r\033[K", stderr);
+  free(ws);
+  return done == n ? 0 : -1;
+}
+
+/* An integer option through the project's one number parser. */
+static int parse_int_arg(const char *what, const char *text, int lo, int hi, int *out) {
+  vs_error err;
+  if (vs_parse_option_int(what, text, lo, hi, out, &err) == VS_OK) return 0;
+  fprintf(stderr, "voussoir montecarlo: %s\n", err.msg);
+  return -1;
+}
+
+typedef struct {
+  const char *case_path, *dir;
+  char *sets[MAX_SETS];
+  int nsets, samples, jobs, quiet, shard_k, shard_m;
+  const char *seed;
+} mc_args;
+
+static int parse_args(int argc, char **argv, mc_args *a) {
+  memset(a, 0, sizeof *a);
+  a->dir = "montecarlo_out";
+  a->jobs = (int)sysconf(_SC_NPROCESSORS_ONLN);
+  a->shard_k = a->shard_m = 1;
+  a->samples = -1;
+  for (int i = 2; i < argc; i++) {
+    const char *s = argv[i];
+    const int has = i + 1 < argc;
+    if (strcmp(s, "--samples") == 0 && has) {
+      if (parse_int_arg("--samples", argv[++i], 1, 10000000, &a->samples) != 0) return -1;
+    } else if (strcmp(s, "--seed") == 0 && has) {
+      a->seed = argv[++i];
+    } else if (strcmp(s, "--set") == 0 && has && a->nsets < MAX_SETS) {
+      a->sets[a->nsets++] = argv[++i];
+    } else if (strcmp(s, "-j") == 0 && has) {
+      if (parse_int_arg("-j", argv[++i], 1, 1024, &a->jobs) != 0) return -1;
+    } else if (strcmp(s, "--shard") == 0 && has) {
+      const char *v = argv[++i];
+      char k[32], m[32];
+      const char *slash = strchr(v, '/');
+      int ok = slash != NULL && (size_t)(slash - v) < sizeof k && strlen(slash + 1) < sizeof m;
+      if (ok) {
+        snprintf(k, sizeof k, "%.*s", (int)(slash - v), v);
+        snprintf(m, sizeof m, "%s", slash + 1);
+        long lk = 0, lm = 0;
+        ok = vs_parse_long(k, &lk) == VS_NUM_OK && vs_parse_long(m, &lm) == VS_NUM_OK &&
+             lm >= 1 && lm <= 1000000 && lk >= 1 && lk <= lm;
+        a->shard_k = (int)lk;
+        a->shard_m = (int)lm;
+      }
+      if (!ok) {
+        fprintf(stderr, "voussoir montecarlo: --shard %s: expected K/M with 1 <= K <= M\n", v);
+        return -1;
+      }
+    } else if (strcmp(s, "-o") == 0 && has) {
+      a->dir = argv[++i];
+    } else if (strcmp(s, "-q") == 0) {
+      a->quiet = 1;
+    } else if (s[0] != '-' && a->case_path == NULL) {
+      a->case_path = s;
+    } else {
+      fprintf(stderr, "voussoir montecarlo: unexpected argument %s\n%s", s, MC_USAGE);
+      return -1;
+    }
+  }
+  if (a->case_path == NULL || a->samples < 1) {
+    fprintf(stderr, "voussoir montecarlo: needs a CASE and --samples N\n%s", MC_USAGE);
+    return -1;
+  }
+  return 0;
+}
+
+/* The case with the overrides and the seed applied, validated. */
+static int load_case(const mc_args *a, vs_case *c) {
+  vs_error err;
+  vs_error_clear(&err);
+  vs_case_defaults(c);
+  vs_status st = vs_case_read(c, a->case_path, NULL, &err);
+  for (int s = 0; st == VS_OK && s < a->nsets; s++) st = vs_case_set(c, a->sets[s], &err);
+  if (st == VS_OK && a->seed != NULL) {
+    char buf[96];
+    snprintf(buf, sizeof buf, "imperfections.seed=%.60s", a->seed);
+    st = vs_case_set(c, buf, &err);
+  }
+  if (st == VS_OK) st = vs_case_validate(c, &err);
+  if (st == VS_OK) return 0;
+  fprintf(stderr, "voussoir montecarlo: %s\n", err.msg);
+  return -1;
+}
+
+static void print_result(const char *dir, const vs_mc_sample *r, int n, double wall, int jobs) {
+  int collapses = 0, failed = 0;
+  for (int i = 0; i < n; i++) {
+    collapses += r[i].status == VS_MC_COLLAPSE;
+    failed += r[i].status == VS_MC_FAILED;
+  }
+  printf("%d samples (%d collapses, %d failed) in %.1f s on %d processes (or MPI ranks); summary: %s/summary.h5, "
+         "statistics: %s/statistics.csv\n",
+         n, collapses, failed, wall, jobs, dir, dir);
+}
+
+int vs_cmd_montecarlo(int argc, char **argv) {
+  for (int i = 2; i < argc; i++)
+    if (strcmp(argv[i], "-h") == 0 || strcmp(argv[i], "--help") == 0) {
+      fputs(MC_USAGE, stdout);
+      return 0;
+    }
+  mc_args a;
+  vs_case c;
+  if (parse_args(argc, argv, &a) != 0 || load_case(&a, &c) != 0) return EXIT_USAGE;
+  int n = 0;
+  for (int i = a.shard_k - 1; i < a.samples; i += a.shard_m) n++;
+  int *samples = malloc((size_t)(n > 0 ? n : 1) * sizeof *samples);
+  vs_mc_sample *res = calloc((size_t)(n > 0 ? n : 1), sizeof *res);
+  int rc = EXIT_FAIL;
+  if (samples == NULL || res == NULL) {
+    fprintf(stderr, "voussoir montecarlo: out of memory\n");
+    goto done;
+  }
+  for (int i = a.shard_k - 1, k = 0; i < a.samples; i += a.shard_m) samples[k++] = i;
+  if (mkdir(a.dir, 0755) != 0 && errno != EEXIST) { /* before hours of work, not after */
+    fprintf(stderr, "voussoir montecarlo: -o %s: cannot create: %s\n", a.dir, strerror(errno));
+    goto done;
+  }
+  const double t0 = now_s();
+#ifdef VS_HAVE_MPI
+  if (vs_mc_mpi_launched()) {
+    if (vs_mc_run_mpi(&c, samples, n, res, &a.jobs) != 0) { /* a worker rank: rank 0 reports */
+      rc = 0;
+      goto done;
+    }
+  } else
+#endif
+  if (run_pool(&c, samples, n, a.jobs, a.quiet, res) != 0) {
+    fprintf(stderr, "voussoir montecarlo: cannot start the workers: %s\n", strerror(errno));
+    goto done;
+  }
+  vs_error err;
+  vs_error_clear(&err);
+  if (vs_mc_write_summary(a.dir, &c, res, n, &err) != VS_OK) {
+    fprintf(stderr, "voussoir montecarlo: %s\n", err.msg);
+    goto done;
+  }
+  print_result(a.dir, res, n, now_s() - t0, a.jobs);
+  rc = 0;
+  int failed = 0;
+  for (int i = 0; i < n; i++) failed += res[i].status == VS_MC_FAILED;
+  if (n > 0 && failed == n) { /* no statistics at all: say why (the first cause) */
+    fprintf(stderr, "voussoir montecarlo: every sample failed; sample %d: %s\n", res[0].sample,
+            res[0].error);
+    rc = EXIT_FAIL;
+  }
+done:
+  free(samples);
+  free(res);
+  vs_plot_release();
+  return rc;
+}
+
+/* --- merge --- */
+
+/* Split line in place at commas into at most max fields; returns the count. */
+static int split_csv(char *line, char **f, int max) {
+  int n = 0;
+  f[n++] = line;
+  for (char *p = line; *p && n < max; p++)
+    if (*p == ',') {
+      *p = '\0';
+      f[n++] = p + 1;
+    }
+  return n;
+}
+
+static int parse_row(char *line, vs_mc_sample *x) {
+  char *f[14];
+  line[strcspn(line, "\r\n")] = '\0';
+  if (split_csv(line, f, 14) != 14) return -1;
+  memset(x, 0, sizeof *x);
+  long smp = -1, mode = 0;
+  if (vs_parse_long(f[0], &smp) != VS_NUM_OK || smp < 0 || smp > INT_MAX ||
+      vs_parse_long(f[6], &mode) != VS_NUM_OK || mode < 0 || mode > 3)
+    return -1;
+  x->sample = (int)smp;
+  x->mode = (int)mode;
+  x->status = strcmp(f[1], "collapse") == 0           ? VS_MC_COLLAPSE
+              : strcmp(f[1], "max_displacement") == 0 ? VS_MC_NO_COLLAPSE
+                                                      : VS_MC_FAILED;
+  /* the table is ours: "nan" marks a missing value, which the strict parser refuses */
+  x->first_limit_mm = strtod(f[2], NULL);
+  x->delta_u_mm = strtod(f[3], NULL);
+  x->dz_u_mm = strtod(f[4], NULL);
+  x->dx_u_mm = strtod(f[5], NULL);
+  snprintf(x->pattern, sizeof x->pattern, "%s", f[7]);
+  for (int l = 0; l < VS_MC_LABELS; l++) {
+    char side = 0;
+    int j = 0;
+    if (f[8 + l][0] != '\0' && sscanf(f[8 + l], "%d-%c", &j, &side) == 2) {
+      x->hinge_joint[l] = j;
+      x->hinge_side[l] = side;
+    }
+  }
+  snprintf(x->error, sizeof x->error, "%s", f[13]);
+  return 0;
+}
+
+/* Append the samples of DIR/samples.csv to *all; the header line must equal *header (set by the
+ * first directory). */
+static int read_shard(const char *dir, char *header, size_t hsize, vs_mc_sample **all, int *n,
+                      int *cap) {
+  char path[1200], line[1024];
+  snprintf(path, sizeof path, "%s/samples.csv", dir);
+  FILE *f = fopen(path, "r");
+  if (f == NULL) {
+    fprintf(stderr, "voussoir merge: %s: cannot open: %s\n", path, strerror(errno));
+    return -1;
+  }
+  int rc = 0;
+  if (fgets(line, sizeof line, f) == NULL || strncmp(line, "# voussoir montecarlo ", 22) != 0) {
+    fprintf(stderr, "voussoir merge: %s: not a montecarlo table\n", path);
+    rc = -1;
+  } else if (header[0] == '\0') {
+    snprintf(header, hsize, "%s", line);
+  } else if (strcmp(header, line) != 0) {
+    fprintf(stderr, "voussoir merge: %s: another case or seed than the first directory\n", path);
+    rc = -1;
+  }
+  if (rc == 0 && fgets(line, sizeof line, f) == NULL) rc = -1; /* column names */
+  while (rc == 0 && fgets(line, sizeof line, f) != NULL) {
+    if (*n == *cap) {
+      const int nc = *cap ? 2 * *cap : 256;
+      vs_mc_sample *b = realloc(*all, (size_t)nc * sizeof *b);
+      if (b == NULL) {
+        rc = -1;
+        break;
+      }
+      *all = b;
+      *cap = nc;
+    }
+    if (parse_row(line, &(*all)[*n]) != 0) {
+      fprintf(stderr, "voussoir merge: %s: malformed row %d\n", path, *n + 1);
+      rc = -1;
+    } else {
+      (*n)++;
+    }
+  }
+  fclose(f);
+  return rc;
+}
+
+static int header_case(const char *header, vs_case *c) {
+  vs_case_defaults(c);
+  return sscanf(header,
+                "# voussoir montecarlo seed=%d radius_mm=%lf embrace_deg=%lf max_mm=%lf "
+                "alpha_deg=%lf voussoirs=%d",
+                &c->seed, &c->radius_mm, &c->embrace_deg, &c->max_mm, &c->alpha_deg,
+                &c->voussoirs) == 6
+             ? 0
+             : -1;
+}
+
+static int cmp_sample_no(const void *x, const void *y) {
+  const int a = ((const vs_mc_sample *)x)->sample, b = ((const vs_mc_sample *)y)->sample;
+  return (a > b) - (a < b);
+}
+
+int vs_cmd_merge(int argc, char **argv) {
+  const char *out = NULL;
+  const char *dirs[256];
+  int nd = 0;
+  for (int i = 2; i < argc; i++) {
+    if (strcmp(argv[i], "-o") == 0 && i + 1 < argc) out = argv[++i];
+    else if (strcmp(argv[i], "-h") == 0 || strcmp(argv[i], "--help") == 0) {
+      fputs(MC_USAGE, stdout);
+      return 0;
+    } else if (argv[i][0] != '-' && nd < 256) dirs[nd++] = argv[i];
+    else {
+      fprintf(stderr, "voussoir merge: unexpected argument %s\n%s", argv[i], MC_USAGE);
+      return EXIT_USAGE;
+    }
+  }
+  if (nd == 0 || out == NULL) {
+    fprintf(stderr, "voussoir merge: needs DIR... and -o OUT\n%s", MC_USAGE);
+    return EXIT_USAGE;
+  }
+  char header[1024] = "";
+  vs_mc_sample *all = NULL;
+  int n = 0, cap = 0, rc = EXIT_USAGE;
+  for (int d = 0; d < nd; d++)
+    if (read_shard(dirs[d], header, sizeof header, &all, &n, &cap) != 0) goto done;
+  qsort(all, (size_t)n, sizeof *all, cmp_sample_no);
+  for (int i = 1; i < n; i++)
+    if (all[i].sample == all[i - 1].sample) {
+      fprintf(stderr, "voussoir merge: sample %d appears twice\n", all[i].sample);
+      goto done;
+    }
+  vs_case c;
+  vs_error err;
+  vs_error_clear(&err);
+  if (n == 0 || header_case(header, &c) != 0) {
+    fprintf(stderr, "voussoir merge: no samples, or an unreadable table header\n");
+    goto done;
+  }
+  rc = EXIT_FAIL;
+  if (vs_mc_write_summary(out, &c, all, n, &err) != VS_OK) {
+    fprintf(stderr, "voussoir merge: %s\n", err.msg);
+    goto done;
+  }
+  printf("%d samples from %d directories; summary: %s/summary.h5\n", n, nd, out);
+  rc = 0;
+done:
+  free(all);
+  vs_plot_release();
+  return rc;
+}

@@ -1,0 +1,142 @@
+/* Tests of voussoir montecarlo and merge through the CLI: the same seed gives identical summaries
+ * on 1 and 2 processes and from two shards merged; another seed other results; bad input exits
+ * with 2 and writes nothing. */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#ifndef VS_BINARY
+#error "VS_BINARY (path of the voussoir executable) must be defined"
+#endif
+
+static char g_dir[] = "/tmp/vs_mc_XXXXXX";
+
+static int setup(void **state) {
+  (void)state;
+  return mkdtemp(g_dir) == NULL ? -1 : 0;
+}
+
+static int teardown(void **state) {
+  (void)state;
+  char cmd[128];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", g_dir);
+  return system(cmd) == 0 ? 0 : -1;
+}
+
+/* The imperfect reference arch, small amplitudes, a cheap case: 21 voussoirs. */
+#define CASE VS_SOURCE_DIR "/runs/reference.ini --set arch.voussoirs=21 " \
+  "--set imperfections.kn_cov=0.3 --set imperfections.face_mm=0.002 --set imperfections.angle_cov=0.02"
+
+static int run(const char *args) {
+  char cmd[2048];
+  snprintf(cmd, sizeof cmd, "'%s' %s >/dev/null 2>'%s/err.txt'", VS_BINARY, args, g_dir);
+  int w = system(cmd);
+  return WIFEXITED(w) ? WEXITSTATUS(w) : -1;
+}
+
+static char *slurp(const char *dir, const char *name) {
+  char path[512];
+  snprintf(path, sizeof path, "%s/%s/%s", g_dir, dir, name);
+  FILE *f = fopen(path, "rb");
+  if (f == NULL) fail_msg("%s: missing", path);
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  rewind(f);
+  char *s = malloc((size_t)n + 1);
+  assert_non_null(s);
+  assert_int_equal(fread(s, 1, (size_t)n, f), (size_t)n);
+  s[n] = '\0';
+  fclose(f);
+  return s;
+}
+
+static void same_file(const char *a, const char *b, const char *name) {
+  char *x = slurp(a, name), *y = slurp(b, name);
+  if (strcmp(x, y) != 0) fail_msg("%s differs between %s and %s", name, a, b);
+  free(x);
+  free(y);
+}
+
+static void test_same_summary_any_process_count(void **state) {
+  (void)state;
+  char args[1024];
+  snprintf(args, sizeof args, "montecarlo %s --samples 6 --seed 11 -j 1 -q -o %s/j1", CASE, g_dir);
+  assert_int_equal(run(args), 0);
+  snprintf(args, sizeof args, "montecarlo %s --samples 6 --seed 11 -j 2 -q -o %s/j2", CASE, g_dir);
+  assert_int_equal(run(args), 0);
+  same_file("j1", "j2", "samples.csv");
+  same_file("j1", "j2", "statistics.csv");
+  /* two shards, merged */
+  snprintf(args, sizeof args, "montecarlo %s --samples 6 --seed 11 --shard 1/2 -q -o %s/s1", CASE,
+           g_dir);
+  assert_int_equal(run(args), 0);
+  snprintf(args, sizeof args, "montecarlo %s --samples 6 --seed 11 --shard 2/2 -q -o %s/s2", CASE,
+           g_dir);
+  assert_int_equal(run(args), 0);
+  snprintf(args, sizeof args, "merge %s/s2 %s/s1 -o %s/merged", g_dir, g_dir, g_dir);
+  assert_int_equal(run(args), 0);
+  same_file("j1", "merged", "samples.csv");
+  same_file("j1", "merged", "statistics.csv");
+  /* a shard twice is refused */
+  snprintf(args, sizeof args, "merge %s/s1 %s/s1 -o %s/twice", g_dir, g_dir, g_dir);
+  assert_int_equal(run(args), 2);
+  /* the draws differ between samples: not every sample collapses at the same displacement */
+  char *t = slurp("j1", "samples.csv");
+  double first = NAN;
+  int differ = 0, rows = 0;
+  for (char *line = strchr(t, '\n') + 1; (line = strchr(line, '\n')) != NULL && line[1];) {
+    line++;
+    double d;
+    if (sscanf(line, "%*d,collapse,%*[^,],%lf", &d) == 1) {
+      rows++;
+      if (isnan(first)) first = d;
+      differ += d != first;
+    }
+  }
+  free(t);
+  assert_int_equal(rows, 6);
+  assert_true(differ > 0);
+  struct stat sb;
+  snprintf(args, sizeof args, "%s/j1/summary.h5", g_dir);
+  assert_int_equal(stat(args, &sb), 0);
+  snprintf(args, sizeof args, "%s/j1/fragility.png", g_dir);
+  assert_int_equal(stat(args, &sb), 0);
+}
+
+static void test_bad_input(void **state) {
+  (void)state;
+  char args[1024], path[512];
+  struct stat sb;
+  snprintf(args, sizeof args, "montecarlo %s --samples 0 -q -o %s/bad1", CASE, g_dir);
+  assert_int_equal(run(args), 2);
+  snprintf(args, sizeof args,
+           "montecarlo %s --samples 3 --set imperfections.kn_cov=-1 -q -o %s/bad2", CASE, g_dir);
+  assert_int_equal(run(args), 2);
+  snprintf(args, sizeof args, "montecarlo %s --samples 3 --seed x -q -o %s/bad3", CASE, g_dir);
+  assert_int_equal(run(args), 2);
+  snprintf(args, sizeof args, "montecarlo %s --samples 3 --shard 3/2 -q -o %s/bad4", CASE, g_dir);
+  assert_int_equal(run(args), 2);
+  for (int i = 1; i <= 4; i++) {
+    snprintf(path, sizeof path, "%s/bad%d", g_dir, i);
+    assert_int_not_equal(stat(path, &sb), 0);
+  }
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_bad_input),
+      cmocka_unit_test(test_same_summary_any_process_count),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}
