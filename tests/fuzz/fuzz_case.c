@@ -37,7 +37,10 @@ static char *serialise(const vs_case *c) {
     CHECK(vs_case_key(c, i, &sec, &key, &unit, &is_int, &v) == 0);
     if (strcmp(sec, last) != 0) used += (size_t)snprintf(out + used, cap - used, "[%s]\n", sec);
     last = sec;
-    if (is_int)
+    const char *name = is_int ? vs_case_key_name_of(i, (int)v) : NULL;
+    if (name != NULL) /* a named choice (support.left_kind, dynamic.damping_model, ...) */
+      used += (size_t)snprintf(out + used, cap - used, "%s = %s\n", key, name);
+    else if (is_int)
       used += (size_t)snprintf(out + used, cap - used, "%s = %d\n", key, (int)v);
     else
       used += (size_t)snprintf(out + used, cap - used, "%s = %.17g\n", key, v);
