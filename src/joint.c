@@ -231,7 +231,7 @@ void vs_joint_damping_tangent(const vs_joint_geom *jg, const vs_joint_law *law, 
   joint_kinematics(jg, qa, qb, ra, rb, 0, &k);
   const double t = jg->length, b = jg->depth;
   vs_normal_response nr;
-  vs_joint_normal(law->kn, b, t, -k.g, k.w, &nr);
+  vs_joint_normal(law->kn, b, t, -k.g - law->gap0, k.w - law->gap1, &nr); /* as the law itself */
   const double cs = beta * law->ks * b * t;
   const double caa = beta * nr.N_a, caw = beta * nr.N_w, cww = beta * nr.M_w;
   double adot, wdot, sdot;
