@@ -118,9 +118,18 @@ void vs_dynamic_jacobian(vs_dynamic *d, double t, double cj, double *y, SUNMatri
 /* The Lagrange multipliers lambda at the current state of d (after vs_dynamic_run or inside its
  * callbacks): per support (left, right) the force (Fx, Fz, N) and moment (about the support
  * body's reference point, the centre of its joint with the arch, N m, counter-clockwise) that
- * the support exerts on the arch. */
-void vs_dynamic_reactions(const vs_dynamic *d, double out[6]);
-/* The blocks' accelerations v' at the current state of d (3 n_blocks). */
-void vs_dynamic_accelerations(const vs_dynamic *d, double *a);
+ * the support exerts on the arch; 0 for a pinned support's free rotation. These are the
+ * multipliers the DAE gives at IDA's state (q, v): the support bodies' equations of motion with
+ * their prescribed (constant-rate, so unaccelerated) motion, lambda = F(q, v) on their
+ * constrained rows. They equal the springing joints' forces to round-off; IDA's own iterate
+ * (vs_dynamic_multipliers) agrees to its Newton tolerance. One force evaluation. */
+void vs_dynamic_reactions(vs_dynamic *d, double out[6]);
+/* The blocks' accelerations at the current state of d (3 n_blocks), from the equations of
+ * motion at (q, v) as vs_dynamic_reactions: a = -F(q, v) / m. One force evaluation. */
+void vs_dynamic_accelerations(vs_dynamic *d, double *a);
+/* IDA's own iterates, for checks: the algebraic unknowns lambda (laid out as
+ * vs_dynamic_reactions) and the blocks' v' of the BDF formula (3 n_blocks). */
+void vs_dynamic_multipliers(const vs_dynamic *d, double out[6]);
+void vs_dynamic_derivatives(const vs_dynamic *d, double *a);
 
 #endif
