@@ -15,6 +15,8 @@
  * collapse criterion; friction slips committed after every step. */
 #include "voussoir/dynamic.h"
 
+#include "voussoir/contact.h"
+
 #include <ida/ida.h>
 #include <math.h>
 #include <nvector/nvector_serial.h>
@@ -68,6 +70,9 @@ struct vs_dynamic {
   long jac_evals;
   double max_drift;       /* max |g| over the accepted steps, m */
   double rtol;            /* o.rtol scaled as the absolute tolerances (set_tolerances) */
+  vs_contact *ct;         /* the ground (borrowed; NULL: none), vs_dynamic_set_contact */
+  double ground_offset;   /* ... armed at the fall this far above the lower springing base, m */
+  int in_fall;            /* after the collapse criterion: only the contacts' roots */
   char msg[256];
 };
 
@@ -80,6 +85,7 @@ static void dyn_forces(vs_dynamic *d, const double *q, const double *v, double *
   vs_model_ext_residual(d->m, q, F);
   vs_model_ext_damping(d->m, q, v, d->work, diss, NULL);
   for (int i = 0; i < d->ne; i++) F[i] += d->work[i];
+  if (d->ct != NULL) vs_contact_forces(d->ct, q, v, F, diss, NULL);
 }
 
 /* The constraints g(q, t) (VS_DYN_NC) and their velocity form G v + g_t. */
@@ -97,6 +103,29 @@ static void constraints(const vs_dynamic *d, double t, const double *q, const do
 static int stopped(const vs_dynamic *d) { return d->o.stop != NULL && *d->o.stop; }
 
 void vs_dynamic_set_stop(vs_dynamic *d, const volatile sig_atomic_t *stop) { d->o.stop = stop; }
+
+/* Root functions: the joints' and the energy levels' (before the fall), then the vertices'. */
+static int n_roots(const vs_dynamic *d) {
+  const int nc = (d->ct != NULL && vs_contact_armed(d->ct)) ? vs_contact_count(d->ct) : 0;
+  return (d->in_fall ? 0 : 2 * d->nj + 2) + nc;
+}
+
+static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user);
+
+static int root_init(vs_dynamic *d) {
+  const int nr = n_roots(d);
+  return IDARootInit(d->ida, nr, nr > 0 ? root_fn : NULL);
+}
+
+vs_status vs_dynamic_set_contact(vs_dynamic *d, vs_contact *c, double offset, vs_error *err) {
+  const int nr = 2 * d->nj + 2 + (c != NULL ? vs_contact_count(c) : 0);
+  int *roots = realloc(d->roots, (size_t)nr * sizeof *roots);
+  if (roots == NULL) return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
+  d->roots = roots;
+  d->ct = c;
+  d->ground_offset = offset;
+  return VS_OK;
+}
 
 /* A raised stop flag is fatal (-1): IDA returns at once. */
 static int res_fn(double t, N_Vector yy, N_Vector yp, N_Vector rr, void *user) {
@@ -123,7 +152,9 @@ static int res_fn(double t, N_Vector yy, N_Vector yp, N_Vector rr, void *user) {
   constraints(d, t, q, v, r + d->il, r + d->imu);
   r[d->ie] = ydot[d->ie] - sup;
   r[d->ie + 1] = ydot[d->ie + 1] - diss;
-  r[d->ie + 2] = ydot[d->ie + 2] - vs_model_ext_friction_power(d->m, q, v);
+  double fric = vs_model_ext_friction_power(d->m, q, v);
+  if (d->ct != NULL) vs_contact_forces(d->ct, q, v, NULL, NULL, &fric);
+  r[d->ie + 2] = ydot[d->ie + 2] - fric;
   return 0;
 }
 
@@ -155,6 +186,7 @@ static int jac_fn(double t, double cj, N_Vector yy, N_Vector yp, N_Vector rr, SU
   d->jac_evals++;
   vs_model_ext_jacobian(d->m, y, d->K);
   vs_model_ext_damping(d->m, y, y + d->iv, NULL, NULL, d->C);
+  if (d->ct != NULL) vs_contact_jacobian(d->ct, y, y + d->iv, d->K, d->C);
   const sunindextype *kp = SUNSparseMatrix_IndexPointers(d->K), *ki = SUNSparseMatrix_IndexValues(d->K);
   const double *kx = SUNSparseMatrix_Data(d->K), *cx = SUNSparseMatrix_Data(d->C);
   sunindextype *jp = SUNSparseMatrix_IndexPointers(Jac), *ji = SUNSparseMatrix_IndexValues(Jac);
@@ -197,6 +229,9 @@ static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user) {
   (void)t;
   vs_dynamic *d = user;
   const double *q = N_VGetArrayPointer(yy);
+  if (d->ct != NULL && vs_contact_armed(d->ct)) /* then a vertex crossing the ground */
+    vs_contact_roots(d->ct, q, g + (d->in_fall ? 0 : 2 * d->nj + 2));
+  if (d->in_fall) return 0;
   vs_model_ext_joint_states(d->m, q, d->js);
   for (int k = 0; k < d->nj; k++) {
     g[2 * k] = d->js[k].gap_i - d->o.open;
@@ -377,6 +412,7 @@ static void energies(vs_dynamic *d, const double *y, double e0, vs_energy *e) {
   for (int i = 0; i < VS_DYN_NC; i++) /* a pinned support's rotation: its own kinetic energy */
     if (d->cidx[i] < 0) e->kinetic += 0.5 * d->mass[d->n + i] * y[d->iv + d->n + i] * y[d->iv + d->n + i];
   vs_model_ext_energies(d->m, y, &e->elastic, &e->gravity);
+  if (d->ct != NULL) e->elastic += vs_contact_energy(d->ct, y);
   e->support_work = y[d->ie];
   e->damped = y[d->ie + 1];
   e->friction = y[d->ie + 2];
@@ -462,7 +498,8 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   d->msg[0] = '\0';
   int flag = IDAReInit(d->ida, t0, d->y, d->yp);
   if (flag == IDA_SUCCESS) flag = IDASVtolerances(d->ida, d->rtol, d->atol);
-  if (flag == IDA_SUCCESS) flag = IDARootInit(d->ida, 2 * d->nj + 2, root_fn);
+  d->in_fall = 0;
+  if (flag == IDA_SUCCESS) flag = root_init(d);
   if (flag != IDA_SUCCESS)
     return vs_error_set(err, VS_ERR_SOLVER, "IDAReInit failed (flag %d)", flag);
   /* consistent initial values: q, v given (the supports' from the constraints), v' from the
@@ -516,6 +553,10 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     }
     const double delta = delta_at(d, t);
     vs_model_ext_commit(d->m, y); /* seamless: the return-mapped force is unchanged */
+    if (d->ct != NULL && vs_contact_armed(d->ct)) {
+      vs_contact_commit(d->ct, y);
+      res->max_penetration = fmax(res->max_penetration, vs_contact_max_penetration(d->ct, y, NULL));
+    }
     energies(d, y, e0, &e);
     d->max_drift = fmax(d->max_drift, drift(d, t, y));
     scale = fmax(scale, fmax(fabs(e.kinetic), fmax(fabs(e.gravity), fabs(e.elastic))));
@@ -533,10 +574,11 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     }
     const int at_rest = !moving && t - t_rest >= d->o.rest_time;
     int stop = 0;
+    const int joint_root = flag == IDA_ROOT_RETURN && !collapsed; /* the fall's: contacts only */
     if (flag == IDA_ROOT_RETURN) {
       IDAGetRootInfo(d->ida, d->roots);
       res->root_events++;
-      for (int k = 0; k < 2 * d->nj; k++) {
+      for (int k = 0; k < 2 * d->nj && joint_root; k++) {
         if (d->roots[k] == 0 || event == NULL) continue;
         vs_dyn_event ev = {.t = t, .delta = delta, .joint = k / 2 + 1,
                            .side = (k % 2 == 0) ? 'E' : 'I', .opened = d->roots[k] > 0};
@@ -565,7 +607,10 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
           N_VScale(VS_DYN_FALL_TOL, d->atol, at);
           rf = IDASVtolerances(d->ida, VS_DYN_FALL_TOL * d->rtol, at);
         }
-        if (rf == IDA_SUCCESS) rf = IDARootInit(d->ida, 0, NULL);
+        d->in_fall = 1;
+        if (d->ct != NULL && !vs_contact_armed(d->ct))
+          vs_contact_arm(d->ct, vs_contact_springing_base(d->m, y) + d->ground_offset, y);
+        if (rf == IDA_SUCCESS) rf = root_init(d);
         if (rf == IDA_SUCCESS) rf = IDASetStopTime(d->ida, t_stop);
         if (at != NULL) N_VDestroy(at);
         if (rf != IDA_SUCCESS) {
@@ -574,7 +619,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
         }
       }
     }
-    if (sample != NULL && (t - t_last_sample >= d->o.sample_dt || flag == IDA_ROOT_RETURN)) {
+    if (sample != NULL && (t - t_last_sample >= d->o.sample_dt || joint_root)) {
       t_last_sample = t;
       IDAGetNumSteps(d->ida, &res->steps); /* kept current for the callback */
       IDAGetNumNonlinSolvIters(d->ida, &res->newton_iterations);
@@ -585,6 +630,11 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     }
     if (stop) {
       st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+      break;
+    }
+    if (collapsed && d->ct != NULL && at_rest) { /* the debris at rest on the ground */
+      res->end = VS_DYN_COLLAPSED;
+      res->fall_at_rest = 1;
       break;
     }
     if (collapsed && t >= t_stop * (1.0 - 1e-15)) {
