@@ -80,6 +80,7 @@ typedef struct {
   double max_drift;            /* max |g(q, t)| over the accepted steps (m; rad for rotations) */
   double max_penetration;      /* largest penetration of a vertex into the ground over the
                                   accepted steps with the ground armed, m (0: none) */
+  double fall_wall_s;          /* wall-clock time spent in the fall, s */
   int fall_at_rest;            /* 1: the fall ended with the debris at rest on the ground (kinetic
                                   energy below rest_ke for rest_time), 0: at fall_time */
 } vs_dyn_result;
