@@ -7,7 +7,12 @@
  *    with the static penetration m g / (2 k_v) under each of its two bottom vertices;
  *  - a block dropped tilted and sliding rocks, slides, stops and comes to rest lying flat, the
  *    energy balance (kinetic + gravity + elastic + dissipated by the dashpots and by friction)
- *    held throughout.
+ *    held throughout;
+ *  - the reference run (the default case: the specimen, k_n 3 N/mm^3, settlement) lands: at its
+ *    last recorded state no block vertex (computed here from the block's sector and its rigid
+ *    motion) is below the ground by more than the stated tolerance, the whole arch's weight on
+ *    one vertex, W / k_v; the kinetic energy is below the rest level; the fall's energy balance
+ *    holds to 1 % of the largest energy term.
  * SI units. */
 #include <stdarg.h>
 #include <stddef.h>
@@ -28,6 +33,7 @@
 #include "voussoir/dynamic.h"
 #include "voussoir/geometry.h"
 #include "voussoir/model.h"
+#include "voussoir/run.h"
 
 static const double PI = 3.14159265358979323846;
 static const double GRAV = 9.81;
@@ -341,6 +347,78 @@ static void test_drop_tilted(void **state) {
   block_free(&bk);
 }
 
+/* ------------------------------- 3. the reference run lands ------------------------------- */
+
+typedef struct {
+  double ke, delta;
+  int dynamic;
+} last_sample;
+
+static int on_run_sample(void *user, const vs_run *run, const vs_run_sample *smp) {
+  (void)run;
+  last_sample *ls = user;
+  ls->dynamic = smp->phase == VS_PHASE_DYNAMIC;
+  ls->ke = smp->energy != NULL ? smp->energy->kinetic : 0.0;
+  ls->delta = smp->delta;
+  return 0;
+}
+
+static void test_reference_lands(void **state) {
+  (void)state;
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_error err;
+  vs_error_clear(&err);
+  vs_run *run = NULL;
+  assert_int_equal(vs_run_create(&c, &run, &err), VS_OK);
+  last_sample ls = {0};
+  vs_status st = vs_run_execute(run, on_run_sample, NULL, &ls, &err);
+  if (st != VS_OK) fail_msg("run: %s: %s", vs_strerror(st), err.msg);
+  const vs_geometry *g = vs_run_geometry(run);
+  const vs_dyn_result *d = vs_run_dynamic_totals(run);
+  const double level = vs_run_ground(run);
+  assert_true(vs_run_collapse(run)->found);
+  assert_true(isfinite(level));
+  /* the ground: the lower springing base, the right one moved down by delta at the collapse */
+  const double beta = 0.5 * g->embrace, base = g->radius * cos(beta);
+  print_message("reference: ground at %.3f mm (left springing base %.3f mm), fall %s, "
+                "%.3f s wall of %.3f s, balance in the fall %.3g\n", level * 1e3, base * 1e3,
+                d->fall_at_rest ? "at rest" : "not at rest", d->fall_wall_s, vs_run_wall_s(run),
+                d->balance_error_fall);
+  assert_true(level < base - 0.05 * g->span); /* the settled right springing, 16 % of L down */
+  /* every vertex of every block at the last state, from its sector and its rigid motion */
+  const double *q = vs_run_state(run);
+  const double kv = 0.5 * c.kn_N_mm3 * 1e9 * g->joints[0].depth * g->joints[0].length;
+  const double tol = vs_geometry_weight(g) / kv;
+  double worst = -INFINITY;
+  for (int i = 0; i < g->n_blocks; i++) {
+    const vs_block *b = &g->blocks[i];
+    const double phi[3] = {b->phi0, 0.5 * (b->phi0 + b->phi1), b->phi1};
+    for (int a = 0; a < 3; a++)
+      for (int r = 0; r < 2; r++) {
+        if ((a == 1 && r == 0) || (i == 0 && a == 0) || (i == g->n_blocks - 1 && a == 2))
+          continue; /* the concave intrados arc; the faces on the supports (on the piers) */
+        const double rad = g->radius + r * g->thickness;
+        const double X = rad * sin(phi[a]) - b->cx, Z = rad * cos(phi[a]) - b->cz;
+        const double z = b->cz + q[3 * i + 1] + sin(q[3 * i + 2]) * X + cos(q[3 * i + 2]) * Z;
+        worst = fmax(worst, level - z);
+      }
+  }
+  const double mass = vs_geometry_weight(g) / g->gravity, rate = c.rate_mm_s * 1e-3;
+  const double collapse_ke = c.collapse_ke * vs_geometry_weight(g) * c.thickness_mm * 1e-3 +
+                             0.5 * mass * rate * rate;
+  const double rest_ke = fmin(c.rest_factor * 0.5 * mass * rate * rate, 0.01 * collapse_ke);
+  print_message("reference: last state: deepest vertex %.3g um below the ground (tolerance "
+                "W / k_v = %.3g um; %.3g um during the fall), kinetic %.3g J (rest level "
+                "%.3g J)\n", worst * 1e6, tol * 1e6, d->max_penetration * 1e6, ls.ke, rest_ke);
+  assert_true(ls.dynamic);
+  assert_true(worst < tol);
+  assert_true(ls.ke < rest_ke);
+  assert_int_equal(d->fall_at_rest, 1);
+  assert_true(d->balance_error_fall < 0.01);
+  vs_run_destroy(&run);
+}
+
 static void test_errors(void **state) {
   (void)state;
   block bk;
@@ -366,6 +444,7 @@ int main(void) {
       cmocka_unit_test(test_jacobian),
       cmocka_unit_test(test_drop_flat),
       cmocka_unit_test(test_drop_tilted),
+      cmocka_unit_test(test_reference_lands),
       cmocka_unit_test(test_errors),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
