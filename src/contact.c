@@ -33,11 +33,23 @@ typedef struct {
   int sliding;           /* -1, +1: sliding (T = sliding mu Ne), 0: sticking */
 } vertex_eval;
 
-static void eval_vertex(const vs_contact *c, const vertex *vx, const double *qe, const double *ve,
-                        vertex_eval *o) {
+/* cos and sin of a block's rotation, computed once for its consecutive vertices */
+typedef struct {
+  int block;
+  double theta, cs, sn;
+} rot_cache;
+
+static void eval_vertex_r(const vs_contact *c, const vertex *vx, const double *qe,
+                          const double *ve, rot_cache *rc, vertex_eval *o) {
   const vs_block *b = &vs_model_geometry(c->m)->blocks[vx->block];
   const double *q = qe + 3 * vx->block;
-  const double cs = cos(q[2]), sn = sin(q[2]);
+  if (rc->block != vx->block || rc->theta != q[2]) {
+    rc->block = vx->block;
+    rc->theta = q[2];
+    rc->cs = cos(q[2]);
+    rc->sn = sin(q[2]);
+  }
+  const double cs = rc->cs, sn = rc->sn;
   o->Rx = cs * vx->rx - sn * vx->rz;
   o->Rz = sn * vx->rx + cs * vx->rz;
   o->x = b->cx + q[0] + o->Rx;
@@ -64,6 +76,12 @@ static void eval_vertex(const vs_contact *c, const vertex *vx, const double *qe,
   } else {
     o->T = trial;
   }
+}
+
+static void eval_vertex(const vs_contact *c, const vertex *vx, const double *qe, const double *ve,
+                        vertex_eval *o) {
+  rot_cache rc = {.block = -1};
+  eval_vertex_r(c, vx, qe, ve, &rc, o);
 }
 
 static vs_status add_vertex(vs_contact *c, int k, int block, double x, double z, vs_error *err) {
@@ -200,9 +218,10 @@ void vs_contact_vertex(const vs_contact *c, const double *qe, int k, double *x, 
 }
 
 void vs_contact_roots(const vs_contact *c, const double *qe, double *g) {
+  rot_cache rc = {.block = -1};
   for (int k = 0; k < c->nv; k++) {
     vertex_eval o;
-    eval_vertex(c, &c->v[k], qe, NULL, &o);
+    eval_vertex_r(c, &c->v[k], qe, NULL, &rc, &o);
     g[k] = -o.p;
   }
 }
@@ -210,10 +229,11 @@ void vs_contact_roots(const vs_contact *c, const double *qe, double *g) {
 void vs_contact_forces(const vs_contact *c, const double *qe, const double *ve, double *F,
                        double *damped, double *friction) {
   if (!c->armed) return;
+  rot_cache rc = {.block = -1};
   for (int k = 0; k < c->nv; k++) {
     const vertex *vx = &c->v[k];
     vertex_eval o;
-    eval_vertex(c, vx, qe, ve, &o);
+    eval_vertex_r(c, vx, qe, ve, &rc, &o);
     if (!(o.p > 0.0)) continue;
     if (F != NULL)
       for (int i = 0; i < 3; i++) F[3 * vx->block + i] += -(o.Ne + o.Nd) * o.gz[i] + o.T * o.gx[i];
@@ -236,10 +256,11 @@ static sunindextype entry(SUNMatrix A, sunindextype row, sunindextype col) {
 void vs_contact_jacobian(const vs_contact *c, const double *qe, const double *ve, SUNMatrix K,
                          SUNMatrix C) {
   if (!c->armed || (K == NULL && C == NULL)) return;
+  rot_cache rc = {.block = -1};
   for (int k = 0; k < c->nv; k++) {
     const vertex *vx = &c->v[k];
     vertex_eval o;
-    eval_vertex(c, vx, qe, ve, &o);
+    eval_vertex_r(c, vx, qe, ve, &rc, &o);
     if (!(o.p > 0.0)) continue;
     double dT[3]; /* dT/dq */
     for (int j = 0; j < 3; j++)
@@ -260,9 +281,10 @@ void vs_contact_jacobian(const vs_contact *c, const double *qe, const double *ve
 double vs_contact_energy(const vs_contact *c, const double *qe) {
   double e = 0.0;
   if (!c->armed) return 0.0;
+  rot_cache rc = {.block = -1};
   for (int k = 0; k < c->nv; k++) {
     vertex_eval o;
-    eval_vertex(c, &c->v[k], qe, NULL, &o);
+    eval_vertex_r(c, &c->v[k], qe, NULL, &rc, &o);
     if (o.p > 0.0) e += 0.5 * c->v[k].kv * o.p * o.p + 0.5 * o.T * o.T / c->v[k].kt;
   }
   return e;
