@@ -78,6 +78,11 @@ typedef struct {
   int dae_algebraic;           /* ... and algebraic (lambda, mu); the DAE has index 2 */
   int dae_index;
   double max_drift;            /* max |g(q, t)| over the accepted steps (m; rad for rotations) */
+  double max_penetration;      /* largest penetration of a vertex into the ground over the
+                                  accepted steps with the ground armed, m (0: none) */
+  double fall_wall_s;          /* wall-clock time spent in the fall, s */
+  int fall_at_rest;            /* 1: the fall ended with the debris at rest on the ground (kinetic
+                                  energy below rest_ke for rest_time), 0: at fall_time */
 } vs_dyn_result;
 
 /* Called at samples (at most every sample_dt, at each event, at the start and at the end);
@@ -92,6 +97,14 @@ typedef struct vs_dynamic vs_dynamic;
 /* Create the integrator for model m (borrowed; its damping ratio set beforehand). */
 vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out, vs_error *err);
 void vs_dynamic_destroy(vs_dynamic **d);
+
+/* The ground (contact.h; borrowed, NULL: none). If c is armed when vs_dynamic_run starts, it
+ * acts from the start; otherwise it is armed when the collapse criterion fires, offset (m) above
+ * the lower of the two springings' bases there, and the fall then ends as soon as the debris is
+ * at rest (kinetic energy below rest_ke for rest_time) or after fall_time. Its vertices crossing
+ * the ground are IDA roots (counted in root_events, not reported as events). */
+struct vs_contact;
+vs_status vs_dynamic_set_contact(vs_dynamic *d, struct vs_contact *c, double offset, vs_error *err);
 
 /* Replace the stop flag of the options d was created with (NULL: none). */
 void vs_dynamic_set_stop(vs_dynamic *d, const volatile sig_atomic_t *stop);
