@@ -15,6 +15,7 @@
  * collapse criterion; friction slips committed after every step. */
 #include "voussoir/dynamic.h"
 
+#include "voussoir/collide.h"
 #include "voussoir/contact.h"
 
 #include <ida/ida.h>
@@ -91,6 +92,10 @@ struct vs_dynamic {
   vs_contact *ct;         /* the ground (borrowed; NULL: none), vs_dynamic_set_contact */
   double ground_offset;   /* ... armed at the fall this far above the lower springing base, m */
   int in_fall;            /* after the collapse criterion: only the contacts' roots */
+  vs_collide *cl;         /* contact between bodies without a joint (borrowed; NULL: none) */
+  unsigned char *pairs, *pairs_klu; /* its broad phase now, and the one KLU last analysed */
+  double *Kd, *Cd;        /* ne x ne dense work: the Jacobian's K and C with its coupling */
+  int klu_pairs;          /* pairs_klu holds an analysed pattern */
   char msg[256];
 };
 
@@ -104,6 +109,7 @@ static void dyn_forces(vs_dynamic *d, const double *q, const double *v, double *
   vs_model_ext_damping(d->m, q, v, d->work, diss, NULL);
   for (int i = 0; i < d->ne; i++) F[i] += d->work[i];
   if (d->ct != NULL) vs_contact_forces(d->ct, q, v, F, diss, NULL);
+  if (d->cl != NULL) vs_collide_forces(d->cl, q, v, F, diss, NULL);
 }
 
 /* The constraints g(q, t) (VS_DYN_NC) and their velocity form G v + g_t. */
@@ -129,9 +135,13 @@ static int stopped(const vs_dynamic *d) { return d->o.stop != NULL && *d->o.stop
 void vs_dynamic_set_stop(vs_dynamic *d, const volatile sig_atomic_t *stop) { d->o.stop = stop; }
 
 /* Root functions: the joints' and the energy levels' (before the fall), then the vertices'. */
+static int n_ground_roots(const vs_dynamic *d) {
+  return (d->ct != NULL && vs_contact_armed(d->ct)) ? vs_contact_count(d->ct) : 0;
+}
+
 static int n_roots(const vs_dynamic *d) {
-  const int nc = (d->ct != NULL && vs_contact_armed(d->ct)) ? vs_contact_count(d->ct) : 0;
-  return (d->in_fall ? 0 : 2 * d->nj + 2) + nc;
+  const int nb = (d->cl != NULL && vs_collide_armed(d->cl)) ? vs_collide_count(d->cl) : 0;
+  return (d->in_fall ? 0 : 2 * d->nj + 2) + n_ground_roots(d) + nb;
 }
 
 static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user);
@@ -142,12 +152,32 @@ static int root_init(vs_dynamic *d) {
 }
 
 vs_status vs_dynamic_set_contact(vs_dynamic *d, vs_contact *c, double offset, vs_error *err) {
-  const int nr = 2 * d->nj + 2 + (c != NULL ? vs_contact_count(c) : 0);
+  const int nr = 2 * d->nj + 2 + (c != NULL ? vs_contact_count(c) : 0) +
+                 (d->cl != NULL ? vs_collide_count(d->cl) : 0);
   int *roots = realloc(d->roots, (size_t)nr * sizeof *roots);
   if (roots == NULL) return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
   d->roots = roots;
   d->ct = c;
   d->ground_offset = offset;
+  return VS_OK;
+}
+
+vs_status vs_dynamic_set_collide(vs_dynamic *d, vs_collide *c, vs_error *err) {
+  const int nr = 2 * d->nj + 2 + (d->ct != NULL ? vs_contact_count(d->ct) : 0) +
+                 (c != NULL ? vs_collide_count(c) : 0);
+  const size_t ne = (size_t)d->ne, nb = (size_t)(c != NULL ? vs_collide_bodies(c) : 0);
+  int *roots = realloc(d->roots, (size_t)nr * sizeof *roots);
+  if (roots != NULL) d->roots = roots;
+  free(d->pairs), free(d->pairs_klu), free(d->Kd), free(d->Cd);
+  d->pairs = calloc(nb * nb + 1, 1), d->pairs_klu = calloc(nb * nb + 1, 1);
+  d->Kd = malloc(ne * ne * sizeof *d->Kd), d->Cd = malloc(ne * ne * sizeof *d->Cd);
+  /* room for a dense K and C: the coupling's pattern changes with the broad phase */
+  const sunindextype nnz = (sunindextype)(2 * ne * (ne + 2) + 4 * (size_t)d->nc + 3);
+  if (roots == NULL || d->pairs == NULL || d->pairs_klu == NULL || d->Kd == NULL ||
+      d->Cd == NULL || SUNSparseMatrix_Reallocate(d->J, nnz) != 0)
+    return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
+  d->cl = c;
+  d->klu_pairs = 0;
   return VS_OK;
 }
 
@@ -178,6 +208,7 @@ static int res_fn(double t, N_Vector yy, N_Vector yp, N_Vector rr, void *user) {
   r[d->ie + 1] = ydot[d->ie + 1] - diss;
   double fric = vs_model_ext_friction_power(d->m, q, v);
   if (d->ct != NULL) vs_contact_forces(d->ct, q, v, NULL, NULL, &fric);
+  if (d->cl != NULL) vs_collide_forces(d->cl, q, v, NULL, NULL, &fric);
   r[d->ie + 2] = ydot[d->ie + 2] - fric;
   return 0;
 }
@@ -195,6 +226,63 @@ static void put(sunindextype *ji, double *jx, sunindextype *p, sunindextype row,
  * depends on them, so Newton still converges). G is constant and G^T mu, G^T lambda are
  * linear, so there are no constraint Hessian terms. The dependence of the damping forces on the
  * positions is left out too (IDA's Newton is a modified Newton already). */
+/* The Jacobian with the bodies' contacts (collide.h) armed: K and C (the joints', the ground's,
+ * the contacts') gathered dense, the pattern the joints' plus a 3x3 block for every pair of
+ * bodies of the broad phase at y. When those pairs differ from the ones KLU analysed, its
+ * analysis is redone (SUNKLU_REINIT_PARTIAL: the next factorisation is a fresh one): jac_fn is
+ * called by IDA's linear solver setup, right before that factorisation. */
+static void jac_dense(vs_dynamic *d, double cj, const double *y, SUNMatrix Jac) {
+  const int n = d->n, ne = d->ne, nb = vs_collide_bodies(d->cl);
+  const size_t NE = (size_t)ne;
+  memset(d->Kd, 0, NE * NE * sizeof *d->Kd);
+  memset(d->Cd, 0, NE * NE * sizeof *d->Cd);
+  const sunindextype *kp = SUNSparseMatrix_IndexPointers(d->K), *ki = SUNSparseMatrix_IndexValues(d->K);
+  const double *kx = SUNSparseMatrix_Data(d->K), *cx = SUNSparseMatrix_Data(d->C);
+  for (int col = 0; col < ne; col++)
+    for (sunindextype e = kp[col]; e < kp[col + 1]; e++) {
+      d->Kd[(size_t)col * NE + (size_t)ki[e]] += kx[e];
+      d->Cd[(size_t)col * NE + (size_t)ki[e]] += cx[e];
+    }
+  vs_collide_jacobian(d->cl, y, y + d->iv, d->Kd, d->Cd);
+  vs_collide_pairs(d->cl, y, d->pairs);
+  if (!d->klu_pairs || memcmp(d->pairs, d->pairs_klu, (size_t)(nb * nb)) != 0) {
+    memcpy(d->pairs_klu, d->pairs, (size_t)(nb * nb));
+    d->klu_pairs = 1;
+    SUNLinSol_KLUReInit(d->LS, Jac, SUNSparseMatrix_NNZ(Jac), SUNKLU_REINIT_PARTIAL);
+  }
+  sunindextype *jp = SUNSparseMatrix_IndexPointers(Jac), *ji = SUNSparseMatrix_IndexValues(Jac);
+  double *jx = SUNSparseMatrix_Data(Jac);
+  sunindextype p = 0;
+  for (int half = 0; half < 2; half++) /* q columns, then v columns */
+    for (int col = 0; col < ne; col++) {
+      const double *A = (half == 0 ? d->Kd : d->Cd) + (size_t)col * NE;
+      jp[half * d->iv + col] = p;
+      put(ji, jx, &p, col, half == 0 ? cj : -1.0);
+      sunindextype e = kp[col];
+      for (int row = 0; row < ne; row++) {
+        while (e < kp[col + 1] && ki[e] < row) e++;
+        const int joint = e < kp[col + 1] && ki[e] == row;
+        if (joint || row == col || d->pairs[(row / 3) * nb + col / 3])
+          put(ji, jx, &p, d->iv + row, A[row] + (half == 1 && row == col ? cj * d->mass[col] : 0.0));
+      }
+      if (col >= n && d->cidx[col - n] >= 0)
+        put(ji, jx, &p, (half == 0 ? d->il : d->imu) + d->cidx[col - n], 1.0);
+    }
+  for (int c = 0; c < d->nc; c++) { /* lambda columns */
+    jp[d->il + c] = p;
+    put(ji, jx, &p, d->iv + n + d->cons[c], -1.0);
+  }
+  for (int c = 0; c < d->nc; c++) { /* mu columns */
+    jp[d->imu + c] = p;
+    put(ji, jx, &p, n + d->cons[c], -1.0);
+  }
+  for (int col = d->ie; col < d->N; col++) {
+    jp[col] = p;
+    put(ji, jx, &p, col, cj);
+  }
+  jp[d->N] = p;
+}
+
 static int jac_fn(double t, double cj, N_Vector yy, N_Vector yp, N_Vector rr, SUNMatrix Jac,
                   void *user, N_Vector t1, N_Vector t2, N_Vector t3) {
   (void)t;
@@ -211,6 +299,10 @@ static int jac_fn(double t, double cj, N_Vector yy, N_Vector yp, N_Vector rr, SU
   vs_model_ext_jacobian(d->m, y, d->K);
   vs_model_ext_damping(d->m, y, y + d->iv, NULL, NULL, d->C);
   if (d->ct != NULL) vs_contact_jacobian(d->ct, y, y + d->iv, d->K, d->C);
+  if (d->cl != NULL && vs_collide_armed(d->cl)) {
+    jac_dense(d, cj, y, Jac);
+    return 0;
+  }
   const sunindextype *kp = SUNSparseMatrix_IndexPointers(d->K), *ki = SUNSparseMatrix_IndexValues(d->K);
   const double *kx = SUNSparseMatrix_Data(d->K), *cx = SUNSparseMatrix_Data(d->C);
   sunindextype *jp = SUNSparseMatrix_IndexPointers(Jac), *ji = SUNSparseMatrix_IndexValues(Jac);
@@ -253,8 +345,11 @@ static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user) {
   (void)t;
   vs_dynamic *d = user;
   const double *q = N_VGetArrayPointer(yy);
+  const int r0 = d->in_fall ? 0 : 2 * d->nj + 2;
   if (d->ct != NULL && vs_contact_armed(d->ct)) /* then a vertex crossing the ground */
-    vs_contact_roots(d->ct, q, g + (d->in_fall ? 0 : 2 * d->nj + 2));
+    vs_contact_roots(d->ct, q, g + r0);
+  if (d->cl != NULL && vs_collide_armed(d->cl)) /* then one entering another body */
+    vs_collide_roots(d->cl, q, g + r0 + n_ground_roots(d));
   if (d->in_fall) return 0;
   vs_model_ext_joint_states(d->m, q, d->js);
   for (int k = 0; k < d->nj; k++) {
@@ -291,6 +386,10 @@ void vs_dynamic_destroy(vs_dynamic **dp) {
   free(d->force);
   free(d->js);
   free(d->roots);
+  free(d->pairs);
+  free(d->pairs_klu);
+  free(d->Kd);
+  free(d->Cd);
   free(d->qst);
   free(d->vst);
   free(d);
@@ -441,6 +540,7 @@ static void energies(vs_dynamic *d, const double *y, double e0, vs_energy *e) {
     if (d->cidx[i] < 0) e->kinetic += 0.5 * d->mass[d->n + i] * y[d->iv + d->n + i] * y[d->iv + d->n + i];
   vs_model_ext_energies(d->m, y, &e->elastic, &e->gravity);
   if (d->ct != NULL) e->elastic += vs_contact_energy(d->ct, y);
+  if (d->cl != NULL) e->elastic += vs_collide_energy(d->cl, y);
   e->support_work = y[d->ie];
   e->damped = y[d->ie + 1];
   e->friction = y[d->ie + 2];
@@ -638,6 +738,10 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
       vs_contact_commit(d->ct, y);
       res->max_penetration = fmax(res->max_penetration, vs_contact_max_penetration(d->ct, y, NULL));
     }
+    if (d->cl != NULL && vs_collide_armed(d->cl)) {
+      vs_collide_commit(d->cl, y);
+      res->max_overlap = fmax(res->max_overlap, vs_collide_max_penetration(d->cl, y));
+    }
     energies(d, y, e0, &e);
     d->max_drift = fmax(d->max_drift, drift(d, t, y));
     scale = fmax(scale, fmax(fabs(e.kinetic), fmax(fabs(e.gravity), fabs(e.elastic))));
@@ -693,6 +797,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
         wall_fall = wall_now();
         if (d->ct != NULL && !vs_contact_armed(d->ct))
           vs_contact_arm(d->ct, vs_contact_springing_base(d->m, y) + d->ground_offset, y);
+        if (d->cl != NULL && !vs_collide_armed(d->cl)) vs_collide_arm(d->cl, y);
         if (rf == IDA_SUCCESS) rf = root_init(d);
         if (rf == IDA_SUCCESS) rf = IDASetNonlinConvCoef(d->ida, VS_DYN_NEWTON_COEF_FALL);
         if (rf == IDA_SUCCESS) rf = IDASetStopTime(d->ida, t_stop);

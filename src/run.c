@@ -9,6 +9,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "voussoir/collide.h"
 #include "voussoir/contact.h"
 #include "voussoir/damping.h"
 #include "voussoir/imperfections.h"
@@ -22,6 +23,7 @@ struct vs_run {
   vs_hinges *h;
   vs_dynamic *dyn;
   vs_contact *ground; /* the ground the fall lands on (NULL: no fall followed) */
+  vs_collide *bodies; /* ... and the blocks' and piers' contacts in the fall */
   vs_hinge_opts hopts;
   vs_path_opts popts;
   vs_dyn_opts dopts;
@@ -132,6 +134,8 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
     if (st == VS_OK && r->dyn != NULL && c->fall_s > 0.0) { /* armed at the collapse */
       st = vs_contact_create(r->m, c->restitution, 0, NULL, NULL, &r->ground, err);
       if (st == VS_OK) st = vs_dynamic_set_contact(r->dyn, r->ground, c->ground_mm * VS_MM, err);
+      if (st == VS_OK) st = vs_collide_create(r->m, c->restitution, NULL, NULL, &r->bodies, err);
+      if (st == VS_OK) st = vs_dynamic_set_collide(r->dyn, r->bodies, err);
     }
   }
   if (st != VS_OK) {
@@ -161,6 +165,7 @@ void vs_run_destroy(vs_run **r) {
   vs_modal_free(&p->modal);
   vs_dynamic_destroy(&p->dyn);
   vs_contact_destroy(&p->ground);
+  vs_collide_destroy(&p->bodies);
   vs_hinges_destroy(&p->h);
   vs_model_destroy(&p->m);
   vs_geometry_destroy(&p->g);

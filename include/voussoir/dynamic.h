@@ -80,6 +80,8 @@ typedef struct {
   double max_drift;            /* max |g(q, t)| over the accepted steps (m; rad for rotations) */
   double max_penetration;      /* largest penetration of a vertex into the ground over the
                                   accepted steps with the ground armed, m (0: none) */
+  double max_overlap;          /* largest penetration of a vertex into another body's outline
+                                  (collide.h) over the accepted steps with it armed, m */
   double fall_wall_s;          /* wall-clock time spent in the fall, s */
   int fall_at_rest;            /* 1: the fall ended with the debris at rest on the ground (kinetic
                                   energy below rest_ke for rest_time), 0: at fall_time */
@@ -105,6 +107,14 @@ void vs_dynamic_destroy(vs_dynamic **d);
  * the ground are IDA roots (counted in root_events, not reported as events). */
 struct vs_contact;
 vs_status vs_dynamic_set_contact(vs_dynamic *d, struct vs_contact *c, double offset, vs_error *err);
+
+/* Contact between bodies without a joint (collide.h; borrowed, NULL: none); call after
+ * vs_dynamic_set_contact. Armed with the ground at the collapse criterion if it is not armed
+ * when vs_dynamic_run starts. Its vertices entering or leaving another body's outline are IDA
+ * roots. Its forces couple two bodies: the Jacobian's pattern is the joints' plus the pairs of
+ * its broad phase, and KLU's analysis is redone when those pairs change (jac_fn). */
+struct vs_collide;
+vs_status vs_dynamic_set_collide(vs_dynamic *d, struct vs_collide *c, vs_error *err);
 
 /* Replace the stop flag of the options d was created with (NULL: none). */
 void vs_dynamic_set_stop(vs_dynamic *d, const volatile sig_atomic_t *stop);
