@@ -29,6 +29,8 @@ struct vs_collide {
   double *box;         /* work: per body min x, max x, min z, max z */
   hit *hits;           /* work: nv * nb */
   unsigned char *seen; /* work: nv */
+  int *order;          /* work: the bodies by their boxes' left ends (kept from call to call) */
+  int *cand, ncand;    /* work: candidate pairs (a, b), a before b in order */
   int nh;
   int armed;
 };
@@ -64,6 +66,27 @@ static void positions(vs_collide *c, const double *qe) {
   }
 }
 
+/* The candidate pairs for boxes widened by w, by sweep and prune along x: the bodies sorted
+ * by their boxes' left ends (insertion sort from the last order: nearly sorted already), each
+ * tested against those whose left end is within its right end. */
+static int candidates(const vs_collide *c, int a, int b, double w);
+
+static void sweep(vs_collide *c, double w) {
+  int *o = c->order;
+  for (int i = 1; i < c->nb; i++)
+    for (int j = i; j > 0 && c->box[4 * o[j - 1]] > c->box[4 * o[j]]; j--) {
+      const int t = o[j];
+      o[j] = o[j - 1], o[j - 1] = t;
+    }
+  c->ncand = 0;
+  for (int i = 0; i < c->nb; i++)
+    for (int j = i + 1; j < c->nb && c->box[4 * o[j]] <= c->box[4 * o[i] + 1] + w; j++)
+      if (candidates(c, o[i], o[j], w)) {
+        c->cand[2 * c->ncand] = o[i];
+        c->cand[2 * c->ncand++ + 1] = o[j];
+      }
+}
+
 /* Bodies a and b are a candidate pair: no joint between them and their boxes, widened by w,
  * overlap. */
 static int candidates(const vs_collide *c, int a, int b, double w) {
@@ -87,15 +110,15 @@ static double signed_distance(const vs_collide *c, int b, double x, double z, in
  * body's outline. */
 static void find_hits(vs_collide *c) {
   c->nh = 0;
-  for (int a = 0; a < c->nb; a++)
-    for (int b = 0; b < c->nb; b++) {
-      if (!candidates(c, a, b, 0.0)) continue;
-      for (int k = c->first[a]; k < c->first[a] + c->count[a]; k++) {
-        int e = -1;
-        if (signed_distance(c, b, c->px[k], c->pz[k], &e) < 0.0)
-          c->hits[c->nh++] = (hit){.k = k, .b = b, .e = e};
-      }
+  sweep(c, 0.0);
+  for (int p = 0; p < 2 * c->ncand; p++) {
+    const int a = c->cand[p], b = c->cand[p ^ 1]; /* both ways */
+    for (int k = c->first[a]; k < c->first[a] + c->count[a]; k++) {
+      int e = -1;
+      if (signed_distance(c, b, c->px[k], c->pz[k], &e) < 0.0)
+        c->hits[c->nh++] = (hit){.k = k, .b = b, .e = e};
     }
+  }
 }
 
 static void gradients(pair_eval *o) {
@@ -218,21 +241,25 @@ void vs_collide_jacobian(vs_collide *c, const double *qe, const double *ve, doub
 
 void vs_collide_pairs(vs_collide *c, const double *qe, unsigned char *pair) {
   positions(c, qe);
-  for (int a = 0; a < c->nb; a++)
-    for (int b = 0; b < c->nb; b++) pair[a * c->nb + b] = (unsigned char)candidates(c, a, b, c->margin);
+  sweep(c, c->margin);
+  memset(pair, 0, (size_t)c->nb * (size_t)c->nb);
+  for (int p = 0; p < c->ncand; p++) {
+    const int a = c->cand[2 * p], b = c->cand[2 * p + 1];
+    pair[a * c->nb + b] = pair[b * c->nb + a] = 1;
+  }
 }
 
 void vs_collide_roots(vs_collide *c, const double *qe, double *g) {
   positions(c, qe);
   for (int k = 0; k < c->nv; k++) g[k] = c->margin;
-  for (int a = 0; a < c->nb; a++)
-    for (int b = 0; b < c->nb; b++) {
-      if (!candidates(c, a, b, 0.0)) continue;
-      for (int k = c->first[a]; k < c->first[a] + c->count[a]; k++) {
-        int e = -1;
-        g[k] = fmin(g[k], signed_distance(c, b, c->px[k], c->pz[k], &e));
-      }
+  sweep(c, 0.0);
+  for (int p = 0; p < 2 * c->ncand; p++) {
+    const int a = c->cand[p], b = c->cand[p ^ 1]; /* both ways */
+    for (int k = c->first[a]; k < c->first[a] + c->count[a]; k++) {
+      int e = -1;
+      g[k] = fmin(g[k], signed_distance(c, b, c->px[k], c->pz[k], &e));
     }
+  }
 }
 
 double vs_collide_energy(vs_collide *c, const double *qe) {
@@ -299,6 +326,7 @@ void vs_collide_destroy(vs_collide **c) {
   free(p->first), free(p->count), free(p->body), free(p->rx), free(p->rz), free(p->mass);
   free(p->ref), free(p->adj), free(p->ab), free(p->ae), free(p->sa), free(p->px), free(p->pz);
   free(p->box), free(p->hits), free(p->seen), free(p->nx), free(p->nz), free(p->no);
+  free(p->order), free(p->cand);
   free(p);
   *c = NULL;
 }
@@ -401,9 +429,11 @@ static vs_collide *alloc_collide(int nb, int nv) {
   c->hits = calloc(V * B, sizeof *c->hits), c->seen = calloc(V, 1);
   c->nx = calloc(V, sizeof *c->nx), c->nz = calloc(V, sizeof *c->nz);
   c->no = calloc(V, sizeof *c->no);
+  c->order = calloc(B, sizeof *c->order), c->cand = calloc(B * B, sizeof *c->cand);
+  for (int b = 0; c->order != NULL && b < nb; b++) c->order[b] = b;
   if (!c->first || !c->count || !c->body || !c->rx || !c->rz || !c->mass || !c->ref || !c->adj ||
       !c->ab || !c->ae || !c->sa || !c->px || !c->pz || !c->box || !c->hits || !c->seen ||
-      !c->nx || !c->nz || !c->no)
+      !c->nx || !c->nz || !c->no || !c->order || !c->cand)
     vs_collide_destroy(&c);
   return c;
 }

@@ -171,10 +171,8 @@ vs_status vs_dynamic_set_collide(vs_dynamic *d, vs_collide *c, vs_error *err) {
   free(d->pairs), free(d->pairs_klu), free(d->Kd), free(d->Cd);
   d->pairs = calloc(nb * nb + 1, 1), d->pairs_klu = calloc(nb * nb + 1, 1);
   d->Kd = malloc(ne * ne * sizeof *d->Kd), d->Cd = malloc(ne * ne * sizeof *d->Cd);
-  /* room for a dense K and C: the coupling's pattern changes with the broad phase */
-  const sunindextype nnz = (sunindextype)(2 * ne * (ne + 2) + 4 * (size_t)d->nc + 3);
   if (roots == NULL || d->pairs == NULL || d->pairs_klu == NULL || d->Kd == NULL ||
-      d->Cd == NULL || SUNSparseMatrix_Reallocate(d->J, nnz) != 0)
+      d->Cd == NULL)
     return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
   d->cl = c;
   d->klu_pairs = 0;
@@ -231,8 +229,19 @@ static void put(sunindextype *ji, double *jx, sunindextype *p, sunindextype row,
  * bodies of the broad phase at y. When those pairs differ from the ones KLU analysed, its
  * analysis is redone (SUNKLU_REINIT_PARTIAL: the next factorisation is a fresh one): jac_fn is
  * called by IDA's linear solver setup, right before that factorisation. */
-static void jac_dense(vs_dynamic *d, double cj, const double *y, SUNMatrix Jac) {
-  const int n = d->n, ne = d->ne, nb = vs_collide_bodies(d->cl);
+static sunindextype fill_dense(vs_dynamic *d, double cj, sunindextype *jp, sunindextype *ji,
+                               double *jx);
+static int jac_dense(vs_dynamic *d, double cj, const double *y, SUNMatrix Jac);
+
+/* put, or only count the entry when jx is NULL */
+static void put_or_count(sunindextype *ji, double *jx, sunindextype *p, sunindextype row,
+                         double val) {
+  if (jx != NULL) put(ji, jx, p, row, val);
+  else (*p)++;
+}
+
+static int jac_dense(vs_dynamic *d, double cj, const double *y, SUNMatrix Jac) {
+  const int ne = d->ne, nb = vs_collide_bodies(d->cl);
   const size_t NE = (size_t)ne;
   memset(d->Kd, 0, NE * NE * sizeof *d->Kd);
   memset(d->Cd, 0, NE * NE * sizeof *d->Cd);
@@ -248,39 +257,53 @@ static void jac_dense(vs_dynamic *d, double cj, const double *y, SUNMatrix Jac) 
   if (!d->klu_pairs || memcmp(d->pairs, d->pairs_klu, (size_t)(nb * nb)) != 0) {
     memcpy(d->pairs_klu, d->pairs, (size_t)(nb * nb));
     d->klu_pairs = 1;
-    SUNLinSol_KLUReInit(d->LS, Jac, SUNSparseMatrix_NNZ(Jac), SUNKLU_REINIT_PARTIAL);
+    /* J's storage to the new pattern's size: IDA zeroes all of it before every evaluation */
+    if (SUNSparseMatrix_Reallocate(Jac, fill_dense(d, cj, NULL, NULL, NULL)) != 0 ||
+        SUNLinSol_KLUReInit(d->LS, Jac, SUNSparseMatrix_NNZ(Jac), SUNKLU_REINIT_PARTIAL) != 0)
+      return -1;
   }
-  sunindextype *jp = SUNSparseMatrix_IndexPointers(Jac), *ji = SUNSparseMatrix_IndexValues(Jac);
-  double *jx = SUNSparseMatrix_Data(Jac);
+  fill_dense(d, cj, SUNSparseMatrix_IndexPointers(Jac), SUNSparseMatrix_IndexValues(Jac),
+             SUNSparseMatrix_Data(Jac));
+  return 0;
+}
+
+/* Lay out J from Kd, Cd and the pattern (jac_dense) into jp, ji, jx; or, with jx NULL, only
+ * count its entries. Returns the count. */
+static sunindextype fill_dense(vs_dynamic *d, double cj, sunindextype *jp, sunindextype *ji,
+                               double *jx) {
+  const int n = d->n, ne = d->ne, nb = vs_collide_bodies(d->cl);
+  const size_t NE = (size_t)ne;
+  const sunindextype *kp = SUNSparseMatrix_IndexPointers(d->K), *ki = SUNSparseMatrix_IndexValues(d->K);
   sunindextype p = 0;
   for (int half = 0; half < 2; half++) /* q columns, then v columns */
     for (int col = 0; col < ne; col++) {
       const double *A = (half == 0 ? d->Kd : d->Cd) + (size_t)col * NE;
-      jp[half * d->iv + col] = p;
-      put(ji, jx, &p, col, half == 0 ? cj : -1.0);
+      if (jx != NULL) jp[half * d->iv + col] = p;
+      put_or_count(ji, jx, &p, col, half == 0 ? cj : -1.0);
       sunindextype e = kp[col];
       for (int row = 0; row < ne; row++) {
         while (e < kp[col + 1] && ki[e] < row) e++;
         const int joint = e < kp[col + 1] && ki[e] == row;
         if (joint || row == col || d->pairs[(row / 3) * nb + col / 3])
-          put(ji, jx, &p, d->iv + row, A[row] + (half == 1 && row == col ? cj * d->mass[col] : 0.0));
+          put_or_count(ji, jx, &p, d->iv + row, A[row] + (half == 1 && row == col ? cj * d->mass[col] : 0.0));
       }
       if (col >= n && d->cidx[col - n] >= 0)
-        put(ji, jx, &p, (half == 0 ? d->il : d->imu) + d->cidx[col - n], 1.0);
+        put_or_count(ji, jx, &p, (half == 0 ? d->il : d->imu) + d->cidx[col - n], 1.0);
     }
   for (int c = 0; c < d->nc; c++) { /* lambda columns */
-    jp[d->il + c] = p;
-    put(ji, jx, &p, d->iv + n + d->cons[c], -1.0);
+    if (jx != NULL) jp[d->il + c] = p;
+    put_or_count(ji, jx, &p, d->iv + n + d->cons[c], -1.0);
   }
   for (int c = 0; c < d->nc; c++) { /* mu columns */
-    jp[d->imu + c] = p;
-    put(ji, jx, &p, n + d->cons[c], -1.0);
+    if (jx != NULL) jp[d->imu + c] = p;
+    put_or_count(ji, jx, &p, n + d->cons[c], -1.0);
   }
   for (int col = d->ie; col < d->N; col++) {
-    jp[col] = p;
-    put(ji, jx, &p, col, cj);
+    if (jx != NULL) jp[col] = p;
+    put_or_count(ji, jx, &p, col, cj);
   }
-  jp[d->N] = p;
+  if (jx != NULL) jp[d->N] = p;
+  return p;
 }
 
 static int jac_fn(double t, double cj, N_Vector yy, N_Vector yp, N_Vector rr, SUNMatrix Jac,
@@ -299,9 +322,13 @@ static int jac_fn(double t, double cj, N_Vector yy, N_Vector yp, N_Vector rr, SU
   vs_model_ext_jacobian(d->m, y, d->K);
   vs_model_ext_damping(d->m, y, y + d->iv, NULL, NULL, d->C);
   if (d->ct != NULL) vs_contact_jacobian(d->ct, y, y + d->iv, d->K, d->C);
-  if (d->cl != NULL && vs_collide_armed(d->cl)) {
-    jac_dense(d, cj, y, Jac);
-    return 0;
+  if (d->cl != NULL && vs_collide_armed(d->cl)) return jac_dense(d, cj, y, Jac);
+  if (d->klu_pairs) { /* back from the contacts' pattern (a later run): the joints' again */
+    d->klu_pairs = 0;
+    const sunindextype nnz = 2 * ne + 2 * vs_model_ext_nnz(d->m) + 4 * d->nc + 3;
+    if (SUNSparseMatrix_Reallocate(Jac, nnz) != 0 ||
+        SUNLinSol_KLUReInit(d->LS, Jac, nnz, SUNKLU_REINIT_PARTIAL) != 0)
+      return -1;
   }
   const sunindextype *kp = SUNSparseMatrix_IndexPointers(d->K), *ki = SUNSparseMatrix_IndexValues(d->K);
   const double *kx = SUNSparseMatrix_Data(d->K), *cx = SUNSparseMatrix_Data(d->C);

@@ -385,6 +385,7 @@ static void add_dyn_totals(vs_run *r, const vs_dyn_result *d) {
   r->dtot.balance_error_fall = fmax(r->dtot.balance_error_fall, d->balance_error_fall);
   r->dtot.max_drift = fmax(r->dtot.max_drift, d->max_drift);
   r->dtot.max_penetration = fmax(r->dtot.max_penetration, d->max_penetration);
+  r->dtot.max_overlap = fmax(r->dtot.max_overlap, d->max_overlap);
   r->dtot.fall_wall_s += d->fall_wall_s;
   r->dtot.fall_at_rest = d->fall_at_rest;
   r->dtot.dae_differential = d->dae_differential;

@@ -12,7 +12,9 @@
  *    last recorded state no block vertex (computed here from the block's sector and its rigid
  *    motion) is below the ground by more than the stated tolerance, the whole arch's weight on
  *    one vertex, W / k_v; the kinetic energy is below the rest level; the fall's energy balance
- *    holds to 1 % of the largest energy term.
+ *    holds to 1 % of the largest energy term; no vertex of a block is inside another block it
+ *    shares no joint with or inside a pier (outlines written out here from the geometry) by more
+ *    than the same tolerance.
  * SI units. */
 #include <stdarg.h>
 #include <stddef.h>
@@ -349,6 +351,84 @@ static void test_drop_tilted(void **state) {
 
 /* ------------------------------- 3. the reference run lands ------------------------------- */
 
+/* A body's outline at the last state, written out here from the geometry (not collide.c's):
+ * a voussoir's four corners and its extrados mid-point, a pier's springing face and the
+ * vertical drops from its ends by the span; moved rigidly by (ux, uz, theta) about (cx, cz). */
+typedef struct {
+  int n;
+  double x[5], z[5];
+} outline;
+
+static void outline_move(outline *o, double cx, double cz, const double *u) {
+  for (int k = 0; k < o->n; k++) {
+    const double X = o->x[k] - cx, Z = o->z[k] - cz;
+    o->x[k] = cx + u[0] + cos(u[2]) * X - sin(u[2]) * Z;
+    o->z[k] = cz + u[1] + sin(u[2]) * X + cos(u[2]) * Z;
+  }
+}
+
+static void voussoir_outline(const vs_geometry *g, int i, const double *q, outline *o) {
+  const vs_block *b = &g->blocks[i];
+  const double ph[5] = {b->phi0, b->phi1, b->phi1, 0.5 * (b->phi0 + b->phi1), b->phi0};
+  const double r[5] = {0, 0, 1, 1, 1};
+  o->n = 5;
+  for (int k = 0; k < 5; k++) {
+    o->x[k] = (g->radius + r[k] * g->thickness) * sin(ph[k]);
+    o->z[k] = (g->radius + r[k] * g->thickness) * cos(ph[k]);
+  }
+  outline_move(o, b->cx, b->cz, q + 3 * i);
+}
+
+static void pier_outline(const vs_geometry *g, int right, const double u[3], outline *o) {
+  const vs_joint_geom *j = &g->joints[right ? g->n_joints - 1 : 0];
+  const double sx = -j->nz, sz = j->nx, h = 0.5 * j->length;
+  o->n = 4;
+  o->x[0] = o->x[3] = j->px - h * sx, o->z[0] = j->pz - h * sz;
+  o->x[1] = o->x[2] = j->px + h * sx, o->z[1] = j->pz + h * sz;
+  o->z[2] = o->z[3] = fmin(o->z[0], o->z[1]) - g->span;
+  outline_move(o, j->px, j->pz, u);
+}
+
+/* How deep (m) the point is inside the convex outline (<= 0: outside): the least distance
+ * behind its edges' lines, either orientation. */
+static double depth_in(const outline *o, double x, double z) {
+  double area = 0.0, d = INFINITY;
+  for (int k = 0; k < o->n; k++) {
+    const int l = (k + 1) % o->n;
+    area += o->x[k] * o->z[l] - o->x[l] * o->z[k];
+  }
+  for (int k = 0; k < o->n; k++) {
+    const int l = (k + 1) % o->n;
+    const double tx = o->x[l] - o->x[k], tz = o->z[l] - o->z[k], len = hypot(tx, tz);
+    const double behind = (area > 0 ? -1.0 : 1.0) * (tz * (x - o->x[k]) - tx * (z - o->z[k])) / len;
+    d = fmin(d, behind);
+  }
+  return d;
+}
+
+/* The deepest vertex of a block inside another block that shares no joint with it, or inside a
+ * pier it is not joined to (the springers stand on theirs), at the blocks' state q and the
+ * supports' displacements us (6). */
+static double deepest_overlap(const vs_geometry *g, const double *q, const double *us) {
+  const int n = g->n_blocks;
+  outline *o = calloc((size_t)n + 2, sizeof *o);
+  assert_non_null(o);
+  for (int i = 0; i < n; i++) voussoir_outline(g, i, q, &o[i]);
+  pier_outline(g, 0, us, &o[n]);
+  pier_outline(g, 1, us + 3, &o[n + 1]);
+  double worst = 0.0;
+  for (int a = 0; a < n + 2; a++)
+    for (int b = 0; b < n + 2; b++) {
+      const int joined = (a < n && b < n && abs(a - b) <= 1) || (a == 0 && b == n) ||
+                         (a == n && b == 0) || (a == n - 1 && b == n + 1) ||
+                         (a == n + 1 && b == n - 1) || (a >= n && b >= n);
+      if (joined) continue;
+      for (int k = 0; k < o[a].n; k++) worst = fmax(worst, depth_in(&o[b], o[a].x[k], o[a].z[k]));
+    }
+  free(o);
+  return worst;
+}
+
 typedef struct {
   double ke, delta;
   int dynamic;
@@ -411,6 +491,15 @@ static void test_reference_lands(void **state) {
   print_message("reference: last state: deepest vertex %.3g um below the ground (tolerance "
                 "W / k_v = %.3g um; %.3g um during the fall), kinetic %.3g J (rest level "
                 "%.3g J)\n", worst * 1e6, tol * 1e6, d->max_penetration * 1e6, ls.ke, rest_ke);
+  /* no vertex inside another block or a pier by more than the same tolerance */
+  double us[6] = {0}, u[2];
+  vs_model_support_displacement(vs_run_model(run), d->delta_end, u);
+  us[3] = u[0], us[4] = u[1];
+  const double overlap = deepest_overlap(g, q, us);
+  print_message("reference: last state: deepest vertex %.3g um inside another block or a pier "
+                "(tolerance %.3g um; %.3g um during the fall)\n", overlap * 1e6, tol * 1e6,
+                d->max_overlap * 1e6);
+  assert_true(overlap < tol);
   assert_true(ls.dynamic);
   assert_true(worst < tol);
   assert_true(ls.ke < rest_ke);
