@@ -24,6 +24,10 @@ struct vs_collide {
   int *ab, *ae;        /* per vertex: the body and edge of its anchor (-1: none) */
   double *sa;          /* ... and the anchor's coordinate along that edge, m */
   double *px, *pz;     /* work: the vertices' positions at the last state */
+  double *n0x, *n0z;   /* per edge (numbered as its first vertex): outward unit normal in the
+                          reference configuration */
+  double *at;          /* the state (3 nb) the work below was computed for */
+  int at_valid, hits_valid;
   double *nx, *nz, *no; /* work: per edge (numbered as its first vertex) outward unit normal,
                            and n . (its first vertex) */
   double *box;         /* work: per body min x, max x, min z, max z */
@@ -44,7 +48,14 @@ typedef struct {
   int sliding;
 } pair_eval;
 
+/* The vertices, boxes and edge normals at qe (kept: nothing is redone for the same qe, which
+ * IDA's residual, energy and root evaluations share). */
 static void positions(vs_collide *c, const double *qe) {
+  const size_t nq = 3 * (size_t)c->nb * sizeof *qe;
+  if (c->at_valid && memcmp(c->at, qe, nq) == 0) return;
+  memcpy(c->at, qe, nq);
+  c->at_valid = 1;
+  c->hits_valid = 0;
   for (int b = 0; b < c->nb; b++) {
     const double *q = qe + 3 * b, cs = cos(q[2]), sn = sin(q[2]);
     double *bx = c->box + 4 * b;
@@ -56,11 +67,9 @@ static void positions(vs_collide *c, const double *qe) {
       bx[0] = fmin(bx[0], c->px[k]), bx[1] = fmax(bx[1], c->px[k]);
       bx[2] = fmin(bx[2], c->pz[k]), bx[3] = fmax(bx[3], c->pz[k]);
     }
-    const int f = c->first[b], nc = c->count[b];
-    for (int e = 0; e < nc; e++) {
-      const int i = f + e, j = f + (e + 1) % nc;
-      const double tx = c->px[j] - c->px[i], tz = c->pz[j] - c->pz[i], len = hypot(tx, tz);
-      c->nx[i] = tz / len, c->nz[i] = -tx / len; /* outward: the outline is counter-clockwise */
+    for (int i = c->first[b]; i < c->first[b] + c->count[b]; i++) { /* the normals turned */
+      c->nx[i] = cs * c->n0x[i] - sn * c->n0z[i];
+      c->nz[i] = sn * c->n0x[i] + cs * c->n0z[i];
       c->no[i] = c->nx[i] * c->px[i] + c->nz[i] * c->pz[i];
     }
   }
@@ -109,14 +118,19 @@ static double signed_distance(const vs_collide *c, int b, double x, double z, in
 /* The narrow phase at the positions of the last positions(): every vertex inside another
  * body's outline. */
 static void find_hits(vs_collide *c) {
+  if (c->hits_valid) return;
+  c->hits_valid = 1;
   c->nh = 0;
   sweep(c, 0.0);
   for (int p = 0; p < 2 * c->ncand; p++) {
     const int a = c->cand[p], b = c->cand[p ^ 1]; /* both ways */
     for (int k = c->first[a]; k < c->first[a] + c->count[a]; k++) {
       int e = -1;
-      if (signed_distance(c, b, c->px[k], c->pz[k], &e) < 0.0)
-        c->hits[c->nh++] = (hit){.k = k, .b = b, .e = e};
+      if (!(signed_distance(c, b, c->px[k], c->pz[k], &e) < 0.0)) continue;
+      const int f = c->first[b] + c->ae[k]; /* its anchor's edge while still behind it */
+      if (c->ab[k] == b && c->nx[f] * c->px[k] + c->nz[f] * c->pz[k] - c->no[f] < 0.0)
+        e = c->ae[k];
+      c->hits[c->nh++] = (hit){.k = k, .b = b, .e = e};
     }
   }
 }
@@ -296,6 +310,7 @@ void vs_collide_commit(vs_collide *c, const double *qe) {
   }
   for (int k = 0; k < c->nv; k++)
     if (!c->seen[k]) c->ab[k] = c->ae[k] = -1;
+  c->hits_valid = 0; /* the edges chosen follow the anchors */
 }
 
 double vs_collide_max_penetration(vs_collide *c, const double *qe) {
@@ -313,6 +328,7 @@ double vs_collide_max_penetration(vs_collide *c, const double *qe) {
 void vs_collide_arm(vs_collide *c, const double *qe) {
   c->armed = 1;
   for (int k = 0; k < c->nv; k++) c->ab[k] = c->ae[k] = -1;
+  c->hits_valid = 0;
   vs_collide_commit(c, qe);
 }
 void vs_collide_disarm(vs_collide *c) { c->armed = 0; }
@@ -326,7 +342,7 @@ void vs_collide_destroy(vs_collide **c) {
   free(p->first), free(p->count), free(p->body), free(p->rx), free(p->rz), free(p->mass);
   free(p->ref), free(p->adj), free(p->ab), free(p->ae), free(p->sa), free(p->px), free(p->pz);
   free(p->box), free(p->hits), free(p->seen), free(p->nx), free(p->nz), free(p->no);
-  free(p->order), free(p->cand);
+  free(p->order), free(p->cand), free(p->n0x), free(p->n0z), free(p->at);
   free(p);
   *c = NULL;
 }
@@ -409,6 +425,14 @@ static vs_status outlines(vs_collide *c, const int *count, const double *xz, vs_
       c->rx[k + v] = xz[2 * src] - c->ref[2 * b];
       c->rz[k + v] = xz[2 * src + 1] - c->ref[2 * b + 1];
     }
+    for (int v = 0; v < nc; v++) {
+      const int i = k + v, j = k + (v + 1) % nc;
+      const double tx = c->rx[j] - c->rx[i], tz = c->rz[j] - c->rz[i], len = hypot(tx, tz);
+      if (!(len > 0.0))
+        return vs_error_set(err, VS_ERR_INVALID, "collide: body %d vertices %d and %d coincide "
+                            "(allowed: distinct)", b, v, (v + 1) % nc);
+      c->n0x[i] = tz / len, c->n0z[i] = -tx / len; /* outward: counter-clockwise */
+    }
     k += nc;
   }
   return VS_OK;
@@ -430,10 +454,13 @@ static vs_collide *alloc_collide(int nb, int nv) {
   c->nx = calloc(V, sizeof *c->nx), c->nz = calloc(V, sizeof *c->nz);
   c->no = calloc(V, sizeof *c->no);
   c->order = calloc(B, sizeof *c->order), c->cand = calloc(B * B, sizeof *c->cand);
+  c->n0x = calloc(V, sizeof *c->n0x), c->n0z = calloc(V, sizeof *c->n0z);
+  c->at = calloc(3 * B, sizeof *c->at);
   for (int b = 0; c->order != NULL && b < nb; b++) c->order[b] = b;
   if (!c->first || !c->count || !c->body || !c->rx || !c->rz || !c->mass || !c->ref || !c->adj ||
       !c->ab || !c->ae || !c->sa || !c->px || !c->pz || !c->box || !c->hits || !c->seen ||
-      !c->nx || !c->nz || !c->no || !c->order || !c->cand)
+      !c->nx || !c->nz || !c->no || !c->order || !c->cand ||
+      !c->n0x || !c->n0z || !c->at)
     vs_collide_destroy(&c);
   return c;
 }

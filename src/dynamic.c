@@ -61,6 +61,15 @@ static const double VS_DYN_FALL_TOL = 100.0;
  * reference run (runs/reference.ini, fall to rest), 100x looser left the energy balance of the
  * fall at 9 % (6556 IDA steps), 10x at 0.56 % (11160 steps), 1x at 0.044 % (24924 steps). */
 static const double VS_DYN_FALL_TOL_GROUND = 10.0;
+/* The debris is at rest on the ground when its kinetic energy has stayed below rest_ke for
+ * this long (s), or rest_time if shorter. rest_time (1 s by default) is the quasi-static path's
+ * window, long enough for a slow mode of the arch to pass a turning point; the debris lies on
+ * contact springs whose periods are below a millisecond (2 pi sqrt(m / (2 k_v)), 0.5 ms for the
+ * reference's voussoirs), and a block still rocking or sliding keeps its kinetic energy above
+ * the rest level but for instants at its turning points: 0.1 s is a hundred of those periods.
+ * On the reference run the last second of the fall, at rest but for the window, took ~10 % of
+ * its steps and ~30 % of its Jacobian evaluations. */
+static const double VS_DYN_FALL_REST = 0.1;
 /* Restarts after IDA's "root found at and very near t" (restart_roots) in one run at most. */
 static const long VS_DYN_MAX_ROOT_RESTARTS = 1000;
 
@@ -170,7 +179,7 @@ vs_status vs_dynamic_set_collide(vs_dynamic *d, vs_collide *c, vs_error *err) {
   if (roots != NULL) d->roots = roots;
   free(d->pairs), free(d->pairs_klu), free(d->Kd), free(d->Cd);
   d->pairs = calloc(nb * nb + 1, 1), d->pairs_klu = calloc(nb * nb + 1, 1);
-  d->Kd = malloc(ne * ne * sizeof *d->Kd), d->Cd = malloc(ne * ne * sizeof *d->Cd);
+  d->Kd = calloc(ne * ne, sizeof *d->Kd), d->Cd = calloc(ne * ne, sizeof *d->Cd);
   if (roots == NULL || d->pairs == NULL || d->pairs_klu == NULL || d->Kd == NULL ||
       d->Cd == NULL)
     return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
@@ -242,9 +251,7 @@ static void put_or_count(sunindextype *ji, double *jx, sunindextype *p, sunindex
 
 static int jac_dense(vs_dynamic *d, double cj, const double *y, SUNMatrix Jac) {
   const int ne = d->ne, nb = vs_collide_bodies(d->cl);
-  const size_t NE = (size_t)ne;
-  memset(d->Kd, 0, NE * NE * sizeof *d->Kd);
-  memset(d->Cd, 0, NE * NE * sizeof *d->Cd);
+  const size_t NE = (size_t)ne; /* Kd, Cd are zero outside the calls (fill_dense clears them) */
   const sunindextype *kp = SUNSparseMatrix_IndexPointers(d->K), *ki = SUNSparseMatrix_IndexValues(d->K);
   const double *kx = SUNSparseMatrix_Data(d->K), *cx = SUNSparseMatrix_Data(d->C);
   for (int col = 0; col < ne; col++)
@@ -277,15 +284,21 @@ static sunindextype fill_dense(vs_dynamic *d, double cj, sunindextype *jp, sunin
   sunindextype p = 0;
   for (int half = 0; half < 2; half++) /* q columns, then v columns */
     for (int col = 0; col < ne; col++) {
-      const double *A = (half == 0 ? d->Kd : d->Cd) + (size_t)col * NE;
+      double *A = (half == 0 ? d->Kd : d->Cd) + (size_t)col * NE;
       if (jx != NULL) jp[half * d->iv + col] = p;
       put_or_count(ji, jx, &p, col, half == 0 ? cj : -1.0);
       sunindextype e = kp[col];
-      for (int row = 0; row < ne; row++) {
-        while (e < kp[col + 1] && ki[e] < row) e++;
-        const int joint = e < kp[col + 1] && ki[e] == row;
-        if (joint || row == col || d->pairs[(row / 3) * nb + col / 3])
-          put_or_count(ji, jx, &p, d->iv + row, A[row] + (half == 1 && row == col ? cj * d->mass[col] : 0.0));
+      const sunindextype end = kp[col + 1];
+      for (int b = 0; b < nb; b++) { /* rows by body: all 3 of a pair's, else the joints' */
+        const int whole = b == col / 3 || d->pairs[b * nb + col / 3];
+        if (!whole && (e >= end || ki[e] >= 3 * b + 3)) continue;
+        for (int row = 3 * b; row < 3 * b + 3; row++) {
+          while (e < end && ki[e] < row) e++;
+          if (!whole && !(e < end && ki[e] == row)) continue;
+          put_or_count(ji, jx, &p, d->iv + row,
+                       A[row] + (half == 1 && row == col ? cj * d->mass[col] : 0.0));
+          if (jx != NULL) A[row] = 0.0;
+        }
       }
       if (col >= n && d->cidx[col - n] >= 0)
         put_or_count(ji, jx, &p, (half == 0 ? d->il : d->imu) + d->cidx[col - n], 1.0);
@@ -674,6 +687,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   const int n = d->n;
   memset(res, 0, sizeof *res);
   res->t_collapse = NAN;
+  res->fall_failed_t = NAN;
   res->dae_differential = d->N - 2 * d->nc;
   res->dae_algebraic = 2 * d->nc;
   res->dae_index = 2;
@@ -754,6 +768,13 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
       if (rf == IDA_SUCCESS) continue;
       flag = rf;
     }
+    if (flag < 0 && collapsed) { /* the collapse stands: the fall ends here, said so */
+      res->end = VS_DYN_COLLAPSED;
+      res->fall_failed_t = t;
+      snprintf(res->fall_failure, sizeof res->fall_failure, "%s",
+               d->msg[0] ? d->msg : "unknown cause");
+      break;
+    }
     if (flag < 0) {
       st = vs_error_set(err, VS_ERR_SOLVER, "IDA failed at t = %.6g s (delta = %.6g mm): %s", t,
                         delta_at(d, t) * 1e3, d->msg[0] ? d->msg : "unknown cause");
@@ -784,7 +805,9 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     } else {
       moving = 0;
     }
-    const int at_rest = !moving && t - t_rest >= d->o.rest_time;
+    const double window = collapsed && d->ct != NULL ? fmin(d->o.rest_time, VS_DYN_FALL_REST)
+                                                     : d->o.rest_time;
+    const int at_rest = !moving && t - t_rest >= window;
     int stop = 0;
     const int joint_root = flag == IDA_ROOT_RETURN && !collapsed; /* the fall's: contacts only */
     if (flag == IDA_ROOT_RETURN) {

@@ -389,8 +389,14 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
             d->max_drift);
   if (isfinite(vs_run_ground(r)))
     fprintf(out, "         fall: onto the ground at z = %.3f mm, %s; deepest vertex %.3g mm below "
-                 "it at the end (%.3g mm during the fall); %.3f s wall\n",
-            vs_run_ground(r) / VS_MM, d->fall_at_rest ? "the debris at rest" : "still moving at fall_s",
-            vs_run_penetration(r) / VS_MM, d->max_penetration / VS_MM, d->fall_wall_s);
+                 "it at the end (%.3g mm during the fall), %.3g mm inside another block or a pier "
+                 "during the fall; %.3f s wall\n",
+            vs_run_ground(r) / VS_MM, d->fall_at_rest ? "the debris at rest"
+            : isfinite(d->fall_failed_t) ? "stopped early (below)" : "still moving at fall_s",
+            vs_run_penetration(r) / VS_MM, d->max_penetration / VS_MM, d->max_overlap / VS_MM,
+            d->fall_wall_s);
+  if (isfinite(d->fall_failed_t))
+    fprintf(out, "         fall: IDA failed at t = %.6g s and the fall was not followed further "
+                 "(the collapse above stands): %s\n", d->fall_failed_t, d->fall_failure);
   fprintf(out, "         wall time %.3f s\n", vs_run_wall_s(r));
 }

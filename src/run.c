@@ -143,6 +143,7 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
     return st;
   }
   r->collapse.delta = r->collapse.t = r->collapse.t_criterion = r->collapse.t_onset = NAN;
+  r->dtot.fall_failed_t = NAN;
   r->pending_snap = -1;
   *out = r;
   return VS_OK;
@@ -388,6 +389,8 @@ static void add_dyn_totals(vs_run *r, const vs_dyn_result *d) {
   r->dtot.max_overlap = fmax(r->dtot.max_overlap, d->max_overlap);
   r->dtot.fall_wall_s += d->fall_wall_s;
   r->dtot.fall_at_rest = d->fall_at_rest;
+  r->dtot.fall_failed_t = d->fall_failed_t;
+  memcpy(r->dtot.fall_failure, d->fall_failure, sizeof d->fall_failure);
   r->dtot.dae_differential = d->dae_differential;
   r->dtot.dae_algebraic = d->dae_algebraic;
   r->dtot.dae_index = d->dae_index;

@@ -8,8 +8,9 @@
  * drops from the face's two ends by the arch's span (a column under the face). Broad phase: the
  * outlines' axis-aligned bounding boxes, widened by a margin (the first joint's length), give
  * the candidate pairs of bodies that share no joint; narrow phase: a vertex of one outline
- * inside the other's meets it on the edge it is least deep behind, with penetration p (its
- * depth behind that edge) and the ground's law (contact.h): N = k_v p + c_v s(p) p',
+ * inside the other's meets it on the edge it is least deep behind (kept from step to step
+ * while the vertex stays behind it, with its friction anchor: within a step the contact's
+ * direction does not jump from edge to edge), with penetration p (its depth behind that edge) and the ground's law (contact.h): N = k_v p + c_v s(p) p',
  * k_v = k_n b t / 2, the dashpot c_v = 2 zeta sqrt(k_v m_r / 2) with the pair's reduced mass m_r
  * (a pier's mass infinite), faded in over p_f = m_r g / k_v; friction: a tangential spring
  * k_t = k_v k_s / k_n along the edge from an anchor held in the edge's body, capped by

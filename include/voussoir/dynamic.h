@@ -85,6 +85,9 @@ typedef struct {
   double fall_wall_s;          /* wall-clock time spent in the fall, s */
   int fall_at_rest;            /* 1: the fall ended with the debris at rest on the ground (kinetic
                                   energy below rest_ke for rest_time), 0: at fall_time */
+  double fall_failed_t;        /* IDA failed in the fall at this time (s; NaN: it did not): the
+                                  run ends there, the collapse found before it standing */
+  char fall_failure[256];      /* ... and IDA's message */
 } vs_dyn_result;
 
 /* Called at samples (at most every sample_dt, at each event, at the start and at the end);
