@@ -1486,10 +1486,23 @@ static const char *const XDMF_PATHS[X_COUNT] = {
     "/observables/support_displacement/value"};
 static const int XDMF_RANKS[X_COUNT] = {3, 2, 3, 2, 1, 3, 2, 2, 2, 2, 2, 2, 2, 2, 2};
 
+/* Every cell field any grid carries. ParaView's default XDMF reader (Xdmf3ReaderS, what File >
+ * Open picks) flattens a step's grids into pieces of one data set, and its geometry filter then
+ * appends the pieces keeping only the fields that all of them carry: a field on the blocks alone
+ * is dropped and colouring by it leaves the arch grey. So every grid carries every field, NaN
+ * where the field is not its own (ParaView draws NaN in its NaN colour and leaves it out of
+ * ranges); Xdmf3ReaderT keeps the grids as named blocks and reads the same file. */
+static const char *const XDMF_FIELDS[] = {"theta_rad", "ux_m",    "uz_m",    "speed_m_s",
+                                          "N_N",       "T_N",     "M_N_m",   "gap_i_m",
+                                          "gap_e_m",   "hinge_0closed_1intrados_2extrados",
+                                          "Fx_N",      "Fz_N"};
+enum { XDMF_N_FIELDS = (int)(sizeof XDMF_FIELDS / sizeof XDMF_FIELDS[0]) };
+
 typedef struct {
   FILE *f;
   const char *h5name; /* XML-escaped name of the HDF5 file, relative to the sidecar */
   xdmf_ds ds[X_COUNT];
+  unsigned carried; /* bit i: the open grid carries XDMF_FIELDS[i] */
 } xdmf_ctx;
 
 static void xml_escape(const char *s, char *out, size_t size) {
@@ -1546,21 +1559,47 @@ static void xdmf_slab(const xdmf_ctx *x, int which, hsize_t r, hsize_t col, hsiz
   xdmf_block(x, which, start, count, type, prec, ind);
 }
 
-/* A cell field; its name carries its unit (ParaView shows names only). */
-static void xdmf_attribute(const xdmf_ctx *x, const char *name, int which, hsize_t r, hsize_t col,
+/* A cell field (one of XDMF_FIELDS); its name carries its unit (ParaView shows names only). */
+static void xdmf_attribute(xdmf_ctx *x, const char *name, int which, hsize_t r, hsize_t col,
                            hsize_t ncol, const char *type, int prec) {
   const char *ind = "          ";
+  for (int i = 0; i < XDMF_N_FIELDS; i++)
+    if (strcmp(name, XDMF_FIELDS[i]) == 0) x->carried |= 1u << i;
   fprintf(x->f, "        <Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Cell\">\n", name);
   xdmf_slab(x, which, r, col, ncol, type, prec, ind);
   fputs("        </Attribute>\n", x->f);
 }
 
-static void xdmf_grid_open(const xdmf_ctx *x, const char *name) {
+static void xdmf_grid_open(xdmf_ctx *x, const char *name) {
+  x->carried = 0;
   fprintf(x->f, "      <Grid Name=\"%s\" GridType=\"Uniform\">\n", name);
 }
 
+/* Field XDMF_FIELDS[i] as NaN on all n_cells cells of the open grid, inline. */
+static void xdmf_nan_field(xdmf_ctx *x, int i, hsize_t n_cells) {
+  x->carried |= 1u << i;
+  fprintf(x->f,
+          "        <Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
+          "          <DataItem Dimensions=\"%llu\" NumberType=\"Float\" Precision=\"8\" "
+          "Format=\"XML\">",
+          XDMF_FIELDS[i], (unsigned long long)n_cells);
+  for (hsize_t c = 0; c < n_cells; c++) fputs(c ? " nan" : "nan", x->f);
+  fputs("</DataItem>\n        </Attribute>\n", x->f);
+}
+
+/* A grid that is not the blocks starts with theta_rad (NaN): ParaView shows the first field of
+ * a grid on opening, and the blocks' rotation is the one worth seeing first. */
+static void xdmf_theta_first(xdmf_ctx *x, hsize_t n_cells) { xdmf_nan_field(x, 0, n_cells); }
+
+/* End a grid of n_cells cells: the fields of XDMF_FIELDS it does not carry, NaN. */
+static void xdmf_grid_close(xdmf_ctx *x, hsize_t n_cells) {
+  for (int i = 0; i < XDMF_N_FIELDS; i++)
+    if (!(x->carried & (1u << i))) xdmf_nan_field(x, i, n_cells);
+  fputs("      </Grid>\n", x->f);
+}
+
 /* The blocks at row r: one polygon each, moved. */
-static void xdmf_blocks(const xdmf_ctx *x, hsize_t r) {
+static void xdmf_blocks(xdmf_ctx *x, hsize_t r) {
   const xdmf_ds *bc = &x->ds[X_BCONN];
   xdmf_grid_open(x, "blocks");
   fprintf(x->f,
@@ -1577,11 +1616,11 @@ static void xdmf_blocks(const xdmf_ctx *x, hsize_t r) {
   xdmf_attribute(x, "ux_m", X_BPOS, r, 0, 1, "Float", 8);
   xdmf_attribute(x, "uz_m", X_BPOS, r, 1, 1, "Float", 8);
   xdmf_attribute(x, "speed_m_s", X_BSPEED, r, 0, 0, "Float", 8);
-  fputs("      </Grid>\n", x->f);
+  xdmf_grid_close(x, bc->dims[0]);
 }
 
 /* The joints at row r: one segment each, intrados to extrados. */
-static void xdmf_joints(const xdmf_ctx *x, hsize_t r) {
+static void xdmf_joints(xdmf_ctx *x, hsize_t r) {
   const xdmf_ds *jc = &x->ds[X_JCONN];
   xdmf_grid_open(x, "joints");
   fprintf(x->f,
@@ -1593,18 +1632,20 @@ static void xdmf_joints(const xdmf_ctx *x, hsize_t r) {
           (unsigned long long)jc->dims[0], (unsigned long long)jc->dims[0], x->h5name, jc->path);
   xdmf_slab(x, X_JPTS, r, 0, 0, "Float", 4, "          ");
   fputs("        </Geometry>\n", x->f);
+  xdmf_theta_first(x, jc->dims[0]);
   xdmf_attribute(x, "N_N", X_N, r, 0, 0, "Float", 8);
   xdmf_attribute(x, "T_N", X_T, r, 0, 0, "Float", 8);
   xdmf_attribute(x, "M_N_m", X_M, r, 0, 0, "Float", 8);
   xdmf_attribute(x, "gap_i_m", X_GAPI, r, 0, 0, "Float", 8);
   xdmf_attribute(x, "gap_e_m", X_GAPE, r, 0, 0, "Float", 8);
-  xdmf_attribute(x, "hinge_0closed_1intrados_2extrados", X_HINGE, r, 0, 0, "Char", 1);
-  fputs("      </Grid>\n", x->f);
+  /* read as a double (HDF5 converts), the type the other grids' NaN has */
+  xdmf_attribute(x, "hinge_0closed_1intrados_2extrados", X_HINGE, r, 0, 0, "Float", 8);
+  xdmf_grid_close(x, jc->dims[0]);
 }
 
 /* A support at row r: the springing face it carries (joint 1 on the left, n+1 on the right),
  * with the force it exerts on the arch and, for the moved right support, its displacement. */
-static void xdmf_support(const xdmf_ctx *x, int right, hsize_t r) {
+static void xdmf_support(xdmf_ctx *x, int right, hsize_t r) {
   const char *ind = "          ";
   const hsize_t nj = x->ds[X_JCONN].dims[0];
   const hsize_t start[3] = {r, right ? 2 * nj - 2 : 0, 0}, count[3] = {1, 2, 2};
@@ -1617,6 +1658,7 @@ static void xdmf_support(const xdmf_ctx *x, int right, hsize_t r) {
         x->f);
   xdmf_block(x, X_JPTS, start, count, "Float", 4, ind);
   fputs("        </Geometry>\n", x->f);
+  xdmf_theta_first(x, 1);
   xdmf_attribute(x, "Fx_N", X_REACT, r, right ? 3 : 0, 1, "Float", 8);
   xdmf_attribute(x, "Fz_N", X_REACT, r, right ? 4 : 1, 1, "Float", 8);
   xdmf_attribute(x, "M_N_m", X_REACT, r, right ? 5 : 2, 1, "Float", 8);
@@ -1624,11 +1666,11 @@ static void xdmf_support(const xdmf_ctx *x, int right, hsize_t r) {
     xdmf_attribute(x, "ux_m", X_SUPPORT, r, 0, 1, "Float", 8);
     xdmf_attribute(x, "uz_m", X_SUPPORT, r, 1, 1, "Float", 8);
   }
-  fputs("      </Grid>\n", x->f);
+  xdmf_grid_close(x, 1);
 }
 
 /* One time step: the row's objects as named grids of a spatial collection. */
-static void xdmf_step(const xdmf_ctx *x, hsize_t r, double t) {
+static void xdmf_step(xdmf_ctx *x, hsize_t r, double t) {
   fprintf(x->f,
           "    <Grid Name=\"row %llu\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
           "      <Time Value=\"%.17g\"/>\n",
@@ -1722,9 +1764,9 @@ static vs_status xdmf_write(hid_t file, const char *h5_path, const char *xmf_pat
           "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
           "<!-- voussoir: %s, %ld rows, every %ld-th shown (and the last), times strictly "
           "increasing (the loading time delta / rate, s).\n"
-          "     ParaView: open it with the reader Xdmf3ReaderT: each step's grids become named "
-          "blocks; the default Xdmf3ReaderS makes "
-          "them pieces of one set and cannot colour by a field that only some of them carry.\n"
+          "     ParaView: either XDMF 3 reader colours by any field: every grid carries every "
+          "field, NaN where it is not the grid's own (the default Xdmf3ReaderS keeps only the "
+          "fields all grids carry); Xdmf3ReaderT also keeps the grids as named blocks.\n"
           "     blocks (polygons): theta_rad rotation, ux_m uz_m centroid displacement, speed_m_s;\n"
           "     joints (segments, intrados to extrados): N_N normal force (compression > 0), T_N "
           "shear force, M_N_m moment about the joint centre, gap_i_m gap_e_m edge openings, "
