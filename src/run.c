@@ -210,6 +210,24 @@ static int add_limit(vs_run *r, double delta) {
   return log_event(r, VS_EVENT_LIMIT_POINT, delta / r->dopts.rate, delta, 0, 0, 0, 0);
 }
 
+/* The hinge events logged before their hinges were named take the names. */
+static void relabel_events(vs_run *r) {
+  for (int e = 0; e < r->n_events; e++)
+    if (r->events[e].kind == VS_EVENT_HINGE_FORMED && r->events[e].order <= 3 &&
+        r->events[e].order <= vs_hinges_count(r->h))
+      r->events[e].label = vs_hinges_get(r->h, r->events[e].order - 1)->label;
+}
+
+/* Fewer than three hinges formed before the collapse's onset (or the end): name those n A, B
+ * from left to right and later ones in order, so that no hinge of the record stays '?'. */
+static void name_first(vs_run *r, int n) {
+  if (n >= 3) return;
+  vs_hinges_name_first(r->h, n);
+  for (int e = 0; e < r->n_events; e++)
+    if (r->events[e].kind == VS_EVENT_HINGE_FORMED && r->events[e].order <= vs_hinges_count(r->h))
+      r->events[e].label = vs_hinges_get(r->h, r->events[e].order - 1)->label;
+}
+
 /* Update the hinges at (delta, q); log the hinges that formed. */
 static int track_hinges(vs_run *r, double delta, const double *q) {
   const int before = vs_hinges_count(r->h);
@@ -223,10 +241,7 @@ static int track_hinges(vs_run *r, double delta, const double *q) {
       return -1;
   }
   /* the first three get their labels together: fix up the events logged before */
-  if (before < 3 && vs_hinges_count(r->h) >= 3)
-    for (int e = 0; e < r->n_events; e++)
-      if (r->events[e].kind == VS_EVENT_HINGE_FORMED && r->events[e].order <= 3)
-        r->events[e].label = vs_hinges_get(r->h, r->events[e].order - 1)->label;
+  if (before < 3 && vs_hinges_count(r->h) >= 3) relabel_events(r);
   return 0;
 }
 
@@ -405,6 +420,9 @@ static void record_collapse(vs_run *r, const vs_dyn_result *d) {
                                              : c->t_onset * r->dopts.rate;
   c->t = c->delta / r->dopts.rate;
   if (!r->onset_taken) snapshot_onset(r);
+  name_first(r, r->hinges_at_onset); /* the snapshot's hinges take the names too */
+  for (int i = 0; i < r->hinges_at_onset; i++) r->onset_all[i].label = vs_hinges_get(r->h, i)->label;
+  for (int i = 0; i < r->n_onset; i++) r->onset[i].label = vs_hinges_get(r->h, r->onset[i].order - 1)->label;
   c->n_hinges = r->n_onset;
   memcpy(c->hinges, r->onset, (size_t)r->n_onset * sizeof r->onset[0]);
   qsort(c->hinges, (size_t)c->n_hinges, sizeof c->hinges[0], cmp_hinge_first);
@@ -547,6 +565,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
       if (st != VS_OK || isnan(delta0)) break;
     }
   }
+  if (!r->collapse.found) name_first(r, vs_hinges_count(r->h));
   classify(r);
   r->wall_s = now_s() - t0;
   return st;
