@@ -33,7 +33,7 @@ static const char *PLOT_USAGE =
 
 typedef struct {
   char label, side;
-  int first, last, onset_first, onset_last, order, during_fall;
+  int first, last, onset_first, onset_last, order, during_fall, open;
   double delta_onset;
 } rec_hinge;
 
@@ -50,6 +50,8 @@ typedef struct {
   int nl;
   double collapse; /* m, NaN if none */
   char msg[512];
+  FILE *json;      /* plots.json: what each picture shows (NULL: not written) */
+  int n_pictures;  /* entries written to json so far */
 } record;
 
 /* Read a whole float64 dataset of n values; -1 if missing or of another size. */
@@ -140,6 +142,7 @@ static int read_hinges(record *r) {
   H5Tinsert(t, "onset_last", HOFFSET(rec_hinge, onset_last), H5T_NATIVE_INT);
   H5Tinsert(t, "order", HOFFSET(rec_hinge, order), H5T_NATIVE_INT);
   H5Tinsert(t, "during_fall", HOFFSET(rec_hinge, during_fall), H5T_NATIVE_INT);
+  H5Tinsert(t, "open", HOFFSET(rec_hinge, open), H5T_NATIVE_INT);
   H5Tinsert(t, "delta_onset", HOFFSET(rec_hinge, delta_onset), H5T_NATIVE_DOUBLE);
   r->h = calloc((size_t)n, sizeof *r->h);
   hid_t d = H5Dopen2(r->file, path, H5P_DEFAULT);
@@ -246,55 +249,123 @@ static int row_at(const record *r, double delta) {
   return r->rows - 1;
 }
 
-/* The hinges open at a row: groups of consecutive open joints on one side, each named after the
- * recorded hinge of that side nearest to it (formed by then, not during the fall). */
-static int hinges_at(const record *r, int row, vs_hinge *out, int cap) {
-  const signed char *hj = r->hinge + (size_t)row * (size_t)r->nj;
+/* Which recorded hinges a picture labels, and where. */
+typedef enum {
+  PIC_ROW,      /* a state: the open groups of joints, each named after a recorded hinge */
+  PIC_ONSET,    /* hinge `focus` forming: it at its onset joints, earlier ones as PIC_ROW */
+  PIC_COLLAPSE  /* the collapse: the record's hinges open at its onset, at their joints then */
+} pic_kind;
+
+static vs_hinge hinge_of(const rec_hinge *rh, int first, int last) {
+  return (vs_hinge){.label = rh->label, .side = rh->side, .first = first, .last = last, .open = 1};
+}
+
+/* Distance in joints from a group [a, b] to the nearer of a recorded hinge's onset and collapse
+ * positions. */
+static int hinge_dist(const rec_hinge *rh, int a, int b) {
+  const int m = (a + b) / 2, c = (rh->first + rh->last) / 2, c0 = (rh->onset_first + rh->onset_last) / 2;
+  return abs(c - m) < abs(c0 - m) ? abs(c - m) : abs(c0 - m);
+}
+
+/* The labelled hinges of a picture of the state at support displacement delta whose open joints
+ * are those of row `row`, every label one of /summary/hinges and none twice: PIC_COLLAPSE takes
+ * them from the record; otherwise each group of consecutive open joints on one side is paired
+ * with the nearest same-side recorded hinge formed by delta (within 6 joints of where it formed
+ * or of where it was at the collapse), nearest pairs first; groups left unpaired are not labelled. */
+static int hinges_at(const record *r, int row, double delta, pic_kind kind, int focus, vs_hinge *out,
+                     int cap) {
   int n = 0;
-  for (int k = 0; k < r->nj && n < cap;) {
-    if (hj[k] == 0) {
-      k++;
-      continue;
-    }
+  if (kind == PIC_COLLAPSE) {
+    for (int i = 0; i < r->nh && n < cap; i++)
+      if (!r->h[i].during_fall && r->h[i].open) out[n++] = hinge_of(&r->h[i], r->h[i].first, r->h[i].last);
+    return n;
+  }
+  if (kind == PIC_ONSET && n < cap)
+    out[n++] = hinge_of(&r->h[focus], r->h[focus].onset_first, r->h[focus].onset_last);
+  const signed char *hj = r->hinge + (size_t)row * (size_t)r->nj;
+  int ga[64], gb[64], ng = 0;
+  for (int k = 0; k < r->nj && ng < 64;) {
     int e = k;
-    while (e + 1 < r->nj && hj[e + 1] == hj[k]) e++;
-    vs_hinge h = {.label = '?', .side = hj[k] == 1 ? 'I' : 'E', .first = k + 1, .last = e + 1, .open = 1};
-    int best = -1, dist = 1 << 30;
-    for (int i = 0; i < r->nh; i++) {
-      const rec_hinge *rh = &r->h[i];
-      if (rh->side != h.side || rh->during_fall || rh->delta_onset > r->delta[row] + 1e-9) continue;
-      const int c = (rh->first + rh->last) / 2, d = abs(c - (h.first + h.last) / 2);
-      const int c0 = (rh->onset_first + rh->onset_last) / 2, d0 = abs(c0 - (h.first + h.last) / 2);
-      if ((d < d0 ? d : d0) < dist) {
-        dist = d < d0 ? d : d0;
-        best = i;
-      }
+    while (hj[k] != 0 && e + 1 < r->nj && hj[e + 1] == hj[k]) e++;
+    if (hj[k] != 0) {
+      const char side = hj[k] == 1 ? 'I' : 'E';
+      const int on_focus = kind == PIC_ONSET && side == r->h[focus].side &&
+                           e + 1 >= r->h[focus].onset_first && k + 1 <= r->h[focus].onset_last;
+      if (!on_focus) ga[ng] = k + 1, gb[ng++] = e + 1;
     }
-    if (best >= 0 && dist <= 6) h.label = r->h[best].label;
-    if (h.label != '?') out[n++] = h;
     k = e + 1;
+  }
+  int used_h[64] = {0}, used_g[64] = {0};
+  for (;;) { /* nearest pair first */
+    int bi = -1, bg = -1, bd = 7;
+    for (int g = 0; g < ng; g++)
+      for (int i = 0; i < r->nh && i < 64; i++) {
+        const rec_hinge *rh = &r->h[i];
+        const char side = hj[ga[g] - 1] == 1 ? 'I' : 'E';
+        if (used_g[g] || used_h[i] || i == focus || rh->side != side ||
+            rh->delta_onset > delta + 1e-9 || (kind == PIC_ONSET && rh->during_fall))
+          continue;
+        const int d = hinge_dist(rh, ga[g], gb[g]);
+        if (d < bd) bd = d, bi = i, bg = g;
+      }
+    if (bi < 0 || n >= cap) break;
+    used_h[bi] = used_g[bg] = 1;
+    out[n++] = hinge_of(&r->h[bi], ga[bg], gb[bg]);
   }
   return n;
 }
 
-/* One state to draw: positions (3 nb), joint gaps, N, M (nj each), the support displacement and
- * the row whose open hinges are labelled. */
+/* One state to draw: positions (3 nb), joint gaps, N, M (nj each), the support displacement,
+ * the row whose open joints are labelled and how (pic_kind, the forming hinge). */
 typedef struct {
   const double *pos, *gap_i, *gap_e, *N, *M;
   double delta;
   int hinge_row;
+  pic_kind kind;
+  int focus;
 } state;
 
 static state state_of_row(const record *r, int row) {
   const size_t o = (size_t)row * (size_t)r->nj;
   return (state){r->pos + (size_t)row * 3 * (size_t)r->nb, r->gap_i + o, r->gap_e + o,
-                 r->jN + o, r->jM + o, r->delta[row], row};
+                 r->jN + o, r->jM + o, r->delta[row], row, PIC_ROW, -1};
 }
 
-static int draw_state(const record *r, const state *st, const char *dir, const char *name,
+/* A JSON string: the characters of s, quotes and backslashes escaped, controls dropped. */
+static void json_str(FILE *f, const char *s) {
+  fputc('"', f);
+  for (; *s != '\0'; s++)
+    if (*s == '"' || *s == '\\') fprintf(f, "\\%c", *s);
+    else if ((unsigned char)*s >= 0x20) fputc(*s, f);
+  fputc('"', f);
+}
+
+/* Start a picture's entry in plots.json: its file and title (the caller adds fields and '}'). */
+static void json_picture(record *r, const char *path, const char *title) {
+  if (r->json == NULL) return;
+  const char *base = strrchr(path, '/');
+  fputs(r->n_pictures++ ? ",\n  {\"file\": " : "\n  {\"file\": ", r->json);
+  json_str(r->json, base != NULL ? base + 1 : path);
+  fputs(", \"title\": ", r->json);
+  json_str(r->json, title);
+}
+
+/* The labels an arch picture draws, in plots.json. */
+static void json_arch(record *r, const char *path, const char *title, const state *st,
+                      const vs_hinge *h, int nh) {
+  if (r->json == NULL) return;
+  json_picture(r, path, title);
+  fprintf(r->json, ", \"delta_mm\": %.9g, \"hinges\": [", st->delta / VS_MM);
+  for (int i = 0; i < nh; i++)
+    fprintf(r->json, "%s{\"label\": \"%c\", \"side\": \"%c\", \"first\": %d, \"last\": %d}",
+            i ? ", " : "", h[i].label, h[i].side, h[i].first, h[i].last);
+  fputs("]}", r->json);
+}
+
+static int draw_state(record *r, const state *st, const char *dir, const char *name,
                       const char *ext, const char *title) {
   vs_hinge h[32];
-  const int nh = hinges_at(r, st->hinge_row, h, 32);
+  const int nh = hinges_at(r, st->hinge_row, st->delta, st->kind, st->focus, h, 32);
   char path[1200];
   snprintf(path, sizeof path, "%s/arch_%s.%s", dir, name, ext);
   vs_error err;
@@ -305,11 +376,12 @@ static int draw_state(const record *r, const state *st, const char *dir, const c
     fprintf(stderr, "voussoir plot: %s\n", err.msg);
     return -1;
   }
+  json_arch(r, path, title, st, h, nh);
   printf("  %s\n", path);
   return 0;
 }
 
-static int draw_row(const record *r, int row, const char *dir, const char *name, const char *ext,
+static int draw_row(record *r, int row, const char *dir, const char *name, const char *ext,
                     const char *what) {
   char title[200];
   snprintf(title, sizeof title, "%s (recorded state at delta = %.3f mm)", what, r->delta[row] / VS_MM);
@@ -323,15 +395,21 @@ static void lerp(const double *a, const double *b, double w, size_t n, double *o
 }
 
 /* The state at support displacement delta: a recorded one if delta falls on a row, else
- * interpolated linearly between the two rows around it (the title says which). */
-static int draw_at(const record *r, double delta, const char *dir, const char *name,
-                   const char *ext, const char *what) {
+ * interpolated linearly between the two rows around it (the title says which); its hinges
+ * labelled as kind and focus say. */
+static int draw_at(record *r, double delta, pic_kind kind, int focus, const char *dir,
+                   const char *name, const char *ext, const char *what) {
   const int j = row_at(r, delta);
-  if (j == 0 || fabs(r->delta[j] - delta) <= 1e-9 || !(r->delta[j - 1] < delta))
-    return draw_row(r, j, dir, name, ext, what);
+  char title[240];
+  state st = state_of_row(r, j);
+  st.kind = kind, st.focus = focus;
+  if (j == 0 || fabs(r->delta[j] - delta) <= 1e-9 || !(r->delta[j - 1] < delta)) {
+    snprintf(title, sizeof title, "%s (recorded state at delta = %.3f mm)", what, r->delta[j] / VS_MM);
+    return draw_state(r, &st, dir, name, ext, title);
+  }
   const size_t nq = 3 * (size_t)r->nb, nj = (size_t)r->nj;
   double *buf = malloc((nq + 4 * nj) * sizeof *buf);
-  if (buf == NULL) return draw_row(r, j, dir, name, ext, what);
+  if (buf == NULL) return draw_state(r, &st, dir, name, ext, what);
   const state a = state_of_row(r, j - 1), b = state_of_row(r, j);
   const double w = (delta - a.delta) / (b.delta - a.delta);
   lerp(a.pos, b.pos, w, nq, buf);
@@ -339,8 +417,7 @@ static int draw_at(const record *r, double delta, const char *dir, const char *n
   lerp(a.gap_e, b.gap_e, w, nj, buf + nq + nj);
   lerp(a.N, b.N, w, nj, buf + nq + 2 * nj);
   lerp(a.M, b.M, w, nj, buf + nq + 3 * nj);
-  const state st = {buf, buf + nq, buf + nq + nj, buf + nq + 2 * nj, buf + nq + 3 * nj, delta, j};
-  char title[240];
+  st = (state){buf, buf + nq, buf + nq + nj, buf + nq + 2 * nj, buf + nq + 3 * nj, delta, j, kind, focus};
   snprintf(title, sizeof title, "%s at delta = %.3f mm (interpolated between the states at %.3f "
            "and %.3f mm)", what, delta / VS_MM, a.delta / VS_MM, b.delta / VS_MM);
   const int rc = draw_state(r, &st, dir, name, ext, title);
@@ -348,7 +425,7 @@ static int draw_at(const record *r, double delta, const char *dir, const char *n
   return rc;
 }
 
-static int draw_curves(const record *r, const char *dir, const char *ext) {
+static int draw_curves(record *r, const char *dir, const char *ext) {
   const size_t n = (size_t)r->rows;
   double *reac = malloc(4 * n * sizeof(double)), *joint[5];
   vs_plot_series hs[5];
@@ -362,7 +439,7 @@ static int draw_curves(const record *r, const char *dir, const char *ext) {
     int any = 0;
     for (size_t i = 0; i < n; i++) {
       vs_hinge h[32];
-      const int nh = hinges_at(r, (int)i, h, 32);
+      const int nh = hinges_at(r, (int)i, r->delta[i], PIC_ROW, -1, h, 32);
       joint[l][i] = NAN;
       for (int k = 0; k < nh; k++)
         if (h[k].label == 'A' + l) {
@@ -403,6 +480,15 @@ static int draw_curves(const record *r, const char *dir, const char *ext) {
     fprintf(stderr, "voussoir plot: %s\n", reac ? err.msg : "out of memory");
     rc = -1;
   } else {
+    json_picture(r, path, "Reactions and hinges against the support displacement");
+    if (r->json != NULL) {
+      fputs(", \"series\": [", r->json);
+      for (int i = 0; i < 4; i++) fprintf(r->json, "%s\"%s\"", i ? ", " : "", rs[i].name);
+      for (int i = 0; i < ns; i++) fprintf(r->json, ", \"%s\"", hs[i].name);
+      fputs("], \"marks_mm\": [", r->json);
+      for (int i = 0; i < nm; i++) fprintf(r->json, "%s%.9g", i ? ", " : "", mx[i] / VS_MM);
+      fputs("]}", r->json);
+    }
     printf("  %s\n", path);
   }
   free(reac);
@@ -509,6 +595,34 @@ static int plot_sweep(const char *path, hid_t f, const char *dir, const char *ex
   return rc;
 }
 
+/* plots.json in dir: what each picture shows, for checking and re-plotting; NULL (and a
+ * warning) if it cannot be created. */
+static FILE *json_open(const char *dir, const char *source) {
+  char path[1200];
+  snprintf(path, sizeof path, "%s/plots.json", dir);
+  FILE *f = fopen(path, "w");
+  if (f == NULL) {
+    fprintf(stderr, "voussoir plot: %s: cannot write: %s\n", path, strerror(errno));
+    return NULL;
+  }
+  fputs("{\"source\": ", f);
+  json_str(f, source);
+  fputs(", \"pictures\": [", f);
+  return f;
+}
+
+/* Close plots.json; 1 if it could not be written whole. */
+static int json_close(FILE **f, const char *dir) {
+  if (*f == NULL) return 1;
+  fputs("\n]}\n", *f);
+  const int bad = ferror(*f) != 0;
+  const int rc = fclose(*f) != 0 || bad;
+  *f = NULL;
+  if (rc) fprintf(stderr, "voussoir plot: %s/plots.json: write error\n", dir);
+  else printf("  %s/plots.json\n", dir);
+  return rc;
+}
+
 /* Every picture this command may write in dir (arch_*.EXT, curves.EXT) is absent or a regular
  * file, and dir is a directory or absent: checked before anything is drawn. 0, or 2 with the
  * reason printed. */
@@ -524,8 +638,11 @@ static int check_picture_dir(const char *dir, const char *ext) {
   int rc = 0;
   for (struct dirent *e = readdir(d); e != NULL && rc == 0; e = readdir(d)) {
     const size_t n = strlen(e->d_name);
-    const int ours = (strncmp(e->d_name, "arch_", 5) == 0 || strncmp(e->d_name, "curves.", 7) == 0) &&
-                     n > ne + 1 && e->d_name[n - ne - 1] == '.' && strcmp(e->d_name + n - ne, ext) == 0;
+    const int ours = ((strncmp(e->d_name, "arch_", 5) == 0 || strncmp(e->d_name, "curves.", 7) == 0 ||
+                       strncmp(e->d_name, "domain.", 7) == 0 ||
+                       strncmp(e->d_name, "sensitivity.", 12) == 0) &&
+                      n > ne + 1 && e->d_name[n - ne - 1] == '.' && strcmp(e->d_name + n - ne, ext) == 0) ||
+                     strcmp(e->d_name, "plots.json") == 0;
     struct stat st;
     if (ours && fstatat(dirfd(d), e->d_name, &st, AT_SYMLINK_NOFOLLOW) == 0 && !S_ISREG(st.st_mode)) {
       fprintf(stderr, "voussoir plot: -o %s: %s exists and is not a regular file\n", dir, e->d_name);
@@ -597,6 +714,7 @@ int vs_cmd_plot(int argc, char **argv) {
     record_free(&r);
     return 1;
   }
+  r.json = json_open(dir, run);
   printf("pictures of %s (%d recorded states):\n", run, r.rows);
   int bad = draw_row(&r, 0, dir, "reference", ext, "Self-weight");
   for (int i = 0; i < r.nh; i++) {
@@ -605,22 +723,24 @@ int vs_cmd_plot(int argc, char **argv) {
     snprintf(name, sizeof name, "hinge_%c", r.h[i].label);
     snprintf(what, sizeof what, "Hinge %c forms%s", r.h[i].label,
              r.h[i].order == 4 ? " (the fourth)" : r.h[i].order == 5 ? " (the fifth)" : "");
-    bad |= draw_at(&r, r.h[i].delta_onset, dir, name, ext, what);
+    bad |= draw_at(&r, r.h[i].delta_onset, PIC_ONSET, i, dir, name, ext, what);
   }
   for (int i = 0; i < r.nl; i++) {
     char name[32], what[96];
     snprintf(name, sizeof name, "limit_%d", i + 1);
     snprintf(what, sizeof what, "Limit point %d", i + 1);
-    bad |= draw_at(&r, r.limits[i], dir, name, ext, what);
+    bad |= draw_at(&r, r.limits[i], PIC_ROW, -1, dir, name, ext, what);
     if (isfinite(r.settled[i])) {
       snprintf(name, sizeof name, "snap_%d_settled", i + 1);
       snprintf(what, sizeof what, "Snap-through %d settled", i + 1);
-      bad |= draw_at(&r, r.settled[i], dir, name, ext, what);
+      bad |= draw_at(&r, r.settled[i], PIC_ROW, -1, dir, name, ext, what);
     }
   }
-  if (isfinite(r.collapse)) bad |= draw_at(&r, r.collapse, dir, "collapse", ext, "Collapse");
+  if (isfinite(r.collapse))
+    bad |= draw_at(&r, r.collapse, PIC_COLLAPSE, -1, dir, "collapse", ext, "Collapse");
   bad |= draw_row(&r, r.rows - 1, dir, "end", ext, "End of the record");
   bad |= draw_curves(&r, dir, ext);
+  bad |= json_close(&r.json, dir);
   record_free(&r);
   vs_plot_release();
   return bad ? 1 : 0;
