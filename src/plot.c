@@ -840,6 +840,39 @@ static void draw_series(cairo_t *cr, const panel_box *b, const double *x, const 
     }
 }
 
+/* A marker of a points-only style at (px, py): filled in c, outlined in black. */
+static void marker(cairo_t *cr, vs_plot_style st, double px, double py, rgb c) {
+  const double r = 6.0;
+  cairo_new_path(cr);
+  if (st == VS_PLOT_SQUARES) {
+    cairo_rectangle(cr, px - 0.85 * r, py - 0.85 * r, 1.7 * r, 1.7 * r);
+  } else if (st == VS_PLOT_TRIANGLES) {
+    cairo_move_to(cr, px, py - 1.15 * r);
+    cairo_line_to(cr, px + r, py + 0.7 * r);
+    cairo_line_to(cr, px - r, py + 0.7 * r);
+    cairo_close_path(cr);
+  } else if (st == VS_PLOT_DIAMONDS) {
+    cairo_move_to(cr, px, py - 1.2 * r);
+    cairo_line_to(cr, px + r, py);
+    cairo_line_to(cr, px, py + 1.2 * r);
+    cairo_line_to(cr, px - r, py);
+    cairo_close_path(cr);
+  } else {
+    cairo_arc(cr, px, py, r, 0.0, 2.0 * VS_PI);
+  }
+  set_rgb(cr, c);
+  cairo_fill_preserve(cr);
+  set_rgb(cr, C_BLACK);
+  cairo_set_line_width(cr, 1.2);
+  cairo_stroke(cr);
+}
+
+static void draw_markers(cairo_t *cr, const panel_box *b, const double *x, const double *y,
+                         int n, vs_plot_style st, rgb c) {
+  for (int k = 0; k < n; k++)
+    if (isfinite(x[k]) && isfinite(y[k])) marker(cr, st, map_x(b, x[k]), map_y(b, y[k]), c);
+}
+
 static int has_data(const double *x, const double *y, int n) {
   for (int k = 0; k < n; k++)
     if (isfinite(x[k]) && isfinite(y[k])) return 1;
@@ -862,7 +895,7 @@ static int points_in(const panel_box *b, const vs_plot_panel *p, const double *x
 
 /* Legend of the named series that have data, in the corner of the plot with the fewest points. */
 static void draw_legend(cairo_t *cr, const panel_box *b, const vs_plot_panel *p, const double *x,
-                        int n) {
+                        int n, const vs_plot_style *style) {
   font(cr, 13.0, 0);
   double wmax = 0.0;
   int rows = 0;
@@ -895,11 +928,15 @@ static void draw_legend(cairo_t *cr, const panel_box *b, const vs_plot_panel *p,
     const char *nm = p->series[s].name;
     if (nm == NULL || nm[0] == '\0' || !has_data(x, p->series[s].y, n)) continue;
     double yy = ly + 4.0 + (r++ + 0.5) * row;
-    set_rgb(cr, series_colour(&p->series[s], s));
-    cairo_set_line_width(cr, 2.5);
-    cairo_move_to(cr, lx + 8.0, yy);
-    cairo_line_to(cr, lx + 32.0, yy);
-    cairo_stroke(cr);
+    if (style != NULL && style[s] != VS_PLOT_LINE) {
+      marker(cr, style[s], lx + 20.0, yy, series_colour(&p->series[s], s));
+    } else {
+      set_rgb(cr, series_colour(&p->series[s], s));
+      cairo_set_line_width(cr, 2.5);
+      cairo_move_to(cr, lx + 8.0, yy);
+      cairo_line_to(cr, lx + 32.0, yy);
+      cairo_stroke(cr);
+    }
     text_at(cr, nm, lx + 40.0, yy, 0.0, 0.5, C_TEXT, 0);
   }
 }
@@ -978,10 +1015,15 @@ static void draw_curves(cairo_t *cr, const void *data) {
     cairo_save(cr);
     cairo_rectangle(cr, b.x, b.y, b.w, b.h);
     cairo_clip(cr);
+    const vs_plot_style *style = p == 0 && d->marks != NULL ? d->marks->style : NULL;
+    for (int s = 0; s < pn->n_series; s++) /* lines first, markers over them */
+      if (style == NULL || style[s] == VS_PLOT_LINE)
+        draw_series(cr, &b, d->x, pn->series[s].y, d->n, series_colour(&pn->series[s], s));
     for (int s = 0; s < pn->n_series; s++)
-      draw_series(cr, &b, d->x, pn->series[s].y, d->n, series_colour(&pn->series[s], s));
+      if (style != NULL && style[s] != VS_PLOT_LINE)
+        draw_markers(cr, &b, d->x, pn->series[s].y, d->n, style[s], series_colour(&pn->series[s], s));
     cairo_restore(cr);
-    draw_legend(cr, &b, pn, d->x, d->n);
+    draw_legend(cr, &b, pn, d->x, d->n, style);
     if (pn->y.label != NULL) {
       font(cr, 15.0, 0);
       cairo_save(cr);
@@ -1034,10 +1076,15 @@ vs_status vs_plot_curves_marked(const char *path, vs_plot_format fmt, const char
     if (pn->series == NULL || pn->n_series < 1 || pn->n_series > VS_PLOT_MAX_SERIES)
       return vs_error_set(err, VS_ERR_INVALID, "plot: panel %d has %d series (allowed: 1..%d)",
                           p + 1, pn->n_series, VS_PLOT_MAX_SERIES);
-    for (int s = 0; s < pn->n_series; s++)
+    for (int s = 0; s < pn->n_series; s++) {
       if (pn->series[s].y == NULL)
         return vs_error_set(err, VS_ERR_INVALID, "plot: panel %d series %d has no data", p + 1,
                             s + 1);
+      const int sty = p == 0 && marks != NULL && marks->style != NULL ? (int)marks->style[s] : 0;
+      if (sty < VS_PLOT_LINE || sty > VS_PLOT_DIAMONDS)
+        return vs_error_set(err, VS_ERR_INVALID, "plot: panel %d series %d style %d (allowed: "
+                            "0..4)", p + 1, s + 1, sty);
+    }
     st = check_axis(&pn->y, "y", err);
   }
   if (st != VS_OK) return st;

@@ -108,6 +108,17 @@ typedef struct {
 /* One curve: n values (the n of vs_plot_curves) against the shared x. A NaN leaves a gap (a
  * hinge not yet formed, or closed). Named "A".."E" it takes that hinge label's colour, the same
  * as in vs_plot_arch; other names take colours in order. */
+/* How a series is drawn (vs_plot_marks.style): a line (markers too when it has at most 80
+ * points), or only markers of a shape in the series' colour, outlined in black (points of
+ * different kinds on one curve, e.g. the mode of each run of a sweep). */
+typedef enum {
+  VS_PLOT_LINE = 0,
+  VS_PLOT_CIRCLES = 1,
+  VS_PLOT_SQUARES = 2,
+  VS_PLOT_TRIANGLES = 3,
+  VS_PLOT_DIAMONDS = 4
+} vs_plot_style;
+
 typedef struct {
   const char *name; /* legend entry; NULL or "" for none */
   const double *y;  /* n values, in the units of the panel's data (SI) */
@@ -136,17 +147,19 @@ vs_status vs_plot_curves(const char *path, vs_plot_format fmt, const char *title
                          const vs_plot_panel *panels, int n_panels, vs_error *err);
 
 /* Extras for vs_plot_curves_marked: vertical marks at n x values (e.g. the limit points), each
- * with a label (NULL: none), dashed across every panel; and a second x axis on top of the first
- * panel showing x * x2.scale (x2.label NULL: none), e.g. dz/L in % for x = delta. */
+ * with a label (NULL: none), dashed across every panel; a second x axis on top of the first
+ * panel showing x * x2.scale (x2.label NULL: none), e.g. dz/L in % for x = delta; and the
+ * styles of the first panel's series. */
 typedef struct {
   int n;
   const double *x;
   const char *const *label;
   vs_plot_axis x2;
+  const vs_plot_style *style; /* the first panel's series styles, n_series entries; NULL: lines */
 } vs_plot_marks;
 
 /* vs_plot_curves with marks (NULL: none); errors as vs_plot_curves, and VS_ERR_INVALID for
- * n < 0, NULL x with n > 0 or a bad x2 scale. */
+ * n < 0, NULL x with n > 0, a bad x2 scale or a style outside vs_plot_style. */
 vs_status vs_plot_curves_marked(const char *path, vs_plot_format fmt, const char *title,
                                 const vs_plot_axis *x_axis, const double *x, int n,
                                 const vs_plot_panel *panels, int n_panels,
