@@ -839,8 +839,18 @@ int vs_cmd_plot(int argc, char **argv) {
       bad |= draw_at(&r, r.settled[i], PIC_ROW, -1, dir, name, ext, what);
     }
   }
-  if (isfinite(r.collapse))
-    bad |= draw_at(&r, r.collapse, PIC_COLLAPSE, -1, dir, "collapse", ext, "Collapse");
+  if (isfinite(r.collapse)) {
+    /* the mechanism the record names: hinges still forming as the motion starts from the
+     * limit point are drawn open, at the state where the last of them formed */
+    double dc = r.collapse;
+    for (int i = 0; i < r.nh; i++)
+      if (!r.h[i].during_fall && r.h[i].open && r.h[i].delta_onset > dc) dc = r.h[i].delta_onset;
+    char what[160] = "Collapse";
+    if (dc > r.collapse + 1e-9)
+      snprintf(what, sizeof what, "Collapse mechanism (limit point at %.3f mm, its last hinges "
+               "open as the motion starts)", r.collapse / VS_MM);
+    bad |= draw_at(&r, dc, PIC_COLLAPSE, -1, dir, "collapse", ext, what);
+  }
   bad |= draw_row(&r, r.rows - 1, dir, "end", ext, "End of the record");
   bad |= draw_curves(&r, dir, ext);
   bad |= json_close(&r.json, dir);
