@@ -536,25 +536,33 @@ static void draw_hinges(cairo_t *cr, const arch_data *d) {
 }
 
 /* The scale bar: four alternating segments of a round length in mm, bottom left. */
-/* The thrust line: through the centre of pressure of every compressed joint, e = M / N from the
- * joint's centre towards the extrados along the moved joint (the mean of its two faces); the
- * resultant of the contact stresses acts there. Broken where a joint carries no compression. */
+/* Centre of pressure of joint k (model coordinates, m): e = M / N from the centre of the moved
+ * joint (the mean of its two faces) towards its extrados; 0 where the joint carries no
+ * compression (N <= 0 or M not finite). */
+static int thrust_point(const arch_data *d, int k, double *x, double *z) {
+  if (!(d->N[k] > 0.0) || !isfinite(d->M[k])) return 0;
+  double fa[4], fb[4];
+  joint_faces(d, k, fa, fb);
+  const double ix = 0.5 * (fa[0] + fb[0]), iz = 0.5 * (fa[1] + fb[1]);
+  const double ex = 0.5 * (fa[2] + fb[2]), ez = 0.5 * (fa[3] + fb[3]);
+  const double len = hypot(ex - ix, ez - iz), e = d->M[k] / d->N[k];
+  *x = 0.5 * (ix + ex) + e * (ex - ix) / len;
+  *z = 0.5 * (iz + ez) + e * (ez - iz) / len;
+  return 1;
+}
+
+/* The thrust line: through the centre of pressure of every compressed joint, where the resultant
+ * of the contact stresses acts. Broken where a joint carries no compression. */
 static void draw_thrust(cairo_t *cr, const arch_data *d) {
   if (d->N == NULL || d->M == NULL) return;
   int pen = 0;
   cairo_new_path(cr);
   for (int k = 0; k < d->g->n_joints; k++) {
-    if (!(d->N[k] > 0.0) || !isfinite(d->M[k])) {
+    double x, z, px, py;
+    if (!thrust_point(d, k, &x, &z)) {
       pen = 0;
       continue;
     }
-    double fa[4], fb[4];
-    joint_faces(d, k, fa, fb);
-    const double ix = 0.5 * (fa[0] + fb[0]), iz = 0.5 * (fa[1] + fb[1]);
-    const double ex = 0.5 * (fa[2] + fb[2]), ez = 0.5 * (fa[3] + fb[3]);
-    const double len = hypot(ex - ix, ez - iz), e = d->M[k] / d->N[k];
-    const double x = 0.5 * (ix + ex) + e * (ex - ix) / len, z = 0.5 * (iz + ez) + e * (ez - iz) / len;
-    double px, py;
     vs_plot_to_px(&d->f, x, z, &px, &py);
     if (pen) cairo_line_to(cr, px, py);
     else cairo_move_to(cr, px, py);
@@ -563,6 +571,20 @@ static void draw_thrust(cairo_t *cr, const arch_data *d) {
   cairo_set_source_rgb(cr, C_THRUST.r, C_THRUST.g, C_THRUST.b);
   cairo_set_line_width(cr, 2.0);
   cairo_stroke(cr);
+}
+
+vs_status vs_plot_thrust_points(const vs_geometry *g, const double *q, double delta_m,
+                                double alpha_rad, const double *joint_N, const double *joint_M,
+                                double *x, double *z, vs_error *err) {
+  vs_status st = check_arch(g, q, delta_m, alpha_rad, err);
+  if (st != VS_OK) return st;
+  if (joint_N == NULL || joint_M == NULL || x == NULL || z == NULL)
+    return vs_error_set(err, VS_ERR_INVALID, "plot: thrust points need N, M, x and z");
+  arch_data d = {.g = g, .q = q, .delta = delta_m, .alpha = alpha_rad, .N = joint_N, .M = joint_M};
+  support_displacement(delta_m, alpha_rad, d.su);
+  for (int k = 0; k < g->n_joints; k++)
+    if (!thrust_point(&d, k, &x[k], &z[k])) x[k] = z[k] = NAN;
+  return VS_OK;
 }
 
 static void draw_scale_bar(cairo_t *cr, const vs_plot_frame *f) {

@@ -95,6 +95,15 @@ vs_status vs_plot_arch_thrust(const char *path, vs_plot_format fmt, const vs_geo
                               const double *joint_gap_e, double open_m, const double *joint_N,
                               const double *joint_M, const char *title, vs_error *err);
 
+/* The points the thrust line of vs_plot_arch_thrust joins, in model coordinates (m): x[k], z[k]
+ * for joint k + 1 (n_joints entries each), the centre of pressure e = M/N from the centre of
+ * the moved joint towards its extrados; NaN where the joint carries no compression (N <= 0).
+ * Arguments as vs_plot_arch_thrust. Errors: VS_ERR_INVALID as vs_plot_arch, and for NULL
+ * joint_N, joint_M, x or z. */
+vs_status vs_plot_thrust_points(const vs_geometry *g, const double *q, double delta_m,
+                                double alpha_rad, const double *joint_N, const double *joint_M,
+                                double *x, double *z, vs_error *err);
+
 /* ---------------------------------------------------------------------------------------------
  * Curves */
 
