@@ -210,10 +210,17 @@ enum { ARC_MAX = 182 }; /* points per arc: one per degree over at most 180 degre
 enum { SUPPORT_PTS = 5 };
 
 /* Point X, Z of body `body` (a block index or a support) moved: x = c + u + R(theta)(X - c). */
-static void body_point(const vs_geometry *g, const double *q, const double su[2], int body,
-                       double X, double Z, double *x, double *z) {
+static void body_point(const vs_geometry *g, const double *q, const double su[2],
+                       const double *srot, int body, double X, double Z, double *x, double *z) {
   if (body < 0 || q == NULL) {
-    int moved = body == VS_SUPPORT_RIGHT;
+    const int moved = body == VS_SUPPORT_RIGHT;
+    const double th = body < 0 && srot != NULL ? srot[moved] : 0.0;
+    if (th != 0.0) { /* a pinned springer turns about the centre of its springing face */
+      const vs_joint_geom *j = &g->joints[moved ? g->n_joints - 1 : 0];
+      const double c = cos(th), s = sin(th), dx = X - j->px, dz = Z - j->pz;
+      X = j->px + c * dx - s * dz;
+      Z = j->pz + s * dx + c * dz;
+    }
     *x = X + (moved ? su[0] : 0.0);
     *z = Z + (moved ? su[1] : 0.0);
     return;
@@ -242,16 +249,18 @@ static int arc_points(double dphi) {
 }
 
 /* Outline of block i moved by q (NULL: reference): the intrados arc phi0 -> phi1, then the
- * extrados arc back. x, z hold 2 ARC_MAX points; returns the number written. */
-static int block_outline(const vs_geometry *g, const double *q, int i, double *x, double *z) {
+ * extrados arc back, at the block's own thickness thick[i] (NULL: the geometry's). x, z hold 2 ARC_MAX points; returns the number written. */
+static int block_outline(const vs_geometry *g, const double *q, const double *thick, int i,
+                         double *x, double *z) {
   const vs_block *b = &g->blocks[i];
-  const double r[2] = {g->radius, g->radius + g->thickness}, su[2] = {0.0, 0.0};
+  const double r[2] = {g->radius, g->radius + (thick != NULL ? thick[i] : g->thickness)};
+  const double su[2] = {0.0, 0.0};
   int m = arc_points(b->phi1 - b->phi0), k = 0;
   for (int side = 0; side < 2; side++)
     for (int p = 0; p < m; p++, k++) {
       double f = (double)(side ? m - 1 - p : p) / (m - 1);
       double phi = b->phi0 + f * (b->phi1 - b->phi0);
-      body_point(g, q, su, i, r[side] * sin(phi), r[side] * cos(phi), &x[k], &z[k]);
+      body_point(g, q, su, NULL, i, r[side] * sin(phi), r[side] * cos(phi), &x[k], &z[k]);
     }
   return k;
 }
@@ -317,14 +326,14 @@ static void box_add(box *b, const double *x, const double *z, int n) {
   }
 }
 
-static void arch_frame(const vs_geometry *g, const double *q, const double su[2],
-                       vs_plot_frame *f) {
+static void arch_frame(const vs_geometry *g, const double *q, const double *thick,
+                       const double su[2], vs_plot_frame *f) {
   double x[2 * ARC_MAX], z[2 * ARC_MAX];
   const double zero[2] = {0.0, 0.0};
   box b = {INFINITY, -INFINITY, INFINITY, -INFINITY};
   for (int i = 0; i < g->n_blocks; i++) {
-    box_add(&b, x, z, block_outline(g, NULL, i, x, z));
-    if (q != NULL) box_add(&b, x, z, block_outline(g, q, i, x, z));
+    box_add(&b, x, z, block_outline(g, NULL, thick, i, x, z));
+    if (q != NULL) box_add(&b, x, z, block_outline(g, q, thick, i, x, z));
   }
   box_add(&b, x, z, support_outline(g, 1, zero, x, z));
   box_add(&b, x, z, support_outline(g, 0, zero, x, z));
@@ -345,7 +354,7 @@ vs_status vs_plot_arch_frame(const vs_geometry *g, const double *q, double delta
   if (st != VS_OK) return st;
   double su[2];
   support_displacement(delta_m, alpha_rad, su);
-  arch_frame(g, q, su, f);
+  arch_frame(g, q, NULL, su, f);
   return VS_OK;
 }
 
@@ -362,6 +371,9 @@ typedef struct {
   double open;
   const double *N, *M; /* joint forces for the thrust line, or NULL */
   const char *title;
+  const double *thick;  /* per block thickness, m, or NULL: the geometry's */
+  int pinned[2];        /* left, right support pinned: its springer drawn turned by srot */
+  double srot[2];       /* springer rotations, rad (0 for fixed supports) */
   vs_plot_frame f;
 } arch_data;
 
@@ -384,7 +396,7 @@ static void draw_blocks(cairo_t *cr, const arch_data *d, const double *q, int fa
   double x[2 * ARC_MAX], z[2 * ARC_MAX];
   cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
   for (int i = 0; i < d->g->n_blocks; i++) {
-    model_path(cr, &d->f, x, z, block_outline(d->g, q, i, x, z));
+    model_path(cr, &d->f, x, z, block_outline(d->g, q, d->thick, i, x, z));
     set_rgb(cr, faint ? ref_fill : stone[i % 2]);
     cairo_fill_preserve(cr);
     cairo_set_line_width(cr, faint ? 0.8 : 0.7);
@@ -410,6 +422,34 @@ static void ground(cairo_t *cr, const vs_plot_frame *f, double xa, double xb, do
   cairo_stroke(cr);
 }
 
+/* A pinned support's springer: a plate under the springing face, turned with it about the pin
+ * at the face's centre (drawn as a ring). */
+static void draw_springer(cairo_t *cr, const arch_data *d, int left) {
+  const vs_joint_geom *j = &d->g->joints[left ? 0 : d->g->n_joints - 1];
+  const int body = left ? VS_SUPPORT_LEFT : VS_SUPPORT_RIGHT;
+  const double in = left ? -1.0 : 1.0, h = 0.6 * d->g->thickness; /* into the support */
+  double e[4], X[4], Z[4], x[4], z[4];
+  joint_ends(j, e);
+  X[0] = e[0], Z[0] = e[1], X[1] = e[2], Z[1] = e[3];
+  X[2] = e[2] + in * h * j->nx, Z[2] = e[3] + in * h * j->nz;
+  X[3] = e[0] + in * h * j->nx, Z[3] = e[1] + in * h * j->nz;
+  for (int k = 0; k < 4; k++) body_point(d->g, NULL, d->su, d->srot, body, X[k], Z[k], &x[k], &z[k]);
+  model_path(cr, &d->f, x, z, 4);
+  cairo_set_source_rgb(cr, 0.55, 0.55, 0.60);
+  cairo_fill_preserve(cr);
+  cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+  cairo_set_line_width(cr, 1.2);
+  cairo_stroke(cr);
+  double px, py, cx, cz;
+  body_point(d->g, NULL, d->su, d->srot, body, j->px, j->pz, &cx, &cz);
+  vs_plot_to_px(&d->f, cx, cz, &px, &py);
+  dot(cr, px, py, 5.0, C_WHITE);
+  cairo_new_path(cr);
+  cairo_arc(cr, px, py, 5.0, 0.0, 2.0 * VS_PI);
+  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+  cairo_stroke(cr);
+}
+
 static void draw_supports(cairo_t *cr, const arch_data *d) {
   double x[SUPPORT_PTS], z[SUPPORT_PTS];
   const double zero[2] = {0.0, 0.0};
@@ -430,6 +470,7 @@ static void draw_supports(cairo_t *cr, const arch_data *d) {
     cairo_set_line_width(cr, 1.2);
     cairo_stroke(cr);
     ground(cr, &d->f, x[3], x[4], z[3]);
+    if (d->pinned[!left]) draw_springer(cr, d, left);
   }
 }
 
@@ -448,8 +489,8 @@ static void joint_faces(const arch_data *d, int k, double fa[4], double fb[4]) {
   double e[4];
   joint_ends(j, e);
   for (int p = 0; p < 2; p++) {
-    body_point(d->g, d->q, d->su, j->a, e[2 * p], e[2 * p + 1], &fa[2 * p], &fa[2 * p + 1]);
-    body_point(d->g, d->q, d->su, j->b, e[2 * p], e[2 * p + 1], &fb[2 * p], &fb[2 * p + 1]);
+    body_point(d->g, d->q, d->su, d->srot, j->a, e[2 * p], e[2 * p + 1], &fa[2 * p], &fa[2 * p + 1]);
+    body_point(d->g, d->q, d->su, d->srot, j->b, e[2 * p], e[2 * p + 1], &fb[2 * p], &fb[2 * p + 1]);
   }
 }
 
@@ -697,17 +738,38 @@ vs_status vs_plot_arch_thrust(const char *path, vs_plot_format fmt, const vs_geo
                               const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
                               const double *joint_gap_e, double open_m, const double *joint_N,
                               const double *joint_M, const char *title, vs_error *err) {
-  if (path == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no file name");
-  vs_status st = check_arch(g, q, delta_m, alpha_rad, err);
-  if (st == VS_OK) st = check_hinges(g, hinges, n_hinges, err);
+  const vs_plot_arch_args a = {.g = g, .q = q, .delta_m = delta_m, .alpha_rad = alpha_rad,
+                               .hinges = hinges, .n_hinges = n_hinges, .joint_gap_i = joint_gap_i,
+                               .joint_gap_e = joint_gap_e, .open_m = open_m, .joint_N = joint_N,
+                               .joint_M = joint_M, .title = title};
+  return vs_plot_arch_draw(path, fmt, &a, err);
+}
+
+vs_status vs_plot_arch_draw(const char *path, vs_plot_format fmt, const vs_plot_arch_args *a,
+                            vs_error *err) {
+  if (path == NULL || a == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no file name");
+  const vs_geometry *g = a->g;
+  vs_status st = check_arch(g, a->q, a->delta_m, a->alpha_rad, err);
+  if (st == VS_OK) st = check_hinges(g, a->hinges, a->n_hinges, err);
   if (st != VS_OK) return st;
-  if (!(open_m >= 0.0))
-    return vs_error_set(err, VS_ERR_INVALID, "plot: open = %g m (allowed: >= 0)", open_m);
-  arch_data d = {.g = g, .q = q, .delta = delta_m, .alpha = alpha_rad, .hinges = hinges,
-                 .n_hinges = n_hinges, .gap_i = joint_gap_i, .gap_e = joint_gap_e,
-                 .open = open_m, .N = joint_N, .M = joint_M, .title = title};
-  support_displacement(delta_m, alpha_rad, d.su);
-  arch_frame(g, q, d.su, &d.f);
+  if (!(a->open_m >= 0.0))
+    return vs_error_set(err, VS_ERR_INVALID, "plot: open = %g m (allowed: >= 0)", a->open_m);
+  for (int i = 0; a->block_thickness != NULL && i < g->n_blocks; i++)
+    if (!(a->block_thickness[i] > 0.0 && a->block_thickness[i] < g->radius))
+      return vs_error_set(err, VS_ERR_INVALID, "plot: block %d thickness %g m (allowed: (0, R))",
+                          i + 1, a->block_thickness[i]);
+  for (int s = 0; s < 2; s++)
+    if (!isfinite(a->support_theta[s]) || (!a->pinned[s] && a->support_theta[s] != 0.0))
+      return vs_error_set(err, VS_ERR_INVALID, "plot: support %d rotation %g rad (allowed: finite, "
+                          "0 unless pinned)", s + 1, a->support_theta[s]);
+  arch_data d = {.g = g, .q = a->q, .delta = a->delta_m, .alpha = a->alpha_rad,
+                 .hinges = a->hinges, .n_hinges = a->n_hinges, .gap_i = a->joint_gap_i,
+                 .gap_e = a->joint_gap_e, .open = a->open_m, .N = a->joint_N, .M = a->joint_M,
+                 .title = a->title, .thick = a->block_thickness,
+                 .pinned = {a->pinned[0] != 0, a->pinned[1] != 0},
+                 .srot = {a->support_theta[0], a->support_theta[1]}};
+  support_displacement(a->delta_m, a->alpha_rad, d.su);
+  arch_frame(g, a->q, d.thick, d.su, &d.f);
   return emit(path, fmt, d.f.width, d.f.height, draw_arch, &d, err);
 }
 

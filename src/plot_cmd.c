@@ -15,6 +15,8 @@
 
 #include "voussoir/geometry.h"
 #include "voussoir/hinges.h"
+#include "voussoir/imperfections.h"
+#include "voussoir/model.h"
 #include "voussoir/outpath.h"
 #include "voussoir/plot.h"
 #include "voussoir/units.h"
@@ -54,6 +56,7 @@ typedef struct {
   int nl;
   double collapse; /* m, NaN if none */
   char msg[512];
+  double *thick;   /* per voussoir thickness, m, when the case scatters it; else NULL */
   FILE *json;      /* plots.json: what each picture shows (NULL: not written) */
   int n_pictures;  /* entries written to json so far */
 } record;
@@ -117,6 +120,7 @@ static herr_t on_section(hid_t g, const char *name, const H5L_info_t *info, void
 
 static void record_free(record *r) {
   vs_geometry_destroy(&r->g);
+  free(r->thick);
   free(r->delta);
   free(r->pos);
   free(r->gap_i);
@@ -184,6 +188,32 @@ static int read_limits(record *r) {
   return ok ? 0 : -1;
 }
 
+/* /parameters/support's attribute `name` (a vs_support_kind); fixed when absent. */
+static int support_kind(hid_t f, const char *name) {
+  int v = VS_SUPPORT_FIXED;
+  if (H5Aexists_by_name(f, "/parameters/support", name, H5P_DEFAULT) > 0) {
+    hid_t a = H5Aopen_by_name(f, "/parameters/support", name, H5P_DEFAULT, H5P_DEFAULT);
+    if (a < 0 || H5Aread(a, H5T_NATIVE_INT, &v) < 0) v = VS_SUPPORT_FIXED;
+    if (a >= 0) H5Aclose(a);
+  }
+  return v == VS_SUPPORT_PINNED ? VS_SUPPORT_PINNED : VS_SUPPORT_FIXED;
+}
+
+/* The arch the run simulated: its case's imperfections drawn again (the draw depends only on
+ * the seed and sample), so that scattered angles and thicknesses are drawn as they were. */
+static vs_status record_geometry(record *r, vs_error *err) {
+  vs_imperfections *imp = NULL;
+  vs_status st = vs_imperfections_draw(&r->c, &imp, err);
+  if (st == VS_OK) st = vs_imperfections_arch(&r->c, imp, &r->g, err);
+  if (st == VS_OK && r->c.thickness_cov > 0.0) {
+    r->thick = malloc((size_t)imp->n_blocks * sizeof *r->thick);
+    if (r->thick == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "out of memory");
+    for (int i = 0; r->thick != NULL && i < imp->n_blocks; i++) r->thick[i] = imp->thickness_mm[i] * VS_MM;
+  }
+  vs_imperfections_destroy(&imp);
+  return st;
+}
+
 static int record_open(const char *path, record *r) {
   memset(r, 0, sizeof *r);
   r->file = -1;
@@ -203,8 +233,10 @@ static int record_open(const char *path, record *r) {
   hsize_t idx = 0;
   H5Literate(pg, H5_INDEX_NAME, H5_ITER_NATIVE, &idx, on_section, r);
   H5Gclose(pg);
+  r->c.left_kind = support_kind(r->file, "left_kind"); /* named choices: not applied as --set */
+  r->c.right_kind = support_kind(r->file, "right_kind");
   vs_error err;
-  if (vs_geometry_create_arch(&r->c, &r->g, &err) != VS_OK) {
+  if (record_geometry(r, &err) != VS_OK) {
     snprintf(r->msg, sizeof r->msg, "%.200s: %.300s", path, err.msg);
     return -1;
   }
@@ -366,6 +398,20 @@ static void json_arch(record *r, const char *path, const char *title, const stat
   fputs("]}", r->json);
 }
 
+/* A pinned springer's rotation, which the record does not hold, from the springing joint: for
+ * rigid faces the edge openings differ by t sin(relative rotation), so the springer turns by
+ * the voussoir's rotation less asin((gap_e - gap_i) / t) (left: the voussoir is on the joint's
+ * far side, so plus). */
+static void springer_rotations(const record *r, const state *st, vs_plot_arch_args *a) {
+  for (int s = 0; s < 2; s++) {
+    if (!a->pinned[s]) continue;
+    const int k = s ? r->nj - 1 : 0, b = s ? r->nb - 1 : 0;
+    const double t = r->g->joints[k].length;
+    const double rel = asin(fmax(-1.0, fmin(1.0, (st->gap_e[k] - st->gap_i[k]) / t)));
+    a->support_theta[s] = st->pos[3 * b + 2] + (s ? -rel : rel);
+  }
+}
+
 static int draw_state(record *r, const state *st, const char *dir, const char *name,
                       const char *ext, const char *title) {
   vs_hinge h[32];
@@ -374,9 +420,14 @@ static int draw_state(record *r, const state *st, const char *dir, const char *n
   snprintf(path, sizeof path, "%s/arch_%s.%s", dir, name, ext);
   vs_error err;
   vs_error_clear(&err);
-  if (vs_plot_arch_thrust(path, vs_plot_format_from_path(path), r->g, st->pos, st->delta,
-                          r->c.alpha_deg * VS_DEG, h, nh, st->gap_i, st->gap_e,
-                          r->c.open_mm * VS_MM, st->N, st->M, title, &err) != VS_OK) {
+  vs_plot_arch_args a = {.g = r->g, .q = st->pos, .delta_m = st->delta,
+                         .alpha_rad = r->c.alpha_deg * VS_DEG, .hinges = h, .n_hinges = nh,
+                         .joint_gap_i = st->gap_i, .joint_gap_e = st->gap_e,
+                         .open_m = r->c.open_mm * VS_MM, .joint_N = st->N, .joint_M = st->M,
+                         .title = title, .block_thickness = r->thick,
+                         .pinned = {r->c.left_kind == VS_SUPPORT_PINNED, r->c.right_kind == VS_SUPPORT_PINNED}};
+  springer_rotations(r, st, &a);
+  if (vs_plot_arch_draw(path, vs_plot_format_from_path(path), &a, &err) != VS_OK) {
     fprintf(stderr, "voussoir plot: %s\n", err.msg);
     return -1;
   }

@@ -95,6 +95,35 @@ vs_status vs_plot_arch_thrust(const char *path, vs_plot_format fmt, const vs_geo
                               const double *joint_gap_e, double open_m, const double *joint_N,
                               const double *joint_M, const char *title, vs_error *err);
 
+/* Everything vs_plot_arch_thrust draws (the same fields, the same meaning), and what an arch
+ * that is not the nominal one on fixed supports needs:
+ *   - block_thickness: each voussoir's radial thickness, m (n_blocks; NULL: g->thickness), for
+ *     an arch whose thickness scatters (the record's imperfections);
+ *   - pinned[s], support_theta[s] (s = 0 left, 1 right): a pinned support's springer, drawn as a
+ *     plate under the springing face turned by support_theta (rad, counter-clockwise) about the
+ *     pin at the face's centre, and the support's side of that joint turned with it. A fixed
+ *     support (pinned 0) must have support_theta 0. */
+typedef struct {
+  const vs_geometry *g;
+  const double *q;
+  double delta_m, alpha_rad;
+  const vs_hinge *hinges;
+  int n_hinges;
+  const double *joint_gap_i, *joint_gap_e;
+  double open_m;
+  const double *joint_N, *joint_M;
+  const char *title;
+  const double *block_thickness;
+  int pinned[2];
+  double support_theta[2];
+} vs_plot_arch_args;
+
+/* Draw a->... as vs_plot_arch_thrust does. Errors as vs_plot_arch_thrust, and VS_ERR_INVALID
+ * for a NULL a, a block thickness outside (0, R), a non-finite springer rotation or a non-zero
+ * one on a fixed support. */
+vs_status vs_plot_arch_draw(const char *path, vs_plot_format fmt, const vs_plot_arch_args *a,
+                            vs_error *err);
+
 /* The points the thrust line of vs_plot_arch_thrust joins, in model coordinates (m): x[k], z[k]
  * for joint k + 1 (n_joints entries each), the centre of pressure e = M/N from the centre of
  * the moved joint towards its extrados; NaN where the joint carries no compression (N <= 0).
