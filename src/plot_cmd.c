@@ -199,11 +199,18 @@ static int support_kind(hid_t f, const char *name) {
   return v == VS_SUPPORT_PINNED ? VS_SUPPORT_PINNED : VS_SUPPORT_FIXED;
 }
 
-/* The arch the run simulated: its case's imperfections drawn again (the draw depends only on
- * the seed and sample), so that scattered angles and thicknesses are drawn as they were. */
+/* The arch the run simulated: the voussoirs' angles and thicknesses of /imperfections (written
+ * when the case scatters them), else those the case's seed draws. */
 static vs_status record_geometry(record *r, vs_error *err) {
   vs_imperfections *imp = NULL;
   vs_status st = vs_imperfections_draw(&r->c, &imp, err);
+  const size_t nb = st == VS_OK ? (size_t)imp->n_blocks : 0;
+  double *buf = st == VS_OK ? malloc((nb > 0 ? nb : 1) * sizeof *buf) : NULL;
+  if (buf != NULL && read_doubles(r->file, "/imperfections/voussoir_angle", buf, nb) == 0)
+    for (size_t i = 0; i < nb; i++) imp->angle_deg[i] = buf[i] / VS_DEG;
+  if (buf != NULL && read_doubles(r->file, "/imperfections/voussoir_thickness", buf, nb) == 0)
+    for (size_t i = 0; i < nb; i++) imp->thickness_mm[i] = buf[i] / VS_MM;
+  free(buf);
   if (st == VS_OK) st = vs_imperfections_arch(&r->c, imp, &r->g, err);
   if (st == VS_OK && r->c.thickness_cov > 0.0) {
     r->thick = malloc((size_t)imp->n_blocks * sizeof *r->thick);
@@ -388,10 +395,17 @@ static void json_picture(record *r, const char *path, const char *title) {
 
 /* The labels an arch picture draws, in plots.json. */
 static void json_arch(record *r, const char *path, const char *title, const state *st,
-                      const vs_hinge *h, int nh) {
+                      const vs_plot_arch_args *a, const vs_hinge *h, int nh) {
   if (r->json == NULL) return;
   json_picture(r, path, title);
-  fprintf(r->json, ", \"delta_mm\": %.9g, \"hinges\": [", st->delta / VS_MM);
+  fprintf(r->json, ", \"delta_mm\": %.9g, \"support_theta_rad\": [%.9g, %.9g]", st->delta / VS_MM,
+          a->support_theta[0], a->support_theta[1]);
+  if (a->block_thickness != NULL && r->n_pictures == 1) { /* once, with the first picture */
+    fputs(", \"block_thickness_mm\": [", r->json);
+    for (int i = 0; i < r->nb; i++) fprintf(r->json, "%s%.9g", i ? ", " : "", a->block_thickness[i] / VS_MM);
+    fputc(']', r->json);
+  }
+  fputs(", \"hinges\": [", r->json);
   for (int i = 0; i < nh; i++)
     fprintf(r->json, "%s{\"label\": \"%c\", \"side\": \"%c\", \"first\": %d, \"last\": %d}",
             i ? ", " : "", h[i].label, h[i].side, h[i].first, h[i].last);
@@ -431,7 +445,7 @@ static int draw_state(record *r, const state *st, const char *dir, const char *n
     fprintf(stderr, "voussoir plot: %s\n", err.msg);
     return -1;
   }
-  json_arch(r, path, title, st, h, nh);
+  json_arch(r, path, title, st, &a, h, nh);
   printf("  %s\n", path);
   return 0;
 }
