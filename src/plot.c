@@ -152,6 +152,14 @@ static void font(cairo_t *cr, double size, int bold) {
 
 /* Text s with its ink box aligned at (x, y): ax, ay = 0 left/top, 0.5 centre, 1 right/bottom.
  * halo: a white outline under the text, legible over the drawing. Returns the ink width. */
+/* font(size, bold), smaller if s would be wider than w px (a long title stays whole). */
+static void font_to_fit(cairo_t *cr, const char *s, double size, int bold, double w) {
+  font(cr, size, bold);
+  cairo_text_extents_t e;
+  cairo_text_extents(cr, s, &e);
+  if (e.x_advance > w && e.x_advance > 0.0) font(cr, fmax(9.0, size * w / e.x_advance), bold);
+}
+
 static double text_at(cairo_t *cr, const char *s, double x, double y, double ax, double ay,
                       rgb c, int halo) {
   cairo_text_extents_t e;
@@ -694,7 +702,7 @@ static void draw_arch(cairo_t *cr, const void *data) {
 
   double y = 36.0;
   if (d->title != NULL && d->title[0] != '\0') {
-    font(cr, 21.0, 1);
+    font_to_fit(cr, d->title, 21.0, 1, d->f.width - 2.0 * ARCH_SIDE);
     text_at(cr, d->title, ARCH_SIDE, y, 0.0, 1.0, C_TEXT, 0);
     y += 28.0;
   }
@@ -1073,7 +1081,7 @@ static void draw_curves(cairo_t *cr, const void *data) {
   cairo_paint(cr);
   double top = d->title != NULL && d->title[0] != '\0' ? CV_TOP : 25.0;
   if (top > 25.0) {
-    font(cr, 21.0, 1);
+    font_to_fit(cr, d->title, 21.0, 1, W - CV_LEFT - CV_RIGHT);
     text_at(cr, d->title, CV_LEFT, 36.0, 0.0, 1.0, C_TEXT, 0);
   }
   const int x2 = d->marks != NULL && d->marks->x2.label != NULL;

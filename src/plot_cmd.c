@@ -912,8 +912,7 @@ int vs_cmd_plot(int argc, char **argv) {
       if (!r.h[i].during_fall && r.h[i].open && r.h[i].delta_onset > dc) dc = r.h[i].delta_onset;
     char what[160] = "Collapse";
     if (dc > r.collapse + 1e-9)
-      snprintf(what, sizeof what, "Collapse mechanism (limit point at %.3f mm, its last hinges "
-               "open as the motion starts)", r.collapse / VS_MM);
+      snprintf(what, sizeof what, "Collapse: the mechanism (limit point at %.3f mm)", r.collapse / VS_MM);
     bad |= draw_at(&r, dc, PIC_COLLAPSE, -1, dir, "collapse", ext, what);
   }
   bad |= draw_row(&r, r.rows - 1, dir, "end", ext, "End of the record");
