@@ -335,7 +335,7 @@ static void box_add(box *b, const double *x, const double *z, int n) {
 }
 
 static void arch_frame(const vs_geometry *g, const double *q, const double *thick,
-                       const double su[2], vs_plot_frame *f) {
+                       const double su[2], double ground, vs_plot_frame *f) {
   double x[2 * ARC_MAX], z[2 * ARC_MAX];
   const double zero[2] = {0.0, 0.0};
   box b = {INFINITY, -INFINITY, INFINITY, -INFINITY};
@@ -346,6 +346,7 @@ static void arch_frame(const vs_geometry *g, const double *q, const double *thic
   box_add(&b, x, z, support_outline(g, 1, zero, x, z));
   box_add(&b, x, z, support_outline(g, 0, zero, x, z));
   box_add(&b, x, z, support_outline(g, 0, su, x, z));
+  if (isfinite(ground)) box_add(&b, &b.x0, &ground, 1);
   const int w = VS_PLOT_ARCH_WIDTH, h = VS_PLOT_ARCH_HEIGHT;
   const double aw = w - 2.0 * ARCH_SIDE, ah = h - ARCH_TOP - ARCH_BOTTOM;
   const double bw = fmax(b.x1 - b.x0, 1e-9), bh = fmax(b.z1 - b.z0, 1e-9);
@@ -362,7 +363,7 @@ vs_status vs_plot_arch_frame(const vs_geometry *g, const double *q, double delta
   if (st != VS_OK) return st;
   double su[2];
   support_displacement(delta_m, alpha_rad, su);
-  arch_frame(g, q, NULL, su, f);
+  arch_frame(g, q, NULL, su, NAN, f);
   return VS_OK;
 }
 
@@ -378,6 +379,7 @@ typedef struct {
   const double *gap_i, *gap_e;
   double open;
   const double *N, *M; /* joint forces for the thrust line, or NULL */
+  double ground;       /* the ground's level z, m (NaN: none) */
   const char *title;
   const double *thick;  /* per block thickness, m, or NULL: the geometry's */
   int pinned[2];        /* left, right support pinned: its springer drawn turned by srot */
@@ -456,6 +458,30 @@ static void draw_springer(cairo_t *cr, const arch_data *d, int left) {
   cairo_arc(cr, px, py, 5.0, 0.0, 2.0 * VS_PI);
   cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
   cairo_stroke(cr);
+}
+
+/* The ground the fall landed on: a line across the picture, hatched below, named. */
+static void draw_ground(cairo_t *cr, const arch_data *d) {
+  if (!isfinite(d->ground)) return;
+  double px, py;
+  vs_plot_to_px(&d->f, 0.0, d->ground, &px, &py);
+  cairo_set_source_rgb(cr, 0.93, 0.91, 0.86);
+  cairo_rectangle(cr, 0.0, py, d->f.width, d->f.height - py);
+  cairo_fill(cr);
+  cairo_set_source_rgb(cr, 0.62, 0.58, 0.50);
+  cairo_set_line_width(cr, 1.0);
+  for (double x = 4.0; x <= d->f.width + 12.0; x += 9.0) {
+    cairo_move_to(cr, x, py);
+    cairo_line_to(cr, x - 12.0, py + 12.0);
+  }
+  cairo_stroke(cr);
+  cairo_set_source_rgb(cr, 0.25, 0.25, 0.25);
+  cairo_set_line_width(cr, 1.6);
+  cairo_move_to(cr, 0.0, py);
+  cairo_line_to(cr, d->f.width, py);
+  cairo_stroke(cr);
+  font(cr, 14.0, 0);
+  text_at(cr, "ground", d->f.width - ARCH_SIDE, py + 4.0, 1.0, 0.0, C_TEXT, 0);
 }
 
 static void draw_supports(cairo_t *cr, const arch_data *d) {
@@ -692,6 +718,7 @@ static void draw_arch(cairo_t *cr, const void *data) {
   const arch_data *d = data;
   set_rgb(cr, C_WHITE);
   cairo_paint(cr);
+  draw_ground(cr, d);
   draw_supports(cr, d);
   draw_blocks(cr, d, NULL, 1);
   draw_blocks(cr, d, d->q, 0);
@@ -775,10 +802,27 @@ vs_status vs_plot_arch_draw(const char *path, vs_plot_format fmt, const vs_plot_
                  .gap_e = a->joint_gap_e, .open = a->open_m, .N = a->joint_N, .M = a->joint_M,
                  .title = a->title, .thick = a->block_thickness,
                  .pinned = {a->pinned[0] != 0, a->pinned[1] != 0},
-                 .srot = {a->support_theta[0], a->support_theta[1]}};
+                 .srot = {a->support_theta[0], a->support_theta[1]},
+                 .ground = a->has_ground ? a->ground_z : NAN};
+  if (a->has_ground && !isfinite(a->ground_z))
+    return vs_error_set(err, VS_ERR_INVALID, "plot: ground z = %g m (allowed: finite)", a->ground_z);
   support_displacement(a->delta_m, a->alpha_rad, d.su);
-  arch_frame(g, a->q, d.thick, d.su, &d.f);
+  arch_frame(g, a->q, d.thick, d.su, d.ground, &d.f);
   return emit(path, fmt, d.f.width, d.f.height, draw_arch, &d, err);
+}
+
+vs_status vs_plot_arch_landed(const char *path, vs_plot_format fmt, const vs_geometry *g,
+                              const double *q, double delta_m, double alpha_rad,
+                              const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
+                              const double *joint_gap_e, double open_m, const double *joint_N,
+                              const double *joint_M, double ground_z, const char *title,
+                              vs_error *err) {
+  const vs_plot_arch_args a = {.g = g, .q = q, .delta_m = delta_m, .alpha_rad = alpha_rad,
+                               .hinges = hinges, .n_hinges = n_hinges, .joint_gap_i = joint_gap_i,
+                               .joint_gap_e = joint_gap_e, .open_m = open_m, .joint_N = joint_N,
+                               .joint_M = joint_M, .title = title,
+                               .has_ground = !isnan(ground_z), .ground_z = ground_z};
+  return vs_plot_arch_draw(path, fmt, &a, err);
 }
 
 /* ---------------------------------------------------------------------------------------------

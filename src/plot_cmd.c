@@ -55,6 +55,7 @@ typedef struct {
   double *limits, *settled;
   int nl;
   double collapse; /* m, NaN if none */
+  double ground;   /* the ground the fall landed on, z in m; NaN if none */
   char msg[512];
   double *thick;   /* per voussoir thickness, m, when the case scatters it; else NULL */
   FILE *json;      /* plots.json: what each picture shows (NULL: not written) */
@@ -282,6 +283,11 @@ static int record_open(const char *path, record *r) {
     return -1;
   }
   read_doubles(r->file, "/summary/collapse/delta", &r->collapse, 1);
+  r->ground = NAN;
+  if (H5Lexists(r->file, "/summary/ground", H5P_DEFAULT) > 0 &&
+      H5Lexists(r->file, "/summary/ground/level", H5P_DEFAULT) > 0 &&
+      read_doubles(r->file, "/summary/ground/level", &r->ground, 1) != 0)
+    r->ground = NAN;
   return 0;
 }
 
@@ -406,9 +412,13 @@ static void json_arch(record *r, const char *path, const char *title, const stat
     fputc(']', r->json);
   }
   fputs(", \"hinges\": [", r->json);
-  for (int i = 0; i < nh; i++)
-    fprintf(r->json, "%s{\"label\": \"%c\", \"side\": \"%c\", \"first\": %d, \"last\": %d}",
-            i ? ", " : "", h[i].label, h[i].side, h[i].first, h[i].last);
+  for (int i = 0; i < nh; i++) {
+    const char lab[2] = {h[i].label, '\0'}; /* beyond Z the letters run into punctuation */
+    fputs(i ? ", {\"label\": " : "{\"label\": ", r->json);
+    json_str(r->json, lab);
+    fprintf(r->json, ", \"side\": \"%c\", \"first\": %d, \"last\": %d}", h[i].side, h[i].first,
+            h[i].last);
+  }
   fputs("]}", r->json);
 }
 
@@ -434,12 +444,15 @@ static int draw_state(record *r, const state *st, const char *dir, const char *n
   snprintf(path, sizeof path, "%s/arch_%s.%s", dir, name, ext);
   vs_error err;
   vs_error_clear(&err);
+  /* the ground in the picture of the end, where the debris lies on it */
+  const double ground = strcmp(name, "end") == 0 ? r->ground : NAN;
   vs_plot_arch_args a = {.g = r->g, .q = st->pos, .delta_m = st->delta,
                          .alpha_rad = r->c.alpha_deg * VS_DEG, .hinges = h, .n_hinges = nh,
                          .joint_gap_i = st->gap_i, .joint_gap_e = st->gap_e,
                          .open_m = r->c.open_mm * VS_MM, .joint_N = st->N, .joint_M = st->M,
                          .title = title, .block_thickness = r->thick,
-                         .pinned = {r->c.left_kind == VS_SUPPORT_PINNED, r->c.right_kind == VS_SUPPORT_PINNED}};
+                         .pinned = {r->c.left_kind == VS_SUPPORT_PINNED, r->c.right_kind == VS_SUPPORT_PINNED},
+                         .has_ground = isfinite(ground), .ground_z = ground};
   springer_rotations(r, st, &a);
   if (vs_plot_arch_draw(path, vs_plot_format_from_path(path), &a, &err) != VS_OK) {
     fprintf(stderr, "voussoir plot: %s\n", err.msg);

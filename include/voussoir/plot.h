@@ -102,7 +102,8 @@ vs_status vs_plot_arch_thrust(const char *path, vs_plot_format fmt, const vs_geo
  *   - pinned[s], support_theta[s] (s = 0 left, 1 right): a pinned support's springer, drawn as a
  *     plate under the springing face turned by support_theta (rad, counter-clockwise) about the
  *     pin at the face's centre, and the support's side of that joint turned with it. A fixed
- *     support (pinned 0) must have support_theta 0. */
+ *     support (pinned 0) must have support_theta 0;
+ *   - has_ground, ground_z: as vs_plot_arch_landed's ground_z (has_ground 0: none). */
 typedef struct {
   const vs_geometry *g;
   const double *q;
@@ -116,6 +117,8 @@ typedef struct {
   const double *block_thickness;
   int pinned[2];
   double support_theta[2];
+  int has_ground;  /* 1: draw the ground the fall landed on, the plane z = ground_z (m) */
+  double ground_z;
 } vs_plot_arch_args;
 
 /* Draw a->... as vs_plot_arch_thrust does. Errors as vs_plot_arch_thrust, and VS_ERR_INVALID
@@ -132,6 +135,15 @@ vs_status vs_plot_arch_draw(const char *path, vs_plot_format fmt, const vs_plot_
 vs_status vs_plot_thrust_points(const vs_geometry *g, const double *q, double delta_m,
                                 double alpha_rad, const double *joint_N, const double *joint_M,
                                 double *x, double *z, vs_error *err);
+
+/* vs_plot_arch_thrust with the ground the fall landed on (contact.h): the plane z = ground_z
+ * (m; NaN: none) drawn across the picture, hatched below and named, and kept in the frame. */
+vs_status vs_plot_arch_landed(const char *path, vs_plot_format fmt, const vs_geometry *g,
+                              const double *q, double delta_m, double alpha_rad,
+                              const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
+                              const double *joint_gap_e, double open_m, const double *joint_N,
+                              const double *joint_M, double ground_z, const char *title,
+                              vs_error *err);
 
 /* ---------------------------------------------------------------------------------------------
  * Curves */
