@@ -320,7 +320,9 @@ static int hinge_dist(const rec_hinge *rh, int a, int b) {
  * are those of row `row`, every label one of /summary/hinges and none twice: PIC_COLLAPSE takes
  * them from the record; otherwise each group of consecutive open joints on one side is paired
  * with the nearest same-side recorded hinge formed by delta (within 6 joints of where it formed
- * or of where it was at the collapse), nearest pairs first; groups left unpaired are not labelled. */
+ * or of where it was at the collapse), nearest pairs first; groups left unpaired are not labelled.
+ * Hinges of the fall are not named (the end of a fall to rest opens dozens: they are in
+ * /summary/hinges and /events); their open joints are shaded. */
 static int hinges_at(const record *r, int row, double delta, pic_kind kind, int focus, vs_hinge *out,
                      int cap) {
   int n = 0;
@@ -352,7 +354,7 @@ static int hinges_at(const record *r, int row, double delta, pic_kind kind, int 
         const rec_hinge *rh = &r->h[i];
         const char side = hj[ga[g] - 1] == 1 ? 'I' : 'E';
         if (used_g[g] || used_h[i] || i == focus || rh->side != side ||
-            rh->delta_onset > delta + 1e-9 || (kind == PIC_ONSET && rh->during_fall))
+            rh->delta_onset > delta + 1e-9 || rh->during_fall)
           continue;
         const int d = hinge_dist(rh, ga[g], gb[g]);
         if (d < bd) bd = d, bi = i, bg = g;
