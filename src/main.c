@@ -76,7 +76,8 @@ static const char *USAGE =
     "  --json                 print one JSON object on stdout instead of the summary\n"
     "  -o FILE.h5             the HDF5 record of the run (default: the case's name with .h5, in\n"
     "                         the current directory) and its XDMF sidecar FILE.xmf (ParaView)\n"
-    "  --no-record            no HDF5 record\n"
+    "  --no-record            no HDF5 record (without --csv either, the run stops at the\n"
+    "                         collapse: the fall after it is integrated only to be recorded)\n"
     "  --csv FILE             also write the history as CSV (one row per equilibrium or dynamic\n"
     "                         sample: phase, time, support displacement, reactions, hinges)\n"
     "  -q                     no progress line\n"
@@ -359,6 +360,8 @@ static int cmd_run(int argc, char **argv, int *h5_clean) {
       apply_overrides(argc, argv, &c, &err) != VS_OK || vs_case_validate(&c, &err) != VS_OK)
     goto input_error;
   if ((rc = check_outputs(&a)) != 0) goto cleanup;
+  if (a.out_path == NULL && a.csv_path == NULL)
+    c.fall_s = 0.0; /* nothing records the fall: the run ends at the collapse */
   if (vs_run_create(&c, &run, &err) != VS_OK) goto input_error;
   vs_run_set_stop(run, &g_interrupted);
   /* everything is valid: only now create outputs */

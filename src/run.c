@@ -302,6 +302,14 @@ static void snapshot_onset(vs_run *r) {
     if (vs_hinges_get(r->h, i)->open) r->onset[r->n_onset++] = *vs_hinges_get(r->h, i);
 }
 
+/* The mechanism is taken at the collapse criterion (the first three hinges, the onset snapshot):
+ * the hinges of the fall after it never change the reported mode or hinges. */
+static void freeze_mechanism(vs_run *r) {
+  if (!r->onset_taken) snapshot_onset(r);
+  r->onset_taken = 1;
+  r->frozen = 1;
+}
+
 static int on_dyn_sample(void *user, double t, double delta, const double *q, const double *v,
                          const vs_energy *e) {
   vs_run *r = user;
@@ -316,6 +324,8 @@ static int on_dyn_sample(void *user, double t, double delta, const double *q, co
     snapshot_onset(r);
     r->onset_taken = 1;
   }
+  if (!r->frozen && r->live_dyn != NULL && !isnan(r->live_dyn->t_collapse))
+    freeze_mechanism(r); /* the sample at the collapse criterion: nothing after it counts */
   vs_dynamic_reactions(r->dyn, r->react);
   vs_run_sample s = {.phase = VS_PHASE_DYNAMIC, .t = t, .delta = delta, .q = q, .v = v,
                      .energy = e, .reactions = r->react};
@@ -404,7 +414,7 @@ static void record_collapse(vs_run *r, const vs_dyn_result *d) {
   c->delta = (!r->c.full && r->n_limits > 0) ? r->limits[r->n_limits - 1].delta
                                              : c->t_onset * r->dopts.rate;
   c->t = c->delta / r->dopts.rate;
-  if (!r->onset_taken) snapshot_onset(r);
+  if (!r->frozen) freeze_mechanism(r); /* (frozen at the collapse criterion's sample) */
   c->n_hinges = r->n_onset;
   memcpy(c->hinges, r->onset, (size_t)r->n_onset * sizeof r->onset[0]);
   qsort(c->hinges, (size_t)c->n_hinges, sizeof c->hinges[0], cmp_hinge_first);
@@ -461,7 +471,6 @@ static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
     if (st != VS_OK) break;
     if (d.end == VS_DYN_COLLAPSED) {
       record_collapse(r, &d);
-      r->frozen = 1;
       if (r->n_limits > 0) r->limits[r->n_limits - 1].collapse = 1;
       st = log_event(r, VS_EVENT_COLLAPSE, d.t_collapse, d.t_collapse * r->dopts.rate, 0, 0, 0, 0)
                ? vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller")
