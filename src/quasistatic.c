@@ -2,6 +2,7 @@
  * each support displacement, a tangent predictor, adaptive increments, and a limit point
  * bracketed by bisection of the increment and confirmed on the tangent stiffness. */
 #include "voussoir/quasistatic.h"
+
 #include "voussoir/stability.h"
 
 #include <klu.h>
@@ -16,6 +17,7 @@
 #include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include "voussoir/klu_reuse.h"
 #include "voussoir/units.h"
 
 /* A converged corrector may move the state away from the tangent predictor by at most this
@@ -180,6 +182,7 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
   if ((flag = SUNLinSol_KLUSetOrdering(s->LS, VS_KLU_ORDERING)) != 0 ||
       (flag = SUNLinSol_KLUSetOrdering(s->LSt, VS_KLU_ORDERING)) != 0)
     return qs_fail(s, err, "SUNLinSol_KLUSetOrdering", flag);
+  vs_klu_keep_analysis(s->LS); /* one analysis for every KINSol call of this path */
 
   /* Scalings: residuals in units of each block's weight (moments: weight x joint length);
    * unknowns in units of that length (rotations in rad). */
