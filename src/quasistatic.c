@@ -44,6 +44,10 @@ static const int VS_KLU_ORDERING = 2;
 /* Newton stops when its scaled step (in units of the joint length) falls below this: about
  * a hundred ulps of a position, the resolution of double precision. */
 static const double VS_NEWTON_STEPTOL = 1e-14;
+/* KINSOL's line search backtracks down to the step tolerance (13 to 20 trials when a Newton
+ * direction leads nowhere); a solve whose line search has tried this many steps without an
+ * acceptable one is stopped as if the search had failed (the path then cuts its increment). */
+static const int VS_MAX_LINESEARCH = 5;
 /* Round-off floor of the residual: positions carry a relative error of eps, which the joint
  * stiffness k_n b t turns into a force error of about eps k_n b t (|u| + t); a Newton iteration
  * that stalls within this margin times that floor has converged as far as doubles allow. */
@@ -77,6 +81,8 @@ typedef struct {
   double max_residual;        /* largest scaled residual among accepted equilibria */
   int interrupted;            /* o->stop was seen raised */
   int nonfinite;              /* the last solve met a residual that is not finite */
+  int evals;                  /* residuals since the last Jacobian (1 + line-search trials) */
+  int backtracked_out;        /* the last solve was stopped by VS_MAX_LINESEARCH */
   char kin_msg[256];
 } qs_solver;
 
@@ -93,6 +99,10 @@ static int qs_stopped(qs_solver *s) {
 static int sys_fn(N_Vector u, N_Vector f, void *user) {
   qs_solver *s = user;
   if (qs_stopped(s)) return -1;
+  if (++s->evals > VS_MAX_LINESEARCH + 1) { /* a diverging solve: stop it here */
+    s->backtracked_out = 1;
+    return -1;
+  }
   double *fv = N_VGetArrayPointer(f);
   vs_model_residual(s->m, N_VGetArrayPointer(u), s->delta, fv);
   for (int i = 0; i < s->n; i++)
@@ -110,6 +120,7 @@ static int jac_fn(N_Vector u, N_Vector fu, SUNMatrix J, void *user, N_Vector t1,
   qs_solver *s = user;
   if (qs_stopped(s)) return -1;
   s->jac_evals++;
+  s->evals = 0;
   return vs_model_jacobian(s->m, N_VGetArrayPointer(u), s->delta, J);
 }
 
@@ -240,9 +251,13 @@ static int qs_solve(qs_solver *s, double delta, double *q, long *iters) {
   s->delta = delta;
   s->kin_msg[0] = '\0';
   s->nonfinite = 0;
+  s->evals = 0;
+  s->backtracked_out = 0;
   if (qs_stopped(s)) return KIN_SYSFUNC_FAIL;
   memcpy(N_VGetArrayPointer(s->u), q, (size_t)s->n * sizeof *q);
   int flag = KINSol(s->kin, s->u, KIN_LINESEARCH, s->uscale, s->fscale);
+  if (flag == KIN_SYSFUNC_FAIL && s->backtracked_out && !s->interrupted)
+    flag = KIN_LINESEARCH_NONCONV; /* u holds the last accepted iterate */
   long nni = 0;
   KINGetNumNonlinSolvIters(s->kin, &nni);
   s->iters += nni;
