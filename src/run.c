@@ -20,6 +20,7 @@ struct vs_run {
   vs_model *m;
   vs_hinges *h;
   vs_dynamic *dyn;
+  vs_path_solver *ps; /* the quasi-static solver of every path segment and rest probe */
   vs_hinge_opts hopts;
   vs_path_opts popts;
   vs_dyn_opts dopts;
@@ -128,6 +129,7 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
     r->ke_move = 0.5 * mass * r->dopts.rate * r->dopts.rate;
     if (c->follow || c->full) st = vs_dynamic_create(r->m, &r->dopts, &r->dyn, err);
   }
+  if (st == VS_OK) st = vs_path_solver_create(r->m, &r->popts, &r->ps, err);
   if (st != VS_OK) {
     vs_run_destroy(&r);
     return st;
@@ -154,6 +156,7 @@ void vs_run_destroy(vs_run **r) {
   free(p->events);
   vs_modal_free(&p->modal);
   vs_dynamic_destroy(&p->dyn);
+  vs_path_solver_destroy(&p->ps);
   vs_hinges_destroy(&p->h);
   vs_model_destroy(&p->m);
   vs_geometry_destroy(&p->g);
@@ -485,8 +488,7 @@ static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
     vs_path_result pr;
     vs_error perr;
     vs_error_clear(&perr);
-    vs_model *m = r->m;
-    const vs_status ps = vs_path_run(m, &probe, r->delta, qs, NULL, NULL, &pr, &perr);
+    const vs_status ps = vs_path_run_with(r->ps, &probe, r->delta, qs, NULL, NULL, &pr, &perr);
     if (ps == VS_OK) {
       *resume_at = r->delta;
       break;
@@ -515,7 +517,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
     vs_path_result p;
     memset(&p, 0, sizeof p);
     r->live_path = &p;
-    st = vs_path_run(r->m, &sw, 0.0, r->q, on_equilibrium, r, &p, err);
+    st = vs_path_run_with(r->ps, &sw, 0.0, r->q, on_equilibrium, r, &p, err);
     r->live_path = NULL;
     if (r->modal_st != VS_OK) st = vs_error_set(err, r->modal_st, "%s", r->modal_err.msg);
     add_path_totals(r, &p);
@@ -533,7 +535,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
       r->pending_snap = (delta0 > 0.0 && r->n_limits > 0) ? r->n_limits - 1 : -1;
       memset(&p, 0, sizeof p);
       r->live_path = &p;
-      st = vs_path_run(r->m, &r->popts, delta0, r->q, on_equilibrium, r, &p, err);
+      st = vs_path_run_with(r->ps, &r->popts, delta0, r->q, on_equilibrium, r, &p, err);
       r->live_path = NULL;
       if (r->modal_st != VS_OK) st = vs_error_set(err, r->modal_st, "%s", r->modal_err.msg);
       add_path_totals(r, &p);
