@@ -1,6 +1,6 @@
 /* The HDF5 record of a run (an H5MD-like layout: /parameters, /geometry, /observables/<name>/
- * {step,time,value}, /events, /summary) and its XDMF sidecar for ParaView. Rows are buffered and
- * written in blocks, each followed by a flush, and the file never reuses freed space, so that a
+ * {step,time,value}, /events, /summary) and its XDMF sidecar for ParaView. Rows and events are
+ * buffered and written in blocks, each followed by a flush, and the file never reuses freed space, so that a
  * killed run leaves what its last flush wrote (see file_create for what was measured). */
 #define _POSIX_C_SOURCE 200809L /* gmtime_r */
 #include "voussoir/output.h"
@@ -95,7 +95,8 @@ static vs_status h5_fail(vs_error *err, const char *path, const char *what) {
 }
 
 /* Fault injection for the crash tests: when the environment variable VS_FAULT_KILL names this
- * point, the process kills itself there with SIGKILL (see vs_output_finish for the points). */
+ * point, the process kills itself there with SIGKILL (see vs_output_finish for the points;
+ * "mid-append": in a write of rows after the first, once half the time series have theirs). */
 static void fault_point(const char *name) {
   const char *v = getenv("VS_FAULT_KILL");
   if (v != NULL && strcmp(v, name) == 0) raise(SIGKILL);
@@ -305,14 +306,14 @@ typedef struct {
   unsigned char *buf; /* pending rows */
 } series;
 
-/* One row of /events in memory. */
+/* One row of /events as stored: packed, little-endian (the file's compound type, also used as
+ * the memory type, so a write converts nothing): time f64 at 0, delta f64 at 8, joint i32 at 16,
+ * side char at 20, label char at 21, phase i8 at 22, order i32 at 23, kind char[16] at 27
+ * (NUL-padded). */
+enum { EV_TIME = 0, EV_DELTA = 8, EV_JOINT = 16, EV_SIDE = 20, EV_LABEL = 21, EV_PHASE = 22,
+       EV_ORDER = 23, EV_KIND = 27, EV_KIND_LEN = 16, EV_SIZE = 43 };
 typedef struct {
-  double time, delta;
-  int32_t joint;
-  char side, label;
-  int8_t phase;
-  int32_t order;
-  char kind[16]; /* fixed length, NUL-padded */
+  unsigned char b[EV_SIZE];
 } event_row;
 
 struct vs_output {
@@ -328,8 +329,10 @@ struct vs_output {
   long rows;              /* written to the file */
   long pending;           /* buffered */
   int last_phase;         /* of the last row, -1 before any */
-  hid_t events, ev_mtype; /* /events and its memory type */
-  long n_events;
+  hid_t events, ev_mtype; /* /events and its (packed, file = memory) type */
+  long n_events;          /* written to the file */
+  event_row *ev_buf;      /* events waiting for the next write */
+  long ev_pending, ev_cap;
   int interrupted, finished, xmf_written;
   vs_outlock *lock; /* the exclusive lock on path, held until destroy */
   vs_error err; /* first write error (sticky) */
@@ -375,14 +378,16 @@ static hsize_t dim_size(const vs_output *o, int code) {
   }
 }
 
-/* Dataset creation properties of a time series: chunked by rows (capped in bytes), shuffle and
- * deflate. */
+/* Dataset creation properties of a time series: chunked by rows (capped in bytes; a divisor of
+ * the rows of a write, which then fills whole chunks), shuffle and deflate when asked. */
 static hid_t series_dcpl(const vs_output *o, const series *s) {
   hid_t p = H5Pcreate(H5P_DATASET_CREATE);
   if (p < 0) return p;
   size_t row_bytes = s->row_elems * s->esize;
   size_t rows = (size_t)o->opts.chunk_rows;
   if (rows * row_bytes > VS_OUT_CHUNK_BYTES) rows = VS_OUT_CHUNK_BYTES / row_bytes;
+  if (rows > o->flush_rows) rows = o->flush_rows;
+  while (rows > 1 && o->flush_rows % rows != 0) rows--;
   hsize_t chunk[3] = {rows > 0 ? (hsize_t)rows : 1, s->dims[1], s->dims[2]};
   herr_t rc = H5Pset_chunk(p, s->rank, chunk);
   /* rows that a torn flush exposed without their data read as NaN (or -1), never as zeros */
@@ -450,8 +455,22 @@ static void *row_ptr(vs_output *o, int i) {
   return s->buf + (size_t)o->pending * s->row_elems * s->esize;
 }
 
-/* Append the buffered rows of every series to the file (no flush). */
+static herr_t events_write(vs_output *o, hsize_t first, hsize_t n, const event_row *rows);
+
+/* Append the buffered events to /events (no flush). */
+static vs_status write_events(vs_output *o) {
+  if (o->ev_pending == 0) return VS_OK;
+  if (events_write(o, (hsize_t)o->n_events, (hsize_t)o->ev_pending, o->ev_buf) < 0)
+    return h5_fail(&o->err, o->path, "cannot append to /events");
+  o->n_events += o->ev_pending;
+  o->ev_pending = 0;
+  return VS_OK;
+}
+
+/* Append the buffered rows of every series, and the buffered events, to the file (no flush). */
 static vs_status write_pending(vs_output *o) {
+  vs_status est = write_events(o);
+  if (est != VS_OK) return est;
   if (o->pending == 0) return VS_OK;
   const hsize_t start0 = (hsize_t)o->rows, n = (hsize_t)o->pending;
   for (int i = 0; i < S_COUNT; i++) {
@@ -466,6 +485,7 @@ static vs_status write_pending(vs_output *o) {
     if (rc >= 0) rc = H5Dwrite(s->dset, s->mtype, ms, fs, H5P_DEFAULT, s->buf);
     h5_close(ms);
     h5_close(fs);
+    if (i == S_COUNT / 2 && start0 > 0) fault_point("mid-append"); /* half a write ahead */
     if (rc < 0) {
       char what[96];
       snprintf(what, sizeof what, "cannot append to /observables/%s/%s", SERIES[i].group,
@@ -672,19 +692,22 @@ static const char *event_kind_name(vs_event_kind k) {
   return "unknown";
 }
 
-/* Memory compound type of event_row (the file type is its packed copy). */
-static hid_t event_mtype(void) {
-  hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(event_row));
-  hid_t c1 = char_type(), vs = fixed_str_type(sizeof(((event_row *)0)->kind));
+/* The compound type of event_row: native members (memory) or little-endian ones (file); on a
+ * little-endian host the two are equal and a write converts nothing. */
+static hid_t event_type(int native) {
+  hid_t t = H5Tcreate(H5T_COMPOUND, EV_SIZE);
+  hid_t c1 = char_type(), vs = fixed_str_type(EV_KIND_LEN);
   herr_t rc = (t >= 0 && c1 >= 0 && vs >= 0) ? 0 : -1;
-  if (rc >= 0) rc = H5Tinsert(t, "time", HOFFSET(event_row, time), H5T_NATIVE_DOUBLE);
-  if (rc >= 0) rc = H5Tinsert(t, "delta", HOFFSET(event_row, delta), H5T_NATIVE_DOUBLE);
-  if (rc >= 0) rc = H5Tinsert(t, "joint", HOFFSET(event_row, joint), H5T_NATIVE_INT32);
-  if (rc >= 0) rc = H5Tinsert(t, "side", HOFFSET(event_row, side), c1);
-  if (rc >= 0) rc = H5Tinsert(t, "label", HOFFSET(event_row, label), c1);
-  if (rc >= 0) rc = H5Tinsert(t, "kind", HOFFSET(event_row, kind), vs);
-  if (rc >= 0) rc = H5Tinsert(t, "phase", HOFFSET(event_row, phase), H5T_NATIVE_INT8);
-  if (rc >= 0) rc = H5Tinsert(t, "order", HOFFSET(event_row, order), H5T_NATIVE_INT32);
+  hid_t f64 = native ? H5T_NATIVE_DOUBLE : H5T_IEEE_F64LE,
+        i32 = native ? H5T_NATIVE_INT32 : H5T_STD_I32LE, i8 = native ? H5T_NATIVE_INT8 : H5T_STD_I8LE;
+  if (rc >= 0) rc = H5Tinsert(t, "time", EV_TIME, f64);
+  if (rc >= 0) rc = H5Tinsert(t, "delta", EV_DELTA, f64);
+  if (rc >= 0) rc = H5Tinsert(t, "joint", EV_JOINT, i32);
+  if (rc >= 0) rc = H5Tinsert(t, "side", EV_SIDE, c1);
+  if (rc >= 0) rc = H5Tinsert(t, "label", EV_LABEL, c1);
+  if (rc >= 0) rc = H5Tinsert(t, "phase", EV_PHASE, i8);
+  if (rc >= 0) rc = H5Tinsert(t, "order", EV_ORDER, i32);
+  if (rc >= 0) rc = H5Tinsert(t, "kind", EV_KIND, vs);
   h5_close(c1);
   h5_close(vs);
   if (rc < 0) {
@@ -697,11 +720,11 @@ static hid_t event_mtype(void) {
 static const char EVENT_UNITS[] = "s,m,,,,,,";
 
 static herr_t events_create(vs_output *o) {
-  o->ev_mtype = event_mtype();
-  hid_t ft = o->ev_mtype >= 0 ? H5Tcopy(o->ev_mtype) : H5I_INVALID_HID;
+  o->ev_mtype = event_type(1);
+  hid_t ft = event_type(0);
   hsize_t dims[1] = {0}, maxdims[1] = {H5S_UNLIMITED}, chunk[1] = {64};
   hid_t sp = H5Screate_simple(1, dims, maxdims), dcpl = H5Pcreate(H5P_DATASET_CREATE);
-  herr_t rc = (ft >= 0 && sp >= 0 && dcpl >= 0) ? H5Tpack(ft) : -1;
+  herr_t rc = (ft >= 0 && sp >= 0 && dcpl >= 0) ? 0 : -1;
   if (rc >= 0) rc = H5Pset_chunk(dcpl, 1, chunk);
   if (rc >= 0 && o->opts.deflate > 0) rc = H5Pset_deflate(dcpl, (unsigned)o->opts.deflate);
   if (rc >= 0) o->events = H5Dcreate2(o->file, "events", ft, sp, H5P_DEFAULT, dcpl, H5P_DEFAULT);
@@ -720,17 +743,22 @@ static herr_t events_create(vs_output *o) {
   return rc;
 }
 
+/* The fields in the host's order, at the packed offsets (the memory type's). */
 static event_row event_to_row(const vs_run_event *e) {
-  event_row r = {.time = e->t,
-                 .delta = e->delta,
-                 .joint = e->joint,
-                 .side = e->side,
-                 .label = e->label,
-                 .phase = (int8_t)e->phase,
-                 .order = e->order,
-                 .kind = {0}};
+  event_row r;
+  memset(&r, 0, sizeof r);
+  const int32_t joint = e->joint, order = e->order;
+  const int8_t phase = (int8_t)e->phase;
+  memcpy(r.b + EV_TIME, &e->t, 8);
+  memcpy(r.b + EV_DELTA, &e->delta, 8);
+  memcpy(r.b + EV_JOINT, &joint, 4);
+  r.b[EV_SIDE] = (unsigned char)e->side;
+  r.b[EV_LABEL] = (unsigned char)e->label;
+  memcpy(r.b + EV_PHASE, &phase, 1);
+  memcpy(r.b + EV_ORDER, &order, 4);
   const char *k = event_kind_name(e->kind);
-  memcpy(r.kind, k, strlen(k) < sizeof r.kind ? strlen(k) : sizeof r.kind);
+  const size_t n = strlen(k);
+  memcpy(r.b + EV_KIND, k, n < EV_KIND_LEN ? n : EV_KIND_LEN);
   return r;
 }
 
@@ -754,8 +782,8 @@ static herr_t events_write(vs_output *o, hsize_t first, hsize_t n, const event_r
 void vs_output_opts_default(vs_output_opts *o) {
   o->arc_points = 2;
   o->flush_rows = 64;
-  o->chunk_rows = 16;
-  o->deflate = 4;
+  o->chunk_rows = 64;
+  o->deflate = 0;
   o->xdmf_max_grids = 2000;
 }
 
@@ -825,7 +853,10 @@ static size_t buffer_rows(const vs_output *o) {
  * SWMR writing (H5Fstart_swmr_write, latest format) was measured too and rejected: a killed file
  * keeps an "open for writing" mark so that an ordinary open fails (h5py needs swmr=True, or
  * h5clear -s); 4 files in 194, killed while /summary was written, opened in no mode at all; and
- * one made an SWMR reader retry a torn index block for minutes. */
+ * one made an SWMR reader retry a torn index block for minutes. In 1.10 an SWMR writer cannot
+ * create objects or attributes either (/summary and the final status would need a reopen).
+ * Without deflate a chunk keeps its size, so a flush rewrites a partial chunk in place, and rows
+ * are written at chunk boundaries (every flush_rows-th row), so most writes fill whole chunks. */
 static vs_status file_create(vs_output *o, const char *path) {
   hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
   if (fcpl >= 0 && H5Pset_file_space_strategy(fcpl, H5F_FSPACE_STRATEGY_NONE, 0, 1) >= 0)
@@ -1016,6 +1047,7 @@ void vs_output_destroy(vs_output **op) {
   }
   h5_close(o->events);
   h5_close(o->ev_mtype);
+  free(o->ev_buf);
   h5_close(o->file);
   H5Eclear2(H5E_DEFAULT);
   quiet_end(q);
@@ -1139,7 +1171,8 @@ int vs_output_sample(void *user, const vs_run *run, const vs_run_sample *s) {
     fill_row(o, run, s);
     o->pending++;
     o->last_phase = (int)s->phase;
-    if ((size_t)o->pending >= o->flush_rows) st = flush_file(o);
+    /* at every flush_rows-th row of the file: the writes fill whole chunks */
+    if ((size_t)(o->rows + o->pending) % o->flush_rows == 0) st = flush_file(o);
   }
   quiet_end(q);
   return st == VS_OK ? 0 : 1;
@@ -1149,15 +1182,19 @@ int vs_output_event(void *user, const vs_run *run, const vs_run_event *e) {
   (void)run;
   vs_output *o = user;
   if (o->err.status != VS_OK || o->interrupted || o->finished) return 1;
-  h5_quiet q = quiet_begin();
-  vs_status st = write_pending(o);
-  event_row row = event_to_row(e);
-  if (st == VS_OK && events_write(o, (hsize_t)o->n_events, 1, &row) < 0)
-    st = h5_fail(&o->err, o->path, "cannot append to /events");
-  if (st == VS_OK) o->n_events++;
-  if (st == VS_OK) st = flush_file(o);
-  quiet_end(q);
-  return st == VS_OK ? 0 : 1;
+  /* buffered: written with the rows at the next flush */
+  if (o->ev_pending == o->ev_cap) {
+    long cap = o->ev_cap ? 2 * o->ev_cap : 64;
+    event_row *b = realloc(o->ev_buf, (size_t)cap * sizeof *b);
+    if (b == NULL) {
+      vs_error_set(&o->err, VS_ERR_NOMEM, "output: out of memory");
+      return 1;
+    }
+    o->ev_buf = b;
+    o->ev_cap = cap;
+  }
+  o->ev_buf[o->ev_pending++] = event_to_row(e);
+  return 0;
 }
 
 /* ------------------------------------------------------------------------------------------ */
