@@ -15,7 +15,7 @@
 
 #include "voussoir/run.h"
 
-static vs_run *run_case(const vs_case *c) {
+static vs_run *run_case_with_fall(const vs_case *c) {
   vs_run *r = NULL;
   vs_error err;
   vs_error_clear(&err);
@@ -24,6 +24,14 @@ static vs_run *run_case(const vs_case *c) {
   if (vs_run_execute(r, NULL, NULL, NULL, &err) != VS_OK) fail_msg("run failed: %s", err.msg);
   if (!vs_run_collapse(r)->found) fail_msg("no collapse up to %g mm", vs_run_delta(r) * 1e3);
   return r;
+}
+
+/* Every check here is at or before the collapse, where the mechanism is frozen: the fall to rest
+ * (seconds of contact and impacts, 95 % of a run) is left out except where a test says so. */
+static vs_run *run_case(const vs_case *c) {
+  vs_case k = *c;
+  k.fall_s = 0.0;
+  return run_case_with_fall(&k);
 }
 
 static double collapse_mm(const vs_case *c) {
@@ -157,7 +165,7 @@ static void test_settlement_mode_I(void **s) {
   (void)s;
   vs_case c;
   vs_case_defaults(&c);
-  vs_run *r = run_case(&c);
+  vs_run *r = run_case_with_fall(&c); /* hinges at the onset, not after the fall */
   const vs_collapse_record *col = vs_run_collapse(r);
   assert_string_equal(vs_run_pattern_initial(r), "I-E-E");
   assert_string_equal(vs_run_pattern_collapse(r), "E-I-E-E");
@@ -219,7 +227,7 @@ static void test_mechanism_frozen_at_collapse(void **s) {
     c.alpha_deg = 20.0;
     c.kn_N_mm3 = 3.0;
     c.fall_s = fall[i];
-    r[i] = run_case(&c);
+    r[i] = run_case_with_fall(&c);
   }
   for (int i = 1; i < 3; i++) {
     const char *m0 = vs_run_mode(r[0]), *mi = vs_run_mode(r[i]);
