@@ -1,61 +1,108 @@
 #!/usr/bin/env bash
-# Benchmark of the reference specimen, each case run REPEAT times (default 10), median wall time
-# of the run (JSON stats.wall_s):
-#  1. to the first limit point (quasi-static only), alpha = 0 and 90 deg, k_n = 3 and 48 N/mm^3:
-#     wall time, equilibria, Newton iterations, time per iteration;
-#  2. to the collapse (quasi-static + dynamic), and the whole loading dynamically at the
-#     laboratory rate 0.04 mm/s (about 35 minutes of simulated time): wall time, IDA steps.
-#  3. the limit displacement domain (26 runs to collapse) end to end on all cores;
-#  4. one run to collapse with 55 to 880 voussoirs: wall time and time per Newton iteration.
-# usage: runs/bench.sh [BINARY] [REPEAT]
+# Benchmark of this build against the previous revision, both measured in the same run: the
+# previous one is checked out with `git worktree add` into a temporary directory and built there
+# (Release, the `voussoir` target only; no network). Rows (CPU seconds of the process, user + sys,
+# median of REPEAT runs, unless said otherwise):
+#  1. the reference run (runs/reference.ini) with --no-record (it stops at the collapse);
+#  2. the same with its HDF5 record (the fall is then integrated);
+#  3. alpha 90 deg, k_n 48 N/mm^3, with its record;
+#  4. the seed domain (alpha 0:45:5,60,75,90 x k_n 3, 48, records) by `sweep -j 2`: wall seconds;
+#  5. process start-up: `voussoir --version`, mean wall milliseconds over 20 starts;
+#  6. one run to collapse (--no-record) with 55 to 880 voussoirs: CPU seconds, and the cost
+#     relative to 55 voussoirs (linear: the ratio of the counts).
+# Each row prints both figures and their ratio this / previous (below 1: faster).
+# --quick (what .ci/run uses): 3 repeats, no seed domain, 55 to 220 voussoirs.
+# usage: runs/bench.sh [--quick] [BINARY]
+#   BENCH_BASE=REV  the previous revision (default: the parent of the oldest commit of this
+#                   branch that is not on main; on main itself, HEAD~1)
 set -euo pipefail
+unset LD_LIBRARY_PATH # each binary loads the library of its own build (RUNPATH)
+quick=0
+if [ "${1:-}" = "--quick" ]; then quick=1; shift; fi
 VOUSSOIR="${1:-${VOUSSOIR:-$(cd "$(dirname "$0")" && pwd)/../build/voussoir}}"
-repeat="${2:-10}"
+export VOUSSOIR
 source "$(dirname "$0")/lib.sh"
-median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
-lastfile="$out_dir/bench_last.json"
-run_median() { # args...: prints the median wall time; the last run's JSON goes to $lastfile
-  local times=() j
-  for ((i = 0; i < repeat; i++)); do
-    j="$("$bin" run "$here/reference.ini" "$@" --json -q --no-record)"
-    times+=("$(jnum wall_s "$j")")
-  done
-  printf '%s\n' "$j" >"$lastfile"
-  printf '%s\n' "${times[@]}" | median
+bin="$(cd "$(dirname "$bin")" && pwd)/$(basename "$bin")" # the runs start in a scratch directory
+repeat=$((quick ? 3 : 5))
+sizes=(55 110 220 440 880) # the case allows at most 1000
+((quick)) && sizes=(55 110 220)
+ref="$here/reference.ini"
+work="$(mktemp -d)"
+cleanup() {
+  git -C "$here/.." worktree remove --force "$work/src" >/dev/null 2>&1 || true
+  rm -rf "$work"
 }
-echo "1. to the first limit point (quasi-static)"
-printf '   %-6s %-6s %12s %10s %7s %7s %10s\n' alpha kn "limit mm" "wall ms" steps newton "ms/newton"
-for alpha in 0 90; do
-  for kn in 3 48; do
-    med="$(run_median --alpha "$alpha" --kn "$kn" --first-limit)"
-    last="$(cat "$lastfile")"
-    lim="$(sed -E 's/.*"first_limit":\{"delta_mm":([-0-9.eE+]+).*/\1/' <<<"$last")"
-    steps="$(jnum steps "$last")"; newton="$(jnum newton_iterations "$last")"
-    awk -v a="$alpha" -v k="$kn" -v l="$lim" -v w="$med" -v s="$steps" -v n="$newton" \
-      'BEGIN {printf "   %-6s %-6s %12.4f %10.2f %7d %7d %10.3f\n", a, k, l, 1e3*w, s, n, 1e3*w/n}'
-  done
-done
-echo "2. to the collapse"
-printf '   %-32s %12s %10s %9s %9s\n' case "delta_u mm" "wall ms" "q-s eq." "IDA steps"
-for spec in "quasi-static + dynamic, k_n 3|--kn 3" "quasi-static + dynamic, k_n 48|--kn 48" \
-            "dynamic from rest, 0.04 mm/s, k_n 3|--kn 3 --dynamic"; do
-  name="${spec%%|*}"; args="${spec#*|}"
-  # shellcheck disable=SC2086
-  med="$(run_median $args)"
-  last="$(cat "$lastfile")"
-  du="$(jcollapse delta_mm "$last")"
-  awk -v c="$name" -v d="$du" -v w="$med" -v s="$(jnum steps "$last")" -v ds="$(jnum dynamic_steps "$last")" \
-    'BEGIN {printf "   %-32s %12.4f %10.1f %9d %9d\n", c, d, 1e3*w, s, ds}'
-done
-echo "3. the limit displacement domain end to end (26 runs to collapse, runs/domain_study.sh's sweep)"
-t0="$(date +%s.%N)"
-"$bin" sweep "$here/reference.ini" --alpha 0:45:5,60,75,90 --kn 3,48 -o "$out_dir/bench_domain" -q >/dev/null || true
-awk -v a="$t0" -v b="$(date +%s.%N)" -v j="$(nproc)" 'BEGIN {printf "   %.2f s on %d processes\n", b - a, j}'
-echo "4. one run to collapse against the voussoir count (same arch and k_n, finer subdivision)"
-printf '   %-9s %12s %10s %10s %10s %14s\n' voussoirs "delta_u mm" "wall s" "q-s Newton" "IDA Newton" "ms/iteration"
-for nv in 55 110 220 440 880; do
-  j="$("$bin" run "$here/reference.ini" --set arch.voussoirs="$nv" --json -q --no-record || true)"
-  awk -v n="$nv" -v d="$(jcollapse delta_mm "$j")" -v w="$(jnum wall_s "$j")" -v a="$(jnum newton_iterations "$j")" \
-    -v b="$(jnum dynamic_newton_iterations "$j")" \
-    'BEGIN {printf "   %-9d %12.4f %10.3f %10d %10d %14.4f\n", n, d, w, a, b, 1e3 * w / (a + b)}'
+trap cleanup EXIT
+
+# --- the previous revision, built here ---
+base_rev="${BENCH_BASE:-}"
+if [ -z "$base_rev" ]; then
+  oldest="$(git -C "$here/.." rev-list main..HEAD 2>/dev/null | tail -n 1 || true)"
+  if [ -n "$oldest" ]; then base_rev="$oldest~1"; else base_rev="HEAD~1"; fi
+fi
+base_bin=""
+if git -C "$here/.." worktree add --detach "$work/src" "$base_rev" >/dev/null 2>&1 &&
+   cmake -S "$work/src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release >/dev/null 2>&1 &&
+   cmake --build "$work/build" -j "$(nproc)" --target voussoir >/dev/null 2>&1; then
+  base_bin="$work/build/voussoir"
+  echo "previous: $(git -C "$here/.." rev-parse --short "$base_rev") (built in $work); this: $bin"
+else
+  echo "previous revision $base_rev could not be built: its column is left empty" >&2
+fi
+
+median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
+cpu_once() { # BINARY args...: CPU seconds (user + sys) of one process
+  local t TIMEFORMAT='%3U %3S'
+  t="$({ time "$@" >/dev/null 2>&1; } 2>&1 || true)"
+  awk '{print $1 + $2}' <<<"${t##*$'\n'}"
+}
+cpu_median() { # BINARY args...
+  for ((i = 0; i < repeat; i++)); do (cd "$work" && cpu_once "$@"); done | median
+}
+now() { date +%s.%N; }
+row() { # NAME PREVIOUS THIS [FORMAT]
+  awk -v n="$1" -v a="$2" -v b="$3" -v f="${4:-%.3f}" 'BEGIN {
+    pa = (a == "") ? "-" : sprintf(f, a); r = (a == "" || a == 0) ? "-" : sprintf("%.2f", b / a)
+    printf "  %-44s %10s %10s %7s\n", n, pa, sprintf(f, b), r }'
+}
+both() { # NAME FUNCTION args...: the function prints one figure for the binary in $1
+  local name="$1" fn="$2" a="" b
+  shift 2
+  [ -n "$base_bin" ] && a="$("$fn" "$base_bin" "$@")"
+  b="$("$fn" "$bin" "$@")"
+  row "$name" "$a" "$b"
+}
+ref_run() { local b="$1"; shift; cpu_median "$b" run "$ref" -q "$@"; }
+domain() {
+  local t0
+  rm -rf "$work/domain"
+  t0="$(now)"
+  "$1" sweep "$ref" --alpha 0:45:5,60,75,90 --kn 3,48 -j 2 -o "$work/domain" -q >/dev/null 2>&1 || true
+  awk -v a="$t0" -v b="$(now)" 'BEGIN {print b - a}'
+}
+startup() {
+  local t0
+  t0="$(now)"
+  for ((i = 0; i < 20; i++)); do "$1" --version >/dev/null; done
+  awk -v a="$t0" -v b="$(now)" 'BEGIN {print 1e3 * (b - a) / 20}'
+}
+sized() { (cd "$work" && cpu_once "$1" run "$ref" -q --no-record --set arch.voussoirs="$2"); }
+
+printf '  %-44s %10s %10s %7s\n' "" previous this ratio
+both "reference, --no-record (CPU s)" ref_run --no-record
+both "reference, with record (CPU s)" ref_run -o "$work/r.h5"
+both "alpha 90, k_n 48, with record (CPU s)" ref_run --alpha 90 --kn 48 -o "$work/r.h5"
+((quick)) || both "seed domain, 26 runs, sweep -j 2 (wall s)" domain
+a=""
+[ -n "$base_bin" ] && a="$(startup "$base_bin")"
+row "voussoir --version (wall ms)" "$a" "$(startup "$bin")" "%.1f"
+echo "  one run to collapse, --no-record, against the voussoir count (CPU s; x55: over 55 voussoirs)"
+a55="" b55=""
+for nv in "${sizes[@]}"; do
+  a=""
+  [ -n "$base_bin" ] && a="$(sized "$base_bin" "$nv")"
+  b="$(sized "$bin" "$nv")"
+  [ "$nv" = 55 ] && { a55="$a"; b55="$b"; }
+  x="$(awk -v b="$b" -v c="$b55" -v n="$nv" 'BEGIN {printf "x55 %.1f (count x%.0f)", b / c, n / 55}')"
+  row "$nv voussoirs   $x" "$a" "$b"
 done

@@ -29,6 +29,8 @@
 #include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include "voussoir/klu_reuse.h"
+
 /* KLU ordering: AMD (0). The iteration matrix is a saddle-point matrix -- the constraint rows
  * have zero diagonals -- with a structurally symmetric pattern, which AMD orders for fill on
  * A + A^T; KLU's partial pivoting (threshold 0.001 by default) then takes the off-diagonal
@@ -543,6 +545,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   if (d->LS == NULL) return dyn_fail(&d, err, "SUNLinSol_KLU", 0);
   if ((flag = SUNLinSol_KLUSetOrdering(d->LS, VS_DYN_KLU_ORDERING)) != 0)
     return dyn_fail(&d, err, "SUNLinSol_KLUSetOrdering", flag);
+  vs_klu_keep_analysis(d->LS); /* one analysis for every restart (IDAReInit) */
   d->ida = IDACreate(d->ctx);
   if (d->ida == NULL) return dyn_fail(&d, err, "IDACreate", 0);
   N_VConst(0.0, d->y);

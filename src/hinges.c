@@ -16,6 +16,7 @@ struct vs_hinges {
   int *matched; /* per hinge, this update */
   double *gap_i, *gap_e; /* per joint, edge openings at the previous update (m) */
   double delta_prev;     /* support displacement of the previous update (NaN before one) */
+  int named;             /* 1 once the first hinges have their labels */
 };
 
 vs_status vs_hinges_create(int n_joints, const vs_hinge_opts *opts, vs_hinges **out,
@@ -83,12 +84,22 @@ static int cmp_first(const void *x, const void *y) {
   return (a->onset_first > b->onset_first) - (a->onset_first < b->onset_first);
 }
 
-/* Once three hinges have formed, name the first three A, B, C from left to right. */
-static void label_first_three(vs_hinges *h) {
+/* Name the first n (at most three) hinges A, B, C from left to right; later ones get the next
+ * letters in order of appearance. */
+static void label_first(vs_hinges *h, int n) {
   vs_hinge *first[3];
-  for (int i = 0; i < 3; i++) first[i] = &h->h[i];
-  qsort(first, 3, sizeof first[0], cmp_first);
-  for (int i = 0; i < 3; i++) first[i]->label = (char)('A' + i);
+  for (int i = 0; i < n; i++) first[i] = &h->h[i];
+  qsort(first, (size_t)n, sizeof first[0], cmp_first);
+  for (int i = 0; i < n; i++) first[i]->label = (char)('A' + i);
+  h->named = 1;
+}
+
+void vs_hinges_name_first(vs_hinges *h, int n) {
+  if (n > 3) n = 3;
+  if (n > h->count) n = h->count;
+  if (n <= 0) return;
+  label_first(h, n);
+  for (int i = n; i < h->count; i++) h->h[i].label = (char)('A' + i);
 }
 
 /* Open joints grouped into maximal runs of the same side. */
@@ -212,8 +223,9 @@ int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st) {
       h->h[i].delta_closed = delta;
     }
   }
-  if (before < 3 && h->count >= 3) label_first_three(h);
-  for (int i = (before > 3 ? before : 3); i < h->count; i++) h->h[i].label = (char)('A' + i);
+  if (!h->named && h->count >= 3) label_first(h, 3);
+  for (int i = before; h->named && i < h->count; i++)
+    if (h->h[i].label == '?') h->h[i].label = (char)('A' + i);
   return formed;
 }
 

@@ -1,6 +1,6 @@
 /* The HDF5 record of a run (an H5MD-like layout: /parameters, /geometry, /observables/<name>/
- * {step,time,value}, /events, /summary) and its XDMF sidecar for ParaView. Rows are buffered and
- * written in blocks, each followed by a flush, and the file never reuses freed space, so that a
+ * {step,time,value}, /events, /summary) and its XDMF sidecar for ParaView. Rows and events are
+ * buffered and written in blocks, each followed by a flush, and the file never reuses freed space, so that a
  * killed run leaves what its last flush wrote (see file_create for what was measured). */
 #define _POSIX_C_SOURCE 200809L /* gmtime_r */
 #include "voussoir/output.h"
@@ -95,7 +95,8 @@ static vs_status h5_fail(vs_error *err, const char *path, const char *what) {
 }
 
 /* Fault injection for the crash tests: when the environment variable VS_FAULT_KILL names this
- * point, the process kills itself there with SIGKILL (see vs_output_finish for the points). */
+ * point, the process kills itself there with SIGKILL (see vs_output_finish for the points;
+ * "mid-append": in a write of rows after the first, once half the time series have theirs). */
 static void fault_point(const char *name) {
   const char *v = getenv("VS_FAULT_KILL");
   if (v != NULL && strcmp(v, name) == 0) raise(SIGKILL);
@@ -305,14 +306,14 @@ typedef struct {
   unsigned char *buf; /* pending rows */
 } series;
 
-/* One row of /events in memory. */
+/* One row of /events as stored: packed, little-endian (the file's compound type, also used as
+ * the memory type, so a write converts nothing): time f64 at 0, delta f64 at 8, joint i32 at 16,
+ * side char at 20, label char at 21, phase i8 at 22, order i32 at 23, kind char[16] at 27
+ * (NUL-padded). */
+enum { EV_TIME = 0, EV_DELTA = 8, EV_JOINT = 16, EV_SIDE = 20, EV_LABEL = 21, EV_PHASE = 22,
+       EV_ORDER = 23, EV_KIND = 27, EV_KIND_LEN = 16, EV_SIZE = 43 };
 typedef struct {
-  double time, delta;
-  int32_t joint;
-  char side, label;
-  int8_t phase;
-  int32_t order;
-  char kind[16]; /* fixed length, NUL-padded */
+  unsigned char b[EV_SIZE];
 } event_row;
 
 struct vs_output {
@@ -328,8 +329,10 @@ struct vs_output {
   long rows;              /* written to the file */
   long pending;           /* buffered */
   int last_phase;         /* of the last row, -1 before any */
-  hid_t events, ev_mtype; /* /events and its memory type */
-  long n_events;
+  hid_t events, ev_mtype; /* /events and its (packed, file = memory) type */
+  long n_events;          /* written to the file */
+  event_row *ev_buf;      /* events waiting for the next write */
+  long ev_pending, ev_cap;
   int interrupted, finished, xmf_written;
   vs_outlock *lock; /* the exclusive lock on path, held until destroy */
   vs_error err; /* first write error (sticky) */
@@ -375,14 +378,16 @@ static hsize_t dim_size(const vs_output *o, int code) {
   }
 }
 
-/* Dataset creation properties of a time series: chunked by rows (capped in bytes), shuffle and
- * deflate. */
+/* Dataset creation properties of a time series: chunked by rows (capped in bytes; a divisor of
+ * the rows of a write, which then fills whole chunks), shuffle and deflate when asked. */
 static hid_t series_dcpl(const vs_output *o, const series *s) {
   hid_t p = H5Pcreate(H5P_DATASET_CREATE);
   if (p < 0) return p;
   size_t row_bytes = s->row_elems * s->esize;
   size_t rows = (size_t)o->opts.chunk_rows;
   if (rows * row_bytes > VS_OUT_CHUNK_BYTES) rows = VS_OUT_CHUNK_BYTES / row_bytes;
+  if (rows > o->flush_rows) rows = o->flush_rows;
+  while (rows > 1 && o->flush_rows % rows != 0) rows--;
   hsize_t chunk[3] = {rows > 0 ? (hsize_t)rows : 1, s->dims[1], s->dims[2]};
   herr_t rc = H5Pset_chunk(p, s->rank, chunk);
   /* rows that a torn flush exposed without their data read as NaN (or -1), never as zeros */
@@ -450,8 +455,22 @@ static void *row_ptr(vs_output *o, int i) {
   return s->buf + (size_t)o->pending * s->row_elems * s->esize;
 }
 
-/* Append the buffered rows of every series to the file (no flush). */
+static herr_t events_write(vs_output *o, hsize_t first, hsize_t n, const event_row *rows);
+
+/* Append the buffered events to /events (no flush). */
+static vs_status write_events(vs_output *o) {
+  if (o->ev_pending == 0) return VS_OK;
+  if (events_write(o, (hsize_t)o->n_events, (hsize_t)o->ev_pending, o->ev_buf) < 0)
+    return h5_fail(&o->err, o->path, "cannot append to /events");
+  o->n_events += o->ev_pending;
+  o->ev_pending = 0;
+  return VS_OK;
+}
+
+/* Append the buffered rows of every series, and the buffered events, to the file (no flush). */
 static vs_status write_pending(vs_output *o) {
+  vs_status est = write_events(o);
+  if (est != VS_OK) return est;
   if (o->pending == 0) return VS_OK;
   const hsize_t start0 = (hsize_t)o->rows, n = (hsize_t)o->pending;
   for (int i = 0; i < S_COUNT; i++) {
@@ -466,6 +485,7 @@ static vs_status write_pending(vs_output *o) {
     if (rc >= 0) rc = H5Dwrite(s->dset, s->mtype, ms, fs, H5P_DEFAULT, s->buf);
     h5_close(ms);
     h5_close(fs);
+    if (i == S_COUNT / 2 && start0 > 0) fault_point("mid-append"); /* half a write ahead */
     if (rc < 0) {
       char what[96];
       snprintf(what, sizeof what, "cannot append to /observables/%s/%s", SERIES[i].group,
@@ -672,19 +692,22 @@ static const char *event_kind_name(vs_event_kind k) {
   return "unknown";
 }
 
-/* Memory compound type of event_row (the file type is its packed copy). */
-static hid_t event_mtype(void) {
-  hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(event_row));
-  hid_t c1 = char_type(), vs = fixed_str_type(sizeof(((event_row *)0)->kind));
+/* The compound type of event_row: native members (memory) or little-endian ones (file); on a
+ * little-endian host the two are equal and a write converts nothing. */
+static hid_t event_type(int native) {
+  hid_t t = H5Tcreate(H5T_COMPOUND, EV_SIZE);
+  hid_t c1 = char_type(), vs = fixed_str_type(EV_KIND_LEN);
   herr_t rc = (t >= 0 && c1 >= 0 && vs >= 0) ? 0 : -1;
-  if (rc >= 0) rc = H5Tinsert(t, "time", HOFFSET(event_row, time), H5T_NATIVE_DOUBLE);
-  if (rc >= 0) rc = H5Tinsert(t, "delta", HOFFSET(event_row, delta), H5T_NATIVE_DOUBLE);
-  if (rc >= 0) rc = H5Tinsert(t, "joint", HOFFSET(event_row, joint), H5T_NATIVE_INT32);
-  if (rc >= 0) rc = H5Tinsert(t, "side", HOFFSET(event_row, side), c1);
-  if (rc >= 0) rc = H5Tinsert(t, "label", HOFFSET(event_row, label), c1);
-  if (rc >= 0) rc = H5Tinsert(t, "kind", HOFFSET(event_row, kind), vs);
-  if (rc >= 0) rc = H5Tinsert(t, "phase", HOFFSET(event_row, phase), H5T_NATIVE_INT8);
-  if (rc >= 0) rc = H5Tinsert(t, "order", HOFFSET(event_row, order), H5T_NATIVE_INT32);
+  hid_t f64 = native ? H5T_NATIVE_DOUBLE : H5T_IEEE_F64LE,
+        i32 = native ? H5T_NATIVE_INT32 : H5T_STD_I32LE, i8 = native ? H5T_NATIVE_INT8 : H5T_STD_I8LE;
+  if (rc >= 0) rc = H5Tinsert(t, "time", EV_TIME, f64);
+  if (rc >= 0) rc = H5Tinsert(t, "delta", EV_DELTA, f64);
+  if (rc >= 0) rc = H5Tinsert(t, "joint", EV_JOINT, i32);
+  if (rc >= 0) rc = H5Tinsert(t, "side", EV_SIDE, c1);
+  if (rc >= 0) rc = H5Tinsert(t, "label", EV_LABEL, c1);
+  if (rc >= 0) rc = H5Tinsert(t, "phase", EV_PHASE, i8);
+  if (rc >= 0) rc = H5Tinsert(t, "order", EV_ORDER, i32);
+  if (rc >= 0) rc = H5Tinsert(t, "kind", EV_KIND, vs);
   h5_close(c1);
   h5_close(vs);
   if (rc < 0) {
@@ -697,11 +720,11 @@ static hid_t event_mtype(void) {
 static const char EVENT_UNITS[] = "s,m,,,,,,";
 
 static herr_t events_create(vs_output *o) {
-  o->ev_mtype = event_mtype();
-  hid_t ft = o->ev_mtype >= 0 ? H5Tcopy(o->ev_mtype) : H5I_INVALID_HID;
+  o->ev_mtype = event_type(1);
+  hid_t ft = event_type(0);
   hsize_t dims[1] = {0}, maxdims[1] = {H5S_UNLIMITED}, chunk[1] = {64};
   hid_t sp = H5Screate_simple(1, dims, maxdims), dcpl = H5Pcreate(H5P_DATASET_CREATE);
-  herr_t rc = (ft >= 0 && sp >= 0 && dcpl >= 0) ? H5Tpack(ft) : -1;
+  herr_t rc = (ft >= 0 && sp >= 0 && dcpl >= 0) ? 0 : -1;
   if (rc >= 0) rc = H5Pset_chunk(dcpl, 1, chunk);
   if (rc >= 0 && o->opts.deflate > 0) rc = H5Pset_deflate(dcpl, (unsigned)o->opts.deflate);
   if (rc >= 0) o->events = H5Dcreate2(o->file, "events", ft, sp, H5P_DEFAULT, dcpl, H5P_DEFAULT);
@@ -720,17 +743,22 @@ static herr_t events_create(vs_output *o) {
   return rc;
 }
 
+/* The fields in the host's order, at the packed offsets (the memory type's). */
 static event_row event_to_row(const vs_run_event *e) {
-  event_row r = {.time = e->t,
-                 .delta = e->delta,
-                 .joint = e->joint,
-                 .side = e->side,
-                 .label = e->label,
-                 .phase = (int8_t)e->phase,
-                 .order = e->order,
-                 .kind = {0}};
+  event_row r;
+  memset(&r, 0, sizeof r);
+  const int32_t joint = e->joint, order = e->order;
+  const int8_t phase = (int8_t)e->phase;
+  memcpy(r.b + EV_TIME, &e->t, 8);
+  memcpy(r.b + EV_DELTA, &e->delta, 8);
+  memcpy(r.b + EV_JOINT, &joint, 4);
+  r.b[EV_SIDE] = (unsigned char)e->side;
+  r.b[EV_LABEL] = (unsigned char)e->label;
+  memcpy(r.b + EV_PHASE, &phase, 1);
+  memcpy(r.b + EV_ORDER, &order, 4);
   const char *k = event_kind_name(e->kind);
-  memcpy(r.kind, k, strlen(k) < sizeof r.kind ? strlen(k) : sizeof r.kind);
+  const size_t n = strlen(k);
+  memcpy(r.b + EV_KIND, k, n < EV_KIND_LEN ? n : EV_KIND_LEN);
   return r;
 }
 
@@ -754,8 +782,8 @@ static herr_t events_write(vs_output *o, hsize_t first, hsize_t n, const event_r
 void vs_output_opts_default(vs_output_opts *o) {
   o->arc_points = 2;
   o->flush_rows = 64;
-  o->chunk_rows = 16;
-  o->deflate = 4;
+  o->chunk_rows = 64;
+  o->deflate = 0;
   o->xdmf_max_grids = 2000;
 }
 
@@ -825,7 +853,10 @@ static size_t buffer_rows(const vs_output *o) {
  * SWMR writing (H5Fstart_swmr_write, latest format) was measured too and rejected: a killed file
  * keeps an "open for writing" mark so that an ordinary open fails (h5py needs swmr=True, or
  * h5clear -s); 4 files in 194, killed while /summary was written, opened in no mode at all; and
- * one made an SWMR reader retry a torn index block for minutes. */
+ * one made an SWMR reader retry a torn index block for minutes. In 1.10 an SWMR writer cannot
+ * create objects or attributes either (/summary and the final status would need a reopen).
+ * Without deflate a chunk keeps its size, so a flush rewrites a partial chunk in place, and rows
+ * are written at chunk boundaries (every flush_rows-th row), so most writes fill whole chunks. */
 static vs_status file_create(vs_output *o, const char *path) {
   hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
   if (fcpl >= 0 && H5Pset_file_space_strategy(fcpl, H5F_FSPACE_STRATEGY_NONE, 0, 1) >= 0)
@@ -1016,6 +1047,7 @@ void vs_output_destroy(vs_output **op) {
   }
   h5_close(o->events);
   h5_close(o->ev_mtype);
+  free(o->ev_buf);
   h5_close(o->file);
   H5Eclear2(H5E_DEFAULT);
   quiet_end(q);
@@ -1139,7 +1171,8 @@ int vs_output_sample(void *user, const vs_run *run, const vs_run_sample *s) {
     fill_row(o, run, s);
     o->pending++;
     o->last_phase = (int)s->phase;
-    if ((size_t)o->pending >= o->flush_rows) st = flush_file(o);
+    /* at every flush_rows-th row of the file: the writes fill whole chunks */
+    if ((size_t)(o->rows + o->pending) % o->flush_rows == 0) st = flush_file(o);
   }
   quiet_end(q);
   return st == VS_OK ? 0 : 1;
@@ -1149,15 +1182,19 @@ int vs_output_event(void *user, const vs_run *run, const vs_run_event *e) {
   (void)run;
   vs_output *o = user;
   if (o->err.status != VS_OK || o->interrupted || o->finished) return 1;
-  h5_quiet q = quiet_begin();
-  vs_status st = write_pending(o);
-  event_row row = event_to_row(e);
-  if (st == VS_OK && events_write(o, (hsize_t)o->n_events, 1, &row) < 0)
-    st = h5_fail(&o->err, o->path, "cannot append to /events");
-  if (st == VS_OK) o->n_events++;
-  if (st == VS_OK) st = flush_file(o);
-  quiet_end(q);
-  return st == VS_OK ? 0 : 1;
+  /* buffered: written with the rows at the next flush */
+  if (o->ev_pending == o->ev_cap) {
+    long cap = o->ev_cap ? 2 * o->ev_cap : 64;
+    event_row *b = realloc(o->ev_buf, (size_t)cap * sizeof *b);
+    if (b == NULL) {
+      vs_error_set(&o->err, VS_ERR_NOMEM, "output: out of memory");
+      return 1;
+    }
+    o->ev_buf = b;
+    o->ev_cap = cap;
+  }
+  o->ev_buf[o->ev_pending++] = event_to_row(e);
+  return 0;
 }
 
 /* ------------------------------------------------------------------------------------------ */
@@ -1514,10 +1551,23 @@ static const char *const XDMF_PATHS[X_COUNT] = {
     "/observables/support_displacement/value"};
 static const int XDMF_RANKS[X_COUNT] = {3, 2, 3, 2, 1, 3, 2, 2, 2, 2, 2, 2, 2, 2, 2};
 
+/* Every cell field any grid carries. ParaView's default XDMF reader (Xdmf3ReaderS, what File >
+ * Open picks) flattens a step's grids into pieces of one data set, and its geometry filter then
+ * appends the pieces keeping only the fields that all of them carry: a field on the blocks alone
+ * is dropped and colouring by it leaves the arch grey. So every grid carries every field, NaN
+ * where the field is not its own (ParaView draws NaN in its NaN colour and leaves it out of
+ * ranges); Xdmf3ReaderT keeps the grids as named blocks and reads the same file. */
+static const char *const XDMF_FIELDS[] = {"theta_rad", "ux_m",    "uz_m",    "speed_m_s",
+                                          "N_N",       "T_N",     "M_N_m",   "gap_i_m",
+                                          "gap_e_m",   "hinge_0closed_1intrados_2extrados",
+                                          "Fx_N",      "Fz_N"};
+enum { XDMF_N_FIELDS = (int)(sizeof XDMF_FIELDS / sizeof XDMF_FIELDS[0]) };
+
 typedef struct {
   FILE *f;
   const char *h5name; /* XML-escaped name of the HDF5 file, relative to the sidecar */
   xdmf_ds ds[X_COUNT];
+  unsigned carried; /* bit i: the open grid carries XDMF_FIELDS[i] */
   int ground; /* the record has /summary/ground/points */
 } xdmf_ctx;
 
@@ -1575,21 +1625,47 @@ static void xdmf_slab(const xdmf_ctx *x, int which, hsize_t r, hsize_t col, hsiz
   xdmf_block(x, which, start, count, type, prec, ind);
 }
 
-/* A cell field; its name carries its unit (ParaView shows names only). */
-static void xdmf_attribute(const xdmf_ctx *x, const char *name, int which, hsize_t r, hsize_t col,
+/* A cell field (one of XDMF_FIELDS); its name carries its unit (ParaView shows names only). */
+static void xdmf_attribute(xdmf_ctx *x, const char *name, int which, hsize_t r, hsize_t col,
                            hsize_t ncol, const char *type, int prec) {
   const char *ind = "          ";
+  for (int i = 0; i < XDMF_N_FIELDS; i++)
+    if (strcmp(name, XDMF_FIELDS[i]) == 0) x->carried |= 1u << i;
   fprintf(x->f, "        <Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Cell\">\n", name);
   xdmf_slab(x, which, r, col, ncol, type, prec, ind);
   fputs("        </Attribute>\n", x->f);
 }
 
-static void xdmf_grid_open(const xdmf_ctx *x, const char *name) {
+static void xdmf_grid_open(xdmf_ctx *x, const char *name) {
+  x->carried = 0;
   fprintf(x->f, "      <Grid Name=\"%s\" GridType=\"Uniform\">\n", name);
 }
 
+/* Field XDMF_FIELDS[i] as NaN on all n_cells cells of the open grid, inline. */
+static void xdmf_nan_field(xdmf_ctx *x, int i, hsize_t n_cells) {
+  x->carried |= 1u << i;
+  fprintf(x->f,
+          "        <Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
+          "          <DataItem Dimensions=\"%llu\" NumberType=\"Float\" Precision=\"8\" "
+          "Format=\"XML\">",
+          XDMF_FIELDS[i], (unsigned long long)n_cells);
+  for (hsize_t c = 0; c < n_cells; c++) fputs(c ? " nan" : "nan", x->f);
+  fputs("</DataItem>\n        </Attribute>\n", x->f);
+}
+
+/* A grid that is not the blocks starts with theta_rad (NaN): ParaView shows the first field of
+ * a grid on opening, and the blocks' rotation is the one worth seeing first. */
+static void xdmf_theta_first(xdmf_ctx *x, hsize_t n_cells) { xdmf_nan_field(x, 0, n_cells); }
+
+/* End a grid of n_cells cells: the fields of XDMF_FIELDS it does not carry, NaN. */
+static void xdmf_grid_close(xdmf_ctx *x, hsize_t n_cells) {
+  for (int i = 0; i < XDMF_N_FIELDS; i++)
+    if (!(x->carried & (1u << i))) xdmf_nan_field(x, i, n_cells);
+  fputs("      </Grid>\n", x->f);
+}
+
 /* The blocks at row r: one polygon each, moved. */
-static void xdmf_blocks(const xdmf_ctx *x, hsize_t r) {
+static void xdmf_blocks(xdmf_ctx *x, hsize_t r) {
   const xdmf_ds *bc = &x->ds[X_BCONN];
   xdmf_grid_open(x, "blocks");
   fprintf(x->f,
@@ -1606,11 +1682,11 @@ static void xdmf_blocks(const xdmf_ctx *x, hsize_t r) {
   xdmf_attribute(x, "ux_m", X_BPOS, r, 0, 1, "Float", 8);
   xdmf_attribute(x, "uz_m", X_BPOS, r, 1, 1, "Float", 8);
   xdmf_attribute(x, "speed_m_s", X_BSPEED, r, 0, 0, "Float", 8);
-  fputs("      </Grid>\n", x->f);
+  xdmf_grid_close(x, bc->dims[0]);
 }
 
 /* The joints at row r: one segment each, intrados to extrados. */
-static void xdmf_joints(const xdmf_ctx *x, hsize_t r) {
+static void xdmf_joints(xdmf_ctx *x, hsize_t r) {
   const xdmf_ds *jc = &x->ds[X_JCONN];
   xdmf_grid_open(x, "joints");
   fprintf(x->f,
@@ -1622,18 +1698,20 @@ static void xdmf_joints(const xdmf_ctx *x, hsize_t r) {
           (unsigned long long)jc->dims[0], (unsigned long long)jc->dims[0], x->h5name, jc->path);
   xdmf_slab(x, X_JPTS, r, 0, 0, "Float", 4, "          ");
   fputs("        </Geometry>\n", x->f);
+  xdmf_theta_first(x, jc->dims[0]);
   xdmf_attribute(x, "N_N", X_N, r, 0, 0, "Float", 8);
   xdmf_attribute(x, "T_N", X_T, r, 0, 0, "Float", 8);
   xdmf_attribute(x, "M_N_m", X_M, r, 0, 0, "Float", 8);
   xdmf_attribute(x, "gap_i_m", X_GAPI, r, 0, 0, "Float", 8);
   xdmf_attribute(x, "gap_e_m", X_GAPE, r, 0, 0, "Float", 8);
-  xdmf_attribute(x, "hinge_0closed_1intrados_2extrados", X_HINGE, r, 0, 0, "Char", 1);
-  fputs("      </Grid>\n", x->f);
+  /* read as a double (HDF5 converts), the type the other grids' NaN has */
+  xdmf_attribute(x, "hinge_0closed_1intrados_2extrados", X_HINGE, r, 0, 0, "Float", 8);
+  xdmf_grid_close(x, jc->dims[0]);
 }
 
 /* A support at row r: the springing face it carries (joint 1 on the left, n+1 on the right),
  * with the force it exerts on the arch and, for the moved right support, its displacement. */
-static void xdmf_support(const xdmf_ctx *x, int right, hsize_t r) {
+static void xdmf_support(xdmf_ctx *x, int right, hsize_t r) {
   const char *ind = "          ";
   const hsize_t nj = x->ds[X_JCONN].dims[0];
   const hsize_t start[3] = {r, right ? 2 * nj - 2 : 0, 0}, count[3] = {1, 2, 2};
@@ -1646,6 +1724,7 @@ static void xdmf_support(const xdmf_ctx *x, int right, hsize_t r) {
         x->f);
   xdmf_block(x, X_JPTS, start, count, "Float", 4, ind);
   fputs("        </Geometry>\n", x->f);
+  xdmf_theta_first(x, 1);
   xdmf_attribute(x, "Fx_N", X_REACT, r, right ? 3 : 0, 1, "Float", 8);
   xdmf_attribute(x, "Fz_N", X_REACT, r, right ? 4 : 1, 1, "Float", 8);
   xdmf_attribute(x, "M_N_m", X_REACT, r, right ? 5 : 2, 1, "Float", 8);
@@ -1653,11 +1732,11 @@ static void xdmf_support(const xdmf_ctx *x, int right, hsize_t r) {
     xdmf_attribute(x, "ux_m", X_SUPPORT, r, 0, 1, "Float", 8);
     xdmf_attribute(x, "uz_m", X_SUPPORT, r, 1, 1, "Float", 8);
   }
-  fputs("      </Grid>\n", x->f);
+  xdmf_grid_close(x, 1);
 }
 
-/* The ground (a fixed segment), when the fall landed on it. */
-static void xdmf_ground(const xdmf_ctx *x) {
+/* The ground (a fixed segment), when the fall landed on it; every field NaN (XDMF_FIELDS). */
+static void xdmf_ground(xdmf_ctx *x) {
   xdmf_grid_open(x, "ground");
   fprintf(x->f,
           "        <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" "
@@ -1667,12 +1746,14 @@ static void xdmf_ground(const xdmf_ctx *x) {
           "        </Topology>\n        <Geometry GeometryType=\"XY\">\n"
           "          <DataItem Dimensions=\"2 2\" NumberType=\"Float\" Precision=\"8\" "
           "Format=\"HDF\">%s:/summary/ground/points</DataItem>\n"
-          "        </Geometry>\n      </Grid>\n",
+          "        </Geometry>\n",
           x->h5name);
+  xdmf_theta_first(x, 1);
+  xdmf_grid_close(x, 1);
 }
 
 /* One time step: the row's objects as named grids of a spatial collection. */
-static void xdmf_step(const xdmf_ctx *x, hsize_t r, double t) {
+static void xdmf_step(xdmf_ctx *x, hsize_t r, double t) {
   fprintf(x->f,
           "    <Grid Name=\"row %llu\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
           "      <Time Value=\"%.17g\"/>\n",
@@ -1770,9 +1851,9 @@ static vs_status xdmf_write(hid_t file, const char *h5_path, const char *xmf_pat
           "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
           "<!-- voussoir: %s, %ld rows, every %ld-th shown (and the last), times strictly "
           "increasing (the loading time delta / rate, s).\n"
-          "     ParaView: open it with the reader Xdmf3ReaderT: each step's grids become named "
-          "blocks; the default Xdmf3ReaderS makes "
-          "them pieces of one set and cannot colour by a field that only some of them carry.\n"
+          "     ParaView: either XDMF 3 reader colours by any field: every grid carries every "
+          "field, NaN where it is not the grid's own (the default Xdmf3ReaderS keeps only the "
+          "fields all grids carry); Xdmf3ReaderT also keeps the grids as named blocks.\n"
           "     blocks (polygons): theta_rad rotation, ux_m uz_m centroid displacement, speed_m_s;\n"
           "     joints (segments, intrados to extrados): N_N normal force (compression > 0), T_N "
           "shear force, M_N_m moment about the joint centre, gap_i_m gap_e_m edge openings, "

@@ -152,6 +152,14 @@ static void font(cairo_t *cr, double size, int bold) {
 
 /* Text s with its ink box aligned at (x, y): ax, ay = 0 left/top, 0.5 centre, 1 right/bottom.
  * halo: a white outline under the text, legible over the drawing. Returns the ink width. */
+/* font(size, bold), smaller if s would be wider than w px (a long title stays whole). */
+static void font_to_fit(cairo_t *cr, const char *s, double size, int bold, double w) {
+  font(cr, size, bold);
+  cairo_text_extents_t e;
+  cairo_text_extents(cr, s, &e);
+  if (e.x_advance > w && e.x_advance > 0.0) font(cr, fmax(9.0, size * w / e.x_advance), bold);
+}
+
 static double text_at(cairo_t *cr, const char *s, double x, double y, double ax, double ay,
                       rgb c, int halo) {
   cairo_text_extents_t e;
@@ -210,10 +218,17 @@ enum { ARC_MAX = 182 }; /* points per arc: one per degree over at most 180 degre
 enum { SUPPORT_PTS = 5 };
 
 /* Point X, Z of body `body` (a block index or a support) moved: x = c + u + R(theta)(X - c). */
-static void body_point(const vs_geometry *g, const double *q, const double su[2], int body,
-                       double X, double Z, double *x, double *z) {
+static void body_point(const vs_geometry *g, const double *q, const double su[2],
+                       const double *srot, int body, double X, double Z, double *x, double *z) {
   if (body < 0 || q == NULL) {
-    int moved = body == VS_SUPPORT_RIGHT;
+    const int moved = body == VS_SUPPORT_RIGHT;
+    const double th = body < 0 && srot != NULL ? srot[moved] : 0.0;
+    if (th != 0.0) { /* a pinned springer turns about the centre of its springing face */
+      const vs_joint_geom *j = &g->joints[moved ? g->n_joints - 1 : 0];
+      const double c = cos(th), s = sin(th), dx = X - j->px, dz = Z - j->pz;
+      X = j->px + c * dx - s * dz;
+      Z = j->pz + s * dx + c * dz;
+    }
     *x = X + (moved ? su[0] : 0.0);
     *z = Z + (moved ? su[1] : 0.0);
     return;
@@ -242,16 +257,18 @@ static int arc_points(double dphi) {
 }
 
 /* Outline of block i moved by q (NULL: reference): the intrados arc phi0 -> phi1, then the
- * extrados arc back. x, z hold 2 ARC_MAX points; returns the number written. */
-static int block_outline(const vs_geometry *g, const double *q, int i, double *x, double *z) {
+ * extrados arc back, at the block's own thickness thick[i] (NULL: the geometry's). x, z hold 2 ARC_MAX points; returns the number written. */
+static int block_outline(const vs_geometry *g, const double *q, const double *thick, int i,
+                         double *x, double *z) {
   const vs_block *b = &g->blocks[i];
-  const double r[2] = {g->radius, g->radius + g->thickness}, su[2] = {0.0, 0.0};
+  const double r[2] = {g->radius, g->radius + (thick != NULL ? thick[i] : g->thickness)};
+  const double su[2] = {0.0, 0.0};
   int m = arc_points(b->phi1 - b->phi0), k = 0;
   for (int side = 0; side < 2; side++)
     for (int p = 0; p < m; p++, k++) {
       double f = (double)(side ? m - 1 - p : p) / (m - 1);
       double phi = b->phi0 + f * (b->phi1 - b->phi0);
-      body_point(g, q, su, i, r[side] * sin(phi), r[side] * cos(phi), &x[k], &z[k]);
+      body_point(g, q, su, NULL, i, r[side] * sin(phi), r[side] * cos(phi), &x[k], &z[k]);
     }
   return k;
 }
@@ -317,14 +334,14 @@ static void box_add(box *b, const double *x, const double *z, int n) {
   }
 }
 
-static void arch_frame(const vs_geometry *g, const double *q, const double su[2], double ground,
-                       vs_plot_frame *f) {
+static void arch_frame(const vs_geometry *g, const double *q, const double *thick,
+                       const double su[2], double ground, vs_plot_frame *f) {
   double x[2 * ARC_MAX], z[2 * ARC_MAX];
   const double zero[2] = {0.0, 0.0};
   box b = {INFINITY, -INFINITY, INFINITY, -INFINITY};
   for (int i = 0; i < g->n_blocks; i++) {
-    box_add(&b, x, z, block_outline(g, NULL, i, x, z));
-    if (q != NULL) box_add(&b, x, z, block_outline(g, q, i, x, z));
+    box_add(&b, x, z, block_outline(g, NULL, thick, i, x, z));
+    if (q != NULL) box_add(&b, x, z, block_outline(g, q, thick, i, x, z));
   }
   box_add(&b, x, z, support_outline(g, 1, zero, x, z));
   box_add(&b, x, z, support_outline(g, 0, zero, x, z));
@@ -346,7 +363,7 @@ vs_status vs_plot_arch_frame(const vs_geometry *g, const double *q, double delta
   if (st != VS_OK) return st;
   double su[2];
   support_displacement(delta_m, alpha_rad, su);
-  arch_frame(g, q, su, NAN, f);
+  arch_frame(g, q, NULL, su, NAN, f);
   return VS_OK;
 }
 
@@ -364,6 +381,9 @@ typedef struct {
   const double *N, *M; /* joint forces for the thrust line, or NULL */
   double ground;       /* the ground's level z, m (NaN: none) */
   const char *title;
+  const double *thick;  /* per block thickness, m, or NULL: the geometry's */
+  int pinned[2];        /* left, right support pinned: its springer drawn turned by srot */
+  double srot[2];       /* springer rotations, rad (0 for fixed supports) */
   vs_plot_frame f;
 } arch_data;
 
@@ -386,7 +406,7 @@ static void draw_blocks(cairo_t *cr, const arch_data *d, const double *q, int fa
   double x[2 * ARC_MAX], z[2 * ARC_MAX];
   cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
   for (int i = 0; i < d->g->n_blocks; i++) {
-    model_path(cr, &d->f, x, z, block_outline(d->g, q, i, x, z));
+    model_path(cr, &d->f, x, z, block_outline(d->g, q, d->thick, i, x, z));
     set_rgb(cr, faint ? ref_fill : stone[i % 2]);
     cairo_fill_preserve(cr);
     cairo_set_line_width(cr, faint ? 0.8 : 0.7);
@@ -409,6 +429,34 @@ static void ground(cairo_t *cr, const vs_plot_frame *f, double xa, double xb, do
     cairo_move_to(cr, px, py);
     cairo_line_to(cr, px - 8.0, py + 8.0);
   }
+  cairo_stroke(cr);
+}
+
+/* A pinned support's springer: a plate under the springing face, turned with it about the pin
+ * at the face's centre (drawn as a ring). */
+static void draw_springer(cairo_t *cr, const arch_data *d, int left) {
+  const vs_joint_geom *j = &d->g->joints[left ? 0 : d->g->n_joints - 1];
+  const int body = left ? VS_SUPPORT_LEFT : VS_SUPPORT_RIGHT;
+  const double in = left ? -1.0 : 1.0, h = 0.6 * d->g->thickness; /* into the support */
+  double e[4], X[4], Z[4], x[4], z[4];
+  joint_ends(j, e);
+  X[0] = e[0], Z[0] = e[1], X[1] = e[2], Z[1] = e[3];
+  X[2] = e[2] + in * h * j->nx, Z[2] = e[3] + in * h * j->nz;
+  X[3] = e[0] + in * h * j->nx, Z[3] = e[1] + in * h * j->nz;
+  for (int k = 0; k < 4; k++) body_point(d->g, NULL, d->su, d->srot, body, X[k], Z[k], &x[k], &z[k]);
+  model_path(cr, &d->f, x, z, 4);
+  cairo_set_source_rgb(cr, 0.55, 0.55, 0.60);
+  cairo_fill_preserve(cr);
+  cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+  cairo_set_line_width(cr, 1.2);
+  cairo_stroke(cr);
+  double px, py, cx, cz;
+  body_point(d->g, NULL, d->su, d->srot, body, j->px, j->pz, &cx, &cz);
+  vs_plot_to_px(&d->f, cx, cz, &px, &py);
+  dot(cr, px, py, 5.0, C_WHITE);
+  cairo_new_path(cr);
+  cairo_arc(cr, px, py, 5.0, 0.0, 2.0 * VS_PI);
+  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
   cairo_stroke(cr);
 }
 
@@ -456,6 +504,7 @@ static void draw_supports(cairo_t *cr, const arch_data *d) {
     cairo_set_line_width(cr, 1.2);
     cairo_stroke(cr);
     ground(cr, &d->f, x[3], x[4], z[3]);
+    if (d->pinned[!left]) draw_springer(cr, d, left);
   }
 }
 
@@ -474,8 +523,8 @@ static void joint_faces(const arch_data *d, int k, double fa[4], double fb[4]) {
   double e[4];
   joint_ends(j, e);
   for (int p = 0; p < 2; p++) {
-    body_point(d->g, d->q, d->su, j->a, e[2 * p], e[2 * p + 1], &fa[2 * p], &fa[2 * p + 1]);
-    body_point(d->g, d->q, d->su, j->b, e[2 * p], e[2 * p + 1], &fb[2 * p], &fb[2 * p + 1]);
+    body_point(d->g, d->q, d->su, d->srot, j->a, e[2 * p], e[2 * p + 1], &fa[2 * p], &fa[2 * p + 1]);
+    body_point(d->g, d->q, d->su, d->srot, j->b, e[2 * p], e[2 * p + 1], &fb[2 * p], &fb[2 * p + 1]);
   }
 }
 
@@ -562,25 +611,33 @@ static void draw_hinges(cairo_t *cr, const arch_data *d) {
 }
 
 /* The scale bar: four alternating segments of a round length in mm, bottom left. */
-/* The thrust line: through the centre of pressure of every compressed joint, e = M / N from the
- * joint's centre towards the extrados along the moved joint (the mean of its two faces); the
- * resultant of the contact stresses acts there. Broken where a joint carries no compression. */
+/* Centre of pressure of joint k (model coordinates, m): e = M / N from the centre of the moved
+ * joint (the mean of its two faces) towards its extrados; 0 where the joint carries no
+ * compression (N <= 0 or M not finite). */
+static int thrust_point(const arch_data *d, int k, double *x, double *z) {
+  if (!(d->N[k] > 0.0) || !isfinite(d->M[k])) return 0;
+  double fa[4], fb[4];
+  joint_faces(d, k, fa, fb);
+  const double ix = 0.5 * (fa[0] + fb[0]), iz = 0.5 * (fa[1] + fb[1]);
+  const double ex = 0.5 * (fa[2] + fb[2]), ez = 0.5 * (fa[3] + fb[3]);
+  const double len = hypot(ex - ix, ez - iz), e = d->M[k] / d->N[k];
+  *x = 0.5 * (ix + ex) + e * (ex - ix) / len;
+  *z = 0.5 * (iz + ez) + e * (ez - iz) / len;
+  return 1;
+}
+
+/* The thrust line: through the centre of pressure of every compressed joint, where the resultant
+ * of the contact stresses acts. Broken where a joint carries no compression. */
 static void draw_thrust(cairo_t *cr, const arch_data *d) {
   if (d->N == NULL || d->M == NULL) return;
   int pen = 0;
   cairo_new_path(cr);
   for (int k = 0; k < d->g->n_joints; k++) {
-    if (!(d->N[k] > 0.0) || !isfinite(d->M[k])) {
+    double x, z, px, py;
+    if (!thrust_point(d, k, &x, &z)) {
       pen = 0;
       continue;
     }
-    double fa[4], fb[4];
-    joint_faces(d, k, fa, fb);
-    const double ix = 0.5 * (fa[0] + fb[0]), iz = 0.5 * (fa[1] + fb[1]);
-    const double ex = 0.5 * (fa[2] + fb[2]), ez = 0.5 * (fa[3] + fb[3]);
-    const double len = hypot(ex - ix, ez - iz), e = d->M[k] / d->N[k];
-    const double x = 0.5 * (ix + ex) + e * (ex - ix) / len, z = 0.5 * (iz + ez) + e * (ez - iz) / len;
-    double px, py;
     vs_plot_to_px(&d->f, x, z, &px, &py);
     if (pen) cairo_line_to(cr, px, py);
     else cairo_move_to(cr, px, py);
@@ -589,6 +646,20 @@ static void draw_thrust(cairo_t *cr, const arch_data *d) {
   cairo_set_source_rgb(cr, C_THRUST.r, C_THRUST.g, C_THRUST.b);
   cairo_set_line_width(cr, 2.0);
   cairo_stroke(cr);
+}
+
+vs_status vs_plot_thrust_points(const vs_geometry *g, const double *q, double delta_m,
+                                double alpha_rad, const double *joint_N, const double *joint_M,
+                                double *x, double *z, vs_error *err) {
+  vs_status st = check_arch(g, q, delta_m, alpha_rad, err);
+  if (st != VS_OK) return st;
+  if (joint_N == NULL || joint_M == NULL || x == NULL || z == NULL)
+    return vs_error_set(err, VS_ERR_INVALID, "plot: thrust points need N, M, x and z");
+  arch_data d = {.g = g, .q = q, .delta = delta_m, .alpha = alpha_rad, .N = joint_N, .M = joint_M};
+  support_displacement(delta_m, alpha_rad, d.su);
+  for (int k = 0; k < g->n_joints; k++)
+    if (!thrust_point(&d, k, &x[k], &z[k])) x[k] = z[k] = NAN;
+  return VS_OK;
 }
 
 static void draw_scale_bar(cairo_t *cr, const vs_plot_frame *f) {
@@ -658,7 +729,7 @@ static void draw_arch(cairo_t *cr, const void *data) {
 
   double y = 36.0;
   if (d->title != NULL && d->title[0] != '\0') {
-    font(cr, 21.0, 1);
+    font_to_fit(cr, d->title, 21.0, 1, d->f.width - 2.0 * ARCH_SIDE);
     text_at(cr, d->title, ARCH_SIDE, y, 0.0, 1.0, C_TEXT, 0);
     y += 28.0;
   }
@@ -702,8 +773,42 @@ vs_status vs_plot_arch_thrust(const char *path, vs_plot_format fmt, const vs_geo
                               const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
                               const double *joint_gap_e, double open_m, const double *joint_N,
                               const double *joint_M, const char *title, vs_error *err) {
-  return vs_plot_arch_landed(path, fmt, g, q, delta_m, alpha_rad, hinges, n_hinges, joint_gap_i,
-                             joint_gap_e, open_m, joint_N, joint_M, NAN, title, err);
+  const vs_plot_arch_args a = {.g = g, .q = q, .delta_m = delta_m, .alpha_rad = alpha_rad,
+                               .hinges = hinges, .n_hinges = n_hinges, .joint_gap_i = joint_gap_i,
+                               .joint_gap_e = joint_gap_e, .open_m = open_m, .joint_N = joint_N,
+                               .joint_M = joint_M, .title = title};
+  return vs_plot_arch_draw(path, fmt, &a, err);
+}
+
+vs_status vs_plot_arch_draw(const char *path, vs_plot_format fmt, const vs_plot_arch_args *a,
+                            vs_error *err) {
+  if (path == NULL || a == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no file name");
+  const vs_geometry *g = a->g;
+  vs_status st = check_arch(g, a->q, a->delta_m, a->alpha_rad, err);
+  if (st == VS_OK) st = check_hinges(g, a->hinges, a->n_hinges, err);
+  if (st != VS_OK) return st;
+  if (!(a->open_m >= 0.0))
+    return vs_error_set(err, VS_ERR_INVALID, "plot: open = %g m (allowed: >= 0)", a->open_m);
+  for (int i = 0; a->block_thickness != NULL && i < g->n_blocks; i++)
+    if (!(a->block_thickness[i] > 0.0 && a->block_thickness[i] < g->radius))
+      return vs_error_set(err, VS_ERR_INVALID, "plot: block %d thickness %g m (allowed: (0, R))",
+                          i + 1, a->block_thickness[i]);
+  for (int s = 0; s < 2; s++)
+    if (!isfinite(a->support_theta[s]) || (!a->pinned[s] && a->support_theta[s] != 0.0))
+      return vs_error_set(err, VS_ERR_INVALID, "plot: support %d rotation %g rad (allowed: finite, "
+                          "0 unless pinned)", s + 1, a->support_theta[s]);
+  arch_data d = {.g = g, .q = a->q, .delta = a->delta_m, .alpha = a->alpha_rad,
+                 .hinges = a->hinges, .n_hinges = a->n_hinges, .gap_i = a->joint_gap_i,
+                 .gap_e = a->joint_gap_e, .open = a->open_m, .N = a->joint_N, .M = a->joint_M,
+                 .title = a->title, .thick = a->block_thickness,
+                 .pinned = {a->pinned[0] != 0, a->pinned[1] != 0},
+                 .srot = {a->support_theta[0], a->support_theta[1]},
+                 .ground = a->has_ground ? a->ground_z : NAN};
+  if (a->has_ground && !isfinite(a->ground_z))
+    return vs_error_set(err, VS_ERR_INVALID, "plot: ground z = %g m (allowed: finite)", a->ground_z);
+  support_displacement(a->delta_m, a->alpha_rad, d.su);
+  arch_frame(g, a->q, d.thick, d.su, d.ground, &d.f);
+  return emit(path, fmt, d.f.width, d.f.height, draw_arch, &d, err);
 }
 
 vs_status vs_plot_arch_landed(const char *path, vs_plot_format fmt, const vs_geometry *g,
@@ -712,18 +817,12 @@ vs_status vs_plot_arch_landed(const char *path, vs_plot_format fmt, const vs_geo
                               const double *joint_gap_e, double open_m, const double *joint_N,
                               const double *joint_M, double ground_z, const char *title,
                               vs_error *err) {
-  if (path == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no file name");
-  vs_status st = check_arch(g, q, delta_m, alpha_rad, err);
-  if (st == VS_OK) st = check_hinges(g, hinges, n_hinges, err);
-  if (st != VS_OK) return st;
-  if (!(open_m >= 0.0))
-    return vs_error_set(err, VS_ERR_INVALID, "plot: open = %g m (allowed: >= 0)", open_m);
-  arch_data d = {.g = g, .q = q, .delta = delta_m, .alpha = alpha_rad, .hinges = hinges,
-                 .n_hinges = n_hinges, .gap_i = joint_gap_i, .gap_e = joint_gap_e,
-                 .open = open_m, .N = joint_N, .M = joint_M, .ground = ground_z, .title = title};
-  support_displacement(delta_m, alpha_rad, d.su);
-  arch_frame(g, q, d.su, ground_z, &d.f);
-  return emit(path, fmt, d.f.width, d.f.height, draw_arch, &d, err);
+  const vs_plot_arch_args a = {.g = g, .q = q, .delta_m = delta_m, .alpha_rad = alpha_rad,
+                               .hinges = hinges, .n_hinges = n_hinges, .joint_gap_i = joint_gap_i,
+                               .joint_gap_e = joint_gap_e, .open_m = open_m, .joint_N = joint_N,
+                               .joint_M = joint_M, .title = title,
+                               .has_ground = !isnan(ground_z), .ground_z = ground_z};
+  return vs_plot_arch_draw(path, fmt, &a, err);
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -877,6 +976,39 @@ static void draw_series(cairo_t *cr, const panel_box *b, const double *x, const 
     }
 }
 
+/* A marker of a points-only style at (px, py): filled in c, outlined in black. */
+static void marker(cairo_t *cr, vs_plot_style st, double px, double py, rgb c) {
+  const double r = 6.0;
+  cairo_new_path(cr);
+  if (st == VS_PLOT_SQUARES) {
+    cairo_rectangle(cr, px - 0.85 * r, py - 0.85 * r, 1.7 * r, 1.7 * r);
+  } else if (st == VS_PLOT_TRIANGLES) {
+    cairo_move_to(cr, px, py - 1.15 * r);
+    cairo_line_to(cr, px + r, py + 0.7 * r);
+    cairo_line_to(cr, px - r, py + 0.7 * r);
+    cairo_close_path(cr);
+  } else if (st == VS_PLOT_DIAMONDS) {
+    cairo_move_to(cr, px, py - 1.2 * r);
+    cairo_line_to(cr, px + r, py);
+    cairo_line_to(cr, px, py + 1.2 * r);
+    cairo_line_to(cr, px - r, py);
+    cairo_close_path(cr);
+  } else {
+    cairo_arc(cr, px, py, r, 0.0, 2.0 * VS_PI);
+  }
+  set_rgb(cr, c);
+  cairo_fill_preserve(cr);
+  set_rgb(cr, C_BLACK);
+  cairo_set_line_width(cr, 1.2);
+  cairo_stroke(cr);
+}
+
+static void draw_markers(cairo_t *cr, const panel_box *b, const double *x, const double *y,
+                         int n, vs_plot_style st, rgb c) {
+  for (int k = 0; k < n; k++)
+    if (isfinite(x[k]) && isfinite(y[k])) marker(cr, st, map_x(b, x[k]), map_y(b, y[k]), c);
+}
+
 static int has_data(const double *x, const double *y, int n) {
   for (int k = 0; k < n; k++)
     if (isfinite(x[k]) && isfinite(y[k])) return 1;
@@ -899,7 +1031,7 @@ static int points_in(const panel_box *b, const vs_plot_panel *p, const double *x
 
 /* Legend of the named series that have data, in the corner of the plot with the fewest points. */
 static void draw_legend(cairo_t *cr, const panel_box *b, const vs_plot_panel *p, const double *x,
-                        int n) {
+                        int n, const vs_plot_style *style) {
   font(cr, 13.0, 0);
   double wmax = 0.0;
   int rows = 0;
@@ -932,11 +1064,15 @@ static void draw_legend(cairo_t *cr, const panel_box *b, const vs_plot_panel *p,
     const char *nm = p->series[s].name;
     if (nm == NULL || nm[0] == '\0' || !has_data(x, p->series[s].y, n)) continue;
     double yy = ly + 4.0 + (r++ + 0.5) * row;
-    set_rgb(cr, series_colour(&p->series[s], s));
-    cairo_set_line_width(cr, 2.5);
-    cairo_move_to(cr, lx + 8.0, yy);
-    cairo_line_to(cr, lx + 32.0, yy);
-    cairo_stroke(cr);
+    if (style != NULL && style[s] != VS_PLOT_LINE) {
+      marker(cr, style[s], lx + 20.0, yy, series_colour(&p->series[s], s));
+    } else {
+      set_rgb(cr, series_colour(&p->series[s], s));
+      cairo_set_line_width(cr, 2.5);
+      cairo_move_to(cr, lx + 8.0, yy);
+      cairo_line_to(cr, lx + 32.0, yy);
+      cairo_stroke(cr);
+    }
     text_at(cr, nm, lx + 40.0, yy, 0.0, 0.5, C_TEXT, 0);
   }
 }
@@ -989,7 +1125,7 @@ static void draw_curves(cairo_t *cr, const void *data) {
   cairo_paint(cr);
   double top = d->title != NULL && d->title[0] != '\0' ? CV_TOP : 25.0;
   if (top > 25.0) {
-    font(cr, 21.0, 1);
+    font_to_fit(cr, d->title, 21.0, 1, W - CV_LEFT - CV_RIGHT);
     text_at(cr, d->title, CV_LEFT, 36.0, 0.0, 1.0, C_TEXT, 0);
   }
   const int x2 = d->marks != NULL && d->marks->x2.label != NULL;
@@ -1015,10 +1151,15 @@ static void draw_curves(cairo_t *cr, const void *data) {
     cairo_save(cr);
     cairo_rectangle(cr, b.x, b.y, b.w, b.h);
     cairo_clip(cr);
+    const vs_plot_style *style = p == 0 && d->marks != NULL ? d->marks->style : NULL;
+    for (int s = 0; s < pn->n_series; s++) /* lines first, markers over them */
+      if (style == NULL || style[s] == VS_PLOT_LINE)
+        draw_series(cr, &b, d->x, pn->series[s].y, d->n, series_colour(&pn->series[s], s));
     for (int s = 0; s < pn->n_series; s++)
-      draw_series(cr, &b, d->x, pn->series[s].y, d->n, series_colour(&pn->series[s], s));
+      if (style != NULL && style[s] != VS_PLOT_LINE)
+        draw_markers(cr, &b, d->x, pn->series[s].y, d->n, style[s], series_colour(&pn->series[s], s));
     cairo_restore(cr);
-    draw_legend(cr, &b, pn, d->x, d->n);
+    draw_legend(cr, &b, pn, d->x, d->n, style);
     if (pn->y.label != NULL) {
       font(cr, 15.0, 0);
       cairo_save(cr);
@@ -1071,10 +1212,15 @@ vs_status vs_plot_curves_marked(const char *path, vs_plot_format fmt, const char
     if (pn->series == NULL || pn->n_series < 1 || pn->n_series > VS_PLOT_MAX_SERIES)
       return vs_error_set(err, VS_ERR_INVALID, "plot: panel %d has %d series (allowed: 1..%d)",
                           p + 1, pn->n_series, VS_PLOT_MAX_SERIES);
-    for (int s = 0; s < pn->n_series; s++)
+    for (int s = 0; s < pn->n_series; s++) {
       if (pn->series[s].y == NULL)
         return vs_error_set(err, VS_ERR_INVALID, "plot: panel %d series %d has no data", p + 1,
                             s + 1);
+      const int sty = p == 0 && marks != NULL && marks->style != NULL ? (int)marks->style[s] : 0;
+      if (sty < VS_PLOT_LINE || sty > VS_PLOT_DIAMONDS)
+        return vs_error_set(err, VS_ERR_INVALID, "plot: panel %d series %d style %d (allowed: "
+                            "0..4)", p + 1, s + 1, sty);
+    }
     st = check_axis(&pn->y, "y", err);
   }
   if (st != VS_OK) return st;

@@ -2,6 +2,7 @@
  * each support displacement, a tangent predictor, adaptive increments, and a limit point
  * bracketed by bisection of the increment and confirmed on the tangent stiffness. */
 #include "voussoir/quasistatic.h"
+
 #include "voussoir/stability.h"
 
 #include <klu.h>
@@ -16,6 +17,7 @@
 #include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include "voussoir/klu_reuse.h"
 #include "voussoir/units.h"
 
 /* A converged corrector may move the state away from the tangent predictor by at most this
@@ -42,6 +44,10 @@ static const int VS_KLU_ORDERING = 2;
 /* Newton stops when its scaled step (in units of the joint length) falls below this: about
  * a hundred ulps of a position, the resolution of double precision. */
 static const double VS_NEWTON_STEPTOL = 1e-14;
+/* KINSOL's line search backtracks down to the step tolerance (13 to 20 trials when a Newton
+ * direction leads nowhere); a solve whose line search has tried this many steps without an
+ * acceptable one is stopped as if the search had failed (the path then cuts its increment). */
+static const int VS_MAX_LINESEARCH = 5;
 /* Round-off floor of the residual: positions carry a relative error of eps, which the joint
  * stiffness k_n b t turns into a force error of about eps k_n b t (|u| + t); a Newton iteration
  * that stalls within this margin times that floor has converged as far as doubles allow. */
@@ -75,6 +81,8 @@ typedef struct {
   double max_residual;        /* largest scaled residual among accepted equilibria */
   int interrupted;            /* o->stop was seen raised */
   int nonfinite;              /* the last solve met a residual that is not finite */
+  int evals;                  /* residuals since the last Jacobian (1 + line-search trials) */
+  int backtracked_out;        /* the last solve was stopped by VS_MAX_LINESEARCH */
   char kin_msg[256];
 } qs_solver;
 
@@ -91,6 +99,10 @@ static int qs_stopped(qs_solver *s) {
 static int sys_fn(N_Vector u, N_Vector f, void *user) {
   qs_solver *s = user;
   if (qs_stopped(s)) return -1;
+  if (++s->evals > VS_MAX_LINESEARCH + 1) { /* a diverging solve: stop it here */
+    s->backtracked_out = 1;
+    return -1;
+  }
   double *fv = N_VGetArrayPointer(f);
   vs_model_residual(s->m, N_VGetArrayPointer(u), s->delta, fv);
   for (int i = 0; i < s->n; i++)
@@ -108,6 +120,7 @@ static int jac_fn(N_Vector u, N_Vector fu, SUNMatrix J, void *user, N_Vector t1,
   qs_solver *s = user;
   if (qs_stopped(s)) return -1;
   s->jac_evals++;
+  s->evals = 0;
   return vs_model_jacobian(s->m, N_VGetArrayPointer(u), s->delta, J);
 }
 
@@ -180,6 +193,7 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
   if ((flag = SUNLinSol_KLUSetOrdering(s->LS, VS_KLU_ORDERING)) != 0 ||
       (flag = SUNLinSol_KLUSetOrdering(s->LSt, VS_KLU_ORDERING)) != 0)
     return qs_fail(s, err, "SUNLinSol_KLUSetOrdering", flag);
+  vs_klu_keep_analysis(s->LS); /* one analysis for every KINSol call of this path */
 
   /* Scalings: residuals in units of each block's weight (moments: weight x joint length);
    * unknowns in units of that length (rotations in rad). */
@@ -237,9 +251,13 @@ static int qs_solve(qs_solver *s, double delta, double *q, long *iters) {
   s->delta = delta;
   s->kin_msg[0] = '\0';
   s->nonfinite = 0;
+  s->evals = 0;
+  s->backtracked_out = 0;
   if (qs_stopped(s)) return KIN_SYSFUNC_FAIL;
   memcpy(N_VGetArrayPointer(s->u), q, (size_t)s->n * sizeof *q);
   int flag = KINSol(s->kin, s->u, KIN_LINESEARCH, s->uscale, s->fscale);
+  if (flag == KIN_SYSFUNC_FAIL && s->backtracked_out && !s->interrupted)
+    flag = KIN_LINESEARCH_NONCONV; /* u holds the last accepted iterate */
   long nni = 0;
   KINGetNumNonlinSolvIters(s->kin, &nni);
   s->iters += nni;
@@ -646,16 +664,71 @@ done:
   return ok;
 }
 
+struct vs_path_solver {
+  qs_solver s;
+};
+
+vs_status vs_path_solver_create(vs_model *m, const vs_path_opts *o, vs_path_solver **out,
+                                vs_error *err) {
+  *out = NULL;
+  vs_path_solver *p = malloc(sizeof *p);
+  if (p == NULL) return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
+  vs_status st = qs_create(&p->s, m, o, err);
+  if (st != VS_OK) {
+    free(p);
+    return st;
+  }
+  vs_klu_keep_analysis(p->s.LSt); /* re-armed by every run: factored afresh, one analysis */
+  *out = p;
+  return VS_OK;
+}
+
+void vs_path_solver_destroy(vs_path_solver **p) {
+  if (p == NULL || *p == NULL) return;
+  qs_destroy(&(*p)->s);
+  free(*p);
+  *p = NULL;
+}
+
+/* A run starts as on a new solver: options o, counters at zero, the tangent factored afresh. */
+static vs_status qs_rearm(qs_solver *s, const vs_path_opts *o, vs_error *err) {
+  s->o = o;
+  s->delta = 0.0;
+  s->iters = s->jac_evals = s->floor_limited = 0;
+  s->max_residual = 0.0;
+  s->interrupted = s->nonfinite = s->evals = s->backtracked_out = 0;
+  s->kin_msg[0] = '\0';
+  int flag = KINSetNumMaxIters(s->kin, o->newton_maxiter);
+  if (flag == KIN_SUCCESS) flag = KINSetFuncNormTol(s->kin, o->newton_tol);
+  if (flag == KIN_SUCCESS) flag = SUNLinSolInitialize(s->LSt);
+  return flag == 0 ? VS_OK
+                   : vs_error_set(err, VS_ERR_SOLVER, "quasi-static solver: re-arming failed (flag %d)",
+                                  flag);
+}
+
 vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double *q,
                       vs_path_step_fn step_fn, void *user, vs_path_result *res, vs_error *err) {
   memset(res, 0, sizeof *res);
   res->evidence.delta_extrap = NAN;
-  qs_solver s;
-  vs_status st = qs_create(&s, m, o, err);
+  vs_path_solver *p = NULL;
+  vs_status st = vs_path_solver_create(m, o, &p, err);
+  if (st == VS_OK) st = vs_path_run_with(p, o, delta0, q, step_fn, user, res, err);
+  vs_path_solver_destroy(&p);
+  return st;
+}
+
+vs_status vs_path_run_with(vs_path_solver *p, const vs_path_opts *o, double delta0, double *q,
+                           vs_path_step_fn step_fn, void *user, vs_path_result *res,
+                           vs_error *err) {
+  memset(res, 0, sizeof *res);
+  res->evidence.delta_extrap = NAN;
+  qs_solver *const sp = &p->s;
+  vs_model *const m = sp->m;
+  vs_status st = qs_rearm(sp, o, err);
   if (st != VS_OK) return st;
-  const size_t bytes = (size_t)s.n * sizeof(double);
+  const size_t bytes = (size_t)sp->n * sizeof(double);
   double *tan = malloc(bytes), *qtry = malloc(bytes), *qpred = malloc(bytes);
-  double *qprev = malloc(bytes), *eig = calloc((size_t)s.n, sizeof(double));
+  double *qprev = malloc(bytes), *eig = calloc((size_t)sp->n, sizeof(double));
   double *qloc = malloc(3 * bytes); /* locate_edges' workspace */
   double delta_prev = 0.0;
   if (tan == NULL || qtry == NULL || qpred == NULL || qprev == NULL || eig == NULL || qloc == NULL) {
@@ -665,15 +738,15 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
   /* 1. the starting equilibrium: self-weight with the supports in place (delta0 = 0), or the
    * state a snap-through settled in */
   long it = 0;
-  const int misfit = delta0 == 0.0 && vs_model_has_misfit(s.m);
-  if (misfit) vs_model_set_misfit_scale(s.m, 0.0);
-  int flag = qs_solve(&s, delta0, q, &it);
+  const int misfit = delta0 == 0.0 && vs_model_has_misfit(sp->m);
+  if (misfit) vs_model_set_misfit_scale(sp->m, 0.0);
+  int flag = qs_solve(sp, delta0, q, &it);
   double lambda_max = 1.0, misfit_max = 1.0;
-  if (flag != 0 && delta0 == 0.0 && qs_fatal(&s, delta0, NULL) == VS_OK &&
-      gravity_ramp(&s, q, &lambda_max) == 0)
+  if (flag != 0 && delta0 == 0.0 && qs_fatal(sp, delta0, NULL) == VS_OK &&
+      gravity_ramp(sp, q, &lambda_max) == 0)
     flag = 0;
-  if (flag == 0 && misfit && misfit_ramp(&s, q, &misfit_max) != 0) {
-    st = qs_fatal(&s, delta0, err); /* an interrupt or a non-finite residual says so */
+  if (flag == 0 && misfit && misfit_ramp(sp, q, &misfit_max) != 0) {
+    st = qs_fatal(sp, delta0, err); /* an interrupt or a non-finite residual says so */
     if (st == VS_OK)
       st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
                         "the imperfect arch cannot stand: no equilibrium under self-weight with "
@@ -682,9 +755,9 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
                         misfit_max, VS_RAMP_MIN);
     goto cleanup;
   }
-  res->newton_iterations = s.iters;
+  res->newton_iterations = sp->iters;
   if (flag != 0) {
-    st = qs_fatal(&s, delta0, err);
+    st = qs_fatal(sp, delta0, err);
     if (st != VS_OK)
       goto cleanup;
     if (delta0 == 0.0)
@@ -698,13 +771,13 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
                         delta0 / VS_MM, kin_cause(flag));
     goto cleanup;
   }
-  if (!stable_state(&s, q, delta0)) {
+  if (!stable_state(sp, q, delta0)) {
     st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
                       "the equilibrium at %.6g mm is unstable (tangent not positive definite)",
                       delta0 / VS_MM);
     goto cleanup;
   }
-  double lam = tangent_min_eig(&s, eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT), lam_prev = NAN;
+  double lam = tangent_min_eig(sp, eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT), lam_prev = NAN;
   double fold = INFINITY, fold_prev = INFINITY;
   res->evidence.lambda_start = lam;
   vs_model_commit(m, q, delta0);
@@ -712,14 +785,14 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
   delta_prev = delta0;
   res->steps = 1;
   res->delta_limit = delta0;
-  res->newton_iterations = s.iters; /* kept current for the callback */
+  res->newton_iterations = sp->iters; /* kept current for the callback */
   if (step_fn != NULL && step_fn(user, delta0, q, m) != 0) {
     st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
     goto cleanup;
   }
   /* 2. displacement control of the right support */
   double delta = delta0, h = o->step;
-  if (path_tangent(&s, q, delta, tan) != 0) {
+  if (path_tangent(sp, q, delta, tan) != 0) {
     st = vs_error_set(err, VS_ERR_SOLVER, "KLU failed to solve for the path tangent");
     goto cleanup;
   }
@@ -745,21 +818,21 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
     if (isfinite(fold) && isfinite(fold_prev) &&
         fabs(fold - fold_prev) <= VS_FOLD_AGREE * (fold - delta))
       h = fmin(h, fmax(VS_FOLD_APPROACH * (fold - delta), o->limit_tol));
-    for (int i = 0; i < s.n; i++) qtry[i] = qpred[i] = q[i] + h * tan[i];
-    flag = qs_solve(&s, delta + h, qtry, &it);
-    if (flag != 0 && (st = qs_fatal(&s, delta + h, err)) != VS_OK) break;
+    for (int i = 0; i < sp->n; i++) qtry[i] = qpred[i] = q[i] + h * tan[i];
+    flag = qs_solve(sp, delta + h, qtry, &it);
+    if (flag != 0 && (st = qs_fatal(sp, delta + h, err)) != VS_OK) break;
     int ok = (flag == 0);
-    if (ok && scaled_norm(&s, qtry, qpred) > VS_CORRECTOR_RATIO * scaled_norm(&s, qpred, q) +
+    if (ok && scaled_norm(sp, qtry, qpred) > VS_CORRECTOR_RATIO * scaled_norm(sp, qpred, q) +
                                                  10.0 * o->newton_tol)
       ok = 0; /* left the branch */
-    if (ok && !stable_state(&s, qtry, delta + h)) ok = 0; /* passed a limit point */
+    if (ok && !stable_state(sp, qtry, delta + h)) ok = 0; /* passed a limit point */
     if (!ok) {
       res->rejected++;
       if (h <= o->limit_tol) {
         res->delta_limit = delta;
         res->delta_fail = delta + h;
-        st = confirm_limit(&s, qprev, delta_prev, q, delta, delta + h, res, err);
-        if (s.interrupted || s.nonfinite) st = qs_fatal(&s, delta + h, err);
+        st = confirm_limit(sp, qprev, delta_prev, q, delta, delta + h, res, err);
+        if (sp->interrupted || sp->nonfinite) st = qs_fatal(sp, delta + h, err);
         if (st == VS_OK) res->end = VS_PATH_LIMIT_POINT;
         break;
       }
@@ -769,7 +842,7 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
     /* accepted: the tangent is factored at the new state by stable_state (the location below
      * solves with KINSOL's own matrix and keeps that factorisation) */
     if (step_fn != NULL && o->open > 0.0 &&
-        locate_edges(&s, q, delta, qtry, delta + h, step_fn, user, qloc, &res->located) != 0) {
+        locate_edges(sp, q, delta, qtry, delta + h, step_fn, user, qloc, &res->located) != 0) {
       st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
       break;
     }
@@ -782,13 +855,13 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
     res->delta_limit = delta;
     lam_prev = lam;
     fold_prev = fold;
-    lam = tangent_min_eig(&s, eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT); /* tangent factored by stable_state */
-    if (path_tangent(&s, q, delta, tan) != 0) {
+    lam = tangent_min_eig(sp, eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT); /* tangent factored by stable_state */
+    if (path_tangent(sp, q, delta, tan) != 0) {
       st = vs_error_set(err, VS_ERR_SOLVER, "KLU failed to solve for the path tangent at %.6g mm",
                         delta / VS_MM);
       break;
     }
-    res->newton_iterations = s.iters;
+    res->newton_iterations = sp->iters;
     if (step_fn != NULL && step_fn(user, delta, q, m) != 0) {
       st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
       break;
@@ -797,16 +870,15 @@ vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double 
     else if (it <= 6) h = fmin(1.25 * h, o->step_max);
   }
 cleanup:
-  res->newton_iterations = s.iters;
-  res->jacobian_evals = s.jac_evals;
-  res->floor_limited = s.floor_limited;
-  res->max_residual = s.max_residual;
+  res->newton_iterations = sp->iters;
+  res->jacobian_evals = sp->jac_evals;
+  res->floor_limited = sp->floor_limited;
+  res->max_residual = sp->max_residual;
   free(tan);
   free(qtry);
   free(qpred);
   free(qprev);
   free(eig);
   free(qloc);
-  qs_destroy(&s);
   return st;
 }

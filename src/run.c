@@ -22,6 +22,7 @@ struct vs_run {
   vs_model *m;
   vs_hinges *h;
   vs_dynamic *dyn;
+  vs_path_solver *ps; /* the quasi-static solver of every path segment and rest probe */
   vs_contact *ground; /* the ground the fall lands on (NULL: no fall followed) */
   vs_collide *bodies; /* ... and the blocks' and piers' contacts in the fall */
   vs_hinge_opts hopts;
@@ -138,6 +139,7 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
       if (st == VS_OK) st = vs_dynamic_set_collide(r->dyn, r->bodies, err);
     }
   }
+  if (st == VS_OK) st = vs_path_solver_create(r->m, &r->popts, &r->ps, err);
   if (st != VS_OK) {
     vs_run_destroy(&r);
     return st;
@@ -165,6 +167,7 @@ void vs_run_destroy(vs_run **r) {
   free(p->events);
   vs_modal_free(&p->modal);
   vs_dynamic_destroy(&p->dyn);
+  vs_path_solver_destroy(&p->ps);
   vs_contact_destroy(&p->ground);
   vs_collide_destroy(&p->bodies);
   vs_hinges_destroy(&p->h);
@@ -223,6 +226,24 @@ static int add_limit(vs_run *r, double delta) {
   return log_event(r, VS_EVENT_LIMIT_POINT, delta / r->dopts.rate, delta, 0, 0, 0, 0);
 }
 
+/* The hinge events logged before their hinges were named take the names. */
+static void relabel_events(vs_run *r) {
+  for (int e = 0; e < r->n_events; e++)
+    if (r->events[e].kind == VS_EVENT_HINGE_FORMED && r->events[e].order <= 3 &&
+        r->events[e].order <= vs_hinges_count(r->h))
+      r->events[e].label = vs_hinges_get(r->h, r->events[e].order - 1)->label;
+}
+
+/* Fewer than three hinges formed before the collapse's onset (or the end): name those n A, B
+ * from left to right and later ones in order, so that no hinge of the record stays '?'. */
+static void name_first(vs_run *r, int n) {
+  if (n >= 3) return;
+  vs_hinges_name_first(r->h, n);
+  for (int e = 0; e < r->n_events; e++)
+    if (r->events[e].kind == VS_EVENT_HINGE_FORMED && r->events[e].order <= vs_hinges_count(r->h))
+      r->events[e].label = vs_hinges_get(r->h, r->events[e].order - 1)->label;
+}
+
 /* Update the hinges at (delta, q); log the hinges that formed. */
 static int track_hinges(vs_run *r, double delta, const double *q) {
   const int before = vs_hinges_count(r->h);
@@ -236,10 +257,7 @@ static int track_hinges(vs_run *r, double delta, const double *q) {
       return -1;
   }
   /* the first three get their labels together: fix up the events logged before */
-  if (before < 3 && vs_hinges_count(r->h) >= 3)
-    for (int e = 0; e < r->n_events; e++)
-      if (r->events[e].kind == VS_EVENT_HINGE_FORMED && r->events[e].order <= 3)
-        r->events[e].label = vs_hinges_get(r->h, r->events[e].order - 1)->label;
+  if (before < 3 && vs_hinges_count(r->h) >= 3) relabel_events(r);
   return 0;
 }
 
@@ -315,6 +333,14 @@ static void snapshot_onset(vs_run *r) {
     if (vs_hinges_get(r->h, i)->open) r->onset[r->n_onset++] = *vs_hinges_get(r->h, i);
 }
 
+/* The mechanism is taken at the collapse criterion (the first three hinges, the onset snapshot):
+ * the hinges of the fall after it never change the reported mode or hinges. */
+static void freeze_mechanism(vs_run *r) {
+  if (!r->onset_taken) snapshot_onset(r);
+  r->onset_taken = 1;
+  r->frozen = 1;
+}
+
 static int on_dyn_sample(void *user, double t, double delta, const double *q, const double *v,
                          const vs_energy *e) {
   vs_run *r = user;
@@ -331,6 +357,8 @@ static int on_dyn_sample(void *user, double t, double delta, const double *q, co
     snapshot_onset(r);
     r->onset_taken = 1;
   }
+  if (!r->frozen && r->live_dyn != NULL && !isnan(r->live_dyn->t_collapse))
+    freeze_mechanism(r); /* the sample at the collapse criterion: nothing after it counts */
   vs_dynamic_reactions(r->dyn, r->react);
   vs_run_sample s = {.phase = VS_PHASE_DYNAMIC, .t = t, .delta = delta, .q = q, .v = v,
                      .energy = e, .reactions = r->react};
@@ -425,7 +453,10 @@ static void record_collapse(vs_run *r, const vs_dyn_result *d) {
   c->delta = (!r->c.full && r->n_limits > 0) ? r->limits[r->n_limits - 1].delta
                                              : c->t_onset * r->dopts.rate;
   c->t = c->delta / r->dopts.rate;
-  if (!r->onset_taken) snapshot_onset(r);
+  if (!r->frozen) freeze_mechanism(r); /* (frozen at the collapse criterion's sample) */
+  name_first(r, r->hinges_at_onset); /* the snapshot's hinges take the names too */
+  for (int i = 0; i < r->hinges_at_onset; i++) r->onset_all[i].label = vs_hinges_get(r->h, i)->label;
+  for (int i = 0; i < r->n_onset; i++) r->onset[i].label = vs_hinges_get(r->h, r->onset[i].order - 1)->label;
   c->n_hinges = r->n_onset;
   memcpy(c->hinges, r->onset, (size_t)r->n_onset * sizeof r->onset[0]);
   qsort(c->hinges, (size_t)c->n_hinges, sizeof c->hinges[0], cmp_hinge_first);
@@ -482,7 +513,6 @@ static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
     if (st != VS_OK) break;
     if (d.end == VS_DYN_COLLAPSED) {
       record_collapse(r, &d);
-      r->frozen = 1;
       if (r->n_limits > 0) r->limits[r->n_limits - 1].collapse = 1;
       st = log_event(r, VS_EVENT_COLLAPSE, d.t_collapse, d.t_collapse * r->dopts.rate, 0, 0, 0, 0)
                ? vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller")
@@ -497,8 +527,7 @@ static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
     vs_path_result pr;
     vs_error perr;
     vs_error_clear(&perr);
-    vs_model *m = r->m;
-    const vs_status ps = vs_path_run(m, &probe, r->delta, qs, NULL, NULL, &pr, &perr);
+    const vs_status ps = vs_path_run_with(r->ps, &probe, r->delta, qs, NULL, NULL, &pr, &perr);
     if (ps == VS_OK) {
       *resume_at = r->delta;
       break;
@@ -527,7 +556,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
     vs_path_result p;
     memset(&p, 0, sizeof p);
     r->live_path = &p;
-    st = vs_path_run(r->m, &sw, 0.0, r->q, on_equilibrium, r, &p, err);
+    st = vs_path_run_with(r->ps, &sw, 0.0, r->q, on_equilibrium, r, &p, err);
     r->live_path = NULL;
     if (r->modal_st != VS_OK) st = vs_error_set(err, r->modal_st, "%s", r->modal_err.msg);
     add_path_totals(r, &p);
@@ -545,7 +574,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
       r->pending_snap = (delta0 > 0.0 && r->n_limits > 0) ? r->n_limits - 1 : -1;
       memset(&p, 0, sizeof p);
       r->live_path = &p;
-      st = vs_path_run(r->m, &r->popts, delta0, r->q, on_equilibrium, r, &p, err);
+      st = vs_path_run_with(r->ps, &r->popts, delta0, r->q, on_equilibrium, r, &p, err);
       r->live_path = NULL;
       if (r->modal_st != VS_OK) st = vs_error_set(err, r->modal_st, "%s", r->modal_err.msg);
       add_path_totals(r, &p);
@@ -568,6 +597,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
       if (st != VS_OK || isnan(delta0)) break;
     }
   }
+  if (!r->collapse.found) name_first(r, vs_hinges_count(r->h));
   classify(r);
   r->wall_s = now_s() - t0;
   return st;

@@ -268,6 +268,32 @@ static void test_labels_left_to_right(void **state) {
   vs_hinges_destroy(&h);
 }
 
+/* Two hinges before the collapse (pinned springers): named A, B left to right when the run
+ * says so (vs_hinges_name_first); a third, forming later, is C whatever its place, and the
+ * names already given do not change. */
+static void test_name_first_two(void **state) {
+  (void)state;
+  vs_hinges *h = make(3);
+  vs_joint_state st[NJ];
+  all_closed(st, NJ);
+  open_joint(st, 47, 'I');
+  vs_hinges_update(h, 1e-3, st);
+  open_joint(st, 25, 'E');
+  vs_hinges_update(h, 2e-3, st);
+  assert_int_equal(at_joint(h, 47)->label, '?');
+  vs_hinges_name_first(h, 2);
+  assert_int_equal(at_joint(h, 25)->label, 'A');
+  assert_int_equal(at_joint(h, 47)->label, 'B');
+  open_joint(st, 10, 'E'); /* left of both: still C, by order of appearance */
+  assert_int_equal(vs_hinges_update(h, 3e-3, st), 1);
+  assert_int_equal(at_joint(h, 10)->label, 'C');
+  assert_int_equal(at_joint(h, 25)->label, 'A');
+  assert_int_equal(at_joint(h, 47)->label, 'B');
+  vs_hinges_name_first(h, 0); /* no effect */
+  assert_int_equal(at_joint(h, 10)->label, 'C');
+  vs_hinges_destroy(&h);
+}
+
 /* Labels of the first three hinges left to right, 4th = D: holds whatever the grouping. */
 static void expect_abc_then_d(const vs_hinges *h) {
   const vs_hinge *first[3] = {NULL, NULL, NULL}, *fourth = NULL;
@@ -530,6 +556,7 @@ static void test_onset_interpolated(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_create_errors),
+      cmocka_unit_test(test_name_first_two),
       cmocka_unit_test(test_onset_interpolated),
       cmocka_unit_test(test_threshold),
       cmocka_unit_test(test_side),

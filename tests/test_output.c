@@ -726,6 +726,7 @@ typedef struct {
   vs_output *o;
   long rows, signal_at, die_at;
   int fd;
+  long die_at_event_after; /* > 0: SIGKILL at the first event after this many rows */
 } child_sink;
 
 static int child_sample(void *user, const vs_run *run, const vs_run_sample *s) {
@@ -739,7 +740,9 @@ static int child_sample(void *user, const vs_run *run, const vs_run_sample *s) {
 
 static int child_event(void *user, const vs_run *run, const vs_run_event *e) {
   child_sink *k = user;
-  return vs_output_event(k->o, run, e);
+  int rc = vs_output_event(k->o, run, e);
+  if (k->die_at_event_after > 0 && k->rows >= k->die_at_event_after) raise(SIGKILL);
+  return rc;
 }
 
 /* In a child: record case c at path, write a byte to fd after signal_at rows, SIGKILL itself
@@ -747,7 +750,9 @@ static int child_event(void *user, const vs_run *run, const vs_run_event *e) {
 static void child_run(const vs_case *c, const char *path, int fd, long signal_at, long die_at) {
   vs_error err;
   vs_run *run = NULL;
-  child_sink k = {NULL, 0, signal_at, die_at, fd};
+  child_sink k = {NULL, 0, signal_at, die_at, fd, 0};
+  const char *ev = getenv("VS_TEST_DIE_AT_EVENT_AFTER"); /* set in the child only */
+  if (ev != NULL) k.die_at_event_after = atol(ev);
   if (vs_run_create(c, &run, &err) != VS_OK || vs_output_create(path, run, "", NULL, &k.o, &err))
     _exit(2);
   vs_status st = vs_run_execute(run, child_sample, child_event, &k, &err);
@@ -886,6 +891,70 @@ static void test_killed(void **state) {
   assert_int_equal(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0);
 }
 
+/* Killed at chosen states, each reached deterministically in the child (no timing): right after
+ * the 64th row (a write has just filled whole chunks), one row after it, just before and after the
+ * second write, late in the dynamic phase, at the first event after row 70 (events are buffered
+ * with the rows), and inside the second write with half the time series extended
+ * (VS_FAULT_KILL "mid-append"). Every file opens normally and holds the run's rows up to its last write (at
+ * least the rows of the whole writes before the kill); any longer series read NaN past them. */
+static void test_killed_at_states(void **state) {
+  (void)state;
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_error err;
+  vs_run *run = NULL;
+  assert_int_equal(vs_run_create(&c, &run, &err), VS_OK);
+  memrec ref = {0, 4096, vs_model_size(vs_run_model(run)), NULL, NULL, 1 << 30};
+  ref.delta = malloc((size_t)ref.cap * sizeof *ref.delta);
+  ref.q = malloc((size_t)ref.cap * (size_t)ref.n3 * sizeof *ref.q);
+  assert_true(ref.delta != NULL && ref.q != NULL);
+  vs_run_execute(run, mem_sample, NULL, &ref, &err);
+  vs_run_destroy(&run);
+  assert_true(ref.n > 200);
+  const struct {
+    long die_at;
+    const char *event_after, *fault;
+  } at[] = {{64, NULL, NULL}, {65, NULL, NULL},  {127, NULL, NULL},        {129, NULL, NULL},
+            {200, NULL, NULL}, {0, "70", NULL}, {0, NULL, "mid-append"}};
+  for (size_t i = 0; i < sizeof at / sizeof at[0]; i++) {
+    char path[128];
+    snprintf(path, sizeof path, "%s/state%zu.h5", g_dir, i);
+    int fds[2];
+    assert_int_equal(pipe(fds), 0);
+    fflush(NULL);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+      close(fds[0]);
+      if (at[i].event_after != NULL) setenv("VS_TEST_DIE_AT_EVENT_AFTER", at[i].event_after, 1);
+      if (at[i].fault != NULL) setenv("VS_FAULT_KILL", at[i].fault, 1);
+      child_run(&c, path, fds[1], 1L << 30, at[i].die_at);
+    }
+    close(fds[1]);
+    /* the pipe reads end-of-file once the child is dead; a byte: it finished without the kill */
+    struct pollfd pfd = {fds[0], POLLIN, 0};
+    char b;
+    if (poll(&pfd, 1, 120000) != 1 || read(fds[0], &b, 1) != 0) {
+      kill(pid, SIGKILL);
+      waitpid(pid, NULL, 0);
+      fail_msg("state %zu: the child was not killed there", i);
+    }
+    int wst;
+    assert_int_equal(waitpid(pid, &wst, 0), pid);
+    close(fds[0]);
+    assert_true(WIFSIGNALED(wst) && WTERMSIG(wst) == SIGKILL);
+    check_killed(path, &ref, at[i].fault != NULL ? 64 : (at[i].die_at / 64) * 64);
+    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    char status[64];
+    read_attr_str(f, "status", status, sizeof status);
+    assert_string_equal(status, "running");
+    H5Fclose(f);
+  }
+  free(ref.delta);
+  free(ref.q);
+  assert_int_equal(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0);
+}
+
 /* ---------------------------------------------------------------------------------------------
  * Errors and interruption */
 
@@ -966,6 +1035,7 @@ int main(void) {
       cmocka_unit_test(test_quasistatic_record),
       cmocka_unit_test(test_dynamic_record),
       cmocka_unit_test(test_killed),
+      cmocka_unit_test(test_killed_at_states),
       cmocka_unit_test(test_errors),
   };
   return cmocka_run_group_tests(tests, setup, teardown);

@@ -14,7 +14,8 @@ typedef struct {
 } vs_hinge_opts;
 
 typedef struct {
-  char label;            /* 'A'..'E' ('F'.. beyond), '?' until three hinges have formed */
+  char label;            /* 'A'..'E' ('F'.. beyond), '?' until three hinges have formed
+                            (or vs_hinges_name_first) */
   char side;             /* 'I' intrados or 'E' extrados: the edge that stays in contact */
   int first, last;       /* current joints (1-based); last > first for a spread hinge */
   int onset_first, onset_last; /* joints when it formed */
@@ -38,6 +39,13 @@ char vs_hinges_joint_side(const vs_hinge_opts *opts, const vs_joint_state *st);
 /* Classify every joint at support displacement delta (m) and update the hinges.
  * Returns the number of hinges that formed in this update. */
 int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st);
+
+/* Name the first n hinges (at most three) A, B, C from left to right and every later one by
+ * its order of appearance (the fourth D, ...), replacing the labels they had. For a mechanism
+ * that forms with fewer than three hinges (a pinned springer needs only two in the arch), or a
+ * run that ends with fewer: n = the hinges formed by then, so that none stays '?' and none
+ * formed later (in the fall) takes their letters. */
+void vs_hinges_name_first(vs_hinges *h, int n);
 
 /* Hinges in order of appearance. */
 int vs_hinges_count(const vs_hinges *h);

@@ -15,14 +15,15 @@ typedef struct vs_output vs_output;
 typedef struct {
   int arc_points;     /* points inside each arc (intrados, extrados) of a voussoir's outline, in
                          [0, 64]; default 2: polygons of 2 + 2 corners + 2 x 2 arc points */
-  int flush_rows;     /* rows held in memory before they are written and the file is flushed,
-                         >= 1, default 64 (the file is also flushed at every event and phase
-                         switch) */
-  int chunk_rows;     /* rows per chunk of the time series, >= 1, default 16 (a chunk is capped
-                         at about 1 MiB for wide rows) */
-  int deflate;        /* deflate level with shuffle, 1 to 9, default 4, or 0: no compression
-                         (measured on runs/reference.ini: level 4 saves 9 % of the file, adds
-                         40 % to the run's time and lengthens the flushes that a kill can tear) */
+  int flush_rows;     /* rows are written and the file flushed at every flush_rows-th row of
+                         the file, >= 1, default 64 (and at every phase switch); events are
+                         buffered and written with the rows */
+  int chunk_rows;     /* rows per chunk of the time series, >= 1, default 64; lowered to a
+                         divisor of flush_rows (writes then fill whole chunks) and capped at
+                         about 1 MiB for wide rows */
+  int deflate;        /* deflate level with shuffle, 1 to 9, or 0 (default): no compression
+                         (measured on runs/reference.ini: level 4 makes the record 3.0 MB
+                         instead of 4.5 MB and its writes longer; `run --compress` sets 4) */
   int xdmf_max_grids; /* the XDMF lists at most this many rows (>= 2, default 2000): every k-th
                          row with k = ceil(rows / xdmf_max_grids), and always the last one */
 } vs_output_opts;
@@ -46,13 +47,14 @@ vs_status vs_output_create(const char *path, const vs_run *run, const char *case
                            const vs_output_opts *opts, vs_output **out, vs_error *err);
 
 /* A vs_run_sample_fn: user is the vs_output. Appends one row to every time series (buffered;
- * written and flushed every flush_rows rows and whenever the phase changes). Returns 0, or 1
+ * written with the buffered events and flushed at every flush_rows-th row and whenever the
+ * phase changes). Returns 0, or 1
  * when the file cannot be written (the run then stops; vs_output_error has the cause) or after
  * vs_output_interrupt. */
 int vs_output_sample(void *user, const vs_run *run, const vs_run_sample *s);
 
-/* A vs_run_event_fn: user is the vs_output. Appends the event to /events, writes the buffered
- * rows and flushes. Returns as vs_output_sample. */
+/* A vs_run_event_fn: user is the vs_output. Buffers the event for /events (written with the next
+ * rows; all events are written again by vs_output_finish). Returns as vs_output_sample. */
 int vs_output_event(void *user, const vs_run *run, const vs_run_event *e);
 
 /* Mark the run as interrupted (e.g. after SIGINT; call it from normal code, not from a signal

@@ -95,6 +95,47 @@ vs_status vs_plot_arch_thrust(const char *path, vs_plot_format fmt, const vs_geo
                               const double *joint_gap_e, double open_m, const double *joint_N,
                               const double *joint_M, const char *title, vs_error *err);
 
+/* Everything vs_plot_arch_thrust draws (the same fields, the same meaning), and what an arch
+ * that is not the nominal one on fixed supports needs:
+ *   - block_thickness: each voussoir's radial thickness, m (n_blocks; NULL: g->thickness), for
+ *     an arch whose thickness scatters (the record's imperfections);
+ *   - pinned[s], support_theta[s] (s = 0 left, 1 right): a pinned support's springer, drawn as a
+ *     plate under the springing face turned by support_theta (rad, counter-clockwise) about the
+ *     pin at the face's centre, and the support's side of that joint turned with it. A fixed
+ *     support (pinned 0) must have support_theta 0;
+ *   - has_ground, ground_z: as vs_plot_arch_landed's ground_z (has_ground 0: none). */
+typedef struct {
+  const vs_geometry *g;
+  const double *q;
+  double delta_m, alpha_rad;
+  const vs_hinge *hinges;
+  int n_hinges;
+  const double *joint_gap_i, *joint_gap_e;
+  double open_m;
+  const double *joint_N, *joint_M;
+  const char *title;
+  const double *block_thickness;
+  int pinned[2];
+  double support_theta[2];
+  int has_ground;  /* 1: draw the ground the fall landed on, the plane z = ground_z (m) */
+  double ground_z;
+} vs_plot_arch_args;
+
+/* Draw a->... as vs_plot_arch_thrust does. Errors as vs_plot_arch_thrust, and VS_ERR_INVALID
+ * for a NULL a, a block thickness outside (0, R), a non-finite springer rotation or a non-zero
+ * one on a fixed support. */
+vs_status vs_plot_arch_draw(const char *path, vs_plot_format fmt, const vs_plot_arch_args *a,
+                            vs_error *err);
+
+/* The points the thrust line of vs_plot_arch_thrust joins, in model coordinates (m): x[k], z[k]
+ * for joint k + 1 (n_joints entries each), the centre of pressure e = M/N from the centre of
+ * the moved joint towards its extrados; NaN where the joint carries no compression (N <= 0).
+ * Arguments as vs_plot_arch_thrust. Errors: VS_ERR_INVALID as vs_plot_arch, and for NULL
+ * joint_N, joint_M, x or z. */
+vs_status vs_plot_thrust_points(const vs_geometry *g, const double *q, double delta_m,
+                                double alpha_rad, const double *joint_N, const double *joint_M,
+                                double *x, double *z, vs_error *err);
+
 /* vs_plot_arch_thrust with the ground the fall landed on (contact.h): the plane z = ground_z
  * (m; NaN: none) drawn across the picture, hatched below and named, and kept in the frame. */
 vs_status vs_plot_arch_landed(const char *path, vs_plot_format fmt, const vs_geometry *g,
@@ -117,6 +158,17 @@ typedef struct {
 /* One curve: n values (the n of vs_plot_curves) against the shared x. A NaN leaves a gap (a
  * hinge not yet formed, or closed). Named "A".."E" it takes that hinge label's colour, the same
  * as in vs_plot_arch; other names take colours in order. */
+/* How a series is drawn (vs_plot_marks.style): a line (markers too when it has at most 80
+ * points), or only markers of a shape in the series' colour, outlined in black (points of
+ * different kinds on one curve, e.g. the mode of each run of a sweep). */
+typedef enum {
+  VS_PLOT_LINE = 0,
+  VS_PLOT_CIRCLES = 1,
+  VS_PLOT_SQUARES = 2,
+  VS_PLOT_TRIANGLES = 3,
+  VS_PLOT_DIAMONDS = 4
+} vs_plot_style;
+
 typedef struct {
   const char *name; /* legend entry; NULL or "" for none */
   const double *y;  /* n values, in the units of the panel's data (SI) */
@@ -145,17 +197,19 @@ vs_status vs_plot_curves(const char *path, vs_plot_format fmt, const char *title
                          const vs_plot_panel *panels, int n_panels, vs_error *err);
 
 /* Extras for vs_plot_curves_marked: vertical marks at n x values (e.g. the limit points), each
- * with a label (NULL: none), dashed across every panel; and a second x axis on top of the first
- * panel showing x * x2.scale (x2.label NULL: none), e.g. dz/L in % for x = delta. */
+ * with a label (NULL: none), dashed across every panel; a second x axis on top of the first
+ * panel showing x * x2.scale (x2.label NULL: none), e.g. dz/L in % for x = delta; and the
+ * styles of the first panel's series. */
 typedef struct {
   int n;
   const double *x;
   const char *const *label;
   vs_plot_axis x2;
+  const vs_plot_style *style; /* the first panel's series styles, n_series entries; NULL: lines */
 } vs_plot_marks;
 
 /* vs_plot_curves with marks (NULL: none); errors as vs_plot_curves, and VS_ERR_INVALID for
- * n < 0, NULL x with n > 0 or a bad x2 scale. */
+ * n < 0, NULL x with n > 0, a bad x2 scale or a style outside vs_plot_style. */
 vs_status vs_plot_curves_marked(const char *path, vs_plot_format fmt, const char *title,
                                 const vs_plot_axis *x_axis, const double *x, int n,
                                 const vs_plot_panel *panels, int n_panels,

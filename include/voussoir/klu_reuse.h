@@ -1,0 +1,15 @@
+/* SUNDIALS' KLU linear solver re-analysed at every KINSol call and every IDA restart (both call
+ * SUNLinSolInitialize, which makes the next setup free the factors and analyse the pattern
+ * again). The model's Jacobian patterns are fixed at its creation, so one analysis serves every
+ * solve: later setups refactor numerically, with SUNDIALS' own fall-back to a fresh
+ * factorisation when the condition estimate degrades. */
+#ifndef VOUSSOIR_KLU_REUSE_H
+#define VOUSSOIR_KLU_REUSE_H
+
+#include <sundials/sundials_linearsolver.h>
+
+/* Make LS (a SUNLinSol_KLU whose matrix pattern never changes) keep its symbolic analysis and
+ * numeric factors across re-initialisations. */
+void vs_klu_keep_analysis(SUNLinearSolver LS);
+
+#endif

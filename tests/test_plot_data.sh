@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# voussoir plot draws what its titles and labels say: the labels of every arch picture (read
+# from plots.json, the data the pictures are drawn from) against the record's /summary/hinges
+# for the reference run, a pinned run and an alpha = 90 deg run; the springers (pinned: turned
+# with their voussoir, whose joint stays closed) and the scattered thicknesses of the record; a sweep's domain and k_n
+# sensitivity points against the sweep's summary and each run's own record.
+# usage: test_plot_data.sh VOUSSOIR SOURCE_DIR
+set -euo pipefail
+vs=$1 src=$2
+py=/usr/bin/python3
+$py -c "import h5py, numpy" 2>/dev/null ||
+  { echo "SKIP: $py lacks h5py/numpy (apt-get install python3-h5py)"; exit 77; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+"$vs" run "$src/runs/reference.ini" -q -o "$tmp/ref.h5" >/dev/null
+"$vs" run "$src/runs/pinned.ini" -q -o "$tmp/pin.h5" >/dev/null
+"$vs" run "$src/runs/reference.ini" --set support.alpha_deg=90 -q -o "$tmp/a90.h5" >/dev/null
+"$vs" run "$src/runs/reference.ini" --first-limit --set imperfections.thickness_cov=0.1 -q -o "$tmp/thick.h5" >/dev/null
+"$vs" sweep "$src/runs/reference.ini" --alpha 0,20,90 --kn 3,48 -j 2 -q -o "$tmp/sw" >/dev/null
+for r in ref pin a90 thick; do "$vs" plot "$tmp/$r.h5" -o "$tmp/${r}_plots" >/dev/null; done
+"$vs" plot "$tmp/sw/summary.h5" -o "$tmp/sw_plots" >/dev/null
+$py "$src/tests/plot_data_check.py" "$tmp"
