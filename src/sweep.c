@@ -199,11 +199,14 @@ static int parse_common(int argc, char **argv, int i, char **sets, int *nsets) {
 }
 
 /* The case file with the --set overrides applied (in order), not yet validated; *text (when
- * not NULL) receives the file's text (malloc'd). */
+ * not NULL) receives the file's text (malloc'd). The runs do not follow the fall: the domain is
+ * read before it, and the fall (to rest on the ground) costs the most; a --set of the sweep's
+ * own, applied after, still follows it. */
 static vs_status load_case_text(const char *case_path, char **sets, int nsets, vs_case *c,
                                 char **text, vs_error *err) {
   vs_case_defaults(c);
   vs_status st = vs_case_read(c, case_path, text, err);
+  if (st == VS_OK) st = vs_case_set(c, "dynamic.fall_s=0", err);
   for (int s = 0; st == VS_OK && s < nsets; s++) st = vs_case_set(c, sets[s], err);
   return st;
 }
