@@ -14,6 +14,7 @@
  * Jacobian dF/dy + cj dF/dy' in CSC with KLU; roots on the joints' edge openings and on the
  * collapse criterion; friction slips committed after every step. */
 #include "voussoir/dynamic.h"
+#include "voussoir/impact.h"
 
 #include <ida/ida.h>
 #include <math.h>
@@ -65,6 +66,8 @@ struct vs_dynamic {
   double *mass, *work;    /* ne each */
   vs_joint_state *js;
   int *roots;
+  int nroots;             /* 2 nj + 2, then the impact model's */
+  vs_impact *imp;         /* the impact damping model, NULL unless o.impact */
   long jac_evals;
   double max_drift;       /* max |g| over the accepted steps, m */
   double rtol;            /* o.rtol scaled as the absolute tolerances (set_tolerances) */
@@ -205,6 +208,7 @@ static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user) {
   const double ke = vs_model_kinetic_energy(d->m, q + d->iv);
   g[2 * d->nj] = ke - d->o.collapse_ke;
   g[2 * d->nj + 1] = ke - d->o.rest_ke;
+  if (d->imp != NULL) vs_impact_roots(d->imp, d->js, g + 2 * d->nj + 2);
   return 0;
 }
 
@@ -231,6 +235,7 @@ void vs_dynamic_destroy(vs_dynamic **dp) {
   free(d->work);
   free(d->js);
   free(d->roots);
+  vs_impact_destroy(&d->imp);
   free(d->qst);
   free(d->vst);
   free(d);
@@ -326,10 +331,14 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   d->js = malloc((size_t)d->nj * sizeof *d->js);
   d->qst = malloc((size_t)d->nq * sizeof *d->qst);
   d->vst = malloc((size_t)d->nq * sizeof *d->vst);
-  d->roots = malloc((size_t)(2 * d->nj + 2) * sizeof *d->roots);
+  d->nroots = 2 * d->nj + 2;
+  if (o->impact && (d->imp = vs_impact_create(m, o->open)) != NULL)
+    d->nroots += vs_impact_nroots(d->imp);
+  d->roots = malloc((size_t)d->nroots * sizeof *d->roots);
   if (d->y == NULL || d->yp == NULL || d->id == NULL || d->atol == NULL || d->J == NULL ||
       d->K == NULL || d->C == NULL || d->mass == NULL || d->work == NULL ||
-      d->js == NULL || d->roots == NULL || d->qst == NULL || d->vst == NULL) {
+      d->js == NULL || d->roots == NULL || d->qst == NULL || d->vst == NULL ||
+      (o->impact && d->imp == NULL)) {
     vs_dynamic_destroy(&d);
     return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
   }
@@ -363,7 +372,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
     return dyn_fail(&d, err, "IDASetMaxOrd", flag);
   if ((flag = IDASetMaxNumSteps(d->ida, 100000)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDASetMaxNumSteps", flag);
-  if ((flag = IDARootInit(d->ida, 2 * d->nj + 2, root_fn)) != IDA_SUCCESS)
+  if ((flag = IDARootInit(d->ida, d->nroots, root_fn)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDARootInit", flag);
   if ((flag = IDASetNoInactiveRootWarn(d->ida)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDASetNoInactiveRootWarn", flag);
@@ -438,6 +447,42 @@ static void static_state(vs_dynamic *d, const double *y) {
   }
 }
 
+/* --- the impact damping model (impact.h): arming after each step, impulses at its roots --- */
+
+/* Arm the edges that have opened (every accepted step; at the start with reset). */
+static void impact_arm(vs_dynamic *d, const double *y, int reset) {
+  vs_model_ext_joint_states(d->m, y, d->js);
+  if (reset) vs_impact_reset(d->imp, d->js);
+  else vs_impact_arm(d->imp, d->js);
+}
+
+/* The impacts among the roots just found: plastic impulses on the velocities, their energy loss
+ * into the damped energy (positions unchanged, so the balance holds), then IDA restarted from
+ * the new velocities with consistent multipliers and derivatives (IDAReInit + IDACalcIC; IDA's
+ * counters carried in *bs, *bn). Returns the impacts, or -1 (message in d->msg) if the restart
+ * failed. */
+static int impact_resolve(vs_dynamic *d, double t, double t_stop, long *bs, long *bn) {
+  double *y = N_VGetArrayPointer(d->y);
+  int count = 0;
+  const double lost = vs_impact_resolve(d->imp, y, y + d->iv, d->roots + 2 * d->nj + 2, &count);
+  if (count == 0) return 0;
+  y[d->ie + 1] += lost;
+  long ns = 0, nn = 0;
+  IDAGetNumSteps(d->ida, &ns);
+  IDAGetNumNonlinSolvIters(d->ida, &nn);
+  *bs += ns;
+  *bn += nn;
+  int flag = IDAReInit(d->ida, t, d->y, d->yp);
+  if (flag == IDA_SUCCESS) flag = IDACalcIC(d->ida, IDA_YA_YDP_INIT, t + VS_DYN_VEL_TIME);
+  if (flag == IDA_SUCCESS) flag = IDAGetConsistentIC(d->ida, d->y, d->yp);
+  if (flag == IDA_SUCCESS) flag = IDASetStopTime(d->ida, t_stop);
+  if (flag == IDA_SUCCESS) return count;
+  char cause[160];
+  snprintf(cause, sizeof cause, "%.159s", d->msg);
+  snprintf(d->msg, sizeof d->msg, "IDA restart after an impact failed (flag %d): %.159s", flag, cause);
+  return -1;
+}
+
 vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_sample_fn sample,
                          vs_dyn_event_fn event, void *user, vs_dyn_result *res, vs_error *err) {
   const int n = d->n;
@@ -462,7 +507,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   d->msg[0] = '\0';
   int flag = IDAReInit(d->ida, t0, d->y, d->yp);
   if (flag == IDA_SUCCESS) flag = IDASVtolerances(d->ida, d->rtol, d->atol);
-  if (flag == IDA_SUCCESS) flag = IDARootInit(d->ida, 2 * d->nj + 2, root_fn);
+  if (flag == IDA_SUCCESS) flag = IDARootInit(d->ida, d->nroots, root_fn);
   if (flag != IDA_SUCCESS)
     return vs_error_set(err, VS_ERR_SOLVER, "IDAReInit failed (flag %d)", flag);
   /* consistent initial values: q, v given (the supports' from the constraints), v' from the
@@ -480,6 +525,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     return vs_error_set(err, VS_ERR_SOLVER, "IDACalcIC failed (flag %d): %s", flag, d->msg);
   IDAGetConsistentIC(d->ida, d->y, d->yp);
   IDASetStopTime(d->ida, t_end);
+  if (d->imp != NULL) impact_arm(d, y, 1);
   vs_energy e;
   energies(d, y, 0.0, &e);
   const double e0 = e.kinetic + e.gravity + e.elastic;
@@ -516,6 +562,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     }
     const double delta = delta_at(d, t);
     vs_model_ext_commit(d->m, y); /* seamless: the return-mapped force is unchanged */
+    if (d->imp != NULL) impact_arm(d, y, 0);
     energies(d, y, e0, &e);
     d->max_drift = fmax(d->max_drift, drift(d, t, y));
     scale = fmax(scale, fmax(fabs(e.kinetic), fmax(fabs(e.gravity), fabs(e.elastic))));
@@ -542,6 +589,15 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
                            .side = (k % 2 == 0) ? 'E' : 'I', .opened = d->roots[k] > 0};
         static_state(d, y);
         if (event(user, &ev, d->qst) != 0) stop = 1;
+      }
+      if (d->imp != NULL && !collapsed) { /* impacts: velocities jump, the energy is charged */
+        const int ni = impact_resolve(d, t, t_stop, &base_steps, &base_newton);
+        if (ni < 0) {
+          st = vs_error_set(err, VS_ERR_SOLVER, "at t = %.6g s: %s", t, d->msg);
+          break;
+        }
+        res->impacts += ni;
+        energies(d, y, e0, &e);
       }
       if (d->roots[2 * d->nj + 1] > 0 && !collapsed) { /* a departure, located */
         res->t_motion = t;

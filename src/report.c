@@ -171,6 +171,8 @@ static void text_damping(FILE *out, const vs_run *r) {
   else if (dm == VS_DAMPING_RAYLEIGH)
     fprintf(out, ": %g at the two lowest modes, alpha = %.4g 1/s, beta = %.4g s", c->damping,
             alpha, beta);
+  else if (dm == VS_DAMPING_IMPACT)
+    fputs(": plastic impacts where opened joints close (Housner); none in steady contact", out);
   fputc('\n', out);
   if (md->n_modes == 0) return;
   fputs("modes    under self-weight, frequency (damping ratio):", out);

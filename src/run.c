@@ -80,6 +80,7 @@ static void dyn_opts_from_case(const vs_case *c, const vs_geometry *g, vs_dyn_op
   o->max_delta = c->max_mm * VS_MM;
   o->sample_dt = c->sample_s;
   o->settle = 1;
+  o->impact = c->damping_model == VS_DAMPING_IMPACT;
 }
 
 vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
