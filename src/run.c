@@ -366,6 +366,7 @@ static void add_dyn_totals(vs_run *r, const vs_dyn_result *d) {
   r->dtot.steps += d->steps;
   r->dtot.newton_iterations += d->newton_iterations;
   r->dtot.root_events += d->root_events;
+  r->dtot.impacts += d->impacts;
   r->dtot.jac_evals += d->jac_evals;
   r->dtot.max_kinetic = fmax(r->dtot.max_kinetic, d->max_kinetic);
   r->dtot.balance_error_rel = fmax(r->dtot.balance_error_rel, d->balance_error_rel);
