@@ -3,7 +3,7 @@
 # alpha = 0, 30, 45, 60, 90 deg, k_n = 3 and 48 N/mm^3 (quasi-static path, every limit point
 # followed dynamically). For each run: delta_u, which limit point turned into the collapse
 # (its index among the limit points and its delta), the hinge sides at collapse, the snaps, and
-# the modes' damping ratio the model gives. Writes out/damping_study.csv and the README's table
+# the modes' damping ratio the model gives, the impacts resolved (the impact model). Writes out/damping_study.csv and the README's table
 # out/damping_study.md; prints the table.
 # none and impact take no ratio (run once, ratio 0); joint and rayleigh at 0.5, 2, 5, 20 % (their
 # ratio 0 is the none model: the same code path, vs_model_set_damping(m, 0)).
@@ -13,7 +13,7 @@ source "$(dirname "$0")/lib.sh"
 csv="$out_dir/damping_study.csv"
 md="$out_dir/damping_study.md"
 models="${MODELS:-none joint rayleigh impact}"
-echo "alpha_deg,kn_N_mm3,model,ratio,delta_u_mm,collapse_limit_index,collapse_limit_mm,limit_points,snaps,hinges_at_collapse,zeta_mode1,zeta_mode2,wall_s" >"$csv"
+echo "alpha_deg,kn_N_mm3,model,ratio,delta_u_mm,collapse_limit_index,collapse_limit_mm,limit_points,snaps,hinges_at_collapse,zeta_mode1,zeta_mode2,wall_s,impacts" >"$csv"
 summarise() { # JSON on stdin -> the CSV fields after ratio
   python3 -c '
 import json, sys
@@ -27,7 +27,7 @@ f = lambda x: "nan" if x is None else "%.4f" % x
 print(",".join([f(col.get("delta_mm")), str(idx or ""), f(lim[idx - 1]["delta_mm"]) if idx else "",
                 str(len(lim)), str(sum(l["kind"] == "snap" for l in lim)),
                 j.get("hinge_sides_collapse") or "", "%.4g" % z[0], "%.4g" % z[1],
-                "%.2f" % j["stats"]["wall_s"]]))'
+                "%.2f" % j["stats"]["wall_s"], str((j.get("damping") or {}).get("impacts", ""))]))'
 }
 for alpha in 0 30 45 60 90; do
   for kn in 3 48; do
