@@ -12,7 +12,8 @@
  * arch. The last three are the energy bookkeeping (IDA in SUNDIALS 6 has no quadratures).
  * lambda and mu are algebraic (IDASetId 0) and left out of the error test (IDASetSuppressAlg).
  * Jacobian dF/dy + cj dF/dy' in CSC with KLU; roots on the joints' edge openings and on the
- * collapse criterion; friction slips committed after every step. */
+ * collapse criterion (and, for the impact damping model, on the gaps of opened edges: a plastic
+ * impulse and a restart where one closes); friction slips committed after every step. */
 #include "voussoir/dynamic.h"
 #include "voussoir/impact.h"
 
@@ -593,7 +594,8 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
       if (d->imp != NULL && !collapsed) { /* impacts: velocities jump, the energy is charged */
         const int ni = impact_resolve(d, t, t_stop, &base_steps, &base_newton);
         if (ni < 0) {
-          st = vs_error_set(err, VS_ERR_SOLVER, "at t = %.6g s: %s", t, d->msg);
+          st = stopped(d) ? vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted")
+                          : vs_error_set(err, VS_ERR_SOLVER, "at t = %.6g s: %s", t, d->msg);
           break;
         }
         res->impacts += ni;

@@ -2,8 +2,8 @@
  * driven by constraints, their reactions the Lagrange multipliers; see dynamic.c) integrated
  * by IDA (BDF, KLU on the analytic sparse Jacobian dF/dy + cj dF/dy'), with the right support
  * still moving at its rate,
- * root finding on the joints' edge openings and on the collapse criterion, and an energy
- * balance. SI units; time t is the loading time, delta(t) = rate t. */
+ * root finding on the joints' edge openings and on the collapse criterion (and plastic impacts
+ * where opened edges close, with the impact damping model), and an energy balance. SI units; time t is the loading time, delta(t) = rate t. */
 #ifndef VOUSSOIR_DYNAMIC_H
 #define VOUSSOIR_DYNAMIC_H
 
