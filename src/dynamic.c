@@ -68,6 +68,7 @@ struct vs_dynamic {
   vs_joint_state *js;
   int *roots;
   int nroots;             /* 2 nj + 2, then the impact model's */
+  int root_impact;        /* offset of the impact model's roots in g and roots */
   vs_impact *imp;         /* the impact damping model, NULL unless o.impact */
   long jac_evals;
   double max_drift;       /* max |g| over the accepted steps, m */
@@ -209,7 +210,7 @@ static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user) {
   const double ke = vs_model_kinetic_energy(d->m, q + d->iv);
   g[2 * d->nj] = ke - d->o.collapse_ke;
   g[2 * d->nj + 1] = ke - d->o.rest_ke;
-  if (d->imp != NULL) vs_impact_roots(d->imp, d->js, g + 2 * d->nj + 2);
+  if (d->imp != NULL) vs_impact_roots(d->imp, d->js, g + d->root_impact);
   return 0;
 }
 
@@ -333,6 +334,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   d->qst = malloc((size_t)d->nq * sizeof *d->qst);
   d->vst = malloc((size_t)d->nq * sizeof *d->vst);
   d->nroots = 2 * d->nj + 2;
+  d->root_impact = d->nroots;
   if (o->impact && (d->imp = vs_impact_create(m, o->open)) != NULL)
     d->nroots += vs_impact_nroots(d->imp);
   d->roots = malloc((size_t)d->nroots * sizeof *d->roots);
@@ -465,7 +467,7 @@ static void impact_arm(vs_dynamic *d, const double *y, int reset) {
 static int impact_resolve(vs_dynamic *d, double t, double t_stop, long *bs, long *bn) {
   double *y = N_VGetArrayPointer(d->y);
   int count = 0;
-  const double lost = vs_impact_resolve(d->imp, y, y + d->iv, d->roots + 2 * d->nj + 2, &count);
+  const double lost = vs_impact_resolve(d->imp, y, y + d->iv, d->roots + d->root_impact, &count);
   if (count == 0) return 0;
   y[d->ie + 1] += lost;
   long ns = 0, nn = 0;
