@@ -120,8 +120,14 @@ static const key_spec keys[] = {
     KEY(dynamic, rest_s, 1.0, 0.0, false, 1e6, true, "s", "... for this long"),
     KEY(dynamic, collapse_ke, 0.1, 0.0, false, 1e6, true, "",
         "collapsing beyond this kinetic energy, as a fraction of weight x thickness"),
-    KEY(dynamic, fall_s, 0.25, 0.0, true, 1e6, true, "s", "the fall is followed this long"),
+    KEY(dynamic, fall_s, 5.0, 0.0, true, 1e6, true, "s",
+        "the fall is followed at most this long (it ends earlier once the debris is at rest)"),
     KEY(dynamic, sample_s, 0.01, 1e-6, true, 1e6, true, "s", "interval between dynamic samples"),
+    KEY(fall, ground_mm, 0.0, -LEN_MAX, true, 0.0, true, "mm",
+        "the ground's height above the lower springing's base when the fall starts (above it, "
+        "it would cut the standing springers)"),
+    KEY(fall, restitution, 0.5, 0.0, false, 1.0, true, "",
+        "coefficient of restitution of a block landing flat on the ground"),
     /* imperfections: src/imperfections.c; all amplitudes 0 give the perfect arch exactly */
     KEY(imperfections, seed, 1.0, 0.0, true, 2147483647.0, true, "", "seed of the generator"),
     KEY(imperfections, sample, 0.0, 0.0, true, 2147483647.0, true, "",

@@ -17,12 +17,15 @@
 #include "voussoir/dynamic.h"
 #include "voussoir/impact.h"
 
+#include "voussoir/contact.h"
+
 #include <ida/ida.h>
 #include <math.h>
 #include <nvector/nvector_serial.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
@@ -42,9 +45,25 @@ static const int VS_DYN_MAX_ORDER = 2;
 /* A velocity error is judged by the position error it makes over this time (s), about the period
  * of the contact modes: tighter velocity tolerances would make IDA resolve those vibrations. */
 static const double VS_DYN_VEL_TIME = 1e-4;
+/* Newton's convergence test up to the collapse criterion: IDA stops iterating when the estimated
+ * error of the iterate is below this fraction of the error-test tolerance (IDA's default 0.33).
+ * The energy balance is the integral of the work of the residual that Newton leaves in the
+ * blocks' equations of motion -- along the motion dE/dt = W' - D' + v . r -- and that residual is
+ * about (cj M + C) times the velocity tolerance, which is loose (VS_DYN_VEL_TIME): with 0.33 the
+ * balance error reaches 6e-4 of the largest energy term in the fast motion before a collapse,
+ * with 1e-3 it stays below 1e-4 for about twice the Newton iterations before the fall (IDA's
+ * default again in the fall, which is only recorded). */
+static const double VS_DYN_NEWTON_COEF = 1e-3;
+static const double VS_DYN_NEWTON_COEF_FALL = 0.33;
 /* After the collapse criterion the fall is integrated with tolerances this many times looser:
  * it is recorded to be looked at, not measured. */
 static const double VS_DYN_FALL_TOL = 100.0;
+/* ... and this many when the fall lands on the ground (contact.h): its impacts need more. On the
+ * reference run (runs/reference.ini, fall to rest), 100x looser left the energy balance of the
+ * fall at 9 % (6556 IDA steps), 10x at 0.56 % (11160 steps), 1x at 0.044 % (24924 steps). */
+static const double VS_DYN_FALL_TOL_GROUND = 10.0;
+/* Restarts after IDA's "root found at and very near t" (restart_roots) in one run at most. */
+static const long VS_DYN_MAX_ROOT_RESTARTS = 1000;
 
 struct vs_dynamic {
   vs_model *m;
@@ -65,14 +84,19 @@ struct vs_dynamic {
   SUNLinearSolver LS;
   void *ida;
   double *mass, *work;    /* ne each */
+  double *force;          /* ne: F(q, v) for the reported multipliers and accelerations */
   vs_joint_state *js;
   int *roots;
-  int nroots;             /* 2 nj + 2, then the impact model's */
+  int nroots;             /* before the fall: 2 nj + 2, then the impact model's (the
+                             contacts' follow them once armed) */
   int root_impact;        /* offset of the impact model's roots in g and roots */
   vs_impact *imp;         /* the impact damping model, NULL unless o.impact */
   long jac_evals;
   double max_drift;       /* max |g| over the accepted steps, m */
   double rtol;            /* o.rtol scaled as the absolute tolerances (set_tolerances) */
+  vs_contact *ct;         /* the ground (borrowed; NULL: none), vs_dynamic_set_contact */
+  double ground_offset;   /* ... armed at the fall this far above the lower springing base, m */
+  int in_fall;            /* after the collapse criterion: only the contacts' roots */
   char msg[256];
 };
 
@@ -85,6 +109,7 @@ static void dyn_forces(vs_dynamic *d, const double *q, const double *v, double *
   vs_model_ext_residual(d->m, q, F);
   vs_model_ext_damping(d->m, q, v, d->work, diss, NULL);
   for (int i = 0; i < d->ne; i++) F[i] += d->work[i];
+  if (d->ct != NULL) vs_contact_forces(d->ct, q, v, F, diss, NULL);
 }
 
 /* The constraints g(q, t) (VS_DYN_NC) and their velocity form G v + g_t. */
@@ -99,9 +124,39 @@ static void constraints(const vs_dynamic *d, double t, const double *q, const do
   }
 }
 
+static double wall_now(void) {
+  struct timespec ts;
+  timespec_get(&ts, TIME_UTC);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 static int stopped(const vs_dynamic *d) { return d->o.stop != NULL && *d->o.stop; }
 
 void vs_dynamic_set_stop(vs_dynamic *d, const volatile sig_atomic_t *stop) { d->o.stop = stop; }
+
+/* Root functions: the joints', the energy levels' and the impact model's (before the fall),
+ * then the vertices'. */
+static int n_roots(const vs_dynamic *d) {
+  const int nc = (d->ct != NULL && vs_contact_armed(d->ct)) ? vs_contact_count(d->ct) : 0;
+  return (d->in_fall ? 0 : d->nroots) + nc;
+}
+
+static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user);
+
+static int root_init(vs_dynamic *d) {
+  const int nr = n_roots(d);
+  return IDARootInit(d->ida, nr, nr > 0 ? root_fn : NULL);
+}
+
+vs_status vs_dynamic_set_contact(vs_dynamic *d, vs_contact *c, double offset, vs_error *err) {
+  const int nr = d->nroots + (c != NULL ? vs_contact_count(c) : 0);
+  int *roots = realloc(d->roots, (size_t)nr * sizeof *roots);
+  if (roots == NULL) return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
+  d->roots = roots;
+  d->ct = c;
+  d->ground_offset = offset;
+  return VS_OK;
+}
 
 /* A raised stop flag is fatal (-1): IDA returns at once. */
 static int res_fn(double t, N_Vector yy, N_Vector yp, N_Vector rr, void *user) {
@@ -128,7 +183,9 @@ static int res_fn(double t, N_Vector yy, N_Vector yp, N_Vector rr, void *user) {
   constraints(d, t, q, v, r + d->il, r + d->imu);
   r[d->ie] = ydot[d->ie] - sup;
   r[d->ie + 1] = ydot[d->ie + 1] - diss;
-  r[d->ie + 2] = ydot[d->ie + 2] - vs_model_ext_friction_power(d->m, q, v);
+  double fric = vs_model_ext_friction_power(d->m, q, v);
+  if (d->ct != NULL) vs_contact_forces(d->ct, q, v, NULL, NULL, &fric);
+  r[d->ie + 2] = ydot[d->ie + 2] - fric;
   return 0;
 }
 
@@ -160,6 +217,7 @@ static int jac_fn(double t, double cj, N_Vector yy, N_Vector yp, N_Vector rr, SU
   d->jac_evals++;
   vs_model_ext_jacobian(d->m, y, d->K);
   vs_model_ext_damping(d->m, y, y + d->iv, NULL, NULL, d->C);
+  if (d->ct != NULL) vs_contact_jacobian(d->ct, y, y + d->iv, d->K, d->C);
   const sunindextype *kp = SUNSparseMatrix_IndexPointers(d->K), *ki = SUNSparseMatrix_IndexValues(d->K);
   const double *kx = SUNSparseMatrix_Data(d->K), *cx = SUNSparseMatrix_Data(d->C);
   sunindextype *jp = SUNSparseMatrix_IndexPointers(Jac), *ji = SUNSparseMatrix_IndexValues(Jac);
@@ -202,6 +260,9 @@ static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user) {
   (void)t;
   vs_dynamic *d = user;
   const double *q = N_VGetArrayPointer(yy);
+  if (d->ct != NULL && vs_contact_armed(d->ct)) /* then a vertex crossing the ground */
+    vs_contact_roots(d->ct, q, g + (d->in_fall ? 0 : d->nroots));
+  if (d->in_fall) return 0;
   vs_model_ext_joint_states(d->m, q, d->js);
   for (int k = 0; k < d->nj; k++) {
     g[2 * k] = d->js[k].gap_i - d->o.open;
@@ -235,6 +296,7 @@ void vs_dynamic_destroy(vs_dynamic **dp) {
   if (d->ctx != NULL) SUNContext_Free(&d->ctx);
   free(d->mass);
   free(d->work);
+  free(d->force);
   free(d->js);
   free(d->roots);
   vs_impact_destroy(&d->imp);
@@ -330,6 +392,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   d->C = SUNSparseMatrix(ne, ne, nnzK, CSC_MAT, d->ctx);
   d->mass = malloc((size_t)ne * sizeof *d->mass);
   d->work = malloc((size_t)ne * sizeof *d->work);
+  d->force = malloc((size_t)ne * sizeof *d->force);
   d->js = malloc((size_t)d->nj * sizeof *d->js);
   d->qst = malloc((size_t)d->nq * sizeof *d->qst);
   d->vst = malloc((size_t)d->nq * sizeof *d->vst);
@@ -339,7 +402,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
     d->nroots += vs_impact_nroots(d->imp);
   d->roots = malloc((size_t)d->nroots * sizeof *d->roots);
   if (d->y == NULL || d->yp == NULL || d->id == NULL || d->atol == NULL || d->J == NULL ||
-      d->K == NULL || d->C == NULL || d->mass == NULL || d->work == NULL ||
+      d->K == NULL || d->C == NULL || d->mass == NULL || d->work == NULL || d->force == NULL ||
       d->js == NULL || d->roots == NULL || d->qst == NULL || d->vst == NULL ||
       (o->impact && d->imp == NULL)) {
     vs_dynamic_destroy(&d);
@@ -371,6 +434,8 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   if ((flag = IDASetLinearSolver(d->ida, d->LS, d->J)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDASetLinearSolver", flag);
   if ((flag = IDASetJacFn(d->ida, jac_fn)) != IDA_SUCCESS) return dyn_fail(&d, err, "IDASetJacFn", flag);
+  if ((flag = IDASetNonlinConvCoef(d->ida, VS_DYN_NEWTON_COEF)) != IDA_SUCCESS)
+    return dyn_fail(&d, err, "IDASetNonlinConvCoef", flag);
   if ((flag = IDASetMaxOrd(d->ida, VS_DYN_MAX_ORDER)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDASetMaxOrd", flag);
   if ((flag = IDASetMaxNumSteps(d->ida, 100000)) != IDA_SUCCESS)
@@ -389,6 +454,7 @@ static void energies(vs_dynamic *d, const double *y, double e0, vs_energy *e) {
   for (int i = 0; i < VS_DYN_NC; i++) /* a pinned support's rotation: its own kinetic energy */
     if (d->cidx[i] < 0) e->kinetic += 0.5 * d->mass[d->n + i] * y[d->iv + d->n + i] * y[d->iv + d->n + i];
   vs_model_ext_energies(d->m, y, &e->elastic, &e->gravity);
+  if (d->ct != NULL) e->elastic += vs_contact_energy(d->ct, y);
   e->support_work = y[d->ie];
   e->damped = y[d->ie + 1];
   e->friction = y[d->ie + 2];
@@ -429,13 +495,37 @@ void vs_dynamic_jacobian(vs_dynamic *d, double t, double cj, double *y, SUNMatri
   N_VDestroy(vy);
 }
 
-void vs_dynamic_accelerations(const vs_dynamic *d, double *a) {
-  memcpy(a, N_VGetArrayPointer(d->yp) + d->iv, (size_t)d->n * sizeof *a);
+/* The reported multipliers and accelerations are those the DAE gives at IDA's state (q, v):
+ * on the constraint manifold the equations of motion and the hidden constraint G v' = d/dt of
+ * the supports' prescribed velocities (zero: they move at a constant rate) fix v' and lambda
+ * uniquely, M v' + F(q, v) = G^T lambda -- a support body's constrained rows give lambda = F
+ * there, a block's rows v' = -F / m. IDA's own lambda and v' are the last Newton iterate
+ * and the BDF formula's derivative: they satisfy those equations only to the Newton iteration's
+ * tolerance, which is loose on the velocities by design (VS_DYN_VEL_TIME), so IDA's lambda is off
+ * by up to ~1e-2 of the arch's weight in the fast motion before a collapse. Evaluated on demand:
+ * one force evaluation. */
+static void implied_forces(vs_dynamic *d) {
+  double diss = 0.0;
+  dyn_forces(d, N_VGetArrayPointer(d->y), N_VGetArrayPointer(d->y) + d->iv, d->force, &diss);
 }
 
-void vs_dynamic_reactions(const vs_dynamic *d, double out[6]) {
+void vs_dynamic_accelerations(vs_dynamic *d, double *a) {
+  implied_forces(d);
+  for (int i = 0; i < d->n; i++) a[i] = -d->force[i] / d->mass[i];
+}
+
+void vs_dynamic_reactions(vs_dynamic *d, double out[6]) {
+  implied_forces(d);
+  for (int i = 0; i < VS_DYN_NC; i++) out[i] = d->cidx[i] >= 0 ? d->force[d->n + i] : 0.0;
+}
+
+void vs_dynamic_multipliers(const vs_dynamic *d, double out[6]) {
   const double *lam = N_VGetArrayPointer(d->y) + d->il;
   for (int i = 0; i < VS_DYN_NC; i++) out[i] = d->cidx[i] >= 0 ? lam[d->cidx[i]] : 0.0;
+}
+
+void vs_dynamic_derivatives(const vs_dynamic *d, double *a) {
+  memcpy(a, N_VGetArrayPointer(d->yp) + d->iv, (size_t)d->n * sizeof *a);
 }
 
 /* The static state (blocks, pinned supports' rotations) of y into d->qst, d->vst. */
@@ -448,6 +538,22 @@ static void static_state(vs_dynamic *d, const double *y) {
     d->qst[k] = y[d->n + 3 * s + 2];
     d->vst[k] = y[d->iv + d->n + 3 * s + 2];
   }
+}
+
+/* IDA stops with "root found at and very near t" when a root function is exactly zero at the
+ * root it just returned and a round-off later (a vertex crossing the ground at a crawl: its
+ * height is resolved to ~1e-17 m). A restart from the returned state clears it: IDA's first-step
+ * check then leaves such roots inactive until they move away from zero. */
+static int close_roots(const vs_dynamic *d, int flag) {
+  return flag == IDA_ILL_INPUT && strstr(d->msg, "very near") != NULL;
+}
+
+static int restart_roots(vs_dynamic *d, double t, double t_stop) {
+  d->msg[0] = '\0';
+  int rf = IDAReInit(d->ida, t, d->y, d->yp);
+  if (rf == IDA_SUCCESS) rf = root_init(d);
+  if (rf == IDA_SUCCESS) rf = IDASetStopTime(d->ida, t_stop);
+  return rf;
 }
 
 /* --- the impact damping model (impact.h): arming after each step, impulses at its roots --- */
@@ -510,7 +616,9 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   d->msg[0] = '\0';
   int flag = IDAReInit(d->ida, t0, d->y, d->yp);
   if (flag == IDA_SUCCESS) flag = IDASVtolerances(d->ida, d->rtol, d->atol);
-  if (flag == IDA_SUCCESS) flag = IDARootInit(d->ida, d->nroots, root_fn);
+  d->in_fall = 0;
+  if (flag == IDA_SUCCESS) flag = root_init(d);
+  if (flag == IDA_SUCCESS) flag = IDASetNonlinConvCoef(d->ida, VS_DYN_NEWTON_COEF);
   if (flag != IDA_SUCCESS)
     return vs_error_set(err, VS_ERR_SOLVER, "IDAReInit failed (flag %d)", flag);
   /* consistent initial values: q, v given (the supports' from the constraints), v' from the
@@ -534,6 +642,8 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   const double e0 = e.kinetic + e.gravity + e.elastic;
   double scale = fabs(e0), t = t0, t_last_sample = -INFINITY, t_rest = t0, t_stop = t_end;
   int moving = 0, collapsed = 0;
+  double wall_fall = NAN; /* wall-clock time at the collapse criterion */
+  long restarts = 0;      /* restart_roots so far */
   long base_steps = 0, base_newton = 0;
   vs_status st = VS_OK;
   e.balance = 0.0; /* the reference of the balance */
@@ -558,6 +668,16 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
       st = vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
       break;
     }
+    if (flag < 0 && close_roots(d, flag) && ++restarts <= VS_DYN_MAX_ROOT_RESTARTS) {
+      long ns = 0, nn = 0; /* IDAReInit resets IDA's counters: carry them */
+      IDAGetNumSteps(d->ida, &ns);
+      IDAGetNumNonlinSolvIters(d->ida, &nn);
+      base_steps += ns;
+      base_newton += nn;
+      const int rf = restart_roots(d, t, t_stop);
+      if (rf == IDA_SUCCESS) continue;
+      flag = rf;
+    }
     if (flag < 0) {
       st = vs_error_set(err, VS_ERR_SOLVER, "IDA failed at t = %.6g s (delta = %.6g mm): %s", t,
                         delta_at(d, t) * 1e3, d->msg[0] ? d->msg : "unknown cause");
@@ -566,6 +686,10 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     const double delta = delta_at(d, t);
     vs_model_ext_commit(d->m, y); /* seamless: the return-mapped force is unchanged */
     if (d->imp != NULL) impact_arm(d, y, 0);
+    if (d->ct != NULL && vs_contact_armed(d->ct)) {
+      vs_contact_commit(d->ct, y);
+      res->max_penetration = fmax(res->max_penetration, vs_contact_max_penetration(d->ct, y, NULL));
+    }
     energies(d, y, e0, &e);
     d->max_drift = fmax(d->max_drift, drift(d, t, y));
     scale = fmax(scale, fmax(fabs(e.kinetic), fmax(fabs(e.gravity), fabs(e.elastic))));
@@ -583,10 +707,11 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     }
     const int at_rest = !moving && t - t_rest >= d->o.rest_time;
     int stop = 0;
+    const int joint_root = flag == IDA_ROOT_RETURN && !collapsed; /* the fall's: contacts only */
     if (flag == IDA_ROOT_RETURN) {
       IDAGetRootInfo(d->ida, d->roots);
       res->root_events++;
-      for (int k = 0; k < 2 * d->nj; k++) {
+      for (int k = 0; k < 2 * d->nj && joint_root; k++) {
         if (d->roots[k] == 0 || event == NULL) continue;
         vs_dyn_event ev = {.t = t, .delta = delta, .joint = k / 2 + 1,
                            .side = (k % 2 == 0) ? 'E' : 'I', .opened = d->roots[k] > 0};
@@ -621,11 +746,17 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
         base_newton += nn;
         N_Vector at = N_VClone(d->atol);
         int rf = (at == NULL) ? -1 : IDAReInit(d->ida, t, d->y, d->yp);
+        const double loose = d->ct != NULL ? VS_DYN_FALL_TOL_GROUND : VS_DYN_FALL_TOL;
         if (rf == IDA_SUCCESS) {
-          N_VScale(VS_DYN_FALL_TOL, d->atol, at);
-          rf = IDASVtolerances(d->ida, VS_DYN_FALL_TOL * d->rtol, at);
+          N_VScale(loose, d->atol, at);
+          rf = IDASVtolerances(d->ida, loose * d->rtol, at);
         }
-        if (rf == IDA_SUCCESS) rf = IDARootInit(d->ida, 0, NULL);
+        d->in_fall = 1;
+        wall_fall = wall_now();
+        if (d->ct != NULL && !vs_contact_armed(d->ct))
+          vs_contact_arm(d->ct, vs_contact_springing_base(d->m, y) + d->ground_offset, y);
+        if (rf == IDA_SUCCESS) rf = root_init(d);
+        if (rf == IDA_SUCCESS) rf = IDASetNonlinConvCoef(d->ida, VS_DYN_NEWTON_COEF_FALL);
         if (rf == IDA_SUCCESS) rf = IDASetStopTime(d->ida, t_stop);
         if (at != NULL) N_VDestroy(at);
         if (rf != IDA_SUCCESS) {
@@ -634,7 +765,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
         }
       }
     }
-    if (sample != NULL && (t - t_last_sample >= d->o.sample_dt || flag == IDA_ROOT_RETURN)) {
+    if (sample != NULL && (t - t_last_sample >= d->o.sample_dt || joint_root)) {
       t_last_sample = t;
       IDAGetNumSteps(d->ida, &res->steps); /* kept current for the callback */
       IDAGetNumNonlinSolvIters(d->ida, &res->newton_iterations);
@@ -645,6 +776,11 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     }
     if (stop) {
       st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+      break;
+    }
+    if (collapsed && d->ct != NULL && at_rest) { /* the debris at rest on the ground */
+      res->end = VS_DYN_COLLAPSED;
+      res->fall_at_rest = 1;
       break;
     }
     if (collapsed && t >= t_stop * (1.0 - 1e-15)) {
@@ -662,6 +798,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   }
   res->t_end = t;
   res->delta_end = delta_at(d, t);
+  if (collapsed) res->fall_wall_s = wall_now() - wall_fall;
   IDAGetNumSteps(d->ida, &res->steps);
   IDAGetNumNonlinSolvIters(d->ida, &res->newton_iterations);
   res->steps += base_steps;

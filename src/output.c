@@ -1397,6 +1397,33 @@ static herr_t summary_damping(hid_t sum, const vs_run *run) {
   return rc;
 }
 
+/* /summary/ground, when the fall landed on the ground (contact.h): its level, a segment of it
+ * for the pictures and the sidecar (two span widths, centred on the arch), the penetrations and
+ * whether the debris came to rest, and the fall's cost. */
+static herr_t summary_ground(hid_t sum, const vs_run *run) {
+  const double z = vs_run_ground(run), L = vs_run_geometry(run)->span;
+  if (!isfinite(z)) return 0;
+  const vs_dyn_result *d = vs_run_dynamic_totals(run);
+  const double pts[4] = {-L, z, L, z};
+  const hsize_t dims[2] = {2, 2};
+  hid_t g = group_create(sum, "ground");
+  herr_t rc = g >= 0 ? dset_scalar(g, "level", z, "m") : -1;
+  if (rc >= 0)
+    rc = dset_write(g, "points", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, dims, pts, "m,m", "x,z");
+  if (rc >= 0) rc = dset_scalar(g, "penetration_final", vs_run_penetration(run), "m");
+  if (rc >= 0) rc = dset_scalar(g, "penetration_max", d->max_penetration, "m");
+  if (rc >= 0) rc = dset_scalar(g, "fall_wall_time", d->fall_wall_s, "s");
+  if (rc >= 0) rc = attr_int(g, "at_rest", d->fall_at_rest);
+  if (rc >= 0)
+    rc = attr_str(g, "description",
+                  "the ground the collapsed arch fell onto (z up, the geometry's frame): level; "
+                  "points, a segment of it; penetration_final, the deepest block vertex below it "
+                  "at the last state (< 0: none touches), penetration_max over the fall; at_rest "
+                  "= 1 if the fall ended with the debris at rest; fall_wall_time, its cost");
+  h5_close(g);
+  return rc;
+}
+
 static vs_status write_summary(vs_output *o, const vs_run *run) {
   hid_t sum = H5Gopen2(o->file, "summary", H5P_DEFAULT);
   const char *mode = vs_run_mode(run);
@@ -1416,6 +1443,7 @@ static vs_status write_summary(vs_output *o, const vs_run *run) {
   if (rc >= 0) rc = summary_collapse(sum, run);
   if (rc >= 0) rc = summary_totals(sum, run);
   if (rc >= 0) rc = summary_damping(sum, run);
+  if (rc >= 0) rc = summary_ground(sum, run);
   const vs_hinges *h = vs_run_hinges(run);
   const int n = vs_hinges_count(h);
   vs_hinge *all = calloc((size_t)(n > 0 ? n : 1), sizeof *all);
@@ -1491,6 +1519,7 @@ typedef struct {
   FILE *f;
   const char *h5name; /* XML-escaped name of the HDF5 file, relative to the sidecar */
   xdmf_ds ds[X_COUNT];
+  int ground; /* the record has /summary/ground/points */
 } xdmf_ctx;
 
 static void xml_escape(const char *s, char *out, size_t size) {
@@ -1628,6 +1657,21 @@ static void xdmf_support(const xdmf_ctx *x, int right, hsize_t r) {
   fputs("      </Grid>\n", x->f);
 }
 
+/* The ground (a fixed segment), when the fall landed on it. */
+static void xdmf_ground(const xdmf_ctx *x) {
+  xdmf_grid_open(x, "ground");
+  fprintf(x->f,
+          "        <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" "
+          "NumberOfElements=\"1\">\n"
+          "          <DataItem Dimensions=\"1 2\" NumberType=\"Int\" Precision=\"4\" "
+          "Format=\"XML\">0 1</DataItem>\n"
+          "        </Topology>\n        <Geometry GeometryType=\"XY\">\n"
+          "          <DataItem Dimensions=\"2 2\" NumberType=\"Float\" Precision=\"8\" "
+          "Format=\"HDF\">%s:/summary/ground/points</DataItem>\n"
+          "        </Geometry>\n      </Grid>\n",
+          x->h5name);
+}
+
 /* One time step: the row's objects as named grids of a spatial collection. */
 static void xdmf_step(const xdmf_ctx *x, hsize_t r, double t) {
   fprintf(x->f,
@@ -1638,6 +1682,7 @@ static void xdmf_step(const xdmf_ctx *x, hsize_t r, double t) {
   xdmf_joints(x, r);
   xdmf_support(x, 0, r);
   xdmf_support(x, 1, r);
+  if (x->ground) xdmf_ground(x);
   fputs("    </Grid>\n", x->f);
 }
 
@@ -1702,6 +1747,9 @@ static vs_status xdmf_write(hid_t file, const char *h5_path, const char *xmf_pat
   char name[1024], tmp[4096];
   xml_escape(base != NULL ? base + 1 : h5_path, name, sizeof name);
   x.h5name = name;
+  x.ground = H5Lexists(file, "/summary", H5P_DEFAULT) > 0 &&
+             H5Lexists(file, "/summary/ground", H5P_DEFAULT) > 0 &&
+             H5Lexists(file, "/summary/ground/points", H5P_DEFAULT) > 0;
   snprintf(tmp, sizeof tmp, "%s.tmp", xmf_path);
   /* never written through, nor renamed over, anything but a regular file */
   struct stat sb;
@@ -1732,7 +1780,8 @@ static vs_status xdmf_write(hid_t file, const char *h5_path, const char *xmf_pat
           "hinge code 0 closed, 1 intrados, 2 extrados;\n"
           "     support_left, support_right (the springing faces): Fx_N Fz_N force of the support "
           "on the arch (x right, z up), M_N_m its moment (counter-clockwise, about the springing "
-          "joint's centre), ux_m uz_m displacement of the moved support.\n"
+          "joint's centre), ux_m uz_m displacement of the moved support;\n"
+          "     ground (a segment, when the fall landed on it): the plane the debris rests on.\n"
           "     The HDF5 file is named relative to this file. -->\n"
           "<Xdmf Version=\"3.0\">\n  <Domain>\n"
           "    <Grid Name=\"voussoir\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",

@@ -317,7 +317,7 @@ static void box_add(box *b, const double *x, const double *z, int n) {
   }
 }
 
-static void arch_frame(const vs_geometry *g, const double *q, const double su[2],
+static void arch_frame(const vs_geometry *g, const double *q, const double su[2], double ground,
                        vs_plot_frame *f) {
   double x[2 * ARC_MAX], z[2 * ARC_MAX];
   const double zero[2] = {0.0, 0.0};
@@ -329,6 +329,7 @@ static void arch_frame(const vs_geometry *g, const double *q, const double su[2]
   box_add(&b, x, z, support_outline(g, 1, zero, x, z));
   box_add(&b, x, z, support_outline(g, 0, zero, x, z));
   box_add(&b, x, z, support_outline(g, 0, su, x, z));
+  if (isfinite(ground)) box_add(&b, &b.x0, &ground, 1);
   const int w = VS_PLOT_ARCH_WIDTH, h = VS_PLOT_ARCH_HEIGHT;
   const double aw = w - 2.0 * ARCH_SIDE, ah = h - ARCH_TOP - ARCH_BOTTOM;
   const double bw = fmax(b.x1 - b.x0, 1e-9), bh = fmax(b.z1 - b.z0, 1e-9);
@@ -345,7 +346,7 @@ vs_status vs_plot_arch_frame(const vs_geometry *g, const double *q, double delta
   if (st != VS_OK) return st;
   double su[2];
   support_displacement(delta_m, alpha_rad, su);
-  arch_frame(g, q, su, f);
+  arch_frame(g, q, su, NAN, f);
   return VS_OK;
 }
 
@@ -361,6 +362,7 @@ typedef struct {
   const double *gap_i, *gap_e;
   double open;
   const double *N, *M; /* joint forces for the thrust line, or NULL */
+  double ground;       /* the ground's level z, m (NaN: none) */
   const char *title;
   vs_plot_frame f;
 } arch_data;
@@ -408,6 +410,30 @@ static void ground(cairo_t *cr, const vs_plot_frame *f, double xa, double xb, do
     cairo_line_to(cr, px - 8.0, py + 8.0);
   }
   cairo_stroke(cr);
+}
+
+/* The ground the fall landed on: a line across the picture, hatched below, named. */
+static void draw_ground(cairo_t *cr, const arch_data *d) {
+  if (!isfinite(d->ground)) return;
+  double px, py;
+  vs_plot_to_px(&d->f, 0.0, d->ground, &px, &py);
+  cairo_set_source_rgb(cr, 0.93, 0.91, 0.86);
+  cairo_rectangle(cr, 0.0, py, d->f.width, d->f.height - py);
+  cairo_fill(cr);
+  cairo_set_source_rgb(cr, 0.62, 0.58, 0.50);
+  cairo_set_line_width(cr, 1.0);
+  for (double x = 4.0; x <= d->f.width + 12.0; x += 9.0) {
+    cairo_move_to(cr, x, py);
+    cairo_line_to(cr, x - 12.0, py + 12.0);
+  }
+  cairo_stroke(cr);
+  cairo_set_source_rgb(cr, 0.25, 0.25, 0.25);
+  cairo_set_line_width(cr, 1.6);
+  cairo_move_to(cr, 0.0, py);
+  cairo_line_to(cr, d->f.width, py);
+  cairo_stroke(cr);
+  font(cr, 14.0, 0);
+  text_at(cr, "ground", d->f.width - ARCH_SIDE, py + 4.0, 1.0, 0.0, C_TEXT, 0);
 }
 
 static void draw_supports(cairo_t *cr, const arch_data *d) {
@@ -621,6 +647,7 @@ static void draw_arch(cairo_t *cr, const void *data) {
   const arch_data *d = data;
   set_rgb(cr, C_WHITE);
   cairo_paint(cr);
+  draw_ground(cr, d);
   draw_supports(cr, d);
   draw_blocks(cr, d, NULL, 1);
   draw_blocks(cr, d, d->q, 0);
@@ -675,6 +702,16 @@ vs_status vs_plot_arch_thrust(const char *path, vs_plot_format fmt, const vs_geo
                               const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
                               const double *joint_gap_e, double open_m, const double *joint_N,
                               const double *joint_M, const char *title, vs_error *err) {
+  return vs_plot_arch_landed(path, fmt, g, q, delta_m, alpha_rad, hinges, n_hinges, joint_gap_i,
+                             joint_gap_e, open_m, joint_N, joint_M, NAN, title, err);
+}
+
+vs_status vs_plot_arch_landed(const char *path, vs_plot_format fmt, const vs_geometry *g,
+                              const double *q, double delta_m, double alpha_rad,
+                              const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
+                              const double *joint_gap_e, double open_m, const double *joint_N,
+                              const double *joint_M, double ground_z, const char *title,
+                              vs_error *err) {
   if (path == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no file name");
   vs_status st = check_arch(g, q, delta_m, alpha_rad, err);
   if (st == VS_OK) st = check_hinges(g, hinges, n_hinges, err);
@@ -683,9 +720,9 @@ vs_status vs_plot_arch_thrust(const char *path, vs_plot_format fmt, const vs_geo
     return vs_error_set(err, VS_ERR_INVALID, "plot: open = %g m (allowed: >= 0)", open_m);
   arch_data d = {.g = g, .q = q, .delta = delta_m, .alpha = alpha_rad, .hinges = hinges,
                  .n_hinges = n_hinges, .gap_i = joint_gap_i, .gap_e = joint_gap_e,
-                 .open = open_m, .N = joint_N, .M = joint_M, .title = title};
+                 .open = open_m, .N = joint_N, .M = joint_M, .ground = ground_z, .title = title};
   support_displacement(delta_m, alpha_rad, d.su);
-  arch_frame(g, q, d.su, &d.f);
+  arch_frame(g, q, d.su, ground_z, &d.f);
   return emit(path, fmt, d.f.width, d.f.height, draw_arch, &d, err);
 }
 

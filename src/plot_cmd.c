@@ -49,6 +49,7 @@ typedef struct {
   double *limits, *settled;
   int nl;
   double collapse; /* m, NaN if none */
+  double ground;   /* the ground the fall landed on, z in m; NaN if none */
   char msg[512];
 } record;
 
@@ -236,6 +237,11 @@ static int record_open(const char *path, record *r) {
     return -1;
   }
   read_doubles(r->file, "/summary/collapse/delta", &r->collapse, 1);
+  r->ground = NAN;
+  if (H5Lexists(r->file, "/summary/ground", H5P_DEFAULT) > 0 &&
+      H5Lexists(r->file, "/summary/ground/level", H5P_DEFAULT) > 0 &&
+      read_doubles(r->file, "/summary/ground/level", &r->ground, 1) != 0)
+    r->ground = NAN;
   return 0;
 }
 
@@ -299,9 +305,11 @@ static int draw_state(const record *r, const state *st, const char *dir, const c
   snprintf(path, sizeof path, "%s/arch_%s.%s", dir, name, ext);
   vs_error err;
   vs_error_clear(&err);
-  if (vs_plot_arch_thrust(path, vs_plot_format_from_path(path), r->g, st->pos, st->delta,
+  /* the ground in the picture of the end, where the debris lies on it */
+  const double ground = strcmp(name, "end") == 0 ? r->ground : NAN;
+  if (vs_plot_arch_landed(path, vs_plot_format_from_path(path), r->g, st->pos, st->delta,
                           r->c.alpha_deg * VS_DEG, h, nh, st->gap_i, st->gap_e,
-                          r->c.open_mm * VS_MM, st->N, st->M, title, &err) != VS_OK) {
+                          r->c.open_mm * VS_MM, st->N, st->M, ground, title, &err) != VS_OK) {
     fprintf(stderr, "voussoir plot: %s\n", err.msg);
     return -1;
   }

@@ -392,5 +392,10 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
             d->steps, d->newton_iterations, d->root_events, d->balance_error_rel,
             d->balance_error_fall, d->dae_index, d->dae_differential, d->dae_algebraic,
             d->max_drift);
+  if (isfinite(vs_run_ground(r)))
+    fprintf(out, "         fall: onto the ground at z = %.3f mm, %s; deepest vertex %.3g mm below "
+                 "it at the end (%.3g mm during the fall); %.3f s wall\n",
+            vs_run_ground(r) / VS_MM, d->fall_at_rest ? "the debris at rest" : "still moving at fall_s",
+            vs_run_penetration(r) / VS_MM, d->max_penetration / VS_MM, d->fall_wall_s);
   fprintf(out, "         wall time %.3f s\n", vs_run_wall_s(r));
 }

@@ -9,6 +9,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "voussoir/contact.h"
 #include "voussoir/damping.h"
 #include "voussoir/imperfections.h"
 #include "voussoir/units.h"
@@ -20,6 +21,7 @@ struct vs_run {
   vs_model *m;
   vs_hinges *h;
   vs_dynamic *dyn;
+  vs_contact *ground; /* the ground the fall lands on (NULL: no fall followed) */
   vs_hinge_opts hopts;
   vs_path_opts popts;
   vs_dyn_opts dopts;
@@ -128,6 +130,10 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
     for (int i = 0; i < r->g->n_blocks; i++) mass += r->g->blocks[i].mass;
     r->ke_move = 0.5 * mass * r->dopts.rate * r->dopts.rate;
     if (c->follow || c->full) st = vs_dynamic_create(r->m, &r->dopts, &r->dyn, err);
+    if (st == VS_OK && r->dyn != NULL && c->fall_s > 0.0) { /* armed at the collapse */
+      st = vs_contact_create(r->m, c->restitution, 0, NULL, NULL, &r->ground, err);
+      if (st == VS_OK) st = vs_dynamic_set_contact(r->dyn, r->ground, c->ground_mm * VS_MM, err);
+    }
   }
   if (st != VS_OK) {
     vs_run_destroy(&r);
@@ -155,6 +161,7 @@ void vs_run_destroy(vs_run **r) {
   free(p->events);
   vs_modal_free(&p->modal);
   vs_dynamic_destroy(&p->dyn);
+  vs_contact_destroy(&p->ground);
   vs_hinges_destroy(&p->h);
   vs_model_destroy(&p->m);
   vs_geometry_destroy(&p->g);
@@ -310,7 +317,9 @@ static int on_dyn_sample(void *user, double t, double delta, const double *q, co
   r->t = t;
   r->phase = VS_PHASE_DYNAMIC;
   if (!r->frozen && track_hinges(r, delta, q) != 0) return 1;
-  if (e->kinetic < r->dopts.rest_ke) {
+  const int falling = r->live_dyn != NULL && isfinite(r->live_dyn->t_collapse);
+  if (falling) { /* the onset is the collapse's: debris at rest and moving again is not one */
+  } else if (e->kinetic < r->dopts.rest_ke) {
     r->onset_taken = 0;
   } else if (!r->onset_taken &&
              e->kinetic >= r->ke_move + VS_ONSET_FRACTION * (r->dopts.collapse_ke - r->ke_move)) {
@@ -372,6 +381,9 @@ static void add_dyn_totals(vs_run *r, const vs_dyn_result *d) {
   r->dtot.balance_error_rel = fmax(r->dtot.balance_error_rel, d->balance_error_rel);
   r->dtot.balance_error_fall = fmax(r->dtot.balance_error_fall, d->balance_error_fall);
   r->dtot.max_drift = fmax(r->dtot.max_drift, d->max_drift);
+  r->dtot.max_penetration = fmax(r->dtot.max_penetration, d->max_penetration);
+  r->dtot.fall_wall_s += d->fall_wall_s;
+  r->dtot.fall_at_rest = d->fall_at_rest;
   r->dtot.dae_differential = d->dae_differential;
   r->dtot.dae_algebraic = d->dae_algebraic;
   r->dtot.dae_index = d->dae_index;
@@ -588,6 +600,12 @@ double vs_run_delta(const vs_run *r) { return r->delta; }
 double vs_run_time(const vs_run *r) { return r->t; }
 const double *vs_run_reactions(const vs_run *r) { return r->react; }
 double vs_run_wall_s(const vs_run *r) { return r->wall_s; }
+double vs_run_ground(const vs_run *r) {
+  return (r->ground != NULL && vs_contact_armed(r->ground)) ? vs_contact_level(r->ground) : NAN;
+}
+double vs_run_penetration(const vs_run *r) {
+  return isfinite(vs_run_ground(r)) ? vs_contact_max_penetration(r->ground, r->q, NULL) : NAN;
+}
 const vs_modal *vs_run_modal(const vs_run *r) { return &r->modal; }
 void vs_run_rayleigh(const vs_run *r, double *alpha, double *beta) {
   *alpha = r->ray_alpha;

@@ -124,6 +124,8 @@ static const key_case all_keys[] = {
     {"dynamic", "collapse_ke", "0", "2e6", {"0.001", "1e6"}},
     {"dynamic", "fall_s", "-0.1", "2e6", {"0", "1e6"}},
     {"dynamic", "sample_s", "9e-7", "2e6", {"1e-4", "1e-6"}},
+    {"fall", "ground_mm", "-1.1e6", "0.001", {"-1e6", "0"}},
+    {"fall", "restitution", "0", "1.01", {"1", "1e-3"}},
     {"imperfections", "seed", "-1", "2147483648", {"0", "2147483647"}},
     {"imperfections", "sample", "-1", "2147483648", {"0", "2147483647"}},
     {"imperfections", "kn_cov", "-0.1", "3.01", {"0", "3"}},
@@ -313,7 +315,7 @@ static void check_out_of_range(const key_case *k, const char *value) {
 
 static void test_every_key_out_of_range(void **state) {
   (void)state;
-  assert_int_equal(NKEYS_TESTED, 39);
+  assert_int_equal(NKEYS_TESTED, 41);
   for (size_t i = 0; i < NKEYS_TESTED; i++) {
     check_out_of_range(&all_keys[i], all_keys[i].below);
     if (all_keys[i].above != NULL) check_out_of_range(&all_keys[i], all_keys[i].above);
@@ -397,7 +399,7 @@ static void test_unknown_section(void **state) {
   (void)state;
   expect_read_error("[arch]\nradius_mm = 300\n\n[archh]\nradius_mm = 300\n", VS_ERR_PARSE, 4,
                     "[archh]: unknown section (allowed sections: arch, joints, support, solver, "
-                    "hinges, dynamic, imperfections)");
+                    "hinges, dynamic, fall, imperfections)");
   /* an empty unknown section is still reported, on its own line */
   expect_read_error("; x\n[nothing]\n", VS_ERR_PARSE, 2, "[nothing]: unknown section");
   expect_read_error("[]\n", VS_ERR_PARSE, 1, "[]: unknown section");

@@ -65,11 +65,14 @@ typedef struct {
   vs_dynamic *d;
   const vs_model *m;
   double rate;
+  /* the reported reactions and accelerations (the DAE's at IDA's state), everywhere: */
   double worst_joint;  /* max |lambda - joint forces on the support| / W (moments / (W t)) */
   double worst_newton; /* max |sum m a - sum lambda - weight| / W */
+  /* IDA's own iterates: lambda against the reported one, and Newton's law with its v' */
+  double worst_iter, worst_iter_newton;
   double collapse_ke;  /* once the kinetic energy passed it (the fall: looser tolerances) ... */
   int fallen;
-  double worst_fall;   /* ... the larger of the two above goes here instead */
+  double worst_fall;   /* ... the larger of the two iterates' figures goes here instead */
   double shared;       /* at the first sample (the equilibrium the phase starts from): max
                           |lambda - the quasi-static phase's reactions - the springing joints'
                           damping forces| / W: the support moves at its rate while the arch is
@@ -86,6 +89,17 @@ static void rec_init(recorder *r, int cap) {
 }
 
 static void rec_free(recorder *r) { free(r->s); }
+
+/* Newton's law for the whole arch: max over x, z of |sum m a - sum of reactions - weight| / W. */
+static double newton_law(const vs_geometry *g, const double *a, const double *lam) {
+  const double W = vs_geometry_weight(g);
+  double ma[2] = {0.0, 0.0};
+  for (int i = 0; i < g->n_blocks; i++) {
+    ma[0] += g->blocks[i].mass * a[3 * i];
+    ma[1] += g->blocks[i].mass * a[3 * i + 1];
+  }
+  return fmax(fabs(ma[0] - (lam[0] + lam[3])), fabs(ma[1] - (lam[1] + lam[4] - W))) / W;
+}
 
 /* The reactions of the DAE (its multipliers lambda, forces the supports exert on the arch)
  * against two independent sums at the sample: the forces of the springing joints on each support
@@ -120,22 +134,24 @@ static void check_reactions(recorder *r, double delta, const double *q, const do
       if (!pinned[c]) r->shared = fmax(r->shared, fabs(lam[c] - rs[c] - fd[n + c]) /
                                       (c % 3 == 2 ? W * g->thickness : W));
   }
-  double wj = 0.0, wn = 0.0;
-  for (int c = 0; c < 6; c++)
-    wj = fmax(wj, fabs(lam[c] - (pinned[c] ? 0.0 : Ge[n + c] + fd[n + c])) /
-                      (c % 3 == 2 ? W * g->thickness : W));
-  vs_dynamic_accelerations(r->d, a);
-  double ma[2] = {0.0, 0.0};
-  for (int i = 0; i < g->n_blocks; i++) {
-    ma[0] += g->blocks[i].mass * a[3 * i];
-    ma[1] += g->blocks[i].mass * a[3 * i + 1];
+  double wj = 0.0, wi = 0.0, li[6];
+  vs_dynamic_multipliers(r->d, li);
+  for (int c = 0; c < 6; c++) {
+    const double unit = c % 3 == 2 ? W * g->thickness : W;
+    wj = fmax(wj, fabs(lam[c] - (pinned[c] ? 0.0 : Ge[n + c] + fd[n + c])) / unit);
+    wi = fmax(wi, fabs(li[c] - lam[c]) / unit);
   }
-  wn = fmax(fabs(ma[0] - (lam[0] + lam[3])), fabs(ma[1] - (lam[1] + lam[4] - W))) / W;
+  vs_dynamic_accelerations(r->d, a);
+  const double wn = newton_law(g, a, lam);
+  vs_dynamic_derivatives(r->d, a);
+  const double wni = newton_law(g, a, li);
+  r->worst_joint = fmax(r->worst_joint, wj);
+  r->worst_newton = fmax(r->worst_newton, wn);
   if (r->fallen) {
-    r->worst_fall = fmax(r->worst_fall, fmax(wj, wn));
+    r->worst_fall = fmax(r->worst_fall, fmax(wi, wni));
   } else {
-    r->worst_joint = fmax(r->worst_joint, wj);
-    r->worst_newton = fmax(r->worst_newton, wn);
+    r->worst_iter = fmax(r->worst_iter, wi);
+    r->worst_iter_newton = fmax(r->worst_iter_newton, wni);
   }
   r->checked++;
   free(qe), free(ve), free(Ge), free(fd), free(a);
@@ -297,13 +313,14 @@ static void test_free_fall(void **state) {
   assert_true(t_r < t_end);
 
   /* samples in flight, before the landing: the parabola. IDA controls the local error to
-   * rtol |z| + atol (~1e-11 m); 1e-9 m (1e-6 h0) and 1e-7 m/s leave room for its accumulation. */
+   * rtol |z| + atol (~1e-11 m) over ~250 steps: 2.5e-9 m (2.5e-6 h0) and 1e-7 m/s bound its
+   * accumulation. */
   int n_before = 0;
   for (int i = 0; i < r.ns; i++) {
     const rec_sample *s = &r.s[i];
     if (s->t < t_c) {
       n_before++;
-      CHECK(s->q[1], h0 - 0.5 * GRAV * s->t * s->t, 0.0, 1e-9);
+      CHECK(s->q[1], h0 - 0.5 * GRAV * s->t * s->t, 0.0, 2.5e-9);
       CHECK(s->v[1], -GRAV * s->t, 0.0, 1e-7);
       CHECK(s->q[0], 0.0, 0.0, 1e-12);
       CHECK(s->q[2], 0.0, 0.0, 1e-12);
@@ -349,9 +366,10 @@ static void test_free_fall(void **state) {
   CHECK(oi->t, t_r, 3e-5, 0.0);
   CHECK(oe->t, t_r, 3e-5, 0.0);
   assert_int_equal(r.ne, 4); /* landing and lift-off, two edges each; nothing else */
-  /* free flight after it, up to the end: the block left with the landing speed */
+  /* free flight after it, up to the end: the block left with the landing speed; a lift-off
+   * time off by dt (checked above to 3e-5 t_r) shifts the flight by v_c dt */
   const double tau = res.t_end - t_r;
-  CHECK(q[1], open + v_c * tau - 0.5 * GRAV * tau * tau, 0.0, 1e-3 * open + 1e-8);
+  CHECK(q[1], open + v_c * tau - 0.5 * GRAV * tau * tau, 0.0, v_c * 3e-5 * t_r);
   /* the rebound speed carries the integrator's energy error through the impact:
    * |dv| <= |balance| / (m v_c) ~ 4e-6 m/s */
   CHECK(v[1], v_c - GRAV * tau, 0.0, 1e-5);
@@ -738,28 +756,34 @@ static void test_rocking_energy(void **state) {
 
 /* ------------------------------- 5. the arch: snap vs collapse ------------------------------- */
 
-/* The reactions (check_reactions) through a whole motion: lambda equals the springing joints'
- * forces and closes Newton's law for the arch to the accuracy of IDA's Newton iteration, not to
- * round-off: lambda is an unknown of that iteration, which stops when its corrections are small
- * against the tolerances -- and the velocities' are loose by design (dynamic.c), so a moving
- * arch leaves a residual of about (damping coefficient) x (velocity tolerance) in the support
- * rows: ~1e-5 W while the arch creeps (snap), up to ~1e-2 W in the fast motion just before the
- * collapse criterion, a few 1e-4 W in the fall. Bounds: joint_bound for lambda against the joint
- * forces, 1e-3 W for Newton's law, 2e-2 W in the fall. The constraints stay satisfied to
- * round-off (their equations are linear, and Newton solves them exactly). */
+/* The reactions (check_reactions) through a whole motion, the fall included. The reported
+ * reactions (the multipliers the DAE gives at IDA's state, dynamic.h) equal the springing joints'
+ * forces and, with the reported accelerations, close Newton's law for the arch to round-off:
+ * 1e-10 W (the sums run over ~60 forces of order W; the joints' forces on two blocks are equal
+ * and opposite). IDA's own iterate lambda is an unknown of its Newton iteration, which stops when
+ * its corrections are small against the tolerances -- and the velocities' are loose by design
+ * (dynamic.c), so a moving arch leaves a residual of about (damping coefficient) x (velocity
+ * tolerance) times the Newton test's fraction (1e-3) in the support rows: ~1e-5 W while the arch
+ * creeps (snap) or collapses slowly, up to ~2e-3 W in the fast motion of a stiff arch just before
+ * the collapse criterion (8e-3 W with IDA's default test, 0.33). Bounds on it up to the criterion: iter_bound against
+ * the reported lambda, 1e-3 W for Newton's law with IDA's v'. In the fall (tolerances 100 times
+ * looser, IDA's default Newton test) it reaches ~0.1 W and is only printed. The constraints stay satisfied to round-off (their equations are linear, and Newton
+ * solves them exactly): 1e-12 m. */
 static void check_reaction_sums(const char *label, const recorder *r, const vs_dyn_result *res,
-                                double joint_bound) {
+                                double iter_bound) {
   const int npin = (vs_model_support_dof(r->m, 0) >= 0) + (vs_model_support_dof(r->m, 1) >= 0);
-  print_message("%s: reactions at %d samples: |lambda - joint forces| <= %.3g W, |sum m a - sum "
-                "lambda - W| <= %.3g W (in the fall: %.3g W); constraint drift %.3g m; at the "
+  print_message("%s: reactions at %d samples (through the fall): |lambda - joint forces| <= %.3g W, "
+                "|sum m a - sum lambda - W| <= %.3g W; IDA's iterate: |lambda_IDA - lambda| <= %.3g W, "
+                "Newton's law with its v' %.3g W (in the fall: %.3g W); constraint drift %.3g m; at the "
                 "start, lambda against the quasi-static reactions plus the springings' damping: %.3g W\n",
-                label, r->checked, r->worst_joint, r->worst_newton, r->worst_fall, res->max_drift,
-                r->shared);
+                label, r->checked, r->worst_joint, r->worst_newton, r->worst_iter,
+                r->worst_iter_newton, r->worst_fall, res->max_drift, r->shared);
   assert_true(r->shared < 1e-4);
   assert_true(r->checked > 10);
-  assert_true(r->worst_joint < joint_bound);
-  assert_true(r->worst_newton < 1e-3);
-  assert_true(r->worst_fall < 2e-2);
+  assert_true(r->worst_joint < 1e-9);
+  assert_true(r->worst_newton < 1e-9);
+  assert_true(r->worst_iter < iter_bound);
+  assert_true(r->worst_iter_newton < 1e-3);
   assert_true(res->max_drift < 1e-12);
   assert_int_equal(res->dae_index, 2);
   assert_int_equal(res->dae_algebraic, 12 - 2 * npin); /* a pinned support: no rotation constraint */
@@ -985,6 +1009,23 @@ static void test_arch_snap_settles(void **state) {
   if (st != VS_OK) fail_msg("path resumed after the snap: %s: %s", vs_strerror(st), err.msg);
   res.max_drift = snap_drift;
   check_reaction_sums("snap", &r, &res, 1e-4);
+  /* on along the path to the next limit point, the reference run's collapse (~85.5 mm), and
+   * through the collapse and the fall: the reactions' relations hold there too */
+  po.max_delta = o.max_delta;
+  st = vs_path_run(A.m, &po, pres.delta_limit, A.q, NULL, NULL, &pres, &err);
+  if (st != VS_OK) fail_msg("path to the collapse: %s: %s", vs_strerror(st), err.msg);
+  assert_int_equal(pres.end, VS_PATH_LIMIT_POINT);
+  d = arch_integrator(&A, &o);
+  r.d = d;
+  memset(A.v, 0, (size_t)A.n * sizeof *A.v);
+  arch_dynamic(&A, d, pres.delta_limit / o.rate, &r, &res, &wall);
+  vs_dynamic_destroy(&d);
+  print_message("reference collapse: limit point %.4f mm, end %d at %.4f mm, balance %.3g\n",
+                pres.delta_limit * 1e3, (int)res.end, res.delta_end * 1e3, res.balance_error_rel);
+  assert_int_equal(res.end, VS_DYN_COLLAPSED);
+  assert_true(r.fallen);
+  res.max_drift = fmax(res.max_drift, snap_drift);
+  check_reaction_sums("snap, collapse and fall of the reference", &r, &res, 1e-3);
   free(q_eq);
   free(q_lim);
   rec_free(&r);
@@ -1034,11 +1075,11 @@ static void test_arch_collapse(void **state) {
    * 0.07 s of free fall) is W t = 10 collapse_ke. The snap of test_arch_snap_settles stays below
    * 1e-3 collapse_ke: the two are four orders of magnitude apart. */
   assert_true(res.max_kinetic > 10.0 * o.collapse_ke);
-  /* the energy balance up to the criterion: BDF2 damps the stiff joint modes numerically, so the
-   * error grows beyond rtol (1e-6) over the ~2e4 periods of the contact modes (k_n b t over a
-   * voussoir's mass: 8.6e4 rad/s) in the 1.5 s of this phase -- held to 1e-3
-   * of the largest energy term and 1 % of the criterion itself. The fall after the criterion may
-   * be integrated more loosely (it is only recorded): the whole phase gets a looser bound. */
+  /* the energy balance up to the criterion: its error is the work of the residual IDA's Newton
+   * iteration leaves in the equations of motion (dynamic.c), which grows with the speed of the
+   * motion before the criterion -- held to 1e-3 of the largest energy term and 1 % of the
+   * criterion itself. The fall after the criterion may be integrated more loosely (it is only
+   * recorded): the whole phase gets a looser bound. */
   double bal = 0.0, scale = 0.0;
   for (int i = 0; i < r.ns && r.s[i].t <= res.t_collapse; i++) {
     const vs_energy *e = &r.s[i].e;
@@ -1055,7 +1096,7 @@ static void test_arch_collapse(void **state) {
    * bookkeeping W' = lambda . v_support): 1e-4 of the largest energy term up to the criterion */
   assert_true(bal < 1e-4 * scale);
   assert_true(res.balance_error_rel < 1e-2);
-  check_reaction_sums("collapse", &r, &res, 2e-2);
+  check_reaction_sums("collapse", &r, &res, 1e-2);
   rec_free(&r);
   arch_free(&A);
 }
@@ -1104,7 +1145,7 @@ static void test_arch_collapse_pinned(void **state) {
   print_message("pinned collapse: balance up to the criterion %.3g of the largest energy term\n",
                 bal / scale);
   assert_true(bal < 1e-4 * scale);
-  check_reaction_sums("pinned collapse", &r, &res, 2e-2);
+  check_reaction_sums("pinned collapse", &r, &res, 1e-3);
   rec_free(&r);
   arch_free(&A);
 }

@@ -208,7 +208,9 @@ static double rock_height_energy(double mass, double a, double R, double theta) 
  * (k_n = 1e4 N/mm^3: the pivot sits ~2e-5 m inside the corner), mu = 5 (no sliding).
  * Housner's ratio is the rigid limit; the joint's compliance moves the energy kept by up to
  * 4.6 % at k_n = 1e3 N/mm^3, 1.6 % at 1e4 and 0.5 % at 1e5 (measured while writing this test:
- * the gap closes as the joint stiffens). */
+ * the gap closes as the joint stiffens). The first impact is checked to 2 %. The second to 3 %:
+ * the block lands on the new corner with it unloaded, and the contact vibration that leaves
+ * enters the energies around the next impact (by up to 2.2 % here, less on stiffer joints). */
 static void rocking_case(double B, double H, double theta0_of_a) {
   const double b = 0.1, rho = 2000.0, kn = 1e13, open = 1e-5;
   const double a = atan(B / H), R = 0.5 * hypot(B, H), p = sqrt(3.0 * GRAV / (4.0 * R));
@@ -223,7 +225,7 @@ static void rocking_case(double B, double H, double theta0_of_a) {
   /* Housner's linearised fall from theta0 to the impact takes t* = acosh(a / (a - theta0)) / p;
    * later half-cycles are shorter (lower amplitude): 4 t* holds two impacts and the peak after */
   const double t_star = acosh(a / (a - theta0)) / p;
-  vs_dyn_opts o = block_opts(4.0 * t_star, 1e-7, 1e-10, open, 1e-3, 1);
+  vs_dyn_opts o = block_opts(4.0 * t_star, 1e-8, 1e-10, open, 1e-3, 1);
   recorder rec = {.cap = 20000};
   rec.s = calloc((size_t)rec.cap, sizeof *rec.s);
   assert_non_null(rec.s);
@@ -240,13 +242,14 @@ static void rocking_case(double B, double H, double theta0_of_a) {
   assert_true(ni >= 2);
   assert_int_equal((int)res.impacts, ni);
   /* 1. at each impact, the kinetic energy kept: KE after / (KE after + energy removed) */
+  const double tol[2] = {0.02, 0.03};
   for (int k = 0; k < 2; k++) {
     const sample *s = &rec.s[imp[k]];
     const double lost = s->e.damped - rec.s[imp[k] - 1].e.damped;
     const double kept = s->e.kinetic / (s->e.kinetic + lost);
     print_message("  impact %d at %.6f s: kinetic energy kept %.6f (%.2g from Housner)\n", k + 1,
                   s->t, kept, kept / r2 - 1.0);
-    CHECK(kept, r2, 0.02, 0.0);
+    CHECK(kept, r2, tol[k], 0.0);
   }
   /* 2. independently of the bookkeeping: the energy of the peaks between impacts, from the
    * heights the centroid reaches (the tilt at the turning points) */
@@ -258,12 +261,12 @@ static void rocking_case(double B, double H, double theta0_of_a) {
     E[k + 1] = rock_height_energy(mass, a, R, peak);
     print_message("  half-cycle %d: peak tilt %.6f rad, energy ratio %.6f (%.2g from Housner)\n",
                   k + 1, peak, E[k + 1] / E[k], E[k + 1] / E[k] / r2 - 1.0);
-    CHECK(E[k + 1] / E[k], r2, 0.02, 0.0);
+    CHECK(E[k + 1] / E[k], r2, tol[k], 0.0);
   }
   /* 3. the energy balance holds across the impacts (what the impulses remove is in damped) */
   assert_true(rec.max_abs_balance / mgH < 1e-4);
   assert_true(rec.max_abs_balance < 1e-2 * (E[0] - E[2]));
-  CHECK(rec.s[imp[1]].e.damped, E[0] - E[2], 0.02, 0.0); /* removed by the first two */
+  CHECK(rec.s[imp[1]].e.damped, E[0] - E[2], 0.03, 0.0); /* removed by the first two */
   free(rec.s);
   vs_model_destroy(&m);
   vs_geometry_destroy(&g);

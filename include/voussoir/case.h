@@ -58,9 +58,16 @@ typedef struct {
   double rest_s;       /* ... for this long, > 0, default 1 s */
   double collapse_ke;  /* collapsing when the kinetic energy exceeds this fraction of the arch's
                           weight times its thickness, > 0, default 0.1 */
-  double fall_s;       /* after the collapse criterion, the fall is followed this long, >= 0,
-                          default 0.25 s (the crown falls about twice the rise) */
+  double fall_s;       /* after the collapse criterion, the fall is followed at most this long
+                          (it ends once the debris is at rest on the ground), >= 0, default 5 s
+                          (the reference arch is at rest 1.6 s after the detection) */
   double sample_s;     /* at most one dynamic sample per this interval, > 0, default 0.01 s */
+
+  /* [fall] the ground the collapsed arch falls onto (contact.h) */
+  double ground_mm;    /* the ground's height above the lower springing's base at the collapse,
+                          [-1e6, 0] mm, default 0 */
+  double restitution;  /* coefficient of restitution of a block landing flat on the ground,
+                          (0, 1], default 0.5 */
 
   /* [imperfections] drawn per (seed, sample) by src/imperfections.c; all zero: the perfect arch */
   int seed;             /* generator seed, 0..2147483647, default 1 */

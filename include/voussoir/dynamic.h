@@ -82,6 +82,11 @@ typedef struct {
   int dae_algebraic;           /* ... and algebraic (lambda, mu); the DAE has index 2 */
   int dae_index;
   double max_drift;            /* max |g(q, t)| over the accepted steps (m; rad for rotations) */
+  double max_penetration;      /* largest penetration of a vertex into the ground over the
+                                  accepted steps with the ground armed, m (0: none) */
+  double fall_wall_s;          /* wall-clock time spent in the fall, s */
+  int fall_at_rest;            /* 1: the fall ended with the debris at rest on the ground (kinetic
+                                  energy below rest_ke for rest_time), 0: at fall_time */
 } vs_dyn_result;
 
 /* Called at samples (at most every sample_dt, at each event, at the start and at the end);
@@ -96,6 +101,14 @@ typedef struct vs_dynamic vs_dynamic;
 /* Create the integrator for model m (borrowed; its damping ratio set beforehand). */
 vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out, vs_error *err);
 void vs_dynamic_destroy(vs_dynamic **d);
+
+/* The ground (contact.h; borrowed, NULL: none). If c is armed when vs_dynamic_run starts, it
+ * acts from the start; otherwise it is armed when the collapse criterion fires, offset (m) above
+ * the lower of the two springings' bases there, and the fall then ends as soon as the debris is
+ * at rest (kinetic energy below rest_ke for rest_time) or after fall_time. Its vertices crossing
+ * the ground are IDA roots (counted in root_events, not reported as events). */
+struct vs_contact;
+vs_status vs_dynamic_set_contact(vs_dynamic *d, struct vs_contact *c, double offset, vs_error *err);
 
 /* Replace the stop flag of the options d was created with (NULL: none). */
 void vs_dynamic_set_stop(vs_dynamic *d, const volatile sig_atomic_t *stop);
@@ -122,9 +135,18 @@ void vs_dynamic_jacobian(vs_dynamic *d, double t, double cj, double *y, SUNMatri
 /* The Lagrange multipliers lambda at the current state of d (after vs_dynamic_run or inside its
  * callbacks): per support (left, right) the force (Fx, Fz, N) and moment (about the support
  * body's reference point, the centre of its joint with the arch, N m, counter-clockwise) that
- * the support exerts on the arch. */
-void vs_dynamic_reactions(const vs_dynamic *d, double out[6]);
-/* The blocks' accelerations v' at the current state of d (3 n_blocks). */
-void vs_dynamic_accelerations(const vs_dynamic *d, double *a);
+ * the support exerts on the arch; 0 for a pinned support's free rotation. These are the
+ * multipliers the DAE gives at IDA's state (q, v): the support bodies' equations of motion with
+ * their prescribed (constant-rate, so unaccelerated) motion, lambda = F(q, v) on their
+ * constrained rows. They equal the springing joints' forces to round-off; IDA's own iterate
+ * (vs_dynamic_multipliers) agrees to its Newton tolerance. One force evaluation. */
+void vs_dynamic_reactions(vs_dynamic *d, double out[6]);
+/* The blocks' accelerations at the current state of d (3 n_blocks), from the equations of
+ * motion at (q, v) as vs_dynamic_reactions: a = -F(q, v) / m. One force evaluation. */
+void vs_dynamic_accelerations(vs_dynamic *d, double *a);
+/* IDA's own iterates, for checks: the algebraic unknowns lambda (laid out as
+ * vs_dynamic_reactions) and the blocks' v' of the BDF formula (3 n_blocks). */
+void vs_dynamic_multipliers(const vs_dynamic *d, double out[6]);
+void vs_dynamic_derivatives(const vs_dynamic *d, double *a);
 
 #endif

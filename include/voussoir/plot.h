@@ -95,6 +95,15 @@ vs_status vs_plot_arch_thrust(const char *path, vs_plot_format fmt, const vs_geo
                               const double *joint_gap_e, double open_m, const double *joint_N,
                               const double *joint_M, const char *title, vs_error *err);
 
+/* vs_plot_arch_thrust with the ground the fall landed on (contact.h): the plane z = ground_z
+ * (m; NaN: none) drawn across the picture, hatched below and named, and kept in the frame. */
+vs_status vs_plot_arch_landed(const char *path, vs_plot_format fmt, const vs_geometry *g,
+                              const double *q, double delta_m, double alpha_rad,
+                              const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
+                              const double *joint_gap_e, double open_m, const double *joint_N,
+                              const double *joint_M, double ground_z, const char *title,
+                              vs_error *err);
+
 /* ---------------------------------------------------------------------------------------------
  * Curves */
 

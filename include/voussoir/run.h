@@ -145,6 +145,11 @@ double vs_run_delta(const vs_run *r);
 double vs_run_time(const vs_run *r);
 /* Forces the supports exert on the arch at the last recorded state (as vs_run_sample.reactions). */
 const double *vs_run_reactions(const vs_run *r);
+/* The ground the fall landed on (contact.h): its height z (m, in the geometry's frame) and the
+ * largest penetration (m) of a block vertex into it at the last recorded state; NaN when no
+ * fall was followed. The largest during the fall and its cost: vs_run_dynamic_totals. */
+double vs_run_ground(const vs_run *r);
+double vs_run_penetration(const vs_run *r);
 /* Wall-clock time of vs_run_execute, s. */
 double vs_run_wall_s(const vs_run *r);
 
