@@ -3,17 +3,17 @@
 # alpha = 0, 30, 45, 60, 90 deg, k_n = 3 and 48 N/mm^3 (quasi-static path, every limit point
 # followed dynamically). For each run: delta_u, which limit point turned into the collapse
 # (its index among the limit points and its delta), the hinge sides at collapse, the snaps, and
-# the modes' damping ratio the model gives. Writes out/damping_study.csv and the README's table
+# the modes' damping ratio the model gives, the impacts resolved (the impact model). Writes out/damping_study.csv and the README's table
 # out/damping_study.md; prints the table.
-# none takes no ratio (run once, ratio 0); joint and rayleigh at 0.5, 2, 5, 20 % (their
+# none and impact take no ratio (run once, ratio 0); joint and rayleigh at 0.5, 2, 5, 20 % (their
 # ratio 0 is the none model: the same code path, vs_model_set_damping(m, 0)).
 # usage: runs/damping_study.sh   (VOUSSOIR=path/to/binary, OUT_DIR=..., MODELS="none joint ..." to override)
 set -euo pipefail
 source "$(dirname "$0")/lib.sh"
 csv="$out_dir/damping_study.csv"
 md="$out_dir/damping_study.md"
-models="${MODELS:-none joint rayleigh}"
-echo "alpha_deg,kn_N_mm3,model,ratio,delta_u_mm,collapse_limit_index,collapse_limit_mm,limit_points,snaps,hinges_at_collapse,zeta_mode1,zeta_mode2,wall_s" >"$csv"
+models="${MODELS:-none joint rayleigh impact}"
+echo "alpha_deg,kn_N_mm3,model,ratio,delta_u_mm,collapse_limit_index,collapse_limit_mm,limit_points,snaps,hinges_at_collapse,zeta_mode1,zeta_mode2,wall_s,impacts" >"$csv"
 summarise() { # JSON on stdin -> the CSV fields after ratio
   python3 -c '
 import json, sys
@@ -27,12 +27,12 @@ f = lambda x: "nan" if x is None else "%.4f" % x
 print(",".join([f(col.get("delta_mm")), str(idx or ""), f(lim[idx - 1]["delta_mm"]) if idx else "",
                 str(len(lim)), str(sum(l["kind"] == "snap" for l in lim)),
                 j.get("hinge_sides_collapse") or "", "%.4g" % z[0], "%.4g" % z[1],
-                "%.2f" % j["stats"]["wall_s"]]))'
+                "%.2f" % j["stats"]["wall_s"], str((j.get("damping") or {}).get("impacts", ""))]))'
 }
 for alpha in 0 30 45 60 90; do
   for kn in 3 48; do
     for model in $models; do
-      case "$model" in none) ratios="0" ;; *) ratios="0.005 0.02 0.05 0.2" ;; esac
+      case "$model" in none | impact) ratios="0" ;; *) ratios="0.005 0.02 0.05 0.2" ;; esac
       for z in $ratios; do
         j="$("$bin" run "$here/reference.ini" --alpha "$alpha" --kn "$kn" --set dynamic.damping_model="$model" \
              --set dynamic.damping="$z" --json -q --no-record || true)"
@@ -47,10 +47,11 @@ python3 - "$csv" "$md" <<'PY'
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 cols = [("none", "0"), ("joint", "0.005"), ("joint", "0.02"), ("joint", "0.05"), ("joint", "0.2"),
-        ("rayleigh", "0.005"), ("rayleigh", "0.02"), ("rayleigh", "0.05"), ("rayleigh", "0.2")]
+        ("rayleigh", "0.005"), ("rayleigh", "0.02"), ("rayleigh", "0.05"), ("rayleigh", "0.2"),
+        ("impact", "0")]
 have = {(r["model"], r["ratio"]) for r in rows}
 cols = [c for c in cols if c in have]
-name = lambda m, z: m if m == "none" else "%s %g %%" % (m, 100 * float(z))
+name = lambda m, z: m if m in ("none", "impact") else "%s %g %%" % (m, 100 * float(z))
 out = ["delta_u in mm; in brackets the limit point (1st, 2nd, ...) whose motion became the collapse.", "",
        "| alpha | k_n | " + " | ".join(name(*c) for c in cols) + " |",
        "|---|---|" + "---|" * len(cols)]

@@ -53,7 +53,7 @@ typedef struct {
 /* support.left_kind, support.right_kind, in the order of vs_support_kind (model.h) */
 static const char *const support_kinds[] = {"fixed", "pinned", NULL};
 /* dynamic.damping_model, in the order of vs_damping_model (damping.h) */
-static const char *const damping_models[] = {"none", "joint", "rayleigh", NULL};
+static const char *const damping_models[] = {"none", "joint", "rayleigh", "impact", NULL};
 
 #define INF INFINITY
 /* Every bound is finite (except where a sign is all that matters) so that every quantity derived
@@ -108,8 +108,8 @@ static const key_spec keys[] = {
         "1: follow the limit points dynamically to the collapse; 0: stop at the first"),
     KEY(dynamic, full, 0.0, 0.0, true, 1.0, true, "",
         "1: integrate the whole loading dynamically from rest"),
-    KEY_NAMED(dynamic, damping_model, 1.0, 3, damping_models,
-              "viscous damping: none, joint (dashpots), rayleigh (alpha M + beta K)"),
+    KEY_NAMED(dynamic, damping_model, 1.0, 4, damping_models,
+              "damping: none, joint (dashpots), rayleigh (alpha M + beta K), impact (Housner)"),
     KEY(dynamic, damping, 0.05, 0.0, true, 1.0, true, "",
         "damping ratio: joint, of each joint's critical damping; rayleigh, of the two lowest modes"),
     KEY(dynamic, rtol, 1e-6, 0.0, false, 1e-2, true, "", "IDA relative tolerance"),

@@ -4,7 +4,7 @@
 
 #include <math.h>
 
-static const char *const names[VS_DAMPING_MODEL_COUNT] = {"none", "joint", "rayleigh"};
+static const char *const names[VS_DAMPING_MODEL_COUNT] = {"none", "joint", "rayleigh", "impact"};
 
 const char *vs_damping_model_name(vs_damping_model model) {
   return ((int)model >= 0 && (int)model < VS_DAMPING_MODEL_COUNT) ? names[model] : NULL;
@@ -36,7 +36,8 @@ vs_status vs_damping_apply(vs_model *m, vs_damping_model model, double zeta, dou
     st = vs_damping_rayleigh_coefficients(zeta, w1, w2, &a, &b, err);
     if (st == VS_OK) vs_model_set_rayleigh(m, a, b);
     break;
-  case VS_DAMPING_NONE: vs_model_set_damping(m, 0.0); break;
+  case VS_DAMPING_NONE:
+  case VS_DAMPING_IMPACT: vs_model_set_damping(m, 0.0); break;
   default: st = vs_error_set(err, VS_ERR_INVALID, "damping model %d unknown", (int)model);
   }
   if (alpha != NULL) *alpha = a;

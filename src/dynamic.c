@@ -12,8 +12,10 @@
  * arch. The last three are the energy bookkeeping (IDA in SUNDIALS 6 has no quadratures).
  * lambda and mu are algebraic (IDASetId 0) and left out of the error test (IDASetSuppressAlg).
  * Jacobian dF/dy + cj dF/dy' in CSC with KLU; roots on the joints' edge openings and on the
- * collapse criterion; friction slips committed after every step. */
+ * collapse criterion (and, for the impact damping model, on the gaps of opened edges: a plastic
+ * impulse and a restart where one closes); friction slips committed after every step. */
 #include "voussoir/dynamic.h"
+#include "voussoir/impact.h"
 
 #include "voussoir/collide.h"
 #include "voussoir/contact.h"
@@ -97,6 +99,10 @@ struct vs_dynamic {
   double *force;          /* ne: F(q, v) for the reported multipliers and accelerations */
   vs_joint_state *js;
   int *roots;
+  int nroots;             /* before the fall: 2 nj + 2, then the impact model's (the
+                             contacts' follow them once armed) */
+  int root_impact;        /* offset of the impact model's roots in g and roots */
+  vs_impact *imp;         /* the impact damping model, NULL unless o.impact */
   long jac_evals;
   double max_drift;       /* max |g| over the accepted steps, m */
   double rtol;            /* o.rtol scaled as the absolute tolerances (set_tolerances) */
@@ -145,14 +151,15 @@ static int stopped(const vs_dynamic *d) { return d->o.stop != NULL && *d->o.stop
 
 void vs_dynamic_set_stop(vs_dynamic *d, const volatile sig_atomic_t *stop) { d->o.stop = stop; }
 
-/* Root functions: the joints' and the energy levels' (before the fall), then the vertices'. */
+/* Root functions: the joints', the energy levels' and the impact model's (before the fall),
+ * then the vertices' (the ground's, then the bodies'). */
 static int n_ground_roots(const vs_dynamic *d) {
   return (d->ct != NULL && vs_contact_armed(d->ct)) ? vs_contact_count(d->ct) : 0;
 }
 
 static int n_roots(const vs_dynamic *d) {
   const int nb = (d->cl != NULL && vs_collide_armed(d->cl)) ? vs_collide_count(d->cl) : 0;
-  return (d->in_fall ? 0 : 2 * d->nj + 2) + n_ground_roots(d) + nb;
+  return (d->in_fall ? 0 : d->nroots) + n_ground_roots(d) + nb;
 }
 
 static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user);
@@ -163,7 +170,7 @@ static int root_init(vs_dynamic *d) {
 }
 
 vs_status vs_dynamic_set_contact(vs_dynamic *d, vs_contact *c, double offset, vs_error *err) {
-  const int nr = 2 * d->nj + 2 + (c != NULL ? vs_contact_count(c) : 0) +
+  const int nr = d->nroots + (c != NULL ? vs_contact_count(c) : 0) +
                  (d->cl != NULL ? vs_collide_count(d->cl) : 0);
   int *roots = realloc(d->roots, (size_t)nr * sizeof *roots);
   if (roots == NULL) return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
@@ -174,7 +181,7 @@ vs_status vs_dynamic_set_contact(vs_dynamic *d, vs_contact *c, double offset, vs
 }
 
 vs_status vs_dynamic_set_collide(vs_dynamic *d, vs_collide *c, vs_error *err) {
-  const int nr = 2 * d->nj + 2 + (d->ct != NULL ? vs_contact_count(d->ct) : 0) +
+  const int nr = d->nroots + (d->ct != NULL ? vs_contact_count(d->ct) : 0) +
                  (c != NULL ? vs_collide_count(c) : 0);
   const size_t ne = (size_t)d->ne, nb = (size_t)(c != NULL ? vs_collide_bodies(c) : 0);
   int *roots = realloc(d->roots, (size_t)nr * sizeof *roots);
@@ -387,7 +394,7 @@ static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user) {
   (void)t;
   vs_dynamic *d = user;
   const double *q = N_VGetArrayPointer(yy);
-  const int r0 = d->in_fall ? 0 : 2 * d->nj + 2;
+  const int r0 = d->in_fall ? 0 : d->nroots;
   if (d->ct != NULL && vs_contact_armed(d->ct)) /* then a vertex crossing the ground */
     vs_contact_roots(d->ct, q, g + r0);
   if (d->cl != NULL && vs_collide_armed(d->cl)) /* then one entering another body */
@@ -401,6 +408,7 @@ static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user) {
   const double ke = vs_model_kinetic_energy(d->m, q + d->iv);
   g[2 * d->nj] = ke - d->o.collapse_ke;
   g[2 * d->nj + 1] = ke - d->o.rest_ke;
+  if (d->imp != NULL) vs_impact_roots(d->imp, d->js, g + d->root_impact);
   return 0;
 }
 
@@ -432,6 +440,7 @@ void vs_dynamic_destroy(vs_dynamic **dp) {
   free(d->pairs_klu);
   free(d->Kd);
   free(d->Cd);
+  vs_impact_destroy(&d->imp);
   free(d->qst);
   free(d->vst);
   free(d);
@@ -528,10 +537,15 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   d->js = malloc((size_t)d->nj * sizeof *d->js);
   d->qst = malloc((size_t)d->nq * sizeof *d->qst);
   d->vst = malloc((size_t)d->nq * sizeof *d->vst);
-  d->roots = malloc((size_t)(2 * d->nj + 2) * sizeof *d->roots);
+  d->nroots = 2 * d->nj + 2;
+  d->root_impact = d->nroots;
+  if (o->impact && (d->imp = vs_impact_create(m, o->open)) != NULL)
+    d->nroots += vs_impact_nroots(d->imp);
+  d->roots = malloc((size_t)d->nroots * sizeof *d->roots);
   if (d->y == NULL || d->yp == NULL || d->id == NULL || d->atol == NULL || d->J == NULL ||
       d->K == NULL || d->C == NULL || d->mass == NULL || d->work == NULL || d->force == NULL ||
-      d->js == NULL || d->roots == NULL || d->qst == NULL || d->vst == NULL) {
+      d->js == NULL || d->roots == NULL || d->qst == NULL || d->vst == NULL ||
+      (o->impact && d->imp == NULL)) {
     vs_dynamic_destroy(&d);
     return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
   }
@@ -568,7 +582,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
     return dyn_fail(&d, err, "IDASetMaxOrd", flag);
   if ((flag = IDASetMaxNumSteps(d->ida, 100000)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDASetMaxNumSteps", flag);
-  if ((flag = IDARootInit(d->ida, 2 * d->nj + 2, root_fn)) != IDA_SUCCESS)
+  if ((flag = IDARootInit(d->ida, d->nroots, root_fn)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDARootInit", flag);
   if ((flag = IDASetNoInactiveRootWarn(d->ida)) != IDA_SUCCESS)
     return dyn_fail(&d, err, "IDASetNoInactiveRootWarn", flag);
@@ -685,6 +699,42 @@ static int restart_roots(vs_dynamic *d, double t, double t_stop) {
   return rf;
 }
 
+/* --- the impact damping model (impact.h): arming after each step, impulses at its roots --- */
+
+/* Arm the edges that have opened (every accepted step; at the start with reset). */
+static void impact_arm(vs_dynamic *d, const double *y, int reset) {
+  vs_model_ext_joint_states(d->m, y, d->js);
+  if (reset) vs_impact_reset(d->imp, d->js);
+  else vs_impact_arm(d->imp, d->js);
+}
+
+/* The impacts among the roots just found: plastic impulses on the velocities, their energy loss
+ * into the damped energy (positions unchanged, so the balance holds), then IDA restarted from
+ * the new velocities with consistent multipliers and derivatives (IDAReInit + IDACalcIC; IDA's
+ * counters carried in *bs, *bn). Returns the impacts, or -1 (message in d->msg) if the restart
+ * failed. */
+static int impact_resolve(vs_dynamic *d, double t, double t_stop, long *bs, long *bn) {
+  double *y = N_VGetArrayPointer(d->y);
+  int count = 0;
+  const double lost = vs_impact_resolve(d->imp, y, y + d->iv, d->roots + d->root_impact, &count);
+  if (count == 0) return 0;
+  y[d->ie + 1] += lost;
+  long ns = 0, nn = 0;
+  IDAGetNumSteps(d->ida, &ns);
+  IDAGetNumNonlinSolvIters(d->ida, &nn);
+  *bs += ns;
+  *bn += nn;
+  int flag = IDAReInit(d->ida, t, d->y, d->yp);
+  if (flag == IDA_SUCCESS) flag = IDACalcIC(d->ida, IDA_YA_YDP_INIT, t + VS_DYN_VEL_TIME);
+  if (flag == IDA_SUCCESS) flag = IDAGetConsistentIC(d->ida, d->y, d->yp);
+  if (flag == IDA_SUCCESS) flag = IDASetStopTime(d->ida, t_stop);
+  if (flag == IDA_SUCCESS) return count;
+  char cause[160];
+  snprintf(cause, sizeof cause, "%.159s", d->msg);
+  snprintf(d->msg, sizeof d->msg, "IDA restart after an impact failed (flag %d): %.159s", flag, cause);
+  return -1;
+}
+
 vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_sample_fn sample,
                          vs_dyn_event_fn event, void *user, vs_dyn_result *res, vs_error *err) {
   const int n = d->n;
@@ -730,6 +780,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     return vs_error_set(err, VS_ERR_SOLVER, "IDACalcIC failed (flag %d): %s", flag, d->msg);
   IDAGetConsistentIC(d->ida, d->y, d->yp);
   IDASetStopTime(d->ida, t_end);
+  if (d->imp != NULL) impact_arm(d, y, 1);
   vs_energy e;
   energies(d, y, 0.0, &e);
   const double e0 = e.kinetic + e.gravity + e.elastic;
@@ -785,6 +836,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     }
     const double delta = delta_at(d, t);
     vs_model_ext_commit(d->m, y); /* seamless: the return-mapped force is unchanged */
+    if (d->imp != NULL) impact_arm(d, y, 0);
     if (d->ct != NULL && vs_contact_armed(d->ct)) {
       vs_contact_commit(d->ct, y);
       res->max_penetration = fmax(res->max_penetration, vs_contact_max_penetration(d->ct, y, NULL));
@@ -822,6 +874,16 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
                            .side = (k % 2 == 0) ? 'E' : 'I', .opened = d->roots[k] > 0};
         static_state(d, y);
         if (event(user, &ev, d->qst) != 0) stop = 1;
+      }
+      if (d->imp != NULL && !collapsed) { /* impacts: velocities jump, the energy is charged */
+        const int ni = impact_resolve(d, t, t_stop, &base_steps, &base_newton);
+        if (ni < 0) {
+          st = stopped(d) ? vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted")
+                          : vs_error_set(err, VS_ERR_SOLVER, "at t = %.6g s: %s", t, d->msg);
+          break;
+        }
+        res->impacts += ni;
+        energies(d, y, e0, &e);
       }
       if (d->roots[2 * d->nj + 1] > 0 && !collapsed) { /* a departure, located */
         res->t_motion = t;

@@ -1,5 +1,5 @@
 /* voussoir command line: create -> configure -> run -> report -> destroy. */
-#define _POSIX_C_SOURCE 200809L /* readlink, isatty */
+#define _POSIX_C_SOURCE 200809L /* isatty */
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -437,13 +437,7 @@ static int dispatch(int argc, char **argv, int *h5_clean) {
     printf("voussoir %s\n", VS_VERSION);
     return EXIT_SUCCESS;
   }
-  if (strcmp(argv[1], "sweep") == 0) {
-    char self[4096];
-    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
-    if (n <= 0) return vs_cmd_sweep(argc, argv, argv[0]);
-    self[n] = '\0';
-    return vs_cmd_sweep(argc, argv, self);
-  }
+  if (strcmp(argv[1], "sweep") == 0) return vs_cmd_sweep(argc, argv, h5_clean);
   if (strcmp(argv[1], "calibrate") == 0) return vs_cmd_calibrate(argc, argv);
   if (strcmp(argv[1], "montecarlo") == 0) return vs_cmd_montecarlo(argc, argv);
   if (strcmp(argv[1], "merge") == 0) return vs_cmd_merge(argc, argv);

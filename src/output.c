@@ -1415,6 +1415,7 @@ static herr_t summary_damping(hid_t sum, const vs_run *run) {
   if (rc >= 0) rc = attr_double(g, "ratio", c->damping);
   if (rc >= 0) rc = dset_scalar(g, "rayleigh_alpha", alpha, "1/s");
   if (rc >= 0) rc = dset_scalar(g, "rayleigh_beta", beta, "s");
+  if (rc >= 0) rc = attr_int(g, "impacts", vs_run_dynamic_totals(run)->impacts);
   for (int i = 0; i < md->n_modes; i++) {
     col[0][i] = md->freq_hz[i];
     col[1][i] = md->omega[i];

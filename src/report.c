@@ -149,6 +149,7 @@ static void json_damping(FILE *out, const vs_run *r) {
   jnum(out, ",\"ratio\":", c->damping, 10);
   jnum(out, ",\"rayleigh_alpha_per_s\":", alpha, 10);
   jnum(out, ",\"rayleigh_beta_s\":", beta, 10);
+  fprintf(out, ",\"impacts\":%ld", vs_run_dynamic_totals(r)->impacts);
   fputs(",\"modes_self_weight\":[", out);
   for (int i = 0; i < md->n_modes; i++) {
     jnum(out, i ? ",{\"freq_hz\":" : "{\"freq_hz\":", md->freq_hz[i], 10);
@@ -171,6 +172,10 @@ static void text_damping(FILE *out, const vs_run *r) {
   else if (dm == VS_DAMPING_RAYLEIGH)
     fprintf(out, ": %g at the two lowest modes, alpha = %.4g 1/s, beta = %.4g s", c->damping,
             alpha, beta);
+  else if (dm == VS_DAMPING_IMPACT)
+    fprintf(out, ": plastic impacts where opened joints close (Housner), %ld in this run; no "
+                 "viscous damping, so 0 for every mode in steady contact",
+            vs_run_dynamic_totals(r)->impacts);
   fputc('\n', out);
   if (md->n_modes == 0) return;
   fputs("modes    under self-weight, frequency (damping ratio):", out);

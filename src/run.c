@@ -85,6 +85,7 @@ static void dyn_opts_from_case(const vs_case *c, const vs_geometry *g, vs_dyn_op
   o->max_delta = c->max_mm * VS_MM;
   o->sample_dt = c->sample_s;
   o->settle = 1;
+  o->impact = c->damping_model == VS_DAMPING_IMPACT;
 }
 
 vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
@@ -408,6 +409,7 @@ static void add_dyn_totals(vs_run *r, const vs_dyn_result *d) {
   r->dtot.steps += d->steps;
   r->dtot.newton_iterations += d->newton_iterations;
   r->dtot.root_events += d->root_events;
+  r->dtot.impacts += d->impacts;
   r->dtot.jac_evals += d->jac_evals;
   r->dtot.max_kinetic = fmax(r->dtot.max_kinetic, d->max_kinetic);
   r->dtot.balance_error_rel = fmax(r->dtot.balance_error_rel, d->balance_error_rel);

@@ -1,113 +1,48 @@
-/* The sweep and calibrate commands: many runs of one case. A sweep runs every combination of its
- * axes as an independent process of this program on all cores and collects their JSON into a
- * summary table; calibrate finds the k_n that reproduces a measured collapse displacement. */
+/* The sweep command: many runs of one case. A sweep runs every combination of its axes, each
+ * case in a worker forked from this process (or on the ranks of an MPI job), and gathers the rows
+ * the cases return into a summary table (CSV, HDF5) and a journal for --resume. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
-#include <fcntl.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
-#ifdef __linux__
-#include <sys/prctl.h>
-#endif
 
 #include <hdf5.h>
 
+#include "sweep_private.h"
 #include "voussoir/outpath.h"
 #include "voussoir/parse.h"
 #include "voussoir/run.h"
 #include "voussoir/sweep.h"
 #include "voussoir/units.h"
 
-enum { EXIT_FAIL = 1, EXIT_USAGE = 2, MAX_AXES = 8, MAX_SETS = 64 };
+enum { EXIT_FAIL = 1, EXIT_USAGE = 2, EXIT_STOPPED = 130, MAX_AXES = VS_SWEEP_MAX_AXES,
+       MAX_SETS = 64 };
 
 static const char *SWEEP_USAGE =
     "usage: voussoir sweep CASE [--alpha LIST] [--kn LIST] [--vary SECTION.KEY=LIST]...\n"
     "                      [--set SECTION.KEY=VALUE]... [--first-limit | --dynamic]\n"
     "                      [-j N] [-o DIR] [--resume] [-q]\n"
-    "Runs the case for every combination of the lists, as independent processes (-j, default:\n"
-    "the number of cores), and writes DIR/run_NNNN.h5 (the record) and .json per run and\n"
-    "DIR/summary.csv. A run that\n"
-    "fails is reported in the table with its cause; the others go on.\n"
+    "       mpirun -np N voussoir sweep ...   (rank 0 hands the runs out to the other ranks)\n"
+    "Runs the case for every combination of the lists, each in a worker process forked from\n"
+    "this one (-j at a time, default: the number of cores), and writes DIR/run_NNNN.h5 (the\n"
+    "record) and .json per run, DIR/summary.csv and DIR/summary.h5. A run that fails is\n"
+    "reported in the table with its cause; the others go on.\n"
     "LIST: comma-separated numbers and inclusive ranges first:last:step, e.g. 0:45:5,60,75,90.\n"
     "--alpha and --kn are the axes support.alpha_deg and joints.kn_N_mm3; --vary sweeps any key.\n"
     "-o DIR: default sweep_out. At most 100000 runs.\n"
     "SIGINT/SIGTERM: the runs under way are interrupted (the signal is passed on), the summary\n"
     "lists what finished and marks the rest 'interrupted' or 'not_run'; exit status 130.\n"
-    "--resume: continue the sweep in DIR (same case, lists, --set and mode): a run whose\n"
-    "DIR/run_NNNN.json exists is complete and is not run again (that file appears only when\n"
-    "the run has ended).\n"
+    "--resume: continue the sweep in DIR (same case, lists, --set and mode): a run whose row is\n"
+    "in DIR/sweep.journal (written as each run ends) is complete and is not run again.\n"
     "Exit status 0 when every run worked, 1 if any failed, 2 bad input, 130 interrupted.\n";
 
-static const char *CAL_USAGE =
-    "usage: voussoir calibrate CASE (--target-dz-pct X | --target-dx-pct X) [--kn-min N_MM3]\n"
-    "                          [--kn-max N_MM3] [--tol-pct X] [--set SECTION.KEY=VALUE]... [-q]\n"
-    "Finds the joint stiffness k_n (N/mm^3) whose collapse displacement component dz/L (or\n"
-    "dx/L), in %, equals the target: a log-spaced scan of [kn-min, kn-max] (default 0.1, 100)\n"
-    "brackets the first crossing, then bracketed false position (Illinois) on log k_n refines it\n"
-    "to tol-pct (default 0.01 % of L). Reports the bracket, every iteration and the sensitivity\n"
-    "d(delta_u/L)/d(log10 k_n) at the answer; says so when no k_n in the range reaches the target.\n";
-
-typedef struct {
-  char key[96];  /* section.key */
-  double *v;
-  int n;
-} axis;
-
-/* --- a tiny reader of the fields of voussoir's own JSON --- */
-
-static const char *after(const char *s, const char *anchor) {
-  const char *p = s ? strstr(s, anchor) : NULL;
-  return p ? p + strlen(anchor) : NULL;
-}
-
-static double num_after(const char *s, const char *anchor) {
-  const char *p = after(s, anchor);
-  if (p == NULL || strncmp(p, "null", 4) == 0) return NAN;
-  return strtod(p, NULL);
-}
-
-/* The string value after anchor (which ends with the opening quote), unescaped naively. */
-static void str_after(const char *s, const char *anchor, char *out, size_t size) {
-  const char *p = after(s, anchor);
-  size_t k = 0;
-  out[0] = '\0';
-  if (p == NULL) return;
-  for (; *p && *p != '"' && k + 1 < size; p++) {
-    if (*p == '\\' && p[1]) p++;
-    out[k++] = *p;
-  }
-  out[k] = '\0';
-}
-
-/* "D:1-E A:9-10-I ..." from the collapse object's hinges. */
-static void collapse_hinges(const char *json, char *out, size_t size) {
-  out[0] = '\0';
-  const char *c = after(json, "\"collapse\":{");
-  const char *h = c ? after(c, "\"hinges\":[") : NULL;
-  size_t used = 0;
-  while (h && *h == '{') {
-    char label[8], side[8], joints[128] = "";
-    str_after(h, "\"label\":\"", label, sizeof label);
-    str_after(h, "\"side\":\"", side, sizeof side);
-    const char *j = after(h, "\"joints\":[");
-    size_t k = 0;
-    for (; j && *j && *j != ']' && k + 1 < sizeof joints; j++) joints[k++] = (*j == ',') ? '-' : *j;
-    joints[k] = '\0';
-    int w = snprintf(out + used, size - used, "%s%s:%s-%s", used ? " " : "", label, joints, side);
-    if (w < 0 || (size_t)w >= size - used) break;
-    used += (size_t)w;
-    h = strchr(h, '}');
-    if (h == NULL) break;
-    h += (h[1] == ',') ? 2 : 1;
-  }
-}
+typedef vs_sweep_axis axis;
 
 static char *slurp(const char *path) {
   FILE *f = fopen(path, "rb");
@@ -133,20 +68,6 @@ static char *slurp(const char *path) {
 
 /* --- sweep --- */
 
-/* One row of the summary, as parsed from a run's JSON. */
-typedef struct {
-  int run;
-  double axis[MAX_AXES];
-  char status[32], mode[8], hinges[512], error[512];
-  double first_limit, delta_u, dz, dx, wall;
-  int snaps;
-} sweep_row;
-
-typedef struct {
-  pid_t pid;
-  int index;
-} child;
-
 static double now_s(void) {
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -155,119 +76,57 @@ static double now_s(void) {
 
 /* The signal that asked the sweep to stop (0: none) and how many arrived: the first is passed
  * on to the runs under way, a second kills them. Static because a handler can reach nothing
- * else; only vs_cmd_sweep reads them. */
+ * else; a forked worker inherits the handler, and its run watches its own copy of the count. */
 static volatile sig_atomic_t g_stop_signal = 0, g_stop_count = 0;
 
-/* Start run `index` (values[a] of every axis) as a child writing DIR/run_NNNN.json/.err. */
-static pid_t start_run(const char *self, const char *case_path, const char *dir, int index,
-                       const axis *ax, int nax, const int *pick, char **sets, int nsets,
-                       const char *mode_flag) {
-  char *args[2 * (MAX_AXES + MAX_SETS) + 16];
-  char vals[MAX_AXES][160], json[1100], errp[1100], h5[1100];
-  int a = 0;
-  args[a++] = (char *)self;
-  args[a++] = "run";
-  args[a++] = (char *)case_path;
-  /* the domain is read before the fall, which (to rest on the ground) costs the most; a --set
-   * of the sweep's own, after it, still follows it */
-  args[a++] = "--set";
-  args[a++] = "dynamic.fall_s=0";
-  for (int s = 0; s < nsets; s++) {
-    args[a++] = "--set";
-    args[a++] = sets[s];
-  }
-  for (int x = 0; x < nax; x++) {
-    snprintf(vals[x], sizeof vals[x], "%.95s=%.17g", ax[x].key, ax[x].v[pick[x]]);
-    args[a++] = "--set";
-    args[a++] = vals[x];
-  }
-  if (mode_flag != NULL) args[a++] = (char *)mode_flag;
-  snprintf(h5, sizeof h5, "%s/run_%04d.h5", dir, index);
-  args[a++] = "-o";
-  args[a++] = h5;
-  args[a++] = "--json";
-  args[a++] = "-q";
-  args[a] = NULL;
-  snprintf(json, sizeof json, "%s/run_%04d.json.part", dir, index);
-  snprintf(errp, sizeof errp, "%s/run_%04d.err", dir, index);
-  const pid_t parent = getpid();
-  pid_t pid = fork();
-  if (pid != 0) return pid; /* parent (or -1) */
-  /* Own process group: a terminal's ^C reaches the parent only, which passes it on once. */
-  setpgid(0, 0);
-#ifdef __linux__
-  prctl(PR_SET_PDEATHSIG, SIGTERM); /* the parent killed outright: the run stops too */
-#endif
-  if (getppid() != parent) _exit(130); /* it died before prctl */
-  /* Until exec, a signal passed on to this run must not be lost in the parent's handler. */
-  signal(SIGINT, SIG_DFL);
-  signal(SIGTERM, SIG_DFL);
-  if (g_stop_count > 0) _exit(130);
-  int fo = open(json, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  int fe = open(errp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  if (fo < 0 || fe < 0 || dup2(fo, STDOUT_FILENO) < 0 || dup2(fe, STDERR_FILENO) < 0) _exit(127);
-  execv(self, args);
-  _exit(127);
-}
-
-/* One row of the summary: from DIR/run_NNNN.json, or (unfinished: "interrupted" or "not_run")
- * with that status and no results. */
-static void write_row(FILE *csv, sweep_row *row, int index, const axis *ax, int nax,
-                      const int *pick, const char *dir, int exit_status, const char *unfinished) {
-  char path[1024], status[32] = "failed", error[512] = "", mode[8] = "", hinges[512] = "";
-  snprintf(path, sizeof path, "%s/run_%04d.json", dir, index);
-  char *json = unfinished == NULL ? slurp(path) : NULL;
-  fprintf(csv, "%d", index);
-  for (int x = 0; x < nax; x++) fprintf(csv, ",%.10g", ax[x].v[pick[x]]);
-  if (unfinished != NULL) {
-    snprintf(status, sizeof status, "%s", unfinished);
-    snprintf(error, sizeof error, "%s", strcmp(unfinished, "not_run") == 0
-                                            ? "not started: the sweep was interrupted"
-                                            : "interrupted (rerun with --resume)");
-  } else if (json != NULL && strstr(json, "\"program\":\"voussoir\"") != NULL) {
-    str_after(json, "\"status\":\"", status, sizeof status);
-    str_after(json, "\"error\":\"", error, sizeof error);
-    str_after(json, "\"mode\":\"", mode, sizeof mode);
-    collapse_hinges(json, hinges, sizeof hinges);
-  } else {
-    snprintf(path, sizeof path, "%s/run_%04d.err", dir, index);
-    char *e = slurp(path);
-    snprintf(error, sizeof error, "exit status %d: %s", exit_status, e ? e : "");
-    free(e);
-    char *nl = strchr(error, '\n');
-    if (nl) *nl = '\0';
-  }
-  int snaps = 0;
-  for (const char *p = json; p && (p = strstr(p, "\"kind\":\"snap\"")) != NULL; p++) snaps++;
+/* One line of the table (the error's double quotes as single quotes, its first line only). */
+static void write_csv_row(FILE *csv, const vs_sweep_row *row, int nax) {
+  char error[sizeof row->error];
+  snprintf(error, sizeof error, "%s", row->error);
+  error[strcspn(error, "\n")] = '\0';
   for (char *p = error; *p; p++)
     if (*p == '"') *p = '\'';
-  row->run = index;
-  for (int x = 0; x < nax; x++) row->axis[x] = ax[x].v[pick[x]];
-  snprintf(row->status, sizeof row->status, "%s", status);
-  snprintf(row->mode, sizeof row->mode, "%s", mode);
-  snprintf(row->hinges, sizeof row->hinges, "%s", hinges);
-  snprintf(row->error, sizeof row->error, "%s", error);
-  row->first_limit = num_after(json, "\"first_limit\":{\"delta_mm\":");
-  row->delta_u = num_after(json, "\"collapse\":{\"delta_mm\":");
-  row->dz = num_after(after(json, "\"collapse\":{"), "\"dz_over_L_pct\":");
-  row->dx = num_after(after(json, "\"collapse\":{"), "\"dx_over_L_pct\":");
-  row->wall = num_after(json, "\"wall_s\":");
-  row->snaps = snaps;
-  fprintf(csv, ",%s,%.10g,%.10g,%.10g,%.10g,\"%s\",%s,%d,%.4g,\"%s\"\n", status, row->first_limit,
-          row->delta_u, row->dz, row->dx, hinges, mode, snaps, row->wall, error);
-  fflush(csv);
-  free(json);
+  fprintf(csv, "%d", row->run);
+  for (int x = 0; x < nax; x++) fprintf(csv, ",%.10g", row->axis[x]);
+  fprintf(csv, ",%s,%.10g,%.10g,%.10g,%.10g,\"%s\",%s,%d,%.4g,\"%s\"\n", row->status,
+          row->first_limit_mm, row->delta_u_mm, row->dz_pct, row->dx_pct, row->hinges, row->mode,
+          row->snaps, row->wall_s, error);
+}
+
+static void write_csv_header(FILE *csv, const axis *ax, int nax) {
+  fputs("run", csv);
+  for (int x = 0; x < nax; x++) fprintf(csv, ",%s", ax[x].key);
+  fputs(",status,first_limit_mm,delta_u_mm,dz_over_L_pct,dx_over_L_pct,hinges_at_collapse,mode,"
+        "snaps,wall_s,error\n",
+        csv);
 }
 
 static int cmp_sweep_rows(const void *x, const void *y) {
-  return ((const sweep_row *)x)->run - ((const sweep_row *)y)->run;
+  return ((const vs_sweep_row *)x)->run - ((const vs_sweep_row *)y)->run;
 }
 
-/* The summary as an HDF5 compound table DIR/summary.h5 (/summary), units in an attribute. */
-static int write_summary_h5(const char *dir, const axis *ax, int nax, sweep_row *rows, int n) {
+/* The whole table in run order, replacing the one written in completion order, atomically. */
+static int rewrite_table(const char *path, const axis *ax, int nax, const vs_sweep_row *rows,
+                         int n) {
+  char tmp[1200];
+  snprintf(tmp, sizeof tmp, "%s.tmp", path);
+  FILE *f = fopen(tmp, "w");
+  if (f == NULL) return -1;
+  write_csv_header(f, ax, nax);
+  for (int i = 0; i < n; i++) write_csv_row(f, &rows[i], nax);
+  if (fclose(f) != 0 || rename(tmp, path) != 0) {
+    remove(tmp);
+    return -1;
+  }
+  return 0;
+}
+
+/* The summary as an HDF5 compound table DIR/summary.h5 (/summary), units in an attribute; rows
+ * in run order. */
+static int write_summary_h5(const char *dir, const axis *ax, int nax, const vs_sweep_row *rows,
+                            int n) {
   char path[1100];
   snprintf(path, sizeof path, "%s/summary.h5", dir);
-  qsort(rows, (size_t)n, sizeof *rows, cmp_sweep_rows);
   typedef struct {
     int run;
     double axis[MAX_AXES];
@@ -277,20 +136,14 @@ static int write_summary_h5(const char *dir, const axis *ax, int nax, sweep_row 
   } mem;
   mem *m = calloc((size_t)(n > 0 ? n : 1), sizeof *m);
   if (m == NULL) return -1;
-  for (int i = 0; i < n; i++) {
-    m[i].run = rows[i].run;
-    memcpy(m[i].axis, rows[i].axis, sizeof m[i].axis);
-    m[i].status = rows[i].status;
-    m[i].mode = rows[i].mode;
-    m[i].hinges = rows[i].hinges;
-    m[i].error = rows[i].error;
-    m[i].first_limit = rows[i].first_limit;
-    m[i].delta_u = rows[i].delta_u;
-    m[i].dz = rows[i].dz;
-    m[i].dx = rows[i].dx;
-    m[i].wall = rows[i].wall;
-    m[i].snaps = rows[i].snaps;
-  }
+  for (int i = 0; i < n; i++)
+    m[i] = (mem){rows[i].run,         {0},
+                 rows[i].status,      rows[i].mode,
+                 rows[i].hinges,      rows[i].error,
+                 rows[i].first_limit_mm, rows[i].delta_u_mm,
+                 rows[i].dz_pct,      rows[i].dx_pct,
+                 rows[i].wall_s,      rows[i].snaps};
+  for (int i = 0; i < n; i++) memcpy(m[i].axis, rows[i].axis, sizeof m[i].axis);
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
   hid_t str = H5Tcopy(H5T_C_S1);
   H5Tset_size(str, H5T_VARIABLE);
@@ -337,43 +190,6 @@ static int write_summary_h5(const char *dir, const axis *ax, int nax, sweep_row 
   return ok ? 0 : -1;
 }
 
-static int cmp_rows(const void *x, const void *y) {
-  return (int)(strtol(*(char *const *)x, NULL, 10) - strtol(*(char *const *)y, NULL, 10));
-}
-
-/* Rewrite the table (written in completion order) in run order, atomically. */
-static void sort_table(const char *path) {
-  char *text = slurp(path), tmp[1200];
-  if (text == NULL) return;
-  char *header = text, *body = strchr(text, '\n');
-  int n = 0, cap = 64;
-  char **rows = malloc((size_t)cap * sizeof *rows);
-  if (body == NULL || rows == NULL) {
-    free(text);
-    free(rows);
-    return;
-  }
-  *body++ = '\0';
-  for (char *line = strtok(body, "\n"); line; line = strtok(NULL, "\n")) {
-    if (n == cap) {
-      char **nr = realloc(rows, (size_t)(cap *= 2) * sizeof *rows);
-      if (nr == NULL) break;
-      rows = nr;
-    }
-    rows[n++] = line;
-  }
-  qsort(rows, (size_t)n, sizeof *rows, cmp_rows);
-  snprintf(tmp, sizeof tmp, "%s.tmp", path);
-  FILE *f = fopen(tmp, "w");
-  if (f != NULL) {
-    fprintf(f, "%s\n", header);
-    for (int i = 0; i < n; i++) fprintf(f, "%s\n", rows[i]);
-    if (fclose(f) == 0) rename(tmp, path);
-  }
-  free(rows);
-  free(text);
-}
-
 static int parse_common(int argc, char **argv, int i, char **sets, int *nsets) {
   if (strcmp(argv[i], "--set") == 0 && i + 1 < argc && *nsets < MAX_SETS) {
     sets[(*nsets)++] = argv[i + 1];
@@ -382,13 +198,22 @@ static int parse_common(int argc, char **argv, int i, char **sets, int *nsets) {
   return 0;
 }
 
-/* The case file with the --set overrides applied (in order), not yet validated. */
-static vs_status load_case(const char *case_path, char **sets, int nsets, vs_case *c,
-                           vs_error *err) {
+/* The case file with the --set overrides applied (in order), not yet validated; *text (when
+ * not NULL) receives the file's text (malloc'd). The runs do not follow the fall: the domain is
+ * read before it, and the fall (to rest on the ground) costs the most; a --set of the sweep's
+ * own, applied after, still follows it. */
+static vs_status load_case_text(const char *case_path, char **sets, int nsets, vs_case *c,
+                                char **text, vs_error *err) {
   vs_case_defaults(c);
-  vs_status st = vs_case_read(c, case_path, NULL, err);
+  vs_status st = vs_case_read(c, case_path, text, err);
+  if (st == VS_OK) st = vs_case_set(c, "dynamic.fall_s=0", err);
   for (int s = 0; st == VS_OK && s < nsets; s++) st = vs_case_set(c, sets[s], err);
   return st;
+}
+
+static vs_status load_case(const char *case_path, char **sets, int nsets, vs_case *c,
+                           vs_error *err) {
+  return load_case_text(case_path, sets, nsets, c, NULL, err);
 }
 
 /* Validate the case with the fixed overrides and every value of every axis. */
@@ -410,7 +235,6 @@ bad:
   return -1;
 }
 
-
 static void on_stop_signal(int sig) {
   g_stop_signal = sig;
   g_stop_count++;
@@ -423,13 +247,6 @@ static void catch_stop_signals(void) {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, NULL);
   sigaction(SIGTERM, &sa, NULL);
-}
-
-/* A run's JSON as written by a run that ended: one object, complete. */
-static int json_complete(const char *json) {
-  size_t n = json ? strlen(json) : 0;
-  return n > 2 && strstr(json, "\"program\":\"voussoir\"") != NULL && json[n - 1] == '\n' &&
-         json[n - 2] == '}';
 }
 
 /* What the sweep is, as text: the case after --set, every axis with its values, the mode. A
@@ -456,9 +273,56 @@ static char *manifest_text(const vs_case *c, const axis *ax, int nax, const char
   return t;
 }
 
-/* Fresh sweep: write the manifest and forget the results of any earlier sweep in DIR (their
- * run_NNNN.json would otherwise count as complete for a later --resume). Resume: require the
- * same manifest. Returns 0, or -1 after printing why. */
+/* --- the journal: DIR/sweep.journal, the rows of the complete runs as they end --- */
+
+/* Its first line names this layout (the row's size): a journal of another build is refused. */
+static void journal_header(char *buf, size_t size) {
+  snprintf(buf, size, "voussoir sweep journal 1 row %zu bytes\n", sizeof(vs_sweep_row));
+}
+
+/* Open DIR/sweep.journal to append rows: a fresh one (with its header) unless resume. */
+static FILE *journal_open(const char *dir, int resume) {
+  char path[1100], head[96];
+  snprintf(path, sizeof path, "%s/sweep.journal", dir);
+  journal_header(head, sizeof head);
+  FILE *f = fopen(path, resume ? "ab" : "wb");
+  if (f != NULL && ftell(f) == 0 && (fputs(head, f) < 0 || fflush(f) != 0)) {
+    fclose(f);
+    f = NULL;
+  }
+  if (f == NULL) fprintf(stderr, "voussoir sweep: %s: cannot write: %s\n", path, strerror(errno));
+  return f;
+}
+
+/* One complete run's row, written whole before the next (a kill may cut the last row short: a
+ * reader ignores a partial row). */
+static void journal_append(FILE *f, const vs_sweep_row *row) {
+  if (fwrite(row, sizeof *row, 1, f) != 1 || fflush(f) != 0)
+    fprintf(stderr, "voussoir sweep: sweep.journal: cannot write: %s\n", strerror(errno));
+}
+
+/* The rows in DIR/sweep.journal (a missing file: none), each calling take(user, row). -1 (after
+ * printing why) for a journal of another layout. */
+static int journal_read(const char *dir, void (*take)(void *, const vs_sweep_row *), void *user) {
+  char path[1100], head[96], line[96];
+  snprintf(path, sizeof path, "%s/sweep.journal", dir);
+  journal_header(head, sizeof head);
+  FILE *f = fopen(path, "rb");
+  if (f == NULL) return 0;
+  if (fgets(line, sizeof line, f) == NULL || strcmp(line, head) != 0) {
+    fprintf(stderr, "voussoir sweep: --resume: %s was not written by this build of voussoir (it "
+                    "expects \"%.*s\"); run the sweep afresh\n", path, (int)strlen(head) - 1, head);
+    fclose(f);
+    return -1;
+  }
+  vs_sweep_row row;
+  while (fread(&row, sizeof row, 1, f) == 1) take(user, &row);
+  fclose(f);
+  return 0;
+}
+
+/* Fresh sweep: write the manifest and forget the results of any earlier sweep in DIR (its
+ * journal and run_NNNN.json). Resume: require the same manifest. 0, or -1 after printing why. */
 static int prepare_dir(const char *dir, const char *manifest, int total, int resume) {
   char path[1100];
   snprintf(path, sizeof path, "%s/sweep.manifest", dir);
@@ -497,7 +361,7 @@ static int sweep_size(const axis *ax, int nax) {
 }
 
 typedef struct {
-  const char *self, *case_path, *dir, *mode_flag;
+  const char *case_path, *dir, *mode_flag;
   char **sets;
   int nsets, nax, jobs, quiet, resume;
   axis *ax;
@@ -572,110 +436,71 @@ static int parse_sweep_args(int argc, char **argv, sweep_opts *o, char **sets) {
   return -1; /* go on */
 }
 
-/* Pass the stop signal on to every run under way (a second signal: kill them). */
-static void forward_signal(const child *running, int jobs, int *forwarded) {
-  if (g_stop_count == 0 || *forwarded >= (g_stop_count > 1 ? 2 : 1)) return;
-  const int sig = g_stop_count > 1 ? SIGKILL : g_stop_signal;
-  for (int k = 0; k < jobs; k++)
-    if (running[k].pid > 0) kill(running[k].pid, sig);
-  *forwarded = g_stop_count > 1 ? 2 : 1;
+/* A sweep under way: which runs are done, their rows, the table and the journal. */
+typedef struct {
+  const sweep_opts *o;
+  vs_sweep_job job;
+  int total, n, failed, next, todo;
+  char *state;        /* per run: 0 to run, 1 handed out, 2 done (its row kept) */
+  vs_sweep_row *rows; /* the rows kept, in the order they came */
+  FILE *csv, *journal;
+} sweep_state;
+
+static void keep_row(sweep_state *s, const vs_sweep_row *row) {
+  s->rows[s->n++] = *row;
+  s->state[row->run - 1] = 2;
+  s->failed += row->code != VS_SWEEP_OK;
+  write_csv_row(s->csv, row, s->o->nax);
+  fflush(s->csv);
 }
 
-/* Run every run not yet complete, -j at a time; rows are written in completion order. Returns
- * the number of rows written; *failed counts the failed runs; state[r]: 0 to run, 1 running,
- * 2 done (its row written). */
-static int run_all(const sweep_opts *o, int total, int (*picks)[MAX_AXES], char *state,
-                   sweep_row *rows, FILE *csv, int *failed) {
-  child *running = calloc((size_t)o->jobs, sizeof *running);
-  if (running == NULL) return -1;
-  int n = 0, active = 0, next = 0, forwarded = 0, todo = 0;
-  for (int r = 0; r < total; r++) todo += state[r] == 0;
-  const double t0 = now_s();
-  const int progress = !o->quiet && isatty(STDERR_FILENO);
-  for (int ended = 0; ended < todo;) {
-    while (g_stop_count == 0 && active < o->jobs && next < total) {
-      if (state[next] != 0) {
-        next++;
-        continue;
-      }
-      pid_t pid = start_run(o->self, o->case_path, o->dir, next + 1, o->ax, o->nax, picks[next],
-                            o->sets, o->nsets, o->mode_flag);
-      if (pid < 0) {
-        fprintf(stderr, "voussoir sweep: fork failed: %s\n", strerror(errno));
-        break;
-      }
-      for (int k = 0; k < o->jobs; k++)
-        if (running[k].pid == 0) {
-          running[k] = (child){pid, next};
-          break;
-        }
-      state[next++] = 1;
-      active++;
-    }
-    if (active == 0) break;
-    /* Poll rather than block in wait(): a signal landing just before a blocking wait would not
-     * be passed on until some run ended by itself. 20 ms costs nothing next to a run. */
-    int status = 0;
-    pid_t pid;
-    while ((pid = waitpid(-1, &status, WNOHANG)) == 0) {
-      forward_signal(running, o->jobs, &forwarded);
-      nanosleep(&(struct timespec){0, 20000000}, NULL);
-    }
-    if (pid < 0 && errno == EINTR) continue;
-    if (pid < 0) break;
-    for (int k = 0; k < o->jobs; k++) {
-      if (running[k].pid != pid) continue;
-      const int r = running[k].index, code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-      char part[1100], json[1100];
-      snprintf(part, sizeof part, "%s/run_%04d.json.part", o->dir, r + 1);
-      snprintf(json, sizeof json, "%s/run_%04d.json", o->dir, r + 1);
-      char *text = slurp(part);
-      /* ended (0 ok, 1 failed with its cause) and said so: from now on the run is complete */
-      const int complete = (code == 0 || code == 1) && json_complete(text);
-      free(text);
-      if (complete && rename(part, json) != 0) {
-        fprintf(stderr, "voussoir sweep: %s: cannot rename: %s\n", part, strerror(errno));
-      }
-      if (!complete) remove(part);
-      if (complete || g_stop_count == 0) { /* a run that crashed on its own is a failed row */
-        write_row(csv, &rows[n++], r + 1, o->ax, o->nax, picks[r], o->dir, code, NULL);
-        *failed += code != 0;
-        state[r] = 2;
-      } /* else interrupted: state stays 1, written as such at the end */
-      running[k].pid = 0;
-      active--;
-      ended++;
-    }
-    if (progress)
-      fprintf(stderr, "\r  runs %d/%d done, %d running, %d failed, %.1f s   ", ended, todo, active,
-              *failed, now_s() - t0);
+/* The next run to hand out (1-based), or 0: none left, or the sweep was asked to stop. */
+static int next_run(void *user) {
+  sweep_state *s = user;
+  while (g_stop_count == 0 && s->next < s->total) {
+    const int r = s->next++;
+    if (s->state[r] != 0) continue;
+    s->state[r] = 1;
+    return r + 1;
   }
-  if (progress) fputs("\r\033[K", stderr);
-  free(running);
-  return n;
+  return 0;
 }
 
-/* Rows of the runs already complete in DIR (--resume); marks them done. */
-static int resumed_rows(const sweep_opts *o, int total, int (*picks)[MAX_AXES], char *state,
-                        sweep_row *rows, FILE *csv, int *failed) {
-  int n = 0;
-  for (int r = 0; r < total; r++) {
-    char path[1100];
-    snprintf(path, sizeof path, "%s/run_%04d.json", o->dir, r + 1);
-    char *json = slurp(path);
-    if (json_complete(json)) {
-      const int code = strstr(json, "\"status\":\"failed\"") != NULL;
-      write_row(csv, &rows[n++], r + 1, o->ax, o->nax, picks[r], o->dir, code, NULL);
-      *failed += code;
-      state[r] = 2;
-    }
-    free(json);
+/* A run's row as it comes back: a complete run (worked, or failed with its cause) is kept and
+ * journalled, and its JSON renamed into place; a worker lost on its own is a failed row (run
+ * again by --resume); an interrupted run stays handed out (marked at the end). */
+static void take_row(void *user, const vs_sweep_row *in) {
+  sweep_state *s = user;
+  if (in->run < 1 || in->run > s->total || s->state[in->run - 1] != 1) return;
+  vs_sweep_row row = *in;
+  int pick[MAX_AXES];
+  vs_sweep_pick(&s->job, row.run, pick);
+  for (int x = 0; x < s->o->nax; x++) row.axis[x] = s->o->ax[x].v[pick[x]];
+  char part[1100], json[1100];
+  snprintf(part, sizeof part, "%s/run_%04d.json.part", s->o->dir, row.run);
+  snprintf(json, sizeof json, "%s/run_%04d.json", s->o->dir, row.run);
+  if (row.code == VS_SWEEP_OK || row.code == VS_SWEEP_FAILED) {
+    if (access(part, F_OK) == 0 && rename(part, json) != 0)
+      fprintf(stderr, "voussoir sweep: %s: cannot rename: %s\n", part, strerror(errno));
+    journal_append(s->journal, &row);
+    keep_row(s, &row);
+    return;
   }
-  return n;
+  remove(part);
+  if (row.code == VS_SWEEP_LOST && g_stop_count == 0) keep_row(s, &row);
 }
 
-static int sweep_run(const sweep_opts *o, const char *manifest) {
-  const int total = sweep_size(o->ax, o->nax); /* checked by vs_cmd_sweep */
+/* A row from the journal of the sweep being resumed (a complete run's). */
+static void resumed_row(void *user, const vs_sweep_row *row) {
+  sweep_state *s = user;
+  if (row->run < 1 || row->run > s->total || s->state[row->run - 1] != 0) return;
+  keep_row(s, row);
+}
+
+/* Check and create DIR, its manifest, the table (header written) and the journal. 0, or an exit
+ * status after printing why. */
+static int sweep_open(sweep_state *s, const char *manifest) {
+  const sweep_opts *o = s->o;
   char path[1100];
   snprintf(path, sizeof path, "%s/summary.csv", o->dir);
   vs_error err;
@@ -689,70 +514,148 @@ static int sweep_run(const sweep_opts *o, const char *manifest) {
     fprintf(stderr, "voussoir sweep: -o %s: cannot create: %s\n", o->dir, strerror(errno));
     return EXIT_USAGE;
   }
-  if (prepare_dir(o->dir, manifest, total, o->resume) != 0) return EXIT_USAGE;
-  FILE *csv = fopen(path, "w");
-  if (csv == NULL) {
+  if (prepare_dir(o->dir, manifest, s->total, o->resume) != 0) return EXIT_USAGE;
+  s->csv = fopen(path, "w");
+  if (s->csv == NULL) {
     fprintf(stderr, "voussoir sweep: %s: cannot create: %s\n", path, strerror(errno));
     return EXIT_USAGE;
   }
-  fputs("run", csv);
-  for (int x = 0; x < o->nax; x++) fprintf(csv, ",%s", o->ax[x].key);
-  fputs(",status,first_limit_mm,delta_u_mm,dz_over_L_pct,dx_over_L_pct,hinges_at_collapse,mode,"
-        "snaps,wall_s,error\n",
-        csv);
-  int (*picks)[MAX_AXES] = calloc((size_t)total, sizeof *picks);
-  sweep_row *rows = calloc((size_t)total, sizeof *rows);
-  char *state = calloc((size_t)total, 1);
-  if (picks == NULL || rows == NULL || state == NULL) {
+  write_csv_header(s->csv, o->ax, o->nax);
+  s->rows = calloc((size_t)s->total, sizeof *s->rows);
+  s->state = calloc((size_t)s->total, 1);
+  if (s->rows == NULL || s->state == NULL) {
     fprintf(stderr, "voussoir sweep: out of memory\n");
-    fclose(csv);
-    free(picks);
-    free(rows);
-    free(state);
     return EXIT_FAIL;
   }
-  for (int r = 0; r < total; r++)
-    for (int x = o->nax - 1, rem = r; x >= 0; x--) {
-      picks[r][x] = rem % o->ax[x].n;
-      rem /= o->ax[x].n;
-    }
-  const double t0 = now_s();
-  int failed = 0, n = 0, skipped = 0;
-  if (o->resume) {
-    n = skipped = resumed_rows(o, total, picks, state, rows, csv, &failed);
-    fprintf(stderr, "voussoir sweep: resuming: %d of %d runs already complete\n", skipped, total);
+  if (o->resume) { /* the journal's rows first, then it is appended to */
+    if (journal_read(o->dir, resumed_row, s) != 0) return EXIT_USAGE;
+    fprintf(stderr, "voussoir sweep: resuming: %d of %d runs already complete\n", s->n, s->total);
   }
-  int ran = run_all(o, total, picks, state, rows + n, csv, &failed);
-  n += ran > 0 ? ran : 0;
-  int unfinished = 0;
-  for (int r = 0; r < total; r++) /* interrupted or never started: marked as such */
-    if (state[r] != 2) {
-      write_row(csv, &rows[n++], r + 1, o->ax, o->nax, picks[r], o->dir, 0,
-                state[r] == 1 ? "interrupted" : "not_run");
-      unfinished++;
-    }
-  fclose(csv);
-  sort_table(path);
-  if (write_summary_h5(o->dir, o->ax, o->nax, rows, n) != 0)
-    fprintf(stderr, "voussoir sweep: %s/summary.h5: cannot write\n", o->dir);
-  free(picks);
-  free(rows);
-  free(state);
-  if (unfinished > 0) {
-    printf("interrupted: %d of %d runs complete (%d failed), %d unfinished; table: %s; "
-           "continue with --resume\n", total - unfinished, total, failed, unfinished, path);
-    return 130;
-  }
-  printf("%d runs (%d failed%s) in %.1f s on %d processes; table: %s (and summary.h5)\n", total,
-         failed, skipped ? ", some from before --resume" : "", now_s() - t0, o->jobs, path);
-  return failed ? EXIT_FAIL : 0;
+  s->journal = journal_open(o->dir, o->resume);
+  if (s->journal == NULL) return EXIT_USAGE;
+  s->todo = s->total - s->n;
+  return 0;
 }
 
-int vs_cmd_sweep(int argc, char **argv, const char *self) {
+/* Rows for the runs that did not finish, the table in run order, summary.h5, the last line. */
+static int sweep_close(sweep_state *s, double wall, int processes) {
+  const sweep_opts *o = s->o;
+  const int skipped = s->total - s->todo;
+  int unfinished = 0;
+  for (int r = 0; r < s->total; r++) /* interrupted or never started: marked as such */
+    if (s->state[r] != 2) {
+      vs_sweep_row row;
+      memset(&row, 0, sizeof row);
+      row.run = r + 1;
+      int pick[MAX_AXES];
+      vs_sweep_pick(&s->job, row.run, pick);
+      for (int x = 0; x < o->nax; x++) row.axis[x] = o->ax[x].v[pick[x]];
+      snprintf(row.status, sizeof row.status, "%s", s->state[r] == 1 ? "interrupted" : "not_run");
+      snprintf(row.error, sizeof row.error, "%s", s->state[r] == 1
+                                                      ? "interrupted (rerun with --resume)"
+                                                      : "not started: the sweep was interrupted");
+      row.first_limit_mm = row.delta_u_mm = row.dz_pct = row.dx_pct = row.wall_s = NAN;
+      s->rows[s->n++] = row;
+      unfinished++;
+    }
+  qsort(s->rows, (size_t)s->n, sizeof *s->rows, cmp_sweep_rows);
+  char path[1100];
+  snprintf(path, sizeof path, "%s/summary.csv", o->dir);
+  if (rewrite_table(path, o->ax, o->nax, s->rows, s->n) != 0)
+    fprintf(stderr, "voussoir sweep: %s: cannot write: %s\n", path, strerror(errno));
+  if (write_summary_h5(o->dir, o->ax, o->nax, s->rows, s->n) != 0)
+    fprintf(stderr, "voussoir sweep: %s/summary.h5: cannot write\n", o->dir);
+  if (unfinished > 0) {
+    printf("interrupted: %d of %d runs complete (%d failed), %d unfinished; table: %s; "
+           "continue with --resume\n", s->total - unfinished, s->total, s->failed, unfinished,
+           path);
+    return EXIT_STOPPED;
+  }
+  printf("%d runs (%d failed%s) in %.1f s on %d processes; table: %s (and summary.h5)\n", s->total,
+         s->failed, skipped ? ", some from before --resume" : "", wall, processes, path);
+  return s->failed ? EXIT_FAIL : 0;
+}
+
+static void sweep_free(sweep_state *s) {
+  if (s->csv != NULL) fclose(s->csv);
+  if (s->journal != NULL) fclose(s->journal);
+  free(s->rows);
+  free(s->state);
+}
+
+/* The runs on this machine: forked workers, -j at a time. */
+static int serve_local(sweep_state *s, int *h5_clean) {
+  (void)h5_clean; /* the workers' records are closed in the workers */
+  const vs_sweep_server srv = {next_run, take_row, s};
+  const int progress = !s->o->quiet && isatty(STDERR_FILENO);
+  if (vs_sweep_pool_serve(&srv, &s->job, s->o->jobs, s->todo, progress, &g_stop_count,
+                          &g_stop_signal) != 0)
+    fprintf(stderr, "voussoir sweep: cannot start a worker: %s\n", strerror(errno));
+  return s->o->jobs;
+}
+
+#ifdef VS_HAVE_MPI
+/* The runs across the ranks of an MPI job: rank 0 hands them out (one rank: it runs them
+ * itself). Returns the number of ranks on rank 0, 0 on the others (which have finished). */
+static int serve_mpi(sweep_state *s, const char *manifest, int *rc, int *h5_clean) {
+  int size = 1;
+  const int rank = vs_sweep_mpi_begin(&size);
+  if (rank != 0) {
+    vs_sweep_mpi_work(&s->job, &g_stop_count, h5_clean);
+  } else if ((*rc = sweep_open(s, manifest)) != 0) {
+    const vs_sweep_server none = {next_run, take_row, s};
+    s->total = 0; /* nothing to hand out: the other ranks are told to stop */
+    vs_sweep_mpi_serve(&none, size);
+  } else if (size == 1) {
+    for (int r = next_run(s); r > 0; r = next_run(s)) {
+      vs_sweep_row row;
+      vs_sweep_run_case(&s->job, r, &g_stop_count, &row, h5_clean);
+      take_row(s, &row);
+    }
+  } else {
+    const vs_sweep_server srv = {next_run, take_row, s};
+    vs_sweep_mpi_serve(&srv, size);
+  }
+  vs_sweep_mpi_end();
+  return rank == 0 ? (size > 1 ? size - 1 : 1) : 0;
+}
+#endif
+
+static int sweep_run(const sweep_opts *o, const vs_case *base, const char *case_text,
+                     const char *manifest, int *h5_clean) {
+  sweep_state s = {.o = o, .total = sweep_size(o->ax, o->nax)}; /* checked by vs_cmd_sweep */
+  s.job = (vs_sweep_job){o->case_path, case_text, o->dir, base, o->ax, o->nax,
+                         o->mode_flag == NULL                        ? NULL
+                         : strcmp(o->mode_flag, "--dynamic") == 0 ? "dynamic.full=1"
+                                                                   : "dynamic.follow=0"};
+  const double t0 = now_s();
+  int rc = 0, processes;
+#ifdef VS_HAVE_MPI
+  if (vs_sweep_mpi_launched()) {
+    processes = serve_mpi(&s, manifest, &rc, h5_clean);
+    if (processes == 0 || rc != 0) { /* a worker rank, or rank 0 could not start */
+      sweep_free(&s);
+      return rc;
+    }
+  } else
+#endif
+  {
+    if ((rc = sweep_open(&s, manifest)) != 0) {
+      sweep_free(&s);
+      return rc;
+    }
+    processes = serve_local(&s, h5_clean);
+  }
+  rc = sweep_close(&s, now_s() - t0, processes);
+  sweep_free(&s);
+  return rc;
+}
+
+int vs_cmd_sweep(int argc, char **argv, int *h5_clean) {
   char *sets[MAX_SETS];
   axis ax[MAX_AXES];
   memset(ax, 0, sizeof ax);
-  sweep_opts o = {.self = self, .dir = "sweep_out", .sets = sets, .ax = ax,
+  sweep_opts o = {.dir = "sweep_out", .sets = sets, .ax = ax,
                   .jobs = (int)sysconf(_SC_NPROCESSORS_ONLN)};
   if (o.jobs < 1) o.jobs = 1;
   if (o.jobs > 1024) o.jobs = 1024;
@@ -768,169 +671,13 @@ int vs_cmd_sweep(int argc, char **argv, const char *self) {
     vs_case c;
     vs_error err;
     vs_error_clear(&err);
-    char *manifest = NULL;
-    if (load_case(o.case_path, sets, o.nsets, &c, &err) == VS_OK)
+    char *manifest = NULL, *case_text = NULL;
+    if (load_case_text(o.case_path, sets, o.nsets, &c, &case_text, &err) == VS_OK)
       manifest = manifest_text(&c, ax, o.nax, o.mode_flag);
-    rc = manifest == NULL ? EXIT_FAIL : sweep_run(&o, manifest);
+    rc = manifest == NULL ? EXIT_FAIL : sweep_run(&o, &c, case_text, manifest, h5_clean);
     free(manifest);
+    free(case_text);
   }
   for (int x = 0; x < o.nax; x++) free(ax[x].v);
   return rc;
-}
-
-/* --- calibrate --- */
-
-typedef struct {
-  vs_case base;
-  int dx;        /* 1: the dx component, 0: dz */
-  int quiet;
-  int runs;
-} cal_ctx;
-
-/* Collapse displacement component (% of L) at k_n; NaN if the run has no collapse. */
-static double cal_eval(cal_ctx *c, double kn) {
-  vs_case k = c->base;
-  k.kn_N_mm3 = kn;
-  k.fall_s = 0.0; /* delta_u is read before the fall, which costs the most */
-  vs_run *r = NULL;
-  vs_error err;
-  vs_error_clear(&err);
-  double out = NAN;
-  c->runs++;
-  if (vs_run_create(&k, &r, &err) == VS_OK && vs_run_execute(r, NULL, NULL, NULL, &err) == VS_OK &&
-      vs_run_collapse(r)->found) {
-    const double d = vs_run_collapse(r)->delta / VS_MM, a = k.alpha_deg * VS_DEG;
-    out = 100.0 * d * (c->dx ? sin(a) : cos(a)) / vs_case_span_mm(&k);
-  }
-  vs_run_destroy(&r);
-  if (!c->quiet) fprintf(stderr, "  k_n = %-12.6g  collapse %s/L = %.4f %%\n", kn, c->dx ? "dx" : "dz", out);
-  return out;
-}
-
-/* One numeric option of calibrate, in [lo, hi] (the k_n bounds are the case's range of
- * joints.kn_N_mm3); prints the error. */
-static int cal_number(const char *option, const char *text, double lo, double hi, double *out) {
-  vs_error err;
-  if (vs_parse_option_double(option, text, lo, hi, out, &err) == VS_OK) return 0;
-  fprintf(stderr, "voussoir calibrate: %s\n", err.msg);
-  return -1;
-}
-
-int vs_cmd_calibrate(int argc, char **argv) {
-  const char *case_path = NULL;
-  char *sets[MAX_SETS];
-  int nsets = 0, have_target = 0;
-  double target = NAN, kmin = 0.1, kmax = 100.0, tol = 0.01;
-  cal_ctx c = {0};
-  vs_error err;
-  vs_error_clear(&err);
-  for (int i = 2; i < argc; i++) {
-    const char *a = argv[i];
-    int used = parse_common(argc, argv, i, sets, &nsets);
-    if (used) {
-      i += used - 1;
-    } else if ((strcmp(a, "--target-dz-pct") == 0 || strcmp(a, "--target-dx-pct") == 0) && i + 1 < argc) {
-      c.dx = strcmp(a, "--target-dx-pct") == 0;
-      if (cal_number(a, argv[++i], 1e-9, 1e4, &target) != 0) return EXIT_USAGE;
-      have_target = 1;
-    } else if (strcmp(a, "--kn-min") == 0 && i + 1 < argc) {
-      if (cal_number(a, argv[++i], 1e-4, 1e4, &kmin) != 0) return EXIT_USAGE;
-    } else if (strcmp(a, "--kn-max") == 0 && i + 1 < argc) {
-      if (cal_number(a, argv[++i], 1e-4, 1e4, &kmax) != 0) return EXIT_USAGE;
-    } else if (strcmp(a, "--tol-pct") == 0 && i + 1 < argc) {
-      if (cal_number(a, argv[++i], 1e-12, 100.0, &tol) != 0) return EXIT_USAGE;
-    } else if (strcmp(a, "-q") == 0) {
-      c.quiet = 1;
-    } else if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-      fputs(CAL_USAGE, stdout);
-      return 0;
-    } else if (a[0] != '-' && case_path == NULL) {
-      case_path = a;
-    } else {
-      fprintf(stderr, "voussoir calibrate: unexpected argument %s\n%s", a, CAL_USAGE);
-      return EXIT_USAGE;
-    }
-  }
-  if (case_path == NULL || !have_target || !(target > 0.0) || !isfinite(target)) {
-    fprintf(stderr, "voussoir calibrate: needs a CASE and a target > 0 %%\n%s", CAL_USAGE);
-    return EXIT_USAGE;
-  }
-  if (!(kmax > kmin)) {
-    fprintf(stderr, "voussoir calibrate: --kn-min %g, --kn-max %g (allowed: "
-                    "1e-4 <= kn-min < kn-max <= 10000 N/mm^3)\n", kmin, kmax);
-    return EXIT_USAGE;
-  }
-  if (load_case(case_path, sets, nsets, &c.base, &err) != VS_OK) goto bad;
-  c.base.follow = 1;
-  c.base.full = 0;
-  if (vs_case_validate(&c.base, &err) != VS_OK) goto bad;
-  if (c.dx && fabs(sin(c.base.alpha_deg * VS_DEG)) < 1e-12) {
-    fprintf(stderr, "voussoir calibrate: --target-dx-pct with alpha = 0: dx is always 0\n");
-    return EXIT_USAGE;
-  }
-  /* scan: log-spaced k_n, the first bracket of the target */
-  enum { SCAN = 9 };
-  double kn[SCAN], f[SCAN];
-  int lo = -1;
-  for (int i = 0; i < SCAN; i++) {
-    kn[i] = kmin * pow(kmax / kmin, (double)i / (SCAN - 1));
-    f[i] = cal_eval(&c, kn[i]) - target;
-    if (i > 0 && isfinite(f[i]) && isfinite(f[i - 1]) && (f[i - 1] <= 0.0) != (f[i] <= 0.0)) {
-      lo = i - 1;
-      break;
-    }
-  }
-  if (lo < 0) {
-    double fmin_ = INFINITY, fmax_ = -INFINITY;
-    for (int i = 0; i < SCAN; i++)
-      if (isfinite(f[i])) {
-        fmin_ = fmin(fmin_, f[i] + target);
-        fmax_ = fmax(fmax_, f[i] + target);
-      }
-    printf("no k_n in [%g, %g] N/mm^3 gives a collapse %s/L of %g %%: the scan gives %.4f..%.4f %%\n",
-           kmin, kmax, c.dx ? "dx" : "dz", target, fmin_, fmax_);
-    return EXIT_FAIL;
-  }
-  /* Illinois false position on log k_n within the bracket */
-  double xa = log10(kn[lo]), xb = log10(kn[lo + 1]), fa = f[lo], fb = f[lo + 1], x = xa, fx = fa;
-  printf("bracket: k_n in [%.6g, %.6g] N/mm^3 (%s/L %.4f .. %.4f %%)\n", kn[lo], kn[lo + 1],
-         c.dx ? "dx" : "dz", fa + target, fb + target);
-  int side = 0, it = 0;
-  for (; it < 40; it++) {
-    x = (xa * fb - xb * fa) / (fb - fa);
-    fx = cal_eval(&c, pow(10.0, x)) - target;
-    if (!isfinite(fx)) { /* no collapse there: bisect instead */
-      x = 0.5 * (xa + xb);
-      fx = cal_eval(&c, pow(10.0, x)) - target;
-      if (!isfinite(fx)) break;
-    }
-    printf("  iteration %2d: k_n = %.6g N/mm^3, %s/L = %.4f %%\n", it + 1, pow(10.0, x),
-           c.dx ? "dx" : "dz", fx + target);
-    if (fabs(fx) <= tol || xb - xa < 1e-5) break;
-    if ((fx <= 0.0) == (fa <= 0.0)) {
-      xa = x;
-      fa = fx;
-      if (side == -1) fb *= 0.5;
-      side = -1;
-    } else {
-      xb = x;
-      fb = fx;
-      if (side == 1) fa *= 0.5;
-      side = 1;
-    }
-  }
-  if (!isfinite(fx)) {
-    printf("calibration failed: no collapse within support.max_mm near k_n = %.6g\n", pow(10.0, x));
-    return EXIT_FAIL;
-  }
-  const double k = pow(10.0, x), h = 0.01; /* central difference over +-0.01 in log10 k_n */
-  const double fp = cal_eval(&c, pow(10.0, x + h)), fm = cal_eval(&c, pow(10.0, x - h));
-  printf("k_n = %.6g N/mm^3 gives collapse %s/L = %.4f %% (target %g %%, tolerance %g %%)\n", k,
-         c.dx ? "dx" : "dz", fx + target, target, tol);
-  printf("sensitivity d(%s/L)/d(log10 k_n) = %.4g %% per decade; %d runs\n", c.dx ? "dx" : "dz",
-         (fp - fm) / (2.0 * h), c.runs);
-  return fabs(fx) <= tol ? 0 : EXIT_FAIL;
-bad:
-  fprintf(stderr, "voussoir calibrate: %s\n", err.msg);
-  return EXIT_USAGE;
 }

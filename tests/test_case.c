@@ -770,7 +770,7 @@ static void test_support_kinds(void **state) {
 /* dynamic.damping_model takes names only; the iterator gives its value's index and name. */
 static void test_named_key(void **state) {
   (void)state;
-  static const char *const names[] = {"none", "joint", "rayleigh"};
+  static const char *const names[] = {"none", "joint", "rayleigh", "impact"};
   vs_case c;
   vs_error err;
   vs_case_defaults(&c);
@@ -782,7 +782,7 @@ static void test_named_key(void **state) {
     if (strcmp(sec, "dynamic") == 0 && strcmp(key, "damping_model") == 0) found = k;
   }
   assert_true(found >= 0);
-  for (int i = 0; i < 3; i++) {
+  for (int i = 0; i < 4; i++) {
     char buf[64];
     snprintf(buf, sizeof buf, "dynamic.damping_model = %s", names[i]);
     assert_int_equal(vs_case_set(&c, buf, &err), VS_OK);
@@ -792,14 +792,14 @@ static void test_named_key(void **state) {
     assert_true(v == (double)i);
     assert_string_equal(vs_case_key_name_of(found, i), names[i]);
   }
-  assert_null(vs_case_key_name_of(found, 3));
+  assert_null(vs_case_key_name_of(found, 4));
   assert_null(vs_case_key_name_of(0, 0)); /* a number */
   const char *bad[] = {"dynamic.damping_model=2", "dynamic.damping_model=Rayleigh",
-                       "dynamic.damping_model=impact"};
+                       "dynamic.damping_model=housner"};
   for (int i = 0; i < 3; i++) {
     vs_case_defaults(&c);
     assert_int_equal(vs_case_set(&c, bad[i], &err), VS_ERR_INVALID);
-    assert_non_null(strstr(err.msg, "unknown name (allowed: one of none, joint, rayleigh)"));
+    assert_non_null(strstr(err.msg, "unknown name (allowed: one of none, joint, rayleigh, impact)"));
     assert_int_equal(c.damping_model, 1); /* unchanged */
   }
   assert_int_equal(vs_case_set(&c, "dynamic.damping_model=", &err), VS_ERR_PARSE);

@@ -46,7 +46,7 @@ typedef struct {
                           first limit point. Default 1 */
   int full;            /* 1: integrate the whole loading dynamically from rest (no quasi-static
                           phase). Default 0 */
-  int damping_model;   /* vs_damping_model (damping.h): none, joint, rayleigh; written by
+  int damping_model;   /* vs_damping_model (damping.h): none, joint, rayleigh, impact; written by
                           name in the file. Default joint */
   double damping;      /* damping ratio, [0, 1], default 0.05: joint, of each joint's critical
                           damping; rayleigh, of the two lowest modes under self-weight; none does

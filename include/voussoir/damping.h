@@ -5,8 +5,10 @@
  *             on its joint stiffness, ~1e4 rad/s); on the arch's lowest modes it gives far less
  *             than the ratio (vs_modal reports how much);
  *   rayleigh  C = alpha M + beta K_c with alpha, beta giving the ratio at two frequencies (by
- *             default the two lowest natural frequencies under self-weight).
- * (Energy lost at impacts, where joints close after opening, is not modelled yet.) */
+ *             default the two lowest natural frequencies under self-weight);
+ *   impact    no viscous damping; a plastic impulse where a joint edge that had opened closes
+ *             again, calibrated on Housner's rocking block (impact.h): energy is lost only at
+ *             impacts, so every mode in steady contact gets ratio 0. */
 #ifndef VOUSSOIR_DAMPING_H
 #define VOUSSOIR_DAMPING_H
 
@@ -16,12 +18,13 @@
 typedef enum {
   VS_DAMPING_NONE = 0,
   VS_DAMPING_JOINT = 1,
-  VS_DAMPING_RAYLEIGH = 2
+  VS_DAMPING_RAYLEIGH = 2,
+  VS_DAMPING_IMPACT = 3
 } vs_damping_model;
 
-#define VS_DAMPING_MODEL_COUNT 3
+#define VS_DAMPING_MODEL_COUNT 4
 
-/* "none", "joint", "rayleigh"; NULL for an unknown value. */
+/* "none", "joint", "rayleigh", "impact"; NULL for an unknown value. */
 const char *vs_damping_model_name(vs_damping_model model);
 
 /* Rayleigh coefficients giving ratio zeta (>= 0) at circular frequencies w1 < w2 (rad/s, > 0):
@@ -34,7 +37,8 @@ vs_status vs_damping_rayleigh_coefficients(double zeta, double w1, double w2, do
 double vs_damping_rayleigh_ratio(double alpha, double beta, double w);
 
 /* Set model m's viscous damping for model `model` with ratio zeta: joint -> vs_model_set_damping
- * (zeta), rayleigh -> the coefficients at w1, w2 (rad/s), none -> no viscous damping.
+ * (zeta), rayleigh -> the coefficients at w1, w2 (rad/s), none and impact -> no viscous damping
+ * (impact's impulses are the dynamic phase's: vs_dyn_opts.impact).
  * alpha and beta (may be NULL) receive the Rayleigh coefficients (0 otherwise). */
 vs_status vs_damping_apply(vs_model *m, vs_damping_model model, double zeta, double w1, double w2,
                            double *alpha, double *beta, vs_error *err);

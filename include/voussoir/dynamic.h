@@ -2,8 +2,8 @@
  * driven by constraints, their reactions the Lagrange multipliers; see dynamic.c) integrated
  * by IDA (BDF, KLU on the analytic sparse Jacobian dF/dy + cj dF/dy'), with the right support
  * still moving at its rate,
- * root finding on the joints' edge openings and on the collapse criterion, and an energy
- * balance. SI units; time t is the loading time, delta(t) = rate t. */
+ * root finding on the joints' edge openings and on the collapse criterion (and plastic impacts
+ * where opened edges close, with the impact damping model), and an energy balance. SI units; time t is the loading time, delta(t) = rate t. */
 #ifndef VOUSSOIR_DYNAMIC_H
 #define VOUSSOIR_DYNAMIC_H
 
@@ -27,6 +27,9 @@ typedef struct {
   int settle;           /* 1: return VS_DYN_SETTLED whenever the arch has been at rest for
                            rest_time (the caller then looks for an equilibrium and calls again
                            if there is none); 0: never (full-dynamic loading) */
+  int impact;           /* 1: the `impact` damping model (impact.h): a plastic impulse where a
+                           joint edge that had opened beyond `open` closes (an IDA root on its
+                           gap), its energy loss added to the damped energy */
   const volatile sig_atomic_t *stop; /* NULL, or a flag (e.g. set by a signal handler) that,
                                         once non-zero, stops the integration at its next
                                         residual evaluation: VS_ERR_INTERRUPTED */
@@ -47,7 +50,7 @@ typedef enum {
 typedef struct {
   double kinetic, gravity, elastic;
   double support_work; /* work done on the arch by the moving support */
-  double damped;       /* dissipated by joint damping */
+  double damped;       /* dissipated by joint damping (viscous, or at impacts) */
   double friction;     /* dissipated by frictional slip */
   double balance;      /* energy balance residual */
 } vs_energy;
@@ -74,6 +77,7 @@ typedef struct {
                                   criterion (or the end) */
   double balance_error_fall;   /* the same during the fall after it (looser tolerances) */
   long steps, newton_iterations, root_events, jac_evals;
+  long impacts;                /* plastic impacts resolved (the impact damping model) */
   int dae_differential;        /* components of y that are differential (q, v, energy integrals) */
   int dae_algebraic;           /* ... and algebraic (lambda, mu); the DAE has index 2 */
   int dae_index;

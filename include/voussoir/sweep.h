@@ -1,6 +1,6 @@
 /* Studies over many runs: lists of values ("0:90:5", "0,5,10", "0.1,1:10:1"), the cartesian
- * product of axes, runs as independent processes on all cores with a summary table, and the
- * calibration of k_n against a measured collapse displacement. */
+ * product of axes, run by workers forked from the program (or by the ranks of an MPI job) with a
+ * summary table, and the calibration of k_n against a measured collapse displacement. */
 #ifndef VOUSSOIR_SWEEP_H
 #define VOUSSOIR_SWEEP_H
 
@@ -26,8 +26,10 @@ vs_status vs_parse_list(const char *what, const char *text, double **values, int
 vs_status vs_logspace(double a, double b, int n, double **values, vs_error *err);
 
 /* The sweep and calibrate commands of the CLI (argv as given to main, argv[1] the command).
- * They print to stdout/stderr and return an exit status (0 ok, 1 a failure, 2 bad input). */
-int vs_cmd_sweep(int argc, char **argv, const char *self_path);
+ * They print to stdout/stderr and return an exit status (0 ok, 1 a failure, 2 bad input, 130
+ * interrupted). sweep sets *h5_clean to 0 when a record this process wrote failed (see
+ * vs_output_process_end). */
+int vs_cmd_sweep(int argc, char **argv, int *h5_clean);
 int vs_cmd_calibrate(int argc, char **argv);
 
 #endif

@@ -1,0 +1,145 @@
+/* One case of a sweep, run in this process (a forked worker or an MPI rank): the case built from
+ * the sweep's base and the run's axis values, its record and JSON written as `voussoir run`
+ * writes them, and its summary row taken from the run itself (no output is read back). */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "sweep_private.h"
+#include "voussoir/output.h"
+#include "voussoir/report.h"
+#include "voussoir/run.h"
+#include "voussoir/units.h"
+
+void vs_sweep_pick(const vs_sweep_job *job, int run, int *pick) {
+  for (int x = job->nax - 1, rem = run - 1; x >= 0; x--) {
+    pick[x] = rem % job->ax[x].n;
+    rem /= job->ax[x].n;
+  }
+}
+
+/* The case of run `run`: the base, every axis's value, then the mode; validated. */
+static vs_status build_case(const vs_sweep_job *job, int run, vs_sweep_row *row, vs_case *c,
+                            vs_error *err) {
+  int pick[VS_SWEEP_MAX_AXES];
+  vs_sweep_pick(job, run, pick);
+  *c = *job->base;
+  vs_status st = VS_OK;
+  for (int x = 0; x < job->nax && st == VS_OK; x++) {
+    char set[160];
+    row->axis[x] = job->ax[x].v[pick[x]];
+    snprintf(set, sizeof set, "%.95s=%.17g", job->ax[x].key, row->axis[x]);
+    st = vs_case_set(c, set, err);
+  }
+  if (st == VS_OK && job->mode_set != NULL) st = vs_case_set(c, job->mode_set, err);
+  return st == VS_OK ? vs_case_validate(c, err) : st;
+}
+
+/* The results of a run that ended with status st, into the row (as its JSON reports them). */
+static void fill_row(const vs_run *r, vs_status st, const vs_error *err, vs_sweep_row *row) {
+  const vs_case *c = vs_run_case(r);
+  const vs_collapse_record *col = vs_run_collapse(r);
+  const vs_path_result *p = vs_run_path(r);
+  const char *status = st != VS_OK                                            ? "failed"
+                       : col->found                                           ? "collapse"
+                       : !c->follow && !c->full && vs_run_limit_count(r) > 0 ? "limit_point"
+                                                                             : "max_displacement";
+  snprintf(row->status, sizeof row->status, "%s", status);
+  if (st != VS_OK) snprintf(row->error, sizeof row->error, "%s", err->msg);
+  if (p->end == VS_PATH_LIMIT_POINT && vs_run_limit_count(r) > 0)
+    row->first_limit_mm = p->delta_limit / VS_MM;
+  if (col->found) {
+    const double L = vs_case_span_mm(c), a = c->alpha_deg * VS_DEG;
+    row->delta_u_mm = col->delta / VS_MM;
+    row->dz_pct = 100.0 * row->delta_u_mm * cos(a) / L;
+    row->dx_pct = 100.0 * row->delta_u_mm * sin(a) / L;
+    size_t used = 0;
+    for (int i = 0; i < col->n_hinges; i++) {
+      char name[96];
+      vs_hinge_name(&col->hinges[i], 0, name, sizeof name);
+      int w = snprintf(row->hinges + used, sizeof row->hinges - used, "%s%c:%s", used ? " " : "",
+                       col->hinges[i].label, name);
+      if (w < 0 || (size_t)w >= sizeof row->hinges - used) break;
+      used += (size_t)w;
+    }
+  }
+  const char *mode = vs_run_mode(r);
+  snprintf(row->mode, sizeof row->mode, "%s", mode != NULL ? mode : "");
+  for (int i = 0; i < vs_run_limit_count(r); i++) {
+    const vs_limit_record *l = vs_run_limit(r, i);
+    row->snaps += !l->collapse && isfinite(l->delta_settled);
+  }
+  row->wall_s = vs_run_wall_s(r);
+}
+
+/* The run's JSON, as `voussoir run --json` prints it, into path. 0 or -1. */
+static int write_json(const char *path, const vs_run *r, vs_status st, const vs_error *err,
+                      const char *case_path) {
+  FILE *f = fopen(path, "w");
+  if (f == NULL) return -1;
+  vs_report_json(f, r, st, err, case_path);
+  return fclose(f) == 0 ? 0 : -1;
+}
+
+/* Execute r into its record (created at h5), closing the record with the run's status. */
+static vs_status execute(const vs_sweep_job *job, vs_run *r, const char *h5,
+                         const volatile sig_atomic_t *stop, int *h5_clean, vs_error *err) {
+  vs_output *rec = NULL;
+  vs_status st = vs_output_create(h5, r, job->case_text, NULL, &rec, err);
+  if (st != VS_OK) {
+    if (st == VS_ERR_IO) *h5_clean = 0;
+    return st;
+  }
+  st = vs_run_execute(r, vs_output_sample, vs_output_event, rec, err);
+  if (st != VS_OK && stop != NULL && *stop) {
+    st = vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
+    vs_output_interrupt(rec);
+  }
+  if (st != VS_OK && vs_output_error(rec)->status != VS_OK)
+    *err = *vs_output_error(rec); /* the run stopped because the record failed */
+  vs_error oerr;
+  vs_error_clear(&oerr);
+  if (vs_output_finish(rec, r, st, err, &oerr) != VS_OK && st == VS_OK) {
+    *err = oerr;
+    st = oerr.status;
+  }
+  if (vs_output_error(rec)->status != VS_OK) *h5_clean = 0;
+  vs_output_destroy(&rec);
+  return st;
+}
+
+void vs_sweep_run_case(const vs_sweep_job *job, int run, const volatile sig_atomic_t *stop,
+                       vs_sweep_row *row, int *h5_clean) {
+  memset(row, 0, sizeof *row);
+  row->run = run;
+  row->first_limit_mm = row->delta_u_mm = row->dz_pct = row->dx_pct = row->wall_s = NAN;
+  char h5[1100], json[1100];
+  snprintf(h5, sizeof h5, "%s/run_%04d.h5", job->dir, run);
+  snprintf(json, sizeof json, "%s/run_%04d.json.part", job->dir, run);
+  vs_case c;
+  vs_run *r = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  vs_status st = build_case(job, run, row, &c, &err);
+  if (st == VS_OK) st = vs_run_create(&c, &r, &err);
+  if (st == VS_OK) {
+    vs_run_set_stop(r, stop);
+    st = stop != NULL && *stop ? vs_error_set(&err, VS_ERR_INTERRUPTED, "interrupted")
+                               : execute(job, r, h5, stop, h5_clean, &err);
+  }
+  row->code = st == VS_OK ? VS_SWEEP_OK
+              : st == VS_ERR_INTERRUPTED ? VS_SWEEP_INTERRUPTED : VS_SWEEP_FAILED;
+  if (r == NULL) { /* no run: the case itself was refused */
+    snprintf(row->status, sizeof row->status, "failed");
+    snprintf(row->error, sizeof row->error, "%s", err.msg);
+    return;
+  }
+  fill_row(r, st, &err, row);
+  if (row->code != VS_SWEEP_INTERRUPTED && write_json(json, r, st, &err, job->case_path) != 0) {
+    row->code = VS_SWEEP_FAILED;
+    snprintf(row->status, sizeof row->status, "failed");
+    snprintf(row->error, sizeof row->error, "%.400s: cannot write", json);
+  }
+  vs_run_destroy(&r);
+}
