@@ -16,6 +16,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "pipe_io.h"
 #include "voussoir/parse.h"
 #include "voussoir/plot.h"
 
@@ -61,16 +62,7 @@ static int start_worker(const vs_case *c, int sample, worker *w) {
     close(fds[0]);
     vs_mc_sample r;
     vs_mc_run_sample(c, sample, &r);
-    const char *p = (const char *)&r;
-    size_t left = sizeof r;
-    while (left > 0) {
-      ssize_t k = write(fds[1], p, left);
-      if (k < 0 && errno == EINTR) continue;
-      if (k <= 0) _exit(3);
-      p += k;
-      left -= (size_t)k;
-    }
-    _exit(0);
+    _exit(vs_write_all(fds[1], &r, sizeof r) == 0 ? 0 : 3);
   }
   close(fds[1]);
   w->pid = pid;
@@ -80,14 +72,7 @@ static int start_worker(const vs_case *c, int sample, worker *w) {
 
 /* Collect a finished worker's result (or record why there is none). */
 static void finish_worker(worker *w, int status, int sample, vs_mc_sample *out) {
-  size_t got = 0;
-  char *p = (char *)out;
-  while (got < sizeof *out) {
-    ssize_t k = read(w->fd, p + got, sizeof *out - got);
-    if (k < 0 && errno == EINTR) continue;
-    if (k <= 0) break;
-    got += (size_t)k;
-  }
+  const size_t got = vs_read_full(w->fd, out, sizeof *out);
   close(w->fd);
   if (got != sizeof *out || out->sample != sample) {
     memset(out, 0, sizeof *out);

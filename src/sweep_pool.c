@@ -14,6 +14,7 @@
 #include <sys/prctl.h>
 #endif
 
+#include "pipe_io.h"
 #include "sweep_private.h"
 
 typedef struct {
@@ -26,18 +27,6 @@ static double now_s(void) {
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int write_all(int fd, const void *buf, size_t n) {
-  const char *p = buf;
-  while (n > 0) {
-    ssize_t k = write(fd, p, n);
-    if (k < 0 && errno == EINTR) continue;
-    if (k <= 0) return -1;
-    p += k;
-    n -= (size_t)k;
-  }
-  return 0;
 }
 
 /* The worker: its own process group (a terminal's ^C reaches the sweep, which passes it on
@@ -54,7 +43,7 @@ static void worker_main(const vs_sweep_job *job, int run, int fd, pid_t parent,
   int clean = 1;
   /* the handler inherited from the sweep raises *stop_count: the run stops at its next step */
   vs_sweep_run_case(job, run, stop_count, &row, &clean);
-  _exit(write_all(fd, &row, sizeof row) == 0 ? 0 : 3);
+  _exit(vs_write_all(fd, &row, sizeof row) == 0 ? 0 : 3);
 }
 
 static int start_worker(const vs_sweep_job *job, int run, worker *w,
@@ -81,14 +70,7 @@ static int start_worker(const vs_sweep_job *job, int run, worker *w,
 /* The row of an ended worker: the one it sent, or (none: it was killed or crashed) a lost row
  * that says why. */
 static void finish_worker(worker *w, int status, vs_sweep_row *row) {
-  size_t got = 0;
-  char *p = (char *)row;
-  while (got < sizeof *row) {
-    ssize_t k = read(w->fd, p + got, sizeof *row - got);
-    if (k < 0 && errno == EINTR) continue;
-    if (k <= 0) break;
-    got += (size_t)k;
-  }
+  const size_t got = vs_read_full(w->fd, row, sizeof *row);
   close(w->fd);
   if (got != sizeof *row || row->run != w->run || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     memset(row, 0, sizeof *row);
