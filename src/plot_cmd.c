@@ -13,6 +13,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "plugin.h"
 #include "voussoir/geometry.h"
 #include "voussoir/hinges.h"
 #include "voussoir/imperfections.h"
@@ -20,22 +21,6 @@
 #include "voussoir/outpath.h"
 #include "voussoir/plot.h"
 #include "voussoir/units.h"
-
-int vs_cmd_plot(int argc, char **argv);
-
-static const char *PLOT_USAGE =
-    "usage: voussoir plot RUN.h5|SWEEP/summary.h5 [-o DIR] [--svg]\n"
-    "Draws the recorded run at true scale: the reference state, each hinge's onset, each limit\n"
-    "point and settled snap-through, the collapse and the end of the record (open joints shaded,\n"
-    "hinges marked on their side with labels A-E, the support displacement annotated), and the\n"
-    "support reaction and hinge joints against the support displacement. Files arch_*.png (or\n"
-    ".svg) and curves.png go to DIR (default: RUN_plots next to the record).\n"
-    "Given a sweep's summary.h5, draws domain.png: the support displacement at collapse, dx/L\n"
-    "against dz/L, one line per k_n through the directions alpha, each point marked by its mode\n"
-    "(I, II, III); and sensitivity.png: delta_u/L against alpha, one line per k_n (against k_n\n"
-    "when the sweep varies only k_n).\n"
-    "plots.json in DIR says what each picture shows: its title, the hinges labelled in each arch\n"
-    "picture (label, side, joints), the points of a sweep's pictures.\n";
 
 typedef struct {
   char label, side;
@@ -834,25 +819,8 @@ static int check_picture_dir(const char *dir, const char *ext) {
   return rc;
 }
 
-int vs_cmd_plot(int argc, char **argv) {
-  const char *run = NULL, *dir = NULL, *ext = "png";
+int vs_plot_command(const char *run, const char *dir, const char *ext) {
   char defdir[1100];
-  for (int i = 2; i < argc; i++) {
-    if (strcmp(argv[i], "-o") == 0 && i + 1 < argc) dir = argv[++i];
-    else if (strcmp(argv[i], "--svg") == 0) ext = "svg";
-    else if (strcmp(argv[i], "-h") == 0 || strcmp(argv[i], "--help") == 0) {
-      fputs(PLOT_USAGE, stdout);
-      return 0;
-    } else if (argv[i][0] != '-' && run == NULL) run = argv[i];
-    else {
-      fprintf(stderr, "voussoir plot: unexpected argument %s\n%s", argv[i], PLOT_USAGE);
-      return 2;
-    }
-  }
-  if (run == NULL) {
-    fprintf(stderr, "voussoir plot: needs a RUN.h5 record\n%s", PLOT_USAGE);
-    return 2;
-  }
   if (dir == NULL) {
     const char *dot = strrchr(run, '.');
     snprintf(defdir, sizeof defdir, "%.*s_plots", dot ? (int)(dot - run) : (int)strlen(run), run);
