@@ -15,11 +15,12 @@ static int wants_help(int argc, char **argv) {
   return 0;
 }
 
-/* The option getopt refused, as the user wrote it: a long one as its word (without "=VALUE"), a
- * short one as -X (it may sit inside a group such as -qx). */
-static void refused_option(char **argv, int code, char *buf, size_t size) {
+/* The option getopt refused, as the user wrote it: a long one as its word without "=VALUE"
+ * (getopt gives its code, >= 256, or 0 when unknown), a short one as -X (it may sit inside a
+ * group such as -qx, so its word is not the option). */
+static void refused_option(char **argv, char *buf, size_t size) {
   const char *word = argv[optind - 1];
-  if (strncmp(word, "--", 2) == 0 && (code == ':' || optopt == 0))
+  if (optopt == 0 || optopt >= 256)
     snprintf(buf, size, "%.*s", (int)strcspn(word, "="), word);
   else
     snprintf(buf, size, "-%c", optopt);
@@ -41,8 +42,9 @@ int cli_parse(const cli_command *cmd, int argc, char **argv, cli_option_fn on_op
   while (rc == 0 && (code = getopt_long(argc - 1, argv + 1, shortopts, cmd->longopts, NULL)) != -1) {
     char word[128];
     if (code == '?' || code == ':') {
-      refused_option(argv + 1, code, word, sizeof word);
-      if (code == ':') fprintf(stderr, "%s: %s needs a value\n%s", cmd->name, word, cmd->usage);
+      refused_option(argv + 1, word, sizeof word);
+      const char *why = code == ':' ? "needs a value" : optopt >= 256 ? "takes no value" : NULL;
+      if (why != NULL) fprintf(stderr, "%s: %s %s\n%s", cmd->name, word, why, cmd->usage);
       else fprintf(stderr, "%s: unknown option %s\n%s", cmd->name, word, cmd->usage);
       return VS_EXIT_BAD_INPUT;
     }
