@@ -53,6 +53,9 @@ int cli_double(const char *name, const char *option, const char *text, double lo
 /* Keep one more --set value; VS_EXIT_BAD_INPUT beyond VS_CLI_MAX_SETS. */
 int cli_add_set(const char *name, const char *value, const char **sets, int *nsets);
 
+/* The usage of run (src/cli_run.c), which the program's own --help ends with. */
+extern const char VS_CLI_RUN_USAGE[];
+
 /* The stop flag set by SIGINT/SIGTERM during `run` (src/cli_main.c). */
 const volatile sig_atomic_t *cli_stop_flag(void);
 

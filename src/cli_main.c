@@ -40,12 +40,12 @@ static void release_signals(void) {
 }
 
 static const char *USAGE =
-    "usage: voussoir run CASE [options]                   (voussoir run --help)\n"
+    "usage: voussoir run CASE [options]                        (voussoir run --help)\n"
     "       voussoir sweep CASE --alpha LIST --kn LIST [...]   (voussoir sweep --help)\n"
-    "       voussoir calibrate CASE --target-dz-pct X [...]  (voussoir calibrate --help)\n"
-    "       voussoir montecarlo CASE --samples N [...]  (voussoir montecarlo --help)\n"
-    "       voussoir merge DIR... -o OUT                 (voussoir merge --help)\n"
-    "       voussoir plot RUN.h5 [-o DIR] [--svg]            (voussoir plot --help)\n"
+    "       voussoir calibrate CASE --target-dz-pct X [...]    (voussoir calibrate --help)\n"
+    "       voussoir montecarlo CASE --samples N [...]         (voussoir montecarlo --help)\n"
+    "       voussoir merge DIR... -o OUT                       (voussoir merge --help)\n"
+    "       voussoir plot RUN.h5 [-o DIR] [--svg]              (voussoir plot --help)\n"
     "       voussoir --help | --version\n"
     "\n"
     "Simulates a masonry arch of rigid voussoirs on dry, no-tension, frictional, elastic joints\n"
@@ -55,9 +55,6 @@ static const char *USAGE =
     "the collapse displacement, the limit points and the hinges (joint, side, onset, label).\n"
     "Options take their value as the next word or after '=': --alpha 30, --alpha=30.\n"
     "\n";
-
-/* The usage of run, which the program's own --help ends with. */
-extern const char *const VS_CLI_RUN_USAGE;
 
 static int dispatch(int argc, char **argv, int *h5_clean) {
   if (argc < 2) {

@@ -39,7 +39,8 @@ int cli_parse(const cli_command *cmd, int argc, char **argv, cli_option_fn on_op
   optind = 0; /* glibc: a full restart of getopt's state */
   opterr = 0;
   int code, rc = 0;
-  while (rc == 0 && (code = getopt_long(argc - 1, argv + 1, shortopts, cmd->longopts, NULL)) != -1) {
+  while (rc == 0 &&
+         (code = getopt_long(argc - 1, argv + 1, shortopts, cmd->longopts, NULL)) != -1) {
     char word[128];
     if (code == '?' || code == ':') {
       refused_option(argv + 1, word, sizeof word);
@@ -50,7 +51,8 @@ int cli_parse(const cli_command *cmd, int argc, char **argv, cli_option_fn on_op
     }
     rc = on_option(user, code, optarg);
   }
-  for (int i = optind + 1; rc == 0 && i < argc; i++) rc = on_option(user, 1, argv[i]); /* after -- */
+  for (int i = optind + 1; rc == 0 && i < argc; i++) /* the operands after "--" */
+    rc = on_option(user, 1, argv[i]);
   return rc;
 }
 

@@ -21,8 +21,7 @@
 enum { EXIT_RUN_FAILED = VS_EXIT_FAILED, EXIT_BAD_INPUT = VS_EXIT_BAD_INPUT,
        EXIT_INTERRUPTED = VS_EXIT_INTERRUPTED };
 
-extern const char *const VS_CLI_RUN_USAGE;
-const char *const VS_CLI_RUN_USAGE =
+const char VS_CLI_RUN_USAGE[] =
     "usage: voussoir run CASE [options]\n"
     "options for run (a value follows its option as the next word or after '=': --alpha 30,\n"
     "--alpha=30):\n"
@@ -178,7 +177,7 @@ static int run_option(void *user, int code, const char *value) {
   return 0;
 }
 
-static const cli_command RUN = {"voussoir", NULL, "o:q", RUN_OPTIONS};
+static const cli_command RUN = {"voussoir", VS_CLI_RUN_USAGE, "o:q", RUN_OPTIONS};
 
 /* The command line of `run` (the overrides are applied later, in order): 0, -1 after --help,
  * or an exit status. a->overrides (malloc'd) is freed by the caller. */
@@ -190,9 +189,7 @@ static int parse_run_args(int argc, char **argv, run_args *a) {
     fputs("voussoir: out of memory\n", stderr);
     return EXIT_RUN_FAILED;
   }
-  cli_command cmd = RUN;
-  cmd.usage = VS_CLI_RUN_USAGE;
-  const int rc = cli_parse(&cmd, argc, argv, run_option, a);
+  const int rc = cli_parse(&RUN, argc, argv, run_option, a);
   if (rc != 0) return rc;
   if (a->case_path == NULL) {
     fprintf(stderr, "voussoir: run needs a CASE file\n%s", VS_CLI_RUN_USAGE);

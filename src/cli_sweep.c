@@ -50,7 +50,8 @@ static int add_axis(vs_sweep_opts *o, int code, const char *value) {
     return VS_EXIT_BAD_INPUT;
   }
   vs_sweep_axis *x = &o->ax[o->nax];
-  const char *list = value, *what = code == OPT_ALPHA ? "--alpha" : code == OPT_KN ? "--kn" : "--vary";
+  const char *list = value;
+  const char *what = code == OPT_ALPHA ? "--alpha" : code == OPT_KN ? "--kn" : "--vary";
   if (code == OPT_VARY) {
     const char *eq = strchr(list, '=');
     if (eq == NULL || (size_t)(eq - list) >= sizeof x->key) {
@@ -61,7 +62,8 @@ static int add_axis(vs_sweep_opts *o, int code, const char *value) {
     snprintf(x->key, sizeof x->key, "%.*s", (int)(eq - list), list);
     list = eq + 1;
   } else {
-    snprintf(x->key, sizeof x->key, "%s", code == OPT_ALPHA ? "support.alpha_deg" : "joints.kn_N_mm3");
+    snprintf(x->key, sizeof x->key, "%s",
+             code == OPT_ALPHA ? "support.alpha_deg" : "joints.kn_N_mm3");
   }
   vs_error err;
   if (vs_parse_list(what, list, &x->v, &x->n, &err) != VS_OK) {
