@@ -8,7 +8,7 @@
 #  3. alpha 90 deg, k_n 48 N/mm^3, with its record;
 #  4. the seed domain (alpha 0:45:5,60,75,90 x k_n 3, 48, records) by `sweep -j 2`: wall seconds;
 #  5. process start-up: `voussoir --version`, mean wall milliseconds over 20 starts;
-#  6. one run to collapse (--no-record) with 55 to 880 voussoirs: CPU seconds, and the cost
+#  6. one run to collapse (--no-record) with 55 to 1760 voussoirs: CPU seconds, and the cost
 #     relative to 55 voussoirs (linear: the ratio of the counts).
 # Each row prints both figures and their ratio this / previous (below 1: faster).
 # --quick (what .ci/run uses): one run each (CI time: the record rows follow the fall to rest,
@@ -25,7 +25,7 @@ export VOUSSOIR
 source "$(dirname "$0")/lib.sh"
 bin="$(cd "$(dirname "$bin")" && pwd)/$(basename "$bin")" # the runs start in a scratch directory
 repeat=$((quick ? 1 : 5))
-sizes=(55 110 220 440 880) # the case allows at most 1000
+sizes=(55 110 220 440 880 1760)
 ((quick)) && sizes=(55 110 220)
 ref="$here/reference.ini"
 work="$(mktemp -d)"
