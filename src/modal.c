@@ -63,8 +63,32 @@ typedef struct {
   double asym;
 } band;
 
-static vs_status band_stiffness(const vs_model *m, const double *q, double delta, band *b,
-                                vs_error *err) {
+/* The unknowns in band order (perm[new] = old): a pinned support's rotation, which the state
+ * keeps after the blocks, next to the block it carries (left first, right last), so that the
+ * band stays a few unknowns wide instead of n. */
+static void band_order(const vs_model *m, int n, int *perm) {
+  const int left = vs_model_support_dof(m, 0), right = vs_model_support_dof(m, 1);
+  int k = 0;
+  if (left >= 0) perm[k++] = left;
+  for (int i = 0; i < n; i++)
+    if (i != left && i != right) perm[k++] = i;
+  if (right >= 0) perm[k++] = right;
+}
+
+/* The mass diagonal of the static state: the blocks' (vs_model_mass), and for a pinned support's
+ * rotation the rotary inertia the dynamic model gives it (vs_model_ext_mass: the mean voussoir's). */
+static void state_mass(const vs_model *m, int n, double *mass) {
+  const int left = vs_model_support_dof(m, 0), right = vs_model_support_dof(m, 1);
+  const int nb = (n - (left >= 0) - (right >= 0)) / 3;
+  vs_model_mass(m, mass);
+  double inertia = 0.0;
+  for (int i = 0; i < nb; i++) inertia += mass[3 * i + 2] / nb;
+  if (left >= 0) mass[left] = inertia;
+  if (right >= 0) mass[right] = inertia;
+}
+
+static vs_status band_stiffness(const vs_model *m, const double *q, double delta, const int *perm,
+                                band *b, vs_error *err) {
   const int n = vs_model_size(m);
   SUNContext ctx = NULL;
   if (SUNContext_Create(NULL, &ctx) != 0) return vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
@@ -75,19 +99,22 @@ static vs_status band_stiffness(const vs_model *m, const double *q, double delta
     vs_model_jacobian(m, q, delta, K);
     const sunindextype *kp = SUNSparseMatrix_IndexPointers(K), *ki = SUNSparseMatrix_IndexValues(K);
     const double *kx = SUNSparseMatrix_Data(K);
-    int kd = 0;
-    for (int c = 0; c < n; c++)
-      for (sunindextype e = kp[c]; e < kp[c + 1]; e++) kd = (int)fmax(kd, fabs((double)(ki[e] - c)));
+    int *inv = malloc((size_t)n * sizeof *inv), kd = 0; /* inv[old] = new */
+    if (inv == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
+    for (int i = 0; st == VS_OK && i < n; i++) inv[perm[i]] = i;
+    for (int c = 0; st == VS_OK && c < n; c++)
+      for (sunindextype e = kp[c]; e < kp[c + 1]; e++) kd = (int)fmax(kd, abs(inv[ki[e]] - inv[c]));
     b->n = n;
     b->kd = kd;
     b->ld = 2 * kd + 1;
     b->sb = calloc((size_t)b->ld * (size_t)n, sizeof *b->sb);
     if (b->sb == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
-    for (int c = 0; st == VS_OK && c < n; c++)
-      for (sunindextype e = kp[c]; e < kp[c + 1]; e++) {
-        const int r = (int)ki[e];
+    for (int c0 = 0; st == VS_OK && c0 < n; c0++)
+      for (sunindextype e = kp[c0]; e < kp[c0 + 1]; e++) {
+        const int r = inv[ki[e]], c = inv[c0];
         b->sb[bidx(kd + r - c, c, b->ld)] = kx[e];
       }
+    free(inv);
   }
   if (K != NULL) SUNMatDestroy(K);
   SUNContext_Free(&ctx);
@@ -339,23 +366,35 @@ vs_status vs_modal_compute(const vs_model *m, const double *q, double delta, int
                         VS_MODAL_MAX_DOF, VS_MODAL_MAX_DOF / 3);
   if (nm < 1) return vs_error_set(err, VS_ERR_INVALID, "modal: %d modes asked (allowed: >= 1)", n_modes);
   band b = {0};
-  double *mass = malloc((size_t)n * sizeof *mass);
+  double *mass = malloc((size_t)n * sizeof *mass), *massb = malloc((size_t)n * sizeof *massb);
+  double *phib = malloc((size_t)n * (size_t)nm * sizeof *phib); /* band order */
+  int *perm = malloc((size_t)n * sizeof *perm);
   out->phi = malloc((size_t)n * (size_t)nm * sizeof *out->phi);
   vs_status st = VS_OK;
-  if (mass == NULL || out->phi == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
-  if (st == VS_OK) st = band_stiffness(m, q, delta, &b, err);
+  if (mass == NULL || massb == NULL || phib == NULL || perm == NULL || out->phi == NULL)
+    st = vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
+  if (st == VS_OK) {
+    band_order(m, n, perm);
+    st = band_stiffness(m, q, delta, perm, &b, err);
+  }
   double w2[VS_MODAL_MAX];
   if (st == VS_OK) {
     out->asymmetry = b.asym;
-    vs_model_mass(m, mass);
-    st = band_modes(&b, mass, nm, w2, out->phi, err);
+    state_mass(m, n, mass);
+    for (int i = 0; i < n; i++) massb[i] = mass[perm[i]];
+    st = band_modes(&b, massb, nm, w2, phib, err);
   }
   for (int i = 0; st == VS_OK && i < nm; i++) {
     out->omega[i] = sqrt(w2[i]);
     out->freq_hz[i] = out->omega[i] / (2.0 * VS_PI);
+    for (int r = 0; r < n; r++)
+      out->phi[(size_t)i * (size_t)n + (size_t)perm[r]] = phib[(size_t)i * (size_t)n + (size_t)r];
   }
   free(b.sb);
   free(mass);
+  free(massb);
+  free(phib);
+  free(perm);
   if (st != VS_OK) {
     vs_modal_free(out);
     return st;

@@ -30,7 +30,8 @@ typedef struct {
 } vs_modal;
 
 /* Lowest min(n_modes, VS_MODAL_MAX) modes of model m at (q, delta) with the current gravity
- * scale; the damping ratios from the model's damping at rest (vs_model_damping with v = 0, so
+ * scale (a pinned support's rotation has the mean voussoir's rotary inertia, as in the dynamic
+ * model); the damping ratios from the model's damping at rest (vs_model_damping with v = 0, so
  * joint dashpots act where the joints are in contact). out->phi is allocated. Errors:
  * VS_ERR_INVALID (more than VS_MODAL_MAX_DOF unknowns, or K not positive definite: the state is
  * not a stable equilibrium), VS_ERR_SOLVER (LAPACK failed), VS_ERR_NOMEM. */
