@@ -10,7 +10,8 @@
 #  5. process start-up: `voussoir --version`, mean wall milliseconds over 20 starts;
 #  6. one run to collapse (--no-record) with 55 to 1760 voussoirs: CPU seconds, and the cost
 #     relative to 55 voussoirs (linear: the ratio of the counts).
-# Each row prints both figures and their ratio this / previous (below 1: faster).
+# Each row prints both figures and their ratio this / previous (below 1: faster). The full mode
+# then prints runs/scaling.sh for this build (cost against the voussoir count, in detail).
 # --quick (what .ci/run uses): one run each (CI time: the record rows follow the fall to rest,
 # seconds each), no seed domain, 55 to 220 voussoirs.
 # usage: runs/bench.sh [--quick] [BINARY]
@@ -107,3 +108,4 @@ for nv in "${sizes[@]}"; do
   x="$(awk -v b="$b" -v c="$b55" -v n="$nv" 'BEGIN {printf "x55 %.1f (count x%.0f)", b / c, n / 55}')"
   row "$nv voussoirs   $x" "$a" "$b"
 done
+((quick)) || { echo; "$here/scaling.sh" "$bin"; }
