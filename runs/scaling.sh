@@ -6,9 +6,10 @@
 #     steps, root events: the physics changes with the count, see the README) and the CPU per
 #     voussoir and solver iteration (flat when each iteration costs the same per voussoir).
 #  2. The seed domain (alpha 0:45:5,60,75,90 x k_n 3, 48) by `voussoir sweep -j 2` with its
-#     records: wall seconds and the CPU of the sweep and its workers; then the CPU of the same 26
-#     runs one process each without a record and with one (fall_s = 0, as the sweep runs them),
-#     summed: the record's share, and the sweep's own (workers, summary) as the rest.
+#     records: wall seconds, the CPU of the sweep and its workers, the load average around it;
+#     then the CPU of the same 26 runs one process each without a record (fall_s = 0, as the
+#     sweep runs them), summed: the physics plus 26 process start-ups; the rest of the sweep's
+#     CPU is its records (and its own work: workers, summary).
 # usage: runs/scaling.sh [--quick] [BINARY]   (--quick: 55 to 220 voussoirs, one run each, no domain)
 #   REPEAT=N  runs per median (default 5; 1 with --quick)
 set -euo pipefail
@@ -54,20 +55,22 @@ done
 ((quick)) && exit 0
 
 echo "seed domain: alpha 0:45:5,60,75,90 x k_n 3, 48 (26 runs)"
+load0="$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo -)"
 t0="$(date +%s.%N)"
 cs="$(cpu_once "$bin" sweep "$ref" --alpha 0:45:5,60,75,90 --kn 3,48 -j 2 -o "$work/domain" -q)"
 wall="$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN {print b - a}')"
 mb="$(du -sm "$work/domain" | cut -f1)"
 rm -rf "$work/domain"
-norec=0 rec=0
+load1="$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo -)"
+norec=0
 for kn in 3 48; do
   for a in 0 5 10 15 20 25 30 35 40 45 60 75 90; do
-    args=(run "$ref" -q --alpha "$a" --kn "$kn" --set dynamic.fall_s=0)
-    norec="$(awk -v s="$norec" -v c="$(cd "$work" && cpu_once "$bin" "${args[@]}" --no-record)" 'BEGIN {print s + c}')"
-    rec="$(awk -v s="$rec" -v c="$(cd "$work" && cpu_once "$bin" "${args[@]}" -o "$work/r.h5")" 'BEGIN {print s + c}')"
+    c="$(cd "$work" && cpu_once "$bin" run "$ref" -q --alpha "$a" --kn "$kn" --set dynamic.fall_s=0 --no-record)"
+    norec="$(awk -v s="$norec" -v c="$c" 'BEGIN {print s + c}')"
   done
 done
-awk -v w="$wall" -v cs="$cs" -v mb="$mb" -v n="$norec" -v r="$rec" 'BEGIN {
-  printf "  sweep -j 2 with records: %.2f s wall, %.2f s CPU (sweep and workers), %d MB written\n", w, cs, mb
-  printf "  the 26 runs one process each: %.2f s CPU without records, %.2f s with (records %.0f %%)\n", n, r, 100 * (r - n) / r
+awk -v w="$wall" -v cs="$cs" -v mb="$mb" -v n="$norec" -v l0="$load0" -v l1="$load1" 'BEGIN {
+  printf "  sweep -j 2 with records: %.2f s wall, %.2f s CPU (sweep and workers), %d MB written;\n", w, cs, mb
+  printf "    load average %s before, %s after (wall = CPU / 2 only on an idle machine)\n", l0, l1
+  printf "  the 26 runs without records, one process each: %.2f s CPU (physics and start-ups)\n", n
 }'
