@@ -9,9 +9,10 @@
 #  4. the seed domain (alpha 0:45:5,60,75,90 x k_n 3, 48, records) by `sweep -j 2`: wall seconds;
 #  5. process start-up: `voussoir --version`, mean CPU milliseconds (user + sys) over 50 starts
 #     (HDF5 and cairo are loaded only by the commands that need them: src/plugin.h);
-#  6. one run to collapse (--no-record) with 55 to 880 voussoirs: CPU seconds, and the cost
+#  6. one run to collapse (--no-record) with 55 to 1760 voussoirs: CPU seconds, and the cost
 #     relative to 55 voussoirs (linear: the ratio of the counts).
-# Each row prints both figures and their ratio this / previous (below 1: faster).
+# Each row prints both figures and their ratio this / previous (below 1: faster). The full mode
+# then prints runs/scaling.sh for this build (cost against the voussoir count, in detail).
 # --quick (what .ci/run uses): one run each (CI time: the record rows follow the fall to rest,
 # seconds each), no seed domain, 55 to 220 voussoirs.
 # usage: runs/bench.sh [--quick] [BINARY]
@@ -26,7 +27,7 @@ export VOUSSOIR
 source "$(dirname "$0")/lib.sh"
 bin="$(cd "$(dirname "$bin")" && pwd)/$(basename "$bin")" # the runs start in a scratch directory
 repeat=$((quick ? 1 : 5))
-sizes=(55 110 220 440 880) # the case allows at most 1000
+sizes=(55 110 220 440 880 1760)
 ((quick)) && sizes=(55 110 220)
 ref="$here/reference.ini"
 work="$(mktemp -d)"
@@ -108,7 +109,13 @@ startup() {
   cat "$work/t0" "$work/t1" | awk 'NR % 2 == 0 {gsub(/[ms]/, " "); t[NR] = 60 * $1 + $2 + 60 * $3 + $4}
                                    END {print 1e3 * (t[4] - t[2]) / 50}'
 }
-sized() { (cd "$work" && cpu_once "$1" run "$ref" -q --no-record --set arch.voussoirs="$2"); }
+sized() { # BINARY COUNT: CPU s, or nothing when that build refuses the count (exit 2: v0.1.0
+  local rc=0   # allowed at most 1000 voussoirs)
+  "$1" run "$ref" -q --no-record --set arch.voussoirs="$2" --set support.max_mm=1 >/dev/null 2>&1 ||
+    rc=$?
+  [ "$rc" = 2 ] && return 0
+  (cd "$work" && cpu_once "$1" run "$ref" -q --no-record --set arch.voussoirs="$2")
+}
 
 printf '  %-44s %10s %10s %7s\n' "" previous this ratio
 both "reference, --no-record (CPU s)" ref_run --no-record
@@ -128,3 +135,4 @@ for nv in "${sizes[@]}"; do
   x="$(awk -v b="$b" -v c="$b55" -v n="$nv" 'BEGIN {printf "x55 %.1f (count x%.0f)", b / c, n / 55}')"
   row "$nv voussoirs   $x" "$a" "$b"
 done
+((quick)) || { echo; "$here/scaling.sh" "$bin"; }

@@ -348,7 +348,9 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
             col->delta_detected / VS_MM, col->t_criterion);
     const char *mode = vs_run_mode(r);
     fprintf(out, "  hinges at collapse (left to right): %s;  first three: %s;  mode %s\n",
-            vs_run_pattern_collapse(r), vs_run_pattern_initial(r), mode ? mode : "unclassified");
+            vs_run_pattern_collapse(r)[0] ? vs_run_pattern_collapse(r) : "none",
+            vs_run_pattern_initial(r)[0] ? vs_run_pattern_initial(r) : "none",
+            mode ? mode : "unclassified");
     const double *rc = col->reactions_limit;
     if (isfinite(rc[0]))
       fprintf(out, "  reactions on the arch at the collapsing limit point: left Fx %.3f N, Fz %.3f N, "
@@ -356,6 +358,7 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
               rc[0], rc[1], rc[2], rc[3], rc[4], rc[5]);
     fprintf(out, "  label  joints          onset delta   onset time    dz/L     dx/L\n");
     for (int i = 0; i < col->n_hinges; i++) text_hinge_row(out, c, &col->hinges[i], 0);
+    if (col->n_hinges == 0) fprintf(out, "  (none open by hinges.open_mm)\n");
   } else if (status == VS_OK && (c->follow || c->full)) {
     components_pct(c, vs_run_delta(r), &dz, &dx);
     fprintf(out, "\nno collapse up to delta = %.4f mm (dz/L = %.3f %%, dx/L = %.3f %%)\n",

@@ -97,7 +97,7 @@ static const key_case all_keys[] = {
     {"arch", "radius_mm", "0.0009", "1.1e6", {"1e-3", "1e6"}},
     {"arch", "thickness_mm", "-1", "1000001", {"0.001", "1e6"}},
     {"arch", "embrace_deg", "0.99", "180.0001", {"180", "1"}},
-    {"arch", "voussoirs", "0", "1001", {"1", "1000"}},
+    {"arch", "voussoirs", "0", "2001", {"1", "2000"}},
     {"arch", "depth_mm", "-120", "2e6", {"1", "1e6"}},
     {"arch", "density_kg_m3", "9.99", "100001", {"2400", "10"}},
     {"arch", "gravity_m_s2", "-9.81", "1000.5", {"1.62", "0.1"}},
@@ -360,7 +360,7 @@ static void test_range_message_exact(void **state) {
   expect_read_error("[arch]\nembrace_deg = 200\n", VS_ERR_INVALID, 2,
                     "arch.embrace_deg = 200: out of range (allowed: [1, 180] deg)");
   expect_read_error("[arch]\nvoussoirs = 0\n", VS_ERR_INVALID, 2,
-                    "arch.voussoirs = 0: out of range (allowed: integer in [1, 1000])");
+                    "arch.voussoirs = 0: out of range (allowed: integer in [1, 2000])");
   expect_read_error("[solver]\nnewton_tol = 1\n", VS_ERR_INVALID, 2, "(allowed: (0, 0.01])");
 }
 
@@ -435,7 +435,7 @@ static void test_not_a_number(void **state) {
 static void test_integer_expected(void **state) {
   (void)state;
   expect_read_error("[arch]\nvoussoirs = 55.5\n", VS_ERR_PARSE, 2,
-                    "arch.voussoirs = 55.5: integer expected (allowed: integer in [1, 1000])");
+                    "arch.voussoirs = 55.5: integer expected (allowed: integer in [1, 2000])");
   expect_read_error("[arch]\nvoussoirs = 55.0\n", VS_ERR_PARSE, 2, "integer expected");
   expect_read_error("[arch]\nvoussoirs = 5e1\n", VS_ERR_PARSE, 2, "integer expected");
   expect_read_error("[arch]\nvoussoirs = 55x\n", VS_ERR_PARSE, 2, "unexpected characters");
@@ -646,7 +646,7 @@ static void test_validate(void **state) {
   expect_invalid(&c, "joints.kn_N_mm3", "[0.0001, 10000] N/mm^3");
   vs_case_defaults(&c);
   c.voussoirs = 0;
-  expect_invalid(&c, "arch.voussoirs = 0", "integer in [1, 1000]");
+  expect_invalid(&c, "arch.voussoirs = 0", "integer in [1, 2000]");
 
   assert_int_equal(vs_case_validate(NULL, &err), VS_ERR_INVALID);
   assert_int_equal(vs_case_validate(&c, NULL), VS_ERR_INVALID);
