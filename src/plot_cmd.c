@@ -1,7 +1,7 @@
 /* voussoir plot RUN.h5: pictures of a recorded run. The arch at true scale at the reference, at
  * each hinge's onset, at each limit point and settled snap, at the collapse and at the end, and
  * the support reaction and hinge joints against the support displacement. Reads the HDF5 record
- * written by output.c; draws with plot.c. */
+ * written by record.c; draws with plot.c. */
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
 #include <errno.h>
@@ -13,6 +13,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "h5util.h"
 #include "voussoir/geometry.h"
 #include "voussoir/hinges.h"
 #include "voussoir/imperfections.h"
@@ -61,31 +62,6 @@ typedef struct {
   FILE *json;      /* plots.json: what each picture shows (NULL: not written) */
   int n_pictures;  /* entries written to json so far */
 } record;
-
-/* Read a whole float64 dataset of n values; -1 if missing or of another size. */
-static int read_doubles(hid_t f, const char *path, double *out, size_t n) {
-  if (H5Lexists(f, path, H5P_DEFAULT) <= 0) return -1;
-  hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
-  if (d < 0) return -1;
-  hid_t sp = H5Dget_space(d);
-  const hssize_t np = H5Sget_simple_extent_npoints(sp);
-  int rc = (np == (hssize_t)n && H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) >= 0) ? 0 : -1;
-  H5Sclose(sp);
-  H5Dclose(d);
-  return rc;
-}
-
-static int dataset_rows(hid_t f, const char *path) {
-  if (H5Lexists(f, path, H5P_DEFAULT) <= 0) return -1;
-  hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
-  if (d < 0) return -1;
-  hid_t sp = H5Dget_space(d);
-  hsize_t dims[4] = {0};
-  int nd = H5Sget_simple_extent_dims(sp, dims, NULL);
-  H5Sclose(sp);
-  H5Dclose(d);
-  return nd >= 1 ? (int)dims[0] : -1;
-}
 
 /* The case from /parameters: every attribute of every section group, applied as a --set. */
 static herr_t on_attr(hid_t loc, const char *name, const H5A_info_t *info, void *data) {
@@ -138,7 +114,7 @@ static void record_free(record *r) {
 
 static int read_hinges(record *r) {
   const char *path = "/summary/hinges";
-  int n = dataset_rows(r->file, path);
+  int n = vs_h5_rows(r->file, path);
   if (n <= 0) return 0;
   hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(rec_hinge)), c1 = H5Tcopy(H5T_C_S1);
   H5Tset_size(c1, 1);
@@ -165,7 +141,7 @@ static int read_hinges(record *r) {
 
 static int read_limits(record *r) {
   const char *path = "/summary/limit_points";
-  int n = dataset_rows(r->file, path);
+  int n = vs_h5_rows(r->file, path);
   if (n <= 0) return 0;
   typedef struct {
     double delta, settled;
@@ -207,9 +183,9 @@ static vs_status record_geometry(record *r, vs_error *err) {
   vs_status st = vs_imperfections_draw(&r->c, &imp, err);
   const size_t nb = st == VS_OK ? (size_t)imp->n_blocks : 0;
   double *buf = st == VS_OK ? malloc((nb > 0 ? nb : 1) * sizeof *buf) : NULL;
-  if (buf != NULL && read_doubles(r->file, "/imperfections/voussoir_angle", buf, nb) == 0)
+  if (buf != NULL && vs_h5_read_doubles(r->file, "/imperfections/voussoir_angle", buf, nb) == 0)
     for (size_t i = 0; i < nb; i++) imp->angle_deg[i] = buf[i] / VS_DEG;
-  if (buf != NULL && read_doubles(r->file, "/imperfections/voussoir_thickness", buf, nb) == 0)
+  if (buf != NULL && vs_h5_read_doubles(r->file, "/imperfections/voussoir_thickness", buf, nb) == 0)
     for (size_t i = 0; i < nb; i++) imp->thickness_mm[i] = buf[i] / VS_MM;
   free(buf);
   if (st == VS_OK) st = vs_imperfections_arch(&r->c, imp, &r->g, err);
@@ -250,7 +226,7 @@ static int record_open(const char *path, record *r) {
   }
   r->nb = r->g->n_blocks;
   r->nj = r->g->n_joints;
-  r->rows = dataset_rows(r->file, "/observables/delta/value");
+  r->rows = vs_h5_rows(r->file, "/observables/delta/value");
   if (r->rows <= 0) {
     snprintf(r->msg, sizeof r->msg, "%.400s: the record holds no state", path);
     return -1;
@@ -269,24 +245,24 @@ static int record_open(const char *path, record *r) {
     return -1;
   }
   hid_t hd = H5Dopen2(r->file, "/observables/joint_hinge/value", H5P_DEFAULT);
-  const int bad = read_doubles(r->file, "/observables/delta/value", r->delta, n) ||
-                  read_doubles(r->file, "/observables/block_position/value", r->pos, n * 3 * (size_t)r->nb) ||
-                  read_doubles(r->file, "/observables/joint_gap_i/value", r->gap_i, n * (size_t)r->nj) ||
-                  read_doubles(r->file, "/observables/joint_gap_e/value", r->gap_e, n * (size_t)r->nj) ||
-                  read_doubles(r->file, "/observables/reactions/value", r->react, n * 6) ||
-                  read_doubles(r->file, "/observables/joint_N/value", r->jN, n * (size_t)r->nj) ||
-                  read_doubles(r->file, "/observables/joint_M/value", r->jM, n * (size_t)r->nj) || hd < 0 ||
+  const int bad = vs_h5_read_doubles(r->file, "/observables/delta/value", r->delta, n) ||
+                  vs_h5_read_doubles(r->file, "/observables/block_position/value", r->pos, n * 3 * (size_t)r->nb) ||
+                  vs_h5_read_doubles(r->file, "/observables/joint_gap_i/value", r->gap_i, n * (size_t)r->nj) ||
+                  vs_h5_read_doubles(r->file, "/observables/joint_gap_e/value", r->gap_e, n * (size_t)r->nj) ||
+                  vs_h5_read_doubles(r->file, "/observables/reactions/value", r->react, n * 6) ||
+                  vs_h5_read_doubles(r->file, "/observables/joint_N/value", r->jN, n * (size_t)r->nj) ||
+                  vs_h5_read_doubles(r->file, "/observables/joint_M/value", r->jM, n * (size_t)r->nj) || hd < 0 ||
                   H5Dread(hd, H5T_NATIVE_SCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, r->hinge) < 0;
   if (hd >= 0) H5Dclose(hd);
   if (bad || read_hinges(r) || read_limits(r)) {
     snprintf(r->msg, sizeof r->msg, "%.400s: the record's time series are incomplete", path);
     return -1;
   }
-  read_doubles(r->file, "/summary/collapse/delta", &r->collapse, 1);
+  vs_h5_read_doubles(r->file, "/summary/collapse/delta", &r->collapse, 1);
   r->ground = NAN;
   if (H5Lexists(r->file, "/summary/ground", H5P_DEFAULT) > 0 &&
       H5Lexists(r->file, "/summary/ground/level", H5P_DEFAULT) > 0 &&
-      read_doubles(r->file, "/summary/ground/level", &r->ground, 1) != 0)
+      vs_h5_read_doubles(r->file, "/summary/ground/level", &r->ground, 1) != 0)
     r->ground = NAN;
   return 0;
 }
@@ -603,7 +579,7 @@ static int read_sweep(hid_t f, sweep_pt **out) {
       info.type != H5O_TYPE_DATASET)
     return -1;
   hid_t d = H5Dopen2(f, "/summary", H5P_DEFAULT), ft = H5Dget_type(d);
-  const int n = dataset_rows(f, "/summary");
+  const int n = vs_h5_rows(f, "/summary");
   hid_t str = H5Tcopy(H5T_C_S1);
   H5Tset_size(str, H5T_VARIABLE);
   H5Tset_cset(str, H5T_CSET_UTF8);
