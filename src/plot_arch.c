@@ -4,6 +4,7 @@
 #include "voussoir/plot.h"
 
 #include "plot_draw.h"
+#include "voussoir/support.h"
 #include "voussoir/units.h"
 
 #include <math.h>
@@ -88,11 +89,6 @@ static int support_outline(const vs_geometry *g, int left, const double u[2], do
   return SUPPORT_PTS;
 }
 
-static void support_displacement(double delta, double alpha, double su[2]) {
-  su[0] = delta * sin(alpha);
-  su[1] = -delta * cos(alpha);
-}
-
 /* ---------------------------------------------------------------------------------------------
  * Arch: validation and frame */
 
@@ -162,7 +158,7 @@ vs_status vs_plot_arch_frame(const vs_geometry *g, const double *q, double delta
   vs_status st = check_arch(g, q, delta_m, alpha_rad, err);
   if (st != VS_OK) return st;
   double su[2];
-  support_displacement(delta_m, alpha_rad, su);
+  vs_support_displacement(vs_support_direction(alpha_rad), delta_m, su);
   arch_frame(g, q, NULL, su, NAN, f);
   return VS_OK;
 }
@@ -460,7 +456,7 @@ vs_status vs_plot_thrust_points(const vs_geometry *g, const double *q, double de
   if (joint_N == NULL || joint_M == NULL || x == NULL || z == NULL)
     return vs_error_set(err, VS_ERR_INVALID, "plot: thrust points need N, M, x and z");
   arch_data d = {.g = g, .q = q, .delta = delta_m, .alpha = alpha_rad, .N = joint_N, .M = joint_M};
-  support_displacement(delta_m, alpha_rad, d.su);
+  vs_support_displacement(vs_support_direction(alpha_rad), delta_m, d.su);
   for (int k = 0; k < g->n_joints; k++)
     if (!thrust_point(&d, k, &x[k], &z[k])) x[k] = z[k] = NAN;
   return VS_OK;
@@ -613,7 +609,7 @@ vs_status vs_plot_arch_draw(const char *path, vs_plot_format fmt, const vs_plot_
   if (a->has_ground && !isfinite(a->ground_z))
     return vs_error_set(err, VS_ERR_INVALID, "plot: ground z = %g m (allowed: finite)",
                         a->ground_z);
-  support_displacement(a->delta_m, a->alpha_rad, d.su);
+  vs_support_displacement(vs_support_direction(a->alpha_rad), a->delta_m, d.su);
   arch_frame(g, a->q, d.thick, d.su, d.ground, &d.f);
   return vs_plot_emit(path, fmt, d.f.width, d.f.height, draw_arch, &d, err);
 }

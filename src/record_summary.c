@@ -6,6 +6,7 @@
 
 #include "record_internal.h"
 #include "voussoir/damping.h"
+#include "voussoir/support.h"
 #include "voussoir/units.h"
 
 typedef struct {
@@ -142,16 +143,17 @@ static herr_t limits_table(hid_t loc, const vs_run *run) {
 static herr_t summary_collapse(hid_t sum, const vs_run *run) {
   const vs_collapse_record *c = vs_run_collapse(run);
   const vs_case *cs = vs_run_case(run);
-  const double L = vs_run_geometry(run)->span, alpha = cs->alpha_deg * VS_DEG;
+  const double L = vs_run_geometry(run)->span;
+  const vs_support_dir sd = vs_support_case_direction(cs);
   const double rate = cs->rate_mm_s * VS_MM;
   hid_t g = vs_h5_group_create(sum, "collapse");
   herr_t rc = g >= 0 ? vs_h5_attr_int(g, "found", c->found) : -1;
   if (rc >= 0) rc = vs_h5_attr_str(g, "pattern", vs_run_pattern_collapse(run));
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "delta", c->found ? c->delta : NAN, "m");
   if (rc >= 0)
-    rc = vs_h5_dset_scalar(g, "dz_over_L", c->found ? c->delta * cos(alpha) / L : NAN, "1");
+    rc = vs_h5_dset_scalar(g, "dz_over_L", c->found ? c->delta * sd.dz / L : NAN, "1");
   if (rc >= 0)
-    rc = vs_h5_dset_scalar(g, "dx_over_L", c->found ? c->delta * sin(alpha) / L : NAN, "1");
+    rc = vs_h5_dset_scalar(g, "dx_over_L", c->found ? c->delta * sd.dx / L : NAN, "1");
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "time", c->found ? c->t : NAN, "s");
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "delta_detected", c->found ? c->delta_detected : NAN, "m");
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "time_detected", c->found ? c->t_criterion : NAN, "s");

@@ -434,17 +434,6 @@ static int cmp_hinge_first(const void *x, const void *y) {
   return (a->first > b->first) - (a->first < b->first);
 }
 
-/* Sides of hinges left to right, "I-E-E". */
-static void side_pattern(const vs_hinge *h, int n, char *buf, size_t size) {
-  size_t used = 0;
-  buf[0] = '\0';
-  for (int i = 0; i < n && used + 2 < size; i++) {
-    buf[used++] = h[i].side;
-    if (i + 1 < n) buf[used++] = '-';
-  }
-  buf[used] = '\0';
-}
-
 static void record_collapse(vs_run *r, const vs_dyn_result *d) {
   vs_collapse_record *c = &r->collapse;
   c->found = 1;
@@ -469,21 +458,13 @@ static void record_collapse(vs_run *r, const vs_dyn_result *d) {
  * collapse. */
 static void classify(vs_run *r) {
   r->mode = NULL;
-  r->pattern0[0] = r->pattern_u[0] = '\0';
-  if (vs_hinges_count(r->h) >= 3) {
-    vs_hinge abc[3];
-    for (int i = 0; i < 3; i++) abc[i] = *vs_hinges_get(r->h, i);
-    qsort(abc, 3, sizeof abc[0], cmp_hinge_first);
-    side_pattern(abc, 3, r->pattern0, sizeof r->pattern0);
-  }
+  r->pattern_u[0] = '\0';
+  vs_hinges_pattern_first(r->h, r->pattern0, sizeof r->pattern0);
   if (r->collapse.found)
-    side_pattern(r->collapse.hinges, r->collapse.n_hinges, r->pattern_u, sizeof r->pattern_u);
-  if (!r->collapse.found || r->pattern0[0] == '\0') return;
-  if (strcmp(r->pattern0, "I-E-E") == 0 && strcmp(r->pattern_u, "E-I-E-E") == 0) r->mode = "I";
-  else if (strcmp(r->pattern0, "I-E-E") == 0 && strcmp(r->pattern_u, "E-I-E-I") == 0) r->mode = "II";
-  else if (strcmp(r->pattern0, "I-E-I") == 0 &&
-           (strcmp(r->pattern_u, "E-I-E-I") == 0 || strcmp(r->pattern_u, "E-I-E-I-E") == 0))
-    r->mode = "III";
+    vs_hinges_side_pattern(r->collapse.hinges, r->collapse.n_hinges, r->pattern_u,
+                           sizeof r->pattern_u);
+  if (r->collapse.found && r->pattern0[0] != '\0')
+    r->mode = vs_hinges_mode(r->pattern0, r->pattern_u);
 }
 
 /* The motion from a limit point (or from rest at the start, full-dynamic): integrate; whenever
