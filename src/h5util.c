@@ -95,6 +95,18 @@ herr_t vs_h5_attr_str(hid_t obj, const char *name, const char *value) {
   return rc;
 }
 
+herr_t vs_h5_attr_cstr(hid_t obj, const char *name, const char *value) {
+  hid_t t = H5Tcopy(H5T_C_S1), s = H5Screate(H5S_SCALAR), a = H5I_INVALID_HID;
+  herr_t rc = -1;
+  if (t >= 0 && H5Tset_size(t, strlen(value) + 1) >= 0 && s >= 0)
+    a = H5Acreate2(obj, name, t, s, H5P_DEFAULT, H5P_DEFAULT);
+  if (a >= 0) rc = H5Awrite(a, t, value);
+  vs_h5_close(a);
+  vs_h5_close(s);
+  vs_h5_close(t);
+  return rc;
+}
+
 /* Scalar numeric attribute: ftype in the file, mtype and *value in memory. */
 herr_t vs_h5_attr_num(hid_t obj, const char *name, hid_t ftype, hid_t mtype, const void *value) {
   herr_t rc = -1;

@@ -35,6 +35,9 @@ hid_t vs_h5_fixed_str_type(size_t n);
 /* Scalar attribute name = value (variable-length UTF-8 string); an existing one is overwritten
  * in place (the object header keeps its size). */
 herr_t vs_h5_attr_str(hid_t obj, const char *name, const char *value);
+/* Scalar attribute name = value as a fixed-length ASCII string of strlen(value) + 1 bytes,
+ * NUL-terminated (the Monte Carlo summary's attributes). */
+herr_t vs_h5_attr_cstr(hid_t obj, const char *name, const char *value);
 /* Scalar numeric attribute: ftype in the file, mtype and *value in memory. */
 herr_t vs_h5_attr_num(hid_t obj, const char *name, hid_t ftype, hid_t mtype, const void *value);
 herr_t vs_h5_attr_int(hid_t obj, const char *name, long long v); /* int64 */

@@ -35,9 +35,7 @@ static int read_sweep(hid_t f, sweep_pt **out) {
     return -1;
   hid_t d = H5Dopen2(f, "/summary", H5P_DEFAULT), ft = H5Dget_type(d);
   const int n = vs_h5_rows(f, "/summary");
-  hid_t str = H5Tcopy(H5T_C_S1);
-  H5Tset_size(str, H5T_VARIABLE);
-  H5Tset_cset(str, H5T_CSET_UTF8);
+  hid_t str = vs_h5_vlstr_type();
   hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(sweep_pt));
   if (H5Tget_member_index(ft, "joints.kn_N_mm3") >= 0)
     H5Tinsert(t, "joints.kn_N_mm3", HOFFSET(sweep_pt, kn), H5T_NATIVE_DOUBLE);
