@@ -56,13 +56,9 @@ vs_status vs_record_geometry_init(vs_output *o, const vs_geometry *g) {
   return VS_OK;
 }
 
-static herr_t write_geometry(const vs_output *o, const vs_geometry *g) {
-  hid_t grp = vs_h5_group_create(o->file, "geometry");
-  if (grp < 0) return -1;
-  const size_t nb = (size_t)o->nb, nj = (size_t)o->nj, np = (size_t)o->np;
-  double *buf = malloc((nb > nj ? nb : nj) * 2 * sizeof *buf);
-  int32_t *conn = malloc((nb * np > nj * 2 ? nb * np : nj * 2) * sizeof *conn);
-  herr_t rc = (buf != NULL && conn != NULL) ? 0 : -1;
+/* The per-block and per-joint columns of /geometry; buf holds 2 max(nb, nj) values. */
+static herr_t geometry_columns(hid_t grp, const vs_geometry *g, size_t nb, size_t nj, double *buf) {
+  herr_t rc = 0;
   hsize_t d2[2];
 #define GEO_COLUMN(n_, expr, name, unit)                                                           \
   do {                                                                                             \
@@ -91,6 +87,15 @@ static herr_t write_geometry(const vs_output *o, const vs_geometry *g) {
   }
 #undef GEO_COLUMN
 #undef GEO_PAIR
+  return rc;
+}
+
+/* The joints' bodies and the outlines' points and connectivity; conn holds max(nb np, 2 nj). */
+static herr_t geometry_outlines(hid_t grp, const vs_output *o, const vs_geometry *g,
+                                int32_t *conn) {
+  const size_t nb = (size_t)o->nb, nj = (size_t)o->nj, np = (size_t)o->np;
+  herr_t rc = 0;
+  hsize_t d2[2];
   if (rc >= 0) {
     for (size_t i = 0; i < nj; i++) conn[2 * i] = g->joints[i].a, conn[2 * i + 1] = g->joints[i].b;
     d2[0] = nj, d2[1] = 2;
@@ -115,7 +120,12 @@ static herr_t write_geometry(const vs_output *o, const vs_geometry *g) {
   if (rc >= 0)
     rc = vs_h5_dset_write(grp, "joint_connectivity", H5T_STD_I32LE, H5T_NATIVE_INT32, 2, d2, conn,
                           NULL, "intrados,extrados");
-  if (rc >= 0) rc = vs_h5_dset_scalar(grp, "radius", g->radius, "m");
+  return rc;
+}
+
+/* The arch's scalars, the counts and the description. */
+static herr_t geometry_scalars(hid_t grp, const vs_output *o, const vs_geometry *g) {
+  herr_t rc = vs_h5_dset_scalar(grp, "radius", g->radius, "m");
   if (rc >= 0) rc = vs_h5_dset_scalar(grp, "thickness", g->thickness, "m");
   if (rc >= 0) rc = vs_h5_dset_scalar(grp, "embrace", g->embrace, "rad");
   if (rc >= 0) rc = vs_h5_dset_scalar(grp, "span", g->span, "m");
@@ -131,6 +141,19 @@ static herr_t write_geometry(const vs_output *o, const vs_geometry *g) {
         "outline is block_points[i*P:(i+1)*P] (P = points_per_block): intrados arc from "
         "phi0 to phi1, then extrados arc back. Joint k (1-based in reports) is row k-1; "
         "joint_bodies: block index, -1 left support, -2 right support");
+  return rc;
+}
+
+static herr_t write_geometry(const vs_output *o, const vs_geometry *g) {
+  hid_t grp = vs_h5_group_create(o->file, "geometry");
+  if (grp < 0) return -1;
+  const size_t nb = (size_t)o->nb, nj = (size_t)o->nj, np = (size_t)o->np;
+  double *buf = malloc((nb > nj ? nb : nj) * 2 * sizeof *buf);
+  int32_t *conn = malloc((nb * np > nj * 2 ? nb * np : nj * 2) * sizeof *conn);
+  herr_t rc = (buf != NULL && conn != NULL) ? 0 : -1;
+  if (rc >= 0) rc = geometry_columns(grp, g, nb, nj, buf);
+  if (rc >= 0) rc = geometry_outlines(grp, o, g, conn);
+  if (rc >= 0) rc = geometry_scalars(grp, o, g);
   free(buf);
   free(conn);
   vs_h5_close(grp);
