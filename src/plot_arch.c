@@ -12,158 +12,6 @@
 #include <string.h>
 
 /* ---------------------------------------------------------------------------------------------
- * Arch kinematics (model coordinates, m) */
-
-enum { ARC_MAX = 182 }; /* points per arc: one per degree over at most 180 degrees, plus one */
-enum { SUPPORT_PTS = 5 };
-
-/* Point X, Z of body `body` (a block index or a support) moved: x = c + u + R(theta)(X - c). */
-static void body_point(const vs_geometry *g, const double *q, const double su[2],
-                       const double *srot, int body, double X, double Z, double *x, double *z) {
-  if (body < 0 || q == NULL) {
-    const int moved = body == VS_SUPPORT_RIGHT;
-    const double th = body < 0 && srot != NULL ? srot[moved] : 0.0;
-    if (th != 0.0) { /* a pinned springer turns about the centre of its springing face */
-      const vs_joint_geom *j = &g->joints[moved ? g->n_joints - 1 : 0];
-      const double c = cos(th), s = sin(th), dx = X - j->px, dz = Z - j->pz;
-      X = j->px + c * dx - s * dz;
-      Z = j->pz + s * dx + c * dz;
-    }
-    *x = X + (moved ? su[0] : 0.0);
-    *z = Z + (moved ? su[1] : 0.0);
-    return;
-  }
-  const vs_block *b = &g->blocks[body];
-  const double *qi = q + 3 * body, c = cos(qi[2]), s = sin(qi[2]);
-  double dx = X - b->cx, dz = Z - b->cz;
-  *x = b->cx + qi[0] + c * dx - s * dz;
-  *z = b->cz + qi[1] + s * dx + c * dz;
-}
-
-/* Reference ends of joint j: intrados (eta = 0) and extrados (eta = length). */
-static void joint_ends(const vs_joint_geom *j, double e[4]) {
-  double sx, sz, h = 0.5 * j->length;
-  vs_joint_tangent(j, &sx, &sz);
-  e[0] = j->px - h * sx;
-  e[1] = j->pz - h * sz;
-  e[2] = j->px + h * sx;
-  e[3] = j->pz + h * sz;
-}
-
-static int arc_points(double dphi) {
-  int m = (int)ceil(fabs(dphi) / VS_DEG - 1e-9) + 1;
-  if (m < 2) m = 2;
-  return m > ARC_MAX ? ARC_MAX : m;
-}
-
-/* Outline of block i moved by q (NULL: reference): the intrados arc phi0 -> phi1, then the
- * extrados arc back, at the block's own thickness thick[i] (NULL: the geometry's). x, z hold 2
- * ARC_MAX points; returns the number written. */
-static int block_outline(const vs_geometry *g, const double *q, const double *thick, int i,
-                         double *x, double *z) {
-  const vs_block *b = &g->blocks[i];
-  const double r[2] = {g->radius, g->radius + (thick != NULL ? thick[i] : g->thickness)};
-  const double su[2] = {0.0, 0.0};
-  int m = arc_points(b->phi1 - b->phi0), k = 0;
-  for (int side = 0; side < 2; side++)
-    for (int p = 0; p < m; p++, k++) {
-      double f = (double)(side ? m - 1 - p : p) / (m - 1);
-      double phi = b->phi0 + f * (b->phi1 - b->phi0);
-      body_point(g, q, su, NULL, i, r[side] * sin(phi), r[side] * cos(phi), &x[k], &z[k]);
-    }
-  return k;
-}
-
-/* A skewback abutment under the springing face of the left (left = 1) or right support,
- * translated by u: the face, a level top outward, an outer vertical, a base 2t below the
- * intrados end, an inner vertical back up. Returns SUPPORT_PTS. */
-static int support_outline(const vs_geometry *g, int left, const double u[2], double *x,
-                           double *z) {
-  double e[4];
-  joint_ends(&g->joints[left ? 0 : g->n_joints - 1], e);
-  const double t = g->thickness, out = (e[2] < e[0]) ? -1.0 : 1.0;
-  const double xo = e[2] + out * 1.5 * t, zb = e[1] - 2.0 * t;
-  const double px[SUPPORT_PTS] = {e[0], e[2], xo, xo, e[0]};
-  const double pz[SUPPORT_PTS] = {e[1], e[3], e[3], zb, zb};
-  for (int k = 0; k < SUPPORT_PTS; k++) x[k] = px[k] + u[0], z[k] = pz[k] + u[1];
-  return SUPPORT_PTS;
-}
-
-/* ---------------------------------------------------------------------------------------------
- * Arch: validation and frame */
-
-enum { ARCH_SIDE = 50, ARCH_TOP = 95, ARCH_BOTTOM = 75 }; /* margins, px */
-
-static vs_status check_arch(const vs_geometry *g, const double *q, double delta, double alpha,
-                            vs_error *err) {
-  if (g == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no geometry");
-  if (!(g->radius > 0.0 && g->thickness > 0.0) || g->n_blocks < 1 ||
-      g->n_joints != g->n_blocks + 1 || g->joints[0].a != VS_SUPPORT_LEFT ||
-      g->joints[g->n_blocks].b != VS_SUPPORT_RIGHT)
-    return vs_error_set(err, VS_ERR_INVALID,
-                        "plot: the geometry is not an arch (radius, thickness, n + 1 joints)");
-  for (int i = 0; i < g->n_blocks; i++) {
-    double d = g->blocks[i].phi1 - g->blocks[i].phi0;
-    if (!(d > 0.0 && d <= VS_PI + 1e-9))
-      return vs_error_set(err, VS_ERR_INVALID, "plot: block %d spans %g rad (allowed: (0, pi])",
-                          i + 1, d);
-  }
-  if (!isfinite(delta) || !isfinite(alpha))
-    return vs_error_set(err, VS_ERR_INVALID, "plot: delta = %g m, alpha = %g rad: not finite",
-                        delta, alpha);
-  for (int k = 0; q != NULL && k < 3 * g->n_blocks; k++)
-    if (!isfinite(q[k]))
-      return vs_error_set(err, VS_ERR_INVALID, "plot: state entry %d is not finite", k);
-  return VS_OK;
-}
-
-typedef struct {
-  double x0, x1, z0, z1;
-} box;
-
-static void box_add(box *b, const double *x, const double *z, int n) {
-  for (int k = 0; k < n; k++) {
-    b->x0 = fmin(b->x0, x[k]);
-    b->x1 = fmax(b->x1, x[k]);
-    b->z0 = fmin(b->z0, z[k]);
-    b->z1 = fmax(b->z1, z[k]);
-  }
-}
-
-static void arch_frame(const vs_geometry *g, const double *q, const double *thick,
-                       const double su[2], double ground, vs_plot_frame *f) {
-  double x[2 * ARC_MAX], z[2 * ARC_MAX];
-  const double zero[2] = {0.0, 0.0};
-  box b = {INFINITY, -INFINITY, INFINITY, -INFINITY};
-  for (int i = 0; i < g->n_blocks; i++) {
-    box_add(&b, x, z, block_outline(g, NULL, thick, i, x, z));
-    if (q != NULL) box_add(&b, x, z, block_outline(g, q, thick, i, x, z));
-  }
-  box_add(&b, x, z, support_outline(g, 1, zero, x, z));
-  box_add(&b, x, z, support_outline(g, 0, zero, x, z));
-  box_add(&b, x, z, support_outline(g, 0, su, x, z));
-  if (isfinite(ground)) box_add(&b, &b.x0, &ground, 1);
-  const int w = VS_PLOT_ARCH_WIDTH, h = VS_PLOT_ARCH_HEIGHT;
-  const double aw = w - 2.0 * ARCH_SIDE, ah = h - ARCH_TOP - ARCH_BOTTOM;
-  const double bw = fmax(b.x1 - b.x0, 1e-9), bh = fmax(b.z1 - b.z0, 1e-9);
-  f->width = w;
-  f->height = h;
-  f->scale = fmin(aw / bw, ah / bh);
-  f->x0 = ARCH_SIDE + 0.5 * (aw - f->scale * bw) - f->scale * b.x0;
-  f->y0 = ARCH_TOP + 0.5 * (ah - f->scale * bh) + f->scale * b.z1;
-}
-
-vs_status vs_plot_arch_frame(const vs_geometry *g, const double *q, double delta_m,
-                             double alpha_rad, vs_plot_frame *f, vs_error *err) {
-  vs_status st = check_arch(g, q, delta_m, alpha_rad, err);
-  if (st != VS_OK) return st;
-  double su[2];
-  vs_support_displacement(vs_support_direction(alpha_rad), delta_m, su);
-  arch_frame(g, q, NULL, su, NAN, f);
-  return VS_OK;
-}
-
-/* ---------------------------------------------------------------------------------------------
  * Arch: drawing */
 
 typedef struct {
@@ -202,7 +50,7 @@ static void draw_blocks(cairo_t *cr, const arch_data *d, const double *q, int fa
   double x[2 * ARC_MAX], z[2 * ARC_MAX];
   cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
   for (int i = 0; i < d->g->n_blocks; i++) {
-    model_path(cr, &d->f, x, z, block_outline(d->g, q, d->thick, i, x, z));
+    model_path(cr, &d->f, x, z, vs_plot_block_outline(d->g, q, d->thick, i, x, z));
     vs_plot_set_rgb(cr, faint ? ref_fill : stone[i % 2]);
     cairo_fill_preserve(cr);
     cairo_set_line_width(cr, faint ? 0.8 : 0.7);
@@ -235,12 +83,12 @@ static void draw_springer(cairo_t *cr, const arch_data *d, int left) {
   const int body = left ? VS_SUPPORT_LEFT : VS_SUPPORT_RIGHT;
   const double in = left ? -1.0 : 1.0, h = 0.6 * d->g->thickness; /* into the support */
   double e[4], X[4], Z[4], x[4], z[4];
-  joint_ends(j, e);
+  vs_plot_joint_ends(j, e);
   X[0] = e[0], Z[0] = e[1], X[1] = e[2], Z[1] = e[3];
   X[2] = e[2] + in * h * j->nx, Z[2] = e[3] + in * h * j->nz;
   X[3] = e[0] + in * h * j->nx, Z[3] = e[1] + in * h * j->nz;
   for (int k = 0; k < 4; k++)
-    body_point(d->g, NULL, d->su, d->srot, body, X[k], Z[k], &x[k], &z[k]);
+    vs_plot_body_point(d->g, NULL, d->su, d->srot, body, X[k], Z[k], &x[k], &z[k]);
   model_path(cr, &d->f, x, z, 4);
   cairo_set_source_rgb(cr, 0.55, 0.55, 0.60);
   cairo_fill_preserve(cr);
@@ -248,7 +96,7 @@ static void draw_springer(cairo_t *cr, const arch_data *d, int left) {
   cairo_set_line_width(cr, 1.2);
   cairo_stroke(cr);
   double px, py, cx, cz;
-  body_point(d->g, NULL, d->su, d->srot, body, j->px, j->pz, &cx, &cz);
+  vs_plot_body_point(d->g, NULL, d->su, d->srot, body, j->px, j->pz, &cx, &cz);
   vs_plot_to_px(&d->f, cx, cz, &px, &py);
   vs_plot_dot(cr, px, py, 5.0, C_WHITE);
   cairo_new_path(cr);
@@ -286,14 +134,14 @@ static void draw_supports(cairo_t *cr, const arch_data *d) {
   const double zero[2] = {0.0, 0.0};
   const double dash[2] = {6.0, 4.0};
   /* the right support's fixed position, dashed, under everything */
-  model_path(cr, &d->f, x, z, support_outline(d->g, 0, zero, x, z));
+  model_path(cr, &d->f, x, z, vs_plot_support_outline(d->g, 0, zero, x, z));
   cairo_set_source_rgb(cr, 0.55, 0.55, 0.55);
   cairo_set_line_width(cr, 1.0);
   cairo_set_dash(cr, dash, 2, 0.0);
   cairo_stroke(cr);
   cairo_set_dash(cr, NULL, 0, 0.0);
   for (int left = 1; left >= 0; left--) {
-    support_outline(d->g, left, left ? zero : d->su, x, z);
+    vs_plot_support_outline(d->g, left, left ? zero : d->su, x, z);
     model_path(cr, &d->f, x, z, SUPPORT_PTS);
     cairo_set_source_rgb(cr, 0.70, 0.70, 0.70);
     cairo_fill_preserve(cr);
@@ -319,12 +167,12 @@ static void draw_support_arrow(cairo_t *cr, const arch_data *d) {
 static void joint_faces(const arch_data *d, int k, double fa[4], double fb[4]) {
   const vs_joint_geom *j = &d->g->joints[k];
   double e[4];
-  joint_ends(j, e);
+  vs_plot_joint_ends(j, e);
   for (int p = 0; p < 2; p++) {
-    body_point(d->g, d->q, d->su, d->srot, j->a, e[2 * p], e[2 * p + 1], &fa[2 * p],
-               &fa[2 * p + 1]);
-    body_point(d->g, d->q, d->su, d->srot, j->b, e[2 * p], e[2 * p + 1], &fb[2 * p],
-               &fb[2 * p + 1]);
+    vs_plot_body_point(d->g, d->q, d->su, d->srot, j->a, e[2 * p], e[2 * p + 1], &fa[2 * p],
+                       &fa[2 * p + 1]);
+    vs_plot_body_point(d->g, d->q, d->su, d->srot, j->b, e[2 * p], e[2 * p + 1], &fb[2 * p],
+                       &fb[2 * p + 1]);
   }
 }
 
@@ -451,7 +299,7 @@ static void draw_thrust(cairo_t *cr, const arch_data *d) {
 vs_status vs_plot_thrust_points(const vs_geometry *g, const double *q, double delta_m,
                                 double alpha_rad, const double *joint_N, const double *joint_M,
                                 double *x, double *z, vs_error *err) {
-  vs_status st = check_arch(g, q, delta_m, alpha_rad, err);
+  vs_status st = vs_plot_check_arch(g, q, delta_m, alpha_rad, err);
   if (st != VS_OK) return st;
   if (joint_N == NULL || joint_M == NULL || x == NULL || z == NULL)
     return vs_error_set(err, VS_ERR_INVALID, "plot: thrust points need N, M, x and z");
@@ -562,10 +410,10 @@ static vs_status check_hinges(const vs_geometry *g, const vs_hinge *hinges, int 
   return VS_OK;
 }
 
-vs_status vs_plot_arch(const char *path, vs_plot_format fmt, const vs_geometry *g,
-                       const double *q, double delta_m, double alpha_rad, const vs_hinge *hinges,
-                       int n_hinges, const double *joint_gap_i, const double *joint_gap_e,
-                       double open_m, const char *title, vs_error *err) {
+vs_status vs_plot_arch(const char *path, vs_plot_format fmt, const vs_geometry *g, const double *q,
+                       double delta_m, double alpha_rad, const vs_hinge *hinges, int n_hinges,
+                       const double *joint_gap_i, const double *joint_gap_e, double open_m,
+                       const char *title, vs_error *err) {
   return vs_plot_arch_thrust(path, fmt, g, q, delta_m, alpha_rad, hinges, n_hinges, joint_gap_i,
                              joint_gap_e, open_m, NULL, NULL, title, err);
 }
@@ -586,7 +434,7 @@ vs_status vs_plot_arch_draw(const char *path, vs_plot_format fmt, const vs_plot_
                             vs_error *err) {
   if (path == NULL || a == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no file name");
   const vs_geometry *g = a->g;
-  vs_status st = check_arch(g, a->q, a->delta_m, a->alpha_rad, err);
+  vs_status st = vs_plot_check_arch(g, a->q, a->delta_m, a->alpha_rad, err);
   if (st == VS_OK) st = check_hinges(g, a->hinges, a->n_hinges, err);
   if (st != VS_OK) return st;
   if (!(a->open_m >= 0.0))
@@ -610,7 +458,7 @@ vs_status vs_plot_arch_draw(const char *path, vs_plot_format fmt, const vs_plot_
     return vs_error_set(err, VS_ERR_INVALID, "plot: ground z = %g m (allowed: finite)",
                         a->ground_z);
   vs_support_displacement(vs_support_direction(a->alpha_rad), a->delta_m, d.su);
-  arch_frame(g, a->q, d.thick, d.su, d.ground, &d.f);
+  vs_plot_frame_of(g, a->q, d.thick, d.su, d.ground, &d.f);
   return vs_plot_emit(path, fmt, d.f.width, d.f.height, draw_arch, &d, err);
 }
 

@@ -42,4 +42,33 @@ void vs_plot_arrow(cairo_t *cr, double x0, double y0, double x1, double y1, doub
 /* 1, 2 or 5 times a power of ten, near range / target. */
 double vs_plot_nice_step(double range, int target);
 
+/* The arch's geometry in model coordinates, m (plot_frame.c) */
+enum { ARC_MAX = 182 }; /* points per arc: one per degree over at most 180 degrees, plus one */
+enum { SUPPORT_PTS = 5 };
+enum { ARCH_SIDE = 50, ARCH_TOP = 95, ARCH_BOTTOM = 75 }; /* margins, px */
+
+/* Point X, Z of body `body` (a block index or a support) moved: x = c + u + R(theta)(X - c);
+ * q NULL: the reference; su the right support's displacement, srot the springers' rotations
+ * (NULL: none). */
+void vs_plot_body_point(const vs_geometry *g, const double *q, const double su[2],
+                        const double *srot, int body, double X, double Z, double *x, double *z);
+/* Reference ends of joint j: intrados (eta = 0) and extrados (eta = length). */
+void vs_plot_joint_ends(const vs_joint_geom *j, double e[4]);
+/* Outline of block i moved by q (NULL: reference): the intrados arc phi0 -> phi1, then the
+ * extrados arc back, at the block's own thickness thick[i] (NULL: the geometry's). x, z hold 2
+ * ARC_MAX points; returns the number written. */
+int vs_plot_block_outline(const vs_geometry *g, const double *q, const double *thick, int i,
+                          double *x, double *z);
+/* A skewback abutment under the springing face of the left (left = 1) or right support,
+ * translated by u. Returns SUPPORT_PTS. */
+int vs_plot_support_outline(const vs_geometry *g, int left, const double u[2], double *x,
+                            double *z);
+/* The arguments every arch picture checks (geometry, state, delta, alpha). */
+vs_status vs_plot_check_arch(const vs_geometry *g, const double *q, double delta, double alpha,
+                             vs_error *err);
+/* The frame (scale, origin) that shows the arch in state q, its supports and the ground (NaN:
+ * none). */
+void vs_plot_frame_of(const vs_geometry *g, const double *q, const double *thick,
+                      const double su[2], double ground, vs_plot_frame *f);
+
 #endif
