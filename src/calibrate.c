@@ -8,6 +8,7 @@
 
 #include "cli.h"
 #include "voussoir/run.h"
+#include "voussoir/support.h"
 #include "voussoir/sweep.h"
 #include "voussoir/units.h"
 
@@ -41,8 +42,9 @@ static double cal_eval(cal_ctx *c, double kn) {
   c->runs++;
   if (vs_run_create(&k, &r, &err) == VS_OK && vs_run_execute(r, NULL, NULL, NULL, &err) == VS_OK &&
       vs_run_collapse(r)->found) {
-    const double d = vs_run_collapse(r)->delta / VS_MM, a = k.alpha_deg * VS_DEG;
-    out = 100.0 * d * (c->dx ? sin(a) : cos(a)) / vs_case_span_mm(&k);
+    const double d = vs_run_collapse(r)->delta / VS_MM;
+    const vs_support_dir sd = vs_support_case_direction(&k);
+    out = 100.0 * d * (c->dx ? sd.dx : sd.dz) / vs_case_span_mm(&k);
   }
   vs_run_destroy(&r);
   if (!c->quiet) fprintf(stderr, "  k_n = %-12.6g  collapse %s/L = %.4f %%\n", kn, c->dx ? "dx" : "dz", out);

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "voussoir/parse.h"
+#include "voussoir/units.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -656,4 +657,22 @@ int vs_case_key(const vs_case *c, int i, const char **section, const char **key,
     *value = k->type == KEY_INT ? (double)*(const int *)(const void *)field
                                 : *(const double *)(const void *)field;
   return 0;
+}
+
+void vs_case_to_si(const vs_case *c, vs_case_si *si) {
+  si->radius = c->radius_mm * VS_MM;
+  si->thickness = c->thickness_mm * VS_MM;
+  si->depth = c->depth_mm * VS_MM;
+  si->embrace = c->embrace_deg * VS_DEG;
+  si->kn = c->kn_N_mm3 * VS_N_MM3;
+  si->ks = c->ks_ratio * c->kn_N_mm3 * VS_N_MM3;
+  si->alpha = c->alpha_deg * VS_DEG;
+  si->rate = c->rate_mm_s * VS_MM;
+  si->max_delta = c->max_mm * VS_MM;
+  si->step = c->step_mm * VS_MM;
+  si->step_max = c->step_max_mm * VS_MM;
+  si->limit_tol = c->limit_tol_mm * VS_MM;
+  si->open = c->open_mm * VS_MM;
+  si->atol_q = c->atol_mm * VS_MM;
+  si->ground = c->ground_mm * VS_MM;
 }

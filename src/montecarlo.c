@@ -6,6 +6,8 @@
 #define _POSIX_C_SOURCE 200809L /* mkdir */
 #include "voussoir/montecarlo.h"
 
+#include "h5util.h"
+
 #include <errno.h>
 #include <hdf5.h>
 #include <math.h>
@@ -16,6 +18,7 @@
 
 #include "voussoir/plot.h"
 #include "voussoir/run.h"
+#include "voussoir/support.h"
 #include "voussoir/units.h"
 
 /* Confidence of the fragility band: Dvoretzky-Kiefer-Wolfowitz (Massart's constant), a band that
@@ -205,18 +208,6 @@ static int write_stats_csv(const char *path, const mc_stats *st) {
   return fclose(f) == 0 ? 0 : -1;
 }
 
-static herr_t h5_attr_str(hid_t obj, const char *name, const char *value) {
-  hid_t t = H5Tcopy(H5T_C_S1), s = H5Screate(H5S_SCALAR), a = H5I_INVALID_HID;
-  herr_t rc = -1;
-  if (t >= 0 && H5Tset_size(t, strlen(value) + 1) >= 0 && s >= 0)
-    a = H5Acreate2(obj, name, t, s, H5P_DEFAULT, H5P_DEFAULT);
-  if (a >= 0) rc = H5Awrite(a, t, value);
-  if (a >= 0) H5Aclose(a);
-  if (s >= 0) H5Sclose(s);
-  if (t >= 0) H5Tclose(t);
-  return rc;
-}
-
 /* A double dataset of rank 1 or 2 (rank 0: scalar) with its unit ("1" dimensionless). */
 static herr_t h5_dset(hid_t loc, const char *name, int rank, const hsize_t *dims,
                       const double *data, const char *unit) {
@@ -225,7 +216,7 @@ static herr_t h5_dset(hid_t loc, const char *name, int rank, const hsize_t *dims
                                 H5P_DEFAULT)
                    : H5I_INVALID_HID;
   herr_t rc = d >= 0 ? H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : -1;
-  if (rc >= 0) rc = h5_attr_str(d, "unit", unit);
+  if (rc >= 0) rc = vs_h5_attr_cstr(d, "unit", unit);
   if (d >= 0) H5Dclose(d);
   if (s >= 0) H5Sclose(s);
   return rc;
@@ -256,10 +247,11 @@ static herr_t write_samples_h5(hid_t file, const vs_mc_sample *s, int n) {
       col[i * VS_MC_LABELS + l] = s[i].hinge_joint[l] * (s[i].hinge_side[l] == 'E' ? -1.0 : 1.0);
   if (rc >= 0) rc = h5_dset(g, "hinge_joint", 2, d2, col, "1");
   if (rc >= 0)
-    rc = h5_attr_str(g, "description",
-                     "per sample: status 0 collapse, 1 none within support.max_mm, 2 failed; mode "
-                     "1..3 (0 unclassified); hinge_joint[sample][A..E]: middle joint at collapse, "
-                     "positive at the intrados, negative at the extrados, 0 none");
+    rc = vs_h5_attr_cstr(
+        g, "description",
+        "per sample: status 0 collapse, 1 none within support.max_mm, 2 failed; mode "
+        "1..3 (0 unclassified); hinge_joint[sample][A..E]: middle joint at collapse, "
+        "positive at the intrados, negative at the extrados, 0 none");
   free(col);
   if (g >= 0) H5Gclose(g);
   return rc;
@@ -280,7 +272,7 @@ static herr_t write_stats_h5(hid_t file, const mc_stats *st) {
   const double modes[4] = {st->modes[0], st->modes[1], st->modes[2], st->modes[3]};
   const hsize_t four = 4;
   if (rc >= 0) rc = h5_dset(g, "modes", 1, &four, modes, "1");
-  if (rc >= 0) rc = h5_attr_str(g, "modes", "counts: unclassified, I, II, III");
+  if (rc >= 0) rc = vs_h5_attr_cstr(g, "modes", "counts: unclassified, I, II, III");
   if (g >= 0) H5Gclose(g);
   hid_t f = H5Gcreate2(file, "fragility", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   const hsize_t nf = VS_MC_FRAGILITY_POINTS;
@@ -290,10 +282,11 @@ static herr_t write_stats_h5(hid_t file, const mc_stats *st) {
   if (rc >= 0) rc = h5_dset(f, "lower", 1, &nf, st->frag_lo, "1");
   if (rc >= 0) rc = h5_dset(f, "upper", 1, &nf, st->frag_hi, "1");
   if (rc >= 0)
-    rc = h5_attr_str(f, "band",
-                     "P(collapse at a support displacement <= delta): the empirical CDF of delta_u "
-                     "over the samples that did not fail; lower/upper: the Dvoretzky-Kiefer-"
-                     "Wolfowitz band, 95 % simultaneous, half-width sqrt(ln(2/0.05)/(2n))");
+    rc = vs_h5_attr_cstr(
+        f, "band",
+        "P(collapse at a support displacement <= delta): the empirical CDF of delta_u "
+        "over the samples that did not fail; lower/upper: the Dvoretzky-Kiefer-"
+        "Wolfowitz band, 95 % simultaneous, half-width sqrt(ln(2/0.05)/(2n))");
   if (f >= 0) H5Gclose(f);
   hid_t c = H5Gcreate2(file, "convergence", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   const hsize_t nn = (hsize_t)st->n_run, dh[2] = {VS_MC_LABELS, (hsize_t)st->n_joints};
@@ -321,9 +314,10 @@ static vs_status write_h5(const char *path, const vs_case *cs, const vs_mc_sampl
   char desc[256];
   snprintf(desc, sizeof desc, "voussoir montecarlo: %d samples, seed %d, alpha %g deg, L %.6g mm",
            n, cs->seed, cs->alpha_deg, vs_case_span_mm(cs));
-  herr_t rc = h5_attr_str(file, "description", desc);
-  if (rc >= 0) rc = h5_attr_str(file, "hinge_histogram",
-                                "[label A..E][joint 1..n+1]: collapses with that hinge there");
+  herr_t rc = vs_h5_attr_cstr(file, "description", desc);
+  if (rc >= 0)
+    rc = vs_h5_attr_cstr(file, "hinge_histogram",
+                         "[label A..E][joint 1..n+1]: collapses with that hinge there");
   if (rc >= 0) rc = write_samples_h5(file, s, n);
   if (rc >= 0) rc = write_stats_h5(file, st);
   if (H5Fclose(file) < 0) rc = -1;

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "voussoir/run.h"
+#include "voussoir/support.h"
 #include "voussoir/units.h"
 
 static void fill_hinges(const vs_run *r, vs_mc_sample *o) {
@@ -42,11 +43,12 @@ void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *o) {
     o->status = VS_MC_FAILED;
     snprintf(o->error, sizeof o->error, "%.399s", err.msg);
   } else if (vs_run_collapse(r)->found) {
-    const double d = vs_run_collapse(r)->delta / VS_MM, a = c.alpha_deg * VS_DEG;
+    const double d = vs_run_collapse(r)->delta / VS_MM;
+    const vs_support_dir sd = vs_support_case_direction(&c);
     o->status = VS_MC_COLLAPSE;
     o->delta_u_mm = d;
-    o->dz_u_mm = d * cos(a);
-    o->dx_u_mm = d * sin(a);
+    o->dz_u_mm = d * sd.dz;
+    o->dx_u_mm = d * sd.dx;
     fill_hinges(r, o);
   } else {
     o->status = VS_MC_NO_COLLAPSE;

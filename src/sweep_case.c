@@ -10,6 +10,7 @@
 #include "voussoir/output.h"
 #include "voussoir/report.h"
 #include "voussoir/run.h"
+#include "voussoir/support.h"
 #include "voussoir/units.h"
 
 void vs_sweep_pick(const vs_sweep_job *job, int run, int *pick) {
@@ -50,10 +51,11 @@ static void fill_row(const vs_run *r, vs_status st, const vs_error *err, vs_swee
   if (p->end == VS_PATH_LIMIT_POINT && vs_run_limit_count(r) > 0)
     row->first_limit_mm = p->delta_limit / VS_MM;
   if (col->found) {
-    const double L = vs_case_span_mm(c), a = c->alpha_deg * VS_DEG;
+    const double L = vs_case_span_mm(c);
+    const vs_support_dir sd = vs_support_case_direction(c);
     row->delta_u_mm = col->delta / VS_MM;
-    row->dz_pct = 100.0 * row->delta_u_mm * cos(a) / L;
-    row->dx_pct = 100.0 * row->delta_u_mm * sin(a) / L;
+    row->dz_pct = 100.0 * row->delta_u_mm * sd.dz / L;
+    row->dx_pct = 100.0 * row->delta_u_mm * sd.dx / L;
     size_t used = 0;
     for (int i = 0; i < col->n_hinges; i++) {
       char name[96];
