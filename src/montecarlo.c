@@ -18,7 +18,6 @@
 
 #include "voussoir/plot.h"
 #include "voussoir/run.h"
-#include "voussoir/support.h"
 #include "voussoir/units.h"
 
 /* Confidence of the fragility band: Dvoretzky-Kiefer-Wolfowitz (Massart's constant), a band that
