@@ -20,8 +20,9 @@ trap 'rm -rf "$tmp"' EXIT
 cpu() {
   local times=()
   for ((i = 0; i < repeat; i++)); do
-    /usr/bin/time -f "%U %S" -o "$tmp/time" "$bin" run "$ref" --json -q "$@" >"$tmp/out" || true
-    times+=("$(awk '{print $1 + $2}' "$tmp/time")")
+    # bash's times: the second line is the children's user and sys time, "0m0.150s 0m0.020s"
+    times+=("$( ( "$bin" run "$ref" --json -q "$@" >"$tmp/out" || true; times ) | tail -1 |
+      awk '{t = 0; for (i = 1; i <= 2; i++) { split($i, p, /[ms]/); t += 60 * p[1] + p[2] } print t}')")
   done
   printf '%s\n' "${times[@]}" | sort -g | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'
 }
