@@ -119,12 +119,12 @@ struct vs_dynamic {
 static double delta_at(const vs_dynamic *d, double t) { return d->o.rate * t; }
 
 /* The generalised forces F(q, v) of the equations of motion M v' + F - G^T lambda = 0 over
- * the blocks and supports (ne entries): joint forces minus gravity plus damping forces; *diss
- * gets the damping power. Kept apart so that further force models add here. */
-static void dyn_forces(vs_dynamic *d, const double *q, const double *v, double *F, double *diss) {
-  vs_model_ext_residual(d->m, q, F);
-  vs_model_ext_damping(d->m, q, v, d->work, diss, NULL);
-  for (int i = 0; i < d->ne; i++) F[i] += d->work[i];
+ * the blocks and supports (ne entries): joint forces minus gravity plus damping forces, from one
+ * pass over the joints; *diss gets the damping power, *fric (may be NULL) the joints' friction
+ * power. Kept apart so that further force models add here. */
+static void dyn_forces(vs_dynamic *d, const double *q, const double *v, double *F, double *diss,
+                       double *fric) {
+  vs_model_ext_motion(d->m, q, v, F, diss, fric, NULL, NULL);
   if (d->ct != NULL) vs_contact_forces(d->ct, q, v, F, diss, NULL);
   if (d->cl != NULL) vs_collide_forces(d->cl, q, v, F, diss, NULL);
 }
@@ -206,8 +206,8 @@ static int res_fn(double t, N_Vector yy, N_Vector yp, N_Vector rr, void *user) {
   double *r = N_VGetArrayPointer(rr);
   const double *q = y, *v = y + d->iv, *lam = y + d->il, *mu = y + d->imu;
   const double *qd = ydot, *vd = ydot + d->iv;
-  double diss = 0.0;
-  dyn_forces(d, q, v, r + d->iv, &diss);
+  double diss = 0.0, fric = 0.0;
+  dyn_forces(d, q, v, r + d->iv, &diss, &fric);
   for (int i = 0; i < ne; i++) {
     r[i] = qd[i] - v[i];
     r[d->iv + i] += d->mass[i] * vd[i];
@@ -222,7 +222,6 @@ static int res_fn(double t, N_Vector yy, N_Vector yp, N_Vector rr, void *user) {
   constraints(d, t, q, v, r + d->il, r + d->imu);
   r[d->ie] = ydot[d->ie] - sup;
   r[d->ie + 1] = ydot[d->ie + 1] - diss;
-  double fric = vs_model_ext_friction_power(d->m, q, v);
   if (d->ct != NULL) vs_contact_forces(d->ct, q, v, NULL, NULL, &fric);
   if (d->cl != NULL) vs_collide_forces(d->cl, q, v, NULL, NULL, &fric);
   r[d->ie + 2] = ydot[d->ie + 2] - fric;
@@ -341,8 +340,7 @@ static int jac_fn(double t, double cj, N_Vector yy, N_Vector yp, N_Vector rr, SU
   const int n = d->n, ne = d->ne;
   const double *y = N_VGetArrayPointer(yy);
   d->jac_evals++;
-  vs_model_ext_jacobian(d->m, y, d->K);
-  vs_model_ext_damping(d->m, y, y + d->iv, NULL, NULL, d->C);
+  vs_model_ext_motion(d->m, y, y + d->iv, NULL, NULL, NULL, d->K, d->C);
   if (d->ct != NULL) vs_contact_jacobian(d->ct, y, y + d->iv, d->K, d->C);
   if (d->cl != NULL && vs_collide_armed(d->cl)) return jac_dense(d, cj, y, Jac);
   if (d->klu_pairs) { /* back from the contacts' pattern (a later run): the joints' again */
@@ -649,7 +647,7 @@ void vs_dynamic_jacobian(vs_dynamic *d, double t, double cj, double *y, SUNMatri
  * one force evaluation. */
 static void implied_forces(vs_dynamic *d) {
   double diss = 0.0;
-  dyn_forces(d, N_VGetArrayPointer(d->y), N_VGetArrayPointer(d->y) + d->iv, d->force, &diss);
+  dyn_forces(d, N_VGetArrayPointer(d->y), N_VGetArrayPointer(d->y) + d->iv, d->force, &diss, NULL);
 }
 
 void vs_dynamic_accelerations(vs_dynamic *d, double *a) {

@@ -176,6 +176,13 @@ void vs_model_ext_jacobian(const vs_model *m, const double *qe, SUNMatrix J);
 void vs_model_ext_damping(const vs_model *m, const double *qe, const double *ve, double *fd,
                           double *dissipated, SUNMatrix C);
 double vs_model_ext_friction_power(const vs_model *m, const double *qe, const double *ve);
+/* One pass over the joints at (qe, ve) for the equations of motion: F = vs_model_ext_residual
+ * plus the damping forces of vs_model_ext_damping, *dissipated (their power), *friction
+ * (vs_model_ext_friction_power), K = vs_model_ext_jacobian and C = vs_model_ext_damping's
+ * matrix, each joint's kinematics and law evaluated once. Any output may be NULL; ve NULL: no
+ * damping and no friction power. */
+void vs_model_ext_motion(const vs_model *m, const double *qe, const double *ve, double *F,
+                         double *dissipated, double *friction, SUNMatrix K, SUNMatrix C);
 void vs_model_ext_joint_states(const vs_model *m, const double *qe, vs_joint_state *st);
 int vs_model_ext_commit(vs_model *m, const double *qe);
 void vs_model_ext_energies(const vs_model *m, const double *qe, double *elastic, double *gravity);
