@@ -97,7 +97,9 @@ struct vs_dynamic {
   void *ida;
   double *mass, *work;    /* ne each */
   double *force;          /* ne: F(q, v) for the reported multipliers and accelerations */
-  vs_joint_state *js;
+  vs_joint_state *js;     /* the joints' states at the positions js_q (joint_states) */
+  double *js_q;
+  int js_valid;
   int *roots;
   int nroots;             /* before the fall: 2 nj + 2, then the impact model's (the
                              contacts' follow them once armed) */
@@ -387,6 +389,17 @@ static int jac_fn(double t, double cj, N_Vector yy, N_Vector yp, N_Vector rr, SU
 /* Roots: for every joint, its intrados and extrados edge openings minus the hinge threshold;
  * then the kinetic energy minus the collapse threshold, and minus the rest level (the departure
  * of a motion: where it rises through it). */
+/* The joints' states at the positions of y into d->js, evaluated once per state: the root
+ * function at the end of a step, the commit, the energies and the impact model's arming share
+ * one evaluation. A commit at y leaves them valid: the return-mapped states are its own. */
+static void joint_states(vs_dynamic *d, const double *y) {
+  const size_t bytes = (size_t)d->ne * sizeof *y;
+  if (d->js_valid && memcmp(d->js_q, y, bytes) == 0) return;
+  vs_model_ext_joint_states(d->m, y, d->js);
+  memcpy(d->js_q, y, bytes);
+  d->js_valid = 1;
+}
+
 static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user) {
   (void)yp;
   (void)t;
@@ -398,7 +411,7 @@ static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user) {
   if (d->cl != NULL && vs_collide_armed(d->cl)) /* then one entering another body */
     vs_collide_roots(d->cl, q, g + r0 + n_ground_roots(d));
   if (d->in_fall) return 0;
-  vs_model_ext_joint_states(d->m, q, d->js);
+  joint_states(d, q);
   for (int k = 0; k < d->nj; k++) {
     g[2 * k] = d->js[k].gap_i - d->o.open;
     g[2 * k + 1] = d->js[k].gap_e - d->o.open;
@@ -433,6 +446,7 @@ void vs_dynamic_destroy(vs_dynamic **dp) {
   free(d->work);
   free(d->force);
   free(d->js);
+  free(d->js_q);
   free(d->roots);
   free(d->pairs);
   free(d->pairs_klu);
@@ -533,6 +547,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   d->work = malloc((size_t)ne * sizeof *d->work);
   d->force = malloc((size_t)ne * sizeof *d->force);
   d->js = malloc((size_t)d->nj * sizeof *d->js);
+  d->js_q = malloc((size_t)ne * sizeof *d->js_q);
   d->qst = malloc((size_t)d->nq * sizeof *d->qst);
   d->vst = malloc((size_t)d->nq * sizeof *d->vst);
   d->nroots = 2 * d->nj + 2;
@@ -542,7 +557,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   d->roots = malloc((size_t)d->nroots * sizeof *d->roots);
   if (d->y == NULL || d->yp == NULL || d->id == NULL || d->atol == NULL || d->J == NULL ||
       d->K == NULL || d->C == NULL || d->mass == NULL || d->work == NULL || d->force == NULL ||
-      d->js == NULL || d->roots == NULL || d->qst == NULL || d->vst == NULL ||
+      d->js == NULL || d->js_q == NULL || d->roots == NULL || d->qst == NULL || d->vst == NULL ||
       (o->impact && d->imp == NULL)) {
     vs_dynamic_destroy(&d);
     return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
@@ -558,6 +573,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   if ((flag = SUNLinSol_KLUSetOrdering(d->LS, VS_DYN_KLU_ORDERING)) != 0)
     return dyn_fail(&d, err, "SUNLinSol_KLUSetOrdering", flag);
   vs_klu_keep_analysis(d->LS); /* one analysis for every restart (IDAReInit) */
+  vs_sparse_zero_values_only(d->J); /* jac_fn writes the pattern */
   d->ida = IDACreate(d->ctx);
   if (d->ida == NULL) return dyn_fail(&d, err, "IDACreate", 0);
   N_VConst(0.0, d->y);
@@ -593,7 +609,10 @@ static void energies(vs_dynamic *d, const double *y, double e0, vs_energy *e) {
   e->kinetic = vs_model_kinetic_energy(d->m, y + d->iv);
   for (int i = 0; i < VS_DYN_NC; i++) /* a pinned support's rotation: its own kinetic energy */
     if (d->cidx[i] < 0) e->kinetic += 0.5 * d->mass[d->n + i] * y[d->iv + d->n + i] * y[d->iv + d->n + i];
-  vs_model_ext_energies(d->m, y, &e->elastic, &e->gravity);
+  joint_states(d, y);
+  e->elastic = 0.0;
+  for (int k = 0; k < d->nj; k++) e->elastic += d->js[k].energy;
+  e->gravity = vs_model_gravity_energy(d->m, y);
   if (d->ct != NULL) e->elastic += vs_contact_energy(d->ct, y);
   if (d->cl != NULL) e->elastic += vs_collide_energy(d->cl, y);
   e->support_work = y[d->ie];
@@ -701,7 +720,7 @@ static int restart_roots(vs_dynamic *d, double t, double t_stop) {
 
 /* Arm the edges that have opened (every accepted step; at the start with reset). */
 static void impact_arm(vs_dynamic *d, const double *y, int reset) {
-  vs_model_ext_joint_states(d->m, y, d->js);
+  joint_states(d, y);
   if (reset) vs_impact_reset(d->imp, d->js);
   else vs_impact_arm(d->imp, d->js);
 }
@@ -743,6 +762,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   res->dae_algebraic = 2 * d->nc;
   res->dae_index = 2;
   d->max_drift = 0.0;
+  d->js_valid = 0; /* the slips may have moved since (the quasi-static path) */
   double *y = N_VGetArrayPointer(d->y);
   N_VConst(0.0, d->y);
   memcpy(y, q, (size_t)n * sizeof *y);
@@ -833,7 +853,8 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
       break;
     }
     const double delta = delta_at(d, t);
-    vs_model_ext_commit(d->m, y); /* seamless: the return-mapped force is unchanged */
+    joint_states(d, y);
+    vs_model_commit_states(d->m, d->js); /* seamless: the return-mapped force is unchanged */
     if (d->imp != NULL) impact_arm(d, y, 0);
     if (d->ct != NULL && vs_contact_armed(d->ct)) {
       vs_contact_commit(d->ct, y);

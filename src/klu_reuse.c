@@ -3,6 +3,7 @@
 
 #include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
+#include <string.h>
 
 /* The first initialisation is SUNDIALS' own; a later one keeps the analysis and frees the factors:
  * the next setup factors afresh (pivots chosen again, as after a new analysis, which would be the
@@ -31,4 +32,14 @@ void vs_klu_keep_analysis(SUNLinearSolver LS) {
   if (LS == NULL) return;
   LS->ops->initialize = keep_initialize;
   LS->ops->setup = keep_setup;
+}
+
+/* Zero the values only (SUNMatZero_Sparse also clears the pattern arrays, element by element). */
+static int values_zero(SUNMatrix A) {
+  memset(SUNSparseMatrix_Data(A), 0, (size_t)SUNSparseMatrix_NNZ(A) * sizeof(double));
+  return 0;
+}
+
+void vs_sparse_zero_values_only(SUNMatrix A) {
+  if (A != NULL && A->ops != NULL) A->ops->zero = values_zero;
 }

@@ -485,6 +485,22 @@ static int commit_core(vs_model *m, const double *q, const double qs[6]) {
   return slid;
 }
 
+int vs_model_commit_states(vs_model *m, const vs_joint_state *st) {
+  int slid = 0;
+  for (int k = 0; k < m->g->n_joints; k++) {
+    if (st[k].sliding && st[k].N > 0.0) slid++;
+    m->slip_p[k] = st[k].slip_p;
+  }
+  return slid;
+}
+
+double vs_model_gravity_energy(const vs_model *m, const double *q) {
+  const vs_geometry *g = m->g;
+  double eg = 0.0;
+  for (int i = 0; i < g->n_blocks; i++) eg += m->gscale * g->blocks[i].mass * g->gravity * q[3 * i + 1];
+  return eg;
+}
+
 int vs_model_commit(vs_model *m, const double *q, double delta) {
   double qs[6];
   sup_pos_q(m, q, delta, qs);
@@ -533,8 +549,8 @@ void vs_model_support_reactions(const vs_model *m, const double *q, double delta
 static void energies_core(const vs_model *m, const double *q, const double qs[6], double *elastic,
                           double *gravity) {
   const vs_geometry *g = m->g;
-  double eg = 0.0, ee = 0.0;
-  for (int i = 0; i < g->n_blocks; i++) eg += m->gscale * g->blocks[i].mass * g->gravity * q[3 * i + 1];
+  double ee = 0.0;
+  const double eg = vs_model_gravity_energy(m, q);
   half_angles(m, q, qs);
   for (int k = 0; k < g->n_joints; k++) {
     vs_joint_state st;

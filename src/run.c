@@ -313,8 +313,11 @@ static int on_equilibrium(void *user, double delta, const double *q, const vs_mo
   }
   vs_model_support_reactions(r->m, q, delta, r->react);
   memcpy(r->react_eq, r->react, sizeof r->react);
+  /* the joints' states of track_hinges, at this equilibrium */
   vs_run_sample s = {.phase = VS_PHASE_QUASISTATIC, .t = r->t, .delta = delta, .q = q,
-                     .reactions = r->react};
+                     .reactions = r->react, .joints = r->js,
+                     .gravity = vs_model_gravity_energy(r->m, q)};
+  for (int k = 0; k < r->g->n_joints; k++) s.elastic += r->js[k].energy;
   fill_counters(r, &s);
   return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
 }
@@ -348,7 +351,8 @@ static int on_dyn_sample(void *user, double t, double delta, const double *q, co
   r->delta = delta;
   r->t = t;
   r->phase = VS_PHASE_DYNAMIC;
-  if (!r->frozen && track_hinges(r, delta, q) != 0) return 1;
+  const int tracked = !r->frozen; /* then r->js holds the joints' states at q */
+  if (tracked && track_hinges(r, delta, q) != 0) return 1;
   const int falling = r->live_dyn != NULL && isfinite(r->live_dyn->t_collapse);
   if (falling) { /* the onset is the collapse's: debris at rest and moving again is not one */
   } else if (e->kinetic < r->dopts.rest_ke) {
@@ -361,8 +365,10 @@ static int on_dyn_sample(void *user, double t, double delta, const double *q, co
   if (!r->frozen && r->live_dyn != NULL && !isnan(r->live_dyn->t_collapse))
     freeze_mechanism(r); /* the sample at the collapse criterion: nothing after it counts */
   vs_dynamic_reactions(r->dyn, r->react);
+  if (!tracked) vs_model_joint_states(r->m, q, delta, r->js);
   vs_run_sample s = {.phase = VS_PHASE_DYNAMIC, .t = t, .delta = delta, .q = q, .v = v,
-                     .energy = e, .reactions = r->react};
+                     .energy = e, .reactions = r->react, .joints = r->js,
+                     .elastic = e->elastic, .gravity = e->gravity};
   fill_counters(r, &s);
   return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
 }

@@ -80,6 +80,11 @@ void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_
  * Returns the number of joints in contact (N > 0) that slid in this step. */
 int vs_model_commit(vs_model *m, const double *q, double delta);
 
+/* vs_model_commit from the joint states st (n_joints) at the state accepted, as
+ * vs_model_joint_states or vs_model_ext_joint_states gave them with the committed slips: the
+ * commit then takes no evaluation of its own. Returns as vs_model_commit. */
+int vs_model_commit_states(vs_model *m, const vs_joint_state *st);
+
 /* Plastic slip of every joint (m), committed; n_joints entries. */
 const double *vs_model_slips(const vs_model *m);
 
@@ -142,6 +147,11 @@ double vs_model_kinetic_energy(const vs_model *m, const double *v);
 /* Force (N) the moving support exerts on the arch along its direction of motion, through the
  * joint's elastic and frictional forces; times d(delta)/dt it is the support's power. */
 double vs_model_support_force(const vs_model *m, const double *q, double delta);
+
+/* Gravitational potential of the blocks at q (J; zero in the reference configuration): the
+ * first 3 n_blocks entries of q, so a static state or an extended one. With the joints' energies
+ * (vs_joint_state.energy) it makes vs_model_energies without another evaluation. */
+double vs_model_gravity_energy(const vs_model *m, const double *q);
 
 /* Joint elastic energy and gravitational potential separately (J; potential zero in the
  * reference configuration). */
