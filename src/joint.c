@@ -57,13 +57,12 @@ static inline double dot(const double u[2], const double v[2]) { return u[0] * v
 typedef struct {
   double g, sl, w;            /* gap at the centre, slip, gap slope */
   double dg[6], ds[6], dw[6]; /* gradients */
-  double Hg[36], Hs[36], Hw[36];
+  /* Hessians, by their non-zeros (symmetric; none between two translations): a translation
+   * t (0, 1, 3, 4) with either rotation (2, 5) the same, hg_t[t] and hs_t[t] (H_w none); the
+   * rotations' (2,2), (5,5), (2,5) entries h*_rr[0..2] */
+  double hg_t[6], hs_t[6];
+  double hg_rr[3], hs_rr[3], hw_rr[3];
 } kinematics;
-
-static void sym_set(double *H, int i, int j, double v) {
-  H[i * 6 + j] = v;
-  H[j * 6 + i] = v;
-}
 
 static void rot_cs(double c, double sn, const double v[2], double out[2]) {
   out[0] = c * v[0] - sn * v[1];
@@ -94,8 +93,7 @@ static void joint_kinematics(const vs_joint_geom *jg, const double qa[3], const 
   perp(pb, vb);
   perp(n, s);
   for (int i = 0; i < 2; i++) d[i] = qb[i] - qa[i] + (pb[i] - rb[i]) - (pa[i] - ra[i]);
-  if (hess) memset(k, 0, sizeof *k);
-  else memset(k->dw, 0, sizeof k->dw);
+  memset(k->dw, 0, sizeof k->dw);
   k->g = dot(d, n);
   k->sl = dot(d, s);
   k->w = 2.0 * sh;
@@ -115,24 +113,21 @@ static void joint_kinematics(const vs_joint_geom *jg, const double qa[3], const 
   if (!hess) return;
   /* mixed translation-rotation terms come from the rotating frame n(theta_m), s(theta_m) */
   for (int i = 0; i < 2; i++) {
-    sym_set(k->Hg, i, 2, -0.5 * s[i]);
-    sym_set(k->Hg, i, 5, -0.5 * s[i]);
-    sym_set(k->Hg, 3 + i, 2, 0.5 * s[i]);
-    sym_set(k->Hg, 3 + i, 5, 0.5 * s[i]);
-    sym_set(k->Hs, i, 2, 0.5 * n[i]);
-    sym_set(k->Hs, i, 5, 0.5 * n[i]);
-    sym_set(k->Hs, 3 + i, 2, -0.5 * n[i]);
-    sym_set(k->Hs, 3 + i, 5, -0.5 * n[i]);
+    k->hg_t[i] = -0.5 * s[i];
+    k->hg_t[3 + i] = 0.5 * s[i];
+    k->hs_t[i] = 0.5 * n[i];
+    k->hs_t[3 + i] = -0.5 * n[i];
   }
-  sym_set(k->Hg, 2, 2, dot(pa, n) - dot(va, s) - 0.25 * dn);
-  sym_set(k->Hg, 5, 5, -dot(pb, n) + dot(vb, s) - 0.25 * dn);
-  sym_set(k->Hg, 2, 5, 0.5 * (dot(vb, s) - dot(va, s)) - 0.25 * dn);
-  sym_set(k->Hs, 2, 2, dot(pa, s) + dot(va, n) - 0.25 * ds_);
-  sym_set(k->Hs, 5, 5, -dot(pb, s) - dot(vb, n) - 0.25 * ds_);
-  sym_set(k->Hs, 2, 5, 0.5 * (dot(va, n) - dot(vb, n)) - 0.25 * ds_);
-  sym_set(k->Hw, 2, 2, -0.5 * sh);
-  sym_set(k->Hw, 5, 5, -0.5 * sh);
-  sym_set(k->Hw, 2, 5, 0.5 * sh);
+  k->hg_t[2] = k->hg_t[5] = k->hs_t[2] = k->hs_t[5] = 0.0; /* unused: rotations are in h*_rr */
+  k->hg_rr[0] = dot(pa, n) - dot(va, s) - 0.25 * dn;
+  k->hg_rr[1] = -dot(pb, n) + dot(vb, s) - 0.25 * dn;
+  k->hg_rr[2] = 0.5 * (dot(vb, s) - dot(va, s)) - 0.25 * dn;
+  k->hs_rr[0] = dot(pa, s) + dot(va, n) - 0.25 * ds_;
+  k->hs_rr[1] = -dot(pb, s) - dot(vb, n) - 0.25 * ds_;
+  k->hs_rr[2] = 0.5 * (dot(va, n) - dot(vb, n)) - 0.25 * ds_;
+  k->hw_rr[0] = -0.5 * sh;
+  k->hw_rr[1] = -0.5 * sh;
+  k->hw_rr[2] = 0.5 * sh;
 }
 
 /* Rates of the joint measures (penetration a, gap slope w, slip) from the bodies' velocities. */
@@ -210,8 +205,23 @@ static void tangent_out(const vs_joint_law *law, const kinematics *k, const law_
   }
   for (int i = 0; i < 6; i++)
     for (int j = 0; j < 6; j++)
-      K[i * 6 + j] = -k->dg[i] * dN[j] + k->dw[i] * dM[j] + k->ds[i] * dT[j] -
-                     nr->N * k->Hg[i * 6 + j] + nr->M * k->Hw[i * 6 + j] + ls->T * k->Hs[i * 6 + j];
+      K[i * 6 + j] = -k->dg[i] * dN[j] + k->dw[i] * dM[j] + k->ds[i] * dT[j];
+  /* the Hessians' terms where they are non-zero: rows and columns of the rotations 2, 5 */
+  const double N = nr->N, M = nr->M, T = ls->T;
+  for (int t = 0; t < 6; t++) {
+    if (t == 2 || t == 5) continue;
+    const double h = -N * k->hg_t[t] + T * k->hs_t[t];
+    K[t * 6 + 2] += h;
+    K[t * 6 + 5] += h;
+    K[2 * 6 + t] += h;
+    K[5 * 6 + t] += h;
+  }
+  const int rr[3][2] = {{2, 2}, {5, 5}, {2, 5}};
+  for (int e = 0; e < 3; e++) {
+    const double h = -N * k->hg_rr[e] + M * k->hw_rr[e] + T * k->hs_rr[e];
+    K[rr[e][0] * 6 + rr[e][1]] += h;
+    if (e == 2) K[5 * 6 + 2] += h;
+  }
 }
 
 void vs_joint_eval_h(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],

@@ -90,10 +90,34 @@ static void pattern_free(vs_pattern *p) {
   memset(p, 0, sizeof *p);
 }
 
-static int cmp_pair(const void *x, const void *y) {
-  const sunindextype *a = x, *b = y; /* (column, row) */
-  if (a[0] != b[0]) return (a[0] > b[0]) - (a[0] < b[0]);
-  return (a[1] > b[1]) - (a[1] < b[1]);
+/* Sort the np (column, row) pairs by column, then row: counting sort on the columns (0..n-1),
+ * insertion sort of each column's few rows -- linear in the pairs, where a comparison sort
+ * was the largest cost of creating a model. Returns -1 when out of memory. */
+static int sort_pairs(sunindextype *pairs, size_t np, int n) {
+  size_t *start = calloc((size_t)n + 1, sizeof *start);
+  sunindextype *out = malloc((np > 0 ? 2 * np : 1) * sizeof *out);
+  if (start == NULL || out == NULL) {
+    free(start);
+    free(out);
+    return -1;
+  }
+  for (size_t e = 0; e < np; e++) start[pairs[2 * e] + 1]++;
+  for (int c = 0; c < n; c++) start[c + 1] += start[c];
+  for (size_t e = 0; e < np; e++) { /* stable: start[c] runs over column c's slots */
+    const size_t at = start[pairs[2 * e]]++;
+    out[2 * at] = pairs[2 * e];
+    out[2 * at + 1] = pairs[2 * e + 1];
+  }
+  for (size_t e = 1; e < np; e++) { /* rows within a column (columns are in order already) */
+    const sunindextype c = out[2 * e], r = out[2 * e + 1];
+    size_t i = e;
+    for (; i > 0 && out[2 * i - 2] == c && out[2 * i - 1] > r; i--) out[2 * i + 1] = out[2 * i - 1];
+    out[2 * i + 1] = r;
+  }
+  memcpy(pairs, out, 2 * np * sizeof *pairs);
+  free(start);
+  free(out);
+  return 0;
 }
 
 /* Add the couplings among n unknowns d[] (entries < 0 skipped) to the pair list. */
@@ -147,7 +171,10 @@ static vs_status build_pattern(const vs_model *m, vs_pattern *p, vs_error *err) 
     }
     add_pairs(d, 6, pairs, &np);
   }
-  qsort(pairs, np, 2 * sizeof *pairs, cmp_pair);
+  if (sort_pairs(pairs, np, p->n) != 0) {
+    free(pairs);
+    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
+  }
   p->rowind = malloc((np > 0 ? np : 1) * sizeof *p->rowind);
   if (p->rowind == NULL) {
     free(pairs);
