@@ -17,6 +17,7 @@ typedef struct {
   sunindextype *colptr, *rowind;
   int nnz;
   sunindextype *scatter; /* per joint, 36: CSC position of K[6 i + j] (-1: prescribed) */
+  int *jdof;             /* per joint, 6: the unknowns of its components (joint_dofs) */
 } vs_pattern;
 
 struct vs_model {
@@ -84,6 +85,7 @@ static void sup_pos_q(const vs_model *m, const double *q, double delta, double q
 
 static void pattern_free(vs_pattern *p) {
   free(p->scatter);
+  free(p->jdof);
   free(p->colptr);
   free(p->rowind);
   free(p->dof);
@@ -138,9 +140,11 @@ static sunindextype csc_pos(const vs_pattern *p, int row, int col);
 static vs_status build_scatter(const vs_model *m, vs_pattern *p, vs_error *err) {
   const int nj = m->g->n_joints;
   p->scatter = malloc(36 * (size_t)(nj > 0 ? nj : 1) * sizeof *p->scatter);
-  if (p->scatter == NULL) return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
+  p->jdof = malloc(6 * (size_t)(nj > 0 ? nj : 1) * sizeof *p->jdof);
+  if (p->scatter == NULL || p->jdof == NULL)
+    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
   for (int k = 0; k < nj; k++) {
-    int d[6];
+    int *d = p->jdof + 6 * k;
     joint_dofs(m, p, k, d);
     for (int i = 0; i < 6; i++)
       for (int j = 0; j < 6; j++)
@@ -406,8 +410,7 @@ static void residual_core(const vs_model *m, const vs_pattern *p, const double *
   for (int k = 0; k < g->n_joints; k++) {
     double f[6];
     eval_joint(m, q, qs, k, 1, NULL, f, NULL);
-    int d[6];
-    joint_dofs(m, p, k, d);
+    const int *d = p->jdof + 6 * k;
     for (int e = 0; e < 6; e++)
       if (d[e] >= 0) G[d[e]] += f[e];
   }
@@ -682,8 +685,7 @@ static void add_damping(const vs_model *m, const vs_pattern *p, int k, const dou
                         const double va[3], const double vb[3], double *fd, double *sup) {
   const vs_joint_geom *j = &m->g->joints[k];
   const int body[2] = {j->a, j->b};
-  int d[6];
-  joint_dofs(m, p, k, d);
+  const int *d = p->jdof + 6 * k;
   for (int s = 0; s < 2; s++) {
     const double *vv = s == 0 ? va : vb;
     for (int c = 0; c < 3; c++) {
@@ -729,8 +731,7 @@ static void motion_core(const vs_model *m, const vs_pattern *p, const double *q,
                           damp && o->C != NULL ? Ck : NULL, o->want_friction && v != NULL, 0.0, 0.0};
     vs_joint_eval_motion(j, law_at(m, k, &tmp), &bd, m->slip_p[k], damp ? &dp : NULL, &jm);
     if (o->G != NULL) {
-      int d[6];
-      joint_dofs(m, p, k, d);
+      const int *d = p->jdof + 6 * k;
       for (int e = 0; e < 6; e++)
         if (d[e] >= 0) o->G[d[e]] += f[e];
     }
