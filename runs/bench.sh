@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmark of this build against the previous revision, both measured in the same run: the
+# Benchmark of this build against the previous release, both measured in the same run: the
 # previous one is checked out with `git worktree add` into a temporary directory and built there
 # (Release, the `voussoir` target only; no network). Rows (CPU seconds of the process, user + sys,
 # median of REPEAT runs, unless said otherwise):
@@ -14,8 +14,8 @@
 # --quick (what .ci/run uses): one run each (CI time: the record rows follow the fall to rest,
 # seconds each), no seed domain, 55 to 220 voussoirs.
 # usage: runs/bench.sh [--quick] [BINARY]
-#   BENCH_BASE=REV  the previous revision (default: the parent of the oldest commit of this
-#                   branch that is not on main; on main itself, HEAD~1)
+#   BENCH_BASE=REV  what to compare with (default: the newest release tag v* before HEAD; without
+#                   tags, the parent of the oldest commit of this branch not on main, or HEAD~1)
 set -euo pipefail
 unset LD_LIBRARY_PATH # each binary loads the library of its own build (RUNPATH)
 quick=0
@@ -36,8 +36,19 @@ cleanup() {
 trap cleanup EXIT
 
 # --- the previous revision, built here ---
+release() { # REV: the newest release tag (v*) reachable from REV, or nothing
+  git -C "$here/.." describe --tags --abbrev=0 --match 'v[0-9]*' "$1" 2>/dev/null || true
+}
 base_rev="${BENCH_BASE:-}"
 if [ -z "$base_rev" ]; then
+  base_rev="$(release HEAD)"
+  if [ -n "$base_rev" ] && [ "$(git -C "$here/.." rev-parse "$base_rev^{commit}")" = \
+       "$(git -C "$here/.." rev-parse HEAD)" ]; then
+    base_rev="$(release HEAD~1)" # HEAD is the release itself: the one before it
+  fi
+fi
+if [ -z "$base_rev" ]; then # no release tag in this checkout: the previous revision
+  echo "no release tag (v*) in this checkout: comparing against the previous revision" >&2
   oldest="$(git -C "$here/.." rev-list main..HEAD 2>/dev/null | tail -n 1 || true)"
   if [ -n "$oldest" ]; then base_rev="$oldest~1"; else base_rev="HEAD~1"; fi
 fi
