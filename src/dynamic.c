@@ -675,8 +675,15 @@ void vs_dynamic_accelerations(vs_dynamic *d, double *a) {
 }
 
 void vs_dynamic_reactions(vs_dynamic *d, double out[6]) {
-  implied_forces(d);
-  for (int i = 0; i < VS_DYN_NC; i++) out[i] = d->cidx[i] >= 0 ? d->force[d->n + i] : 0.0;
+  const double *f = d->force + d->n;
+  double fs[6];
+  if (d->cl != NULL && vs_collide_armed(d->cl)) { /* bodies' contacts act on the piers too */
+    implied_forces(d);
+  } else { /* only the joints at the supports act on them */
+    vs_model_ext_support_forces(d->m, N_VGetArrayPointer(d->y), N_VGetArrayPointer(d->y) + d->iv, fs);
+    f = fs;
+  }
+  for (int i = 0; i < VS_DYN_NC; i++) out[i] = d->cidx[i] >= 0 ? f[i] : 0.0;
 }
 
 void vs_dynamic_multipliers(const vs_dynamic *d, double out[6]) {

@@ -866,6 +866,38 @@ void vs_model_ext_motion(const vs_model *m, const double *qe, const double *ve, 
   if (friction != NULL) *friction = o.fric;
 }
 
+void vs_model_ext_support_forces(const vs_model *m, const double *qe, const double *ve,
+                                 double out[6]) {
+  const vs_geometry *g = m->g;
+  const int n = 3 * g->n_blocks;
+  const double *qs = qe + n, *vs = ve + n;
+  double fd[6] = {0};
+  memset(out, 0, 6 * sizeof *out);
+  for (int k = 0; k < g->n_joints; k++) { /* as motion_core, on the joints at a support */
+    const vs_joint_geom *j = &g->joints[k];
+    if (body_is_block(j->a) && body_is_block(j->b)) continue;
+    double qa[3], qb[3], va[3], vb[3], ha[2], hb[2], f[6], fdk[6];
+    vs_joint_law tmp;
+    body_q(qe, qs, j->a, qa);
+    body_q(qe, qs, j->b, qb);
+    body_q(ve, vs, j->a, va);
+    body_q(ve, vs, j->b, vb);
+    vs_joint_half_angle(qa[2], ha);
+    vs_joint_half_angle(qb[2], hb);
+    const vs_joint_bodies bd = {qa, qb, ha, hb, va, vb, m->ra + 2 * k, m->rb + 2 * k};
+    const vs_joint_dashpot dp = {m->cn[k], m->cs[k], m->beta_k};
+    vs_joint_motion jm = {f, NULL, m->damped ? fdk : NULL, NULL, 0, 0.0, 0.0};
+    vs_joint_eval_motion(j, law_at(m, k, &tmp), &bd, m->slip_p[k], m->damped ? &dp : NULL, &jm);
+    const int *d = m->pate.jdof + 6 * k;
+    for (int e = 0; e < 6; e++) {
+      if (d[e] < n) continue; /* a block's component */
+      out[d[e] - n] += f[e];
+      if (m->damped) fd[d[e] - n] += fdk[e];
+    }
+  }
+  for (int i = 0; i < 6; i++) out[i] += fd[i];
+}
+
 double vs_model_ext_friction_power(const vs_model *m, const double *qe, const double *ve) {
   return friction_core(m, &m->pate, qe, ve, qe + 3 * m->g->n_blocks, ve + 3 * m->g->n_blocks);
 }

@@ -186,6 +186,11 @@ void vs_model_ext_jacobian(const vs_model *m, const double *qe, SUNMatrix J);
 void vs_model_ext_damping(const vs_model *m, const double *qe, const double *ve, double *fd,
                           double *dissipated, SUNMatrix C);
 double vs_model_ext_friction_power(const vs_model *m, const double *qe, const double *ve);
+/* The supports' rows of vs_model_ext_motion's F (left ux, uz, theta, then right; elastic and
+ * damping forces of the joints at the supports, the only ones acting there) from those joints
+ * alone. */
+void vs_model_ext_support_forces(const vs_model *m, const double *qe, const double *ve,
+                                 double out[6]);
 /* One pass over the joints at (qe, ve) for the equations of motion: F = vs_model_ext_residual
  * plus the damping forces of vs_model_ext_damping, *dissipated (their power), *friction
  * (vs_model_ext_friction_power), K = vs_model_ext_jacobian and C = vs_model_ext_damping's
