@@ -686,6 +686,11 @@ void vs_dynamic_reactions(vs_dynamic *d, double out[6]) {
   for (int i = 0; i < VS_DYN_NC; i++) out[i] = d->cidx[i] >= 0 ? f[i] : 0.0;
 }
 
+const vs_joint_state *vs_dynamic_joint_states(vs_dynamic *d) {
+  joint_states(d, N_VGetArrayPointer(d->y));
+  return d->js;
+}
+
 void vs_dynamic_multipliers(const vs_dynamic *d, double out[6]) {
   const double *lam = N_VGetArrayPointer(d->y) + d->il;
   for (int i = 0; i < VS_DYN_NC; i++) out[i] = d->cidx[i] >= 0 ? lam[d->cidx[i]] : 0.0;
