@@ -6,7 +6,9 @@ include(CMakePackageConfigHelpers)
 set(VS_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/voussoir)
 
 set_target_properties(voussoir PROPERTIES EXPORT_NAME voussoir-cli)
-install(TARGETS vslib voussoir EXPORT voussoirTargets
+# The program's plugins are the libraries libvoussoir-record and libvoussoir-plot, installed next
+# to libvoussoir (the program loads them from the directory its libvoussoir comes from).
+install(TARGETS vslib vsrecord vsplot vs_all voussoir EXPORT voussoirTargets
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})

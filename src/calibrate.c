@@ -1,37 +1,21 @@
-/* The calibrate command: the k_n that reproduces a measured collapse displacement, found by a
- * log-spaced scan and bracketed false position on log k_n, each evaluation a run in this
- * process. */
+/* The calibrate command's work (its command line is read by src/cli_sweep.c): the k_n that
+ * reproduces a measured collapse displacement, found by a log-spaced scan and bracketed false
+ * position on log k_n, each evaluation a run in this process. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
-#include "voussoir/parse.h"
+#include "cli.h"
 #include "voussoir/run.h"
+#include "voussoir/support.h"
 #include "voussoir/sweep.h"
 #include "voussoir/units.h"
 
-enum { EXIT_FAIL = 1, EXIT_USAGE = 2, MAX_SETS = 64 };
-
-static const char *CAL_USAGE =
-    "usage: voussoir calibrate CASE (--target-dz-pct X | --target-dx-pct X) [--kn-min N_MM3]\n"
-    "                          [--kn-max N_MM3] [--tol-pct X] [--set SECTION.KEY=VALUE]... [-q]\n"
-    "Finds the joint stiffness k_n (N/mm^3) whose collapse displacement component dz/L (or\n"
-    "dx/L), in %, equals the target: a log-spaced scan of [kn-min, kn-max] (default 0.1, 100)\n"
-    "brackets the first crossing, then bracketed false position (Illinois) on log k_n refines it\n"
-    "to tol-pct (default 0.01 % of L). Reports the bracket, every iteration and the sensitivity\n"
-    "d(delta_u/L)/d(log10 k_n) at the answer; says so when no k_n in the range reaches the target.\n";
-
-static int parse_common(int argc, char **argv, int i, char **sets, int *nsets) {
-  if (strcmp(argv[i], "--set") == 0 && i + 1 < argc && *nsets < MAX_SETS) {
-    sets[(*nsets)++] = argv[i + 1];
-    return 2;
-  }
-  return 0;
-}
+enum { EXIT_FAIL = VS_EXIT_FAILED, EXIT_USAGE = VS_EXIT_BAD_INPUT };
 
 /* The case file with the --set overrides applied (in order), not yet validated. */
-static vs_status load_case(const char *case_path, char **sets, int nsets, vs_case *c,
+static vs_status load_case(const char *case_path, const char *const *sets, int nsets, vs_case *c,
                            vs_error *err) {
   vs_case_defaults(c);
   vs_status st = vs_case_read(c, case_path, NULL, err);
@@ -58,68 +42,21 @@ static double cal_eval(cal_ctx *c, double kn) {
   c->runs++;
   if (vs_run_create(&k, &r, &err) == VS_OK && vs_run_execute(r, NULL, NULL, NULL, &err) == VS_OK &&
       vs_run_collapse(r)->found) {
-    const double d = vs_run_collapse(r)->delta / VS_MM, a = k.alpha_deg * VS_DEG;
-    out = 100.0 * d * (c->dx ? sin(a) : cos(a)) / vs_case_span_mm(&k);
+    const double d = vs_run_collapse(r)->delta / VS_MM;
+    const vs_support_dir sd = vs_support_case_direction(&k);
+    out = 100.0 * d * (c->dx ? sd.dx : sd.dz) / vs_case_span_mm(&k);
   }
   vs_run_destroy(&r);
   if (!c->quiet) fprintf(stderr, "  k_n = %-12.6g  collapse %s/L = %.4f %%\n", kn, c->dx ? "dx" : "dz", out);
   return out;
 }
 
-/* One numeric option of calibrate, in [lo, hi] (the k_n bounds are the case's range of
- * joints.kn_N_mm3); prints the error. */
-static int cal_number(const char *option, const char *text, double lo, double hi, double *out) {
-  vs_error err;
-  if (vs_parse_option_double(option, text, lo, hi, out, &err) == VS_OK) return 0;
-  fprintf(stderr, "voussoir calibrate: %s\n", err.msg);
-  return -1;
-}
-
-int vs_cmd_calibrate(int argc, char **argv) {
-  const char *case_path = NULL;
-  char *sets[MAX_SETS];
-  int nsets = 0, have_target = 0;
-  double target = NAN, kmin = 0.1, kmax = 100.0, tol = 0.01;
-  cal_ctx c = {0};
+int vs_calibrate_main(const vs_calibrate_opts *o) {
+  const double target = o->target, kmin = o->kn_min, kmax = o->kn_max, tol = o->tol;
+  cal_ctx c = {.dx = o->dx, .quiet = o->quiet};
   vs_error err;
   vs_error_clear(&err);
-  for (int i = 2; i < argc; i++) {
-    const char *a = argv[i];
-    int used = parse_common(argc, argv, i, sets, &nsets);
-    if (used) {
-      i += used - 1;
-    } else if ((strcmp(a, "--target-dz-pct") == 0 || strcmp(a, "--target-dx-pct") == 0) && i + 1 < argc) {
-      c.dx = strcmp(a, "--target-dx-pct") == 0;
-      if (cal_number(a, argv[++i], 1e-9, 1e4, &target) != 0) return EXIT_USAGE;
-      have_target = 1;
-    } else if (strcmp(a, "--kn-min") == 0 && i + 1 < argc) {
-      if (cal_number(a, argv[++i], 1e-4, 1e4, &kmin) != 0) return EXIT_USAGE;
-    } else if (strcmp(a, "--kn-max") == 0 && i + 1 < argc) {
-      if (cal_number(a, argv[++i], 1e-4, 1e4, &kmax) != 0) return EXIT_USAGE;
-    } else if (strcmp(a, "--tol-pct") == 0 && i + 1 < argc) {
-      if (cal_number(a, argv[++i], 1e-12, 100.0, &tol) != 0) return EXIT_USAGE;
-    } else if (strcmp(a, "-q") == 0) {
-      c.quiet = 1;
-    } else if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-      fputs(CAL_USAGE, stdout);
-      return 0;
-    } else if (a[0] != '-' && case_path == NULL) {
-      case_path = a;
-    } else {
-      fprintf(stderr, "voussoir calibrate: unexpected argument %s\n%s", a, CAL_USAGE);
-      return EXIT_USAGE;
-    }
-  }
-  if (case_path == NULL || !have_target || !(target > 0.0) || !isfinite(target)) {
-    fprintf(stderr, "voussoir calibrate: needs a CASE and a target > 0 %%\n%s", CAL_USAGE);
-    return EXIT_USAGE;
-  }
-  if (!(kmax > kmin)) {
-    fprintf(stderr, "voussoir calibrate: --kn-min %g, --kn-max %g (allowed: "
-                    "1e-4 <= kn-min < kn-max <= 10000 N/mm^3)\n", kmin, kmax);
-    return EXIT_USAGE;
-  }
-  if (load_case(case_path, sets, nsets, &c.base, &err) != VS_OK) goto bad;
+  if (load_case(o->case_path, o->sets, o->nsets, &c.base, &err) != VS_OK) goto bad;
   c.base.follow = 1;
   c.base.full = 0;
   if (vs_case_validate(&c.base, &err) != VS_OK) goto bad;

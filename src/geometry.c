@@ -58,13 +58,14 @@ static void sector_block(double ri, double re, double phi0, double phi1, double 
 }
 
 vs_status vs_geometry_create_arch(const vs_case *c, vs_geometry **out, vs_error *err) {
-  const double mm = VS_MM, deg = VS_DEG;
+  vs_case_si si;
+  vs_case_to_si(c, &si);
   const int n = c->voussoirs;
   vs_status st = vs_geometry_create(n, n + 1, out, err);
   if (st != VS_OK) return st;
   vs_geometry *g = *out;
-  const double ri = c->radius_mm * mm, t = c->thickness_mm * mm, b = c->depth_mm * mm;
-  const double beta = 0.5 * c->embrace_deg * deg, dphi = 2.0 * beta / n;
+  const double ri = si.radius, t = si.thickness, b = si.depth;
+  const double beta = 0.5 * si.embrace, dphi = 2.0 * beta / n;
   g->radius = ri;
   g->thickness = t;
   g->embrace = 2.0 * beta;

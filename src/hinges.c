@@ -253,3 +253,36 @@ void vs_hinge_name(const vs_hinge *hg, int onset, char *buf, size_t size) {
   }
   if (used < size) snprintf(buf + used, size - used, "%c", hg->side);
 }
+
+void vs_hinges_side_pattern(const vs_hinge *h, int n, char *buf, size_t size) {
+  size_t used = 0;
+  buf[0] = '\0';
+  for (int i = 0; i < n && used + 2 < size; i++) {
+    buf[used++] = h[i].side;
+    if (i + 1 < n) buf[used++] = '-';
+  }
+  buf[used] = '\0';
+}
+
+static int cmp_hinge_first(const void *x, const void *y) {
+  const vs_hinge *a = x, *b = y;
+  return (a->first > b->first) - (a->first < b->first);
+}
+
+void vs_hinges_pattern_first(const vs_hinges *h, char *buf, size_t size) {
+  buf[0] = '\0';
+  if (h->count < 3) return;
+  vs_hinge abc[3];
+  for (int i = 0; i < 3; i++) abc[i] = h->h[i];
+  qsort(abc, 3, sizeof abc[0], cmp_hinge_first);
+  vs_hinges_side_pattern(abc, 3, buf, size);
+}
+
+const char *vs_hinges_mode(const char *pattern_first, const char *pattern_collapse) {
+  const char *p0 = pattern_first, *pu = pattern_collapse;
+  if (strcmp(p0, "I-E-E") == 0 && strcmp(pu, "E-I-E-E") == 0) return "I";
+  if (strcmp(p0, "I-E-E") == 0 && strcmp(pu, "E-I-E-I") == 0) return "II";
+  if (strcmp(p0, "I-E-I") == 0 && (strcmp(pu, "E-I-E-I") == 0 || strcmp(pu, "E-I-E-I-E") == 0))
+    return "III";
+  return NULL;
+}

@@ -1,7 +1,10 @@
 /* Natural frequencies and mode shapes about an equilibrium: the tangent stiffness (from the
  * model's analytic CSC Jacobian, banded: blocks couple to their neighbours only) and the
- * diagonal mass matrix; the lowest eigenvalues by LAPACK's banded dsbgvx, their mode shapes by
- * inverse iteration on a banded LU; the damping ratio of each mode from the damping forces. */
+ * diagonal mass matrix; the lowest eigenvalues by shift-invert Lanczos on a banded Cholesky
+ * factor (cost linear in the unknowns; LAPACK's banded dsbgvx, whose band reduction grows as n^2,
+ * only where Lanczos cannot answer: K not positive definite, or no convergence), their mode
+ * shapes by inverse iteration on a banded LU; the damping ratio of each mode from the damping
+ * forces. */
 #include "voussoir/modal.h"
 
 #include <math.h>
@@ -19,6 +22,13 @@ extern void dsbgvx_(const char *jobz, const char *range, const char *uplo, const
                     const int *il, const int *iu, const double *abstol, int *m, double *w,
                     double *z, const int *ldz, double *work, int *iwork, int *ifail, int *info,
                     size_t jobz_len, size_t range_len, size_t uplo_len);
+extern void dpbtrf_(const char *uplo, const int *n, const int *kd, double *ab, const int *ldab,
+                    int *info, size_t uplo_len);
+extern void dpbtrs_(const char *uplo, const int *n, const int *kd, const int *nrhs,
+                    const double *ab, const int *ldab, double *b, const int *ldb, int *info,
+                    size_t uplo_len);
+extern void dstev_(const char *jobz, const int *n, double *d, double *e, double *z, const int *ldz,
+                   double *work, int *info, size_t jobz_len);
 extern void dgbtrf_(const int *m, const int *n, const int *kl, const int *ku, double *ab,
                     const int *ldab, int *ipiv, int *info);
 extern void dgbtrs_(const char *trans, const int *n, const int *kl, const int *ku,
@@ -32,6 +42,12 @@ static size_t bidx(int i, int j, int ld) { return (size_t)i + (size_t)j * (size_
 static const int VS_MODAL_INVIT = 3;
 /* Relative shift off the eigenvalue for inverse iteration (keeps the factorisation regular). */
 static const double VS_MODAL_SHIFT = 1e-10;
+/* Lanczos: at most this many steps (the lowest modes of an arch converge in a few tens: the
+ * shift-inverted spectrum 1/omega^2 falls off fast), and the Ritz residual, relative to the Ritz
+ * value, below which a mode has converged (its eigenvalue then has a relative error of the order
+ * of the square of this, far below the round-off of dsbgvx's absolute tolerance). */
+static const int VS_MODAL_LANCZOS_MAX = 200;
+static const double VS_MODAL_LANCZOS_TOL = 1e-11;
 
 void vs_modal_free(vs_modal *out) {
   if (out == NULL) return;
@@ -47,8 +63,32 @@ typedef struct {
   double asym;
 } band;
 
-static vs_status band_stiffness(const vs_model *m, const double *q, double delta, band *b,
-                                vs_error *err) {
+/* The unknowns in band order (perm[new] = old): a pinned support's rotation, which the state
+ * keeps after the blocks, next to the block it carries (left first, right last), so that the
+ * band stays a few unknowns wide instead of n. */
+static void band_order(const vs_model *m, int n, int *perm) {
+  const int left = vs_model_support_dof(m, 0), right = vs_model_support_dof(m, 1);
+  int k = 0;
+  if (left >= 0) perm[k++] = left;
+  for (int i = 0; i < n; i++)
+    if (i != left && i != right) perm[k++] = i;
+  if (right >= 0) perm[k++] = right;
+}
+
+/* The mass diagonal of the static state: the blocks' (vs_model_mass), and for a pinned support's
+ * rotation the rotary inertia the dynamic model gives it (vs_model_ext_mass: the mean voussoir's). */
+static void state_mass(const vs_model *m, int n, double *mass) {
+  const int left = vs_model_support_dof(m, 0), right = vs_model_support_dof(m, 1);
+  const int nb = (n - (left >= 0) - (right >= 0)) / 3;
+  vs_model_mass(m, mass);
+  double inertia = 0.0;
+  for (int i = 0; i < nb; i++) inertia += mass[3 * i + 2] / nb;
+  if (left >= 0) mass[left] = inertia;
+  if (right >= 0) mass[right] = inertia;
+}
+
+static vs_status band_stiffness(const vs_model *m, const double *q, double delta, const int *perm,
+                                band *b, vs_error *err) {
   const int n = vs_model_size(m);
   SUNContext ctx = NULL;
   if (SUNContext_Create(NULL, &ctx) != 0) return vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
@@ -59,19 +99,22 @@ static vs_status band_stiffness(const vs_model *m, const double *q, double delta
     vs_model_jacobian(m, q, delta, K);
     const sunindextype *kp = SUNSparseMatrix_IndexPointers(K), *ki = SUNSparseMatrix_IndexValues(K);
     const double *kx = SUNSparseMatrix_Data(K);
-    int kd = 0;
-    for (int c = 0; c < n; c++)
-      for (sunindextype e = kp[c]; e < kp[c + 1]; e++) kd = (int)fmax(kd, fabs((double)(ki[e] - c)));
+    int *inv = malloc((size_t)n * sizeof *inv), kd = 0; /* inv[old] = new */
+    if (inv == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
+    for (int i = 0; st == VS_OK && i < n; i++) inv[perm[i]] = i;
+    for (int c = 0; st == VS_OK && c < n; c++)
+      for (sunindextype e = kp[c]; e < kp[c + 1]; e++) kd = (int)fmax(kd, abs(inv[ki[e]] - inv[c]));
     b->n = n;
     b->kd = kd;
     b->ld = 2 * kd + 1;
     b->sb = calloc((size_t)b->ld * (size_t)n, sizeof *b->sb);
     if (b->sb == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
-    for (int c = 0; st == VS_OK && c < n; c++)
-      for (sunindextype e = kp[c]; e < kp[c + 1]; e++) {
-        const int r = (int)ki[e];
+    for (int c0 = 0; st == VS_OK && c0 < n; c0++)
+      for (sunindextype e = kp[c0]; e < kp[c0 + 1]; e++) {
+        const int r = inv[ki[e]], c = inv[c0];
         b->sb[bidx(kd + r - c, c, b->ld)] = kx[e];
       }
+    free(inv);
   }
   if (K != NULL) SUNMatDestroy(K);
   SUNContext_Free(&ctx);
@@ -126,6 +169,132 @@ static vs_status band_eigenvalues(const band *b, const double *mass, int nm, dou
   return st;
 }
 
+/* Lanczos's workspace: the Cholesky factor of S (upper band), sqrt of the masses, the basis Q
+ * (n x (mmax + 1)), the tridiagonal (alpha, beta) and dstev's copies and vectors. */
+typedef struct {
+  int n, kd, ldab, mmax;
+  double *ab, *sm, *Q, *alpha, *beta, *d, *e, *z, *work;
+} lanczos;
+
+static void lanczos_free(lanczos *l) {
+  free(l->ab);
+  free(l->sm);
+  free(l->Q);
+  free(l->alpha);
+  free(l->beta);
+  free(l->d);
+  free(l->e);
+  free(l->z);
+  free(l->work);
+}
+
+/* 0, or -1 out of memory. */
+static int lanczos_alloc(lanczos *l, const band *b) {
+  const size_t n = (size_t)b->n, m = (size_t)(b->n < VS_MODAL_LANCZOS_MAX ? b->n : VS_MODAL_LANCZOS_MAX);
+  *l = (lanczos){.n = b->n, .kd = b->kd, .ldab = b->kd + 1, .mmax = (int)m};
+  l->ab = malloc((size_t)l->ldab * n * sizeof *l->ab);
+  l->sm = malloc(n * sizeof *l->sm);
+  l->Q = malloc(n * (m + 1) * sizeof *l->Q);
+  l->alpha = malloc(m * sizeof *l->alpha);
+  l->beta = malloc(m * sizeof *l->beta);
+  l->d = malloc(m * sizeof *l->d);
+  l->e = malloc(m * sizeof *l->e);
+  l->z = malloc(m * m * sizeof *l->z);
+  l->work = malloc((2 * m + 1) * sizeof *l->work);
+  return (l->ab && l->sm && l->Q && l->alpha && l->beta && l->d && l->e && l->z && l->work) ? 0 : -1;
+}
+
+/* w = M^1/2 S^-1 M^1/2 x (the shift-inverted operator at sigma = 0, symmetric). */
+static int lanczos_apply(const lanczos *l, const double *x, double *w) {
+  const int one = 1;
+  int info = 0;
+  for (int r = 0; r < l->n; r++) w[r] = l->sm[r] * x[r];
+  dpbtrs_("U", &l->n, &l->kd, &one, l->ab, &l->ldab, w, &l->n, &info, 1);
+  for (int r = 0; r < l->n; r++) w[r] *= l->sm[r];
+  return info;
+}
+
+static double dot(int n, const double *x, const double *y) {
+  double s = 0.0;
+  for (int r = 0; r < n; r++) s += x[r] * y[r];
+  return s;
+}
+
+/* w orthogonalised against Q's first m columns, twice (classical Gram-Schmidt); the coefficient
+ * on column m - 1 is added to *diag. */
+static void lanczos_orth(const lanczos *l, int m, double *w, double *diag) {
+  for (int pass = 0; pass < 2; pass++)
+    for (int i = 0; i < m; i++) {
+      const double *qi = l->Q + (size_t)i * (size_t)l->n;
+      const double c = dot(l->n, qi, w);
+      for (int r = 0; r < l->n; r++) w[r] -= c * qi[r];
+      if (i == m - 1) *diag += c;
+    }
+}
+
+/* The nm largest Ritz values of the m-step tridiagonal, ascending as 1/theta into w2, when every
+ * one has converged (Ritz residual beta_m |z_m| <= tol theta): 1; 0 not yet; -1 dstev failed. */
+static int lanczos_ritz(lanczos *l, int m, int nm, double *w2) {
+  memcpy(l->d, l->alpha, (size_t)m * sizeof *l->d);
+  memcpy(l->e, l->beta, (size_t)m * sizeof *l->e);
+  int info = 0;
+  dstev_("V", &m, l->d, l->e, l->z, &m, l->work, &info, 1);
+  if (info != 0) return -1;
+  for (int k = 0; k < nm; k++) {
+    const int i = m - 1 - k; /* dstev: ascending */
+    const double theta = l->d[i], res = fabs(l->beta[m - 1] * l->z[(size_t)(m - 1) + (size_t)i * (size_t)m]);
+    if (!(theta > 0.0) || res > VS_MODAL_LANCZOS_TOL * theta) return 0;
+  }
+  for (int k = 0; k < nm; k++) w2[k] = 1.0 / l->d[m - 1 - k];
+  return 1;
+}
+
+/* The lowest nm eigenvalues of (S, diag(mass)) by shift-invert Lanczos with full
+ * reorthogonalisation. 1: found; 0: Lanczos cannot tell (S not positive definite, an invariant
+ * subspace before the whole space, no convergence: the caller falls back on dsbgvx); -1 out of
+ * memory. */
+static int lanczos_eigenvalues(const band *b, const double *mass, int nm, double *w2) {
+  lanczos l;
+  int found = 0, info = 0;
+  if (lanczos_alloc(&l, b) != 0) found = -1;
+  if (found == 0) {
+    for (int c = 0; c < l.n; c++) /* upper band: AB(kd + r - c, c) = S(r, c), r <= c */
+      for (int r = (c > l.kd ? c - l.kd : 0); r <= c; r++)
+        l.ab[bidx(l.kd + r - c, c, l.ldab)] = b->sb[bidx(l.kd + r - c, c, b->ld)];
+    dpbtrf_("U", &l.n, &l.kd, l.ab, &l.ldab, &info, 1);
+  }
+  if (found == 0 && info == 0) {
+    for (int r = 0; r < l.n; r++) l.sm[r] = sqrt(mass[r]);
+    double *q = l.Q;
+    for (int r = 0; r < l.n; r++) q[r] = 1.0 + 0.5 * sin(1.0 + r); /* every mode in it */
+    const double s = 1.0 / sqrt(dot(l.n, q, q));
+    for (int r = 0; r < l.n; r++) q[r] *= s;
+    for (int m = 1; m <= l.mmax && found == 0; m++) {
+      double *w = l.Q + (size_t)m * (size_t)l.n;
+      if (lanczos_apply(&l, l.Q + (size_t)(m - 1) * (size_t)l.n, w) != 0) break;
+      l.alpha[m - 1] = 0.0;
+      lanczos_orth(&l, m, w, &l.alpha[m - 1]);
+      l.beta[m - 1] = sqrt(dot(l.n, w, w));
+      if (m < nm) {
+        if (!(l.beta[m - 1] > 0.0)) break;
+      } else {
+        const int rz = lanczos_ritz(&l, m, nm, w2);
+        if (rz < 0) break;
+        /* an invariant subspace short of the whole space may have missed a mode */
+        const int breakdown = !(l.beta[m - 1] > 1e-14 * l.d[m - 1]);
+        if (breakdown && m < l.n) break;
+        if (rz > 0) found = 1;
+      }
+      if (found == 0) {
+        const double inv = 1.0 / l.beta[m - 1];
+        for (int r = 0; r < l.n; r++) w[r] *= inv;
+      }
+    }
+  }
+  lanczos_free(&l);
+  return found;
+}
+
 /* M-orthonormalise x against the modes found so far (phi, k of them) and itself. */
 static void m_orthonormalise(int n, const double *mass, const double *phi, int k, double *x) {
   for (int j = 0; j < k; j++) {
@@ -167,7 +336,9 @@ static vs_status band_vector(const band *b, const double *mass, double w2, const
 /* The lowest nm eigenpairs of (S, diag(mass)). */
 static vs_status band_modes(const band *b, const double *mass, int nm, double *w2, double *phi,
                             vs_error *err) {
-  vs_status st = band_eigenvalues(b, mass, nm, w2, err);
+  const int lz = lanczos_eigenvalues(b, mass, nm, w2);
+  if (lz < 0) return vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
+  vs_status st = lz > 0 ? VS_OK : band_eigenvalues(b, mass, nm, w2, err);
   if (st != VS_OK) return st;
   if (!(w2[0] > 0.0))
     return vs_error_set(err, VS_ERR_INVALID,
@@ -195,23 +366,35 @@ vs_status vs_modal_compute(const vs_model *m, const double *q, double delta, int
                         VS_MODAL_MAX_DOF, VS_MODAL_MAX_DOF / 3);
   if (nm < 1) return vs_error_set(err, VS_ERR_INVALID, "modal: %d modes asked (allowed: >= 1)", n_modes);
   band b = {0};
-  double *mass = malloc((size_t)n * sizeof *mass);
+  double *mass = malloc((size_t)n * sizeof *mass), *massb = malloc((size_t)n * sizeof *massb);
+  double *phib = malloc((size_t)n * (size_t)nm * sizeof *phib); /* band order */
+  int *perm = malloc((size_t)n * sizeof *perm);
   out->phi = malloc((size_t)n * (size_t)nm * sizeof *out->phi);
   vs_status st = VS_OK;
-  if (mass == NULL || out->phi == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
-  if (st == VS_OK) st = band_stiffness(m, q, delta, &b, err);
+  if (mass == NULL || massb == NULL || phib == NULL || perm == NULL || out->phi == NULL)
+    st = vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
+  if (st == VS_OK) {
+    band_order(m, n, perm);
+    st = band_stiffness(m, q, delta, perm, &b, err);
+  }
   double w2[VS_MODAL_MAX];
   if (st == VS_OK) {
     out->asymmetry = b.asym;
-    vs_model_mass(m, mass);
-    st = band_modes(&b, mass, nm, w2, out->phi, err);
+    state_mass(m, n, mass);
+    for (int i = 0; i < n; i++) massb[i] = mass[perm[i]];
+    st = band_modes(&b, massb, nm, w2, phib, err);
   }
   for (int i = 0; st == VS_OK && i < nm; i++) {
     out->omega[i] = sqrt(w2[i]);
     out->freq_hz[i] = out->omega[i] / (2.0 * VS_PI);
+    for (int r = 0; r < n; r++)
+      out->phi[(size_t)i * (size_t)n + (size_t)perm[r]] = phib[(size_t)i * (size_t)n + (size_t)r];
   }
   free(b.sb);
   free(mass);
+  free(massb);
+  free(phib);
+  free(perm);
   if (st != VS_OK) {
     vs_modal_free(out);
     return st;

@@ -2,6 +2,7 @@
  * assembled from one joint-law evaluation per joint. The block adjacency (and so the CSC
  * pattern and the scatter map of every joint's 6x6 stiffness) is built once at creation. */
 #include "voussoir/model.h"
+#include "voussoir/support.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -230,8 +231,9 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
   if (m == NULL) return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
   m->g = g;
   m->law = *law;
-  m->dir[0] = sin(alpha_rad);
-  m->dir[1] = -cos(alpha_rad);
+  const vs_support_dir sd = vs_support_direction(alpha_rad); /* support.h: delta (dx, -dz) */
+  m->dir[0] = sd.dx;
+  m->dir[1] = -sd.dz;
   m->gscale = 1.0;
   m->mscale = 1.0;
   m->n = 3 * g->n_blocks;

@@ -1,8 +1,12 @@
-/* Monte Carlo over imperfect arches: one sample's run, the statistics of many (mean, CoV, 5 %
- * quantile, fragility curve with its DKW band, hinge histograms, running statistics) and the
- * summary files (CSV, HDF5, PNG). The process pool and the CLI are in src/montecarlo_cmd.c. */
+/* Monte Carlo over imperfect arches: the statistics of many samples (mean, CoV, 5 % quantile,
+ * fragility curve with its DKW band, hinge histograms, running statistics) and the summary files
+ * (CSV, HDF5, PNG), in the plot plugin (HDF5 and cairo). One sample's run is in
+ * src/montecarlo_sample.c (the core library); the process pool and the CLI in
+ * src/montecarlo_cmd.c and src/cli_montecarlo.c. */
 #define _POSIX_C_SOURCE 200809L /* mkdir */
 #include "voussoir/montecarlo.h"
+
+#include "h5util.h"
 
 #include <errno.h>
 #include <hdf5.h>
@@ -21,50 +25,6 @@
 static const double VS_MC_BAND_ALPHA = 0.05;
 static const double VS_MC_QUANTILE = 0.05; /* the low quantile of delta_u / L reported */
 enum { VS_MC_FRAGILITY_POINTS = 201, VS_MC_RUNNING = 1000 };
-
-static void fill_hinges(const vs_run *r, vs_mc_sample *o) {
-  const vs_collapse_record *cr = vs_run_collapse(r);
-  for (int i = 0; i < cr->n_hinges; i++) {
-    const vs_hinge *h = &cr->hinges[i];
-    const int l = h->label - 'A';
-    if (l < 0 || l >= VS_MC_LABELS) continue;
-    o->hinge_joint[l] = (h->first + h->last) / 2;
-    o->hinge_side[l] = h->side;
-  }
-  const char *pat = vs_run_pattern_collapse(r), *mode = vs_run_mode(r);
-  snprintf(o->pattern, sizeof o->pattern, "%s", pat != NULL ? pat : "");
-  o->mode = mode == NULL ? 0 : strcmp(mode, "I") == 0 ? 1 : strcmp(mode, "II") == 0 ? 2
-                                                        : strcmp(mode, "III") == 0 ? 3 : 0;
-}
-
-void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *o) {
-  memset(o, 0, sizeof *o);
-  o->sample = sample;
-  o->first_limit_mm = o->delta_u_mm = o->dz_u_mm = o->dx_u_mm = NAN;
-  vs_case c = *base;
-  c.sample = sample;
-  c.fall_s = 0.0; /* delta_u and the mechanism are read before the fall, which costs the most */
-  vs_run *r = NULL;
-  vs_error err;
-  vs_error_clear(&err);
-  vs_status st = vs_run_create(&c, &r, &err);
-  if (st == VS_OK) st = vs_run_execute(r, NULL, NULL, NULL, &err);
-  if (r != NULL && vs_run_limit_count(r) > 0) o->first_limit_mm = vs_run_limit(r, 0)->delta / VS_MM;
-  if (st != VS_OK) {
-    o->status = VS_MC_FAILED;
-    snprintf(o->error, sizeof o->error, "%.399s", err.msg);
-  } else if (vs_run_collapse(r)->found) {
-    const double d = vs_run_collapse(r)->delta / VS_MM, a = c.alpha_deg * VS_DEG;
-    o->status = VS_MC_COLLAPSE;
-    o->delta_u_mm = d;
-    o->dz_u_mm = d * cos(a);
-    o->dx_u_mm = d * sin(a);
-    fill_hinges(r, o);
-  } else {
-    o->status = VS_MC_NO_COLLAPSE;
-  }
-  vs_run_destroy(&r);
-}
 
 /* ---------------------------------------------------------------------------------------------
  * Statistics */
@@ -247,18 +207,6 @@ static int write_stats_csv(const char *path, const mc_stats *st) {
   return fclose(f) == 0 ? 0 : -1;
 }
 
-static herr_t h5_attr_str(hid_t obj, const char *name, const char *value) {
-  hid_t t = H5Tcopy(H5T_C_S1), s = H5Screate(H5S_SCALAR), a = H5I_INVALID_HID;
-  herr_t rc = -1;
-  if (t >= 0 && H5Tset_size(t, strlen(value) + 1) >= 0 && s >= 0)
-    a = H5Acreate2(obj, name, t, s, H5P_DEFAULT, H5P_DEFAULT);
-  if (a >= 0) rc = H5Awrite(a, t, value);
-  if (a >= 0) H5Aclose(a);
-  if (s >= 0) H5Sclose(s);
-  if (t >= 0) H5Tclose(t);
-  return rc;
-}
-
 /* A double dataset of rank 1 or 2 (rank 0: scalar) with its unit ("1" dimensionless). */
 static herr_t h5_dset(hid_t loc, const char *name, int rank, const hsize_t *dims,
                       const double *data, const char *unit) {
@@ -267,7 +215,7 @@ static herr_t h5_dset(hid_t loc, const char *name, int rank, const hsize_t *dims
                                 H5P_DEFAULT)
                    : H5I_INVALID_HID;
   herr_t rc = d >= 0 ? H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : -1;
-  if (rc >= 0) rc = h5_attr_str(d, "unit", unit);
+  if (rc >= 0) rc = vs_h5_attr_cstr(d, "unit", unit);
   if (d >= 0) H5Dclose(d);
   if (s >= 0) H5Sclose(s);
   return rc;
@@ -298,10 +246,11 @@ static herr_t write_samples_h5(hid_t file, const vs_mc_sample *s, int n) {
       col[i * VS_MC_LABELS + l] = s[i].hinge_joint[l] * (s[i].hinge_side[l] == 'E' ? -1.0 : 1.0);
   if (rc >= 0) rc = h5_dset(g, "hinge_joint", 2, d2, col, "1");
   if (rc >= 0)
-    rc = h5_attr_str(g, "description",
-                     "per sample: status 0 collapse, 1 none within support.max_mm, 2 failed; mode "
-                     "1..3 (0 unclassified); hinge_joint[sample][A..E]: middle joint at collapse, "
-                     "positive at the intrados, negative at the extrados, 0 none");
+    rc = vs_h5_attr_cstr(
+        g, "description",
+        "per sample: status 0 collapse, 1 none within support.max_mm, 2 failed; mode "
+        "1..3 (0 unclassified); hinge_joint[sample][A..E]: middle joint at collapse, "
+        "positive at the intrados, negative at the extrados, 0 none");
   free(col);
   if (g >= 0) H5Gclose(g);
   return rc;
@@ -322,7 +271,7 @@ static herr_t write_stats_h5(hid_t file, const mc_stats *st) {
   const double modes[4] = {st->modes[0], st->modes[1], st->modes[2], st->modes[3]};
   const hsize_t four = 4;
   if (rc >= 0) rc = h5_dset(g, "modes", 1, &four, modes, "1");
-  if (rc >= 0) rc = h5_attr_str(g, "modes", "counts: unclassified, I, II, III");
+  if (rc >= 0) rc = vs_h5_attr_cstr(g, "modes", "counts: unclassified, I, II, III");
   if (g >= 0) H5Gclose(g);
   hid_t f = H5Gcreate2(file, "fragility", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   const hsize_t nf = VS_MC_FRAGILITY_POINTS;
@@ -332,10 +281,11 @@ static herr_t write_stats_h5(hid_t file, const mc_stats *st) {
   if (rc >= 0) rc = h5_dset(f, "lower", 1, &nf, st->frag_lo, "1");
   if (rc >= 0) rc = h5_dset(f, "upper", 1, &nf, st->frag_hi, "1");
   if (rc >= 0)
-    rc = h5_attr_str(f, "band",
-                     "P(collapse at a support displacement <= delta): the empirical CDF of delta_u "
-                     "over the samples that did not fail; lower/upper: the Dvoretzky-Kiefer-"
-                     "Wolfowitz band, 95 % simultaneous, half-width sqrt(ln(2/0.05)/(2n))");
+    rc = vs_h5_attr_cstr(
+        f, "band",
+        "P(collapse at a support displacement <= delta): the empirical CDF of delta_u "
+        "over the samples that did not fail; lower/upper: the Dvoretzky-Kiefer-"
+        "Wolfowitz band, 95 % simultaneous, half-width sqrt(ln(2/0.05)/(2n))");
   if (f >= 0) H5Gclose(f);
   hid_t c = H5Gcreate2(file, "convergence", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   const hsize_t nn = (hsize_t)st->n_run, dh[2] = {VS_MC_LABELS, (hsize_t)st->n_joints};
@@ -363,9 +313,10 @@ static vs_status write_h5(const char *path, const vs_case *cs, const vs_mc_sampl
   char desc[256];
   snprintf(desc, sizeof desc, "voussoir montecarlo: %d samples, seed %d, alpha %g deg, L %.6g mm",
            n, cs->seed, cs->alpha_deg, vs_case_span_mm(cs));
-  herr_t rc = h5_attr_str(file, "description", desc);
-  if (rc >= 0) rc = h5_attr_str(file, "hinge_histogram",
-                                "[label A..E][joint 1..n+1]: collapses with that hinge there");
+  herr_t rc = vs_h5_attr_cstr(file, "description", desc);
+  if (rc >= 0)
+    rc = vs_h5_attr_cstr(file, "hinge_histogram",
+                         "[label A..E][joint 1..n+1]: collapses with that hinge there");
   if (rc >= 0) rc = write_samples_h5(file, s, n);
   if (rc >= 0) rc = write_stats_h5(file, st);
   if (H5Fclose(file) < 0) rc = -1;

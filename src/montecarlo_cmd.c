@@ -1,6 +1,7 @@
-/* The montecarlo and merge commands: samples handed out to a pool of forked workers (one process
- * per sample, its result sent back through a pipe), --shard K/M for batch schedulers, and merge
- * of shard directories into one summary. */
+/* The montecarlo and merge commands' work (their command lines are read by
+ * src/cli_montecarlo.c): samples handed out to a pool of forked workers (one process per sample,
+ * its result sent back through a pipe), --shard K/M for batch schedulers, and merge of shard
+ * directories into one summary. */
 #define _POSIX_C_SOURCE 200809L /* fork, pipe, clock_gettime */
 #include "voussoir/montecarlo.h"
 
@@ -16,25 +17,13 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "cli.h"
 #include "pipe_io.h"
+#include "plugin.h"
 #include "voussoir/parse.h"
 #include "voussoir/plot.h"
 
-enum { EXIT_FAIL = 1, EXIT_USAGE = 2, MAX_SETS = 64 };
-
-static const char *MC_USAGE =
-    "usage: voussoir montecarlo CASE --samples N [--seed S] [--set SECTION.KEY=VALUE]...\n"
-    "                           [-j N] [--shard K/M] [-o DIR] [-q]\n"
-    "       voussoir merge DIR... -o OUT\n"
-    "  --samples N   imperfect arches 0..N-1, each with its own draws ([imperfections])\n"
-    "  --seed S      generator seed (same as --set imperfections.seed=S)\n"
-    "  -j N          worker processes (default: the cores)\n"
-    "  --shard K/M   run only the samples i with i mod M = K-1 (K in 1..M), for a scheduler's\n"
-    "                array job; voussoir merge then joins the shards' directories\n"
-    "  -o DIR        output directory (default montecarlo_out): samples.csv, statistics.csv,\n"
-    "                summary.h5, fragility.png, convergence.png, hinges.png\n"
-    "exit status: 0 done (failed samples are in the table with their cause), 1 every sample\n"
-    "failed or the summary could not be written, 2 bad input (nothing written)\n";
+enum { EXIT_FAIL = VS_EXIT_FAILED, EXIT_USAGE = VS_EXIT_BAD_INPUT };
 
 static double now_s(void) {
   struct timespec ts;
@@ -126,76 +115,8 @@ static int run_pool(const vs_case *c, const int *samples, int n, int jobs, int q
   return done == n ? 0 : -1;
 }
 
-/* An integer option through the project's one number parser. */
-static int parse_int_arg(const char *what, const char *text, int lo, int hi, int *out) {
-  vs_error err;
-  if (vs_parse_option_int(what, text, lo, hi, out, &err) == VS_OK) return 0;
-  fprintf(stderr, "voussoir montecarlo: %s\n", err.msg);
-  return -1;
-}
-
-typedef struct {
-  const char *case_path, *dir;
-  char *sets[MAX_SETS];
-  int nsets, samples, jobs, quiet, shard_k, shard_m;
-  const char *seed;
-} mc_args;
-
-static int parse_args(int argc, char **argv, mc_args *a) {
-  memset(a, 0, sizeof *a);
-  a->dir = "montecarlo_out";
-  a->jobs = (int)sysconf(_SC_NPROCESSORS_ONLN);
-  a->shard_k = a->shard_m = 1;
-  a->samples = -1;
-  for (int i = 2; i < argc; i++) {
-    const char *s = argv[i];
-    const int has = i + 1 < argc;
-    if (strcmp(s, "--samples") == 0 && has) {
-      if (parse_int_arg("--samples", argv[++i], 1, 10000000, &a->samples) != 0) return -1;
-    } else if (strcmp(s, "--seed") == 0 && has) {
-      a->seed = argv[++i];
-    } else if (strcmp(s, "--set") == 0 && has && a->nsets < MAX_SETS) {
-      a->sets[a->nsets++] = argv[++i];
-    } else if (strcmp(s, "-j") == 0 && has) {
-      if (parse_int_arg("-j", argv[++i], 1, 1024, &a->jobs) != 0) return -1;
-    } else if (strcmp(s, "--shard") == 0 && has) {
-      const char *v = argv[++i];
-      char k[32], m[32];
-      const char *slash = strchr(v, '/');
-      int ok = slash != NULL && (size_t)(slash - v) < sizeof k && strlen(slash + 1) < sizeof m;
-      if (ok) {
-        snprintf(k, sizeof k, "%.*s", (int)(slash - v), v);
-        snprintf(m, sizeof m, "%s", slash + 1);
-        long lk = 0, lm = 0;
-        ok = vs_parse_long(k, &lk) == VS_NUM_OK && vs_parse_long(m, &lm) == VS_NUM_OK &&
-             lm >= 1 && lm <= 1000000 && lk >= 1 && lk <= lm;
-        a->shard_k = (int)lk;
-        a->shard_m = (int)lm;
-      }
-      if (!ok) {
-        fprintf(stderr, "voussoir montecarlo: --shard %s: expected K/M with 1 <= K <= M\n", v);
-        return -1;
-      }
-    } else if (strcmp(s, "-o") == 0 && has) {
-      a->dir = argv[++i];
-    } else if (strcmp(s, "-q") == 0) {
-      a->quiet = 1;
-    } else if (s[0] != '-' && a->case_path == NULL) {
-      a->case_path = s;
-    } else {
-      fprintf(stderr, "voussoir montecarlo: unexpected argument %s\n%s", s, MC_USAGE);
-      return -1;
-    }
-  }
-  if (a->case_path == NULL || a->samples < 1) {
-    fprintf(stderr, "voussoir montecarlo: needs a CASE and --samples N\n%s", MC_USAGE);
-    return -1;
-  }
-  return 0;
-}
-
 /* The case with the overrides and the seed applied, validated. */
-static int load_case(const mc_args *a, vs_case *c) {
+static int load_case(const vs_mc_opts *a, vs_case *c) {
   vs_error err;
   vs_error_clear(&err);
   vs_case_defaults(c);
@@ -223,15 +144,12 @@ static void print_result(const char *dir, const vs_mc_sample *r, int n, double w
          n, collapses, failed, wall, jobs, dir, dir);
 }
 
-int vs_cmd_montecarlo(int argc, char **argv) {
-  for (int i = 2; i < argc; i++)
-    if (strcmp(argv[i], "-h") == 0 || strcmp(argv[i], "--help") == 0) {
-      fputs(MC_USAGE, stdout);
-      return 0;
-    }
-  mc_args a;
+int vs_mc_main(const vs_mc_opts *o) {
+  vs_mc_opts a = *o; /* a.jobs becomes the number of MPI ranks under MPI */
   vs_case c;
-  if (parse_args(argc, argv, &a) != 0 || load_case(&a, &c) != 0) return EXIT_USAGE;
+  if (load_case(&a, &c) != 0) return EXIT_USAGE;
+  /* the summary is HDF5 and pictures: the plot plugin, before anything is written */
+  if (vs_plugin_load(VS_PLUGIN_PLOT, "voussoir montecarlo") != 0) return EXIT_FAIL;
   int n = 0;
   for (int i = a.shard_k - 1; i < a.samples; i += a.shard_m) n++;
   int *samples = malloc((size_t)(n > 0 ? n : 1) * sizeof *samples);
@@ -387,25 +305,8 @@ static int cmp_sample_no(const void *x, const void *y) {
   return (a > b) - (a < b);
 }
 
-int vs_cmd_merge(int argc, char **argv) {
-  const char *out = NULL;
-  const char *dirs[256];
-  int nd = 0;
-  for (int i = 2; i < argc; i++) {
-    if (strcmp(argv[i], "-o") == 0 && i + 1 < argc) out = argv[++i];
-    else if (strcmp(argv[i], "-h") == 0 || strcmp(argv[i], "--help") == 0) {
-      fputs(MC_USAGE, stdout);
-      return 0;
-    } else if (argv[i][0] != '-' && nd < 256) dirs[nd++] = argv[i];
-    else {
-      fprintf(stderr, "voussoir merge: unexpected argument %s\n%s", argv[i], MC_USAGE);
-      return EXIT_USAGE;
-    }
-  }
-  if (nd == 0 || out == NULL) {
-    fprintf(stderr, "voussoir merge: needs DIR... and -o OUT\n%s", MC_USAGE);
-    return EXIT_USAGE;
-  }
+int vs_merge_main(const char *const *dirs, int nd, const char *out) {
+  if (vs_plugin_load(VS_PLUGIN_PLOT, "voussoir merge") != 0) return EXIT_FAIL;
   char header[1024] = "";
   vs_mc_sample *all = NULL;
   int n = 0, cap = 0, rc = EXIT_USAGE;

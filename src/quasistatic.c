@@ -389,13 +389,15 @@ static double scaled_norm(const qs_solver *s, const double *a, const double *b) 
 }
 
 void vs_path_opts_from_case(const vs_case *c, vs_path_opts *o) {
-  o->step = c->step_mm * VS_MM;
-  o->step_max = c->step_max_mm * VS_MM;
-  o->limit_tol = c->limit_tol_mm * VS_MM;
-  o->max_delta = c->max_mm * VS_MM;
+  vs_case_si si;
+  vs_case_to_si(c, &si);
+  o->step = si.step;
+  o->step_max = si.step_max;
+  o->limit_tol = si.limit_tol;
+  o->max_delta = si.max_delta;
   o->newton_tol = c->newton_tol;
   o->newton_maxiter = c->newton_maxiter;
-  o->open = c->open_mm * VS_MM;
+  o->open = si.open;
   o->stop = NULL;
 }
 

@@ -2,6 +2,7 @@
 #include "voussoir/report.h"
 
 #include "voussoir/damping.h"
+#include "voussoir/support.h"
 
 #include <math.h>
 
@@ -21,9 +22,10 @@ void vs_json_string(FILE *out, const char *s) {
 
 /* Support displacement components over the span, in %. */
 static void components_pct(const vs_case *c, double delta_m, double *dz, double *dx) {
-  const double L = vs_case_span_mm(c), d = delta_m / VS_MM, a = c->alpha_deg * VS_DEG;
-  *dz = 100.0 * d * cos(a) / L;
-  *dx = 100.0 * d * sin(a) / L;
+  const double L = vs_case_span_mm(c), d = delta_m / VS_MM;
+  const vs_support_dir sd = vs_support_case_direction(c);
+  *dz = 100.0 * d * sd.dz / L;
+  *dx = 100.0 * d * sd.dx / L;
 }
 
 static const char *end_name(const vs_run *r, vs_status st) {
@@ -303,15 +305,10 @@ static void text_hinge_row(FILE *out, const vs_case *c, const vs_hinge *hg, int 
           hg->delta_onset / VS_MM, hg->delta_onset / (c->rate_mm_s * VS_MM), dz, dx, nth);
 }
 
-void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error *err,
-                    const char *case_path) {
+/* The first limit point and the evidence that it is one. */
+static void text_first_limit(FILE *out, const vs_run *r) {
   const vs_case *c = vs_run_case(r);
   const vs_path_result *p = vs_run_path(r);
-  const vs_hinges *h = vs_run_hinges(r);
-  const vs_collapse_record *col = vs_run_collapse(r);
-  text_header(out, r, case_path);
-  text_damping(out, r);
-  fputc('\n', out);
   double dz, dx;
   if (p->end == VS_PATH_LIMIT_POINT && vs_run_limit_count(r) > 0) {
     components_pct(c, p->delta_limit, &dz, &dx);
@@ -324,6 +321,10 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
             p->delta_fail / VS_MM, p->evidence.lambda_last, p->evidence.lambda_start,
             p->evidence.delta_extrap / VS_MM);
   }
+}
+
+/* Every limit point: snap (where it settled), collapse, or not followed. */
+static void text_limits(FILE *out, const vs_run *r) {
   if (vs_run_limit_count(r) > 0) {
     fprintf(out, "\nlimit points\n");
     for (int i = 0; i < vs_run_limit_count(r); i++) {
@@ -338,6 +339,14 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
       fputc('\n', out);
     }
   }
+}
+
+/* The collapse (delta_u, its components, mode, reactions, hinges at its onset), or how far the
+ * support moved without one. */
+static void text_collapse(FILE *out, const vs_run *r, vs_status status) {
+  const vs_case *c = vs_run_case(r);
+  const vs_collapse_record *col = vs_run_collapse(r);
+  double dz, dx;
   if (col->found) {
     components_pct(c, col->delta, &dz, &dx);
     fprintf(out, "\nCOLLAPSE  delta_u = %.4f mm   dz/L = %.3f %%   dx/L = %.3f %%   at t = %.2f s\n",
@@ -348,7 +357,9 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
             col->delta_detected / VS_MM, col->t_criterion);
     const char *mode = vs_run_mode(r);
     fprintf(out, "  hinges at collapse (left to right): %s;  first three: %s;  mode %s\n",
-            vs_run_pattern_collapse(r), vs_run_pattern_initial(r), mode ? mode : "unclassified");
+            vs_run_pattern_collapse(r)[0] ? vs_run_pattern_collapse(r) : "none",
+            vs_run_pattern_initial(r)[0] ? vs_run_pattern_initial(r) : "none",
+            mode ? mode : "unclassified");
     const double *rc = col->reactions_limit;
     if (isfinite(rc[0]))
       fprintf(out, "  reactions on the arch at the collapsing limit point: left Fx %.3f N, Fz %.3f N, "
@@ -356,14 +367,18 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
               rc[0], rc[1], rc[2], rc[3], rc[4], rc[5]);
     fprintf(out, "  label  joints          onset delta   onset time    dz/L     dx/L\n");
     for (int i = 0; i < col->n_hinges; i++) text_hinge_row(out, c, &col->hinges[i], 0);
+    if (col->n_hinges == 0) fprintf(out, "  (none open by hinges.open_mm)\n");
   } else if (status == VS_OK && (c->follow || c->full)) {
     components_pct(c, vs_run_delta(r), &dz, &dx);
     fprintf(out, "\nno collapse up to delta = %.4f mm (dz/L = %.3f %%, dx/L = %.3f %%)\n",
             vs_run_delta(r) / VS_MM, dz, dx);
   }
-  if (status != VS_OK)
-    fprintf(out, "\nFAILED at delta = %.4f mm: %s\n", vs_run_delta(r) / VS_MM,
-            err != NULL ? err->msg : vs_strerror(status));
+}
+
+/* Every hinge in order of appearance. */
+static void text_hinges(FILE *out, const vs_run *r) {
+  const vs_case *c = vs_run_case(r);
+  const vs_hinges *h = vs_run_hinges(r);
   fprintf(out, "\nhinges in order of appearance (side = edge that stays in contact; joints at onset)\n");
   fprintf(out, "  label  joints          onset delta   onset time    dz/L     dx/L\n");
   int spread = 0;
@@ -379,6 +394,10 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
   if (spread)
     fprintf(out, "  a name like 44-45-46-I is one hinge spread over consecutive joints that are "
                  "each slightly open\n");
+}
+
+/* Solver statistics, the fall, the wall time. */
+static void text_stats(FILE *out, const vs_run *r) {
   const vs_path_result *t = vs_run_path_totals(r);
   const vs_dyn_result *d = vs_run_dynamic_totals(r);
   fprintf(out, "\nstats    quasi-static: %ld equilibria (%ld rejected increments) + %ld locating hinge "
@@ -404,4 +423,19 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
     fprintf(out, "         fall: IDA failed at t = %.6g s and the fall was not followed further "
                  "(the collapse above stands): %s\n", d->fall_failed_t, d->fall_failure);
   fprintf(out, "         wall time %.3f s\n", vs_run_wall_s(r));
+}
+
+void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error *err,
+                    const char *case_path) {
+  text_header(out, r, case_path);
+  text_damping(out, r);
+  fputc('\n', out);
+  text_first_limit(out, r);
+  text_limits(out, r);
+  text_collapse(out, r, status);
+  if (status != VS_OK)
+    fprintf(out, "\nFAILED at delta = %.4f mm: %s\n", vs_run_delta(r) / VS_MM,
+            err != NULL ? err->msg : vs_strerror(status));
+  text_hinges(out, r);
+  text_stats(out, r);
 }

@@ -67,13 +67,14 @@ struct vs_run {
  * rest threshold above it). */
 static const double VS_REST_OF_COLLAPSE = 0.01;
 
-static void dyn_opts_from_case(const vs_case *c, const vs_geometry *g, vs_dyn_opts *o) {
+static void dyn_opts_from_case(const vs_case *c, const vs_case_si *si, const vs_geometry *g,
+                               vs_dyn_opts *o) {
   double mass = 0.0;
   for (int i = 0; i < g->n_blocks; i++) mass += g->blocks[i].mass;
-  o->rate = c->rate_mm_s * VS_MM;
+  o->rate = si->rate;
   o->rtol = c->rtol;
-  o->atol_q = c->atol_mm * VS_MM;
-  o->open = c->open_mm * VS_MM;
+  o->atol_q = si->atol_q;
+  o->open = si->open;
   /* the collapse threshold rides on the kinetic energy of the arch moving bodily at the
    * support's rate, which fast loading reaches without any collapse; rest stays well below it */
   o->collapse_ke = c->collapse_ke * vs_geometry_weight(g) * c->thickness_mm * VS_MM +
@@ -82,7 +83,7 @@ static void dyn_opts_from_case(const vs_case *c, const vs_geometry *g, vs_dyn_op
                     VS_REST_OF_COLLAPSE * o->collapse_ke);
   o->rest_time = c->rest_s;
   o->fall_time = c->fall_s;
-  o->max_delta = c->max_mm * VS_MM;
+  o->max_delta = si->max_delta;
   o->sample_dt = c->sample_s;
   o->settle = 1;
   o->impact = c->damping_model == VS_DAMPING_IMPACT;
@@ -93,14 +94,14 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
   vs_run *r = calloc(1, sizeof *r);
   if (r == NULL) return vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
   r->c = *c;
+  vs_case_si si;
+  vs_case_to_si(c, &si);
   for (int i = 0; i < 6; i++) r->react[i] = r->react_eq[i] = NAN;
   vs_status st = vs_imperfections_draw(c, &r->imp, err);
   if (st == VS_OK) st = vs_imperfections_arch(c, r->imp, &r->g, err);
   if (st == VS_OK) {
-    vs_joint_law law = {.kn = c->kn_N_mm3 * VS_N_MM3,
-                        .ks = c->ks_ratio * c->kn_N_mm3 * VS_N_MM3,
-                        .mu = c->friction};
-    st = vs_model_create(r->g, &law, c->alpha_deg * VS_DEG, &r->m, err);
+    vs_joint_law law = {.kn = si.kn, .ks = si.ks, .mu = c->friction};
+    st = vs_model_create(r->g, &law, si.alpha, &r->m, err);
     if (st == VS_OK)
       st = vs_model_set_support_kinds(r->m, (vs_support_kind)c->left_kind,
                                       (vs_support_kind)c->right_kind, err);
@@ -115,7 +116,7 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
   if (st == VS_OK) { /* rayleigh is set at the self-weight equilibrium (damping_setup) */
     if (c->damping_model == VS_DAMPING_RAYLEIGH) vs_model_set_damping(r->m, 0.0);
     else vs_damping_apply(r->m, (vs_damping_model)c->damping_model, c->damping, 0.0, 0.0, NULL, NULL, NULL);
-    r->hopts.open = c->open_mm * VS_MM;
+    r->hopts.open = si.open;
     r->hopts.migrate = c->migrate_joints;
     st = vs_hinges_create(r->g->n_joints, &r->hopts, &r->h, err);
   }
@@ -128,14 +129,14 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
   }
   if (st == VS_OK) {
     vs_path_opts_from_case(c, &r->popts);
-    dyn_opts_from_case(c, r->g, &r->dopts);
+    dyn_opts_from_case(c, &si, r->g, &r->dopts);
     double mass = 0.0;
     for (int i = 0; i < r->g->n_blocks; i++) mass += r->g->blocks[i].mass;
     r->ke_move = 0.5 * mass * r->dopts.rate * r->dopts.rate;
     if (c->follow || c->full) st = vs_dynamic_create(r->m, &r->dopts, &r->dyn, err);
     if (st == VS_OK && r->dyn != NULL && c->fall_s > 0.0) { /* armed at the collapse */
       st = vs_contact_create(r->m, c->restitution, 0, NULL, NULL, &r->ground, err);
-      if (st == VS_OK) st = vs_dynamic_set_contact(r->dyn, r->ground, c->ground_mm * VS_MM, err);
+      if (st == VS_OK) st = vs_dynamic_set_contact(r->dyn, r->ground, si.ground, err);
       if (st == VS_OK) st = vs_collide_create(r->m, c->restitution, NULL, NULL, &r->bodies, err);
       if (st == VS_OK) st = vs_dynamic_set_collide(r->dyn, r->bodies, err);
     }
@@ -442,17 +443,6 @@ static int cmp_hinge_first(const void *x, const void *y) {
   return (a->first > b->first) - (a->first < b->first);
 }
 
-/* Sides of hinges left to right, "I-E-E". */
-static void side_pattern(const vs_hinge *h, int n, char *buf, size_t size) {
-  size_t used = 0;
-  buf[0] = '\0';
-  for (int i = 0; i < n && used + 2 < size; i++) {
-    buf[used++] = h[i].side;
-    if (i + 1 < n) buf[used++] = '-';
-  }
-  buf[used] = '\0';
-}
-
 static void record_collapse(vs_run *r, const vs_dyn_result *d) {
   vs_collapse_record *c = &r->collapse;
   c->found = 1;
@@ -477,21 +467,13 @@ static void record_collapse(vs_run *r, const vs_dyn_result *d) {
  * collapse. */
 static void classify(vs_run *r) {
   r->mode = NULL;
-  r->pattern0[0] = r->pattern_u[0] = '\0';
-  if (vs_hinges_count(r->h) >= 3) {
-    vs_hinge abc[3];
-    for (int i = 0; i < 3; i++) abc[i] = *vs_hinges_get(r->h, i);
-    qsort(abc, 3, sizeof abc[0], cmp_hinge_first);
-    side_pattern(abc, 3, r->pattern0, sizeof r->pattern0);
-  }
+  r->pattern_u[0] = '\0';
+  vs_hinges_pattern_first(r->h, r->pattern0, sizeof r->pattern0);
   if (r->collapse.found)
-    side_pattern(r->collapse.hinges, r->collapse.n_hinges, r->pattern_u, sizeof r->pattern_u);
-  if (!r->collapse.found || r->pattern0[0] == '\0') return;
-  if (strcmp(r->pattern0, "I-E-E") == 0 && strcmp(r->pattern_u, "E-I-E-E") == 0) r->mode = "I";
-  else if (strcmp(r->pattern0, "I-E-E") == 0 && strcmp(r->pattern_u, "E-I-E-I") == 0) r->mode = "II";
-  else if (strcmp(r->pattern0, "I-E-I") == 0 &&
-           (strcmp(r->pattern_u, "E-I-E-I") == 0 || strcmp(r->pattern_u, "E-I-E-I-E") == 0))
-    r->mode = "III";
+    vs_hinges_side_pattern(r->collapse.hinges, r->collapse.n_hinges, r->pattern_u,
+                           sizeof r->pattern_u);
+  if (r->collapse.found && r->pattern0[0] != '\0')
+    r->mode = vs_hinges_mode(r->pattern0, r->pattern_u);
 }
 
 /* The motion from a limit point (or from rest at the start, full-dynamic): integrate; whenever

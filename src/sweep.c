@@ -1,6 +1,7 @@
-/* The sweep command: many runs of one case. A sweep runs every combination of its axes, each
- * case in a worker forked from this process (or on the ranks of an MPI job), and gathers the rows
- * the cases return into a summary table (CSV, HDF5) and a journal for --resume. */
+/* The sweep command's work (its command line is read by src/cli_sweep.c): many runs of one case.
+ * A sweep runs every combination of its axes, each case in a worker forked from this process (or
+ * on the ranks of an MPI job), and gathers the rows the cases return into a summary table (CSV;
+ * HDF5 by src/sweep_summary.c in the record plugin) and a journal for --resume. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
 #include <math.h>
@@ -12,8 +13,8 @@
 #include <time.h>
 #include <unistd.h>
 
-#include <hdf5.h>
-
+#include "cli.h"
+#include "plugin.h"
 #include "sweep_private.h"
 #include "voussoir/outpath.h"
 #include "voussoir/parse.h"
@@ -21,26 +22,8 @@
 #include "voussoir/sweep.h"
 #include "voussoir/units.h"
 
-enum { EXIT_FAIL = 1, EXIT_USAGE = 2, EXIT_STOPPED = 130, MAX_AXES = VS_SWEEP_MAX_AXES,
-       MAX_SETS = 64 };
-
-static const char *SWEEP_USAGE =
-    "usage: voussoir sweep CASE [--alpha LIST] [--kn LIST] [--vary SECTION.KEY=LIST]...\n"
-    "                      [--set SECTION.KEY=VALUE]... [--first-limit | --dynamic]\n"
-    "                      [-j N] [-o DIR] [--resume] [-q]\n"
-    "       mpirun -np N voussoir sweep ...   (rank 0 hands the runs out to the other ranks)\n"
-    "Runs the case for every combination of the lists, each in a worker process forked from\n"
-    "this one (-j at a time, default: the number of cores), and writes DIR/run_NNNN.h5 (the\n"
-    "record) and .json per run, DIR/summary.csv and DIR/summary.h5. A run that fails is\n"
-    "reported in the table with its cause; the others go on.\n"
-    "LIST: comma-separated numbers and inclusive ranges first:last:step, e.g. 0:45:5,60,75,90.\n"
-    "--alpha and --kn are the axes support.alpha_deg and joints.kn_N_mm3; --vary sweeps any key.\n"
-    "-o DIR: default sweep_out. At most 100000 runs.\n"
-    "SIGINT/SIGTERM: the runs under way are interrupted (the signal is passed on), the summary\n"
-    "lists what finished and marks the rest 'interrupted' or 'not_run'; exit status 130.\n"
-    "--resume: continue the sweep in DIR (same case, lists, --set and mode): a run whose row is\n"
-    "in DIR/sweep.journal (written as each run ends) is complete and is not run again.\n"
-    "Exit status 0 when every run worked, 1 if any failed, 2 bad input, 130 interrupted.\n";
+enum { EXIT_FAIL = VS_EXIT_FAILED, EXIT_USAGE = VS_EXIT_BAD_INPUT,
+       EXIT_STOPPED = VS_EXIT_INTERRUPTED, MAX_AXES = VS_SWEEP_MAX_AXES };
 
 typedef vs_sweep_axis axis;
 
@@ -121,88 +104,11 @@ static int rewrite_table(const char *path, const axis *ax, int nax, const vs_swe
   return 0;
 }
 
-/* The summary as an HDF5 compound table DIR/summary.h5 (/summary), units in an attribute; rows
- * in run order. */
-static int write_summary_h5(const char *dir, const axis *ax, int nax, const vs_sweep_row *rows,
-                            int n) {
-  char path[1100];
-  snprintf(path, sizeof path, "%s/summary.h5", dir);
-  typedef struct {
-    int run;
-    double axis[MAX_AXES];
-    const char *status, *mode, *hinges, *error;
-    double first_limit, delta_u, dz, dx, wall;
-    int snaps;
-  } mem;
-  mem *m = calloc((size_t)(n > 0 ? n : 1), sizeof *m);
-  if (m == NULL) return -1;
-  for (int i = 0; i < n; i++)
-    m[i] = (mem){rows[i].run,         {0},
-                 rows[i].status,      rows[i].mode,
-                 rows[i].hinges,      rows[i].error,
-                 rows[i].first_limit_mm, rows[i].delta_u_mm,
-                 rows[i].dz_pct,      rows[i].dx_pct,
-                 rows[i].wall_s,      rows[i].snaps};
-  for (int i = 0; i < n; i++) memcpy(m[i].axis, rows[i].axis, sizeof m[i].axis);
-  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
-  hid_t str = H5Tcopy(H5T_C_S1);
-  H5Tset_size(str, H5T_VARIABLE);
-  H5Tset_cset(str, H5T_CSET_UTF8);
-  hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(mem));
-  H5Tinsert(t, "run", HOFFSET(mem, run), H5T_NATIVE_INT);
-  char units[1024] = "run: -";
-  size_t used = strlen(units);
-  for (int x = 0; x < nax; x++) {
-    H5Tinsert(t, ax[x].key, HOFFSET(mem, axis) + (size_t)x * sizeof(double), H5T_NATIVE_DOUBLE);
-    used += (size_t)snprintf(units + used, sizeof units - used, "; %s: case units", ax[x].key);
-  }
-  H5Tinsert(t, "status", HOFFSET(mem, status), str);
-  H5Tinsert(t, "first_limit_mm", HOFFSET(mem, first_limit), H5T_NATIVE_DOUBLE);
-  H5Tinsert(t, "delta_u_mm", HOFFSET(mem, delta_u), H5T_NATIVE_DOUBLE);
-  H5Tinsert(t, "dz_over_L_pct", HOFFSET(mem, dz), H5T_NATIVE_DOUBLE);
-  H5Tinsert(t, "dx_over_L_pct", HOFFSET(mem, dx), H5T_NATIVE_DOUBLE);
-  H5Tinsert(t, "hinges_at_collapse", HOFFSET(mem, hinges), str);
-  H5Tinsert(t, "mode", HOFFSET(mem, mode), str);
-  H5Tinsert(t, "snaps", HOFFSET(mem, snaps), H5T_NATIVE_INT);
-  H5Tinsert(t, "wall_s", HOFFSET(mem, wall), H5T_NATIVE_DOUBLE);
-  H5Tinsert(t, "error", HOFFSET(mem, error), str);
-  snprintf(units + used, sizeof units - used,
-           "; status, hinges_at_collapse, mode, error: text; first_limit_mm, delta_u_mm: mm; "
-           "dz_over_L_pct, dx_over_L_pct: %% of the intrados span; snaps: count; wall_s: s");
-  hid_t f = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  hsize_t dims[1] = {(hsize_t)n};
-  hid_t sp = H5Screate_simple(1, dims, NULL);
-  hid_t d = f >= 0 ? H5Dcreate2(f, "summary", t, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT) : -1;
-  int ok = d >= 0 && H5Dwrite(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, m) >= 0;
-  if (ok) {
-    hid_t as = H5Screate(H5S_SCALAR), a = H5Acreate2(d, "unit", str, as, H5P_DEFAULT, H5P_DEFAULT);
-    const char *u = units;
-    ok = a >= 0 && H5Awrite(a, str, &u) >= 0;
-    if (a >= 0) H5Aclose(a);
-    H5Sclose(as);
-  }
-  if (d >= 0) H5Dclose(d);
-  H5Sclose(sp);
-  if (f >= 0) H5Fclose(f);
-  H5Tclose(t);
-  H5Tclose(str);
-  free(m);
-  return ok ? 0 : -1;
-}
-
-static int parse_common(int argc, char **argv, int i, char **sets, int *nsets) {
-  if (strcmp(argv[i], "--set") == 0 && i + 1 < argc && *nsets < MAX_SETS) {
-    sets[(*nsets)++] = argv[i + 1];
-    return 2;
-  }
-  return 0;
-}
-
 /* The case file with the --set overrides applied (in order), not yet validated; *text (when
  * not NULL) receives the file's text (malloc'd). The runs do not follow the fall: the domain is
  * read before it, and the fall (to rest on the ground) costs the most; a --set of the sweep's
  * own, applied after, still follows it. */
-static vs_status load_case_text(const char *case_path, char **sets, int nsets, vs_case *c,
+static vs_status load_case_text(const char *case_path, const char *const *sets, int nsets, vs_case *c,
                                 char **text, vs_error *err) {
   vs_case_defaults(c);
   vs_status st = vs_case_read(c, case_path, text, err);
@@ -211,13 +117,13 @@ static vs_status load_case_text(const char *case_path, char **sets, int nsets, v
   return st;
 }
 
-static vs_status load_case(const char *case_path, char **sets, int nsets, vs_case *c,
+static vs_status load_case(const char *case_path, const char *const *sets, int nsets, vs_case *c,
                            vs_error *err) {
   return load_case_text(case_path, sets, nsets, c, NULL, err);
 }
 
 /* Validate the case with the fixed overrides and every value of every axis. */
-static int validate_all(const char *case_path, char **sets, int nsets, const axis *ax, int nax) {
+static int validate_all(const char *case_path, const char *const *sets, int nsets, const axis *ax, int nax) {
   vs_case c;
   vs_error err;
   vs_error_clear(&err);
@@ -240,7 +146,7 @@ static void on_stop_signal(int sig) {
   g_stop_count++;
 }
 
-static void catch_stop_signals(void) {
+void vs_sweep_catch_signals(void) {
   struct sigaction sa;
   memset(&sa, 0, sizeof sa);
   sa.sa_handler = on_stop_signal;
@@ -360,81 +266,7 @@ static int sweep_size(const axis *ax, int nax) {
   return (int)total;
 }
 
-typedef struct {
-  const char *case_path, *dir, *mode_flag;
-  char **sets;
-  int nsets, nax, jobs, quiet, resume;
-  axis *ax;
-} sweep_opts;
-
-static int parse_sweep_args(int argc, char **argv, sweep_opts *o, char **sets) {
-  vs_error err;
-  vs_error_clear(&err);
-  for (int i = 2; i < argc; i++) {
-    const char *a = argv[i];
-    int used = parse_common(argc, argv, i, sets, &o->nsets);
-    if (used) {
-      i += used - 1;
-    } else if ((strcmp(a, "--alpha") == 0 || strcmp(a, "--kn") == 0 || strcmp(a, "--vary") == 0) &&
-               i + 1 < argc) {
-      if (o->nax == MAX_AXES) {
-        fprintf(stderr, "voussoir sweep: at most %d axes\n", MAX_AXES);
-        return EXIT_USAGE;
-      }
-      axis *x = &o->ax[o->nax];
-      const char *list = argv[++i];
-      if (strcmp(a, "--vary") == 0) {
-        const char *eq = strchr(list, '=');
-        if (eq == NULL || (size_t)(eq - list) >= sizeof x->key) {
-          fprintf(stderr, "voussoir sweep: --vary %.64s: expected SECTION.KEY=LIST (KEY shorter "
-                          "than %d characters)\n", list, (int)sizeof x->key);
-          return EXIT_USAGE;
-        }
-        snprintf(x->key, sizeof x->key, "%.*s", (int)(eq - list), list);
-        list = eq + 1;
-      } else {
-        snprintf(x->key, sizeof x->key, "%s",
-                 strcmp(a, "--alpha") == 0 ? "support.alpha_deg" : "joints.kn_N_mm3");
-      }
-      if (vs_parse_list(a, list, &x->v, &x->n, &err) != VS_OK) {
-        fprintf(stderr, "voussoir sweep: %s\n", err.msg);
-        return EXIT_USAGE;
-      }
-      o->nax++;
-    } else if (strcmp(a, "-j") == 0 && i + 1 < argc) {
-      if (vs_parse_option_int("-j", argv[++i], 1, 1024, &o->jobs, &err) != VS_OK) {
-        fprintf(stderr, "voussoir sweep: %s\n", err.msg);
-        return EXIT_USAGE;
-      }
-    } else if (strcmp(a, "-o") == 0 && i + 1 < argc) {
-      o->dir = argv[++i];
-    } else if (strcmp(a, "-q") == 0) {
-      o->quiet = 1;
-    } else if (strcmp(a, "--resume") == 0) {
-      o->resume = 1;
-    } else if (strcmp(a, "--first-limit") == 0 || strcmp(a, "--dynamic") == 0) {
-      o->mode_flag = a;
-    } else if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-      fputs(SWEEP_USAGE, stdout);
-      return 0;
-    } else if (a[0] != '-' && o->case_path == NULL) {
-      o->case_path = a;
-    } else {
-      fprintf(stderr, "voussoir sweep: unexpected argument %s\n%s", a, SWEEP_USAGE);
-      return EXIT_USAGE;
-    }
-  }
-  if (strlen(o->dir) > 1000) {
-    fprintf(stderr, "voussoir sweep: -o %.64s...: directory name too long (at most 1000 "
-                    "characters)\n", o->dir);
-    return EXIT_USAGE;
-  }
-  if (o->case_path == NULL || o->nax == 0) {
-    fprintf(stderr, "voussoir sweep: needs a CASE and at least one list\n%s", SWEEP_USAGE);
-    return EXIT_USAGE;
-  }
-  return -1; /* go on */
-}
+typedef vs_sweep_opts sweep_opts;
 
 /* A sweep under way: which runs are done, their rows, the table and the journal. */
 typedef struct {
@@ -563,7 +395,7 @@ static int sweep_close(sweep_state *s, double wall, int processes) {
   snprintf(path, sizeof path, "%s/summary.csv", o->dir);
   if (rewrite_table(path, o->ax, o->nax, s->rows, s->n) != 0)
     fprintf(stderr, "voussoir sweep: %s: cannot write: %s\n", path, strerror(errno));
-  if (write_summary_h5(o->dir, o->ax, o->nax, s->rows, s->n) != 0)
+  if (vs_sweep_summary_h5(o->dir, o->ax, o->nax, s->rows, s->n) != 0)
     fprintf(stderr, "voussoir sweep: %s/summary.h5: cannot write\n", o->dir);
   if (unfinished > 0) {
     printf("interrupted: %d of %d runs complete (%d failed), %d unfinished; table: %s; "
@@ -651,33 +483,26 @@ static int sweep_run(const sweep_opts *o, const vs_case *base, const char *case_
   return rc;
 }
 
-int vs_cmd_sweep(int argc, char **argv, int *h5_clean) {
-  char *sets[MAX_SETS];
-  axis ax[MAX_AXES];
-  memset(ax, 0, sizeof ax);
-  sweep_opts o = {.dir = "sweep_out", .sets = sets, .ax = ax,
-                  .jobs = (int)sysconf(_SC_NPROCESSORS_ONLN)};
-  if (o.jobs < 1) o.jobs = 1;
-  if (o.jobs > 1024) o.jobs = 1024;
-  catch_stop_signals(); /* first, so that no signal is lost while the sweep sets up */
-  int rc = parse_sweep_args(argc, argv, &o, sets);
-  if (rc < 0 && sweep_size(ax, o.nax) < 0) {
+int vs_sweep_main(const vs_sweep_opts *o, int *h5_clean) {
+  int rc = -1;
+  if (sweep_size(o->ax, o->nax) < 0) {
     fprintf(stderr, "voussoir sweep: more than %d runs (the product of the lists' lengths); "
                     "split the study\n", VS_SWEEP_MAX_RUNS);
     rc = EXIT_USAGE;
   }
-  if (rc < 0 && validate_all(o.case_path, sets, o.nsets, ax, o.nax) != 0) rc = EXIT_USAGE;
+  if (rc < 0 && validate_all(o->case_path, o->sets, o->nsets, o->ax, o->nax) != 0) rc = EXIT_USAGE;
+  /* every run writes a record: the record plugin, before anything is written or forked */
+  if (rc < 0 && vs_plugin_load(VS_PLUGIN_RECORD, "voussoir sweep") != 0) rc = EXIT_FAIL;
   if (rc < 0) {
     vs_case c;
     vs_error err;
     vs_error_clear(&err);
     char *manifest = NULL, *case_text = NULL;
-    if (load_case_text(o.case_path, sets, o.nsets, &c, &case_text, &err) == VS_OK)
-      manifest = manifest_text(&c, ax, o.nax, o.mode_flag);
-    rc = manifest == NULL ? EXIT_FAIL : sweep_run(&o, &c, case_text, manifest, h5_clean);
+    if (load_case_text(o->case_path, o->sets, o->nsets, &c, &case_text, &err) == VS_OK)
+      manifest = manifest_text(&c, o->ax, o->nax, o->mode_flag);
+    rc = manifest == NULL ? EXIT_FAIL : sweep_run(o, &c, case_text, manifest, h5_clean);
     free(manifest);
     free(case_text);
   }
-  for (int x = 0; x < o.nax; x++) free(ax[x].v);
   return rc;
 }

@@ -97,7 +97,7 @@ static const key_case all_keys[] = {
     {"arch", "radius_mm", "0.0009", "1.1e6", {"1e-3", "1e6"}},
     {"arch", "thickness_mm", "-1", "1000001", {"0.001", "1e6"}},
     {"arch", "embrace_deg", "0.99", "180.0001", {"180", "1"}},
-    {"arch", "voussoirs", "0", "1001", {"1", "1000"}},
+    {"arch", "voussoirs", "0", "2001", {"1", "2000"}},
     {"arch", "depth_mm", "-120", "2e6", {"1", "1e6"}},
     {"arch", "density_kg_m3", "9.99", "100001", {"2400", "10"}},
     {"arch", "gravity_m_s2", "-9.81", "1000.5", {"1.62", "0.1"}},
@@ -204,6 +204,29 @@ static const char full_file[] =
     "[hinges]\n"
     "open_mm = 0.02\n"
     "migrate_joints = 5\n";
+
+/* The case in SI: every length in metres, angles in radians, stiffness in N/m^3 (1 N/mm^3 =
+ * 1e9 N/m^3), speed in m/s; ks is ks_ratio times kn. Values chosen by hand, not the defaults. */
+static void test_to_si(void **state) {
+  (void)state;
+  vs_case c;
+  vs_case_defaults(&c);
+  c.radius_mm = 250.0, c.thickness_mm = 20.0, c.depth_mm = 100.0, c.embrace_deg = 90.0;
+  c.kn_N_mm3 = 2.0, c.ks_ratio = 0.25, c.alpha_deg = -45.0, c.rate_mm_s = 0.5, c.max_mm = 40.0;
+  c.step_mm = 0.25, c.step_max_mm = 1.5, c.limit_tol_mm = 0.002, c.open_mm = 0.1;
+  c.atol_mm = 1e-4, c.ground_mm = -30.0;
+  vs_case_si si;
+  vs_case_to_si(&c, &si);
+  const double eps = 1e-15, pi = 3.14159265358979323846;
+  assert_true(fabs(si.radius - 0.25) < eps && fabs(si.thickness - 0.02) < eps);
+  assert_true(fabs(si.depth - 0.1) < eps && fabs(si.embrace - pi / 2.0) < eps);
+  assert_true(fabs(si.kn - 2e9) < 1e-6 && fabs(si.ks - 5e8) < 1e-6);
+  assert_true(fabs(si.alpha + pi / 4.0) < eps && fabs(si.rate - 5e-4) < eps);
+  assert_true(fabs(si.max_delta - 0.04) < eps && fabs(si.step - 2.5e-4) < eps);
+  assert_true(fabs(si.step_max - 1.5e-3) < eps && fabs(si.limit_tol - 2e-6) < eps);
+  assert_true(fabs(si.open - 1e-4) < eps && fabs(si.atol_q - 1e-7) < eps);
+  assert_true(fabs(si.ground + 0.03) < eps);
+}
 
 static void test_full_file(void **state) {
   (void)state;
@@ -360,7 +383,7 @@ static void test_range_message_exact(void **state) {
   expect_read_error("[arch]\nembrace_deg = 200\n", VS_ERR_INVALID, 2,
                     "arch.embrace_deg = 200: out of range (allowed: [1, 180] deg)");
   expect_read_error("[arch]\nvoussoirs = 0\n", VS_ERR_INVALID, 2,
-                    "arch.voussoirs = 0: out of range (allowed: integer in [1, 1000])");
+                    "arch.voussoirs = 0: out of range (allowed: integer in [1, 2000])");
   expect_read_error("[solver]\nnewton_tol = 1\n", VS_ERR_INVALID, 2, "(allowed: (0, 0.01])");
 }
 
@@ -435,7 +458,7 @@ static void test_not_a_number(void **state) {
 static void test_integer_expected(void **state) {
   (void)state;
   expect_read_error("[arch]\nvoussoirs = 55.5\n", VS_ERR_PARSE, 2,
-                    "arch.voussoirs = 55.5: integer expected (allowed: integer in [1, 1000])");
+                    "arch.voussoirs = 55.5: integer expected (allowed: integer in [1, 2000])");
   expect_read_error("[arch]\nvoussoirs = 55.0\n", VS_ERR_PARSE, 2, "integer expected");
   expect_read_error("[arch]\nvoussoirs = 5e1\n", VS_ERR_PARSE, 2, "integer expected");
   expect_read_error("[arch]\nvoussoirs = 55x\n", VS_ERR_PARSE, 2, "unexpected characters");
@@ -646,7 +669,7 @@ static void test_validate(void **state) {
   expect_invalid(&c, "joints.kn_N_mm3", "[0.0001, 10000] N/mm^3");
   vs_case_defaults(&c);
   c.voussoirs = 0;
-  expect_invalid(&c, "arch.voussoirs = 0", "integer in [1, 1000]");
+  expect_invalid(&c, "arch.voussoirs = 0", "integer in [1, 2000]");
 
   assert_int_equal(vs_case_validate(NULL, &err), VS_ERR_INVALID);
   assert_int_equal(vs_case_validate(&c, NULL), VS_ERR_INVALID);
@@ -997,6 +1020,7 @@ int main(void) {
       cmocka_unit_test(test_support_kinds),
       cmocka_unit_test(test_named_key),
       cmocka_unit_test(test_defaults),
+      cmocka_unit_test(test_to_si),
       cmocka_unit_test(test_full_file),
       cmocka_unit_test(test_partial_file_keeps_rest),
       cmocka_unit_test(test_empty_file),

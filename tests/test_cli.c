@@ -221,6 +221,40 @@ static void test_help(void **state) {
   }
 }
 
+/* Every command answers -h and --help with its own usage (exit 0, stdout), and refuses an unknown
+ * option or an option without its value the same way (exit 2, the option named, nothing on
+ * stdout), whatever its other arguments. */
+static void test_command_help(void **state) {
+  (void)state;
+  const char *cmds[] = {"sweep", "calibrate", "montecarlo", "merge", "plot"};
+  const char *own[] = {"--vary", "--target-dz-pct", "--shard", "DIR... -o OUT", "--svg"};
+  const char *valued[] = {"--alpha", "--kn-min", "--samples", "-o", "-o"}; /* needs a value */
+  for (size_t c = 0; c < sizeof cmds / sizeof cmds[0]; c++) {
+    char args[256], want[64];
+    snprintf(want, sizeof want, "usage: voussoir %s", cmds[c]);
+    for (int h = 0; h < 2; h++) {
+      snprintf(args, sizeof args, "%s x.ini %s", cmds[c], h ? "-h" : "--help");
+      result r = run(args);
+      assert_int_equal(r.status, 0);
+      expect_in(r.out, want, args);
+      expect_in(r.out, own[c], args);
+      drop(&r);
+    }
+    snprintf(args, sizeof args, "%s x.ini --frob=2", cmds[c]);
+    result r = run(args);
+    assert_int_equal(r.status, 2);
+    expect_in(r.err, "unknown option --frob", args);
+    assert_string_equal(r.out, "");
+    drop(&r);
+    snprintf(args, sizeof args, "%s x.ini %s", cmds[c], valued[c]);
+    r = run(args);
+    assert_int_equal(r.status, 2);
+    snprintf(want, sizeof want, "%s needs a value", valued[c]);
+    expect_in(r.err, want, args);
+    drop(&r);
+  }
+}
+
 static void test_version(void **state) {
   (void)state;
   result r = run("--version");
@@ -273,10 +307,22 @@ static void test_bad_input(void **state) {
   snprintf(args, sizeof args, "run '%s' -q", scratch("missing.ini").p); /* no such file */
   expect_bad_input(args, "missing.ini");
 
+  /* the same refusals with the value after '=' */
+  expect_bad_input("run '" REFERENCE "' --alpha=abc -q", "alpha_deg");
+  expect_bad_input("run '" REFERENCE "' --kn=-1 -q", "kn_N_mm3");
+  expect_bad_input("run '" REFERENCE "' --frob=1 -q", "unknown option --frob");
+  expect_bad_input("run '" REFERENCE "' --json=1 -q", "--json takes no value");
+  expect_bad_input("run '" REFERENCE "' -qx", "unknown option -x");
+  expect_bad_input("run '" REFERENCE "' '" REFERENCE "' -q", "more than one case file");
+
   /* an option without its value (last, so that it cannot take the -o that follows) */
   result v = run("run '" REFERENCE "' -q --alpha");
   assert_int_equal(v.status, 2);
-  expect_in(v.err, "--alpha", "--alpha without a value");
+  expect_in(v.err, "--alpha needs a value", "--alpha without a value");
+  drop(&v);
+  v = run("run '" REFERENCE "' -q -o");
+  assert_int_equal(v.status, 2);
+  expect_in(v.err, "-o needs a value", "-o without a value");
   drop(&v);
 
   /* an output file that cannot be created is reported, naming it */
@@ -518,6 +564,19 @@ static void test_alpha_kn_override(void **state) {
   free(json);
   check_json_run("--set support.alpha_deg=15 --alpha 30 --kn 10", 30.0, 10.0, &json);
   free(json);
+  /* a value after '=' is the same value: the same first limit point, to the last digit */
+  char *spaced = NULL, *joined = NULL;
+  check_json_run("--first-limit --alpha 30 --kn 10 --set support.rate_mm_s=0.04", 30.0, 10.0,
+                 &spaced);
+  check_json_run("--first-limit --alpha=30 --kn=10 --set=support.rate_mm_s=0.04", 30.0, 10.0,
+                 &joined);
+  const span a = need(need(one_object(spaced), "first_limit"), "delta_mm");
+  const span b = need(need(one_object(joined), "first_limit"), "delta_mm");
+  if (a.e - a.b != b.e - b.b || strncmp(a.b, b.b, (size_t)(a.e - a.b)) != 0)
+    fail_msg("first limit %.*s mm with --alpha 30, %.*s mm with --alpha=30", (int)(a.e - a.b), a.b,
+             (int)(b.e - b.b), b.b);
+  free(spaced);
+  free(joined);
 }
 
 /* Input that used to be accepted silently (exit 0, part of it ignored) or to reach the JSON as
@@ -573,6 +632,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_help),
       cmocka_unit_test(test_version),
+      cmocka_unit_test(test_command_help),
       cmocka_unit_test(test_bad_input),
       cmocka_unit_test(test_reference_json_csv),
       cmocka_unit_test(test_alpha_kn_override),

@@ -268,6 +268,43 @@ static void test_labels_left_to_right(void **state) {
   vs_hinges_destroy(&h);
 }
 
+/* Modes as docs/vocabulary.md defines them: the pattern of A, B, C read left to right (not in
+ * order of appearance), then the hinges at the collapse. */
+static void test_modes(void **state) {
+  (void)state;
+  vs_hinges *h = make(3);
+  vs_joint_state st[NJ];
+  char p0[16];
+  all_closed(st, NJ);
+  /* right support first, then the left haunch, then the crown: I-E-E left to right */
+  open_joint(st, 56, 'E');
+  vs_hinges_update(h, 1e-3, st);
+  vs_hinges_pattern_first(h, p0, sizeof p0);
+  assert_string_equal(p0, ""); /* fewer than three */
+  open_joint(st, 9, 'I');
+  vs_hinges_update(h, 2e-3, st);
+  open_joint(st, 30, 'E');
+  vs_hinges_update(h, 3e-3, st);
+  vs_hinges_pattern_first(h, p0, sizeof p0);
+  assert_string_equal(p0, "I-E-E");
+  vs_hinges_destroy(&h);
+
+  const vs_hinge four[4] = {{.side = 'E'}, {.side = 'I'}, {.side = 'E'}, {.side = 'I'}};
+  char pu[16];
+  vs_hinges_side_pattern(four, 4, pu, sizeof pu);
+  assert_string_equal(pu, "E-I-E-I");
+  vs_hinges_side_pattern(four, 4, pu, 4); /* truncated, still NUL-ended */
+  assert_string_equal(pu, "E-");
+  assert_string_equal(vs_hinges_mode("I-E-E", "E-I-E-E"), "I");
+  assert_string_equal(vs_hinges_mode("I-E-E", "E-I-E-I"), "II");
+  assert_string_equal(vs_hinges_mode("I-E-I", "E-I-E-I"), "III");
+  assert_string_equal(vs_hinges_mode("I-E-I", "E-I-E-I-E"), "III");
+  assert_null(vs_hinges_mode("I-E-I", "E-I-E-E"));
+  assert_null(vs_hinges_mode("I-E-E", "E-I-E-I-E"));
+  assert_null(vs_hinges_mode("E-I-E", "E-I-E-I"));
+  assert_null(vs_hinges_mode("", ""));
+}
+
 /* Two hinges before the collapse (pinned springers): named A, B left to right when the run
  * says so (vs_hinges_name_first); a third, forming later, is C whatever its place, and the
  * names already given do not change. */
@@ -562,6 +599,7 @@ int main(void) {
       cmocka_unit_test(test_side),
       cmocka_unit_test(test_spread),
       cmocka_unit_test(test_labels_left_to_right),
+      cmocka_unit_test(test_modes),
       cmocka_unit_test(test_same_update),
       cmocka_unit_test(test_migrate_one_per_update),
       cmocka_unit_test(test_migrate_within),

@@ -27,6 +27,14 @@ ver=$(sed -n 's/^project(voussoir VERSION \([0-9.]*\).*/\1/p' "$src/CMakeLists.t
 # The installed program runs and loads the installed library, not the build tree's.
 "$p/bin/voussoir" --version | grep -q "$ver" || fail "installed voussoir --version"
 ldd "$p/bin/voussoir" | grep libvoussoir | grep -q "$p/" || fail "installed voussoir does not load $p/$libdir"
+# Its plugins are the installed record and plot libraries, loaded from the prefix.
+for f in libvoussoir-record.so.${ver%%.*} libvoussoir-plot.so.${ver%%.*}; do
+  [ -e "$p/$libdir/$f" ] || fail "$libdir/$f not installed"
+done
+LD_DEBUG=files "$p/bin/voussoir" run "$p/share/voussoir/reference.ini" -q --first-limit \
+  -o "$tmp/first.h5" >/dev/null 2>"$tmp/ld" || fail "installed voussoir run -o: $(grep -v '^ *[0-9]*:' "$tmp/ld")"
+grep -q "file=$p/.*libvoussoir-record\.so" "$tmp/ld" || fail "the record plugin not loaded from $p"
+[ -s "$tmp/first.h5" ] || fail "installed voussoir run -o wrote no record"
 
 # The example through pkg-config, run on the installed reference case.
 export PKG_CONFIG_PATH=$p/$libdir/pkgconfig

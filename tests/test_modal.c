@@ -6,7 +6,10 @@
  *    model's damping matrix actually gives each mode (phi^T C phi / 2 omega);
  *  - the same block as a Rayleigh-damped linear 2-DOF system (sway-rocking) integrated by IDA:
  *    each mode released alone decays with the logarithmic decrement 2 pi zeta / sqrt(1 - zeta^2)
- *    and does not excite the other (classical damping).
+ *    and does not excite the other (classical damping);
+ *  - an arch of 110 voussoirs under self-weight: the lowest modes (found by shift-invert
+ *    Lanczos) against LAPACK's dense dsygv on the same symmetrised tangent and masses, each
+ *    shape satisfying K phi = omega^2 M phi.
  * SI units. */
 #include <stdarg.h>
 #include <stddef.h>
@@ -18,6 +21,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sundials/sundials_context.h>
+#include <sunmatrix/sunmatrix_sparse.h>
 
 #include "voussoir/damping.h"
 #include "voussoir/dynamic.h"
@@ -360,6 +365,108 @@ static void test_run_rayleigh(void **state) {
   assert_null(r);
 }
 
+/* LAPACK's dense generalised symmetric eigensolver (gfortran ABI). */
+extern void dsygv_(const int *itype, const char *jobz, const char *uplo, const int *n, double *a,
+                   const int *lda, double *b, const int *ldb, double *w, double *work,
+                   const int *lwork, int *info, size_t jobz_len, size_t uplo_len);
+
+/* The symmetric part of the tangent K of m at (q, delta), dense column-major n x n. */
+static double *dense_tangent(const vs_model *m, const double *q, double delta, int n) {
+  SUNContext ctx = NULL;
+  assert_int_equal(SUNContext_Create(NULL, &ctx), 0);
+  SUNMatrix K = SUNSparseMatrix(n, n, vs_model_nnz(m), CSC_MAT, ctx);
+  assert_non_null(K);
+  vs_model_jacobian(m, q, delta, K);
+  const sunindextype *kp = SUNSparseMatrix_IndexPointers(K), *ki = SUNSparseMatrix_IndexValues(K);
+  const double *kx = SUNSparseMatrix_Data(K);
+  double *S = calloc((size_t)n * (size_t)n, sizeof *S);
+  assert_non_null(S);
+  for (int c = 0; c < n; c++)
+    for (sunindextype e = kp[c]; e < kp[c + 1]; e++) {
+      S[(size_t)ki[e] + (size_t)c * (size_t)n] += 0.5 * kx[e];
+      S[(size_t)c + (size_t)ki[e] * (size_t)n] += 0.5 * kx[e];
+    }
+  SUNMatDestroy(K);
+  SUNContext_Free(&ctx);
+  return S;
+}
+
+/* The modes of an arch of many voussoirs under self-weight against a dense solve of the same
+ * problem (an independent algorithm: Householder tridiagonalisation of the whole matrix), and
+ * each shape against the eigen-equation itself; clamped supports, and pinned ones (whose
+ * rotations, last in the state, couple to the first and last blocks; their rotary inertia is the
+ * mean voussoir's). */
+static void arch_modes_dense(const char *kind) {
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_error err;
+  vs_error_clear(&err);
+  char set[64];
+  snprintf(set, sizeof set, "support.left_kind=%s", kind);
+  assert_int_equal(vs_case_set(&c, set, &err), VS_OK);
+  snprintf(set, sizeof set, "support.right_kind=%s", kind);
+  assert_int_equal(vs_case_set(&c, set, &err), VS_OK);
+  c.voussoirs = 110;
+  c.follow = 0;
+  c.max_mm = 0.01;
+  vs_run *r = NULL;
+  assert_int_equal(vs_run_create(&c, &r, &err), VS_OK);
+  assert_int_equal(vs_run_execute(r, NULL, NULL, NULL, &err), VS_OK);
+  const vs_model *m = vs_run_model(r);
+  const int n = vs_model_size(m);
+  vs_modal md;
+  assert_int_equal(vs_modal_compute(m, vs_run_state(r), vs_run_delta(r), VS_MODAL_MAX, &md, &err),
+                   VS_OK);
+  assert_int_equal(md.n_modes, VS_MODAL_MAX);
+  double *S = dense_tangent(m, vs_run_state(r), vs_run_delta(r), n);
+  double *A = malloc((size_t)n * (size_t)n * sizeof *A), *mass = malloc((size_t)n * sizeof *mass);
+  double *M = calloc((size_t)n * (size_t)n, sizeof *M), *w = malloc((size_t)n * sizeof *w);
+  assert_true(A != NULL && mass != NULL && M != NULL && w != NULL);
+  memcpy(A, S, (size_t)n * (size_t)n * sizeof *A);
+  vs_model_mass(m, mass);
+  double inertia = 0.0;
+  for (int i = 0; i < c.voussoirs; i++) inertia += mass[3 * i + 2] / c.voussoirs;
+  for (int i = 3 * c.voussoirs; i < n; i++) mass[i] = inertia; /* pinned supports' rotations */
+  assert_int_equal(n, 3 * c.voussoirs + (strcmp(kind, "pinned") == 0 ? 2 : 0));
+  for (int i = 0; i < n; i++) M[(size_t)i * (size_t)(n + 1)] = mass[i];
+  const int one = 1, lwork = 64 * n;
+  int info = 0;
+  double *work = malloc((size_t)lwork * sizeof *work);
+  assert_non_null(work);
+  dsygv_(&one, "N", "U", &n, A, &n, M, &n, w, work, &lwork, &info, 1, 1);
+  assert_int_equal(info, 0);
+  for (int i = 0; i < md.n_modes; i++) {
+    CHECK(md.omega[i] * md.omega[i], w[i], 1e-8, 0.0);
+    const double *phi = md.phi + (size_t)i * (size_t)n;
+    double res = 0.0, ref = 0.0; /* |S phi - omega^2 M phi| against |omega^2 M phi| */
+    for (int row = 0; row < n; row++) {
+      double sp = 0.0;
+      for (int col = 0; col < n; col++) sp += S[(size_t)row + (size_t)col * (size_t)n] * phi[col];
+      const double mp = md.omega[i] * md.omega[i] * mass[row] * phi[row];
+      res += (sp - mp) * (sp - mp);
+      ref += mp * mp;
+    }
+    CHECK(sqrt(res / ref), 0.0, 0.0, 1e-6);
+  }
+  print_message("arch of 110, %s: omega_1..6 %.6g %.6g %.6g %.6g %.6g %.6g rad/s (dense %.6g .. %.6g)\n",
+                kind, md.omega[0], md.omega[1], md.omega[2], md.omega[3], md.omega[4],
+                md.omega[5], sqrt(w[0]), sqrt(w[5]));
+  free(work);
+  free(A);
+  free(S);
+  free(M);
+  free(mass);
+  free(w);
+  vs_modal_free(&md);
+  vs_run_destroy(&r);
+}
+
+static void test_arch_modes_dense(void **state) {
+  (void)state;
+  arch_modes_dense("fixed");
+  arch_modes_dense("pinned");
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_block_frequencies),
@@ -368,6 +475,7 @@ int main(void) {
       cmocka_unit_test(test_tangent_dashpot),
       cmocka_unit_test(test_modal_errors),
       cmocka_unit_test(test_run_rayleigh),
+      cmocka_unit_test(test_arch_modes_dense),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -134,4 +134,22 @@ const char *vs_case_key_name_of(int i, int value);
 /* Intrados span L = 2 R sin(embrace/2), in mm: the length the study normalises by. */
 double vs_case_span_mm(const vs_case *c);
 
+/* The case's lengths, angles, stiffnesses and speed in SI (m, rad, N/m^3, m/s), converted once at
+ * the boundary: the library's modules read these, not the case's own units. */
+typedef struct {
+  double radius, thickness, depth; /* m */
+  double embrace;                  /* rad */
+  double kn, ks;                   /* N/m^3: joints.kn_N_mm3, and ks_ratio times it */
+  double alpha;                    /* rad: support.alpha_deg */
+  double rate;                     /* m/s: support.rate_mm_s */
+  double max_delta;                /* m: support.max_mm */
+  double step, step_max, limit_tol; /* m: the path's increments and limit-point tolerance */
+  double open;                     /* m: hinges.open_mm */
+  double atol_q;                   /* m: dynamic.atol_mm */
+  double ground;                   /* m: fall.ground_mm */
+} vs_case_si;
+
+/* Fill si from c (units.h factors; nothing else is derived). */
+void vs_case_to_si(const vs_case *c, vs_case_si *si);
+
 #endif

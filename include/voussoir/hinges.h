@@ -57,4 +57,16 @@ int vs_hinges_open_count(const vs_hinges *h);
 /* "9-I" or "44-45-46-I" for the current joints (onset = 0) or the onset joints (onset = 1). */
 void vs_hinge_name(const vs_hinge *hg, int onset, char *buf, size_t size);
 
+/* The sides of h[0..n) in the order given, "I-E-E", into buf (truncated to size, NUL-ended). */
+void vs_hinges_side_pattern(const vs_hinge *h, int n, char *buf, size_t size);
+
+/* The side pattern of the first three hinges to appear, left to right (by first joint), into
+ * buf; "" while fewer than three have formed. */
+void vs_hinges_pattern_first(const vs_hinges *h, char *buf, size_t size);
+
+/* The mode (docs/vocabulary.md) from pattern_first (vs_hinges_pattern_first) and pattern_collapse
+ * (the sides of the hinges open at the collapse, left to right): "I" for I-E-E then E-I-E-E, "II"
+ * for I-E-E then E-I-E-I, "III" for I-E-I then E-I-E-I or E-I-E-I-E; NULL when they fit none. */
+const char *vs_hinges_mode(const char *pattern_first, const char *pattern_collapse);
+
 #endif

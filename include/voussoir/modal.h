@@ -1,8 +1,9 @@
 /* Natural vibration of the arch about an equilibrium: the generalised symmetric eigenproblem
  * K phi = omega^2 M phi on the tangent stiffness K = dG/dq and the (diagonal) mass matrix M,
  * solved by LAPACK; and the damping ratio a damping matrix C gives each mode,
- * zeta_i = phi_i^T C phi_i / (2 omega_i) with phi_i mass-normalised. K is banded (LAPACK dsbgvx,
- * then inverse iteration for the shapes): the cost grows as n^2 times the half-bandwidth. SI. */
+ * zeta_i = phi_i^T C phi_i / (2 omega_i) with phi_i mass-normalised. K is banded: the eigenvalues
+ * by shift-invert Lanczos on its banded Cholesky factor, the shapes by inverse iteration, both
+ * linear in n (LAPACK's dsbgvx, ~n^2, only when Lanczos cannot answer). SI. */
 #ifndef VOUSSOIR_MODAL_H
 #define VOUSSOIR_MODAL_H
 
@@ -12,8 +13,7 @@
 /* Modes reported (the lowest ones). */
 #define VS_MODAL_MAX 6
 
-/* The eigensolver is used up to this many unknowns (band reduction ~ n^2: 5000 voussoirs, a few
- * seconds). */
+/* The eigensolver is used up to this many unknowns (5000 voussoirs; the case allows 2000). */
 #define VS_MODAL_MAX_DOF 15000
 
 typedef struct {
@@ -30,10 +30,11 @@ typedef struct {
 } vs_modal;
 
 /* Lowest min(n_modes, VS_MODAL_MAX) modes of model m at (q, delta) with the current gravity
- * scale; the damping ratios from the model's damping at rest (vs_model_damping with v = 0, so
+ * scale (a pinned support's rotation has the mean voussoir's rotary inertia, as in the dynamic
+ * model); the damping ratios from the model's damping at rest (vs_model_damping with v = 0, so
  * joint dashpots act where the joints are in contact). out->phi is allocated. Errors:
  * VS_ERR_INVALID (more than VS_MODAL_MAX_DOF unknowns, or K not positive definite: the state is
- * not a stable equilibrium), VS_ERR_SOLVER (dsygv failed), VS_ERR_NOMEM. */
+ * not a stable equilibrium), VS_ERR_SOLVER (LAPACK failed), VS_ERR_NOMEM. */
 vs_status vs_modal_compute(const vs_model *m, const double *q, double delta, int n_modes,
                            vs_modal *out, vs_error *err);
 

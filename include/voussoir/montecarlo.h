@@ -35,7 +35,8 @@ void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *out);
 
 /* Write the summary of n samples (sorted here by sample number) into directory dir (created if
  * missing): samples.csv, statistics.csv, summary.h5, fragility.png, convergence.png,
- * hinges.png. span_mm normalises (L). Errors: VS_ERR_IO, VS_ERR_NOMEM. */
+ * hinges.png. span_mm normalises (L). Errors: VS_ERR_IO, VS_ERR_NOMEM. In libvoussoir-plot
+ * (HDF5 and cairo); the rest of this header is in libvoussoir. */
 vs_status vs_mc_write_summary(const char *dir, const vs_case *base, vs_mc_sample *samples, int n,
                               vs_error *err);
 
@@ -45,10 +46,5 @@ vs_status vs_mc_write_summary(const char *dir, const vs_case *base, vs_mc_sample
  * MPI_Init and MPI_Finalize. Returns this process's rank (only rank 0 has the results). */
 int vs_mc_mpi_launched(void);
 int vs_mc_run_mpi(const vs_case *c, const int *samples, int n, vs_mc_sample *results, int *ranks);
-
-/* The montecarlo and merge commands of the CLI (argv as given to main, argv[1] the command);
- * exit status 0 ok, 1 a failure, 2 bad input. */
-int vs_cmd_montecarlo(int argc, char **argv);
-int vs_cmd_merge(int argc, char **argv);
 
 #endif

@@ -25,11 +25,4 @@ vs_status vs_parse_list(const char *what, const char *text, double **values, int
 /* Log-spaced list "a:b:n" helper for studies: n values from a to b (a, b > 0, n >= 2). */
 vs_status vs_logspace(double a, double b, int n, double **values, vs_error *err);
 
-/* The sweep and calibrate commands of the CLI (argv as given to main, argv[1] the command).
- * They print to stdout/stderr and return an exit status (0 ok, 1 a failure, 2 bad input, 130
- * interrupted). sweep sets *h5_clean to 0 when a record this process wrote failed (see
- * vs_output_process_end). */
-int vs_cmd_sweep(int argc, char **argv, int *h5_clean);
-int vs_cmd_calibrate(int argc, char **argv);
-
 #endif

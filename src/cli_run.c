@@ -1,71 +1,30 @@
-/* voussoir command line: create -> configure -> run -> report -> destroy. */
-#define _POSIX_C_SOURCE 200809L /* isatty */
+/* The run command: create -> configure -> run -> report -> destroy; the history to a CSV and,
+ * through the record plugin (src/plugin.h), to an HDF5 record. */
+#define _GNU_SOURCE /* getopt_long; isatty, ftruncate */
 #include <errno.h>
 #include <fcntl.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "cli.h"
+#include "plugin.h"
 #include "voussoir/case.h"
-#include "voussoir/montecarlo.h"
 #include "voussoir/outpath.h"
 #include "voussoir/output.h"
 #include "voussoir/report.h"
 #include "voussoir/run.h"
-#include "voussoir/sweep.h"
-
-int vs_cmd_plot(int argc, char **argv); /* plot_cmd.c */
 #include "voussoir/units.h"
-#include "voussoir/version.h"
 
-enum { EXIT_RUN_FAILED = 1, EXIT_BAD_INPUT = 2, EXIT_INTERRUPTED = 130 };
+enum { EXIT_RUN_FAILED = VS_EXIT_FAILED, EXIT_BAD_INPUT = VS_EXIT_BAD_INPUT,
+       EXIT_INTERRUPTED = VS_EXIT_INTERRUPTED };
 
-/* Set by SIGINT/SIGTERM (the handler is installed first thing in main); the solve under way
- * stops at its next residual evaluation and the outputs are closed with the status "failed:
- * interrupted". The one piece of process state: a signal handler can only reach a global. */
-static volatile sig_atomic_t g_interrupted = 0;
-static volatile sig_atomic_t g_signal = 0;
-
-static void on_signal(int sig) {
-  g_signal = sig;
-  g_interrupted = 1;
-}
-
-static void catch_signals(void) {
-  struct sigaction sa;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_signal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, NULL);
-  sigaction(SIGTERM, &sa, NULL);
-}
-
-/* For the commands that do not watch g_interrupted: the default disposition back, and a signal
- * that came meanwhile delivered again (it then ends the process as it would have). */
-static void release_signals(void) {
-  signal(SIGINT, SIG_DFL);
-  signal(SIGTERM, SIG_DFL);
-  if (g_interrupted) raise(g_signal != 0 ? (int)g_signal : SIGINT);
-}
-
-static const char *USAGE =
+const char VS_CLI_RUN_USAGE[] =
     "usage: voussoir run CASE [options]\n"
-    "       voussoir sweep CASE --alpha LIST --kn LIST [...]   (voussoir sweep --help)\n"
-    "       voussoir calibrate CASE --target-dz-pct X [...]  (voussoir calibrate --help)\n"
-    "       voussoir montecarlo CASE --samples N [...]  (voussoir montecarlo --help)\n"
-    "       voussoir plot RUN.h5 [-o DIR] [--svg]            (voussoir plot --help)\n"
-    "       voussoir --help | --version\n"
-    "\n"
-    "Simulates a masonry arch of rigid voussoirs on dry, no-tension, frictional, elastic joints\n"
-    "while its right support moves along a direction alpha (from the vertical). Follows the\n"
-    "quasi-static equilibrium path (KINSOL) from self-weight; at every limit point integrates the\n"
-    "motion (IDA) until it settles on another branch (a snap-through) or collapses, and reports\n"
-    "the collapse displacement, the limit points and the hinges (joint, side, onset, label).\n"
-    "\n"
-    "options for run:\n"
+    "options for run (a value follows its option as the next word or after '=': --alpha 30,\n"
+    "--alpha=30):\n"
     "  --alpha DEG            support direction from the vertical, deg (0 = settlement,\n"
     "                         90 = outward spreading); same as --set support.alpha_deg=DEG\n"
     "  --kn N_MM3             joint normal stiffness, N/mm^3; same as --set joints.kn_N_mm3=N_MM3\n"
@@ -84,8 +43,8 @@ static const char *USAGE =
     "                         sample: phase, time, support displacement, reactions, hinges)\n"
     "  -q                     no progress line\n"
     "  -h, --help             this help\n"
-    "  --version              program version\n"
-    "\n"
+    "  --version              program version (voussoir --version)\n"
+    "The overrides (--alpha, --kn, --set, --dynamic, --first-limit) apply in the order given.\n"
     "CASE is an INI file (runs/reference.ini is the reference specimen). Units: mm, N/mm^3, deg.\n"
     "exit status: 0 ok, 1 the run failed (solver, full disk; the cause is printed), 2 bad input\n"
     "(also an output that is not a regular file, is the case file, or another run is writing),\n"
@@ -100,7 +59,7 @@ typedef struct {
 
 static int on_sample(void *user, const vs_run *run, const vs_run_sample *smp) {
   cli_sink *s = user;
-  if (g_interrupted) {
+  if (*cli_stop_flag()) {
     vs_output_interrupt(s->record);
     return 1;
   }
@@ -162,49 +121,78 @@ static vs_status set_option(vs_case *c, const char *key, const char *value, vs_e
   return st;
 }
 
+/* One override of the case, in command-line order: "KEY=VALUE" (key not NULL: --alpha, --kn)
+ * or the assignment VALUE (--set, --dynamic, --first-limit). */
+typedef struct {
+  const char *key, *value;
+} run_override;
+
 typedef struct {
   const char *case_path, *out_path, *csv_path; /* out_path NULL: no record */
   int json, quiet, record, compress;
+  run_override *overrides; /* argc entries at most */
+  int n_overrides;
   char default_path[1024];
 } run_args;
 
-/* The command line of `run` (the overrides are applied later, in order). 0 or an exit status. */
+enum { OPT_ALPHA = 256, OPT_KN, OPT_SET, OPT_DYNAMIC, OPT_FIRST_LIMIT, OPT_JSON, OPT_NO_RECORD,
+       OPT_COMPRESS, OPT_CSV };
+
+static const struct option RUN_OPTIONS[] = {
+    {"alpha", required_argument, NULL, OPT_ALPHA},
+    {"kn", required_argument, NULL, OPT_KN},
+    {"set", required_argument, NULL, OPT_SET},
+    {"dynamic", no_argument, NULL, OPT_DYNAMIC},
+    {"first-limit", no_argument, NULL, OPT_FIRST_LIMIT},
+    {"json", no_argument, NULL, OPT_JSON},
+    {"no-record", no_argument, NULL, OPT_NO_RECORD},
+    {"compress", no_argument, NULL, OPT_COMPRESS},
+    {"csv", required_argument, NULL, OPT_CSV},
+    {0, 0, 0, 0}};
+
+static int run_option(void *user, int code, const char *value) {
+  run_args *a = user;
+  run_override *o = &a->overrides[a->n_overrides];
+  switch (code) {
+  case OPT_ALPHA: *o = (run_override){"support.alpha_deg", value}; break;
+  case OPT_KN: *o = (run_override){"joints.kn_N_mm3", value}; break;
+  case OPT_SET: *o = (run_override){NULL, value}; break;
+  case OPT_DYNAMIC: *o = (run_override){NULL, "dynamic.full=1"}; break;
+  case OPT_FIRST_LIMIT: *o = (run_override){NULL, "dynamic.follow=0"}; break;
+  case OPT_JSON: a->json = 1; return 0;
+  case OPT_NO_RECORD: a->record = 0; return 0;
+  case OPT_COMPRESS: a->compress = 1; return 0;
+  case OPT_CSV: a->csv_path = value; return 0;
+  case 'o': a->out_path = value; return 0;
+  case 'q': a->quiet = 1; return 0;
+  default: /* 1: the case */
+    if (a->case_path != NULL) {
+      fprintf(stderr, "voussoir: more than one case file (%s, %s)\n", a->case_path, value);
+      return EXIT_BAD_INPUT;
+    }
+    a->case_path = value;
+    return 0;
+  }
+  a->n_overrides++;
+  return 0;
+}
+
+static const cli_command RUN = {"voussoir", VS_CLI_RUN_USAGE, "o:q", RUN_OPTIONS};
+
+/* The command line of `run` (the overrides are applied later, in order): 0, -1 after --help,
+ * or an exit status. a->overrides (malloc'd) is freed by the caller. */
 static int parse_run_args(int argc, char **argv, run_args *a) {
   memset(a, 0, sizeof *a);
   a->record = 1;
-  for (int i = 2; i < argc; i++) {
-    const char *s = argv[i];
-    if (s[0] != '-' || strcmp(s, "-") == 0) {
-      if (a->case_path != NULL) {
-        fprintf(stderr, "voussoir: more than one case file (%s, %s)\n", a->case_path, s);
-        return EXIT_BAD_INPUT;
-      }
-      a->case_path = s;
-    } else if (strcmp(s, "--alpha") == 0 || strcmp(s, "--kn") == 0 || strcmp(s, "--set") == 0 ||
-               strcmp(s, "-o") == 0 || strcmp(s, "--csv") == 0) {
-      if (++i >= argc) {
-        fprintf(stderr, "voussoir: %s needs a value\n%s", s, USAGE);
-        return EXIT_BAD_INPUT;
-      }
-      if (strcmp(s, "-o") == 0) a->out_path = argv[i];
-      if (strcmp(s, "--csv") == 0) a->csv_path = argv[i];
-    } else if (strcmp(s, "--no-record") == 0) {
-      a->record = 0;
-    } else if (strcmp(s, "--compress") == 0) {
-      a->compress = 1;
-    } else if (strcmp(s, "--dynamic") == 0 || strcmp(s, "--first-limit") == 0) {
-      /* applied with the overrides */
-    } else if (strcmp(s, "--json") == 0) {
-      a->json = 1;
-    } else if (strcmp(s, "-q") == 0) {
-      a->quiet = 1;
-    } else {
-      fprintf(stderr, "voussoir: unknown option %s\n%s", s, USAGE);
-      return EXIT_BAD_INPUT;
-    }
+  a->overrides = malloc((size_t)argc * sizeof *a->overrides);
+  if (a->overrides == NULL) {
+    fputs("voussoir: out of memory\n", stderr);
+    return EXIT_RUN_FAILED;
   }
+  const int rc = cli_parse(&RUN, argc, argv, run_option, a);
+  if (rc != 0) return rc;
   if (a->case_path == NULL) {
-    fprintf(stderr, "voussoir: run needs a CASE file\n%s", USAGE);
+    fprintf(stderr, "voussoir: run needs a CASE file\n%s", VS_CLI_RUN_USAGE);
     return EXIT_BAD_INPUT;
   }
   if (!a->record) a->out_path = NULL;
@@ -216,19 +204,9 @@ static int parse_run_args(int argc, char **argv, run_args *a) {
 }
 
 /* The overrides of the command line, in the order given. */
-static vs_status apply_overrides(int argc, char **argv, vs_case *c, vs_error *err) {
-  for (int i = 2; i < argc; i++) {
-    const char *a = argv[i], *key = NULL, *value = NULL;
-    if (strcmp(a, "--alpha") == 0) key = "support.alpha_deg", value = argv[++i];
-    else if (strcmp(a, "--kn") == 0) key = "joints.kn_N_mm3", value = argv[++i];
-    else if (strcmp(a, "--set") == 0) value = argv[++i];
-    else if (strcmp(a, "--dynamic") == 0) value = "dynamic.full=1";
-    else if (strcmp(a, "--first-limit") == 0) value = "dynamic.follow=0";
-    else {
-      if (strcmp(a, "-o") == 0 || strcmp(a, "--csv") == 0) i++;
-      continue;
-    }
-    vs_status st = set_option(c, key, value, err);
+static vs_status apply_overrides(const run_args *a, vs_case *c, vs_error *err) {
+  for (int i = 0; i < a->n_overrides; i++) {
+    vs_status st = set_option(c, a->overrides[i].key, a->overrides[i].value, err);
     if (st != VS_OK) return st;
   }
   return VS_OK;
@@ -305,8 +283,8 @@ static int open_outputs(const run_args *a, const vs_run *run, const char *case_t
     return rc;
   vs_error err;
   vs_error_clear(&err);
-  vs_output_opts oo;
-  vs_output_opts_default(&oo);
+  vs_output_opts oo = {0};
+  if (a->out_path != NULL) vs_output_opts_default(&oo); /* the record plugin is loaded */
   if (a->compress) oo.deflate = 4; /* for archives: about 10 % smaller, slower to write */
   if (a->out_path != NULL &&
       vs_output_create(a->out_path, run, case_text, &oo, &sink->record, &err) != VS_OK) {
@@ -351,10 +329,15 @@ static void print_record_line(const run_args *a, const cli_sink *sink) {
 }
 
 /* *h5_clean becomes 0 when the record failed to be written (see vs_output_process_end). */
-static int cmd_run(int argc, char **argv, int *h5_clean) {
+int vs_cli_run(int argc, char **argv, int *h5_clean) {
   run_args a;
   int rc = parse_run_args(argc, argv, &a);
-  if (rc != 0) return rc;
+  if (rc == 0 && a.out_path != NULL) /* a record: the record plugin, before anything is written */
+    rc = vs_plugin_load(VS_PLUGIN_RECORD, "voussoir");
+  if (rc != 0) {
+    free(a.overrides);
+    return rc < 0 ? EXIT_SUCCESS : rc;
+  }
   char *case_text = NULL;
   vs_case c;
   vs_error err;
@@ -364,15 +347,15 @@ static int cmd_run(int argc, char **argv, int *h5_clean) {
   vs_error_clear(&err);
   vs_case_defaults(&c);
   if (vs_case_read(&c, a.case_path, &case_text, &err) != VS_OK ||
-      apply_overrides(argc, argv, &c, &err) != VS_OK || vs_case_validate(&c, &err) != VS_OK)
+      apply_overrides(&a, &c, &err) != VS_OK || vs_case_validate(&c, &err) != VS_OK)
     goto input_error;
   if ((rc = check_outputs(&a)) != 0) goto cleanup;
   if (a.out_path == NULL && a.csv_path == NULL)
     c.fall_s = 0.0; /* nothing records the fall: the run ends at the collapse */
   if (vs_run_create(&c, &run, &err) != VS_OK) goto input_error;
-  vs_run_set_stop(run, &g_interrupted);
+  vs_run_set_stop(run, cli_stop_flag());
   /* everything is valid: only now create outputs */
-  if (g_interrupted || (rc = open_outputs(&a, run, case_text, &sink, &csv_lock)) != 0) {
+  if (*cli_stop_flag() || (rc = open_outputs(&a, run, case_text, &sink, &csv_lock)) != 0) {
     *h5_clean = rc != EXIT_RUN_FAILED;
     if (rc == 0) fputs("voussoir: interrupted before the run started\n", stderr);
     rc = rc != 0 ? rc : EXIT_INTERRUPTED;
@@ -381,7 +364,7 @@ static int cmd_run(int argc, char **argv, int *h5_clean) {
   sink.progress = !a.quiet && isatty(STDERR_FILENO);
   vs_status st = vs_run_execute(run, on_sample, on_event, &sink, &err);
   if (sink.progress) fputs("\r\033[K", stderr);
-  if (st != VS_OK && g_interrupted) {
+  if (st != VS_OK && *cli_stop_flag()) {
     st = vs_error_set(&err, VS_ERR_INTERRUPTED, "interrupted");
     vs_output_interrupt(sink.record);
   }
@@ -408,48 +391,7 @@ cleanup:
   vs_output_destroy(&sink.record);
   vs_run_destroy(&run);
   free(case_text);
+  free(a.overrides);
   return rc;
 }
 
-static int dispatch(int argc, char **argv, int *h5_clean);
-
-int main(int argc, char **argv) {
-  catch_signals(); /* first: a signal at any moment of a run ends it cleanly */
-  if (argc < 2 || strcmp(argv[1], "run") != 0) release_signals();
-  signal(SIGXFSZ, SIG_IGN); /* a file size limit: the write fails with EFBIG, reported */
-  vs_output_process_init();
-  int h5_clean = 1;
-  const int rc = dispatch(argc, argv, &h5_clean);
-  vs_output_process_end(h5_clean);
-  return rc;
-}
-
-static int dispatch(int argc, char **argv, int *h5_clean) {
-  if (argc < 2) {
-    fputs(USAGE, stderr);
-    return EXIT_BAD_INPUT;
-  }
-  if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
-    fputs(USAGE, stdout);
-    return EXIT_SUCCESS;
-  }
-  if (strcmp(argv[1], "--version") == 0) {
-    printf("voussoir %s\n", VS_VERSION);
-    return EXIT_SUCCESS;
-  }
-  if (strcmp(argv[1], "sweep") == 0) return vs_cmd_sweep(argc, argv, h5_clean);
-  if (strcmp(argv[1], "calibrate") == 0) return vs_cmd_calibrate(argc, argv);
-  if (strcmp(argv[1], "montecarlo") == 0) return vs_cmd_montecarlo(argc, argv);
-  if (strcmp(argv[1], "merge") == 0) return vs_cmd_merge(argc, argv);
-  if (strcmp(argv[1], "plot") == 0) return vs_cmd_plot(argc, argv);
-  if (strcmp(argv[1], "run") == 0) {
-    for (int i = 2; i < argc; i++)
-      if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-        fputs(USAGE, stdout);
-        return EXIT_SUCCESS;
-      }
-    return cmd_run(argc, argv, h5_clean);
-  }
-  fprintf(stderr, "voussoir: unknown command '%s'\n%s", argv[1], USAGE);
-  return EXIT_BAD_INPUT;
-}

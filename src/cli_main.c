@@ -1,0 +1,91 @@
+/* voussoir: the program's entry point. Picks the command; HDF5 and cairo are not loaded here
+ * (src/plugin.c loads them for the commands that need them). */
+#define _POSIX_C_SOURCE 200809L
+#include <signal.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+#include "plugin.h"
+#include "voussoir/version.h"
+
+/* Set by SIGINT/SIGTERM (the handler is installed first thing in main); the solve under way
+ * stops at its next residual evaluation and the outputs are closed with the status "failed:
+ * interrupted". The one piece of process state: a signal handler can only reach a global. */
+static volatile sig_atomic_t g_interrupted = 0;
+static volatile sig_atomic_t g_signal = 0;
+
+const volatile sig_atomic_t *cli_stop_flag(void) { return &g_interrupted; }
+
+static void on_signal(int sig) {
+  g_signal = sig;
+  g_interrupted = 1;
+}
+
+static void catch_signals(void) {
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+}
+
+/* For the commands that do not watch g_interrupted: the default disposition back, and a signal
+ * that came meanwhile delivered again (it then ends the process as it would have). */
+static void release_signals(void) {
+  signal(SIGINT, SIG_DFL);
+  signal(SIGTERM, SIG_DFL);
+  if (g_interrupted) raise(g_signal != 0 ? (int)g_signal : SIGINT);
+}
+
+static const char *USAGE =
+    "usage: voussoir run CASE [options]                        (voussoir run --help)\n"
+    "       voussoir sweep CASE --alpha LIST --kn LIST [...]   (voussoir sweep --help)\n"
+    "       voussoir calibrate CASE --target-dz-pct X [...]    (voussoir calibrate --help)\n"
+    "       voussoir montecarlo CASE --samples N [...]         (voussoir montecarlo --help)\n"
+    "       voussoir merge DIR... -o OUT                       (voussoir merge --help)\n"
+    "       voussoir plot RUN.h5 [-o DIR] [--svg]              (voussoir plot --help)\n"
+    "       voussoir --help | --version\n"
+    "\n"
+    "Simulates a masonry arch of rigid voussoirs on dry, no-tension, frictional, elastic joints\n"
+    "while its right support moves along a direction alpha (from the vertical). Follows the\n"
+    "quasi-static equilibrium path (KINSOL) from self-weight; at every limit point integrates the\n"
+    "motion (IDA) until it settles on another branch (a snap-through) or collapses, and reports\n"
+    "the collapse displacement, the limit points and the hinges (joint, side, onset, label).\n"
+    "Options take their value as the next word or after '=': --alpha 30, --alpha=30.\n"
+    "\n";
+
+static int dispatch(int argc, char **argv, int *h5_clean) {
+  if (argc < 2) {
+    fprintf(stderr, "%s%s", USAGE, VS_CLI_RUN_USAGE);
+    return VS_EXIT_BAD_INPUT;
+  }
+  const char *cmd = argv[1];
+  if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0) {
+    printf("%s%s", USAGE, VS_CLI_RUN_USAGE);
+    return VS_EXIT_OK;
+  }
+  if (strcmp(cmd, "--version") == 0) {
+    printf("voussoir %s\n", VS_VERSION);
+    return VS_EXIT_OK;
+  }
+  if (strcmp(cmd, "run") == 0) return vs_cli_run(argc, argv, h5_clean);
+  if (strcmp(cmd, "sweep") == 0) return vs_cli_sweep(argc, argv, h5_clean);
+  if (strcmp(cmd, "calibrate") == 0) return vs_cli_calibrate(argc, argv);
+  if (strcmp(cmd, "montecarlo") == 0) return vs_cli_montecarlo(argc, argv);
+  if (strcmp(cmd, "merge") == 0) return vs_cli_merge(argc, argv);
+  if (strcmp(cmd, "plot") == 0) return vs_cli_plot(argc, argv);
+  fprintf(stderr, "voussoir: unknown command '%s'\n%s", cmd, USAGE);
+  return VS_EXIT_BAD_INPUT;
+}
+
+int main(int argc, char **argv) {
+  catch_signals(); /* first: a signal at any moment of a run ends it cleanly */
+  if (argc < 2 || strcmp(argv[1], "run") != 0) release_signals();
+  signal(SIGXFSZ, SIG_IGN); /* a file size limit: the write fails with EFBIG, reported */
+  int h5_clean = 1;
+  const int rc = dispatch(argc, argv, &h5_clean);
+  vs_plugin_end(h5_clean); /* HDF5 shut down when it was loaded */
+  return rc;
+}

@@ -1,0 +1,61 @@
+/* Private HDF5 helpers of the library and the program (not installed): a quiet error stack, a
+ * generic close, the cause of the last error as one line, string types, scalar attributes,
+ * small datasets, and whole-dataset reads. Every function returns an HDF5 status (< 0: error)
+ * or an identifier (< 0: error) and prints nothing. */
+#ifndef VS_H5UTIL_H
+#define VS_H5UTIL_H
+
+#include <hdf5.h>
+#include <stddef.h>
+
+#include "voussoir/status.h"
+
+typedef struct {
+  H5E_auto2_t fn;
+  void *data;
+} vs_h5_quiet;
+
+/* Silence HDF5's error printing (library code must not print) until vs_h5_quiet_end(q). */
+vs_h5_quiet vs_h5_quiet_begin(void);
+void vs_h5_quiet_end(vs_h5_quiet q);
+
+/* Close id whatever its kind (file, group, type, space, dataset, attribute, property list);
+ * id < 0 is ignored. */
+void vs_h5_close(hid_t id);
+
+/* Record "output: FILE: what: OS reason" (strerror of the errno a file driver reported, else
+ * HDF5's own cause) in err, as one line, and clear HDF5's error stack; returns VS_ERR_IO. */
+vs_status vs_h5_fail(vs_error *err, const char *path, const char *what);
+
+/* A variable-length UTF-8 string type; a fixed-length string of n bytes, NUL-padded (n = 1
+ * holds 'I', 'E' or a hinge label, empty for 0); the caller closes them. */
+hid_t vs_h5_vlstr_type(void);
+hid_t vs_h5_fixed_str_type(size_t n);
+
+/* Scalar attribute name = value (variable-length UTF-8 string); an existing one is overwritten
+ * in place (the object header keeps its size). */
+herr_t vs_h5_attr_str(hid_t obj, const char *name, const char *value);
+/* Scalar attribute name = value as a fixed-length ASCII string of strlen(value) + 1 bytes,
+ * NUL-terminated (the Monte Carlo summary's attributes). */
+herr_t vs_h5_attr_cstr(hid_t obj, const char *name, const char *value);
+/* Scalar numeric attribute: ftype in the file, mtype and *value in memory. */
+herr_t vs_h5_attr_num(hid_t obj, const char *name, hid_t ftype, hid_t mtype, const void *value);
+herr_t vs_h5_attr_int(hid_t obj, const char *name, long long v); /* int64 */
+herr_t vs_h5_attr_double(hid_t obj, const char *name, double v); /* float64 */
+
+/* A small contiguous dataset (rank 0 for a scalar) with optional unit and columns attributes. */
+herr_t vs_h5_dset_write(hid_t loc, const char *name, hid_t ftype, hid_t mtype, int rank,
+                        const hsize_t *dims, const void *data, const char *unit,
+                        const char *columns);
+/* A float64 scalar dataset with its unit. */
+herr_t vs_h5_dset_scalar(hid_t loc, const char *name, double v, const char *unit);
+/* A group with default properties. */
+hid_t vs_h5_group_create(hid_t loc, const char *name);
+
+/* Read the whole dataset at path (converted to double) into out[0..n): 0, or -1 if it is
+ * missing or does not hold exactly n values. */
+int vs_h5_read_doubles(hid_t f, const char *path, double *out, size_t n);
+/* The size of the first dimension of the dataset at path, or -1 if it is missing. */
+int vs_h5_rows(hid_t f, const char *path);
+
+#endif

@@ -1,0 +1,300 @@
+/* `voussoir plot`: reading a run's record (the case from /parameters, the arch it simulated,
+ * the time series the pictures show, /summary's hinges and limit points) and choosing which
+ * recorded hinges each picture labels. */
+#define _POSIX_C_SOURCE 200809L
+#include <hdf5.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "h5util.h"
+#include "plot_cmd.h"
+#include "voussoir/imperfections.h"
+#include "voussoir/model.h"
+#include "voussoir/units.h"
+
+/* The case from /parameters: every attribute of every section group, applied as a --set. */
+static herr_t on_attr(hid_t loc, const char *name, const H5A_info_t *info, void *data) {
+  (void)info;
+  vs_plotrec *r = data;
+  char section[64] = "", buf[256];
+  ssize_t n = H5Iget_name(loc, section, sizeof section);
+  if (n <= 0) return 0;
+  const char *sec = strrchr(section, '/');
+  sec = sec ? sec + 1 : section;
+  hid_t a = H5Aopen(loc, name, H5P_DEFAULT);
+  double v = NAN;
+  if (a >= 0) {
+    H5Aread(a, H5T_NATIVE_DOUBLE, &v);
+    H5Aclose(a);
+  }
+  if (!isfinite(v)) return 0;
+  snprintf(buf, sizeof buf, "%s.%s=%.17g", sec, name, v);
+  vs_error err;
+  vs_case_set(&r->c, buf, &err); /* keys the case does not know are ignored */
+  return 0;
+}
+
+static herr_t on_section(hid_t g, const char *name, const H5L_info_t *info, void *data) {
+  (void)info;
+  hid_t s = H5Gopen2(g, name, H5P_DEFAULT);
+  if (s < 0) return 0;
+  hsize_t idx = 0;
+  H5Aiterate2(s, H5_INDEX_NAME, H5_ITER_NATIVE, &idx, on_attr, data);
+  H5Gclose(s);
+  return 0;
+}
+
+void vs_plotrec_free(vs_plotrec *r) {
+  vs_geometry_destroy(&r->g);
+  free(r->thick);
+  free(r->delta);
+  free(r->pos);
+  free(r->gap_i);
+  free(r->gap_e);
+  free(r->jN);
+  free(r->jM);
+  free(r->react);
+  free(r->hinge);
+  free(r->h);
+  free(r->limits);
+  free(r->settled);
+  if (r->file >= 0) H5Fclose(r->file);
+}
+
+static int read_hinges(vs_plotrec *r) {
+  const char *path = "/summary/hinges";
+  int n = vs_h5_rows(r->file, path);
+  if (n <= 0) return 0;
+  hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(rec_hinge)), c1 = H5Tcopy(H5T_C_S1);
+  H5Tset_size(c1, 1);
+  H5Tset_strpad(c1, H5T_STR_NULLPAD); /* one character, no terminator */
+  H5Tinsert(t, "label", HOFFSET(rec_hinge, label), c1);
+  H5Tinsert(t, "side", HOFFSET(rec_hinge, side), c1);
+  H5Tinsert(t, "first", HOFFSET(rec_hinge, first), H5T_NATIVE_INT);
+  H5Tinsert(t, "last", HOFFSET(rec_hinge, last), H5T_NATIVE_INT);
+  H5Tinsert(t, "onset_first", HOFFSET(rec_hinge, onset_first), H5T_NATIVE_INT);
+  H5Tinsert(t, "onset_last", HOFFSET(rec_hinge, onset_last), H5T_NATIVE_INT);
+  H5Tinsert(t, "order", HOFFSET(rec_hinge, order), H5T_NATIVE_INT);
+  H5Tinsert(t, "during_fall", HOFFSET(rec_hinge, during_fall), H5T_NATIVE_INT);
+  H5Tinsert(t, "open", HOFFSET(rec_hinge, open), H5T_NATIVE_INT);
+  H5Tinsert(t, "delta_onset", HOFFSET(rec_hinge, delta_onset), H5T_NATIVE_DOUBLE);
+  r->h = calloc((size_t)n, sizeof *r->h);
+  hid_t d = H5Dopen2(r->file, path, H5P_DEFAULT);
+  int ok = r->h != NULL && d >= 0 && H5Dread(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, r->h) >= 0;
+  if (d >= 0) H5Dclose(d);
+  H5Tclose(c1);
+  H5Tclose(t);
+  r->nh = ok ? n : 0;
+  return ok ? 0 : -1;
+}
+
+static int read_limits(vs_plotrec *r) {
+  const char *path = "/summary/limit_points";
+  int n = vs_h5_rows(r->file, path);
+  if (n <= 0) return 0;
+  typedef struct {
+    double delta, settled;
+  } lim;
+  hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(lim));
+  H5Tinsert(t, "delta", HOFFSET(lim, delta), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t, "delta_settled", HOFFSET(lim, settled), H5T_NATIVE_DOUBLE);
+  lim *l = calloc((size_t)n, sizeof *l);
+  r->limits = calloc((size_t)n, sizeof(double));
+  r->settled = calloc((size_t)n, sizeof(double));
+  hid_t d = H5Dopen2(r->file, path, H5P_DEFAULT);
+  int ok = l && r->limits && r->settled && d >= 0 &&
+           H5Dread(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, l) >= 0;
+  for (int i = 0; ok && i < n; i++) {
+    r->limits[i] = l[i].delta;
+    r->settled[i] = l[i].settled;
+  }
+  if (d >= 0) H5Dclose(d);
+  H5Tclose(t);
+  free(l);
+  r->nl = ok ? n : 0;
+  return ok ? 0 : -1;
+}
+
+/* /parameters/support's attribute `name` (a vs_support_kind); fixed when absent. */
+static int support_kind(hid_t f, const char *name) {
+  int v = VS_SUPPORT_FIXED;
+  if (H5Aexists_by_name(f, "/parameters/support", name, H5P_DEFAULT) > 0) {
+    hid_t a = H5Aopen_by_name(f, "/parameters/support", name, H5P_DEFAULT, H5P_DEFAULT);
+    if (a < 0 || H5Aread(a, H5T_NATIVE_INT, &v) < 0) v = VS_SUPPORT_FIXED;
+    if (a >= 0) H5Aclose(a);
+  }
+  return v == VS_SUPPORT_PINNED ? VS_SUPPORT_PINNED : VS_SUPPORT_FIXED;
+}
+
+/* The arch the run simulated: the voussoirs' angles and thicknesses of /imperfections (written
+ * when the case scatters them), else those the case's seed draws. */
+static vs_status record_geometry(vs_plotrec *r, vs_error *err) {
+  vs_imperfections *imp = NULL;
+  vs_status st = vs_imperfections_draw(&r->c, &imp, err);
+  const size_t nb = st == VS_OK ? (size_t)imp->n_blocks : 0;
+  double *buf = st == VS_OK ? malloc((nb > 0 ? nb : 1) * sizeof *buf) : NULL;
+  if (buf != NULL && vs_h5_read_doubles(r->file, "/imperfections/voussoir_angle", buf, nb) == 0)
+    for (size_t i = 0; i < nb; i++) imp->angle_deg[i] = buf[i] / VS_DEG;
+  if (buf != NULL && vs_h5_read_doubles(r->file, "/imperfections/voussoir_thickness", buf, nb) == 0)
+    for (size_t i = 0; i < nb; i++) imp->thickness_mm[i] = buf[i] / VS_MM;
+  free(buf);
+  if (st == VS_OK) st = vs_imperfections_arch(&r->c, imp, &r->g, err);
+  if (st == VS_OK && r->c.thickness_cov > 0.0) {
+    r->thick = malloc((size_t)imp->n_blocks * sizeof *r->thick);
+    if (r->thick == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "out of memory");
+    for (int i = 0; r->thick != NULL && i < imp->n_blocks; i++)
+      r->thick[i] = imp->thickness_mm[i] * VS_MM;
+  }
+  vs_imperfections_destroy(&imp);
+  return st;
+}
+
+int vs_plotrec_open(const char *path, vs_plotrec *r) {
+  memset(r, 0, sizeof *r);
+  r->file = -1;
+  r->collapse = NAN;
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* errors are reported here, not printed by HDF5 */
+  r->file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (r->file < 0) {
+    snprintf(r->msg, sizeof r->msg, "%.400s: cannot open as HDF5", path);
+    return -1;
+  }
+  vs_case_defaults(&r->c);
+  if (H5Lexists(r->file, "/parameters", H5P_DEFAULT) <= 0) {
+    snprintf(r->msg, sizeof r->msg, "%.400s: not a voussoir record (no /parameters)", path);
+    return -1;
+  }
+  hid_t pg = H5Gopen2(r->file, "/parameters", H5P_DEFAULT);
+  hsize_t idx = 0;
+  H5Literate(pg, H5_INDEX_NAME, H5_ITER_NATIVE, &idx, on_section, r);
+  H5Gclose(pg);
+  r->c.left_kind = support_kind(r->file, "left_kind"); /* named choices: not applied as --set */
+  r->c.right_kind = support_kind(r->file, "right_kind");
+  vs_error err;
+  if (record_geometry(r, &err) != VS_OK) {
+    snprintf(r->msg, sizeof r->msg, "%.200s: %.300s", path, err.msg);
+    return -1;
+  }
+  r->nb = r->g->n_blocks;
+  r->nj = r->g->n_joints;
+  r->rows = vs_h5_rows(r->file, "/observables/delta/value");
+  if (r->rows <= 0) {
+    snprintf(r->msg, sizeof r->msg, "%.400s: the record holds no state", path);
+    return -1;
+  }
+  const size_t n = (size_t)r->rows;
+  r->delta = malloc(n * sizeof(double));
+  r->pos = malloc(n * 3 * (size_t)r->nb * sizeof(double));
+  r->gap_i = malloc(n * (size_t)r->nj * sizeof(double));
+  r->gap_e = malloc(n * (size_t)r->nj * sizeof(double));
+  r->react = malloc(n * 6 * sizeof(double));
+  r->jN = malloc(n * (size_t)r->nj * sizeof(double));
+  r->jM = malloc(n * (size_t)r->nj * sizeof(double));
+  r->hinge = malloc(n * (size_t)r->nj);
+  if (!r->delta || !r->pos || !r->gap_i || !r->gap_e || !r->react || !r->hinge || !r->jN ||
+      !r->jM) {
+    snprintf(r->msg, sizeof r->msg, "out of memory");
+    return -1;
+  }
+  hid_t hd = H5Dopen2(r->file, "/observables/joint_hinge/value", H5P_DEFAULT);
+  const int bad =
+      vs_h5_read_doubles(r->file, "/observables/delta/value", r->delta, n) ||
+      vs_h5_read_doubles(r->file, "/observables/block_position/value", r->pos,
+                         n * 3 * (size_t)r->nb) ||
+      vs_h5_read_doubles(r->file, "/observables/joint_gap_i/value", r->gap_i, n * (size_t)r->nj) ||
+      vs_h5_read_doubles(r->file, "/observables/joint_gap_e/value", r->gap_e, n * (size_t)r->nj) ||
+      vs_h5_read_doubles(r->file, "/observables/reactions/value", r->react, n * 6) ||
+      vs_h5_read_doubles(r->file, "/observables/joint_N/value", r->jN, n * (size_t)r->nj) ||
+      vs_h5_read_doubles(r->file, "/observables/joint_M/value", r->jM, n * (size_t)r->nj) ||
+      hd < 0 || H5Dread(hd, H5T_NATIVE_SCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, r->hinge) < 0;
+  if (hd >= 0) H5Dclose(hd);
+  if (bad || read_hinges(r) || read_limits(r)) {
+    snprintf(r->msg, sizeof r->msg, "%.400s: the record's time series are incomplete", path);
+    return -1;
+  }
+  vs_h5_read_doubles(r->file, "/summary/collapse/delta", &r->collapse, 1);
+  r->ground = NAN;
+  if (H5Lexists(r->file, "/summary/ground", H5P_DEFAULT) > 0 &&
+      H5Lexists(r->file, "/summary/ground/level", H5P_DEFAULT) > 0 &&
+      vs_h5_read_doubles(r->file, "/summary/ground/level", &r->ground, 1) != 0)
+    r->ground = NAN;
+  return 0;
+}
+
+/* First row at or after delta (the last row if none). */
+int vs_plotrec_row_at(const vs_plotrec *r, double delta) {
+  for (int i = 0; i < r->rows; i++)
+    if (r->delta[i] >= delta - 1e-12) return i;
+  return r->rows - 1;
+}
+
+static vs_hinge hinge_of(const rec_hinge *rh, int first, int last) {
+  return (vs_hinge){.label = rh->label, .side = rh->side, .first = first, .last = last, .open = 1};
+}
+
+/* Distance in joints from a group [a, b] to the nearer of a recorded hinge's onset and collapse
+ * positions. */
+static int hinge_dist(const rec_hinge *rh, int a, int b) {
+  const int m = (a + b) / 2, c = (rh->first + rh->last) / 2,
+            c0 = (rh->onset_first + rh->onset_last) / 2;
+  return abs(c - m) < abs(c0 - m) ? abs(c - m) : abs(c0 - m);
+}
+
+/* The labelled hinges of a picture of the state at support displacement delta whose open joints
+ * are those of row `row`, every label one of /summary/hinges and none twice: PIC_COLLAPSE takes
+ * them from the vs_plotrec; otherwise each group of consecutive open joints on one side is paired
+ * with the nearest same-side recorded hinge formed by delta (within 6 joints of where it formed
+ * or of where it was at the collapse), nearest pairs first; groups left unpaired are not labelled.
+ * Hinges of the fall are not named (the end of a fall to rest opens dozens: they are in
+ * /summary/hinges and /events); their open joints are shaded. */
+int vs_plotrec_hinges_at(const vs_plotrec *r, int row, double delta, pic_kind kind, int focus,
+                         vs_hinge *out, int cap) {
+  int n = 0;
+  if (kind == PIC_COLLAPSE) {
+    for (int i = 0; i < r->nh && n < cap; i++)
+      if (!r->h[i].during_fall && r->h[i].open)
+        out[n++] = hinge_of(&r->h[i], r->h[i].first, r->h[i].last);
+    return n;
+  }
+  if (kind == PIC_ONSET && n < cap)
+    out[n++] = hinge_of(&r->h[focus], r->h[focus].onset_first, r->h[focus].onset_last);
+  const signed char *hj = r->hinge + (size_t)row * (size_t)r->nj;
+  int ga[64], gb[64], ng = 0;
+  for (int k = 0; k < r->nj && ng < 64;) {
+    int e = k;
+    while (hj[k] != 0 && e + 1 < r->nj && hj[e + 1] == hj[k]) e++;
+    if (hj[k] != 0) {
+      const char side = hj[k] == 1 ? 'I' : 'E';
+      const int on_focus = kind == PIC_ONSET && side == r->h[focus].side &&
+                           e + 1 >= r->h[focus].onset_first && k + 1 <= r->h[focus].onset_last;
+      if (!on_focus) ga[ng] = k + 1, gb[ng++] = e + 1;
+    }
+    k = e + 1;
+  }
+  int used_h[64] = {0}, used_g[64] = {0};
+  for (;;) { /* nearest pair first */
+    int bi = -1, bg = -1, bd = 7;
+    for (int g = 0; g < ng; g++)
+      for (int i = 0; i < r->nh && i < 64; i++) {
+        const rec_hinge *rh = &r->h[i];
+        const char side = hj[ga[g] - 1] == 1 ? 'I' : 'E';
+        if (used_g[g] || used_h[i] || i == focus || rh->side != side ||
+            rh->delta_onset > delta + 1e-9 || rh->during_fall)
+          continue;
+        const int d = hinge_dist(rh, ga[g], gb[g]);
+        if (d < bd) bd = d, bi = i, bg = g;
+      }
+    if (bi < 0 || n >= cap) break;
+    used_h[bi] = used_g[bg] = 1;
+    out[n++] = hinge_of(&r->h[bi], ga[bg], gb[bg]);
+  }
+  return n;
+}
+
+state vs_plotrec_state(const vs_plotrec *r, int row) {
+  const size_t o = (size_t)row * (size_t)r->nj;
+  return (state){r->pos + (size_t)row * 3 * (size_t)r->nb, r->gap_i + o, r->gap_e + o,
+                 r->jN + o, r->jM + o, r->delta[row], row, PIC_ROW, -1};
+}

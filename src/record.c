@@ -1,0 +1,426 @@
+/* The HDF5 record of a run (an H5MD-like layout: /parameters, /geometry, /observables/<name>/
+ * {step,time,value}, /events, /summary) and its XDMF sidecar for ParaView: the writer's life
+ * (create, rows, finish, destroy). Rows and events are buffered and written in blocks, each
+ * followed by a flush, and the file never reuses freed space, so that a killed run leaves what
+ * its last flush wrote (see file_create for what was measured). The layout is written by
+ * record_layout.c, the series by record_series.c, /events by record_events.c, /summary by
+ * record_summary.c, the sidecar by xdmf.c. */
+#define _POSIX_C_SOURCE 200809L /* gmtime_r */
+#include "voussoir/output.h"
+
+#include <errno.h>
+#include <hdf5.h>
+#include <math.h>
+#include <signal.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "record_internal.h"
+#include "xdmf.h"
+
+/* Suffix of the file while its layout is being written. */
+#define VS_OUT_PART ".part"
+
+/* Fault injection for the crash tests: when the environment variable VS_FAULT_KILL names this
+ * point, the process kills itself there with SIGKILL (see vs_output_finish for the points;
+ * "mid-append": in a write of rows after the first, once half the time series have theirs). */
+void vs_record_fault_point(const char *name) {
+  const char *v = getenv("VS_FAULT_KILL");
+  if (v != NULL && strcmp(v, name) == 0) raise(SIGKILL);
+}
+
+/* "2024-05-01T12:00:00Z" */
+void vs_record_iso8601_utc(char *buf, size_t size) {
+  time_t now = time(NULL);
+  struct tm tmv;
+  if (gmtime_r(&now, &tmv) == NULL || strftime(buf, size, "%Y-%m-%dT%H:%M:%SZ", &tmv) == 0)
+    snprintf(buf, size, "unknown");
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Create / destroy                                                                             */
+
+void vs_output_opts_default(vs_output_opts *o) {
+  o->arc_points = 2;
+  o->flush_rows = 64;
+  o->chunk_rows = 64;
+  o->deflate = 0;
+  o->xdmf_max_grids = 2000;
+}
+
+static vs_status check_opts(const vs_output_opts *o, vs_error *err) {
+  if (o->arc_points < 0 || o->arc_points > 64 || o->flush_rows < 1 || o->chunk_rows < 1 ||
+      o->deflate < 0 || o->deflate > 9 || o->xdmf_max_grids < 2)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "output: options arc_points = %d, flush_rows = %d, chunk_rows = %d, "
+                        "deflate = %d, xdmf_max_grids = %d (allowed: arc_points in [0, 64], "
+                        "flush_rows >= 1, chunk_rows >= 1, deflate in [0, 9], xdmf_max_grids >= 2)",
+                        o->arc_points, o->flush_rows, o->chunk_rows, o->deflate, o->xdmf_max_grids);
+  return VS_OK;
+}
+
+static char *dup_str(const char *s) {
+  size_t n = strlen(s) + 1;
+  char *d = malloc(n);
+  if (d != NULL) memcpy(d, s, n);
+  return d;
+}
+
+/* Crash safety. HDF5 1.10 has no crash consistency: a flush rewrites metadata in place. What a
+ * kill -9 at a random moment of a run (runs/reference.ini, about 30 flushes) leaves was measured:
+ *  - HDF5's default file-space strategy reuses freed space: a partial chunk rewritten at a flush
+ *    may land where the last flushed index still points. 22 killed files in 25 (a prototype
+ *    writing like this one) had chunks that failed to inflate or held other data. Hence
+ *    H5F_FSPACE_STRATEGY_NONE: freed space is never reused;
+ *  - between flushes nothing is written (rows wait in memory), so a kill there leaves the state
+ *    of the last flush intact. A kill inside a flush can tear it. Of 140 killed files (deflate 4)
+ *    138 were intact; 1 had some datasets a flush ahead of the others, the extra rows reading as
+ *    NaN (-1 for integers: the fill values, never plausible numbers); in 1 the last chunk of
+ *    /observables/.../step lay past the recorded end of file (that dataset fails to read). Without
+ *    deflate flushes are shorter: 471 of 476 intact, 2 one flush behind in some datasets, 2 with
+ *    NaN rows, 1 with a group index past the end of file;
+ *  - the file is built as PATH.part and renamed once its layout is complete; vs_output_finish only
+ *    adds to /summary, created empty at the start, and rewrites root attributes in place (a kill
+ *    while the root group gained /summary once left a file whose root could not be opened).
+ * SWMR writing (H5Fstart_swmr_write, latest format) was measured too and rejected: a killed file
+ * keeps an "open for writing" mark so that an ordinary open fails (h5py needs swmr=True, or
+ * h5clear -s); 4 files in 194, killed while /summary was written, opened in no mode at all; and
+ * one made an SWMR reader retry a torn index block for minutes. In 1.10 an SWMR writer cannot
+ * create objects or attributes either (/summary and the final status would need a reopen).
+ * Without deflate a chunk keeps its size, so a flush rewrites a partial chunk in place, and rows
+ * are written at chunk boundaries (every flush_rows-th row), so most writes fill whole chunks. */
+static vs_status file_create(vs_output *o, const char *path) {
+  hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
+  if (fcpl >= 0 && H5Pset_file_space_strategy(fcpl, H5F_FSPACE_STRATEGY_NONE, 0, 1) >= 0)
+    o->file = H5Fcreate(path, H5F_ACC_EXCL, fcpl, H5P_DEFAULT);
+  /* the cause is read before closing fcpl (any API call clears the error stack) */
+  vs_status st = o->file < 0 ? vs_h5_fail(&o->err, path, "cannot create the file") : VS_OK;
+  vs_h5_close(fcpl);
+  return st;
+}
+
+/* A "<path>.part" left by a killed run is ours to remove (we hold the lock on path); anything
+ * there that is not a regular file is not. */
+static vs_status remove_stale_part(vs_output *o, const char *part) {
+  struct stat st;
+  if (lstat(part, &st) != 0) return VS_OK;
+  if (!S_ISREG(st.st_mode))
+    return vs_error_set(&o->err, VS_ERR_INVALID, "%s: exists and is not a regular file", part);
+  if (unlink(part) != 0)
+    return vs_error_set(&o->err, VS_ERR_IO, "output: %s: cannot remove the stale file: %s", part,
+                        strerror(errno));
+  return VS_OK;
+}
+
+/* Rename part over path, checked again just before: never over anything but a regular file. */
+static vs_status replace_target(vs_output *o, const char *part) {
+  struct stat st;
+  if (lstat(o->path, &st) == 0 && !S_ISREG(st.st_mode))
+    return vs_error_set(&o->err, VS_ERR_INVALID,
+                        "%s: became something other than a regular file; not replaced", o->path);
+  if (rename(part, o->path) != 0)
+    return vs_error_set(&o->err, VS_ERR_IO, "output: %s: cannot rename to %s: %s", part, o->path,
+                        strerror(errno));
+  return VS_OK;
+}
+
+vs_status vs_output_create(const char *path, const vs_run *run, const char *case_text,
+                           const vs_output_opts *opts, vs_output **out, vs_error *err) {
+  *out = NULL;
+  vs_output_opts def;
+  vs_output_opts_default(&def);
+  if (opts == NULL) opts = &def;
+  vs_status st = check_opts(opts, err);
+  if (st != VS_OK) return st;
+  vs_output *o = calloc(1, sizeof *o);
+  if (o == NULL) return vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
+  o->file = o->events = o->ev_mtype = H5I_INVALID_HID;
+  for (int i = 0; i < S_COUNT; i++) o->s[i].dset = H5I_INVALID_HID;
+  o->opts = *opts;
+  o->last_phase = -1;
+  vs_error_clear(&o->err);
+  o->path = dup_str(path);
+  o->xmf_path = vs_output_xdmf_path_for(path);
+  if (o->path == NULL || o->xmf_path == NULL ||
+      vs_record_geometry_init(o, vs_run_geometry(run)) != VS_OK) {
+    vs_output_destroy(&o);
+    return vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
+  }
+  o->flush_rows = vs_record_buffer_rows(o);
+  /* the target and its sidecar are absent or regular files, and no other process writes them */
+  const vs_outpath_other sidecar[1] = {{o->xmf_path, "its XDMF sidecar"}};
+  st = vs_outpath_check(path, sidecar, 1, err);
+  if (st == VS_OK) st = vs_outpath_check(o->xmf_path, NULL, 0, err);
+  if (st == VS_OK) st = vs_outlock_acquire(path, &o->lock, err);
+  if (st != VS_OK) {
+    vs_output_destroy(&o);
+    return st;
+  }
+  /* built under a temporary name: a file at path always has its whole layout */
+  char *part = malloc(strlen(path) + sizeof VS_OUT_PART);
+  if (part == NULL) {
+    vs_output_destroy(&o);
+    return vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
+  }
+  snprintf(part, strlen(path) + sizeof VS_OUT_PART, "%s%s", path, VS_OUT_PART);
+  vs_h5_quiet q = vs_h5_quiet_begin();
+  st = remove_stale_part(o, part);
+  const int made = st == VS_OK; /* a part file from here on is ours */
+  if (st == VS_OK) {
+    st = file_create(o, part);
+    if (st == VS_OK) st = vs_record_layout_write(o, run, case_text);
+  }
+  if (st == VS_OK) st = replace_target(o, part);
+  vs_h5_quiet_end(q);
+  if (st != VS_OK) {
+    if (err != NULL) *err = o->err;
+    o->pending = 0;
+    o->err.status = VS_ERR_IO; /* destroy must not flush */
+    vs_output_destroy(&o);
+    if (made) remove(part);
+    free(part);
+    return st;
+  }
+  free(part);
+  *out = o;
+  return VS_OK;
+}
+
+/* After a failed write or flush HDF5 1.10.8 cannot close the file: every later flush fails
+ * ("slist already enabled?") and a failed close leaves a half-torn file object on which the
+ * library crashes at exit. Such a file is abandoned: its identifiers are left open (the process
+ * releases them when it ends; see vs_output_process_end), and the file on disk keeps what the
+ * last good flush wrote (status "running"). */
+static void abandon_file(vs_output *o) {
+  for (int i = 0; i < S_COUNT; i++) o->s[i].dset = H5I_INVALID_HID;
+  o->events = H5I_INVALID_HID;
+  o->file = H5I_INVALID_HID;
+}
+
+void vs_output_destroy(vs_output **op) {
+  if (op == NULL || *op == NULL) return;
+  vs_output *o = *op;
+  vs_h5_quiet q = vs_h5_quiet_begin();
+  if (o->file >= 0 && o->err.status == VS_OK) vs_record_flush(o);
+  if (o->err.status != VS_OK) abandon_file(o);
+  for (int i = 0; i < S_COUNT; i++) {
+    vs_h5_close(o->s[i].dset);
+    free(o->s[i].buf);
+  }
+  vs_h5_close(o->events);
+  vs_h5_close(o->ev_mtype);
+  free(o->ev_buf);
+  vs_h5_close(o->file);
+  H5Eclear2(H5E_DEFAULT);
+  vs_h5_quiet_end(q);
+  vs_outlock_release(&o->lock);
+  free(o->path);
+  free(o->xmf_path);
+  free(o->bref);
+  free(o->jref);
+  free(o->js);
+  free(o);
+  *op = NULL;
+}
+
+void vs_output_process_init(void) { H5dont_atexit(); }
+
+void vs_output_process_end(int clean) {
+  if (clean && H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_FILE) == 0) H5close();
+}
+
+const vs_error *vs_output_error(const vs_output *o) { return &o->err; }
+long vs_output_rows(const vs_output *o) { return o->rows + o->pending; }
+const char *vs_output_xdmf_path(const vs_output *o) { return o->xmf_path; }
+int vs_output_xdmf_written(const vs_output *o) { return o->xmf_written; }
+
+void vs_output_interrupt(vs_output *o) {
+  if (o != NULL) o->interrupted = 1;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Finish                                                                                       */
+
+static void status_text(const vs_output *o, vs_status run_status, const vs_error *run_err,
+                        char *buf, size_t size) {
+  if (o->interrupted)
+    snprintf(buf, size, "failed: interrupted");
+  else if (o->err.status != VS_OK)
+    snprintf(buf, size, "failed: %s", o->err.msg);
+  else if (run_status != VS_OK)
+    snprintf(buf, size, "failed: %s%s%s", vs_strerror(run_status),
+             run_err != NULL && run_err->msg[0] ? ": " : "", run_err != NULL ? run_err->msg : "");
+  else
+    snprintf(buf, size, "completed");
+}
+
+vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status,
+                           const vs_error *run_err, vs_error *err) {
+  if (o->finished) return vs_error_set(err, VS_ERR_INVALID, "output: %s: finished twice", o->path);
+  o->finished = 1;
+  vs_h5_quiet q = vs_h5_quiet_begin();
+  vs_status st = o->err.status == VS_OK ? vs_record_write_pending(o) : o->err.status;
+  if (st == VS_OK) st = vs_record_events_rewrite(o, run);
+  if (st == VS_OK) st = vs_record_summary_write(o, run);
+  /* what the status vouches for is on disk before the status is written */
+  if (st == VS_OK && H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0)
+    st = vs_h5_fail(&o->err, o->path, "cannot flush /events and /summary");
+  if (st == VS_OK) vs_record_fault_point("before-status");
+  /* the status is recorded when the run failed but the file is sound (see abandon_file) */
+  char status[sizeof o->err.msg + 64], now[32];
+  status_text(o, run_status, run_err, status, sizeof status);
+  vs_record_iso8601_utc(now, sizeof now);
+  if (o->err.status == VS_OK && o->file >= 0 &&
+      (vs_h5_attr_str(o->file, "status", status) < 0 ||
+       vs_h5_attr_str(o->file, "finished", now) < 0 || H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0))
+    st = vs_h5_fail(&o->err, o->path, "cannot write the status");
+  if (st == VS_OK) vs_record_fault_point("after-status");
+  if (o->err.status != VS_OK) abandon_file(o);
+  /* the sidecar is written from what the closed file holds */
+  for (int i = 0; i < S_COUNT; i++) {
+    vs_h5_close(o->s[i].dset);
+    o->s[i].dset = H5I_INVALID_HID;
+  }
+  vs_h5_close(o->events);
+  o->events = H5I_INVALID_HID;
+  if (o->file >= 0 && H5Fclose(o->file) < 0 && st == VS_OK)
+    st = vs_h5_fail(&o->err, o->path, "cannot close");
+  o->file = H5I_INVALID_HID;
+  if (st == VS_OK) {
+    hid_t f = H5Fopen(o->path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    st = f < 0 ? vs_h5_fail(&o->err, o->path, "cannot reopen")
+               : vs_xdmf_write(f, o->path, o->xmf_path, o->opts.xdmf_max_grids, &o->err);
+    vs_h5_close(f);
+    o->xmf_written = st == VS_OK;
+  }
+  H5Eclear2(H5E_DEFAULT);
+  vs_h5_quiet_end(q);
+  if (st != VS_OK && err != NULL) *err = o->err;
+  return st;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Rows                                                                                         */
+
+/* Point (X, Z) of body `body` in the reference configuration, moved to the state q with the right
+ * support displaced by usup. */
+static void body_move(const vs_geometry *g, const double *q, const double usup[2], int body,
+                      double X, double Z, double out[2]) {
+  if (body == VS_SUPPORT_LEFT) {
+    out[0] = X;
+    out[1] = Z;
+  } else if (body == VS_SUPPORT_RIGHT) {
+    out[0] = X + usup[0];
+    out[1] = Z + usup[1];
+  } else {
+    const vs_block *b = &g->blocks[body];
+    const double c = cos(q[3 * body + 2]), s = sin(q[3 * body + 2]);
+    const double dx = X - b->cx, dz = Z - b->cz;
+    out[0] = b->cx + q[3 * body] + c * dx - s * dz;
+    out[1] = b->cz + q[3 * body + 1] + s * dx + c * dz;
+  }
+}
+
+static void fill_blocks(vs_output *o, const vs_run *run, const vs_run_sample *s,
+                        const double usup[2]) {
+  const vs_geometry *g = vs_run_geometry(run);
+  const size_t n3 = 3 * (size_t)o->nb;
+  double *bv = row_ptr(o, S_BVEL), *sp = row_ptr(o, S_BSPEED);
+  memcpy(row_ptr(o, S_BPOS), s->q, n3 * sizeof(double));
+  if (s->v != NULL)
+    memcpy(bv, s->v, n3 * sizeof(double));
+  else
+    memset(bv, 0, n3 * sizeof(double));
+  for (int b = 0; b < o->nb; b++) sp[b] = hypot(bv[3 * b], bv[3 * b + 1]);
+  float *pts = row_ptr(o, S_BPTS);
+  const size_t np = (size_t)o->np;
+  for (int b = 0; b < o->nb; b++)
+    for (size_t k = 0; k < np; k++) {
+      const double *ref = o->bref + 2 * ((size_t)b * np + k);
+      double p[2];
+      body_move(g, s->q, usup, b, ref[0], ref[1], p);
+      pts[2 * ((size_t)b * np + k)] = (float)p[0];
+      pts[2 * ((size_t)b * np + k) + 1] = (float)p[1];
+    }
+}
+
+static void fill_joints(vs_output *o, const vs_run *run, const vs_run_sample *s,
+                        const double usup[2]) {
+  const vs_geometry *g = vs_run_geometry(run);
+  const vs_hinge_opts *ho = vs_run_hinge_opts(run);
+  double *N = row_ptr(o, S_N), *T = row_ptr(o, S_T), *M = row_ptr(o, S_M);
+  double *c = row_ptr(o, S_CONTACT), *gi = row_ptr(o, S_GAP_I), *ge = row_ptr(o, S_GAP_E);
+  double *sl = row_ptr(o, S_SLIP), *sp = row_ptr(o, S_SLIP_P);
+  int8_t *h = row_ptr(o, S_HINGE);
+  float *pts = row_ptr(o, S_JPTS);
+  for (int k = 0; k < o->nj; k++) {
+    const vs_joint_state *st = &s->joints[k]; /* the run's evaluation at this state */
+    N[k] = st->N, T[k] = st->T, M[k] = st->M, c[k] = st->contact;
+    gi[k] = st->gap_i, ge[k] = st->gap_e, sl[k] = st->slip, sp[k] = st->slip_p;
+    const char side = vs_hinges_joint_side(ho, st);
+    h[k] = (int8_t)(side == 'I' ? 1 : side == 'E' ? 2 : 0);
+    const vs_joint_geom *j = &g->joints[k];
+    for (int e = 0; e < 2; e++) {
+      double pa[2], pb[2];
+      body_move(g, s->q, usup, j->a, o->jref[4 * k + 2 * e], o->jref[4 * k + 2 * e + 1], pa);
+      body_move(g, s->q, usup, j->b, o->jref[4 * k + 2 * e], o->jref[4 * k + 2 * e + 1], pb);
+      pts[4 * k + 2 * e] = (float)(0.5 * (pa[0] + pb[0]));
+      pts[4 * k + 2 * e + 1] = (float)(0.5 * (pa[1] + pb[1]));
+    }
+  }
+}
+
+static void fill_row(vs_output *o, const vs_run *run, const vs_run_sample *s) {
+  const vs_model *m = vs_run_model(run);
+  double usup[2];
+  vs_model_support_displacement(m, s->delta, usup);
+  *(int64_t *)row_ptr(o, S_STEP) = (int64_t)(o->rows + o->pending);
+  *(double *)row_ptr(o, S_TIME) = s->t;
+  *(double *)row_ptr(o, S_DELTA) = s->delta;
+  memcpy(row_ptr(o, S_SUPPORT), usup, sizeof usup);
+  *(int8_t *)row_ptr(o, S_PHASE) = (int8_t)s->phase;
+  fill_blocks(o, run, s, usup);
+  fill_joints(o, run, s, usup);
+  double *r = row_ptr(o, S_REACT);
+  memcpy(r, s->reactions, 6 * sizeof *r); /* the run's, at this state */
+  int64_t *sv = row_ptr(o, S_SOLVER);
+  sv[0] = (int64_t)s->newton_iterations;
+  sv[1] = (int64_t)s->ida_steps;
+  sv[2] = (int64_t)s->ida_newton_iterations;
+  double *e = row_ptr(o, S_ENERGY);
+  if (s->energy != NULL) {
+    const vs_energy *en = s->energy;
+    const double v[7] = {en->kinetic, en->gravity,  en->elastic, en->support_work,
+                         en->damped,  en->friction, en->balance};
+    memcpy(e, v, sizeof v);
+  } else {
+    e[0] = 0.0;
+    e[1] = s->gravity;
+    e[2] = s->elastic;
+    e[3] = e[4] = e[5] = e[6] = NAN;
+  }
+}
+
+int vs_output_sample(void *user, const vs_run *run, const vs_run_sample *s) {
+  vs_output *o = user;
+  if (o->err.status != VS_OK || o->interrupted || o->finished) return 1;
+  vs_h5_quiet q = vs_h5_quiet_begin();
+  vs_status st = VS_OK;
+  if (o->last_phase >= 0 && (int)s->phase != o->last_phase) st = vs_record_flush(o);
+  if (st == VS_OK) {
+    fill_row(o, run, s);
+    o->pending++;
+    o->last_phase = (int)s->phase;
+    /* at every flush_rows-th row of the file: the writes fill whole chunks */
+    if ((size_t)(o->rows + o->pending) % o->flush_rows == 0) st = vs_record_flush(o);
+  }
+  vs_h5_quiet_end(q);
+  return st == VS_OK ? 0 : 1;
+}
+

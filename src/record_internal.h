@@ -1,0 +1,142 @@
+/* Private to the record's sources (record*.c): the writer's state, the per-state series of the
+ * schema (record_series.c holds the table), the packed /events row, and the functions the
+ * record's files share. Not installed. */
+#ifndef VS_RECORD_INTERNAL_H
+#define VS_RECORD_INTERNAL_H
+
+#include <hdf5.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "h5util.h"
+#include "voussoir/outpath.h"
+#include "voussoir/output.h"
+
+/* Buffered rows stay under this many bytes (wide rows: fewer rows per flush). */
+#define VS_OUT_BUFFER_BYTES ((size_t)16 << 20)
+/* A chunk stays under this many bytes (wide rows: fewer rows per chunk). */
+#define VS_OUT_CHUNK_BYTES ((size_t)1 << 20)
+
+/* The per-state series, in the order of the schema table (record_series.c). */
+enum {
+  S_STEP,
+  S_TIME,
+  S_DELTA,
+  S_SUPPORT,
+  S_PHASE,
+  S_BPOS,
+  S_BVEL,
+  S_BSPEED,
+  S_N,
+  S_T,
+  S_M,
+  S_CONTACT,
+  S_GAP_I,
+  S_GAP_E,
+  S_SLIP,
+  S_SLIP_P,
+  S_HINGE,
+  S_REACT,
+  S_ENERGY,
+  S_BPTS,
+  S_JPTS,
+  S_SOLVER,
+  S_COUNT
+};
+
+typedef struct {
+  hid_t dset;
+  int rank;
+  hsize_t dims[3];  /* dims[0] = rows written to the file */
+  size_t row_elems; /* elements per row */
+  size_t esize;     /* bytes per element */
+  hid_t mtype;
+  unsigned char *buf; /* pending rows */
+} series;
+
+/* One row of /events as stored: packed, little-endian (the file's compound type, also used as
+ * the memory type, so a write converts nothing): time f64 at 0, delta f64 at 8, joint i32 at 16,
+ * side char at 20, label char at 21, phase i8 at 22, order i32 at 23, kind char[16] at 27
+ * (NUL-padded). */
+enum {
+  EV_TIME = 0,
+  EV_DELTA = 8,
+  EV_JOINT = 16,
+  EV_SIDE = 20,
+  EV_LABEL = 21,
+  EV_PHASE = 22,
+  EV_ORDER = 23,
+  EV_KIND = 27,
+  EV_KIND_LEN = 16,
+  EV_SIZE = 43
+};
+typedef struct {
+  unsigned char b[EV_SIZE];
+} event_row;
+
+struct vs_output {
+  hid_t file;
+  char *path, *xmf_path;
+  vs_output_opts opts;
+  int nb, nj, np;     /* blocks, joints, outline points per block */
+  size_t flush_rows;  /* rows buffered before a write */
+  double *bref;       /* reference outlines, nb * np * 2 */
+  double *jref;       /* reference joint ends (intrados, extrados), nj * 2 * 2 */
+  vs_joint_state *js; /* workspace, nj */
+  series s[S_COUNT];
+  long rows;              /* written to the file */
+  long pending;           /* buffered */
+  int last_phase;         /* of the last row, -1 before any */
+  hid_t events, ev_mtype; /* /events and its (packed, file = memory) type */
+  long n_events;          /* written to the file */
+  event_row *ev_buf;      /* events waiting for the next write */
+  long ev_pending, ev_cap;
+  int interrupted, finished, xmf_written;
+  vs_outlock *lock; /* the exclusive lock on path, held until destroy */
+  vs_error err;     /* first write error (sticky) */
+};
+
+/* Where row `pending` of series i is buffered. */
+static inline void *row_ptr(vs_output *o, int i) {
+  series *s = &o->s[i];
+  return s->buf + (size_t)o->pending * s->row_elems * s->esize;
+}
+
+/* record.c */
+/* Fault injection for the crash tests: when the environment variable VS_FAULT_KILL names this
+ * point, the process kills itself there with SIGKILL (see vs_output_finish for the points;
+ * "mid-append": in a write of rows after the first, once half the time series have theirs). */
+void vs_record_fault_point(const char *name);
+/* "2024-05-01T12:00:00Z" (now, UTC) into buf. */
+void vs_record_iso8601_utc(char *buf, size_t size);
+
+/* record_series.c: the schema table and the buffered rows */
+/* Rows buffered before a write: opts.flush_rows, fewer when rows are wide. */
+size_t vs_record_buffer_rows(const vs_output *o);
+/* Create series i in /observables (its group first, if new) and link the shared step and time
+ * into the group; allocates its row buffer. */
+herr_t vs_record_series_create(vs_output *o, hid_t obs, int i);
+/* Append the buffered rows of every series, and the buffered events, to the file (no flush). */
+vs_status vs_record_write_pending(vs_output *o);
+/* vs_record_write_pending, then flush the file. */
+vs_status vs_record_flush(vs_output *o);
+
+/* record_layout.c: what does not change during a run */
+/* o's block outlines and joint ends in the reference configuration (nb, nj, np, bref, jref, js). */
+vs_status vs_record_geometry_init(vs_output *o, const vs_geometry *g);
+/* Root attributes, /parameters, /geometry, /imperfections, the empty /summary, the series and
+ * /events, flushed; errors recorded on o. */
+vs_status vs_record_layout_write(vs_output *o, const vs_run *run, const char *case_text);
+
+/* record_events.c: /events */
+herr_t vs_record_events_create(vs_output *o);
+/* Append the buffered events to /events (no flush). */
+vs_status vs_record_events_append(vs_output *o);
+/* Rewrite /events from the run's log: the first three hinges get their labels together, after
+ * their events were emitted. */
+vs_status vs_record_events_rewrite(vs_output *o, const vs_run *run);
+
+/* record_summary.c: /summary, filled when the run is finished */
+vs_status vs_record_summary_write(vs_output *o, const vs_run *run);
+
+#endif

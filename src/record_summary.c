@@ -1,0 +1,328 @@
+/* The record's /summary, written when the run is finished: limit points, first limit point,
+ * collapse, hinges, mode, solver totals, damping and modes, the ground of the fall. */
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+
+#include "record_internal.h"
+#include "voussoir/damping.h"
+#include "voussoir/support.h"
+#include "voussoir/units.h"
+
+typedef struct {
+  char label, side;
+  const char *name, *name_onset;
+  int32_t first, last, onset_first, onset_last;
+  double delta_onset, time_onset;
+  int32_t order;
+  int8_t open;
+  double delta_closed;
+  int8_t during_fall;
+} hinge_row;
+
+static const char HINGE_UNITS[] = ",,,,,,,,m,s,,,m,";
+
+static hid_t hinge_mtype(void) {
+  hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(hinge_row)), c1 = vs_h5_fixed_str_type(1),
+        vs = vs_h5_vlstr_type();
+  herr_t rc = (t >= 0 && c1 >= 0 && vs >= 0) ? 0 : -1;
+#define INS(field, type) \
+  if (rc >= 0) rc = H5Tinsert(t, #field, HOFFSET(hinge_row, field), type)
+  INS(label, c1);
+  INS(side, c1);
+  INS(name, vs);
+  INS(name_onset, vs);
+  INS(first, H5T_NATIVE_INT32);
+  INS(last, H5T_NATIVE_INT32);
+  INS(onset_first, H5T_NATIVE_INT32);
+  INS(onset_last, H5T_NATIVE_INT32);
+  INS(delta_onset, H5T_NATIVE_DOUBLE);
+  INS(time_onset, H5T_NATIVE_DOUBLE);
+  INS(order, H5T_NATIVE_INT32);
+  INS(open, H5T_NATIVE_INT8);
+  INS(delta_closed, H5T_NATIVE_DOUBLE);
+  INS(during_fall, H5T_NATIVE_INT8);
+#undef INS
+  vs_h5_close(c1);
+  vs_h5_close(vs);
+  if (rc < 0) vs_h5_close(t);
+  return rc < 0 ? H5I_INVALID_HID : t;
+}
+
+/* A compound table: memory type mt, packed in the file, with unit and description. */
+static herr_t table_write(hid_t loc, const char *name, hid_t mt, size_t n, const void *rows,
+                          const char *unit, const char *description) {
+  hid_t ft = H5Tcopy(mt);
+  hsize_t dims[1] = {n};
+  herr_t rc = ft >= 0 ? H5Tpack(ft) : -1;
+  hid_t sp = H5Screate_simple(1, dims, NULL);
+  hid_t d = (rc >= 0 && sp >= 0)
+                ? H5Dcreate2(loc, name, ft, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)
+                : H5I_INVALID_HID;
+  rc = d >= 0 ? 0 : -1;
+  if (rc >= 0 && n > 0) rc = H5Dwrite(d, mt, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows);
+  if (rc >= 0) rc = vs_h5_attr_str(d, "unit", unit);
+  if (rc >= 0) rc = vs_h5_attr_str(d, "description", description);
+  vs_h5_close(d);
+  vs_h5_close(sp);
+  vs_h5_close(ft);
+  return rc;
+}
+
+/* Hinge table name of hinges h[0..n); during_fall from index fall_from on. */
+static herr_t hinge_table(hid_t loc, const char *name, const vs_hinge *h, int n, int fall_from,
+                          double rate, const char *description) {
+  typedef char name_buf[96];
+  hinge_row *rows = calloc((size_t)(n > 0 ? n : 1), sizeof *rows);
+  name_buf *names = calloc((size_t)(n > 0 ? n : 1), 2 * sizeof *names);
+  hid_t mt = hinge_mtype();
+  herr_t rc = (rows != NULL && names != NULL && mt >= 0) ? 0 : -1;
+  for (int i = 0; rc >= 0 && i < n; i++) {
+    vs_hinge_name(&h[i], 0, names[2 * i], sizeof names[0]);
+    vs_hinge_name(&h[i], 1, names[2 * i + 1], sizeof names[0]);
+    rows[i] = (hinge_row){.label = h[i].label,
+                          .side = h[i].side,
+                          .name = names[2 * i],
+                          .name_onset = names[2 * i + 1],
+                          .first = h[i].first,
+                          .last = h[i].last,
+                          .onset_first = h[i].onset_first,
+                          .onset_last = h[i].onset_last,
+                          .delta_onset = h[i].delta_onset,
+                          .time_onset = h[i].delta_onset / rate,
+                          .order = h[i].order,
+                          .open = (int8_t)h[i].open,
+                          .delta_closed = h[i].delta_closed,
+                          .during_fall = (int8_t)(i >= fall_from)};
+  }
+  if (rc >= 0) rc = table_write(loc, name, mt, (size_t)n, rows, HINGE_UNITS, description);
+  vs_h5_close(mt);
+  free(rows);
+  free(names);
+  return rc;
+}
+
+typedef struct {
+  double delta;
+  const char *kind;
+  double delta_settled;
+  const char *hinges_before, *hinges_after;
+} limit_row;
+
+static herr_t limits_table(hid_t loc, const vs_run *run) {
+  const int n = vs_run_limit_count(run);
+  limit_row *rows = calloc((size_t)(n > 0 ? n : 1), sizeof *rows);
+  hid_t mt = H5Tcreate(H5T_COMPOUND, sizeof(limit_row)), vs = vs_h5_vlstr_type();
+  herr_t rc = (rows != NULL && mt >= 0 && vs >= 0) ? 0 : -1;
+  if (rc >= 0) rc = H5Tinsert(mt, "delta", HOFFSET(limit_row, delta), H5T_NATIVE_DOUBLE);
+  if (rc >= 0) rc = H5Tinsert(mt, "kind", HOFFSET(limit_row, kind), vs);
+  if (rc >= 0)
+    rc = H5Tinsert(mt, "delta_settled", HOFFSET(limit_row, delta_settled), H5T_NATIVE_DOUBLE);
+  if (rc >= 0) rc = H5Tinsert(mt, "hinges_before", HOFFSET(limit_row, hinges_before), vs);
+  if (rc >= 0) rc = H5Tinsert(mt, "hinges_after", HOFFSET(limit_row, hinges_after), vs);
+  for (int i = 0; rc >= 0 && i < n; i++) {
+    const vs_limit_record *l = vs_run_limit(run, i);
+    rows[i] = (limit_row){.delta = l->delta,
+                          .delta_settled = l->delta_settled,
+                          .kind = l->collapse                  ? "collapse"
+                                  : isfinite(l->delta_settled) ? "snap"
+                                                               : "unfollowed",
+                          .hinges_before = l->hinges_before,
+                          .hinges_after = l->hinges_after};
+  }
+  if (rc >= 0)
+    rc = table_write(loc, "limit_points", mt, (size_t)n, rows, "m,,m,,",
+                     "limit points of the quasi-static path in order; kind: snap (the motion "
+                     "settled at delta_settled), collapse, unfollowed (dynamic.follow = 0)");
+  vs_h5_close(vs);
+  vs_h5_close(mt);
+  free(rows);
+  return rc;
+}
+
+static herr_t summary_collapse(hid_t sum, const vs_run *run) {
+  const vs_collapse_record *c = vs_run_collapse(run);
+  const vs_case *cs = vs_run_case(run);
+  const double L = vs_run_geometry(run)->span;
+  const vs_support_dir sd = vs_support_case_direction(cs);
+  const double rate = cs->rate_mm_s * VS_MM;
+  hid_t g = vs_h5_group_create(sum, "collapse");
+  herr_t rc = g >= 0 ? vs_h5_attr_int(g, "found", c->found) : -1;
+  if (rc >= 0) rc = vs_h5_attr_str(g, "pattern", vs_run_pattern_collapse(run));
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "delta", c->found ? c->delta : NAN, "m");
+  if (rc >= 0)
+    rc = vs_h5_dset_scalar(g, "dz_over_L", c->found ? c->delta * sd.dz / L : NAN, "1");
+  if (rc >= 0)
+    rc = vs_h5_dset_scalar(g, "dx_over_L", c->found ? c->delta * sd.dx / L : NAN, "1");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "time", c->found ? c->t : NAN, "s");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "delta_detected", c->found ? c->delta_detected : NAN, "m");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "time_detected", c->found ? c->t_criterion : NAN, "s");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "time_onset", c->found ? c->t_onset : NAN, "s");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "delta_onset", c->found ? c->t_onset * rate : NAN, "m");
+  if (rc >= 0)
+    rc = hinge_table(g, "hinges", c->hinges, c->found ? c->n_hinges : 0, 1 << 30, rate,
+                     "hinges open at the collapse's onset, left to right");
+  if (rc >= 0)
+    rc = vs_h5_attr_str(
+        g, "description",
+        "collapse: delta (delta_u) is the support displacement at which the arch "
+        "departs from its last stable equilibrium: the collapsing limit point, or "
+        "with --dynamic the kinetic energy's last rise through the rest level (an "
+        "IDA root); delta_detected when the kinetic energy passed the collapse "
+        "threshold; time_onset when the final motion began (NaN if the arch was never "
+        "at rest); NaN everywhere when found = 0");
+  vs_h5_close(g);
+  return rc;
+}
+
+static herr_t summary_first_limit(hid_t sum, const vs_run *run) {
+  const vs_path_result *p = vs_run_path(run);
+  const int found = p->end == VS_PATH_LIMIT_POINT && vs_run_limit_count(run) > 0;
+  hid_t g = vs_h5_group_create(sum, "first_limit");
+  herr_t rc = g >= 0 ? vs_h5_attr_int(g, "found", found) : -1;
+  if (rc >= 0) rc = vs_h5_attr_int(g, "det_sign", found ? p->evidence.det_sign : 0);
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "delta", found ? p->delta_limit : NAN, "m");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "delta_fail", found ? p->delta_fail : NAN, "m");
+  if (rc >= 0)
+    rc = vs_h5_dset_scalar(g, "lambda_start", found ? p->evidence.lambda_start : NAN, "N/m");
+  if (rc >= 0)
+    rc = vs_h5_dset_scalar(g, "lambda_last", found ? p->evidence.lambda_last : NAN, "N/m");
+  if (rc >= 0)
+    rc = vs_h5_dset_scalar(g, "delta_extrapolated", found ? p->evidence.delta_extrap : NAN, "m");
+  vs_h5_close(g);
+  return rc;
+}
+
+static herr_t summary_totals(hid_t sum, const vs_run *run) {
+  const vs_path_result *p = vs_run_path_totals(run);
+  const vs_dyn_result *d = vs_run_dynamic_totals(run);
+  hid_t g = vs_h5_group_create(sum, "quasistatic");
+  herr_t rc = g >= 0 ? vs_h5_attr_int(g, "steps", p->steps) : -1;
+  if (rc >= 0) rc = vs_h5_attr_int(g, "rejected", p->rejected);
+  if (rc >= 0) rc = vs_h5_attr_int(g, "newton_iterations", p->newton_iterations);
+  if (rc >= 0) rc = vs_h5_attr_int(g, "jacobian_evals", p->jacobian_evals);
+  if (rc >= 0) rc = vs_h5_attr_int(g, "floor_limited", p->floor_limited);
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "max_residual", p->max_residual, "1");
+  vs_h5_close(g);
+  g = rc >= 0 ? vs_h5_group_create(sum, "dynamic") : H5I_INVALID_HID;
+  rc = g >= 0 ? vs_h5_attr_int(g, "steps", d->steps) : -1;
+  if (rc >= 0) rc = vs_h5_attr_int(g, "newton_iterations", d->newton_iterations);
+  if (rc >= 0) rc = vs_h5_attr_int(g, "root_events", d->root_events);
+  if (rc >= 0) rc = vs_h5_attr_int(g, "jacobian_evals", d->jac_evals);
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "max_kinetic", d->max_kinetic, "J");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "balance_error_rel", d->balance_error_rel, "1");
+  if (rc >= 0)
+    rc = vs_h5_attr_str(
+        g, "description",
+        "totals of all dynamic phases; balance_error_rel: the worst |energy balance| "
+        "relative to the largest energy term");
+  vs_h5_close(g);
+  return rc;
+}
+
+/* /summary/damping: the model and the natural frequencies under self-weight with the damping
+ * ratio the model gives each mode. */
+static herr_t summary_damping(hid_t sum, const vs_run *run) {
+  const vs_case *c = vs_run_case(run);
+  const vs_modal *md = vs_run_modal(run);
+  double alpha, beta, col[3][VS_MODAL_MAX];
+  vs_run_rayleigh(run, &alpha, &beta);
+  hid_t g = vs_h5_group_create(sum, "damping");
+  herr_t rc =
+      g >= 0 ? vs_h5_attr_str(g, "model", vs_damping_model_name((vs_damping_model)c->damping_model))
+             : -1;
+  if (rc >= 0) rc = vs_h5_attr_double(g, "ratio", c->damping);
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "rayleigh_alpha", alpha, "1/s");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "rayleigh_beta", beta, "s");
+  if (rc >= 0) rc = vs_h5_attr_int(g, "impacts", vs_run_dynamic_totals(run)->impacts);
+  for (int i = 0; i < md->n_modes; i++) {
+    col[0][i] = md->freq_hz[i];
+    col[1][i] = md->omega[i];
+    col[2][i] = md->zeta[i];
+  }
+  const hsize_t dims[1] = {(hsize_t)md->n_modes};
+  if (rc >= 0)
+    rc =
+        vs_h5_dset_write(g, "freq", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, dims, col[0], "Hz", NULL);
+  if (rc >= 0)
+    rc = vs_h5_dset_write(g, "omega", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, dims, col[1], "rad/s",
+                          NULL);
+  if (rc >= 0)
+    rc = vs_h5_dset_write(g, "damping_ratio", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, dims, col[2],
+                          "1", NULL);
+  if (rc >= 0)
+    rc = vs_h5_attr_str(
+        g, "description",
+        "the lowest natural modes about the self-weight equilibrium (tangent stiffness, "
+        "block masses) and the damping ratio phi^T C phi / (2 omega) the damping model "
+        "gives each; empty when not computed (more than 5000 voussoirs)");
+  vs_h5_close(g);
+  return rc;
+}
+
+/* /summary/ground, when the fall landed on the ground (contact.h): its level, a segment of it
+ * for the pictures and the sidecar (two span widths, centred on the arch), the penetrations and
+ * whether the debris came to rest, and the fall's cost. */
+static herr_t summary_ground(hid_t sum, const vs_run *run) {
+  const double z = vs_run_ground(run), L = vs_run_geometry(run)->span;
+  if (!isfinite(z)) return 0;
+  const vs_dyn_result *d = vs_run_dynamic_totals(run);
+  const double pts[4] = {-L, z, L, z};
+  const hsize_t dims[2] = {2, 2};
+  hid_t g = vs_h5_group_create(sum, "ground");
+  herr_t rc = g >= 0 ? vs_h5_dset_scalar(g, "level", z, "m") : -1;
+  if (rc >= 0)
+    rc = vs_h5_dset_write(g, "points", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, dims, pts, "m,m",
+                          "x,z");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "penetration_final", vs_run_penetration(run), "m");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "penetration_max", d->max_penetration, "m");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "fall_wall_time", d->fall_wall_s, "s");
+  if (rc >= 0) rc = vs_h5_attr_int(g, "at_rest", d->fall_at_rest);
+  if (rc >= 0)
+    rc = vs_h5_attr_str(
+        g, "description",
+        "the ground the collapsed arch fell onto (z up, the geometry's frame): level; "
+        "points, a segment of it; penetration_final, the deepest block vertex below it "
+        "at the last state (< 0: none touches), penetration_max over the fall; at_rest "
+        "= 1 if the fall ended with the debris at rest; fall_wall_time, its cost");
+  vs_h5_close(g);
+  return rc;
+}
+
+vs_status vs_record_summary_write(vs_output *o, const vs_run *run) {
+  hid_t sum = H5Gopen2(o->file, "summary", H5P_DEFAULT);
+  const char *mode = vs_run_mode(run);
+  char open[512];
+  vs_run_open_hinges(run, open, sizeof open);
+  herr_t rc = sum >= 0 ? vs_h5_attr_str(sum, "mode", mode != NULL ? mode : "") : -1;
+  if (rc >= 0) rc = vs_h5_attr_str(sum, "pattern_initial", vs_run_pattern_initial(run));
+  if (rc >= 0) rc = vs_h5_attr_str(sum, "pattern_collapse", vs_run_pattern_collapse(run));
+  if (rc >= 0) rc = vs_h5_attr_str(sum, "open_hinges", open);
+  if (rc >= 0) rc = vs_h5_attr_int(sum, "rows", o->rows);
+  if (rc >= 0) rc = vs_h5_attr_int(sum, "events", o->n_events);
+  if (rc >= 0) rc = vs_h5_dset_scalar(sum, "delta_final", vs_run_delta(run), "m");
+  if (rc >= 0) rc = vs_h5_dset_scalar(sum, "time_final", vs_run_time(run), "s");
+  if (rc >= 0) rc = vs_h5_dset_scalar(sum, "wall_time", vs_run_wall_s(run), "s");
+  if (rc >= 0) rc = limits_table(sum, run);
+  if (rc >= 0) rc = summary_first_limit(sum, run);
+  if (rc >= 0) rc = summary_collapse(sum, run);
+  if (rc >= 0) rc = summary_totals(sum, run);
+  if (rc >= 0) rc = summary_damping(sum, run);
+  if (rc >= 0) rc = summary_ground(sum, run);
+  const vs_hinges *h = vs_run_hinges(run);
+  const int n = vs_hinges_count(h);
+  vs_hinge *all = calloc((size_t)(n > 0 ? n : 1), sizeof *all);
+  if (all == NULL) rc = -1;
+  for (int i = 0; rc >= 0 && i < n; i++) all[i] = *vs_run_hinge(run, i);
+  if (rc >= 0)
+    rc = hinge_table(sum, "hinges", all, n, vs_run_hinge_count(run),
+                     vs_run_case(run)->rate_mm_s * VS_MM,
+                     "hinges in order of appearance. label A-E; side: the edge that stays in "
+                     "contact (I intrados, E extrados); name: joints (e.g. 44-45-46-I, "
+                     "after a collapse those at its onset, not at the end of the fall; "
+                     "a hinge spread over consecutive joints), name_onset: joints when it formed; "
+                     "during_fall = 1: opened as the arch fell after the collapse's onset");
+  free(all);
+  vs_h5_close(sum);
+  return rc < 0 ? vs_h5_fail(&o->err, o->path, "cannot write /summary") : VS_OK;
+}

@@ -1,0 +1,454 @@
+/* The XDMF sidecar of a record (ParaView plays the motion from it), written from what the
+ * record's HDF5 file holds: after a run, or for a record left by a killed run. */
+#define _POSIX_C_SOURCE 200809L /* lstat */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "h5util.h"
+#include "voussoir/output.h"
+#include "xdmf.h"
+
+typedef struct {
+  const char *path; /* in the HDF5 file */
+  int rank;
+  hsize_t dims[3];
+} xdmf_ds;
+
+enum {
+  X_BPTS,
+  X_BCONN,
+  X_JPTS,
+  X_JCONN,
+  X_TIME,
+  X_BPOS,
+  X_BSPEED,
+  X_N,
+  X_T,
+  X_M,
+  X_GAPI,
+  X_GAPE,
+  X_HINGE,
+  X_REACT,
+  X_SUPPORT,
+  X_COUNT
+};
+
+static const char *const XDMF_PATHS[X_COUNT] = {"/observables/block_points/value",
+                                                "/geometry/block_connectivity",
+                                                "/observables/joint_points/value",
+                                                "/geometry/joint_connectivity",
+                                                "/observables/delta/time",
+                                                "/observables/block_position/value",
+                                                "/observables/block_speed/value",
+                                                "/observables/joint_N/value",
+                                                "/observables/joint_T/value",
+                                                "/observables/joint_M/value",
+                                                "/observables/joint_gap_i/value",
+                                                "/observables/joint_gap_e/value",
+                                                "/observables/joint_hinge/value",
+                                                "/observables/reactions/value",
+                                                "/observables/support_displacement/value"};
+static const int XDMF_RANKS[X_COUNT] = {3, 2, 3, 2, 1, 3, 2, 2, 2, 2, 2, 2, 2, 2, 2};
+
+/* Every cell field any grid carries. ParaView's default XDMF reader (Xdmf3ReaderS, what File >
+ * Open picks) flattens a step's grids into pieces of one data set, and its geometry filter then
+ * appends the pieces keeping only the fields that all of them carry: a field on the blocks alone
+ * is dropped and colouring by it leaves the arch grey. So every grid carries every field, NaN
+ * where the field is not its own (ParaView draws NaN in its NaN colour and leaves it out of
+ * ranges); Xdmf3ReaderT keeps the grids as named blocks and reads the same file. */
+static const char *const XDMF_FIELDS[] = {
+    "theta_rad", "ux_m",  "uz_m",    "speed_m_s", "N_N",
+    "T_N",       "M_N_m", "gap_i_m", "gap_e_m",   "hinge_0closed_1intrados_2extrados",
+    "Fx_N",      "Fz_N"};
+enum { XDMF_N_FIELDS = (int)(sizeof XDMF_FIELDS / sizeof XDMF_FIELDS[0]) };
+
+typedef struct {
+  FILE *f;
+  const char *h5name; /* XML-escaped name of the HDF5 file, relative to the sidecar */
+  xdmf_ds ds[X_COUNT];
+  unsigned carried; /* bit i: the open grid carries XDMF_FIELDS[i] */
+  int ground;       /* the record has /summary/ground/points */
+} xdmf_ctx;
+
+static void xml_escape(const char *s, char *out, size_t size) {
+  size_t used = 0;
+  for (; *s != '\0' && used + 7 < size; s++) {
+    const char *rep = *s == '&'   ? "&amp;"
+                      : *s == '<' ? "&lt;"
+                      : *s == '>' ? "&gt;"
+                      : *s == '"' ? "&quot;"
+                                  : NULL;
+    if (rep != NULL) {
+      memcpy(out + used, rep, strlen(rep));
+      used += strlen(rep);
+    } else {
+      out[used++] = *s;
+    }
+  }
+  out[used] = '\0';
+}
+
+static void xdmf_dims(FILE *f, int rank, const hsize_t *d) {
+  for (int i = 0; i < rank; i++) fprintf(f, "%s%llu", i ? " " : "", (unsigned long long)d[i]);
+}
+
+/* The block [start, start + count) of dataset `which`, in XDMF 3's own hyperslab syntax:
+ * "file:/path|start:stride:count:dataset dimensions". ParaView's default XDMF reader
+ * (Xdmf3ReaderS/T) reads it; it crashes on an ItemType="HyperSlab" item used as a geometry (it
+ * asks the array's type before reading the slab), and the legacy "XDMF Reader" reads only that
+ * older form, so there is no syntax both accept. */
+static void xdmf_block(const xdmf_ctx *x, int which, const hsize_t *start, const hsize_t *count,
+                       const char *type, int prec, const char *ind) {
+  const xdmf_ds *d = &x->ds[which];
+  const hsize_t stride[3] = {1, 1, 1};
+  fprintf(x->f, "%s<DataItem Dimensions=\"", ind);
+  xdmf_dims(x->f, d->rank, count);
+  fprintf(x->f, "\" NumberType=\"%s\" Precision=\"%d\" Format=\"HDF\">%s:%s|", type, prec,
+          x->h5name, d->path);
+  xdmf_dims(x->f, d->rank, start);
+  fputc(':', x->f);
+  xdmf_dims(x->f, d->rank, stride);
+  fputc(':', x->f);
+  xdmf_dims(x->f, d->rank, count);
+  fputc(':', x->f);
+  xdmf_dims(x->f, d->rank, d->dims);
+  fputs("</DataItem>\n", x->f);
+}
+
+/* Row r of dataset `which`, columns [col, col + ncol) of its last dimension (ncol 0: all). */
+static void xdmf_slab(const xdmf_ctx *x, int which, hsize_t r, hsize_t col, hsize_t ncol,
+                      const char *type, int prec, const char *ind) {
+  const xdmf_ds *d = &x->ds[which];
+  hsize_t start[3] = {r, 0, 0}, count[3] = {1, d->dims[1], d->dims[2]};
+  if (ncol > 0) start[d->rank - 1] = col, count[d->rank - 1] = ncol;
+  xdmf_block(x, which, start, count, type, prec, ind);
+}
+
+/* A cell field (one of XDMF_FIELDS); its name carries its unit (ParaView shows names only). */
+static void xdmf_attribute(xdmf_ctx *x, const char *name, int which, hsize_t r, hsize_t col,
+                           hsize_t ncol, const char *type, int prec) {
+  const char *ind = "          ";
+  for (int i = 0; i < XDMF_N_FIELDS; i++)
+    if (strcmp(name, XDMF_FIELDS[i]) == 0) x->carried |= 1u << i;
+  fprintf(x->f, "        <Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Cell\">\n", name);
+  xdmf_slab(x, which, r, col, ncol, type, prec, ind);
+  fputs("        </Attribute>\n", x->f);
+}
+
+static void xdmf_grid_open(xdmf_ctx *x, const char *name) {
+  x->carried = 0;
+  fprintf(x->f, "      <Grid Name=\"%s\" GridType=\"Uniform\">\n", name);
+}
+
+/* Field XDMF_FIELDS[i] as NaN on all n_cells cells of the open grid, inline. */
+static void xdmf_nan_field(xdmf_ctx *x, int i, hsize_t n_cells) {
+  x->carried |= 1u << i;
+  fprintf(x->f,
+          "        <Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
+          "          <DataItem Dimensions=\"%llu\" NumberType=\"Float\" Precision=\"8\" "
+          "Format=\"XML\">",
+          XDMF_FIELDS[i], (unsigned long long)n_cells);
+  for (hsize_t c = 0; c < n_cells; c++) fputs(c ? " nan" : "nan", x->f);
+  fputs("</DataItem>\n        </Attribute>\n", x->f);
+}
+
+/* A grid that is not the blocks starts with theta_rad (NaN): ParaView shows the first field of
+ * a grid on opening, and the blocks' rotation is the one worth seeing first. */
+static void xdmf_theta_first(xdmf_ctx *x, hsize_t n_cells) { xdmf_nan_field(x, 0, n_cells); }
+
+/* End a grid of n_cells cells: the fields of XDMF_FIELDS it does not carry, NaN. */
+static void xdmf_grid_close(xdmf_ctx *x, hsize_t n_cells) {
+  for (int i = 0; i < XDMF_N_FIELDS; i++)
+    if (!(x->carried & (1u << i))) xdmf_nan_field(x, i, n_cells);
+  fputs("      </Grid>\n", x->f);
+}
+
+/* The blocks at row r: one polygon each, moved. */
+static void xdmf_blocks(xdmf_ctx *x, hsize_t r) {
+  const xdmf_ds *bc = &x->ds[X_BCONN];
+  xdmf_grid_open(x, "blocks");
+  fprintf(x->f,
+          "        <Topology TopologyType=\"Polygon\" NodesPerElement=\"%llu\" "
+          "NumberOfElements=\"%llu\">\n"
+          "          <DataItem Dimensions=\"%llu %llu\" NumberType=\"Int\" Precision=\"4\" "
+          "Format=\"HDF\">%s:%s</DataItem>\n"
+          "        </Topology>\n        <Geometry GeometryType=\"XY\">\n",
+          (unsigned long long)bc->dims[1], (unsigned long long)bc->dims[0],
+          (unsigned long long)bc->dims[0], (unsigned long long)bc->dims[1], x->h5name, bc->path);
+  xdmf_slab(x, X_BPTS, r, 0, 0, "Float", 4, "          ");
+  fputs("        </Geometry>\n", x->f);
+  xdmf_attribute(x, "theta_rad", X_BPOS, r, 2, 1, "Float", 8);
+  xdmf_attribute(x, "ux_m", X_BPOS, r, 0, 1, "Float", 8);
+  xdmf_attribute(x, "uz_m", X_BPOS, r, 1, 1, "Float", 8);
+  xdmf_attribute(x, "speed_m_s", X_BSPEED, r, 0, 0, "Float", 8);
+  xdmf_grid_close(x, bc->dims[0]);
+}
+
+/* The joints at row r: one segment each, intrados to extrados. */
+static void xdmf_joints(xdmf_ctx *x, hsize_t r) {
+  const xdmf_ds *jc = &x->ds[X_JCONN];
+  xdmf_grid_open(x, "joints");
+  fprintf(x->f,
+          "        <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" "
+          "NumberOfElements=\"%llu\">\n"
+          "          <DataItem Dimensions=\"%llu 2\" NumberType=\"Int\" Precision=\"4\" "
+          "Format=\"HDF\">%s:%s</DataItem>\n"
+          "        </Topology>\n        <Geometry GeometryType=\"XY\">\n",
+          (unsigned long long)jc->dims[0], (unsigned long long)jc->dims[0], x->h5name, jc->path);
+  xdmf_slab(x, X_JPTS, r, 0, 0, "Float", 4, "          ");
+  fputs("        </Geometry>\n", x->f);
+  xdmf_theta_first(x, jc->dims[0]);
+  xdmf_attribute(x, "N_N", X_N, r, 0, 0, "Float", 8);
+  xdmf_attribute(x, "T_N", X_T, r, 0, 0, "Float", 8);
+  xdmf_attribute(x, "M_N_m", X_M, r, 0, 0, "Float", 8);
+  xdmf_attribute(x, "gap_i_m", X_GAPI, r, 0, 0, "Float", 8);
+  xdmf_attribute(x, "gap_e_m", X_GAPE, r, 0, 0, "Float", 8);
+  /* read as a double (HDF5 converts), the type the other grids' NaN has */
+  xdmf_attribute(x, "hinge_0closed_1intrados_2extrados", X_HINGE, r, 0, 0, "Float", 8);
+  xdmf_grid_close(x, jc->dims[0]);
+}
+
+/* A support at row r: the springing face it carries (joint 1 on the left, n+1 on the right),
+ * with the force it exerts on the arch and, for the moved right support, its displacement. */
+static void xdmf_support(xdmf_ctx *x, int right, hsize_t r) {
+  const char *ind = "          ";
+  const hsize_t nj = x->ds[X_JCONN].dims[0];
+  const hsize_t start[3] = {r, right ? 2 * nj - 2 : 0, 0}, count[3] = {1, 2, 2};
+  xdmf_grid_open(x, right ? "support_right" : "support_left");
+  fputs("        <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" "
+        "NumberOfElements=\"1\">\n"
+        "          <DataItem Dimensions=\"1 2\" NumberType=\"Int\" Precision=\"4\" "
+        "Format=\"XML\">0 1</DataItem>\n"
+        "        </Topology>\n        <Geometry GeometryType=\"XY\">\n",
+        x->f);
+  xdmf_block(x, X_JPTS, start, count, "Float", 4, ind);
+  fputs("        </Geometry>\n", x->f);
+  xdmf_theta_first(x, 1);
+  xdmf_attribute(x, "Fx_N", X_REACT, r, right ? 3 : 0, 1, "Float", 8);
+  xdmf_attribute(x, "Fz_N", X_REACT, r, right ? 4 : 1, 1, "Float", 8);
+  xdmf_attribute(x, "M_N_m", X_REACT, r, right ? 5 : 2, 1, "Float", 8);
+  if (right) {
+    xdmf_attribute(x, "ux_m", X_SUPPORT, r, 0, 1, "Float", 8);
+    xdmf_attribute(x, "uz_m", X_SUPPORT, r, 1, 1, "Float", 8);
+  }
+  xdmf_grid_close(x, 1);
+}
+
+/* The ground (a fixed segment), when the fall landed on it; every field NaN (XDMF_FIELDS). */
+static void xdmf_ground(xdmf_ctx *x) {
+  xdmf_grid_open(x, "ground");
+  fprintf(x->f,
+          "        <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" "
+          "NumberOfElements=\"1\">\n"
+          "          <DataItem Dimensions=\"1 2\" NumberType=\"Int\" Precision=\"4\" "
+          "Format=\"XML\">0 1</DataItem>\n"
+          "        </Topology>\n        <Geometry GeometryType=\"XY\">\n"
+          "          <DataItem Dimensions=\"2 2\" NumberType=\"Float\" Precision=\"8\" "
+          "Format=\"HDF\">%s:/summary/ground/points</DataItem>\n"
+          "        </Geometry>\n",
+          x->h5name);
+  xdmf_theta_first(x, 1);
+  xdmf_grid_close(x, 1);
+}
+
+/* One time step: the row's objects as named grids of a spatial collection. */
+static void xdmf_step(xdmf_ctx *x, hsize_t r, double t) {
+  fprintf(x->f,
+          "    <Grid Name=\"row %llu\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+          "      <Time Value=\"%.17g\"/>\n",
+          (unsigned long long)r, t);
+  xdmf_blocks(x, r);
+  xdmf_joints(x, r);
+  xdmf_support(x, 0, r);
+  xdmf_support(x, 1, r);
+  if (x->ground) xdmf_ground(x);
+  fputs("    </Grid>\n", x->f);
+}
+
+/* Shapes of the datasets the XDMF refers to; the number of rows they all hold; -1 if the file
+ * is not a consistent voussoir record. */
+static long xdmf_shapes(hid_t file, xdmf_ctx *x) {
+  long rows = -1;
+  for (int i = 0; i < X_COUNT; i++) {
+    xdmf_ds *d = &x->ds[i];
+    d->path = XDMF_PATHS[i];
+    d->rank = XDMF_RANKS[i];
+    d->dims[1] = d->dims[2] = 1;
+    hid_t ds = H5Dopen2(file, d->path, H5P_DEFAULT);
+    hid_t sp = ds >= 0 ? H5Dget_space(ds) : H5I_INVALID_HID;
+    int rank = sp >= 0 ? H5Sget_simple_extent_ndims(sp) : -1;
+    if (rank == d->rank) H5Sget_simple_extent_dims(sp, d->dims, NULL);
+    vs_h5_close(sp);
+    vs_h5_close(ds);
+    if (rank != d->rank) return -1;
+    if (i != X_BCONN && i != X_JCONN && (rows < 0 || (long)d->dims[0] < rows))
+      rows = (long)d->dims[0];
+  }
+  const hsize_t nb = x->ds[X_BCONN].dims[0], P = x->ds[X_BCONN].dims[1];
+  const hsize_t nj = x->ds[X_JCONN].dims[0];
+  if (x->ds[X_BPTS].dims[1] != nb * P || x->ds[X_BPTS].dims[2] != 2 ||
+      x->ds[X_JCONN].dims[1] != 2 || x->ds[X_JPTS].dims[1] != 2 * nj ||
+      x->ds[X_JPTS].dims[2] != 2 || x->ds[X_BPOS].dims[1] != nb || x->ds[X_BPOS].dims[2] != 3 ||
+      x->ds[X_BSPEED].dims[1] != nb)
+    return -1;
+  for (int i = X_N; i <= X_HINGE; i++)
+    if (x->ds[i].dims[1] != nj) return -1;
+  if (nj < 2 || x->ds[X_REACT].dims[1] != 6 || x->ds[X_SUPPORT].dims[1] != 2) return -1;
+  return rows;
+}
+
+/* Times of rows [0, rows) of /observables/delta/time into t. */
+static herr_t xdmf_read_times(hid_t file, const xdmf_ctx *x, long rows, double *t) {
+  hid_t td = H5Dopen2(file, x->ds[X_TIME].path, H5P_DEFAULT);
+  hid_t fs = td >= 0 ? H5Dget_space(td) : H5I_INVALID_HID;
+  hsize_t start[1] = {0}, count[1] = {(hsize_t)rows};
+  hid_t ms = H5Screate_simple(1, count, NULL);
+  herr_t rc =
+      (fs >= 0 && ms >= 0) ? H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL) : -1;
+  if (rc >= 0 && rows > 0) rc = H5Dread(td, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, t);
+  vs_h5_close(ms);
+  vs_h5_close(fs);
+  vs_h5_close(td);
+  return rc;
+}
+
+/* Open "<xmf_path>.tmp" (its name into tmp) for writing: never written through, nor renamed
+ * over, anything but a regular file. */
+static vs_status xdmf_open_tmp(const char *xmf_path, char *tmp, size_t size, FILE **f,
+                               vs_error *err) {
+  snprintf(tmp, size, "%s.tmp", xmf_path);
+  struct stat sb;
+  const char *odd = lstat(tmp, &sb) == 0 && !S_ISREG(sb.st_mode)        ? tmp
+                    : lstat(xmf_path, &sb) == 0 && !S_ISREG(sb.st_mode) ? xmf_path
+                                                                        : NULL;
+  if (odd != NULL)
+    return vs_error_set(err, VS_ERR_INVALID, "output: %s: exists and is not a regular file", odd);
+  *f = fopen(tmp, "w");
+  if (*f == NULL)
+    return vs_error_set(err, VS_ERR_IO, "output: %s: cannot write: %s", tmp, strerror(errno));
+  return VS_OK;
+}
+
+/* The sidecar's opening: what it shows and how ParaView reads it. */
+static void xdmf_header(FILE *f, const char *name, long rows, long stride) {
+  fprintf(
+      f,
+      "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
+      "<!-- voussoir: %s, %ld rows, every %ld-th shown (and the last), times strictly "
+      "increasing (the loading time delta / rate, s).\n"
+      "     ParaView: either XDMF 3 reader colours by any field: every grid carries every "
+      "field, NaN where it is not the grid's own (the default Xdmf3ReaderS keeps only the "
+      "fields all grids carry); Xdmf3ReaderT also keeps the grids as named blocks.\n"
+      "     blocks (polygons): theta_rad rotation, ux_m uz_m centroid displacement, speed_m_s;\n"
+      "     joints (segments, intrados to extrados): N_N normal force (compression > 0), T_N "
+      "shear force, M_N_m moment about the joint centre, gap_i_m gap_e_m edge openings, "
+      "hinge code 0 closed, 1 intrados, 2 extrados;\n"
+      "     support_left, support_right (the springing faces): Fx_N Fz_N force of the support "
+      "on the arch (x right, z up), M_N_m its moment (counter-clockwise, about the springing "
+      "joint's centre), ux_m uz_m displacement of the moved support;\n"
+      "     ground (a segment, when the fall landed on it): the plane the debris rests on.\n"
+      "     The HDF5 file is named relative to this file. -->\n"
+      "<Xdmf Version=\"3.0\">\n  <Domain>\n"
+      "    <Grid Name=\"voussoir\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
+      name, rows, stride);
+}
+
+/* Close f and rename tmp to xmf_path; on a write error remove tmp. */
+static vs_status xdmf_commit(FILE *f, const char *tmp, const char *xmf_path, vs_error *err) {
+  const int bad = ferror(f);
+  errno = 0;
+  if (fflush(f) != 0 || bad) {
+    const int e = errno;
+    fclose(f);
+    remove(tmp);
+    return vs_error_set(err, VS_ERR_IO, "output: %s: cannot write: %s", xmf_path,
+                        e != 0 ? strerror(e) : "write error");
+  }
+  if (fclose(f) != 0 || rename(tmp, xmf_path) != 0) {
+    const int e = errno;
+    remove(tmp);
+    return vs_error_set(err, VS_ERR_IO, "output: %s: cannot write: %s", xmf_path, strerror(e));
+  }
+  return VS_OK;
+}
+
+vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, int max_grids,
+                        vs_error *err) {
+  xdmf_ctx x;
+  const long rows = xdmf_shapes(file, &x);
+  if (rows < 0)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "output: %s: not a voussoir record (datasets for "
+                        "the XDMF missing or of inconsistent shapes)",
+                        h5_path);
+  double *t = malloc((size_t)(rows > 0 ? rows : 1) * sizeof *t);
+  if (t == NULL) return vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
+  if (xdmf_read_times(file, &x, rows, t) < 0) {
+    free(t);
+    return vs_h5_fail(err, h5_path, "cannot read /observables/delta/time");
+  }
+  const char *base = strrchr(h5_path, '/');
+  char name[1024], tmp[4096];
+  xml_escape(base != NULL ? base + 1 : h5_path, name, sizeof name);
+  x.h5name = name;
+  x.ground = H5Lexists(file, "/summary", H5P_DEFAULT) > 0 &&
+             H5Lexists(file, "/summary/ground", H5P_DEFAULT) > 0 &&
+             H5Lexists(file, "/summary/ground/points", H5P_DEFAULT) > 0;
+  vs_status st = xdmf_open_tmp(xmf_path, tmp, sizeof tmp, &x.f, err);
+  if (st != VS_OK) {
+    free(t);
+    return st;
+  }
+  const long stride =
+      (rows + max_grids - 1) / max_grids > 1 ? (rows + max_grids - 1) / max_grids : 1;
+  xdmf_header(x.f, name, rows, stride);
+  double t_last = -INFINITY;
+  for (long r = 0; r < rows; r++) {
+    if (r % stride != 0 && r != rows - 1) continue;
+    if (!(t[r] > t_last)) continue;
+    xdmf_step(&x, (hsize_t)r, t[r]);
+    t_last = t[r];
+  }
+  fputs("    </Grid>\n  </Domain>\n</Xdmf>\n", x.f);
+  free(t);
+  return xdmf_commit(x.f, tmp, xmf_path, err);
+}
+
+vs_status vs_output_write_xdmf(const char *h5_path, int max_grids, vs_error *err) {
+  vs_output_opts def;
+  vs_output_opts_default(&def);
+  if (max_grids <= 0) max_grids = def.xdmf_max_grids;
+  if (max_grids < 2)
+    return vs_error_set(err, VS_ERR_INVALID, "output: xdmf max_grids = %d (allowed: >= 2)",
+                        max_grids);
+  char *xmf = vs_output_xdmf_path_for(h5_path);
+  if (xmf == NULL) return vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
+  vs_h5_quiet q = vs_h5_quiet_begin();
+  hid_t f = H5Fopen(h5_path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  vs_status st = f < 0 ? vs_h5_fail(err, h5_path, "cannot open") : VS_OK;
+  if (st == VS_OK) st = vs_xdmf_write(f, h5_path, xmf, max_grids, err);
+  vs_h5_close(f);
+  H5Eclear2(H5E_DEFAULT);
+  vs_h5_quiet_end(q);
+  free(xmf);
+  return st;
+}
+
+/* The record's extension (".h5", ".hdf5", ".hdf") replaced by ".xmf", or ".xmf" appended. */
+char *vs_output_xdmf_path_for(const char *path) {
+  const char *exts[] = {".h5", ".hdf5", ".hdf"};
+  size_t n = strlen(path), keep = n;
+  for (size_t i = 0; i < sizeof exts / sizeof exts[0]; i++) {
+    size_t e = strlen(exts[i]);
+    if (n > e && strcmp(path + n - e, exts[i]) == 0) keep = n - e;
+  }
+  char *x = malloc(keep + 5);
+  if (x == NULL) return NULL;
+  memcpy(x, path, keep);
+  memcpy(x + keep, ".xmf", 5);
+  return x;
+}
