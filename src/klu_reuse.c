@@ -20,7 +20,14 @@ static int keep_initialize(SUNLinearSolver S) {
  * SUNDIALS' setup (the first analysis, then refactorisations). */
 static int keep_setup(SUNLinearSolver S, SUNMatrix A) {
   SUNLinearSolverContent_KLU c = S->content;
-  if (c->symbolic == NULL || c->numeric != NULL) return SUNLinSolSetup_KLU(S, A);
+  if (c->symbolic == NULL || c->numeric != NULL) {
+    const int flag = SUNLinSolSetup_KLU(S, A);
+    if (flag != SUNLS_PACKAGE_FAIL_REC || c->numeric == NULL) return flag;
+    /* the refactorisation on the last factorisation's pivots met a zero pivot (an entry that
+     * was one is now zero: a contact of the fall released): SUNDIALS would refactor on the same
+     * pivots at every retry, and IDA cut its step down to the minimum; factor afresh instead */
+    sun_klu_free_numeric(&c->numeric, &c->common);
+  }
   c->numeric = sun_klu_factor(SUNSparseMatrix_IndexPointers(A), SUNSparseMatrix_IndexValues(A),
                               SUNSparseMatrix_Data(A), c->symbolic, &c->common);
   c->last_flag = c->numeric != NULL ? SUNLS_SUCCESS : SUNLS_PACKAGE_FAIL_UNREC;
