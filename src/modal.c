@@ -1,12 +1,14 @@
 /* Natural frequencies and mode shapes about an equilibrium: the tangent stiffness (from the
  * model's analytic CSC Jacobian, banded: blocks couple to their neighbours only) and the
- * diagonal mass matrix; the lowest eigenvalues by shift-invert Lanczos on a banded Cholesky
- * factor (cost linear in the unknowns; LAPACK's banded dsbgvx, whose band reduction grows as n^2,
- * only where Lanczos cannot answer: K not positive definite, or no convergence), their mode
+ * diagonal mass matrix; the lowest eigenvalues by ARPACK (implicitly restarted Lanczos, dsaupd/
+ * dseupd) on the inverted operator M^1/2 K^-1 M^1/2, applied through a banded Cholesky factor
+ * (cost linear in the unknowns; LAPACK's banded dsbgvx, whose band reduction grows as n^2, only
+ * where ARPACK cannot answer: K not positive definite, or no convergence), their mode
  * shapes by inverse iteration on a banded LU; the damping ratio of each mode from the damping
  * forces. */
 #include "voussoir/modal.h"
 
+#include <arpack.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,8 +29,6 @@ extern void dpbtrf_(const char *uplo, const int *n, const int *kd, double *ab, c
 extern void dpbtrs_(const char *uplo, const int *n, const int *kd, const int *nrhs,
                     const double *ab, const int *ldab, double *b, const int *ldb, int *info,
                     size_t uplo_len);
-extern void dstev_(const char *jobz, const int *n, double *d, double *e, double *z, const int *ldz,
-                   double *work, int *info, size_t jobz_len);
 extern void dgbtrf_(const int *m, const int *n, const int *kl, const int *ku, double *ab,
                     const int *ldab, int *ipiv, int *info);
 extern void dgbtrs_(const char *trans, const int *n, const int *kl, const int *ku,
@@ -42,12 +42,14 @@ static size_t bidx(int i, int j, int ld) { return (size_t)i + (size_t)j * (size_
 static const int VS_MODAL_INVIT = 3;
 /* Relative shift off the eigenvalue for inverse iteration (keeps the factorisation regular). */
 static const double VS_MODAL_SHIFT = 1e-10;
-/* Lanczos: at most this many steps (the lowest modes of an arch converge in a few tens: the
- * shift-inverted spectrum 1/omega^2 falls off fast), and the Ritz residual, relative to the Ritz
- * value, below which a mode has converged (its eigenvalue then has a relative error of the order
- * of the square of this, far below the round-off of dsbgvx's absolute tolerance). */
-static const int VS_MODAL_LANCZOS_MAX = 200;
-static const double VS_MODAL_LANCZOS_TOL = 1e-11;
+/* ARPACK: Lanczos vectors kept (ncv; at least 2 nev + 1), implicit restarts allowed, and the
+ * Ritz residual, relative to the Ritz value, below which a mode has converged (the lowest modes
+ * of an arch converge in a few restarts: the inverted spectrum 1/omega^2 falls off fast; the
+ * eigenvalue then has a relative error of the order of the square of this, far below the
+ * round-off of dsbgvx's absolute tolerance). */
+static const int VS_MODAL_ARPACK_NCV = 20;
+static const int VS_MODAL_ARPACK_MAXIT = 300;
+static const double VS_MODAL_ARPACK_TOL = 1e-11;
 
 void vs_modal_free(vs_modal *out) {
   if (out == NULL) return;
@@ -169,129 +171,102 @@ static vs_status band_eigenvalues(const band *b, const double *mass, int nm, dou
   return st;
 }
 
-/* Lanczos's workspace: the Cholesky factor of S (upper band), sqrt of the masses, the basis Q
- * (n x (mmax + 1)), the tridiagonal (alpha, beta) and dstev's copies and vectors. */
+/* ARPACK's workspace (dsaupd/dseupd, regular mode, reverse communication): the Cholesky factor
+ * of S (upper band), sqrt of the masses, the residual (starting vector), the Lanczos basis
+ * (n x ncv) and ARPACK's work arrays. */
 typedef struct {
-  int n, kd, ldab, mmax;
-  double *ab, *sm, *Q, *alpha, *beta, *d, *e, *z, *work;
-} lanczos;
+  int n, kd, ldab, ncv, lworkl;
+  double *ab, *sm, *resid, *v, *workd, *workl, *d;
+  int *select;
+} arpack_ws;
 
-static void lanczos_free(lanczos *l) {
-  free(l->ab);
-  free(l->sm);
-  free(l->Q);
-  free(l->alpha);
-  free(l->beta);
-  free(l->d);
-  free(l->e);
-  free(l->z);
-  free(l->work);
+static void arpack_free(arpack_ws *a) {
+  free(a->ab);
+  free(a->sm);
+  free(a->resid);
+  free(a->v);
+  free(a->workd);
+  free(a->workl);
+  free(a->d);
+  free(a->select);
 }
 
 /* 0, or -1 out of memory. */
-static int lanczos_alloc(lanczos *l, const band *b) {
-  const size_t n = (size_t)b->n, m = (size_t)(b->n < VS_MODAL_LANCZOS_MAX ? b->n : VS_MODAL_LANCZOS_MAX);
-  *l = (lanczos){.n = b->n, .kd = b->kd, .ldab = b->kd + 1, .mmax = (int)m};
-  l->ab = malloc((size_t)l->ldab * n * sizeof *l->ab);
-  l->sm = malloc(n * sizeof *l->sm);
-  l->Q = malloc(n * (m + 1) * sizeof *l->Q);
-  l->alpha = malloc(m * sizeof *l->alpha);
-  l->beta = malloc(m * sizeof *l->beta);
-  l->d = malloc(m * sizeof *l->d);
-  l->e = malloc(m * sizeof *l->e);
-  l->z = malloc(m * m * sizeof *l->z);
-  l->work = malloc((2 * m + 1) * sizeof *l->work);
-  return (l->ab && l->sm && l->Q && l->alpha && l->beta && l->d && l->e && l->z && l->work) ? 0 : -1;
+static int arpack_alloc(arpack_ws *a, const band *b, int nm) {
+  const int ncv = 2 * nm + 1 > VS_MODAL_ARPACK_NCV ? 2 * nm + 1 : VS_MODAL_ARPACK_NCV;
+  *a = (arpack_ws){.n = b->n, .kd = b->kd, .ldab = b->kd + 1, .ncv = ncv < b->n ? ncv : b->n};
+  a->lworkl = a->ncv * (a->ncv + 8);
+  const size_t n = (size_t)a->n, m = (size_t)a->ncv;
+  a->ab = malloc((size_t)a->ldab * n * sizeof *a->ab);
+  a->sm = malloc(n * sizeof *a->sm);
+  a->resid = malloc(n * sizeof *a->resid);
+  a->v = malloc(n * m * sizeof *a->v);
+  a->workd = malloc(3 * n * sizeof *a->workd);
+  a->workl = malloc((size_t)a->lworkl * sizeof *a->workl);
+  a->d = malloc(m * sizeof *a->d);
+  a->select = malloc(m * sizeof *a->select);
+  return (a->ab && a->sm && a->resid && a->v && a->workd && a->workl && a->d && a->select) ? 0
+                                                                                          : -1;
 }
 
-/* w = M^1/2 S^-1 M^1/2 x (the shift-inverted operator at sigma = 0, symmetric). */
-static int lanczos_apply(const lanczos *l, const double *x, double *w) {
+/* w = M^1/2 S^-1 M^1/2 x (symmetric; its largest eigenvalues are 1/omega^2 of the lowest modes). */
+static int arpack_apply(const arpack_ws *a, const double *x, double *w) {
   const int one = 1;
   int info = 0;
-  for (int r = 0; r < l->n; r++) w[r] = l->sm[r] * x[r];
-  dpbtrs_("U", &l->n, &l->kd, &one, l->ab, &l->ldab, w, &l->n, &info, 1);
-  for (int r = 0; r < l->n; r++) w[r] *= l->sm[r];
+  for (int r = 0; r < a->n; r++) w[r] = a->sm[r] * x[r];
+  dpbtrs_("U", &a->n, &a->kd, &one, a->ab, &a->ldab, w, &a->n, &info, 1);
+  for (int r = 0; r < a->n; r++) w[r] *= a->sm[r];
   return info;
 }
 
-static double dot(int n, const double *x, const double *y) {
-  double s = 0.0;
-  for (int r = 0; r < n; r++) s += x[r] * y[r];
-  return s;
-}
-
-/* w orthogonalised against Q's first m columns, twice (classical Gram-Schmidt); the coefficient
- * on column m - 1 is added to *diag. */
-static void lanczos_orth(const lanczos *l, int m, double *w, double *diag) {
-  for (int pass = 0; pass < 2; pass++)
-    for (int i = 0; i < m; i++) {
-      const double *qi = l->Q + (size_t)i * (size_t)l->n;
-      const double c = dot(l->n, qi, w);
-      for (int r = 0; r < l->n; r++) w[r] -= c * qi[r];
-      if (i == m - 1) *diag += c;
-    }
-}
-
-/* The nm largest Ritz values of the m-step tridiagonal, ascending as 1/theta into w2, when every
- * one has converged (Ritz residual beta_m |z_m| <= tol theta): 1; 0 not yet; -1 dstev failed. */
-static int lanczos_ritz(lanczos *l, int m, int nm, double *w2) {
-  memcpy(l->d, l->alpha, (size_t)m * sizeof *l->d);
-  memcpy(l->e, l->beta, (size_t)m * sizeof *l->e);
-  int info = 0;
-  dstev_("V", &m, l->d, l->e, l->z, &m, l->work, &info, 1);
-  if (info != 0) return -1;
-  for (int k = 0; k < nm; k++) {
-    const int i = m - 1 - k; /* dstev: ascending */
-    const double theta = l->d[i], res = fabs(l->beta[m - 1] * l->z[(size_t)(m - 1) + (size_t)i * (size_t)m]);
-    if (!(theta > 0.0) || res > VS_MODAL_LANCZOS_TOL * theta) return 0;
+/* dsaupd's reverse-communication loop from a fixed starting vector (info = 1: the result does
+ * not depend on ARPACK's random start), then dseupd for the Ritz values (no vectors) into a->d.
+ * 1: nm converged values; 0: no convergence or an ARPACK error. */
+static int arpack_run(arpack_ws *a, int nm) {
+  for (int r = 0; r < a->n; r++) a->resid[r] = 1.0 + 0.5 * sin(1.0 + r); /* every mode in it */
+  int iparam[11] = {0}, ipntr[11] = {0}, ido = 0, info = 1;
+  iparam[0] = 1;                      /* exact shifts */
+  iparam[2] = VS_MODAL_ARPACK_MAXIT; /* restarts */
+  iparam[6] = 1;                      /* mode 1: standard problem, OP = M^1/2 S^-1 M^1/2 */
+  for (;;) {
+    dsaupd_c(&ido, "I", a->n, "LM", nm, VS_MODAL_ARPACK_TOL, a->resid, a->ncv, a->v, a->n, iparam,
+             ipntr, a->workd, a->workl, a->lworkl, &info);
+    if (ido != 1 && ido != -1) break;
+    if (arpack_apply(a, a->workd + ipntr[0] - 1, a->workd + ipntr[1] - 1) != 0) return 0;
   }
-  for (int k = 0; k < nm; k++) w2[k] = 1.0 / l->d[m - 1 - k];
-  return 1;
+  if (info != 0 || iparam[4] < nm) return 0;
+  dseupd_c(0, "A", a->select, a->d, a->v, a->n, 0.0, "I", a->n, "LM", nm, VS_MODAL_ARPACK_TOL,
+           a->resid, a->ncv, a->v, a->n, iparam, ipntr, a->workd, a->workl, a->lworkl, &info);
+  return info == 0 ? 1 : 0;
 }
 
-/* The lowest nm eigenvalues of (S, diag(mass)) by shift-invert Lanczos with full
- * reorthogonalisation. 1: found; 0: Lanczos cannot tell (S not positive definite, an invariant
- * subspace before the whole space, no convergence: the caller falls back on dsbgvx); -1 out of
- * memory. */
-static int lanczos_eigenvalues(const band *b, const double *mass, int nm, double *w2) {
-  lanczos l;
+/* The lowest nm eigenvalues of (S, diag(mass)), ascending, by ARPACK on the banded Cholesky
+ * factor of S. 1: found; 0: ARPACK cannot answer (S not positive definite, fewer than nm + 2
+ * unknowns, no convergence: the caller falls back on dsbgvx); -1 out of memory. */
+static int arpack_eigenvalues(const band *b, const double *mass, int nm, double *w2) {
+  if (b->n < nm + 2) return 0; /* dsaupd needs nev < ncv <= n */
+  arpack_ws a;
   int found = 0, info = 0;
-  if (lanczos_alloc(&l, b) != 0) found = -1;
+  if (arpack_alloc(&a, b, nm) != 0) found = -1;
   if (found == 0) {
-    for (int c = 0; c < l.n; c++) /* upper band: AB(kd + r - c, c) = S(r, c), r <= c */
-      for (int r = (c > l.kd ? c - l.kd : 0); r <= c; r++)
-        l.ab[bidx(l.kd + r - c, c, l.ldab)] = b->sb[bidx(l.kd + r - c, c, b->ld)];
-    dpbtrf_("U", &l.n, &l.kd, l.ab, &l.ldab, &info, 1);
+    for (int c = 0; c < a.n; c++) /* upper band: AB(kd + r - c, c) = S(r, c), r <= c */
+      for (int r = (c > a.kd ? c - a.kd : 0); r <= c; r++)
+        a.ab[bidx(a.kd + r - c, c, a.ldab)] = b->sb[bidx(a.kd + r - c, c, b->ld)];
+    dpbtrf_("U", &a.n, &a.kd, a.ab, &a.ldab, &info, 1);
   }
   if (found == 0 && info == 0) {
-    for (int r = 0; r < l.n; r++) l.sm[r] = sqrt(mass[r]);
-    double *q = l.Q;
-    for (int r = 0; r < l.n; r++) q[r] = 1.0 + 0.5 * sin(1.0 + r); /* every mode in it */
-    const double s = 1.0 / sqrt(dot(l.n, q, q));
-    for (int r = 0; r < l.n; r++) q[r] *= s;
-    for (int m = 1; m <= l.mmax && found == 0; m++) {
-      double *w = l.Q + (size_t)m * (size_t)l.n;
-      if (lanczos_apply(&l, l.Q + (size_t)(m - 1) * (size_t)l.n, w) != 0) break;
-      l.alpha[m - 1] = 0.0;
-      lanczos_orth(&l, m, w, &l.alpha[m - 1]);
-      l.beta[m - 1] = sqrt(dot(l.n, w, w));
-      if (m < nm) {
-        if (!(l.beta[m - 1] > 0.0)) break;
-      } else {
-        const int rz = lanczos_ritz(&l, m, nm, w2);
-        if (rz < 0) break;
-        /* an invariant subspace short of the whole space may have missed a mode */
-        const int breakdown = !(l.beta[m - 1] > 1e-14 * l.d[m - 1]);
-        if (breakdown && m < l.n) break;
-        if (rz > 0) found = 1;
-      }
-      if (found == 0) {
-        const double inv = 1.0 / l.beta[m - 1];
-        for (int r = 0; r < l.n; r++) w[r] *= inv;
-      }
+    for (int r = 0; r < a.n; r++) a.sm[r] = sqrt(mass[r]);
+    found = arpack_run(&a, nm);
+    for (int k = 0; found == 1 && k < nm; k++)
+      if (!(a.d[k] > 0.0)) found = 0;
+    for (int k = 0; found == 1 && k < nm; k++) { /* 1/theta, ascending (insertion sort) */
+      const double x = 1.0 / a.d[k];
+      int i = k;
+      for (; i > 0 && w2[i - 1] > x; i--) w2[i] = w2[i - 1];
+      w2[i] = x;
     }
   }
-  lanczos_free(&l);
+  arpack_free(&a);
   return found;
 }
 
@@ -336,7 +311,7 @@ static vs_status band_vector(const band *b, const double *mass, double w2, const
 /* The lowest nm eigenpairs of (S, diag(mass)). */
 static vs_status band_modes(const band *b, const double *mass, int nm, double *w2, double *phi,
                             vs_error *err) {
-  const int lz = lanczos_eigenvalues(b, mass, nm, w2);
+  const int lz = arpack_eigenvalues(b, mass, nm, w2);
   if (lz < 0) return vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
   vs_status st = lz > 0 ? VS_OK : band_eigenvalues(b, mass, nm, w2, err);
   if (st != VS_OK) return st;

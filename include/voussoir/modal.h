@@ -1,9 +1,9 @@
 /* Natural vibration of the arch about an equilibrium: the generalised symmetric eigenproblem
  * K phi = omega^2 M phi on the tangent stiffness K = dG/dq and the (diagonal) mass matrix M,
- * solved by LAPACK; and the damping ratio a damping matrix C gives each mode,
+ * solved by ARPACK and LAPACK; and the damping ratio a damping matrix C gives each mode,
  * zeta_i = phi_i^T C phi_i / (2 omega_i) with phi_i mass-normalised. K is banded: the eigenvalues
- * by shift-invert Lanczos on its banded Cholesky factor, the shapes by inverse iteration, both
- * linear in n (LAPACK's dsbgvx, ~n^2, only when Lanczos cannot answer). SI. */
+ * by ARPACK (shift-invert Lanczos) on its banded Cholesky factor, the shapes by inverse
+ * iteration, both linear in n (LAPACK's dsbgvx, ~n^2, only when ARPACK cannot answer). SI. */
 #ifndef VOUSSOIR_MODAL_H
 #define VOUSSOIR_MODAL_H
 
