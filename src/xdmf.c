@@ -72,7 +72,11 @@ typedef struct {
   xdmf_ds ds[X_COUNT];
   unsigned carried; /* bit i: the open grid carries XDMF_FIELDS[i] */
   int ground;       /* the record has /summary/ground/points */
+  hsize_t nan_n;    /* values in /xdmf/nan (0: the record has none) */
 } xdmf_ctx;
+
+/* NaN values the grids' padding refers to (written with the record's layout). */
+#define XDMF_NAN "/xdmf/nan"
 
 static void xml_escape(const char *s, char *out, size_t size) {
   size_t used = 0;
@@ -144,15 +148,21 @@ static void xdmf_grid_open(xdmf_ctx *x, const char *name) {
   fprintf(x->f, "      <Grid Name=\"%s\" GridType=\"Uniform\">\n", name);
 }
 
-/* Field XDMF_FIELDS[i] as NaN on all n_cells cells of the open grid, inline. */
+/* Field XDMF_FIELDS[i] as NaN on all n_cells cells of the open grid: the first n_cells values
+ * of the record's /xdmf/nan, or inline for a record written before it had that dataset. */
 static void xdmf_nan_field(xdmf_ctx *x, int i, hsize_t n_cells) {
   x->carried |= 1u << i;
   fprintf(x->f,
           "        <Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
-          "          <DataItem Dimensions=\"%llu\" NumberType=\"Float\" Precision=\"8\" "
-          "Format=\"XML\">",
+          "          <DataItem Dimensions=\"%llu\" NumberType=\"Float\" Precision=\"8\" ",
           XDMF_FIELDS[i], (unsigned long long)n_cells);
-  for (hsize_t c = 0; c < n_cells; c++) fputs(c ? " nan" : "nan", x->f);
+  if (n_cells <= x->nan_n) {
+    fprintf(x->f, "Format=\"HDF\">%s:" XDMF_NAN "|0:1:%llu:%llu", x->h5name,
+            (unsigned long long)n_cells, (unsigned long long)x->nan_n);
+  } else {
+    fputs("Format=\"XML\">", x->f);
+    for (hsize_t c = 0; c < n_cells; c++) fputs(c ? " nan" : "nan", x->f);
+  }
   fputs("</DataItem>\n        </Attribute>\n", x->f);
 }
 
@@ -316,6 +326,20 @@ static herr_t xdmf_read_times(hid_t file, const xdmf_ctx *x, long rows, double *
   return rc;
 }
 
+/* The number of values of a rank-1 /xdmf/nan, or 0 if the record has none. */
+static hsize_t xdmf_nan_count(hid_t file) {
+  hsize_t n = 0;
+  if (H5Lexists(file, "/xdmf", H5P_DEFAULT) <= 0 || H5Lexists(file, XDMF_NAN, H5P_DEFAULT) <= 0)
+    return 0;
+  hid_t ds = H5Dopen2(file, XDMF_NAN, H5P_DEFAULT);
+  hid_t sp = ds >= 0 ? H5Dget_space(ds) : H5I_INVALID_HID;
+  if (sp < 0 || H5Sget_simple_extent_ndims(sp) != 1 || H5Sget_simple_extent_dims(sp, &n, NULL) < 0)
+    n = 0;
+  vs_h5_close(sp);
+  vs_h5_close(ds);
+  return n;
+}
+
 /* Open "<xmf_path>.tmp" (its name into tmp) for writing: never written through, nor renamed
  * over, anything but a regular file. */
 static vs_status xdmf_open_tmp(const char *xmf_path, char *tmp, size_t size, FILE **f,
@@ -398,6 +422,7 @@ vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, i
   x.ground = H5Lexists(file, "/summary", H5P_DEFAULT) > 0 &&
              H5Lexists(file, "/summary/ground", H5P_DEFAULT) > 0 &&
              H5Lexists(file, "/summary/ground/points", H5P_DEFAULT) > 0;
+  x.nan_n = xdmf_nan_count(file);
   vs_status st = xdmf_open_tmp(xmf_path, tmp, sizeof tmp, &x.f, err);
   if (st != VS_OK) {
     free(t);
