@@ -59,7 +59,8 @@ static const int XDMF_RANKS[X_COUNT] = {3, 2, 3, 2, 1, 3, 2, 2, 2, 2, 2, 2, 2, 2
  * appends the pieces keeping only the fields that all of them carry: a field on the blocks alone
  * is dropped and colouring by it leaves the arch grey. So every grid carries every field, NaN
  * where the field is not its own (ParaView draws NaN in its NaN colour and leaves it out of
- * ranges); Xdmf3ReaderT keeps the grids as named blocks and reads the same file. */
+ * ranges; the NaN is the record's /xdmf/nan, written once, which the padding refers to);
+ * Xdmf3ReaderT keeps the grids as named blocks and reads the same file. */
 static const char *const XDMF_FIELDS[] = {
     "theta_rad", "ux_m",  "uz_m",    "speed_m_s", "N_N",
     "T_N",       "M_N_m", "gap_i_m", "gap_e_m",   "hinge_0closed_1intrados_2extrados",
@@ -365,8 +366,8 @@ static void xdmf_header(FILE *f, const char *name, long rows, long stride) {
       "<!-- voussoir: %s, %ld rows, every %ld-th shown (and the last), times strictly "
       "increasing (the loading time delta / rate, s).\n"
       "     ParaView: either XDMF 3 reader colours by any field: every grid carries every "
-      "field, NaN where it is not the grid's own (the default Xdmf3ReaderS keeps only the "
-      "fields all grids carry); Xdmf3ReaderT also keeps the grids as named blocks.\n"
+      "field, NaN where it is not the grid's own (slabs of the record's /xdmf/nan; the default "
+      "Xdmf3ReaderS keeps only the fields all grids carry); Xdmf3ReaderT also keeps the grids as named blocks.\n"
       "     blocks (polygons): theta_rad rotation, ux_m uz_m centroid displacement, speed_m_s;\n"
       "     joints (segments, intrados to extrados): N_N normal force (compression > 0), T_N "
       "shear force, M_N_m moment about the joint centre, gap_i_m gap_e_m edge openings, "
