@@ -97,7 +97,9 @@ struct vs_dynamic {
   void *ida;
   double *mass, *work;    /* ne each */
   double *force;          /* ne: F(q, v) for the reported multipliers and accelerations */
-  vs_joint_state *js;
+  vs_joint_state *js;     /* the joints' states at the positions js_q (joint_states) */
+  double *js_q;
+  int js_valid;
   int *roots;
   int nroots;             /* before the fall: 2 nj + 2, then the impact model's (the
                              contacts' follow them once armed) */
@@ -119,12 +121,12 @@ struct vs_dynamic {
 static double delta_at(const vs_dynamic *d, double t) { return d->o.rate * t; }
 
 /* The generalised forces F(q, v) of the equations of motion M v' + F - G^T lambda = 0 over
- * the blocks and supports (ne entries): joint forces minus gravity plus damping forces; *diss
- * gets the damping power. Kept apart so that further force models add here. */
-static void dyn_forces(vs_dynamic *d, const double *q, const double *v, double *F, double *diss) {
-  vs_model_ext_residual(d->m, q, F);
-  vs_model_ext_damping(d->m, q, v, d->work, diss, NULL);
-  for (int i = 0; i < d->ne; i++) F[i] += d->work[i];
+ * the blocks and supports (ne entries): joint forces minus gravity plus damping forces, from one
+ * pass over the joints; *diss gets the damping power, *fric (may be NULL) the joints' friction
+ * power. Kept apart so that further force models add here. */
+static void dyn_forces(vs_dynamic *d, const double *q, const double *v, double *F, double *diss,
+                       double *fric) {
+  vs_model_ext_motion(d->m, q, v, F, diss, fric, NULL, NULL);
   if (d->ct != NULL) vs_contact_forces(d->ct, q, v, F, diss, NULL);
   if (d->cl != NULL) vs_collide_forces(d->cl, q, v, F, diss, NULL);
 }
@@ -206,8 +208,8 @@ static int res_fn(double t, N_Vector yy, N_Vector yp, N_Vector rr, void *user) {
   double *r = N_VGetArrayPointer(rr);
   const double *q = y, *v = y + d->iv, *lam = y + d->il, *mu = y + d->imu;
   const double *qd = ydot, *vd = ydot + d->iv;
-  double diss = 0.0;
-  dyn_forces(d, q, v, r + d->iv, &diss);
+  double diss = 0.0, fric = 0.0;
+  dyn_forces(d, q, v, r + d->iv, &diss, &fric);
   for (int i = 0; i < ne; i++) {
     r[i] = qd[i] - v[i];
     r[d->iv + i] += d->mass[i] * vd[i];
@@ -222,7 +224,6 @@ static int res_fn(double t, N_Vector yy, N_Vector yp, N_Vector rr, void *user) {
   constraints(d, t, q, v, r + d->il, r + d->imu);
   r[d->ie] = ydot[d->ie] - sup;
   r[d->ie + 1] = ydot[d->ie + 1] - diss;
-  double fric = vs_model_ext_friction_power(d->m, q, v);
   if (d->ct != NULL) vs_contact_forces(d->ct, q, v, NULL, NULL, &fric);
   if (d->cl != NULL) vs_collide_forces(d->cl, q, v, NULL, NULL, &fric);
   r[d->ie + 2] = ydot[d->ie + 2] - fric;
@@ -341,8 +342,7 @@ static int jac_fn(double t, double cj, N_Vector yy, N_Vector yp, N_Vector rr, SU
   const int n = d->n, ne = d->ne;
   const double *y = N_VGetArrayPointer(yy);
   d->jac_evals++;
-  vs_model_ext_jacobian(d->m, y, d->K);
-  vs_model_ext_damping(d->m, y, y + d->iv, NULL, NULL, d->C);
+  vs_model_ext_motion(d->m, y, y + d->iv, NULL, NULL, NULL, d->K, d->C);
   if (d->ct != NULL) vs_contact_jacobian(d->ct, y, y + d->iv, d->K, d->C);
   if (d->cl != NULL && vs_collide_armed(d->cl)) return jac_dense(d, cj, y, Jac);
   if (d->klu_pairs) { /* back from the contacts' pattern (a later run): the joints' again */
@@ -389,6 +389,17 @@ static int jac_fn(double t, double cj, N_Vector yy, N_Vector yp, N_Vector rr, SU
 /* Roots: for every joint, its intrados and extrados edge openings minus the hinge threshold;
  * then the kinetic energy minus the collapse threshold, and minus the rest level (the departure
  * of a motion: where it rises through it). */
+/* The joints' states at the positions of y into d->js, evaluated once per state: the root
+ * function at the end of a step, the commit, the energies and the impact model's arming share
+ * one evaluation. A commit at y leaves them valid: the return-mapped states are its own. */
+static void joint_states(vs_dynamic *d, const double *y) {
+  const size_t bytes = (size_t)d->ne * sizeof *y;
+  if (d->js_valid && memcmp(d->js_q, y, bytes) == 0) return;
+  vs_model_ext_joint_states(d->m, y, d->js);
+  memcpy(d->js_q, y, bytes);
+  d->js_valid = 1;
+}
+
 static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user) {
   (void)yp;
   (void)t;
@@ -400,7 +411,7 @@ static int root_fn(double t, N_Vector yy, N_Vector yp, double *g, void *user) {
   if (d->cl != NULL && vs_collide_armed(d->cl)) /* then one entering another body */
     vs_collide_roots(d->cl, q, g + r0 + n_ground_roots(d));
   if (d->in_fall) return 0;
-  vs_model_ext_joint_states(d->m, q, d->js);
+  joint_states(d, q);
   for (int k = 0; k < d->nj; k++) {
     g[2 * k] = d->js[k].gap_i - d->o.open;
     g[2 * k + 1] = d->js[k].gap_e - d->o.open;
@@ -435,6 +446,7 @@ void vs_dynamic_destroy(vs_dynamic **dp) {
   free(d->work);
   free(d->force);
   free(d->js);
+  free(d->js_q);
   free(d->roots);
   free(d->pairs);
   free(d->pairs_klu);
@@ -535,6 +547,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   d->work = malloc((size_t)ne * sizeof *d->work);
   d->force = malloc((size_t)ne * sizeof *d->force);
   d->js = malloc((size_t)d->nj * sizeof *d->js);
+  d->js_q = malloc((size_t)ne * sizeof *d->js_q);
   d->qst = malloc((size_t)d->nq * sizeof *d->qst);
   d->vst = malloc((size_t)d->nq * sizeof *d->vst);
   d->nroots = 2 * d->nj + 2;
@@ -544,7 +557,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   d->roots = malloc((size_t)d->nroots * sizeof *d->roots);
   if (d->y == NULL || d->yp == NULL || d->id == NULL || d->atol == NULL || d->J == NULL ||
       d->K == NULL || d->C == NULL || d->mass == NULL || d->work == NULL || d->force == NULL ||
-      d->js == NULL || d->roots == NULL || d->qst == NULL || d->vst == NULL ||
+      d->js == NULL || d->js_q == NULL || d->roots == NULL || d->qst == NULL || d->vst == NULL ||
       (o->impact && d->imp == NULL)) {
     vs_dynamic_destroy(&d);
     return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
@@ -560,6 +573,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   if ((flag = SUNLinSol_KLUSetOrdering(d->LS, VS_DYN_KLU_ORDERING)) != 0)
     return dyn_fail(&d, err, "SUNLinSol_KLUSetOrdering", flag);
   vs_klu_keep_analysis(d->LS); /* one analysis for every restart (IDAReInit) */
+  vs_sparse_zero_values_only(d->J); /* jac_fn writes the pattern */
   d->ida = IDACreate(d->ctx);
   if (d->ida == NULL) return dyn_fail(&d, err, "IDACreate", 0);
   N_VConst(0.0, d->y);
@@ -595,7 +609,10 @@ static void energies(vs_dynamic *d, const double *y, double e0, vs_energy *e) {
   e->kinetic = vs_model_kinetic_energy(d->m, y + d->iv);
   for (int i = 0; i < VS_DYN_NC; i++) /* a pinned support's rotation: its own kinetic energy */
     if (d->cidx[i] < 0) e->kinetic += 0.5 * d->mass[d->n + i] * y[d->iv + d->n + i] * y[d->iv + d->n + i];
-  vs_model_ext_energies(d->m, y, &e->elastic, &e->gravity);
+  joint_states(d, y);
+  e->elastic = 0.0;
+  for (int k = 0; k < d->nj; k++) e->elastic += d->js[k].energy;
+  e->gravity = vs_model_gravity_energy(d->m, y);
   if (d->ct != NULL) e->elastic += vs_contact_energy(d->ct, y);
   if (d->cl != NULL) e->elastic += vs_collide_energy(d->cl, y);
   e->support_work = y[d->ie];
@@ -649,7 +666,7 @@ void vs_dynamic_jacobian(vs_dynamic *d, double t, double cj, double *y, SUNMatri
  * one force evaluation. */
 static void implied_forces(vs_dynamic *d) {
   double diss = 0.0;
-  dyn_forces(d, N_VGetArrayPointer(d->y), N_VGetArrayPointer(d->y) + d->iv, d->force, &diss);
+  dyn_forces(d, N_VGetArrayPointer(d->y), N_VGetArrayPointer(d->y) + d->iv, d->force, &diss, NULL);
 }
 
 void vs_dynamic_accelerations(vs_dynamic *d, double *a) {
@@ -658,8 +675,20 @@ void vs_dynamic_accelerations(vs_dynamic *d, double *a) {
 }
 
 void vs_dynamic_reactions(vs_dynamic *d, double out[6]) {
-  implied_forces(d);
-  for (int i = 0; i < VS_DYN_NC; i++) out[i] = d->cidx[i] >= 0 ? d->force[d->n + i] : 0.0;
+  const double *f = d->force + d->n;
+  double fs[6];
+  if (d->cl != NULL && vs_collide_armed(d->cl)) { /* bodies' contacts act on the piers too */
+    implied_forces(d);
+  } else { /* only the joints at the supports act on them */
+    vs_model_ext_support_forces(d->m, N_VGetArrayPointer(d->y), N_VGetArrayPointer(d->y) + d->iv, fs);
+    f = fs;
+  }
+  for (int i = 0; i < VS_DYN_NC; i++) out[i] = d->cidx[i] >= 0 ? f[i] : 0.0;
+}
+
+const vs_joint_state *vs_dynamic_joint_states(vs_dynamic *d) {
+  joint_states(d, N_VGetArrayPointer(d->y));
+  return d->js;
 }
 
 void vs_dynamic_multipliers(const vs_dynamic *d, double out[6]) {
@@ -703,7 +732,7 @@ static int restart_roots(vs_dynamic *d, double t, double t_stop) {
 
 /* Arm the edges that have opened (every accepted step; at the start with reset). */
 static void impact_arm(vs_dynamic *d, const double *y, int reset) {
-  vs_model_ext_joint_states(d->m, y, d->js);
+  joint_states(d, y);
   if (reset) vs_impact_reset(d->imp, d->js);
   else vs_impact_arm(d->imp, d->js);
 }
@@ -745,6 +774,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   res->dae_algebraic = 2 * d->nc;
   res->dae_index = 2;
   d->max_drift = 0.0;
+  d->js_valid = 0; /* the slips may have moved since (the quasi-static path) */
   double *y = N_VGetArrayPointer(d->y);
   N_VConst(0.0, d->y);
   memcpy(y, q, (size_t)n * sizeof *y);
@@ -835,7 +865,8 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
       break;
     }
     const double delta = delta_at(d, t);
-    vs_model_ext_commit(d->m, y); /* seamless: the return-mapped force is unchanged */
+    joint_states(d, y);
+    vs_model_commit_states(d->m, d->js); /* seamless: the return-mapped force is unchanged */
     if (d->imp != NULL) impact_arm(d, y, 0);
     if (d->ct != NULL && vs_contact_armed(d->ct)) {
       vs_contact_commit(d->ct, y);

@@ -57,37 +57,43 @@ static inline double dot(const double u[2], const double v[2]) { return u[0] * v
 typedef struct {
   double g, sl, w;            /* gap at the centre, slip, gap slope */
   double dg[6], ds[6], dw[6]; /* gradients */
-  double Hg[36], Hs[36], Hw[36];
+  /* Hessians, by their non-zeros (symmetric; none between two translations): a translation
+   * t (0, 1, 3, 4) with either rotation (2, 5) the same, hg_t[t] and hs_t[t] (H_w none); the
+   * rotations' (2,2), (5,5), (2,5) entries h*_rr[0..2] */
+  double hg_t[6], hs_t[6];
+  double hg_rr[3], hs_rr[3], hw_rr[3];
 } kinematics;
-
-static void sym_set(double *H, int i, int j, double v) {
-  H[i * 6 + j] = v;
-  H[j * 6 + i] = v;
-}
 
 static void rot_cs(double c, double sn, const double v[2], double out[2]) {
   out[0] = c * v[0] - sn * v[1];
   out[1] = sn * v[0] + c * v[1];
 }
 
-/* hess = 0 computes values and gradients only (residual evaluations); 1 adds the Hessians. */
+void vs_joint_half_angle(double theta, double h[2]) {
+  h[0] = cos(0.5 * theta);
+  h[1] = sin(0.5 * theta);
+}
+
+/* hess = 0 computes values and gradients only (residual evaluations); 1 adds the Hessians.
+ * ha, hb: the bodies' half-angle rotations (vs_joint_half_angle), so that no sincos is taken per
+ * joint: R(theta_a), R(theta_b), the mean rotation and the half difference all follow from them. */
 static void joint_kinematics(const vs_joint_geom *jg, const double qa[3], const double qb[3],
-                             const double ra[2], const double rb[2], int hess, kinematics *k) {
+                             const double ha[2], const double hb[2], const double ra[2],
+                             const double rb[2], int hess, kinematics *k) {
   const double n0[2] = {jg->nx, jg->nz};
   double pa[2], pb[2], va[2], vb[2], n[2], s[2], d[2];
-  /* two sincos per joint: R(theta_b) = R(theta_a) R(2 half), R(theta_m) = R(theta_a) R(half) */
-  const double half = 0.5 * (qb[2] - qa[2]);
-  const double ca = cos(qa[2]), sa = sin(qa[2]), ch = cos(half), sh = sin(half);
-  const double c2 = 1.0 - 2.0 * sh * sh, s2 = 2.0 * sh * ch;
+  /* half = (theta_b - theta_a) / 2; R(theta_a) = R(theta_a / 2)^2, R(theta_m) = R(theta_a / 2) R(theta_b / 2) */
+  const double ch = hb[0] * ha[0] + hb[1] * ha[1], sh = hb[1] * ha[0] - hb[0] * ha[1];
+  const double ca = 1.0 - 2.0 * ha[1] * ha[1], sa = 2.0 * ha[0] * ha[1];
+  const double cm = ha[0] * hb[0] - ha[1] * hb[1], sm = ha[1] * hb[0] + ha[0] * hb[1];
   rot_cs(ca, sa, ra, pa);
-  rot_cs(ca * c2 - sa * s2, sa * c2 + ca * s2, rb, pb);
-  rot_cs(ca * ch - sa * sh, sa * ch + ca * sh, n0, n);
+  rot_cs(1.0 - 2.0 * hb[1] * hb[1], 2.0 * hb[0] * hb[1], rb, pb);
+  rot_cs(cm, sm, n0, n);
   perp(pa, va);
   perp(pb, vb);
   perp(n, s);
   for (int i = 0; i < 2; i++) d[i] = qb[i] - qa[i] + (pb[i] - rb[i]) - (pa[i] - ra[i]);
-  if (hess) memset(k, 0, sizeof *k);
-  else memset(k->dw, 0, sizeof k->dw);
+  memset(k->dw, 0, sizeof k->dw);
   k->g = dot(d, n);
   k->sl = dot(d, s);
   k->w = 2.0 * sh;
@@ -107,24 +113,21 @@ static void joint_kinematics(const vs_joint_geom *jg, const double qa[3], const 
   if (!hess) return;
   /* mixed translation-rotation terms come from the rotating frame n(theta_m), s(theta_m) */
   for (int i = 0; i < 2; i++) {
-    sym_set(k->Hg, i, 2, -0.5 * s[i]);
-    sym_set(k->Hg, i, 5, -0.5 * s[i]);
-    sym_set(k->Hg, 3 + i, 2, 0.5 * s[i]);
-    sym_set(k->Hg, 3 + i, 5, 0.5 * s[i]);
-    sym_set(k->Hs, i, 2, 0.5 * n[i]);
-    sym_set(k->Hs, i, 5, 0.5 * n[i]);
-    sym_set(k->Hs, 3 + i, 2, -0.5 * n[i]);
-    sym_set(k->Hs, 3 + i, 5, -0.5 * n[i]);
+    k->hg_t[i] = -0.5 * s[i];
+    k->hg_t[3 + i] = 0.5 * s[i];
+    k->hs_t[i] = 0.5 * n[i];
+    k->hs_t[3 + i] = -0.5 * n[i];
   }
-  sym_set(k->Hg, 2, 2, dot(pa, n) - dot(va, s) - 0.25 * dn);
-  sym_set(k->Hg, 5, 5, -dot(pb, n) + dot(vb, s) - 0.25 * dn);
-  sym_set(k->Hg, 2, 5, 0.5 * (dot(vb, s) - dot(va, s)) - 0.25 * dn);
-  sym_set(k->Hs, 2, 2, dot(pa, s) + dot(va, n) - 0.25 * ds_);
-  sym_set(k->Hs, 5, 5, -dot(pb, s) - dot(vb, n) - 0.25 * ds_);
-  sym_set(k->Hs, 2, 5, 0.5 * (dot(va, n) - dot(vb, n)) - 0.25 * ds_);
-  sym_set(k->Hw, 2, 2, -0.5 * sh);
-  sym_set(k->Hw, 5, 5, -0.5 * sh);
-  sym_set(k->Hw, 2, 5, 0.5 * sh);
+  k->hg_t[2] = k->hg_t[5] = k->hs_t[2] = k->hs_t[5] = 0.0; /* unused: rotations are in h*_rr */
+  k->hg_rr[0] = dot(pa, n) - dot(va, s) - 0.25 * dn;
+  k->hg_rr[1] = -dot(pb, n) + dot(vb, s) - 0.25 * dn;
+  k->hg_rr[2] = 0.5 * (dot(vb, s) - dot(va, s)) - 0.25 * dn;
+  k->hs_rr[0] = dot(pa, s) + dot(va, n) - 0.25 * ds_;
+  k->hs_rr[1] = -dot(pb, s) - dot(vb, n) - 0.25 * ds_;
+  k->hs_rr[2] = 0.5 * (dot(va, n) - dot(vb, n)) - 0.25 * ds_;
+  k->hw_rr[0] = -0.5 * sh;
+  k->hw_rr[1] = -0.5 * sh;
+  k->hw_rr[2] = 0.5 * sh;
 }
 
 /* Rates of the joint measures (penetration a, gap slope w, slip) from the bodies' velocities. */
@@ -139,88 +142,180 @@ static void joint_rates(const kinematics *k, const double va[3], const double vb
   }
 }
 
+/* The law at one kinematic state: the normal response and the return-mapped shear. */
+typedef struct {
+  vs_normal_response nr;
+  double kst, T, slip_p, sgn;
+  int sliding;
+} law_state;
+
+static void law_eval(const vs_joint_geom *jg, const vs_joint_law *law, const kinematics *k,
+                     double slip_p_old, law_state *ls) {
+  const double t = jg->length, b = jg->depth;
+  /* the initial gap is a constant offset: the derivatives are unchanged */
+  vs_joint_normal(law->kn, b, t, -k->g - law->gap0, k->w - law->gap1, &ls->nr);
+  /* shear over the whole joint, Coulomb limit by return mapping */
+  ls->kst = law->ks * b * t;
+  const double T_trial = ls->kst * (k->sl - slip_p_old);
+  const double T_max = law->mu * ls->nr.N;
+  ls->T = T_trial;
+  ls->slip_p = slip_p_old;
+  ls->sliding = 0;
+  ls->sgn = 1.0;
+  if (fabs(T_trial) > T_max) {
+    ls->sgn = (T_trial > 0.0) ? 1.0 : -1.0;
+    ls->T = ls->sgn * T_max;
+    ls->slip_p = k->sl - ls->T / ls->kst;
+    ls->sliding = 1;
+  }
+}
+
+static void state_out(const vs_joint_geom *jg, const kinematics *k, const law_state *ls,
+                      vs_joint_state *st) {
+  const double t = jg->length, a = -k->g;
+  st->N = ls->nr.N;
+  st->T = ls->T;
+  st->M = ls->nr.M;
+  st->a = a;
+  st->w = k->w;
+  st->slip = k->sl;
+  st->slip_p = ls->slip_p;
+  st->contact = ls->nr.contact;
+  st->gap_i = -(a - 0.5 * k->w * t);
+  st->gap_e = -(a + 0.5 * k->w * t);
+  st->sliding = ls->sliding;
+  st->energy = ls->nr.energy + 0.5 * ls->kst * (k->sl - ls->slip_p) * (k->sl - ls->slip_p);
+}
+
+/* f = N grad(a) + M grad(w) + T grad(slip), grad(a) = -grad(g) */
+static void force_out(const kinematics *k, const law_state *ls, double f[6]) {
+  for (int i = 0; i < 6; i++) f[i] = -ls->nr.N * k->dg[i] + ls->nr.M * k->dw[i] + ls->T * k->ds[i];
+}
+
+/* K = grad(a) dN^T + grad(w) dM^T + grad(s) dT^T + N H_a + M H_w + T H_s (k with Hessians) */
+static void tangent_out(const vs_joint_law *law, const kinematics *k, const law_state *ls,
+                        double K[36]) {
+  const vs_normal_response *nr = &ls->nr;
+  double dN[6], dM[6], dT[6];
+  for (int j = 0; j < 6; j++) {
+    const double da_j = -k->dg[j], dw_j = k->dw[j];
+    dN[j] = nr->N_a * da_j + nr->N_w * dw_j;
+    dM[j] = nr->N_w * da_j + nr->M_w * dw_j;
+    dT[j] = ls->sliding ? ls->sgn * law->mu * dN[j] : ls->kst * k->ds[j];
+  }
+  for (int i = 0; i < 6; i++)
+    for (int j = 0; j < 6; j++)
+      K[i * 6 + j] = -k->dg[i] * dN[j] + k->dw[i] * dM[j] + k->ds[i] * dT[j];
+  /* the Hessians' terms where they are non-zero: rows and columns of the rotations 2, 5 */
+  const double N = nr->N, M = nr->M, T = ls->T;
+  for (int t = 0; t < 6; t++) {
+    if (t == 2 || t == 5) continue;
+    const double h = -N * k->hg_t[t] + T * k->hs_t[t];
+    K[t * 6 + 2] += h;
+    K[t * 6 + 5] += h;
+    K[2 * 6 + t] += h;
+    K[5 * 6 + t] += h;
+  }
+  const int rr[3][2] = {{2, 2}, {5, 5}, {2, 5}};
+  for (int e = 0; e < 3; e++) {
+    const double h = -N * k->hg_rr[e] + M * k->hw_rr[e] + T * k->hs_rr[e];
+    K[rr[e][0] * 6 + rr[e][1]] += h;
+    if (e == 2) K[5 * 6 + 2] += h;
+  }
+}
+
+void vs_joint_eval_h(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
+                     const double qb[3], const double ha[2], const double hb[2],
+                     const double ra[2], const double rb[2], double slip_p_old, vs_joint_state *st,
+                     double f[6], double K[36]) {
+  kinematics k;
+  joint_kinematics(jg, qa, qb, ha, hb, ra, rb, K != NULL, &k);
+  law_state ls;
+  law_eval(jg, law, &k, slip_p_old, &ls);
+  if (st != NULL) state_out(jg, &k, &ls, st);
+  if (f != NULL) force_out(&k, &ls, f);
+  if (K != NULL) tangent_out(law, &k, &ls, K);
+}
+
 void vs_joint_eval(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
                    const double qb[3], const double ra[2], const double rb[2], double slip_p_old,
                    vs_joint_state *st, double f[6], double K[36]) {
-  kinematics k;
-  joint_kinematics(jg, qa, qb, ra, rb, K != NULL, &k);
-  const double t = jg->length, b = jg->depth, a = -k.g;
-  vs_normal_response nr; /* the initial gap is a constant offset: the derivatives are unchanged */
-  vs_joint_normal(law->kn, b, t, a - law->gap0, k.w - law->gap1, &nr);
-
-  /* shear over the whole joint, Coulomb limit by return mapping */
-  const double kst = law->ks * b * t;
-  const double T_trial = kst * (k.sl - slip_p_old);
-  const double T_max = law->mu * nr.N;
-  double T = T_trial, slip_p = slip_p_old;
-  int sliding = 0;
-  double sgn = 1.0;
-  if (fabs(T_trial) > T_max) {
-    sgn = (T_trial > 0.0) ? 1.0 : -1.0;
-    T = sgn * T_max;
-    slip_p = k.sl - T / kst;
-    sliding = 1;
-  }
-
-  if (st != NULL) {
-    st->N = nr.N;
-    st->T = T;
-    st->M = nr.M;
-    st->a = a;
-    st->w = k.w;
-    st->slip = k.sl;
-    st->slip_p = slip_p;
-    st->contact = nr.contact;
-    st->gap_i = -(a - 0.5 * k.w * t);
-    st->gap_e = -(a + 0.5 * k.w * t);
-    st->sliding = sliding;
-    st->energy = nr.energy + 0.5 * kst * (k.sl - slip_p) * (k.sl - slip_p);
-  }
-  /* f = N grad(a) + M grad(w) + T grad(slip), grad(a) = -grad(g) */
-  if (f != NULL)
-    for (int i = 0; i < 6; i++) f[i] = -nr.N * k.dg[i] + nr.M * k.dw[i] + T * k.ds[i];
-  if (K != NULL) {
-    /* K = grad(a) dN^T + grad(w) dM^T + grad(s) dT^T + N H_a + M H_w + T H_s */
-    double dN[6], dM[6], dT[6];
-    for (int j = 0; j < 6; j++) {
-      const double da_j = -k.dg[j], dw_j = k.dw[j];
-      dN[j] = nr.N_a * da_j + nr.N_w * dw_j;
-      dM[j] = nr.N_w * da_j + nr.M_w * dw_j;
-      dT[j] = sliding ? sgn * law->mu * dN[j] : kst * k.ds[j];
-    }
-    for (int i = 0; i < 6; i++)
-      for (int j = 0; j < 6; j++)
-        K[i * 6 + j] = -k.dg[i] * dN[j] + k.dw[i] * dM[j] + k.ds[i] * dT[j] -
-                       nr.N * k.Hg[i * 6 + j] + nr.M * k.Hw[i * 6 + j] + T * k.Hs[i * 6 + j];
-  }
+  double ha[2], hb[2];
+  vs_joint_half_angle(qa[2], ha);
+  vs_joint_half_angle(qb[2], hb);
+  vs_joint_eval_h(jg, law, qa, qb, ha, hb, ra, rb, slip_p_old, st, f, K);
 }
 
 /* Below this contact length, as a fraction of the joint length, the damping fades linearly to
  * zero, so that it vanishes continuously when the joint separates completely. */
 static const double VS_DAMP_RAMP = 0.02;
 
+/* Full-section viscous damping (vs_joint_damping) from the kinematics and normal response. */
+static void dashpot_out(const vs_joint_geom *jg, double cn, double cs, const kinematics *k,
+                        const vs_normal_response *nr, const double va[3], const double vb[3],
+                        double f[6], double C[36], double *power) {
+  const double t = jg->length, b = jg->depth;
+  const double phi = fmin(1.0, nr->contact / (VS_DAMP_RAMP * t));
+  /* full-section viscous damping: normal b c_n t, rotational b c_n t^3/12, shear b c_s t */
+  const double ca = phi * b * cn * t, cw = phi * b * cn * t * t * t / 12.0, csl = phi * b * cs * t;
+  double adot, wdot, sdot;
+  joint_rates(k, va, vb, &adot, &wdot, &sdot);
+  const double Nd = ca * adot, Md = cw * wdot, Td = csl * sdot;
+  if (f != NULL)
+    for (int i = 0; i < 6; i++) f[i] = -Nd * k->dg[i] + Md * k->dw[i] + Td * k->ds[i];
+  if (power != NULL) *power = Nd * adot + Md * wdot + Td * sdot;
+  if (C != NULL)
+    for (int i = 0; i < 6; i++)
+      for (int j = 0; j < 6; j++)
+        C[i * 6 + j] = ca * k->dg[i] * k->dg[j] + cw * k->dw[i] * k->dw[j] + csl * k->ds[i] * k->ds[j];
+}
+
+/* Stiffness-proportional damping (vs_joint_damping_tangent) likewise. */
+static void tangent_dashpot_out(const vs_joint_geom *jg, const vs_joint_law *law, double beta,
+                                const kinematics *k, const vs_normal_response *nr,
+                                const double va[3], const double vb[3], double f[6], double C[36],
+                                double *power) {
+  const double cs = beta * law->ks * jg->depth * jg->length;
+  const double caa = beta * nr->N_a, caw = beta * nr->N_w, cww = beta * nr->M_w;
+  double adot, wdot, sdot;
+  joint_rates(k, va, vb, &adot, &wdot, &sdot);
+  const double Nd = caa * adot + caw * wdot, Md = caw * adot + cww * wdot, Td = cs * sdot;
+  if (f != NULL)
+    for (int i = 0; i < 6; i++) f[i] = -Nd * k->dg[i] + Md * k->dw[i] + Td * k->ds[i];
+  if (power != NULL) *power = Nd * adot + Md * wdot + Td * sdot;
+  if (C != NULL)
+    for (int i = 0; i < 6; i++)
+      for (int j = 0; j < 6; j++)
+        C[i * 6 + j] = caa * k->dg[i] * k->dg[j] - caw * (k->dg[i] * k->dw[j] + k->dw[i] * k->dg[j]) +
+                       cww * k->dw[i] * k->dw[j] + cs * k->ds[i] * k->ds[j];
+}
+
+/* Friction power (vs_joint_friction_power) from the kinematics and the law's state. */
+static double friction_out(const vs_joint_law *law, const kinematics *k, const law_state *ls,
+                           const double va[3], const double vb[3]) {
+  if (!ls->sliding) return 0.0;
+  double adot, wdot, sdot;
+  joint_rates(k, va, vb, &adot, &wdot, &sdot);
+  const double Tdot = ls->sgn * law->mu * (ls->nr.N_a * adot + ls->nr.N_w * wdot);
+  return ls->T * (sdot - Tdot / ls->kst);
+}
+
+static void half_angles(const double qa[3], const double qb[3], double ha[2], double hb[2]) {
+  vs_joint_half_angle(qa[2], ha);
+  vs_joint_half_angle(qb[2], hb);
+}
+
 void vs_joint_damping(const vs_joint_geom *jg, const vs_joint_law *law, double cn, double cs,
                       const double qa[3], const double qb[3], const double va[3],
                       const double vb[3], const double ra[2], const double rb[2], double f[6],
                       double C[36], double *power) {
   kinematics k;
-  joint_kinematics(jg, qa, qb, ra, rb, 0, &k);
-  const double t = jg->length, b = jg->depth;
+  double ha[2], hb[2];
+  half_angles(qa, qb, ha, hb);
+  joint_kinematics(jg, qa, qb, ha, hb, ra, rb, 0, &k);
   vs_normal_response nr;
-  vs_joint_normal(law->kn, b, t, -k.g - law->gap0, k.w - law->gap1, &nr);
-  const double phi = fmin(1.0, nr.contact / (VS_DAMP_RAMP * t));
-  /* full-section viscous damping: normal b c_n t, rotational b c_n t^3/12, shear b c_s t */
-  const double ca = phi * b * cn * t, cw = phi * b * cn * t * t * t / 12.0, csl = phi * b * cs * t;
-  double adot, wdot, sdot;
-  joint_rates(&k, va, vb, &adot, &wdot, &sdot);
-  const double Nd = ca * adot, Md = cw * wdot, Td = csl * sdot;
-  if (f != NULL)
-    for (int i = 0; i < 6; i++) f[i] = -Nd * k.dg[i] + Md * k.dw[i] + Td * k.ds[i];
-  if (power != NULL) *power = Nd * adot + Md * wdot + Td * sdot;
-  if (C != NULL)
-    for (int i = 0; i < 6; i++)
-      for (int j = 0; j < 6; j++)
-        C[i * 6 + j] = ca * k.dg[i] * k.dg[j] + cw * k.dw[i] * k.dw[j] + csl * k.ds[i] * k.ds[j];
+  vs_joint_normal(law->kn, jg->depth, jg->length, -k.g - law->gap0, k.w - law->gap1, &nr);
+  dashpot_out(jg, cn, cs, &k, &nr, va, vb, f, C, power);
 }
 
 void vs_joint_damping_tangent(const vs_joint_geom *jg, const vs_joint_law *law, double beta,
@@ -228,23 +323,12 @@ void vs_joint_damping_tangent(const vs_joint_geom *jg, const vs_joint_law *law, 
                               const double vb[3], const double ra[2], const double rb[2],
                               double f[6], double C[36], double *power) {
   kinematics k;
-  joint_kinematics(jg, qa, qb, ra, rb, 0, &k);
-  const double t = jg->length, b = jg->depth;
-  vs_normal_response nr;
-  vs_joint_normal(law->kn, b, t, -k.g - law->gap0, k.w - law->gap1, &nr); /* as the law itself */
-  const double cs = beta * law->ks * b * t;
-  const double caa = beta * nr.N_a, caw = beta * nr.N_w, cww = beta * nr.M_w;
-  double adot, wdot, sdot;
-  joint_rates(&k, va, vb, &adot, &wdot, &sdot);
-  const double Nd = caa * adot + caw * wdot, Md = caw * adot + cww * wdot, Td = cs * sdot;
-  if (f != NULL)
-    for (int i = 0; i < 6; i++) f[i] = -Nd * k.dg[i] + Md * k.dw[i] + Td * k.ds[i];
-  if (power != NULL) *power = Nd * adot + Md * wdot + Td * sdot;
-  if (C != NULL)
-    for (int i = 0; i < 6; i++)
-      for (int j = 0; j < 6; j++)
-        C[i * 6 + j] = caa * k.dg[i] * k.dg[j] - caw * (k.dg[i] * k.dw[j] + k.dw[i] * k.dg[j]) +
-                       cww * k.dw[i] * k.dw[j] + cs * k.ds[i] * k.ds[j];
+  double ha[2], hb[2];
+  half_angles(qa, qb, ha, hb);
+  joint_kinematics(jg, qa, qb, ha, hb, ra, rb, 0, &k);
+  vs_normal_response nr; /* as the law itself */
+  vs_joint_normal(law->kn, jg->depth, jg->length, -k.g - law->gap0, k.w - law->gap1, &nr);
+  tangent_dashpot_out(jg, law, beta, &k, &nr, va, vb, f, C, power);
 }
 
 double vs_joint_friction_power(const vs_joint_geom *jg, const vs_joint_law *law,
@@ -252,15 +336,28 @@ double vs_joint_friction_power(const vs_joint_geom *jg, const vs_joint_law *law,
                                const double vb[3], const double ra[2], const double rb[2],
                                double slip_p_old) {
   kinematics k;
-  joint_kinematics(jg, qa, qb, ra, rb, 0, &k);
-  const double t = jg->length, b = jg->depth, a = -k.g, kst = law->ks * b * t;
-  vs_normal_response nr;
-  vs_joint_normal(law->kn, b, t, a - law->gap0, k.w - law->gap1, &nr);
-  const double T_trial = kst * (k.sl - slip_p_old), T_max = law->mu * nr.N;
-  if (!(fabs(T_trial) > T_max)) return 0.0;
-  double adot, wdot, sdot;
-  joint_rates(&k, va, vb, &adot, &wdot, &sdot);
-  const double sgn = T_trial > 0.0 ? 1.0 : -1.0, T = sgn * T_max;
-  const double Tdot = sgn * law->mu * (nr.N_a * adot + nr.N_w * wdot);
-  return T * (sdot - Tdot / kst);
+  double ha[2], hb[2];
+  half_angles(qa, qb, ha, hb);
+  joint_kinematics(jg, qa, qb, ha, hb, ra, rb, 0, &k);
+  law_state ls;
+  law_eval(jg, law, &k, slip_p_old, &ls);
+  return friction_out(law, &k, &ls, va, vb);
+}
+
+void vs_joint_eval_motion(const vs_joint_geom *jg, const vs_joint_law *law,
+                          const vs_joint_bodies *bd, double slip_p_old, const vs_joint_dashpot *dp,
+                          vs_joint_motion *out) {
+  kinematics k;
+  joint_kinematics(jg, bd->qa, bd->qb, bd->ha, bd->hb, bd->ra, bd->rb, out->K != NULL, &k);
+  law_state ls;
+  law_eval(jg, law, &k, slip_p_old, &ls);
+  if (out->f != NULL) force_out(&k, &ls, out->f);
+  if (out->K != NULL) tangent_out(law, &k, &ls, out->K);
+  out->power = out->friction = 0.0;
+  if (bd->va == NULL) return;
+  if (dp != NULL && dp->beta > 0.0)
+    tangent_dashpot_out(jg, law, dp->beta, &k, &ls.nr, bd->va, bd->vb, out->fd, out->C, &out->power);
+  else if (dp != NULL)
+    dashpot_out(jg, dp->cn, dp->cs, &k, &ls.nr, bd->va, bd->vb, out->fd, out->C, &out->power);
+  if (out->want_friction) out->friction = friction_out(law, &k, &ls, bd->va, bd->vb);
 }

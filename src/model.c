@@ -17,6 +17,8 @@ typedef struct {
   int *dof;
   sunindextype *colptr, *rowind;
   int nnz;
+  sunindextype *scatter; /* per joint, 36: CSC position of K[6 i + j] (-1: prescribed) */
+  int *jdof;             /* per joint, 6: the unknowns of its components (joint_dofs) */
 } vs_pattern;
 
 struct vs_model {
@@ -38,6 +40,10 @@ struct vs_model {
   int pinned[2];   /* left, right: 1 if the support is pinned (its rotation free) */
   vs_pattern pat;  /* statics: the blocks' 3 n_blocks unknowns, then the pinned supports' rotations */
   vs_pattern pate; /* with the two supports as bodies n_blocks (left) and n_blocks + 1 (right) */
+  /* workspaces of one evaluation (written by the const functions: the pointers are the model's,
+   * the contents scratch): every body's half angle (vs_joint_half_angle; slots as body_slot),
+   * and damping forces over the extended unknowns */
+  double *rot, *fdw;
 };
 
 static int body_is_block(int body) { return body >= 0; }
@@ -79,16 +85,42 @@ static void sup_pos_q(const vs_model *m, const double *q, double delta, double q
 }
 
 static void pattern_free(vs_pattern *p) {
+  free(p->scatter);
+  free(p->jdof);
   free(p->colptr);
   free(p->rowind);
   free(p->dof);
   memset(p, 0, sizeof *p);
 }
 
-static int cmp_pair(const void *x, const void *y) {
-  const sunindextype *a = x, *b = y; /* (column, row) */
-  if (a[0] != b[0]) return (a[0] > b[0]) - (a[0] < b[0]);
-  return (a[1] > b[1]) - (a[1] < b[1]);
+/* Sort the np (column, row) pairs by column, then row: counting sort on the columns (0..n-1),
+ * insertion sort of each column's few rows -- linear in the pairs, where a comparison sort
+ * was the largest cost of creating a model. Returns -1 when out of memory. */
+static int sort_pairs(sunindextype *pairs, size_t np, int n) {
+  size_t *start = calloc((size_t)n + 1, sizeof *start);
+  sunindextype *out = malloc((np > 0 ? 2 * np : 1) * sizeof *out);
+  if (start == NULL || out == NULL) {
+    free(start);
+    free(out);
+    return -1;
+  }
+  for (size_t e = 0; e < np; e++) start[pairs[2 * e] + 1]++;
+  for (int c = 0; c < n; c++) start[c + 1] += start[c];
+  for (size_t e = 0; e < np; e++) { /* stable: start[c] runs over column c's slots */
+    const size_t at = start[pairs[2 * e]]++;
+    out[2 * at] = pairs[2 * e];
+    out[2 * at + 1] = pairs[2 * e + 1];
+  }
+  for (size_t e = 1; e < np; e++) { /* rows within a column (columns are in order already) */
+    const sunindextype c = out[2 * e], r = out[2 * e + 1];
+    size_t i = e;
+    for (; i > 0 && out[2 * i - 2] == c && out[2 * i - 1] > r; i--) out[2 * i + 1] = out[2 * i - 1];
+    out[2 * i + 1] = r;
+  }
+  memcpy(pairs, out, 2 * np * sizeof *pairs);
+  free(start);
+  free(out);
+  return 0;
 }
 
 /* Add the couplings among n unknowns d[] (entries < 0 skipped) to the pair list. */
@@ -100,6 +132,26 @@ static void add_pairs(const int *d, int n, sunindextype *pairs, size_t *np) {
         pairs[2 * *np + 1] = d[i];
         (*np)++;
       }
+}
+
+static void joint_dofs(const vs_model *m, const vs_pattern *p, int k, int d[6]);
+static sunindextype csc_pos(const vs_pattern *p, int row, int col);
+
+/* The scatter map of p: where each entry of every joint's 6x6 matrix adds in the CSC values. */
+static vs_status build_scatter(const vs_model *m, vs_pattern *p, vs_error *err) {
+  const int nj = m->g->n_joints;
+  p->scatter = malloc(36 * (size_t)(nj > 0 ? nj : 1) * sizeof *p->scatter);
+  p->jdof = malloc(6 * (size_t)(nj > 0 ? nj : 1) * sizeof *p->jdof);
+  if (p->scatter == NULL || p->jdof == NULL)
+    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
+  for (int k = 0; k < nj; k++) {
+    int *d = p->jdof + 6 * k;
+    joint_dofs(m, p, k, d);
+    for (int i = 0; i < 6; i++)
+      for (int j = 0; j < 6; j++)
+        p->scatter[36 * k + 6 * i + j] = (d[i] >= 0 && d[j] >= 0) ? csc_pos(p, d[i], d[j]) : -1;
+  }
+  return VS_OK;
 }
 
 /* CSC pattern of p (p->n, p->dof set by the caller): every body's components with each other
@@ -124,7 +176,10 @@ static vs_status build_pattern(const vs_model *m, vs_pattern *p, vs_error *err) 
     }
     add_pairs(d, 6, pairs, &np);
   }
-  qsort(pairs, np, 2 * sizeof *pairs, cmp_pair);
+  if (sort_pairs(pairs, np, p->n) != 0) {
+    free(pairs);
+    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
+  }
   p->rowind = malloc((np > 0 ? np : 1) * sizeof *p->rowind);
   if (p->rowind == NULL) {
     free(pairs);
@@ -139,7 +194,7 @@ static vs_status build_pattern(const vs_model *m, vs_pattern *p, vs_error *err) 
   while (col <= p->n) p->colptr[col++] = w;
   p->nnz = w;
   free(pairs);
-  return VS_OK;
+  return build_scatter(m, p, err);
 }
 
 /* Dof maps: statics (blocks, then the pinned supports' rotations) and the extended system
@@ -189,8 +244,10 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
   m->cn = calloc(nj, sizeof(double));
   m->cs = calloc(nj, sizeof(double));
   m->laws = malloc(nj * sizeof *m->laws);
+  m->rot = malloc(2 * ((size_t)g->n_blocks + 2) * sizeof *m->rot);
+  m->fdw = malloc(3 * ((size_t)g->n_blocks + 2) * sizeof *m->fdw);
   if (m->ra == NULL || m->rb == NULL || m->slip_p == NULL || m->cn == NULL || m->cs == NULL ||
-      m->laws == NULL) {
+      m->laws == NULL || m->rot == NULL || m->fdw == NULL) {
     vs_model_destroy(&m);
     return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
   }
@@ -224,6 +281,8 @@ void vs_model_destroy(vs_model **m) {
   free(p->cn);
   free(p->cs);
   free(p->laws);
+  free(p->rot);
+  free(p->fdw);
   pattern_free(&p->pat);
   pattern_free(&p->pate);
   free(p);
@@ -302,15 +361,35 @@ static const vs_joint_law *law_at(const vs_model *m, int k, vs_joint_law *tmp) {
   return tmp;
 }
 
-/* One joint at block states q and support states qs. */
-static void eval_joint(const vs_model *m, const double *q, const double qs[6], int k,
+/* Every body's half angle at block states q and support states qs into m->rot (one sincos per
+ * body and evaluation); eval_joint with rot = 1 then reads them. */
+static void half_angles(const vs_model *m, const double *q, const double qs[6]) {
+  const int nb = m->g->n_blocks;
+  for (int i = 0; i < nb; i++) vs_joint_half_angle(q[3 * i + 2], m->rot + 2 * i);
+  vs_joint_half_angle(qs[2], m->rot + 2 * nb);
+  vs_joint_half_angle(qs[5], m->rot + 2 * nb + 2);
+}
+
+static const double *body_rot(const vs_model *m, int body) { return m->rot + 2 * body_slot(m, body); }
+
+/* One joint at block states q and support states qs; rot: m->rot holds the half angles of this
+ * state (half_angles), else they are computed for the two bodies (a pass over a few joints). */
+static void eval_joint(const vs_model *m, const double *q, const double qs[6], int k, int rot,
                        vs_joint_state *st, double f[6], double K[36]) {
   const vs_joint_geom *j = &m->g->joints[k];
-  double qa[3], qb[3];
+  double qa[3], qb[3], ha[2], hb[2];
   body_q(q, qs, j->a, qa);
   body_q(q, qs, j->b, qb);
+  if (rot) {
+    memcpy(ha, body_rot(m, j->a), sizeof ha);
+    memcpy(hb, body_rot(m, j->b), sizeof hb);
+  } else {
+    vs_joint_half_angle(qa[2], ha);
+    vs_joint_half_angle(qb[2], hb);
+  }
   vs_joint_law tmp;
-  vs_joint_eval(j, law_at(m, k, &tmp), qa, qb, m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k], st, f, K);
+  vs_joint_eval_h(j, law_at(m, k, &tmp), qa, qb, ha, hb, m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k],
+                  st, f, K);
 }
 
 /* The unknowns of joint k's six components (body a's, then b's) in pattern p, -1 if prescribed. */
@@ -329,11 +408,11 @@ static void residual_core(const vs_model *m, const vs_pattern *p, const double *
   memset(G, 0, (size_t)p->n * sizeof *G);
   for (int i = 0; i < g->n_blocks; i++)
     G[3 * i + 1] = m->gscale * g->blocks[i].mass * g->gravity; /* minus the load -m g */
+  half_angles(m, q, qs);
   for (int k = 0; k < g->n_joints; k++) {
     double f[6];
-    eval_joint(m, q, qs, k, NULL, f, NULL);
-    int d[6];
-    joint_dofs(m, p, k, d);
+    eval_joint(m, q, qs, k, 1, NULL, f, NULL);
+    const int *d = p->jdof + 6 * k;
     for (int e = 0; e < 6; e++)
       if (d[e] >= 0) G[d[e]] += f[e];
   }
@@ -365,26 +444,24 @@ static double *csc_reset(const vs_pattern *p, SUNMatrix A) {
   return data;
 }
 
-/* Add a joint's 6x6 matrix (row-major, rows and columns (body a, body b)) into the CSC values;
- * d[] are the components' unknowns in p (-1: prescribed). */
-static void scatter_joint(const vs_pattern *p, const int d[6], const double Kj[36], double *data) {
-  for (int j = 0; j < 6; j++) {
-    if (d[j] < 0) continue;
+/* Add joint k's 6x6 matrix (row-major, rows and columns (body a, body b)) into the CSC values
+ * of p, through its scatter map (column by column, as the pattern). */
+static void scatter_joint(const vs_pattern *p, int k, const double Kj[36], double *data) {
+  const sunindextype *pos = p->scatter + 36 * k;
+  for (int j = 0; j < 6; j++)
     for (int i = 0; i < 6; i++)
-      if (d[i] >= 0) data[csc_pos(p, d[i], d[j])] += Kj[6 * i + j];
-  }
+      if (pos[6 * i + j] >= 0) data[pos[6 * i + j]] += Kj[6 * i + j];
 }
 
 static void jacobian_core(const vs_model *m, const vs_pattern *p, const double *q,
                           const double qs[6], SUNMatrix J) {
   double *data = csc_reset(p, J);
   const vs_geometry *g = m->g;
+  half_angles(m, q, qs);
   for (int k = 0; k < g->n_joints; k++) {
     double K[36];
-    eval_joint(m, q, qs, k, NULL, NULL, K);
-    int d[6];
-    joint_dofs(m, p, k, d);
-    scatter_joint(p, d, K, data);
+    eval_joint(m, q, qs, k, 1, NULL, NULL, K);
+    scatter_joint(p, k, K, data);
   }
 }
 
@@ -406,7 +483,7 @@ void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double
     if (ss < 0) continue;
     double K[36];
     int d[6];
-    eval_joint(m, q, qs, k, NULL, NULL, K);
+    eval_joint(m, q, qs, k, 0, NULL, NULL, K);
     joint_dofs(m, &m->pat, k, d);
     for (int e = 0; e < 6; e++) {
       if (d[e] < 0) continue;
@@ -418,7 +495,8 @@ void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double
 
 static void joint_states_core(const vs_model *m, const double *q, const double qs[6],
                               vs_joint_state *st) {
-  for (int k = 0; k < m->g->n_joints; k++) eval_joint(m, q, qs, k, &st[k], NULL, NULL);
+  half_angles(m, q, qs);
+  for (int k = 0; k < m->g->n_joints; k++) eval_joint(m, q, qs, k, 1, &st[k], NULL, NULL);
 }
 
 void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_joint_state *st) {
@@ -429,13 +507,30 @@ void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_
 
 static int commit_core(vs_model *m, const double *q, const double qs[6]) {
   int slid = 0;
+  half_angles(m, q, qs);
   for (int k = 0; k < m->g->n_joints; k++) {
     vs_joint_state st;
-    eval_joint(m, q, qs, k, &st, NULL, NULL);
+    eval_joint(m, q, qs, k, 1, &st, NULL, NULL);
     if (st.sliding && st.N > 0.0) slid++;
     m->slip_p[k] = st.slip_p;
   }
   return slid;
+}
+
+int vs_model_commit_states(vs_model *m, const vs_joint_state *st) {
+  int slid = 0;
+  for (int k = 0; k < m->g->n_joints; k++) {
+    if (st[k].sliding && st[k].N > 0.0) slid++;
+    m->slip_p[k] = st[k].slip_p;
+  }
+  return slid;
+}
+
+double vs_model_gravity_energy(const vs_model *m, const double *q) {
+  const vs_geometry *g = m->g;
+  double eg = 0.0;
+  for (int i = 0; i < g->n_blocks; i++) eg += m->gscale * g->blocks[i].mass * g->gravity * q[3 * i + 1];
+  return eg;
 }
 
 int vs_model_commit(vs_model *m, const double *q, double delta) {
@@ -453,7 +548,7 @@ void vs_model_reactions(const vs_model *m, const double *q, double delta, double
     const vs_joint_geom *j = &m->g->joints[k];
     if (body_is_block(j->a) && body_is_block(j->b)) continue; /* not at a support */
     double f[6];
-    eval_joint(m, q, qs, k, NULL, f, NULL);
+    eval_joint(m, q, qs, k, 0, NULL, f, NULL);
     /* f on a support's translation is dE/du_support; the arch pushes it with -f */
     const int body[2] = {j->a, j->b};
     for (int s = 0; s < 2; s++) {
@@ -473,7 +568,7 @@ void vs_model_support_reactions(const vs_model *m, const double *q, double delta
     const vs_joint_geom *j = &m->g->joints[k];
     if (body_is_block(j->a) && body_is_block(j->b)) continue; /* not at a support */
     double f[6];
-    eval_joint(m, q, qs, k, NULL, f, NULL);
+    eval_joint(m, q, qs, k, 0, NULL, f, NULL);
     /* f on a support's coordinates is dE/dq_support: the arch pulls the support with -f, the
      * support pushes the arch with +f */
     const int body[2] = {j->a, j->b};
@@ -486,11 +581,12 @@ void vs_model_support_reactions(const vs_model *m, const double *q, double delta
 static void energies_core(const vs_model *m, const double *q, const double qs[6], double *elastic,
                           double *gravity) {
   const vs_geometry *g = m->g;
-  double eg = 0.0, ee = 0.0;
-  for (int i = 0; i < g->n_blocks; i++) eg += m->gscale * g->blocks[i].mass * g->gravity * q[3 * i + 1];
+  double ee = 0.0;
+  const double eg = vs_model_gravity_energy(m, q);
+  half_angles(m, q, qs);
   for (int k = 0; k < g->n_joints; k++) {
     vs_joint_state st;
-    eval_joint(m, q, qs, k, &st, NULL, NULL);
+    eval_joint(m, q, qs, k, 1, &st, NULL, NULL);
     ee += st.energy;
   }
   *elastic = ee;
@@ -574,50 +670,94 @@ static void mass_damping(const vs_model *m, const vs_pattern *p, const double *v
   }
 }
 
+/* What one pass over the joints yields (motion_core); NULL pointers are not computed. */
+typedef struct {
+  double *G;        /* elastic forces minus gravity (residual_core's), p->n entries */
+  double *fd;       /* damping forces, p->n entries */
+  SUNMatrix K, C;   /* dG/dq and dfd/dv over p */
+  int want_damping; /* the damping terms (fd, C, diss, sup) */
+  int want_friction;
+  double diss, sup, fric; /* out: dissipated power, damping power the support takes (W, < 0
+                             when it supplies), friction power */
+} motion_out;
+
+/* Add joint k's damping force f (at body velocities va, vb) to fd over p and its work on the
+ * prescribed support components to *sup. */
+static void add_damping(const vs_model *m, const vs_pattern *p, int k, const double f[6],
+                        const double va[3], const double vb[3], double *fd, double *sup) {
+  const vs_joint_geom *j = &m->g->joints[k];
+  const int body[2] = {j->a, j->b};
+  const int *d = p->jdof + 6 * k;
+  for (int s = 0; s < 2; s++) {
+    const double *vv = s == 0 ? va : vb;
+    for (int c = 0; c < 3; c++) {
+      /* the support's prescribed components work on the arch; a free one is the arch's */
+      if (!body_is_block(body[s]) && d[3 * s + c] < 0) *sup -= f[3 * s + c] * vv[c];
+      if (d[3 * s + c] >= 0 && fd != NULL) fd[d[3 * s + c]] += f[3 * s + c];
+    }
+  }
+}
+
+/* The joints' elastic, damping and friction terms over the bodies of p at block states (q, v)
+ * and support states (qs, vs), from one evaluation of every joint (v NULL: no rates). */
+static void motion_core(const vs_model *m, const vs_pattern *p, const double *q, const double *v,
+                        const double qs[6], const double vs[6], motion_out *o) {
+  const vs_geometry *g = m->g;
+  double *kdata = NULL, *cdata = NULL;
+  if (o->G != NULL) {
+    memset(o->G, 0, (size_t)p->n * sizeof *o->G);
+    for (int i = 0; i < g->n_blocks; i++)
+      o->G[3 * i + 1] = m->gscale * g->blocks[i].mass * g->gravity; /* minus the load -m g */
+  }
+  if (o->fd != NULL) memset(o->fd, 0, (size_t)p->n * sizeof *o->fd);
+  if (o->K != NULL) kdata = csc_reset(p, o->K);
+  if (o->C != NULL) cdata = csc_reset(p, o->C);
+  o->diss = o->sup = o->fric = 0.0;
+  const int damp = m->damped && v != NULL && o->want_damping;
+  half_angles(m, q, qs);
+  for (int k = 0; k < g->n_joints; k++) {
+    const vs_joint_geom *j = &g->joints[k];
+    double qa[3], qb[3], va[3], vb[3], f[6], Kk[36], fdk[6], Ck[36];
+    vs_joint_law tmp;
+    body_q(q, qs, j->a, qa);
+    body_q(q, qs, j->b, qb);
+    if (v != NULL) {
+      body_q(v, vs, j->a, va);
+      body_q(v, vs, j->b, vb);
+    }
+    const vs_joint_bodies bd = {qa, qb, body_rot(m, j->a), body_rot(m, j->b), v != NULL ? va : NULL,
+                                vb, m->ra + 2 * k, m->rb + 2 * k};
+    /* HOOK (damping): Rayleigh's stiffness part, else the joint dashpots */
+    const vs_joint_dashpot dp = {m->cn[k], m->cs[k], m->beta_k};
+    vs_joint_motion jm = {o->G != NULL ? f : NULL, o->K != NULL ? Kk : NULL, damp ? fdk : NULL,
+                          damp && o->C != NULL ? Ck : NULL, o->want_friction && v != NULL, 0.0, 0.0};
+    vs_joint_eval_motion(j, law_at(m, k, &tmp), &bd, m->slip_p[k], damp ? &dp : NULL, &jm);
+    if (o->G != NULL) {
+      const int *d = p->jdof + 6 * k;
+      for (int e = 0; e < 6; e++)
+        if (d[e] >= 0) o->G[d[e]] += f[e];
+    }
+    if (o->K != NULL) scatter_joint(p, k, Kk, kdata);
+    if (damp) {
+      o->diss += jm.power;
+      add_damping(m, p, k, fdk, va, vb, o->fd, &o->sup);
+      if (o->C != NULL) scatter_joint(p, k, Ck, cdata);
+    }
+    o->fric += jm.friction;
+  }
+  if (m->alpha_m > 0.0 && v != NULL && o->want_damping) mass_damping(m, p, v, o->fd, &o->diss, cdata); /* HOOK (damping) */
+}
+
 /* Damping forces over the bodies of p at block states (q, v) and support states (qs, vs). */
 static void damping_core(const vs_model *m, const vs_pattern *p, const double *q, const double *v,
                          const double qs[6], const double vs[6], double *fd, double *dissipated,
                          double *support_power, SUNMatrix C) {
-  const vs_geometry *g = m->g;
-  double *data = NULL;
-  if (fd != NULL) memset(fd, 0, (size_t)p->n * sizeof *fd);
-  if (C != NULL) data = csc_reset(p, C);
-  double diss = 0.0, sup = 0.0;
-  if (m->damped) {
-    for (int k = 0; k < g->n_joints; k++) {
-      const vs_joint_geom *j = &g->joints[k];
-      double qa[3], qb[3], va[3], vb[3], f[6], Ck[36], pw;
-      vs_joint_law tmp;
-      body_q(q, qs, j->a, qa);
-      body_q(q, qs, j->b, qb);
-      body_q(v, vs, j->a, va);
-      body_q(v, vs, j->b, vb);
-      if (m->beta_k > 0.0) /* HOOK (damping): Rayleigh's stiffness part */
-        vs_joint_damping_tangent(j, law_at(m, k, &tmp), m->beta_k, qa, qb, va, vb, m->ra + 2 * k,
-                                 m->rb + 2 * k, f, C != NULL ? Ck : NULL, &pw);
-      else
-        vs_joint_damping(j, law_at(m, k, &tmp), m->cn[k], m->cs[k], qa, qb, va, vb, m->ra + 2 * k,
-                         m->rb + 2 * k, f, C != NULL ? Ck : NULL, &pw);
-      diss += pw;
-      const int body[2] = {j->a, j->b};
-      int d[6];
-      joint_dofs(m, p, k, d);
-      for (int s = 0; s < 2; s++) {
-        const double *vv = s == 0 ? va : vb;
-        for (int c = 0; c < 3; c++) {
-          /* the support's prescribed components work on the arch; a free one is the arch's */
-          if (!body_is_block(body[s]) && d[3 * s + c] < 0) sup -= f[3 * s + c] * vv[c];
-          if (d[3 * s + c] >= 0 && fd != NULL) fd[d[3 * s + c]] += f[3 * s + c];
-        }
-      }
-      if (C != NULL) scatter_joint(p, d, Ck, data);
-    }
-  }
-  if (m->alpha_m > 0.0) mass_damping(m, p, v, fd, &diss, data); /* HOOK (damping) */
+  motion_out o = {.fd = fd, .C = C, .want_damping = 1};
+  motion_core(m, p, q, v, qs, vs, &o);
   /* the support does the work -f . u_dot on the arch through the damper: the dissipated power
    * splits into what the blocks lose (fd . v) and what the support supplies */
-  if (dissipated != NULL) *dissipated = diss;
-  if (support_power != NULL) *support_power = -sup;
+  if (dissipated != NULL) *dissipated = o.diss;
+  if (support_power != NULL) *support_power = -o.sup;
 }
 
 void vs_model_damping(const vs_model *m, const double *q, const double *v, double delta,
@@ -646,21 +786,11 @@ double vs_model_kinetic_energy(const vs_model *m, const double *v) {
   return e;
 }
 
-static double friction_core(const vs_model *m, const double *q, const double *v,
-                            const double qs[6], const double vs[6]) {
-  double pw = 0.0;
-  for (int k = 0; k < m->g->n_joints; k++) {
-    const vs_joint_geom *j = &m->g->joints[k];
-    double qa[3], qb[3], va[3], vb[3];
-    vs_joint_law tmp;
-    body_q(q, qs, j->a, qa);
-    body_q(q, qs, j->b, qb);
-    body_q(v, vs, j->a, va);
-    body_q(v, vs, j->b, vb);
-    pw += vs_joint_friction_power(j, law_at(m, k, &tmp), qa, qb, va, vb, m->ra + 2 * k, m->rb + 2 * k,
-                                  m->slip_p[k]);
-  }
-  return pw;
+static double friction_core(const vs_model *m, const vs_pattern *p, const double *q,
+                            const double *v, const double qs[6], const double vs[6]) {
+  motion_out o = {.want_friction = 1};
+  motion_core(m, p, q, v, qs, vs, &o);
+  return o.fric;
 }
 
 double vs_model_friction_power(const vs_model *m, const double *q, const double *v, double delta,
@@ -668,7 +798,7 @@ double vs_model_friction_power(const vs_model *m, const double *q, const double 
   double qs[6], vs[6];
   sup_pos_q(m, q, delta, qs);
   sup_state_q(m, v, ddelta_dt, vs);
-  return friction_core(m, q, v, qs, vs);
+  return friction_core(m, &m->pat, q, v, qs, vs);
 }
 
 double vs_model_support_force(const vs_model *m, const double *q, double delta) {
@@ -724,8 +854,54 @@ void vs_model_ext_damping(const vs_model *m, const double *qe, const double *ve,
   damping_core(m, &m->pate, qe, ve, qe + 3 * m->g->n_blocks, ve + 3 * m->g->n_blocks, fd, dissipated, NULL, C);
 }
 
+void vs_model_ext_motion(const vs_model *m, const double *qe, const double *ve, double *F,
+                         double *dissipated, double *friction, SUNMatrix K, SUNMatrix C) {
+  const int n = m->pate.n;
+  motion_out o = {.G = F, .fd = F != NULL ? m->fdw : NULL, .K = K, .C = C,
+                  .want_damping = F != NULL || C != NULL || dissipated != NULL,
+                  .want_friction = friction != NULL};
+  motion_core(m, &m->pate, qe, ve, qe + 3 * m->g->n_blocks,
+              ve != NULL ? ve + 3 * m->g->n_blocks : NULL, &o);
+  if (F != NULL)
+    for (int i = 0; i < n; i++) F[i] += m->fdw[i];
+  if (dissipated != NULL) *dissipated = o.diss;
+  if (friction != NULL) *friction = o.fric;
+}
+
+void vs_model_ext_support_forces(const vs_model *m, const double *qe, const double *ve,
+                                 double out[6]) {
+  const vs_geometry *g = m->g;
+  const int n = 3 * g->n_blocks;
+  const double *qs = qe + n, *vs = ve + n;
+  double fd[6] = {0};
+  memset(out, 0, 6 * sizeof *out);
+  for (int k = 0; k < g->n_joints; k++) { /* as motion_core, on the joints at a support */
+    const vs_joint_geom *j = &g->joints[k];
+    if (body_is_block(j->a) && body_is_block(j->b)) continue;
+    double qa[3], qb[3], va[3], vb[3], ha[2], hb[2], f[6], fdk[6];
+    vs_joint_law tmp;
+    body_q(qe, qs, j->a, qa);
+    body_q(qe, qs, j->b, qb);
+    body_q(ve, vs, j->a, va);
+    body_q(ve, vs, j->b, vb);
+    vs_joint_half_angle(qa[2], ha);
+    vs_joint_half_angle(qb[2], hb);
+    const vs_joint_bodies bd = {qa, qb, ha, hb, va, vb, m->ra + 2 * k, m->rb + 2 * k};
+    const vs_joint_dashpot dp = {m->cn[k], m->cs[k], m->beta_k};
+    vs_joint_motion jm = {f, NULL, m->damped ? fdk : NULL, NULL, 0, 0.0, 0.0};
+    vs_joint_eval_motion(j, law_at(m, k, &tmp), &bd, m->slip_p[k], m->damped ? &dp : NULL, &jm);
+    const int *d = m->pate.jdof + 6 * k;
+    for (int e = 0; e < 6; e++) {
+      if (d[e] < n) continue; /* a block's component */
+      out[d[e] - n] += f[e];
+      if (m->damped) fd[d[e] - n] += fdk[e];
+    }
+  }
+  for (int i = 0; i < 6; i++) out[i] += fd[i];
+}
+
 double vs_model_ext_friction_power(const vs_model *m, const double *qe, const double *ve) {
-  return friction_core(m, qe, ve, qe + 3 * m->g->n_blocks, ve + 3 * m->g->n_blocks);
+  return friction_core(m, &m->pate, qe, ve, qe + 3 * m->g->n_blocks, ve + 3 * m->g->n_blocks);
 }
 
 void vs_model_ext_joint_states(const vs_model *m, const double *qe, vs_joint_state *st) {

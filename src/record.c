@@ -354,14 +354,13 @@ static void fill_joints(vs_output *o, const vs_run *run, const vs_run_sample *s,
                         const double usup[2]) {
   const vs_geometry *g = vs_run_geometry(run);
   const vs_hinge_opts *ho = vs_run_hinge_opts(run);
-  vs_model_joint_states(vs_run_model(run), s->q, s->delta, o->js);
   double *N = row_ptr(o, S_N), *T = row_ptr(o, S_T), *M = row_ptr(o, S_M);
   double *c = row_ptr(o, S_CONTACT), *gi = row_ptr(o, S_GAP_I), *ge = row_ptr(o, S_GAP_E);
   double *sl = row_ptr(o, S_SLIP), *sp = row_ptr(o, S_SLIP_P);
   int8_t *h = row_ptr(o, S_HINGE);
   float *pts = row_ptr(o, S_JPTS);
   for (int k = 0; k < o->nj; k++) {
-    const vs_joint_state *st = &o->js[k];
+    const vs_joint_state *st = &s->joints[k]; /* the run's evaluation at this state */
     N[k] = st->N, T[k] = st->T, M[k] = st->M, c[k] = st->contact;
     gi[k] = st->gap_i, ge[k] = st->gap_e, sl[k] = st->slip, sp[k] = st->slip_p;
     const char side = vs_hinges_joint_side(ho, st);
@@ -389,8 +388,7 @@ static void fill_row(vs_output *o, const vs_run *run, const vs_run_sample *s) {
   fill_blocks(o, run, s, usup);
   fill_joints(o, run, s, usup);
   double *r = row_ptr(o, S_REACT);
-  if (s->reactions != NULL) memcpy(r, s->reactions, 6 * sizeof *r);
-  else vs_model_support_reactions(m, s->q, s->delta, r);
+  memcpy(r, s->reactions, 6 * sizeof *r); /* the run's, at this state */
   int64_t *sv = row_ptr(o, S_SOLVER);
   sv[0] = (int64_t)s->newton_iterations;
   sv[1] = (int64_t)s->ida_steps;
@@ -403,7 +401,8 @@ static void fill_row(vs_output *o, const vs_run *run, const vs_run_sample *s) {
     memcpy(e, v, sizeof v);
   } else {
     e[0] = 0.0;
-    vs_model_energies(m, s->q, s->delta, &e[2], &e[1]);
+    e[1] = s->gravity;
+    e[2] = s->elastic;
     e[3] = e[4] = e[5] = e[6] = NAN;
   }
 }

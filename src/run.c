@@ -247,9 +247,11 @@ static void name_first(vs_run *r, int n) {
 }
 
 /* Update the hinges at (delta, q); log the hinges that formed. */
-static int track_hinges(vs_run *r, double delta, const double *q) {
+/* js: the joints' states at (delta, q) if the caller has them (NULL: evaluated here). */
+static int track_hinges(vs_run *r, double delta, const double *q, const vs_joint_state *js) {
   const int before = vs_hinges_count(r->h);
-  vs_model_joint_states(r->m, q, delta, r->js);
+  if (js != NULL) memcpy(r->js, js, (size_t)r->g->n_joints * sizeof *js);
+  else vs_model_joint_states(r->m, q, delta, r->js);
   vs_hinges_update(r->h, delta, r->js);
   for (int i = before; i < vs_hinges_count(r->h); i++) {
     const vs_hinge *hg = vs_hinges_get(r->h, i);
@@ -304,7 +306,7 @@ static int on_equilibrium(void *user, double delta, const double *q, const vs_mo
   r->delta = delta;
   r->t = delta / r->dopts.rate;
   r->phase = VS_PHASE_QUASISTATIC;
-  if (track_hinges(r, delta, q) != 0) return 1;
+  if (track_hinges(r, delta, q, NULL) != 0) return 1;
   if (r->pending_snap >= 0) { /* the first equilibrium after a snap-through */
     vs_limit_record *l = &r->limits[r->pending_snap];
     r->pending_snap = -1;
@@ -314,8 +316,11 @@ static int on_equilibrium(void *user, double delta, const double *q, const vs_mo
   }
   vs_model_support_reactions(r->m, q, delta, r->react);
   memcpy(r->react_eq, r->react, sizeof r->react);
+  /* the joints' states of track_hinges, at this equilibrium */
   vs_run_sample s = {.phase = VS_PHASE_QUASISTATIC, .t = r->t, .delta = delta, .q = q,
-                     .reactions = r->react};
+                     .reactions = r->react, .joints = r->js,
+                     .gravity = vs_model_gravity_energy(r->m, q)};
+  for (int k = 0; k < r->g->n_joints; k++) s.elastic += r->js[k].energy;
   fill_counters(r, &s);
   return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
 }
@@ -349,7 +354,9 @@ static int on_dyn_sample(void *user, double t, double delta, const double *q, co
   r->delta = delta;
   r->t = t;
   r->phase = VS_PHASE_DYNAMIC;
-  if (!r->frozen && track_hinges(r, delta, q) != 0) return 1;
+  /* the joints' states the integrator evaluated at this state (its commit and energies) */
+  const vs_joint_state *js = vs_dynamic_joint_states(r->dyn);
+  if (!r->frozen && track_hinges(r, delta, q, js) != 0) return 1;
   const int falling = r->live_dyn != NULL && isfinite(r->live_dyn->t_collapse);
   if (falling) { /* the onset is the collapse's: debris at rest and moving again is not one */
   } else if (e->kinetic < r->dopts.rest_ke) {
@@ -363,14 +370,15 @@ static int on_dyn_sample(void *user, double t, double delta, const double *q, co
     freeze_mechanism(r); /* the sample at the collapse criterion: nothing after it counts */
   vs_dynamic_reactions(r->dyn, r->react);
   vs_run_sample s = {.phase = VS_PHASE_DYNAMIC, .t = t, .delta = delta, .q = q, .v = v,
-                     .energy = e, .reactions = r->react};
+                     .energy = e, .reactions = r->react, .joints = js,
+                     .elastic = e->elastic, .gravity = e->gravity};
   fill_counters(r, &s);
   return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
 }
 
 static int on_dyn_event(void *user, const vs_dyn_event *ev, const double *q) {
   vs_run *r = user;
-  if (!r->frozen && track_hinges(r, ev->delta, q) != 0) return 1;
+  if (!r->frozen && track_hinges(r, ev->delta, q, vs_dynamic_joint_states(r->dyn)) != 0) return 1;
   char label = 0;
   for (int i = 0; i < vs_hinges_count(r->h); i++) {
     const vs_hinge *hg = vs_hinges_get(r->h, i);

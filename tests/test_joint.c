@@ -617,6 +617,59 @@ static void test_eval_friction(void **state) {
   for (int k = 0; k < 6; k++) CHECK(f[k], 0, 0, 1e-12);
 }
 
+/* One evaluation for the equations of motion (vs_joint_eval_motion) gives what the separate
+ * functions give at the same state -- elastic force and tangent, joint or stiffness-proportional
+ * damping, friction power -- and its damping force is C v with the power v . C v >= 0. */
+static void check_motion(const double q[6], const double v[6], double sp, const vs_joint_dashpot *dp) {
+  vs_joint_geom jg = joint_geom();
+  vs_joint_law law = joint_law();
+  double ha[2], hb[2], f[6], K[36], fd[6], C[36], f1[6], K1[36], fd1[6], C1[36], pw1;
+  vs_joint_half_angle(q[2], ha);
+  vs_joint_half_angle(q[5], hb);
+  CHECK(ha[0] * ha[0] - ha[1] * ha[1], cos(q[2]), 1e-15, 1e-15);
+  CHECK(2.0 * ha[0] * ha[1], sin(q[2]), 1e-15, 1e-15);
+  const vs_joint_bodies bd = {q, q + 3, ha, hb, v, v + 3, RA, RB};
+  vs_joint_motion jm = {f, K, fd, C, 1, 0.0, 0.0};
+  vs_joint_eval_motion(&jg, &law, &bd, sp, dp, &jm);
+  vs_joint_eval(&jg, &law, q, q + 3, RA, RB, sp, NULL, f1, K1);
+  if (dp->beta > 0.0)
+    vs_joint_damping_tangent(&jg, &law, dp->beta, q, q + 3, v, v + 3, RA, RB, fd1, C1, &pw1);
+  else
+    vs_joint_damping(&jg, &law, dp->cn, dp->cs, q, q + 3, v, v + 3, RA, RB, fd1, C1, &pw1);
+  const double fr1 = vs_joint_friction_power(&jg, &law, q, q + 3, v, v + 3, RA, RB, sp);
+  check_vec6(f, f1, 1e-12, "motion f vs vs_joint_eval", __LINE__);
+  check_mat6(K, K1, 1e-12, "motion K vs vs_joint_eval", __LINE__);
+  double cv[6] = {0}, vcv = 0.0, fsc = 0.0; /* fsc: the largest force (moments over TL) */
+  for (int i = 0; i < 6; i++) {
+    for (int j = 0; j < 6; j++) cv[i] += C[6 * i + j] * v[j];
+    vcv += v[i] * cv[i];
+    fsc = fmax(fsc, fabs(fd[i]) / (i % 3 == 2 ? TL : 1.0));
+  }
+  for (int i = 0; i < 6; i++) {
+    const double sc = i % 3 == 2 ? TL : 1.0;
+    CHECK(fd[i], fd1[i], 1e-12, 1e-15 * fsc * sc);
+    CHECK(fd[i], cv[i], 1e-9, 1e-12 * fsc * sc);
+    for (int j = 0; j < 6; j++) CHECK(C[6 * i + j], C1[6 * i + j], 1e-12, 0);
+  }
+  CHECK(jm.power, pw1, 1e-12, 0);
+  CHECK(jm.power, vcv, 1e-9, 1e-15);
+  assert_true(jm.power >= 0.0);
+  CHECK(jm.friction, fr1, 1e-12, 0);
+}
+
+static void test_eval_motion(void **state) {
+  (void)state;
+  rng r = {0xC0FFEEULL};
+  const vs_joint_dashpot joint_dp = {2e6, 1e6, 0.0}, tangent_dp = {0.0, 0.0, 1e-4};
+  for (int k = 0; k < 36; k++) {
+    double q[6], v[6];
+    /* partial, full and open contact; sticking and sliding slips */
+    random_state(&r, k % 3, (k / 3) % 2 ? rsign(&r) * urand(&r, 0.1, 0.8) : rsign(&r) * urand(&r, 1.3, 4.0), q);
+    for (int i = 0; i < 6; i++) v[i] = urand(&r, -1e-3, 1e-3) * (i % 3 == 2 ? 1.0 / TL : 1.0);
+    check_motion(q, v, 0.0, k % 2 ? &joint_dp : &tangent_dp);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_normal_fixed_N),
@@ -629,6 +682,7 @@ int main(void) {
       cmocka_unit_test(test_eval_gradients_sliding),
       cmocka_unit_test(test_eval_equilibrium),
       cmocka_unit_test(test_eval_friction),
+      cmocka_unit_test(test_eval_motion),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

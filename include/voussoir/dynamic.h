@@ -160,6 +160,10 @@ void vs_dynamic_accelerations(vs_dynamic *d, double *a);
 /* IDA's own iterates, for checks: the algebraic unknowns lambda (laid out as
  * vs_dynamic_reactions) and the blocks' v' of the BDF formula (3 n_blocks). */
 void vs_dynamic_multipliers(const vs_dynamic *d, double out[6]);
+/* The joints' states at the current state of d (n_joints entries, owned by d, valid until the
+ * next call into d), as vs_model_ext_joint_states gives them with the committed slips: the
+ * evaluation the step's commit, energies and root function shared, not a new one. */
+const vs_joint_state *vs_dynamic_joint_states(vs_dynamic *d);
 void vs_dynamic_derivatives(const vs_dynamic *d, double *a);
 
 #endif

@@ -71,6 +71,18 @@ void vs_joint_eval(const vs_joint_geom *jg, const vs_joint_law *law, const doubl
                    const double qb[3], const double ra[2], const double rb[2], double slip_p_old,
                    vs_joint_state *st, double f[6], double K[36]);
 
+/* A body's rotation theta (rad) as the cosine and sine of theta / 2, h[0], h[1]: the joint
+ * kinematics need R(theta_a), R(theta_b), the mean rotation and sin of the half difference, all
+ * products of the two bodies' half angles, so that a model takes one sincos per body and
+ * evaluation instead of two per joint. */
+void vs_joint_half_angle(double theta, double h[2]);
+
+/* vs_joint_eval with the bodies' half angles ha = vs_joint_half_angle(qa[2]), hb likewise. */
+void vs_joint_eval_h(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
+                     const double qb[3], const double ha[2], const double hb[2],
+                     const double ra[2], const double rb[2], double slip_p_old, vs_joint_state *st,
+                     double f[6], double K[36]);
+
 /* Viscous damping of a joint in contact: the full section's dashpots, normal b c_n t adot,
  * rotational b c_n t^3/12 wdot and shear b c_s t sdot (c_n, c_s in N s/m^3, adot, wdot, sdot the
  * rates of the joint measures), acting while the joint is in contact and fading linearly to zero
@@ -104,5 +116,36 @@ double vs_joint_friction_power(const vs_joint_geom *jg, const vs_joint_law *law,
                                const double qa[3], const double qb[3], const double va[3],
                                const double vb[3], const double ra[2], const double rb[2],
                                double slip_p_old);
+
+/* --- one evaluation for the equations of motion --- */
+
+/* The two bodies of a joint at one state: positions (ux, uz, theta), half angles
+ * (vs_joint_half_angle), velocities (NULL: no rates wanted) and reference-point-to-joint-centre
+ * vectors, as in vs_joint_eval and vs_joint_damping. */
+typedef struct {
+  const double *qa, *qb, *ha, *hb, *va, *vb, *ra, *rb;
+} vs_joint_bodies;
+
+/* A joint's dashpots: joint damping c_n, c_s (N s/m^3; vs_joint_damping), or, when beta > 0,
+ * stiffness-proportional damping beta (s; vs_joint_damping_tangent) instead. */
+typedef struct {
+  double cn, cs, beta;
+} vs_joint_dashpot;
+
+/* Outputs of vs_joint_eval_motion: set the pointers wanted (NULL: not computed). */
+typedef struct {
+  double *f, *K;     /* elastic force [6] and tangent [36] (vs_joint_eval) */
+  double *fd, *C;    /* damping force [6] and df/dv [36] (vs_joint_damping[_tangent]) */
+  int want_friction; /* compute the friction power */
+  double power;      /* out: damping power, W (0 without dashpots or velocities) */
+  double friction;   /* out: friction power, W (vs_joint_friction_power; 0 unless wanted) */
+} vs_joint_motion;
+
+/* Everything the equations of motion take from a joint at one state, from one evaluation of
+ * its kinematics and its law: the values are those of vs_joint_eval, vs_joint_damping (or
+ * vs_joint_damping_tangent) and vs_joint_friction_power at the same state. dp NULL: no damping. */
+void vs_joint_eval_motion(const vs_joint_geom *jg, const vs_joint_law *law,
+                          const vs_joint_bodies *bd, double slip_p_old, const vs_joint_dashpot *dp,
+                          vs_joint_motion *out);
 
 #endif

@@ -7,9 +7,16 @@
 #define VOUSSOIR_KLU_REUSE_H
 
 #include <sundials/sundials_linearsolver.h>
+#include <sundials/sundials_matrix.h>
 
 /* Make LS (a SUNLinSol_KLU whose matrix pattern never changes) keep its symbolic analysis and
  * numeric factors across re-initialisations. */
 void vs_klu_keep_analysis(SUNLinearSolver LS);
+
+/* Make SUNMatZero on A (a CSC SUNSparseMatrix) clear its values only: KINSOL and IDA zero the
+ * Jacobian before every evaluation, and SUNDIALS' version also clears the index arrays one entry
+ * at a time, which costs more than the evaluation's own work on the pattern. For matrices whose
+ * Jacobian function writes the whole pattern (every one in this library). */
+void vs_sparse_zero_values_only(SUNMatrix A);
 
 #endif

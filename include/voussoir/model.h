@@ -80,6 +80,11 @@ void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_
  * Returns the number of joints in contact (N > 0) that slid in this step. */
 int vs_model_commit(vs_model *m, const double *q, double delta);
 
+/* vs_model_commit from the joint states st (n_joints) at the state accepted, as
+ * vs_model_joint_states or vs_model_ext_joint_states gave them with the committed slips: the
+ * commit then takes no evaluation of its own. Returns as vs_model_commit. */
+int vs_model_commit_states(vs_model *m, const vs_joint_state *st);
+
 /* Plastic slip of every joint (m), committed; n_joints entries. */
 const double *vs_model_slips(const vs_model *m);
 
@@ -143,6 +148,11 @@ double vs_model_kinetic_energy(const vs_model *m, const double *v);
  * joint's elastic and frictional forces; times d(delta)/dt it is the support's power. */
 double vs_model_support_force(const vs_model *m, const double *q, double delta);
 
+/* Gravitational potential of the blocks at q (J; zero in the reference configuration): the
+ * first 3 n_blocks entries of q, so a static state or an extended one. With the joints' energies
+ * (vs_joint_state.energy) it makes vs_model_energies without another evaluation. */
+double vs_model_gravity_energy(const vs_model *m, const double *q);
+
 /* Joint elastic energy and gravitational potential separately (J; potential zero in the
  * reference configuration). */
 void vs_model_energies(const vs_model *m, const double *q, double delta, double *elastic,
@@ -176,6 +186,18 @@ void vs_model_ext_jacobian(const vs_model *m, const double *qe, SUNMatrix J);
 void vs_model_ext_damping(const vs_model *m, const double *qe, const double *ve, double *fd,
                           double *dissipated, SUNMatrix C);
 double vs_model_ext_friction_power(const vs_model *m, const double *qe, const double *ve);
+/* The supports' rows of vs_model_ext_motion's F (left ux, uz, theta, then right; elastic and
+ * damping forces of the joints at the supports, the only ones acting there) from those joints
+ * alone. */
+void vs_model_ext_support_forces(const vs_model *m, const double *qe, const double *ve,
+                                 double out[6]);
+/* One pass over the joints at (qe, ve) for the equations of motion: F = vs_model_ext_residual
+ * plus the damping forces of vs_model_ext_damping, *dissipated (their power), *friction
+ * (vs_model_ext_friction_power), K = vs_model_ext_jacobian and C = vs_model_ext_damping's
+ * matrix, each joint's kinematics and law evaluated once. Any output may be NULL; ve NULL: no
+ * damping and no friction power. */
+void vs_model_ext_motion(const vs_model *m, const double *qe, const double *ve, double *F,
+                         double *dissipated, double *friction, SUNMatrix K, SUNMatrix C);
 void vs_model_ext_joint_states(const vs_model *m, const double *qe, vs_joint_state *st);
 int vs_model_ext_commit(vs_model *m, const double *qe);
 void vs_model_ext_energies(const vs_model *m, const double *qe, double *elastic, double *gravity);

@@ -18,7 +18,8 @@ typedef struct {
   double newton_tol; /* scaled residual tolerance (residual / typical force) */
   int newton_maxiter;
   double open;       /* edge opening of a hinge (m): every joint edge crossing it within an
-                        increment is located on the path by bisection, re-solving equilibria,
+                        increment is located on the path (secant steps bracketed by re-solved
+                        equilibria, bisection where the gap is not linear in delta),
                         to limit_tol, and the equilibria on both sides are passed to the
                         callback; 0: no location */
   const volatile sig_atomic_t *stop; /* NULL, or a flag (e.g. set by a signal handler) that,

@@ -28,6 +28,10 @@ typedef struct {
                               the springing joint's centre, counter-clockwise), right; from the
                               joint forces on the quasi-static path, the multipliers lambda in
                               the dynamic phase */
+  const vs_joint_state *joints; /* every joint's state at (q, delta) (n_joints), with the
+                                   committed slips: what the run evaluated there */
+  double elastic, gravity; /* joint elastic energy and gravitational potential, J (on the
+                              dynamic phase also in energy) */
   long newton_iterations;  /* solver statistics so far, cumulative over the run: KINSOL Newton */
   long ida_steps, ida_newton_iterations; /* iterations; IDA steps and Newton iterations */
 } vs_run_sample;
