@@ -242,6 +242,28 @@ static herr_t write_imperfections(hid_t file, const vs_imperfections *p) {
   return rc;
 }
 
+/* /xdmf/nan: max(n_blocks, n_joints) NaN, written once. The XDMF sidecar's grids carry every
+ * field (ParaView's default reader keeps only the fields all grids have), NaN where a field is
+ * not the grid's own: that padding refers to a slab of this dataset instead of repeating it. */
+static herr_t write_xdmf_nan(const vs_output *o) {
+  hid_t grp = vs_h5_group_create(o->file, "xdmf");
+  if (grp < 0) return -1;
+  const hsize_t n = (hsize_t)(o->nb > o->nj ? o->nb : o->nj);
+  double *buf = malloc((size_t)n * sizeof *buf);
+  herr_t rc = buf != NULL ? 0 : -1;
+  for (hsize_t i = 0; rc >= 0 && i < n; i++) buf[i] = NAN;
+  if (rc >= 0)
+    rc = vs_h5_attr_str(grp, "description",
+                        "for the XDMF sidecar: nan, max(n_blocks, n_joints) NaN; a grid's field "
+                        "that is not its own (NaN, so that every grid carries every field) "
+                        "refers to its first cells");
+  if (rc >= 0)
+    rc = vs_h5_dset_write(grp, "nan", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &n, buf, "1", NULL);
+  free(buf);
+  vs_h5_close(grp);
+  return rc;
+}
+
 vs_status vs_record_layout_write(vs_output *o, const vs_run *run, const char *case_text) {
   if (write_root(o, case_text) < 0)
     return vs_h5_fail(&o->err, o->path, "cannot write root attributes");
@@ -251,6 +273,7 @@ vs_status vs_record_layout_write(vs_output *o, const vs_run *run, const char *ca
     return vs_h5_fail(&o->err, o->path, "cannot write /geometry");
   if (write_imperfections(o->file, vs_run_imperfections(run)) < 0)
     return vs_h5_fail(&o->err, o->path, "cannot write /imperfections");
+  if (write_xdmf_nan(o) < 0) return vs_h5_fail(&o->err, o->path, "cannot write /xdmf/nan");
   /* /summary is filled by vs_output_finish: created now, so that finishing never touches the
    * root group's header */
   hid_t obs = vs_h5_group_create(o->file, "summary");

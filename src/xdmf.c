@@ -59,7 +59,8 @@ static const int XDMF_RANKS[X_COUNT] = {3, 2, 3, 2, 1, 3, 2, 2, 2, 2, 2, 2, 2, 2
  * appends the pieces keeping only the fields that all of them carry: a field on the blocks alone
  * is dropped and colouring by it leaves the arch grey. So every grid carries every field, NaN
  * where the field is not its own (ParaView draws NaN in its NaN colour and leaves it out of
- * ranges); Xdmf3ReaderT keeps the grids as named blocks and reads the same file. */
+ * ranges; the NaN is the record's /xdmf/nan, written once, which the padding refers to);
+ * Xdmf3ReaderT keeps the grids as named blocks and reads the same file. */
 static const char *const XDMF_FIELDS[] = {
     "theta_rad", "ux_m",  "uz_m",    "speed_m_s", "N_N",
     "T_N",       "M_N_m", "gap_i_m", "gap_e_m",   "hinge_0closed_1intrados_2extrados",
@@ -72,7 +73,11 @@ typedef struct {
   xdmf_ds ds[X_COUNT];
   unsigned carried; /* bit i: the open grid carries XDMF_FIELDS[i] */
   int ground;       /* the record has /summary/ground/points */
+  hsize_t nan_n;    /* values in /xdmf/nan (0: the record has none) */
 } xdmf_ctx;
+
+/* NaN values the grids' padding refers to (written with the record's layout). */
+#define XDMF_NAN "/xdmf/nan"
 
 static void xml_escape(const char *s, char *out, size_t size) {
   size_t used = 0;
@@ -144,15 +149,21 @@ static void xdmf_grid_open(xdmf_ctx *x, const char *name) {
   fprintf(x->f, "      <Grid Name=\"%s\" GridType=\"Uniform\">\n", name);
 }
 
-/* Field XDMF_FIELDS[i] as NaN on all n_cells cells of the open grid, inline. */
+/* Field XDMF_FIELDS[i] as NaN on all n_cells cells of the open grid: the first n_cells values
+ * of the record's /xdmf/nan, or inline for a record written before it had that dataset. */
 static void xdmf_nan_field(xdmf_ctx *x, int i, hsize_t n_cells) {
   x->carried |= 1u << i;
   fprintf(x->f,
           "        <Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
-          "          <DataItem Dimensions=\"%llu\" NumberType=\"Float\" Precision=\"8\" "
-          "Format=\"XML\">",
+          "          <DataItem Dimensions=\"%llu\" NumberType=\"Float\" Precision=\"8\" ",
           XDMF_FIELDS[i], (unsigned long long)n_cells);
-  for (hsize_t c = 0; c < n_cells; c++) fputs(c ? " nan" : "nan", x->f);
+  if (n_cells <= x->nan_n) {
+    fprintf(x->f, "Format=\"HDF\">%s:" XDMF_NAN "|0:1:%llu:%llu", x->h5name,
+            (unsigned long long)n_cells, (unsigned long long)x->nan_n);
+  } else {
+    fputs("Format=\"XML\">", x->f);
+    for (hsize_t c = 0; c < n_cells; c++) fputs(c ? " nan" : "nan", x->f);
+  }
   fputs("</DataItem>\n        </Attribute>\n", x->f);
 }
 
@@ -316,6 +327,20 @@ static herr_t xdmf_read_times(hid_t file, const xdmf_ctx *x, long rows, double *
   return rc;
 }
 
+/* The number of values of a rank-1 /xdmf/nan, or 0 if the record has none. */
+static hsize_t xdmf_nan_count(hid_t file) {
+  hsize_t n = 0;
+  if (H5Lexists(file, "/xdmf", H5P_DEFAULT) <= 0 || H5Lexists(file, XDMF_NAN, H5P_DEFAULT) <= 0)
+    return 0;
+  hid_t ds = H5Dopen2(file, XDMF_NAN, H5P_DEFAULT);
+  hid_t sp = ds >= 0 ? H5Dget_space(ds) : H5I_INVALID_HID;
+  if (sp < 0 || H5Sget_simple_extent_ndims(sp) != 1 || H5Sget_simple_extent_dims(sp, &n, NULL) < 0)
+    n = 0;
+  vs_h5_close(sp);
+  vs_h5_close(ds);
+  return n;
+}
+
 /* Open "<xmf_path>.tmp" (its name into tmp) for writing: never written through, nor renamed
  * over, anything but a regular file. */
 static vs_status xdmf_open_tmp(const char *xmf_path, char *tmp, size_t size, FILE **f,
@@ -341,8 +366,8 @@ static void xdmf_header(FILE *f, const char *name, long rows, long stride) {
       "<!-- voussoir: %s, %ld rows, every %ld-th shown (and the last), times strictly "
       "increasing (the loading time delta / rate, s).\n"
       "     ParaView: either XDMF 3 reader colours by any field: every grid carries every "
-      "field, NaN where it is not the grid's own (the default Xdmf3ReaderS keeps only the "
-      "fields all grids carry); Xdmf3ReaderT also keeps the grids as named blocks.\n"
+      "field, NaN where it is not the grid's own (slabs of the record's /xdmf/nan; the default "
+      "Xdmf3ReaderS keeps only the fields all grids carry); Xdmf3ReaderT also keeps the grids as named blocks.\n"
       "     blocks (polygons): theta_rad rotation, ux_m uz_m centroid displacement, speed_m_s;\n"
       "     joints (segments, intrados to extrados): N_N normal force (compression > 0), T_N "
       "shear force, M_N_m moment about the joint centre, gap_i_m gap_e_m edge openings, "
@@ -398,6 +423,7 @@ vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, i
   x.ground = H5Lexists(file, "/summary", H5P_DEFAULT) > 0 &&
              H5Lexists(file, "/summary/ground", H5P_DEFAULT) > 0 &&
              H5Lexists(file, "/summary/ground/points", H5P_DEFAULT) > 0;
+  x.nan_n = xdmf_nan_count(file);
   vs_status st = xdmf_open_tmp(xmf_path, tmp, sizeof tmp, &x.f, err);
   if (st != VS_OK) {
     free(t);

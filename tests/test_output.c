@@ -297,6 +297,7 @@ static int parse_dims(const char *s, hsize_t *d, int max) {
 
 typedef struct {
   int grids, hdf_items, slabs; /* time steps; HDF items and slabs in all */
+  int nan_refs, nan_inline;    /* padding: slabs of /xdmf/nan; inline "nan" items */
   int uniform;                 /* uniform grids: blocks, joints, support_left, support_right */
   double t_last;
 } xdmf_stats;
@@ -371,7 +372,7 @@ static xdmf_stats check_xdmf(const char *xmf_path, hid_t f, const char *h5base) 
                                        "ground"};
   const int per_step = H5Lexists(f, "/summary/ground", H5P_DEFAULT) > 0 ? 5 : 4;
   int k = 0;
-  xdmf_stats st = {0, 0, 0, 0, -INFINITY};
+  xdmf_stats st = {0, 0, 0, 0, 0, 0, -INFINITY};
   for (const char *p = strchr(s, '<'); p != NULL; p = strchr(p + 1, '<')) {
     if (strncmp(p, "<?", 2) == 0 || strncmp(p, "<!DOCTYPE", 9) == 0) continue;
     if (strncmp(p, "<!--", 4) == 0) {
@@ -421,9 +422,12 @@ static xdmf_stats check_xdmf(const char *xmf_path, hid_t f, const char *h5base) 
           (size_t)(close - text) < sizeof item - 1 ? (size_t)(close - text) : sizeof item - 1;
       memcpy(item, text, len);
       item[len] = '\0';
+      st.nan_refs += strstr(item, ":/xdmf/nan|") != NULL;
       st.slabs += check_hdf_item(f, h5base, item, dims, rank);
       st.hdf_items++;
     }
+    if (strncmp(p + 1, "DataItem", 8) == 0 && nlen == 8 && strncmp(end + 1, "nan", 3) == 0)
+      st.nan_inline++;
     if (!self_closing) {
       assert_true(depth < 16);
       stack[depth] = p + 1;
@@ -598,10 +602,30 @@ static void test_quasistatic_record(void **state) {
   xdmf_stats xs = check_xdmf(xmf, f, "qs.h5");
   assert_int_equal(xs.grids, (int)rows); /* few rows: all of them, times increasing */
   /* per step: blocks 6 items (connectivity, points, 4 fields), joints 8 (connectivity, points, 6
-   * fields), left support 4 (points, Fx, Fz, M), right support 6 (and its displacement) */
-  assert_int_equal(xs.hdf_items, xs.grids * 24);
-  assert_int_equal(xs.slabs, xs.grids * 22);
+   * fields), left support 4 (points, Fx, Fz, M), right support 6 (and its displacement); and
+   * each grid the other of the 12 fields as NaN, a slab of /xdmf/nan: 8 + 6 + 9 + 7 */
+  assert_int_equal(xs.nan_refs, xs.grids * 30);
+  assert_int_equal(xs.nan_inline, 0);
+  assert_int_equal(xs.hdf_items, xs.grids * (24 + 30));
+  assert_int_equal(xs.slabs, xs.grids * (22 + 30));
+  double *nan = read_all(f, "/xdmf/nan", &n);
+  assert_int_equal(n, (size_t)vs_run_geometry(run)->n_joints); /* the largest grid */
+  for (size_t i = 0; i < n; i++) assert_true(isnan(nan[i]));
+  free(nan);
   free(q), free(v), free(t), free(dl), free(ph), free(en), free(step);
+  H5Fclose(f);
+  /* a record written before /xdmf/nan existed: its sidecar pads inline, as those versions did */
+  f = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+  assert_true(H5Ldelete(f, "/xdmf", H5P_DEFAULT) >= 0);
+  H5Fclose(f);
+  vs_error err;
+  assert_int_equal(vs_output_write_xdmf(path, 0, &err), VS_OK);
+  f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  xdmf_stats old = check_xdmf(xmf, f, "qs.h5");
+  assert_int_equal(old.grids, xs.grids);
+  assert_int_equal(old.nan_refs, 0);
+  assert_int_equal(old.nan_inline, xs.grids * 30);
+  assert_int_equal(old.hdf_items, xs.grids * 24);
   H5Fclose(f);
   assert_int_equal(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0); /* nothing left open */
   vs_run_destroy(&run);
