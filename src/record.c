@@ -224,7 +224,6 @@ void vs_output_destroy(vs_output **op) {
   free(o->xmf_path);
   free(o->bref);
   free(o->jref);
-  free(o->js);
   free(o);
   *op = NULL;
 }

@@ -82,7 +82,6 @@ struct vs_output {
   size_t flush_rows;  /* rows buffered before a write */
   double *bref;       /* reference outlines, nb * np * 2 */
   double *jref;       /* reference joint ends (intrados, extrados), nj * 2 * 2 */
-  vs_joint_state *js; /* workspace, nj */
   series s[S_COUNT];
   long rows;              /* written to the file */
   long pending;           /* buffered */
@@ -122,7 +121,7 @@ vs_status vs_record_write_pending(vs_output *o);
 vs_status vs_record_flush(vs_output *o);
 
 /* record_layout.c: what does not change during a run */
-/* o's block outlines and joint ends in the reference configuration (nb, nj, np, bref, jref, js). */
+/* o's block outlines and joint ends in the reference configuration (nb, nj, np, bref, jref). */
 vs_status vs_record_geometry_init(vs_output *o, const vs_geometry *g);
 /* Root attributes, /parameters, /geometry, /imperfections, the empty /summary, the series and
  * /events, flushed; errors recorded on o. */
