@@ -59,7 +59,7 @@ if git -C "$here/.." worktree add --detach "$work/src" "$base_rev" >/dev/null 2>
    cmake -S "$work/src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release >/dev/null 2>&1 &&
    cmake --build "$work/build" -j "$(nproc)" --target voussoir >/dev/null 2>&1; then
   base_bin="$work/build/voussoir"
-  echo "previous: $(git -C "$here/.." rev-parse --short "$base_rev") (built in $work); this: $bin"
+  echo "previous: $base_rev ($(git -C "$here/.." rev-parse --short "$base_rev^{commit}"), built in $work); this: $bin"
 else
   echo "previous revision $base_rev could not be built: its column is left empty" >&2
 fi
