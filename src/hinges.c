@@ -84,13 +84,20 @@ static int cmp_first(const void *x, const void *y) {
   return (a->onset_first > b->onset_first) - (a->onset_first < b->onset_first);
 }
 
+char vs_hinges_label(int i) {
+  if (i < 0) return '?';
+  if (i < 26) return (char)('A' + i);
+  if (i < 52) return (char)('a' + (i - 26));
+  return '#';
+}
+
 /* Name the first n (at most three) hinges A, B, C from left to right; later ones get the next
  * letters in order of appearance. */
 static void label_first(vs_hinges *h, int n) {
   vs_hinge *first[3];
   for (int i = 0; i < n; i++) first[i] = &h->h[i];
   qsort(first, (size_t)n, sizeof first[0], cmp_first);
-  for (int i = 0; i < n; i++) first[i]->label = (char)('A' + i);
+  for (int i = 0; i < n; i++) first[i]->label = vs_hinges_label(i);
   h->named = 1;
 }
 
@@ -99,7 +106,7 @@ void vs_hinges_name_first(vs_hinges *h, int n) {
   if (n > h->count) n = h->count;
   if (n <= 0) return;
   label_first(h, n);
-  for (int i = n; i < h->count; i++) h->h[i].label = (char)('A' + i);
+  for (int i = n; i < h->count; i++) h->h[i].label = vs_hinges_label(i);
 }
 
 /* Open joints grouped into maximal runs of the same side. */
@@ -225,7 +232,7 @@ int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st) {
   }
   if (!h->named && h->count >= 3) label_first(h, 3);
   for (int i = before; h->named && i < h->count; i++)
-    if (h->h[i].label == '?') h->h[i].label = (char)('A' + i);
+    if (h->h[i].label == '?') h->h[i].label = vs_hinges_label(i);
   return formed;
 }
 

@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "montecarlo_mpi.h"
 #include "pipe_io.h"
 #include "plugin.h"
 #include "voussoir/parse.h"

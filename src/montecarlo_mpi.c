@@ -4,6 +4,7 @@
  * single process writes. Built only when CMake finds MPI (VS_HAVE_MPI). */
 #define _POSIX_C_SOURCE 200809L /* nanosleep */
 #include "voussoir/montecarlo.h"
+#include "montecarlo_mpi.h"
 
 #include <mpi.h>
 #include <time.h>

@@ -590,6 +590,34 @@ static void test_onset_interpolated(void **state) {
   vs_hinges_destroy(&h);
 }
 
+/* docs/vocabulary.md: after Z come a to z, then # for every later hinge (never '[' or other
+ * characters past 'Z'). 65 separate hinges open one per update, left to right. */
+static void test_labels_past_z(void **state) {
+  (void)state;
+  enum { N = 131, H = 65 };
+  vs_hinge_opts o = {OPEN_M, 0};
+  vs_hinges *h = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  assert_int_equal(vs_hinges_create(N, &o, &h, &err), VS_OK);
+  vs_joint_state st[N];
+  all_closed(st, N);
+  assert_int_equal(vs_hinges_update(h, 0.0, st), 0);
+  for (int k = 0; k < H; k++) {
+    open_joint(st, 2 * k + 1, 'I');
+    assert_int_equal(vs_hinges_update(h, 1e-3 * (k + 1), st), 1);
+  }
+  assert_int_equal(vs_hinges_count(h), H);
+  for (int i = 0; i < H; i++) {
+    const vs_hinge *hg = vs_hinges_get(h, i);
+    const char want = i < 26 ? (char)('A' + i) : i < 52 ? (char)('a' + i - 26) : '#';
+    if (hg->label != want)
+      fail_msg("hinge %d (joint %d): label '%c', expected '%c'", i, hg->first, hg->label, want);
+  }
+  assert_int_equal(vs_hinges_label(-1), '?');
+  vs_hinges_destroy(&h);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_create_errors),
@@ -606,6 +634,7 @@ int main(void) {
       cmocka_unit_test(test_migrate_farther_far),
       cmocka_unit_test(test_migrate_farther_by_one),
       cmocka_unit_test(test_close_reopen),
+      cmocka_unit_test(test_labels_past_z),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -14,8 +14,8 @@ typedef struct {
 } vs_hinge_opts;
 
 typedef struct {
-  char label;            /* 'A'..'E' ('F'.. beyond), '?' until three hinges have formed
-                            (or vs_hinges_name_first) */
+  char label;            /* 'A'..'E' ('F'.. beyond: vs_hinges_label), '?' until three hinges
+                            have formed (or vs_hinges_name_first) */
   char side;             /* 'I' intrados or 'E' extrados: the edge that stays in contact */
   int first, last;       /* current joints (1-based); last > first for a spread hinge */
   int onset_first, onset_last; /* joints when it formed */
@@ -46,6 +46,10 @@ int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st);
  * run that ends with fewer: n = the hinges formed by then, so that none stays '?' and none
  * formed later (in the fall) takes their letters. */
 void vs_hinges_name_first(vs_hinges *h, int n);
+
+/* The label of the hinge named i-th (0-based): 'A'..'Z', then 'a'..'z' (a fall can open more than
+ * 26 hinges), then '#' for every later one; '?' for i < 0. One character, as the record stores it. */
+char vs_hinges_label(int i);
 
 /* Hinges in order of appearance. */
 int vs_hinges_count(const vs_hinges *h);

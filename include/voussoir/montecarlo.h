@@ -40,11 +40,4 @@ void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *out);
 vs_status vs_mc_write_summary(const char *dir, const vs_case *base, vs_mc_sample *samples, int n,
                               vs_error *err);
 
-/* MPI (only in a build with MPI): whether this process was started by mpirun (its environment
- * says so), and the run of the listed samples across the ranks: rank 0 hands them out one at a
- * time and gathers results[i] for samples[i]; *ranks receives the number of ranks. Calls
- * MPI_Init and MPI_Finalize. Returns this process's rank (only rank 0 has the results). */
-int vs_mc_mpi_launched(void);
-int vs_mc_run_mpi(const vs_case *c, const int *samples, int n, vs_mc_sample *results, int *ranks);
-
 #endif
