@@ -4,7 +4,9 @@
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "sweep_private.h"
 #include "voussoir/output.h"
@@ -91,8 +93,19 @@ static int write_json(const char *path, const vs_run *r, vs_status st, const vs_
  * 57 MB and adds 6 % to its CPU (each state's 54 HDF references, not the padding, dominate). */
 static const int VS_SWEEP_XDMF_GRIDS = 200;
 
+/* Fault injection for the interrupt test: with the environment variable VS_FAULT_HOLD = N, run N
+ * waits once its record is created until the stop flag is raised, so that a signal lands while
+ * it is under way however fast the machine runs it (the test waits for the record to appear,
+ * then signals: no race). Polls the flag (10 ms): a stop flag cannot be waited on otherwise. At
+ * most 600 s, so that a test that fails before signalling leaves no process waiting for ever. */
+static void fault_hold(int run, const volatile sig_atomic_t *stop) {
+  const char *v = getenv("VS_FAULT_HOLD");
+  if (v == NULL || stop == NULL || atoi(v) != run) return;
+  for (int i = 0; i < 60000 && !*stop; i++) nanosleep(&(struct timespec){0, 10000000}, NULL);
+}
+
 /* Execute r into its record (created at h5), closing the record with the run's status. */
-static vs_status execute(const vs_sweep_job *job, vs_run *r, const char *h5,
+static vs_status execute(const vs_sweep_job *job, int run, vs_run *r, const char *h5,
                          const volatile sig_atomic_t *stop, int *h5_clean, vs_error *err) {
   vs_output *rec = NULL;
   vs_output_opts opts;
@@ -103,6 +116,7 @@ static vs_status execute(const vs_sweep_job *job, vs_run *r, const char *h5,
     if (st == VS_ERR_IO) *h5_clean = 0;
     return st;
   }
+  fault_hold(run, stop);
   st = vs_run_execute(r, vs_output_sample, vs_output_event, rec, err);
   if (st != VS_OK && stop != NULL && *stop) {
     st = vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
@@ -138,7 +152,7 @@ void vs_sweep_run_case(const vs_sweep_job *job, int run, const volatile sig_atom
   if (st == VS_OK) {
     vs_run_set_stop(r, stop);
     st = stop != NULL && *stop ? vs_error_set(&err, VS_ERR_INTERRUPTED, "interrupted")
-                               : execute(job, r, h5, stop, h5_clean, &err);
+                               : execute(job, run, r, h5, stop, h5_clean, &err);
   }
   row->code = st == VS_OK ? VS_SWEEP_OK
               : st == VS_ERR_INTERRUPTED ? VS_SWEEP_INTERRUPTED : VS_SWEEP_FAILED;
