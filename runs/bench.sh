@@ -17,7 +17,8 @@
 # seconds each), no seed domain, 55 to 220 voussoirs.
 # usage: runs/bench.sh [--quick] [BINARY]
 #   BENCH_BASE=REV  what to compare with (default: the newest release tag v* before HEAD; without
-#                   tags, the parent of the oldest commit of this branch not on main, or HEAD~1)
+#                   tags, the newest release in runs/releases that HEAD contains; without either,
+#                   the parent of the oldest commit of this branch not on main, or HEAD~1)
 set -euo pipefail
 unset LD_LIBRARY_PATH # each binary loads the library of its own build (RUNPATH)
 quick=0
@@ -49,7 +50,17 @@ if [ -z "$base_rev" ]; then
     base_rev="$(release HEAD~1)" # HEAD is the release itself: the one before it
   fi
 fi
-if [ -z "$base_rev" ]; then # no release tag in this checkout: the previous revision
+if [ -z "$base_rev" ]; then # no tags (a clean clone need not carry them): runs/releases
+  while read -r name commit _; do
+    [[ "$name" == v* ]] || continue
+    if git -C "$here/.." merge-base --is-ancestor "$commit" HEAD 2>/dev/null &&
+       [ "$(git -C "$here/.." rev-parse "$commit")" != "$(git -C "$here/.." rev-parse HEAD)" ]; then
+      base_rev="$commit"
+      echo "no release tag (v*) in this checkout: $name from runs/releases ($commit)" >&2
+    fi
+  done <"$here/releases"
+fi
+if [ -z "$base_rev" ]; then # no release at all: the previous revision
   echo "no release tag (v*) in this checkout: comparing against the previous revision" >&2
   oldest="$(git -C "$here/.." rev-list main..HEAD 2>/dev/null | tail -n 1 || true)"
   if [ -n "$oldest" ]; then base_rev="$oldest~1"; else base_rev="HEAD~1"; fi
