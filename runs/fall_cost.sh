@@ -1,14 +1,18 @@
 #!/usr/bin/env bash
-# What the fall after the collapse costs against the rest of the run (README, "The fall's cost").
-# Per case: the CPU time (user + sys, process start included, median of REPEAT runs) of the run
-# with --no-record, which stops at the collapse criterion, and of the run with a record, which
-# follows the fall to rest; their difference is the fall's CPU (with the record's writing of
-# its samples). Then the fall's simulated time (last recorded state - collapse detection), its
-# IDA steps and root events (vertices touching down or lifting off), the kinetic energy of the
-# last state over the rest level, the deepest vertex below the ground at the end and during the
-# fall, and how the fall ended.
-#   runs/fall_cost.sh            # the table (REPEAT=3 by default: ~3 min on an idle machine)
-#   REPEAT=1 runs/fall_cost.sh   # one run each
+# What the fall after the collapse costs against the rest of the run (README, "The fall's cost"),
+# for each fall scheme (fall.scheme: rigid, the default; penalty). Per case: the CPU time (user +
+# sys, process start included, median of REPEAT runs) of the run with its record and
+# dynamic.fall_s = 0, which ends at the collapse criterion (the rest of the run: the path, the
+# dynamics to the collapse, the record of both), and of the same run following the fall to rest;
+# their difference is the fall's CPU (its samples' writing included). Then the fall's simulated
+# time (last recorded state - collapse detection), its steps (rigid: time steps, of which those
+# of the arch in the air solved as a chain, and those whose Gauss-Seidel stopped at its cap;
+# penalty: IDA steps and root events), the kinetic energy of the last state over the rest level,
+# the deepest vertex below the ground at the end and during the fall, the deepest vertex inside
+# another block or a pier during the fall, and how the fall ended.
+#   runs/fall_cost.sh                      # both schemes (REPEAT=3: ~4 min on an idle machine)
+#   SCHEMES=rigid REPEAT=1 runs/fall_cost.sh
+#   CASES="0 3,90 48" runs/fall_cost.sh    # alpha k_n pairs
 set -euo pipefail
 . "$(dirname "$0")/lib.sh"
 repeat="${REPEAT:-3}"
@@ -28,6 +32,8 @@ cpu() {
 }
 # h5 FILE DATASET: a scalar of the record
 h5() { h5dump -d "$2" "$1" 2>/dev/null | sed -nE 's/^ *\(0\): ([-0-9.eE+]+).*/\1/p' | head -1; }
+# h5a FILE ATTRIBUTE: an integer attribute of the record
+h5a() { h5dump -a "$2" "$1" 2>/dev/null | sed -nE 's/^ *\(0\): ([-0-9]+).*/\1/p' | head -1; }
 # last_ke FILE: the kinetic energy of the record's last state
 last_ke() {
   local n; n="$(h5dump -H -d /observables/energy/value "$1" | sed -nE 's/.*SIMPLE \{ \( ([0-9]+), 7 \).*/\1/p' | head -1)"
@@ -36,30 +42,42 @@ last_ke() {
 
 cases=("0 3" "90 48" "45 48" "0 48" "90 3" "45 3")
 [ -n "${CASES:-}" ] && IFS=, read -ra cases <<<"$CASES"
-echo "| alpha (deg) | k_n (N/mm^3) | CPU to collapse (s) | CPU of the fall (s) | ratio | fall simulated (s) | IDA steps in the fall | root events in the fall | final KE / rest level | deepest below ground: end / during (um) | fall ended |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|"
-for c in "${cases[@]}"; do
-  set -- $c
-  a="$1" kn="$2"
-  c0="$(cpu --alpha "$a" --kn "$kn" --no-record)"
-  j0="$(cat "$tmp/out")"
-  c1="$(cpu --alpha "$a" --kn "$kn" -o "$tmp/r.h5")"
-  j1="$(cat "$tmp/out")"
-  steps=$(($(jnum dynamic_steps "$j1") - $(jnum dynamic_steps "$j0")))
-  roots=$(($(jnum root_events "$j1") - $(jnum root_events "$j0")))
-  tsim="$(awk -v a="$(jnum last_time_s "$j1")" -v b="$(jcollapse time_detected_s "$j1")" 'BEGIN {printf "%.3f", a - b}')"
-  # the rest level (dynamic.c): min(rest_factor x the arch moving at the rate, 0.01 x collapse_ke)
-  mass="$(h5dump -d /geometry/block_mass "$tmp/r.h5" | sed -nE 's/^ *\([0-9]+\): (.*)/\1/p' | tr ',' '\n' | awk '{s += $1} END {printf "%.10g", s}')"
-  rest="$(awk -v m="$mass" -v g=9.81 'BEGIN {v = 0.04e-3; ck = 0.1 * m * g * 0.024 + 0.5 * m * v * v;
-           r = 100 * 0.5 * m * v * v; if (0.01 * ck < r) r = 0.01 * ck; printf "%.6g", r}')"
-  ke="$(last_ke "$tmp/r.h5")"
-  pen_end="$(h5 "$tmp/r.h5" /summary/ground/penetration_final)"
-  pen_max="$(h5 "$tmp/r.h5" /summary/ground/penetration_max)"
-  rest_attr="$(h5dump -a /summary/ground/at_rest "$tmp/r.h5" | sed -nE 's/^ *\(0\): ([0-9]+).*/\1/p' | head -1)"
-  # not at rest: at fall_s (5 s by default), or IDA failed in the fall before it
-  ended="$(awk -v r="$rest_attr" -v t="$tsim" 'BEGIN {s = (r == 1) ? "at rest" : (t > 4.999) ? "at fall_s" : "IDA failed"; print s}')"
-  awk -v a="$a" -v kn="$kn" -v c0="$c0" -v c1="$c1" -v ts="$tsim" -v st="$steps" -v rt="$roots" \
-      -v ke="$ke" -v rl="$rest" -v pe="$pen_end" -v pm="$pen_max" -v en="$ended" 'BEGIN {
-    f = c1 - c0; printf "| %s | %s | %.2f | %.2f | %.1f | %s | %d | %d | %.2g | %.3g / %.3g | %s |\n",
-      a, kn, c0, f, f / c0, ts, st, rt, ke / rl, pe * 1e6, pm * 1e6, en}'
+read -ra schemes <<<"${SCHEMES:-rigid penalty}"
+echo "| scheme | alpha (deg) | k_n (N/mm^3) | CPU of the rest (s) | CPU of the fall (s) | ratio | fall simulated (s) | steps | of which | final KE / rest level | deepest below ground: end / during (um) | inside another body, during (um) | fall ended |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+for scheme in "${schemes[@]}"; do
+  for c in "${cases[@]}"; do
+    set -- $c
+    a="$1" kn="$2"
+    c0="$(cpu --alpha "$a" --kn "$kn" --set fall.scheme="$scheme" --set dynamic.fall_s=0 -o "$tmp/r0.h5")"
+    j0="$(cat "$tmp/out")"
+    c1="$(cpu --alpha "$a" --kn "$kn" --set fall.scheme="$scheme" -o "$tmp/r.h5")"
+    j1="$(cat "$tmp/out")"
+    tsim="$(awk -v a="$(jnum last_time_s "$j1")" -v b="$(jcollapse time_detected_s "$j1")" 'BEGIN {printf "%.3f", a - b}')"
+    if [ "$scheme" = rigid ]; then
+      steps="$(h5a "$tmp/r.h5" /summary/fall/steps)"
+      detail="$(h5a "$tmp/r.h5" /summary/fall/chain_steps) as a chain, $(h5a "$tmp/r.h5" /summary/fall/capped_steps) capped"
+      inside="$(h5 "$tmp/r.h5" /summary/fall/overlap_max)"
+    else
+      steps=$(($(jnum dynamic_steps "$j1") - $(jnum dynamic_steps "$j0")))
+      detail="$(($(jnum root_events "$j1") - $(jnum root_events "$j0"))) root events"
+      inside=""
+    fi
+    # the rest level (run.c): min(rest_factor x the arch moving at the rate, 0.01 x collapse_ke)
+    mass="$(h5dump -d /geometry/block_mass "$tmp/r.h5" | sed -nE 's/^ *\([0-9]+\): (.*)/\1/p' | tr ',' '\n' | awk '{s += $1} END {printf "%.10g", s}')"
+    rest="$(awk -v m="$mass" -v g=9.81 'BEGIN {v = 0.04e-3; ck = 0.1 * m * g * 0.024 + 0.5 * m * v * v;
+             r = 100 * 0.5 * m * v * v; if (0.01 * ck < r) r = 0.01 * ck; printf "%.6g", r}')"
+    ke="$(last_ke "$tmp/r.h5")"
+    pen_end="$(h5 "$tmp/r.h5" /summary/ground/penetration_final)"
+    pen_max="$(h5 "$tmp/r.h5" /summary/ground/penetration_max)"
+    rest_attr="$(h5a "$tmp/r.h5" /summary/ground/at_rest)"
+    # not at rest: at fall_s (5 s by default), or (penalty) IDA failed in the fall before it
+    ended="$(awk -v r="$rest_attr" -v t="$tsim" 'BEGIN {s = (r == 1) ? "at rest" : (t > 4.999) ? "at fall_s" : "stopped early"; print s}')"
+    awk -v sc="$scheme" -v a="$a" -v kn="$kn" -v c0="$c0" -v c1="$c1" -v ts="$tsim" -v st="$steps" \
+        -v de="$detail" -v ke="$ke" -v rl="$rest" -v pe="$pen_end" -v pm="$pen_max" -v in="$inside" \
+        -v en="$ended" 'BEGIN {
+      f = c1 - c0; ins = (in == "") ? "-" : sprintf("%.3g", in * 1e6)
+      printf "| %s | %s | %s | %.2f | %.2f | %.1f | %s | %d | %s | %.2g | %.3g / %.3g | %s | %s |\n",
+        sc, a, kn, c0, f, f / c0, ts, st, de, ke / rl, pe * 1e6, pm * 1e6, ins, en}'
+  done
 done

@@ -55,6 +55,8 @@ typedef struct {
 static const char *const support_kinds[] = {"fixed", "pinned", NULL};
 /* dynamic.damping_model, in the order of vs_damping_model (damping.h) */
 static const char *const damping_models[] = {"none", "joint", "rayleigh", "impact", NULL};
+/* fall.scheme, in the order of vs_fall_scheme (case.h) */
+static const char *const fall_schemes[] = {"rigid", "penalty", NULL};
 
 #define INF INFINITY
 /* Every bound is finite (except where a sign is all that matters) so that every quantity derived
@@ -127,8 +129,14 @@ static const key_spec keys[] = {
     KEY(fall, ground_mm, 0.0, -LEN_MAX, true, 0.0, true, "mm",
         "the ground's height above the lower springing's base when the fall starts (above it, "
         "it would cut the standing springers)"),
+    KEY_NAMED(fall, scheme, 0.0, 2, fall_schemes,
+              "rigid: rigid blocks, impulsive contacts, time stepping (fall.h); penalty: the "
+              "joints' elastic law at every contact, integrated by IDA (20-100 times slower)"),
+    KEY(fall, step_ms, 1.0, 1e-3, true, 10.0, true, "ms",
+        "time step of the rigid scheme (a block falling at 2 m/s moves 2 mm in 1 ms)"),
     KEY(fall, restitution, 0.5, 0.0, false, 1.0, true, "",
-        "coefficient of restitution of a block landing flat on the ground"),
+        "penalty scheme: coefficient of restitution of a block landing flat on the ground (the "
+        "rigid scheme's impacts are perfectly plastic)"),
     /* imperfections: src/imperfections.c; all amplitudes 0 give the perfect arch exactly */
     KEY(imperfections, seed, 1.0, 0.0, true, 2147483647.0, true, "", "seed of the generator"),
     KEY(imperfections, sample, 0.0, 0.0, true, 2147483647.0, true, "",
@@ -675,4 +683,5 @@ void vs_case_to_si(const vs_case *c, vs_case_si *si) {
   si->open = c->open_mm * VS_MM;
   si->atol_q = c->atol_mm * VS_MM;
   si->ground = c->ground_mm * VS_MM;
+  si->fall_step = c->step_ms * 1e-3;
 }

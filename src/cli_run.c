@@ -77,7 +77,9 @@ static int on_sample(void *user, const vs_run *run, const vs_run_sample *smp) {
     vs_run_open_hinges(run, hinges, sizeof hinges);
     fprintf(s->csv,
             "%s,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%d,\"%s\"\n",
-            smp->phase == VS_PHASE_DYNAMIC ? "dynamic" : "quasistatic", smp->t, smp->delta / VS_MM,
+            smp->phase == VS_PHASE_FALL ? "fall" : smp->phase == VS_PHASE_DYNAMIC ? "dynamic"
+                                                                   : "quasistatic",
+            smp->t, smp->delta / VS_MM,
             -u[1] / VS_MM, u[0] / VS_MM, rc[0], rc[1], rc[2], rc[3], rc[4], rc[5],
             smp->q[3 * crown + 1] / VS_MM,
             smp->energy != NULL ? smp->energy->kinetic : 0.0, vs_hinges_open_count(h), hinges);
@@ -86,7 +88,10 @@ static int on_sample(void *user, const vs_run *run, const vs_run_sample *smp) {
   }
   if (s->progress) {
     fprintf(stderr, "\r  %s  t = %10.2f s  delta = %9.4f mm   hinges open %d   ",
-            smp->phase == VS_PHASE_DYNAMIC ? "dynamic     " : "quasi-static", smp->t,
+            smp->phase == VS_PHASE_FALL      ? "fall        "
+            : smp->phase == VS_PHASE_DYNAMIC ? "dynamic     "
+                                             : "quasi-static",
+            smp->t,
             smp->delta / VS_MM, vs_hinges_open_count(h));
     fflush(stderr);
   }

@@ -347,9 +347,7 @@ void vs_collide_destroy(vs_collide **c) {
   *c = NULL;
 }
 
-/* The arch's outlines (collide.h): per voussoir 5 vertices, per pier 4; count and xz as for
- * vs_collide_create. Returns the number of vertices (xz NULL: only counted). */
-static int arch_outlines(const vs_geometry *g, int *count, double *xz) {
+int vs_collide_arch_outlines(const vs_geometry *g, int *count, double *xz) {
   const double ri = g->radius, re = g->radius + g->thickness;
   int n = 0;
   for (int i = 0; i < g->n_blocks; i++) {
@@ -474,7 +472,7 @@ vs_status vs_collide_create(const vs_model *m, double restitution, const int *co
   const vs_geometry *g = vs_model_geometry(m);
   const int nb = g->n_blocks + 2;
   int *own = count == NULL ? calloc((size_t)nb, sizeof *own) : NULL;
-  const int nv = count == NULL ? arch_outlines(g, own, NULL) : 0;
+  const int nv = count == NULL ? vs_collide_arch_outlines(g, own, NULL) : 0;
   double *oxz = count == NULL ? malloc((size_t)(2 * nv + 1) * sizeof *oxz) : NULL;
   int total = 0;
   if (count != NULL)
@@ -485,7 +483,7 @@ vs_status vs_collide_create(const vs_model *m, double restitution, const int *co
     vs_collide_destroy(&c);
     return vs_error_set(err, VS_ERR_NOMEM, "collide: out of memory");
   }
-  if (count == NULL) arch_outlines(g, own, oxz);
+  if (count == NULL) vs_collide_arch_outlines(g, own, oxz);
   c->m = m;
   bodies(c, g);
   vs_status st = outlines(c, count != NULL ? count : own, count != NULL ? xz : oxz, err);

@@ -996,6 +996,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
       (static_state(d, y), sample(user, t, res->delta_end, d->qst, d->vst, &e)) != 0)
     st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
   res->jac_evals = d->jac_evals;
+  res->e_end = e;
   static_state(d, y);
   memcpy(q, d->qst, (size_t)d->nq * sizeof *q);
   memcpy(v, d->vst, (size_t)d->nq * sizeof *v);

@@ -63,7 +63,7 @@ herr_t vs_record_events_create(vs_output *o) {
         "joint_opened/joint_closed (an edge crossed hinges.open_mm; side = the hinge side), "
         "hinge_formed (label A-E, order = order of appearance, delta = interpolated "
         "onset), limit_point, snap_settled, collapse. joint: 1-based, 0 if none; "
-        "phase: 0 quasi-static, 1 dynamic");
+        "phase: 0 quasi-static, 1 dynamic (IDA), 2 the rigid fall after the collapse");
   vs_h5_close(dcpl);
   vs_h5_close(sp);
   vs_h5_close(ft);

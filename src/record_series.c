@@ -32,7 +32,8 @@ static const series_def SERIES[S_COUNT] = {
     [S_SUPPORT] = {"support_displacement", "value", K_F64, 2, {2, 0}, "m,m", "ux,uz",
                    "displacement of the right support (x right, z up)"},
     [S_PHASE] = {"phase", "value", K_I8, 1, {0, 0}, NULL, NULL,
-                 "0 quasi-static equilibrium, 1 dynamic sample"},
+                 "0 quasi-static equilibrium, 1 dynamic sample (IDA), 2 sample of the rigid fall after "
+                 "the collapse (fall.scheme = rigid: joint forces from the contact impulses)"},
     [S_BPOS] = {"block_position", "value", K_F64, 3, {DIM_BLOCKS, 3}, "m,m,rad", "ux,uz,theta",
                 "displacement of each block's centroid and its rotation (counter-clockwise)"},
     [S_BVEL] = {"block_velocity", "value", K_F64, 3, {DIM_BLOCKS, 3}, "m/s,m/s,rad/s",
@@ -65,8 +66,10 @@ static const series_def SERIES[S_COUNT] = {
                  "constraints in the dynamic phase, the springing joints' forces at equilibria"},
     [S_ENERGY] = {"energy", "value", K_F64, 2, {7, 0}, "J,J,J,J,J,J,J",
                   "kinetic,gravity,elastic,support_work,damped,friction,balance",
-                  "energies; work terms accumulate from the start of each dynamic phase. "
-                  "Quasi-static rows: kinetic 0, gravity and elastic of the state, the others NaN"},
+                  "energies; work terms accumulate from the start of each dynamic phase (the rigid "
+                  "fall carries on from the phase it follows: the joints' elastic energy there "
+                  "goes into damped). Quasi-static rows: kinetic 0, gravity and elastic of the "
+                  "state, the others NaN"},
     [S_BPTS] = {"block_points", "value", K_F32, 3, {DIM_BLOCK_POINTS, 2}, "m,m", "x,z",
                 "outline of every block, moved (float32, for display): block i owns points i*P .. "
                 "i*P+P-1 of /geometry/block_points"},

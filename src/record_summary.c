@@ -289,6 +289,39 @@ static herr_t summary_ground(hid_t sum, const vs_run *run) {
   return rc;
 }
 
+/* /summary/fall, when the rigid fall (fall.h) followed the collapse: its scheme, step, solver
+ * work and how well it held (overlaps, energy balance), and its cost. */
+static herr_t summary_fall(hid_t sum, const vs_run *run) {
+  const vs_fall_result *fr = vs_run_fall(run);
+  if (fr == NULL) return 0;
+  hid_t g = vs_h5_group_create(sum, "fall");
+  herr_t rc = g >= 0 ? vs_h5_attr_str(g, "scheme", "rigid") : -1;
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "step", 1e-3 * vs_run_case(run)->step_ms, "s");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "duration", fr->t_end - vs_run_collapse(run)->t_criterion, "s");
+  if (rc >= 0) rc = vs_h5_attr_int(g, "steps", fr->steps);
+  if (rc >= 0) rc = vs_h5_attr_int(g, "chain_steps", fr->chain_steps);
+  if (rc >= 0) rc = vs_h5_attr_int(g, "chain_solves", fr->solves);
+  if (rc >= 0) rc = vs_h5_attr_int(g, "sweeps", fr->sweeps);
+  if (rc >= 0) rc = vs_h5_attr_int(g, "capped_steps", fr->unconverged);
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "last_change_max", fr->residual, "m/s");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "overlap_max", fr->max_overlap, "m");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "joint_overlap_max", fr->max_joint_overlap, "m");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "released", fr->released, "J");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "balance_error_rel", fr->balance_error_rel, "1");
+  if (rc >= 0)
+    rc = vs_h5_attr_str(
+        g, "description",
+        "the fall after the collapse as rigid blocks with impulsive contacts (fall.h): step, "
+        "duration (to rest or fall_s); steps, of which chain_steps had only joint contacts "
+        "and were solved at once (chain_solves solves); Gauss-Seidel sweeps, capped_steps "
+        "stopped at the cap with the largest last-sweep velocity change last_change_max; "
+        "overlap_max of a vertex into another block or a pier, joint_overlap_max of a face "
+        "end behind its joint's other face; released, the joints' elastic energy at the "
+        "switch; balance_error_rel, the scheme's energy balance");
+  vs_h5_close(g);
+  return rc;
+}
+
 vs_status vs_record_summary_write(vs_output *o, const vs_run *run) {
   hid_t sum = H5Gopen2(o->file, "summary", H5P_DEFAULT);
   const char *mode = vs_run_mode(run);
@@ -309,6 +342,7 @@ vs_status vs_record_summary_write(vs_output *o, const vs_run *run) {
   if (rc >= 0) rc = summary_totals(sum, run);
   if (rc >= 0) rc = summary_damping(sum, run);
   if (rc >= 0) rc = summary_ground(sum, run);
+  if (rc >= 0) rc = summary_fall(sum, run);
   const vs_hinges *h = vs_run_hinges(run);
   const int n = vs_hinges_count(h);
   vs_hinge *all = calloc((size_t)(n > 0 ? n : 1), sizeof *all);

@@ -214,6 +214,26 @@ static void json_tail(FILE *out, const vs_run *r) {
           "\"root_events\":%ld",
           p->floor_limited, d->steps, d->newton_iterations, d->root_events);
   jnum(out, ",\"constraint_drift_m\":", d->max_drift, 3);
+  const vs_fall_result *fr = vs_run_fall(r);
+  fputs(",\"fall\":", out);
+  if (fr != NULL) {
+    fprintf(out, "{\"scheme\":\"rigid\",\"steps\":%ld,\"chain_steps\":%ld,\"solves\":%ld,"
+                 "\"sweeps\":%ld,\"capped_steps\":%ld",
+            fr->steps, fr->chain_steps, fr->solves, fr->sweeps, fr->unconverged);
+    jnum(out, ",\"step_s\":", 1e-3 * c->step_ms, 10);
+    jnum(out, ",\"last_change_m_s\":", fr->residual, 3);
+    jnum(out, ",\"duration_s\":", fr->t_end - vs_run_collapse(r)->t_criterion, 6);
+    fprintf(out, ",\"at_rest\":%s", fr->at_rest ? "true" : "false");
+    jnum(out, ",\"penetration_max_m\":", fr->max_penetration, 3);
+    jnum(out, ",\"overlap_max_m\":", fr->max_overlap, 3);
+    jnum(out, ",\"joint_overlap_max_m\":", fr->max_joint_overlap, 3);
+    jnum(out, ",\"released_J\":", fr->released, 6);
+    jnum(out, ",\"balance_error_rel\":", fr->balance_error_rel, 6);
+    jnum(out, ",\"wall_s\":", fr->wall_s, 6);
+    fputc('}', out);
+  } else {
+    fputs("null", out);
+  }
   fputs(",\"dae\":", out);
   if (d->dae_index > 0) /* null when no dynamic phase ran */
     fprintf(out, "{\"differential\":%d,\"algebraic\":%d,\"index\":%d}", d->dae_differential,
@@ -411,6 +431,15 @@ static void text_stats(FILE *out, const vs_run *r) {
             d->steps, d->newton_iterations, d->root_events, d->balance_error_rel,
             d->balance_error_fall, d->dae_index, d->dae_differential, d->dae_algebraic,
             d->max_drift);
+  const vs_fall_result *fr = vs_run_fall(r);
+  if (fr != NULL)
+    fprintf(out, "         fall: rigid blocks, impulsive contacts, steps of %g ms: %ld steps (%ld of the "
+                 "arch in the air solved as a chain, %ld solves), %ld Gauss-Seidel sweeps, %ld "
+                 "steps stopped at %d sweeps (last change up to %.3g mm/s); energy balance %.2g; "
+                 "joint faces overlapping up to %.3g mm\n",
+            vs_run_case(r)->step_ms, fr->steps, fr->chain_steps, fr->solves, fr->sweeps,
+            fr->unconverged, VS_FALL_MAX_SWEEPS, fr->residual / VS_MM, fr->balance_error_rel,
+            fr->max_joint_overlap / VS_MM);
   if (isfinite(vs_run_ground(r)))
     fprintf(out, "         fall: onto the ground at z = %.3f mm, %s; deepest vertex %.3g mm below "
                  "it at the end (%.3g mm during the fall), %.3g mm inside another block or a pier "

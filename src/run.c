@@ -25,6 +25,9 @@ struct vs_run {
   vs_path_solver *ps; /* the quasi-static solver of every path segment and rest probe */
   vs_contact *ground; /* the ground the fall lands on (NULL: no fall followed) */
   vs_collide *bodies; /* ... and the blocks' and piers' contacts in the fall */
+  vs_fall *fall;      /* the rigid fall after the collapse (NULL: none, or the penalty scheme) */
+  vs_fall_result fres;
+  int fall_done;
   vs_hinge_opts hopts;
   vs_path_opts popts;
   vs_dyn_opts dopts;
@@ -50,6 +53,7 @@ struct vs_run {
   int pending_snap;    /* limit record waiting for the equilibrium its snap settled in, or -1 */
   const vs_path_result *live_path; /* the segment or phase under way (its counters so far) */
   const vs_dyn_result *live_dyn;
+  const vs_fall_result *live_fall;
   char pattern0[16], pattern_u[16];
   const char *mode;
   vs_run_sample_fn sample_fn;
@@ -87,6 +91,24 @@ static void dyn_opts_from_case(const vs_case *c, const vs_case_si *si, const vs_
   o->sample_dt = c->sample_s;
   o->settle = 1;
   o->impact = c->damping_model == VS_DAMPING_IMPACT;
+}
+
+/* The rest window in the fall: the shorter of rest_s and this (s), a hundred periods of the
+ * arch's lowest mode and long enough for debris that is still rocking to show it (as the
+ * penalty scheme's fall in dynamic.c). */
+static const double VS_RUN_FALL_REST = 0.1;
+
+static vs_status fall_create(vs_run *r, const vs_case_si *si, vs_error *err) {
+  vs_fall_opts fo;
+  vs_fall_opts_default(&fo);
+  fo.step = si->fall_step;
+  fo.rate = si->rate;
+  fo.rest_ke = r->dopts.rest_ke;
+  fo.rest_time = fmin(r->c.rest_s, VS_RUN_FALL_REST);
+  fo.duration = r->c.fall_s;
+  fo.sample_dt = r->c.sample_s;
+  fo.ground = si->ground;
+  return vs_fall_create(r->m, &fo, NULL, NULL, &r->fall, err);
 }
 
 vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
@@ -133,8 +155,14 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
     double mass = 0.0;
     for (int i = 0; i < r->g->n_blocks; i++) mass += r->g->blocks[i].mass;
     r->ke_move = 0.5 * mass * r->dopts.rate * r->dopts.rate;
-    if (c->follow || c->full) st = vs_dynamic_create(r->m, &r->dopts, &r->dyn, err);
-    if (st == VS_OK && r->dyn != NULL && c->fall_s > 0.0) { /* armed at the collapse */
+    const int rigid = c->scheme == VS_FALL_RIGID && c->fall_s > 0.0 && (c->follow || c->full);
+    if (rigid) { /* IDA stops at the collapse criterion, the rigid fall goes on from there */
+      r->dopts.fall_time = 0.0;
+      st = fall_create(r, &si, err);
+    }
+    if (st == VS_OK && (c->follow || c->full))
+      st = vs_dynamic_create(r->m, &r->dopts, &r->dyn, err);
+    if (st == VS_OK && r->dyn != NULL && c->fall_s > 0.0 && !rigid) { /* armed at the collapse */
       st = vs_contact_create(r->m, c->restitution, 0, NULL, NULL, &r->ground, err);
       if (st == VS_OK) st = vs_dynamic_set_contact(r->dyn, r->ground, si.ground, err);
       if (st == VS_OK) st = vs_collide_create(r->m, c->restitution, NULL, NULL, &r->bodies, err);
@@ -157,6 +185,7 @@ void vs_run_set_stop(vs_run *r, const volatile sig_atomic_t *stop) {
   r->popts.stop = stop;
   r->dopts.stop = stop;
   if (r->dyn != NULL) vs_dynamic_set_stop(r->dyn, stop);
+  if (r->fall != NULL) vs_fall_set_stop(r->fall, stop);
 }
 
 void vs_run_destroy(vs_run **r) {
@@ -172,6 +201,7 @@ void vs_run_destroy(vs_run **r) {
   vs_path_solver_destroy(&p->ps);
   vs_contact_destroy(&p->ground);
   vs_collide_destroy(&p->bodies);
+  vs_fall_destroy(&p->fall);
   vs_hinges_destroy(&p->h);
   vs_model_destroy(&p->m);
   vs_geometry_destroy(&p->g);
@@ -272,6 +302,7 @@ static void fill_counters(const vs_run *r, vs_run_sample *s) {
   s->newton_iterations = r->totals.newton_iterations +
                          (r->live_path != NULL ? r->live_path->newton_iterations : 0);
   s->ida_steps = r->dtot.steps + (r->live_dyn != NULL ? r->live_dyn->steps : 0);
+  s->fall_steps = r->fres.steps + (r->live_fall != NULL ? r->live_fall->steps : 0);
   s->ida_newton_iterations =
       r->dtot.newton_iterations + (r->live_dyn != NULL ? r->live_dyn->newton_iterations : 0);
 }
@@ -388,6 +419,55 @@ static int on_dyn_event(void *user, const vs_dyn_event *ev, const double *q) {
   }
   return log_event(r, ev->opened ? VS_EVENT_JOINT_OPENED : VS_EVENT_JOINT_CLOSED, ev->t, ev->delta,
                    ev->joint, ev->side, label, 0);
+}
+
+static int on_fall_sample(void *user, double t, double delta, const double *q, const double *v,
+                          const vs_energy *e) {
+  vs_run *r = user;
+  r->delta = delta;
+  r->t = t;
+  r->phase = VS_PHASE_FALL;
+  vs_fall_reactions(r->fall, r->react);
+  vs_run_sample s = {.phase = VS_PHASE_FALL, .t = t, .delta = delta, .q = q, .v = v,
+                     .energy = e, .reactions = r->react, .joints = vs_fall_joint_states(r->fall),
+                     .elastic = e->elastic, .gravity = e->gravity};
+  fill_counters(r, &s);
+  return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
+}
+
+/* The rigid fall from the state at the collapse criterion (d: the IDA phase that ended there):
+ * the supports' states as driven, a pinned one's rotation held; the energies carried on. */
+static vs_status fall_phase(vs_run *r, const vs_dyn_result *d, vs_error *err) {
+  const int n = 3 * r->g->n_blocks, ne = vs_model_ext_size(r->m);
+  double *qe = calloc((size_t)ne, sizeof *qe), *ve = calloc((size_t)ne, sizeof *ve);
+  if (qe == NULL || ve == NULL) {
+    free(qe), free(ve);
+    return vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
+  }
+  memcpy(qe, r->q, (size_t)n * sizeof *qe);
+  memcpy(ve, r->v, (size_t)n * sizeof *ve);
+  vs_model_support_states(r->m, r->delta, r->dopts.rate, qe + n, ve + n);
+  for (int s = 0; s < 2; s++) {
+    const int k = vs_model_support_dof(r->m, s);
+    if (k >= 0) qe[n + 3 * s + 2] = r->q[k];
+  }
+  r->phase = VS_PHASE_FALL;
+  r->live_fall = &r->fres;
+  vs_status st = vs_fall_run(r->fall, r->t, qe, ve, &d->e_end, vs_dynamic_joint_states(r->dyn),
+                             on_fall_sample, r, &r->fres, err);
+  r->live_fall = NULL;
+  r->fall_done = 1;
+  memcpy(r->q, qe, (size_t)n * sizeof *qe);
+  memcpy(r->v, ve, (size_t)n * sizeof *ve);
+  r->t = r->fres.t_end;
+  r->delta = r->fres.delta_end;
+  r->dtot.fall_at_rest = r->fres.at_rest;
+  r->dtot.max_penetration = r->fres.max_penetration;
+  r->dtot.max_overlap = r->fres.max_overlap;
+  r->dtot.fall_wall_s = r->fres.wall_s;
+  r->dtot.balance_error_fall = r->fres.balance_error_rel;
+  free(qe), free(ve);
+  return st;
 }
 
 static double now_s(void) {
@@ -509,6 +589,7 @@ static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
       st = log_event(r, VS_EVENT_COLLAPSE, d.t_collapse, d.t_collapse * r->dopts.rate, 0, 0, 0, 0)
                ? vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller")
                : VS_OK;
+      if (st == VS_OK && r->fall != NULL) st = fall_phase(r, &d, err);
       break;
     }
     if (d.end == VS_DYN_MAX_DELTA) break;
@@ -630,11 +711,14 @@ double vs_run_time(const vs_run *r) { return r->t; }
 const double *vs_run_reactions(const vs_run *r) { return r->react; }
 double vs_run_wall_s(const vs_run *r) { return r->wall_s; }
 double vs_run_ground(const vs_run *r) {
+  if (r->fall != NULL) return r->fall_done ? r->fres.level : NAN;
   return (r->ground != NULL && vs_contact_armed(r->ground)) ? vs_contact_level(r->ground) : NAN;
 }
 double vs_run_penetration(const vs_run *r) {
+  if (r->fall != NULL) return r->fall_done ? vs_fall_penetration(r->fall) : NAN;
   return isfinite(vs_run_ground(r)) ? vs_contact_max_penetration(r->ground, r->q, NULL) : NAN;
 }
+const vs_fall_result *vs_run_fall(const vs_run *r) { return r->fall_done ? &r->fres : NULL; }
 const vs_modal *vs_run_modal(const vs_run *r) { return &r->modal; }
 void vs_run_rayleigh(const vs_run *r, double *alpha, double *beta) {
   *alpha = r->ray_alpha;

@@ -125,6 +125,7 @@ static const key_case all_keys[] = {
     {"dynamic", "fall_s", "-0.1", "2e6", {"0", "1e6"}},
     {"dynamic", "sample_s", "9e-7", "2e6", {"1e-4", "1e-6"}},
     {"fall", "ground_mm", "-1.1e6", "0.001", {"-1e6", "0"}},
+    {"fall", "step_ms", "9e-4", "10.01", {"1e-3", "10"}},
     {"fall", "restitution", "0", "1.01", {"1", "1e-3"}},
     {"imperfections", "seed", "-1", "2147483648", {"0", "2147483647"}},
     {"imperfections", "sample", "-1", "2147483648", {"0", "2147483647"}},
@@ -138,8 +139,9 @@ static const key_case all_keys[] = {
 };
 #define NKEYS_TESTED (sizeof all_keys / sizeof all_keys[0])
 /* Keys that are named choices, tested by name in test_support_kinds (support.left_kind,
- * support.right_kind) and test_named_key (dynamic.damping_model). */
-#define NKEYS_NAMED 3
+ * support.right_kind), test_named_key (dynamic.damping_model) and test_fall_scheme
+ * (fall.scheme). */
+#define NKEYS_NAMED 4
 
 /* ---------------------------------------------------------------------------------------------
  * Defaults and a valid file */
@@ -338,7 +340,7 @@ static void check_out_of_range(const key_case *k, const char *value) {
 
 static void test_every_key_out_of_range(void **state) {
   (void)state;
-  assert_int_equal(NKEYS_TESTED, 41);
+  assert_int_equal(NKEYS_TESTED, 42);
   for (size_t i = 0; i < NKEYS_TESTED; i++) {
     check_out_of_range(&all_keys[i], all_keys[i].below);
     if (all_keys[i].above != NULL) check_out_of_range(&all_keys[i], all_keys[i].above);
@@ -790,6 +792,23 @@ static void test_support_kinds(void **state) {
   }
 }
 
+/* fall.scheme takes names only (rigid, penalty; default rigid). */
+static void test_fall_scheme(void **state) {
+  (void)state;
+  vs_case c;
+  vs_error err;
+  vs_case_defaults(&c);
+  assert_int_equal(c.scheme, VS_FALL_RIGID);
+  assert_true(c.step_ms == 1.0);
+  assert_int_equal(vs_case_set(&c, "fall.scheme=penalty", &err), VS_OK);
+  assert_int_equal(c.scheme, VS_FALL_PENALTY);
+  assert_int_equal(vs_case_set(&c, "fall.scheme = rigid", &err), VS_OK);
+  assert_int_equal(c.scheme, VS_FALL_RIGID);
+  assert_int_equal(vs_case_set(&c, "fall.scheme=1", &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "unknown name (allowed: one of rigid, penalty)"));
+  assert_int_equal(c.scheme, VS_FALL_RIGID); /* unchanged */
+}
+
 /* dynamic.damping_model takes names only; the iterator gives its value's index and name. */
 static void test_named_key(void **state) {
   (void)state;
@@ -1019,6 +1038,7 @@ int main(void) {
       cmocka_unit_test(test_key_iterator),
       cmocka_unit_test(test_support_kinds),
       cmocka_unit_test(test_named_key),
+      cmocka_unit_test(test_fall_scheme),
       cmocka_unit_test(test_defaults),
       cmocka_unit_test(test_to_si),
       cmocka_unit_test(test_full_file),

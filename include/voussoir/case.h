@@ -6,6 +6,9 @@
 
 #include "voussoir/status.h"
 
+/* fall.scheme: how the fall after the collapse is integrated. */
+typedef enum { VS_FALL_RIGID = 0, VS_FALL_PENALTY = 1 } vs_fall_scheme;
+
 typedef struct {
   /* [arch] segmental circular arch */
   double radius_mm;     /* intrados radius R, > 0, default 300 */
@@ -66,8 +69,12 @@ typedef struct {
   /* [fall] the ground the collapsed arch falls onto (contact.h) */
   double ground_mm;    /* the ground's height above the lower springing's base at the collapse,
                           [-1e6, 0] mm, default 0 */
-  double restitution;  /* coefficient of restitution of a block landing flat on the ground,
-                          (0, 1], default 0.5 */
+  int scheme;          /* vs_fall_scheme: rigid (default: rigid blocks with impulsive contacts,
+                          fall.h) or penalty (the joints' law at every contact, IDA: contact.h,
+                          collide.h); written by name */
+  double step_ms;      /* time step of the rigid scheme, [1e-3, 10] ms, default 1 */
+  double restitution;  /* penalty scheme: coefficient of restitution of a block landing flat on
+                          the ground, (0, 1], default 0.5 */
 
   /* [imperfections] drawn per (seed, sample) by src/imperfections.c; all zero: the perfect arch */
   int seed;             /* generator seed, 0..2147483647, default 1 */
@@ -147,6 +154,7 @@ typedef struct {
   double open;                     /* m: hinges.open_mm */
   double atol_q;                   /* m: dynamic.atol_mm */
   double ground;                   /* m: fall.ground_mm */
+  double fall_step;                /* s: fall.step_ms */
 } vs_case_si;
 
 /* Fill si from c (units.h factors; nothing else is derived). */

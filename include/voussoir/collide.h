@@ -34,6 +34,11 @@ vs_status vs_collide_create(const vs_model *m, double restitution, const int *co
                             const double *xz, vs_collide **out, vs_error *err);
 void vs_collide_destroy(vs_collide **c);
 
+/* The arch's outlines (above): per voussoir 5 vertices, per pier 4, into count (per body) and
+ * xz (m, reference configuration) as vs_collide_create takes them; either may be NULL. Returns
+ * the number of vertices. Used by the fall (fall.h) too. */
+int vs_collide_arch_outlines(const vs_geometry *g, int *count, double *xz);
+
 void vs_collide_arm(vs_collide *c, const double *qe); /* anchors from the state qe */
 void vs_collide_disarm(vs_collide *c);
 int vs_collide_armed(const vs_collide *c);

@@ -92,6 +92,7 @@ typedef struct {
   double fall_failed_t;        /* IDA failed in the fall at this time (s; NaN: it did not): the
                                   run ends there, the collapse found before it standing */
   char fall_failure[256];      /* ... and IDA's message */
+  vs_energy e_end;             /* the energies at the last state */
 } vs_dyn_result;
 
 /* Called at samples (at most every sample_dt, at each event, at the start and at the end);

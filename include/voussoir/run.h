@@ -7,6 +7,7 @@
 
 #include "voussoir/case.h"
 #include "voussoir/dynamic.h"
+#include "voussoir/fall.h"
 #include "voussoir/geometry.h"
 #include "voussoir/hinges.h"
 #include "voussoir/modal.h"
@@ -16,7 +17,9 @@
 
 typedef struct vs_run vs_run;
 
-typedef enum { VS_PHASE_QUASISTATIC = 0, VS_PHASE_DYNAMIC = 1 } vs_phase;
+/* The fall after the collapse is VS_PHASE_FALL with the rigid scheme (fall.h: rigid blocks,
+ * impulsive contacts), VS_PHASE_DYNAMIC with the penalty scheme (IDA, as before it). */
+typedef enum { VS_PHASE_QUASISTATIC = 0, VS_PHASE_DYNAMIC = 1, VS_PHASE_FALL = 2 } vs_phase;
 
 /* One recorded state: an equilibrium of the quasi-static path or a sample of the motion. */
 typedef struct {
@@ -29,11 +32,13 @@ typedef struct {
                               joint forces on the quasi-static path, the multipliers lambda in
                               the dynamic phase */
   const vs_joint_state *joints; /* every joint's state at (q, delta) (n_joints), with the
-                                   committed slips: what the run evaluated there */
+                                   committed slips: what the run evaluated there (in the rigid
+                                   fall, the contact impulses' forces: vs_fall_joint_states) */
   double elastic, gravity; /* joint elastic energy and gravitational potential, J (on the
                               dynamic phase also in energy) */
   long newton_iterations;  /* solver statistics so far, cumulative over the run: KINSOL Newton */
   long ida_steps, ida_newton_iterations; /* iterations; IDA steps and Newton iterations */
+  long fall_steps;         /* time steps of the rigid fall */
 } vs_run_sample;
 
 typedef enum {
@@ -154,6 +159,11 @@ const double *vs_run_reactions(const vs_run *r);
  * fall was followed. The largest during the fall and its cost: vs_run_dynamic_totals. */
 double vs_run_ground(const vs_run *r);
 double vs_run_penetration(const vs_run *r);
+/* The rigid fall after the collapse (fall.scheme = rigid), NULL when none was followed: its
+ * steps, solver work, overlaps, energy balance and cost. The summary figures (at rest, deepest
+ * penetration and overlap, wall time, balance) are also in vs_run_dynamic_totals, as for the
+ * penalty scheme. */
+const vs_fall_result *vs_run_fall(const vs_run *r);
 /* Wall-clock time of vs_run_execute, s. */
 double vs_run_wall_s(const vs_run *r);
 

@@ -1,0 +1,548 @@
+/* The fall (fall.h): time stepping with impulsive contacts, the impulses by nonsmooth
+ * Gauss-Seidel over the contacts, the energies, and the joints' and supports' forces of a step
+ * for the record. */
+#include "voussoir/fall.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "fall_internal.h"
+
+void vs_fall_opts_default(vs_fall_opts *o) {
+  memset(o, 0, sizeof *o);
+  o->step = 1e-3;
+  o->rest_time = 0.1;
+  o->duration = 5.0;
+  o->sample_dt = 0.01;
+  o->ground = NAN;
+  o->tol = 1e-2;
+  o->max_sweeps = VS_FALL_MAX_SWEEPS;
+  o->joints = 1;
+}
+
+static vs_status check_opts(const vs_fall_opts *o, vs_error *err) {
+  if (!(o->step > 0.0 && o->step <= 0.1) || !(o->rate >= 0.0 && o->rate < INFINITY) ||
+      !(o->rest_ke >= 0.0) || !(o->rest_time >= 0.0) || !(o->duration >= 0.0) ||
+      !(o->sample_dt > 0.0) || !(o->tol > 0.0 && o->tol <= 1.0) || o->max_sweeps < 1 ||
+      isinf(o->ground))
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "fall: options step = %g s, rate = %g m/s, rest_ke = %g J, rest_time = "
+                        "%g s, duration = %g s, sample_dt = %g s, tol = %g, max_sweeps = %d "
+                        "(allowed: 0 < step <= 0.1, rate >= 0, rest_ke >= 0, rest_time >= 0, "
+                        "duration >= 0, sample_dt > 0, 0 < tol <= 1, max_sweeps >= 1, ground "
+                        "finite or NaN)", o->step, o->rate, o->rest_ke, o->rest_time, o->duration,
+                        o->sample_dt, o->tol, o->max_sweeps);
+  return VS_OK;
+}
+
+void vs_fall_destroy(vs_fall **fp) {
+  if (fp == NULL || *fp == NULL) return;
+  vs_fall *f = *fp;
+  vs_fall_geom_free(f);
+  vs_fall_chain_free(f);
+  free(f->q), free(f->v), free(f->vk), free(f->c), free(f->pkey), free(f->pP), free(f->js);
+  free(f->qst), free(f->vst), free(f->jlo), free(f->jhi);
+  free(f);
+  *fp = NULL;
+}
+
+vs_status vs_fall_create(vs_model *m, const vs_fall_opts *o, const int *count, const double *xz,
+                         vs_fall **out, vs_error *err) {
+  *out = NULL;
+  vs_status st = check_opts(o, err);
+  if (st != VS_OK) return st;
+  vs_fall *f = calloc(1, sizeof *f);
+  if (f == NULL) return vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory");
+  f->m = m;
+  f->g = vs_model_geometry(m);
+  f->o = *o;
+  f->n = f->g->n_blocks;
+  f->nb = f->n + 2;
+  f->level = NAN;
+  const size_t Q = 3 * (size_t)f->nb, nq = (size_t)vs_model_size(m);
+  f->q = calloc(Q, sizeof *f->q), f->v = calloc(Q, sizeof *f->v), f->vk = calloc(Q, sizeof *f->vk);
+  f->js = calloc((size_t)f->g->n_joints + 1, sizeof *f->js);
+  f->qst = calloc(nq, sizeof *f->qst), f->vst = calloc(nq, sizeof *f->vst);
+  f->jlo = calloc((size_t)f->g->n_joints + 1, sizeof *f->jlo);
+  f->jhi = calloc((size_t)f->g->n_joints + 1, sizeof *f->jhi);
+  if (!f->q || !f->v || !f->vk || !f->js || !f->qst || !f->vst || !f->jlo || !f->jhi)
+    st = vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory");
+  if (st == VS_OK) st = vs_fall_geom_init(f, count, xz, err);
+  if (st == VS_OK && o->joints && f->g->n_joints > 0 && vs_fall_chain_init(f) != 0)
+    st = vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory (the joints' system)");
+
+  if (st != VS_OK) {
+    vs_fall_destroy(&f);
+    return st;
+  }
+  *out = f;
+  return VS_OK;
+}
+
+void vs_fall_set_stop(vs_fall *f, const volatile sig_atomic_t *stop) { f->o.stop = stop; }
+double vs_fall_level(const vs_fall *f) { return f->level; }
+
+/* --- the impulses --- */
+
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* Relative velocity of contact c (normal, tangential) at the bodies' velocities v. */
+static void rel_velocity(const vs_fall_contact *c, const double *v, double u[2]) {
+  const double *va = v + 3 * c->a;
+  u[0] = dot3(c->Ja, va), u[1] = dot3(c->Ja + 3, va);
+  if (c->b >= 0) {
+    const double *vb = v + 3 * c->b;
+    u[0] += dot3(c->Jb, vb), u[1] += dot3(c->Jb + 3, vb);
+  }
+}
+
+/* Add impulse dP of contact c to the velocities of its bodies (driven bodies: minv 0). */
+static void apply(vs_fall *f, const vs_fall_contact *c, const double dP[2]) {
+  for (int s = 0; s < 2; s++) {
+    const int b = s == 0 ? c->a : c->b;
+    if (b < 0) continue;
+    const double *J = s == 0 ? c->Ja : c->Jb, *mi = f->minv + 3 * b;
+    double *v = f->v + 3 * b;
+    for (int i = 0; i < 3; i++) v[i] += mi[i] * (J[i] * dP[0] + J[3 + i] * dP[1]);
+  }
+}
+
+/* The impulse of contact c that solves its own Signorini-Coulomb problem, the others held:
+ * with uf its relative velocity without its impulse, u = uf + W P. Separating if uf_n >= bias;
+ * sticking if the impulse that gives u = (bias, 0) is inside the cone; sliding otherwise, on
+ * the cone's edge the sticking impulse points past. */
+static void local_solve(const double W[3], double mu, double bias, const double uf[2],
+                        double P[2]) {
+  P[0] = P[1] = 0.0;
+  if (uf[0] >= bias) return;
+  const double rn = bias - uf[0], rt = -uf[1], det = W[0] * W[2] - W[1] * W[1];
+  double pn = (W[2] * rn - W[1] * rt) / det, pt = (W[0] * rt - W[1] * rn) / det;
+  if (!(pn >= 0.0 && fabs(pt) <= mu * pn)) {
+    const double s = pt > 0.0 ? 1.0 : -1.0, den = W[0] + s * mu * W[1];
+    if (den > 0.0) {
+      pn = rn / den, pt = s * mu * pn;
+    } else { /* friction cannot be balanced (Painlevé): the normal impulse alone */
+      pn = rn / W[0], pt = 0.0;
+    }
+  }
+  if (pn > 0.0) P[0] = pn, P[1] = pt;
+}
+
+/* One Gauss-Seidel update of contact c; returns the largest change it made in its own relative
+ * velocity (m/s). */
+static double update(vs_fall *f, vs_fall_contact *c, double mu) {
+  double u[2], uf[2], P[2];
+  rel_velocity(c, f->v, u);
+  uf[0] = u[0] - (c->W[0] * c->P[0] + c->W[1] * c->P[1]);
+  uf[1] = u[1] - (c->W[1] * c->P[0] + c->W[2] * c->P[1]);
+  const double W[3] = {c->W[0] + c->eps, c->W[1], c->W[2]}; /* u_n + eps P_n = bias */
+  local_solve(W, mu, c->bias, uf, P);
+  const double dP[2] = {P[0] - c->P[0], P[1] - c->P[1]};
+  if (dP[0] == 0.0 && dP[1] == 0.0) return 0.0;
+  apply(f, c, dP);
+  c->P[0] = P[0], c->P[1] = P[1];
+  return fmax(fabs(c->W[0] * dP[0] + c->W[1] * dP[1]), fabs(c->W[1] * dP[0] + c->W[2] * dP[1]));
+}
+
+static int cmp_key(const void *x, const void *y) {
+  const long long a = *(const long long *)x, b = *(const long long *)y;
+  return (a > b) - (a < b);
+}
+
+/* The last step's impulse of the contact with this key (0 if it had none). */
+static void warm(const vs_fall *f, long long key, double P[2]) {
+  int lo = 0, hi = f->npc - 1;
+  P[0] = P[1] = 0.0;
+  while (lo <= hi) {
+    const int mid = (lo + hi) / 2;
+    if (f->pkey[mid] == key) {
+      P[0] = f->pP[2 * mid], P[1] = f->pP[2 * mid + 1];
+      return;
+    }
+    if (f->pkey[mid] < key) lo = mid + 1;
+    else hi = mid - 1;
+  }
+}
+
+/* Keep this step's impulses, by key, for the next step's warm start. 0 or -1 (memory). */
+static int keep(vs_fall *f) {
+  f->npc = 0;
+  if (f->nc == 0) return 0;
+  if (f->nc > f->pcap) {
+    long long *k = realloc(f->pkey, (size_t)f->nc * sizeof *k);
+    if (k != NULL) f->pkey = k;
+    double *p = k != NULL ? realloc(f->pP, 2 * (size_t)f->nc * sizeof *p) : NULL;
+    if (p == NULL) return -1;
+    f->pP = p, f->pcap = f->nc;
+  }
+  for (int i = 0; i < f->nc; i++) f->pkey[i] = f->c[i].key;
+  qsort(f->pkey, (size_t)f->nc, sizeof *f->pkey, cmp_key);
+  f->npc = f->nc;
+  for (int i = 0; i < f->nc; i++) {
+    const long long *at = bsearch(&f->c[i].key, f->pkey, (size_t)f->nc, sizeof *f->pkey, cmp_key);
+    const size_t j = (size_t)(at - f->pkey);
+    f->pP[2 * j] = f->c[i].P[0], f->pP[2 * j + 1] = f->c[i].P[1];
+  }
+  return 0;
+}
+
+/* --- the state --- */
+
+/* The supports' positions and velocities at time t (driven; a pinned one keeps its rotation). */
+static void supports(vs_fall *f, double t) {
+  double qs[6], vsu[6];
+  vs_model_support_states(f->m, f->o.rate * t, f->o.rate, qs, vsu);
+  for (int s = 0; s < 2; s++)
+    for (int i = 0; i < 2; i++) {
+      f->q[3 * (f->n + s) + i] = qs[3 * s + i];
+      f->v[3 * (f->n + s) + i] = vsu[3 * s + i];
+    }
+  f->v[3 * f->n + 2] = f->v[3 * f->n + 5] = 0.0;
+}
+
+static double kinetic(const vs_fall *f) {
+  double e = 0.0;
+  for (int i = 0; i < 3 * f->n; i++) e += 0.5 * f->v[i] * f->v[i] / f->minv[i];
+  return e;
+}
+
+typedef struct {
+  double normal, tangential, support; /* dissipated at the contacts (J), work of the piers (J) */
+  double ground, body, joint; /* deepest overlap at the step's start: below the ground, into a
+                                 body without a joint, behind a joint's face (m; 0: none) */
+  double last;           /* the largest change of a contact's velocity in the last sweep, m/s */
+  int sweeps, solves, converged, chain;
+} step_out;
+
+/* Overlaps of a vertex with the ground or another body (the scheme's own: a step is a straight
+ * line in each body's coordinates) are taken back by this fraction per step; a joint's (its
+ * faces' elastic closure at the collapse, where the fall starts) are kept. */
+static const double VS_FALL_RECOVER = 0.2;
+
+/* Contact c's normal law for a step of h: where it has a gap, the gap may close within the step
+ * but not be passed (u_n >= -gap / h); where the bodies touch, they stop approaching (u_n >= 0:
+ * a perfectly plastic impact); where a vertex overlaps the ground or another body, it moves out
+ * by VS_FALL_RECOVER of the overlap per step. */
+static void contact_law(const vs_fall *f, vs_fall_contact *c, double h) {
+  (void)f;
+  c->eps = 0.0;
+  c->bias = c->gap > 0.0 ? -c->gap / h : c->joint < 0 ? -VS_FALL_RECOVER * c->gap / h : 0.0;
+}
+
+/* One step of length h from f->t: contacts at the start, impulses, new positions. 0, -1 when
+ * out of memory, -2 when the joints' system failed. */
+static int step(vs_fall *f, double h, double mu, step_out *so) {
+  const double g = f->g->gravity;
+  supports(f, f->t);
+  vs_fall_positions(f);
+  if (vs_fall_find_contacts(f, h) != 0) return -1;
+  so->ground = so->body = so->joint = 0.0;
+  memcpy(f->vk, f->v, 3 * (size_t)f->nb * sizeof *f->v);
+  for (int b = 0; b < f->n; b++) f->v[3 * b + 1] -= g * h; /* the free velocity */
+  for (int i = 0; i < f->nc; i++) { /* overlaps at the start; warm start */
+    vs_fall_contact *c = &f->c[i];
+    const double depth = -c->gap;
+    if (c->b < 0) so->ground = fmax(so->ground, depth);
+    else if (c->joint >= 0) so->joint = fmax(so->joint, depth);
+    else so->body = fmax(so->body, depth);
+    rel_velocity(c, f->vk, c->u0);
+    contact_law(f, c, h);
+    warm(f, c->key, c->P);
+    apply(f, c, c->P);
+  }
+  /* when every contact is a joint's, the chain's impulses solved at once (fall_chain.c);
+   * otherwise, or if that did not settle, nonsmooth Gauss-Seidel over the contacts (alternating
+   * directions) until no contact's velocity moves by tol g h in a sweep, or max_sweeps */
+  const double tol = f->o.tol * g * h;
+  so->converged = f->nc == 0;
+  so->sweeps = so->solves = so->chain = 0;
+  so->last = 0.0;
+  int joints = 0;
+  for (int i = 0; i < f->nc; i++) joints += f->c[i].joint >= 0;
+  if (f->chain && joints > 0) { /* the joints' impulses solved at once, the others held */
+    const int rc = vs_fall_chain_solve(f, mu, tol, &so->solves);
+    if (rc < 0) return -2;
+    so->converged = so->chain = rc == 0 && joints == f->nc;
+  }
+  while (so->sweeps < f->o.max_sweeps && !so->converged) {
+    double worst = 0.0;
+    const int s = so->sweeps++;
+    for (int i = 0; i < f->nc; i++)
+      worst = fmax(worst, update(f, &f->c[(s % 2) ? f->nc - 1 - i : i], mu));
+    so->converged = worst <= tol;
+    so->last = worst;
+  }
+  /* the work of the impulses over the step, with the mean relative velocity */
+  so->normal = so->tangential = so->support = 0.0;
+  for (int i = 0; i < f->nc; i++) {
+    const vs_fall_contact *c = &f->c[i];
+    double u[2];
+    rel_velocity(c, f->v, u);
+    so->normal -= c->P[0] * 0.5 * (c->u0[0] + u[0]);
+    so->tangential -= c->P[1] * 0.5 * (c->u0[1] + u[1]);
+    for (int s = 0; s < 2; s++) { /* a pier's share: -P . J_s v_s */
+      const int b = s == 0 ? c->a : c->b;
+      if (b < f->n) continue;
+      const double *J = s == 0 ? c->Ja : c->Jb, *vb = f->v + 3 * b;
+      so->support -= c->P[0] * dot3(J, vb) + c->P[1] * dot3(J + 3, vb);
+    }
+  }
+  for (int i = 0; i < 3 * f->n; i++) f->q[i] += h * f->v[i];
+  f->t += h;
+  return keep(f);
+}
+
+/* --- what the record reads at a state --- */
+
+static void static_state(vs_fall *f) {
+  memcpy(f->qst, f->q, 3 * (size_t)f->n * sizeof *f->qst);
+  memcpy(f->vst, f->v, 3 * (size_t)f->n * sizeof *f->vst);
+  for (int s = 0; s < 2; s++) {
+    const int k = vs_model_support_dof(f->m, s);
+    if (k >= 0) f->qst[k] = f->q[3 * (f->n + s) + 2], f->vst[k] = 0.0;
+  }
+}
+
+/* Mean force of contact c over the last step on body b (N), at its point. */
+static void force_on(const vs_fall *f, const vs_fall_contact *c, int b, double F[2]) {
+  const double sg = (b == c->a ? 1.0 : -1.0) / f->o.step;
+  F[0] = sg * (c->P[0] * c->n[0] + c->P[1] * c->t[0]);
+  F[1] = sg * (c->P[0] * c->n[1] + c->P[1] * c->t[1]);
+}
+
+const vs_joint_state *vs_fall_joint_states(vs_fall *f) {
+  const int nj = f->g->n_joints;
+  vs_model_ext_joint_states(f->m, f->q, f->js);
+  double *lo = f->jlo, *hi = f->jhi;
+  for (int j = 0; j < nj; j++) {
+    f->js[j].N = f->js[j].T = f->js[j].M = f->js[j].energy = f->js[j].contact = 0.0;
+    lo[j] = INFINITY, hi[j] = -INFINITY;
+  }
+  for (int i = 0; i < f->nc; i++) {
+    const vs_fall_contact *c = &f->c[i];
+    if (c->joint < 0 || !(c->P[0] > 0.0)) continue;
+    const vs_fall_face *fc = &f->faces[c->joint];
+    const double th = 0.5 * (f->q[3 * fc->a + 2] + f->q[3 * fc->b + 2]);
+    const double cs = cos(th), sn = sin(th);
+    const double nx = cs * fc->na[0] - sn * fc->na[1], nz = sn * fc->na[0] + cs * fc->na[1];
+    const double sx = -nz, sz = nx; /* from intrados to extrados */
+    double cx = 0.0, cz = 0.0; /* the joint's centre, mean of its two faces' */
+    for (int s = 0; s < 2; s++) {
+      const int b = s == 0 ? fc->a : fc->b;
+      const double (*e)[2] = s == 0 ? fc->ea : fc->eb;
+      const double qb = f->q[3 * b + 2], cb = cos(qb), sb = sin(qb);
+      const double mx = 0.5 * (e[0][0] + e[1][0]), mz = 0.5 * (e[0][1] + e[1][1]);
+      cx += 0.5 * (f->ref[2 * b] + f->q[3 * b] + cb * mx - sb * mz);
+      cz += 0.5 * (f->ref[2 * b + 1] + f->q[3 * b + 1] + sb * mx + cb * mz);
+    }
+    double F[2];
+    force_on(f, c, fc->b, F); /* on b: compression pushes it along n, away from a */
+    const double N = F[0] * nx + F[1] * nz, eta = (c->px - cx) * sx + (c->pz - cz) * sz;
+    vs_joint_state *js = &f->js[c->joint];
+    js->N += N;
+    js->T -= F[0] * sx + F[1] * sz;
+    js->M += N * eta;
+    lo[c->joint] = fmin(lo[c->joint], eta), hi[c->joint] = fmax(hi[c->joint], eta);
+  }
+  for (int j = 0; j < nj; j++)
+    if (hi[j] >= lo[j]) f->js[j].contact = fmin(hi[j] - lo[j], f->faces[j].length);
+  return f->js;
+}
+
+void vs_fall_reactions(const vs_fall *f, double out[6]) {
+  memset(out, 0, 6 * sizeof *out);
+  for (int i = 0; i < f->nc; i++) {
+    const vs_fall_contact *c = &f->c[i];
+    for (int s = 0; s < 2; s++) {
+      const int sup = s == 0 ? c->a : c->b, other = s == 0 ? c->b : c->a;
+      if (sup < f->n || other < 0) continue;
+      double F[2];
+      force_on(f, c, other, F); /* the pier's force on the block */
+      const double rx = c->px - (f->ref[2 * sup] + f->q[3 * sup]);
+      const double rz = c->pz - (f->ref[2 * sup + 1] + f->q[3 * sup + 1]);
+      double *o = out + 3 * (sup - f->n);
+      o[0] += F[0], o[1] += F[1], o[2] += rx * F[1] - rz * F[0];
+    }
+  }
+}
+
+double vs_fall_penetration(vs_fall *f) {
+  if (!isfinite(f->level)) return NAN;
+  vs_fall_positions(f);
+  double worst = -INFINITY;
+  for (int k = 0; k < f->nv; k++)
+    if (f->body[k] < f->n) worst = fmax(worst, f->level - f->pz[k]);
+  return worst;
+}
+
+/* --- the run --- */
+
+static double wall_now(void) {
+  struct timespec ts;
+  timespec_get(&ts, TIME_UTC);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The lower springing base: the lowest end of a face that a pier carries, as it sits now. */
+static double springing_base(vs_fall *f) {
+  double z = INFINITY;
+  for (int j = 0; j < f->g->n_joints; j++)
+    for (int s = 0; s < 2; s++) {
+      const vs_fall_face *fc = &f->faces[j];
+      const int b = s == 0 ? fc->a : fc->b;
+      if (b < f->n) continue;
+      const double (*e)[2] = s == 0 ? fc->ea : fc->eb;
+      const double th = f->q[3 * b + 2];
+      for (int k = 0; k < 2; k++)
+        z = fmin(z, f->ref[2 * b + 1] + f->q[3 * b + 1] + sin(th) * e[k][0] + cos(th) * e[k][1]);
+    }
+  return z;
+}
+
+typedef struct {
+  double kinetic, gravity, support, normal, tangential, ref;
+} energy_acc;
+
+static void energy_of(vs_fall *f, const energy_acc *a, vs_energy *e) {
+  e->kinetic = kinetic(f);
+  e->gravity = vs_model_gravity_energy(f->m, f->q);
+  e->elastic = 0.0;
+  e->support_work = a->support;
+  e->damped = a->normal;
+  e->friction = a->tangential;
+  e->balance = e->kinetic + e->gravity + e->elastic - e->support_work + e->damped + e->friction -
+               a->ref;
+}
+
+static int sample_now(vs_fall *f, vs_dyn_sample_fn sample, void *user, const energy_acc *a,
+                      vs_energy *e) {
+  energy_of(f, a, e);
+  static_state(f);
+  return sample(user, f->t, f->o.rate * f->t, f->qst, f->vst, e);
+}
+
+/* The joints' forces at the start as the first step's warm start: per joint edge (its key, as
+ * face_contacts makes it) the impulse over a step of the edge's share of N, where the joint is
+ * in contact at both edges by the lever rule from M (N/2 -+ M/t at the intrados and extrados,
+ * none where that is negative), where it is open at one edge all of it at the other; and the
+ * joint's friction, P_t = -T h, on its intrados edge (fall_chain.c: one friction per joint).
+ * 0, or -1 when out of memory. */
+static int warm_from_joints(vs_fall *f, const vs_joint_state *js, double h) {
+  const int nj = f->g->n_joints;
+  if (2 * nj > f->pcap) {
+    long long *k = realloc(f->pkey, 2 * (size_t)nj * sizeof *k);
+    if (k != NULL) f->pkey = k;
+    double *p = k != NULL ? realloc(f->pP, 4 * (size_t)nj * sizeof *p) : NULL;
+    if (p == NULL) return -1;
+    f->pP = p, f->pcap = 2 * nj;
+  }
+  for (int j = 0; j < nj; j++) {
+    const double N = fmax(js[j].N, 0.0), t = f->faces[j].length;
+    double Fi = 0.5 * N - js[j].M / t, Fe = 0.5 * N + js[j].M / t;
+    if (Fi < 0.0 || js[j].gap_i > 0.0) Fi = 0.0, Fe = N;
+    if (Fe < 0.0 || js[j].gap_e > 0.0) Fe = js[j].gap_i > 0.0 ? 0.0 : N, Fi = N - Fe;
+    for (int e = 0; e < 2; e++) {
+      /* keys -(2j + e) - 1 run downwards: store them ascending */
+      const int i = 2 * nj - 1 - (2 * j + e);
+      f->pkey[i] = -(long long)(2 * j + e) - 1;
+      f->pP[2 * i] = (e == 0 ? Fi : Fe) * h;
+      f->pP[2 * i + 1] = e == 0 ? -js[j].T * h : 0.0;
+    }
+  }
+  f->npc = 2 * nj;
+  return 0;
+}
+
+vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_energy *e0,
+                      const vs_joint_state *js0, vs_dyn_sample_fn sample, void *user,
+                      vs_fall_result *res, vs_error *err) {
+  const double w0 = wall_now();
+  memset(res, 0, sizeof *res);
+  const size_t Q = 3 * (size_t)f->nb;
+  memcpy(f->q, qe, Q * sizeof *qe);
+  memcpy(f->v, ve, Q * sizeof *ve);
+  f->t = t0;
+  f->nc = f->npc = 0;
+  if (js0 != NULL && f->o.joints && warm_from_joints(f, js0, f->o.step) != 0)
+    return vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory");
+  supports(f, t0);
+  f->level = isfinite(f->o.ground) ? springing_base(f) + f->o.ground : NAN;
+  res->level = f->level;
+  /* the energies carry on from e0: the joints' elastic energy is released into the dissipated
+   * energy (rigid contacts store none) */
+  energy_acc acc = {0};
+  if (e0 != NULL) {
+    res->released = e0->elastic;
+    acc.support = e0->support_work;
+    acc.normal = e0->damped + res->released;
+    acc.tangential = e0->friction;
+  }
+  vs_energy e;
+  energy_of(f, &acc, &e);
+  acc.ref = e.balance - (e0 != NULL ? e0->balance : 0.0);
+  const double bal0 = e0 != NULL ? e0->balance : 0.0;
+  double scale = fmax(fabs(e.kinetic), fabs(e.gravity));
+  vs_status st = VS_OK;
+  const double h = f->o.step, mu = vs_model_law(f->m)->mu, t_end = t0 + f->o.duration;
+  double t_sample = t0, t_moving = t0;
+  const long max_steps = (long)ceil(f->o.duration / h) + 1;
+  for (long k = 0; st == VS_OK && k < max_steps && f->t < t_end - 0.5 * h; k++) {
+    if (f->o.stop != NULL && *f->o.stop) {
+      st = vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
+      break;
+    }
+    step_out so;
+    const int rc = step(f, h, mu, &so);
+    if (rc != 0) {
+      st = rc == -2 ? vs_error_set(err, VS_ERR_SOLVER, "fall: the joints' system could not be "
+                                   "factorised at t = %.6g s (KLU status %d)", f->t,
+                                   f->kc.status)
+                    : vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory at t = %.6g s", f->t);
+      break;
+    }
+    acc.normal += so.normal, acc.tangential += so.tangential, acc.support += so.support;
+    res->steps++;
+    res->sweeps += so.sweeps;
+    res->solves += so.solves;
+    res->chain_steps += so.chain;
+    if (!so.converged) res->residual = fmax(res->residual, so.last);
+    res->unconverged += !so.converged;
+    res->contacts += f->nc;
+    res->max_contacts = f->nc > res->max_contacts ? f->nc : res->max_contacts;
+    energy_of(f, &acc, &e);
+    scale = fmax(scale, fmax(fmax(fabs(e.kinetic), fabs(e.gravity)),
+                             fmax(fabs(e.support_work), fabs(e.damped) + fabs(e.friction))));
+    res->balance_error_rel = fmax(res->balance_error_rel, fabs(e.balance - bal0) / scale);
+    res->max_penetration = fmax(res->max_penetration, so.ground);
+    res->max_overlap = fmax(res->max_overlap, so.body);
+    res->max_joint_overlap = fmax(res->max_joint_overlap, so.joint);
+    if (e.kinetic >= f->o.rest_ke) t_moving = f->t;
+    const int at_rest = f->t - t_moving >= f->o.rest_time;
+    const int last = at_rest || f->t >= t_end - 0.5 * h;
+    if (sample != NULL && (f->t - t_sample >= f->o.sample_dt * (1.0 - 1e-9) || last)) {
+      t_sample = f->t;
+      if (sample_now(f, sample, user, &acc, &e) != 0)
+        st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+    }
+    if (at_rest) {
+      res->at_rest = 1;
+      break;
+    }
+  }
+  supports(f, f->t);
+  vs_fall_positions(f); /* the last state's overlaps (each step measured its start's) */
+  double ob, oj;
+  vs_fall_overlaps(f, &ob, &oj);
+  res->max_overlap = fmax(res->max_overlap, ob);
+  res->max_joint_overlap = fmax(res->max_joint_overlap, oj);
+  if (isfinite(f->level))
+    res->max_penetration = fmax(res->max_penetration, vs_fall_penetration(f));
+  memcpy(qe, f->q, Q * sizeof *qe);
+  memcpy(ve, f->v, Q * sizeof *ve);
+  res->t_end = f->t;
+  res->delta_end = f->o.rate * f->t;
+  res->wall_s = wall_now() - w0;
+  return st;
+}

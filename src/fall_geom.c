@@ -1,0 +1,426 @@
+/* The fall's geometry (fall.h): the bodies' outlines and joint faces, and the contact points at
+ * a state, each with its rows and Delassus block: joint faces end against face, vertices
+ * against the ground, and (broad phase on bounding boxes, narrow phase vertex against edge)
+ * vertices against the outlines of other bodies. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fall_internal.h"
+#include "voussoir/collide.h"
+
+/* A face end counts as on its face while its projection is within this fraction of the joint's
+ * length beyond the face's ends (a sliding joint keeps its contact until the end passes). */
+static const double VS_FALL_FACE_SLACK = 0.02;
+/* ... and while it is no deeper behind it than this fraction of the joint's length: deeper, the
+ * bodies have come apart and met elsewhere (a vertex behind a face's line may be beyond the body,
+ * or past its other side), and the vertex meets the other body's outline as any vertex would. */
+static const double VS_FALL_FACE_DEPTH = 0.1;
+
+static int body_of(const vs_geometry *g, int end) {
+  return end >= 0 ? end : end == VS_SUPPORT_LEFT ? g->n_blocks : g->n_blocks + 1;
+}
+
+/* Reference points (blocks: centroid; supports: the centre of their joint), inverse masses. */
+static void bodies(vs_fall *f) {
+  const vs_geometry *g = f->g;
+  for (int i = 0; i < f->n; i++) {
+    f->ref[2 * i] = g->blocks[i].cx, f->ref[2 * i + 1] = g->blocks[i].cz;
+    f->minv[3 * i] = f->minv[3 * i + 1] = 1.0 / g->blocks[i].mass;
+    f->minv[3 * i + 2] = 1.0 / g->blocks[i].inertia;
+  }
+  for (int k = 0; k < g->n_joints; k++)
+    for (int e = 0; e < 2; e++) {
+      const vs_joint_geom *j = &g->joints[k];
+      const int s = e == 0 ? j->a : j->b;
+      if (s < 0) f->ref[2 * body_of(g, s)] = j->px, f->ref[2 * body_of(g, s) + 1] = j->pz;
+    }
+}
+
+/* Vertices from count and xz, each outline made counter-clockwise, with its edges' normals. */
+static vs_status outlines(vs_fall *f, const int *count, const double *xz, vs_error *err) {
+  int k = 0;
+  for (int b = 0; b < f->nb; b++) {
+    const int nc = count[b];
+    double area = 0.0;
+    for (int v = 0; v < nc; v++) {
+      const double *p = xz + 2 * (k + v), *q = xz + 2 * (k + (v + 1) % nc);
+      if (!isfinite(p[0]) || !isfinite(p[1]))
+        return vs_error_set(err, VS_ERR_INVALID, "fall: body %d vertex %d not finite", b, v);
+      area += p[0] * q[1] - q[0] * p[1];
+    }
+    if (nc != 0 && (nc < 3 || nc > 16 || !(fabs(area) > 0.0)))
+      return vs_error_set(err, VS_ERR_INVALID, "fall: body %d outline of %d vertices and area "
+                          "%g m^2 (allowed: 0, or 3 to 16 vertices enclosing an area)", b, nc,
+                          0.5 * area);
+    f->first[b] = k, f->count[b] = nc;
+    for (int v = 0; v < nc; v++) {
+      const int src = k + (area > 0.0 ? v : nc - 1 - v);
+      f->body[k + v] = b;
+      f->rx[k + v] = xz[2 * src] - f->ref[2 * b];
+      f->rz[k + v] = xz[2 * src + 1] - f->ref[2 * b + 1];
+      f->rmaxb[b] = fmax(f->rmaxb[b], hypot(f->rx[k + v], f->rz[k + v]));
+      f->rmax = fmax(f->rmax, f->rmaxb[b]);
+    }
+    for (int v = 0; v < nc; v++) {
+      const int i = k + v, j = k + (v + 1) % nc;
+      const double tx = f->rx[j] - f->rx[i], tz = f->rz[j] - f->rz[i], len = hypot(tx, tz);
+      if (!(len > 0.0))
+        return vs_error_set(err, VS_ERR_INVALID, "fall: body %d vertices %d and %d coincide "
+                            "(allowed: distinct)", b, v, (v + 1) % nc);
+      f->n0x[i] = tz / len, f->n0z[i] = -tx / len; /* outward: counter-clockwise */
+    }
+    k += nc;
+  }
+  return VS_OK;
+}
+
+/* The joints' faces on their two bodies, which vertices are face ends, and each body's joints. */
+static void faces(vs_fall *f) {
+  const vs_geometry *g = f->g;
+  for (int k = 0; k < f->nv; k++) f->face_of[k] = -1;
+  for (int jn = 0; jn < g->n_joints; jn++) {
+    f->adj_first[body_of(g, g->joints[jn].a) + 1]++;
+    f->adj_first[body_of(g, g->joints[jn].b) + 1]++;
+  }
+  for (int b = 0; b < f->nb; b++) f->adj_first[b + 1] += f->adj_first[b];
+  for (int jn = 0; jn < g->n_joints; jn++)
+    for (int s = 0; s < 2; s++) {
+      const int a = body_of(g, s == 0 ? g->joints[jn].a : g->joints[jn].b);
+      const int b = body_of(g, s == 0 ? g->joints[jn].b : g->joints[jn].a);
+      int i = f->adj_first[a];
+      while (f->adj_body[i] >= 0) i++;
+      f->adj_body[i] = b, f->adj_joint[i] = jn;
+    }
+  for (int jn = 0; jn < g->n_joints; jn++) {
+    const vs_joint_geom *j = &g->joints[jn];
+    vs_fall_face *fc = &f->faces[jn];
+    double sx, sz;
+    vs_joint_tangent(j, &sx, &sz);
+    fc->a = body_of(g, j->a), fc->b = body_of(g, j->b);
+    fc->na[0] = j->nx, fc->na[1] = j->nz;
+    fc->length = j->length;
+    fc->vend[0][0] = fc->vend[0][1] = fc->vend[1][0] = fc->vend[1][1] = -1;
+    for (int e = 0; e < 2; e++) {
+      const double h = (e == 0 ? -0.5 : 0.5) * j->length;
+      const double x = j->px + h * sx, z = j->pz + h * sz;
+      fc->ea[e][0] = x - f->ref[2 * fc->a], fc->ea[e][1] = z - f->ref[2 * fc->a + 1];
+      fc->eb[e][0] = x - f->ref[2 * fc->b], fc->eb[e][1] = z - f->ref[2 * fc->b + 1];
+      for (int s = 0; s < 2; s++) {
+        const int bd = s == 0 ? fc->a : fc->b;
+        const double *r = s == 0 ? fc->ea[e] : fc->eb[e];
+        for (int v = f->first[bd]; v < f->first[bd] + f->count[bd]; v++)
+          if (hypot(f->rx[v] - r[0], f->rz[v] - r[1]) < 1e-6 * j->length)
+            f->face_of[v] = jn, fc->vend[s][e] = v;
+      }
+    }
+  }
+}
+
+vs_status vs_fall_geom_init(vs_fall *f, const int *count, const double *xz, vs_error *err) {
+  const vs_geometry *g = f->g;
+  int *own = NULL;
+  double *oxz = NULL;
+  if (count == NULL) {
+    own = calloc((size_t)f->nb, sizeof *own);
+    const int nv = vs_collide_arch_outlines(g, own, NULL);
+    oxz = malloc((size_t)(2 * nv + 1) * sizeof *oxz);
+    if (own == NULL || oxz == NULL) {
+      free(own), free(oxz);
+      return vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory");
+    }
+    vs_collide_arch_outlines(g, own, oxz);
+    count = own, xz = oxz;
+  }
+  f->nv = 0;
+  for (int b = 0; b < f->nb; b++) f->nv += count[b] > 0 ? count[b] : 0;
+  const size_t B = (size_t)f->nb, V = (size_t)f->nv + 1;
+  f->first = calloc(B, sizeof *f->first), f->count = calloc(B, sizeof *f->count);
+  f->body = calloc(V, sizeof *f->body), f->face_of = calloc(V, sizeof *f->face_of);
+  f->onface = calloc(V, 1);
+  f->rx = calloc(V, sizeof *f->rx), f->rz = calloc(V, sizeof *f->rz);
+  f->n0x = calloc(V, sizeof *f->n0x), f->n0z = calloc(V, sizeof *f->n0z);
+  f->ref = calloc(2 * B, sizeof *f->ref), f->minv = calloc(3 * B, sizeof *f->minv);
+  f->faces = calloc((size_t)g->n_joints + 1, sizeof *f->faces);
+  f->px = calloc(V, sizeof *f->px), f->pz = calloc(V, sizeof *f->pz);
+  f->nx = calloc(V, sizeof *f->nx), f->nz = calloc(V, sizeof *f->nz);
+  f->no = calloc(V, sizeof *f->no), f->box = calloc(4 * B, sizeof *f->box);
+  f->order = calloc(B, sizeof *f->order);
+  f->rmaxb = calloc(B, sizeof *f->rmaxb), f->reach = calloc(B, sizeof *f->reach);
+  const size_t J = 2 * (size_t)g->n_joints + 1;
+  f->adj_first = calloc(B + 1, sizeof *f->adj_first);
+  f->adj_body = malloc(J * sizeof *f->adj_body), f->adj_joint = malloc(J * sizeof *f->adj_joint);
+  for (size_t i = 0; f->adj_body != NULL && i < J; i++) f->adj_body[i] = -1;
+  vs_status st = VS_OK;
+  if (!f->first || !f->count || !f->body || !f->face_of || !f->onface || !f->rx || !f->rz || !f->n0x ||
+      !f->n0z || !f->ref || !f->minv || !f->faces || !f->px || !f->pz || !f->nx || !f->nz ||
+      !f->no || !f->box || !f->order || !f->rmaxb || !f->reach || !f->adj_first || !f->adj_body ||
+      !f->adj_joint)
+    st = vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory");
+  if (st == VS_OK) {
+    for (int b = 0; b < f->nb; b++) f->order[b] = b;
+    bodies(f);
+    st = outlines(f, count, xz, err);
+  }
+  if (st == VS_OK) faces(f);
+  free(own), free(oxz);
+  return st;
+}
+
+void vs_fall_geom_free(vs_fall *f) {
+  free(f->first), free(f->count), free(f->body), free(f->face_of), free(f->onface), free(f->rx), free(f->rz);
+  free(f->n0x), free(f->n0z), free(f->ref), free(f->minv), free(f->faces), free(f->px);
+  free(f->pz), free(f->nx), free(f->nz), free(f->no), free(f->box), free(f->order);
+  free(f->cand), free(f->rmaxb), free(f->reach), free(f->adj_first), free(f->adj_body), free(f->adj_joint);
+}
+
+/* Body b's pose: position of its reference point and rotation's cosine and sine. */
+static void pose(const vs_fall *f, int b, double *x, double *z, double *cs, double *sn) {
+  const double *q = f->q + 3 * b;
+  *x = f->ref[2 * b] + q[0], *z = f->ref[2 * b + 1] + q[1];
+  *cs = cos(q[2]), *sn = sin(q[2]);
+}
+
+void vs_fall_positions(vs_fall *f) {
+  for (int b = 0; b < f->nb; b++) {
+    double x, z, cs, sn;
+    pose(f, b, &x, &z, &cs, &sn);
+    double *bx = f->box + 4 * b;
+    bx[0] = bx[2] = INFINITY;
+    bx[1] = bx[3] = -INFINITY;
+    for (int k = f->first[b]; k < f->first[b] + f->count[b]; k++) {
+      f->px[k] = x + cs * f->rx[k] - sn * f->rz[k];
+      f->pz[k] = z + sn * f->rx[k] + cs * f->rz[k];
+      bx[0] = fmin(bx[0], f->px[k]), bx[1] = fmax(bx[1], f->px[k]);
+      bx[2] = fmin(bx[2], f->pz[k]), bx[3] = fmax(bx[3], f->pz[k]);
+      f->nx[k] = cs * f->n0x[k] - sn * f->n0z[k];
+      f->nz[k] = sn * f->n0x[k] + cs * f->n0z[k];
+      f->no[k] = f->nx[k] * f->px[k] + f->nz[k] * f->pz[k];
+    }
+  }
+}
+
+static int dynamic(const vs_fall *f, int b) { return b >= 0 && b < f->n; }
+
+/* Append a contact at point (px, pz) with normal n from b to a and gap; its rows and Delassus
+ * block. 0, or -1 when out of memory. */
+static int add(vs_fall *f, long long key, int a, int b, int joint, double px, double pz,
+               double nx, double nz, double gap) {
+  if (f->nc == f->cap) {
+    const int cap = f->cap ? 2 * f->cap : 256;
+    vs_fall_contact *c = realloc(f->c, (size_t)cap * sizeof *c);
+    if (c == NULL) return -1;
+    f->c = c, f->cap = cap;
+  }
+  vs_fall_contact *c = &f->c[f->nc++];
+  memset(c, 0, sizeof *c);
+  *c = (vs_fall_contact){.key = key, .a = a, .b = b, .joint = joint, .px = px, .pz = pz,
+                         .n = {nx, nz}, .t = {-nz, nx}, .gap = gap};
+  double W[3] = {0.0, 0.0, 0.0};
+  for (int s = 0; s < 2; s++) {
+    const int bd = s == 0 ? a : b;
+    double *J = s == 0 ? c->Ja : c->Jb;
+    if (bd < 0) continue; /* the ground: no row */
+    const double sign = s == 0 ? 1.0 : -1.0;
+    const double rx = px - (f->ref[2 * bd] + f->q[3 * bd]);
+    const double rz = pz - (f->ref[2 * bd + 1] + f->q[3 * bd + 1]);
+    for (int r = 0; r < 2; r++) {
+      const double *d = r == 0 ? c->n : c->t;
+      J[3 * r] = sign * d[0], J[3 * r + 1] = sign * d[1];
+      J[3 * r + 2] = sign * (rx * d[1] - rz * d[0]);
+    }
+    const double *mi = f->minv + 3 * bd;
+    for (int i = 0; i < 3; i++) {
+      W[0] += J[i] * mi[i] * J[i];
+      W[1] += J[i] * mi[i] * J[3 + i];
+      W[2] += J[3 + i] * mi[i] * J[3 + i];
+    }
+  }
+  memcpy(c->W, W, sizeof W);
+  if (!(W[0] > 0.0)) f->nc--; /* two driven bodies: nothing to solve */
+  return 0;
+}
+
+/* Face end e (0 intrados, 1 extrados) of body va against body eb's face of joint jn: the end's
+ * position, its gap in front of that face and its coordinate along it from the face's middle,
+ * and the face's outward normal (-n on b, n on a). */
+typedef struct {
+  double px, pz, gap, along, nx, nz;
+} face_end;
+
+static face_end end_on_face(const vs_fall *f, const vs_fall_face *fc, int s, int e) {
+  const int va = s == 0 ? fc->a : fc->b, eb = s == 0 ? fc->b : fc->a;
+  double xa, za, ca, sa, xb, zb, cb, sb;
+  pose(f, va, &xa, &za, &ca, &sa);
+  pose(f, eb, &xb, &zb, &cb, &sb);
+  const double (*ev)[2] = s == 0 ? fc->ea : fc->eb, (*ee)[2] = s == 0 ? fc->eb : fc->ea;
+  const double sg = s == 0 ? -1.0 : 1.0;
+  face_end o;
+  o.nx = sg * (cb * fc->na[0] - sb * fc->na[1]);
+  o.nz = sg * (sb * fc->na[0] + cb * fc->na[1]);
+  const double mx = xb + cb * 0.5 * (ee[0][0] + ee[1][0]) - sb * 0.5 * (ee[0][1] + ee[1][1]);
+  const double mz = zb + sb * 0.5 * (ee[0][0] + ee[1][0]) + cb * 0.5 * (ee[0][1] + ee[1][1]);
+  o.px = xa + ca * ev[e][0] - sa * ev[e][1];
+  o.pz = za + sa * ev[e][0] + ca * ev[e][1];
+  o.gap = o.nx * (o.px - mx) + o.nz * (o.pz - mz);
+  o.along = -o.nz * (o.px - mx) + o.nx * (o.pz - mz);
+  return o;
+}
+
+/* Joint jn's two edges, each one contact point: of the two corners there (a's face end against
+ * b's face, b's against a's), the one on the other's face nearer to or deeper behind it (where
+ * the faces have slid apart, the corner that bounds their common part). Two points carry any distribution of the joint's normal force
+ * and moment between its edges; more would only be redundant. */
+static int face_contacts(vs_fall *f, int jn, double margin) {
+  const vs_fall_face *fc = &f->faces[jn];
+  if (!dynamic(f, fc->a) && !dynamic(f, fc->b)) return 0;
+  const double reach = (0.5 + VS_FALL_FACE_SLACK) * fc->length;
+  for (int e = 0; e < 2; e++) {
+    /* of the two corners at this edge (a's on b's face, b's on a's), the one on the other's
+     * face that is nearer to or deeper behind it */
+    int s = -1;
+    face_end o = {0};
+    for (int t = 0; t < 2; t++) {
+      const face_end ot = end_on_face(f, fc, t, e);
+      if (fabs(ot.along) > reach || ot.gap < -VS_FALL_FACE_DEPTH * fc->length) continue;
+      if (s < 0 || ot.gap < o.gap) s = t, o = ot;
+    }
+    if (s < 0 || o.gap > margin) continue;
+    for (int t = 0; t < 2; t++) /* both bodies' corners at this edge: the face contact's */
+      if (fc->vend[t][e] >= 0) f->onface[fc->vend[t][e]] = 1;
+    const long long key = -(long long)(2 * jn + e) - 1;
+    if (add(f, key, s == 0 ? fc->a : fc->b, s == 0 ? fc->b : fc->a, jn, o.px, o.pz, o.nx, o.nz,
+            o.gap) != 0)
+      return -1;
+  }
+  return 0;
+}
+
+/* Do bodies a and b share a joint (its index), or not (-1)? */
+static int shared_joint(const vs_fall *f, int a, int b) {
+  for (int i = f->adj_first[a]; i < f->adj_first[a + 1]; i++)
+    if (f->adj_body[i] == b) return f->adj_joint[i];
+  return -1;
+}
+
+/* Vertex k (of body a) against body b's outline: in front of an edge within margin (its
+ * projection on the edge), or inside (on the edge it is least deep behind). */
+static int vertex_edge(vs_fall *f, int k, int b, double margin) {
+  const int fb = f->first[b], nb = f->count[b];
+  double best = -INFINITY;
+  int e = -1;
+  for (int i = 0; i < nb; i++) {
+    const double d = f->nx[fb + i] * f->px[k] + f->nz[fb + i] * f->pz[k] - f->no[fb + i];
+    if (d > best) best = d, e = i;
+  }
+  if (best > margin) return 0;
+  const int i0 = fb + e, i1 = fb + (e + 1) % nb;
+  if (best > 0.0) { /* outside: only in front of the edge itself, not off a corner */
+    const double tx = f->px[i1] - f->px[i0], tz = f->pz[i1] - f->pz[i0];
+    const double s = (f->px[k] - f->px[i0]) * tx + (f->pz[k] - f->pz[i0]) * tz;
+    if (s < 0.0 || s > tx * tx + tz * tz) return 0;
+  }
+  const long long key = ((long long)k * (f->nb + 2) + (b + 1)) * 32 + e;
+  return add(f, key, f->body[k], b, -1, f->px[k], f->pz[k], f->nx[i0], f->nz[i0], best);
+}
+
+static int add_pair(vs_fall *f, int a, int b) {
+  if (f->ncand == f->candcap) {
+    const int cap = f->candcap ? 2 * f->candcap : 4 * f->nb;
+    int *c = realloc(f->cand, 2 * (size_t)cap * sizeof *c);
+    if (c == NULL) return -1;
+    f->cand = c, f->candcap = cap;
+  }
+  f->cand[2 * f->ncand] = a;
+  f->cand[2 * f->ncand++ + 1] = b;
+  return 0;
+}
+
+/* The candidate pairs of bodies (at least one of them moving) whose boxes, each widened by its
+ * reach (NULL: none), overlap: sort and sweep along x (insertion sort from the last order). 0,
+ * or -1 when out of memory. */
+static int sweep(vs_fall *f, const double *reach) {
+  int *o = f->order;
+#define LEFT(b) (f->box[4 * (b)] - (reach != NULL ? reach[b] : 0.0))
+  for (int i = 1; i < f->nb; i++)
+    for (int j = i; j > 0 && LEFT(o[j - 1]) > LEFT(o[j]); j--) {
+      const int t = o[j];
+      o[j] = o[j - 1], o[j - 1] = t;
+    }
+  f->ncand = 0;
+  for (int i = 0; i < f->nb; i++) {
+    const int a = o[i];
+    if (f->count[a] == 0) continue;
+    const double ra = reach != NULL ? reach[a] : 0.0;
+    for (int j = i + 1; j < f->nb && LEFT(o[j]) <= f->box[4 * a + 1] + ra; j++) {
+      const int b = o[j];
+      const double *A = f->box + 4 * a, *B = f->box + 4 * b;
+      const double w = ra + (reach != NULL ? reach[b] : 0.0);
+      if (f->count[b] == 0 || (!dynamic(f, a) && !dynamic(f, b))) continue;
+      if (A[2] <= B[3] + w && B[2] <= A[3] + w && add_pair(f, a, b) != 0) return -1;
+    }
+  }
+#undef LEFT
+  return 0;
+}
+
+int vs_fall_find_contacts(vs_fall *f, double h) {
+  /* how far each body's points can move in the step: its speed, turned at its outline's reach,
+   * and gravity's share */
+  const double g = f->g->gravity;
+  for (int b = 0; b < f->nb; b++) {
+    const double *v = f->v + 3 * b;
+    f->reach[b] = h * (hypot(v[0], v[1]) + fabs(v[2]) * f->rmaxb[b]) +
+                  (b < f->n ? g * h * h : 0.0) + 1e-9 * f->rmax;
+  }
+  f->nc = 0;
+  memset(f->onface, 0, (size_t)f->nv);
+  if (f->o.joints)
+    for (int jn = 0; jn < f->g->n_joints; jn++)
+      if (face_contacts(f, jn, f->reach[f->faces[jn].a] + f->reach[f->faces[jn].b]) != 0)
+        return -1;
+  if (isfinite(f->level))
+    for (int b = 0; b < f->n; b++)
+      for (int k = f->first[b]; k < f->first[b] + f->count[b]; k++) {
+        const double gap = f->pz[k] - f->level;
+        const long long key = ((long long)k * (f->nb + 2)) * 32 + 31;
+        if (gap <= f->reach[b] && add(f, key, b, -1, -1, f->px[k], f->pz[k], 0.0, 1.0, gap) != 0)
+          return -1;
+      }
+  if (sweep(f, f->reach) != 0) return -1;
+  for (int p = 0; p < f->ncand; p++)
+    for (int s = 0; s < 2; s++) {
+      const int a = f->cand[2 * p + s], b = f->cand[2 * p + 1 - s];
+      if (!dynamic(f, a) && !dynamic(f, b)) continue;
+      const int jn = f->o.joints ? shared_joint(f, a, b) : -1;
+      const double margin = f->reach[a] + f->reach[b];
+      for (int k = f->first[a]; k < f->first[a] + f->count[a]; k++)
+        if ((jn < 0 || f->face_of[k] != jn || !f->onface[k]) && vertex_edge(f, k, b, margin) != 0)
+          return -1;
+    }
+  return 0;
+}
+
+void vs_fall_overlaps(vs_fall *f, double *bodies_out, double *joints_out) {
+  double worst = 0.0, worst_j = 0.0;
+  if (sweep(f, NULL) != 0) f->ncand = 0; /* out of memory: bodies not measured */
+  for (int p = 0; p < f->ncand; p++)
+    for (int s = 0; s < 2; s++) {
+      const int a = f->cand[2 * p + s], b = f->cand[2 * p + 1 - s];
+      if (f->o.joints && shared_joint(f, a, b) >= 0) continue;
+      for (int k = f->first[a]; k < f->first[a] + f->count[a]; k++) {
+        double best = -INFINITY;
+        for (int i = f->first[b]; i < f->first[b] + f->count[b]; i++)
+          best = fmax(best, f->nx[i] * f->px[k] + f->nz[i] * f->pz[k] - f->no[i]);
+        worst = fmax(worst, -best);
+      }
+    }
+  const int nc = f->nc;
+  if (f->o.joints) { /* the face ends behind their faces: the contacts of a zero margin */
+    for (int jn = 0; jn < f->g->n_joints; jn++) face_contacts(f, jn, 0.0);
+    for (int i = nc; i < f->nc; i++) worst_j = fmax(worst_j, -f->c[i].gap);
+  }
+  f->nc = nc;
+  *bodies_out = worst;
+  *joints_out = worst_j;
+}

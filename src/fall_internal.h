@@ -1,0 +1,121 @@
+/* Private to the fall (fall.c: the time stepping and the impulses; fall_geom.c: the bodies'
+ * outlines and joint faces, and the contacts found at a state). */
+#ifndef VOUSSOIR_FALL_INTERNAL_H
+#define VOUSSOIR_FALL_INTERNAL_H
+
+#include <klu.h>
+
+#include "voussoir/fall.h"
+#include "voussoir/geometry.h"
+
+/* A contact point for one step: vertex of body a against an edge (or joint face) of body b, or
+ * the ground (b = -1). Rows J over (vx, vz, omega) of a and of b give the relative velocity of a
+ * with respect to b at the point, normal then tangent. */
+typedef struct {
+  long long key;    /* identity from step to step (warm start): vertex, other body, edge */
+  int a, b;         /* bodies (b = -1: the ground) */
+  int joint;        /* joint of a face contact (0-based), -1 otherwise */
+  double px, pz;    /* the point (the vertex), m */
+  double n[2], t[2]; /* unit normal (from b towards a) and tangent t = n turned +90 degrees */
+  double Ja[6], Jb[6]; /* normal row then tangential row, over a's and b's (vx, vz, omega) */
+  double W[3];      /* Delassus block: nn, nt, tt (symmetric) */
+  double gap;       /* signed gap at the step's start, m (< 0: overlap) */
+  double bias, eps; /* normal law: u_n + eps P_n >= bias (fall.c: contact_law) */
+  double P[2];      /* impulse, normal and tangential, N s */
+  double u0[2];     /* relative velocity at the step's start, m/s */
+} vs_fall_contact;
+
+/* A joint's faces as contact surfaces: the segment on each of its two bodies. */
+typedef struct {
+  int a, b;          /* bodies (supports: n_blocks, n_blocks + 1) */
+  double ea[2][2];   /* the face's ends on a, from a's reference point (reference config.) */
+  double eb[2][2];   /* ... on b */
+  double na[2];      /* a's outward normal on it (reference configuration): the joint's n */
+  double length;
+  int vend[2][2];    /* the outline vertex at end e of body s's face (s 0: a, 1: b), or -1 */
+} vs_fall_face;
+
+struct vs_fall {
+  vs_model *m;
+  const vs_geometry *g;
+  vs_fall_opts o;
+  int n, nb, nv;          /* blocks, bodies (blocks and the two supports), vertices */
+  int *first, *count;     /* per body: its vertices, counter-clockwise */
+  int *body;              /* per vertex: its body */
+  int *face_of;           /* per vertex: the joint whose face end it is (-1: none) */
+  unsigned char *onface;  /* work: per vertex, 1 while a face contact of its joint holds it */
+  double *rx, *rz;        /* per vertex: from its body's reference point, reference config. */
+  double *n0x, *n0z;      /* per edge (numbered as its first vertex): outward unit normal */
+  double *ref;            /* per body: reference point (x, z), reference configuration */
+  double *minv;           /* per body: 1/m, 1/m, 1/I (supports: 0, they are driven) */
+  double rmax;            /* largest distance of a vertex from its body's reference point, m */
+  double *rmaxb;          /* ... per body */
+  double *reach;          /* work: per body, how far its points can move in the step, m */
+  vs_fall_face *faces;    /* per joint */
+  int *adj_first, *adj_body, *adj_joint; /* per body b: its joints adj_first[b] .. adj_first[b
+                                            + 1] - 1, each to body adj_body, joint adj_joint */
+  /* the state: positions and velocities of every body (3 nb), the time */
+  double *q, *v, *vk;     /* vk: velocities at the step's start */
+  double t;
+  double level;           /* the ground (NAN: none) */
+  /* work at the current positions */
+  double *px, *pz;        /* vertices */
+  double *nx, *nz, *no;   /* edges: outward normal and n . (first vertex) */
+  double *box;            /* per body: min x, max x, min z, max z */
+  int *order, *cand, ncand, candcap; /* bodies by their boxes' left ends; candidate pairs */
+  /* contacts of this step and the last (sorted by key, for warm starts) */
+  vs_fall_contact *c;
+  int nc, cap;
+  long long *pkey;
+  double *pP;
+  int npc, pcap;
+  /* outputs at the current state */
+  vs_joint_state *js;
+  double react[6];
+  double *qst, *vst;      /* the static state (vs_model_size) */
+  double *jlo, *jhi;      /* work: per joint, the loaded face ends' extent along it */
+  /* the joints' impulses solved together (fall_chain.c) */
+  int chain;              /* 1 once set up */
+  klu_common kc;
+  klu_symbolic *Sym;      /* 3 unknowns per joint (two edges' P_n, one P_t): analysed once */
+  klu_numeric *Num;
+  int *Ap, *Ai;           /* the pattern (CSC, both triangles) */
+  double *Ax, *rhs;       /* its values for the current statuses; right-hand side, solution */
+  int *sc;                /* per joint edge (2 per joint): its contact in c, or -1 */
+  int *sst;               /* ... 1 pressed, 0 open */
+  int *ssign;             /* per joint: 0 sticking, or the sign of its friction when sliding */
+  double *sp0;            /* per edge: the impulses (P_n, P_t) a solve started from (2 each) */
+  double *vrest;          /* velocities without the edges' impulses */
+  unsigned char *mask;    /* per unknown: held (not solved for) */
+  double *sdiag, *sval;   /* W + eps I's diagonal; W's values in the pattern */
+  double seps;            /* eps */
+};
+
+/* fall_geom.c */
+/* Outlines, reference points, masses, faces; VS_ERR_INVALID on a bad outline. */
+vs_status vs_fall_geom_init(vs_fall *f, const int *count, const double *xz, vs_error *err);
+void vs_fall_geom_free(vs_fall *f);
+/* Vertices, edge normals and boxes at f->q. */
+void vs_fall_positions(vs_fall *f);
+/* The contacts at f->q that a step of h (s) at the velocities f->v could close, into f->c
+ * (f->nc), each with its geometry, rows, Delassus block and gap (bias and impulses are set by
+ * the caller). 0, or -1 when out of memory. */
+int vs_fall_find_contacts(vs_fall *f, double h);
+/* Largest overlap at f->q (after vs_fall_positions): of a vertex into another body that shares
+ * no joint with it, and of a face end behind its joint's other face (m; 0 when none). */
+void vs_fall_overlaps(vs_fall *f, double *bodies, double *joints);
+
+/* fall_chain.c */
+/* Solves for the joints' impulses per call at most. */
+#define VS_FALL_CHAIN_SOLVES 8
+/* Set up the joints' system (its pattern analysed once). 0, or -1 when out of memory. */
+int vs_fall_chain_init(vs_fall *f);
+void vs_fall_chain_free(vs_fall *f);
+/* Solve the impulses of the joint contacts among f->c together, the others' held (f->v holds
+ * every impulse before and after). tolv (m/s): an open edge approaching faster than this is
+ * pressed, and the statuses settle once no correction exceeds it as a velocity. Returns 0 when
+ * they settled, 1 when they had not after VS_FALL_CHAIN_SOLVES solves (the impulses it started
+ * from are then left), -1 when KLU failed; *solves += the solves. */
+int vs_fall_chain_solve(vs_fall *f, double mu, double tolv, int *solves);
+
+#endif

@@ -1,0 +1,317 @@
+/* The fall's nonsmooth contact dynamics (fall.h) against independent references:
+ *  - free flight is exact: a block released above the ground lands at t = sqrt(2 h0 / g) (to a
+ *    step), and the perfectly plastic landing takes m g h0, all of the energy, into the
+ *    dissipated energy; it then lies on the ground without sinking or moving;
+ *  - a block sliding on the ground stops after v0^2 / (2 mu g), in v0 / (mu g), its kinetic energy
+ *    all dissipated by friction, closer to both as the step is refined;
+ *  - a block rocking on a corner: at the impact on its other corner it keeps
+ *    (1 - (3/2) sin^2 a)^2 of its kinetic energy (Housner: angular momentum conserved about the
+ *    new corner, a = atan(B / H)), within 2 %, for H/B = 6 and 2;
+ *  - the reference arch at its self-weight equilibrium, its joints turned into rigid contacts
+ *    whose impulses start from the elastic joints' forces there (as the fall starts from those at
+ *    the collapse), stands: the supports carry its weight and it does not move;
+ *  - bad options are refused with the field and its range.
+ * SI units. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "voussoir/case.h"
+#include "voussoir/fall.h"
+#include "voussoir/geometry.h"
+#include "voussoir/model.h"
+#include "voussoir/quasistatic.h"
+
+static const double GRAV = 9.81;
+
+/* One free rectangular block B x H (depth 0.1 m, 2000 kg/m^3) and a dummy joint that never
+ * touches (a gap of 1 m); the fall's outline its four corners, no joint contacts. */
+typedef struct {
+  vs_geometry *g;
+  vs_model *m;
+  vs_fall *f;
+  double B, H, mass, inertia;
+} block;
+
+static void block_make(block *bk, double B, double H, double mu, double step) {
+  vs_error err;
+  vs_error_clear(&err);
+  assert_int_equal(vs_geometry_create(1, 1, &bk->g, &err), VS_OK);
+  vs_block *blk = &bk->g->blocks[0];
+  blk->area = B * H;
+  blk->mass = 2000.0 * 0.1 * B * H;
+  blk->inertia = blk->mass * (B * B + H * H) / 12.0;
+  blk->cz = 0.5 * H;
+  bk->g->joints[0] = (vs_joint_geom){.a = VS_SUPPORT_LEFT, .b = 0, .px = -0.5 * B - 1.0,
+                                     .pz = 0.5 * H, .nx = 1.0, .nz = 0.0, .length = H,
+                                     .depth = 0.1};
+  bk->g->gravity = GRAV;
+  vs_joint_law law = {.kn = 1e9, .ks = 0.5e9, .mu = mu, .gap0 = 1.0};
+  assert_int_equal(vs_model_create(bk->g, &law, 0.0, &bk->m, &err), VS_OK);
+  vs_fall_opts o;
+  vs_fall_opts_default(&o);
+  o.step = step;
+  o.joints = 0;
+  o.ground = 0.0; /* offset from the lower springing's base: set below */
+  o.rest_ke = 1e-12;
+  o.rest_time = 0.05;
+  o.duration = 3.0;
+  o.sample_dt = step;
+  o.tol = 1e-6;
+  o.max_sweeps = 1000;
+  const int count[3] = {4, 0, 0};
+  const double xz[8] = {-0.5 * B, 0.0, 0.5 * B, 0.0, 0.5 * B, H, -0.5 * B, H};
+  /* the ground at z = 0: the springing base is the dummy joint's intrados end, at z = 0 */
+  assert_int_equal(vs_fall_create(bk->m, &o, count, xz, &bk->f, &err), VS_OK);
+  bk->B = B, bk->H = H, bk->mass = blk->mass, bk->inertia = blk->inertia;
+}
+
+static void block_free(block *bk) {
+  vs_fall_destroy(&bk->f);
+  vs_model_destroy(&bk->m);
+  vs_geometry_destroy(&bk->g);
+}
+
+/* Samples of one block's state. */
+typedef struct {
+  int n;
+  double t[20000], x[20000], z[20000], th[20000], vx[20000], vz[20000], w[20000];
+  vs_energy e[20000];
+} trace;
+
+static int on_sample(void *user, double t, double delta, const double *q, const double *v,
+                     const vs_energy *e) {
+  (void)delta;
+  trace *tr = user;
+  if (tr->n < 20000) {
+    const int i = tr->n++;
+    tr->t[i] = t, tr->x[i] = q[0], tr->z[i] = q[1], tr->th[i] = q[2];
+    tr->vx[i] = v[0], tr->vz[i] = v[1], tr->w[i] = v[2], tr->e[i] = *e;
+  }
+  return 0;
+}
+
+/* Run the block from (q, v) (the block's three, the supports' zero). */
+static void fall_block(block *bk, const double q3[3], const double v3[3], trace *tr,
+                       vs_fall_result *res) {
+  double qe[9] = {0}, ve[9] = {0};
+  memcpy(qe, q3, 3 * sizeof *qe);
+  memcpy(ve, v3, 3 * sizeof *ve);
+  vs_error err;
+  vs_error_clear(&err);
+  tr->n = 0;
+  vs_status st = vs_fall_run(bk->f, 0.0, qe, ve, NULL, NULL, on_sample, tr, res, &err);
+  if (st != VS_OK) fail_msg("fall: %s", err.msg);
+}
+
+/* ------------------------------------------------------------------------------------------- */
+
+static void test_drop(void **state) {
+  (void)state;
+  const double h = 1e-3, h0 = 0.05;
+  block bk;
+  block_make(&bk, 0.2, 0.1, 0.7, h);
+  trace *tr = calloc(1, sizeof *tr);
+  assert_non_null(tr);
+  vs_fall_result res;
+  fall_block(&bk, (double[3]){0.0, h0, 0.0}, (double[3]){0}, tr, &res);
+  assert_int_equal(vs_fall_level(bk.f) == 0.0, 1);
+  /* free flight exact: z = h0 - g t^2 / 2 at every sample before the landing */
+  const double t_land = sqrt(2.0 * h0 / GRAV);
+  int i = 0, bad = 0;
+  for (; i < tr->n && tr->t[i] < t_land - 2 * h; i++) {
+    const double exact = h0 - 0.5 * GRAV * tr->t[i] * tr->t[i];
+    /* positions advance with the end-of-step velocity: z lags the parabola by g h t / 2 */
+    if (fabs(tr->z[i] - exact) > 0.5 * GRAV * h * tr->t[i] + 1e-12) bad++;
+  }
+  assert_int_equal(bad, 0);
+  /* landed within two steps of the closed form, then at rest on the ground */
+  int k = 0;
+  while (k < tr->n && tr->z[k] > 1e-9) k++;
+  print_message("drop: landed at %.5f s (closed form %.5f s, step %.0e s); at rest %d at %.3f s; "
+                "lowest %.3g m, final %.3g m; dissipated %.6f J of m g h0 = %.6f J; balance %.2g\n",
+                tr->t[k], t_land, h, res.at_rest, res.t_end, -res.max_penetration, tr->z[tr->n - 1],
+                tr->e[tr->n - 1].damped, bk.mass * GRAV * h0, res.balance_error_rel);
+  assert_true(k < tr->n && fabs(tr->t[k] - t_land) <= 2 * h);
+  assert_int_equal(res.at_rest, 1);
+  assert_true(res.max_penetration < 1e-9); /* it never sinks into the ground */
+  double zmax = 0.0, xmax = 0.0;
+  for (int j = k; j < tr->n; j++) zmax = fmax(zmax, fabs(tr->z[j])), xmax = fmax(xmax, fabs(tr->x[j]));
+  print_message("drop: after landing |z| <= %.3g m, |x| <= %.3g m\n", zmax, xmax);
+  assert_true(zmax < 1e-9 && xmax < 1e-9);
+  /* the plastic landing takes the whole energy, within the free flight's O(h) */
+  const double mgh = bk.mass * GRAV * h0;
+  assert_true(fabs(tr->e[tr->n - 1].damped - mgh) < 0.02 * mgh);
+  assert_true(res.balance_error_rel < 0.02);
+  free(tr);
+  block_free(&bk);
+}
+
+/* Stopping distance and time of a block sliding at v0 on the ground, with the step h. */
+static void slide(double h, double *dist, double *time, double *friction, double *ke0) {
+  const double v0 = 1.0, mu = 0.5;
+  block bk;
+  block_make(&bk, 0.2, 0.1, mu, h);
+  trace *tr = calloc(1, sizeof *tr);
+  assert_non_null(tr);
+  vs_fall_result res;
+  fall_block(&bk, (double[3]){0.0, 0.0, 0.0}, (double[3]){v0, 0.0, 0.0}, tr, &res);
+  int k = 0;
+  while (k < tr->n && tr->vx[k] > 1e-8) k++; /* stopped: sticking, to the solver's tolerance */
+  assert_true(k < tr->n);
+  *dist = tr->x[tr->n - 1];
+  *time = tr->t[k];
+  *friction = tr->e[tr->n - 1].friction;
+  *ke0 = 0.5 * bk.mass * v0 * v0;
+  for (int j = 0; j < tr->n; j++) /* it slides flat: no rocking, no sinking */
+    assert_true(fabs(tr->th[j]) < 1e-9 && fabs(tr->z[j]) < 1e-9);
+  free(tr);
+  block_free(&bk);
+}
+
+static void test_slide(void **state) {
+  (void)state;
+  const double v0 = 1.0, mu = 0.5;
+  const double d_exact = v0 * v0 / (2 * mu * GRAV), t_exact = v0 / (mu * GRAV);
+  double d[2], t[2], fr[2], ke0;
+  slide(1e-3, &d[0], &t[0], &fr[0], &ke0);
+  slide(2.5e-4, &d[1], &t[1], &fr[1], &ke0);
+  print_message("slide: distance %.6f / %.6f m (closed form %.6f), time %.5f / %.5f s (%.5f), "
+                "friction dissipated %.6f / %.6f J of %.6f J, steps 1e-3 / 2.5e-4 s\n", d[0],
+                d[1], d_exact, t[0], t[1], t_exact, fr[0], fr[1], ke0);
+  assert_true(fabs(t[0] - t_exact) <= 1e-3 && fabs(t[1] - t_exact) <= 2.5e-4);
+  assert_true(fabs(d[0] - d_exact) < 0.01 * d_exact);
+  assert_true(fabs(d[1] - d_exact) < fabs(d[0] - d_exact) || fabs(d[1] - d_exact) < 1e-9);
+  for (int i = 0; i < 2; i++) assert_true(fabs(fr[i] - ke0) < 0.01 * ke0);
+}
+
+/* A block B x H standing on its right corner, tilted clockwise by theta0 (its left corner up):
+ * released, it falls back and strikes with its left corner, then rocks on about that one. Its
+ * angular velocity (counter-clockwise, > 0) just before and just after that impact. */
+static void rock(double HB, double *ratio, double *housner) {
+  const double B = 0.05, H = HB * B, h = 2e-5;
+  block bk;
+  block_make(&bk, B, H, 5.0, h); /* friction high enough that the corners stick */
+  const double a = atan(B / H), R = 0.5 * hypot(B, H), th0 = 0.5 * a;
+  /* turned by -th0 about the right corner (B/2, 0): the centroid's displacement */
+  const double cx = 0.5 * B - R * sin(a - th0), cz = R * cos(a - th0) - 0.5 * H;
+  trace *tr = calloc(1, sizeof *tr);
+  assert_non_null(tr);
+  vs_fall_result res;
+  fall_block(&bk, (double[3]){cx, cz, -th0}, (double[3]){0}, tr, &res);
+  /* the impact: the first sample with the block level (its left corner down) */
+  int k = 0;
+  while (k < tr->n && tr->th[k] < -1e-12) k++;
+  assert_true(k > 0 && k + 5 < tr->n);
+  const double wm = tr->w[k - 1], wp = tr->w[k + 3]; /* the impulses act over two steps */
+  *ratio = wp / wm;
+  *housner = 1.0 - 1.5 * sin(a) * sin(a);
+  free(tr);
+  block_free(&bk);
+}
+
+static void test_rocking_housner(void **state) {
+  (void)state;
+  const double slender[2] = {6.0, 2.0};
+  for (int s = 0; s < 2; s++) {
+    double r, hz;
+    rock(slender[s], &r, &hz);
+    print_message("rocking H/B = %g: w+/w- = %.5f, Housner %.5f (energy kept %.5f against "
+                  "%.5f)\n", slender[s], r, hz, r * r, hz * hz);
+    assert_true(fabs(r * r - hz * hz) < 0.02 * hz * hz);
+  }
+}
+
+/* The reference arch at its self-weight equilibrium (the elastic joints' solution), its joints
+ * then rigid contacts whose impulses start from that equilibrium's joint forces (as the fall
+ * starts from the forces at the collapse): it stands, its weight carried by the supports. */
+static void test_arch_stands(void **state) {
+  (void)state;
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_error err;
+  vs_error_clear(&err);
+  vs_geometry *g = NULL;
+  vs_model *m = NULL;
+  assert_int_equal(vs_geometry_create_arch(&c, &g, &err), VS_OK);
+  vs_joint_law law = {.kn = 3e9, .ks = 1.5e9, .mu = 0.7};
+  assert_int_equal(vs_model_create(g, &law, 0.0, &m, &err), VS_OK);
+  vs_path_opts po;
+  vs_path_opts_from_case(&c, &po);
+  const int ne = vs_model_ext_size(m), n = 3 * g->n_blocks;
+  double *qe = calloc((size_t)ne, sizeof *qe), *ve = calloc((size_t)ne, sizeof *ve);
+  vs_joint_state *js = calloc((size_t)g->n_joints, sizeof *js);
+  assert_true(qe && ve && js);
+  long iters = 0;
+  assert_int_equal(vs_equilibrium_solve(m, &po, 0.0, qe, &iters, &err), VS_OK);
+  vs_model_joint_states(m, qe, 0.0, js);
+  double q0[3 * 55];
+  memcpy(q0, qe, (size_t)n * sizeof *qe);
+  vs_fall_opts o;
+  vs_fall_opts_default(&o);
+  o.duration = 0.05;
+  o.rest_ke = 0.0;
+  vs_fall *f = NULL;
+  assert_int_equal(vs_fall_create(m, &o, NULL, NULL, &f, &err), VS_OK);
+  vs_fall_result res;
+  assert_int_equal(vs_fall_run(f, 0.0, qe, ve, NULL, js, NULL, NULL, &res, &err), VS_OK);
+  double worst = 0.0, r[6];
+  for (int i = 0; i < n; i++)
+    worst = fmax(worst, fabs(qe[i] - q0[i]) * (i % 3 == 2 ? g->thickness : 1.0));
+  vs_fall_reactions(f, r);
+  const double fz = r[1] + r[4], W = vs_geometry_weight(g);
+  print_message("arch stands: after %.3f s largest displacement %.3g m (rotations x t); "
+                "supports carry Fz %.6f N of the weight %.6f N; %ld steps, %.1f sweeps a step, %ld "
+                "stopped at the cap (last change up to %.3g m/s), %d contacts\n", res.t_end, worst,
+                fz, W, res.steps, (double)res.sweeps / (double)res.steps, res.unconverged,
+                res.residual, res.max_contacts);
+  assert_true(worst < 1e-5); /* a hundredth of a millimetre: the joints' elastic closure */
+  assert_true(fabs(fz - W) < 1e-3 * W);
+  free(qe), free(ve), free(js);
+  vs_fall_destroy(&f);
+  vs_model_destroy(&m);
+  vs_geometry_destroy(&g);
+}
+
+static void test_options(void **state) {
+  (void)state;
+  block bk;
+  block_make(&bk, 0.2, 0.1, 0.5, 1e-3);
+  vs_fall_opts o;
+  vs_fall_opts_default(&o);
+  vs_error err;
+  vs_error_clear(&err);
+  vs_fall *f = NULL;
+  o.step = 0.0;
+  assert_int_equal(vs_fall_create(bk.m, &o, NULL, NULL, &f, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "0 < step <= 0.1"));
+  assert_null(f);
+  vs_fall_opts_default(&o);
+  o.tol = 2.0;
+  assert_int_equal(vs_fall_create(bk.m, &o, NULL, NULL, &f, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "0 < tol <= 1"));
+  vs_fall_opts_default(&o);
+  const int count[3] = {2, 0, 0};
+  const double xz[4] = {0, 0, 1, 1};
+  assert_int_equal(vs_fall_create(bk.m, &o, count, xz, &f, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "3 to 16 vertices"));
+  block_free(&bk);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_drop),
+      cmocka_unit_test(test_slide),
+      cmocka_unit_test(test_rocking_housner),
+      cmocka_unit_test(test_arch_stands),
+      cmocka_unit_test(test_options),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
