@@ -57,16 +57,15 @@ for scheme in "${schemes[@]}"; do
     if [ "$scheme" = rigid ]; then
       steps="$(h5a "$tmp/r.h5" /summary/fall/steps)"
       detail="$(h5a "$tmp/r.h5" /summary/fall/chain_steps) as a chain, $(h5a "$tmp/r.h5" /summary/fall/capped_steps) capped"
-      inside="$(h5 "$tmp/r.h5" /summary/fall/overlap_max)"
     else
       steps=$(($(jnum dynamic_steps "$j1") - $(jnum dynamic_steps "$j0")))
       detail="$(($(jnum root_events "$j1") - $(jnum root_events "$j0"))) root events"
-      inside=""
     fi
     # the rest level (run.c): min(rest_factor x the arch moving at the rate, 0.01 x collapse_ke)
     mass="$(h5dump -d /geometry/block_mass "$tmp/r.h5" | sed -nE 's/^ *\([0-9]+\): (.*)/\1/p' | tr ',' '\n' | awk '{s += $1} END {printf "%.10g", s}')"
     rest="$(awk -v m="$mass" -v g=9.81 'BEGIN {v = 0.04e-3; ck = 0.1 * m * g * 0.024 + 0.5 * m * v * v;
              r = 100 * 0.5 * m * v * v; if (0.01 * ck < r) r = 0.01 * ck; printf "%.6g", r}')"
+    inside="$(h5 "$tmp/r.h5" /summary/ground/overlap_max)"
     ke="$(last_ke "$tmp/r.h5")"
     pen_end="$(h5 "$tmp/r.h5" /summary/ground/penetration_final)"
     pen_max="$(h5 "$tmp/r.h5" /summary/ground/penetration_max)"
@@ -74,9 +73,9 @@ for scheme in "${schemes[@]}"; do
     # not at rest: at fall_s (5 s by default), or (penalty) IDA failed in the fall before it
     ended="$(awk -v r="$rest_attr" -v t="$tsim" 'BEGIN {s = (r == 1) ? "at rest" : (t > 4.999) ? "at fall_s" : "stopped early"; print s}')"
     awk -v sc="$scheme" -v a="$a" -v kn="$kn" -v c0="$c0" -v c1="$c1" -v ts="$tsim" -v st="$steps" \
-        -v de="$detail" -v ke="$ke" -v rl="$rest" -v pe="$pen_end" -v pm="$pen_max" -v in="$inside" \
+        -v de="$detail" -v ke="$ke" -v rl="$rest" -v pe="$pen_end" -v pm="$pen_max" -v iv="$inside" \
         -v en="$ended" 'BEGIN {
-      f = c1 - c0; ins = (in == "") ? "-" : sprintf("%.3g", in * 1e6)
+      f = c1 - c0; ins = (iv == "") ? "-" : sprintf("%.3g", iv * 1e6)
       printf "| %s | %s | %s | %.2f | %.2f | %.1f | %s | %d | %s | %.2g | %.3g / %.3g | %s | %s |\n",
         sc, a, kn, c0, f, f / c0, ts, st, de, ke / rl, pe * 1e6, pm * 1e6, ins, en}'
   done

@@ -42,7 +42,7 @@ void vs_fall_destroy(vs_fall **fp) {
   vs_fall *f = *fp;
   vs_fall_geom_free(f);
   vs_fall_chain_free(f);
-  free(f->q), free(f->v), free(f->vk), free(f->c), free(f->pkey), free(f->pP), free(f->js);
+  free(f->q), free(f->v), free(f->vk), free(f->vs), free(f->c), free(f->pkey), free(f->pP), free(f->js);
   free(f->qst), free(f->vst), free(f->jlo), free(f->jhi);
   free(f);
   *fp = NULL;
@@ -63,11 +63,12 @@ vs_status vs_fall_create(vs_model *m, const vs_fall_opts *o, const int *count, c
   f->level = NAN;
   const size_t Q = 3 * (size_t)f->nb, nq = (size_t)vs_model_size(m);
   f->q = calloc(Q, sizeof *f->q), f->v = calloc(Q, sizeof *f->v), f->vk = calloc(Q, sizeof *f->vk);
+  f->vs = calloc(Q, sizeof *f->vs);
   f->js = calloc((size_t)f->g->n_joints + 1, sizeof *f->js);
   f->qst = calloc(nq, sizeof *f->qst), f->vst = calloc(nq, sizeof *f->vst);
   f->jlo = calloc((size_t)f->g->n_joints + 1, sizeof *f->jlo);
   f->jhi = calloc((size_t)f->g->n_joints + 1, sizeof *f->jhi);
-  if (!f->q || !f->v || !f->vk || !f->js || !f->qst || !f->vst || !f->jlo || !f->jhi)
+  if (!f->q || !f->v || !f->vk || !f->vs || !f->js || !f->qst || !f->vst || !f->jlo || !f->jhi)
     st = vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory");
   if (st == VS_OK) st = vs_fall_geom_init(f, count, xz, err);
   if (st == VS_OK && o->joints && f->g->n_joints > 0 && vs_fall_chain_init(f) != 0)
@@ -213,7 +214,7 @@ typedef struct {
   double ground, body, joint; /* deepest overlap at the step's start: below the ground, into a
                                  body without a joint, behind a joint's face (m; 0: none) */
   double last;           /* the largest change of a contact's velocity in the last sweep, m/s */
-  int sweeps, solves, converged, chain;
+  int sweeps, solves, converged, chain, redone;
 } step_out;
 
 /* Overlaps of a vertex with the ground or another body (the scheme's own: a step is a straight
@@ -233,40 +234,33 @@ static void contact_law(const vs_fall *f, vs_fall_contact *c, double h) {
 
 /* One step of length h from f->t: contacts at the start, impulses, new positions. 0, -1 when
  * out of memory, -2 when the joints' system failed. */
-static int step(vs_fall *f, double h, double mu, step_out *so) {
+/* The step's impulses for the contacts found: from the free velocity, each contact's law and
+ * warm start; when every contact is a joint's, the chain's impulses solved at once
+ * (fall_chain.c); otherwise, or if that did not settle, nonsmooth Gauss-Seidel over the contacts
+ * (alternating directions) until no contact's velocity moves by tol g h in a sweep, or
+ * max_sweeps. 0, or -2 when the joints' system failed. */
+static int impulses(vs_fall *f, double h, double mu, step_out *so) {
   const double g = f->g->gravity;
-  supports(f, f->t);
-  vs_fall_positions(f);
-  if (vs_fall_find_contacts(f, h) != 0) return -1;
-  so->ground = so->body = so->joint = 0.0;
-  memcpy(f->vk, f->v, 3 * (size_t)f->nb * sizeof *f->v);
+  memcpy(f->v, f->vk, 3 * (size_t)f->nb * sizeof *f->v);
   for (int b = 0; b < f->n; b++) f->v[3 * b + 1] -= g * h; /* the free velocity */
-  for (int i = 0; i < f->nc; i++) { /* overlaps at the start; warm start */
+  for (int i = 0; i < f->nc; i++) {
     vs_fall_contact *c = &f->c[i];
-    const double depth = -c->gap;
-    if (c->b < 0) so->ground = fmax(so->ground, depth);
-    else if (c->joint >= 0) so->joint = fmax(so->joint, depth);
-    else so->body = fmax(so->body, depth);
     rel_velocity(c, f->vk, c->u0);
     contact_law(f, c, h);
     warm(f, c->key, c->P);
     apply(f, c, c->P);
   }
-  /* when every contact is a joint's, the chain's impulses solved at once (fall_chain.c);
-   * otherwise, or if that did not settle, nonsmooth Gauss-Seidel over the contacts (alternating
-   * directions) until no contact's velocity moves by tol g h in a sweep, or max_sweeps */
   const double tol = f->o.tol * g * h;
   so->converged = f->nc == 0;
-  so->sweeps = so->solves = so->chain = 0;
   so->last = 0.0;
   int joints = 0;
   for (int i = 0; i < f->nc; i++) joints += f->c[i].joint >= 0;
-  if (f->chain && joints > 0) { /* the joints' impulses solved at once, the others held */
+  if (f->chain && joints > 0 && joints == f->nc) { /* only joints: the chain at once */
     const int rc = vs_fall_chain_solve(f, mu, tol, &so->solves);
     if (rc < 0) return -2;
     so->converged = so->chain = rc == 0 && joints == f->nc;
   }
-  while (so->sweeps < f->o.max_sweeps && !so->converged) {
+  for (int k = 0; k < f->o.max_sweeps && !so->converged; k++) {
     double worst = 0.0;
     const int s = so->sweeps++;
     for (int i = 0; i < f->nc; i++)
@@ -274,6 +268,49 @@ static int step(vs_fall *f, double h, double mu, step_out *so) {
     so->converged = worst <= tol;
     so->last = worst;
   }
+  return 0;
+}
+
+/* Did a body's velocity after the impulses carry it further in the step than its velocity at the
+ * start, for which its contacts were looked for, by more than gravity moves it in a step (g h^2:
+ * a contact missed by less is caught at the next step with no more overlap than that)? */
+static int outran(const vs_fall *f, double h) {
+  const double gh2 = f->g->gravity * h * h;
+  for (int b = 0; b < f->n; b++) {
+    const double *v = f->v + 3 * b;
+    const double reach = h * (hypot(v[0], v[1]) + fabs(v[2]) * f->rmaxb[b]) + 1e-9 * f->rmax;
+    if (reach > f->reach[b] + gh2) return 1;
+  }
+  return 0;
+}
+
+/* One step of length h from f->t: contacts at the start, impulses, new positions; if the
+ * impulses sped a body up beyond what its contacts were found for (an impact that flings a block
+ * into another), the contacts are found again for both velocities and the impulses solved again
+ * from those found. 0, -1 when out of memory, -2 when the joints' system failed. */
+static int step(vs_fall *f, double h, double mu, step_out *so) {
+  supports(f, f->t);
+  vs_fall_positions(f);
+  memcpy(f->vk, f->v, 3 * (size_t)f->nb * sizeof *f->v);
+  if (vs_fall_find_contacts(f, h, NULL) != 0) return -1;
+  so->ground = so->body = so->joint = 0.0;
+  for (int i = 0; i < f->nc; i++) { /* overlaps at the start */
+    const vs_fall_contact *c = &f->c[i];
+    if (c->b < 0) so->ground = fmax(so->ground, -c->gap);
+    else if (c->joint >= 0) so->joint = fmax(so->joint, -c->gap);
+    else so->body = fmax(so->body, -c->gap);
+  }
+  so->sweeps = so->solves = so->chain = so->redone = 0;
+  int rc = impulses(f, h, mu, so);
+  if (rc == 0 && outran(f, h)) {
+    memcpy(f->vs, f->v, 3 * (size_t)f->nb * sizeof *f->v);
+    if (keep(f) != 0) return -1; /* this solve's impulses: the warm start of the next */
+    memcpy(f->v, f->vk, 3 * (size_t)f->nb * sizeof *f->v);
+    if (vs_fall_find_contacts(f, h, f->vs) != 0) return -1;
+    so->redone = 1;
+    rc = impulses(f, h, mu, so);
+  }
+  if (rc != 0) return rc;
   /* the work of the impulses over the step, with the mean relative velocity */
   so->normal = so->tangential = so->support = 0.0;
   for (int i = 0; i < f->nc; i++) {
@@ -507,6 +544,7 @@ vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_en
     res->sweeps += so.sweeps;
     res->solves += so.solves;
     res->chain_steps += so.chain;
+    res->redone += so.redone;
     if (!so.converged) res->residual = fmax(res->residual, so.last);
     res->unconverged += !so.converged;
     res->contacts += f->nc;

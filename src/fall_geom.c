@@ -364,14 +364,17 @@ static int sweep(vs_fall *f, const double *reach) {
   return 0;
 }
 
-int vs_fall_find_contacts(vs_fall *f, double h) {
+int vs_fall_find_contacts(vs_fall *f, double h, const double *v2) {
   /* how far each body's points can move in the step: its speed, turned at its outline's reach,
    * and gravity's share */
   const double g = f->g->gravity;
   for (int b = 0; b < f->nb; b++) {
-    const double *v = f->v + 3 * b;
-    f->reach[b] = h * (hypot(v[0], v[1]) + fabs(v[2]) * f->rmaxb[b]) +
-                  (b < f->n ? g * h * h : 0.0) + 1e-9 * f->rmax;
+    double speed = 0.0;
+    for (int s = 0; s < (v2 != NULL ? 2 : 1); s++) {
+      const double *v = (s == 0 ? f->v : v2) + 3 * b;
+      speed = fmax(speed, hypot(v[0], v[1]) + fabs(v[2]) * f->rmaxb[b]);
+    }
+    f->reach[b] = h * speed + (b < f->n ? g * h * h : 0.0) + 1e-9 * f->rmax;
   }
   f->nc = 0;
   memset(f->onface, 0, (size_t)f->nv);

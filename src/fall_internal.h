@@ -55,7 +55,7 @@ struct vs_fall {
   int *adj_first, *adj_body, *adj_joint; /* per body b: its joints adj_first[b] .. adj_first[b
                                             + 1] - 1, each to body adj_body, joint adj_joint */
   /* the state: positions and velocities of every body (3 nb), the time */
-  double *q, *v, *vk;     /* vk: velocities at the step's start */
+  double *q, *v, *vk, *vs; /* vk: velocities at the step's start; vs: after a first solve */
   double t;
   double level;           /* the ground (NAN: none) */
   /* work at the current positions */
@@ -97,10 +97,10 @@ vs_status vs_fall_geom_init(vs_fall *f, const int *count, const double *xz, vs_e
 void vs_fall_geom_free(vs_fall *f);
 /* Vertices, edge normals and boxes at f->q. */
 void vs_fall_positions(vs_fall *f);
-/* The contacts at f->q that a step of h (s) at the velocities f->v could close, into f->c
- * (f->nc), each with its geometry, rows, Delassus block and gap (bias and impulses are set by
- * the caller). 0, or -1 when out of memory. */
-int vs_fall_find_contacts(vs_fall *f, double h);
+/* The contacts at f->q that a step of h (s) at the velocities f->v, or v2 (NULL: none) if
+ * faster, could close, into f->c (f->nc), each with its geometry, rows, Delassus block and gap
+ * (bias and impulses are set by the caller). 0, or -1 when out of memory. */
+int vs_fall_find_contacts(vs_fall *f, double h, const double *v2);
 /* Largest overlap at f->q (after vs_fall_positions): of a vertex into another body that shares
  * no joint with it, and of a face end behind its joint's other face (m; 0 when none). */
 void vs_fall_overlaps(vs_fall *f, double *bodies, double *joints);

@@ -74,6 +74,8 @@ typedef struct {
   long chain_steps;        /* steps whose contacts were all joints' (the arch in the air),
                               their impulses solved together ... */
   long solves;             /* ... in this many solves of the joints' system */
+  long redone;             /* steps solved again: the impulses sped a body beyond what its
+                              contacts had been looked for */
   long unconverged;        /* steps whose Gauss-Seidel stopped at max_sweeps ... */
   double residual;         /* ... the largest change of a contact's velocity in their last
                               sweep, m/s (0: none stopped there) */
