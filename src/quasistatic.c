@@ -18,6 +18,7 @@
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include "voussoir/klu_reuse.h"
+#include "voussoir/nvector_ops.h"
 #include "voussoir/units.h"
 
 /* A converged corrector may move the state away from the tangent predictor by at most this
@@ -180,6 +181,9 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
     qs_destroy(s);
     return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
   }
+  /* KINSOL clones its workspace from u: every vector of the solve gets the optimised operations */
+  N_Vector vecs[] = {s->u, s->uscale, s->fscale, s->w1, s->w2};
+  for (size_t i = 0; i < sizeof vecs / sizeof vecs[0]; i++) vs_nvector_fast_ops(vecs[i]);
   if (vs_spd_create(s->n, &s->spd, err) != VS_OK) {
     qs_destroy(s);
     return VS_ERR_NOMEM;
