@@ -578,7 +578,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   if ((flag = SUNLinSol_KLUSetOrdering(d->LS, VS_DYN_KLU_ORDERING)) != 0)
     return dyn_fail(&d, err, "SUNLinSol_KLUSetOrdering", flag);
   vs_klu_keep_analysis(d->LS); /* one analysis for every restart (IDAReInit) */
-  vs_sparse_zero_values_only(d->J); /* jac_fn writes the pattern */
+  vs_sparse_zero_none(d->J); /* jac_fn writes the pattern */
   d->ida = IDACreate(d->ctx);
   if (d->ida == NULL) return dyn_fail(&d, err, "IDACreate", 0);
   N_VConst(0.0, d->y);

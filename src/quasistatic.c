@@ -198,7 +198,7 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
       (flag = SUNLinSol_KLUSetOrdering(s->LSt, VS_KLU_ORDERING)) != 0)
     return qs_fail(s, err, "SUNLinSol_KLUSetOrdering", flag);
   vs_klu_keep_analysis(s->LS); /* one analysis for every KINSol call of this path */
-  vs_sparse_zero_values_only(s->J); /* jac_fn writes the pattern */
+  vs_sparse_zero_none(s->J); /* jac_fn writes the pattern */
 
   /* Scalings: residuals in units of each block's weight (moments: weight x joint length);
    * unknowns in units of that length (rotations in rad). */

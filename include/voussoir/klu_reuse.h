@@ -13,10 +13,10 @@
  * numeric factors across re-initialisations. */
 void vs_klu_keep_analysis(SUNLinearSolver LS);
 
-/* Make SUNMatZero on A (a CSC SUNSparseMatrix) clear its values only: KINSOL and IDA zero the
- * Jacobian before every evaluation, and SUNDIALS' version also clears the index arrays one entry
- * at a time, which costs more than the evaluation's own work on the pattern. For matrices whose
- * Jacobian function writes the whole pattern (every one in this library). */
-void vs_sparse_zero_values_only(SUNMatrix A);
+/* Make SUNMatZero on A (a CSC SUNSparseMatrix) do nothing: KINSOL and IDA zero the Jacobian
+ * before every evaluation, and SUNDIALS' version clears the index arrays one entry at a time too,
+ * which cost more than the evaluation's own work on the pattern. Only for matrices whose Jacobian
+ * function writes the whole pattern and every value (every one in this library). */
+void vs_sparse_zero_none(SUNMatrix A);
 
 #endif
