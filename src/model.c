@@ -42,8 +42,8 @@ struct vs_model {
   vs_pattern pate; /* with the two supports as bodies n_blocks (left) and n_blocks + 1 (right) */
   /* workspaces of one evaluation (written by the const functions: the pointers are the model's,
    * the contents scratch): every body's half angle (vs_joint_half_angle; slots as body_slot),
-   * and damping forces over the extended unknowns */
-  double *rot, *fdw;
+   * and damping forces over the extended unknowns; the rotation each half angle is of */
+  double *rot, *fdw, *rot_of;
 };
 
 static int body_is_block(int body) { return body >= 0; }
@@ -245,12 +245,14 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
   m->cs = calloc(nj, sizeof(double));
   m->laws = malloc(nj * sizeof *m->laws);
   m->rot = malloc(2 * ((size_t)g->n_blocks + 2) * sizeof *m->rot);
+  m->rot_of = malloc(((size_t)g->n_blocks + 2) * sizeof *m->rot_of);
   m->fdw = malloc(3 * ((size_t)g->n_blocks + 2) * sizeof *m->fdw);
   if (m->ra == NULL || m->rb == NULL || m->slip_p == NULL || m->cn == NULL || m->cs == NULL ||
-      m->laws == NULL || m->rot == NULL || m->fdw == NULL) {
+      m->laws == NULL || m->rot == NULL || m->fdw == NULL || m->rot_of == NULL) {
     vs_model_destroy(&m);
     return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
   }
+  for (int i = 0; i < g->n_blocks + 2; i++) m->rot_of[i] = NAN; /* no half angle yet */
   for (int k = 0; k < g->n_joints; k++) {
     const vs_joint_geom *j = &g->joints[k];
     m->laws[k] = *law;
@@ -282,6 +284,7 @@ void vs_model_destroy(vs_model **m) {
   free(p->cs);
   free(p->laws);
   free(p->rot);
+  free(p->rot_of);
   free(p->fdw);
   pattern_free(&p->pat);
   pattern_free(&p->pate);
@@ -361,13 +364,22 @@ static const vs_joint_law *law_at(const vs_model *m, int k, vs_joint_law *tmp) {
   return tmp;
 }
 
-/* Every body's half angle at block states q and support states qs into m->rot (one sincos per
- * body and evaluation); eval_joint with rot = 1 then reads them. */
+/* The half angle of body slot i at rotation theta into m->rot, unless it holds that of the same
+ * rotation already (bit for bit): a Jacobian at the state of the last residual, the joints'
+ * states at a converged equilibrium and the rotations a step leaves alone take no sincos. */
+static void half_angle_of(const vs_model *m, int i, double theta) {
+  if (memcmp(&m->rot_of[i], &theta, sizeof theta) == 0) return;
+  vs_joint_half_angle(theta, m->rot + 2 * i);
+  m->rot_of[i] = theta;
+}
+
+/* Every body's half angle at block states q and support states qs into m->rot (half_angle_of);
+ * eval_joint with rot = 1 then reads them. */
 static void half_angles(const vs_model *m, const double *q, const double qs[6]) {
   const int nb = m->g->n_blocks;
-  for (int i = 0; i < nb; i++) vs_joint_half_angle(q[3 * i + 2], m->rot + 2 * i);
-  vs_joint_half_angle(qs[2], m->rot + 2 * nb);
-  vs_joint_half_angle(qs[5], m->rot + 2 * nb + 2);
+  for (int i = 0; i < nb; i++) half_angle_of(m, i, q[3 * i + 2]);
+  half_angle_of(m, nb, qs[2]);
+  half_angle_of(m, nb + 1, qs[5]);
 }
 
 static const double *body_rot(const vs_model *m, int body) { return m->rot + 2 * body_slot(m, body); }
