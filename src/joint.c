@@ -53,16 +53,8 @@ static inline void perp(const double v[2], double out[2]) {
 
 static inline double dot(const double u[2], const double v[2]) { return u[0] * v[0] + u[1] * v[1]; }
 
-/* Kinematic measures of the joint and their gradients/Hessians in (qa, qb). */
-typedef struct {
-  double g, sl, w;            /* gap at the centre, slip, gap slope */
-  double dg[6], ds[6], dw[6]; /* gradients */
-  /* Hessians, by their non-zeros (symmetric; none between two translations): a translation
-   * t (0, 1, 3, 4) with either rotation (2, 5) the same, hg_t[t] and hs_t[t] (H_w none); the
-   * rotations' (2,2), (5,5), (2,5) entries h*_rr[0..2] */
-  double hg_t[6], hs_t[6];
-  double hg_rr[3], hs_rr[3], hw_rr[3];
-} kinematics;
+/* Kinematic measures of the joint and their gradients/Hessians in (qa, qb) (joint.h). */
+typedef vs_joint_kinematics kinematics;
 
 static void rot_cs(double c, double sn, const double v[2], double out[2]) {
   out[0] = c * v[0] - sn * v[1];
@@ -143,11 +135,7 @@ static void joint_rates(const kinematics *k, const double va[3], const double vb
 }
 
 /* The law at one kinematic state: the normal response and the return-mapped shear. */
-typedef struct {
-  vs_normal_response nr;
-  double kst, T, slip_p, sgn;
-  int sliding;
-} law_state;
+typedef vs_joint_law_state law_state;
 
 static void law_eval(const vs_joint_geom *jg, const vs_joint_law *law, const kinematics *k,
                      double slip_p_old, law_state *ls) {
@@ -235,6 +223,21 @@ void vs_joint_eval_h(const vs_joint_geom *jg, const vs_joint_law *law, const dou
   if (st != NULL) state_out(jg, &k, &ls, st);
   if (f != NULL) force_out(&k, &ls, f);
   if (K != NULL) tangent_out(law, &k, &ls, K);
+}
+
+void vs_joint_point_eval(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
+                         const double qb[3], const double ha[2], const double hb[2],
+                         const double ra[2], const double rb[2], double slip_p_old,
+                         vs_joint_point *pt) {
+  joint_kinematics(jg, qa, qb, ha, hb, ra, rb, 1, &pt->k);
+  law_eval(jg, law, &pt->k, slip_p_old, &pt->ls);
+}
+
+void vs_joint_point_out(const vs_joint_geom *jg, const vs_joint_law *law, const vs_joint_point *pt,
+                        vs_joint_state *st, double f[6], double K[36]) {
+  if (st != NULL) state_out(jg, &pt->k, &pt->ls, st);
+  if (f != NULL) force_out(&pt->k, &pt->ls, f);
+  if (K != NULL) tangent_out(law, &pt->k, &pt->ls, K);
 }
 
 void vs_joint_eval(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],

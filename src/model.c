@@ -39,12 +39,27 @@ struct vs_model {
   double *cn, *cs; /* per joint: damping coefficients, N s/m^3 */
   int pinned[2];   /* left, right: 1 if the support is pinned (its rotation free) */
   vs_pattern pat;  /* statics: the blocks' 3 n_blocks unknowns, then the pinned supports' rotations */
+  struct memo *memo; /* the joints' points at the last residual or joints' states (memo_*) */
   vs_pattern pate; /* with the two supports as bodies n_blocks (left) and n_blocks + 1 (right) */
   /* workspaces of one evaluation (written by the const functions: the pointers are the model's,
    * the contents scratch): every body's half angle (vs_joint_half_angle; slots as body_slot),
    * and damping forces over the extended unknowns; the rotation each half angle is of */
   double *rot, *fdw, *rot_of;
 };
+
+/* The joints' points (vs_joint_point) of the last static residual or joints' states, with the
+ * block states and support states they are of: a Jacobian, residual or joints' states at the
+ * same states (bit for bit) takes them instead of evaluating the joints again -- KINSOL's
+ * Jacobian at the iterate its line search just evaluated, the scaled residual and the stability
+ * test at a converged equilibrium. Whatever else the joints depend on (plastic slips, laws, the
+ * misfit factor) drops it when it changes (memo_drop). Written by const functions: scratch. */
+struct memo {
+  int ok;
+  double *q, qs[6];   /* the blocks' (3 n_blocks) and the supports' states */
+  vs_joint_point *pt; /* per joint */
+};
+
+static void memo_drop(const vs_model *m);
 
 static int body_is_block(int body) { return body >= 0; }
 
@@ -246,9 +261,15 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
   m->laws = malloc(nj * sizeof *m->laws);
   m->rot = malloc(2 * ((size_t)g->n_blocks + 2) * sizeof *m->rot);
   m->rot_of = malloc(((size_t)g->n_blocks + 2) * sizeof *m->rot_of);
+  m->memo = calloc(1, sizeof *m->memo);
+  if (m->memo != NULL) {
+    m->memo->q = malloc(3 * ((size_t)g->n_blocks + 1) * sizeof *m->memo->q);
+    m->memo->pt = malloc((nj > 0 ? nj : 1) * sizeof *m->memo->pt);
+  }
   m->fdw = malloc(3 * ((size_t)g->n_blocks + 2) * sizeof *m->fdw);
   if (m->ra == NULL || m->rb == NULL || m->slip_p == NULL || m->cn == NULL || m->cs == NULL ||
-      m->laws == NULL || m->rot == NULL || m->fdw == NULL || m->rot_of == NULL) {
+      m->laws == NULL || m->rot == NULL || m->fdw == NULL || m->rot_of == NULL ||
+      m->memo == NULL || m->memo->q == NULL || m->memo->pt == NULL) {
     vs_model_destroy(&m);
     return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
   }
@@ -285,6 +306,11 @@ void vs_model_destroy(vs_model **m) {
   free(p->laws);
   free(p->rot);
   free(p->rot_of);
+  if (p->memo != NULL) {
+    free(p->memo->q);
+    free(p->memo->pt);
+    free(p->memo);
+  }
   free(p->fdw);
   pattern_free(&p->pat);
   pattern_free(&p->pate);
@@ -334,6 +360,7 @@ vs_status vs_model_set_joint_law(vs_model *m, int k, const vs_joint_law *law, vs
                         "(allowed: kn, ks, mu > 0, gaps finite)",
                         k + 1, law->kn, law->ks, law->mu, law->gap0, law->gap1);
   m->laws[k] = *law;
+  memo_drop(m);
   vs_model_set_damping(m, m->zeta); /* the damping coefficients follow the joint's stiffness */
   return VS_OK;
 }
@@ -352,7 +379,10 @@ int vs_model_has_misfit(const vs_model *m) {
   return 0;
 }
 
-void vs_model_set_misfit_scale(vs_model *m, double s) { m->mscale = s; }
+void vs_model_set_misfit_scale(vs_model *m, double s) {
+  m->mscale = s;
+  memo_drop(m); /* the joints' initial gaps scale with it */
+}
 
 /* The law of joint k at the current misfit factor (vs_model_set_misfit_scale). */
 static const vs_joint_law *law_at(const vs_model *m, int k, vs_joint_law *tmp) {
@@ -404,6 +434,40 @@ static void eval_joint(const vs_model *m, const double *q, const double qs[6], i
                   st, f, K);
 }
 
+/* --- the joints' points kept (struct memo) --- */
+
+static void memo_drop(const vs_model *m) { m->memo->ok = 0; }
+
+/* The memo holds the points at block states q and support states qs. */
+static int memo_hit(const vs_model *m, const double *q, const double qs[6]) {
+  const struct memo *mm = m->memo;
+  return mm->ok && memcmp(mm->qs, qs, sizeof mm->qs) == 0 &&
+         memcmp(mm->q, q, 3 * (size_t)m->g->n_blocks * sizeof *q) == 0;
+}
+
+/* Evaluate every joint at (q, qs) into the memo (half_angles done) and key it. */
+static void memo_fill(const vs_model *m, const double *q, const double qs[6]) {
+  struct memo *mm = m->memo;
+  for (int k = 0; k < m->g->n_joints; k++) {
+    const vs_joint_geom *j = &m->g->joints[k];
+    double qa[3], qb[3];
+    body_q(q, qs, j->a, qa);
+    body_q(q, qs, j->b, qb);
+    vs_joint_law tmp;
+    vs_joint_point_eval(j, law_at(m, k, &tmp), qa, qb, body_rot(m, j->a), body_rot(m, j->b),
+                        m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k], &mm->pt[k]);
+  }
+  memcpy(mm->q, q, 3 * (size_t)m->g->n_blocks * sizeof *q);
+  memcpy(mm->qs, qs, sizeof mm->qs);
+  mm->ok = 1;
+}
+
+/* Joint k's outputs from the memo (as eval_joint's at the memo's states). */
+static void memo_out(const vs_model *m, int k, vs_joint_state *st, double f[6], double K[36]) {
+  vs_joint_law tmp;
+  vs_joint_point_out(&m->g->joints[k], law_at(m, k, &tmp), &m->memo->pt[k], st, f, K);
+}
+
 /* The unknowns of joint k's six components (body a's, then b's) in pattern p, -1 if prescribed. */
 static void joint_dofs(const vs_model *m, const vs_pattern *p, int k, int d[6]) {
   const int sa = body_slot(m, m->g->joints[k].a), sb = body_slot(m, m->g->joints[k].b);
@@ -413,17 +477,21 @@ static void joint_dofs(const vs_model *m, const vs_pattern *p, int k, int d[6]) 
   }
 }
 
-/* Residual over the unknowns of pattern p (G has p->n entries). */
+/* Residual over the unknowns of pattern p (G has p->n entries); the joints' points are kept
+ * (struct memo) for a Jacobian at the same state. */
 static void residual_core(const vs_model *m, const vs_pattern *p, const double *q,
                           const double qs[6], double *G) {
   const vs_geometry *g = m->g;
   memset(G, 0, (size_t)p->n * sizeof *G);
   for (int i = 0; i < g->n_blocks; i++)
     G[3 * i + 1] = m->gscale * g->blocks[i].mass * g->gravity; /* minus the load -m g */
-  half_angles(m, q, qs);
+  if (!memo_hit(m, q, qs)) {
+    half_angles(m, q, qs);
+    memo_fill(m, q, qs);
+  }
   for (int k = 0; k < g->n_joints; k++) {
     double f[6];
-    eval_joint(m, q, qs, k, 1, NULL, f, NULL);
+    memo_out(m, k, NULL, f, NULL);
     const int *d = p->jdof + 6 * k;
     for (int e = 0; e < 6; e++)
       if (d[e] >= 0) G[d[e]] += f[e];
@@ -469,10 +537,12 @@ static void jacobian_core(const vs_model *m, const vs_pattern *p, const double *
                           const double qs[6], SUNMatrix J) {
   double *data = csc_reset(p, J);
   const vs_geometry *g = m->g;
-  half_angles(m, q, qs);
+  const int hit = memo_hit(m, q, qs);
+  if (!hit) half_angles(m, q, qs);
   for (int k = 0; k < g->n_joints; k++) {
     double K[36];
-    eval_joint(m, q, qs, k, 1, NULL, NULL, K);
+    if (hit) memo_out(m, k, NULL, NULL, K);
+    else eval_joint(m, q, qs, k, 1, NULL, NULL, K);
     scatter_joint(p, k, K, data);
   }
 }
@@ -505,32 +575,49 @@ void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double
   }
 }
 
+/* The joints' states at (q, qs); keep: through the memo (a static state: the Jacobian or
+ * commit that follows at the same state takes them), else evaluated directly (the dynamic
+ * phase's states, which never recur). */
 static void joint_states_core(const vs_model *m, const double *q, const double qs[6],
-                              vs_joint_state *st) {
+                              vs_joint_state *st, int keep) {
+  if (keep && memo_hit(m, q, qs)) {
+    for (int k = 0; k < m->g->n_joints; k++) memo_out(m, k, &st[k], NULL, NULL);
+    return;
+  }
   half_angles(m, q, qs);
+  if (keep) {
+    memo_fill(m, q, qs);
+    for (int k = 0; k < m->g->n_joints; k++) memo_out(m, k, &st[k], NULL, NULL);
+    return;
+  }
   for (int k = 0; k < m->g->n_joints; k++) eval_joint(m, q, qs, k, 1, &st[k], NULL, NULL);
 }
 
 void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_joint_state *st) {
   double qs[6];
   sup_pos_q(m, q, delta, qs);
-  joint_states_core(m, q, qs, st);
+  joint_states_core(m, q, qs, st, 1);
 }
 
+/* The plastic slips change: the memo's points are no longer the joints'. */
 static int commit_core(vs_model *m, const double *q, const double qs[6]) {
   int slid = 0;
-  half_angles(m, q, qs);
+  const int hit = memo_hit(m, q, qs);
+  if (!hit) half_angles(m, q, qs);
   for (int k = 0; k < m->g->n_joints; k++) {
     vs_joint_state st;
-    eval_joint(m, q, qs, k, 1, &st, NULL, NULL);
+    if (hit) memo_out(m, k, &st, NULL, NULL);
+    else eval_joint(m, q, qs, k, 1, &st, NULL, NULL);
     if (st.sliding && st.N > 0.0) slid++;
     m->slip_p[k] = st.slip_p;
   }
+  memo_drop(m);
   return slid;
 }
 
 int vs_model_commit_states(vs_model *m, const vs_joint_state *st) {
   int slid = 0;
+  memo_drop(m);
   for (int k = 0; k < m->g->n_joints; k++) {
     if (st[k].sliding && st[k].N > 0.0) slid++;
     m->slip_p[k] = st[k].slip_p;
@@ -917,7 +1004,7 @@ double vs_model_ext_friction_power(const vs_model *m, const double *qe, const do
 }
 
 void vs_model_ext_joint_states(const vs_model *m, const double *qe, vs_joint_state *st) {
-  joint_states_core(m, qe, qe + 3 * m->g->n_blocks, st);
+  joint_states_core(m, qe, qe + 3 * m->g->n_blocks, st, 0);
 }
 
 int vs_model_ext_commit(vs_model *m, const double *qe) { return commit_core(m, qe, qe + 3 * m->g->n_blocks); }
