@@ -22,11 +22,15 @@ struct vs_band {
   int ks;            /* the symmetric part's half bandwidth, max(kl, ku) */
   int *perm, *inv;   /* the order: perm[new] = old, inv[old] = new */
   size_t nnz;
-  size_t *lu_at;     /* per CSC entry: its place in ab */
+  size_t *lu_at;     /* per CSC entry: its place in ab (entries do not repeat: set, not added) */
+  size_t *zero_at;   /* the places of ab no entry sets, cleared before each factorisation */
+  size_t nzero;
   size_t *s_at;      /* ... in sb (the upper triangle's place of (r, c) and (c, r)) */
   double *ab, *sb, *w;
+  double *rdiag;     /* 1 / U(j, j) of the last factorisation: the solve multiplies */
   int *ipiv;         /* row interchanged with row j at step j */
   int ub;            /* U's upper bandwidth in the last factorisation (ku up to kl + ku) */
+  int natural;       /* the order is the natural one: solves need no permutation */
   int singular;      /* the last factorisation met a zero pivot */
 };
 
@@ -161,8 +165,8 @@ static void widths(int n, const sunindextype *cp, const sunindextype *ri, const 
 void vs_band_destroy(vs_band **bp) {
   if (bp == NULL || *bp == NULL) return;
   vs_band *b = *bp;
-  free(b->perm), free(b->inv), free(b->lu_at), free(b->s_at);
-  free(b->ab), free(b->sb), free(b->w), free(b->ipiv);
+  free(b->perm), free(b->inv), free(b->lu_at), free(b->zero_at), free(b->s_at);
+  free(b->ab), free(b->sb), free(b->w), free(b->rdiag), free(b->ipiv);
   free(b);
   *bp = NULL;
 }
@@ -207,24 +211,46 @@ vs_status vs_band_create(int n, const sunindextype *cp, const sunindextype *ri, 
     kl = rkl, ku = rku;
   }
   free(rperm), free(rinv);
+  b->natural = 1;
+  for (int i = 0; i < n; i++) b->natural &= b->perm[i] == i;
   b->kl = kl, b->ku = ku, b->ld = 2 * kl + ku + 1;
   b->ks = kl > ku ? kl : ku;
   b->ab = malloc((size_t)b->ld * un * sizeof *b->ab);
   b->sb = malloc((size_t)(b->ks + 1) * un * sizeof *b->sb);
   b->w = malloc(un * sizeof *b->w);
+  b->rdiag = malloc(un * sizeof *b->rdiag);
   b->ipiv = malloc(un * sizeof *b->ipiv);
   b->lu_at = malloc((b->nnz + 1) * sizeof *b->lu_at);
   b->s_at = malloc((b->nnz + 1) * sizeof *b->s_at);
-  if (b->ab == NULL || b->sb == NULL || b->w == NULL || b->ipiv == NULL || b->lu_at == NULL ||
+  if (b->ab == NULL || b->sb == NULL || b->w == NULL || b->rdiag == NULL || b->ipiv == NULL ||
+      b->lu_at == NULL ||
       b->s_at == NULL)
     return nomem(&b, err);
+  const size_t size = (size_t)b->ld * un;
+  unsigned char *set = calloc(size, 1);
+  if (set == NULL) return nomem(&b, err);
   for (int c0 = 0; c0 < n; c0++)
     for (sunindextype e = cp[c0]; e < cp[c0 + 1]; e++) {
       const int r = b->inv[ri[e]], c = b->inv[c0];
       b->lu_at[e] = (size_t)(kl + ku + r - c) + (size_t)c * (size_t)b->ld;
       const int lo = r < c ? r : c, hi = r < c ? c : r;
       b->s_at[e] = (size_t)(b->ks + lo - hi) + (size_t)hi * (size_t)(b->ks + 1);
+      if (set[b->lu_at[e]]++) {
+        free(set);
+        vs_band_destroy(&b);
+        return vs_error_set(err, VS_ERR_INVALID, "band factorisation: entry (%ld, %d) repeated",
+                            (long)ri[e], c0);
+      }
     }
+  for (size_t i = 0; i < size; i++) b->nzero += !set[i];
+  b->zero_at = malloc((b->nzero + 1) * sizeof *b->zero_at);
+  if (b->zero_at == NULL) {
+    free(set);
+    return nomem(&b, err);
+  }
+  for (size_t i = 0, z = 0; i < size; i++)
+    if (!set[i]) b->zero_at[z++] = i;
+  free(set);
   b->singular = 1; /* nothing factored yet */
   *out = b;
   return VS_OK;
@@ -237,19 +263,44 @@ void vs_band_widths(const vs_band *b, int *kl, int *ku) {
 
 /* --- LU --- */
 
+/* y <- y - a x over m entries; restrict: the two never overlap (distinct columns of the band, or
+ * the band and a vector), so the compiler need not reload or check. */
+static inline void sub_scaled(int m, double a, const double *restrict x, double *restrict y) {
+  /* fixed lengths for the short runs of a narrow band, which the compiler unrolls */
+#define VS_BAND_SUB(len)                                                                           \
+  case len:                                                                                        \
+    for (int i = 0; i < len; i++) y[i] -= a * x[i];                                                \
+    return;
+  switch (m) {
+    VS_BAND_SUB(1)
+    VS_BAND_SUB(2)
+    VS_BAND_SUB(3)
+    VS_BAND_SUB(4)
+    VS_BAND_SUB(5)
+    VS_BAND_SUB(6)
+    VS_BAND_SUB(7)
+    VS_BAND_SUB(8)
+  default:
+    for (int i = 0; i < m; i++) y[i] -= a * x[i];
+  }
+#undef VS_BAND_SUB
+}
+
 int vs_band_factor(vs_band *b, const double *x) {
   const int n = b->n, kl = b->kl, ku = b->ku, ld = b->ld, kv = kl + ku;
   double *ab = b->ab;
-  memset(ab, 0, (size_t)ld * (size_t)n * sizeof *ab);
-  for (size_t e = 0; e < b->nnz; e++) ab[b->lu_at[e]] += x[e];
+  for (size_t z = 0; z < b->nzero; z++) ab[b->zero_at[z]] = 0.0;
+  for (size_t e = 0; e < b->nnz; e++) ab[b->lu_at[e]] = x[e];
   int info = 0, ju = 0, ub = 0; /* ju: the last column the row interchanges have reached */
   for (int j = 0; j < n; j++) {
     const int km = kl < n - 1 - j ? kl : n - 1 - j;
     double *col = ab + kv + (size_t)j * (size_t)ld; /* col[i]: entry (j + i, j) */
+    double cmax = 0.0; /* the largest below the diagonal: the diagonal stays unless it is small */
+    for (int i = 1; i <= km; i++) cmax = fabs(col[i]) > cmax ? fabs(col[i]) : cmax;
     int jp = 0;
-    for (int i = 1; i <= km; i++)
-      if (fabs(col[i]) > fabs(col[jp])) jp = i;
-    if (jp != 0 && fabs(col[0]) >= VS_BAND_PIVOT_TOL * fabs(col[jp])) jp = 0;
+    if (fabs(col[0]) < VS_BAND_PIVOT_TOL * cmax)
+      while (fabs(col[++jp]) < cmax) {
+      }
     b->ipiv[j] = j + jp;
     if (col[jp] == 0.0) {
       if (info == 0) info = j + 1;
@@ -264,13 +315,14 @@ int vs_band_factor(vs_band *b, const double *x) {
         p[0] = p[jp];
         p[jp] = t;
       }
-    const double piv = col[0];
-    for (int i = 1; i <= km; i++) col[i] /= piv;
+    const double rpiv = 1.0 / col[0]; /* multipliers by the reciprocal, as LAPACK's dgbtf2 */
+    b->rdiag[j] = rpiv;
+    for (int i = 1; i <= km; i++) col[i] *= rpiv;
     for (int c = j + 1; c <= ju; c++) {
       double *cc = ab + (size_t)(kv + j - c) + (size_t)c * (size_t)ld; /* cc[i]: (j + i, c) */
       const double u = cc[0];
       if (u == 0.0) continue;
-      for (int i = 1; i <= km; i++) cc[i] -= col[i] * u;
+      sub_scaled(km, u, col + 1, cc + 1);
     }
   }
   b->singular = info != 0;
@@ -281,8 +333,9 @@ int vs_band_factor(vs_band *b, const double *x) {
 void vs_band_solve(vs_band *b, double *x) {
   const int n = b->n, kl = b->kl, ld = b->ld, kv = b->kl + b->ku;
   const double *ab = b->ab;
-  double *y = b->w;
-  for (int i = 0; i < n; i++) y[i] = x[b->perm[i]];
+  double *y = b->natural ? x : b->w;
+  if (!b->natural)
+    for (int i = 0; i < n; i++) y[i] = x[b->perm[i]];
   for (int j = 0; j < n - 1; j++) { /* L, with the row interchanges */
     const int km = kl < n - 1 - j ? kl : n - 1 - j, l = b->ipiv[j];
     if (l != j) {
@@ -291,15 +344,16 @@ void vs_band_solve(vs_band *b, double *x) {
       y[j] = t;
     }
     const double *col = ab + kv + (size_t)j * (size_t)ld;
-    for (int i = 1; i <= km; i++) y[j + i] -= col[i] * y[j];
+    sub_scaled(km, y[j], col + 1, y + j + 1);
   }
   for (int j = n - 1; j >= 0; j--) { /* U: bandwidth ub <= kl + ku */
     const double *col = ab + kv + (size_t)j * (size_t)ld; /* col[-i]: entry (j - i, j) */
-    y[j] /= col[0];
-    const double yj = y[j];
-    for (int i = 1; i <= b->ub && i <= j; i++) y[j - i] -= col[-i] * yj;
+    y[j] *= b->rdiag[j];
+    const int m = b->ub < j ? b->ub : j; /* entries (j - m .. j - 1, j) */
+    sub_scaled(m, y[j], col - m, y + j - m);
   }
-  for (int i = 0; i < n; i++) x[b->perm[i]] = y[i];
+  if (!b->natural)
+    for (int i = 0; i < n; i++) x[b->perm[i]] = y[i];
 }
 
 int vs_band_det_sign(const vs_band *b) {
