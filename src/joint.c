@@ -122,6 +122,11 @@ static void joint_kinematics(const vs_joint_geom *jg, const double qa[3], const 
   k->hw_rr[2] = 0.5 * sh;
 }
 
+/* Component i of (qa, qb) is a rotation (2, 5): the gap slope w depends on those alone, so its
+ * gradient is zero on the translations, and the terms it multiplies there are left out below:
+ * they only added zeros (the results differ at most in the sign of a zero). */
+static inline int is_rot(int i) { return i == 2 || i == 5; }
+
 /* Rates of the joint measures (penetration a, gap slope w, slip) from the bodies' velocities. */
 static void joint_rates(const kinematics *k, const double va[3], const double vb[3], double *adot,
                         double *wdot, double *sdot) {
@@ -129,7 +134,7 @@ static void joint_rates(const kinematics *k, const double va[3], const double vb
   *adot = *wdot = *sdot = 0.0;
   for (int i = 0; i < 6; i++) {
     *adot -= k->dg[i] * vel[i];
-    *wdot += k->dw[i] * vel[i];
+    if (is_rot(i)) *wdot += k->dw[i] * vel[i];
     *sdot += k->ds[i] * vel[i];
   }
 }
@@ -177,7 +182,9 @@ static void state_out(const vs_joint_geom *jg, const kinematics *k, const law_st
 
 /* f = N grad(a) + M grad(w) + T grad(slip), grad(a) = -grad(g) */
 static void force_out(const kinematics *k, const law_state *ls, double f[6]) {
-  for (int i = 0; i < 6; i++) f[i] = -ls->nr.N * k->dg[i] + ls->nr.M * k->dw[i] + ls->T * k->ds[i];
+  for (int i = 0; i < 6; i++)
+    f[i] = is_rot(i) ? -ls->nr.N * k->dg[i] + ls->nr.M * k->dw[i] + ls->T * k->ds[i]
+                     : -ls->nr.N * k->dg[i] + ls->T * k->ds[i];
 }
 
 /* K = grad(a) dN^T + grad(w) dM^T + grad(s) dT^T + N H_a + M H_w + T H_s (k with Hessians) */
@@ -187,13 +194,14 @@ static void tangent_out(const vs_joint_law *law, const kinematics *k, const law_
   double dN[6], dM[6], dT[6];
   for (int j = 0; j < 6; j++) {
     const double da_j = -k->dg[j], dw_j = k->dw[j];
-    dN[j] = nr->N_a * da_j + nr->N_w * dw_j;
-    dM[j] = nr->N_w * da_j + nr->M_w * dw_j;
+    dN[j] = is_rot(j) ? nr->N_a * da_j + nr->N_w * dw_j : nr->N_a * da_j;
+    dM[j] = is_rot(j) ? nr->N_w * da_j + nr->M_w * dw_j : nr->N_w * da_j;
     dT[j] = ls->sliding ? ls->sgn * law->mu * dN[j] : ls->kst * k->ds[j];
   }
   for (int i = 0; i < 6; i++)
     for (int j = 0; j < 6; j++)
-      K[i * 6 + j] = -k->dg[i] * dN[j] + k->dw[i] * dM[j] + k->ds[i] * dT[j];
+      K[i * 6 + j] = is_rot(i) ? -k->dg[i] * dN[j] + k->dw[i] * dM[j] + k->ds[i] * dT[j]
+                               : -k->dg[i] * dN[j] + k->ds[i] * dT[j];
   /* the Hessians' terms where they are non-zero: rows and columns of the rotations 2, 5 */
   const double N = nr->N, M = nr->M, T = ls->T;
   for (int t = 0; t < 6; t++) {
@@ -265,12 +273,17 @@ static void dashpot_out(const vs_joint_geom *jg, double cn, double cs, const kin
   joint_rates(k, va, vb, &adot, &wdot, &sdot);
   const double Nd = ca * adot, Md = cw * wdot, Td = csl * sdot;
   if (f != NULL)
-    for (int i = 0; i < 6; i++) f[i] = -Nd * k->dg[i] + Md * k->dw[i] + Td * k->ds[i];
+    for (int i = 0; i < 6; i++)
+      f[i] = is_rot(i) ? -Nd * k->dg[i] + Md * k->dw[i] + Td * k->ds[i]
+                       : -Nd * k->dg[i] + Td * k->ds[i];
   if (power != NULL) *power = Nd * adot + Md * wdot + Td * sdot;
   if (C != NULL)
     for (int i = 0; i < 6; i++)
       for (int j = 0; j < 6; j++)
-        C[i * 6 + j] = ca * k->dg[i] * k->dg[j] + cw * k->dw[i] * k->dw[j] + csl * k->ds[i] * k->ds[j];
+        C[i * 6 + j] = is_rot(i) && is_rot(j)
+                           ? ca * k->dg[i] * k->dg[j] + cw * k->dw[i] * k->dw[j] +
+                                 csl * k->ds[i] * k->ds[j]
+                           : ca * k->dg[i] * k->dg[j] + csl * k->ds[i] * k->ds[j];
 }
 
 /* Stiffness-proportional damping (vs_joint_damping_tangent) likewise. */
