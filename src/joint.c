@@ -198,14 +198,20 @@ static void tangent_out(const vs_joint_law *law, const kinematics *k, const law_
     dM[j] = is_rot(j) ? nr->N_w * da_j + nr->M_w * dw_j : nr->N_w * da_j;
     dT[j] = ls->sliding ? ls->sgn * law->mu * dN[j] : ls->kst * k->ds[j];
   }
-  for (int i = 0; i < 6; i++)
-    for (int j = 0; j < 6; j++)
+  /* Action and reaction: the translations of b (3, 4) enter every measure and every one of its
+   * Hessian terms with the opposite sign of a's (0, 1), exactly (the gradients are -n, n and -s,
+   * s), so their rows and columns are the negated ones of a's -- negation is exact, the entries
+   * are the same bits as computing them. The independent rows and columns: */
+  static const int ind[4] = {0, 1, 2, 5};
+  for (int a = 0; a < 4; a++)
+    for (int b = 0; b < 4; b++) {
+      const int i = ind[a], j = ind[b];
       K[i * 6 + j] = is_rot(i) ? -k->dg[i] * dN[j] + k->dw[i] * dM[j] + k->ds[i] * dT[j]
                                : -k->dg[i] * dN[j] + k->ds[i] * dT[j];
+    }
   /* the Hessians' terms where they are non-zero: rows and columns of the rotations 2, 5 */
   const double N = nr->N, M = nr->M, T = ls->T;
-  for (int t = 0; t < 6; t++) {
-    if (t == 2 || t == 5) continue;
+  for (int t = 0; t < 2; t++) {
     const double h = -N * k->hg_t[t] + T * k->hs_t[t];
     K[t * 6 + 2] += h;
     K[t * 6 + 5] += h;
@@ -217,6 +223,15 @@ static void tangent_out(const vs_joint_law *law, const kinematics *k, const law_
     const double h = -N * k->hg_rr[e] + M * k->hw_rr[e] + T * k->hs_rr[e];
     K[rr[e][0] * 6 + rr[e][1]] += h;
     if (e == 2) K[5 * 6 + 2] += h;
+  }
+  for (int a = 0; a < 4; a++) {
+    const int i = ind[a];
+    K[i * 6 + 3] = -K[i * 6 + 0];
+    K[i * 6 + 4] = -K[i * 6 + 1];
+  }
+  for (int j = 0; j < 6; j++) {
+    K[3 * 6 + j] = -K[0 * 6 + j];
+    K[4 * 6 + j] = -K[1 * 6 + j];
   }
 }
 
