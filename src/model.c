@@ -445,18 +445,21 @@ static int memo_hit(const vs_model *m, const double *q, const double qs[6]) {
          memcmp(mm->q, q, 3 * (size_t)m->g->n_blocks * sizeof *q) == 0;
 }
 
+/* Joint k's point at (q, qs) into the memo (half_angles done). */
+static void memo_eval(const vs_model *m, const double *q, const double qs[6], int k) {
+  const vs_joint_geom *j = &m->g->joints[k];
+  double qa[3], qb[3];
+  body_q(q, qs, j->a, qa);
+  body_q(q, qs, j->b, qb);
+  vs_joint_law tmp;
+  vs_joint_point_eval(j, law_at(m, k, &tmp), qa, qb, body_rot(m, j->a), body_rot(m, j->b),
+                      m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k], &m->memo->pt[k]);
+}
+
 /* Evaluate every joint at (q, qs) into the memo (half_angles done) and key it. */
 static void memo_fill(const vs_model *m, const double *q, const double qs[6]) {
   struct memo *mm = m->memo;
-  for (int k = 0; k < m->g->n_joints; k++) {
-    const vs_joint_geom *j = &m->g->joints[k];
-    double qa[3], qb[3];
-    body_q(q, qs, j->a, qa);
-    body_q(q, qs, j->b, qb);
-    vs_joint_law tmp;
-    vs_joint_point_eval(j, law_at(m, k, &tmp), qa, qb, body_rot(m, j->a), body_rot(m, j->b),
-                        m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k], &mm->pt[k]);
-  }
+  for (int k = 0; k < m->g->n_joints; k++) memo_eval(m, q, qs, k);
   memcpy(mm->q, q, 3 * (size_t)m->g->n_blocks * sizeof *q);
   memcpy(mm->qs, qs, sizeof mm->qs);
   mm->ok = 1;
@@ -599,9 +602,12 @@ void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_
   joint_states_core(m, q, qs, st, 1);
 }
 
-/* The plastic slips change: the memo's points are no longer the joints'. */
+/* The plastic slips change. With the memo at these states, a joint whose slip moved is
+ * evaluated again into it, so that it stays the joints' points (the joints' states of the
+ * equilibrium just committed, which the hinge tracker reads next, are then taken from it);
+ * otherwise the memo is dropped. */
 static int commit_core(vs_model *m, const double *q, const double qs[6]) {
-  int slid = 0;
+  int slid = 0, rot = 0;
   const int hit = memo_hit(m, q, qs);
   if (!hit) half_angles(m, q, qs);
   for (int k = 0; k < m->g->n_joints; k++) {
@@ -609,9 +615,13 @@ static int commit_core(vs_model *m, const double *q, const double qs[6]) {
     if (hit) memo_out(m, k, &st, NULL, NULL);
     else eval_joint(m, q, qs, k, 1, &st, NULL, NULL);
     if (st.sliding && st.N > 0.0) slid++;
+    const double old = m->slip_p[k];
     m->slip_p[k] = st.slip_p;
+    if (!hit || memcmp(&old, &st.slip_p, sizeof old) == 0) continue;
+    if (!rot) half_angles(m, q, qs), rot = 1; /* m->rot may hold another state's */
+    memo_eval(m, q, qs, k);
   }
-  memo_drop(m);
+  if (!hit) memo_drop(m);
   return slid;
 }
 
