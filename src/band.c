@@ -286,6 +286,40 @@ static inline void sub_scaled(int m, double a, const double *restrict x, double 
 #undef VS_BAND_SUB
 }
 
+/* One elimination step in the usual case: a symmetric band of half width k (kl = ku = k), k rows
+ * below the diagonal, no earlier interchange reaching past column j + k, and the diagonal kept as
+ * the pivot. The same operations as the general step below, with k a constant where it is
+ * inlined (fast_step_k), so that the compiler unrolls the short loops. Returns 0, or 1 when the
+ * general step must take it (a pivot to choose, or a zero one). */
+static inline int fast_step(int k, double *col, size_t ld, double *rdiag) {
+  double cmax = 0.0;
+  for (int i = 1; i <= k; i++) cmax = fabs(col[i]) > cmax ? fabs(col[i]) : cmax;
+  if (!(fabs(col[0]) >= VS_BAND_PIVOT_TOL * cmax) || col[0] == 0.0) return 1;
+  const double rpiv = 1.0 / col[0];
+  *rdiag = rpiv;
+  for (int i = 1; i <= k; i++) col[i] *= rpiv;
+  double *cc = col + ld - 1; /* entry (j, j + 1); the next column's is ld - 1 further */
+  for (int c = 1; c <= k; c++, cc += ld - 1) {
+    const double u = cc[0];
+    if (u != 0.0) sub_scaled(k, u, col + 1, cc + 1);
+  }
+  return 0;
+}
+
+/* fast_step with the common half widths as constants; 1 for the others */
+static int fast_step_k(int k, double *col, size_t ld, double *rdiag) {
+  switch (k) {
+  case 2: return fast_step(2, col, ld, rdiag);
+  case 3: return fast_step(3, col, ld, rdiag);
+  case 4: return fast_step(4, col, ld, rdiag);
+  case 5: return fast_step(5, col, ld, rdiag);
+  case 6: return fast_step(6, col, ld, rdiag);
+  case 7: return fast_step(7, col, ld, rdiag);
+  case 8: return fast_step(8, col, ld, rdiag);
+  default: return 1;
+  }
+}
+
 int vs_band_factor(vs_band *b, const double *x) {
   const int n = b->n, kl = b->kl, ku = b->ku, ld = b->ld, kv = kl + ku;
   double *ab = b->ab;
@@ -295,6 +329,13 @@ int vs_band_factor(vs_band *b, const double *x) {
   for (int j = 0; j < n; j++) {
     const int km = kl < n - 1 - j ? kl : n - 1 - j;
     double *col = ab + kv + (size_t)j * (size_t)ld; /* col[i]: entry (j + i, j) */
+    if (kl == ku && km == kl && ju <= j + kl &&
+        fast_step_k(kl, col, (size_t)ld, &b->rdiag[j]) == 0) {
+      b->ipiv[j] = j;
+      ju = j + kl;
+      if (kl > ub) ub = kl;
+      continue;
+    }
     double cmax = 0.0; /* the largest below the diagonal: the diagonal stays unless it is small */
     for (int i = 1; i <= km; i++) cmax = fabs(col[i]) > cmax ? fabs(col[i]) : cmax;
     int jp = 0;
