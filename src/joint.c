@@ -292,13 +292,27 @@ static void dashpot_out(const vs_joint_geom *jg, double cn, double cs, const kin
       f[i] = is_rot(i) ? -Nd * k->dg[i] + Md * k->dw[i] + Td * k->ds[i]
                        : -Nd * k->dg[i] + Td * k->ds[i];
   if (power != NULL) *power = Nd * adot + Md * wdot + Td * sdot;
-  if (C != NULL)
-    for (int i = 0; i < 6; i++)
-      for (int j = 0; j < 6; j++)
+  if (C != NULL) {
+    /* b's translations' rows and columns are a's negated, as in tangent_out */
+    static const int ind[4] = {0, 1, 2, 5};
+    for (int a = 0; a < 4; a++)
+      for (int c = 0; c < 4; c++) {
+        const int i = ind[a], j = ind[c];
         C[i * 6 + j] = is_rot(i) && is_rot(j)
                            ? ca * k->dg[i] * k->dg[j] + cw * k->dw[i] * k->dw[j] +
                                  csl * k->ds[i] * k->ds[j]
                            : ca * k->dg[i] * k->dg[j] + csl * k->ds[i] * k->ds[j];
+      }
+    for (int a = 0; a < 4; a++) {
+      const int i = ind[a];
+      C[i * 6 + 3] = -C[i * 6 + 0];
+      C[i * 6 + 4] = -C[i * 6 + 1];
+    }
+    for (int j = 0; j < 6; j++) {
+      C[3 * 6 + j] = -C[0 * 6 + j];
+      C[4 * 6 + j] = -C[1 * 6 + j];
+    }
+  }
 }
 
 /* Stiffness-proportional damping (vs_joint_damping_tangent) likewise. */
