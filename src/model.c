@@ -19,6 +19,7 @@ typedef struct {
   int nnz;
   sunindextype *scatter; /* per joint, 36: CSC position of K[6 i + j] (-1: prescribed) */
   int *jdof;             /* per joint, 6: the unknowns of its components (joint_dofs) */
+  unsigned char *full;   /* per joint: all six are unknowns (none prescribed) */
 } vs_pattern;
 
 struct vs_model {
@@ -63,6 +64,12 @@ static void memo_drop(const vs_model *m);
 
 static int body_is_block(int body) { return body >= 0; }
 
+/* Where the (ux, uz, theta) of a body are -- or its velocities: a block's in q, a support's in qs
+ * (left (ux, uz, theta), then right). */
+static const double *body_ptr(const double *q, const double qs[6], int body) {
+  return body >= 0 ? q + 3 * body : qs + (body == VS_SUPPORT_LEFT ? 0 : 3);
+}
+
 /* The (ux, uz, theta) of a body -- or its velocities: a block's from q, a support's from qs
  * (left (ux, uz, theta), then right). */
 static void body_q(const double *q, const double qs[6], int body, double out[3]) {
@@ -102,6 +109,7 @@ static void sup_pos_q(const vs_model *m, const double *q, double delta, double q
 static void pattern_free(vs_pattern *p) {
   free(p->scatter);
   free(p->jdof);
+  free(p->full);
   free(p->colptr);
   free(p->rowind);
   free(p->dof);
@@ -157,11 +165,13 @@ static vs_status build_scatter(const vs_model *m, vs_pattern *p, vs_error *err) 
   const int nj = m->g->n_joints;
   p->scatter = malloc(36 * (size_t)(nj > 0 ? nj : 1) * sizeof *p->scatter);
   p->jdof = malloc(6 * (size_t)(nj > 0 ? nj : 1) * sizeof *p->jdof);
-  if (p->scatter == NULL || p->jdof == NULL)
+  p->full = malloc((size_t)(nj > 0 ? nj : 1));
+  if (p->scatter == NULL || p->jdof == NULL || p->full == NULL)
     return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
   for (int k = 0; k < nj; k++) {
     int *d = p->jdof + 6 * k;
     joint_dofs(m, p, k, d);
+    p->full[k] = d[0] >= 0 && d[1] >= 0 && d[2] >= 0 && d[3] >= 0 && d[4] >= 0 && d[5] >= 0;
     for (int i = 0; i < 6; i++)
       for (int j = 0; j < 6; j++)
         p->scatter[36 * k + 6 * i + j] = (d[i] >= 0 && d[j] >= 0) ? csc_pos(p, d[i], d[j]) : -1;
@@ -826,30 +836,30 @@ static void motion_core(const vs_model *m, const vs_pattern *p, const double *q,
   half_angles(m, q, qs);
   for (int k = 0; k < g->n_joints; k++) {
     const vs_joint_geom *j = &g->joints[k];
-    double qa[3], qb[3], va[3], vb[3], f[6], Kk[36], fdk[6], Ck[36];
+    double f[6], Kk[36], fdk[6], Ck[36];
     vs_joint_law tmp;
-    body_q(q, qs, j->a, qa);
-    body_q(q, qs, j->b, qb);
-    if (v != NULL) {
-      body_q(v, vs, j->a, va);
-      body_q(v, vs, j->b, vb);
-    }
-    const vs_joint_bodies bd = {qa, qb, body_rot(m, j->a), body_rot(m, j->b), v != NULL ? va : NULL,
-                                vb, m->ra + 2 * k, m->rb + 2 * k};
+    const double *va = v != NULL ? body_ptr(v, vs, j->a) : NULL;
+    const double *vb = v != NULL ? body_ptr(v, vs, j->b) : NULL;
+    const vs_joint_bodies bd = {body_ptr(q, qs, j->a), body_ptr(q, qs, j->b), body_rot(m, j->a),
+                                body_rot(m, j->b), va, vb, m->ra + 2 * k, m->rb + 2 * k};
     /* HOOK (damping): Rayleigh's stiffness part, else the joint dashpots */
     const vs_joint_dashpot dp = {m->cn[k], m->cs[k], m->beta_k};
     vs_joint_motion jm = {o->G != NULL ? f : NULL, o->K != NULL ? Kk : NULL, damp ? fdk : NULL,
                           damp && o->C != NULL ? Ck : NULL, o->want_friction && v != NULL, 0.0, 0.0};
     vs_joint_eval_motion(j, law_at(m, k, &tmp), &bd, m->slip_p[k], damp ? &dp : NULL, &jm);
-    if (o->G != NULL) {
-      const int *d = p->jdof + 6 * k;
+    const int *d = p->jdof + 6 * k;
+    if (o->G != NULL && p->full[k]) /* (the joints of the dynamic phase's extended state) */
+      for (int e = 0; e < 6; e++) o->G[d[e]] += f[e];
+    else if (o->G != NULL)
       for (int e = 0; e < 6; e++)
         if (d[e] >= 0) o->G[d[e]] += f[e];
-    }
     if (o->K != NULL) scatter_joint(p, k, Kk, kdata);
     if (damp) {
       o->diss += jm.power;
-      add_damping(m, p, k, fdk, va, vb, o->fd, &o->sup);
+      if (p->full[k] && o->fd != NULL) /* no prescribed component: nothing the support works */
+        for (int e = 0; e < 6; e++) o->fd[d[e]] += fdk[e];
+      else
+        add_damping(m, p, k, fdk, va, vb, o->fd, &o->sup);
       if (o->C != NULL) scatter_joint(p, k, Ck, cdata);
     }
     o->fric += jm.friction;
