@@ -1,6 +1,7 @@
 /* In the program: the plugins' functions under their usual names, each forwarding to the loaded
- * table (src/plugin.h; the MPI plugin's only when a build with MPI compiles the calls). The program is built with hidden visibility, so these never take the
- * place of a plugin's own functions. A command loads its plugin (vs_plugin_load) before it calls
+ * table (src/plugin.h; the MPI plugin's only when a build with MPI compiles the calls). The
+ * program is built with hidden visibility, so these never take the place of a plugin's own
+ * functions. A command loads its plugin (vs_plugin_load) before it calls
  * any of them; a call without it is a bug of the program and aborts. */
 #include <stdio.h>
 #include <stdlib.h>

@@ -70,7 +70,7 @@ typedef struct {
   void *kin;
   double *len;                /* per unknown: 1 for translations, block length for rotations */
   /* workspaces, allocated once: two vectors for the tangent's solves (never used by two callers
-   * at once), a residual, and the marks of a permutation's cycles */
+   * at once) and a residual */
   N_Vector w1, w2;
   double *fwork;
   double kmax, lmax, wmin;    /* stiffest joint k_n b t (N/m), longest joint (m), lightest block (N) */
@@ -178,9 +178,9 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
   /* KINSOL clones its workspace from u: every vector of the solve gets the optimised operations */
   N_Vector vecs[] = {s->u, s->uscale, s->fscale, s->w1, s->w2};
   for (size_t i = 0; i < sizeof vecs / sizeof vecs[0]; i++) vs_nvector_fast_ops(vecs[i]);
-  /* The blocks form a chain: the Jacobian is a narrow band (band.h), factored by a band LU
-   * with partial pivoting at every Newton iteration and at every accepted state (the tangent, which
-   * also gives the stability test its symmetric part's Cholesky factorisation) */
+  /* The blocks form a chain: the Jacobian is a narrow band (band.h), factored by a band LU at
+   * every Newton iteration and at every accepted state (the tangent; the stability test
+   * factors its symmetric part by a band Cholesky) */
   s->LS = vs_band_linsol(s->n, s->ctx);
   s->LSt = vs_band_linsol(s->n, s->ctx);
   if (s->LS == NULL || s->LSt == NULL || vs_spd_create(s->n, &s->spd, err) != VS_OK) {

@@ -1,9 +1,10 @@
 /* Stability of an equilibrium as positive definiteness: a Cholesky attempt (band.h: in the
- * bandwidth-reducing order of K's pattern) on the symmetric part (K + K^T) / 2 of the tangent K. The sign of det K does not
- * establish definiteness (an even number of negative eigenvalues gives det K > 0); a Cholesky
- * factorisation exists exactly when the matrix is positive definite. With friction K is not
- * symmetric; a positive definite symmetric part means positive second-order work for every
- * perturbation (Hill's condition), a sufficient condition of stability. */
+ * bandwidth-reducing order of K's pattern) on the symmetric part (K + K^T) / 2 of the tangent K.
+ * The sign of det K does not establish definiteness (an even number of negative eigenvalues
+ * gives det K > 0); a Cholesky factorisation exists exactly when the matrix is positive
+ * definite. With friction K is not symmetric; a positive definite symmetric part means positive
+ * second-order work for every perturbation (Hill's condition), a sufficient condition of
+ * stability. */
 #ifndef VOUSSOIR_STABILITY_H
 #define VOUSSOIR_STABILITY_H
 
