@@ -26,6 +26,7 @@ struct vs_band {
   size_t *zero_at;   /* the places of ab no entry sets, cleared before each factorisation */
   size_t nzero;
   size_t *s_at;      /* ... in sb (the upper triangle's place of (r, c) and (c, r)) */
+  double *s_w;       /* ... and its weight there: 1 on the diagonal, else 1/2 */
   double *ab, *sb, *w;
   double *rdiag;     /* 1 / U(j, j) of the last factorisation: the solve multiplies */
   int *ipiv;         /* row interchanged with row j at step j */
@@ -165,7 +166,7 @@ static void widths(int n, const sunindextype *cp, const sunindextype *ri, const 
 void vs_band_destroy(vs_band **bp) {
   if (bp == NULL || *bp == NULL) return;
   vs_band *b = *bp;
-  free(b->perm), free(b->inv), free(b->lu_at), free(b->zero_at), free(b->s_at);
+  free(b->perm), free(b->inv), free(b->lu_at), free(b->zero_at), free(b->s_at), free(b->s_w);
   free(b->ab), free(b->sb), free(b->w), free(b->rdiag), free(b->ipiv);
   free(b);
   *bp = NULL;
@@ -222,9 +223,10 @@ vs_status vs_band_create(int n, const sunindextype *cp, const sunindextype *ri, 
   b->ipiv = malloc(un * sizeof *b->ipiv);
   b->lu_at = malloc((b->nnz + 1) * sizeof *b->lu_at);
   b->s_at = malloc((b->nnz + 1) * sizeof *b->s_at);
+  b->s_w = malloc((b->nnz + 1) * sizeof *b->s_w);
   if (b->ab == NULL || b->sb == NULL || b->w == NULL || b->rdiag == NULL || b->ipiv == NULL ||
       b->lu_at == NULL ||
-      b->s_at == NULL)
+      b->s_at == NULL || b->s_w == NULL)
     return nomem(&b, err);
   const size_t size = (size_t)b->ld * un;
   unsigned char *set = calloc(size, 1);
@@ -235,6 +237,7 @@ vs_status vs_band_create(int n, const sunindextype *cp, const sunindextype *ri, 
       b->lu_at[e] = (size_t)(kl + ku + r - c) + (size_t)c * (size_t)b->ld;
       const int lo = r < c ? r : c, hi = r < c ? c : r;
       b->s_at[e] = (size_t)(b->ks + lo - hi) + (size_t)hi * (size_t)(b->ks + 1);
+      b->s_w[e] = lo == hi ? 1.0 : 0.5;
       if (set[b->lu_at[e]]++) {
         free(set);
         vs_band_destroy(&b);
@@ -413,10 +416,8 @@ int vs_band_spd(vs_band *b, const double *x) {
   const int n = b->n, ks = b->ks, ld = ks + 1;
   double *sb = b->sb;
   memset(sb, 0, (size_t)ld * (size_t)n * sizeof *sb);
-  for (size_t e = 0; e < b->nnz; e++) { /* (r, c) adds half of itself to (r, c) and (c, r) */
-    const size_t at = b->s_at[e];
-    sb[at] += (at % (size_t)ld == (size_t)ks) ? x[e] : 0.5 * x[e];
-  }
+  /* (r, c) adds half of itself to (r, c) and (c, r); a diagonal entry all of itself */
+  for (size_t e = 0; e < b->nnz; e++) sb[b->s_at[e]] += b->s_w[e] * x[e];
   /* S = U^T U column by column: U(i, j) at sb[ks + i - j + j ld] */
   for (int j = 0; j < n; j++) {
     double *cj = sb + ks + (size_t)j * (size_t)ld; /* cj[i - j]: entry (i, j), i <= j */
