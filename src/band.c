@@ -32,6 +32,7 @@ struct vs_band {
   int *ipiv;         /* row interchanged with row j at step j */
   int ub;            /* U's upper bandwidth in the last factorisation (ku up to kl + ku) */
   int natural;       /* the order is the natural one: solves need no permutation */
+  int swapped;       /* the last factorisation interchanged rows */
   int singular;      /* the last factorisation met a zero pivot */
 };
 
@@ -371,7 +372,47 @@ int vs_band_factor(vs_band *b, const double *x) {
   }
   b->singular = info != 0;
   b->ub = ub;
+  b->swapped = 0;
+  for (int j = 0; j < n && !b->swapped; j++) b->swapped = b->ipiv[j] != j;
   return info;
+}
+
+/* The solve of a symmetric band of half width k factored without interchanges and without U
+ * growing past k: the same operations as the general solve below, with k a constant where it
+ * is inlined (solve_fixed_k) for the rows whose k neighbours are all inside the matrix. */
+static inline void solve_fixed(int k, int n, const double *ab, size_t ld, int kv,
+                               const double *rdiag, double *y) {
+  for (int j = 0; j < n - 1; j++) { /* L */
+    const double *col = ab + kv + (size_t)j * ld;
+    const double yj = y[j];
+    if (j + k < n)
+      for (int i = 1; i <= k; i++) y[j + i] -= col[i] * yj;
+    else
+      sub_scaled(n - 1 - j, yj, col + 1, y + j + 1);
+  }
+  for (int j = n - 1; j >= 0; j--) { /* U */
+    const double *col = ab + kv + (size_t)j * ld;
+    y[j] *= rdiag[j];
+    const double yj = y[j];
+    if (j >= k)
+      for (int i = 1; i <= k; i++) y[j - i] -= col[-i] * yj;
+    else
+      sub_scaled(j, yj, col - j, y);
+  }
+}
+
+static int solve_fixed_k(int k, int n, const double *ab, size_t ld, int kv, const double *rdiag,
+                         double *y) {
+  switch (k) {
+  case 2: solve_fixed(2, n, ab, ld, kv, rdiag, y); return 0;
+  case 3: solve_fixed(3, n, ab, ld, kv, rdiag, y); return 0;
+  case 4: solve_fixed(4, n, ab, ld, kv, rdiag, y); return 0;
+  case 5: solve_fixed(5, n, ab, ld, kv, rdiag, y); return 0;
+  case 6: solve_fixed(6, n, ab, ld, kv, rdiag, y); return 0;
+  case 7: solve_fixed(7, n, ab, ld, kv, rdiag, y); return 0;
+  case 8: solve_fixed(8, n, ab, ld, kv, rdiag, y); return 0;
+  default: return 1;
+  }
 }
 
 void vs_band_solve(vs_band *b, double *x) {
@@ -380,6 +421,12 @@ void vs_band_solve(vs_band *b, double *x) {
   double *y = b->natural ? x : b->w;
   if (!b->natural)
     for (int i = 0; i < n; i++) y[i] = x[b->perm[i]];
+  if (!b->swapped && kl == b->ku && b->ub == kl &&
+      solve_fixed_k(kl, n, ab, (size_t)ld, kv, b->rdiag, y) == 0) {
+    if (!b->natural)
+      for (int i = 0; i < n; i++) x[b->perm[i]] = y[i];
+    return;
+  }
   for (int j = 0; j < n - 1; j++) { /* L, with the row interchanges */
     const int km = kl < n - 1 - j ? kl : n - 1 - j, l = b->ipiv[j];
     if (l != j) {

@@ -1,6 +1,7 @@
 /* The band factorisations (band.h) against independent answers:
- *  - solutions and determinant signs of random banded systems that need row interchanges,
- *    against dense Gaussian elimination with partial pivoting written out here;
+ *  - solutions and determinant signs of random banded systems that need row interchanges, and
+ *    of diagonally dominant ones that need none (the unrolled steps), against dense Gaussian
+ *    elimination with partial pivoting written out here;
  *  - a block chain with two extra unknowns coupled to its two ends (as pinned supports' rotations
  *    kept after the blocks): the chosen order brings the band back to the chain's width;
  *  - positive definiteness of the symmetric part against closed-form eigenvalues (the
@@ -116,6 +117,29 @@ static void test_random(void **state) {
           pat[r * n + c] = 1;
           /* small diagonals: partial pivoting must interchange rows */
           a[r * n + c] = (r == c ? 0.01 : 1.0) * urand(&s);
+        }
+    }
+    csc m;
+    to_csc(n, a, pat, &m);
+    check_solve(&m, a, rhs);
+  }
+}
+
+/* Diagonally dominant symmetric bands of half width 1 to 9: no interchange, so the unrolled steps
+ * of half width 2 to 8 factor and solve them (9: the general ones), against the dense answer. */
+static void test_no_interchange(void **state) {
+  (void)state;
+  unsigned long s = 99;
+  for (int k = 1; k <= 9; k++) {
+    const int n = 30 + k;
+    double a[NMAX * NMAX] = {0}, rhs[NMAX];
+    unsigned char pat[NMAX * NMAX] = {0};
+    for (int r = 0; r < n; r++) {
+      rhs[r] = urand(&s);
+      for (int c = r - k; c <= r + k; c++)
+        if (c >= 0 && c < n) {
+          pat[r * n + c] = 1;
+          a[r * n + c] = (r == c ? 4.0 * k : 0.0) + urand(&s);
         }
     }
     csc m;
@@ -256,7 +280,8 @@ static void test_invalid(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_random), cmocka_unit_test(test_order), cmocka_unit_test(test_spd),
+      cmocka_unit_test(test_random), cmocka_unit_test(test_no_interchange),
+      cmocka_unit_test(test_order), cmocka_unit_test(test_spd),
       cmocka_unit_test(test_singular_and_linsol), cmocka_unit_test(test_invalid)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
