@@ -23,8 +23,9 @@ struct vs_band {
   int *perm, *inv;   /* the order: perm[new] = old, inv[old] = new */
   size_t nnz;
   size_t *lu_at;     /* per CSC entry: its place in ab (entries do not repeat: set, not added) */
-  size_t *zero_at;   /* the places of ab no entry sets, cleared before each factorisation */
-  size_t nzero;
+  size_t *zero_at;   /* the places of ab no entry sets, cleared before a factorisation: first */
+  size_t nzero, nhole; /* the nhole inside the band, then the top kl rows of the interchanges */
+  int fill_clean;    /* those top rows are still zero (no interchange since they were cleared) */
   size_t *s_at;      /* ... in sb (the upper triangle's place of (r, c) and (c, r)) */
   double *s_w;       /* ... and its weight there: 1 on the diagonal, else 1/2 */
   double *ab, *sb, *w;
@@ -252,8 +253,12 @@ vs_status vs_band_create(int n, const sunindextype *cp, const sunindextype *ri, 
     free(set);
     return nomem(&b, err);
   }
-  for (size_t i = 0, z = 0; i < size; i++)
-    if (!set[i]) b->zero_at[z++] = i;
+  size_t z = 0; /* the band's holes first (elimination fills them), then the top kl rows */
+  for (size_t i = 0; i < size; i++)
+    if (!set[i] && i % (size_t)b->ld >= (size_t)kl) b->zero_at[z++] = i;
+  b->nhole = z;
+  for (size_t i = 0; i < size; i++)
+    if (!set[i] && i % (size_t)b->ld < (size_t)kl) b->zero_at[z++] = i;
   free(set);
   b->singular = 1; /* nothing factored yet */
   *out = b;
@@ -327,7 +332,10 @@ static int fast_step_k(int k, double *col, size_t ld, double *rdiag) {
 int vs_band_factor(vs_band *b, const double *x) {
   const int n = b->n, kl = b->kl, ku = b->ku, ld = b->ld, kv = kl + ku;
   double *ab = b->ab;
-  for (size_t z = 0; z < b->nzero; z++) ab[b->zero_at[z]] = 0.0;
+  /* the top kl rows take only the interchanges' fill: clean unless the last factorisation had
+   * any (or none was made yet) */
+  const size_t nz = b->fill_clean ? b->nhole : b->nzero;
+  for (size_t z = 0; z < nz; z++) ab[b->zero_at[z]] = 0.0;
   for (size_t e = 0; e < b->nnz; e++) ab[b->lu_at[e]] = x[e];
   int info = 0, ju = 0, ub = 0; /* ju: the last column the row interchanges have reached */
   for (int j = 0; j < n; j++) {
@@ -374,6 +382,7 @@ int vs_band_factor(vs_band *b, const double *x) {
   b->ub = ub;
   b->swapped = 0;
   for (int j = 0; j < n && !b->swapped; j++) b->swapped = b->ipiv[j] != j;
+  b->fill_clean = !b->swapped;
   return info;
 }
 

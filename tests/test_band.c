@@ -1,7 +1,8 @@
 /* The band factorisations (band.h) against independent answers:
  *  - solutions and determinant signs of random banded systems that need row interchanges, and
  *    of diagonally dominant ones that need none (the unrolled steps), against dense Gaussian
- *    elimination with partial pivoting written out here;
+ *    elimination with partial pivoting written out here; one factoriser refactored with and
+ *    without interchanges in turn;
  *  - a block chain with two extra unknowns coupled to its two ends (as pinned supports' rotations
  *    kept after the blocks): the chosen order brings the band back to the chain's width;
  *  - positive definiteness of the symmetric part against closed-form eigenvalues (the
@@ -123,6 +124,45 @@ static void test_random(void **state) {
     to_csc(n, a, pat, &m);
     check_solve(&m, a, rhs);
   }
+}
+
+/* One factoriser, refactored: values that need row interchanges (which fill the rows above the
+ * band), then values that need none on the same pattern (the fill must be gone), then the first
+ * again: each solve against the dense answer. */
+static void test_refactor(void **state) {
+  (void)state;
+  unsigned long s = 5;
+  const int n = 24, k = 3;
+  double a[3][NMAX * NMAX] = {{0}}, rhs[NMAX];
+  unsigned char pat[NMAX * NMAX] = {0};
+  for (int r = 0; r < n; r++) {
+    rhs[r] = urand(&s);
+    for (int c = r - k; c <= r + k; c++)
+      if (c >= 0 && c < n) {
+        pat[r * n + c] = 1;
+        a[0][r * n + c] = (r == c ? 1e-4 : 1.0) * urand(&s); /* interchanges */
+        a[1][r * n + c] = (r == c ? 4.0 * k : 0.0) + urand(&s); /* none */
+        a[2][r * n + c] = a[0][r * n + c];
+      }
+  }
+  csc m[3];
+  for (int v = 0; v < 3; v++) to_csc(n, a[v], pat, &m[v]);
+  vs_band *b = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  assert_int_equal(vs_band_create(n, m[0].cp, m[0].ri, &b, &err), VS_OK);
+  for (int v = 0; v < 3; v++) {
+    assert_int_equal(vs_band_factor(b, m[v].x), 0);
+    double x[NMAX], xd[NMAX];
+    memcpy(x, rhs, (size_t)n * sizeof *x);
+    memcpy(xd, rhs, (size_t)n * sizeof *xd);
+    vs_band_solve(b, x);
+    assert_int_equal(vs_band_det_sign(b), dense_solve(n, a[v], xd));
+    double scale = 0.0;
+    for (int i = 0; i < n; i++) scale = fmax(scale, fabs(xd[i]));
+    for (int i = 0; i < n; i++) assert_true(fabs(x[i] - xd[i]) <= 1e-10 * scale);
+  }
+  vs_band_destroy(&b);
 }
 
 /* Diagonally dominant symmetric bands of half width 1 to 9: no interchange, so the unrolled steps
@@ -280,7 +320,8 @@ static void test_invalid(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_random), cmocka_unit_test(test_no_interchange),
+      cmocka_unit_test(test_random), cmocka_unit_test(test_refactor),
+      cmocka_unit_test(test_no_interchange),
       cmocka_unit_test(test_order), cmocka_unit_test(test_spd),
       cmocka_unit_test(test_singular_and_linsol), cmocka_unit_test(test_invalid)};
   return cmocka_run_group_tests(tests, NULL, NULL);
