@@ -18,6 +18,11 @@ file(GLOB VS_PUBLIC_HEADERS ${PROJECT_SOURCE_DIR}/include/voussoir/*.h)
 list(FILTER VS_PUBLIC_HEADERS EXCLUDE REGEX "/sweep\\.h$")
 install(FILES ${VS_PUBLIC_HEADERS} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/voussoir)
 
+# The MPI plugin (a build with MPI) goes next to them too; it is the program's, not an API.
+if(TARGET vsmpi)
+  install(TARGETS vsmpi LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+endif()
+
 install(EXPORT voussoirTargets NAMESPACE voussoir:: DESTINATION ${VS_CMAKEDIR})
 configure_package_config_file(cmake/voussoirConfig.cmake.in
   ${PROJECT_BINARY_DIR}/voussoirConfig.cmake INSTALL_DESTINATION ${VS_CMAKEDIR})

@@ -32,6 +32,7 @@
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include "voussoir/klu_reuse.h"
+#include "voussoir/nvector_ops.h"
 
 /* KLU ordering: AMD (0). The iteration matrix is a saddle-point matrix -- the constraint rows
  * have zero diagonals -- with a structurally symmetric pattern, which AMD orders for fill on
@@ -562,6 +563,10 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
     vs_dynamic_destroy(&d);
     return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
   }
+  /* IDA clones its workspace from y: every vector of the integration gets the optimised
+   * operations */
+  N_Vector vecs[] = {d->y, d->yp, d->id, d->atol};
+  for (size_t i = 0; i < sizeof vecs / sizeof vecs[0]; i++) vs_nvector_fast_ops(vecs[i]);
   vs_model_ext_mass(m, d->mass);
   set_tolerances(d, N_VGetArrayPointer(d->atol));
   /* differential: q, v and the energy integrals; algebraic: lambda and mu */
@@ -573,7 +578,7 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   if ((flag = SUNLinSol_KLUSetOrdering(d->LS, VS_DYN_KLU_ORDERING)) != 0)
     return dyn_fail(&d, err, "SUNLinSol_KLUSetOrdering", flag);
   vs_klu_keep_analysis(d->LS); /* one analysis for every restart (IDAReInit) */
-  vs_sparse_zero_values_only(d->J); /* jac_fn writes the pattern */
+  vs_sparse_zero_none(d->J); /* jac_fn writes the pattern */
   d->ida = IDACreate(d->ctx);
   if (d->ida == NULL) return dyn_fail(&d, err, "IDACreate", 0);
   N_VConst(0.0, d->y);

@@ -53,16 +53,8 @@ static inline void perp(const double v[2], double out[2]) {
 
 static inline double dot(const double u[2], const double v[2]) { return u[0] * v[0] + u[1] * v[1]; }
 
-/* Kinematic measures of the joint and their gradients/Hessians in (qa, qb). */
-typedef struct {
-  double g, sl, w;            /* gap at the centre, slip, gap slope */
-  double dg[6], ds[6], dw[6]; /* gradients */
-  /* Hessians, by their non-zeros (symmetric; none between two translations): a translation
-   * t (0, 1, 3, 4) with either rotation (2, 5) the same, hg_t[t] and hs_t[t] (H_w none); the
-   * rotations' (2,2), (5,5), (2,5) entries h*_rr[0..2] */
-  double hg_t[6], hs_t[6];
-  double hg_rr[3], hs_rr[3], hw_rr[3];
-} kinematics;
+/* Kinematic measures of the joint and their gradients/Hessians in (qa, qb) (joint.h). */
+typedef vs_joint_kinematics kinematics;
 
 static void rot_cs(double c, double sn, const double v[2], double out[2]) {
   out[0] = c * v[0] - sn * v[1];
@@ -130,6 +122,11 @@ static void joint_kinematics(const vs_joint_geom *jg, const double qa[3], const 
   k->hw_rr[2] = 0.5 * sh;
 }
 
+/* Component i of (qa, qb) is a rotation (2, 5): the gap slope w depends on those alone, so its
+ * gradient is zero on the translations, and the terms it multiplies there are left out below:
+ * they only added zeros (the results differ at most in the sign of a zero). */
+static inline int is_rot(int i) { return i == 2 || i == 5; }
+
 /* Rates of the joint measures (penetration a, gap slope w, slip) from the bodies' velocities. */
 static void joint_rates(const kinematics *k, const double va[3], const double vb[3], double *adot,
                         double *wdot, double *sdot) {
@@ -137,17 +134,13 @@ static void joint_rates(const kinematics *k, const double va[3], const double vb
   *adot = *wdot = *sdot = 0.0;
   for (int i = 0; i < 6; i++) {
     *adot -= k->dg[i] * vel[i];
-    *wdot += k->dw[i] * vel[i];
+    if (is_rot(i)) *wdot += k->dw[i] * vel[i];
     *sdot += k->ds[i] * vel[i];
   }
 }
 
 /* The law at one kinematic state: the normal response and the return-mapped shear. */
-typedef struct {
-  vs_normal_response nr;
-  double kst, T, slip_p, sgn;
-  int sliding;
-} law_state;
+typedef vs_joint_law_state law_state;
 
 static void law_eval(const vs_joint_geom *jg, const vs_joint_law *law, const kinematics *k,
                      double slip_p_old, law_state *ls) {
@@ -189,7 +182,9 @@ static void state_out(const vs_joint_geom *jg, const kinematics *k, const law_st
 
 /* f = N grad(a) + M grad(w) + T grad(slip), grad(a) = -grad(g) */
 static void force_out(const kinematics *k, const law_state *ls, double f[6]) {
-  for (int i = 0; i < 6; i++) f[i] = -ls->nr.N * k->dg[i] + ls->nr.M * k->dw[i] + ls->T * k->ds[i];
+  for (int i = 0; i < 6; i++)
+    f[i] = is_rot(i) ? -ls->nr.N * k->dg[i] + ls->nr.M * k->dw[i] + ls->T * k->ds[i]
+                     : -ls->nr.N * k->dg[i] + ls->T * k->ds[i];
 }
 
 /* K = grad(a) dN^T + grad(w) dM^T + grad(s) dT^T + N H_a + M H_w + T H_s (k with Hessians) */
@@ -199,17 +194,24 @@ static void tangent_out(const vs_joint_law *law, const kinematics *k, const law_
   double dN[6], dM[6], dT[6];
   for (int j = 0; j < 6; j++) {
     const double da_j = -k->dg[j], dw_j = k->dw[j];
-    dN[j] = nr->N_a * da_j + nr->N_w * dw_j;
-    dM[j] = nr->N_w * da_j + nr->M_w * dw_j;
+    dN[j] = is_rot(j) ? nr->N_a * da_j + nr->N_w * dw_j : nr->N_a * da_j;
+    dM[j] = is_rot(j) ? nr->N_w * da_j + nr->M_w * dw_j : nr->N_w * da_j;
     dT[j] = ls->sliding ? ls->sgn * law->mu * dN[j] : ls->kst * k->ds[j];
   }
-  for (int i = 0; i < 6; i++)
-    for (int j = 0; j < 6; j++)
-      K[i * 6 + j] = -k->dg[i] * dN[j] + k->dw[i] * dM[j] + k->ds[i] * dT[j];
+  /* Action and reaction: the translations of b (3, 4) enter every measure and every one of its
+   * Hessian terms with the opposite sign of a's (0, 1), exactly (the gradients are -n, n and -s,
+   * s), so their rows and columns are the negated ones of a's -- negation is exact, the entries
+   * are the same bits as computing them. The independent rows and columns: */
+  static const int ind[4] = {0, 1, 2, 5};
+  for (int a = 0; a < 4; a++)
+    for (int b = 0; b < 4; b++) {
+      const int i = ind[a], j = ind[b];
+      K[i * 6 + j] = is_rot(i) ? -k->dg[i] * dN[j] + k->dw[i] * dM[j] + k->ds[i] * dT[j]
+                               : -k->dg[i] * dN[j] + k->ds[i] * dT[j];
+    }
   /* the Hessians' terms where they are non-zero: rows and columns of the rotations 2, 5 */
   const double N = nr->N, M = nr->M, T = ls->T;
-  for (int t = 0; t < 6; t++) {
-    if (t == 2 || t == 5) continue;
+  for (int t = 0; t < 2; t++) {
     const double h = -N * k->hg_t[t] + T * k->hs_t[t];
     K[t * 6 + 2] += h;
     K[t * 6 + 5] += h;
@@ -221,6 +223,15 @@ static void tangent_out(const vs_joint_law *law, const kinematics *k, const law_
     const double h = -N * k->hg_rr[e] + M * k->hw_rr[e] + T * k->hs_rr[e];
     K[rr[e][0] * 6 + rr[e][1]] += h;
     if (e == 2) K[5 * 6 + 2] += h;
+  }
+  for (int a = 0; a < 4; a++) {
+    const int i = ind[a];
+    K[i * 6 + 3] = -K[i * 6 + 0];
+    K[i * 6 + 4] = -K[i * 6 + 1];
+  }
+  for (int j = 0; j < 6; j++) {
+    K[3 * 6 + j] = -K[0 * 6 + j];
+    K[4 * 6 + j] = -K[1 * 6 + j];
   }
 }
 
@@ -235,6 +246,21 @@ void vs_joint_eval_h(const vs_joint_geom *jg, const vs_joint_law *law, const dou
   if (st != NULL) state_out(jg, &k, &ls, st);
   if (f != NULL) force_out(&k, &ls, f);
   if (K != NULL) tangent_out(law, &k, &ls, K);
+}
+
+void vs_joint_point_eval(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
+                         const double qb[3], const double ha[2], const double hb[2],
+                         const double ra[2], const double rb[2], double slip_p_old,
+                         vs_joint_point *pt) {
+  joint_kinematics(jg, qa, qb, ha, hb, ra, rb, 1, &pt->k);
+  law_eval(jg, law, &pt->k, slip_p_old, &pt->ls);
+}
+
+void vs_joint_point_out(const vs_joint_geom *jg, const vs_joint_law *law, const vs_joint_point *pt,
+                        vs_joint_state *st, double f[6], double K[36]) {
+  if (st != NULL) state_out(jg, &pt->k, &pt->ls, st);
+  if (f != NULL) force_out(&pt->k, &pt->ls, f);
+  if (K != NULL) tangent_out(law, &pt->k, &pt->ls, K);
 }
 
 void vs_joint_eval(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
@@ -262,12 +288,31 @@ static void dashpot_out(const vs_joint_geom *jg, double cn, double cs, const kin
   joint_rates(k, va, vb, &adot, &wdot, &sdot);
   const double Nd = ca * adot, Md = cw * wdot, Td = csl * sdot;
   if (f != NULL)
-    for (int i = 0; i < 6; i++) f[i] = -Nd * k->dg[i] + Md * k->dw[i] + Td * k->ds[i];
-  if (power != NULL) *power = Nd * adot + Md * wdot + Td * sdot;
-  if (C != NULL)
     for (int i = 0; i < 6; i++)
-      for (int j = 0; j < 6; j++)
-        C[i * 6 + j] = ca * k->dg[i] * k->dg[j] + cw * k->dw[i] * k->dw[j] + csl * k->ds[i] * k->ds[j];
+      f[i] = is_rot(i) ? -Nd * k->dg[i] + Md * k->dw[i] + Td * k->ds[i]
+                       : -Nd * k->dg[i] + Td * k->ds[i];
+  if (power != NULL) *power = Nd * adot + Md * wdot + Td * sdot;
+  if (C != NULL) {
+    /* b's translations' rows and columns are a's negated, as in tangent_out */
+    static const int ind[4] = {0, 1, 2, 5};
+    for (int a = 0; a < 4; a++)
+      for (int c = 0; c < 4; c++) {
+        const int i = ind[a], j = ind[c];
+        C[i * 6 + j] = is_rot(i) && is_rot(j)
+                           ? ca * k->dg[i] * k->dg[j] + cw * k->dw[i] * k->dw[j] +
+                                 csl * k->ds[i] * k->ds[j]
+                           : ca * k->dg[i] * k->dg[j] + csl * k->ds[i] * k->ds[j];
+      }
+    for (int a = 0; a < 4; a++) {
+      const int i = ind[a];
+      C[i * 6 + 3] = -C[i * 6 + 0];
+      C[i * 6 + 4] = -C[i * 6 + 1];
+    }
+    for (int j = 0; j < 6; j++) {
+      C[3 * 6 + j] = -C[0 * 6 + j];
+      C[4 * 6 + j] = -C[1 * 6 + j];
+    }
+  }
 }
 
 /* Stiffness-proportional damping (vs_joint_damping_tangent) likewise. */

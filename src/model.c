@@ -19,6 +19,7 @@ typedef struct {
   int nnz;
   sunindextype *scatter; /* per joint, 36: CSC position of K[6 i + j] (-1: prescribed) */
   int *jdof;             /* per joint, 6: the unknowns of its components (joint_dofs) */
+  unsigned char *full;   /* per joint: all six are unknowns (none prescribed) */
 } vs_pattern;
 
 struct vs_model {
@@ -39,14 +40,35 @@ struct vs_model {
   double *cn, *cs; /* per joint: damping coefficients, N s/m^3 */
   int pinned[2];   /* left, right: 1 if the support is pinned (its rotation free) */
   vs_pattern pat;  /* statics: the blocks' 3 n_blocks unknowns, then the pinned supports' rotations */
+  struct memo *memo; /* the joints' points at the last residual or joints' states (memo_*) */
   vs_pattern pate; /* with the two supports as bodies n_blocks (left) and n_blocks + 1 (right) */
   /* workspaces of one evaluation (written by the const functions: the pointers are the model's,
    * the contents scratch): every body's half angle (vs_joint_half_angle; slots as body_slot),
-   * and damping forces over the extended unknowns */
-  double *rot, *fdw;
+   * and damping forces over the extended unknowns; the rotation each half angle is of */
+  double *rot, *fdw, *rot_of;
 };
 
+/* The joints' points (vs_joint_point) of the last static residual or joints' states, with the
+ * block states and support states they are of: a Jacobian, residual or joints' states at the
+ * same states (bit for bit) takes them instead of evaluating the joints again -- KINSOL's
+ * Jacobian at the iterate its line search just evaluated, the scaled residual and the stability
+ * test at a converged equilibrium. Whatever else the joints depend on (plastic slips, laws, the
+ * misfit factor) drops it when it changes (memo_drop). Written by const functions: scratch. */
+struct memo {
+  int ok;
+  double *q, qs[6];   /* the blocks' (3 n_blocks) and the supports' states */
+  vs_joint_point *pt; /* per joint */
+};
+
+static void memo_drop(const vs_model *m);
+
 static int body_is_block(int body) { return body >= 0; }
+
+/* Where the (ux, uz, theta) of a body are -- or its velocities: a block's in q, a support's in qs
+ * (left (ux, uz, theta), then right). */
+static const double *body_ptr(const double *q, const double qs[6], int body) {
+  return body >= 0 ? q + 3 * body : qs + (body == VS_SUPPORT_LEFT ? 0 : 3);
+}
 
 /* The (ux, uz, theta) of a body -- or its velocities: a block's from q, a support's from qs
  * (left (ux, uz, theta), then right). */
@@ -87,6 +109,7 @@ static void sup_pos_q(const vs_model *m, const double *q, double delta, double q
 static void pattern_free(vs_pattern *p) {
   free(p->scatter);
   free(p->jdof);
+  free(p->full);
   free(p->colptr);
   free(p->rowind);
   free(p->dof);
@@ -142,11 +165,13 @@ static vs_status build_scatter(const vs_model *m, vs_pattern *p, vs_error *err) 
   const int nj = m->g->n_joints;
   p->scatter = malloc(36 * (size_t)(nj > 0 ? nj : 1) * sizeof *p->scatter);
   p->jdof = malloc(6 * (size_t)(nj > 0 ? nj : 1) * sizeof *p->jdof);
-  if (p->scatter == NULL || p->jdof == NULL)
+  p->full = malloc((size_t)(nj > 0 ? nj : 1));
+  if (p->scatter == NULL || p->jdof == NULL || p->full == NULL)
     return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
   for (int k = 0; k < nj; k++) {
     int *d = p->jdof + 6 * k;
     joint_dofs(m, p, k, d);
+    p->full[k] = d[0] >= 0 && d[1] >= 0 && d[2] >= 0 && d[3] >= 0 && d[4] >= 0 && d[5] >= 0;
     for (int i = 0; i < 6; i++)
       for (int j = 0; j < 6; j++)
         p->scatter[36 * k + 6 * i + j] = (d[i] >= 0 && d[j] >= 0) ? csc_pos(p, d[i], d[j]) : -1;
@@ -245,12 +270,20 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
   m->cs = calloc(nj, sizeof(double));
   m->laws = malloc(nj * sizeof *m->laws);
   m->rot = malloc(2 * ((size_t)g->n_blocks + 2) * sizeof *m->rot);
+  m->rot_of = malloc(((size_t)g->n_blocks + 2) * sizeof *m->rot_of);
+  m->memo = calloc(1, sizeof *m->memo);
+  if (m->memo != NULL) {
+    m->memo->q = malloc(3 * ((size_t)g->n_blocks + 1) * sizeof *m->memo->q);
+    m->memo->pt = malloc((nj > 0 ? nj : 1) * sizeof *m->memo->pt);
+  }
   m->fdw = malloc(3 * ((size_t)g->n_blocks + 2) * sizeof *m->fdw);
   if (m->ra == NULL || m->rb == NULL || m->slip_p == NULL || m->cn == NULL || m->cs == NULL ||
-      m->laws == NULL || m->rot == NULL || m->fdw == NULL) {
+      m->laws == NULL || m->rot == NULL || m->fdw == NULL || m->rot_of == NULL ||
+      m->memo == NULL || m->memo->q == NULL || m->memo->pt == NULL) {
     vs_model_destroy(&m);
     return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
   }
+  for (int i = 0; i < g->n_blocks + 2; i++) m->rot_of[i] = NAN; /* no half angle yet */
   for (int k = 0; k < g->n_joints; k++) {
     const vs_joint_geom *j = &g->joints[k];
     m->laws[k] = *law;
@@ -282,6 +315,12 @@ void vs_model_destroy(vs_model **m) {
   free(p->cs);
   free(p->laws);
   free(p->rot);
+  free(p->rot_of);
+  if (p->memo != NULL) {
+    free(p->memo->q);
+    free(p->memo->pt);
+    free(p->memo);
+  }
   free(p->fdw);
   pattern_free(&p->pat);
   pattern_free(&p->pate);
@@ -331,6 +370,7 @@ vs_status vs_model_set_joint_law(vs_model *m, int k, const vs_joint_law *law, vs
                         "(allowed: kn, ks, mu > 0, gaps finite)",
                         k + 1, law->kn, law->ks, law->mu, law->gap0, law->gap1);
   m->laws[k] = *law;
+  memo_drop(m);
   vs_model_set_damping(m, m->zeta); /* the damping coefficients follow the joint's stiffness */
   return VS_OK;
 }
@@ -349,7 +389,10 @@ int vs_model_has_misfit(const vs_model *m) {
   return 0;
 }
 
-void vs_model_set_misfit_scale(vs_model *m, double s) { m->mscale = s; }
+void vs_model_set_misfit_scale(vs_model *m, double s) {
+  m->mscale = s;
+  memo_drop(m); /* the joints' initial gaps scale with it */
+}
 
 /* The law of joint k at the current misfit factor (vs_model_set_misfit_scale). */
 static const vs_joint_law *law_at(const vs_model *m, int k, vs_joint_law *tmp) {
@@ -361,13 +404,22 @@ static const vs_joint_law *law_at(const vs_model *m, int k, vs_joint_law *tmp) {
   return tmp;
 }
 
-/* Every body's half angle at block states q and support states qs into m->rot (one sincos per
- * body and evaluation); eval_joint with rot = 1 then reads them. */
+/* The half angle of body slot i at rotation theta into m->rot, unless it holds that of the same
+ * rotation already (bit for bit): a Jacobian at the state of the last residual, the joints'
+ * states at a converged equilibrium and the rotations a step leaves alone take no sincos. */
+static void half_angle_of(const vs_model *m, int i, double theta) {
+  if (memcmp(&m->rot_of[i], &theta, sizeof theta) == 0) return;
+  vs_joint_half_angle(theta, m->rot + 2 * i);
+  m->rot_of[i] = theta;
+}
+
+/* Every body's half angle at block states q and support states qs into m->rot (half_angle_of);
+ * eval_joint with rot = 1 then reads them. */
 static void half_angles(const vs_model *m, const double *q, const double qs[6]) {
   const int nb = m->g->n_blocks;
-  for (int i = 0; i < nb; i++) vs_joint_half_angle(q[3 * i + 2], m->rot + 2 * i);
-  vs_joint_half_angle(qs[2], m->rot + 2 * nb);
-  vs_joint_half_angle(qs[5], m->rot + 2 * nb + 2);
+  for (int i = 0; i < nb; i++) half_angle_of(m, i, q[3 * i + 2]);
+  half_angle_of(m, nb, qs[2]);
+  half_angle_of(m, nb + 1, qs[5]);
 }
 
 static const double *body_rot(const vs_model *m, int body) { return m->rot + 2 * body_slot(m, body); }
@@ -392,6 +444,43 @@ static void eval_joint(const vs_model *m, const double *q, const double qs[6], i
                   st, f, K);
 }
 
+/* --- the joints' points kept (struct memo) --- */
+
+static void memo_drop(const vs_model *m) { m->memo->ok = 0; }
+
+/* The memo holds the points at block states q and support states qs. */
+static int memo_hit(const vs_model *m, const double *q, const double qs[6]) {
+  const struct memo *mm = m->memo;
+  return mm->ok && memcmp(mm->qs, qs, sizeof mm->qs) == 0 &&
+         memcmp(mm->q, q, 3 * (size_t)m->g->n_blocks * sizeof *q) == 0;
+}
+
+/* Joint k's point at (q, qs) into the memo (half_angles done). */
+static void memo_eval(const vs_model *m, const double *q, const double qs[6], int k) {
+  const vs_joint_geom *j = &m->g->joints[k];
+  double qa[3], qb[3];
+  body_q(q, qs, j->a, qa);
+  body_q(q, qs, j->b, qb);
+  vs_joint_law tmp;
+  vs_joint_point_eval(j, law_at(m, k, &tmp), qa, qb, body_rot(m, j->a), body_rot(m, j->b),
+                      m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k], &m->memo->pt[k]);
+}
+
+/* Evaluate every joint at (q, qs) into the memo (half_angles done) and key it. */
+static void memo_fill(const vs_model *m, const double *q, const double qs[6]) {
+  struct memo *mm = m->memo;
+  for (int k = 0; k < m->g->n_joints; k++) memo_eval(m, q, qs, k);
+  memcpy(mm->q, q, 3 * (size_t)m->g->n_blocks * sizeof *q);
+  memcpy(mm->qs, qs, sizeof mm->qs);
+  mm->ok = 1;
+}
+
+/* Joint k's outputs from the memo (as eval_joint's at the memo's states). */
+static void memo_out(const vs_model *m, int k, vs_joint_state *st, double f[6], double K[36]) {
+  vs_joint_law tmp;
+  vs_joint_point_out(&m->g->joints[k], law_at(m, k, &tmp), &m->memo->pt[k], st, f, K);
+}
+
 /* The unknowns of joint k's six components (body a's, then b's) in pattern p, -1 if prescribed. */
 static void joint_dofs(const vs_model *m, const vs_pattern *p, int k, int d[6]) {
   const int sa = body_slot(m, m->g->joints[k].a), sb = body_slot(m, m->g->joints[k].b);
@@ -401,17 +490,21 @@ static void joint_dofs(const vs_model *m, const vs_pattern *p, int k, int d[6]) 
   }
 }
 
-/* Residual over the unknowns of pattern p (G has p->n entries). */
+/* Residual over the unknowns of pattern p (G has p->n entries); the joints' points are kept
+ * (struct memo) for a Jacobian at the same state. */
 static void residual_core(const vs_model *m, const vs_pattern *p, const double *q,
                           const double qs[6], double *G) {
   const vs_geometry *g = m->g;
   memset(G, 0, (size_t)p->n * sizeof *G);
   for (int i = 0; i < g->n_blocks; i++)
     G[3 * i + 1] = m->gscale * g->blocks[i].mass * g->gravity; /* minus the load -m g */
-  half_angles(m, q, qs);
+  if (!memo_hit(m, q, qs)) {
+    half_angles(m, q, qs);
+    memo_fill(m, q, qs);
+  }
   for (int k = 0; k < g->n_joints; k++) {
     double f[6];
-    eval_joint(m, q, qs, k, 1, NULL, f, NULL);
+    memo_out(m, k, NULL, f, NULL);
     const int *d = p->jdof + 6 * k;
     for (int e = 0; e < 6; e++)
       if (d[e] >= 0) G[d[e]] += f[e];
@@ -457,10 +550,12 @@ static void jacobian_core(const vs_model *m, const vs_pattern *p, const double *
                           const double qs[6], SUNMatrix J) {
   double *data = csc_reset(p, J);
   const vs_geometry *g = m->g;
-  half_angles(m, q, qs);
+  const int hit = memo_hit(m, q, qs);
+  if (!hit) half_angles(m, q, qs);
   for (int k = 0; k < g->n_joints; k++) {
     double K[36];
-    eval_joint(m, q, qs, k, 1, NULL, NULL, K);
+    if (hit) memo_out(m, k, NULL, NULL, K);
+    else eval_joint(m, q, qs, k, 1, NULL, NULL, K);
     scatter_joint(p, k, K, data);
   }
 }
@@ -493,32 +588,56 @@ void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double
   }
 }
 
+/* The joints' states at (q, qs); keep: through the memo (a static state: the Jacobian or
+ * commit that follows at the same state takes them), else evaluated directly (the dynamic
+ * phase's states, which never recur). */
 static void joint_states_core(const vs_model *m, const double *q, const double qs[6],
-                              vs_joint_state *st) {
+                              vs_joint_state *st, int keep) {
+  if (keep && memo_hit(m, q, qs)) {
+    for (int k = 0; k < m->g->n_joints; k++) memo_out(m, k, &st[k], NULL, NULL);
+    return;
+  }
   half_angles(m, q, qs);
+  if (keep) {
+    memo_fill(m, q, qs);
+    for (int k = 0; k < m->g->n_joints; k++) memo_out(m, k, &st[k], NULL, NULL);
+    return;
+  }
   for (int k = 0; k < m->g->n_joints; k++) eval_joint(m, q, qs, k, 1, &st[k], NULL, NULL);
 }
 
 void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_joint_state *st) {
   double qs[6];
   sup_pos_q(m, q, delta, qs);
-  joint_states_core(m, q, qs, st);
+  joint_states_core(m, q, qs, st, 1);
 }
 
+/* The plastic slips change. With the memo at these states, a joint whose slip moved is
+ * evaluated again into it, so that it stays the joints' points (the joints' states of the
+ * equilibrium just committed, which the hinge tracker reads next, are then taken from it);
+ * otherwise the memo is dropped. */
 static int commit_core(vs_model *m, const double *q, const double qs[6]) {
-  int slid = 0;
-  half_angles(m, q, qs);
+  int slid = 0, rot = 0;
+  const int hit = memo_hit(m, q, qs);
+  if (!hit) half_angles(m, q, qs);
   for (int k = 0; k < m->g->n_joints; k++) {
     vs_joint_state st;
-    eval_joint(m, q, qs, k, 1, &st, NULL, NULL);
+    if (hit) memo_out(m, k, &st, NULL, NULL);
+    else eval_joint(m, q, qs, k, 1, &st, NULL, NULL);
     if (st.sliding && st.N > 0.0) slid++;
+    const double old = m->slip_p[k];
     m->slip_p[k] = st.slip_p;
+    if (!hit || memcmp(&old, &st.slip_p, sizeof old) == 0) continue;
+    if (!rot) half_angles(m, q, qs), rot = 1; /* m->rot may hold another state's */
+    memo_eval(m, q, qs, k);
   }
+  if (!hit) memo_drop(m);
   return slid;
 }
 
 int vs_model_commit_states(vs_model *m, const vs_joint_state *st) {
   int slid = 0;
+  memo_drop(m);
   for (int k = 0; k < m->g->n_joints; k++) {
     if (st[k].sliding && st[k].N > 0.0) slid++;
     m->slip_p[k] = st[k].slip_p;
@@ -717,30 +836,30 @@ static void motion_core(const vs_model *m, const vs_pattern *p, const double *q,
   half_angles(m, q, qs);
   for (int k = 0; k < g->n_joints; k++) {
     const vs_joint_geom *j = &g->joints[k];
-    double qa[3], qb[3], va[3], vb[3], f[6], Kk[36], fdk[6], Ck[36];
+    double f[6], Kk[36], fdk[6], Ck[36];
     vs_joint_law tmp;
-    body_q(q, qs, j->a, qa);
-    body_q(q, qs, j->b, qb);
-    if (v != NULL) {
-      body_q(v, vs, j->a, va);
-      body_q(v, vs, j->b, vb);
-    }
-    const vs_joint_bodies bd = {qa, qb, body_rot(m, j->a), body_rot(m, j->b), v != NULL ? va : NULL,
-                                vb, m->ra + 2 * k, m->rb + 2 * k};
+    const double *va = v != NULL ? body_ptr(v, vs, j->a) : NULL;
+    const double *vb = v != NULL ? body_ptr(v, vs, j->b) : NULL;
+    const vs_joint_bodies bd = {body_ptr(q, qs, j->a), body_ptr(q, qs, j->b), body_rot(m, j->a),
+                                body_rot(m, j->b), va, vb, m->ra + 2 * k, m->rb + 2 * k};
     /* HOOK (damping): Rayleigh's stiffness part, else the joint dashpots */
     const vs_joint_dashpot dp = {m->cn[k], m->cs[k], m->beta_k};
     vs_joint_motion jm = {o->G != NULL ? f : NULL, o->K != NULL ? Kk : NULL, damp ? fdk : NULL,
                           damp && o->C != NULL ? Ck : NULL, o->want_friction && v != NULL, 0.0, 0.0};
     vs_joint_eval_motion(j, law_at(m, k, &tmp), &bd, m->slip_p[k], damp ? &dp : NULL, &jm);
-    if (o->G != NULL) {
-      const int *d = p->jdof + 6 * k;
+    const int *d = p->jdof + 6 * k;
+    if (o->G != NULL && p->full[k]) /* (the joints of the dynamic phase's extended state) */
+      for (int e = 0; e < 6; e++) o->G[d[e]] += f[e];
+    else if (o->G != NULL)
       for (int e = 0; e < 6; e++)
         if (d[e] >= 0) o->G[d[e]] += f[e];
-    }
     if (o->K != NULL) scatter_joint(p, k, Kk, kdata);
     if (damp) {
       o->diss += jm.power;
-      add_damping(m, p, k, fdk, va, vb, o->fd, &o->sup);
+      if (p->full[k] && o->fd != NULL) /* no prescribed component: nothing the support works */
+        for (int e = 0; e < 6; e++) o->fd[d[e]] += fdk[e];
+      else
+        add_damping(m, p, k, fdk, va, vb, o->fd, &o->sup);
       if (o->C != NULL) scatter_joint(p, k, Ck, cdata);
     }
     o->fric += jm.friction;
@@ -905,7 +1024,7 @@ double vs_model_ext_friction_power(const vs_model *m, const double *qe, const do
 }
 
 void vs_model_ext_joint_states(const vs_model *m, const double *qe, vs_joint_state *st) {
-  joint_states_core(m, qe, qe + 3 * m->g->n_blocks, st);
+  joint_states_core(m, qe, qe + 3 * m->g->n_blocks, st, 0);
 }
 
 int vs_model_ext_commit(vs_model *m, const double *qe) { return commit_core(m, qe, qe + 3 * m->g->n_blocks); }

@@ -167,7 +167,8 @@ int vs_mc_main(const vs_mc_opts *o) {
   }
   const double t0 = now_s();
 #ifdef VS_HAVE_MPI
-  if (vs_mc_mpi_launched()) {
+  if (vs_plugin_mpi_launched()) {
+    if (vs_plugin_load(VS_PLUGIN_MPI, "voussoir montecarlo") != 0) goto done;
     if (vs_mc_run_mpi(&c, samples, n, res, &a.jobs) != 0) { /* a worker rank: rank 0 reports */
       rc = 0;
       goto done;

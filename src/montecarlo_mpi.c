@@ -1,24 +1,17 @@
 /* The montecarlo command under MPI (mpirun -np N voussoir montecarlo ...): rank 0 hands out the
  * samples one at a time to the ranks that ask for work and gathers their results; it writes the
  * summary. A sample's result depends only on (case, seed, sample), so the summary is the one a
- * single process writes. Built only when CMake finds MPI (VS_HAVE_MPI). */
+ * single process writes. In the MPI plugin (libvoussoir-mpi, src/plugin.h), built only when
+ * CMake finds MPI. */
 #define _POSIX_C_SOURCE 200809L /* nanosleep */
 #include "voussoir/montecarlo.h"
 #include "montecarlo_mpi.h"
 
 #include <mpi.h>
 #include <time.h>
-#include <stdlib.h>
 #include <string.h>
 
 enum { TAG_RESULT = 1, TAG_WORK = 2 };
-
-int vs_mc_mpi_launched(void) {
-  const char *vars[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"};
-  for (size_t i = 0; i < sizeof vars / sizeof vars[0]; i++)
-    if (getenv(vars[i]) != NULL) return 1;
-  return 0;
-}
 
 /* Receive the next result. Open MPI busy-polls in a blocking receive, which would take a core
  * from the workers on a machine with as many ranks as cores: test, and yield for 1 ms between

@@ -1,15 +1,13 @@
-/* The Monte Carlo's MPI ranks (src/montecarlo_mpi.c): private to the program, built only with
- * VS_MPI (it is not part of the installed library). */
+/* The Monte Carlo's MPI ranks (src/montecarlo_mpi.c): in the program's MPI plugin
+ * (libvoussoir-mpi, src/plugin.h), built only with VS_MPI; not part of the installed API. */
 #ifndef VS_MONTECARLO_MPI_H
 #define VS_MONTECARLO_MPI_H
 
 #include "voussoir/montecarlo.h"
 
-/* Whether this process was started by mpirun (its environment says so), and the run of the
- * listed samples across the ranks: rank 0 hands them out one at a time and gathers results[i]
- * for samples[i]; *ranks receives the number of ranks. Calls MPI_Init and MPI_Finalize. Returns
- * this process's rank (only rank 0 has the results). */
-int vs_mc_mpi_launched(void);
+/* The run of the listed samples across the ranks of an MPI job: rank 0 hands them out one at a
+ * time and gathers results[i] for samples[i]; *ranks receives the number of ranks. Calls
+ * MPI_Init and MPI_Finalize. Returns this process's rank (only rank 0 has the results). */
 int vs_mc_run_mpi(const vs_case *c, const int *samples, int n, vs_mc_sample *results, int *ranks);
 
 #endif

@@ -1,9 +1,11 @@
-/* Loading the program's plugins (src/plugin.h): dlopen of libvoussoir-record / libvoussoir-plot
- * from the directory the core library was loaded from, one dlsym for the table, checks. */
+/* Loading the program's plugins (src/plugin.h): dlopen of libvoussoir-record, libvoussoir-plot
+ * or libvoussoir-mpi from the directory the core library was loaded from, one dlsym for the
+ * table, checks. */
 #define _GNU_SOURCE /* dlinfo */
 #include <dlfcn.h>
 #include <limits.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
@@ -19,22 +21,36 @@
 #ifndef VS_PLOT_PLUGIN_FILE
 #error "VS_PLOT_PLUGIN_FILE (the plot plugin's file name) must be defined"
 #endif
+#ifndef VS_MPI_PLUGIN_FILE /* a build without MPI: no such plugin */
+#define VS_MPI_PLUGIN_FILE NULL
+#endif
 
 /* The loaded tables. Process state because dlopen is: the forwarding functions of
  * src/plugin_calls.c have the record API's signatures, without a handle to pass them. */
 static const vs_record_plugin *g_record = NULL;
 static const vs_plot_plugin *g_plot = NULL;
+static const vs_mpi_plugin *g_mpi = NULL;
 
 const vs_record_plugin *vs_plugin_record(void) { return g_record; }
 const vs_plot_plugin *vs_plugin_plot(void) { return g_plot; }
+const vs_mpi_plugin *vs_plugin_mpi(void) { return g_mpi; }
+
+int vs_plugin_mpi_launched(void) {
+  const char *vars[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"};
+  for (size_t i = 0; i < sizeof vars / sizeof vars[0]; i++)
+    if (getenv(vars[i]) != NULL) return 1;
+  return 0;
+}
 
 typedef struct {
   const char *file, *symbol, *what;
+  int global; /* RTLD_GLOBAL: Open MPI's own components look up its symbols */
 } plugin_info;
 
 static const plugin_info PLUGINS[] = {
-    {VS_RECORD_PLUGIN_FILE, "vs_record_plugin_table", "the HDF5 record"},
-    {VS_PLOT_PLUGIN_FILE, "vs_plot_plugin_table", "pictures"},
+    {VS_RECORD_PLUGIN_FILE, "vs_record_plugin_table", "the HDF5 record", 0},
+    {VS_PLOT_PLUGIN_FILE, "vs_plot_plugin_table", "pictures", 0},
+    {VS_MPI_PLUGIN_FILE, "vs_mpi_plugin_table", "MPI ranks", 1},
 };
 
 /* DIR/file where DIR holds the core library this program runs with (found by its soname among
@@ -54,7 +70,7 @@ static void plugin_path(const char *file, char *buf, size_t size) {
 static const vs_plugin_head *open_plugin(const plugin_info *p, const char *name) {
   char path[4096];
   plugin_path(p->file, path, sizeof path);
-  void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+  void *h = dlopen(path, RTLD_NOW | (p->global ? RTLD_GLOBAL : RTLD_LOCAL));
   if (h == NULL) {
     fprintf(stderr, "%s: cannot load %s (%s): %s\n", name, path, p->what, dlerror());
     return NULL;
@@ -74,6 +90,15 @@ static const vs_plugin_head *open_plugin(const plugin_info *p, const char *name)
 }
 
 int vs_plugin_load(vs_plugin_kind kind, const char *name) {
+  if (kind == VS_PLUGIN_MPI) {
+    if (g_mpi != NULL) return 0;
+    if (PLUGINS[VS_PLUGIN_MPI].file == NULL) {
+      fprintf(stderr, "%s: started by mpirun, but this voussoir was built without MPI\n", name);
+      return VS_EXIT_FAILED;
+    }
+    g_mpi = (const vs_mpi_plugin *)open_plugin(&PLUGINS[VS_PLUGIN_MPI], name);
+    return g_mpi != NULL ? 0 : VS_EXIT_FAILED;
+  }
   if (g_record == NULL) {
     g_record = (const vs_record_plugin *)open_plugin(&PLUGINS[VS_PLUGIN_RECORD], name);
     if (g_record == NULL) return VS_EXIT_FAILED;

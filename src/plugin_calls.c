@@ -1,6 +1,7 @@
 /* In the program: the plugins' functions under their usual names, each forwarding to the loaded
- * table (src/plugin.h). The program is built with hidden visibility, so these never take the
- * place of a plugin's own functions. A command loads its plugin (vs_plugin_load) before it calls
+ * table (src/plugin.h; the MPI plugin's only when a build with MPI compiles the calls). The
+ * program is built with hidden visibility, so these never take the place of a plugin's own
+ * functions. A command loads its plugin (vs_plugin_load) before it calls
  * any of them; a call without it is a bug of the program and aborts. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -77,3 +78,28 @@ vs_status vs_mc_write_summary(const char *dir, const vs_case *c, vs_mc_sample *s
 void vs_plot_release(void) {
   if (vs_plugin_plot() != NULL) vs_plugin_plot()->plot_release();
 }
+
+static const vs_mpi_plugin *mpi(void) {
+  const vs_mpi_plugin *t = vs_plugin_mpi();
+  if (t == NULL) {
+    fputs("voussoir: internal error: the MPI plugin is used before it is loaded\n", stderr);
+    abort();
+  }
+  return t;
+}
+
+int vs_mc_run_mpi(const vs_case *c, const int *samples, int n, vs_mc_sample *results,
+                  int *ranks) {
+  return mpi()->mc_run(c, samples, n, results, ranks);
+}
+
+int vs_sweep_mpi_begin(int *size) { return mpi()->sweep_begin(size); }
+
+void vs_sweep_mpi_serve(const vs_sweep_server *s, int size) { mpi()->sweep_serve(s, size); }
+
+void vs_sweep_mpi_work(const vs_sweep_job *job, vs_sweep_case_fn run_case,
+                       const volatile sig_atomic_t *stop, int *h5_clean) {
+  mpi()->sweep_work(job, run_case, stop, h5_clean);
+}
+
+void vs_sweep_mpi_end(void) { mpi()->sweep_end(); }

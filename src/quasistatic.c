@@ -1,11 +1,11 @@
-/* Quasi-static path following: KINSOL (Newton + line search, KLU on the analytic Jacobian) at
+/* Quasi-static path following: KINSOL (Newton + line search, a band LU of the analytic Jacobian) at
  * each support displacement, a tangent predictor, adaptive increments, and a limit point
  * bracketed by bisection of the increment and confirmed on the tangent stiffness. */
 #include "voussoir/quasistatic.h"
 
+#include "voussoir/band.h"
 #include "voussoir/stability.h"
 
-#include <klu.h>
 #include <kinsol/kinsol.h>
 #include <float.h>
 #include <math.h>
@@ -14,10 +14,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include "voussoir/klu_reuse.h"
+#include "voussoir/nvector_ops.h"
 #include "voussoir/units.h"
 
 /* A converged corrector may move the state away from the tangent predictor by at most this
@@ -39,8 +39,6 @@ static const double VS_FOLD_APPROACH = 0.5;
 /* Two successive fold predictions agree when they differ by less than this fraction of the
  * distance to the fold. */
 static const double VS_FOLD_AGREE = 0.5;
-/* KLU fill-reducing ordering: 0 AMD, 1 COLAMD, 2 natural (see below). */
-static const int VS_KLU_ORDERING = 2;
 /* Newton stops when its scaled step (in units of the joint length) falls below this: about
  * a hundred ulps of a position, the resolution of double precision. */
 static const double VS_NEWTON_STEPTOL = 1e-14;
@@ -68,14 +66,13 @@ typedef struct {
   N_Vector u, uscale, fscale;
   SUNMatrix J, Jt;            /* KINSOL's Jacobian; the tangent at accepted states */
   SUNLinearSolver LS, LSt;
+  vs_spd *spd;                /* the stability test: Cholesky of the tangent's symmetric part */
   void *kin;
   double *len;                /* per unknown: 1 for translations, block length for rotations */
   /* workspaces, allocated once: two vectors for the tangent's solves (never used by two callers
-   * at once), a residual, and the marks of a permutation's cycles */
+   * at once) and a residual */
   N_Vector w1, w2;
   double *fwork;
-  unsigned char *seen;
-  vs_spd *spd;                /* the stability test: Cholesky of the tangent's symmetric part */
   double kmax, lmax, wmin;    /* stiffest joint k_n b t (N/m), longest joint (m), lightest block (N) */
   long iters, jac_evals, floor_limited;
   double max_residual;        /* largest scaled residual among accepted equilibria */
@@ -145,7 +142,6 @@ static void qs_destroy(qs_solver *s) {
   if (s->ctx != NULL) SUNContext_Free(&s->ctx);
   vs_spd_destroy(&s->spd);
   free(s->fwork);
-  free(s->seen);
   free(s->len);
   memset(s, 0, sizeof *s);
 }
@@ -174,27 +170,24 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
   s->w1 = N_VNew_Serial(n, s->ctx);
   s->w2 = N_VNew_Serial(n, s->ctx);
   s->fwork = malloc((size_t)n * sizeof *s->fwork);
-  s->seen = malloc((size_t)n);
   if (s->u == NULL || s->uscale == NULL || s->fscale == NULL || s->J == NULL || s->Jt == NULL ||
-      s->len == NULL || s->w1 == NULL || s->w2 == NULL || s->fwork == NULL || s->seen == NULL) {
+      s->len == NULL || s->w1 == NULL || s->w2 == NULL || s->fwork == NULL) {
     qs_destroy(s);
     return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
   }
-  if (vs_spd_create(s->n, &s->spd, err) != VS_OK) {
+  /* KINSOL clones its workspace from u: every vector of the solve gets the optimised operations */
+  N_Vector vecs[] = {s->u, s->uscale, s->fscale, s->w1, s->w2};
+  for (size_t i = 0; i < sizeof vecs / sizeof vecs[0]; i++) vs_nvector_fast_ops(vecs[i]);
+  /* The blocks form a chain: the Jacobian is a narrow band (band.h), factored by a band LU at
+   * every Newton iteration and at every accepted state (the tangent; the stability test
+   * factors its symmetric part by a band Cholesky) */
+  s->LS = vs_band_linsol(s->n, s->ctx);
+  s->LSt = vs_band_linsol(s->n, s->ctx);
+  if (s->LS == NULL || s->LSt == NULL || vs_spd_create(s->n, &s->spd, err) != VS_OK) {
     qs_destroy(s);
-    return VS_ERR_NOMEM;
+    return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
   }
-  s->LS = SUNLinSol_KLU(s->u, s->J, s->ctx);
-  s->LSt = SUNLinSol_KLU(s->u, s->Jt, s->ctx);
-  if (s->LS == NULL || s->LSt == NULL) return qs_fail(s, err, "SUNLinSol_KLU", 0);
-  /* The blocks form a chain (an arch) or a tree: the Jacobian is block-banded in the natural
-   * order, which then has no fill-in and needs no ordering pass (KINSOL re-analyses at every
-   * solve, so COLAMD would be paid each time). */
-  if ((flag = SUNLinSol_KLUSetOrdering(s->LS, VS_KLU_ORDERING)) != 0 ||
-      (flag = SUNLinSol_KLUSetOrdering(s->LSt, VS_KLU_ORDERING)) != 0)
-    return qs_fail(s, err, "SUNLinSol_KLUSetOrdering", flag);
-  vs_klu_keep_analysis(s->LS); /* one analysis for every KINSol call of this path */
-  vs_sparse_zero_values_only(s->J); /* jac_fn writes the pattern */
+  vs_sparse_zero_none(s->J); /* jac_fn writes the pattern */
 
   /* Scalings: residuals in units of each block's weight (moments: weight x joint length);
    * unknowns in units of that length (rotations in rad). */
@@ -284,43 +277,13 @@ static int qs_solve(qs_solver *s, double delta, double *q, long *iters) {
   return flag;
 }
 
-/* Sign of a permutation of n >= 0 entries (+1 even, -1 odd); seen has n bytes of scratch. */
-static int perm_sign(const SuiteSparse_long *p, long n, unsigned char *seen) {
-  if (n <= 0) return 1;
-  memset(seen, 0, (size_t)n);
-  long transpositions = 0;
-  for (long i = 0; i < n; i++) {
-    if (seen[i]) continue;
-    long len = 0;
-    for (long j = i; !seen[j]; j = p[j]) {
-      seen[j] = 1;
-      len++;
-    }
-    transpositions += len - 1;
-  }
-  return (transpositions % 2 == 0) ? 1 : -1;
-}
-
-/* Factor the tangent at (q, delta) with KLU; *det_sign = sign of det K from the factors:
- * KLU factors P (R\K) Q = L U with R > 0, so sign(det K) = sign(P) sign(Q) prod sign(U_ii). */
+/* Factor the tangent at (q, delta) (s->LSt); *det_sign = sign of det K from the factors. */
 static int tangent_factor(qs_solver *s, const double *q, double delta, int *det_sign) {
   vs_model_jacobian(s->m, q, delta, s->Jt);
-  int flag = SUNLinSolSetup(s->LSt, s->Jt);
-  if (flag != 0) {
-    *det_sign = 0;
-    return flag;
-  }
-  sun_klu_symbolic *sym = SUNLinSol_KLUGetSymbolic(s->LSt);
-  sun_klu_numeric *num = SUNLinSol_KLUGetNumeric(s->LSt);
-  const long n = s->n;
-  int sign = perm_sign(num->Pnum, n, s->seen) * perm_sign(sym->Q, n, s->seen);
-  const double *ud = num->Udiag;
-  for (long i = 0; i < n; i++) {
-    if (ud[i] == 0.0) sign = 0;
-    else if (ud[i] < 0.0) sign = -sign;
-  }
-  *det_sign = sign;
-  return 0;
+  const int flag = SUNLinSolSetup(s->LSt, s->Jt);
+  const vs_band *b = vs_band_linsol_band(s->LSt);
+  *det_sign = (flag == 0 && b != NULL) ? vs_band_det_sign(b) : 0;
+  return flag;
 }
 
 /* x <- K^-1 b with the factors of tangent_factor. */
@@ -542,8 +505,8 @@ static const char *kin_cause(int flag) {
   case KIN_MAXITER_REACHED: return "Newton iteration limit reached";
   case KIN_MXNEWT_5X_EXCEEDED: return "five consecutive maximum-length Newton steps (diverging)";
   case KIN_LINESEARCH_BCFAIL: return "line search could not satisfy the beta condition";
-  case KIN_LSETUP_FAIL: return "KLU could not factor the Jacobian (singular tangent)";
-  case KIN_LSOLVE_FAIL: return "KLU solve failed";
+  case KIN_LSETUP_FAIL: return "the Jacobian could not be factored (singular tangent)";
+  case KIN_LSOLVE_FAIL: return "the linear solve failed";
   case KIN_STEP_LT_STPTOL: return "Newton stalled with the residual above tolerance";
   case KIN_SYSFUNC_FAIL: return "the residual is not finite (NaN or infinity)";
   default: return "KINSOL failure";
@@ -582,7 +545,7 @@ static vs_status confirm_limit(qs_solver *s, const double *q_prev, double delta_
   vs_limit_evidence *ev = &res->evidence;
   int sign = 0;
   if (tangent_factor(s, q_lo, delta_lo, &sign) != 0)
-    return vs_error_set(err, VS_ERR_SOLVER, "KLU failed to factor the tangent at %.6g mm",
+    return vs_error_set(err, VS_ERR_SOLVER, "the tangent at %.6g mm could not be factored",
                         delta_lo / VS_MM);
   ev->det_sign = sign;
   double *vec = calloc((size_t)s->n, sizeof *vec);
@@ -622,7 +585,7 @@ static vs_status confirm_limit(qs_solver *s, const double *q_prev, double delta_
 
 /* Accept a converged state as on the followed stable branch: the tangent must be positive
  * definite, established by a Cholesky factorisation of its symmetric part (stability.h; the sign
- * of det K alone would not). The tangent is also factored by KLU for the eigenvalue tracking. */
+ * of det K alone would not). Its LU is kept for the eigenvalue tracking and the path tangent. */
 static int stable_state(qs_solver *s, const double *q, double delta) {
   int sign = 0;
   if (tangent_factor(s, q, delta, &sign) != 0) return 0;
@@ -734,7 +697,6 @@ vs_status vs_path_solver_create(vs_model *m, const vs_path_opts *o, vs_path_solv
     free(p);
     return st;
   }
-  vs_klu_keep_analysis(p->s.LSt); /* re-armed by every run: factored afresh, one analysis */
   *out = p;
   return VS_OK;
 }
@@ -849,7 +811,7 @@ vs_status vs_path_run_with(vs_path_solver *p, const vs_path_opts *o, double delt
   /* 2. displacement control of the right support */
   double delta = delta0, h = o->step;
   if (path_tangent(sp, q, delta, tan) != 0) {
-    st = vs_error_set(err, VS_ERR_SOLVER, "KLU failed to solve for the path tangent");
+    st = vs_error_set(err, VS_ERR_SOLVER, "the path tangent could not be solved for");
     goto cleanup;
   }
   for (;;) {
@@ -913,7 +875,7 @@ vs_status vs_path_run_with(vs_path_solver *p, const vs_path_opts *o, double delt
     fold_prev = fold;
     lam = tangent_min_eig(sp, eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT); /* tangent factored by stable_state */
     if (path_tangent(sp, q, delta, tan) != 0) {
-      st = vs_error_set(err, VS_ERR_SOLVER, "KLU failed to solve for the path tangent at %.6g mm",
+      st = vs_error_set(err, VS_ERR_SOLVER, "the path tangent could not be solved for at %.6g mm",
                         delta / VS_MM);
       break;
     }

@@ -224,6 +224,7 @@ void vs_output_destroy(vs_output **op) {
   free(o->xmf_path);
   free(o->bref);
   free(o->jref);
+  free(o->rot);
   free(o);
   *op = NULL;
 }
@@ -308,9 +309,9 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
 /* Rows                                                                                         */
 
 /* Point (X, Z) of body `body` in the reference configuration, moved to the state q with the right
- * support displaced by usup. */
-static void body_move(const vs_geometry *g, const double *q, const double usup[2], int body,
-                      double X, double Z, double out[2]) {
+ * support displaced by usup; rot: every block's cos and sin of its rotation in q. */
+static void body_move(const vs_geometry *g, const double *q, const double *rot,
+                      const double usup[2], int body, double X, double Z, double out[2]) {
   if (body == VS_SUPPORT_LEFT) {
     out[0] = X;
     out[1] = Z;
@@ -319,7 +320,7 @@ static void body_move(const vs_geometry *g, const double *q, const double usup[2
     out[1] = Z + usup[1];
   } else {
     const vs_block *b = &g->blocks[body];
-    const double c = cos(q[3 * body + 2]), s = sin(q[3 * body + 2]);
+    const double c = rot[2 * body], s = rot[2 * body + 1];
     const double dx = X - b->cx, dz = Z - b->cz;
     out[0] = b->cx + q[3 * body] + c * dx - s * dz;
     out[1] = b->cz + q[3 * body + 1] + s * dx + c * dz;
@@ -343,7 +344,7 @@ static void fill_blocks(vs_output *o, const vs_run *run, const vs_run_sample *s,
     for (size_t k = 0; k < np; k++) {
       const double *ref = o->bref + 2 * ((size_t)b * np + k);
       double p[2];
-      body_move(g, s->q, usup, b, ref[0], ref[1], p);
+      body_move(g, s->q, o->rot, usup, b, ref[0], ref[1], p);
       pts[2 * ((size_t)b * np + k)] = (float)p[0];
       pts[2 * ((size_t)b * np + k) + 1] = (float)p[1];
     }
@@ -367,8 +368,10 @@ static void fill_joints(vs_output *o, const vs_run *run, const vs_run_sample *s,
     const vs_joint_geom *j = &g->joints[k];
     for (int e = 0; e < 2; e++) {
       double pa[2], pb[2];
-      body_move(g, s->q, usup, j->a, o->jref[4 * k + 2 * e], o->jref[4 * k + 2 * e + 1], pa);
-      body_move(g, s->q, usup, j->b, o->jref[4 * k + 2 * e], o->jref[4 * k + 2 * e + 1], pb);
+      body_move(g, s->q, o->rot, usup, j->a, o->jref[4 * k + 2 * e], o->jref[4 * k + 2 * e + 1],
+                pa);
+      body_move(g, s->q, o->rot, usup, j->b, o->jref[4 * k + 2 * e], o->jref[4 * k + 2 * e + 1],
+                pb);
       pts[4 * k + 2 * e] = (float)(0.5 * (pa[0] + pb[0]));
       pts[4 * k + 2 * e + 1] = (float)(0.5 * (pa[1] + pb[1]));
     }
@@ -384,6 +387,11 @@ static void fill_row(vs_output *o, const vs_run *run, const vs_run_sample *s) {
   *(double *)row_ptr(o, S_DELTA) = s->delta;
   memcpy(row_ptr(o, S_SUPPORT), usup, sizeof usup);
   *(int8_t *)row_ptr(o, S_PHASE) = (int8_t)s->phase;
+  /* one cos and sin per block and row (the outlines' points and the joints' ends use them) */
+  for (int b = 0; b < o->nb; b++) {
+    o->rot[2 * b] = cos(s->q[3 * b + 2]);
+    o->rot[2 * b + 1] = sin(s->q[3 * b + 2]);
+  }
   fill_blocks(o, run, s, usup);
   fill_joints(o, run, s, usup);
   double *r = row_ptr(o, S_REACT);

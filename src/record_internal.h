@@ -82,6 +82,7 @@ struct vs_output {
   size_t flush_rows;  /* rows buffered before a write */
   double *bref;       /* reference outlines, nb * np * 2 */
   double *jref;       /* reference joint ends (intrados, extrados), nj * 2 * 2 */
+  double *rot;        /* per block: cos, sin of its rotation at the row being filled */
   series s[S_COUNT];
   long rows;              /* written to the file */
   long pending;           /* buffered */

@@ -39,7 +39,8 @@ vs_status vs_record_geometry_init(vs_output *o, const vs_geometry *g) {
   o->np = 2 * (o->opts.arc_points + 2);
   o->bref = malloc((size_t)o->nb * (size_t)o->np * 2 * sizeof *o->bref);
   o->jref = malloc((size_t)o->nj * 4 * sizeof *o->jref);
-  if (o->bref == NULL || o->jref == NULL) return VS_ERR_NOMEM;
+  o->rot = malloc(2 * (size_t)(o->nb > 0 ? o->nb : 1) * sizeof *o->rot);
+  if (o->bref == NULL || o->jref == NULL || o->rot == NULL) return VS_ERR_NOMEM;
   for (int b = 0; b < o->nb; b++)
     block_outline(g, b, o->opts.arc_points, o->bref + (size_t)b * (size_t)o->np * 2);
   for (int k = 0; k < o->nj; k++) {

@@ -433,7 +433,7 @@ static int serve_mpi(sweep_state *s, const char *manifest, int *rc, int *h5_clea
   int size = 1;
   const int rank = vs_sweep_mpi_begin(&size);
   if (rank != 0) {
-    vs_sweep_mpi_work(&s->job, &g_stop_count, h5_clean);
+    vs_sweep_mpi_work(&s->job, vs_sweep_run_case, &g_stop_count, h5_clean);
   } else if ((*rc = sweep_open(s, manifest)) != 0) {
     const vs_sweep_server none = {next_run, take_row, s};
     s->total = 0; /* nothing to hand out: the other ranks are told to stop */
@@ -463,7 +463,11 @@ static int sweep_run(const sweep_opts *o, const vs_case *base, const char *case_
   const double t0 = now_s();
   int rc = 0, processes;
 #ifdef VS_HAVE_MPI
-  if (vs_sweep_mpi_launched()) {
+  if (vs_plugin_mpi_launched()) {
+    if (vs_plugin_load(VS_PLUGIN_MPI, "voussoir sweep") != 0) {
+      sweep_free(&s);
+      return EXIT_FAIL;
+    }
     processes = serve_mpi(&s, manifest, &rc, h5_clean);
     if (processes == 0 || rc != 0) { /* a worker rank, or rank 0 could not start */
       sweep_free(&s);

@@ -1,23 +1,16 @@
 /* The sweep under MPI (mpirun -np N voussoir sweep ...): rank 0 hands the cases out one at a time
  * to the ranks that ask for work and takes their rows as they come; the other ranks run the
  * cases in their own process. A case's row depends only on the case, so the summary is the one
- * a single process writes. Built only when CMake finds MPI (VS_HAVE_MPI). */
+ * a single process writes. In the MPI plugin (libvoussoir-mpi, src/plugin.h), built only when
+ * CMake finds MPI. */
 #define _POSIX_C_SOURCE 200809L /* nanosleep */
 #include <mpi.h>
-#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
 #include "sweep_private.h"
 
 enum { TAG_ROW = 11, TAG_WORK = 12 };
-
-int vs_sweep_mpi_launched(void) {
-  const char *vars[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"};
-  for (size_t i = 0; i < sizeof vars / sizeof vars[0]; i++)
-    if (getenv(vars[i]) != NULL) return 1;
-  return 0;
-}
 
 int vs_sweep_mpi_begin(int *size) {
   int rank = 0;
@@ -61,7 +54,8 @@ void vs_sweep_mpi_serve(const vs_sweep_server *s, int size) {
   }
 }
 
-void vs_sweep_mpi_work(const vs_sweep_job *job, const volatile sig_atomic_t *stop, int *h5_clean) {
+void vs_sweep_mpi_work(const vs_sweep_job *job, vs_sweep_case_fn run_case,
+                       const volatile sig_atomic_t *stop, int *h5_clean) {
   vs_sweep_row r;
   memset(&r, 0, sizeof r);
   for (;;) {
@@ -69,6 +63,6 @@ void vs_sweep_mpi_work(const vs_sweep_job *job, const volatile sig_atomic_t *sto
     int run = 0;
     MPI_Recv(&run, 1, MPI_INT, 0, TAG_WORK, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     if (run <= 0) return;
-    vs_sweep_run_case(job, run, stop, &r, h5_clean);
+    run_case(job, run, stop, &r, h5_clean);
   }
 }

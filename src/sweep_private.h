@@ -57,13 +57,17 @@ void vs_sweep_pick(const vs_sweep_job *job, int run, int *pick);
  * written (see vs_output_process_end). Never fails as a function: a failure is in the row. */
 void vs_sweep_run_case(const vs_sweep_job *job, int run, const volatile sig_atomic_t *stop,
                        vs_sweep_row *row, int *h5_clean);
+typedef void (*vs_sweep_case_fn)(const vs_sweep_job *job, int run,
+                                 const volatile sig_atomic_t *stop, vs_sweep_row *row,
+                                 int *h5_clean);
 
-/* MPI (src/sweep_mpi.c, only in a build with MPI). vs_sweep_mpi_begin calls MPI_Init and
- * returns this process's rank (*size: the number of ranks). On rank 0, vs_sweep_mpi_serve hands
- * out the runs next() gives (until it returns 0) to the other ranks one at a time, and passes
- * every row that comes back to take(); it returns once every other rank has been told to stop.
- * next() also sees the stop flag: after a stop it should return 0. On the other ranks,
- * vs_sweep_mpi_work runs what rank 0 hands out until told to stop. vs_sweep_mpi_end finalises. */
+/* MPI (src/sweep_mpi.c, in the MPI plugin, libvoussoir-mpi: src/plugin.h). vs_sweep_mpi_begin
+ * calls MPI_Init and returns this process's rank (*size: the number of ranks). On rank 0,
+ * vs_sweep_mpi_serve hands out the runs next() gives (until it returns 0) to the other ranks one
+ * at a time, and passes every row that comes back to take(); it returns once every other rank
+ * has been told to stop. next() also sees the stop flag: after a stop it should return 0. On the
+ * other ranks, vs_sweep_mpi_work runs what rank 0 hands out with run_case (the program's
+ * vs_sweep_run_case) until told to stop. vs_sweep_mpi_end finalises. */
 typedef struct {
   int (*next)(void *user);                           /* the next run (1-based), or 0: no more */
   void (*take)(void *user, const vs_sweep_row *row); /* a case's row, as it comes */
@@ -80,10 +84,10 @@ int vs_sweep_pool_serve(const vs_sweep_server *s, const vs_sweep_job *job, int j
                         int progress, const volatile sig_atomic_t *stop_count,
                         const volatile sig_atomic_t *stop_signal);
 
-int vs_sweep_mpi_launched(void);
 int vs_sweep_mpi_begin(int *size);
 void vs_sweep_mpi_serve(const vs_sweep_server *s, int size);
-void vs_sweep_mpi_work(const vs_sweep_job *job, const volatile sig_atomic_t *stop, int *h5_clean);
+void vs_sweep_mpi_work(const vs_sweep_job *job, vs_sweep_case_fn run_case,
+                       const volatile sig_atomic_t *stop, int *h5_clean);
 void vs_sweep_mpi_end(void);
 
 #endif

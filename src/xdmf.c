@@ -97,8 +97,21 @@ static void xml_escape(const char *s, char *out, size_t size) {
   out[used] = '\0';
 }
 
+/* v in decimal, as "%llu" prints it. The sidecar repeats its few kinds of lines for every grid
+ * of every state (some 40 000 numbers and names for 200 states): fprintf's parsing of its format
+ * was most of the sidecar's cost, so these lines are written piece by piece. */
+static void put_u(FILE *f, unsigned long long v) {
+  char b[24];
+  size_t i = sizeof b;
+  do b[--i] = (char)('0' + (int)(v % 10)); while ((v /= 10) != 0);
+  fwrite(b + i, 1, sizeof b - i, f);
+}
+
 static void xdmf_dims(FILE *f, int rank, const hsize_t *d) {
-  for (int i = 0; i < rank; i++) fprintf(f, "%s%llu", i ? " " : "", (unsigned long long)d[i]);
+  for (int i = 0; i < rank; i++) {
+    if (i) fputc(' ', f);
+    put_u(f, (unsigned long long)d[i]);
+  }
 }
 
 /* The block [start, start + count) of dataset `which`, in XDMF 3's own hyperslab syntax:
@@ -110,10 +123,18 @@ static void xdmf_block(const xdmf_ctx *x, int which, const hsize_t *start, const
                        const char *type, int prec, const char *ind) {
   const xdmf_ds *d = &x->ds[which];
   const hsize_t stride[3] = {1, 1, 1};
-  fprintf(x->f, "%s<DataItem Dimensions=\"", ind);
+  fputs(ind, x->f);
+  fputs("<DataItem Dimensions=\"", x->f);
   xdmf_dims(x->f, d->rank, count);
-  fprintf(x->f, "\" NumberType=\"%s\" Precision=\"%d\" Format=\"HDF\">%s:%s|", type, prec,
-          x->h5name, d->path);
+  fputs("\" NumberType=\"", x->f);
+  fputs(type, x->f);
+  fputs("\" Precision=\"", x->f);
+  put_u(x->f, (unsigned long long)prec);
+  fputs("\" Format=\"HDF\">", x->f);
+  fputs(x->h5name, x->f);
+  fputc(':', x->f);
+  fputs(d->path, x->f);
+  fputc('|', x->f);
   xdmf_dims(x->f, d->rank, start);
   fputc(':', x->f);
   xdmf_dims(x->f, d->rank, stride);
@@ -139,27 +160,37 @@ static void xdmf_attribute(xdmf_ctx *x, const char *name, int which, hsize_t r, 
   const char *ind = "          ";
   for (int i = 0; i < XDMF_N_FIELDS; i++)
     if (strcmp(name, XDMF_FIELDS[i]) == 0) x->carried |= 1u << i;
-  fprintf(x->f, "        <Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Cell\">\n", name);
+  fputs("        <Attribute Name=\"", x->f);
+  fputs(name, x->f);
+  fputs("\" AttributeType=\"Scalar\" Center=\"Cell\">\n", x->f);
   xdmf_slab(x, which, r, col, ncol, type, prec, ind);
   fputs("        </Attribute>\n", x->f);
 }
 
 static void xdmf_grid_open(xdmf_ctx *x, const char *name) {
   x->carried = 0;
-  fprintf(x->f, "      <Grid Name=\"%s\" GridType=\"Uniform\">\n", name);
+  fputs("      <Grid Name=\"", x->f);
+  fputs(name, x->f);
+  fputs("\" GridType=\"Uniform\">\n", x->f);
 }
 
 /* Field XDMF_FIELDS[i] as NaN on all n_cells cells of the open grid: the first n_cells values
  * of the record's /xdmf/nan, or inline for a record written before it had that dataset. */
 static void xdmf_nan_field(xdmf_ctx *x, int i, hsize_t n_cells) {
   x->carried |= 1u << i;
-  fprintf(x->f,
-          "        <Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
-          "          <DataItem Dimensions=\"%llu\" NumberType=\"Float\" Precision=\"8\" ",
-          XDMF_FIELDS[i], (unsigned long long)n_cells);
+  fputs("        <Attribute Name=\"", x->f);
+  fputs(XDMF_FIELDS[i], x->f);
+  fputs("\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
+        "          <DataItem Dimensions=\"", x->f);
+  put_u(x->f, (unsigned long long)n_cells);
+  fputs("\" NumberType=\"Float\" Precision=\"8\" ", x->f);
   if (n_cells <= x->nan_n) {
-    fprintf(x->f, "Format=\"HDF\">%s:" XDMF_NAN "|0:1:%llu:%llu", x->h5name,
-            (unsigned long long)n_cells, (unsigned long long)x->nan_n);
+    fputs("Format=\"HDF\">", x->f);
+    fputs(x->h5name, x->f);
+    fputs(":" XDMF_NAN "|0:1:", x->f);
+    put_u(x->f, (unsigned long long)n_cells);
+    fputc(':', x->f);
+    put_u(x->f, (unsigned long long)x->nan_n);
   } else {
     fputs("Format=\"XML\">", x->f);
     for (hsize_t c = 0; c < n_cells; c++) fputs(c ? " nan" : "nan", x->f);

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# The program loads HDF5 and cairo only for the commands that need them: `voussoir --version`
-# and `voussoir run CASE --no-record` load neither (the dynamic linker's own list of what it
+# The program loads HDF5, cairo and MPI only for the commands that need them: `voussoir --version`
+# and `voussoir run CASE --no-record` load none of them (the dynamic linker's own list of what it
 # loads, LD_DEBUG=files, which names every object at start-up and at dlopen), a run with a
-# record loads the record plugin and HDF5 and writes a record that `voussoir plot` (cairo) draws.
+# record loads the record plugin and HDF5 and writes a record that `voussoir plot` (cairo) draws;
+# a sweep that mpirun did not start loads no MPI (a build with MPI loads its MPI plugin under
+# mpirun only: tests/test_mpi_*.sh).
 # A missing or broken plugin: one line naming the file, exit 1, nothing written.
 # usage: test_plugins.sh VOUSSOIR SOURCE_DIR
 set -euo pipefail
@@ -39,12 +41,14 @@ expect_loaded() {
 loaded "$exe" --version
 [ $rc -eq 0 ] || fail "--version: exit $rc"
 grep -q 'libvoussoir\.so' "$tmp/loaded" || fail "LD_DEBUG=files lists nothing: $(head -3 "$tmp/err")"
-expect_not_loaded "--version" libhdf5 libcairo libvoussoir-record libvoussoir-plot
+expect_not_loaded "--version" libhdf5 libcairo libvoussoir-record libvoussoir-plot libmpi \
+  libvoussoir-mpi
 
 loaded "$exe" run "$ref" --no-record -q --json
 [ $rc -eq 0 ] || fail "run --no-record: exit $rc: $(grep -v '^ *[0-9]*:' "$tmp/err")"
 grep -q '"collapse": *{' "$tmp/out" || fail "run --no-record: no collapse"
-expect_not_loaded "run --no-record" libhdf5 libcairo libvoussoir-record libvoussoir-plot
+expect_not_loaded "run --no-record" libhdf5 libcairo libvoussoir-record libvoussoir-plot libmpi \
+  libvoussoir-mpi
 
 # with a record: the record plugin and HDF5, still no cairo; the record is complete
 loaded "$exe" run "$ref" -q --set dynamic.fall_s=0 -o "$tmp/r.h5"
@@ -57,6 +61,10 @@ loaded "$exe" plot "$tmp/r.h5" -o "$tmp/pics"
 [ $rc -eq 0 ] || fail "plot: exit $rc: $(grep -v '^ *[0-9]*:' "$tmp/err")"
 expect_loaded "plot" libhdf5 libcairo libvoussoir-plot
 [ -s "$tmp/pics/arch_reference.png" ] && [ -s "$tmp/pics/curves.png" ] || fail "plot: no pictures"
+loaded "$exe" sweep "$ref" --alpha 0 --set arch.voussoirs=11 --first-limit -j 1 -o "$tmp/sw0" -q
+[ $rc -eq 0 ] || fail "sweep: exit $rc: $(grep -v '^ *[0-9]*:' "$tmp/err")"
+expect_loaded "sweep" libvoussoir-record
+expect_not_loaded "sweep" libmpi libvoussoir-mpi
 
 # Plugins missing or broken: a library directory holding the core library alone, found first
 # (LD_LIBRARY_PATH); the program looks for its plugins next to the core library it loaded.
@@ -103,4 +111,12 @@ grep -q "no vs_plot_plugin_table" "$tmp/err" || fail "plot: $(cat "$tmp/err")"
 refused "montecarlo, the same" "$lib/libvoussoir-plot.so.0" \
   "$exe" montecarlo "$ref" --samples 2 -o "$tmp/mc" -q
 nothing_written "plot, montecarlo" "$tmp/p3" "$tmp/mc"
+
+# a build with MPI: started by mpirun (its environment says so) without the MPI plugin next to
+# the core library: refused before anything is run
+if [ -e "$bindir/libvoussoir-mpi.so.0" ]; then
+  refused "sweep under mpirun, no MPI plugin" "$lib/libvoussoir-mpi.so.0" \
+    env OMPI_COMM_WORLD_SIZE=1 "$exe" sweep "$ref" --alpha 0 -o "$tmp/sw1" -q
+  nothing_written "sweep under mpirun" "$tmp/sw1/run_0001.h5"
+fi
 echo "plugins: ok"

@@ -83,6 +83,47 @@ void vs_joint_eval_h(const vs_joint_geom *jg, const vs_joint_law *law, const dou
                      const double ra[2], const double rb[2], double slip_p_old, vs_joint_state *st,
                      double f[6], double K[36]);
 
+/* --- a joint at one configuration, kept --- */
+
+/* The joint's kinematic measures at one configuration: gap at the centre g, slip sl, gap slope
+ * w, their gradients in (qa, qb), and their Hessians by their non-zeros (symmetric; none between
+ * two translations): a translation t (0, 1, 3, 4) with either rotation (2, 5), hg_t[t] and
+ * hs_t[t] (w's none); the rotations' (2,2), (5,5), (2,5) entries h*_rr[0..2]. */
+typedef struct {
+  double g, sl, w;
+  double dg[6], ds[6], dw[6];
+  double hg_t[6], hs_t[6];
+  double hg_rr[3], hs_rr[3], hw_rr[3];
+} vs_joint_kinematics;
+
+/* The law at one kinematic state: the normal response and the return-mapped shear (the shear
+ * stiffness k_s b t, the force T, the plastic slip, the sign of a sliding T, sliding or not). */
+typedef struct {
+  vs_normal_response nr;
+  double kst, T, slip_p, sgn;
+  int sliding;
+} vs_joint_law_state;
+
+/* One evaluation of a joint kept: its state, forces and stiffness then follow from it without
+ * evaluating the joint again (a model keeps its joints' points from a residual for the Jacobian
+ * at the same state). */
+typedef struct {
+  vs_joint_kinematics k;
+  vs_joint_law_state ls;
+} vs_joint_point;
+
+/* The point of the joint at (qa, qb) with the bodies' half angles ha, hb, arguments as
+ * vs_joint_eval_h; the kinematics include their second derivatives. */
+void vs_joint_point_eval(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
+                         const double qb[3], const double ha[2], const double hb[2],
+                         const double ra[2], const double rb[2], double slip_p_old,
+                         vs_joint_point *pt);
+
+/* The outputs of vs_joint_eval_h at the point's configuration (the same values, bit for bit;
+ * any may be NULL). law: the one the point was evaluated with. */
+void vs_joint_point_out(const vs_joint_geom *jg, const vs_joint_law *law, const vs_joint_point *pt,
+                        vs_joint_state *st, double f[6], double K[36]);
+
 /* Viscous damping of a joint in contact: the full section's dashpots, normal b c_n t adot,
  * rotational b c_n t^3/12 wdot and shear b c_s t sdot (c_n, c_s in N s/m^3, adot, wdot, sdot the
  * rates of the joint measures), acting while the joint is in contact and fading linearly to zero

@@ -1,8 +1,9 @@
-/* SUNDIALS' KLU linear solver re-analysed at every KINSol call and every IDA restart (both call
+/* SUNDIALS' KLU linear solver re-analysed at every IDA restart (IDAReInit calls
  * SUNLinSolInitialize, which makes the next setup free the factors and analyse the pattern
  * again). The model's Jacobian patterns are fixed at its creation, so one analysis serves every
  * solve: later setups refactor numerically, with SUNDIALS' own fall-back to a fresh
- * factorisation when the condition estimate degrades. */
+ * factorisation when the condition estimate degrades. (The quasi-static path's KINSOL uses a
+ * band solver, band.h; it shares vs_sparse_zero_none.) */
 #ifndef VOUSSOIR_KLU_REUSE_H
 #define VOUSSOIR_KLU_REUSE_H
 
@@ -13,10 +14,10 @@
  * numeric factors across re-initialisations. */
 void vs_klu_keep_analysis(SUNLinearSolver LS);
 
-/* Make SUNMatZero on A (a CSC SUNSparseMatrix) clear its values only: KINSOL and IDA zero the
- * Jacobian before every evaluation, and SUNDIALS' version also clears the index arrays one entry
- * at a time, which costs more than the evaluation's own work on the pattern. For matrices whose
- * Jacobian function writes the whole pattern (every one in this library). */
-void vs_sparse_zero_values_only(SUNMatrix A);
+/* Make SUNMatZero on A (a CSC SUNSparseMatrix) do nothing: KINSOL and IDA zero the Jacobian
+ * before every evaluation, and SUNDIALS' version clears the index arrays one entry at a time too,
+ * which cost more than the evaluation's own work on the pattern. Only for matrices whose Jacobian
+ * function writes the whole pattern and every value (every one in this library). */
+void vs_sparse_zero_none(SUNMatrix A);
 
 #endif
