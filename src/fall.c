@@ -131,9 +131,8 @@ static void local_solve(const double W[3], double mu, double bias, const double 
   if (pn > 0.0) P[0] = pn, P[1] = pt;
 }
 
-/* One Gauss-Seidel update of contact c; returns the largest change it made in its own relative
- * velocity (m/s). */
-static double update(vs_fall *f, vs_fall_contact *c, double mu) {
+/* One Gauss-Seidel update of contact c. */
+static void update(vs_fall *f, vs_fall_contact *c, double mu) {
   double u[2], uf[2], P[2];
   rel_velocity(c, f->v, u);
   uf[0] = u[0] - (c->W[0] * c->P[0] + c->W[1] * c->P[1]);
@@ -141,10 +140,9 @@ static double update(vs_fall *f, vs_fall_contact *c, double mu) {
   const double W[3] = {c->W[0] + c->eps, c->W[1], c->W[2]}; /* u_n + eps P_n = bias */
   local_solve(W, mu, c->bias, uf, P);
   const double dP[2] = {P[0] - c->P[0], P[1] - c->P[1]};
-  if (dP[0] == 0.0 && dP[1] == 0.0) return 0.0;
+  if (dP[0] == 0.0 && dP[1] == 0.0) return;
   apply(f, c, dP);
   c->P[0] = P[0], c->P[1] = P[1];
-  return fmax(fabs(c->W[0] * dP[0] + c->W[1] * dP[1]), fabs(c->W[1] * dP[0] + c->W[2] * dP[1]));
 }
 
 static int cmp_key(const void *x, const void *y) {
@@ -261,10 +259,17 @@ static int impulses(vs_fall *f, double h, double mu, step_out *so) {
     so->converged = so->chain = rc == 0 && joints == f->nc;
   }
   for (int k = 0; k < f->o.max_sweeps && !so->converged; k++) {
-    double worst = 0.0;
     const int s = so->sweeps++;
-    for (int i = 0; i < f->nc; i++)
-      worst = fmax(worst, update(f, &f->c[(s % 2) ? f->nc - 1 - i : i], mu));
+    memcpy(f->vs, f->v, 3 * (size_t)f->n * sizeof *f->v);
+    for (int i = 0; i < f->nc; i++) update(f, &f->c[(s % 2) ? f->nc - 1 - i : i], mu);
+    /* converged once no body's points move faster or slower by tol after a sweep (the bodies'
+     * velocities: a contact's own can keep changing where two contacts share the work, such as
+     * a joint's two edges' frictions, with no effect on any body) */
+    double worst = 0.0;
+    for (int b = 0; b < f->n; b++) {
+      const double *v = f->v + 3 * b, *w = f->vs + 3 * b;
+      worst = fmax(worst, hypot(v[0] - w[0], v[1] - w[1]) + fabs(v[2] - w[2]) * f->rmaxb[b]);
+    }
     so->converged = worst <= tol;
     so->last = worst;
   }
