@@ -423,15 +423,17 @@ static void text_stats(FILE *out, const vs_run *r) {
   fprintf(out, "\nstats    quasi-static: %ld equilibria (%ld rejected increments) + %ld locating hinge "
                "onsets, %ld Newton iterations, largest residual %.2g x voussoir weight\n",
           t->steps, t->rejected, t->located, t->newton_iterations, t->max_residual);
-  if (d->steps > 0)
-    fprintf(out, "         dynamic: %ld IDA steps, %ld Newton iterations, %ld root events, "
-                 "energy balance %.2g (relative; %.2g in the fall)\n"
-                 "         DAE of index %d: %d differential, %d algebraic unknowns; "
-                 "constraint drift %.2g m\n",
-            d->steps, d->newton_iterations, d->root_events, d->balance_error_rel,
-            d->balance_error_fall, d->dae_index, d->dae_differential, d->dae_algebraic,
-            d->max_drift);
   const vs_fall_result *fr = vs_run_fall(r);
+  if (d->steps > 0) {
+    fprintf(out, "         dynamic: %ld IDA steps, %ld Newton iterations, %ld root events, "
+                 "energy balance %.2g (relative",
+            d->steps, d->newton_iterations, d->root_events, d->balance_error_rel);
+    if (fr == NULL && isfinite(vs_run_ground(r))) /* the penalty fall: IDA's too */
+      fprintf(out, "; %.2g in the fall", d->balance_error_fall);
+    fprintf(out, ")\n         DAE of index %d: %d differential, %d algebraic unknowns; "
+                 "constraint drift %.2g m\n",
+            d->dae_index, d->dae_differential, d->dae_algebraic, d->max_drift);
+  }
   if (fr != NULL)
     fprintf(out, "         fall: rigid blocks, impulsive contacts, steps of %g ms: %ld steps (%ld of the "
                  "arch in the air solved as a chain, %ld solves), %ld Gauss-Seidel sweeps, %ld "
