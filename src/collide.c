@@ -3,6 +3,7 @@
  * over the two bodies, root functions, stored energy and the friction anchors. */
 #include "voussoir/collide.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -399,37 +400,37 @@ static void bodies(vs_collide *c, const vs_geometry *g) {
   }
 }
 
-/* Vertices from count and xz, each outline made counter-clockwise; VS_ERR_INVALID on a
- * non-finite coordinate or an outline of 1 or 2 vertices or of no area. */
-static vs_status outlines(vs_collide *c, const int *count, const double *xz, vs_error *err) {
+vs_status vs_collide_outlines(int nb, const int *count, const double *xz, const double *ref,
+                              int max_vertices, const char *who, const vs_collide_outline *o,
+                              vs_error *err) {
   int k = 0;
-  for (int b = 0; b < c->nb; b++) {
+  for (int b = 0; b < nb; b++) {
     const int nc = count[b];
     double area = 0.0;
     for (int v = 0; v < nc; v++) {
       const double *p = xz + 2 * (k + v), *q = xz + 2 * (k + (v + 1) % nc);
       if (!isfinite(p[0]) || !isfinite(p[1]))
-        return vs_error_set(err, VS_ERR_INVALID, "collide: body %d vertex %d not finite", b, v);
+        return vs_error_set(err, VS_ERR_INVALID, "%s: body %d vertex %d not finite", who, b, v);
       area += p[0] * q[1] - q[0] * p[1];
     }
-    if (nc != 0 && (nc < 3 || !(fabs(area) > 0.0)))
-      return vs_error_set(err, VS_ERR_INVALID, "collide: body %d outline of %d vertices and "
-                          "area %g m^2 (allowed: 0 or >= 3 vertices enclosing an area)", b, nc,
-                          0.5 * area);
-    c->first[b] = k, c->count[b] = nc;
+    if (nc != 0 && (nc < 3 || nc > max_vertices || !(fabs(area) > 0.0)))
+      return vs_error_set(err, VS_ERR_INVALID, "%s: body %d outline of %d vertices and area %g "
+                          "m^2 (allowed: 0, or 3 to %d vertices enclosing an area)", who, b, nc,
+                          0.5 * area, max_vertices);
+    o->first[b] = k, o->count[b] = nc;
     for (int v = 0; v < nc; v++) {
       const int src = k + (area > 0.0 ? v : nc - 1 - v);
-      c->body[k + v] = b;
-      c->rx[k + v] = xz[2 * src] - c->ref[2 * b];
-      c->rz[k + v] = xz[2 * src + 1] - c->ref[2 * b + 1];
+      o->body[k + v] = b;
+      o->rx[k + v] = xz[2 * src] - ref[2 * b];
+      o->rz[k + v] = xz[2 * src + 1] - ref[2 * b + 1];
     }
     for (int v = 0; v < nc; v++) {
       const int i = k + v, j = k + (v + 1) % nc;
-      const double tx = c->rx[j] - c->rx[i], tz = c->rz[j] - c->rz[i], len = hypot(tx, tz);
+      const double tx = o->rx[j] - o->rx[i], tz = o->rz[j] - o->rz[i], len = hypot(tx, tz);
       if (!(len > 0.0))
-        return vs_error_set(err, VS_ERR_INVALID, "collide: body %d vertices %d and %d coincide "
-                            "(allowed: distinct)", b, v, (v + 1) % nc);
-      c->n0x[i] = tz / len, c->n0z[i] = -tx / len; /* outward: counter-clockwise */
+        return vs_error_set(err, VS_ERR_INVALID, "%s: body %d vertices %d and %d coincide "
+                            "(allowed: distinct)", who, b, v, (v + 1) % nc);
+      o->n0x[i] = tz / len, o->n0z[i] = -tx / len; /* outward: counter-clockwise */
     }
     k += nc;
   }
@@ -486,7 +487,9 @@ vs_status vs_collide_create(const vs_model *m, double restitution, const int *co
   if (count == NULL) vs_collide_arch_outlines(g, own, oxz);
   c->m = m;
   bodies(c, g);
-  vs_status st = outlines(c, count != NULL ? count : own, count != NULL ? xz : oxz, err);
+  const vs_collide_outline ol = {c->first, c->count, c->body, c->rx, c->rz, c->n0x, c->n0z};
+  vs_status st = vs_collide_outlines(c->nb, count != NULL ? count : own, count != NULL ? xz : oxz,
+                                     c->ref, INT_MAX, "collide", &ol, err);
   free(own), free(oxz);
   if (st != VS_OK) {
     vs_collide_destroy(&c);

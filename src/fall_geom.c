@@ -37,42 +37,17 @@ static void bodies(vs_fall *f) {
     }
 }
 
-/* Vertices from count and xz, each outline made counter-clockwise, with its edges' normals. */
+/* Vertices from count and xz (vs_collide_outlines: counter-clockwise, with their edges'
+ * normals; at most 16 to a body, the contacts' keys' room), and each body's reach. */
 static vs_status outlines(vs_fall *f, const int *count, const double *xz, vs_error *err) {
-  int k = 0;
-  for (int b = 0; b < f->nb; b++) {
-    const int nc = count[b];
-    double area = 0.0;
-    for (int v = 0; v < nc; v++) {
-      const double *p = xz + 2 * (k + v), *q = xz + 2 * (k + (v + 1) % nc);
-      if (!isfinite(p[0]) || !isfinite(p[1]))
-        return vs_error_set(err, VS_ERR_INVALID, "fall: body %d vertex %d not finite", b, v);
-      area += p[0] * q[1] - q[0] * p[1];
-    }
-    if (nc != 0 && (nc < 3 || nc > 16 || !(fabs(area) > 0.0)))
-      return vs_error_set(err, VS_ERR_INVALID, "fall: body %d outline of %d vertices and area "
-                          "%g m^2 (allowed: 0, or 3 to 16 vertices enclosing an area)", b, nc,
-                          0.5 * area);
-    f->first[b] = k, f->count[b] = nc;
-    for (int v = 0; v < nc; v++) {
-      const int src = k + (area > 0.0 ? v : nc - 1 - v);
-      f->body[k + v] = b;
-      f->rx[k + v] = xz[2 * src] - f->ref[2 * b];
-      f->rz[k + v] = xz[2 * src + 1] - f->ref[2 * b + 1];
-      f->rmaxb[b] = fmax(f->rmaxb[b], hypot(f->rx[k + v], f->rz[k + v]));
-      f->rmax = fmax(f->rmax, f->rmaxb[b]);
-    }
-    for (int v = 0; v < nc; v++) {
-      const int i = k + v, j = k + (v + 1) % nc;
-      const double tx = f->rx[j] - f->rx[i], tz = f->rz[j] - f->rz[i], len = hypot(tx, tz);
-      if (!(len > 0.0))
-        return vs_error_set(err, VS_ERR_INVALID, "fall: body %d vertices %d and %d coincide "
-                            "(allowed: distinct)", b, v, (v + 1) % nc);
-      f->n0x[i] = tz / len, f->n0z[i] = -tx / len; /* outward: counter-clockwise */
-    }
-    k += nc;
+  const vs_collide_outline ol = {f->first, f->count, f->body, f->rx, f->rz, f->n0x, f->n0z};
+  const vs_status st = vs_collide_outlines(f->nb, count, xz, f->ref, 16, "fall", &ol, err);
+  for (int k = 0; st == VS_OK && k < f->nv; k++) {
+    const int b = f->body[k];
+    f->rmaxb[b] = fmax(f->rmaxb[b], hypot(f->rx[k], f->rz[k]));
+    f->rmax = fmax(f->rmax, f->rmaxb[b]);
   }
-  return VS_OK;
+  return st;
 }
 
 /* The joints' faces on their two bodies, which vertices are face ends, and each body's joints. */

@@ -39,6 +39,20 @@ void vs_collide_destroy(vs_collide **c);
  * the number of vertices. Used by the fall (fall.h) too. */
 int vs_collide_arch_outlines(const vs_geometry *g, int *count, double *xz);
 
+/* Outlines from count and xz (as vs_collide_create takes them) into the caller's arrays: per
+ * body its first vertex and count, per vertex its body and its offset (rx, rz) from the body's
+ * reference point ref (2 per body), each outline made counter-clockwise, and per edge (numbered
+ * as its first vertex) its outward unit normal (n0x, n0z), all in the reference configuration.
+ * VS_ERR_INVALID, naming `who`, on a non-finite vertex, two that coincide, or an outline of 1,
+ * 2 or more than max_vertices vertices or of no area. Used by the fall (fall.h) too. */
+typedef struct {
+  int *first, *count, *body;
+  double *rx, *rz, *n0x, *n0z;
+} vs_collide_outline;
+vs_status vs_collide_outlines(int nb, const int *count, const double *xz, const double *ref,
+                              int max_vertices, const char *who, const vs_collide_outline *o,
+                              vs_error *err);
+
 void vs_collide_arm(vs_collide *c, const double *qe); /* anchors from the state qe */
 void vs_collide_disarm(vs_collide *c);
 int vs_collide_armed(const vs_collide *c);
