@@ -197,9 +197,19 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
   /* KINSOL clones its workspace from u: every vector of the solve gets the optimised operations */
   N_Vector vecs[] = {s->u, s->uscale, s->fscale, s->w1, s->w2};
   for (size_t i = 0; i < sizeof vecs / sizeof vecs[0]; i++) vs_nvector_fast_ops(vecs[i]);
-  if (vs_spd_create(s->n, &s->spd, err) != VS_OK) {
+  /* the stability test factors the tangent's symmetric part as a band: in the model's band
+   * order, which keeps a pinned support's rotation next to its block */
+  int *perm = malloc((size_t)n * sizeof *perm);
+  if (perm == NULL) {
     qs_destroy(s);
     return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
+  }
+  vs_model_band_order(m, perm);
+  const vs_status st = vs_spd_create(s->n, perm, &s->spd, err);
+  free(perm);
+  if (st != VS_OK) {
+    qs_destroy(s);
+    return st;
   }
   /* KLU factors the Jacobian at every Newton iteration (LS) and the tangent at every accepted
    * state (LSt); both keep one analysis of the fixed pattern and refactor on its last pivots */
