@@ -4,11 +4,12 @@
  * Why LAPACK's band Cholesky rather than CHOLMOD's sparse one (both measured on the reference
  * run, 71 tests of the 165-unknown tangent, half bandwidth 5): a test takes 88 k instructions
  * here (21 k to fill the band, 67 k in dpbtrf) against 163 k with CHOLMOD (simplicial LL', its
- * analysis kept and the symmetric part filled in place: 21 k to fill, 38 k to transpose, 97 k to
- * factor, 6 k for the first test's analysis), so the run takes 359 M instructions instead of 365 M (callgrind); and CHOLMOD brings
- * five libraries to the program's start-up (cholmod, camd, ccolamd, metis, libgomp: 24 instead of
- * 19), which made `voussoir --version` take 2.9 ms of CPU instead of 1.9 (perf stat, medians of 7
- * rounds of -r 50). LAPACK is linked already, for the natural frequencies (modal.c). */
+ * analysis kept and the symmetric part filled in place: 21 k to fill, 38 k to transpose, 97 k
+ * to factor, 6 k for the first test's analysis), so the run takes 359 M instructions instead of
+ * 365 M (callgrind); and CHOLMOD brings five libraries to the program's start-up (cholmod,
+ * camd, ccolamd, metis, libgomp: 24 instead of 19), which made `voussoir --version` take 2.9 ms
+ * of CPU instead of 1.9 (perf stat, medians of 7 rounds of -r 50). LAPACK is linked already,
+ * for the natural frequencies (modal.c). */
 #include "voussoir/stability.h"
 
 #include <stdlib.h>
