@@ -65,18 +65,6 @@ typedef struct {
   double asym;
 } band;
 
-/* The unknowns in band order (perm[new] = old): a pinned support's rotation, which the state
- * keeps after the blocks, next to the block it carries (left first, right last), so that the
- * band stays a few unknowns wide instead of n. */
-static void band_order(const vs_model *m, int n, int *perm) {
-  const int left = vs_model_support_dof(m, 0), right = vs_model_support_dof(m, 1);
-  int k = 0;
-  if (left >= 0) perm[k++] = left;
-  for (int i = 0; i < n; i++)
-    if (i != left && i != right) perm[k++] = i;
-  if (right >= 0) perm[k++] = right;
-}
-
 /* The mass diagonal of the static state: the blocks' (vs_model_mass), and for a pinned support's
  * rotation the rotary inertia the dynamic model gives it (vs_model_ext_mass: the mean voussoir's). */
 static void state_mass(const vs_model *m, int n, double *mass) {
@@ -349,7 +337,7 @@ vs_status vs_modal_compute(const vs_model *m, const double *q, double delta, int
   if (mass == NULL || massb == NULL || phib == NULL || perm == NULL || out->phi == NULL)
     st = vs_error_set(err, VS_ERR_NOMEM, "modal: out of memory");
   if (st == VS_OK) {
-    band_order(m, n, perm);
+    vs_model_band_order(m, perm); /* a pinned support's rotation next to its block */
     st = band_stiffness(m, q, delta, perm, &b, err);
   }
   double w2[VS_MODAL_MAX];

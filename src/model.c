@@ -348,6 +348,15 @@ int vs_model_support_dof(const vs_model *m, int right) {
   return m->pat.dof[3 * (m->g->n_blocks + (right ? 1 : 0)) + 2];
 }
 
+void vs_model_band_order(const vs_model *m, int *perm) {
+  const int left = vs_model_support_dof(m, 0), right = vs_model_support_dof(m, 1);
+  int k = 0;
+  if (left >= 0) perm[k++] = left;
+  for (int i = 0; i < m->n; i++)
+    if (i != left && i != right) perm[k++] = i;
+  if (right >= 0) perm[k++] = right;
+}
+
 int vs_model_size(const vs_model *m) { return m->n; }
 int vs_model_nnz(const vs_model *m) { return m->pat.nnz; }
 const vs_geometry *vs_model_geometry(const vs_model *m) { return m->g; }

@@ -1,11 +1,11 @@
-/* Quasi-static path following: KINSOL (Newton + line search, a band LU of the analytic Jacobian) at
+/* Quasi-static path following: KINSOL (Newton + line search, KLU on the analytic Jacobian) at
  * each support displacement, a tangent predictor, adaptive increments, and a limit point
  * bracketed by bisection of the increment and confirmed on the tangent stiffness. */
 #include "voussoir/quasistatic.h"
 
-#include "voussoir/band.h"
 #include "voussoir/stability.h"
 
+#include <klu.h>
 #include <kinsol/kinsol.h>
 #include <float.h>
 #include <math.h>
@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include "voussoir/klu_reuse.h"
@@ -39,6 +40,21 @@ static const double VS_FOLD_APPROACH = 0.5;
 /* Two successive fold predictions agree when they differ by less than this fraction of the
  * distance to the fold. */
 static const double VS_FOLD_AGREE = 0.5;
+/* KLU's fill-reducing ordering (0 AMD, 1 COLAMD, 2 natural), paid once per path (its analysis
+ * is kept): AMD. The blocks form a chain, whose Jacobian is block-banded in the natural order:
+ * the reference run takes as many instructions with AMD as with it (callgrind; COLAMD 0.6 %
+ * more); with pinned supports, whose rotations q keeps after the blocks (an arrow in the natural
+ * order), runs/pinned.ini takes 3 % fewer with AMD than with the natural order. */
+static const int VS_KLU_ORDERING = 0;
+/* KLU's row scaling: -1, none, and none of its check of the pattern at each factorisation (the
+ * first analysis checked it; the model builds it once). The default (2: each row by its largest
+ * entry) was over a third of a refactorisation of the reference tangent (107 k instructions
+ * scaled, 68 k not; 24 M of the run's 383 M; about 4 ms of 35, perf stat). The rows are forces
+ * and moments, apart by a joint length (a rotation's column: k L in the force rows against
+ * k L^2 on the diagonal, L ~ 0.02 m), well within KLU's pivot tolerance (1e-3), so its
+ * preference for the diagonal holds unscaled: no off-diagonal pivot in the reference run either
+ * way, and the seed domain's results stay within rounding. */
+static const int VS_KLU_SCALE = -1;
 /* Newton stops when its scaled step (in units of the joint length) falls below this: about
  * a hundred ulps of a position, the resolution of double precision. */
 static const double VS_NEWTON_STEPTOL = 1e-14;
@@ -70,9 +86,10 @@ typedef struct {
   void *kin;
   double *len;                /* per unknown: 1 for translations, block length for rotations */
   /* workspaces, allocated once: two vectors for the tangent's solves (never used by two callers
-   * at once) and a residual */
+   * at once), a residual, and the marks of a permutation's cycles */
   N_Vector w1, w2;
   double *fwork;
+  unsigned char *seen;
   double kmax, lmax, wmin;    /* stiffest joint k_n b t (N/m), longest joint (m), lightest block (N) */
   long iters, jac_evals, floor_limited;
   double max_residual;        /* largest scaled residual among accepted equilibria */
@@ -142,6 +159,7 @@ static void qs_destroy(qs_solver *s) {
   if (s->ctx != NULL) SUNContext_Free(&s->ctx);
   vs_spd_destroy(&s->spd);
   free(s->fwork);
+  free(s->seen);
   free(s->len);
   memset(s, 0, sizeof *s);
 }
@@ -170,24 +188,42 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
   s->w1 = N_VNew_Serial(n, s->ctx);
   s->w2 = N_VNew_Serial(n, s->ctx);
   s->fwork = malloc((size_t)n * sizeof *s->fwork);
+  s->seen = malloc((size_t)n);
   if (s->u == NULL || s->uscale == NULL || s->fscale == NULL || s->J == NULL || s->Jt == NULL ||
-      s->len == NULL || s->w1 == NULL || s->w2 == NULL || s->fwork == NULL) {
+      s->len == NULL || s->w1 == NULL || s->w2 == NULL || s->fwork == NULL || s->seen == NULL) {
     qs_destroy(s);
     return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
   }
   /* KINSOL clones its workspace from u: every vector of the solve gets the optimised operations */
   N_Vector vecs[] = {s->u, s->uscale, s->fscale, s->w1, s->w2};
   for (size_t i = 0; i < sizeof vecs / sizeof vecs[0]; i++) vs_nvector_fast_ops(vecs[i]);
-  /* The blocks form a chain: the Jacobian is a narrow band (band.h), factored by a band LU at
-   * every Newton iteration and at every accepted state (the tangent; the stability test
-   * factors its symmetric part by a band Cholesky) */
-  s->LS = vs_band_linsol(s->n, s->ctx);
-  s->LSt = vs_band_linsol(s->n, s->ctx);
-  if (s->LS == NULL || s->LSt == NULL || vs_spd_create(s->n, &s->spd, err) != VS_OK) {
+  /* the stability test factors the tangent's symmetric part as a band: in the model's band
+   * order, which keeps a pinned support's rotation next to its block */
+  int *perm = malloc((size_t)n * sizeof *perm);
+  if (perm == NULL) {
     qs_destroy(s);
     return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
   }
-  vs_sparse_zero_none(s->J); /* jac_fn writes the pattern */
+  vs_model_band_order(m, perm);
+  const vs_status st = vs_spd_create(s->n, perm, &s->spd, err);
+  free(perm);
+  if (st != VS_OK) {
+    qs_destroy(s);
+    return st;
+  }
+  /* KLU factors the Jacobian at every Newton iteration (LS) and the tangent at every accepted
+   * state (LSt); both keep one analysis of the fixed pattern and refactor on its last pivots */
+  s->LS = SUNLinSol_KLU(s->u, s->J, s->ctx);
+  s->LSt = SUNLinSol_KLU(s->u, s->Jt, s->ctx);
+  if (s->LS == NULL || s->LSt == NULL) return qs_fail(s, err, "SUNLinSol_KLU", 0);
+  if ((flag = SUNLinSol_KLUSetOrdering(s->LS, VS_KLU_ORDERING)) != 0 ||
+      (flag = SUNLinSol_KLUSetOrdering(s->LSt, VS_KLU_ORDERING)) != 0)
+    return qs_fail(s, err, "SUNLinSol_KLUSetOrdering", flag);
+  SUNLinSol_KLUGetCommon(s->LS)->scale = VS_KLU_SCALE;
+  SUNLinSol_KLUGetCommon(s->LSt)->scale = VS_KLU_SCALE;
+  vs_klu_keep_analysis(s->LS);  /* KINSol re-initialises its solver at every call */
+  vs_klu_keep_analysis(s->LSt); /* re-initialised by every run (qs_rearm) */
+  vs_sparse_zero_none(s->J);    /* jac_fn writes the pattern */
 
   /* Scalings: residuals in units of each block's weight (moments: weight x joint length);
    * unknowns in units of that length (rotations in rad). */
@@ -277,13 +313,44 @@ static int qs_solve(qs_solver *s, double delta, double *q, long *iters) {
   return flag;
 }
 
-/* Factor the tangent at (q, delta) (s->LSt); *det_sign = sign of det K from the factors. */
+/* Sign of a permutation of n >= 0 entries (+1 even, -1 odd); seen has n bytes of scratch. */
+static int perm_sign(const SuiteSparse_long *p, long n, unsigned char *seen) {
+  if (n <= 0) return 1;
+  memset(seen, 0, (size_t)n);
+  long transpositions = 0;
+  for (long i = 0; i < n; i++) {
+    if (seen[i]) continue;
+    long len = 0;
+    for (long j = i; !seen[j]; j = p[j]) {
+      seen[j] = 1;
+      len++;
+    }
+    transpositions += len - 1;
+  }
+  return (transpositions % 2 == 0) ? 1 : -1;
+}
+
+/* Factor the tangent at (q, delta) with KLU (s->LSt); *det_sign = sign of det K from the
+ * factors: KLU factors P (R\K) Q = L U with R > 0 (the identity here: VS_KLU_SCALE), so
+ * sign(det K) = sign(P) sign(Q) prod sign(U_ii). */
 static int tangent_factor(qs_solver *s, const double *q, double delta, int *det_sign) {
   vs_model_jacobian(s->m, q, delta, s->Jt);
   const int flag = SUNLinSolSetup(s->LSt, s->Jt);
-  const vs_band *b = vs_band_linsol_band(s->LSt);
-  *det_sign = (flag == 0 && b != NULL) ? vs_band_det_sign(b) : 0;
-  return flag;
+  if (flag != 0) {
+    *det_sign = 0;
+    return flag;
+  }
+  const sun_klu_symbolic *sym = SUNLinSol_KLUGetSymbolic(s->LSt);
+  const sun_klu_numeric *num = SUNLinSol_KLUGetNumeric(s->LSt);
+  const long n = s->n;
+  int sign = perm_sign(num->Pnum, n, s->seen) * perm_sign(sym->Q, n, s->seen);
+  const double *ud = num->Udiag;
+  for (long i = 0; i < n; i++) {
+    if (ud[i] == 0.0) sign = 0;
+    else if (ud[i] < 0.0) sign = -sign;
+  }
+  *det_sign = sign;
+  return 0;
 }
 
 /* x <- K^-1 b with the factors of tangent_factor. */

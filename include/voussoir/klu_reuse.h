@@ -1,9 +1,8 @@
-/* SUNDIALS' KLU linear solver re-analysed at every IDA restart (IDAReInit calls
+/* SUNDIALS' KLU linear solver re-analysed at every KINSol call and every IDA restart (both call
  * SUNLinSolInitialize, which makes the next setup free the factors and analyse the pattern
  * again). The model's Jacobian patterns are fixed at its creation, so one analysis serves every
  * solve: later setups refactor numerically, with SUNDIALS' own fall-back to a fresh
- * factorisation when the condition estimate degrades. (The quasi-static path's KINSOL uses a
- * band solver, band.h; it shares vs_sparse_zero_none.) */
+ * factorisation when the condition estimate degrades. */
 #ifndef VOUSSOIR_KLU_REUSE_H
 #define VOUSSOIR_KLU_REUSE_H
 

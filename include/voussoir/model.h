@@ -35,6 +35,12 @@ vs_status vs_model_set_support_kinds(vs_model *m, vs_support_kind left, vs_suppo
 vs_support_kind vs_model_support_kind(const vs_model *m, int right);
 /* Index in q of the support's rotation (right = 0: left, 1: right), -1 if it is fixed. */
 int vs_model_support_dof(const vs_model *m, int right);
+/* The unknowns in an order in which the Jacobian is a narrow band (perm[new] = old; perm has
+ * vs_model_size entries): the blocks' in q's order, and a pinned support's rotation, which q
+ * keeps after the blocks, next to the block it carries (left first, right last). In q's own
+ * order those rotations couple the first and last blocks to the last rows, and a band
+ * factorisation (LAPACK's) would take the whole matrix as its band. */
+void vs_model_band_order(const vs_model *m, int *perm);
 
 /* Number of unknowns and Jacobian non-zeros. The state q is block-major: q[3i], q[3i+1] are the
  * displacement (m) of block i's centroid (its reference point) and q[3i+2] its rotation (rad,
