@@ -42,7 +42,7 @@ void vs_fall_destroy(vs_fall **fp) {
   vs_fall *f = *fp;
   vs_fall_geom_free(f);
   vs_fall_chain_free(f);
-  free(f->q), free(f->v), free(f->vk), free(f->vs), free(f->c), free(f->pkey), free(f->pP), free(f->js);
+  free(f->q), free(f->v), free(f->vk), free(f->vs), free(f->w), free(f->c), free(f->pkey), free(f->pP), free(f->js);
   free(f->qst), free(f->vst), free(f->jlo), free(f->jhi);
   free(f);
   *fp = NULL;
@@ -63,12 +63,12 @@ vs_status vs_fall_create(vs_model *m, const vs_fall_opts *o, const int *count, c
   f->level = NAN;
   const size_t Q = 3 * (size_t)f->nb, nq = (size_t)vs_model_size(m);
   f->q = calloc(Q, sizeof *f->q), f->v = calloc(Q, sizeof *f->v), f->vk = calloc(Q, sizeof *f->vk);
-  f->vs = calloc(Q, sizeof *f->vs);
+  f->vs = calloc(Q, sizeof *f->vs), f->w = calloc(Q, sizeof *f->w);
   f->js = calloc((size_t)f->g->n_joints + 1, sizeof *f->js);
   f->qst = calloc(nq, sizeof *f->qst), f->vst = calloc(nq, sizeof *f->vst);
   f->jlo = calloc((size_t)f->g->n_joints + 1, sizeof *f->jlo);
   f->jhi = calloc((size_t)f->g->n_joints + 1, sizeof *f->jhi);
-  if (!f->q || !f->v || !f->vk || !f->vs || !f->js || !f->qst || !f->vst || !f->jlo || !f->jhi)
+  if (!f->q || !f->v || !f->vk || !f->vs || !f->w || !f->js || !f->qst || !f->vst || !f->jlo || !f->jhi)
     st = vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory");
   if (st == VS_OK) st = vs_fall_geom_init(f, count, xz, err);
   if (st == VS_OK && o->joints && f->g->n_joints > 0 && vs_fall_chain_init(f) != 0)
@@ -110,38 +110,56 @@ static void apply(vs_fall *f, const vs_fall_contact *c, const double dP[2]) {
   }
 }
 
+/* Contact c's local solve, prepared once a step (W is fixed over the step): the velocity changes
+ * of its bodies per unit impulse (M^-1 J^T, normal then tangential), W's inverse, and per
+ * sliding direction s (0: +, 1: -) the normal impulse per unit of rn on the cone's edge and the
+ * ratio of the tangential impulse to it (where friction cannot be balanced, Painleve's case, the
+ * normal impulse alone: 1 / W_nn and 0). */
+static void prepare(const vs_fall *f, vs_fall_contact *c, double mu) {
+  const double *W = c->W, det = W[0] * W[2] - W[1] * W[1];
+  for (int i = 0; i < 6; i++) {
+    c->Ka[i] = f->minv[3 * c->a + i % 3] * c->Ja[i];
+    c->Kb[i] = c->b >= 0 ? f->minv[3 * c->b + i % 3] * c->Jb[i] : 0.0;
+  }
+  c->iW[0] = W[2] / det, c->iW[1] = -W[1] / det, c->iW[2] = W[0] / det;
+  c->iWnn = 1.0 / W[0];
+  for (int k = 0; k < 2; k++) {
+    const double s = k == 0 ? 1.0 : -1.0, den = W[0] + s * mu * W[1];
+    c->slide[k][0] = den > 0.0 ? 1.0 / den : 1.0 / W[0];
+    c->slide[k][1] = den > 0.0 ? s * mu : 0.0;
+  }
+}
+
 /* The impulse of contact c that solves its own Signorini-Coulomb problem, the others held:
  * with uf its relative velocity without its impulse, u = uf + W P. Separating if uf_n >= bias;
  * sticking if the impulse that gives u = (bias, 0) is inside the cone; sliding otherwise, on
  * the cone's edge the sticking impulse points past. */
-static void local_solve(const double W[3], double mu, double bias, const double uf[2],
-                        double P[2]) {
+static void local_solve(const vs_fall_contact *c, double mu, const double uf[2], double P[2]) {
   P[0] = P[1] = 0.0;
-  if (uf[0] >= bias) return;
-  const double rn = bias - uf[0], rt = -uf[1], det = W[0] * W[2] - W[1] * W[1];
-  double pn = (W[2] * rn - W[1] * rt) / det, pt = (W[0] * rt - W[1] * rn) / det;
+  if (uf[0] >= c->bias) return;
+  const double rn = c->bias - uf[0], rt = -uf[1];
+  double pn = c->iW[0] * rn + c->iW[1] * rt, pt = c->iW[1] * rn + c->iW[2] * rt;
   if (!(pn >= 0.0 && fabs(pt) <= mu * pn)) {
-    const double s = pt > 0.0 ? 1.0 : -1.0, den = W[0] + s * mu * W[1];
-    if (den > 0.0) {
-      pn = rn / den, pt = s * mu * pn;
-    } else { /* friction cannot be balanced (Painlevé): the normal impulse alone */
-      pn = rn / W[0], pt = 0.0;
-    }
+    const double *sl = c->slide[pt > 0.0 ? 0 : 1];
+    pn = rn * sl[0], pt = sl[1] * pn;
   }
   if (pn > 0.0) P[0] = pn, P[1] = pt;
 }
 
-/* One Gauss-Seidel update of contact c. */
+/* One Gauss-Seidel update of contact c (the inner loop of the fall: rel_velocity and apply
+ * written out, with the impulse-to-velocity rows Ka, Kb prepared for the step). */
 static void update(vs_fall *f, vs_fall_contact *c, double mu) {
-  double u[2], uf[2], P[2];
-  rel_velocity(c, f->v, u);
+  double *va = f->v + 3 * c->a, *vb = c->b >= 0 ? f->v + 3 * c->b : NULL;
+  double u[2] = {dot3(c->Ja, va), dot3(c->Ja + 3, va)}, uf[2], P[2];
+  if (vb != NULL) u[0] += dot3(c->Jb, vb), u[1] += dot3(c->Jb + 3, vb);
   uf[0] = u[0] - (c->W[0] * c->P[0] + c->W[1] * c->P[1]);
   uf[1] = u[1] - (c->W[1] * c->P[0] + c->W[2] * c->P[1]);
-  const double W[3] = {c->W[0] + c->eps, c->W[1], c->W[2]}; /* u_n + eps P_n = bias */
-  local_solve(W, mu, c->bias, uf, P);
-  const double dP[2] = {P[0] - c->P[0], P[1] - c->P[1]};
-  if (dP[0] == 0.0 && dP[1] == 0.0) return;
-  apply(f, c, dP);
+  local_solve(c, mu, uf, P);
+  const double d0 = P[0] - c->P[0], d1 = P[1] - c->P[1];
+  if (d0 == 0.0 && d1 == 0.0) return;
+  for (int i = 0; i < 3; i++) va[i] += c->Ka[i] * d0 + c->Ka[3 + i] * d1;
+  if (vb != NULL)
+    for (int i = 0; i < 3; i++) vb[i] += c->Kb[i] * d0 + c->Kb[3 + i] * d1;
   c->P[0] = P[0], c->P[1] = P[1];
 }
 
@@ -209,6 +227,7 @@ static double kinetic(const vs_fall *f) {
 
 typedef struct {
   double normal, tangential, support; /* dissipated at the contacts (J), work of the piers (J) */
+  double recovered;      /* work of the overlaps' recovery against gravity (J) */
   double ground, body, joint; /* deepest overlap at the step's start: below the ground, into a
                                  body without a joint, behind a joint's face (m; 0: none) */
   double last;           /* the largest change of a contact's velocity in the last sweep, m/s */
@@ -216,18 +235,16 @@ typedef struct {
 } step_out;
 
 /* Overlaps of a vertex with the ground or another body (the scheme's own: a step is a straight
- * line in each body's coordinates) are taken back by this fraction per step; a joint's (its
- * faces' elastic closure at the collapse, where the fall starts) are kept. */
+ * line in each body's coordinates) are taken back by this fraction per step, through the
+ * positions only (recover); a joint's (its faces' elastic closure at the collapse, where the
+ * fall starts) are kept. */
 static const double VS_FALL_RECOVER = 0.2;
 
 /* Contact c's normal law for a step of h: where it has a gap, the gap may close within the step
- * but not be passed (u_n >= -gap / h); where the bodies touch, they stop approaching (u_n >= 0:
- * a perfectly plastic impact); where a vertex overlaps the ground or another body, it moves out
- * by VS_FALL_RECOVER of the overlap per step. */
-static void contact_law(const vs_fall *f, vs_fall_contact *c, double h) {
-  (void)f;
-  c->eps = 0.0;
-  c->bias = c->gap > 0.0 ? -c->gap / h : c->joint < 0 ? -VS_FALL_RECOVER * c->gap / h : 0.0;
+ * but not be passed (u_n >= -gap / h); where the bodies touch or overlap, they stop approaching
+ * (u_n >= 0: a perfectly plastic impact). */
+static void contact_law(vs_fall_contact *c, double h) {
+  c->bias = c->gap > 0.0 ? -c->gap / h : 0.0;
 }
 
 /* One step of length h from f->t: contacts at the start, impulses, new positions. 0, -1 when
@@ -244,7 +261,8 @@ static int impulses(vs_fall *f, double h, double mu, step_out *so) {
   for (int i = 0; i < f->nc; i++) {
     vs_fall_contact *c = &f->c[i];
     rel_velocity(c, f->vk, c->u0);
-    contact_law(f, c, h);
+    contact_law(c, h);
+    prepare(f, c, mu);
     warm(f, c->key, c->P);
     apply(f, c, c->P);
   }
@@ -268,7 +286,9 @@ static int impulses(vs_fall *f, double h, double mu, step_out *so) {
     double worst = 0.0;
     for (int b = 0; b < f->n; b++) {
       const double *v = f->v + 3 * b, *w = f->vs + 3 * b;
-      worst = fmax(worst, hypot(v[0] - w[0], v[1] - w[1]) + fabs(v[2] - w[2]) * f->rmaxb[b]);
+      const double dx = v[0] - w[0], dz = v[1] - w[1];
+      const double d = sqrt(dx * dx + dz * dz) + fabs(v[2] - w[2]) * f->rmaxb[b];
+      worst = d > worst ? d : worst;
     }
     so->converged = worst <= tol;
     so->last = worst;
@@ -283,10 +303,54 @@ static int outran(const vs_fall *f, double h) {
   const double gh2 = f->g->gravity * h * h;
   for (int b = 0; b < f->n; b++) {
     const double *v = f->v + 3 * b;
-    const double reach = h * (hypot(v[0], v[1]) + fabs(v[2]) * f->rmaxb[b]) + 1e-9 * f->rmax;
+    const double reach = h * (sqrt(v[0] * v[0] + v[1] * v[1]) + fabs(v[2]) * f->rmaxb[b]) + 1e-9 * f->rmax;
     if (reach > f->reach[b] + gh2) return 1;
   }
   return 0;
+}
+
+/* The overlaps' recovery (split impulse): pseudo-velocities w, which move the positions in this
+ * step and are then forgotten, so that pushing a vertex out of the ground or another body gives
+ * no body a velocity (a recovery through the velocities, as a bias in the contact law, feeds
+ * energy into the debris and can keep blocks rocking on the ground for good). Normal
+ * pseudo-impulses only, by Gauss-Seidel as the impulses: a vertex inside the ground or another
+ * body (no joint) moves out by VS_FALL_RECOVER of its overlap (w_n >= -VS_FALL_RECOVER gap / h),
+ * the other contacts that touch do not close further (w_n >= 0). The work this does against
+ * gravity enters the energy balance as the contacts' (the dissipated energy, negative). */
+static void recover(vs_fall *f, double h, step_out *so) {
+  memset(f->w, 0, 3 * (size_t)f->nb * sizeof *f->w);
+  /* nothing to do while every overlap is below what the impulses' own tolerance lets a contact
+   * sink in a step (tol g h^2) */
+  const double tol = f->o.tol * f->g->gravity * h;
+  int deep = 0;
+  for (int i = 0; i < f->nc; i++) {
+    f->c[i].Pw = 0.0;
+    deep += f->c[i].gap < -tol * h && f->c[i].joint < 0;
+  }
+  if (deep == 0) return;
+  for (int k = 0; k < f->o.max_sweeps; k++) {
+    double worst = 0.0;
+    for (int i = 0; i < f->nc; i++) {
+      vs_fall_contact *c = &f->c[(k % 2) ? f->nc - 1 - i : i];
+      if (c->gap > 0.0) continue;
+      const double target = c->joint < 0 ? -VS_FALL_RECOVER * c->gap / h : 0.0;
+      double un = dot3(c->Ja, f->w + 3 * c->a);
+      if (c->b >= 0) un += dot3(c->Jb, f->w + 3 * c->b);
+      const double p = fmax(0.0, c->Pw + (target - un) * c->iWnn), dp = p - c->Pw;
+      if (dp == 0.0) continue;
+      for (int s = 0; s < 2; s++) {
+        const int b = s == 0 ? c->a : c->b;
+        if (b < 0) continue;
+        const double *J = s == 0 ? c->Ja : c->Jb, *mi = f->minv + 3 * b;
+        for (int j = 0; j < 3; j++) f->w[3 * b + j] += mi[j] * J[j] * dp;
+      }
+      c->Pw = p;
+      worst = fabs(dp) * c->W[0] > worst ? fabs(dp) * c->W[0] : worst;
+    }
+    if (worst <= tol) break;
+  }
+  for (int b = 0; b < f->n; b++) /* the work against gravity: m g h w_z */
+    so->recovered += h * f->g->gravity * f->w[3 * b + 1] / f->minv[3 * b];
 }
 
 /* One step of length h from f->t: contacts at the start, impulses, new positions; if the
@@ -331,7 +395,9 @@ static int step(vs_fall *f, double h, double mu, step_out *so) {
       so->support -= c->P[0] * dot3(J, vb) + c->P[1] * dot3(J + 3, vb);
     }
   }
-  for (int i = 0; i < 3 * f->n; i++) f->q[i] += h * f->v[i];
+  so->recovered = 0.0;
+  recover(f, h, so);
+  for (int i = 0; i < 3 * f->n; i++) f->q[i] += h * (f->v[i] + f->w[i]);
   f->t += h;
   return keep(f);
 }
@@ -544,7 +610,8 @@ vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_en
                     : vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory at t = %.6g s", f->t);
       break;
     }
-    acc.normal += so.normal, acc.tangential += so.tangential, acc.support += so.support;
+    acc.normal += so.normal - so.recovered, acc.tangential += so.tangential;
+    acc.support += so.support;
     res->steps++;
     res->sweeps += so.sweeps;
     res->solves += so.solves;

@@ -19,9 +19,14 @@ typedef struct {
   double n[2], t[2]; /* unit normal (from b towards a) and tangent t = n turned +90 degrees */
   double Ja[6], Jb[6]; /* normal row then tangential row, over a's and b's (vx, vz, omega) */
   double W[3];      /* Delassus block: nn, nt, tt (symmetric) */
+  double Ka[6], Kb[6]; /* M^-1 J^T: a's and b's velocity change per unit impulse, as Ja, Jb */
   double gap;       /* signed gap at the step's start, m (< 0: overlap) */
-  double bias, eps; /* normal law: u_n + eps P_n >= bias (fall.c: contact_law) */
+  double bias;      /* normal law: u_n >= bias (fall.c: contact_law) */
+  double iWnn;      /* 1 / W_nn */
+  double iW[3];     /* W's inverse (nn, nt, tt) and, per sliding direction, the normal impulse */
+  double slide[2][2]; /* per unit of its velocity deficit and the tangential one's ratio to it */
   double P[2];      /* impulse, normal and tangential, N s */
+  double Pw;        /* normal pseudo-impulse of the overlaps' recovery, N s */
   double u0[2];     /* relative velocity at the step's start, m/s */
 } vs_fall_contact;
 
@@ -56,6 +61,7 @@ struct vs_fall {
                                             + 1] - 1, each to body adj_body, joint adj_joint */
   /* the state: positions and velocities of every body (3 nb), the time */
   double *q, *v, *vk, *vs; /* vk: velocities at the step's start; vs: after a first solve */
+  double *w;              /* work: the step's pseudo-velocities (overlaps' recovery), 3 nb */
   double t;
   double level;           /* the ground (NAN: none) */
   /* work at the current positions */

@@ -154,6 +154,47 @@ static void test_drop(void **state) {
   block_free(&bk);
 }
 
+/* A block that starts 1 mm inside the ground (a vertex overlap, as impacts leave them) is moved out
+ * through its positions: the overlap shrinks by the recovery's fraction every step, the block is
+ * never launched (no speed beyond the g h a step of gravity gives and its contact takes back) and
+ * never lifts off, and the work done against gravity is booked as the contacts' (the energy balance
+ * holds). A recovery through the velocities would leave it at d / h * fraction = 0.2 m/s. */
+static void test_overlap_recovery(void **state) {
+  (void)state;
+  const double h = 1e-3, d = 1e-3;
+  block bk;
+  block_make(&bk, 0.2, 0.1, 0.7, h);
+  trace *tr = calloc(1, sizeof *tr);
+  assert_non_null(tr);
+  vs_fall_result res;
+  fall_block(&bk, (double[3]){0.0, -d, 0.0}, (double[3]){0}, tr, &res);
+  double vmax = 0.0, zmax = -INFINITY;
+  int slow = 0; /* samples where the overlap shrank by less than a fifth a step (test_drop's
+                   solver tolerance) */
+  for (int i = 0; i < tr->n; i++) {
+    vmax = fmax(vmax, hypot(tr->vx[i], tr->vz[i]) + fabs(tr->w[i]) * 0.5 * hypot(bk.B, bk.H));
+    zmax = fmax(zmax, tr->z[i]);
+    const double steps = round(tr->t[i] / h);
+    /* slack: what the contact's Gauss-Seidel tolerance (1e-6 g h) lets it sink in the steps */
+    if (-tr->z[i] > d * pow(0.8, steps) + steps * 1e-6 * GRAV * h * h) slow++;
+  }
+  const double mgd = bk.mass * GRAV * d;
+  print_message("recovery: overlap %.3g m after %.0f steps (%.3g at a fifth a step); speed <= "
+                "%.3g m/s (g h = %.3g); highest z %.3g m; at rest %d; work against gravity in "
+                "the contacts %.6g J (m g d = %.6g J); balance %.2g\n",
+                -tr->z[tr->n - 1], round(tr->t[tr->n - 1] / h),
+                d * pow(0.8, round(tr->t[tr->n - 1] / h)), vmax, GRAV * h, zmax, res.at_rest,
+                -tr->e[tr->n - 1].damped, mgd, res.balance_error_rel);
+  assert_int_equal(slow, 0);
+  assert_true(vmax <= GRAV * h * (1.0 + 1e-9));
+  assert_true(zmax <= 0.0);
+  assert_int_equal(res.at_rest, 1);
+  assert_true(fabs(-tr->e[tr->n - 1].damped - mgd) < 1e-3 * mgd);
+  assert_true(res.balance_error_rel < 1e-3);
+  free(tr);
+  block_free(&bk);
+}
+
 /* Stopping distance and time of a block sliding at v0 on the ground, with the step h. */
 static void slide(double h, double *dist, double *time, double *friction, double *ke0) {
   const double v0 = 1.0, mu = 0.5;
@@ -308,6 +349,7 @@ static void test_options(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_drop),
+      cmocka_unit_test(test_overlap_recovery),
       cmocka_unit_test(test_slide),
       cmocka_unit_test(test_rocking_housner),
       cmocka_unit_test(test_arch_stands),
