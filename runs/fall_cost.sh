@@ -45,7 +45,9 @@ cases=("0 3" "90 48" "45 48" "0 48" "90 3" "45 3")
 read -ra schemes <<<"${SCHEMES:-rigid penalty}"
 echo "| scheme | alpha (deg) | k_n (N/mm^3) | CPU of the rest (s) | CPU of the fall (s) | ratio | fall simulated (s) | steps | of which | final KE / rest level | deepest below ground: end / during (um) | inside another body, during (um) | fall ended |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+summary=()
 for scheme in "${schemes[@]}"; do
+  n_rest=0 n_cases=0 ratios=()
   for c in "${cases[@]}"; do
     set -- $c
     a="$1" kn="$2"
@@ -78,5 +80,12 @@ for scheme in "${schemes[@]}"; do
       f = c1 - c0; ins = (iv == "") ? "-" : sprintf("%.3g", iv * 1e6)
       printf "| %s | %s | %s | %.2f | %.2f | %.1f | %s | %d | %s | %.2g | %.3g / %.3g | %s | %s |\n",
         sc, a, kn, c0, f, f / c0, ts, st, de, ke / rl, pe * 1e6, pm * 1e6, ins, en}'
+    n_cases=$((n_cases + 1))
+    [ "$ended" = "at rest" ] && n_rest=$((n_rest + 1))
+    ratios+=("$(awk -v c0="$c0" -v c1="$c1" 'BEGIN {printf "%.2f", (c1 - c0) / c0}')")
   done
+  summary+=("$scheme: $n_rest of $n_cases cases at rest; the fall's CPU $(printf '%s\n' "${ratios[@]}" |
+    sort -g | sed -n '1p;$p' | paste -sd- ) times the rest of the run")
 done
+echo
+printf '%s\n' "${summary[@]}"
