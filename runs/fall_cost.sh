@@ -10,9 +10,10 @@
 # penalty: IDA steps and root events), the kinetic energy of the last state over the rest level,
 # the deepest vertex below the ground at the end and during the fall, the deepest vertex inside
 # another block or a pier during the fall, and how the fall ended.
-#   runs/fall_cost.sh                      # both schemes (REPEAT=3: ~4 min on an idle machine)
+#   runs/fall_cost.sh                      # both schemes (REPEAT=3: ~2 min on an idle machine)
 #   SCHEMES=rigid REPEAT=1 runs/fall_cost.sh
 #   CASES="0 3,90 48" runs/fall_cost.sh    # alpha k_n pairs
+#   CASES=seed SCHEMES=rigid REPEAT=1 runs/fall_cost.sh  # the seed domain, 26 cases (~15 s)
 set -euo pipefail
 . "$(dirname "$0")/lib.sh"
 repeat="${REPEAT:-3}"
@@ -41,7 +42,12 @@ last_ke() {
 }
 
 cases=("0 3" "90 48" "45 48" "0 48" "90 3" "45 3")
-[ -n "${CASES:-}" ] && IFS=, read -ra cases <<<"$CASES"
+if [ "${CASES:-}" = seed ]; then # the seed domain: 13 directions x k_n 3, 48
+  cases=()
+  for a in 0 7.5 15 22.5 30 37.5 45 52.5 60 67.5 75 82.5 90; do cases+=("$a 3" "$a 48"); done
+elif [ -n "${CASES:-}" ]; then
+  IFS=, read -ra cases <<<"$CASES"
+fi
 read -ra schemes <<<"${SCHEMES:-rigid penalty}"
 echo "| scheme | alpha (deg) | k_n (N/mm^3) | CPU of the rest (s) | CPU of the fall (s) | ratio | fall simulated (s) | steps | of which | final KE / rest level | deepest below ground: end / during (um) | inside another body, during (um) | fall ended |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
