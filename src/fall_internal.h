@@ -124,4 +124,8 @@ void vs_fall_chain_free(vs_fall *f);
  * from are then left), -1 when KLU failed; *solves += the solves. */
 int vs_fall_chain_solve(vs_fall *f, double mu, double tolv, int *solves);
 
+/* fall_state.c: the bodies' state in the model's coordinates (qst, vst: a pinned support's
+ * rotation where the model has it) for the record. */
+void vs_fall_static_state(vs_fall *f);
+
 #endif
