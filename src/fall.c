@@ -89,27 +89,6 @@ double vs_fall_level(const vs_fall *f) { return f->level; }
 
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-/* Relative velocity of contact c (normal, tangential) at the bodies' velocities v. */
-static void rel_velocity(const vs_fall_contact *c, const double *v, double u[2]) {
-  const double *va = v + 3 * c->a;
-  u[0] = dot3(c->Ja, va), u[1] = dot3(c->Ja + 3, va);
-  if (c->b >= 0) {
-    const double *vb = v + 3 * c->b;
-    u[0] += dot3(c->Jb, vb), u[1] += dot3(c->Jb + 3, vb);
-  }
-}
-
-/* Add impulse dP of contact c to the velocities of its bodies (driven bodies: minv 0). */
-static void apply(vs_fall *f, const vs_fall_contact *c, const double dP[2]) {
-  for (int s = 0; s < 2; s++) {
-    const int b = s == 0 ? c->a : c->b;
-    if (b < 0) continue;
-    const double *J = s == 0 ? c->Ja : c->Jb, *mi = f->minv + 3 * b;
-    double *v = f->v + 3 * b;
-    for (int i = 0; i < 3; i++) v[i] += mi[i] * (J[i] * dP[0] + J[3 + i] * dP[1]);
-  }
-}
-
 /* Contact c's local solve, prepared once a step (W is fixed over the step): the velocity changes
  * of its bodies per unit impulse (M^-1 J^T, normal then tangential), W's inverse, and per
  * sliding direction s (0: +, 1: -) the normal impulse per unit of rn on the cone's edge and the
@@ -146,8 +125,9 @@ static void local_solve(const vs_fall_contact *c, double mu, const double uf[2],
   if (pn > 0.0) P[0] = pn, P[1] = pt;
 }
 
-/* One Gauss-Seidel update of contact c (the inner loop of the fall: rel_velocity and apply
- * written out, with the impulse-to-velocity rows Ka, Kb prepared for the step). */
+/* One Gauss-Seidel update of contact c (the inner loop of the fall: the relative velocity and
+ * the impulse's application written out, the latter with the rows Ka, Kb prepared for the
+ * step). */
 static void update(vs_fall *f, vs_fall_contact *c, double mu) {
   double *va = f->v + 3 * c->a, *vb = c->b >= 0 ? f->v + 3 * c->b : NULL;
   double u[2] = {dot3(c->Ja, va), dot3(c->Ja + 3, va)}, uf[2], P[2];
@@ -260,11 +240,11 @@ static int impulses(vs_fall *f, double h, double mu, step_out *so) {
   for (int b = 0; b < f->n; b++) f->v[3 * b + 1] -= g * h; /* the free velocity */
   for (int i = 0; i < f->nc; i++) {
     vs_fall_contact *c = &f->c[i];
-    rel_velocity(c, f->vk, c->u0);
+    vs_fall_rel_velocity(c, f->vk, c->u0);
     contact_law(c, h);
     prepare(f, c, mu);
     warm(f, c->key, c->P);
-    apply(f, c, c->P);
+    vs_fall_apply(f, c, c->P[0], c->P[1], f->v);
   }
   const double tol = f->o.tol * g * h;
   so->converged = f->nc == 0;
@@ -338,12 +318,9 @@ static void recover(vs_fall *f, double h, step_out *so) {
       if (c->b >= 0) un += dot3(c->Jb, f->w + 3 * c->b);
       const double p = fmax(0.0, c->Pw + (target - un) * c->iWnn), dp = p - c->Pw;
       if (dp == 0.0) continue;
-      for (int s = 0; s < 2; s++) {
-        const int b = s == 0 ? c->a : c->b;
-        if (b < 0) continue;
-        const double *J = s == 0 ? c->Ja : c->Jb, *mi = f->minv + 3 * b;
-        for (int j = 0; j < 3; j++) f->w[3 * b + j] += mi[j] * J[j] * dp;
-      }
+      for (int j = 0; j < 3; j++) f->w[3 * c->a + j] += c->Ka[j] * dp;
+      if (c->b >= 0)
+        for (int j = 0; j < 3; j++) f->w[3 * c->b + j] += c->Kb[j] * dp;
       c->Pw = p;
       worst = fabs(dp) * c->W[0] > worst ? fabs(dp) * c->W[0] : worst;
     }
@@ -385,7 +362,7 @@ static int step(vs_fall *f, double h, double mu, step_out *so) {
   for (int i = 0; i < f->nc; i++) {
     const vs_fall_contact *c = &f->c[i];
     double u[2];
-    rel_velocity(c, f->v, u);
+    vs_fall_rel_velocity(c, f->v, u);
     so->normal -= c->P[0] * 0.5 * (c->u0[0] + u[0]);
     so->tangential -= c->P[1] * 0.5 * (c->u0[1] + u[1]);
     for (int s = 0; s < 2; s++) { /* a pier's share: -P . J_s v_s */

@@ -134,27 +134,6 @@ static double w_entry(const vs_fall *f, const vs_fall_contact *ci, int r, const 
   return w;
 }
 
-/* Relative velocity of contact c at the velocities v. */
-static void rel(const vs_fall_contact *c, const double *v, double u[2]) {
-  const double *va = v + 3 * c->a;
-  u[0] = c->Ja[0] * va[0] + c->Ja[1] * va[1] + c->Ja[2] * va[2];
-  u[1] = c->Ja[3] * va[0] + c->Ja[4] * va[1] + c->Ja[5] * va[2];
-  if (c->b >= 0) {
-    const double *vb = v + 3 * c->b;
-    u[0] += c->Jb[0] * vb[0] + c->Jb[1] * vb[1] + c->Jb[2] * vb[2];
-    u[1] += c->Jb[3] * vb[0] + c->Jb[4] * vb[1] + c->Jb[5] * vb[2];
-  }
-}
-
-static void push(const vs_fall *f, const vs_fall_contact *c, double pn, double pt, double *v) {
-  for (int s = 0; s < 2; s++) {
-    const int b = s == 0 ? c->a : c->b;
-    if (!dyn(f, b)) continue;
-    const double *J = s == 0 ? c->Ja : c->Jb, *mi = f->minv + 3 * b;
-    for (int i = 0; i < 3; i++) v[3 * b + i] += mi[i] * (J[i] * pn + J[3 + i] * pt);
-  }
-}
-
 /* Joint j's friction: carried by its intrados edge's contact, or the extrados one's when alone
  * (both edges' tangential rows are the same, the edges being on one line); -1: neither. */
 static int tslot(const vs_fall *f, int j) {
@@ -231,7 +210,7 @@ static int solve_statuses(vs_fall *f, double mu) {
     if (f->mask[u]) continue;
     const vs_fall_contact *c = unknown_contact(f, u);
     double v[2];
-    rel(c, f->vrest, v);
+    vs_fall_rel_velocity(c, f->vrest, v);
     /* the proximal term: eps times the impulse the step started from */
     const int j = u / 3, k = u % 3 < 2 ? 2 * j + u % 3 : tslot(f, j);
     const double p0 = f->sp0[2 * k + (u % 3 == 2)];
@@ -259,7 +238,7 @@ static int solve_statuses(vs_fall *f, double mu) {
       c->P[0] = f->sst[k] ? x[3 * j + e] : 0.0;
       c->P[1] = k != ts ? 0.0 : !f->mask[3 * j + 2] ? x[3 * j + 2]
                 : (f->sst[2 * j] || f->sst[2 * j + 1]) ? f->ssign[j] * mu * pn : 0.0;
-      push(f, c, c->P[0], c->P[1], f->v);
+      vs_fall_apply(f, c, c->P[0], c->P[1], f->v);
     }
   }
   return 0;
@@ -282,7 +261,7 @@ static int new_statuses(vs_fall *f, double mu, double tolv) {
       if (f->sc[k] < 0) continue;
       const vs_fall_contact *c = &f->c[f->sc[k]];
       double u[2];
-      rel(c, f->v, u);
+      vs_fall_rel_velocity(c, f->v, u);
       if (f->sst[k] && -c->P[0] * f->sdiag[3 * j + e] > worst)
         worst = -c->P[0] * f->sdiag[3 * j + e], which = k, kind = 0;
       else if (!f->sst[k] && u[0] < c->bias - tolv) f->sst[k] = 1, changed++;
@@ -290,7 +269,7 @@ static int new_statuses(vs_fall *f, double mu, double tolv) {
     }
     const vs_fall_contact *c = &f->c[f->sc[ts]];
     double u[2];
-    rel(c, f->v, u);
+    vs_fall_rel_velocity(c, f->v, u);
     const double over = (fabs(c->P[1]) - mu * pn) * f->sdiag[3 * j + 2];
     if (f->ssign[j] == 0 && over > worst) worst = over, which = j, kind = 1;
     else if (f->ssign[j] != 0 && u[1] * f->ssign[j] > worst)
@@ -312,7 +291,7 @@ int vs_fall_chain_solve(vs_fall *f, double mu, double tolv, int *solves) {
     const int k = 2 * c->joint + (int)((-c->key - 1) % 2); /* its edge: face_contacts' key */
     f->sc[k] = i;
     f->sp0[2 * k] = c->P[0], f->sp0[2 * k + 1] = c->P[1];
-    push(f, c, -c->P[0], -c->P[1], f->vrest);
+    vs_fall_apply(f, c, -c->P[0], -c->P[1], f->vrest);
   }
   /* statuses from the impulses held: an edge is pressed if it carries or approaches; a joint
    * slides if its friction is on its cone's edge */
@@ -325,7 +304,7 @@ int vs_fall_chain_solve(vs_fall *f, double mu, double tolv, int *solves) {
       if (f->sc[k] < 0) continue;
       const vs_fall_contact *c = &f->c[f->sc[k]];
       double u[2];
-      rel(c, f->v, u);
+      vs_fall_rel_velocity(c, f->v, u);
       /* an edge with a gap starts open even if it approaches: as a rigid chain holds it, its
        * closing would be an inconsistent demand (the solve then presses it if it must) */
       f->sst[k] = c->P[0] > 0.0 || (c->gap <= 0.0 && u[0] < c->bias - tolv);
@@ -348,7 +327,7 @@ int vs_fall_chain_solve(vs_fall *f, double mu, double tolv, int *solves) {
     if (f->sc[k] < 0) continue;
     vs_fall_contact *c = &f->c[f->sc[k]];
     c->P[0] = f->sp0[2 * k], c->P[1] = f->sp0[2 * k + 1];
-    push(f, c, c->P[0], c->P[1], f->v);
+    vs_fall_apply(f, c, c->P[0], c->P[1], f->v);
   }
   return 1;
 }

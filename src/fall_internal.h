@@ -97,6 +97,30 @@ struct vs_fall {
   double seps;            /* eps */
 };
 
+/* Relative velocity (normal, tangential) of contact c at the bodies' velocities v (3 nb). */
+static inline void vs_fall_rel_velocity(const vs_fall_contact *c, const double *v, double u[2]) {
+  const double *va = v + 3 * c->a;
+  u[0] = c->Ja[0] * va[0] + c->Ja[1] * va[1] + c->Ja[2] * va[2];
+  u[1] = c->Ja[3] * va[0] + c->Ja[4] * va[1] + c->Ja[5] * va[2];
+  if (c->b >= 0) {
+    const double *vb = v + 3 * c->b;
+    u[0] += c->Jb[0] * vb[0] + c->Jb[1] * vb[1] + c->Jb[2] * vb[2];
+    u[1] += c->Jb[3] * vb[0] + c->Jb[4] * vb[1] + c->Jb[5] * vb[2];
+  }
+}
+
+/* Add to v (3 nb) the velocity change of impulse (pn, pt) of contact c; the driven supports and
+ * the ground are left alone. */
+static inline void vs_fall_apply(const vs_fall *f, const vs_fall_contact *c, double pn, double pt,
+                                 double *v) {
+  for (int s = 0; s < 2; s++) {
+    const int b = s == 0 ? c->a : c->b;
+    if (b < 0 || b >= f->n) continue;
+    const double *J = s == 0 ? c->Ja : c->Jb, *mi = f->minv + 3 * b;
+    for (int i = 0; i < 3; i++) v[3 * b + i] += mi[i] * (J[i] * pn + J[3 + i] * pt);
+  }
+}
+
 /* fall_geom.c */
 /* Outlines, reference points, masses, faces; VS_ERR_INVALID on a bad outline. */
 vs_status vs_fall_geom_init(vs_fall *f, const int *count, const double *xz, vs_error *err);
