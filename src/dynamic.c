@@ -26,13 +26,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include "voussoir/klu_reuse.h"
 #include "voussoir/nvector_ops.h"
+#include "wall_clock.h"
 
 /* KLU ordering: AMD (0). The iteration matrix is a saddle-point matrix -- the constraint rows
  * have zero diagonals -- with a structurally symmetric pattern, which AMD orders for fill on
@@ -142,12 +142,6 @@ static void constraints(const vs_dynamic *d, double t, const double *q, const do
     if (g != NULL) g[c] = q[d->n + i] - qs[i];
     if (gv != NULL) gv[c] = v[d->n + i] - vs[i];
   }
-}
-
-static double wall_now(void) {
-  struct timespec ts;
-  timespec_get(&ts, TIME_UTC);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 static int stopped(const vs_dynamic *d) { return d->o.stop != NULL && *d->o.stop; }
@@ -945,7 +939,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
           rf = IDASVtolerances(d->ida, loose * d->rtol, at);
         }
         d->in_fall = 1;
-        wall_fall = wall_now();
+        wall_fall = vs_wall_now();
         if (d->ct != NULL && !vs_contact_armed(d->ct))
           vs_contact_arm(d->ct, vs_contact_springing_base(d->m, y) + d->ground_offset, y);
         if (d->cl != NULL && !vs_collide_armed(d->cl)) vs_collide_arm(d->cl, y);
@@ -992,7 +986,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   }
   res->t_end = t;
   res->delta_end = delta_at(d, t);
-  if (collapsed) res->fall_wall_s = wall_now() - wall_fall;
+  if (collapsed) res->fall_wall_s = vs_wall_now() - wall_fall;
   IDAGetNumSteps(d->ida, &res->steps);
   IDAGetNumNonlinSolvIters(d->ida, &res->newton_iterations);
   res->steps += base_steps;

@@ -7,13 +7,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "voussoir/collide.h"
 #include "voussoir/contact.h"
 #include "voussoir/damping.h"
 #include "voussoir/imperfections.h"
 #include "voussoir/units.h"
+#include "wall_clock.h"
 
 struct vs_run {
   vs_case c;
@@ -470,12 +470,6 @@ static vs_status fall_phase(vs_run *r, const vs_dyn_result *d, vs_error *err) {
   return st;
 }
 
-static double now_s(void) {
-  struct timespec ts;
-  timespec_get(&ts, TIME_UTC);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static void add_path_totals(vs_run *r, const vs_path_result *p) {
   if (!r->have_first) {
     r->first = *p;
@@ -619,7 +613,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
   r->sample_fn = sample;
   r->event_fn = event;
   r->user = user;
-  const double t0 = now_s();
+  const double t0 = vs_wall_now();
   vs_status st = VS_OK;
   double delta0 = 0.0;
   if (r->c.full) {
@@ -672,7 +666,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
   }
   if (!r->collapse.found) name_first(r, vs_hinges_count(r->h));
   classify(r);
-  r->wall_s = now_s() - t0;
+  r->wall_s = vs_wall_now() - t0;
   return st;
 }
 
