@@ -6,9 +6,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "fall_internal.h"
+#include "wall_clock.h"
 
 void vs_fall_opts_default(vs_fall_opts *o) {
   memset(o, 0, sizeof *o);
@@ -163,17 +163,22 @@ static void warm(const vs_fall *f, long long key, double P[2]) {
   }
 }
 
+/* Room for n warm-start impulses (pkey, pP). 0 or -1 (memory). */
+static int reserve(vs_fall *f, int n) {
+  if (n <= f->pcap) return 0;
+  long long *k = realloc(f->pkey, (size_t)n * sizeof *k);
+  if (k != NULL) f->pkey = k;
+  double *p = k != NULL ? realloc(f->pP, 2 * (size_t)n * sizeof *p) : NULL;
+  if (p == NULL) return -1;
+  f->pP = p, f->pcap = n;
+  return 0;
+}
+
 /* Keep this step's impulses, by key, for the next step's warm start. 0 or -1 (memory). */
 static int keep(vs_fall *f) {
   f->npc = 0;
   if (f->nc == 0) return 0;
-  if (f->nc > f->pcap) {
-    long long *k = realloc(f->pkey, (size_t)f->nc * sizeof *k);
-    if (k != NULL) f->pkey = k;
-    double *p = k != NULL ? realloc(f->pP, 2 * (size_t)f->nc * sizeof *p) : NULL;
-    if (p == NULL) return -1;
-    f->pP = p, f->pcap = f->nc;
-  }
+  if (reserve(f, f->nc) != 0) return -1;
   for (int i = 0; i < f->nc; i++) f->pkey[i] = f->c[i].key;
   qsort(f->pkey, (size_t)f->nc, sizeof *f->pkey, cmp_key);
   f->npc = f->nc;
@@ -210,7 +215,7 @@ typedef struct {
   double recovered;      /* work of the overlaps' recovery against gravity (J) */
   double ground, body, joint; /* deepest overlap at the step's start: below the ground, into a
                                  body without a joint, behind a joint's face (m; 0: none) */
-  double last;           /* the largest change of a contact's velocity in the last sweep, m/s */
+  double last;           /* the largest change of a body's velocity in the last sweep, m/s */
   int sweeps, solves, converged, chain, redone;
 } step_out;
 
@@ -227,12 +232,10 @@ static void contact_law(vs_fall_contact *c, double h) {
   c->bias = c->gap > 0.0 ? -c->gap / h : 0.0;
 }
 
-/* One step of length h from f->t: contacts at the start, impulses, new positions. 0, -1 when
- * out of memory, -2 when the joints' system failed. */
 /* The step's impulses for the contacts found: from the free velocity, each contact's law and
  * warm start; when every contact is a joint's, the chain's impulses solved at once
  * (fall_chain.c); otherwise, or if that did not settle, nonsmooth Gauss-Seidel over the contacts
- * (alternating directions) until no contact's velocity moves by tol g h in a sweep, or
+ * (alternating directions) until no body's velocity moves by tol g h in a sweep, or
  * max_sweeps. 0, or -2 when the joints' system failed. */
 static int impulses(vs_fall *f, double h, double mu, step_out *so) {
   const double g = f->g->gravity;
@@ -254,7 +257,7 @@ static int impulses(vs_fall *f, double h, double mu, step_out *so) {
   if (f->chain && joints > 0 && joints == f->nc) { /* only joints: the chain at once */
     const int rc = vs_fall_chain_solve(f, mu, tol, &so->solves);
     if (rc < 0) return -2;
-    so->converged = so->chain = rc == 0 && joints == f->nc;
+    so->converged = so->chain = rc == 0;
   }
   for (int k = 0; k < f->o.max_sweeps && !so->converged; k++) {
     const int s = so->sweeps++;
@@ -381,12 +384,6 @@ static int step(vs_fall *f, double h, double mu, step_out *so) {
 
 /* --- the run --- */
 
-static double wall_now(void) {
-  struct timespec ts;
-  timespec_get(&ts, TIME_UTC);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* The lower springing base: the lowest end of a face that a pier carries, as it sits now. */
 static double springing_base(vs_fall *f) {
   double z = INFINITY;
@@ -418,9 +415,8 @@ static void energy_of(vs_fall *f, const energy_acc *a, vs_energy *e) {
                a->ref;
 }
 
-static int sample_now(vs_fall *f, vs_dyn_sample_fn sample, void *user, const energy_acc *a,
-                      vs_energy *e) {
-  energy_of(f, a, e);
+/* Hand the state after a step, with its energies e, to the caller's sample function. */
+static int sample_now(vs_fall *f, vs_dyn_sample_fn sample, void *user, const vs_energy *e) {
   vs_fall_static_state(f);
   return sample(user, f->t, f->o.rate * f->t, f->qst, f->vst, e);
 }
@@ -433,13 +429,7 @@ static int sample_now(vs_fall *f, vs_dyn_sample_fn sample, void *user, const ene
  * 0, or -1 when out of memory. */
 static int warm_from_joints(vs_fall *f, const vs_joint_state *js, double h) {
   const int nj = f->g->n_joints;
-  if (2 * nj > f->pcap) {
-    long long *k = realloc(f->pkey, 2 * (size_t)nj * sizeof *k);
-    if (k != NULL) f->pkey = k;
-    double *p = k != NULL ? realloc(f->pP, 4 * (size_t)nj * sizeof *p) : NULL;
-    if (p == NULL) return -1;
-    f->pP = p, f->pcap = 2 * nj;
-  }
+  if (reserve(f, 2 * nj) != 0) return -1;
   for (int j = 0; j < nj; j++) {
     const double N = fmax(js[j].N, 0.0), t = f->faces[j].length;
     double Fi = 0.5 * N - js[j].M / t, Fe = 0.5 * N + js[j].M / t;
@@ -460,7 +450,7 @@ static int warm_from_joints(vs_fall *f, const vs_joint_state *js, double h) {
 vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_energy *e0,
                       const vs_joint_state *js0, vs_dyn_sample_fn sample, void *user,
                       vs_fall_result *res, vs_error *err) {
-  const double w0 = wall_now();
+  const double w0 = vs_wall_now();
   memset(res, 0, sizeof *res);
   const size_t Q = 3 * (size_t)f->nb;
   memcpy(f->q, qe, Q * sizeof *qe);
@@ -527,7 +517,7 @@ vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_en
     const int last = at_rest || f->t >= t_end - 0.5 * h;
     if (sample != NULL && (f->t - t_sample >= f->o.sample_dt * (1.0 - 1e-9) || last)) {
       t_sample = f->t;
-      if (sample_now(f, sample, user, &acc, &e) != 0)
+      if (sample_now(f, sample, user, &e) != 0)
         st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
     }
     if (at_rest) {
@@ -547,6 +537,6 @@ vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_en
   memcpy(ve, f->v, Q * sizeof *ve);
   res->t_end = f->t;
   res->delta_end = f->o.rate * f->t;
-  res->wall_s = wall_now() - w0;
+  res->wall_s = vs_wall_now() - w0;
   return st;
 }
