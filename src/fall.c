@@ -89,17 +89,12 @@ double vs_fall_level(const vs_fall *f) { return f->level; }
 
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-/* Contact c's local solve, prepared once a step (W is fixed over the step): the velocity changes
- * of its bodies per unit impulse (M^-1 J^T, normal then tangential), W's inverse, and per
+/* Contact c's local solve, prepared once a step (W is fixed over the step): W's inverse, and per
  * sliding direction s (0: +, 1: -) the normal impulse per unit of rn on the cone's edge and the
  * ratio of the tangential impulse to it (where friction cannot be balanced, Painleve's case, the
  * normal impulse alone: 1 / W_nn and 0). */
-static void prepare(const vs_fall *f, vs_fall_contact *c, double mu) {
+static void prepare(vs_fall_contact *c, double mu) {
   const double *W = c->W, det = W[0] * W[2] - W[1] * W[1];
-  for (int i = 0; i < 6; i++) {
-    c->Ka[i] = f->minv[3 * c->a + i % 3] * c->Ja[i];
-    c->Kb[i] = c->b >= 0 ? f->minv[3 * c->b + i % 3] * c->Jb[i] : 0.0;
-  }
   c->iW[0] = W[2] / det, c->iW[1] = -W[1] / det, c->iW[2] = W[0] / det;
   c->iWnn = 1.0 / W[0];
   for (int k = 0; k < 2; k++) {
@@ -126,8 +121,7 @@ static void local_solve(const vs_fall_contact *c, double mu, const double uf[2],
 }
 
 /* One Gauss-Seidel update of contact c (the inner loop of the fall: the relative velocity and
- * the impulse's application written out, the latter with the rows Ka, Kb prepared for the
- * step). */
+ * the impulse's application written out, the latter with the rows Ka, Kb of the contact). */
 static void update(vs_fall *f, vs_fall_contact *c, double mu) {
   double *va = f->v + 3 * c->a, *vb = c->b >= 0 ? f->v + 3 * c->b : NULL;
   double u[2] = {dot3(c->Ja, va), dot3(c->Ja + 3, va)}, uf[2], P[2];
@@ -245,7 +239,7 @@ static int impulses(vs_fall *f, double h, double mu, step_out *so) {
     vs_fall_contact *c = &f->c[i];
     vs_fall_rel_velocity(c, f->vk, c->u0);
     contact_law(c, h);
-    prepare(f, c, mu);
+    prepare(c, mu);
     warm(f, c->key, c->P);
     vs_fall_apply(f, c, c->P[0], c->P[1], f->v);
   }

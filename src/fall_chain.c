@@ -26,7 +26,6 @@
  * this multiple of W's largest diagonal entry. */
 static const double VS_CHAIN_EPS = 1e-6;
 
-static int dyn(const vs_fall *f, int b) { return b >= 0 && b < f->n; }
 
 void vs_fall_chain_free(vs_fall *f) {
   if (!f->chain) return;
@@ -44,7 +43,7 @@ static int neighbours(const vs_fall *f, int j, int *out) {
   out[n++] = j;
   for (int s = 0; s < 2; s++) {
     const int b = s == 0 ? f->faces[j].a : f->faces[j].b;
-    if (!dyn(f, b)) continue;
+    if (!vs_fall_moving(f, b)) continue;
     for (int i = f->adj_first[b]; i < f->adj_first[b + 1]; i++) {
       int k = f->adj_joint[i], seen = 0;
       for (int q = 0; q < n; q++) seen |= out[q] == k;
@@ -123,7 +122,7 @@ static double w_entry(const vs_fall *f, const vs_fall_contact *ci, int r, const 
   double w = 0.0;
   for (int s = 0; s < 2; s++) {
     const int b = s == 0 ? ci->a : ci->b;
-    if (!dyn(f, b)) continue;
+    if (!vs_fall_moving(f, b)) continue;
     const double *Ji = (s == 0 ? ci->Ja : ci->Jb) + 3 * r;
     for (int t = 0; t < 2; t++) {
       if ((t == 0 ? cj->a : cj->b) != b) continue;

@@ -175,10 +175,8 @@ void vs_fall_positions(vs_fall *f) {
   }
 }
 
-static int dynamic(const vs_fall *f, int b) { return b >= 0 && b < f->n; }
-
-/* Append a contact at point (px, pz) with normal n from b to a and gap; its rows and Delassus
- * block. 0, or -1 when out of memory. */
+/* Append a contact at point (px, pz) with normal n from b to a and gap; its rows, M^-1 J^T and
+ * Delassus block. 0, or -1 when out of memory. */
 static int add(vs_fall *f, long long key, int a, int b, int joint, double px, double pz,
                double nx, double nz, double gap) {
   if (f->nc == f->cap) {
@@ -205,10 +203,12 @@ static int add(vs_fall *f, long long key, int a, int b, int joint, double px, do
       J[3 * r + 2] = sign * (rx * d[1] - rz * d[0]);
     }
     const double *mi = f->minv + 3 * bd;
+    double *K = s == 0 ? c->Ka : c->Kb; /* M^-1 J^T */
+    for (int i = 0; i < 6; i++) K[i] = J[i] * mi[i % 3];
     for (int i = 0; i < 3; i++) {
-      W[0] += J[i] * mi[i] * J[i];
-      W[1] += J[i] * mi[i] * J[3 + i];
-      W[2] += J[3 + i] * mi[i] * J[3 + i];
+      W[0] += K[i] * J[i];
+      W[1] += K[i] * J[3 + i];
+      W[2] += K[3 + i] * J[3 + i];
     }
   }
   memcpy(c->W, W, sizeof W);
@@ -248,7 +248,7 @@ static face_end end_on_face(const vs_fall *f, const vs_fall_face *fc, int s, int
  * and moment between its edges; more would only be redundant. */
 static int face_contacts(vs_fall *f, int jn, double margin) {
   const vs_fall_face *fc = &f->faces[jn];
-  if (!dynamic(f, fc->a) && !dynamic(f, fc->b)) return 0;
+  if (!vs_fall_moving(f, fc->a) && !vs_fall_moving(f, fc->b)) return 0;
   const double reach = (0.5 + VS_FALL_FACE_SLACK) * fc->length;
   for (int e = 0; e < 2; e++) {
     /* of the two corners at this edge (a's on b's face, b's on a's), the one on the other's
@@ -331,7 +331,7 @@ static int sweep(vs_fall *f, const double *reach) {
       const int b = o[j];
       const double *A = f->box + 4 * a, *B = f->box + 4 * b;
       const double w = ra + (reach != NULL ? reach[b] : 0.0);
-      if (f->count[b] == 0 || (!dynamic(f, a) && !dynamic(f, b))) continue;
+      if (f->count[b] == 0 || (!vs_fall_moving(f, a) && !vs_fall_moving(f, b))) continue;
       if (A[2] <= B[3] + w && B[2] <= A[3] + w && add_pair(f, a, b) != 0) return -1;
     }
   }
@@ -369,7 +369,7 @@ int vs_fall_find_contacts(vs_fall *f, double h, const double *v2) {
   for (int p = 0; p < f->ncand; p++)
     for (int s = 0; s < 2; s++) {
       const int a = f->cand[2 * p + s], b = f->cand[2 * p + 1 - s];
-      if (!dynamic(f, a) && !dynamic(f, b)) continue;
+      if (!vs_fall_moving(f, a) && !vs_fall_moving(f, b)) continue;
       const int jn = f->o.joints ? shared_joint(f, a, b) : -1;
       const double margin = f->reach[a] + f->reach[b];
       for (int k = f->first[a]; k < f->first[a] + f->count[a]; k++)

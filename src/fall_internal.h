@@ -19,7 +19,8 @@ typedef struct {
   double n[2], t[2]; /* unit normal (from b towards a) and tangent t = n turned +90 degrees */
   double Ja[6], Jb[6]; /* normal row then tangential row, over a's and b's (vx, vz, omega) */
   double W[3];      /* Delassus block: nn, nt, tt (symmetric) */
-  double Ka[6], Kb[6]; /* M^-1 J^T: a's and b's velocity change per unit impulse, as Ja, Jb */
+  double Ka[6], Kb[6]; /* M^-1 J^T: a's and b's velocity change per unit impulse, as Ja, Jb
+                          (0 for a driven support or the ground) */
   double gap;       /* signed gap at the step's start, m (< 0: overlap) */
   double bias;      /* normal law: u_n >= bias (fall.c: contact_law) */
   double iWnn;      /* 1 / W_nn */
@@ -97,6 +98,9 @@ struct vs_fall {
   double seps;            /* eps */
 };
 
+/* Is body b one the fall moves (a voussoir; not a driven support, not the ground, -1)? */
+static inline int vs_fall_moving(const vs_fall *f, int b) { return b >= 0 && b < f->n; }
+
 /* Relative velocity (normal, tangential) of contact c at the bodies' velocities v (3 nb). */
 static inline void vs_fall_rel_velocity(const vs_fall_contact *c, const double *v, double u[2]) {
   const double *va = v + 3 * c->a;
@@ -115,7 +119,7 @@ static inline void vs_fall_apply(const vs_fall *f, const vs_fall_contact *c, dou
                                  double *v) {
   for (int s = 0; s < 2; s++) {
     const int b = s == 0 ? c->a : c->b;
-    if (b < 0 || b >= f->n) continue;
+    if (!vs_fall_moving(f, b)) continue;
     const double *J = s == 0 ? c->Ja : c->Jb, *mi = f->minv + 3 * b;
     for (int i = 0; i < 3; i++) v[3 * b + i] += mi[i] * (J[i] * pn + J[3 + i] * pt);
   }
