@@ -53,7 +53,6 @@ struct vs_run {
   int pending_snap;    /* limit record waiting for the equilibrium its snap settled in, or -1 */
   const vs_path_result *live_path; /* the segment or phase under way (its counters so far) */
   const vs_dyn_result *live_dyn;
-  const vs_fall_result *live_fall;
   char pattern0[16], pattern_u[16];
   const char *mode;
   vs_run_sample_fn sample_fn;
@@ -302,7 +301,7 @@ static void fill_counters(const vs_run *r, vs_run_sample *s) {
   s->newton_iterations = r->totals.newton_iterations +
                          (r->live_path != NULL ? r->live_path->newton_iterations : 0);
   s->ida_steps = r->dtot.steps + (r->live_dyn != NULL ? r->live_dyn->steps : 0);
-  s->fall_steps = r->fres.steps + (r->live_fall != NULL ? r->live_fall->steps : 0);
+  s->fall_steps = r->fres.steps; /* the fall counts into r->fres as it goes */
   s->ida_newton_iterations =
       r->dtot.newton_iterations + (r->live_dyn != NULL ? r->live_dyn->newton_iterations : 0);
 }
@@ -452,10 +451,8 @@ static vs_status fall_phase(vs_run *r, const vs_dyn_result *d, vs_error *err) {
     if (k >= 0) qe[n + 3 * s + 2] = r->q[k];
   }
   r->phase = VS_PHASE_FALL;
-  r->live_fall = &r->fres;
   vs_status st = vs_fall_run(r->fall, r->t, qe, ve, &d->e_end, vs_dynamic_joint_states(r->dyn),
                              on_fall_sample, r, &r->fres, err);
-  r->live_fall = NULL;
   r->fall_done = 1;
   memcpy(r->q, qe, (size_t)n * sizeof *qe);
   memcpy(r->v, ve, (size_t)n * sizeof *ve);

@@ -434,6 +434,7 @@ static double deepest_overlap(const vs_geometry *g, const double *q, const doubl
 typedef struct {
   double ke, delta;
   vs_phase phase;
+  long fall_steps;
 } last_sample;
 
 static int on_run_sample(void *user, const vs_run *run, const vs_run_sample *smp) {
@@ -442,6 +443,7 @@ static int on_run_sample(void *user, const vs_run *run, const vs_run_sample *smp
   ls->phase = smp->phase;
   ls->ke = smp->energy != NULL ? smp->energy->kinetic : 0.0;
   ls->delta = smp->delta;
+  ls->fall_steps = smp->fall_steps;
   return 0;
 }
 
@@ -506,6 +508,10 @@ static void lands(vs_fall_scheme scheme, int voussoirs, double tol, const char *
                 d->max_overlap * 1e6);
   assert_true(overlap < tol);
   assert_true(ls.phase == (scheme == VS_FALL_RIGID ? VS_PHASE_FALL : VS_PHASE_DYNAMIC));
+  /* the samples' step counter: the last sample is the fall's last step (none in the penalty
+   * scheme, whose steps are IDA's) */
+  const vs_fall_result *fr = vs_run_fall(run);
+  assert_int_equal(ls.fall_steps, fr != NULL ? fr->steps : 0);
   assert_true(worst < tol);
   assert_true(ls.ke < rest_ke);
   assert_int_equal(d->fall_at_rest, 1);
