@@ -377,26 +377,26 @@ int vs_collide_arch_outlines(const vs_geometry *g, int *count, double *xz) {
   return n;
 }
 
-static int body_of(const vs_geometry *g, int end) {
-  return end >= 0 ? end : end == VS_SUPPORT_LEFT ? g->n_blocks : g->n_blocks + 1;
+void vs_collide_reference_points(const vs_geometry *g, double *ref) {
+  for (int i = 0; i < g->n_blocks; i++)
+    ref[2 * i] = g->blocks[i].cx, ref[2 * i + 1] = g->blocks[i].cz;
+  for (int k = 0; k < g->n_joints; k++)
+    for (int e = 0; e < 2; e++) {
+      const vs_joint_geom *j = &g->joints[k];
+      const int s = e == 0 ? j->a : j->b;
+      if (s < 0) ref[2 * vs_collide_body(g, s)] = j->px, ref[2 * vs_collide_body(g, s) + 1] = j->pz;
+    }
 }
 
-/* Bodies' reference points (blocks: centroid; supports: the centre of their joint), masses,
- * adjacency. */
+/* Bodies' reference points, masses, adjacency. */
 static void bodies(vs_collide *c, const vs_geometry *g) {
-  for (int i = 0; i < g->n_blocks; i++) {
-    c->ref[2 * i] = g->blocks[i].cx, c->ref[2 * i + 1] = g->blocks[i].cz;
-    c->mass[i] = g->blocks[i].mass;
-  }
+  vs_collide_reference_points(g, c->ref);
+  for (int i = 0; i < g->n_blocks; i++) c->mass[i] = g->blocks[i].mass;
   for (int s = 0; s < 2; s++) c->mass[g->n_blocks + s] = INFINITY;
   for (int k = 0; k < g->n_joints; k++) {
     const vs_joint_geom *j = &g->joints[k];
-    const int a = body_of(g, j->a), b = body_of(g, j->b);
+    const int a = vs_collide_body(g, j->a), b = vs_collide_body(g, j->b);
     c->adj[a * c->nb + b] = c->adj[b * c->nb + a] = 1;
-    for (int e = 0; e < 2; e++) {
-      const int s = e == 0 ? j->a : j->b;
-      if (s < 0) c->ref[2 * body_of(g, s)] = j->px, c->ref[2 * body_of(g, s) + 1] = j->pz;
-    }
   }
 }
 

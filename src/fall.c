@@ -42,7 +42,8 @@ void vs_fall_destroy(vs_fall **fp) {
   vs_fall *f = *fp;
   vs_fall_geom_free(f);
   vs_fall_chain_free(f);
-  free(f->q), free(f->v), free(f->vk), free(f->vs), free(f->w), free(f->c), free(f->pkey), free(f->pP), free(f->js);
+  free(f->q), free(f->v), free(f->vk), free(f->vs), free(f->w), free(f->c), free(f->pkey);
+  free(f->pP), free(f->js);
   free(f->qst), free(f->vst), free(f->jlo), free(f->jhi);
   free(f);
   *fp = NULL;
@@ -68,7 +69,8 @@ vs_status vs_fall_create(vs_model *m, const vs_fall_opts *o, const int *count, c
   f->qst = calloc(nq, sizeof *f->qst), f->vst = calloc(nq, sizeof *f->vst);
   f->jlo = calloc((size_t)f->g->n_joints + 1, sizeof *f->jlo);
   f->jhi = calloc((size_t)f->g->n_joints + 1, sizeof *f->jhi);
-  if (!f->q || !f->v || !f->vk || !f->vs || !f->w || !f->js || !f->qst || !f->vst || !f->jlo || !f->jhi)
+  if (!f->q || !f->v || !f->vk || !f->vs || !f->w || !f->js || !f->qst || !f->vst || !f->jlo ||
+      !f->jhi)
     st = vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory");
   if (st == VS_OK) st = vs_fall_geom_init(f, count, xz, err);
   if (st == VS_OK && o->joints && f->g->n_joints > 0 && vs_fall_chain_init(f) != 0)
@@ -87,7 +89,9 @@ double vs_fall_level(const vs_fall *f) { return f->level; }
 
 /* --- the impulses --- */
 
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double dot3(const double *a, const double *b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
 /* Contact c's local solve, prepared once a step (W is fixed over the step): W's inverse, and per
  * sliding direction s (0: +, 1: -) the normal impulse per unit of rn on the cone's edge and the
@@ -280,7 +284,8 @@ static int outran(const vs_fall *f, double h) {
   const double gh2 = f->g->gravity * h * h;
   for (int b = 0; b < f->n; b++) {
     const double *v = f->v + 3 * b;
-    const double reach = h * (sqrt(v[0] * v[0] + v[1] * v[1]) + fabs(v[2]) * f->rmaxb[b]) + 1e-9 * f->rmax;
+    const double speed = sqrt(v[0] * v[0] + v[1] * v[1]) + fabs(v[2]) * f->rmaxb[b];
+    const double reach = h * speed + 1e-9 * f->rmax;
     if (reach > f->reach[b] + gh2) return 1;
   }
   return 0;

@@ -186,7 +186,8 @@ static void system_values(vs_fall *f, double mu) {
       if (f->mask[n]) continue;
       for (int i = 0; i < len; i++) {
         const int r = f->Ai[f->Ap[t] + i];
-        if (!f->mask[r]) f->Ax[f->Ap[n] + i] += smu * (r == t ? f->sdiag[t] : f->sval[f->Ap[t] + i]);
+        if (f->mask[r]) continue;
+        f->Ax[f->Ap[n] + i] += smu * (r == t ? f->sdiag[t] : f->sval[f->Ap[t] + i]);
       }
     }
   }

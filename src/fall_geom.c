@@ -17,24 +17,14 @@ static const double VS_FALL_FACE_SLACK = 0.02;
  * or past its other side), and the vertex meets the other body's outline as any vertex would. */
 static const double VS_FALL_FACE_DEPTH = 0.1;
 
-static int body_of(const vs_geometry *g, int end) {
-  return end >= 0 ? end : end == VS_SUPPORT_LEFT ? g->n_blocks : g->n_blocks + 1;
-}
-
-/* Reference points (blocks: centroid; supports: the centre of their joint), inverse masses. */
+/* Reference points (collide.h's), inverse masses (the piers: 0, driven). */
 static void bodies(vs_fall *f) {
   const vs_geometry *g = f->g;
+  vs_collide_reference_points(g, f->ref);
   for (int i = 0; i < f->n; i++) {
-    f->ref[2 * i] = g->blocks[i].cx, f->ref[2 * i + 1] = g->blocks[i].cz;
     f->minv[3 * i] = f->minv[3 * i + 1] = 1.0 / g->blocks[i].mass;
     f->minv[3 * i + 2] = 1.0 / g->blocks[i].inertia;
   }
-  for (int k = 0; k < g->n_joints; k++)
-    for (int e = 0; e < 2; e++) {
-      const vs_joint_geom *j = &g->joints[k];
-      const int s = e == 0 ? j->a : j->b;
-      if (s < 0) f->ref[2 * body_of(g, s)] = j->px, f->ref[2 * body_of(g, s) + 1] = j->pz;
-    }
 }
 
 /* Vertices from count and xz (vs_collide_outlines: counter-clockwise, with their edges'
@@ -55,14 +45,14 @@ static void faces(vs_fall *f) {
   const vs_geometry *g = f->g;
   for (int k = 0; k < f->nv; k++) f->face_of[k] = -1;
   for (int jn = 0; jn < g->n_joints; jn++) {
-    f->adj_first[body_of(g, g->joints[jn].a) + 1]++;
-    f->adj_first[body_of(g, g->joints[jn].b) + 1]++;
+    f->adj_first[vs_collide_body(g, g->joints[jn].a) + 1]++;
+    f->adj_first[vs_collide_body(g, g->joints[jn].b) + 1]++;
   }
   for (int b = 0; b < f->nb; b++) f->adj_first[b + 1] += f->adj_first[b];
   for (int jn = 0; jn < g->n_joints; jn++)
     for (int s = 0; s < 2; s++) {
-      const int a = body_of(g, s == 0 ? g->joints[jn].a : g->joints[jn].b);
-      const int b = body_of(g, s == 0 ? g->joints[jn].b : g->joints[jn].a);
+      const int a = vs_collide_body(g, s == 0 ? g->joints[jn].a : g->joints[jn].b);
+      const int b = vs_collide_body(g, s == 0 ? g->joints[jn].b : g->joints[jn].a);
       int i = f->adj_first[a];
       while (f->adj_body[i] >= 0) i++;
       f->adj_body[i] = b, f->adj_joint[i] = jn;
@@ -72,7 +62,7 @@ static void faces(vs_fall *f) {
     vs_fall_face *fc = &f->faces[jn];
     double sx, sz;
     vs_joint_tangent(j, &sx, &sz);
-    fc->a = body_of(g, j->a), fc->b = body_of(g, j->b);
+    fc->a = vs_collide_body(g, j->a), fc->b = vs_collide_body(g, j->b);
     fc->na[0] = j->nx, fc->na[1] = j->nz;
     fc->length = j->length;
     fc->vend[0][0] = fc->vend[0][1] = fc->vend[1][0] = fc->vend[1][1] = -1;
@@ -127,10 +117,10 @@ vs_status vs_fall_geom_init(vs_fall *f, const int *count, const double *xz, vs_e
   f->adj_body = malloc(J * sizeof *f->adj_body), f->adj_joint = malloc(J * sizeof *f->adj_joint);
   for (size_t i = 0; f->adj_body != NULL && i < J; i++) f->adj_body[i] = -1;
   vs_status st = VS_OK;
-  if (!f->first || !f->count || !f->body || !f->face_of || !f->onface || !f->rx || !f->rz || !f->n0x ||
-      !f->n0z || !f->ref || !f->minv || !f->faces || !f->px || !f->pz || !f->nx || !f->nz ||
-      !f->no || !f->box || !f->order || !f->rmaxb || !f->reach || !f->adj_first || !f->adj_body ||
-      !f->adj_joint)
+  if (!f->first || !f->count || !f->body || !f->face_of || !f->onface || !f->rx || !f->rz ||
+      !f->n0x || !f->n0z || !f->ref || !f->minv || !f->faces || !f->px || !f->pz || !f->nx ||
+      !f->nz || !f->no || !f->box || !f->order || !f->rmaxb || !f->reach || !f->adj_first ||
+      !f->adj_body || !f->adj_joint)
     st = vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory");
   if (st == VS_OK) {
     for (int b = 0; b < f->nb; b++) f->order[b] = b;
@@ -143,10 +133,12 @@ vs_status vs_fall_geom_init(vs_fall *f, const int *count, const double *xz, vs_e
 }
 
 void vs_fall_geom_free(vs_fall *f) {
-  free(f->first), free(f->count), free(f->body), free(f->face_of), free(f->onface), free(f->rx), free(f->rz);
+  free(f->first), free(f->count), free(f->body), free(f->face_of), free(f->onface), free(f->rx);
+  free(f->rz);
   free(f->n0x), free(f->n0z), free(f->ref), free(f->minv), free(f->faces), free(f->px);
   free(f->pz), free(f->nx), free(f->nz), free(f->no), free(f->box), free(f->order);
-  free(f->cand), free(f->rmaxb), free(f->reach), free(f->adj_first), free(f->adj_body), free(f->adj_joint);
+  free(f->cand), free(f->rmaxb), free(f->reach), free(f->adj_first), free(f->adj_body);
+  free(f->adj_joint);
 }
 
 /* Body b's pose: position of its reference point and rotation's cosine and sine. */
@@ -244,8 +236,9 @@ static face_end end_on_face(const vs_fall *f, const vs_fall_face *fc, int s, int
 
 /* Joint jn's two edges, each one contact point: of the two corners there (a's face end against
  * b's face, b's against a's), the one on the other's face nearer to or deeper behind it (where
- * the faces have slid apart, the corner that bounds their common part). Two points carry any distribution of the joint's normal force
- * and moment between its edges; more would only be redundant. */
+ * the faces have slid apart, the corner that bounds their common part). Two points carry any
+ * distribution of the joint's normal force and moment between its edges; more would only be
+ * redundant. */
 static int face_contacts(vs_fall *f, int jn, double margin) {
   const vs_fall_face *fc = &f->faces[jn];
   if (!vs_fall_moving(f, fc->a) && !vs_fall_moving(f, fc->b)) return 0;

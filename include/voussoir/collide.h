@@ -34,6 +34,16 @@ vs_status vs_collide_create(const vs_model *m, double restitution, const int *co
                             const double *xz, vs_collide **out, vs_error *err);
 void vs_collide_destroy(vs_collide **c);
 
+/* The bodies of the contacts: the blocks, then the left and the right pier. The body of a joint's
+ * end (a block index, VS_SUPPORT_LEFT or VS_SUPPORT_RIGHT). */
+static inline int vs_collide_body(const vs_geometry *g, int end) {
+  return end >= 0 ? end : end == VS_SUPPORT_LEFT ? g->n_blocks : g->n_blocks + 1;
+}
+
+/* Each body's reference point into ref (2 per body, m): a block's centroid, a pier's springing
+ * joint's centre. Used by the fall (fall.h) too. */
+void vs_collide_reference_points(const vs_geometry *g, double *ref);
+
 /* The arch's outlines (above): per voussoir 5 vertices, per pier 4, into count (per body) and
  * xz (m, reference configuration) as vs_collide_create takes them; either may be NULL. Returns
  * the number of vertices. Used by the fall (fall.h) too. */
