@@ -451,6 +451,7 @@ vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_en
                       vs_fall_result *res, vs_error *err) {
   const double w0 = vs_wall_now();
   memset(res, 0, sizeof *res);
+  res->step = f->o.step;
   const size_t Q = 3 * (size_t)f->nb;
   memcpy(f->q, qe, Q * sizeof *qe);
   memcpy(f->v, ve, Q * sizeof *ve);

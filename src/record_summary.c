@@ -298,7 +298,7 @@ static herr_t summary_fall(hid_t sum, const vs_run *run) {
   if (fr == NULL) return 0;
   hid_t g = vs_h5_group_create(sum, "fall");
   herr_t rc = g >= 0 ? vs_h5_attr_str(g, "scheme", "rigid") : -1;
-  if (rc >= 0) rc = vs_h5_dset_scalar(g, "step", 1e-3 * vs_run_case(run)->step_ms, "s");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "step", fr->step, "s");
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "duration", fr->t_end - vs_run_collapse(run)->t_criterion, "s");
   if (rc >= 0) rc = vs_h5_attr_int(g, "steps", fr->steps);
   if (rc >= 0) rc = vs_h5_attr_int(g, "chain_steps", fr->chain_steps);

@@ -220,7 +220,7 @@ static void json_tail(FILE *out, const vs_run *r) {
     fprintf(out, "{\"scheme\":\"rigid\",\"steps\":%ld,\"chain_steps\":%ld,\"solves\":%ld,"
                  "\"sweeps\":%ld,\"capped_steps\":%ld",
             fr->steps, fr->chain_steps, fr->solves, fr->sweeps, fr->unconverged);
-    jnum(out, ",\"step_s\":", 1e-3 * c->step_ms, 10);
+    jnum(out, ",\"step_s\":", fr->step, 10);
     jnum(out, ",\"last_change_m_s\":", fr->residual, 3);
     jnum(out, ",\"duration_s\":", fr->t_end - vs_run_collapse(r)->t_criterion, 6);
     fprintf(out, ",\"at_rest\":%s", fr->at_rest ? "true" : "false");
@@ -439,7 +439,7 @@ static void text_stats(FILE *out, const vs_run *r) {
                  "arch in the air solved as a chain, %ld solves), %ld Gauss-Seidel sweeps, %ld "
                  "steps stopped at %d sweeps (last change up to %.3g mm/s); energy balance %.2g; "
                  "joint faces overlapping up to %.3g mm\n",
-            vs_run_case(r)->step_ms, fr->steps, fr->chain_steps, fr->solves, fr->sweeps,
+            1e3 * fr->step, fr->steps, fr->chain_steps, fr->solves, fr->sweeps,
             fr->unconverged, VS_FALL_MAX_SWEEPS, fr->residual / VS_MM, fr->balance_error_rel,
             fr->max_joint_overlap / VS_MM);
   if (isfinite(vs_run_ground(r)))

@@ -68,6 +68,7 @@ void vs_fall_opts_default(vs_fall_opts *o);
 
 typedef struct {
   double t_end, delta_end; /* where it stopped (s, m) */
+  double step;             /* the time step, s */
   int at_rest;             /* 1: the kinetic energy stayed below rest_ke for rest_time */
   long steps;              /* time steps */
   long sweeps;             /* Gauss-Seidel sweeps, all steps together */
@@ -77,8 +78,8 @@ typedef struct {
   long redone;             /* steps solved again: the impulses sped a body beyond what its
                               contacts had been looked for */
   long unconverged;        /* steps whose Gauss-Seidel stopped at max_sweeps ... */
-  double residual;         /* ... the largest change of a contact's velocity in their last
-                              sweep, m/s (0: none stopped there) */
+  double residual;         /* ... the largest change of a body's velocity (at its outline's
+                              reach) in their last sweep, m/s (0: none stopped there) */
   long contacts;           /* contact points solved, all steps together */
   int max_contacts;        /* the most in one step */
   double level;            /* the ground's height z (m; NAN: none) */
