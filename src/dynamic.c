@@ -105,8 +105,8 @@ void vs_dynamic_destroy(vs_dynamic **dp) {
   *dp = NULL;
 }
 
-static vs_status dyn_fail(vs_dynamic **d, vs_error *err, const char *what, int flag) {
-  vs_dynamic_destroy(d);
+/* The error of a set-up call that failed (its name, its flag); the caller destroys the object. */
+static vs_status setup_fail(vs_error *err, const char *what, int flag) {
   return vs_error_set(err, VS_ERR_SOLVER, "dynamic solver setup: %s failed (flag %d)", what, flag);
 }
 
@@ -155,16 +155,9 @@ static void set_tolerances(vs_dynamic *d, double *at) {
   d->rtol = d->o.rtol * sc;
 }
 
-vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out, vs_error *err) {
-  *out = NULL;
-  if (!(o->rate > 0.0) || !(o->rtol > 0.0) || !(o->atol_q > 0.0) || !(o->open > 0.0))
-    return vs_error_set(err, VS_ERR_INVALID,
-                        "dynamic: rate %g m/s, rtol %g, atol %g m, open %g m (allowed: all > 0)",
-                        o->rate, o->rtol, o->atol_q, o->open);
-  vs_dynamic *d = calloc(1, sizeof *d);
-  if (d == NULL) return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
-  d->m = m;
-  d->o = *o;
+/* The sizes and the layout of y for model m: the supports' constrained components (a pinned
+ * support's rotation is free), the offsets of v, lambda, mu and the energy integrals. */
+static void set_layout(vs_dynamic *d, vs_model *m) {
   d->n = 3 * vs_model_geometry(m)->n_blocks;
   d->nq = vs_model_size(m);
   d->ne = vs_model_ext_size(m);
@@ -179,9 +172,12 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   d->ie = d->imu + d->nc;
   d->N = d->ie + 3;
   d->nj = vs_model_geometry(m)->n_joints;
-  const int ne = d->ne, nnzK = vs_model_ext_nnz(m);
-  int flag = SUNContext_Create(NULL, &d->ctx);
-  if (flag != 0) return dyn_fail(&d, err, "SUNContext_Create", flag);
+}
+
+/* The vectors, matrices and work arrays, and the impact model (o->impact) with its roots:
+ * VS_ERR_NOMEM when one could not be had. */
+static vs_status alloc_work(vs_dynamic *d, const vs_dyn_opts *o, vs_error *err) {
+  const int ne = d->ne, nnzK = vs_model_ext_nnz(d->m);
   d->y = N_VNew_Serial(d->N, d->ctx);
   d->yp = N_VNew_Serial(d->N, d->ctx);
   d->id = N_VNew_Serial(d->N, d->ctx);
@@ -198,58 +194,103 @@ vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
   d->vst = malloc((size_t)d->nq * sizeof *d->vst);
   d->nroots = 2 * d->nj + 2;
   d->root_impact = d->nroots;
-  if (o->impact && (d->imp = vs_impact_create(m, o->open)) != NULL)
+  if (o->impact && (d->imp = vs_impact_create(d->m, o->open)) != NULL)
     d->nroots += vs_impact_nroots(d->imp);
   d->roots = malloc((size_t)d->nroots * sizeof *d->roots);
   if (d->y == NULL || d->yp == NULL || d->id == NULL || d->atol == NULL || d->J == NULL ||
       d->K == NULL || d->C == NULL || d->mass == NULL || d->work == NULL || d->force == NULL ||
       d->js == NULL || d->js_q == NULL || d->roots == NULL || d->qst == NULL || d->vst == NULL ||
-      (o->impact && d->imp == NULL)) {
-    vs_dynamic_destroy(&d);
+      (o->impact && d->imp == NULL))
     return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
-  }
+  return VS_OK;
+}
+
+/* The vectors' operations, the masses, the absolute tolerances and which components are
+ * differential. */
+static void init_vectors(vs_dynamic *d) {
   /* IDA clones its workspace from y: every vector of the integration gets the optimised
    * operations */
   N_Vector vecs[] = {d->y, d->yp, d->id, d->atol};
   for (size_t i = 0; i < sizeof vecs / sizeof vecs[0]; i++) vs_nvector_fast_ops(vecs[i]);
-  vs_model_ext_mass(m, d->mass);
+  vs_model_ext_mass(d->m, d->mass);
   set_tolerances(d, N_VGetArrayPointer(d->atol));
   /* differential: q, v and the energy integrals; algebraic: lambda and mu */
   N_VConst(1.0, d->id);
   double *id = N_VGetArrayPointer(d->id);
   for (int i = d->il; i < d->ie; i++) id[i] = 0.0;
+}
+
+/* KLU on J, its analysis kept for every restart; VS_ERR_SOLVER naming the call that failed. */
+static vs_status setup_klu(vs_dynamic *d, vs_error *err) {
+  int flag;
   d->LS = SUNLinSol_KLU(d->y, d->J, d->ctx);
-  if (d->LS == NULL) return dyn_fail(&d, err, "SUNLinSol_KLU", 0);
+  if (d->LS == NULL) return setup_fail(err, "SUNLinSol_KLU", 0);
   if ((flag = SUNLinSol_KLUSetOrdering(d->LS, VS_DYN_KLU_ORDERING)) != 0)
-    return dyn_fail(&d, err, "SUNLinSol_KLUSetOrdering", flag);
+    return setup_fail(err, "SUNLinSol_KLUSetOrdering", flag);
   vs_klu_keep_analysis(d->LS); /* one analysis for every restart (IDAReInit) */
   vs_sparse_zero_none(d->J); /* vs_dyn_jacobian writes the pattern */
+  return VS_OK;
+}
+
+/* IDA with the residual, the Jacobian, the roots and every option; VS_ERR_SOLVER naming the
+ * call that failed. */
+static vs_status setup_ida(vs_dynamic *d, vs_error *err) {
+  int flag;
   d->ida = IDACreate(d->ctx);
-  if (d->ida == NULL) return dyn_fail(&d, err, "IDACreate", 0);
+  if (d->ida == NULL) return setup_fail(err, "IDACreate", 0);
   N_VConst(0.0, d->y);
   N_VConst(0.0, d->yp);
-  if ((flag = IDAInit(d->ida, vs_dyn_residual, 0.0, d->y, d->yp)) != IDA_SUCCESS) return dyn_fail(&d, err, "IDAInit", flag);
-  if ((flag = IDASetUserData(d->ida, d)) != IDA_SUCCESS) return dyn_fail(&d, err, "IDASetUserData", flag);
+  if ((flag = IDAInit(d->ida, vs_dyn_residual, 0.0, d->y, d->yp)) != IDA_SUCCESS)
+    return setup_fail(err, "IDAInit", flag);
+  if ((flag = IDASetUserData(d->ida, d)) != IDA_SUCCESS)
+    return setup_fail(err, "IDASetUserData", flag);
   if ((flag = IDASetErrHandlerFn(d->ida, ida_err, d)) != IDA_SUCCESS)
-    return dyn_fail(&d, err, "IDASetErrHandlerFn", flag);
+    return setup_fail(err, "IDASetErrHandlerFn", flag);
   if ((flag = IDASVtolerances(d->ida, d->rtol, d->atol)) != IDA_SUCCESS)
-    return dyn_fail(&d, err, "IDASVtolerances", flag);
-  if ((flag = IDASetId(d->ida, d->id)) != IDA_SUCCESS) return dyn_fail(&d, err, "IDASetId", flag);
+    return setup_fail(err, "IDASVtolerances", flag);
+  if ((flag = IDASetId(d->ida, d->id)) != IDA_SUCCESS) return setup_fail(err, "IDASetId", flag);
   if ((flag = IDASetSuppressAlg(d->ida, SUNTRUE)) != IDA_SUCCESS)
-    return dyn_fail(&d, err, "IDASetSuppressAlg", flag);
+    return setup_fail(err, "IDASetSuppressAlg", flag);
   if ((flag = IDASetLinearSolver(d->ida, d->LS, d->J)) != IDA_SUCCESS)
-    return dyn_fail(&d, err, "IDASetLinearSolver", flag);
-  if ((flag = IDASetJacFn(d->ida, vs_dyn_jacobian)) != IDA_SUCCESS) return dyn_fail(&d, err, "IDASetJacFn", flag);
+    return setup_fail(err, "IDASetLinearSolver", flag);
+  if ((flag = IDASetJacFn(d->ida, vs_dyn_jacobian)) != IDA_SUCCESS)
+    return setup_fail(err, "IDASetJacFn", flag);
   if ((flag = IDASetNonlinConvCoef(d->ida, VS_DYN_NEWTON_COEF)) != IDA_SUCCESS)
-    return dyn_fail(&d, err, "IDASetNonlinConvCoef", flag);
+    return setup_fail(err, "IDASetNonlinConvCoef", flag);
   if ((flag = IDASetMaxOrd(d->ida, VS_DYN_MAX_ORDER)) != IDA_SUCCESS)
-    return dyn_fail(&d, err, "IDASetMaxOrd", flag);
+    return setup_fail(err, "IDASetMaxOrd", flag);
   if ((flag = IDASetMaxNumSteps(d->ida, 100000)) != IDA_SUCCESS)
-    return dyn_fail(&d, err, "IDASetMaxNumSteps", flag);
+    return setup_fail(err, "IDASetMaxNumSteps", flag);
   if ((flag = IDARootInit(d->ida, d->nroots, vs_dyn_roots)) != IDA_SUCCESS)
-    return dyn_fail(&d, err, "IDARootInit", flag);
+    return setup_fail(err, "IDARootInit", flag);
   if ((flag = IDASetNoInactiveRootWarn(d->ida)) != IDA_SUCCESS)
-    return dyn_fail(&d, err, "IDASetNoInactiveRootWarn", flag);
+    return setup_fail(err, "IDASetNoInactiveRootWarn", flag);
+  return VS_OK;
+}
+
+vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out, vs_error *err) {
+  *out = NULL;
+  if (!(o->rate > 0.0) || !(o->rtol > 0.0) || !(o->atol_q > 0.0) || !(o->open > 0.0))
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "dynamic: rate %g m/s, rtol %g, atol %g m, open %g m (allowed: all > 0)",
+                        o->rate, o->rtol, o->atol_q, o->open);
+  vs_dynamic *d = calloc(1, sizeof *d);
+  if (d == NULL) return vs_error_set(err, VS_ERR_NOMEM, "dynamic: out of memory");
+  d->m = m;
+  d->o = *o;
+  set_layout(d, m);
+  const int flag = SUNContext_Create(NULL, &d->ctx);
+  vs_status st = flag != 0 ? setup_fail(err, "SUNContext_Create", flag) : VS_OK;
+  if (st == VS_OK) st = alloc_work(d, o, err);
+  if (st == VS_OK) {
+    init_vectors(d);
+    st = setup_klu(d, err);
+  }
+  if (st == VS_OK) st = setup_ida(d, err);
+  if (st != VS_OK) {
+    vs_dynamic_destroy(&d);
+    return st;
+  }
   *out = d;
   return VS_OK;
 }
