@@ -96,6 +96,8 @@ void vs_dyn_joint_states(vs_dynamic *d, const double *y);
 int vs_dyn_roots(double t, N_Vector yy, N_Vector yp, double *g, void *user);
 /* IDARootInit with the roots of the current phase. Returns IDA's flag. */
 int vs_dyn_root_init(vs_dynamic *d);
+/* Add IDA's step and Newton iteration counts to *bs, *bn (before an IDAReInit resets them). */
+void vs_dyn_carry_counters(const vs_dynamic *d, long *bs, long *bn);
 /* Is IDA's failure flag its "root found at and very near t", which a restart clears? */
 int vs_dyn_close_roots(const vs_dynamic *d, int flag);
 /* Restart IDA at t from its current state, roots and stop time t_stop set again. Returns IDA's
@@ -106,5 +108,10 @@ void vs_dyn_impact_arm(vs_dynamic *d, const double *y, int reset);
 /* The impact model: resolve the impacts among the roots just found and restart IDA at t (its
  * counters carried in *bs, *bn). Returns the impacts, or -1 (message in d->msg). */
 int vs_dyn_impact_resolve(vs_dynamic *d, double t, double t_stop, long *bs, long *bn);
+/* Restart IDA at the collapse criterion (time t) for the fall up to t_stop: looser tolerances,
+ * only the contacts' roots, which are armed here (its counters carried in *bs, *bn; *wall_fall
+ * the wall-clock time it starts at). Returns IDA's flag. */
+int vs_dyn_start_fall(vs_dynamic *d, double t, double t_stop, long *bs, long *bn,
+                      double *wall_fall);
 
 #endif

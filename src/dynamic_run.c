@@ -11,14 +11,6 @@
 #include "dynamic_internal.h"
 #include "wall_clock.h"
 
-/* After the collapse criterion the fall is integrated with tolerances this many times looser:
- * it is recorded to be looked at, not measured. */
-static const double VS_DYN_FALL_TOL = 100.0;
-/* ... and this many when the fall lands on the ground (contact.h): its impacts need more. On the
- * reference run (runs/reference.ini, fall to rest), 100x looser left the energy balance of the
- * fall at 9 % (6556 IDA steps), 10x at 0.56 % (11160 steps), 1x at 0.044 % (24924 steps). */
-static const double VS_DYN_FALL_TOL_GROUND = 10.0;
-
 /* The debris is at rest on the ground when its kinetic energy has stayed below rest_ke for
  * this long (s), or rest_time if shorter. rest_time (1 s by default) is the quasi-static path's
  * window, long enough for a slow mode of the arch to pass a turning point; the debris lies on
@@ -61,8 +53,32 @@ static void static_state(vs_dynamic *d, const double *y) {
   }
 }
 
-vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_sample_fn sample,
-                         vs_dyn_event_fn event, void *user, vs_dyn_result *res, vs_error *err) {
+/* One vs_dynamic_run's state, shared by the helpers of its loop. */
+typedef struct {
+  vs_dyn_sample_fn sample;
+  vs_dyn_event_fn event;
+  void *user;
+  vs_dyn_result *res;
+  vs_error *err;
+  vs_status st;           /* the run's status: an error ends it */
+  vs_energy e;            /* the energies at the current state */
+  double e0;              /* the total energy at the start: the balance's reference */
+  double scale;           /* the largest energy term so far: the balance's scale */
+  double t, t_end, t_stop, t_last_sample, t_rest;
+  int moving, collapsed;
+  double wall_fall;       /* wall-clock time at the collapse criterion */
+  long restarts;          /* vs_dyn_restart_roots so far */
+  long base_steps, base_newton; /* IDA's counters up to its last restart */
+} dyn_run;
+
+/* What take_step did: an accepted step, a restart (take another), or the end of the run. */
+enum { STEP_TAKEN, STEP_AGAIN, STEP_END };
+
+/* The result cleared and IDA re-initialised at t0 from the static state q, v (the supports'
+ * states driven, a pinned support's rotation its own), with the tolerances, the roots and the
+ * Newton coefficient before the fall. */
+static vs_status run_start(vs_dynamic *d, double t0, const double *q, const double *v,
+                           vs_dyn_result *res, vs_error *err) {
   const int n = d->n;
   memset(res, 0, sizeof *res);
   res->t_collapse = NAN;
@@ -92,8 +108,237 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   if (flag == IDA_SUCCESS) flag = IDASetNonlinConvCoef(d->ida, VS_DYN_NEWTON_COEF);
   if (flag != IDA_SUCCESS)
     return vs_error_set(err, VS_ERR_SOLVER, "IDAReInit failed (flag %d)", flag);
-  /* consistent initial values: q, v given (the supports' from the constraints), v' from the
-   * equations of motion, lambda and mu (algebraic) solved for: IDA_YA_YDP_INIT */
+  return VS_OK;
+}
+
+/* Consistent initial values: q, v given (the supports' from the constraints), v' from the
+ * equations of motion, lambda and mu (algebraic) solved for: IDA_YA_YDP_INIT; IDA to stop at
+ * t_end. */
+static vs_status initial_conditions(vs_dynamic *d, double t0, double t_end, vs_error *err) {
+  const int flag = IDACalcIC(d->ida, IDA_YA_YDP_INIT, t0 + 1e-6 * (t_end - t0));
+  if (flag != IDA_SUCCESS && vs_dyn_stopped(d))
+    return vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
+  if (flag != IDA_SUCCESS)
+    return vs_error_set(err, VS_ERR_SOLVER, "IDACalcIC failed (flag %d): %s", flag, d->msg);
+  IDAGetConsistentIC(d->ida, d->y, d->yp);
+  IDASetStopTime(d->ida, t_end);
+  return VS_OK;
+}
+
+/* The energies at t0 (the impact model armed there first), the balance's reference, and the
+ * first sample. VS_ERR_INTERNAL when the caller stops it. */
+static vs_status first_sample(vs_dynamic *d, dyn_run *r, double t0) {
+  double *y = N_VGetArrayPointer(d->y);
+  if (d->imp != NULL) vs_dyn_impact_arm(d, y, 1);
+  energies(d, y, 0.0, &r->e);
+  r->e0 = r->e.kinetic + r->e.gravity + r->e.elastic;
+  r->scale = fabs(r->e0);
+  r->e.balance = 0.0; /* the reference of the balance */
+  if (r->sample != NULL &&
+      (static_state(d, y),
+       r->sample(r->user, t0, vs_dyn_delta_at(d, t0), d->qst, d->vst, &r->e)) != 0)
+    return vs_error_set(r->err, VS_ERR_INTERNAL, "stopped by caller");
+  r->t_last_sample = t0;
+  r->res->t_motion = t0;
+  r->res->delta_motion = vs_dyn_delta_at(d, t0);
+  return VS_OK;
+}
+
+/* One IDA step (the step-th). A "root found very near t" restarts IDA (STEP_AGAIN); a failure
+ * after the collapse criterion ends the fall there (said so in the result), before it the run
+ * (r->st); so do a stop flag and the step limit. *flag: IDASolve's flag of a STEP_TAKEN. */
+static int take_step(vs_dynamic *d, dyn_run *r, long step, int *flag_out) {
+  vs_dyn_result *res = r->res;
+  if (vs_dyn_stopped(d)) {
+    r->st = vs_error_set(r->err, VS_ERR_INTERRUPTED, "interrupted");
+    return STEP_END;
+  }
+  if (step >= VS_DYN_MAX_STEPS) {
+    r->st = vs_error_set(r->err, VS_ERR_SOLVER,
+                         "IDA took %ld steps (the limit) and reached t = %.6g s "
+                         "(delta = %.6g mm) of %.6g s", VS_DYN_MAX_STEPS, r->t,
+                         vs_dyn_delta_at(d, r->t) * 1e3, r->t_stop);
+    return STEP_END;
+  }
+  int flag = IDASolve(d->ida, r->t_stop, &r->t, d->y, d->yp, IDA_ONE_STEP);
+  if (flag < 0 && vs_dyn_stopped(d)) {
+    r->st = vs_error_set(r->err, VS_ERR_INTERRUPTED, "interrupted");
+    return STEP_END;
+  }
+  if (flag < 0 && vs_dyn_close_roots(d, flag) && ++r->restarts <= VS_DYN_MAX_ROOT_RESTARTS) {
+    vs_dyn_carry_counters(d, &r->base_steps, &r->base_newton);
+    const int rf = vs_dyn_restart_roots(d, r->t, r->t_stop);
+    if (rf == IDA_SUCCESS) return STEP_AGAIN;
+    flag = rf;
+  }
+  if (flag < 0 && r->collapsed) { /* the collapse stands: the fall ends here, said so */
+    res->end = VS_DYN_COLLAPSED;
+    res->fall_failed_t = r->t;
+    snprintf(res->fall_failure, sizeof res->fall_failure, "%s",
+             d->msg[0] ? d->msg : "unknown cause");
+    return STEP_END;
+  }
+  if (flag < 0) {
+    r->st = vs_error_set(r->err, VS_ERR_SOLVER, "IDA failed at t = %.6g s (delta = %.6g mm): %s",
+                         r->t, vs_dyn_delta_at(d, r->t) * 1e3,
+                         d->msg[0] ? d->msg : "unknown cause");
+    return STEP_END;
+  }
+  *flag_out = flag;
+  return STEP_TAKEN;
+}
+
+/* The accepted step's state committed (the joints' slips, the impact model's arming, the
+ * contacts' anchors), its energies, drift and extremes into the result, and the motion episodes
+ * followed. Returns 1 when the arch is at rest: below rest_ke for the rest window. */
+static int commit_step(vs_dynamic *d, dyn_run *r) {
+  vs_dyn_result *res = r->res;
+  double *y = N_VGetArrayPointer(d->y);
+  const double t = r->t;
+  vs_dyn_joint_states(d, y);
+  vs_model_commit_states(d->m, d->js); /* seamless: the return-mapped force is unchanged */
+  if (d->imp != NULL) vs_dyn_impact_arm(d, y, 0);
+  if (d->ct != NULL && vs_contact_armed(d->ct)) {
+    vs_contact_commit(d->ct, y);
+    res->max_penetration = fmax(res->max_penetration, vs_contact_max_penetration(d->ct, y, NULL));
+  }
+  if (d->cl != NULL && vs_collide_armed(d->cl)) {
+    vs_collide_commit(d->cl, y);
+    res->max_overlap = fmax(res->max_overlap, vs_collide_max_penetration(d->cl, y));
+  }
+  vs_energy *e = &r->e;
+  energies(d, y, r->e0, e);
+  d->max_drift = fmax(d->max_drift, vs_dyn_drift(d, t, y));
+  r->scale = fmax(r->scale, fmax(fabs(e->kinetic), fmax(fabs(e->gravity), fabs(e->elastic))));
+  r->scale = fmax(r->scale, fmax(fabs(e->support_work), fabs(e->damped)));
+  if (!r->collapsed)
+    res->balance_error_rel = fmax(res->balance_error_rel, fabs(e->balance) / r->scale);
+  else
+    res->balance_error_fall = fmax(res->balance_error_fall, fabs(e->balance) / r->scale);
+  res->max_kinetic = fmax(res->max_kinetic, e->kinetic);
+  /* motion episodes: moving while the kinetic energy is above rest_ke; at rest once it has
+   * stayed below for rest_time (a single mode passes through zero at its turning points) */
+  if (e->kinetic >= d->o.rest_ke) {
+    r->moving = 1;
+    r->t_rest = t;
+  } else {
+    r->moving = 0;
+  }
+  const double window = r->collapsed && d->ct != NULL ? fmin(d->o.rest_time, VS_DYN_FALL_REST)
+                                                      : d->o.rest_time;
+  return !r->moving && t - r->t_rest >= window;
+}
+
+/* The roots IDA returned at this step: the joints' events to the caller (joint_root: before the
+ * collapse criterion; *stop set when the caller asks to stop), the impacts, the departure of a
+ * motion, and the collapse criterion with the fall's restart. VS_OK, or the error that ends the
+ * run (also in r->st). */
+static vs_status on_roots(vs_dynamic *d, dyn_run *r, double delta, int joint_root, int *stop) {
+  vs_dyn_result *res = r->res;
+  double *y = N_VGetArrayPointer(d->y);
+  const double t = r->t;
+  IDAGetRootInfo(d->ida, d->roots);
+  res->root_events++;
+  for (int k = 0; k < 2 * d->nj && joint_root; k++) {
+    if (d->roots[k] == 0 || r->event == NULL) continue;
+    vs_dyn_event ev = {.t = t, .delta = delta, .joint = k / 2 + 1,
+                       .side = (k % 2 == 0) ? 'E' : 'I', .opened = d->roots[k] > 0};
+    static_state(d, y);
+    if (r->event(r->user, &ev, d->qst) != 0) *stop = 1;
+  }
+  if (d->imp != NULL && !r->collapsed) { /* impacts: velocities jump, the energy is charged */
+    const int ni = vs_dyn_impact_resolve(d, t, r->t_stop, &r->base_steps, &r->base_newton);
+    if (ni < 0)
+      return r->st = vs_dyn_stopped(d)
+                         ? vs_error_set(r->err, VS_ERR_INTERRUPTED, "interrupted")
+                         : vs_error_set(r->err, VS_ERR_SOLVER, "at t = %.6g s: %s", t, d->msg);
+    res->impacts += ni;
+    energies(d, y, r->e0, &r->e);
+  }
+  if (d->roots[2 * d->nj + 1] > 0 && !r->collapsed) { /* a departure, located */
+    res->t_motion = t;
+    res->delta_motion = delta;
+    res->onset_found = 1;
+  }
+  if (d->roots[2 * d->nj] > 0 && !r->collapsed) {
+    r->collapsed = 1;
+    res->t_collapse = t;
+    r->t_stop = fmin(r->t_end, t + d->o.fall_time);
+    const int rf =
+        vs_dyn_start_fall(d, t, r->t_stop, &r->base_steps, &r->base_newton, &r->wall_fall);
+    if (rf != IDA_SUCCESS)
+      return r->st = vs_error_set(r->err, VS_ERR_SOLVER,
+                                  "IDA restart for the fall failed (flag %d)", rf);
+  }
+  return VS_OK;
+}
+
+/* IDA's counters into the result: its own since the last restart and those carried. */
+static void count_steps(vs_dynamic *d, dyn_run *r) {
+  IDAGetNumSteps(d->ida, &r->res->steps);
+  IDAGetNumNonlinSolvIters(d->ida, &r->res->newton_iterations);
+  r->res->steps += r->base_steps;
+  r->res->newton_iterations += r->base_newton;
+}
+
+/* Hand the current state at delta to the caller's sample function (the result's counters kept
+ * current for it). Returns the callback's value. */
+static int sample_now(vs_dynamic *d, dyn_run *r, double delta) {
+  r->t_last_sample = r->t;
+  count_steps(d, r); /* kept current for the callback */
+  static_state(d, N_VGetArrayPointer(d->y));
+  return r->sample(r->user, r->t, delta, d->qst, d->vst, &r->e);
+}
+
+/* Has the run ended after this step (flag: IDASolve's; at_rest: commit_step's)? The end into
+ * the result: the debris at rest on the ground, the fall's time over, max_delta, or settled. */
+static int run_over(const vs_dynamic *d, dyn_run *r, int flag, int at_rest) {
+  vs_dyn_result *res = r->res;
+  if (r->collapsed && d->ct != NULL && at_rest) { /* the debris at rest on the ground */
+    res->end = VS_DYN_COLLAPSED;
+    res->fall_at_rest = 1;
+    return 1;
+  }
+  if (r->collapsed && r->t >= r->t_stop * (1.0 - 1e-15)) {
+    res->end = VS_DYN_COLLAPSED;
+    return 1;
+  }
+  if (flag == IDA_TSTOP_RETURN || r->t >= r->t_end) {
+    res->end = r->collapsed ? VS_DYN_COLLAPSED : VS_DYN_MAX_DELTA;
+    return 1;
+  }
+  if (d->o.settle && !r->collapsed && at_rest) {
+    res->end = VS_DYN_SETTLED;
+    return 1;
+  }
+  return 0;
+}
+
+/* Where the run ended into the result, the last sample (unless the last step had one), and the
+ * static state back into q, v. Returns the run's status. */
+static vs_status run_finish(vs_dynamic *d, dyn_run *r, double *q, double *v) {
+  vs_dyn_result *res = r->res;
+  double *y = N_VGetArrayPointer(d->y);
+  res->t_end = r->t;
+  res->delta_end = vs_dyn_delta_at(d, r->t);
+  if (r->collapsed) res->fall_wall_s = vs_wall_now() - r->wall_fall;
+  count_steps(d, r);
+  if (r->st == VS_OK && r->sample != NULL && r->t > r->t_last_sample &&
+      (static_state(d, y), r->sample(r->user, r->t, res->delta_end, d->qst, d->vst, &r->e)) != 0)
+    r->st = vs_error_set(r->err, VS_ERR_INTERNAL, "stopped by caller");
+  res->jac_evals = d->jac_evals;
+  res->e_end = r->e;
+  static_state(d, y);
+  memcpy(q, d->qst, (size_t)d->nq * sizeof *q);
+  memcpy(v, d->vst, (size_t)d->nq * sizeof *v);
+  res->max_drift = d->max_drift;
+  return r->st;
+}
+
+vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_sample_fn sample,
+                         vs_dyn_event_fn event, void *user, vs_dyn_result *res, vs_error *err) {
+  vs_status st = run_start(d, t0, q, v, res, err);
+  if (st != VS_OK) return st;
   const double t_end = d->o.max_delta / d->o.rate;
   if (t_end <= t0) {
     res->end = VS_DYN_MAX_DELTA;
@@ -101,202 +346,31 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     res->delta_end = vs_dyn_delta_at(d, t0);
     return VS_OK;
   }
-  flag = IDACalcIC(d->ida, IDA_YA_YDP_INIT, t0 + 1e-6 * (t_end - t0));
-  if (flag != IDA_SUCCESS && vs_dyn_stopped(d)) return vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
-  if (flag != IDA_SUCCESS)
-    return vs_error_set(err, VS_ERR_SOLVER, "IDACalcIC failed (flag %d): %s", flag, d->msg);
-  IDAGetConsistentIC(d->ida, d->y, d->yp);
-  IDASetStopTime(d->ida, t_end);
-  if (d->imp != NULL) vs_dyn_impact_arm(d, y, 1);
-  vs_energy e;
-  energies(d, y, 0.0, &e);
-  const double e0 = e.kinetic + e.gravity + e.elastic;
-  double scale = fabs(e0), t = t0, t_last_sample = -INFINITY, t_rest = t0, t_stop = t_end;
-  int moving = 0, collapsed = 0;
-  double wall_fall = NAN; /* wall-clock time at the collapse criterion */
-  long restarts = 0;      /* vs_dyn_restart_roots so far */
-  long base_steps = 0, base_newton = 0;
-  vs_status st = VS_OK;
-  e.balance = 0.0; /* the reference of the balance */
-  if (sample != NULL && (static_state(d, y), sample(user, t0, vs_dyn_delta_at(d, t0), d->qst, d->vst, &e)) != 0)
-    return vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
-  t_last_sample = t0;
-  res->t_motion = t0;
-  res->delta_motion = vs_dyn_delta_at(d, t0);
+  st = initial_conditions(d, t0, t_end, err);
+  if (st != VS_OK) return st;
+  dyn_run r = {.sample = sample, .event = event, .user = user, .res = res, .err = err,
+               .st = VS_OK, .t = t0, .t_end = t_end, .t_stop = t_end,
+               .t_last_sample = -INFINITY, .t_rest = t0, .wall_fall = NAN};
+  st = first_sample(d, &r, t0);
+  if (st != VS_OK) return st;
   for (long step = 0;; step++) {
-    if (vs_dyn_stopped(d)) {
-      st = vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
-      break;
-    }
-    if (step >= VS_DYN_MAX_STEPS) {
-      st = vs_error_set(err, VS_ERR_SOLVER, "IDA took %ld steps (the limit) and reached t = %.6g s "
-                        "(delta = %.6g mm) of %.6g s", VS_DYN_MAX_STEPS, t, vs_dyn_delta_at(d, t) * 1e3,
-                        t_stop);
-      break;
-    }
-    flag = IDASolve(d->ida, t_stop, &t, d->y, d->yp, IDA_ONE_STEP);
-    if (flag < 0 && vs_dyn_stopped(d)) {
-      st = vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
-      break;
-    }
-    if (flag < 0 && vs_dyn_close_roots(d, flag) && ++restarts <= VS_DYN_MAX_ROOT_RESTARTS) {
-      long ns = 0, nn = 0; /* IDAReInit resets IDA's counters: carry them */
-      IDAGetNumSteps(d->ida, &ns);
-      IDAGetNumNonlinSolvIters(d->ida, &nn);
-      base_steps += ns;
-      base_newton += nn;
-      const int rf = vs_dyn_restart_roots(d, t, t_stop);
-      if (rf == IDA_SUCCESS) continue;
-      flag = rf;
-    }
-    if (flag < 0 && collapsed) { /* the collapse stands: the fall ends here, said so */
-      res->end = VS_DYN_COLLAPSED;
-      res->fall_failed_t = t;
-      snprintf(res->fall_failure, sizeof res->fall_failure, "%s",
-               d->msg[0] ? d->msg : "unknown cause");
-      break;
-    }
-    if (flag < 0) {
-      st = vs_error_set(err, VS_ERR_SOLVER, "IDA failed at t = %.6g s (delta = %.6g mm): %s", t,
-                        vs_dyn_delta_at(d, t) * 1e3, d->msg[0] ? d->msg : "unknown cause");
-      break;
-    }
-    const double delta = vs_dyn_delta_at(d, t);
-    vs_dyn_joint_states(d, y);
-    vs_model_commit_states(d->m, d->js); /* seamless: the return-mapped force is unchanged */
-    if (d->imp != NULL) vs_dyn_impact_arm(d, y, 0);
-    if (d->ct != NULL && vs_contact_armed(d->ct)) {
-      vs_contact_commit(d->ct, y);
-      res->max_penetration = fmax(res->max_penetration, vs_contact_max_penetration(d->ct, y, NULL));
-    }
-    if (d->cl != NULL && vs_collide_armed(d->cl)) {
-      vs_collide_commit(d->cl, y);
-      res->max_overlap = fmax(res->max_overlap, vs_collide_max_penetration(d->cl, y));
-    }
-    energies(d, y, e0, &e);
-    d->max_drift = fmax(d->max_drift, vs_dyn_drift(d, t, y));
-    scale = fmax(scale, fmax(fabs(e.kinetic), fmax(fabs(e.gravity), fabs(e.elastic))));
-    scale = fmax(scale, fmax(fabs(e.support_work), fabs(e.damped)));
-    if (!collapsed) res->balance_error_rel = fmax(res->balance_error_rel, fabs(e.balance) / scale);
-    else res->balance_error_fall = fmax(res->balance_error_fall, fabs(e.balance) / scale);
-    res->max_kinetic = fmax(res->max_kinetic, e.kinetic);
-    /* motion episodes: moving while the kinetic energy is above rest_ke; at rest once it has
-     * stayed below for rest_time (a single mode passes through zero at its turning points) */
-    if (e.kinetic >= d->o.rest_ke) {
-      moving = 1;
-      t_rest = t;
-    } else {
-      moving = 0;
-    }
-    const double window = collapsed && d->ct != NULL ? fmin(d->o.rest_time, VS_DYN_FALL_REST)
-                                                     : d->o.rest_time;
-    const int at_rest = !moving && t - t_rest >= window;
+    int flag = 0;
+    const int taken = take_step(d, &r, step, &flag);
+    if (taken == STEP_AGAIN) continue;
+    if (taken == STEP_END) break;
+    const double delta = vs_dyn_delta_at(d, r.t);
+    const int at_rest = commit_step(d, &r);
     int stop = 0;
-    const int joint_root = flag == IDA_ROOT_RETURN && !collapsed; /* the fall's: contacts only */
-    if (flag == IDA_ROOT_RETURN) {
-      IDAGetRootInfo(d->ida, d->roots);
-      res->root_events++;
-      for (int k = 0; k < 2 * d->nj && joint_root; k++) {
-        if (d->roots[k] == 0 || event == NULL) continue;
-        vs_dyn_event ev = {.t = t, .delta = delta, .joint = k / 2 + 1,
-                           .side = (k % 2 == 0) ? 'E' : 'I', .opened = d->roots[k] > 0};
-        static_state(d, y);
-        if (event(user, &ev, d->qst) != 0) stop = 1;
-      }
-      if (d->imp != NULL && !collapsed) { /* impacts: velocities jump, the energy is charged */
-        const int ni = vs_dyn_impact_resolve(d, t, t_stop, &base_steps, &base_newton);
-        if (ni < 0) {
-          st = vs_dyn_stopped(d) ? vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted")
-                          : vs_error_set(err, VS_ERR_SOLVER, "at t = %.6g s: %s", t, d->msg);
-          break;
-        }
-        res->impacts += ni;
-        energies(d, y, e0, &e);
-      }
-      if (d->roots[2 * d->nj + 1] > 0 && !collapsed) { /* a departure, located */
-        res->t_motion = t;
-        res->delta_motion = delta;
-        res->onset_found = 1;
-      }
-      if (d->roots[2 * d->nj] > 0 && !collapsed) {
-        collapsed = 1;
-        res->t_collapse = t;
-        t_stop = fmin(t_end, t + d->o.fall_time);
-        /* the fall is followed for the record only: restart from here without events and
-         * with looser tolerances (set on a restarted integrator: IDA re-reads them then) */
-        long ns = 0, nn = 0; /* IDAReInit resets IDA's counters: carry the phase's */
-        IDAGetNumSteps(d->ida, &ns);
-        IDAGetNumNonlinSolvIters(d->ida, &nn);
-        base_steps += ns;
-        base_newton += nn;
-        N_Vector at = N_VClone(d->atol);
-        int rf = (at == NULL) ? -1 : IDAReInit(d->ida, t, d->y, d->yp);
-        const double loose = d->ct != NULL ? VS_DYN_FALL_TOL_GROUND : VS_DYN_FALL_TOL;
-        if (rf == IDA_SUCCESS) {
-          N_VScale(loose, d->atol, at);
-          rf = IDASVtolerances(d->ida, loose * d->rtol, at);
-        }
-        d->in_fall = 1;
-        wall_fall = vs_wall_now();
-        if (d->ct != NULL && !vs_contact_armed(d->ct))
-          vs_contact_arm(d->ct, vs_contact_springing_base(d->m, y) + d->ground_offset, y);
-        if (d->cl != NULL && !vs_collide_armed(d->cl)) vs_collide_arm(d->cl, y);
-        if (rf == IDA_SUCCESS) rf = vs_dyn_root_init(d);
-        if (rf == IDA_SUCCESS) rf = IDASetNonlinConvCoef(d->ida, VS_DYN_NEWTON_COEF_FALL);
-        if (rf == IDA_SUCCESS) rf = IDASetStopTime(d->ida, t_stop);
-        if (at != NULL) N_VDestroy(at);
-        if (rf != IDA_SUCCESS) {
-          st = vs_error_set(err, VS_ERR_SOLVER, "IDA restart for the fall failed (flag %d)", rf);
-          break;
-        }
-      }
-    }
-    if (sample != NULL && (t - t_last_sample >= d->o.sample_dt || joint_root)) {
-      t_last_sample = t;
-      IDAGetNumSteps(d->ida, &res->steps); /* kept current for the callback */
-      IDAGetNumNonlinSolvIters(d->ida, &res->newton_iterations);
-      res->steps += base_steps;
-      res->newton_iterations += base_newton;
-      static_state(d, y);
-      if (sample(user, t, delta, d->qst, d->vst, &e) != 0) stop = 1;
-    }
+    const int joint_root = flag == IDA_ROOT_RETURN && !r.collapsed; /* the fall's: contacts only */
+    if (flag == IDA_ROOT_RETURN && on_roots(d, &r, delta, joint_root, &stop) != VS_OK) break;
+    if (sample != NULL && (r.t - r.t_last_sample >= d->o.sample_dt || joint_root) &&
+        sample_now(d, &r, delta) != 0)
+      stop = 1;
     if (stop) {
-      st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+      r.st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
       break;
     }
-    if (collapsed && d->ct != NULL && at_rest) { /* the debris at rest on the ground */
-      res->end = VS_DYN_COLLAPSED;
-      res->fall_at_rest = 1;
-      break;
-    }
-    if (collapsed && t >= t_stop * (1.0 - 1e-15)) {
-      res->end = VS_DYN_COLLAPSED;
-      break;
-    }
-    if (flag == IDA_TSTOP_RETURN || t >= t_end) {
-      res->end = collapsed ? VS_DYN_COLLAPSED : VS_DYN_MAX_DELTA;
-      break;
-    }
-    if (d->o.settle && !collapsed && at_rest) {
-      res->end = VS_DYN_SETTLED;
-      break;
-    }
+    if (run_over(d, &r, flag, at_rest)) break;
   }
-  res->t_end = t;
-  res->delta_end = vs_dyn_delta_at(d, t);
-  if (collapsed) res->fall_wall_s = vs_wall_now() - wall_fall;
-  IDAGetNumSteps(d->ida, &res->steps);
-  IDAGetNumNonlinSolvIters(d->ida, &res->newton_iterations);
-  res->steps += base_steps;
-  res->newton_iterations += base_newton;
-  if (st == VS_OK && sample != NULL && t > t_last_sample &&
-      (static_state(d, y), sample(user, t, res->delta_end, d->qst, d->vst, &e)) != 0)
-    st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
-  res->jac_evals = d->jac_evals;
-  res->e_end = e;
-  static_state(d, y);
-  memcpy(q, d->qst, (size_t)d->nq * sizeof *q);
-  memcpy(v, d->vst, (size_t)d->nq * sizeof *v);
-  res->max_drift = d->max_drift;
-  return st;
+  return run_finish(d, &r, q, v);
 }
