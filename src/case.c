@@ -1,18 +1,13 @@
 /* The case: every input parameter of a run. One table (section, key, type, range, unit, default)
  * drives the defaults, the INI reader, --set overrides, the range checks and every message, so a
- * key cannot exist in one of them and be missing from another. */
-#define _POSIX_C_SOURCE 200809L /* open, fstat */
+ * key cannot exist in one of them and be missing from another. The file reader itself is
+ * case_read.c: its assignments come here (case_internal.h). */
 #include "voussoir/case.h"
 
-#include <ini.h>
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
+#include "case_internal.h"
 #include "voussoir/parse.h"
 #include "voussoir/units.h"
 
-#include <errno.h>
 #include <limits.h>
 #include <math.h>
 #include <stdbool.h>
@@ -190,7 +185,7 @@ static const key_spec *find_key(const char *section, const char *name) {
 }
 
 /* section need not be NUL-terminated: the reader checks "[name]" in place. */
-static bool section_known(const char *section, size_t len) {
+bool vs_case_section_known(const char *section, size_t len) {
   for (size_t i = 0; i < NKEYS; i++)
     if (strlen(keys[i].section) == len && memcmp(keys[i].section, section, len) == 0) return true;
   return false;
@@ -253,7 +248,7 @@ static void range_text(const key_spec *k, char *buf, size_t size) {
   }
 }
 
-static void list_sections(char *buf, size_t size) {
+void vs_case_list_sections(char *buf, size_t size) {
   buf[0] = '\0';
   for (size_t i = 0; i < NKEYS; i++) {
     if (i > 0 && strcmp(keys[i].section, keys[i - 1].section) == 0) continue;
@@ -271,16 +266,11 @@ static void list_keys(const char *section, char *buf, size_t size) {
   }
 }
 
-/* Echo user text into a message, shortened so the reason and the allowed range still fit. */
-enum { ECHO_MAX = 64 };
-typedef struct {
-  char s[ECHO_MAX + 4];
-} echo_buf;
-
-static const char *clip(const char *s, echo_buf *b) {
-  if (strlen(s) <= ECHO_MAX) return s;
-  memcpy(b->s, s, ECHO_MAX);
-  memcpy(b->s + ECHO_MAX, "...", 4);
+/* Echo user text into a message (case_internal.h: vs_case_echo). */
+const char *vs_case_clip(const char *s, vs_case_echo *b) {
+  if (strlen(s) <= VS_CASE_ECHO_MAX) return s;
+  memcpy(b->s, s, VS_CASE_ECHO_MAX);
+  memcpy(b->s + VS_CASE_ECHO_MAX, "...", 4);
   return b->s;
 }
 
@@ -301,19 +291,20 @@ static vs_num_status parse_value(const key_spec *k, const char *s, double *out) 
  * One assignment, shared by the file reader and --set. where is "FILE:LINE" or "--set ...".
  * c is written only when the value is accepted. */
 
-static vs_status assign(vs_case *c, const char *section, const char *name, const char *value,
-                        const char *where, vs_error *err) {
-  echo_buf bs, bn, bv;
-  const char *sec = clip(section, &bs), *key = clip(name, &bn), *val = clip(value, &bv);
+vs_status vs_case_assign(vs_case *c, const char *section, const char *name, const char *value,
+                         const char *where, vs_error *err) {
+  vs_case_echo bs, bn, bv;
+  const char *sec = vs_case_clip(section, &bs), *key = vs_case_clip(name, &bn),
+             *val = vs_case_clip(value, &bv);
   char list[256];
   const key_spec *k = find_key(section, name);
   if (k == NULL) {
-    if (section_known(section, strlen(section))) {
+    if (vs_case_section_known(section, strlen(section))) {
       list_keys(section, list, sizeof list);
       return vs_error_set(err, VS_ERR_PARSE, "%s: %s.%s = %s: unknown key (allowed keys in [%s]: %s)",
                           where, sec, key, val, sec, list);
     }
-    list_sections(list, sizeof list);
+    vs_case_list_sections(list, sizeof list);
     if (section[0] == '\0')
       return vs_error_set(err, VS_ERR_PARSE,
                           "%s: %s = %s: key outside any [section] (allowed sections: %s)", where, key,
@@ -346,185 +337,6 @@ static vs_status assign(vs_case *c, const char *section, const char *name, const
 }
 
 /* ---------------------------------------------------------------------------------------------
- * The file reader. inih gets the text one line per call from next_line, so our line count is
- * exactly inih's and every message can name its line, whatever INI_HANDLER_LINENO the installed
- * libinih was built with. next_line also normalises each line so that inih's build options do not
- * change the meaning of a case file: leading blanks go (no multi-line continuations), ';' and '#'
- * comments go (at the start of a line, or after a blank), a UTF-8 byte-order mark goes. */
-
-typedef struct {
-  vs_case value;          /* working copy, committed only if the whole file is accepted */
-  const char *path;
-  const char *pos, *end;  /* unread text */
-  int lineno;             /* line last handed to inih */
-  int error_line;         /* line of the first error found by next_line or on_pair, 0 = none */
-  vs_status status;
-  vs_error *err;
-} reader_ctx;
-
-static bool is_blank(char ch) { return ch == ' ' || ch == '\t' || ch == '\r' || ch == '\f' || ch == '\v'; }
-
-static const char *comment_start(const char *start, const char *stop) {
-  for (const char *p = start; p < stop; p++)
-    if ((*p == ';' || *p == '#') && (p == start || is_blank(p[-1]))) return p;
-  return stop;
-}
-
-static char *reader_fail(reader_ctx *x, vs_status status) {
-  x->error_line = x->lineno;
-  x->status = status;
-  return NULL;
-}
-
-static char *next_line(char *buf, int size, void *stream) {
-  reader_ctx *x = stream;
-  if (x->error_line > 0 || x->pos >= x->end) return NULL;
-  const char *start = x->pos, *stop = start;
-  while (stop < x->end && *stop != '\n' && *stop != '\r') stop++;
-  /* a line ends at LF, CR LF or a lone CR (old Mac files), so CR-only files read line by line */
-  x->pos = stop;
-  if (x->pos < x->end && *x->pos == '\r') x->pos++;
-  if (x->pos < x->end && *x->pos == '\n') x->pos++;
-  x->lineno++;
-
-  if (memchr(start, '\0', (size_t)(stop - start)) != NULL) {
-    vs_error_set(x->err, VS_ERR_PARSE, "%s:%d: NUL character (a case file is plain text)", x->path,
-                 x->lineno);
-    return reader_fail(x, VS_ERR_PARSE);
-  }
-  if (x->lineno == 1 && stop - start >= 3 && memcmp(start, "\xEF\xBB\xBF", 3) == 0) start += 3;
-  while (start < stop && is_blank(*start)) start++;
-  stop = comment_start(start, stop);
-  while (stop > start && is_blank(stop[-1])) stop--;
-
-  size_t len = (size_t)(stop - start);
-  if (size < 1 || len >= (size_t)size) {
-    vs_error_set(x->err, VS_ERR_PARSE,
-                 "%s:%d: line too long (at most %d characters, not counting indentation and "
-                 "comments)",
-                 x->path, x->lineno, size > 0 ? size - 1 : 0);
-    return reader_fail(x, VS_ERR_PARSE);
-  }
-  memcpy(buf, start, len);
-  buf[len] = '\0';
-
-  /* inih does not tell the handler about a section until it holds a key; check "[name]" here so
-   * an unknown (even empty) section is reported on its own line. "[name" is left to inih. */
-  const char *close = buf[0] == '[' ? strchr(buf, ']') : NULL;
-  if (close != NULL && !section_known(buf + 1, (size_t)(close - buf - 1))) {
-    char list[256];
-    echo_buf b;
-    list_sections(list, sizeof list);
-    buf[close - buf] = '\0';
-    vs_error_set(x->err, VS_ERR_PARSE, "%s:%d: [%s]: unknown section (allowed sections: %s)",
-                 x->path, x->lineno, clip(buf + 1, &b), list);
-    return reader_fail(x, VS_ERR_PARSE);
-  }
-  if (close != NULL && close[1] != '\0') { /* inih would drop "radius_mm=3" in "[arch] radius_mm=3" */
-    echo_buf b;
-    while (is_blank(*++close)) {}
-    vs_error_set(x->err, VS_ERR_PARSE,
-                 "%s:%d: '%s' after the section header (put each key = value on its own line)",
-                 x->path, x->lineno, clip(close, &b));
-    return reader_fail(x, VS_ERR_PARSE);
-  }
-  return buf;
-}
-
-static int on_pair_at_line(reader_ctx *x, const char *section, const char *name,
-                           const char *value) {
-  if (x->error_line > 0) return 0;
-  if (name == NULL) return 1; /* start-of-section call, when inih is built to make one */
-  char where[sizeof x->err->msg];
-  snprintf(where, sizeof where, "%s:%d", x->path, x->lineno);
-  vs_status st;
-  if (name[0] == '\0') /* "= 3": inih accepts it, we do not */
-    st = vs_error_set(x->err, VS_ERR_PARSE, "%s: malformed line (expected key = value or [section])",
-                      where);
-  else if (value == NULL) /* only when inih is built to allow keys without values */
-    st = vs_error_set(x->err, VS_ERR_PARSE, "%s: %s.%s: no value (expected key = value)", where,
-                      section, name);
-  else
-    st = assign(&x->value, section, name, value, where, x->err);
-  if (st == VS_OK) return 1;
-  x->error_line = x->lineno;
-  x->status = st;
-  return 0;
-}
-
-#if INI_HANDLER_LINENO
-static int on_pair(void *user, const char *section, const char *name, const char *value,
-                   int lineno) {
-  (void)lineno; /* same as our own count */
-  return on_pair_at_line(user, section, name, value);
-}
-#else
-static int on_pair(void *user, const char *section, const char *name, const char *value) {
-  return on_pair_at_line(user, section, name, value);
-}
-#endif
-
-/* Refuse what is not a regular file of at most VS_CASE_MAX_BYTES: a FIFO would block, a device
- * such as /dev/zero would grow memory without bound. The file is opened without blocking (a FIFO
- * with no writer) and checked on the open descriptor, so a swap after the check does not matter. */
-static vs_status open_case(const char *path, int *fd_out, size_t *size, vs_error *err) {
-  int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY);
-  if (fd < 0) return vs_error_set(err, VS_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-  struct stat sb;
-  vs_status st = VS_OK;
-  if (fstat(fd, &sb) != 0)
-    st = vs_error_set(err, VS_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
-  else if (!S_ISREG(sb.st_mode))
-    st = vs_error_set(err, VS_ERR_IO, "%s: not a regular file (a case must be a plain file, not a "
-                                      "%s)", path, S_ISDIR(sb.st_mode) ? "directory"
-                                      : S_ISFIFO(sb.st_mode) ? "pipe" : "device or socket");
-  else if (sb.st_size > VS_CASE_MAX_BYTES)
-    st = vs_error_set(err, VS_ERR_IO, "%s: %lld bytes: too large (a case file is at most %d bytes)",
-                      path, (long long)sb.st_size, VS_CASE_MAX_BYTES);
-  if (st != VS_OK) {
-    close(fd);
-    return st;
-  }
-  *fd_out = fd;
-  *size = (size_t)sb.st_size;
-  return VS_OK;
-}
-
-/* Read the whole file into a NUL-terminated malloc'd buffer; a file that grows past the limit
- * while it is read is refused too. */
-static vs_status read_text(const char *path, char **text, size_t *len, vs_error *err) {
-  int fd = -1;
-  size_t size = 0;
-  vs_status st = open_case(path, &fd, &size, err);
-  if (st != VS_OK) return st;
-  char *buf = malloc((size_t)VS_CASE_MAX_BYTES + 2);
-  size_t used = 0;
-  while (buf != NULL && used <= (size_t)VS_CASE_MAX_BYTES) {
-    ssize_t n = read(fd, buf + used, (size_t)VS_CASE_MAX_BYTES + 1 - used);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      st = vs_error_set(err, VS_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
-      break;
-    }
-    if (n == 0) break;
-    used += (size_t)n;
-  }
-  close(fd);
-  if (buf == NULL) return vs_error_set(err, VS_ERR_NOMEM, "%s: out of memory reading the file", path);
-  if (st == VS_OK && used > (size_t)VS_CASE_MAX_BYTES)
-    st = vs_error_set(err, VS_ERR_IO, "%s: too large (a case file is at most %d bytes)", path,
-                      VS_CASE_MAX_BYTES);
-  if (st != VS_OK) {
-    free(buf);
-    return st;
-  }
-  buf[used] = '\0';
-  *text = buf;
-  *len = used;
-  return VS_OK;
-}
-
-/* ---------------------------------------------------------------------------------------------
  * Public functions */
 
 void vs_case_defaults(vs_case *c) {
@@ -533,53 +345,11 @@ void vs_case_defaults(vs_case *c) {
   for (size_t i = 0; i < NKEYS; i++) set_value(c, &keys[i], keys[i].def);
 }
 
-vs_status vs_case_parse(vs_case *c, const char *name, const char *text, size_t len,
-                        vs_error *err) {
-  if (c == NULL || name == NULL || text == NULL)
-    return vs_error_set(err, VS_ERR_INVALID, "vs_case_parse: %s is NULL",
-                        c == NULL ? "case" : name == NULL ? "name" : "text");
-  if (len > (size_t)VS_CASE_MAX_BYTES)
-    return vs_error_set(err, VS_ERR_IO, "%s: too large (a case file is at most %d bytes)", name,
-                        VS_CASE_MAX_BYTES);
-  reader_ctx x = {.value = *c, .path = name, .pos = text, .end = text + len, .status = VS_OK,
-                  .err = err};
-  int ret = ini_parse_stream(next_line, &x, on_pair, &x);
-  vs_status st = VS_OK;
-  /* inih returns the first line it could not parse; ours may be earlier or later. */
-  if (ret > 0 && (x.error_line == 0 || ret < x.error_line))
-    st = vs_error_set(err, VS_ERR_PARSE, "%s:%d: malformed line (expected key = value or [section])",
-                      name, ret);
-  else if (x.error_line > 0)
-    st = x.status;
-  else if (ret < 0)
-    st = vs_error_set(err, VS_ERR_NOMEM, "%s: out of memory while parsing", name);
-  if (st == VS_OK) *c = x.value;
-  return st;
-}
-
-vs_status vs_case_read(vs_case *c, const char *path, char **text_out, vs_error *err) {
-  if (text_out != NULL) *text_out = NULL;
-  if (c == NULL || path == NULL)
-    return vs_error_set(err, VS_ERR_INVALID, "vs_case_read: %s is NULL", c == NULL ? "case" : "path");
-  char *text = NULL;
-  size_t len = 0;
-  vs_status st = read_text(path, &text, &len, err);
-  if (st == VS_OK) st = vs_case_parse(c, path, text, len, err);
-  if (st != VS_OK) {
-    free(text);
-    return st;
-  }
-  if (text_out != NULL)
-    *text_out = text;
-  else
-    free(text);
-  return VS_OK;
-}
 
 static char *trim(char *s) {
-  while (is_blank(*s)) s++;
+  while (vs_case_is_blank(*s)) s++;
   size_t n = strlen(s);
-  while (n > 0 && is_blank(s[n - 1])) s[--n] = '\0';
+  while (n > 0 && vs_case_is_blank(s[n - 1])) s[--n] = '\0';
   return s;
 }
 
@@ -587,9 +357,9 @@ vs_status vs_case_set(vs_case *c, const char *assignment, vs_error *err) {
   if (c == NULL || assignment == NULL)
     return vs_error_set(err, VS_ERR_INVALID, "vs_case_set: %s is NULL",
                         c == NULL ? "case" : "assignment");
-  echo_buf b;
+  vs_case_echo b;
   char where[sizeof err->msg];
-  snprintf(where, sizeof where, "--set %s", clip(assignment, &b));
+  snprintf(where, sizeof where, "--set %s", vs_case_clip(assignment, &b));
 
   size_t n = strlen(assignment) + 1;
   char *copy = malloc(n);
@@ -609,7 +379,7 @@ vs_status vs_case_set(vs_case *c, const char *assignment, vs_error *err) {
   if (dot == NULL || section[0] == '\0' || key[0] == '\0')
     st = vs_error_set(err, VS_ERR_PARSE, "%s: malformed (expected section.key=value)", where);
   else
-    st = assign(c, section, key, trim(eq + 1), where, err);
+    st = vs_case_assign(c, section, key, trim(eq + 1), where, err);
   free(copy);
   return st;
 }

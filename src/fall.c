@@ -446,12 +446,10 @@ static int warm_from_joints(vs_fall *f, const vs_joint_state *js, double h) {
   return 0;
 }
 
-vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_energy *e0,
-                      const vs_joint_state *js0, vs_dyn_sample_fn sample, void *user,
-                      vs_fall_result *res, vs_error *err) {
-  const double w0 = vs_wall_now();
-  memset(res, 0, sizeof *res);
-  res->step = f->o.step;
+/* The state at t0 from qe, ve (the joints' forces js0, if any, as the first step's warm start),
+ * the supports driven there and the ground's level. VS_ERR_NOMEM when out of memory. */
+static vs_status fall_start(vs_fall *f, double t0, const double *qe, const double *ve,
+                            const vs_joint_state *js0, vs_fall_result *res, vs_error *err) {
   const size_t Q = 3 * (size_t)f->nb;
   memcpy(f->q, qe, Q * sizeof *qe);
   memcpy(f->v, ve, Q * sizeof *ve);
@@ -462,21 +460,93 @@ vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_en
   supports(f, t0);
   f->level = isfinite(f->o.ground) ? springing_base(f) + f->o.ground : NAN;
   res->level = f->level;
+  return VS_OK;
+}
+
+/* The energies at the start into *e, carried on from e0 (NULL: from zero) in acc, whose
+ * reference makes the balance start at e0's. */
+static void start_energies(vs_fall *f, const vs_energy *e0, vs_fall_result *res, energy_acc *acc,
+                           vs_energy *e) {
   /* the energies carry on from e0: the joints' elastic energy is released into the dissipated
    * energy (rigid contacts store none) */
-  energy_acc acc = {0};
   if (e0 != NULL) {
     res->released = e0->elastic;
-    acc.support = e0->support_work;
-    acc.normal = e0->damped + res->released;
-    acc.tangential = e0->friction;
+    acc->support = e0->support_work;
+    acc->normal = e0->damped + res->released;
+    acc->tangential = e0->friction;
   }
+  energy_of(f, acc, e);
+  acc->ref = e->balance - (e0 != NULL ? e0->balance : 0.0);
+}
+
+/* The error of a step that failed (step's rc: -2 the joints' system, else out of memory). */
+static vs_status step_error(const vs_fall *f, int rc, vs_error *err) {
+  return rc == -2 ? vs_error_set(err, VS_ERR_SOLVER, "fall: the joints' system could not be "
+                                 "factorised at t = %.6g s (KLU status %d)", f->t,
+                                 f->kc.status)
+                  : vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory at t = %.6g s", f->t);
+}
+
+/* A step's work and dissipation into acc, its solver counts and contacts into the result. */
+static void tally_step(const vs_fall *f, const step_out *so, energy_acc *acc,
+                       vs_fall_result *res) {
+  acc->normal += so->normal - so->recovered, acc->tangential += so->tangential;
+  acc->support += so->support;
+  res->steps++;
+  res->sweeps += so->sweeps;
+  res->solves += so->solves;
+  res->chain_steps += so->chain;
+  res->redone += so->redone;
+  if (!so->converged) res->residual = fmax(res->residual, so->last);
+  res->unconverged += !so->converged;
+  res->contacts += f->nc;
+  res->max_contacts = f->nc > res->max_contacts ? f->nc : res->max_contacts;
+}
+
+/* The energies after a step into *e, the balance's error (against bal0, relative to the
+ * largest term so far, *scale) and the step's overlaps into the result. */
+static void check_step(vs_fall *f, const step_out *so, const energy_acc *acc, double bal0,
+                       double *scale, vs_energy *e, vs_fall_result *res) {
+  energy_of(f, acc, e);
+  *scale = fmax(*scale, fmax(fmax(fabs(e->kinetic), fabs(e->gravity)),
+                             fmax(fabs(e->support_work), fabs(e->damped) + fabs(e->friction))));
+  res->balance_error_rel = fmax(res->balance_error_rel, fabs(e->balance - bal0) / *scale);
+  res->max_penetration = fmax(res->max_penetration, so->ground);
+  res->max_overlap = fmax(res->max_overlap, so->body);
+  res->max_joint_overlap = fmax(res->max_joint_overlap, so->joint);
+}
+
+/* The last state's overlaps and penetration into the result, the state back into qe, ve, and
+ * where the fall ended. */
+static void fall_finish(vs_fall *f, double *qe, double *ve, vs_fall_result *res) {
+  const size_t Q = 3 * (size_t)f->nb;
+  supports(f, f->t);
+  vs_fall_positions(f); /* the last state's overlaps (each step measured its start's) */
+  double ob, oj;
+  vs_fall_overlaps(f, &ob, &oj);
+  res->max_overlap = fmax(res->max_overlap, ob);
+  res->max_joint_overlap = fmax(res->max_joint_overlap, oj);
+  if (isfinite(f->level))
+    res->max_penetration = fmax(res->max_penetration, vs_fall_penetration(f));
+  memcpy(qe, f->q, Q * sizeof *qe);
+  memcpy(ve, f->v, Q * sizeof *ve);
+  res->t_end = f->t;
+  res->delta_end = f->o.rate * f->t;
+}
+
+vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_energy *e0,
+                      const vs_joint_state *js0, vs_dyn_sample_fn sample, void *user,
+                      vs_fall_result *res, vs_error *err) {
+  const double w0 = vs_wall_now();
+  memset(res, 0, sizeof *res);
+  res->step = f->o.step;
+  vs_status st = fall_start(f, t0, qe, ve, js0, res, err);
+  if (st != VS_OK) return st;
+  energy_acc acc = {0};
   vs_energy e;
-  energy_of(f, &acc, &e);
-  acc.ref = e.balance - (e0 != NULL ? e0->balance : 0.0);
+  start_energies(f, e0, res, &acc, &e);
   const double bal0 = e0 != NULL ? e0->balance : 0.0;
   double scale = fmax(fabs(e.kinetic), fabs(e.gravity));
-  vs_status st = VS_OK;
   const double h = f->o.step, mu = vs_model_law(f->m)->mu, t_end = t0 + f->o.duration;
   double t_sample = t0, t_moving = t0;
   const long max_steps = (long)ceil(f->o.duration / h) + 1;
@@ -488,30 +558,11 @@ vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_en
     step_out so;
     const int rc = step(f, h, mu, &so);
     if (rc != 0) {
-      st = rc == -2 ? vs_error_set(err, VS_ERR_SOLVER, "fall: the joints' system could not be "
-                                   "factorised at t = %.6g s (KLU status %d)", f->t,
-                                   f->kc.status)
-                    : vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory at t = %.6g s", f->t);
+      st = step_error(f, rc, err);
       break;
     }
-    acc.normal += so.normal - so.recovered, acc.tangential += so.tangential;
-    acc.support += so.support;
-    res->steps++;
-    res->sweeps += so.sweeps;
-    res->solves += so.solves;
-    res->chain_steps += so.chain;
-    res->redone += so.redone;
-    if (!so.converged) res->residual = fmax(res->residual, so.last);
-    res->unconverged += !so.converged;
-    res->contacts += f->nc;
-    res->max_contacts = f->nc > res->max_contacts ? f->nc : res->max_contacts;
-    energy_of(f, &acc, &e);
-    scale = fmax(scale, fmax(fmax(fabs(e.kinetic), fabs(e.gravity)),
-                             fmax(fabs(e.support_work), fabs(e.damped) + fabs(e.friction))));
-    res->balance_error_rel = fmax(res->balance_error_rel, fabs(e.balance - bal0) / scale);
-    res->max_penetration = fmax(res->max_penetration, so.ground);
-    res->max_overlap = fmax(res->max_overlap, so.body);
-    res->max_joint_overlap = fmax(res->max_joint_overlap, so.joint);
+    tally_step(f, &so, &acc, res);
+    check_step(f, &so, &acc, bal0, &scale, &e, res);
     if (e.kinetic >= f->o.rest_ke) t_moving = f->t;
     const int at_rest = f->t - t_moving >= f->o.rest_time;
     const int last = at_rest || f->t >= t_end - 0.5 * h;
@@ -525,18 +576,7 @@ vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_en
       break;
     }
   }
-  supports(f, f->t);
-  vs_fall_positions(f); /* the last state's overlaps (each step measured its start's) */
-  double ob, oj;
-  vs_fall_overlaps(f, &ob, &oj);
-  res->max_overlap = fmax(res->max_overlap, ob);
-  res->max_joint_overlap = fmax(res->max_joint_overlap, oj);
-  if (isfinite(f->level))
-    res->max_penetration = fmax(res->max_penetration, vs_fall_penetration(f));
-  memcpy(qe, f->q, Q * sizeof *qe);
-  memcpy(ve, f->v, Q * sizeof *ve);
-  res->t_end = f->t;
-  res->delta_end = f->o.rate * f->t;
+  fall_finish(f, qe, ve, res);
   res->wall_s = vs_wall_now() - w0;
   return st;
 }

@@ -130,8 +130,8 @@ static void test_energy_balance(void **s) {
 /* The energy balance up to the collapse on the points of the seed domain where it is hardest to
  * hold (runs/balance_domain.sh prints all 26): outward spreading and a stiff joint, whose fast
  * motion before the criterion is the most violent. The balance's error is the work of the residual
- * IDA's Newton iteration leaves in the blocks' equations of motion (dynamic.c): held to 1e-4 of
- * the largest energy term. The supports' constraints hold to round-off: 1e-12 m. */
+ * IDA's Newton iteration leaves in the blocks' equations of motion (dynamic_internal.h): held to
+ * 1e-4 of the largest energy term. The supports' constraints hold to round-off: 1e-12 m. */
 static void test_energy_balance_domain(void **s) {
   (void)s;
   const double pts[4][2] = {{90.0, 48.0}, {75.0, 48.0}, {45.0, 48.0}, {90.0, 3.0}};

@@ -762,10 +762,10 @@ static void test_rocking_energy(void **state) {
  * 1e-10 W (the sums run over ~60 forces of order W; the joints' forces on two blocks are equal
  * and opposite). IDA's own iterate lambda is an unknown of its Newton iteration, which stops when
  * its corrections are small against the tolerances -- and the velocities' are loose by design
- * (dynamic.c), so a moving arch leaves a residual of about (damping coefficient) x (velocity
- * tolerance) times the Newton test's fraction (1e-3) in the support rows: ~1e-5 W while the arch
- * creeps (snap) or collapses slowly, up to ~2e-3 W in the fast motion of a stiff arch just before
- * the collapse criterion (8e-3 W with IDA's default test, 0.33). Bounds on it up to the criterion: iter_bound against
+ * (dynamic_internal.h), so a moving arch leaves a residual of about (damping coefficient) x
+ * (velocity tolerance) times the Newton test's fraction (1e-3) in the support rows: ~1e-5 W while
+ * the arch creeps (snap) or collapses slowly, up to ~2e-3 W in the fast motion of a stiff arch just
+ * before the collapse criterion (8e-3 W with IDA's default test, 0.33). Bounds on it up to the criterion: iter_bound against
  * the reported lambda, 1e-3 W for Newton's law with IDA's v'. In the fall (tolerances 100 times
  * looser, IDA's default Newton test) it reaches ~0.1 W and is only printed. The constraints stay satisfied to round-off (their equations are linear, and Newton
  * solves them exactly): 1e-12 m. */
@@ -1076,8 +1076,8 @@ static void test_arch_collapse(void **state) {
    * 1e-3 collapse_ke: the two are four orders of magnitude apart. */
   assert_true(res.max_kinetic > 10.0 * o.collapse_ke);
   /* the energy balance up to the criterion: its error is the work of the residual IDA's Newton
-   * iteration leaves in the equations of motion (dynamic.c), which grows with the speed of the
-   * motion before the criterion -- held to 1e-3 of the largest energy term and 1 % of the
+   * iteration leaves in the equations of motion (dynamic_internal.h), which grows with the speed
+   * of the motion before the criterion -- held to 1e-3 of the largest energy term and 1 % of the
    * criterion itself. The fall after the criterion may be integrated more loosely (it is only
    * recorded): the whole phase gets a looser bound. */
   double bal = 0.0, scale = 0.0;

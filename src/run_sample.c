@@ -1,0 +1,277 @@
+/* The run's callbacks from its solvers (run_internal.h): at each equilibrium, dynamic sample and
+ * joint event the hinges are tracked, the events logged and the sample handed on to the caller;
+ * the mechanism of the collapse is taken early in its motion and classified. */
+#include "voussoir/run.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "run_internal.h"
+#include "voussoir/damping.h"
+
+/* --- records --- */
+
+int vs_run_log_event(vs_run *r, vs_event_kind kind, double t, double delta, int joint, char side,
+                     char label, int order) {
+  if (r->n_events == r->cap_events) {
+    int cap = r->cap_events ? 2 * r->cap_events : 64;
+    vs_run_event *e = realloc(r->events, (size_t)cap * sizeof *e);
+    if (e == NULL) return -1;
+    r->events = e;
+    r->cap_events = cap;
+  }
+  vs_run_event *e = &r->events[r->n_events++];
+  *e = (vs_run_event){.kind = kind, .phase = r->phase, .t = t, .delta = delta, .joint = joint,
+                      .side = side, .label = label, .order = order};
+  return r->event_fn != NULL ? r->event_fn(r->user, r, e) : 0;
+}
+
+void vs_run_open_hinges(const vs_run *r, char *buf, size_t size) {
+  size_t used = 0;
+  if (size == 0) return;
+  buf[0] = '\0';
+  for (int i = 0; i < vs_hinges_count(r->h); i++) {
+    const vs_hinge *hg = vs_hinges_get(r->h, i);
+    if (!hg->open) continue;
+    char name[96];
+    vs_hinge_name(hg, 0, name, sizeof name);
+    int n = snprintf(buf + used, size - used, "%s%c:%s", used ? " " : "", hg->label, name);
+    if (n < 0 || (size_t)n >= size - used) return;
+    used += (size_t)n;
+  }
+}
+
+int vs_run_add_limit(vs_run *r, double delta) {
+  if (r->n_limits == r->cap_limits) {
+    int cap = r->cap_limits ? 2 * r->cap_limits : 8;
+    vs_limit_record *l = realloc(r->limits, (size_t)cap * sizeof *l);
+    if (l == NULL) return -1;
+    r->limits = l;
+    r->cap_limits = cap;
+  }
+  vs_limit_record *l = &r->limits[r->n_limits++];
+  memset(l, 0, sizeof *l);
+  l->delta = delta;
+  l->delta_settled = NAN;
+  vs_run_open_hinges(r, l->hinges_before, sizeof l->hinges_before);
+  return vs_run_log_event(r, VS_EVENT_LIMIT_POINT, delta / r->dopts.rate, delta, 0, 0, 0, 0);
+}
+
+/* The hinge events logged before their hinges were named take the names. */
+static void relabel_events(vs_run *r) {
+  for (int e = 0; e < r->n_events; e++)
+    if (r->events[e].kind == VS_EVENT_HINGE_FORMED && r->events[e].order <= 3 &&
+        r->events[e].order <= vs_hinges_count(r->h))
+      r->events[e].label = vs_hinges_get(r->h, r->events[e].order - 1)->label;
+}
+
+/* Fewer than three hinges formed before the collapse's onset (or the end): name those n A, B
+ * from left to right and later ones in order, so that no hinge of the record stays '?'. */
+void vs_run_name_first(vs_run *r, int n) {
+  if (n >= 3) return;
+  vs_hinges_name_first(r->h, n);
+  for (int e = 0; e < r->n_events; e++)
+    if (r->events[e].kind == VS_EVENT_HINGE_FORMED && r->events[e].order <= vs_hinges_count(r->h))
+      r->events[e].label = vs_hinges_get(r->h, r->events[e].order - 1)->label;
+}
+
+/* Update the hinges at (delta, q); log the hinges that formed. */
+/* js: the joints' states at (delta, q) if the caller has them (NULL: evaluated here). */
+static int track_hinges(vs_run *r, double delta, const double *q, const vs_joint_state *js) {
+  const int before = vs_hinges_count(r->h);
+  if (js != NULL) memcpy(r->js, js, (size_t)r->g->n_joints * sizeof *js);
+  else vs_model_joint_states(r->m, q, delta, r->js);
+  vs_hinges_update(r->h, delta, r->js);
+  for (int i = before; i < vs_hinges_count(r->h); i++) {
+    const vs_hinge *hg = vs_hinges_get(r->h, i);
+    /* at its interpolated onset: delta = rate t holds for every event */
+    if (vs_run_log_event(r, VS_EVENT_HINGE_FORMED, hg->delta_onset / r->dopts.rate,
+                         hg->delta_onset, hg->first, hg->side, hg->label, hg->order) != 0)
+      return -1;
+  }
+  /* the first three get their labels together: fix up the events logged before */
+  if (before < 3 && vs_hinges_count(r->h) >= 3) relabel_events(r);
+  return 0;
+}
+
+/* --- callbacks from the solvers --- */
+
+/* Cumulative solver statistics: the finished segments and phases plus the one under way. */
+static void fill_counters(const vs_run *r, vs_run_sample *s) {
+  s->newton_iterations = r->totals.newton_iterations +
+                         (r->live_path != NULL ? r->live_path->newton_iterations : 0);
+  s->ida_steps = r->dtot.steps + (r->live_dyn != NULL ? r->live_dyn->steps : 0);
+  s->fall_steps = r->fres.steps; /* the fall counts into r->fres as it goes */
+  s->ida_newton_iterations =
+      r->dtot.newton_iterations + (r->live_dyn != NULL ? r->live_dyn->newton_iterations : 0);
+}
+
+/* HOOK (damping): at the self-weight equilibrium, the natural frequencies; Rayleigh damping is
+ * fitted to the two lowest; the ratio every mode gets from the model's damping. Returns non-zero
+ * (with r->modal_st, r->modal_err) when the damping cannot be set. */
+static int damping_setup(vs_run *r, double delta, const double *q) {
+  r->modal_done = 1;
+  vs_error_clear(&r->modal_err);
+  if (3 * r->c.voussoirs > VS_MODAL_MAX_DOF) return 0; /* not computed (not rayleigh: checked) */
+  r->modal_st = vs_modal_compute(r->m, q, delta, VS_MODAL_MAX, &r->modal, &r->modal_err);
+  const int rayleigh = r->c.damping_model == VS_DAMPING_RAYLEIGH;
+  if (r->modal_st != VS_OK && !rayleigh) { /* the modes are only reported: none, then */
+    r->modal_st = VS_OK;
+    return 0;
+  }
+  if (r->modal_st != VS_OK) return 1;
+  if (rayleigh && r->modal.n_modes >= 2) {
+    r->modal_st = vs_damping_apply(r->m, VS_DAMPING_RAYLEIGH, r->c.damping, r->modal.omega[0],
+                                   r->modal.omega[1], &r->ray_alpha, &r->ray_beta, &r->modal_err);
+    if (r->modal_st == VS_OK)
+      r->modal_st = vs_modal_damping_ratios(r->m, q, delta, &r->modal, &r->modal_err);
+  }
+  return r->modal_st != VS_OK;
+}
+
+int vs_run_on_equilibrium(void *user, double delta, const double *q, const vs_model *m) {
+  (void)m;
+  vs_run *r = user;
+  if (!r->modal_done && damping_setup(r, delta, q) != 0) return 1;
+  r->delta = delta;
+  r->t = delta / r->dopts.rate;
+  r->phase = VS_PHASE_QUASISTATIC;
+  if (track_hinges(r, delta, q, NULL) != 0) return 1;
+  if (r->pending_snap >= 0) { /* the first equilibrium after a snap-through */
+    vs_limit_record *l = &r->limits[r->pending_snap];
+    r->pending_snap = -1;
+    l->delta_settled = delta;
+    vs_run_open_hinges(r, l->hinges_after, sizeof l->hinges_after);
+    if (vs_run_log_event(r, VS_EVENT_SNAP_SETTLED, r->t, delta, 0, 0, 0, 0) != 0) return 1;
+  }
+  vs_model_support_reactions(r->m, q, delta, r->react);
+  memcpy(r->react_eq, r->react, sizeof r->react);
+  /* the joints' states of track_hinges, at this equilibrium */
+  vs_run_sample s = {.phase = VS_PHASE_QUASISTATIC, .t = r->t, .delta = delta, .q = q,
+                     .reactions = r->react, .joints = r->js,
+                     .gravity = vs_model_gravity_energy(r->m, q)};
+  for (int k = 0; k < r->g->n_joints; k++) s.elastic += r->js[k].energy;
+  fill_counters(r, &s);
+  return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
+}
+
+/* The mechanism of a collapse is read early in its motion, once the kinetic energy beyond that of
+ * the arch moving bodily at the support's rate has passed this fraction of the collapse threshold
+ * (blocks have then moved by hundredths of a millimetre): later, the falling arch opens joints
+ * everywhere. */
+static const double VS_ONSET_FRACTION = 0.01;
+
+static void snapshot_onset(vs_run *r) {
+  r->n_onset = 0;
+  r->hinges_at_onset = vs_hinges_count(r->h);
+  if (r->hinges_at_onset > 64) r->hinges_at_onset = 64;
+  for (int i = 0; i < r->hinges_at_onset; i++) r->onset_all[i] = *vs_hinges_get(r->h, i);
+  for (int i = 0; i < vs_hinges_count(r->h) && r->n_onset < 8; i++)
+    if (vs_hinges_get(r->h, i)->open) r->onset[r->n_onset++] = *vs_hinges_get(r->h, i);
+}
+
+/* The mechanism is taken at the collapse criterion (the first three hinges, the onset snapshot):
+ * the hinges of the fall after it never change the reported mode or hinges. */
+static void freeze_mechanism(vs_run *r) {
+  if (!r->onset_taken) snapshot_onset(r);
+  r->onset_taken = 1;
+  r->frozen = 1;
+}
+
+int vs_run_on_dyn_sample(void *user, double t, double delta, const double *q, const double *v,
+                         const vs_energy *e) {
+  vs_run *r = user;
+  r->delta = delta;
+  r->t = t;
+  r->phase = VS_PHASE_DYNAMIC;
+  /* the joints' states the integrator evaluated at this state (its commit and energies) */
+  const vs_joint_state *js = vs_dynamic_joint_states(r->dyn);
+  if (!r->frozen && track_hinges(r, delta, q, js) != 0) return 1;
+  const int falling = r->live_dyn != NULL && isfinite(r->live_dyn->t_collapse);
+  if (falling) { /* the onset is the collapse's: debris at rest and moving again is not one */
+  } else if (e->kinetic < r->dopts.rest_ke) {
+    r->onset_taken = 0;
+  } else if (!r->onset_taken &&
+             e->kinetic >= r->ke_move + VS_ONSET_FRACTION * (r->dopts.collapse_ke - r->ke_move)) {
+    snapshot_onset(r);
+    r->onset_taken = 1;
+  }
+  if (!r->frozen && r->live_dyn != NULL && !isnan(r->live_dyn->t_collapse))
+    freeze_mechanism(r); /* the sample at the collapse criterion: nothing after it counts */
+  vs_dynamic_reactions(r->dyn, r->react);
+  vs_run_sample s = {.phase = VS_PHASE_DYNAMIC, .t = t, .delta = delta, .q = q, .v = v,
+                     .energy = e, .reactions = r->react, .joints = js,
+                     .elastic = e->elastic, .gravity = e->gravity};
+  fill_counters(r, &s);
+  return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
+}
+
+int vs_run_on_dyn_event(void *user, const vs_dyn_event *ev, const double *q) {
+  vs_run *r = user;
+  if (!r->frozen && track_hinges(r, ev->delta, q, vs_dynamic_joint_states(r->dyn)) != 0) return 1;
+  char label = 0;
+  for (int i = 0; i < vs_hinges_count(r->h); i++) {
+    const vs_hinge *hg = vs_hinges_get(r->h, i);
+    if (hg->side == ev->side && ev->joint >= hg->first - r->hopts.migrate &&
+        ev->joint <= hg->last + r->hopts.migrate && (hg->open || !ev->opened))
+      label = hg->label;
+  }
+  return vs_run_log_event(r, ev->opened ? VS_EVENT_JOINT_OPENED : VS_EVENT_JOINT_CLOSED, ev->t,
+                          ev->delta, ev->joint, ev->side, label, 0);
+}
+
+int vs_run_on_fall_sample(void *user, double t, double delta, const double *q, const double *v,
+                          const vs_energy *e) {
+  vs_run *r = user;
+  r->delta = delta;
+  r->t = t;
+  r->phase = VS_PHASE_FALL;
+  vs_fall_reactions(r->fall, r->react);
+  vs_run_sample s = {.phase = VS_PHASE_FALL, .t = t, .delta = delta, .q = q, .v = v,
+                     .energy = e, .reactions = r->react, .joints = vs_fall_joint_states(r->fall),
+                     .elastic = e->elastic, .gravity = e->gravity};
+  fill_counters(r, &s);
+  return r->sample_fn != NULL ? r->sample_fn(r->user, r, &s) : 0;
+}
+
+/* --- the mechanism of the collapse --- */
+
+static int cmp_hinge_first(const void *x, const void *y) {
+  const vs_hinge *a = x, *b = y;
+  return (a->first > b->first) - (a->first < b->first);
+}
+
+void vs_run_record_collapse(vs_run *r, const vs_dyn_result *d) {
+  vs_collapse_record *c = &r->collapse;
+  c->found = 1;
+  c->t_criterion = d->t_collapse;
+  c->delta_detected = d->t_collapse * r->dopts.rate;
+  c->t_onset = (d->onset_found && d->t_motion <= d->t_collapse) ? d->t_motion : NAN;
+  /* the departure: the limit point the motion started from, or (--dynamic) its located onset */
+  c->delta = (!r->c.full && r->n_limits > 0) ? r->limits[r->n_limits - 1].delta
+                                             : c->t_onset * r->dopts.rate;
+  c->t = c->delta / r->dopts.rate;
+  if (!r->frozen) freeze_mechanism(r); /* (frozen at the collapse criterion's sample) */
+  vs_run_name_first(r, r->hinges_at_onset); /* the snapshot's hinges take the names too */
+  for (int i = 0; i < r->hinges_at_onset; i++) r->onset_all[i].label = vs_hinges_get(r->h, i)->label;
+  for (int i = 0; i < r->n_onset; i++) r->onset[i].label = vs_hinges_get(r->h, r->onset[i].order - 1)->label;
+  c->n_hinges = r->n_onset;
+  memcpy(c->hinges, r->onset, (size_t)r->n_onset * sizeof r->onset[0]);
+  qsort(c->hinges, (size_t)c->n_hinges, sizeof c->hinges[0], cmp_hinge_first);
+  memcpy(c->reactions_limit, r->react_eq, sizeof r->react_eq);
+}
+
+/* Modes (docs/vocabulary.md) from the first three hinges (A, B, C, left to right) and the hinges at the
+ * collapse. */
+void vs_run_classify(vs_run *r) {
+  r->mode = NULL;
+  r->pattern_u[0] = '\0';
+  vs_hinges_pattern_first(r->h, r->pattern0, sizeof r->pattern0);
+  if (r->collapse.found)
+    vs_hinges_side_pattern(r->collapse.hinges, r->collapse.n_hinges, r->pattern_u,
+                           sizeof r->pattern_u);
+  if (r->collapse.found && r->pattern0[0] != '\0')
+    r->mode = vs_hinges_mode(r->pattern0, r->pattern_u);
+}
