@@ -1,249 +1,13 @@
 /* The model: equilibrium residual of the rigid blocks and its analytic CSC Jacobian, both
  * assembled from one joint-law evaluation per joint. The block adjacency (and so the CSC
- * pattern and the scatter map of every joint's 6x6 stiffness) is built once at creation. */
-#include "voussoir/model.h"
+ * pattern and the scatter map of every joint's 6x6 stiffness) is built once at creation
+ * (model_pattern.c). */
+#include "model_internal.h"
 #include "voussoir/support.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sunmatrix/sunmatrix_sparse.h>
-
-/* A CSC pattern over the unknowns of a system: dof[3 slot + c] is the unknown of component c
- * (ux, uz, theta) of body slot (block i: slot i; left support: n_blocks, right: n_blocks + 1),
- * -1 where that component is prescribed. Per column, its rows are sorted. */
-typedef struct {
-  int n; /* unknowns */
-  int *dof;
-  sunindextype *colptr, *rowind;
-  int nnz;
-  sunindextype *scatter; /* per joint, 36: CSC position of K[6 i + j] (-1: prescribed) */
-  int *jdof;             /* per joint, 6: the unknowns of its components (joint_dofs) */
-  unsigned char *full;   /* per joint: all six are unknowns (none prescribed) */
-} vs_pattern;
-
-struct vs_model {
-  const vs_geometry *g;
-  vs_joint_law law;
-  vs_joint_law *laws; /* per joint: the law (the nominal one unless an imperfection changed it) */
-  double dir[2];   /* unit direction of the right support's motion */
-  double offset[2]; /* initial offset of the right support, m (imperfections) */
-  double mscale;    /* misfit factor: fraction of the face gaps and support offset applied */
-  int n;           /* unknowns, 3 per block */
-  double *ra, *rb; /* per joint: reference point of body a/b -> joint centre, m */
-  double *slip_p;  /* per joint: committed plastic slip, m */
-  double zeta;     /* damping ratio */
-  double alpha_m;  /* mass-proportional damping coefficient (Rayleigh), 1/s */
-  double beta_k;   /* stiffness-proportional damping coefficient (Rayleigh), s */
-  int damped;      /* any joint dashpot coefficient > 0 */
-  double gscale;   /* gravity load factor (1: the arch's own weight) */
-  double *cn, *cs; /* per joint: damping coefficients, N s/m^3 */
-  int pinned[2];   /* left, right: 1 if the support is pinned (its rotation free) */
-  vs_pattern pat;  /* statics: the blocks' 3 n_blocks unknowns, then the pinned supports' rotations */
-  struct memo *memo; /* the joints' points at the last residual or joints' states (memo_*) */
-  vs_pattern pate; /* with the two supports as bodies n_blocks (left) and n_blocks + 1 (right) */
-  /* workspaces of one evaluation (written by the const functions: the pointers are the model's,
-   * the contents scratch): every body's half angle (vs_joint_half_angle; slots as body_slot),
-   * and damping forces over the extended unknowns; the rotation each half angle is of */
-  double *rot, *fdw, *rot_of;
-};
-
-/* The joints' points (vs_joint_point) of the last static residual or joints' states, with the
- * block states and support states they are of: a Jacobian, residual or joints' states at the
- * same states (bit for bit) takes them instead of evaluating the joints again -- KINSOL's
- * Jacobian at the iterate its line search just evaluated, the scaled residual and the stability
- * test at a converged equilibrium. Whatever else the joints depend on (plastic slips, laws, the
- * misfit factor) drops it when it changes (memo_drop). Written by const functions: scratch. */
-struct memo {
-  int ok;
-  double *q, qs[6];   /* the blocks' (3 n_blocks) and the supports' states */
-  vs_joint_point *pt; /* per joint */
-};
-
-static void memo_drop(const vs_model *m);
-
-static int body_is_block(int body) { return body >= 0; }
-
-/* Where the (ux, uz, theta) of a body are -- or its velocities: a block's in q, a support's in qs
- * (left (ux, uz, theta), then right). */
-static const double *body_ptr(const double *q, const double qs[6], int body) {
-  return body >= 0 ? q + 3 * body : qs + (body == VS_SUPPORT_LEFT ? 0 : 3);
-}
-
-/* The (ux, uz, theta) of a body -- or its velocities: a block's from q, a support's from qs
- * (left (ux, uz, theta), then right). */
-static void body_q(const double *q, const double qs[6], int body, double out[3]) {
-  const double *src = body_is_block(body) ? q + 3 * body : qs + (body == VS_SUPPORT_LEFT ? 0 : 3);
-  memcpy(out, src, 3 * sizeof(double));
-}
-
-/* Slot of a body in a pattern's dof map: a block's index, n_blocks (left), n_blocks + 1. */
-static int body_slot(const vs_model *m, int body) {
-  if (body_is_block(body)) return body;
-  return m->g->n_blocks + (body == VS_SUPPORT_LEFT ? 0 : 1);
-}
-
-/* The supports' states prescribed by delta (or their velocities, given d(delta)/dt): the left
- * one fixed, the right one translated by delta along dir; a pinned support's rotation is the
- * static unknown q[dof] (NULL q: zero). */
-static void sup_state_q(const vs_model *m, const double *q, double delta, double qs[6]) {
-  qs[0] = qs[1] = qs[2] = qs[5] = 0.0;
-  qs[3] = delta * m->dir[0];
-  qs[4] = delta * m->dir[1];
-  for (int s = 0; s < 2 && q != NULL; s++) {
-    const int d = m->pat.dof[3 * (m->g->n_blocks + s) + 2];
-    if (d >= 0) qs[3 * s + 2] = q[d];
-  }
-}
-
-/* The supports' positions: sup_state_q and the right support's initial offset (an
- * imperfection, times the misfit factor); velocities do not have it. */
-static void sup_pos_q(const vs_model *m, const double *q, double delta, double qs[6]) {
-  sup_state_q(m, q, delta, qs);
-  if (m->offset[0] != 0.0 || m->offset[1] != 0.0) {
-    qs[3] += m->mscale * m->offset[0];
-    qs[4] += m->mscale * m->offset[1];
-  }
-}
-
-static void pattern_free(vs_pattern *p) {
-  free(p->scatter);
-  free(p->jdof);
-  free(p->full);
-  free(p->colptr);
-  free(p->rowind);
-  free(p->dof);
-  memset(p, 0, sizeof *p);
-}
-
-/* Sort the np (column, row) pairs by column, then row: counting sort on the columns (0..n-1),
- * insertion sort of each column's few rows -- linear in the pairs, where a comparison sort
- * was the largest cost of creating a model. Returns -1 when out of memory. */
-static int sort_pairs(sunindextype *pairs, size_t np, int n) {
-  size_t *start = calloc((size_t)n + 1, sizeof *start);
-  sunindextype *out = malloc((np > 0 ? 2 * np : 1) * sizeof *out);
-  if (start == NULL || out == NULL) {
-    free(start);
-    free(out);
-    return -1;
-  }
-  for (size_t e = 0; e < np; e++) start[pairs[2 * e] + 1]++;
-  for (int c = 0; c < n; c++) start[c + 1] += start[c];
-  for (size_t e = 0; e < np; e++) { /* stable: start[c] runs over column c's slots */
-    const size_t at = start[pairs[2 * e]]++;
-    out[2 * at] = pairs[2 * e];
-    out[2 * at + 1] = pairs[2 * e + 1];
-  }
-  for (size_t e = 1; e < np; e++) { /* rows within a column (columns are in order already) */
-    const sunindextype c = out[2 * e], r = out[2 * e + 1];
-    size_t i = e;
-    for (; i > 0 && out[2 * i - 2] == c && out[2 * i - 1] > r; i--) out[2 * i + 1] = out[2 * i - 1];
-    out[2 * i + 1] = r;
-  }
-  memcpy(pairs, out, 2 * np * sizeof *pairs);
-  free(start);
-  free(out);
-  return 0;
-}
-
-/* Add the couplings among n unknowns d[] (entries < 0 skipped) to the pair list. */
-static void add_pairs(const int *d, int n, sunindextype *pairs, size_t *np) {
-  for (int i = 0; i < n; i++)
-    for (int j = 0; j < n; j++)
-      if (d[i] >= 0 && d[j] >= 0) {
-        pairs[2 * *np] = d[j];
-        pairs[2 * *np + 1] = d[i];
-        (*np)++;
-      }
-}
-
-static void joint_dofs(const vs_model *m, const vs_pattern *p, int k, int d[6]);
-static sunindextype csc_pos(const vs_pattern *p, int row, int col);
-
-/* The scatter map of p: where each entry of every joint's 6x6 matrix adds in the CSC values. */
-static vs_status build_scatter(const vs_model *m, vs_pattern *p, vs_error *err) {
-  const int nj = m->g->n_joints;
-  p->scatter = malloc(36 * (size_t)(nj > 0 ? nj : 1) * sizeof *p->scatter);
-  p->jdof = malloc(6 * (size_t)(nj > 0 ? nj : 1) * sizeof *p->jdof);
-  p->full = malloc((size_t)(nj > 0 ? nj : 1));
-  if (p->scatter == NULL || p->jdof == NULL || p->full == NULL)
-    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
-  for (int k = 0; k < nj; k++) {
-    int *d = p->jdof + 6 * k;
-    joint_dofs(m, p, k, d);
-    p->full[k] = d[0] >= 0 && d[1] >= 0 && d[2] >= 0 && d[3] >= 0 && d[4] >= 0 && d[5] >= 0;
-    for (int i = 0; i < 6; i++)
-      for (int j = 0; j < 6; j++)
-        p->scatter[36 * k + 6 * i + j] = (d[i] >= 0 && d[j] >= 0) ? csc_pos(p, d[i], d[j]) : -1;
-  }
-  return VS_OK;
-}
-
-/* CSC pattern of p (p->n, p->dof set by the caller): every body's components with each other
- * and every joint's two bodies' components with each other. */
-static vs_status build_pattern(const vs_model *m, vs_pattern *p, vs_error *err) {
-  const vs_geometry *g = m->g;
-  const size_t cap = 9 * (size_t)(g->n_blocks + 2) + 36 * (size_t)g->n_joints;
-  sunindextype *pairs = malloc(2 * cap * sizeof *pairs);
-  p->colptr = malloc(((size_t)p->n + 1) * sizeof *p->colptr);
-  if (pairs == NULL || p->colptr == NULL) {
-    free(pairs);
-    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
-  }
-  size_t np = 0;
-  for (int b = 0; b < g->n_blocks + 2; b++) add_pairs(p->dof + 3 * b, 3, pairs, &np);
-  for (int k = 0; k < g->n_joints; k++) {
-    const int sa = body_slot(m, g->joints[k].a), sb = body_slot(m, g->joints[k].b);
-    int d[6];
-    for (int c = 0; c < 3; c++) {
-      d[c] = p->dof[3 * sa + c];
-      d[3 + c] = p->dof[3 * sb + c];
-    }
-    add_pairs(d, 6, pairs, &np);
-  }
-  if (sort_pairs(pairs, np, p->n) != 0) {
-    free(pairs);
-    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
-  }
-  p->rowind = malloc((np > 0 ? np : 1) * sizeof *p->rowind);
-  if (p->rowind == NULL) {
-    free(pairs);
-    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
-  }
-  int w = 0, col = 0;
-  for (size_t e = 0; e < np; e++) {
-    if (e > 0 && pairs[2 * e] == pairs[2 * e - 2] && pairs[2 * e + 1] == pairs[2 * e - 1]) continue;
-    while (col <= pairs[2 * e]) p->colptr[col++] = w;
-    p->rowind[w++] = pairs[2 * e + 1];
-  }
-  while (col <= p->n) p->colptr[col++] = w;
-  p->nnz = w;
-  free(pairs);
-  return build_scatter(m, p, err);
-}
-
-/* Dof maps: statics (blocks, then the pinned supports' rotations) and the extended system
- * (blocks, then all six components of the two supports). */
-static vs_status build_patterns(vs_model *m, vs_error *err) {
-  const int nb = m->g->n_blocks, nslot = 3 * (nb + 2);
-  pattern_free(&m->pat);
-  pattern_free(&m->pate);
-  m->pat.dof = malloc((size_t)nslot * sizeof(int));
-  m->pate.dof = malloc((size_t)nslot * sizeof(int));
-  if (m->pat.dof == NULL || m->pate.dof == NULL)
-    return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
-  for (int i = 0; i < nslot; i++) {
-    m->pate.dof[i] = i;
-    m->pat.dof[i] = i < 3 * nb ? i : -1;
-  }
-  m->pat.n = 3 * nb;
-  for (int s = 0; s < 2; s++)
-    if (m->pinned[s]) m->pat.dof[3 * (nb + s) + 2] = m->pat.n++;
-  m->pate.n = nslot;
-  m->n = m->pat.n;
-  vs_status st = build_pattern(m, &m->pat, err);
-  return st == VS_OK ? build_pattern(m, &m->pate, err) : st;
-}
 
 vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double alpha_rad,
                           vs_model **out, vs_error *err) {
@@ -296,7 +60,7 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
       m->rb[2 * k + 1] = j->pz - g->blocks[j->b].cz;
     }
   }
-  vs_status st = build_patterns(m, err);
+  vs_status st = vs_model_build_patterns(m, err);
   if (st != VS_OK) {
     vs_model_destroy(&m);
     return st;
@@ -322,8 +86,8 @@ void vs_model_destroy(vs_model **m) {
     free(p->memo);
   }
   free(p->fdw);
-  pattern_free(&p->pat);
-  pattern_free(&p->pate);
+  vs_model_pattern_free(&p->pat);
+  vs_model_pattern_free(&p->pate);
   free(p);
   *m = NULL;
 }
@@ -337,7 +101,7 @@ vs_status vs_model_set_support_kinds(vs_model *m, vs_support_kind left, vs_suppo
                           s == 0 ? "left" : "right", (int)k[s]);
   m->pinned[0] = left == VS_SUPPORT_PINNED;
   m->pinned[1] = right == VS_SUPPORT_PINNED;
-  return build_patterns(m, err);
+  return vs_model_build_patterns(m, err);
 }
 
 vs_support_kind vs_model_support_kind(const vs_model *m, int right) {
@@ -403,354 +167,6 @@ void vs_model_set_misfit_scale(vs_model *m, double s) {
   memo_drop(m); /* the joints' initial gaps scale with it */
 }
 
-/* The law of joint k at the current misfit factor (vs_model_set_misfit_scale). */
-static const vs_joint_law *law_at(const vs_model *m, int k, vs_joint_law *tmp) {
-  const vs_joint_law *l = &m->laws[k];
-  if (m->mscale == 1.0 || (l->gap0 == 0.0 && l->gap1 == 0.0)) return l;
-  *tmp = *l;
-  tmp->gap0 *= m->mscale;
-  tmp->gap1 *= m->mscale;
-  return tmp;
-}
-
-/* The half angle of body slot i at rotation theta into m->rot, unless it holds that of the same
- * rotation already (bit for bit): a Jacobian at the state of the last residual, the joints'
- * states at a converged equilibrium and the rotations a step leaves alone take no sincos. */
-static void half_angle_of(const vs_model *m, int i, double theta) {
-  if (memcmp(&m->rot_of[i], &theta, sizeof theta) == 0) return;
-  vs_joint_half_angle(theta, m->rot + 2 * i);
-  m->rot_of[i] = theta;
-}
-
-/* Every body's half angle at block states q and support states qs into m->rot (half_angle_of);
- * eval_joint with rot = 1 then reads them. */
-static void half_angles(const vs_model *m, const double *q, const double qs[6]) {
-  const int nb = m->g->n_blocks;
-  for (int i = 0; i < nb; i++) half_angle_of(m, i, q[3 * i + 2]);
-  half_angle_of(m, nb, qs[2]);
-  half_angle_of(m, nb + 1, qs[5]);
-}
-
-static const double *body_rot(const vs_model *m, int body) { return m->rot + 2 * body_slot(m, body); }
-
-/* One joint at block states q and support states qs; rot: m->rot holds the half angles of this
- * state (half_angles), else they are computed for the two bodies (a pass over a few joints). */
-static void eval_joint(const vs_model *m, const double *q, const double qs[6], int k, int rot,
-                       vs_joint_state *st, double f[6], double K[36]) {
-  const vs_joint_geom *j = &m->g->joints[k];
-  double qa[3], qb[3], ha[2], hb[2];
-  body_q(q, qs, j->a, qa);
-  body_q(q, qs, j->b, qb);
-  if (rot) {
-    memcpy(ha, body_rot(m, j->a), sizeof ha);
-    memcpy(hb, body_rot(m, j->b), sizeof hb);
-  } else {
-    vs_joint_half_angle(qa[2], ha);
-    vs_joint_half_angle(qb[2], hb);
-  }
-  vs_joint_law tmp;
-  vs_joint_eval_h(j, law_at(m, k, &tmp), qa, qb, ha, hb, m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k],
-                  st, f, K);
-}
-
-/* --- the joints' points kept (struct memo) --- */
-
-static void memo_drop(const vs_model *m) { m->memo->ok = 0; }
-
-/* The memo holds the points at block states q and support states qs. */
-static int memo_hit(const vs_model *m, const double *q, const double qs[6]) {
-  const struct memo *mm = m->memo;
-  return mm->ok && memcmp(mm->qs, qs, sizeof mm->qs) == 0 &&
-         memcmp(mm->q, q, 3 * (size_t)m->g->n_blocks * sizeof *q) == 0;
-}
-
-/* Joint k's point at (q, qs) into the memo (half_angles done). */
-static void memo_eval(const vs_model *m, const double *q, const double qs[6], int k) {
-  const vs_joint_geom *j = &m->g->joints[k];
-  double qa[3], qb[3];
-  body_q(q, qs, j->a, qa);
-  body_q(q, qs, j->b, qb);
-  vs_joint_law tmp;
-  vs_joint_point_eval(j, law_at(m, k, &tmp), qa, qb, body_rot(m, j->a), body_rot(m, j->b),
-                      m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k], &m->memo->pt[k]);
-}
-
-/* Evaluate every joint at (q, qs) into the memo (half_angles done) and key it. */
-static void memo_fill(const vs_model *m, const double *q, const double qs[6]) {
-  struct memo *mm = m->memo;
-  for (int k = 0; k < m->g->n_joints; k++) memo_eval(m, q, qs, k);
-  memcpy(mm->q, q, 3 * (size_t)m->g->n_blocks * sizeof *q);
-  memcpy(mm->qs, qs, sizeof mm->qs);
-  mm->ok = 1;
-}
-
-/* Joint k's outputs from the memo (as eval_joint's at the memo's states). */
-static void memo_out(const vs_model *m, int k, vs_joint_state *st, double f[6], double K[36]) {
-  vs_joint_law tmp;
-  vs_joint_point_out(&m->g->joints[k], law_at(m, k, &tmp), &m->memo->pt[k], st, f, K);
-}
-
-/* The unknowns of joint k's six components (body a's, then b's) in pattern p, -1 if prescribed. */
-static void joint_dofs(const vs_model *m, const vs_pattern *p, int k, int d[6]) {
-  const int sa = body_slot(m, m->g->joints[k].a), sb = body_slot(m, m->g->joints[k].b);
-  for (int c = 0; c < 3; c++) {
-    d[c] = p->dof[3 * sa + c];
-    d[3 + c] = p->dof[3 * sb + c];
-  }
-}
-
-/* Residual over the unknowns of pattern p (G has p->n entries); the joints' points are kept
- * (struct memo) for a Jacobian at the same state. */
-static void residual_core(const vs_model *m, const vs_pattern *p, const double *q,
-                          const double qs[6], double *G) {
-  const vs_geometry *g = m->g;
-  memset(G, 0, (size_t)p->n * sizeof *G);
-  for (int i = 0; i < g->n_blocks; i++)
-    G[3 * i + 1] = m->gscale * g->blocks[i].mass * g->gravity; /* minus the load -m g */
-  if (!memo_hit(m, q, qs)) {
-    half_angles(m, q, qs);
-    memo_fill(m, q, qs);
-  }
-  for (int k = 0; k < g->n_joints; k++) {
-    double f[6];
-    memo_out(m, k, NULL, f, NULL);
-    const int *d = p->jdof + 6 * k;
-    for (int e = 0; e < 6; e++)
-      if (d[e] >= 0) G[d[e]] += f[e];
-  }
-}
-
-void vs_model_residual(const vs_model *m, const double *q, double delta, double *G) {
-  double qs[6];
-  sup_pos_q(m, q, delta, qs);
-  residual_core(m, &m->pat, q, qs, G);
-}
-
-/* Position in the CSC data of entry (row, col); the rows of a column are sorted. */
-static sunindextype csc_pos(const vs_pattern *p, int row, int col) {
-  sunindextype lo = p->colptr[col], hi = p->colptr[col + 1] - 1;
-  while (lo < hi) {
-    const sunindextype mid = (lo + hi) / 2;
-    if (p->rowind[mid] < row) lo = mid + 1;
-    else hi = mid;
-  }
-  return lo;
-}
-
-/* Write the CSC pattern into A, zero its values and return them. */
-static double *csc_reset(const vs_pattern *p, SUNMatrix A) {
-  memcpy(SUNSparseMatrix_IndexPointers(A), p->colptr, ((size_t)p->n + 1) * sizeof(sunindextype));
-  memcpy(SUNSparseMatrix_IndexValues(A), p->rowind, (size_t)p->nnz * sizeof(sunindextype));
-  double *data = SUNSparseMatrix_Data(A);
-  memset(data, 0, (size_t)p->nnz * sizeof *data);
-  return data;
-}
-
-/* Add joint k's 6x6 matrix (row-major, rows and columns (body a, body b)) into the CSC values
- * of p, through its scatter map (column by column, as the pattern). */
-static void scatter_joint(const vs_pattern *p, int k, const double Kj[36], double *data) {
-  const sunindextype *pos = p->scatter + 36 * k;
-  for (int j = 0; j < 6; j++)
-    for (int i = 0; i < 6; i++)
-      if (pos[6 * i + j] >= 0) data[pos[6 * i + j]] += Kj[6 * i + j];
-}
-
-static void jacobian_core(const vs_model *m, const vs_pattern *p, const double *q,
-                          const double qs[6], SUNMatrix J) {
-  double *data = csc_reset(p, J);
-  const vs_geometry *g = m->g;
-  const int hit = memo_hit(m, q, qs);
-  if (!hit) half_angles(m, q, qs);
-  for (int k = 0; k < g->n_joints; k++) {
-    double K[36];
-    if (hit) memo_out(m, k, NULL, NULL, K);
-    else eval_joint(m, q, qs, k, 1, NULL, NULL, K);
-    scatter_joint(p, k, K, data);
-  }
-}
-
-int vs_model_jacobian(const vs_model *m, const double *q, double delta, SUNMatrix J) {
-  double qs[6];
-  sup_pos_q(m, q, delta, qs);
-  jacobian_core(m, &m->pat, q, qs, J);
-  return 0;
-}
-
-void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double *out) {
-  const vs_geometry *g = m->g;
-  double qs[6];
-  sup_pos_q(m, q, delta, qs);
-  memset(out, 0, (size_t)m->n * sizeof *out);
-  for (int k = 0; k < g->n_joints; k++) {
-    const int body[2] = {g->joints[k].a, g->joints[k].b};
-    int ss = (body[1] == VS_SUPPORT_RIGHT) ? 1 : (body[0] == VS_SUPPORT_RIGHT) ? 0 : -1;
-    if (ss < 0) continue;
-    double K[36];
-    int d[6];
-    eval_joint(m, q, qs, k, 0, NULL, NULL, K);
-    joint_dofs(m, &m->pat, k, d);
-    for (int e = 0; e < 6; e++) {
-      if (d[e] < 0) continue;
-      const double *row = K + 6 * e + 3 * ss;
-      out[d[e]] += row[0] * m->dir[0] + row[1] * m->dir[1];
-    }
-  }
-}
-
-/* The joints' states at (q, qs); keep: through the memo (a static state: the Jacobian or
- * commit that follows at the same state takes them), else evaluated directly (the dynamic
- * phase's states, which never recur). */
-static void joint_states_core(const vs_model *m, const double *q, const double qs[6],
-                              vs_joint_state *st, int keep) {
-  if (keep && memo_hit(m, q, qs)) {
-    for (int k = 0; k < m->g->n_joints; k++) memo_out(m, k, &st[k], NULL, NULL);
-    return;
-  }
-  half_angles(m, q, qs);
-  if (keep) {
-    memo_fill(m, q, qs);
-    for (int k = 0; k < m->g->n_joints; k++) memo_out(m, k, &st[k], NULL, NULL);
-    return;
-  }
-  for (int k = 0; k < m->g->n_joints; k++) eval_joint(m, q, qs, k, 1, &st[k], NULL, NULL);
-}
-
-void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_joint_state *st) {
-  double qs[6];
-  sup_pos_q(m, q, delta, qs);
-  joint_states_core(m, q, qs, st, 1);
-}
-
-/* The plastic slips change. With the memo at these states, a joint whose slip moved is
- * evaluated again into it, so that it stays the joints' points (the joints' states of the
- * equilibrium just committed, which the hinge tracker reads next, are then taken from it);
- * otherwise the memo is dropped. */
-static int commit_core(vs_model *m, const double *q, const double qs[6]) {
-  int slid = 0, rot = 0;
-  const int hit = memo_hit(m, q, qs);
-  if (!hit) half_angles(m, q, qs);
-  for (int k = 0; k < m->g->n_joints; k++) {
-    vs_joint_state st;
-    if (hit) memo_out(m, k, &st, NULL, NULL);
-    else eval_joint(m, q, qs, k, 1, &st, NULL, NULL);
-    if (st.sliding && st.N > 0.0) slid++;
-    const double old = m->slip_p[k];
-    m->slip_p[k] = st.slip_p;
-    if (!hit || memcmp(&old, &st.slip_p, sizeof old) == 0) continue;
-    if (!rot) half_angles(m, q, qs), rot = 1; /* m->rot may hold another state's */
-    memo_eval(m, q, qs, k);
-  }
-  if (!hit) memo_drop(m);
-  return slid;
-}
-
-int vs_model_commit_states(vs_model *m, const vs_joint_state *st) {
-  int slid = 0;
-  memo_drop(m);
-  for (int k = 0; k < m->g->n_joints; k++) {
-    if (st[k].sliding && st[k].N > 0.0) slid++;
-    m->slip_p[k] = st[k].slip_p;
-  }
-  return slid;
-}
-
-double vs_model_gravity_energy(const vs_model *m, const double *q) {
-  const vs_geometry *g = m->g;
-  double eg = 0.0;
-  for (int i = 0; i < g->n_blocks; i++) eg += m->gscale * g->blocks[i].mass * g->gravity * q[3 * i + 1];
-  return eg;
-}
-
-int vs_model_commit(vs_model *m, const double *q, double delta) {
-  double qs[6];
-  sup_pos_q(m, q, delta, qs);
-  return commit_core(m, q, qs);
-}
-
-void vs_model_reactions(const vs_model *m, const double *q, double delta, double left[2],
-                        double right[2]) {
-  double qs[6];
-  sup_pos_q(m, q, delta, qs);
-  left[0] = left[1] = right[0] = right[1] = 0.0;
-  for (int k = 0; k < m->g->n_joints; k++) {
-    const vs_joint_geom *j = &m->g->joints[k];
-    if (body_is_block(j->a) && body_is_block(j->b)) continue; /* not at a support */
-    double f[6];
-    eval_joint(m, q, qs, k, 0, NULL, f, NULL);
-    /* f on a support's translation is dE/du_support; the arch pushes it with -f */
-    const int body[2] = {j->a, j->b};
-    for (int s = 0; s < 2; s++) {
-      double *r = (body[s] == VS_SUPPORT_LEFT) ? left : (body[s] == VS_SUPPORT_RIGHT) ? right : NULL;
-      if (r == NULL) continue;
-      r[0] -= f[3 * s];
-      r[1] -= f[3 * s + 1];
-    }
-  }
-}
-
-void vs_model_support_reactions(const vs_model *m, const double *q, double delta, double out[6]) {
-  double qs[6];
-  sup_pos_q(m, q, delta, qs);
-  memset(out, 0, 6 * sizeof *out);
-  for (int k = 0; k < m->g->n_joints; k++) {
-    const vs_joint_geom *j = &m->g->joints[k];
-    if (body_is_block(j->a) && body_is_block(j->b)) continue; /* not at a support */
-    double f[6];
-    eval_joint(m, q, qs, k, 0, NULL, f, NULL);
-    /* f on a support's coordinates is dE/dq_support: the arch pulls the support with -f, the
-     * support pushes the arch with +f */
-    const int body[2] = {j->a, j->b};
-    for (int s = 0; s < 2; s++)
-      if (!body_is_block(body[s]))
-        for (int c = 0; c < 3; c++) out[(body[s] == VS_SUPPORT_LEFT ? 0 : 3) + c] += f[3 * s + c];
-  }
-}
-
-static void energies_core(const vs_model *m, const double *q, const double qs[6], double *elastic,
-                          double *gravity) {
-  const vs_geometry *g = m->g;
-  double ee = 0.0;
-  const double eg = vs_model_gravity_energy(m, q);
-  half_angles(m, q, qs);
-  for (int k = 0; k < g->n_joints; k++) {
-    vs_joint_state st;
-    eval_joint(m, q, qs, k, 1, &st, NULL, NULL);
-    ee += st.energy;
-  }
-  *elastic = ee;
-  *gravity = eg;
-}
-
-double vs_model_energy(const vs_model *m, const double *q, double delta) {
-  double ee, eg;
-  vs_model_energies(m, q, delta, &ee, &eg);
-  return ee + eg;
-}
-
-void vs_model_residual_scale(const vs_model *m, double *scale) {
-  const vs_geometry *g = m->g;
-  for (int i = 0; i < g->n_blocks; i++) {
-    double len = 0.0;
-    for (int k = 0; k < g->n_joints; k++)
-      if (g->joints[k].a == i || g->joints[k].b == i) len = fmax(len, g->joints[k].length);
-    if (!(len > 0.0)) len = sqrt(g->blocks[i].area);
-    const double w = g->blocks[i].mass * g->gravity;
-    scale[3 * i] = w;
-    scale[3 * i + 1] = w;
-    scale[3 * i + 2] = w * len;
-  }
-  /* a pinned support's rotation: the moment of its neighbouring block's weight over the joint */
-  for (int k = 0; k < g->n_joints; k++) {
-    const vs_joint_geom *j = &g->joints[k];
-    const int sup = body_is_block(j->a) ? j->b : j->a, blk = body_is_block(j->a) ? j->a : j->b;
-    if (body_is_block(sup) || !body_is_block(blk)) continue;
-    const int d = m->pat.dof[3 * body_slot(m, sup) + 2];
-    if (d >= 0) scale[d] = g->blocks[blk].mass * g->gravity * j->length;
-  }
-}
-
-/* --- dynamics --- */
-
 void vs_model_set_damping(vs_model *m, double zeta) {
   const vs_geometry *g = m->g;
   m->zeta = zeta;
@@ -779,6 +195,379 @@ void vs_model_set_rayleigh(vs_model *m, double alpha, double beta) {
 void vs_model_set_gravity_scale(vs_model *m, double lambda) { m->gscale = lambda; }
 double vs_model_gravity_scale(const vs_model *m) { return m->gscale; }
 
+/* --- driven supports: the extended state qe = (blocks, left support, right support) --- */
+
+int vs_model_ext_size(const vs_model *m) { return m->pate.n; }
+int vs_model_ext_nnz(const vs_model *m) { return m->pate.nnz; }
+
+void vs_model_support_states(const vs_model *m, double delta, double rate, double qs[6],
+                             double vs[6]) {
+  sup_pos_q(m, NULL, delta, qs);
+  sup_state_q(m, NULL, rate, vs);
+}
+
+/* --- the joints evaluated at a state --- */
+
+/* The half angle of body slot i at rotation theta into m->rot, unless it holds that of the same
+ * rotation already (bit for bit): a Jacobian at the state of the last residual, the joints'
+ * states at a converged equilibrium and the rotations a step leaves alone take no sincos. */
+static void half_angle_of(const vs_model *m, int i, double theta) {
+  if (memcmp(&m->rot_of[i], &theta, sizeof theta) == 0) return;
+  vs_joint_half_angle(theta, m->rot + 2 * i);
+  m->rot_of[i] = theta;
+}
+
+/* Every body's half angle at block states q and support states qs into m->rot (half_angle_of);
+ * vs_model_eval_joint with rot = 1 then reads them. */
+void vs_model_half_angles(const vs_model *m, const double *q, const double qs[6]) {
+  const int nb = m->g->n_blocks;
+  for (int i = 0; i < nb; i++) half_angle_of(m, i, q[3 * i + 2]);
+  half_angle_of(m, nb, qs[2]);
+  half_angle_of(m, nb + 1, qs[5]);
+}
+
+/* One joint at block states q and support states qs; rot: m->rot holds the half angles of this
+ * state (vs_model_half_angles), else they are computed for the two bodies (a pass over a few
+ * joints). */
+void vs_model_eval_joint(const vs_model *m, const double *q, const double qs[6], int k, int rot,
+                         vs_joint_state *st, double f[6], double K[36]) {
+  const vs_joint_geom *j = &m->g->joints[k];
+  double qa[3], qb[3], ha[2], hb[2];
+  body_q(q, qs, j->a, qa);
+  body_q(q, qs, j->b, qb);
+  if (rot) {
+    memcpy(ha, body_rot(m, j->a), sizeof ha);
+    memcpy(hb, body_rot(m, j->b), sizeof hb);
+  } else {
+    vs_joint_half_angle(qa[2], ha);
+    vs_joint_half_angle(qb[2], hb);
+  }
+  vs_joint_law tmp;
+  vs_joint_eval_h(j, law_at(m, k, &tmp), qa, qb, ha, hb, m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k],
+                  st, f, K);
+}
+
+/* The memo holds the points at block states q and support states qs. */
+int vs_model_memo_hit(const vs_model *m, const double *q, const double qs[6]) {
+  const struct vs_model_memo *mm = m->memo;
+  return mm->ok && memcmp(mm->qs, qs, sizeof mm->qs) == 0 &&
+         memcmp(mm->q, q, 3 * (size_t)m->g->n_blocks * sizeof *q) == 0;
+}
+
+/* Joint k's point at (q, qs) into the memo (vs_model_half_angles done). */
+void vs_model_memo_eval(const vs_model *m, const double *q, const double qs[6], int k) {
+  const vs_joint_geom *j = &m->g->joints[k];
+  double qa[3], qb[3];
+  body_q(q, qs, j->a, qa);
+  body_q(q, qs, j->b, qb);
+  vs_joint_law tmp;
+  vs_joint_point_eval(j, law_at(m, k, &tmp), qa, qb, body_rot(m, j->a), body_rot(m, j->b),
+                      m->ra + 2 * k, m->rb + 2 * k, m->slip_p[k], &m->memo->pt[k]);
+}
+
+/* Evaluate every joint at (q, qs) into the memo (vs_model_half_angles done) and key it. */
+void vs_model_memo_fill(const vs_model *m, const double *q, const double qs[6]) {
+  struct vs_model_memo *mm = m->memo;
+  for (int k = 0; k < m->g->n_joints; k++) vs_model_memo_eval(m, q, qs, k);
+  memcpy(mm->q, q, 3 * (size_t)m->g->n_blocks * sizeof *q);
+  memcpy(mm->qs, qs, sizeof mm->qs);
+  mm->ok = 1;
+}
+
+/* Joint k's outputs from the memo (as vs_model_eval_joint's at the memo's states). */
+void vs_model_memo_out(const vs_model *m, int k, vs_joint_state *st, double f[6], double K[36]) {
+  vs_joint_law tmp;
+  vs_joint_point_out(&m->g->joints[k], law_at(m, k, &tmp), &m->memo->pt[k], st, f, K);
+}
+
+/* --- the static system: residual, Jacobian --- */
+
+/* Residual over the unknowns of pattern p (G has p->n entries); the joints' points are kept
+ * (struct vs_model_memo) for a Jacobian at the same state. */
+static void residual_core(const vs_model *m, const vs_pattern *p, const double *q,
+                          const double qs[6], double *G) {
+  const vs_geometry *g = m->g;
+  memset(G, 0, (size_t)p->n * sizeof *G);
+  for (int i = 0; i < g->n_blocks; i++)
+    G[3 * i + 1] = m->gscale * g->blocks[i].mass * g->gravity; /* minus the load -m g */
+  if (!vs_model_memo_hit(m, q, qs)) {
+    vs_model_half_angles(m, q, qs);
+    vs_model_memo_fill(m, q, qs);
+  }
+  for (int k = 0; k < g->n_joints; k++) {
+    double f[6];
+    vs_model_memo_out(m, k, NULL, f, NULL);
+    const int *d = p->jdof + 6 * k;
+    for (int e = 0; e < 6; e++)
+      if (d[e] >= 0) G[d[e]] += f[e];
+  }
+}
+
+void vs_model_residual(const vs_model *m, const double *q, double delta, double *G) {
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  residual_core(m, &m->pat, q, qs, G);
+}
+
+/* Jacobian over the unknowns of pattern p, from the memo when it holds this state. */
+static void jacobian_core(const vs_model *m, const vs_pattern *p, const double *q,
+                          const double qs[6], SUNMatrix J) {
+  double *data = vs_model_csc_reset(p, J);
+  const vs_geometry *g = m->g;
+  const int hit = vs_model_memo_hit(m, q, qs);
+  if (!hit) vs_model_half_angles(m, q, qs);
+  for (int k = 0; k < g->n_joints; k++) {
+    double K[36];
+    if (hit) vs_model_memo_out(m, k, NULL, NULL, K);
+    else vs_model_eval_joint(m, q, qs, k, 1, NULL, NULL, K);
+    vs_model_scatter_joint(p, k, K, data);
+  }
+}
+
+int vs_model_jacobian(const vs_model *m, const double *q, double delta, SUNMatrix J) {
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  jacobian_core(m, &m->pat, q, qs, J);
+  return 0;
+}
+
+void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double *out) {
+  const vs_geometry *g = m->g;
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  memset(out, 0, (size_t)m->n * sizeof *out);
+  for (int k = 0; k < g->n_joints; k++) {
+    const int body[2] = {g->joints[k].a, g->joints[k].b};
+    int ss = (body[1] == VS_SUPPORT_RIGHT) ? 1 : (body[0] == VS_SUPPORT_RIGHT) ? 0 : -1;
+    if (ss < 0) continue;
+    double K[36];
+    int d[6];
+    vs_model_eval_joint(m, q, qs, k, 0, NULL, NULL, K);
+    vs_model_joint_dofs(m, &m->pat, k, d);
+    for (int e = 0; e < 6; e++) {
+      if (d[e] < 0) continue;
+      const double *row = K + 6 * e + 3 * ss;
+      out[d[e]] += row[0] * m->dir[0] + row[1] * m->dir[1];
+    }
+  }
+}
+
+void vs_model_residual_scale(const vs_model *m, double *scale) {
+  const vs_geometry *g = m->g;
+  for (int i = 0; i < g->n_blocks; i++) {
+    double len = 0.0;
+    for (int k = 0; k < g->n_joints; k++)
+      if (g->joints[k].a == i || g->joints[k].b == i) len = fmax(len, g->joints[k].length);
+    if (!(len > 0.0)) len = sqrt(g->blocks[i].area);
+    const double w = g->blocks[i].mass * g->gravity;
+    scale[3 * i] = w;
+    scale[3 * i + 1] = w;
+    scale[3 * i + 2] = w * len;
+  }
+  /* a pinned support's rotation: the moment of its neighbouring block's weight over the joint */
+  for (int k = 0; k < g->n_joints; k++) {
+    const vs_joint_geom *j = &g->joints[k];
+    const int sup = body_is_block(j->a) ? j->b : j->a, blk = body_is_block(j->a) ? j->a : j->b;
+    if (body_is_block(sup) || !body_is_block(blk)) continue;
+    const int d = m->pat.dof[3 * body_slot(m, sup) + 2];
+    if (d >= 0) scale[d] = g->blocks[blk].mass * g->gravity * j->length;
+  }
+}
+
+/* --- the extended state qe = (blocks, left support, right support) --- */
+
+void vs_model_ext_residual(const vs_model *m, const double *qe, double *Ge) {
+  residual_core(m, &m->pate, qe, qe + 3 * m->g->n_blocks, Ge);
+}
+
+void vs_model_ext_jacobian(const vs_model *m, const double *qe, SUNMatrix J) {
+  jacobian_core(m, &m->pate, qe, qe + 3 * m->g->n_blocks, J);
+}
+
+
+/* --- joint states, commit, reactions, energies --- */
+
+/* The joints' states at (q, qs); keep: through the memo (a static state: the Jacobian or
+ * commit that follows at the same state takes them), else evaluated directly (the dynamic
+ * phase's states, which never recur). */
+static void joint_states_core(const vs_model *m, const double *q, const double qs[6],
+                              vs_joint_state *st, int keep) {
+  if (keep && vs_model_memo_hit(m, q, qs)) {
+    for (int k = 0; k < m->g->n_joints; k++) vs_model_memo_out(m, k, &st[k], NULL, NULL);
+    return;
+  }
+  vs_model_half_angles(m, q, qs);
+  if (keep) {
+    vs_model_memo_fill(m, q, qs);
+    for (int k = 0; k < m->g->n_joints; k++) vs_model_memo_out(m, k, &st[k], NULL, NULL);
+    return;
+  }
+  for (int k = 0; k < m->g->n_joints; k++)
+    vs_model_eval_joint(m, q, qs, k, 1, &st[k], NULL, NULL);
+}
+
+void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_joint_state *st) {
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  joint_states_core(m, q, qs, st, 1);
+}
+
+/* The plastic slips change. With the memo at these states, a joint whose slip moved is
+ * evaluated again into it, so that it stays the joints' points (the joints' states of the
+ * equilibrium just committed, which the hinge tracker reads next, are then taken from it);
+ * otherwise the memo is dropped. */
+static int commit_core(vs_model *m, const double *q, const double qs[6]) {
+  int slid = 0, rot = 0;
+  const int hit = vs_model_memo_hit(m, q, qs);
+  if (!hit) vs_model_half_angles(m, q, qs);
+  for (int k = 0; k < m->g->n_joints; k++) {
+    vs_joint_state st;
+    if (hit) vs_model_memo_out(m, k, &st, NULL, NULL);
+    else vs_model_eval_joint(m, q, qs, k, 1, &st, NULL, NULL);
+    if (st.sliding && st.N > 0.0) slid++;
+    const double old = m->slip_p[k];
+    m->slip_p[k] = st.slip_p;
+    if (!hit || memcmp(&old, &st.slip_p, sizeof old) == 0) continue;
+    if (!rot) vs_model_half_angles(m, q, qs), rot = 1; /* m->rot may hold another state's */
+    vs_model_memo_eval(m, q, qs, k);
+  }
+  if (!hit) memo_drop(m);
+  return slid;
+}
+
+int vs_model_commit(vs_model *m, const double *q, double delta) {
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  return commit_core(m, q, qs);
+}
+
+int vs_model_commit_states(vs_model *m, const vs_joint_state *st) {
+  int slid = 0;
+  memo_drop(m);
+  for (int k = 0; k < m->g->n_joints; k++) {
+    if (st[k].sliding && st[k].N > 0.0) slid++;
+    m->slip_p[k] = st[k].slip_p;
+  }
+  return slid;
+}
+
+void vs_model_reactions(const vs_model *m, const double *q, double delta, double left[2],
+                        double right[2]) {
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  left[0] = left[1] = right[0] = right[1] = 0.0;
+  for (int k = 0; k < m->g->n_joints; k++) {
+    const vs_joint_geom *j = &m->g->joints[k];
+    if (body_is_block(j->a) && body_is_block(j->b)) continue; /* not at a support */
+    double f[6];
+    vs_model_eval_joint(m, q, qs, k, 0, NULL, f, NULL);
+    /* f on a support's translation is dE/du_support; the arch pushes it with -f */
+    const int body[2] = {j->a, j->b};
+    for (int s = 0; s < 2; s++) {
+      double *r = (body[s] == VS_SUPPORT_LEFT)    ? left
+                  : (body[s] == VS_SUPPORT_RIGHT) ? right : NULL;
+      if (r == NULL) continue;
+      r[0] -= f[3 * s];
+      r[1] -= f[3 * s + 1];
+    }
+  }
+}
+
+void vs_model_support_reactions(const vs_model *m, const double *q, double delta, double out[6]) {
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  memset(out, 0, 6 * sizeof *out);
+  for (int k = 0; k < m->g->n_joints; k++) {
+    const vs_joint_geom *j = &m->g->joints[k];
+    if (body_is_block(j->a) && body_is_block(j->b)) continue; /* not at a support */
+    double f[6];
+    vs_model_eval_joint(m, q, qs, k, 0, NULL, f, NULL);
+    /* f on a support's coordinates is dE/dq_support: the arch pulls the support with -f, the
+     * support pushes the arch with +f */
+    const int body[2] = {j->a, j->b};
+    for (int s = 0; s < 2; s++)
+      if (!body_is_block(body[s]))
+        for (int c = 0; c < 3; c++) out[(body[s] == VS_SUPPORT_LEFT ? 0 : 3) + c] += f[3 * s + c];
+  }
+}
+
+double vs_model_support_force(const vs_model *m, const double *q, double delta) {
+  double left[2], right[2];
+  vs_model_reactions(m, q, delta, left, right);
+  /* dE/du_support = f = -(force of the arch on the support) */
+  return -(right[0] * m->dir[0] + right[1] * m->dir[1]);
+}
+
+double vs_model_gravity_energy(const vs_model *m, const double *q) {
+  const vs_geometry *g = m->g;
+  double eg = 0.0;
+  for (int i = 0; i < g->n_blocks; i++)
+    eg += m->gscale * g->blocks[i].mass * g->gravity * q[3 * i + 1];
+  return eg;
+}
+
+/* The elastic energy of the joints and the potential energy of gravity at (q, qs). */
+static void energies_core(const vs_model *m, const double *q, const double qs[6], double *elastic,
+                          double *gravity) {
+  const vs_geometry *g = m->g;
+  double ee = 0.0;
+  const double eg = vs_model_gravity_energy(m, q);
+  vs_model_half_angles(m, q, qs);
+  for (int k = 0; k < g->n_joints; k++) {
+    vs_joint_state st;
+    vs_model_eval_joint(m, q, qs, k, 1, &st, NULL, NULL);
+    ee += st.energy;
+  }
+  *elastic = ee;
+  *gravity = eg;
+}
+
+void vs_model_energies(const vs_model *m, const double *q, double delta, double *elastic,
+                       double *gravity) {
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  energies_core(m, q, qs, elastic, gravity);
+}
+
+double vs_model_energy(const vs_model *m, const double *q, double delta) {
+  double ee, eg;
+  vs_model_energies(m, q, delta, &ee, &eg);
+  return ee + eg;
+}
+
+/* --- the extended state qe = (blocks, left support, right support) --- */
+
+void vs_model_ext_joint_states(const vs_model *m, const double *qe, vs_joint_state *st) {
+  joint_states_core(m, qe, qe + 3 * m->g->n_blocks, st, 0);
+}
+
+int vs_model_ext_commit(vs_model *m, const double *qe) {
+  return commit_core(m, qe, qe + 3 * m->g->n_blocks);
+}
+
+void vs_model_ext_energies(const vs_model *m, const double *qe, double *elastic, double *gravity) {
+  energies_core(m, qe, qe + 3 * m->g->n_blocks, elastic, gravity);
+}
+
+/* --- dynamics --- */
+
+void vs_model_mass(const vs_model *m, double *mdiag) {
+  for (int i = 0; i < m->g->n_blocks; i++) {
+    mdiag[3 * i] = mdiag[3 * i + 1] = m->g->blocks[i].mass;
+    mdiag[3 * i + 2] = m->g->blocks[i].inertia;
+  }
+}
+
+double vs_model_kinetic_energy(const vs_model *m, const double *v) {
+  double e = 0.0;
+  for (int i = 0; i < m->g->n_blocks; i++) {
+    const vs_block *b = &m->g->blocks[i];
+    e += 0.5 * (b->mass * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1]) +
+                b->inertia * v[3 * i + 2] * v[3 * i + 2]);
+  }
+  return e;
+}
+
 /* Rayleigh's mass-proportional part alpha M v on the blocks (body columns 0..n_blocks-1 of p):
  * it acts on absolute velocities, so it also slows a rigid-body motion (a falling block tends to
  * g / alpha). */
@@ -793,14 +582,14 @@ static void mass_damping(const vs_model *m, const vs_pattern *p, const double *v
       *diss += m->alpha_m * mi[c] * v[r] * v[r];
       if (data == NULL) continue;
       const sunindextype stride = p->colptr[3 * i + 1] - p->colptr[3 * i];
-      data[csc_pos(p, i, i) + c * stride + c] += m->alpha_m * mi[c];
+      data[vs_model_csc_pos(p, i, i) + c * stride + c] += m->alpha_m * mi[c];
     }
   }
 }
 
 /* What one pass over the joints yields (motion_core); NULL pointers are not computed. */
 typedef struct {
-  double *G;        /* elastic forces minus gravity (residual_core's), p->n entries */
+  double *G;        /* elastic forces minus gravity (as vs_model_residual), p->n entries */
   double *fd;       /* damping forces, p->n entries */
   SUNMatrix K, C;   /* dG/dq and dfd/dv over p */
   int want_damping; /* the damping terms (fd, C, diss, sup) */
@@ -838,11 +627,11 @@ static void motion_core(const vs_model *m, const vs_pattern *p, const double *q,
       o->G[3 * i + 1] = m->gscale * g->blocks[i].mass * g->gravity; /* minus the load -m g */
   }
   if (o->fd != NULL) memset(o->fd, 0, (size_t)p->n * sizeof *o->fd);
-  if (o->K != NULL) kdata = csc_reset(p, o->K);
-  if (o->C != NULL) cdata = csc_reset(p, o->C);
+  if (o->K != NULL) kdata = vs_model_csc_reset(p, o->K);
+  if (o->C != NULL) cdata = vs_model_csc_reset(p, o->C);
   o->diss = o->sup = o->fric = 0.0;
   const int damp = m->damped && v != NULL && o->want_damping;
-  half_angles(m, q, qs);
+  vs_model_half_angles(m, q, qs);
   for (int k = 0; k < g->n_joints; k++) {
     const vs_joint_geom *j = &g->joints[k];
     double f[6], Kk[36], fdk[6], Ck[36];
@@ -854,7 +643,8 @@ static void motion_core(const vs_model *m, const vs_pattern *p, const double *q,
     /* HOOK (damping): Rayleigh's stiffness part, else the joint dashpots */
     const vs_joint_dashpot dp = {m->cn[k], m->cs[k], m->beta_k};
     vs_joint_motion jm = {o->G != NULL ? f : NULL, o->K != NULL ? Kk : NULL, damp ? fdk : NULL,
-                          damp && o->C != NULL ? Ck : NULL, o->want_friction && v != NULL, 0.0, 0.0};
+                          damp && o->C != NULL ? Ck : NULL, o->want_friction && v != NULL, 0.0,
+                          0.0};
     vs_joint_eval_motion(j, law_at(m, k, &tmp), &bd, m->slip_p[k], damp ? &dp : NULL, &jm);
     const int *d = p->jdof + 6 * k;
     if (o->G != NULL && p->full[k]) /* (the joints of the dynamic phase's extended state) */
@@ -862,18 +652,19 @@ static void motion_core(const vs_model *m, const vs_pattern *p, const double *q,
     else if (o->G != NULL)
       for (int e = 0; e < 6; e++)
         if (d[e] >= 0) o->G[d[e]] += f[e];
-    if (o->K != NULL) scatter_joint(p, k, Kk, kdata);
+    if (o->K != NULL) vs_model_scatter_joint(p, k, Kk, kdata);
     if (damp) {
       o->diss += jm.power;
       if (p->full[k] && o->fd != NULL) /* no prescribed component: nothing the support works */
         for (int e = 0; e < 6; e++) o->fd[d[e]] += fdk[e];
       else
         add_damping(m, p, k, fdk, va, vb, o->fd, &o->sup);
-      if (o->C != NULL) scatter_joint(p, k, Ck, cdata);
+      if (o->C != NULL) vs_model_scatter_joint(p, k, Ck, cdata);
     }
     o->fric += jm.friction;
   }
-  if (m->alpha_m > 0.0 && v != NULL && o->want_damping) mass_damping(m, p, v, o->fd, &o->diss, cdata); /* HOOK (damping) */
+  if (m->alpha_m > 0.0 && v != NULL && o->want_damping) /* HOOK (damping) */
+    mass_damping(m, p, v, o->fd, &o->diss, cdata);
 }
 
 /* Damping forces over the bodies of p at block states (q, v) and support states (qs, vs). */
@@ -897,23 +688,7 @@ void vs_model_damping(const vs_model *m, const double *q, const double *v, doubl
   damping_core(m, &m->pat, q, v, qs, vs, fd, dissipated, support_power, C);
 }
 
-void vs_model_mass(const vs_model *m, double *mdiag) {
-  for (int i = 0; i < m->g->n_blocks; i++) {
-    mdiag[3 * i] = mdiag[3 * i + 1] = m->g->blocks[i].mass;
-    mdiag[3 * i + 2] = m->g->blocks[i].inertia;
-  }
-}
-
-double vs_model_kinetic_energy(const vs_model *m, const double *v) {
-  double e = 0.0;
-  for (int i = 0; i < m->g->n_blocks; i++) {
-    const vs_block *b = &m->g->blocks[i];
-    e += 0.5 * (b->mass * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1]) +
-                b->inertia * v[3 * i + 2] * v[3 * i + 2]);
-  }
-  return e;
-}
-
+/* The friction power of the joints over the bodies of p (motion_core's). */
 static double friction_core(const vs_model *m, const vs_pattern *p, const double *q,
                             const double *v, const double qs[6], const double vs[6]) {
   motion_out o = {.want_friction = 1};
@@ -929,30 +704,7 @@ double vs_model_friction_power(const vs_model *m, const double *q, const double 
   return friction_core(m, &m->pat, q, v, qs, vs);
 }
 
-double vs_model_support_force(const vs_model *m, const double *q, double delta) {
-  double left[2], right[2];
-  vs_model_reactions(m, q, delta, left, right);
-  /* dE/du_support = f = -(force of the arch on the support) */
-  return -(right[0] * m->dir[0] + right[1] * m->dir[1]);
-}
-
-void vs_model_energies(const vs_model *m, const double *q, double delta, double *elastic,
-                       double *gravity) {
-  double qs[6];
-  sup_pos_q(m, q, delta, qs);
-  energies_core(m, q, qs, elastic, gravity);
-}
-
 /* --- driven supports: the extended state qe = (blocks, left support, right support) --- */
-
-int vs_model_ext_size(const vs_model *m) { return m->pate.n; }
-int vs_model_ext_nnz(const vs_model *m) { return m->pate.nnz; }
-
-void vs_model_support_states(const vs_model *m, double delta, double rate, double qs[6],
-                             double vs[6]) {
-  sup_pos_q(m, NULL, delta, qs);
-  sup_state_q(m, NULL, rate, vs);
-}
 
 void vs_model_ext_mass(const vs_model *m, double *mdiag) {
   const vs_geometry *g = m->g;
@@ -969,17 +721,10 @@ void vs_model_ext_mass(const vs_model *m, double *mdiag) {
   }
 }
 
-void vs_model_ext_residual(const vs_model *m, const double *qe, double *Ge) {
-  residual_core(m, &m->pate, qe, qe + 3 * m->g->n_blocks, Ge);
-}
-
-void vs_model_ext_jacobian(const vs_model *m, const double *qe, SUNMatrix J) {
-  jacobian_core(m, &m->pate, qe, qe + 3 * m->g->n_blocks, J);
-}
-
 void vs_model_ext_damping(const vs_model *m, const double *qe, const double *ve, double *fd,
                           double *dissipated, SUNMatrix C) {
-  damping_core(m, &m->pate, qe, ve, qe + 3 * m->g->n_blocks, ve + 3 * m->g->n_blocks, fd, dissipated, NULL, C);
+  damping_core(m, &m->pate, qe, ve, qe + 3 * m->g->n_blocks, ve + 3 * m->g->n_blocks, fd,
+               dissipated, NULL, C);
 }
 
 void vs_model_ext_motion(const vs_model *m, const double *qe, const double *ve, double *F,
@@ -1032,12 +777,3 @@ double vs_model_ext_friction_power(const vs_model *m, const double *qe, const do
   return friction_core(m, &m->pate, qe, ve, qe + 3 * m->g->n_blocks, ve + 3 * m->g->n_blocks);
 }
 
-void vs_model_ext_joint_states(const vs_model *m, const double *qe, vs_joint_state *st) {
-  joint_states_core(m, qe, qe + 3 * m->g->n_blocks, st, 0);
-}
-
-int vs_model_ext_commit(vs_model *m, const double *qe) { return commit_core(m, qe, qe + 3 * m->g->n_blocks); }
-
-void vs_model_ext_energies(const vs_model *m, const double *qe, double *elastic, double *gravity) {
-  energies_core(m, qe, qe + 3 * m->g->n_blocks, elastic, gravity);
-}
