@@ -136,7 +136,7 @@ double *vs_model_csc_reset(const vs_pattern *p, SUNMatrix A);
  * of p, through its scatter map (column by column, as the pattern). */
 void vs_model_scatter_joint(const vs_pattern *p, int k, const double Kj[36], double *data);
 
-/* model.c: the joints evaluated at a state */
+/* model_joints.c: the joints evaluated at a state */
 /* Every body's half angle at block states q and support states qs into m->rot (each computed
  * only when its rotation changed); vs_model_eval_joint with rot = 1 then reads them. */
 void vs_model_half_angles(const vs_model *m, const double *q, const double qs[6]);
