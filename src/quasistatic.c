@@ -170,13 +170,10 @@ static vs_status qs_fail(qs_solver *s, vs_error *err, const char *what, int flag
                       flag);
 }
 
-static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_error *err) {
-  memset(s, 0, sizeof *s);
-  s->m = m;
-  s->o = o;
-  s->n = vs_model_size(m);
-  s->nb3 = 3 * vs_model_geometry(m)->n_blocks;
-  const sunindextype n = s->n, nnz = vs_model_nnz(m);
+/* The solver's vectors, matrices and workspaces over its n unknowns (Jacobians with the model's
+ * nnz entries), every vector with the optimised operations. */
+static vs_status qs_alloc(qs_solver *s, vs_error *err) {
+  const sunindextype n = s->n, nnz = vs_model_nnz(s->m);
   int flag = SUNContext_Create(NULL, &s->ctx);
   if (flag != 0) return qs_fail(s, err, "SUNContext_Create", flag);
   s->u = N_VNew_Serial(n, s->ctx);
@@ -197,22 +194,28 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
   /* KINSOL clones its workspace from u: every vector of the solve gets the optimised operations */
   N_Vector vecs[] = {s->u, s->uscale, s->fscale, s->w1, s->w2};
   for (size_t i = 0; i < sizeof vecs / sizeof vecs[0]; i++) vs_nvector_fast_ops(vecs[i]);
-  /* the stability test factors the tangent's symmetric part as a band: in the model's band
-   * order, which keeps a pinned support's rotation next to its block */
-  int *perm = malloc((size_t)n * sizeof *perm);
+  return VS_OK;
+}
+
+/* The stability test (vs_spd): it factors the tangent's symmetric part as a band, in the model's
+ * band order, which keeps a pinned support's rotation next to its block. */
+static vs_status qs_spd_create(qs_solver *s, vs_error *err) {
+  int *perm = malloc((size_t)s->n * sizeof *perm);
   if (perm == NULL) {
     qs_destroy(s);
     return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
   }
-  vs_model_band_order(m, perm);
+  vs_model_band_order(s->m, perm);
   const vs_status st = vs_spd_create(s->n, perm, &s->spd, err);
   free(perm);
-  if (st != VS_OK) {
-    qs_destroy(s);
-    return st;
-  }
-  /* KLU factors the Jacobian at every Newton iteration (LS) and the tangent at every accepted
-   * state (LSt); both keep one analysis of the fixed pattern and refactor on its last pivots */
+  if (st != VS_OK) qs_destroy(s);
+  return st;
+}
+
+/* KLU factors the Jacobian at every Newton iteration (LS) and the tangent at every accepted
+ * state (LSt); both keep one analysis of the fixed pattern and refactor on its last pivots. */
+static vs_status qs_klu_create(qs_solver *s, vs_error *err) {
+  int flag;
   s->LS = SUNLinSol_KLU(s->u, s->J, s->ctx);
   s->LSt = SUNLinSol_KLU(s->u, s->Jt, s->ctx);
   if (s->LS == NULL || s->LSt == NULL) return qs_fail(s, err, "SUNLinSol_KLU", 0);
@@ -224,9 +227,14 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
   vs_klu_keep_analysis(s->LS);  /* KINSol re-initialises its solver at every call */
   vs_klu_keep_analysis(s->LSt); /* re-initialised by every run (qs_rearm) */
   vs_sparse_zero_none(s->J);    /* jac_fn writes the pattern */
+  return VS_OK;
+}
 
-  /* Scalings: residuals in units of each block's weight (moments: weight x joint length);
-   * unknowns in units of that length (rotations in rad). */
+/* Scalings: residuals in units of each block's weight (moments: weight x joint length);
+ * unknowns in units of that length (rotations in rad). And what the round-off floor of the
+ * residual needs (qs_solve): the stiffest joint, the longest, the lightest block. */
+static void qs_scale(qs_solver *s) {
+  vs_model *const m = s->m;
   double *fs = N_VGetArrayPointer(s->fscale), *us = N_VGetArrayPointer(s->uscale);
   vs_model_residual_scale(m, fs);
   for (int i = 0; i < s->nb3; i += 3) {
@@ -246,16 +254,25 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
     s->kmax = fmax(s->kmax, vs_model_law(m)->kn * j->depth * j->length);
     s->lmax = fmax(s->lmax, j->length);
   }
+}
 
+/* KINSOL: Newton with line search on sys_fn, the exact Jacobian (jac_fn) at every iteration
+ * factored by KLU (s->LS), messages into s->kin_msg, the options' tolerance and iteration cap. */
+static vs_status qs_kinsol_create(qs_solver *s, vs_error *err) {
+  const vs_path_opts *const o = s->o;
+  int flag;
   s->kin = KINCreate(s->ctx);
   if (s->kin == NULL) return qs_fail(s, err, "KINCreate", 0);
-  if ((flag = KINInit(s->kin, sys_fn, s->u)) != KIN_SUCCESS) return qs_fail(s, err, "KINInit", flag);
-  if ((flag = KINSetUserData(s->kin, s)) != KIN_SUCCESS) return qs_fail(s, err, "KINSetUserData", flag);
+  if ((flag = KINInit(s->kin, sys_fn, s->u)) != KIN_SUCCESS)
+    return qs_fail(s, err, "KINInit", flag);
+  if ((flag = KINSetUserData(s->kin, s)) != KIN_SUCCESS)
+    return qs_fail(s, err, "KINSetUserData", flag);
   if ((flag = KINSetErrHandlerFn(s->kin, kin_err, s)) != KIN_SUCCESS)
     return qs_fail(s, err, "KINSetErrHandlerFn", flag);
   if ((flag = KINSetLinearSolver(s->kin, s->LS, s->J)) != KIN_SUCCESS)
     return qs_fail(s, err, "KINSetLinearSolver", flag);
-  if ((flag = KINSetJacFn(s->kin, jac_fn)) != KIN_SUCCESS) return qs_fail(s, err, "KINSetJacFn", flag);
+  if ((flag = KINSetJacFn(s->kin, jac_fn)) != KIN_SUCCESS)
+    return qs_fail(s, err, "KINSetJacFn", flag);
   if ((flag = KINSetMaxSetupCalls(s->kin, 1)) != KIN_SUCCESS) /* exact Newton: J every iteration */
     return qs_fail(s, err, "KINSetMaxSetupCalls", flag);
   if ((flag = KINSetNumMaxIters(s->kin, o->newton_maxiter)) != KIN_SUCCESS)
@@ -265,6 +282,22 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
   if ((flag = KINSetScaledStepTol(s->kin, VS_NEWTON_STEPTOL)) != KIN_SUCCESS)
     return qs_fail(s, err, "KINSetScaledStepTol", flag);
   return VS_OK;
+}
+
+/* A solver of the model m's equilibrium with options o (borrowed); on failure s is left
+ * destroyed (zeroed). */
+static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_error *err) {
+  memset(s, 0, sizeof *s);
+  s->m = m;
+  s->o = o;
+  s->n = vs_model_size(m);
+  s->nb3 = 3 * vs_model_geometry(m)->n_blocks;
+  vs_status st = qs_alloc(s, err);
+  if (st == VS_OK) st = qs_spd_create(s, err);
+  if (st == VS_OK) st = qs_klu_create(s, err);
+  if (st != VS_OK) return st;
+  qs_scale(s);
+  return qs_kinsol_create(s, err);
 }
 
 /* Largest scaled residual |G_i| / scale_i at (q, delta). */
@@ -791,6 +824,250 @@ static vs_status qs_rearm(qs_solver *s, const vs_path_opts *o, vs_error *err) {
                                   flag);
 }
 
+/* A path run between its increments (vs_path_run_with): the last accepted equilibrium and the
+ * one before, what the next increment starts from, and the fold predictions. */
+typedef struct {
+  qs_solver *s;
+  const vs_path_opts *o;
+  vs_path_step_fn step_fn;
+  void *user;
+  vs_path_result *res;
+  double *q;                /* the last accepted equilibrium (the caller's array) */
+  double *tan;              /* the path tangent dq/ddelta there */
+  double *qtry, *qpred;     /* an increment's trial state and its predictor */
+  double *qprev;            /* the accepted equilibrium before q */
+  double *eig;              /* the tangent's eigenvector, carried from state to state */
+  double *qloc;             /* locate_edges' workspace, 3 n */
+  double delta, delta_prev; /* support displacements of q and of qprev, m */
+  double h;                 /* the next increment, m */
+  double lam, lam_prev;     /* smallest eigenvalue of the scaled tangent at q and qprev, N/m */
+  double fold, fold_prev;   /* the fold predicted at this increment and at the last, m */
+} qs_path;
+
+/* No equilibrium to start from at delta0 (flag: the last solve's; lambda_max: how far the
+ * self-weight's continuation went): the error that says so. */
+static vs_status start_failed(const qs_solver *s, double delta0, int flag, double lambda_max,
+                              vs_error *err) {
+  const vs_status st = qs_fatal(s, delta0, err);
+  if (st != VS_OK) return st;
+  if (delta0 == 0.0)
+    return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
+                        "the arch cannot stand: no equilibrium under self-weight (growing the "
+                        "weight from zero, equilibrium was followed up to %.4g of it and none "
+                        "was found beyond, with increments down to %.1e)",
+                        lambda_max, VS_RAMP_MIN);
+  return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM, "no equilibrium at %.6g mm to resume from (%s)",
+                      delta0 / VS_MM, kin_cause(flag));
+}
+
+/* The stable equilibrium at delta0 from the guess q (self-weight, by continuation when needed,
+ * and an imperfect arch's misfit), into q; res->newton_iterations set. */
+static vs_status path_start(qs_solver *s, double delta0, double *q, vs_path_result *res,
+                            vs_error *err) {
+  const int misfit = delta0 == 0.0 && vs_model_has_misfit(s->m);
+  if (misfit) vs_model_set_misfit_scale(s->m, 0.0);
+  int flag = qs_solve(s, delta0, q, NULL);
+  double lambda_max = 1.0, misfit_max = 1.0;
+  if (flag != 0 && delta0 == 0.0 && qs_fatal(s, delta0, NULL) == VS_OK &&
+      gravity_ramp(s, q, &lambda_max) == 0)
+    flag = 0;
+  if (flag == 0 && misfit && misfit_ramp(s, q, &misfit_max) != 0) {
+    vs_status st = qs_fatal(s, delta0, err); /* an interrupt or a non-finite residual says so */
+    if (st == VS_OK)
+      st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
+                        "the imperfect arch cannot stand: no equilibrium under self-weight with "
+                        "its misfit (face gaps, support offset) beyond %.4g of it, with "
+                        "increments down to %.1e",
+                        misfit_max, VS_RAMP_MIN);
+    return st;
+  }
+  res->newton_iterations = s->iters;
+  if (flag != 0) return start_failed(s, delta0, flag, lambda_max, err);
+  if (!stable_state(s, q, delta0))
+    return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
+                        "the equilibrium at %.6g mm is unstable (tangent not positive definite)",
+                        delta0 / VS_MM);
+  return VS_OK;
+}
+
+/* Fold predictor: lambda^2 extrapolated from the last two equilibria, trusted once two
+ * successive predictions agree (lambda^2 linear in delta, as near a fold; a hinge forming also
+ * lowers lambda, but not along a line). */
+static void fold_limit(qs_path *w) {
+  const double delta = w->delta, delta_prev = w->delta_prev, lam = w->lam, lam_prev = w->lam_prev;
+  w->fold = (isfinite(lam_prev) && lam < lam_prev && delta > delta_prev)
+                ? delta + lam * lam * (delta - delta_prev) / (lam_prev * lam_prev - lam * lam)
+                : INFINITY;
+  if (isfinite(w->fold) && isfinite(w->fold_prev) &&
+      fabs(w->fold - w->fold_prev) <= VS_FOLD_AGREE * (w->fold - delta))
+    w->h = fmin(w->h, fmax(VS_FOLD_APPROACH * (w->fold - delta), w->o->limit_tol));
+}
+
+/* The path's end once an increment at limit_tol still fails: a limit point between w->delta
+ * and w->delta + w->h if the tangent confirms it (res->end = VS_PATH_LIMIT_POINT), else an
+ * error saying why not. */
+static vs_status limit_end(qs_path *w, vs_error *err) {
+  qs_solver *const s = w->s;
+  vs_path_result *const res = w->res;
+  res->delta_limit = w->delta;
+  res->delta_fail = w->delta + w->h;
+  vs_status st = confirm_limit(s, w->qprev, w->delta_prev, w->q, w->delta, w->delta + w->h, res,
+                               err);
+  if (s->interrupted || s->nonfinite) st = qs_fatal(s, w->delta + w->h, err);
+  if (st == VS_OK) res->end = VS_PATH_LIMIT_POINT;
+  return st;
+}
+
+/* The run's state vectors (n unknowns each; the edges' location 3 n). Returns -1 when out of
+ * memory (path_free frees what was allocated). */
+static int path_alloc(qs_path *w) {
+  const size_t bytes = (size_t)w->s->n * sizeof(double);
+  w->tan = malloc(bytes);
+  w->qtry = malloc(bytes);
+  w->qpred = malloc(bytes);
+  w->qprev = malloc(bytes);
+  w->eig = calloc((size_t)w->s->n, sizeof(double));
+  w->qloc = malloc(3 * bytes); /* locate_edges' workspace */
+  if (w->tan == NULL || w->qtry == NULL || w->qpred == NULL || w->qprev == NULL ||
+      w->eig == NULL || w->qloc == NULL)
+    return -1;
+  return 0;
+}
+
+/* Free the run's state vectors. */
+static void path_free(qs_path *w) {
+  free(w->tan);
+  free(w->qtry);
+  free(w->qpred);
+  free(w->qprev);
+  free(w->eig);
+  free(w->qloc);
+}
+
+/* 1. The starting equilibrium at delta0 (path_start), with the tangent's smallest eigenvalue
+ * there, committed and passed to step_fn as the path's first state; then the path tangent
+ * there, from which the displacement control of the right support starts. */
+static vs_status path_begin(qs_path *w, double delta0, vs_error *err) {
+  qs_solver *const sp = w->s;
+  vs_path_result *const res = w->res;
+  vs_status st = path_start(sp, delta0, w->q, res, err);
+  if (st != VS_OK) return st;
+  w->lam = tangent_min_eig(sp, w->eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT);
+  w->lam_prev = NAN;
+  w->fold = INFINITY;
+  w->fold_prev = INFINITY;
+  res->evidence.lambda_start = w->lam;
+  vs_model_commit(sp->m, w->q, delta0);
+  memcpy(w->qprev, w->q, (size_t)sp->n * sizeof(double));
+  w->delta_prev = delta0;
+  res->steps = 1;
+  res->delta_limit = delta0;
+  res->newton_iterations = sp->iters; /* kept current for the callback */
+  if (w->step_fn != NULL && w->step_fn(w->user, delta0, w->q, sp->m) != 0)
+    return vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+  /* 2. displacement control of the right support */
+  w->delta = delta0;
+  w->h = w->o->step;
+  if (path_tangent(sp, w->q, w->delta, w->tan) != 0)
+    return vs_error_set(err, VS_ERR_SOLVER, "the path tangent could not be solved for");
+  return VS_OK;
+}
+
+/* The trial state of increment h: the tangent predictor from q (also kept in qpred), corrected
+ * by Newton at delta + h. Returns qs_solve's flag; *it its Newton iterations. */
+static int path_try(qs_path *w, long *it) {
+  qs_solver *const sp = w->s;
+  for (int i = 0; i < sp->n; i++) w->qtry[i] = w->qpred[i] = w->q[i] + w->h * w->tan[i];
+  return qs_solve(sp, w->delta + w->h, w->qtry, it);
+}
+
+/* A trial is accepted when it converged (flag 0), stayed on the followed branch (the corrector
+ * moved it from the predictor by at most VS_CORRECTOR_RATIO of the predictor's own length) and
+ * is stable (else it passed a limit point). */
+static int path_trial_ok(qs_path *w, int flag) {
+  qs_solver *const sp = w->s;
+  int ok = (flag == 0);
+  if (ok) {
+    const double jump = scaled_norm(sp, w->qtry, w->qpred);
+    if (jump > VS_CORRECTOR_RATIO * scaled_norm(sp, w->qpred, w->q) + 10.0 * w->o->newton_tol)
+      ok = 0; /* left the branch */
+  }
+  if (ok && !stable_state(sp, w->qtry, w->delta + w->h)) ok = 0; /* passed a limit point */
+  return ok;
+}
+
+/* The accepted trial becomes the path's state: the hinge onsets between the two located (when
+ * step_fn wants them), the state committed, the tangent's smallest eigenvalue and the path
+ * tangent at it, step_fn called; the next increment grows when Newton converged fast (it: its
+ * iterations). */
+static vs_status path_accept(qs_path *w, long it, vs_error *err) {
+  qs_solver *const sp = w->s;
+  const vs_path_opts *const o = w->o;
+  vs_path_result *const res = w->res;
+  const size_t bytes = (size_t)sp->n * sizeof(double);
+  /* the tangent is factored at the new state by stable_state (the location below
+   * solves with KINSOL's own matrix and keeps that factorisation) */
+  if (w->step_fn != NULL && o->open > 0.0 &&
+      locate_edges(sp, w->q, w->delta, w->qtry, w->delta + w->h, w->step_fn, w->user,
+                         w->qloc, &res->located) != 0)
+    return vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+  memcpy(w->qprev, w->q, bytes);
+  w->delta_prev = w->delta;
+  memcpy(w->q, w->qtry, bytes);
+  w->delta += w->h;
+  vs_model_commit(sp->m, w->q, w->delta);
+  res->steps++;
+  res->delta_limit = w->delta;
+  w->lam_prev = w->lam;
+  w->fold_prev = w->fold;
+  /* the tangent factored by stable_state */
+  w->lam = tangent_min_eig(sp, w->eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT);
+  if (path_tangent(sp, w->q, w->delta, w->tan) != 0)
+    return vs_error_set(err, VS_ERR_SOLVER, "the path tangent could not be solved for at %.6g mm",
+                        w->delta / VS_MM);
+  res->newton_iterations = sp->iters;
+  if (w->step_fn != NULL && w->step_fn(w->user, w->delta, w->q, sp->m) != 0)
+    return vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+  if (it <= 3) w->h = fmin(2.0 * w->h, o->step_max);
+  else if (it <= 6) w->h = fmin(1.25 * w->h, o->step_max);
+  return VS_OK;
+}
+
+/* 2. Increments from the starting equilibrium until the largest displacement (VS_OK), the limit
+ * point (limit_end) or an error: a failed or rejected trial halves the increment, down to
+ * limit_tol. */
+static vs_status path_follow(qs_path *w, vs_error *err) {
+  const vs_path_opts *const o = w->o;
+  vs_path_result *const res = w->res;
+  for (;;) {
+    if (w->delta >= o->max_delta * (1.0 - 1e-12)) {
+      res->end = VS_PATH_MAX_DISPLACEMENT;
+      return VS_OK;
+    }
+    if (res->steps + res->rejected >= VS_PATH_MAX_INCREMENTS)
+      return vs_error_set(err, VS_ERR_SOLVER,
+                          "the quasi-static path took %ld increments (the limit) and reached only "
+                          "%.6g mm of %.6g mm",
+                          VS_PATH_MAX_INCREMENTS, w->delta / VS_MM, o->max_delta / VS_MM);
+    w->h = fmin(w->h, o->max_delta - w->delta);
+    fold_limit(w);
+    long it = 0;
+    const int flag = path_try(w, &it);
+    if (flag != 0) {
+      const vs_status st = qs_fatal(w->s, w->delta + w->h, err);
+      if (st != VS_OK) return st;
+    }
+    if (!path_trial_ok(w, flag)) {
+      res->rejected++;
+      if (w->h <= o->limit_tol) return limit_end(w, err);
+      w->h *= 0.5;
+      continue;
+    }
+    const vs_status st = path_accept(w, it, err);
+    if (st != VS_OK) return st;
+  }
+}
+
 vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double *q,
                       vs_path_step_fn step_fn, void *user, vs_path_result *res, vs_error *err) {
   memset(res, 0, sizeof *res);
@@ -808,162 +1085,16 @@ vs_status vs_path_run_with(vs_path_solver *p, const vs_path_opts *o, double delt
   memset(res, 0, sizeof *res);
   res->evidence.delta_extrap = NAN;
   qs_solver *const sp = &p->s;
-  vs_model *const m = sp->m;
   vs_status st = qs_rearm(sp, o, err);
   if (st != VS_OK) return st;
-  const size_t bytes = (size_t)sp->n * sizeof(double);
-  double *tan = malloc(bytes), *qtry = malloc(bytes), *qpred = malloc(bytes);
-  double *qprev = malloc(bytes), *eig = calloc((size_t)sp->n, sizeof(double));
-  double *qloc = malloc(3 * bytes); /* locate_edges' workspace */
-  double delta_prev = 0.0;
-  if (tan == NULL || qtry == NULL || qpred == NULL || qprev == NULL || eig == NULL || qloc == NULL) {
-    st = vs_error_set(err, VS_ERR_NOMEM, "path: out of memory");
-    goto cleanup;
-  }
-  /* 1. the starting equilibrium: self-weight with the supports in place (delta0 = 0), or the
-   * state a snap-through settled in */
-  long it = 0;
-  const int misfit = delta0 == 0.0 && vs_model_has_misfit(sp->m);
-  if (misfit) vs_model_set_misfit_scale(sp->m, 0.0);
-  int flag = qs_solve(sp, delta0, q, &it);
-  double lambda_max = 1.0, misfit_max = 1.0;
-  if (flag != 0 && delta0 == 0.0 && qs_fatal(sp, delta0, NULL) == VS_OK &&
-      gravity_ramp(sp, q, &lambda_max) == 0)
-    flag = 0;
-  if (flag == 0 && misfit && misfit_ramp(sp, q, &misfit_max) != 0) {
-    st = qs_fatal(sp, delta0, err); /* an interrupt or a non-finite residual says so */
-    if (st == VS_OK)
-      st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                        "the imperfect arch cannot stand: no equilibrium under self-weight with "
-                        "its misfit (face gaps, support offset) beyond %.4g of it, with "
-                        "increments down to %.1e",
-                        misfit_max, VS_RAMP_MIN);
-    goto cleanup;
-  }
-  res->newton_iterations = sp->iters;
-  if (flag != 0) {
-    st = qs_fatal(sp, delta0, err);
-    if (st != VS_OK)
-      goto cleanup;
-    if (delta0 == 0.0)
-      st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                        "the arch cannot stand: no equilibrium under self-weight (growing the "
-                        "weight from zero, equilibrium was followed up to %.4g of it and none "
-                        "was found beyond, with increments down to %.1e)",
-                        lambda_max, VS_RAMP_MIN);
-    else
-      st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM, "no equilibrium at %.6g mm to resume from (%s)",
-                        delta0 / VS_MM, kin_cause(flag));
-    goto cleanup;
-  }
-  if (!stable_state(sp, q, delta0)) {
-    st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                      "the equilibrium at %.6g mm is unstable (tangent not positive definite)",
-                      delta0 / VS_MM);
-    goto cleanup;
-  }
-  double lam = tangent_min_eig(sp, eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT), lam_prev = NAN;
-  double fold = INFINITY, fold_prev = INFINITY;
-  res->evidence.lambda_start = lam;
-  vs_model_commit(m, q, delta0);
-  memcpy(qprev, q, bytes);
-  delta_prev = delta0;
-  res->steps = 1;
-  res->delta_limit = delta0;
-  res->newton_iterations = sp->iters; /* kept current for the callback */
-  if (step_fn != NULL && step_fn(user, delta0, q, m) != 0) {
-    st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
-    goto cleanup;
-  }
-  /* 2. displacement control of the right support */
-  double delta = delta0, h = o->step;
-  if (path_tangent(sp, q, delta, tan) != 0) {
-    st = vs_error_set(err, VS_ERR_SOLVER, "the path tangent could not be solved for");
-    goto cleanup;
-  }
-  for (;;) {
-    if (delta >= o->max_delta * (1.0 - 1e-12)) {
-      res->end = VS_PATH_MAX_DISPLACEMENT;
-      break;
-    }
-    if (res->steps + res->rejected >= VS_PATH_MAX_INCREMENTS) {
-      st = vs_error_set(err, VS_ERR_SOLVER,
-                        "the quasi-static path took %ld increments (the limit) and reached only "
-                        "%.6g mm of %.6g mm",
-                        VS_PATH_MAX_INCREMENTS, delta / VS_MM, o->max_delta / VS_MM);
-      break;
-    }
-    h = fmin(h, o->max_delta - delta);
-    /* fold predictor: lambda^2 extrapolated from the last two equilibria, trusted once two
-     * successive predictions agree (lambda^2 linear in delta, as near a fold; a hinge forming
-     * also lowers lambda, but not along a line) */
-    fold = (isfinite(lam_prev) && lam < lam_prev && delta > delta_prev)
-               ? delta + lam * lam * (delta - delta_prev) / (lam_prev * lam_prev - lam * lam)
-               : INFINITY;
-    if (isfinite(fold) && isfinite(fold_prev) &&
-        fabs(fold - fold_prev) <= VS_FOLD_AGREE * (fold - delta))
-      h = fmin(h, fmax(VS_FOLD_APPROACH * (fold - delta), o->limit_tol));
-    for (int i = 0; i < sp->n; i++) qtry[i] = qpred[i] = q[i] + h * tan[i];
-    flag = qs_solve(sp, delta + h, qtry, &it);
-    if (flag != 0 && (st = qs_fatal(sp, delta + h, err)) != VS_OK) break;
-    int ok = (flag == 0);
-    if (ok && scaled_norm(sp, qtry, qpred) > VS_CORRECTOR_RATIO * scaled_norm(sp, qpred, q) +
-                                                 10.0 * o->newton_tol)
-      ok = 0; /* left the branch */
-    if (ok && !stable_state(sp, qtry, delta + h)) ok = 0; /* passed a limit point */
-    if (!ok) {
-      res->rejected++;
-      if (h <= o->limit_tol) {
-        res->delta_limit = delta;
-        res->delta_fail = delta + h;
-        st = confirm_limit(sp, qprev, delta_prev, q, delta, delta + h, res, err);
-        if (sp->interrupted || sp->nonfinite) st = qs_fatal(sp, delta + h, err);
-        if (st == VS_OK) res->end = VS_PATH_LIMIT_POINT;
-        break;
-      }
-      h *= 0.5;
-      continue;
-    }
-    /* accepted: the tangent is factored at the new state by stable_state (the location below
-     * solves with KINSOL's own matrix and keeps that factorisation) */
-    if (step_fn != NULL && o->open > 0.0 &&
-        locate_edges(sp, q, delta, qtry, delta + h, step_fn, user, qloc, &res->located) != 0) {
-      st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
-      break;
-    }
-    memcpy(qprev, q, bytes);
-    delta_prev = delta;
-    memcpy(q, qtry, bytes);
-    delta += h;
-    vs_model_commit(m, q, delta);
-    res->steps++;
-    res->delta_limit = delta;
-    lam_prev = lam;
-    fold_prev = fold;
-    lam = tangent_min_eig(sp, eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT); /* tangent factored by stable_state */
-    if (path_tangent(sp, q, delta, tan) != 0) {
-      st = vs_error_set(err, VS_ERR_SOLVER, "the path tangent could not be solved for at %.6g mm",
-                        delta / VS_MM);
-      break;
-    }
-    res->newton_iterations = sp->iters;
-    if (step_fn != NULL && step_fn(user, delta, q, m) != 0) {
-      st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
-      break;
-    }
-    if (it <= 3) h = fmin(2.0 * h, o->step_max);
-    else if (it <= 6) h = fmin(1.25 * h, o->step_max);
-  }
-cleanup:
+  qs_path w = {.s = sp, .o = o, .step_fn = step_fn, .user = user, .res = res, .q = q};
+  if (path_alloc(&w) != 0) st = vs_error_set(err, VS_ERR_NOMEM, "path: out of memory");
+  if (st == VS_OK) st = path_begin(&w, delta0, err);
+  if (st == VS_OK) st = path_follow(&w, err);
   res->newton_iterations = sp->iters;
   res->jacobian_evals = sp->jac_evals;
   res->floor_limited = sp->floor_limited;
   res->max_residual = sp->max_residual;
-  free(tan);
-  free(qtry);
-  free(qpred);
-  free(qprev);
-  free(eig);
-  free(qloc);
+  path_free(&w);
   return st;
 }
