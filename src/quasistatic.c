@@ -1,19 +1,15 @@
 /* Quasi-static path following: KINSOL (Newton + line search, KLU on the analytic Jacobian) at
  * each support displacement, a tangent predictor, adaptive increments, and a limit point
  * bracketed by bisection of the increment and confirmed on the tangent stiffness. */
-#include "voussoir/quasistatic.h"
+#include "quasistatic_internal.h"
 
-#include "voussoir/stability.h"
-
-#include <klu.h>
-#include <kinsol/kinsol.h>
 #include <float.h>
+#include <kinsol/kinsol.h>
+#include <klu.h>
 #include <math.h>
 #include <stdio.h>
-#include <nvector/nvector_serial.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
@@ -21,25 +17,6 @@
 #include "voussoir/nvector_ops.h"
 #include "voussoir/units.h"
 
-/* A converged corrector may move the state away from the tangent predictor by at most this
- * multiple of the predictor's own length: a larger jump means Newton left the branch being
- * followed (for instance across a snap), and the increment is cut instead. */
-static const double VS_CORRECTOR_RATIO = 1.0;
-/* Inverse iteration on the tangent: relative change of the eigenvalue estimate that stops it,
- * and the iteration cap. */
-static const double VS_EIG_RTOL = 1e-10;
-/* The same along the path, where the estimate only steers the increment towards a fold. */
-static const double VS_EIG_TRACK_RTOL = 1e-4;
-static const int VS_EIG_TRACK_MAXIT = 6;
-static const int VS_EIG_MAXIT = 200;
-/* Near a fold the smallest eigenvalue of the tangent vanishes like (delta_L - delta)^1/2, so
- * lambda^2 is linear in delta and its extrapolation from the last two equilibria predicts
- * delta_L; an increment goes at most this fraction of the way there, so that the fold is
- * approached by converging steps rather than by failing ones. */
-static const double VS_FOLD_APPROACH = 0.5;
-/* Two successive fold predictions agree when they differ by less than this fraction of the
- * distance to the fold. */
-static const double VS_FOLD_AGREE = 0.5;
 /* KLU's fill-reducing ordering (0 AMD, 1 COLAMD, 2 natural), paid once per path (its analysis
  * is kept): AMD. The blocks form a chain, whose Jacobian is block-banded in the natural order:
  * the reference run takes as many instructions with AMD as with it (callgrind; COLAMD 0.6 %
@@ -66,44 +43,9 @@ static const int VS_MAX_LINESEARCH = 5;
  * stiffness k_n b t turns into a force error of about eps k_n b t (|u| + t); a Newton iteration
  * that stalls within this margin times that floor has converged as far as doubles allow. */
 static const double VS_FLOOR_MARGIN = 16.0;
-/* Self-weight continuation: largest and smallest increments of the gravity factor. */
-static const double VS_RAMP_STEP = 0.25;
-static const double VS_RAMP_MIN = 1e-4;
-static const long VS_RAMP_MAXITER = 200;
-static const long VS_MISFIT_MAXITER = 25; /* Newton iterations per step of the misfit ramp */
 
-typedef struct {
-  vs_model *m;
-  const vs_path_opts *o;
-  double delta;
-  int n;   /* unknowns: the blocks', then the pinned supports' rotations */
-  int nb3; /* the blocks' unknowns, 3 n_blocks */
-  SUNContext ctx;
-  N_Vector u, uscale, fscale;
-  SUNMatrix J, Jt;            /* KINSOL's Jacobian; the tangent at accepted states */
-  SUNLinearSolver LS, LSt;
-  vs_spd *spd;                /* the stability test: Cholesky of the tangent's symmetric part */
-  void *kin;
-  double *len;                /* per unknown: 1 for translations, block length for rotations */
-  /* workspaces, allocated once: two vectors for the tangent's solves (never used by two callers
-   * at once), a residual, and the marks of a permutation's cycles */
-  N_Vector w1, w2;
-  double *fwork;
-  unsigned char *seen;
-  double kmax, lmax, wmin;    /* stiffest joint k_n b t (N/m), longest joint (m), lightest block (N) */
-  long iters, jac_evals, floor_limited;
-  double max_residual;        /* largest scaled residual among accepted equilibria */
-  int interrupted;            /* o->stop was seen raised */
-  int nonfinite;              /* the last solve met a residual that is not finite */
-  int evals;                  /* residuals since the last Jacobian (1 + line-search trials) */
-  int backtracked_out;        /* the last solve was stopped by VS_MAX_LINESEARCH */
-  char kin_msg[256];
-} qs_solver;
-
-/* Unknown i is a rotation: a block's theta or a pinned support's. */
-static int is_rotation(const qs_solver *s, int i) { return i >= s->nb3 || i % 3 == 2; }
-
-static int qs_stopped(qs_solver *s) {
+/* The stop flag was raised (now or before): the solver is interrupted. */
+static int qs_stopped(vs_qs_solver *s) {
   if (s->o->stop != NULL && *s->o->stop) s->interrupted = 1;
   return s->interrupted;
 }
@@ -111,7 +53,7 @@ static int qs_stopped(qs_solver *s) {
 /* KINSOL's residual. A raised stop flag and a residual that is not finite are fatal (-1): KINSOL
  * then returns KIN_SYSFUNC_FAIL at once (its line search never ends on NaN). */
 static int sys_fn(N_Vector u, N_Vector f, void *user) {
-  qs_solver *s = user;
+  vs_qs_solver *s = user;
   if (qs_stopped(s)) return -1;
   if (++s->evals > VS_MAX_LINESEARCH + 1) { /* a diverging solve: stop it here */
     s->backtracked_out = 1;
@@ -131,7 +73,7 @@ static int jac_fn(N_Vector u, N_Vector fu, SUNMatrix J, void *user, N_Vector t1,
   (void)fu;
   (void)t1;
   (void)t2;
-  qs_solver *s = user;
+  vs_qs_solver *s = user;
   if (qs_stopped(s)) return -1;
   s->jac_evals++;
   s->evals = 0;
@@ -140,12 +82,13 @@ static int jac_fn(N_Vector u, N_Vector fu, SUNMatrix J, void *user, N_Vector t1,
 
 /* KINSOL's messages go to the error detail, never to stderr. */
 static void kin_err(int code, const char *module, const char *function, char *msg, void *user) {
-  qs_solver *s = user;
+  vs_qs_solver *s = user;
   (void)code;
   snprintf(s->kin_msg, sizeof s->kin_msg, "%s/%s: %s", module, function, msg);
 }
 
-static void qs_destroy(qs_solver *s) {
+/* Free what s holds (any part may be missing: a failed creation) and zero it. */
+static void qs_destroy(vs_qs_solver *s) {
   if (s->kin != NULL) KINFree(&s->kin);
   if (s->LS != NULL) SUNLinSolFree(s->LS);
   if (s->LSt != NULL) SUNLinSolFree(s->LSt);
@@ -164,7 +107,8 @@ static void qs_destroy(qs_solver *s) {
   memset(s, 0, sizeof *s);
 }
 
-static vs_status qs_fail(qs_solver *s, vs_error *err, const char *what, int flag) {
+/* A setup call failed: s destroyed, the error names the call and its flag. */
+static vs_status qs_fail(vs_qs_solver *s, vs_error *err, const char *what, int flag) {
   qs_destroy(s);
   return vs_error_set(err, VS_ERR_SOLVER, "quasi-static solver setup: %s failed (flag %d)", what,
                       flag);
@@ -172,7 +116,7 @@ static vs_status qs_fail(qs_solver *s, vs_error *err, const char *what, int flag
 
 /* The solver's vectors, matrices and workspaces over its n unknowns (Jacobians with the model's
  * nnz entries), every vector with the optimised operations. */
-static vs_status qs_alloc(qs_solver *s, vs_error *err) {
+static vs_status qs_alloc(vs_qs_solver *s, vs_error *err) {
   const sunindextype n = s->n, nnz = vs_model_nnz(s->m);
   int flag = SUNContext_Create(NULL, &s->ctx);
   if (flag != 0) return qs_fail(s, err, "SUNContext_Create", flag);
@@ -199,7 +143,7 @@ static vs_status qs_alloc(qs_solver *s, vs_error *err) {
 
 /* The stability test (vs_spd): it factors the tangent's symmetric part as a band, in the model's
  * band order, which keeps a pinned support's rotation next to its block. */
-static vs_status qs_spd_create(qs_solver *s, vs_error *err) {
+static vs_status qs_spd_create(vs_qs_solver *s, vs_error *err) {
   int *perm = malloc((size_t)s->n * sizeof *perm);
   if (perm == NULL) {
     qs_destroy(s);
@@ -214,7 +158,7 @@ static vs_status qs_spd_create(qs_solver *s, vs_error *err) {
 
 /* KLU factors the Jacobian at every Newton iteration (LS) and the tangent at every accepted
  * state (LSt); both keep one analysis of the fixed pattern and refactor on its last pivots. */
-static vs_status qs_klu_create(qs_solver *s, vs_error *err) {
+static vs_status qs_klu_create(vs_qs_solver *s, vs_error *err) {
   int flag;
   s->LS = SUNLinSol_KLU(s->u, s->J, s->ctx);
   s->LSt = SUNLinSol_KLU(s->u, s->Jt, s->ctx);
@@ -225,15 +169,15 @@ static vs_status qs_klu_create(qs_solver *s, vs_error *err) {
   SUNLinSol_KLUGetCommon(s->LS)->scale = VS_KLU_SCALE;
   SUNLinSol_KLUGetCommon(s->LSt)->scale = VS_KLU_SCALE;
   vs_klu_keep_analysis(s->LS);  /* KINSol re-initialises its solver at every call */
-  vs_klu_keep_analysis(s->LSt); /* re-initialised by every run (qs_rearm) */
+  vs_klu_keep_analysis(s->LSt); /* re-initialised by every run (vs_qs_rearm) */
   vs_sparse_zero_none(s->J);    /* jac_fn writes the pattern */
   return VS_OK;
 }
 
 /* Scalings: residuals in units of each block's weight (moments: weight x joint length);
  * unknowns in units of that length (rotations in rad). And what the round-off floor of the
- * residual needs (qs_solve): the stiffest joint, the longest, the lightest block. */
-static void qs_scale(qs_solver *s) {
+ * residual needs (vs_qs_solve): the stiffest joint, the longest, the lightest block. */
+static void qs_scale(vs_qs_solver *s) {
   vs_model *const m = s->m;
   double *fs = N_VGetArrayPointer(s->fscale), *us = N_VGetArrayPointer(s->uscale);
   vs_model_residual_scale(m, fs);
@@ -258,7 +202,7 @@ static void qs_scale(qs_solver *s) {
 
 /* KINSOL: Newton with line search on sys_fn, the exact Jacobian (jac_fn) at every iteration
  * factored by KLU (s->LS), messages into s->kin_msg, the options' tolerance and iteration cap. */
-static vs_status qs_kinsol_create(qs_solver *s, vs_error *err) {
+static vs_status qs_kinsol_create(vs_qs_solver *s, vs_error *err) {
   const vs_path_opts *const o = s->o;
   int flag;
   s->kin = KINCreate(s->ctx);
@@ -286,7 +230,7 @@ static vs_status qs_kinsol_create(qs_solver *s, vs_error *err) {
 
 /* A solver of the model m's equilibrium with options o (borrowed); on failure s is left
  * destroyed (zeroed). */
-static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_error *err) {
+static vs_status qs_create(vs_qs_solver *s, vs_model *m, const vs_path_opts *o, vs_error *err) {
   memset(s, 0, sizeof *s);
   s->m = m;
   s->o = o;
@@ -301,7 +245,7 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
 }
 
 /* Largest scaled residual |G_i| / scale_i at (q, delta). */
-static double scaled_residual(qs_solver *s, const double *q, double delta) {
+static double scaled_residual(vs_qs_solver *s, const double *q, double delta) {
   double *f = s->fwork, r = 0.0;
   vs_model_residual(s->m, q, delta, f);
   const double *fs = N_VGetArrayPointer(s->fscale);
@@ -310,7 +254,7 @@ static double scaled_residual(qs_solver *s, const double *q, double delta) {
 }
 
 /* Solve G(q; delta) = 0 from the guess q. Returns 0 on convergence, else the KINSOL flag. */
-static int qs_solve(qs_solver *s, double delta, double *q, long *iters) {
+int vs_qs_solve(vs_qs_solver *s, double delta, double *q, long *iters) {
   s->delta = delta;
   s->kin_msg[0] = '\0';
   s->nonfinite = 0;
@@ -346,111 +290,6 @@ static int qs_solve(qs_solver *s, double delta, double *q, long *iters) {
   return flag;
 }
 
-/* Sign of a permutation of n >= 0 entries (+1 even, -1 odd); seen has n bytes of scratch. */
-static int perm_sign(const SuiteSparse_long *p, long n, unsigned char *seen) {
-  if (n <= 0) return 1;
-  memset(seen, 0, (size_t)n);
-  long transpositions = 0;
-  for (long i = 0; i < n; i++) {
-    if (seen[i]) continue;
-    long len = 0;
-    for (long j = i; !seen[j]; j = p[j]) {
-      seen[j] = 1;
-      len++;
-    }
-    transpositions += len - 1;
-  }
-  return (transpositions % 2 == 0) ? 1 : -1;
-}
-
-/* Factor the tangent at (q, delta) with KLU (s->LSt); *det_sign = sign of det K from the
- * factors: KLU factors P (R\K) Q = L U with R > 0 (the identity here: VS_KLU_SCALE), so
- * sign(det K) = sign(P) sign(Q) prod sign(U_ii). */
-static int tangent_factor(qs_solver *s, const double *q, double delta, int *det_sign) {
-  vs_model_jacobian(s->m, q, delta, s->Jt);
-  const int flag = SUNLinSolSetup(s->LSt, s->Jt);
-  if (flag != 0) {
-    *det_sign = 0;
-    return flag;
-  }
-  const sun_klu_symbolic *sym = SUNLinSol_KLUGetSymbolic(s->LSt);
-  const sun_klu_numeric *num = SUNLinSol_KLUGetNumeric(s->LSt);
-  const long n = s->n;
-  int sign = perm_sign(num->Pnum, n, s->seen) * perm_sign(sym->Q, n, s->seen);
-  const double *ud = num->Udiag;
-  for (long i = 0; i < n; i++) {
-    if (ud[i] == 0.0) sign = 0;
-    else if (ud[i] < 0.0) sign = -sign;
-  }
-  *det_sign = sign;
-  return 0;
-}
-
-/* x <- K^-1 b with the factors of tangent_factor. */
-static int tangent_solve(qs_solver *s, N_Vector x, N_Vector b) {
-  return SUNLinSolSolve(s->LSt, s->Jt, x, b, 0.0);
-}
-
-/* Smallest |eigenvalue| of the scaled tangent D K D (rotations scaled by the block length,
- * so that every entry is in N/m), by inverse iteration on the factored tangent. vec (n entries)
- * is the start vector and receives the eigenvector; all zeros means a fixed pseudo-random start.
- * rtol: relative change of the estimate that ends the iteration, maxit: the iteration cap.
- * NaN if a solve fails. */
-static double tangent_min_eig(qs_solver *s, double *vec, double rtol, int maxit) {
-  N_Vector y = s->w1, z = s->w2;
-  double *py = N_VGetArrayPointer(y), *pz = N_VGetArrayPointer(z);
-  memcpy(py, vec, (size_t)s->n * sizeof *py);
-  double nrm = sqrt(N_VDotProd(y, y)), mu = 0.0;
-  if (!(nrm > 0.0)) {
-    unsigned long seed = 12345u;
-    for (int i = 0; i < s->n; i++) {
-      seed = seed * 6364136223846793005ul + 1442695040888963407ul;
-      py[i] = (double)(seed >> 11) / 9007199254740992.0 - 0.5;
-    }
-    nrm = sqrt(N_VDotProd(y, y));
-  }
-  N_VScale(1.0 / nrm, y, y);
-  for (int it = 0; it < maxit; it++) {
-    /* A = D K D with D = diag(1, 1, 1/len): A^-1 y = D^-1 K^-1 D^-1 y */
-    for (int i = 0; i < s->n; i++) py[i] *= s->len[i];
-    if (tangent_solve(s, z, y) != 0) {
-      mu = NAN;
-      break;
-    }
-    for (int i = 0; i < s->n; i++) pz[i] *= s->len[i];
-    nrm = sqrt(N_VDotProd(z, z));
-    const double mu_new = 1.0 / nrm;
-    N_VScale(1.0 / nrm, z, y);
-    if (it > 0 && fabs(mu_new - mu) <= rtol * mu_new) {
-      mu = mu_new;
-      break;
-    }
-    mu = mu_new;
-  }
-  memcpy(vec, py, (size_t)s->n * sizeof *vec);
-  return mu;
-}
-
-/* Tangent of the path, dq/ddelta = -K^-1 dG/ddelta, with the factors of tangent_factor. */
-static int path_tangent(qs_solver *s, const double *q, double delta, double *dq) {
-  N_Vector b = s->w1, x = s->w2;
-  vs_model_dG_ddelta(s->m, q, delta, N_VGetArrayPointer(b));
-  N_VScale(-1.0, b, b);
-  int flag = tangent_solve(s, x, b);
-  if (flag == 0) memcpy(dq, N_VGetArrayPointer(x), (size_t)s->n * sizeof *dq);
-  return flag;
-}
-
-/* Scaled distance between two states: translations / block length, rotations in rad. */
-static double scaled_norm(const qs_solver *s, const double *a, const double *b) {
-  double r = 0.0;
-  for (int i = 0; i < s->n; i++) {
-    const double len = is_rotation(s, i) ? 1.0 : s->len[i - i % 3 + 2];
-    r = fmax(r, fabs(a[i] - b[i]) / len);
-  }
-  return r;
-}
-
 void vs_path_opts_from_case(const vs_case *c, vs_path_opts *o) {
   vs_case_si si;
   vs_case_to_si(c, &si);
@@ -464,9 +303,92 @@ void vs_path_opts_from_case(const vs_case *c, vs_path_opts *o) {
   o->stop = NULL;
 }
 
+/* After a failed solve at delta: an error when the failure ends the path whatever follows (the
+ * stop flag, a residual that is not finite), else VS_OK. */
+vs_status vs_qs_fatal(const vs_qs_solver *s, double delta, vs_error *err) {
+  if (s->interrupted) return vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
+  if (s->nonfinite)
+    return vs_error_set(err, VS_ERR_SOLVER,
+                        "the residual is not finite (NaN or infinity) at support displacement "
+                        "%.6g mm: the case's values are beyond double precision",
+                        delta / VS_MM);
+  return VS_OK;
+}
+
+const char *vs_qs_kin_cause(int flag) {
+  switch (flag) {
+  case KIN_LINESEARCH_NONCONV: return "line search could not reduce the residual";
+  case KIN_MAXITER_REACHED: return "Newton iteration limit reached";
+  case KIN_MXNEWT_5X_EXCEEDED: return "five consecutive maximum-length Newton steps (diverging)";
+  case KIN_LINESEARCH_BCFAIL: return "line search could not satisfy the beta condition";
+  case KIN_LSETUP_FAIL: return "the Jacobian could not be factored (singular tangent)";
+  case KIN_LSOLVE_FAIL: return "the linear solve failed";
+  case KIN_STEP_LT_STPTOL: return "Newton stalled with the residual above tolerance";
+  case KIN_SYSFUNC_FAIL: return "the residual is not finite (NaN or infinity)";
+  default: return "KINSOL failure";
+  }
+}
+
+vs_status vs_equilibrium_solve(vs_model *m, const vs_path_opts *o, double delta, double *q,
+                               long *iters, vs_error *err) {
+  vs_qs_solver s;
+  vs_status st = qs_create(&s, m, o, err);
+  if (st != VS_OK) return st;
+  int flag = vs_qs_solve(&s, delta, q, iters);
+  if (flag != 0) st = vs_qs_fatal(&s, delta, err);
+  if (flag != 0 && st == VS_OK) {
+    char cause[128];
+    snprintf(cause, sizeof cause, "%s", vs_qs_kin_cause(flag));
+    st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
+                      "no equilibrium at support displacement %.6g mm: %s (KINSOL flag %d)",
+                      delta / VS_MM, cause, flag);
+  }
+  qs_destroy(&s);
+  return st;
+}
+
+vs_status vs_path_solver_create(vs_model *m, const vs_path_opts *o, vs_path_solver **out,
+                                vs_error *err) {
+  *out = NULL;
+  vs_path_solver *p = malloc(sizeof *p);
+  if (p == NULL) return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
+  vs_status st = qs_create(&p->s, m, o, err);
+  if (st != VS_OK) {
+    free(p);
+    return st;
+  }
+  *out = p;
+  return VS_OK;
+}
+
+void vs_path_solver_destroy(vs_path_solver **p) {
+  if (p == NULL || *p == NULL) return;
+  qs_destroy(&(*p)->s);
+  free(*p);
+  *p = NULL;
+}
+
+/* A run starts as on a new solver: options o, counters at zero, the tangent factored afresh. */
+vs_status vs_qs_rearm(vs_qs_solver *s, const vs_path_opts *o, vs_error *err) {
+  s->o = o;
+  s->delta = 0.0;
+  s->iters = s->jac_evals = s->floor_limited = 0;
+  s->max_residual = 0.0;
+  s->interrupted = s->nonfinite = s->evals = s->backtracked_out = 0;
+  s->kin_msg[0] = '\0';
+  int flag = KINSetNumMaxIters(s->kin, o->newton_maxiter);
+  if (flag == KIN_SUCCESS) flag = KINSetFuncNormTol(s->kin, o->newton_tol);
+  if (flag == KIN_SUCCESS) flag = SUNLinSolInitialize(s->LSt);
+  return flag == 0 ? VS_OK
+                   : vs_error_set(err, VS_ERR_SOLVER,
+                                  "quasi-static solver: re-arming failed (flag %d)", flag);
+}
+
+/* --- hinge onsets located on the path --- */
+
 /* Which joint edges are open (gap > open) at (q, delta): 2 flags per joint, and each edge's
  * gap minus the opening (gap, m; may be NULL). */
-static void edge_flags(const qs_solver *s, const double *q, double delta, vs_joint_state *js,
+static void edge_flags(const vs_qs_solver *s, const double *q, double delta, vs_joint_state *js,
                        unsigned char *fl, double *gap) {
   const int nj = vs_model_geometry(s->m)->n_joints;
   vs_model_joint_states(s->m, q, delta, js);
@@ -506,7 +428,7 @@ typedef struct {
  * ends (a secant step) offset by half the tolerance, below it and then above it, so that a
  * smooth gap is bracketed in two solves; after a prediction that missed, one bisection step.
  * Returns 0, or 1 if a solve failed. */
-static int bracket_crossing(qs_solver *s, int n, int ne, locate_ws *w, double *a, double *b) {
+static int bracket_crossing(vs_qs_solver *s, int n, int ne, locate_ws *w, double *a, double *b) {
   const double tol = s->o->limit_tol;
   int bisect = 0, side = 0;
   while (*b - *a > tol) {
@@ -519,7 +441,7 @@ static int bracket_crossing(qs_solver *s, int n, int ne, locate_ws *w, double *a
     const double f = (x - *a) / (*b - *a);
     for (int i = 0; i < n; i++) w->qm[i] = w->qa[i] + f * (w->qb[i] - w->qa[i]);
     long it = 0;
-    if (qs_solve(s, x, w->qm, &it) != 0) return 1;
+    if (vs_qs_solve(s, x, w->qm, &it) != 0) return 1;
     edge_flags(s, w->qm, x, w->js, w->fm, w->gm);
     const int below = memcmp(w->fm, w->fa, (size_t)ne) == 0;
     double *q = below ? w->qa : w->qb, *g = below ? w->ga : w->gb;
@@ -546,8 +468,9 @@ static int bracket_crossing(qs_solver *s, int n, int ne, locate_ws *w, double *a
  * consecutive equilibria are then within limit_tol of the crossing, and the joints it sees open
  * are those of the crossing, whatever the increment. Returns non-zero if step_fn asked to stop.
  * A location whose Newton fails ends it (the tracker then interpolates over what is left). */
-static int locate_edges(qs_solver *s, const double *qa0, double a0, const double *qb0, double b0,
-                        vs_path_step_fn step_fn, void *user, double *work, long *located) {
+int vs_qs_locate_edges(vs_qs_solver *s, const double *qa0, double a0, const double *qb0,
+                       double b0, vs_path_step_fn step_fn, void *user, double *work,
+                       long *located) {
   const int n = s->n, nj = vs_model_geometry(s->m)->n_joints, ne = 2 * nj;
   locate_ws w = {.js = malloc((size_t)nj * sizeof *w.js), .fa = malloc((size_t)(4 * ne)),
                  .ga = malloc(4 * (size_t)ne * sizeof(double)), .qa = work, .qb = work + n,
@@ -587,116 +510,19 @@ static int locate_edges(qs_solver *s, const double *qa0, double a0, const double
   return stop;
 }
 
-/* After a failed solve at delta: an error when the failure ends the path whatever follows (the
- * stop flag, a residual that is not finite), else VS_OK. */
-static vs_status qs_fatal(const qs_solver *s, double delta, vs_error *err) {
-  if (s->interrupted) return vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
-  if (s->nonfinite)
-    return vs_error_set(err, VS_ERR_SOLVER,
-                        "the residual is not finite (NaN or infinity) at support displacement "
-                        "%.6g mm: the case's values are beyond double precision",
-                        delta / VS_MM);
-  return VS_OK;
-}
+/* --- the path's starting equilibrium --- */
 
-static const char *kin_cause(int flag) {
-  switch (flag) {
-  case KIN_LINESEARCH_NONCONV: return "line search could not reduce the residual";
-  case KIN_MAXITER_REACHED: return "Newton iteration limit reached";
-  case KIN_MXNEWT_5X_EXCEEDED: return "five consecutive maximum-length Newton steps (diverging)";
-  case KIN_LINESEARCH_BCFAIL: return "line search could not satisfy the beta condition";
-  case KIN_LSETUP_FAIL: return "the Jacobian could not be factored (singular tangent)";
-  case KIN_LSOLVE_FAIL: return "the linear solve failed";
-  case KIN_STEP_LT_STPTOL: return "Newton stalled with the residual above tolerance";
-  case KIN_SYSFUNC_FAIL: return "the residual is not finite (NaN or infinity)";
-  default: return "KINSOL failure";
-  }
-}
-
-vs_status vs_equilibrium_solve(vs_model *m, const vs_path_opts *o, double delta, double *q,
-                               long *iters, vs_error *err) {
-  qs_solver s;
-  vs_status st = qs_create(&s, m, o, err);
-  if (st != VS_OK) return st;
-  int flag = qs_solve(&s, delta, q, iters);
-  if (flag != 0) st = qs_fatal(&s, delta, err);
-  if (flag != 0 && st == VS_OK) {
-    char cause[128];
-    snprintf(cause, sizeof cause, "%s", kin_cause(flag));
-    st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                      "no equilibrium at support displacement %.6g mm: %s (KINSOL flag %d)",
-                      delta / VS_MM, cause, flag);
-  }
-  qs_destroy(&s);
-  return st;
-}
-
-/* Confirm a bracketed limit point at delta_lo (last equilibrium q_lo): near a fold the smallest
- * eigenvalue of the tangent vanishes like sqrt(delta_L - delta), so lambda^2 is linear in delta.
- * Take a second equilibrium a little behind (delta_b, solved from the interpolation between the
- * previous accepted state and q_lo: Newton from q_lo itself is useless there, its tangent is
- * nearly singular), extrapolate lambda^2 to zero and require the zero to fall in the bracket
- * (within its width plus the bisection tolerance). */
-static vs_status confirm_limit(qs_solver *s, const double *q_prev, double delta_prev,
-                               const double *q_lo, double delta_lo, double delta_fail,
-                               vs_path_result *res, vs_error *err) {
-  const double width = delta_fail - delta_lo;
-  const double delta_b = fmax(delta_lo - 10.0 * fmax(width, s->o->limit_tol), delta_prev);
-  vs_limit_evidence *ev = &res->evidence;
-  int sign = 0;
-  if (tangent_factor(s, q_lo, delta_lo, &sign) != 0)
-    return vs_error_set(err, VS_ERR_SOLVER, "the tangent at %.6g mm could not be factored",
-                        delta_lo / VS_MM);
-  ev->det_sign = sign;
-  double *vec = calloc((size_t)s->n, sizeof *vec);
-  if (vec == NULL) return vs_error_set(err, VS_ERR_NOMEM, "out of memory");
-  const double lam_lo = tangent_min_eig(s, vec, VS_EIG_RTOL, VS_EIG_MAXIT);
-  ev->lambda_last = lam_lo;
-  double *qb = malloc((size_t)s->n * sizeof *qb);
-  if (qb == NULL) {
-    free(vec);
-    return vs_error_set(err, VS_ERR_NOMEM, "out of memory");
-  }
-  const double f = (delta_lo > delta_prev) ? (delta_b - delta_prev) / (delta_lo - delta_prev) : 0.0;
-  for (int i = 0; i < s->n; i++) qb[i] = q_prev[i] + f * (q_lo[i] - q_prev[i]);
-  int flag = (delta_b > delta_prev) ? qs_solve(s, delta_b, qb, NULL) : 0;
-  double lam_b = NAN;
-  int sign_b = 0;
-  if (flag == 0 && tangent_factor(s, qb, delta_b, &sign_b) == 0)
-    lam_b = tangent_min_eig(s, vec, VS_EIG_RTOL, VS_EIG_MAXIT);
-  free(qb);
-  free(vec);
-  if (flag != 0 || !isfinite(lam_b))
-    return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                        "Newton failed beyond %.6g mm but the path could not be re-solved at "
-                        "%.6g mm to examine the tangent (%s)",
-                        delta_lo / VS_MM, delta_b / VS_MM, kin_cause(flag));
-  const double l2b = lam_b * lam_b, l2 = lam_lo * lam_lo;
-  ev->delta_extrap = (l2b > l2) ? delta_lo + (delta_lo - delta_b) * l2 / (l2b - l2) : INFINITY;
-  const double slack = width + s->o->limit_tol;
-  if (sign > 0 && ev->delta_extrap <= delta_fail + slack) return VS_OK;
-  return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                      "Newton failed beyond %.6g mm (%s) but the tangent stiffness there is not "
-                      "vanishing (smallest eigenvalue %.4g N/m, extrapolated to zero at %.6g mm, "
-                      "det sign %+d): not a limit point",
-                      delta_lo / VS_MM, s->kin_msg[0] ? s->kin_msg : "no convergence", lam_lo,
-                      ev->delta_extrap / VS_MM, sign);
-}
-
-/* Accept a converged state as on the followed stable branch: the tangent must be positive
- * definite, established by a Cholesky factorisation of its symmetric part (stability.h; the sign
- * of det K alone would not). Its LU is kept for the eigenvalue tracking and the path tangent. */
-static int stable_state(qs_solver *s, const double *q, double delta) {
-  int sign = 0;
-  if (tangent_factor(s, q, delta, &sign) != 0) return 0;
-  return vs_spd_test(s->spd, s->Jt) == 1;
-}
+/* Self-weight continuation: largest and smallest increments of the gravity factor. */
+static const double VS_RAMP_STEP = 0.25;
+static const double VS_RAMP_MIN = 1e-4;
+static const long VS_RAMP_MAXITER = 200;
+static const long VS_MISFIT_MAXITER = 25; /* Newton iterations per step of the misfit ramp */
 
 /* The misfit of an imperfect arch (vs_model_set_misfit_scale) by continuation in its factor,
  * from the self-weight equilibrium on nominal faces: increments halve when Newton fails or the
  * state is not stable. Returns 0 when the factor 1 is reached (q holds the equilibrium), else -1
  * with *reached the largest factor that had an equilibrium. */
-static int misfit_ramp(qs_solver *s, double *q, double *reached) {
+static int misfit_ramp(vs_qs_solver *s, double *q, double *reached) {
   const size_t bytes = (size_t)s->n * sizeof(double);
   double *qt = malloc(bytes), *qp = malloc(bytes), lam = 0.0, lam_prev = 0.0, h = VS_RAMP_STEP;
   int ok = -1;
@@ -710,7 +536,7 @@ static int misfit_ramp(qs_solver *s, double *q, double *reached) {
     const double r = lam > lam_prev ? (next - lam) / (lam - lam_prev) : 0.0;
     for (int i = 0; i < s->n; i++) qt[i] = q[i] + r * (q[i] - qp[i]);
     vs_model_set_misfit_scale(s->m, next);
-    if (qs_solve(s, 0.0, qt, NULL) == 0 && stable_state(s, qt, 0.0)) {
+    if (vs_qs_solve(s, 0.0, qt, NULL) == 0 && vs_qs_stable_state(s, qt, 0.0)) {
       memcpy(qp, q, bytes);
       memcpy(q, qt, bytes);
       lam_prev = lam;
@@ -737,11 +563,11 @@ done:
  * exact equilibrium at lambda = 0; lambda grows by increments that halve when Newton fails (tangent
  * predictor dq/dlambda = -K^-1 dG/dlambda). Returns 0 when lambda = 1 is reached (q holds the
  * equilibrium), else -1 with *lambda_max the largest factor that had an equilibrium. */
-static int gravity_ramp(qs_solver *s, double *q, double *lambda_max) {
+static int gravity_ramp(vs_qs_solver *s, double *q, double *lambda_max) {
   vs_model *m = s->m;
   const size_t bytes = (size_t)s->n * sizeof(double);
   double *qt = malloc(bytes), lam = 0.0, h = VS_RAMP_STEP;
-  N_Vector b = s->w1, x = s->w2; /* qs_solve and stable_state do not use them */
+  N_Vector b = s->w1, x = s->w2; /* vs_qs_solve and vs_qs_stable_state do not use them */
   int ok = -1;
   if (qt == NULL) goto done;
   memset(q, 0, bytes);
@@ -753,17 +579,17 @@ static int gravity_ramp(qs_solver *s, double *q, double *lambda_max) {
     /* predictor: dG/dlambda is the weight on the vertical equations */
     vs_model_set_gravity_scale(m, lam);
     int sign = 0;
-    int have_tangent = tangent_factor(s, q, 0.0, &sign) == 0;
+    int have_tangent = vs_qs_tangent_factor(s, q, 0.0, &sign) == 0;
     if (have_tangent) {
       double *pb = N_VGetArrayPointer(b);
       vs_model_residual_scale(m, pb); /* weights on 3i, 3i+1 */
       for (int i = 0; i < s->n; i++) pb[i] = (i < s->nb3 && i % 3 == 1) ? -pb[i] : 0.0;
-      have_tangent = tangent_solve(s, x, b) == 0;
+      have_tangent = vs_qs_tangent_solve(s, x, b) == 0;
     }
     for (int i = 0; i < s->n; i++)
       qt[i] = q[i] + (have_tangent ? (next - lam) * N_VGetArrayPointer(x)[i] : 0.0);
     vs_model_set_gravity_scale(m, next);
-    if (qs_solve(s, 0.0, qt, NULL) == 0 && stable_state(s, qt, 0.0)) {
+    if (vs_qs_solve(s, 0.0, qt, NULL) == 0 && vs_qs_stable_state(s, qt, 0.0)) {
       memcpy(q, qt, bytes);
       lam = next;
       if (lam >= 1.0) {
@@ -783,72 +609,11 @@ done:
   return ok;
 }
 
-struct vs_path_solver {
-  qs_solver s;
-};
-
-vs_status vs_path_solver_create(vs_model *m, const vs_path_opts *o, vs_path_solver **out,
-                                vs_error *err) {
-  *out = NULL;
-  vs_path_solver *p = malloc(sizeof *p);
-  if (p == NULL) return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
-  vs_status st = qs_create(&p->s, m, o, err);
-  if (st != VS_OK) {
-    free(p);
-    return st;
-  }
-  *out = p;
-  return VS_OK;
-}
-
-void vs_path_solver_destroy(vs_path_solver **p) {
-  if (p == NULL || *p == NULL) return;
-  qs_destroy(&(*p)->s);
-  free(*p);
-  *p = NULL;
-}
-
-/* A run starts as on a new solver: options o, counters at zero, the tangent factored afresh. */
-static vs_status qs_rearm(qs_solver *s, const vs_path_opts *o, vs_error *err) {
-  s->o = o;
-  s->delta = 0.0;
-  s->iters = s->jac_evals = s->floor_limited = 0;
-  s->max_residual = 0.0;
-  s->interrupted = s->nonfinite = s->evals = s->backtracked_out = 0;
-  s->kin_msg[0] = '\0';
-  int flag = KINSetNumMaxIters(s->kin, o->newton_maxiter);
-  if (flag == KIN_SUCCESS) flag = KINSetFuncNormTol(s->kin, o->newton_tol);
-  if (flag == KIN_SUCCESS) flag = SUNLinSolInitialize(s->LSt);
-  return flag == 0 ? VS_OK
-                   : vs_error_set(err, VS_ERR_SOLVER, "quasi-static solver: re-arming failed (flag %d)",
-                                  flag);
-}
-
-/* A path run between its increments (vs_path_run_with): the last accepted equilibrium and the
- * one before, what the next increment starts from, and the fold predictions. */
-typedef struct {
-  qs_solver *s;
-  const vs_path_opts *o;
-  vs_path_step_fn step_fn;
-  void *user;
-  vs_path_result *res;
-  double *q;                /* the last accepted equilibrium (the caller's array) */
-  double *tan;              /* the path tangent dq/ddelta there */
-  double *qtry, *qpred;     /* an increment's trial state and its predictor */
-  double *qprev;            /* the accepted equilibrium before q */
-  double *eig;              /* the tangent's eigenvector, carried from state to state */
-  double *qloc;             /* locate_edges' workspace, 3 n */
-  double delta, delta_prev; /* support displacements of q and of qprev, m */
-  double h;                 /* the next increment, m */
-  double lam, lam_prev;     /* smallest eigenvalue of the scaled tangent at q and qprev, N/m */
-  double fold, fold_prev;   /* the fold predicted at this increment and at the last, m */
-} qs_path;
-
 /* No equilibrium to start from at delta0 (flag: the last solve's; lambda_max: how far the
  * self-weight's continuation went): the error that says so. */
-static vs_status start_failed(const qs_solver *s, double delta0, int flag, double lambda_max,
+static vs_status start_failed(const vs_qs_solver *s, double delta0, int flag, double lambda_max,
                               vs_error *err) {
-  const vs_status st = qs_fatal(s, delta0, err);
+  const vs_status st = vs_qs_fatal(s, delta0, err);
   if (st != VS_OK) return st;
   if (delta0 == 0.0)
     return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
@@ -857,22 +622,20 @@ static vs_status start_failed(const qs_solver *s, double delta0, int flag, doubl
                         "was found beyond, with increments down to %.1e)",
                         lambda_max, VS_RAMP_MIN);
   return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM, "no equilibrium at %.6g mm to resume from (%s)",
-                      delta0 / VS_MM, kin_cause(flag));
+                      delta0 / VS_MM, vs_qs_kin_cause(flag));
 }
 
-/* The stable equilibrium at delta0 from the guess q (self-weight, by continuation when needed,
- * and an imperfect arch's misfit), into q; res->newton_iterations set. */
-static vs_status path_start(qs_solver *s, double delta0, double *q, vs_path_result *res,
-                            vs_error *err) {
+vs_status vs_qs_start(vs_qs_solver *s, double delta0, double *q, vs_path_result *res,
+                      vs_error *err) {
   const int misfit = delta0 == 0.0 && vs_model_has_misfit(s->m);
   if (misfit) vs_model_set_misfit_scale(s->m, 0.0);
-  int flag = qs_solve(s, delta0, q, NULL);
+  int flag = vs_qs_solve(s, delta0, q, NULL);
   double lambda_max = 1.0, misfit_max = 1.0;
-  if (flag != 0 && delta0 == 0.0 && qs_fatal(s, delta0, NULL) == VS_OK &&
+  if (flag != 0 && delta0 == 0.0 && vs_qs_fatal(s, delta0, NULL) == VS_OK &&
       gravity_ramp(s, q, &lambda_max) == 0)
     flag = 0;
   if (flag == 0 && misfit && misfit_ramp(s, q, &misfit_max) != 0) {
-    vs_status st = qs_fatal(s, delta0, err); /* an interrupt or a non-finite residual says so */
+    vs_status st = vs_qs_fatal(s, delta0, err); /* an interrupt or a non-finite residual says so */
     if (st == VS_OK)
       st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
                         "the imperfect arch cannot stand: no equilibrium under self-weight with "
@@ -883,17 +646,84 @@ static vs_status path_start(qs_solver *s, double delta0, double *q, vs_path_resu
   }
   res->newton_iterations = s->iters;
   if (flag != 0) return start_failed(s, delta0, flag, lambda_max, err);
-  if (!stable_state(s, q, delta0))
+  if (!vs_qs_stable_state(s, q, delta0))
     return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
                         "the equilibrium at %.6g mm is unstable (tangent not positive definite)",
                         delta0 / VS_MM);
   return VS_OK;
 }
 
+/* --- the limit point --- */
+
+/* Inverse iteration on the tangent: relative change of the eigenvalue estimate that stops it,
+ * and the iteration cap. */
+static const double VS_EIG_RTOL = 1e-10;
+static const int VS_EIG_MAXIT = 200;
+/* Near a fold the smallest eigenvalue of the tangent vanishes like (delta_L - delta)^1/2, so
+ * lambda^2 is linear in delta and its extrapolation from the last two equilibria predicts
+ * delta_L; an increment goes at most this fraction of the way there, so that the fold is
+ * approached by converging steps rather than by failing ones. */
+static const double VS_FOLD_APPROACH = 0.5;
+/* Two successive fold predictions agree when they differ by less than this fraction of the
+ * distance to the fold. */
+static const double VS_FOLD_AGREE = 0.5;
+
+/* Confirm a bracketed limit point at delta_lo (last equilibrium q_lo): near a fold the smallest
+ * eigenvalue of the tangent vanishes like sqrt(delta_L - delta), so lambda^2 is linear in delta.
+ * Take a second equilibrium a little behind (delta_b, solved from the interpolation between the
+ * previous accepted state and q_lo: Newton from q_lo itself is useless there, its tangent is
+ * nearly singular), extrapolate lambda^2 to zero and require the zero to fall in the bracket
+ * (within its width plus the bisection tolerance). */
+static vs_status confirm_limit(vs_qs_solver *s, const double *q_prev, double delta_prev,
+                               const double *q_lo, double delta_lo, double delta_fail,
+                               vs_path_result *res, vs_error *err) {
+  const double width = delta_fail - delta_lo;
+  const double delta_b = fmax(delta_lo - 10.0 * fmax(width, s->o->limit_tol), delta_prev);
+  vs_limit_evidence *ev = &res->evidence;
+  int sign = 0;
+  if (vs_qs_tangent_factor(s, q_lo, delta_lo, &sign) != 0)
+    return vs_error_set(err, VS_ERR_SOLVER, "the tangent at %.6g mm could not be factored",
+                        delta_lo / VS_MM);
+  ev->det_sign = sign;
+  double *vec = calloc((size_t)s->n, sizeof *vec);
+  if (vec == NULL) return vs_error_set(err, VS_ERR_NOMEM, "out of memory");
+  const double lam_lo = vs_qs_tangent_min_eig(s, vec, VS_EIG_RTOL, VS_EIG_MAXIT);
+  ev->lambda_last = lam_lo;
+  double *qb = malloc((size_t)s->n * sizeof *qb);
+  if (qb == NULL) {
+    free(vec);
+    return vs_error_set(err, VS_ERR_NOMEM, "out of memory");
+  }
+  const double f = (delta_lo > delta_prev) ? (delta_b - delta_prev) / (delta_lo - delta_prev) : 0.0;
+  for (int i = 0; i < s->n; i++) qb[i] = q_prev[i] + f * (q_lo[i] - q_prev[i]);
+  int flag = (delta_b > delta_prev) ? vs_qs_solve(s, delta_b, qb, NULL) : 0;
+  double lam_b = NAN;
+  int sign_b = 0;
+  if (flag == 0 && vs_qs_tangent_factor(s, qb, delta_b, &sign_b) == 0)
+    lam_b = vs_qs_tangent_min_eig(s, vec, VS_EIG_RTOL, VS_EIG_MAXIT);
+  free(qb);
+  free(vec);
+  if (flag != 0 || !isfinite(lam_b))
+    return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
+                        "Newton failed beyond %.6g mm but the path could not be re-solved at "
+                        "%.6g mm to examine the tangent (%s)",
+                        delta_lo / VS_MM, delta_b / VS_MM, vs_qs_kin_cause(flag));
+  const double l2b = lam_b * lam_b, l2 = lam_lo * lam_lo;
+  ev->delta_extrap = (l2b > l2) ? delta_lo + (delta_lo - delta_b) * l2 / (l2b - l2) : INFINITY;
+  const double slack = width + s->o->limit_tol;
+  if (sign > 0 && ev->delta_extrap <= delta_fail + slack) return VS_OK;
+  return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
+                      "Newton failed beyond %.6g mm (%s) but the tangent stiffness there is not "
+                      "vanishing (smallest eigenvalue %.4g N/m, extrapolated to zero at %.6g mm, "
+                      "det sign %+d): not a limit point",
+                      delta_lo / VS_MM, s->kin_msg[0] ? s->kin_msg : "no convergence", lam_lo,
+                      ev->delta_extrap / VS_MM, sign);
+}
+
 /* Fold predictor: lambda^2 extrapolated from the last two equilibria, trusted once two
  * successive predictions agree (lambda^2 linear in delta, as near a fold; a hinge forming also
  * lowers lambda, but not along a line). */
-static void fold_limit(qs_path *w) {
+void vs_qs_fold_limit(vs_qs_path *w) {
   const double delta = w->delta, delta_prev = w->delta_prev, lam = w->lam, lam_prev = w->lam_prev;
   w->fold = (isfinite(lam_prev) && lam < lam_prev && delta > delta_prev)
                 ? delta + lam * lam * (delta - delta_prev) / (lam_prev * lam_prev - lam * lam)
@@ -903,31 +733,50 @@ static void fold_limit(qs_path *w) {
     w->h = fmin(w->h, fmax(VS_FOLD_APPROACH * (w->fold - delta), w->o->limit_tol));
 }
 
-/* The path's end once an increment at limit_tol still fails: a limit point between w->delta
- * and w->delta + w->h if the tangent confirms it (res->end = VS_PATH_LIMIT_POINT), else an
- * error saying why not. */
-static vs_status limit_end(qs_path *w, vs_error *err) {
-  qs_solver *const s = w->s;
+vs_status vs_qs_limit_end(vs_qs_path *w, vs_error *err) {
+  vs_qs_solver *const s = w->s;
   vs_path_result *const res = w->res;
   res->delta_limit = w->delta;
   res->delta_fail = w->delta + w->h;
   vs_status st = confirm_limit(s, w->qprev, w->delta_prev, w->q, w->delta, w->delta + w->h, res,
                                err);
-  if (s->interrupted || s->nonfinite) st = qs_fatal(s, w->delta + w->h, err);
+  if (s->interrupted || s->nonfinite) st = vs_qs_fatal(s, w->delta + w->h, err);
   if (st == VS_OK) res->end = VS_PATH_LIMIT_POINT;
   return st;
 }
 
+/* --- path following --- */
+
+/* A converged corrector may move the state away from the tangent predictor by at most this
+ * multiple of the predictor's own length: a larger jump means Newton left the branch being
+ * followed (for instance across a snap), and the increment is cut instead. */
+static const double VS_CORRECTOR_RATIO = 1.0;
+/* Inverse iteration on the tangent along the path, where the estimate only steers the increment
+ * towards a fold: relative change of the eigenvalue estimate that stops it, and the iteration
+ * cap. */
+static const double VS_EIG_TRACK_RTOL = 1e-4;
+static const int VS_EIG_TRACK_MAXIT = 6;
+
+/* Scaled distance between two states: translations / block length, rotations in rad. */
+static double scaled_norm(const vs_qs_solver *s, const double *a, const double *b) {
+  double r = 0.0;
+  for (int i = 0; i < s->n; i++) {
+    const double len = is_rotation(s, i) ? 1.0 : s->len[i - i % 3 + 2];
+    r = fmax(r, fabs(a[i] - b[i]) / len);
+  }
+  return r;
+}
+
 /* The run's state vectors (n unknowns each; the edges' location 3 n). Returns -1 when out of
  * memory (path_free frees what was allocated). */
-static int path_alloc(qs_path *w) {
+static int path_alloc(vs_qs_path *w) {
   const size_t bytes = (size_t)w->s->n * sizeof(double);
   w->tan = malloc(bytes);
   w->qtry = malloc(bytes);
   w->qpred = malloc(bytes);
   w->qprev = malloc(bytes);
   w->eig = calloc((size_t)w->s->n, sizeof(double));
-  w->qloc = malloc(3 * bytes); /* locate_edges' workspace */
+  w->qloc = malloc(3 * bytes); /* vs_qs_locate_edges' workspace */
   if (w->tan == NULL || w->qtry == NULL || w->qpred == NULL || w->qprev == NULL ||
       w->eig == NULL || w->qloc == NULL)
     return -1;
@@ -935,7 +784,7 @@ static int path_alloc(qs_path *w) {
 }
 
 /* Free the run's state vectors. */
-static void path_free(qs_path *w) {
+static void path_free(vs_qs_path *w) {
   free(w->tan);
   free(w->qtry);
   free(w->qpred);
@@ -944,15 +793,15 @@ static void path_free(qs_path *w) {
   free(w->qloc);
 }
 
-/* 1. The starting equilibrium at delta0 (path_start), with the tangent's smallest eigenvalue
+/* 1. The starting equilibrium at delta0 (vs_qs_start), with the tangent's smallest eigenvalue
  * there, committed and passed to step_fn as the path's first state; then the path tangent
  * there, from which the displacement control of the right support starts. */
-static vs_status path_begin(qs_path *w, double delta0, vs_error *err) {
-  qs_solver *const sp = w->s;
+static vs_status path_begin(vs_qs_path *w, double delta0, vs_error *err) {
+  vs_qs_solver *const sp = w->s;
   vs_path_result *const res = w->res;
-  vs_status st = path_start(sp, delta0, w->q, res, err);
+  vs_status st = vs_qs_start(sp, delta0, w->q, res, err);
   if (st != VS_OK) return st;
-  w->lam = tangent_min_eig(sp, w->eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT);
+  w->lam = vs_qs_tangent_min_eig(sp, w->eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT);
   w->lam_prev = NAN;
   w->fold = INFINITY;
   w->fold_prev = INFINITY;
@@ -968,31 +817,31 @@ static vs_status path_begin(qs_path *w, double delta0, vs_error *err) {
   /* 2. displacement control of the right support */
   w->delta = delta0;
   w->h = w->o->step;
-  if (path_tangent(sp, w->q, w->delta, w->tan) != 0)
+  if (vs_qs_path_tangent(sp, w->q, w->delta, w->tan) != 0)
     return vs_error_set(err, VS_ERR_SOLVER, "the path tangent could not be solved for");
   return VS_OK;
 }
 
 /* The trial state of increment h: the tangent predictor from q (also kept in qpred), corrected
- * by Newton at delta + h. Returns qs_solve's flag; *it its Newton iterations. */
-static int path_try(qs_path *w, long *it) {
-  qs_solver *const sp = w->s;
+ * by Newton at delta + h. Returns vs_qs_solve's flag; *it its Newton iterations. */
+static int path_try(vs_qs_path *w, long *it) {
+  vs_qs_solver *const sp = w->s;
   for (int i = 0; i < sp->n; i++) w->qtry[i] = w->qpred[i] = w->q[i] + w->h * w->tan[i];
-  return qs_solve(sp, w->delta + w->h, w->qtry, it);
+  return vs_qs_solve(sp, w->delta + w->h, w->qtry, it);
 }
 
 /* A trial is accepted when it converged (flag 0), stayed on the followed branch (the corrector
  * moved it from the predictor by at most VS_CORRECTOR_RATIO of the predictor's own length) and
  * is stable (else it passed a limit point). */
-static int path_trial_ok(qs_path *w, int flag) {
-  qs_solver *const sp = w->s;
+static int path_trial_ok(vs_qs_path *w, int flag) {
+  vs_qs_solver *const sp = w->s;
   int ok = (flag == 0);
   if (ok) {
     const double jump = scaled_norm(sp, w->qtry, w->qpred);
     if (jump > VS_CORRECTOR_RATIO * scaled_norm(sp, w->qpred, w->q) + 10.0 * w->o->newton_tol)
       ok = 0; /* left the branch */
   }
-  if (ok && !stable_state(sp, w->qtry, w->delta + w->h)) ok = 0; /* passed a limit point */
+  if (ok && !vs_qs_stable_state(sp, w->qtry, w->delta + w->h)) ok = 0; /* passed a limit point */
   return ok;
 }
 
@@ -1000,15 +849,15 @@ static int path_trial_ok(qs_path *w, int flag) {
  * step_fn wants them), the state committed, the tangent's smallest eigenvalue and the path
  * tangent at it, step_fn called; the next increment grows when Newton converged fast (it: its
  * iterations). */
-static vs_status path_accept(qs_path *w, long it, vs_error *err) {
-  qs_solver *const sp = w->s;
+static vs_status path_accept(vs_qs_path *w, long it, vs_error *err) {
+  vs_qs_solver *const sp = w->s;
   const vs_path_opts *const o = w->o;
   vs_path_result *const res = w->res;
   const size_t bytes = (size_t)sp->n * sizeof(double);
-  /* the tangent is factored at the new state by stable_state (the location below
+  /* the tangent is factored at the new state by vs_qs_stable_state (the location below
    * solves with KINSOL's own matrix and keeps that factorisation) */
   if (w->step_fn != NULL && o->open > 0.0 &&
-      locate_edges(sp, w->q, w->delta, w->qtry, w->delta + w->h, w->step_fn, w->user,
+      vs_qs_locate_edges(sp, w->q, w->delta, w->qtry, w->delta + w->h, w->step_fn, w->user,
                          w->qloc, &res->located) != 0)
     return vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
   memcpy(w->qprev, w->q, bytes);
@@ -1020,9 +869,9 @@ static vs_status path_accept(qs_path *w, long it, vs_error *err) {
   res->delta_limit = w->delta;
   w->lam_prev = w->lam;
   w->fold_prev = w->fold;
-  /* the tangent factored by stable_state */
-  w->lam = tangent_min_eig(sp, w->eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT);
-  if (path_tangent(sp, w->q, w->delta, w->tan) != 0)
+  /* the tangent factored by vs_qs_stable_state */
+  w->lam = vs_qs_tangent_min_eig(sp, w->eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT);
+  if (vs_qs_path_tangent(sp, w->q, w->delta, w->tan) != 0)
     return vs_error_set(err, VS_ERR_SOLVER, "the path tangent could not be solved for at %.6g mm",
                         w->delta / VS_MM);
   res->newton_iterations = sp->iters;
@@ -1034,9 +883,9 @@ static vs_status path_accept(qs_path *w, long it, vs_error *err) {
 }
 
 /* 2. Increments from the starting equilibrium until the largest displacement (VS_OK), the limit
- * point (limit_end) or an error: a failed or rejected trial halves the increment, down to
+ * point (vs_qs_limit_end) or an error: a failed or rejected trial halves the increment, down to
  * limit_tol. */
-static vs_status path_follow(qs_path *w, vs_error *err) {
+static vs_status path_follow(vs_qs_path *w, vs_error *err) {
   const vs_path_opts *const o = w->o;
   vs_path_result *const res = w->res;
   for (;;) {
@@ -1050,16 +899,16 @@ static vs_status path_follow(qs_path *w, vs_error *err) {
                           "%.6g mm of %.6g mm",
                           VS_PATH_MAX_INCREMENTS, w->delta / VS_MM, o->max_delta / VS_MM);
     w->h = fmin(w->h, o->max_delta - w->delta);
-    fold_limit(w);
+    vs_qs_fold_limit(w);
     long it = 0;
     const int flag = path_try(w, &it);
     if (flag != 0) {
-      const vs_status st = qs_fatal(w->s, w->delta + w->h, err);
+      const vs_status st = vs_qs_fatal(w->s, w->delta + w->h, err);
       if (st != VS_OK) return st;
     }
     if (!path_trial_ok(w, flag)) {
       res->rejected++;
-      if (w->h <= o->limit_tol) return limit_end(w, err);
+      if (w->h <= o->limit_tol) return vs_qs_limit_end(w, err);
       w->h *= 0.5;
       continue;
     }
@@ -1084,10 +933,10 @@ vs_status vs_path_run_with(vs_path_solver *p, const vs_path_opts *o, double delt
                            vs_error *err) {
   memset(res, 0, sizeof *res);
   res->evidence.delta_extrap = NAN;
-  qs_solver *const sp = &p->s;
-  vs_status st = qs_rearm(sp, o, err);
+  vs_qs_solver *const sp = &p->s;
+  vs_status st = vs_qs_rearm(sp, o, err);
   if (st != VS_OK) return st;
-  qs_path w = {.s = sp, .o = o, .step_fn = step_fn, .user = user, .res = res, .q = q};
+  vs_qs_path w = {.s = sp, .o = o, .step_fn = step_fn, .user = user, .res = res, .q = q};
   if (path_alloc(&w) != 0) st = vs_error_set(err, VS_ERR_NOMEM, "path: out of memory");
   if (st == VS_OK) st = path_begin(&w, delta0, err);
   if (st == VS_OK) st = path_follow(&w, err);
