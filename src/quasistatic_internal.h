@@ -99,7 +99,7 @@ int vs_qs_stable_state(vs_qs_solver *s, const double *q, double delta);
 vs_status vs_qs_start(vs_qs_solver *s, double delta0, double *q, vs_path_result *res,
                       vs_error *err);
 
-/* quasistatic.c: hinge onsets located on the path */
+/* quasistatic_edges.c: hinge onsets located on the path */
 /* Between the accepted equilibria (qa0, a0) and (qb0, b0), the equilibria on both sides of
  * every joint edge's opening or closing, passed to step_fn; work has 3 n doubles, *located
  * counts them. Non-zero if step_fn asked to stop. */
