@@ -93,7 +93,7 @@ int vs_qs_path_tangent(vs_qs_solver *s, const double *q, double delta, double *d
 /* 1 if the tangent at (q, delta) is positive definite (the state is stable); its LU is kept. */
 int vs_qs_stable_state(vs_qs_solver *s, const double *q, double delta);
 
-/* quasistatic.c: the path's starting equilibrium */
+/* quasistatic_start.c: the path's starting equilibrium */
 /* The stable equilibrium at delta0 from the guess q (self-weight, by continuation when needed,
  * and an imperfect arch's misfit), into q; res->newton_iterations set. */
 vs_status vs_qs_start(vs_qs_solver *s, double delta0, double *q, vs_path_result *res,
