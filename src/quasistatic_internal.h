@@ -107,7 +107,7 @@ int vs_qs_locate_edges(vs_qs_solver *s, const double *qa0, double a0, const doub
                        double b0, vs_path_step_fn step_fn, void *user, double *work,
                        long *located);
 
-/* quasistatic.c: the limit point */
+/* quasistatic_limit.c: the limit point */
 /* Bound the increment w->h ahead of the fold predicted from the tangent's smallest eigenvalue
  * at the last two equilibria (w->fold: the prediction, INFINITY if none). */
 void vs_qs_fold_limit(vs_qs_path *w);
