@@ -106,14 +106,14 @@ static void motion_core(const vs_model *m, const vs_pattern *p, const double *q,
     else if (o->G != NULL)
       for (int e = 0; e < 6; e++)
         if (d[e] >= 0) o->G[d[e]] += f[e];
-    if (o->K != NULL) vs_model_scatter_joint(p, k, Kk, kdata);
+    if (o->K != NULL) scatter_joint(p, k, Kk, kdata);
     if (damp) {
       o->diss += jm.power;
       if (p->full[k] && o->fd != NULL) /* no prescribed component: nothing the support works */
         for (int e = 0; e < 6; e++) o->fd[d[e]] += fdk[e];
       else
         add_damping(m, p, k, fdk, va, vb, o->fd, &o->sup);
-      if (o->C != NULL) vs_model_scatter_joint(p, k, Ck, cdata);
+      if (o->C != NULL) scatter_joint(p, k, Ck, cdata);
     }
     o->fric += jm.friction;
   }

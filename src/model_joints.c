@@ -70,9 +70,3 @@ void vs_model_memo_fill(const vs_model *m, const double *q, const double qs[6]) 
   memcpy(mm->qs, qs, sizeof mm->qs);
   mm->ok = 1;
 }
-
-/* Joint k's outputs from the memo (as vs_model_eval_joint's at the memo's states). */
-void vs_model_memo_out(const vs_model *m, int k, vs_joint_state *st, double f[6], double K[36]) {
-  vs_joint_law tmp;
-  vs_joint_point_out(&m->g->joints[k], law_at(m, k, &tmp), &m->memo->pt[k], st, f, K);
-}

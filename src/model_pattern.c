@@ -173,12 +173,3 @@ double *vs_model_csc_reset(const vs_pattern *p, SUNMatrix A) {
   memset(data, 0, (size_t)p->nnz * sizeof *data);
   return data;
 }
-
-/* Add joint k's 6x6 matrix (row-major, rows and columns (body a, body b)) into the CSC values
- * of p, through its scatter map (column by column, as the pattern). */
-void vs_model_scatter_joint(const vs_pattern *p, int k, const double Kj[36], double *data) {
-  const sunindextype *pos = p->scatter + 36 * k;
-  for (int j = 0; j < 6; j++)
-    for (int i = 0; i < 6; i++)
-      if (pos[6 * i + j] >= 0) data[pos[6 * i + j]] += Kj[6 * i + j];
-}

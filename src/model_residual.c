@@ -21,7 +21,7 @@ static void residual_core(const vs_model *m, const vs_pattern *p, const double *
   }
   for (int k = 0; k < g->n_joints; k++) {
     double f[6];
-    vs_model_memo_out(m, k, NULL, f, NULL);
+    memo_out(m, k, NULL, f, NULL);
     const int *d = p->jdof + 6 * k;
     for (int e = 0; e < 6; e++)
       if (d[e] >= 0) G[d[e]] += f[e];
@@ -43,9 +43,9 @@ static void jacobian_core(const vs_model *m, const vs_pattern *p, const double *
   if (!hit) vs_model_half_angles(m, q, qs);
   for (int k = 0; k < g->n_joints; k++) {
     double K[36];
-    if (hit) vs_model_memo_out(m, k, NULL, NULL, K);
+    if (hit) memo_out(m, k, NULL, NULL, K);
     else vs_model_eval_joint(m, q, qs, k, 1, NULL, NULL, K);
-    vs_model_scatter_joint(p, k, K, data);
+    scatter_joint(p, k, K, data);
   }
 }
 

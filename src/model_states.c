@@ -11,13 +11,13 @@
 static void joint_states_core(const vs_model *m, const double *q, const double qs[6],
                               vs_joint_state *st, int keep) {
   if (keep && vs_model_memo_hit(m, q, qs)) {
-    for (int k = 0; k < m->g->n_joints; k++) vs_model_memo_out(m, k, &st[k], NULL, NULL);
+    for (int k = 0; k < m->g->n_joints; k++) memo_out(m, k, &st[k], NULL, NULL);
     return;
   }
   vs_model_half_angles(m, q, qs);
   if (keep) {
     vs_model_memo_fill(m, q, qs);
-    for (int k = 0; k < m->g->n_joints; k++) vs_model_memo_out(m, k, &st[k], NULL, NULL);
+    for (int k = 0; k < m->g->n_joints; k++) memo_out(m, k, &st[k], NULL, NULL);
     return;
   }
   for (int k = 0; k < m->g->n_joints; k++)
@@ -40,7 +40,7 @@ static int commit_core(vs_model *m, const double *q, const double qs[6]) {
   if (!hit) vs_model_half_angles(m, q, qs);
   for (int k = 0; k < m->g->n_joints; k++) {
     vs_joint_state st;
-    if (hit) vs_model_memo_out(m, k, &st, NULL, NULL);
+    if (hit) memo_out(m, k, &st, NULL, NULL);
     else vs_model_eval_joint(m, q, qs, k, 1, &st, NULL, NULL);
     if (st.sliding && st.N > 0.0) slid++;
     const double old = m->slip_p[k];
