@@ -1,19 +1,16 @@
-/* Quasi-static path following: KINSOL (Newton + line search, KLU on the analytic Jacobian) at
- * each support displacement, a tangent predictor, adaptive increments, and a limit point
- * bracketed by bisection of the increment and confirmed on the tangent stiffness. */
-#include "voussoir/quasistatic.h"
+/* Quasi-static equilibrium solver: KINSOL (Newton + line search, KLU on the analytic Jacobian)
+ * at a support displacement, with the residual's round-off floor; the solver a path runs on
+ * (vs_path_solver). The path itself: quasistatic_path.c (its start, hinge onsets, tangent and
+ * limit point in quasistatic_start.c, _edges.c, _tangent.c, _limit.c; quasistatic_internal.h). */
+#include "quasistatic_internal.h"
 
-#include "voussoir/stability.h"
-
-#include <klu.h>
-#include <kinsol/kinsol.h>
 #include <float.h>
+#include <kinsol/kinsol.h>
+#include <klu.h>
 #include <math.h>
 #include <stdio.h>
-#include <nvector/nvector_serial.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
@@ -21,25 +18,6 @@
 #include "voussoir/nvector_ops.h"
 #include "voussoir/units.h"
 
-/* A converged corrector may move the state away from the tangent predictor by at most this
- * multiple of the predictor's own length: a larger jump means Newton left the branch being
- * followed (for instance across a snap), and the increment is cut instead. */
-static const double VS_CORRECTOR_RATIO = 1.0;
-/* Inverse iteration on the tangent: relative change of the eigenvalue estimate that stops it,
- * and the iteration cap. */
-static const double VS_EIG_RTOL = 1e-10;
-/* The same along the path, where the estimate only steers the increment towards a fold. */
-static const double VS_EIG_TRACK_RTOL = 1e-4;
-static const int VS_EIG_TRACK_MAXIT = 6;
-static const int VS_EIG_MAXIT = 200;
-/* Near a fold the smallest eigenvalue of the tangent vanishes like (delta_L - delta)^1/2, so
- * lambda^2 is linear in delta and its extrapolation from the last two equilibria predicts
- * delta_L; an increment goes at most this fraction of the way there, so that the fold is
- * approached by converging steps rather than by failing ones. */
-static const double VS_FOLD_APPROACH = 0.5;
-/* Two successive fold predictions agree when they differ by less than this fraction of the
- * distance to the fold. */
-static const double VS_FOLD_AGREE = 0.5;
 /* KLU's fill-reducing ordering (0 AMD, 1 COLAMD, 2 natural), paid once per path (its analysis
  * is kept): AMD. The blocks form a chain, whose Jacobian is block-banded in the natural order:
  * the reference run takes as many instructions with AMD as with it (callgrind; COLAMD 0.6 %
@@ -66,44 +44,9 @@ static const int VS_MAX_LINESEARCH = 5;
  * stiffness k_n b t turns into a force error of about eps k_n b t (|u| + t); a Newton iteration
  * that stalls within this margin times that floor has converged as far as doubles allow. */
 static const double VS_FLOOR_MARGIN = 16.0;
-/* Self-weight continuation: largest and smallest increments of the gravity factor. */
-static const double VS_RAMP_STEP = 0.25;
-static const double VS_RAMP_MIN = 1e-4;
-static const long VS_RAMP_MAXITER = 200;
-static const long VS_MISFIT_MAXITER = 25; /* Newton iterations per step of the misfit ramp */
 
-typedef struct {
-  vs_model *m;
-  const vs_path_opts *o;
-  double delta;
-  int n;   /* unknowns: the blocks', then the pinned supports' rotations */
-  int nb3; /* the blocks' unknowns, 3 n_blocks */
-  SUNContext ctx;
-  N_Vector u, uscale, fscale;
-  SUNMatrix J, Jt;            /* KINSOL's Jacobian; the tangent at accepted states */
-  SUNLinearSolver LS, LSt;
-  vs_spd *spd;                /* the stability test: Cholesky of the tangent's symmetric part */
-  void *kin;
-  double *len;                /* per unknown: 1 for translations, block length for rotations */
-  /* workspaces, allocated once: two vectors for the tangent's solves (never used by two callers
-   * at once), a residual, and the marks of a permutation's cycles */
-  N_Vector w1, w2;
-  double *fwork;
-  unsigned char *seen;
-  double kmax, lmax, wmin;    /* stiffest joint k_n b t (N/m), longest joint (m), lightest block (N) */
-  long iters, jac_evals, floor_limited;
-  double max_residual;        /* largest scaled residual among accepted equilibria */
-  int interrupted;            /* o->stop was seen raised */
-  int nonfinite;              /* the last solve met a residual that is not finite */
-  int evals;                  /* residuals since the last Jacobian (1 + line-search trials) */
-  int backtracked_out;        /* the last solve was stopped by VS_MAX_LINESEARCH */
-  char kin_msg[256];
-} qs_solver;
-
-/* Unknown i is a rotation: a block's theta or a pinned support's. */
-static int is_rotation(const qs_solver *s, int i) { return i >= s->nb3 || i % 3 == 2; }
-
-static int qs_stopped(qs_solver *s) {
+/* The stop flag was raised (now or before): the solver is interrupted. */
+static int qs_stopped(vs_qs_solver *s) {
   if (s->o->stop != NULL && *s->o->stop) s->interrupted = 1;
   return s->interrupted;
 }
@@ -111,7 +54,7 @@ static int qs_stopped(qs_solver *s) {
 /* KINSOL's residual. A raised stop flag and a residual that is not finite are fatal (-1): KINSOL
  * then returns KIN_SYSFUNC_FAIL at once (its line search never ends on NaN). */
 static int sys_fn(N_Vector u, N_Vector f, void *user) {
-  qs_solver *s = user;
+  vs_qs_solver *s = user;
   if (qs_stopped(s)) return -1;
   if (++s->evals > VS_MAX_LINESEARCH + 1) { /* a diverging solve: stop it here */
     s->backtracked_out = 1;
@@ -131,7 +74,7 @@ static int jac_fn(N_Vector u, N_Vector fu, SUNMatrix J, void *user, N_Vector t1,
   (void)fu;
   (void)t1;
   (void)t2;
-  qs_solver *s = user;
+  vs_qs_solver *s = user;
   if (qs_stopped(s)) return -1;
   s->jac_evals++;
   s->evals = 0;
@@ -140,12 +83,13 @@ static int jac_fn(N_Vector u, N_Vector fu, SUNMatrix J, void *user, N_Vector t1,
 
 /* KINSOL's messages go to the error detail, never to stderr. */
 static void kin_err(int code, const char *module, const char *function, char *msg, void *user) {
-  qs_solver *s = user;
+  vs_qs_solver *s = user;
   (void)code;
   snprintf(s->kin_msg, sizeof s->kin_msg, "%s/%s: %s", module, function, msg);
 }
 
-static void qs_destroy(qs_solver *s) {
+/* Free what s holds (any part may be missing: a failed creation) and zero it. */
+static void qs_destroy(vs_qs_solver *s) {
   if (s->kin != NULL) KINFree(&s->kin);
   if (s->LS != NULL) SUNLinSolFree(s->LS);
   if (s->LSt != NULL) SUNLinSolFree(s->LSt);
@@ -164,19 +108,17 @@ static void qs_destroy(qs_solver *s) {
   memset(s, 0, sizeof *s);
 }
 
-static vs_status qs_fail(qs_solver *s, vs_error *err, const char *what, int flag) {
+/* A setup call failed: s destroyed, the error names the call and its flag. */
+static vs_status qs_fail(vs_qs_solver *s, vs_error *err, const char *what, int flag) {
   qs_destroy(s);
   return vs_error_set(err, VS_ERR_SOLVER, "quasi-static solver setup: %s failed (flag %d)", what,
                       flag);
 }
 
-static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_error *err) {
-  memset(s, 0, sizeof *s);
-  s->m = m;
-  s->o = o;
-  s->n = vs_model_size(m);
-  s->nb3 = 3 * vs_model_geometry(m)->n_blocks;
-  const sunindextype n = s->n, nnz = vs_model_nnz(m);
+/* The solver's vectors, matrices and workspaces over its n unknowns (Jacobians with the model's
+ * nnz entries), every vector with the optimised operations. */
+static vs_status qs_alloc(vs_qs_solver *s, vs_error *err) {
+  const sunindextype n = s->n, nnz = vs_model_nnz(s->m);
   int flag = SUNContext_Create(NULL, &s->ctx);
   if (flag != 0) return qs_fail(s, err, "SUNContext_Create", flag);
   s->u = N_VNew_Serial(n, s->ctx);
@@ -197,22 +139,28 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
   /* KINSOL clones its workspace from u: every vector of the solve gets the optimised operations */
   N_Vector vecs[] = {s->u, s->uscale, s->fscale, s->w1, s->w2};
   for (size_t i = 0; i < sizeof vecs / sizeof vecs[0]; i++) vs_nvector_fast_ops(vecs[i]);
-  /* the stability test factors the tangent's symmetric part as a band: in the model's band
-   * order, which keeps a pinned support's rotation next to its block */
-  int *perm = malloc((size_t)n * sizeof *perm);
+  return VS_OK;
+}
+
+/* The stability test (vs_spd): it factors the tangent's symmetric part as a band, in the model's
+ * band order, which keeps a pinned support's rotation next to its block. */
+static vs_status qs_spd_create(vs_qs_solver *s, vs_error *err) {
+  int *perm = malloc((size_t)s->n * sizeof *perm);
   if (perm == NULL) {
     qs_destroy(s);
     return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
   }
-  vs_model_band_order(m, perm);
+  vs_model_band_order(s->m, perm);
   const vs_status st = vs_spd_create(s->n, perm, &s->spd, err);
   free(perm);
-  if (st != VS_OK) {
-    qs_destroy(s);
-    return st;
-  }
-  /* KLU factors the Jacobian at every Newton iteration (LS) and the tangent at every accepted
-   * state (LSt); both keep one analysis of the fixed pattern and refactor on its last pivots */
+  if (st != VS_OK) qs_destroy(s);
+  return st;
+}
+
+/* KLU factors the Jacobian at every Newton iteration (LS) and the tangent at every accepted
+ * state (LSt); both keep one analysis of the fixed pattern and refactor on its last pivots. */
+static vs_status qs_klu_create(vs_qs_solver *s, vs_error *err) {
+  int flag;
   s->LS = SUNLinSol_KLU(s->u, s->J, s->ctx);
   s->LSt = SUNLinSol_KLU(s->u, s->Jt, s->ctx);
   if (s->LS == NULL || s->LSt == NULL) return qs_fail(s, err, "SUNLinSol_KLU", 0);
@@ -222,11 +170,16 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
   SUNLinSol_KLUGetCommon(s->LS)->scale = VS_KLU_SCALE;
   SUNLinSol_KLUGetCommon(s->LSt)->scale = VS_KLU_SCALE;
   vs_klu_keep_analysis(s->LS);  /* KINSol re-initialises its solver at every call */
-  vs_klu_keep_analysis(s->LSt); /* re-initialised by every run (qs_rearm) */
+  vs_klu_keep_analysis(s->LSt); /* re-initialised by every run (vs_qs_rearm) */
   vs_sparse_zero_none(s->J);    /* jac_fn writes the pattern */
+  return VS_OK;
+}
 
-  /* Scalings: residuals in units of each block's weight (moments: weight x joint length);
-   * unknowns in units of that length (rotations in rad). */
+/* Scalings: residuals in units of each block's weight (moments: weight x joint length);
+ * unknowns in units of that length (rotations in rad). And what the round-off floor of the
+ * residual needs (vs_qs_solve): the stiffest joint, the longest, the lightest block. */
+static void qs_scale(vs_qs_solver *s) {
+  vs_model *const m = s->m;
   double *fs = N_VGetArrayPointer(s->fscale), *us = N_VGetArrayPointer(s->uscale);
   vs_model_residual_scale(m, fs);
   for (int i = 0; i < s->nb3; i += 3) {
@@ -246,16 +199,25 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
     s->kmax = fmax(s->kmax, vs_model_law(m)->kn * j->depth * j->length);
     s->lmax = fmax(s->lmax, j->length);
   }
+}
 
+/* KINSOL: Newton with line search on sys_fn, the exact Jacobian (jac_fn) at every iteration
+ * factored by KLU (s->LS), messages into s->kin_msg, the options' tolerance and iteration cap. */
+static vs_status qs_kinsol_create(vs_qs_solver *s, vs_error *err) {
+  const vs_path_opts *const o = s->o;
+  int flag;
   s->kin = KINCreate(s->ctx);
   if (s->kin == NULL) return qs_fail(s, err, "KINCreate", 0);
-  if ((flag = KINInit(s->kin, sys_fn, s->u)) != KIN_SUCCESS) return qs_fail(s, err, "KINInit", flag);
-  if ((flag = KINSetUserData(s->kin, s)) != KIN_SUCCESS) return qs_fail(s, err, "KINSetUserData", flag);
+  if ((flag = KINInit(s->kin, sys_fn, s->u)) != KIN_SUCCESS)
+    return qs_fail(s, err, "KINInit", flag);
+  if ((flag = KINSetUserData(s->kin, s)) != KIN_SUCCESS)
+    return qs_fail(s, err, "KINSetUserData", flag);
   if ((flag = KINSetErrHandlerFn(s->kin, kin_err, s)) != KIN_SUCCESS)
     return qs_fail(s, err, "KINSetErrHandlerFn", flag);
   if ((flag = KINSetLinearSolver(s->kin, s->LS, s->J)) != KIN_SUCCESS)
     return qs_fail(s, err, "KINSetLinearSolver", flag);
-  if ((flag = KINSetJacFn(s->kin, jac_fn)) != KIN_SUCCESS) return qs_fail(s, err, "KINSetJacFn", flag);
+  if ((flag = KINSetJacFn(s->kin, jac_fn)) != KIN_SUCCESS)
+    return qs_fail(s, err, "KINSetJacFn", flag);
   if ((flag = KINSetMaxSetupCalls(s->kin, 1)) != KIN_SUCCESS) /* exact Newton: J every iteration */
     return qs_fail(s, err, "KINSetMaxSetupCalls", flag);
   if ((flag = KINSetNumMaxIters(s->kin, o->newton_maxiter)) != KIN_SUCCESS)
@@ -267,8 +229,24 @@ static vs_status qs_create(qs_solver *s, vs_model *m, const vs_path_opts *o, vs_
   return VS_OK;
 }
 
+/* A solver of the model m's equilibrium with options o (borrowed); on failure s is left
+ * destroyed (zeroed). */
+static vs_status qs_create(vs_qs_solver *s, vs_model *m, const vs_path_opts *o, vs_error *err) {
+  memset(s, 0, sizeof *s);
+  s->m = m;
+  s->o = o;
+  s->n = vs_model_size(m);
+  s->nb3 = 3 * vs_model_geometry(m)->n_blocks;
+  vs_status st = qs_alloc(s, err);
+  if (st == VS_OK) st = qs_spd_create(s, err);
+  if (st == VS_OK) st = qs_klu_create(s, err);
+  if (st != VS_OK) return st;
+  qs_scale(s);
+  return qs_kinsol_create(s, err);
+}
+
 /* Largest scaled residual |G_i| / scale_i at (q, delta). */
-static double scaled_residual(qs_solver *s, const double *q, double delta) {
+static double scaled_residual(vs_qs_solver *s, const double *q, double delta) {
   double *f = s->fwork, r = 0.0;
   vs_model_residual(s->m, q, delta, f);
   const double *fs = N_VGetArrayPointer(s->fscale);
@@ -277,7 +255,7 @@ static double scaled_residual(qs_solver *s, const double *q, double delta) {
 }
 
 /* Solve G(q; delta) = 0 from the guess q. Returns 0 on convergence, else the KINSOL flag. */
-static int qs_solve(qs_solver *s, double delta, double *q, long *iters) {
+int vs_qs_solve(vs_qs_solver *s, double delta, double *q, long *iters) {
   s->delta = delta;
   s->kin_msg[0] = '\0';
   s->nonfinite = 0;
@@ -313,111 +291,6 @@ static int qs_solve(qs_solver *s, double delta, double *q, long *iters) {
   return flag;
 }
 
-/* Sign of a permutation of n >= 0 entries (+1 even, -1 odd); seen has n bytes of scratch. */
-static int perm_sign(const SuiteSparse_long *p, long n, unsigned char *seen) {
-  if (n <= 0) return 1;
-  memset(seen, 0, (size_t)n);
-  long transpositions = 0;
-  for (long i = 0; i < n; i++) {
-    if (seen[i]) continue;
-    long len = 0;
-    for (long j = i; !seen[j]; j = p[j]) {
-      seen[j] = 1;
-      len++;
-    }
-    transpositions += len - 1;
-  }
-  return (transpositions % 2 == 0) ? 1 : -1;
-}
-
-/* Factor the tangent at (q, delta) with KLU (s->LSt); *det_sign = sign of det K from the
- * factors: KLU factors P (R\K) Q = L U with R > 0 (the identity here: VS_KLU_SCALE), so
- * sign(det K) = sign(P) sign(Q) prod sign(U_ii). */
-static int tangent_factor(qs_solver *s, const double *q, double delta, int *det_sign) {
-  vs_model_jacobian(s->m, q, delta, s->Jt);
-  const int flag = SUNLinSolSetup(s->LSt, s->Jt);
-  if (flag != 0) {
-    *det_sign = 0;
-    return flag;
-  }
-  const sun_klu_symbolic *sym = SUNLinSol_KLUGetSymbolic(s->LSt);
-  const sun_klu_numeric *num = SUNLinSol_KLUGetNumeric(s->LSt);
-  const long n = s->n;
-  int sign = perm_sign(num->Pnum, n, s->seen) * perm_sign(sym->Q, n, s->seen);
-  const double *ud = num->Udiag;
-  for (long i = 0; i < n; i++) {
-    if (ud[i] == 0.0) sign = 0;
-    else if (ud[i] < 0.0) sign = -sign;
-  }
-  *det_sign = sign;
-  return 0;
-}
-
-/* x <- K^-1 b with the factors of tangent_factor. */
-static int tangent_solve(qs_solver *s, N_Vector x, N_Vector b) {
-  return SUNLinSolSolve(s->LSt, s->Jt, x, b, 0.0);
-}
-
-/* Smallest |eigenvalue| of the scaled tangent D K D (rotations scaled by the block length,
- * so that every entry is in N/m), by inverse iteration on the factored tangent. vec (n entries)
- * is the start vector and receives the eigenvector; all zeros means a fixed pseudo-random start.
- * rtol: relative change of the estimate that ends the iteration, maxit: the iteration cap.
- * NaN if a solve fails. */
-static double tangent_min_eig(qs_solver *s, double *vec, double rtol, int maxit) {
-  N_Vector y = s->w1, z = s->w2;
-  double *py = N_VGetArrayPointer(y), *pz = N_VGetArrayPointer(z);
-  memcpy(py, vec, (size_t)s->n * sizeof *py);
-  double nrm = sqrt(N_VDotProd(y, y)), mu = 0.0;
-  if (!(nrm > 0.0)) {
-    unsigned long seed = 12345u;
-    for (int i = 0; i < s->n; i++) {
-      seed = seed * 6364136223846793005ul + 1442695040888963407ul;
-      py[i] = (double)(seed >> 11) / 9007199254740992.0 - 0.5;
-    }
-    nrm = sqrt(N_VDotProd(y, y));
-  }
-  N_VScale(1.0 / nrm, y, y);
-  for (int it = 0; it < maxit; it++) {
-    /* A = D K D with D = diag(1, 1, 1/len): A^-1 y = D^-1 K^-1 D^-1 y */
-    for (int i = 0; i < s->n; i++) py[i] *= s->len[i];
-    if (tangent_solve(s, z, y) != 0) {
-      mu = NAN;
-      break;
-    }
-    for (int i = 0; i < s->n; i++) pz[i] *= s->len[i];
-    nrm = sqrt(N_VDotProd(z, z));
-    const double mu_new = 1.0 / nrm;
-    N_VScale(1.0 / nrm, z, y);
-    if (it > 0 && fabs(mu_new - mu) <= rtol * mu_new) {
-      mu = mu_new;
-      break;
-    }
-    mu = mu_new;
-  }
-  memcpy(vec, py, (size_t)s->n * sizeof *vec);
-  return mu;
-}
-
-/* Tangent of the path, dq/ddelta = -K^-1 dG/ddelta, with the factors of tangent_factor. */
-static int path_tangent(qs_solver *s, const double *q, double delta, double *dq) {
-  N_Vector b = s->w1, x = s->w2;
-  vs_model_dG_ddelta(s->m, q, delta, N_VGetArrayPointer(b));
-  N_VScale(-1.0, b, b);
-  int flag = tangent_solve(s, x, b);
-  if (flag == 0) memcpy(dq, N_VGetArrayPointer(x), (size_t)s->n * sizeof *dq);
-  return flag;
-}
-
-/* Scaled distance between two states: translations / block length, rotations in rad. */
-static double scaled_norm(const qs_solver *s, const double *a, const double *b) {
-  double r = 0.0;
-  for (int i = 0; i < s->n; i++) {
-    const double len = is_rotation(s, i) ? 1.0 : s->len[i - i % 3 + 2];
-    r = fmax(r, fabs(a[i] - b[i]) / len);
-  }
-  return r;
-}
-
 void vs_path_opts_from_case(const vs_case *c, vs_path_opts *o) {
   vs_case_si si;
   vs_case_to_si(c, &si);
@@ -431,132 +304,9 @@ void vs_path_opts_from_case(const vs_case *c, vs_path_opts *o) {
   o->stop = NULL;
 }
 
-/* Which joint edges are open (gap > open) at (q, delta): 2 flags per joint, and each edge's
- * gap minus the opening (gap, m; may be NULL). */
-static void edge_flags(const qs_solver *s, const double *q, double delta, vs_joint_state *js,
-                       unsigned char *fl, double *gap) {
-  const int nj = vs_model_geometry(s->m)->n_joints;
-  vs_model_joint_states(s->m, q, delta, js);
-  for (int k = 0; k < nj; k++) {
-    fl[2 * k] = js[k].gap_i > s->o->open;
-    fl[2 * k + 1] = js[k].gap_e > s->o->open;
-    if (gap == NULL) continue;
-    gap[2 * k] = js[k].gap_i - s->o->open;
-    gap[2 * k + 1] = js[k].gap_e - s->o->open;
-  }
-}
-
-/* The first crossing of an edge in (a, b) predicted from the gaps there (linear in delta), for
- * the edges whose flags differ; b if none crosses between. */
-static double predict_crossing(int ne, const unsigned char *fa, const unsigned char *fb,
-                               const double *ga, const double *gb, double a, double b) {
-  double x = b;
-  for (int e = 0; e < ne; e++)
-    if (fa[e] != fb[e] && ga[e] != gb[e]) {
-      const double f = ga[e] / (ga[e] - gb[e]);
-      if (f > 0.0 && f < 1.0) x = fmin(x, a + f * (b - a));
-    }
-  return x;
-}
-
-/* Workspace of a location: joint states, flags and gaps at both ends and at a trial point. */
-typedef struct {
-  vs_joint_state *js;
-  unsigned char *fa, *fb, *fm;
-  double *ga, *gb, *gm;
-  double *qa, *qb, *qm;
-} locate_ws;
-
-/* Shrink the bracket (a, b) -- edges fa at a, other ones at b -- around the first crossing to
- * limit_tol. Each trial solves the equilibrium at a point x from the interpolated states and
- * moves a or b there as bisection would; x is the crossing predicted from the gaps at the two
- * ends (a secant step) offset by half the tolerance, below it and then above it, so that a
- * smooth gap is bracketed in two solves; after a prediction that missed, one bisection step.
- * Returns 0, or 1 if a solve failed. */
-static int bracket_crossing(qs_solver *s, int n, int ne, locate_ws *w, double *a, double *b) {
-  const double tol = s->o->limit_tol;
-  int bisect = 0, side = 0;
-  while (*b - *a > tol) {
-    double x = 0.5 * (*a + *b);
-    if (!bisect) {
-      const double c = predict_crossing(ne, w->fa, w->fb, w->ga, w->gb, *a, *b);
-      x = side == 0 ? c - 0.5 * tol : c + 0.5 * tol; /* below the crossing first, then above */
-      x = fmin(fmax(x, *a + 0.25 * tol), *b - 0.25 * tol);
-    }
-    const double f = (x - *a) / (*b - *a);
-    for (int i = 0; i < n; i++) w->qm[i] = w->qa[i] + f * (w->qb[i] - w->qa[i]);
-    long it = 0;
-    if (qs_solve(s, x, w->qm, &it) != 0) return 1;
-    edge_flags(s, w->qm, x, w->js, w->fm, w->gm);
-    const int below = memcmp(w->fm, w->fa, (size_t)ne) == 0;
-    double *q = below ? w->qa : w->qb, *g = below ? w->ga : w->gb;
-    unsigned char *fl = below ? w->fa : w->fb;
-    if (below) *a = x;
-    else *b = x;
-    memcpy(q, w->qm, (size_t)n * sizeof *q);
-    memcpy(g, w->gm, (size_t)ne * sizeof *g);
-    memcpy(fl, w->fm, (size_t)ne);
-    /* a prediction that missed the crossing by more than half the tolerance (the gap is not
-     * linear in delta there): bisect once before the next one */
-    const int miss = !bisect && (side == 0) != below;
-    bisect = miss;
-    side = !miss && below; /* just below the crossing: close the bracket from above */
-  }
-  return 0;
-}
-
-/* Hinge onsets located on the path: between the accepted equilibria (qa, a) and (qb, b), find
- * (bracket_crossing: re-solving equilibria from the linear interpolation of the two bracketing
- * states, with the slips committed at a) the first delta at which any edge changes between open
- * and closed, to limit_tol; pass the equilibria on both sides of it to step_fn; then the next one
- * after it, until the edges are those at b. The onsets the hinge tracker interpolates between
- * consecutive equilibria are then within limit_tol of the crossing, and the joints it sees open
- * are those of the crossing, whatever the increment. Returns non-zero if step_fn asked to stop.
- * A location whose Newton fails ends it (the tracker then interpolates over what is left). */
-static int locate_edges(qs_solver *s, const double *qa0, double a0, const double *qb0, double b0,
-                        vs_path_step_fn step_fn, void *user, double *work, long *located) {
-  const int n = s->n, nj = vs_model_geometry(s->m)->n_joints, ne = 2 * nj;
-  locate_ws w = {.js = malloc((size_t)nj * sizeof *w.js), .fa = malloc((size_t)(4 * ne)),
-                 .ga = malloc(4 * (size_t)ne * sizeof(double)), .qa = work, .qb = work + n,
-                 .qm = work + 2 * n};
-  if (w.js == NULL || w.fa == NULL || w.ga == NULL) {
-    free(w.js);
-    free(w.fa);
-    free(w.ga);
-    return 0;
-  }
-  unsigned char *fb0 = w.fa + 3 * ne;
-  double *gb0 = w.ga + 3 * ne;
-  w.fb = w.fa + ne, w.fm = w.fa + 2 * ne;
-  w.gb = w.ga + ne, w.gm = w.ga + 2 * ne;
-  memcpy(w.qa, qa0, (size_t)n * sizeof *w.qa);
-  double a = a0;
-  edge_flags(s, w.qa, a, w.js, w.fa, w.ga);
-  edge_flags(s, qb0, b0, w.js, fb0, gb0);
-  int stop = 0;
-  for (int found = 0; !stop && found < ne && memcmp(w.fa, fb0, (size_t)ne) != 0; found++) {
-    double b = b0;
-    memcpy(w.qb, qb0, (size_t)n * sizeof *w.qb);
-    memcpy(w.fb, fb0, (size_t)ne);
-    memcpy(w.gb, gb0, (size_t)ne * sizeof *w.gb);
-    if (bracket_crossing(s, n, ne, &w, &a, &b) != 0 || b >= b0)
-      break; /* a failed solve, or the crossing is at the end of the increment */
-    stop = step_fn(user, a, w.qa, s->m) != 0 || step_fn(user, b, w.qb, s->m) != 0;
-    *located += 2;
-    a = b;
-    memcpy(w.qa, w.qb, (size_t)n * sizeof *w.qa);
-    memcpy(w.fa, w.fb, (size_t)ne);
-    memcpy(w.ga, w.gb, (size_t)ne * sizeof *w.ga);
-  }
-  free(w.js);
-  free(w.fa);
-  free(w.ga);
-  return stop;
-}
-
 /* After a failed solve at delta: an error when the failure ends the path whatever follows (the
  * stop flag, a residual that is not finite), else VS_OK. */
-static vs_status qs_fatal(const qs_solver *s, double delta, vs_error *err) {
+vs_status vs_qs_fatal(const vs_qs_solver *s, double delta, vs_error *err) {
   if (s->interrupted) return vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
   if (s->nonfinite)
     return vs_error_set(err, VS_ERR_SOLVER,
@@ -566,7 +316,7 @@ static vs_status qs_fatal(const qs_solver *s, double delta, vs_error *err) {
   return VS_OK;
 }
 
-static const char *kin_cause(int flag) {
+const char *vs_qs_kin_cause(int flag) {
   switch (flag) {
   case KIN_LINESEARCH_NONCONV: return "line search could not reduce the residual";
   case KIN_MAXITER_REACHED: return "Newton iteration limit reached";
@@ -582,14 +332,14 @@ static const char *kin_cause(int flag) {
 
 vs_status vs_equilibrium_solve(vs_model *m, const vs_path_opts *o, double delta, double *q,
                                long *iters, vs_error *err) {
-  qs_solver s;
+  vs_qs_solver s;
   vs_status st = qs_create(&s, m, o, err);
   if (st != VS_OK) return st;
-  int flag = qs_solve(&s, delta, q, iters);
-  if (flag != 0) st = qs_fatal(&s, delta, err);
+  int flag = vs_qs_solve(&s, delta, q, iters);
+  if (flag != 0) st = vs_qs_fatal(&s, delta, err);
   if (flag != 0 && st == VS_OK) {
     char cause[128];
-    snprintf(cause, sizeof cause, "%s", kin_cause(flag));
+    snprintf(cause, sizeof cause, "%s", vs_qs_kin_cause(flag));
     st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
                       "no equilibrium at support displacement %.6g mm: %s (KINSOL flag %d)",
                       delta / VS_MM, cause, flag);
@@ -597,162 +347,6 @@ vs_status vs_equilibrium_solve(vs_model *m, const vs_path_opts *o, double delta,
   qs_destroy(&s);
   return st;
 }
-
-/* Confirm a bracketed limit point at delta_lo (last equilibrium q_lo): near a fold the smallest
- * eigenvalue of the tangent vanishes like sqrt(delta_L - delta), so lambda^2 is linear in delta.
- * Take a second equilibrium a little behind (delta_b, solved from the interpolation between the
- * previous accepted state and q_lo: Newton from q_lo itself is useless there, its tangent is
- * nearly singular), extrapolate lambda^2 to zero and require the zero to fall in the bracket
- * (within its width plus the bisection tolerance). */
-static vs_status confirm_limit(qs_solver *s, const double *q_prev, double delta_prev,
-                               const double *q_lo, double delta_lo, double delta_fail,
-                               vs_path_result *res, vs_error *err) {
-  const double width = delta_fail - delta_lo;
-  const double delta_b = fmax(delta_lo - 10.0 * fmax(width, s->o->limit_tol), delta_prev);
-  vs_limit_evidence *ev = &res->evidence;
-  int sign = 0;
-  if (tangent_factor(s, q_lo, delta_lo, &sign) != 0)
-    return vs_error_set(err, VS_ERR_SOLVER, "the tangent at %.6g mm could not be factored",
-                        delta_lo / VS_MM);
-  ev->det_sign = sign;
-  double *vec = calloc((size_t)s->n, sizeof *vec);
-  if (vec == NULL) return vs_error_set(err, VS_ERR_NOMEM, "out of memory");
-  const double lam_lo = tangent_min_eig(s, vec, VS_EIG_RTOL, VS_EIG_MAXIT);
-  ev->lambda_last = lam_lo;
-  double *qb = malloc((size_t)s->n * sizeof *qb);
-  if (qb == NULL) {
-    free(vec);
-    return vs_error_set(err, VS_ERR_NOMEM, "out of memory");
-  }
-  const double f = (delta_lo > delta_prev) ? (delta_b - delta_prev) / (delta_lo - delta_prev) : 0.0;
-  for (int i = 0; i < s->n; i++) qb[i] = q_prev[i] + f * (q_lo[i] - q_prev[i]);
-  int flag = (delta_b > delta_prev) ? qs_solve(s, delta_b, qb, NULL) : 0;
-  double lam_b = NAN;
-  int sign_b = 0;
-  if (flag == 0 && tangent_factor(s, qb, delta_b, &sign_b) == 0)
-    lam_b = tangent_min_eig(s, vec, VS_EIG_RTOL, VS_EIG_MAXIT);
-  free(qb);
-  free(vec);
-  if (flag != 0 || !isfinite(lam_b))
-    return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                        "Newton failed beyond %.6g mm but the path could not be re-solved at "
-                        "%.6g mm to examine the tangent (%s)",
-                        delta_lo / VS_MM, delta_b / VS_MM, kin_cause(flag));
-  const double l2b = lam_b * lam_b, l2 = lam_lo * lam_lo;
-  ev->delta_extrap = (l2b > l2) ? delta_lo + (delta_lo - delta_b) * l2 / (l2b - l2) : INFINITY;
-  const double slack = width + s->o->limit_tol;
-  if (sign > 0 && ev->delta_extrap <= delta_fail + slack) return VS_OK;
-  return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                      "Newton failed beyond %.6g mm (%s) but the tangent stiffness there is not "
-                      "vanishing (smallest eigenvalue %.4g N/m, extrapolated to zero at %.6g mm, "
-                      "det sign %+d): not a limit point",
-                      delta_lo / VS_MM, s->kin_msg[0] ? s->kin_msg : "no convergence", lam_lo,
-                      ev->delta_extrap / VS_MM, sign);
-}
-
-/* Accept a converged state as on the followed stable branch: the tangent must be positive
- * definite, established by a Cholesky factorisation of its symmetric part (stability.h; the sign
- * of det K alone would not). Its LU is kept for the eigenvalue tracking and the path tangent. */
-static int stable_state(qs_solver *s, const double *q, double delta) {
-  int sign = 0;
-  if (tangent_factor(s, q, delta, &sign) != 0) return 0;
-  return vs_spd_test(s->spd, s->Jt) == 1;
-}
-
-/* The misfit of an imperfect arch (vs_model_set_misfit_scale) by continuation in its factor,
- * from the self-weight equilibrium on nominal faces: increments halve when Newton fails or the
- * state is not stable. Returns 0 when the factor 1 is reached (q holds the equilibrium), else -1
- * with *reached the largest factor that had an equilibrium. */
-static int misfit_ramp(qs_solver *s, double *q, double *reached) {
-  const size_t bytes = (size_t)s->n * sizeof(double);
-  double *qt = malloc(bytes), *qp = malloc(bytes), lam = 0.0, lam_prev = 0.0, h = VS_RAMP_STEP;
-  int ok = -1;
-  if (qt == NULL || qp == NULL) goto done;
-  memcpy(qp, q, bytes);
-  /* many joints touch on small wedges: Newton is slow far from the solution, so the factor
-   * advances by short steps from a secant predictor rather than by long Newton solves */
-  KINSetNumMaxIters(s->kin, VS_MISFIT_MAXITER);
-  for (;;) {
-    const double next = fmin(1.0, lam + h);
-    const double r = lam > lam_prev ? (next - lam) / (lam - lam_prev) : 0.0;
-    for (int i = 0; i < s->n; i++) qt[i] = q[i] + r * (q[i] - qp[i]);
-    vs_model_set_misfit_scale(s->m, next);
-    if (qs_solve(s, 0.0, qt, NULL) == 0 && stable_state(s, qt, 0.0)) {
-      memcpy(qp, q, bytes);
-      memcpy(q, qt, bytes);
-      lam_prev = lam;
-      lam = next;
-      if (lam >= 1.0) {
-        ok = 0;
-        break;
-      }
-      h = fmin(2.0 * h, VS_RAMP_STEP);
-    } else if (s->interrupted || s->nonfinite || (h *= 0.5) < VS_RAMP_MIN) {
-      break;
-    }
-  }
-done:
-  KINSetNumMaxIters(s->kin, s->o->newton_maxiter);
-  vs_model_set_misfit_scale(s->m, ok == 0 ? 1.0 : lam);
-  *reached = lam;
-  free(qt);
-  free(qp);
-  return ok;
-}
-
-/* Self-weight by continuation in the gravity factor lambda: the reference configuration is the
- * exact equilibrium at lambda = 0; lambda grows by increments that halve when Newton fails (tangent
- * predictor dq/dlambda = -K^-1 dG/dlambda). Returns 0 when lambda = 1 is reached (q holds the
- * equilibrium), else -1 with *lambda_max the largest factor that had an equilibrium. */
-static int gravity_ramp(qs_solver *s, double *q, double *lambda_max) {
-  vs_model *m = s->m;
-  const size_t bytes = (size_t)s->n * sizeof(double);
-  double *qt = malloc(bytes), lam = 0.0, h = VS_RAMP_STEP;
-  N_Vector b = s->w1, x = s->w2; /* qs_solve and stable_state do not use them */
-  int ok = -1;
-  if (qt == NULL) goto done;
-  memset(q, 0, bytes);
-  /* the contact pattern is found at any load level alike (the no-tension law is homogeneous):
-   * the ramp's solves may take many iterations */
-  KINSetNumMaxIters(s->kin, VS_RAMP_MAXITER);
-  for (;;) {
-    const double next = fmin(1.0, lam + h);
-    /* predictor: dG/dlambda is the weight on the vertical equations */
-    vs_model_set_gravity_scale(m, lam);
-    int sign = 0;
-    int have_tangent = tangent_factor(s, q, 0.0, &sign) == 0;
-    if (have_tangent) {
-      double *pb = N_VGetArrayPointer(b);
-      vs_model_residual_scale(m, pb); /* weights on 3i, 3i+1 */
-      for (int i = 0; i < s->n; i++) pb[i] = (i < s->nb3 && i % 3 == 1) ? -pb[i] : 0.0;
-      have_tangent = tangent_solve(s, x, b) == 0;
-    }
-    for (int i = 0; i < s->n; i++)
-      qt[i] = q[i] + (have_tangent ? (next - lam) * N_VGetArrayPointer(x)[i] : 0.0);
-    vs_model_set_gravity_scale(m, next);
-    if (qs_solve(s, 0.0, qt, NULL) == 0 && stable_state(s, qt, 0.0)) {
-      memcpy(q, qt, bytes);
-      lam = next;
-      if (lam >= 1.0) {
-        ok = 0;
-        break;
-      }
-      h = fmin(2.0 * h, VS_RAMP_STEP);
-    } else if ((h *= 0.5) < VS_RAMP_MIN || s->interrupted || s->nonfinite) {
-      break;
-    }
-  }
-done:
-  KINSetNumMaxIters(s->kin, s->o->newton_maxiter);
-  vs_model_set_gravity_scale(m, 1.0);
-  *lambda_max = lam;
-  free(qt);
-  return ok;
-}
-
-struct vs_path_solver {
-  qs_solver s;
-};
 
 vs_status vs_path_solver_create(vs_model *m, const vs_path_opts *o, vs_path_solver **out,
                                 vs_error *err) {
@@ -776,7 +370,7 @@ void vs_path_solver_destroy(vs_path_solver **p) {
 }
 
 /* A run starts as on a new solver: options o, counters at zero, the tangent factored afresh. */
-static vs_status qs_rearm(qs_solver *s, const vs_path_opts *o, vs_error *err) {
+vs_status vs_qs_rearm(vs_qs_solver *s, const vs_path_opts *o, vs_error *err) {
   s->o = o;
   s->delta = 0.0;
   s->iters = s->jac_evals = s->floor_limited = 0;
@@ -787,183 +381,7 @@ static vs_status qs_rearm(qs_solver *s, const vs_path_opts *o, vs_error *err) {
   if (flag == KIN_SUCCESS) flag = KINSetFuncNormTol(s->kin, o->newton_tol);
   if (flag == KIN_SUCCESS) flag = SUNLinSolInitialize(s->LSt);
   return flag == 0 ? VS_OK
-                   : vs_error_set(err, VS_ERR_SOLVER, "quasi-static solver: re-arming failed (flag %d)",
-                                  flag);
+                   : vs_error_set(err, VS_ERR_SOLVER,
+                                  "quasi-static solver: re-arming failed (flag %d)", flag);
 }
 
-vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double *q,
-                      vs_path_step_fn step_fn, void *user, vs_path_result *res, vs_error *err) {
-  memset(res, 0, sizeof *res);
-  res->evidence.delta_extrap = NAN;
-  vs_path_solver *p = NULL;
-  vs_status st = vs_path_solver_create(m, o, &p, err);
-  if (st == VS_OK) st = vs_path_run_with(p, o, delta0, q, step_fn, user, res, err);
-  vs_path_solver_destroy(&p);
-  return st;
-}
-
-vs_status vs_path_run_with(vs_path_solver *p, const vs_path_opts *o, double delta0, double *q,
-                           vs_path_step_fn step_fn, void *user, vs_path_result *res,
-                           vs_error *err) {
-  memset(res, 0, sizeof *res);
-  res->evidence.delta_extrap = NAN;
-  qs_solver *const sp = &p->s;
-  vs_model *const m = sp->m;
-  vs_status st = qs_rearm(sp, o, err);
-  if (st != VS_OK) return st;
-  const size_t bytes = (size_t)sp->n * sizeof(double);
-  double *tan = malloc(bytes), *qtry = malloc(bytes), *qpred = malloc(bytes);
-  double *qprev = malloc(bytes), *eig = calloc((size_t)sp->n, sizeof(double));
-  double *qloc = malloc(3 * bytes); /* locate_edges' workspace */
-  double delta_prev = 0.0;
-  if (tan == NULL || qtry == NULL || qpred == NULL || qprev == NULL || eig == NULL || qloc == NULL) {
-    st = vs_error_set(err, VS_ERR_NOMEM, "path: out of memory");
-    goto cleanup;
-  }
-  /* 1. the starting equilibrium: self-weight with the supports in place (delta0 = 0), or the
-   * state a snap-through settled in */
-  long it = 0;
-  const int misfit = delta0 == 0.0 && vs_model_has_misfit(sp->m);
-  if (misfit) vs_model_set_misfit_scale(sp->m, 0.0);
-  int flag = qs_solve(sp, delta0, q, &it);
-  double lambda_max = 1.0, misfit_max = 1.0;
-  if (flag != 0 && delta0 == 0.0 && qs_fatal(sp, delta0, NULL) == VS_OK &&
-      gravity_ramp(sp, q, &lambda_max) == 0)
-    flag = 0;
-  if (flag == 0 && misfit && misfit_ramp(sp, q, &misfit_max) != 0) {
-    st = qs_fatal(sp, delta0, err); /* an interrupt or a non-finite residual says so */
-    if (st == VS_OK)
-      st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                        "the imperfect arch cannot stand: no equilibrium under self-weight with "
-                        "its misfit (face gaps, support offset) beyond %.4g of it, with "
-                        "increments down to %.1e",
-                        misfit_max, VS_RAMP_MIN);
-    goto cleanup;
-  }
-  res->newton_iterations = sp->iters;
-  if (flag != 0) {
-    st = qs_fatal(sp, delta0, err);
-    if (st != VS_OK)
-      goto cleanup;
-    if (delta0 == 0.0)
-      st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                        "the arch cannot stand: no equilibrium under self-weight (growing the "
-                        "weight from zero, equilibrium was followed up to %.4g of it and none "
-                        "was found beyond, with increments down to %.1e)",
-                        lambda_max, VS_RAMP_MIN);
-    else
-      st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM, "no equilibrium at %.6g mm to resume from (%s)",
-                        delta0 / VS_MM, kin_cause(flag));
-    goto cleanup;
-  }
-  if (!stable_state(sp, q, delta0)) {
-    st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                      "the equilibrium at %.6g mm is unstable (tangent not positive definite)",
-                      delta0 / VS_MM);
-    goto cleanup;
-  }
-  double lam = tangent_min_eig(sp, eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT), lam_prev = NAN;
-  double fold = INFINITY, fold_prev = INFINITY;
-  res->evidence.lambda_start = lam;
-  vs_model_commit(m, q, delta0);
-  memcpy(qprev, q, bytes);
-  delta_prev = delta0;
-  res->steps = 1;
-  res->delta_limit = delta0;
-  res->newton_iterations = sp->iters; /* kept current for the callback */
-  if (step_fn != NULL && step_fn(user, delta0, q, m) != 0) {
-    st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
-    goto cleanup;
-  }
-  /* 2. displacement control of the right support */
-  double delta = delta0, h = o->step;
-  if (path_tangent(sp, q, delta, tan) != 0) {
-    st = vs_error_set(err, VS_ERR_SOLVER, "the path tangent could not be solved for");
-    goto cleanup;
-  }
-  for (;;) {
-    if (delta >= o->max_delta * (1.0 - 1e-12)) {
-      res->end = VS_PATH_MAX_DISPLACEMENT;
-      break;
-    }
-    if (res->steps + res->rejected >= VS_PATH_MAX_INCREMENTS) {
-      st = vs_error_set(err, VS_ERR_SOLVER,
-                        "the quasi-static path took %ld increments (the limit) and reached only "
-                        "%.6g mm of %.6g mm",
-                        VS_PATH_MAX_INCREMENTS, delta / VS_MM, o->max_delta / VS_MM);
-      break;
-    }
-    h = fmin(h, o->max_delta - delta);
-    /* fold predictor: lambda^2 extrapolated from the last two equilibria, trusted once two
-     * successive predictions agree (lambda^2 linear in delta, as near a fold; a hinge forming
-     * also lowers lambda, but not along a line) */
-    fold = (isfinite(lam_prev) && lam < lam_prev && delta > delta_prev)
-               ? delta + lam * lam * (delta - delta_prev) / (lam_prev * lam_prev - lam * lam)
-               : INFINITY;
-    if (isfinite(fold) && isfinite(fold_prev) &&
-        fabs(fold - fold_prev) <= VS_FOLD_AGREE * (fold - delta))
-      h = fmin(h, fmax(VS_FOLD_APPROACH * (fold - delta), o->limit_tol));
-    for (int i = 0; i < sp->n; i++) qtry[i] = qpred[i] = q[i] + h * tan[i];
-    flag = qs_solve(sp, delta + h, qtry, &it);
-    if (flag != 0 && (st = qs_fatal(sp, delta + h, err)) != VS_OK) break;
-    int ok = (flag == 0);
-    if (ok && scaled_norm(sp, qtry, qpred) > VS_CORRECTOR_RATIO * scaled_norm(sp, qpred, q) +
-                                                 10.0 * o->newton_tol)
-      ok = 0; /* left the branch */
-    if (ok && !stable_state(sp, qtry, delta + h)) ok = 0; /* passed a limit point */
-    if (!ok) {
-      res->rejected++;
-      if (h <= o->limit_tol) {
-        res->delta_limit = delta;
-        res->delta_fail = delta + h;
-        st = confirm_limit(sp, qprev, delta_prev, q, delta, delta + h, res, err);
-        if (sp->interrupted || sp->nonfinite) st = qs_fatal(sp, delta + h, err);
-        if (st == VS_OK) res->end = VS_PATH_LIMIT_POINT;
-        break;
-      }
-      h *= 0.5;
-      continue;
-    }
-    /* accepted: the tangent is factored at the new state by stable_state (the location below
-     * solves with KINSOL's own matrix and keeps that factorisation) */
-    if (step_fn != NULL && o->open > 0.0 &&
-        locate_edges(sp, q, delta, qtry, delta + h, step_fn, user, qloc, &res->located) != 0) {
-      st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
-      break;
-    }
-    memcpy(qprev, q, bytes);
-    delta_prev = delta;
-    memcpy(q, qtry, bytes);
-    delta += h;
-    vs_model_commit(m, q, delta);
-    res->steps++;
-    res->delta_limit = delta;
-    lam_prev = lam;
-    fold_prev = fold;
-    lam = tangent_min_eig(sp, eig, VS_EIG_TRACK_RTOL, VS_EIG_TRACK_MAXIT); /* tangent factored by stable_state */
-    if (path_tangent(sp, q, delta, tan) != 0) {
-      st = vs_error_set(err, VS_ERR_SOLVER, "the path tangent could not be solved for at %.6g mm",
-                        delta / VS_MM);
-      break;
-    }
-    res->newton_iterations = sp->iters;
-    if (step_fn != NULL && step_fn(user, delta, q, m) != 0) {
-      st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
-      break;
-    }
-    if (it <= 3) h = fmin(2.0 * h, o->step_max);
-    else if (it <= 6) h = fmin(1.25 * h, o->step_max);
-  }
-cleanup:
-  res->newton_iterations = sp->iters;
-  res->jacobian_evals = sp->jac_evals;
-  res->floor_limited = sp->floor_limited;
-  res->max_residual = sp->max_residual;
-  free(tan);
-  free(qtry);
-  free(qpred);
-  free(qprev);
-  free(eig);
-  free(qloc);
-  return st;
-}

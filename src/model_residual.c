@@ -1,0 +1,111 @@
+/* The model's static system (model.h): the residual G of the equilibrium, its analytic CSC
+ * Jacobian and dG/d(delta), assembled from one evaluation of the joint law per joint (the memo
+ * passes the residual's evaluation to a Jacobian at the same state), over the static unknowns or
+ * the extended state; and the residual's scale. */
+#include "model_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Residual over the unknowns of pattern p (G has p->n entries); the joints' points are kept
+ * (struct vs_model_memo) for a Jacobian at the same state. */
+static void residual_core(const vs_model *m, const vs_pattern *p, const double *q,
+                          const double qs[6], double *G) {
+  const vs_geometry *g = m->g;
+  memset(G, 0, (size_t)p->n * sizeof *G);
+  for (int i = 0; i < g->n_blocks; i++)
+    G[3 * i + 1] = m->gscale * g->blocks[i].mass * g->gravity; /* minus the load -m g */
+  if (!vs_model_memo_hit(m, q, qs)) {
+    vs_model_half_angles(m, q, qs);
+    vs_model_memo_fill(m, q, qs);
+  }
+  for (int k = 0; k < g->n_joints; k++) {
+    double f[6];
+    memo_out(m, k, NULL, f, NULL);
+    const int *d = p->jdof + 6 * k;
+    for (int e = 0; e < 6; e++)
+      if (d[e] >= 0) G[d[e]] += f[e];
+  }
+}
+
+void vs_model_residual(const vs_model *m, const double *q, double delta, double *G) {
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  residual_core(m, &m->pat, q, qs, G);
+}
+
+/* Jacobian over the unknowns of pattern p, from the memo when it holds this state. */
+static void jacobian_core(const vs_model *m, const vs_pattern *p, const double *q,
+                          const double qs[6], SUNMatrix J) {
+  double *data = vs_model_csc_reset(p, J);
+  const vs_geometry *g = m->g;
+  const int hit = vs_model_memo_hit(m, q, qs);
+  if (!hit) vs_model_half_angles(m, q, qs);
+  for (int k = 0; k < g->n_joints; k++) {
+    double K[36];
+    if (hit) memo_out(m, k, NULL, NULL, K);
+    else vs_model_eval_joint(m, q, qs, k, 1, NULL, NULL, K);
+    scatter_joint(p, k, K, data);
+  }
+}
+
+int vs_model_jacobian(const vs_model *m, const double *q, double delta, SUNMatrix J) {
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  jacobian_core(m, &m->pat, q, qs, J);
+  return 0;
+}
+
+void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double *out) {
+  const vs_geometry *g = m->g;
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  memset(out, 0, (size_t)m->n * sizeof *out);
+  for (int k = 0; k < g->n_joints; k++) {
+    const int body[2] = {g->joints[k].a, g->joints[k].b};
+    int ss = (body[1] == VS_SUPPORT_RIGHT) ? 1 : (body[0] == VS_SUPPORT_RIGHT) ? 0 : -1;
+    if (ss < 0) continue;
+    double K[36];
+    int d[6];
+    vs_model_eval_joint(m, q, qs, k, 0, NULL, NULL, K);
+    vs_model_joint_dofs(m, &m->pat, k, d);
+    for (int e = 0; e < 6; e++) {
+      if (d[e] < 0) continue;
+      const double *row = K + 6 * e + 3 * ss;
+      out[d[e]] += row[0] * m->dir[0] + row[1] * m->dir[1];
+    }
+  }
+}
+
+void vs_model_residual_scale(const vs_model *m, double *scale) {
+  const vs_geometry *g = m->g;
+  for (int i = 0; i < g->n_blocks; i++) {
+    double len = 0.0;
+    for (int k = 0; k < g->n_joints; k++)
+      if (g->joints[k].a == i || g->joints[k].b == i) len = fmax(len, g->joints[k].length);
+    if (!(len > 0.0)) len = sqrt(g->blocks[i].area);
+    const double w = g->blocks[i].mass * g->gravity;
+    scale[3 * i] = w;
+    scale[3 * i + 1] = w;
+    scale[3 * i + 2] = w * len;
+  }
+  /* a pinned support's rotation: the moment of its neighbouring block's weight over the joint */
+  for (int k = 0; k < g->n_joints; k++) {
+    const vs_joint_geom *j = &g->joints[k];
+    const int sup = body_is_block(j->a) ? j->b : j->a, blk = body_is_block(j->a) ? j->a : j->b;
+    if (body_is_block(sup) || !body_is_block(blk)) continue;
+    const int d = m->pat.dof[3 * body_slot(m, sup) + 2];
+    if (d >= 0) scale[d] = g->blocks[blk].mass * g->gravity * j->length;
+  }
+}
+
+/* --- the extended state qe = (blocks, left support, right support) --- */
+
+void vs_model_ext_residual(const vs_model *m, const double *qe, double *Ge) {
+  residual_core(m, &m->pate, qe, qe + 3 * m->g->n_blocks, Ge);
+}
+
+void vs_model_ext_jacobian(const vs_model *m, const double *qe, SUNMatrix J) {
+  jacobian_core(m, &m->pate, qe, qe + 3 * m->g->n_blocks, J);
+}
+

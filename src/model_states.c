@@ -1,0 +1,168 @@
+/* What the joints' states give at a state of the model (model.h): the states themselves, the
+ * commit of their plastic slips, the support reactions and force, and the energies (elastic and
+ * gravity), of the static unknowns and of the extended state. */
+#include "model_internal.h"
+
+#include <string.h>
+
+/* The joints' states at (q, qs); keep: through the memo (a static state: the Jacobian or
+ * commit that follows at the same state takes them), else evaluated directly (the dynamic
+ * phase's states, which never recur). */
+static void joint_states_core(const vs_model *m, const double *q, const double qs[6],
+                              vs_joint_state *st, int keep) {
+  if (keep && vs_model_memo_hit(m, q, qs)) {
+    for (int k = 0; k < m->g->n_joints; k++) memo_out(m, k, &st[k], NULL, NULL);
+    return;
+  }
+  vs_model_half_angles(m, q, qs);
+  if (keep) {
+    vs_model_memo_fill(m, q, qs);
+    for (int k = 0; k < m->g->n_joints; k++) memo_out(m, k, &st[k], NULL, NULL);
+    return;
+  }
+  for (int k = 0; k < m->g->n_joints; k++)
+    vs_model_eval_joint(m, q, qs, k, 1, &st[k], NULL, NULL);
+}
+
+void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_joint_state *st) {
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  joint_states_core(m, q, qs, st, 1);
+}
+
+/* The plastic slips change. With the memo at these states, a joint whose slip moved is
+ * evaluated again into it, so that it stays the joints' points (the joints' states of the
+ * equilibrium just committed, which the hinge tracker reads next, are then taken from it);
+ * otherwise the memo is dropped. */
+static int commit_core(vs_model *m, const double *q, const double qs[6]) {
+  int slid = 0, rot = 0;
+  const int hit = vs_model_memo_hit(m, q, qs);
+  if (!hit) vs_model_half_angles(m, q, qs);
+  for (int k = 0; k < m->g->n_joints; k++) {
+    vs_joint_state st;
+    if (hit) memo_out(m, k, &st, NULL, NULL);
+    else vs_model_eval_joint(m, q, qs, k, 1, &st, NULL, NULL);
+    if (st.sliding && st.N > 0.0) slid++;
+    const double old = m->slip_p[k];
+    m->slip_p[k] = st.slip_p;
+    if (!hit || memcmp(&old, &st.slip_p, sizeof old) == 0) continue;
+    if (!rot) vs_model_half_angles(m, q, qs), rot = 1; /* m->rot may hold another state's */
+    vs_model_memo_eval(m, q, qs, k);
+  }
+  if (!hit) memo_drop(m);
+  return slid;
+}
+
+int vs_model_commit(vs_model *m, const double *q, double delta) {
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  return commit_core(m, q, qs);
+}
+
+int vs_model_commit_states(vs_model *m, const vs_joint_state *st) {
+  int slid = 0;
+  memo_drop(m);
+  for (int k = 0; k < m->g->n_joints; k++) {
+    if (st[k].sliding && st[k].N > 0.0) slid++;
+    m->slip_p[k] = st[k].slip_p;
+  }
+  return slid;
+}
+
+void vs_model_reactions(const vs_model *m, const double *q, double delta, double left[2],
+                        double right[2]) {
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  left[0] = left[1] = right[0] = right[1] = 0.0;
+  for (int k = 0; k < m->g->n_joints; k++) {
+    const vs_joint_geom *j = &m->g->joints[k];
+    if (body_is_block(j->a) && body_is_block(j->b)) continue; /* not at a support */
+    double f[6];
+    vs_model_eval_joint(m, q, qs, k, 0, NULL, f, NULL);
+    /* f on a support's translation is dE/du_support; the arch pushes it with -f */
+    const int body[2] = {j->a, j->b};
+    for (int s = 0; s < 2; s++) {
+      double *r = (body[s] == VS_SUPPORT_LEFT)    ? left
+                  : (body[s] == VS_SUPPORT_RIGHT) ? right : NULL;
+      if (r == NULL) continue;
+      r[0] -= f[3 * s];
+      r[1] -= f[3 * s + 1];
+    }
+  }
+}
+
+void vs_model_support_reactions(const vs_model *m, const double *q, double delta, double out[6]) {
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  memset(out, 0, 6 * sizeof *out);
+  for (int k = 0; k < m->g->n_joints; k++) {
+    const vs_joint_geom *j = &m->g->joints[k];
+    if (body_is_block(j->a) && body_is_block(j->b)) continue; /* not at a support */
+    double f[6];
+    vs_model_eval_joint(m, q, qs, k, 0, NULL, f, NULL);
+    /* f on a support's coordinates is dE/dq_support: the arch pulls the support with -f, the
+     * support pushes the arch with +f */
+    const int body[2] = {j->a, j->b};
+    for (int s = 0; s < 2; s++)
+      if (!body_is_block(body[s]))
+        for (int c = 0; c < 3; c++) out[(body[s] == VS_SUPPORT_LEFT ? 0 : 3) + c] += f[3 * s + c];
+  }
+}
+
+double vs_model_support_force(const vs_model *m, const double *q, double delta) {
+  double left[2], right[2];
+  vs_model_reactions(m, q, delta, left, right);
+  /* dE/du_support = f = -(force of the arch on the support) */
+  return -(right[0] * m->dir[0] + right[1] * m->dir[1]);
+}
+
+double vs_model_gravity_energy(const vs_model *m, const double *q) {
+  const vs_geometry *g = m->g;
+  double eg = 0.0;
+  for (int i = 0; i < g->n_blocks; i++)
+    eg += m->gscale * g->blocks[i].mass * g->gravity * q[3 * i + 1];
+  return eg;
+}
+
+/* The elastic energy of the joints and the potential energy of gravity at (q, qs). */
+static void energies_core(const vs_model *m, const double *q, const double qs[6], double *elastic,
+                          double *gravity) {
+  const vs_geometry *g = m->g;
+  double ee = 0.0;
+  const double eg = vs_model_gravity_energy(m, q);
+  vs_model_half_angles(m, q, qs);
+  for (int k = 0; k < g->n_joints; k++) {
+    vs_joint_state st;
+    vs_model_eval_joint(m, q, qs, k, 1, &st, NULL, NULL);
+    ee += st.energy;
+  }
+  *elastic = ee;
+  *gravity = eg;
+}
+
+void vs_model_energies(const vs_model *m, const double *q, double delta, double *elastic,
+                       double *gravity) {
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  energies_core(m, q, qs, elastic, gravity);
+}
+
+double vs_model_energy(const vs_model *m, const double *q, double delta) {
+  double ee, eg;
+  vs_model_energies(m, q, delta, &ee, &eg);
+  return ee + eg;
+}
+
+/* --- the extended state qe = (blocks, left support, right support) --- */
+
+void vs_model_ext_joint_states(const vs_model *m, const double *qe, vs_joint_state *st) {
+  joint_states_core(m, qe, qe + 3 * m->g->n_blocks, st, 0);
+}
+
+int vs_model_ext_commit(vs_model *m, const double *qe) {
+  return commit_core(m, qe, qe + 3 * m->g->n_blocks);
+}
+
+void vs_model_ext_energies(const vs_model *m, const double *qe, double *elastic, double *gravity) {
+  energies_core(m, qe, qe + 3 * m->g->n_blocks, elastic, gravity);
+}
