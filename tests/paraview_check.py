@@ -1,7 +1,9 @@
 """Run by pvpython (tests/test_paraview.sh): open two records' XDMF sidecars with both XDMF 3
 readers and check that ParaView sees the records' numbers and colours every grid by a field:
 Xdmf3ReaderT (named grids) and the default reader, the one OpenDataFile and the GUI's File > Open
-pick (Xdmf3ReaderS, which flattens the grids into pieces of one set).
+pick (Xdmf3ReaderS, which flattens the grids into pieces of one set). The sidecar defines what
+every row shares (topologies, the NaN fields, the ground's points) once and includes it by
+XInclude: every frame checked here reads those shared items through the includes.
 usage: pvpython paraview_check.py  (cwd holds run.h5, run.xmf: a run to its first limit point;
 fall.h5, fall.xmf: a run to rest on the ground after the collapse)"""
 import os
@@ -189,11 +191,24 @@ def colour_check(reader, t, grids, tag):
     return counts, shown
 
 
+def shared_items(xmf, rec):
+    """The sidecar's shared items (xml:id) and its XIncludes: every grid of every row includes its
+    topology and its NaN fields, the ground also its points (what the frames below read)."""
+    text = open(xmf).read()
+    defs, includes, rows = text.count(' xml:id="'), text.count("<xi:include "), text.count('<Time Value="')
+    per_row = 4 * 2 + (3 if rec.ground is not None else 0)
+    if defs == 0 or includes != rows * per_row:
+        fail(f"{xmf}: {defs} shared items, {includes} includes for {rows} rows (want {per_row} a row)")
+    return defs, includes
+
+
 def main():
     run, fall = Record("run.h5"), Record("fall.h5")
     if run.ground is not None or fall.ground is None:
         fail("the test wants run.h5 without the ground and fall.h5 with it")
     for name, rec in (("run", run), ("fall", fall)):
+        defs, includes = shared_items(f"{name}.xmf", rec)
+        print(f"{name}.xmf: {defs} items defined once, {includes} XIncludes of them")
         # Xdmf3ReaderT given a path with a directory, the default reader an absolute path (a bare
         # relative name makes ParaView 5.11 look for the HDF5 file at 'run.xmfrun.h5' and abort:
         # see the README)
