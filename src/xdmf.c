@@ -101,6 +101,8 @@ static const char *const GRID_TOPOLOGY[G_COUNT] = {"tb", "tj", "t1", "t1", "t1"}
 
 typedef struct {
   FILE *f;
+  char buf[1 << 15]; /* what is written goes through here: see out_mem */
+  size_t used;
   const char *h5name; /* XML-escaped name of the HDF5 file, relative to the sidecar */
   xdmf_ds ds[X_COUNT];
   int ground;              /* the record has /summary/ground/points */
@@ -130,18 +132,36 @@ static void xml_escape(const char *s, char *out, size_t size) {
 }
 
 /* The sidecar repeats its few kinds of lines for every grid of every state (some 20 000 numbers
- * and names for 400 states): fprintf's parsing of its format was most of the sidecar's cost, so
- * these lines are written piece by piece. */
-static void out_s(xdmf_ctx *x, const char *s) { fputs(s, x->f); }
+ * and names for 400 states): fprintf's parsing of its format, then stdio's locking and copying
+ * of every small piece, were most of its cost, so the text is put together in x->buf and handed
+ * to stdio in large blocks. */
+static void out_flush(xdmf_ctx *x) {
+  fwrite(x->buf, 1, x->used, x->f);
+  x->used = 0;
+}
 
-static void out_c(xdmf_ctx *x, char c) { fputc(c, x->f); }
+static void out_mem(xdmf_ctx *x, const char *s, size_t n) {
+  if (x->used + n > sizeof x->buf) {
+    out_flush(x);
+    if (n > sizeof x->buf) {
+      fwrite(s, 1, n, x->f);
+      return;
+    }
+  }
+  memcpy(x->buf + x->used, s, n);
+  x->used += n;
+}
+
+static void out_s(xdmf_ctx *x, const char *s) { out_mem(x, s, strlen(s)); }
+
+static void out_c(xdmf_ctx *x, char c) { out_mem(x, &c, 1); }
 
 /* v in decimal, as "%llu" prints it. */
 static void out_u(xdmf_ctx *x, unsigned long long v) {
   char b[24];
   size_t i = sizeof b;
   do b[--i] = (char)('0' + (int)(v % 10)); while ((v /= 10) != 0);
-  fwrite(b + i, 1, sizeof b - i, x->f);
+  out_mem(x, b + i, sizeof b - i);
 }
 
 /* As printf, for the lines written once, or once a row. */
@@ -151,9 +171,18 @@ static void out_f(xdmf_ctx *x, const char *fmt, ...)
 #endif
     ;
 static void out_f(xdmf_ctx *x, const char *fmt, ...) {
-  va_list ap;
+  char line[1024];
+  va_list ap, again;
   va_start(ap, fmt);
-  vfprintf(x->f, fmt, ap);
+  va_copy(again, ap);
+  const int n = vsnprintf(line, sizeof line, fmt, ap);
+  if (n >= 0 && (size_t)n < sizeof line) {
+    out_mem(x, line, (size_t)n);
+  } else if (n > 0) { /* the header, or a long file name */
+    out_flush(x);
+    vfprintf(x->f, fmt, again);
+  }
+  va_end(again);
   va_end(ap);
 }
 
@@ -522,6 +551,7 @@ vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, i
   }
   const long stride =
       (rows + max_grids - 1) / max_grids > 1 ? (rows + max_grids - 1) / max_grids : 1;
+  x.used = 0;
   xdmf_header(&x, name, rows, stride);
   xdmf_shared(&x);
   out_s(&x, "<Grid Name=\"voussoir\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
@@ -533,6 +563,7 @@ vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, i
     t_last = t[r];
   }
   out_s(&x, "</Grid>\n</Domain>\n</Xdmf>\n");
+  out_flush(&x);
   free(t);
   return xdmf_commit(x.f, tmp, xmf_path, err);
 }
