@@ -3,6 +3,7 @@
 #define _POSIX_C_SOURCE 200809L /* lstat */
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -61,19 +62,52 @@ static const int XDMF_RANKS[X_COUNT] = {3, 2, 3, 2, 1, 3, 2, 2, 2, 2, 2, 2, 2, 2
  * where the field is not its own (ParaView draws NaN in its NaN colour and leaves it out of
  * ranges; the NaN is the record's /xdmf/nan, written once, which the padding refers to);
  * Xdmf3ReaderT keeps the grids as named blocks and reads the same file. */
-static const char *const XDMF_FIELDS[] = {
+enum { F_THETA, F_UX, F_UZ, F_SPEED, F_N, F_T, F_M, F_GAPI, F_GAPE, F_HINGE, F_FX, F_FZ, F_COUNT };
+static const char *const XDMF_FIELDS[F_COUNT] = {
     "theta_rad", "ux_m",  "uz_m",    "speed_m_s", "N_N",
     "T_N",       "M_N_m", "gap_i_m", "gap_e_m",   "hinge_0closed_1intrados_2extrados",
     "Fx_N",      "Fz_N"};
-enum { XDMF_N_FIELDS = (int)(sizeof XDMF_FIELDS / sizeof XDMF_FIELDS[0]) };
+#define F_BIT(f) (1u << (f))
+#define F_ALL ((1u << F_COUNT) - 1u)
+
+/* The grids of a row, in this order (the ground only when the fall landed on it); the fields
+ * each carries itself; the rest it carries as NaN. */
+enum { G_BLOCKS, G_JOINTS, G_LEFT, G_RIGHT, G_GROUND, G_COUNT };
+static const unsigned GRID_OWN[G_COUNT] = {
+    F_BIT(F_THETA) | F_BIT(F_UX) | F_BIT(F_UZ) | F_BIT(F_SPEED),
+    F_BIT(F_N) | F_BIT(F_T) | F_BIT(F_M) | F_BIT(F_GAPI) | F_BIT(F_GAPE) | F_BIT(F_HINGE),
+    F_BIT(F_FX) | F_BIT(F_FZ) | F_BIT(F_M),
+    F_BIT(F_FX) | F_BIT(F_FZ) | F_BIT(F_M) | F_BIT(F_UX) | F_BIT(F_UZ),
+    0u, /* the ground */
+};
+
+/* What every row shares is written once, before the rows, as children of the Domain (which
+ * ParaView's XDMF 3 library leaves aside unless they are grids) named by xml:id, and each row
+ * includes it with XInclude: <xi:include xpointer="ID"/>, or xpointer(id('ID ...')) for several
+ * elements at once (XPath's id() yields them in document order). The library resolves an
+ * include to the one item it made of that element, so a shared item is parsed once and its
+ * data read at most once a frame. Shared: the topologies ("tb" the blocks' polygons, "tj" the
+ * joints' segments, "t1" the one segment of a support or the ground), the ground's points ("gg"),
+ * and the NaN fields, per number of cells ("b<i>" n_blocks cells, "j<i>" n_joints, "s<i>" one; i
+ * the field's index in XDMF_FIELDS). Only whole Attribute, Topology and Geometry elements are
+ * shared: the library moves a DataItem's contents into the element that holds it, so a
+ * DataItem included twice is empty the second time (and it does not implement XDMF 2's
+ * Reference="XML" items at all). Measured on the reference run (414 states): 6.4 MB of XML
+ * with every grid spelling its items out, 2.0 MB this way. */
+enum { PAD_BLOCKS, PAD_JOINTS, PAD_ONE, PAD_COUNT };
+static const char PAD_PREFIX[PAD_COUNT] = {'b', 'j', 's'};
+static const int GRID_PAD[G_COUNT] = {PAD_BLOCKS, PAD_JOINTS, PAD_ONE, PAD_ONE, PAD_ONE};
+static const char *const GRID_TOPOLOGY[G_COUNT] = {"tb", "tj", "t1", "t1", "t1"};
 
 typedef struct {
   FILE *f;
+  char buf[1 << 15]; /* what is written goes through here: see out_mem */
+  size_t used;
   const char *h5name; /* XML-escaped name of the HDF5 file, relative to the sidecar */
   xdmf_ds ds[X_COUNT];
-  unsigned carried; /* bit i: the open grid carries XDMF_FIELDS[i] */
-  int ground;       /* the record has /summary/ground/points */
-  hsize_t nan_n;    /* values in /xdmf/nan (0: the record has none) */
+  int ground;              /* the record has /summary/ground/points */
+  hsize_t nan_n;           /* values in /xdmf/nan (0: the record has none) */
+  char pads[G_COUNT][160]; /* each grid's include of its NaN fields */
 } xdmf_ctx;
 
 /* NaN values the grids' padding refers to (written with the record's layout). */
@@ -97,20 +131,65 @@ static void xml_escape(const char *s, char *out, size_t size) {
   out[used] = '\0';
 }
 
-/* v in decimal, as "%llu" prints it. The sidecar repeats its few kinds of lines for every grid
- * of every state (some 40 000 numbers and names for 200 states): fprintf's parsing of its format
- * was most of the sidecar's cost, so these lines are written piece by piece. */
-static void put_u(FILE *f, unsigned long long v) {
+/* The sidecar repeats its few kinds of lines for every grid of every state (some 20 000 numbers
+ * and names for 400 states): fprintf's parsing of its format, then stdio's locking and copying
+ * of every small piece, were most of its cost, so the text is put together in x->buf and handed
+ * to stdio in large blocks. */
+static void out_flush(xdmf_ctx *x) {
+  fwrite(x->buf, 1, x->used, x->f);
+  x->used = 0;
+}
+
+static void out_mem(xdmf_ctx *x, const char *s, size_t n) {
+  if (x->used + n > sizeof x->buf) {
+    out_flush(x);
+    if (n > sizeof x->buf) {
+      fwrite(s, 1, n, x->f);
+      return;
+    }
+  }
+  memcpy(x->buf + x->used, s, n);
+  x->used += n;
+}
+
+static void out_s(xdmf_ctx *x, const char *s) { out_mem(x, s, strlen(s)); }
+
+static void out_c(xdmf_ctx *x, char c) { out_mem(x, &c, 1); }
+
+/* v in decimal, as "%llu" prints it. */
+static void out_u(xdmf_ctx *x, unsigned long long v) {
   char b[24];
   size_t i = sizeof b;
   do b[--i] = (char)('0' + (int)(v % 10)); while ((v /= 10) != 0);
-  fwrite(b + i, 1, sizeof b - i, f);
+  out_mem(x, b + i, sizeof b - i);
 }
 
-static void xdmf_dims(FILE *f, int rank, const hsize_t *d) {
+/* As printf, for the lines written once, or once a row. */
+static void out_f(xdmf_ctx *x, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+static void out_f(xdmf_ctx *x, const char *fmt, ...) {
+  char line[1024];
+  va_list ap, again;
+  va_start(ap, fmt);
+  va_copy(again, ap);
+  const int n = vsnprintf(line, sizeof line, fmt, ap);
+  if (n >= 0 && (size_t)n < sizeof line) {
+    out_mem(x, line, (size_t)n);
+  } else if (n > 0) { /* the header, or a long file name */
+    out_flush(x);
+    vfprintf(x->f, fmt, again);
+  }
+  va_end(again);
+  va_end(ap);
+}
+
+static void xdmf_dims(xdmf_ctx *x, int rank, const hsize_t *d) {
   for (int i = 0; i < rank; i++) {
-    if (i) fputc(' ', f);
-    put_u(f, (unsigned long long)d[i]);
+    if (i) out_c(x, ' ');
+    out_u(x, (unsigned long long)d[i]);
   }
 }
 
@@ -118,197 +197,203 @@ static void xdmf_dims(FILE *f, int rank, const hsize_t *d) {
  * "file:/path|start:stride:count:dataset dimensions". ParaView's default XDMF reader
  * (Xdmf3ReaderS/T) reads it; it crashes on an ItemType="HyperSlab" item used as a geometry (it
  * asks the array's type before reading the slab), and the legacy "XDMF Reader" reads only that
- * older form, so there is no syntax both accept. */
-static void xdmf_block(const xdmf_ctx *x, int which, const hsize_t *start, const hsize_t *count,
-                       const char *type, int prec, const char *ind) {
+ * older form, so there is no syntax both accept. Doubles (prec 8) state their type; float32
+ * (the outlines) is XDMF's default type, NumberType="Float" Precision="4", left unsaid. */
+static void xdmf_block(xdmf_ctx *x, int which, const hsize_t *start, const hsize_t *count,
+                       int prec) {
   const xdmf_ds *d = &x->ds[which];
   const hsize_t stride[3] = {1, 1, 1};
-  fputs(ind, x->f);
-  fputs("<DataItem Dimensions=\"", x->f);
-  xdmf_dims(x->f, d->rank, count);
-  fputs("\" NumberType=\"", x->f);
-  fputs(type, x->f);
-  fputs("\" Precision=\"", x->f);
-  put_u(x->f, (unsigned long long)prec);
-  fputs("\" Format=\"HDF\">", x->f);
-  fputs(x->h5name, x->f);
-  fputc(':', x->f);
-  fputs(d->path, x->f);
-  fputc('|', x->f);
-  xdmf_dims(x->f, d->rank, start);
-  fputc(':', x->f);
-  xdmf_dims(x->f, d->rank, stride);
-  fputc(':', x->f);
-  xdmf_dims(x->f, d->rank, count);
-  fputc(':', x->f);
-  xdmf_dims(x->f, d->rank, d->dims);
-  fputs("</DataItem>\n", x->f);
+  out_s(x, "<DataItem Dimensions=\"");
+  xdmf_dims(x, d->rank, count);
+  out_s(x, prec == 8 ? "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
+                     : "\" Format=\"HDF\">");
+  out_s(x, x->h5name);
+  out_c(x, ':');
+  out_s(x, d->path);
+  out_c(x, '|');
+  xdmf_dims(x, d->rank, start);
+  out_c(x, ':');
+  xdmf_dims(x, d->rank, stride);
+  out_c(x, ':');
+  xdmf_dims(x, d->rank, count);
+  out_c(x, ':');
+  xdmf_dims(x, d->rank, d->dims);
+  out_s(x, "</DataItem>");
 }
 
 /* Row r of dataset `which`, columns [col, col + ncol) of its last dimension (ncol 0: all). */
-static void xdmf_slab(const xdmf_ctx *x, int which, hsize_t r, hsize_t col, hsize_t ncol,
-                      const char *type, int prec, const char *ind) {
+static void xdmf_slab(xdmf_ctx *x, int which, hsize_t r, hsize_t col, hsize_t ncol, int prec) {
   const xdmf_ds *d = &x->ds[which];
   hsize_t start[3] = {r, 0, 0}, count[3] = {1, d->dims[1], d->dims[2]};
   if (ncol > 0) start[d->rank - 1] = col, count[d->rank - 1] = ncol;
-  xdmf_block(x, which, start, count, type, prec, ind);
+  xdmf_block(x, which, start, count, prec);
 }
 
-/* A cell field (one of XDMF_FIELDS); its name carries its unit (ParaView shows names only). */
-static void xdmf_attribute(xdmf_ctx *x, const char *name, int which, hsize_t r, hsize_t col,
-                           hsize_t ncol, const char *type, int prec) {
-  const char *ind = "          ";
-  for (int i = 0; i < XDMF_N_FIELDS; i++)
-    if (strcmp(name, XDMF_FIELDS[i]) == 0) x->carried |= 1u << i;
-  fputs("        <Attribute Name=\"", x->f);
-  fputs(name, x->f);
-  fputs("\" AttributeType=\"Scalar\" Center=\"Cell\">\n", x->f);
-  xdmf_slab(x, which, r, col, ncol, type, prec, ind);
-  fputs("        </Attribute>\n", x->f);
+/* Cell field XDMF_FIELDS[field] of the open grid, a double; its name carries its unit (ParaView
+ * shows names only). XDMF's default AttributeType, Scalar, is left unsaid. */
+static void xdmf_attribute(xdmf_ctx *x, int field, int which, hsize_t r, hsize_t col,
+                           hsize_t ncol) {
+  out_s(x, "<Attribute Name=\"");
+  out_s(x, XDMF_FIELDS[field]);
+  out_s(x, "\" Center=\"Cell\">");
+  xdmf_slab(x, which, r, col, ncol, 8);
+  out_s(x, "</Attribute>\n");
 }
 
-static void xdmf_grid_open(xdmf_ctx *x, const char *name) {
-  x->carried = 0;
-  fputs("      <Grid Name=\"", x->f);
-  fputs(name, x->f);
-  fputs("\" GridType=\"Uniform\">\n", x->f);
+/* Open grid `kind` (XDMF's default GridType, Uniform) with its shared topology. */
+static void xdmf_grid_open(xdmf_ctx *x, const char *name, int kind) {
+  out_s(x, "<Grid Name=\"");
+  out_s(x, name);
+  out_s(x, "\"><xi:include xpointer=\"");
+  out_s(x, GRID_TOPOLOGY[kind]);
+  out_s(x, "\"/>\n");
 }
 
-/* Field XDMF_FIELDS[i] as NaN on all n_cells cells of the open grid: the first n_cells values
- * of the record's /xdmf/nan, or inline for a record written before it had that dataset. */
-static void xdmf_nan_field(xdmf_ctx *x, int i, hsize_t n_cells) {
-  x->carried |= 1u << i;
-  fputs("        <Attribute Name=\"", x->f);
-  fputs(XDMF_FIELDS[i], x->f);
-  fputs("\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
-        "          <DataItem Dimensions=\"", x->f);
-  put_u(x->f, (unsigned long long)n_cells);
-  fputs("\" NumberType=\"Float\" Precision=\"8\" ", x->f);
-  if (n_cells <= x->nan_n) {
-    fputs("Format=\"HDF\">", x->f);
-    fputs(x->h5name, x->f);
-    fputs(":" XDMF_NAN "|0:1:", x->f);
-    put_u(x->f, (unsigned long long)n_cells);
-    fputc(':', x->f);
-    put_u(x->f, (unsigned long long)x->nan_n);
-  } else {
-    fputs("Format=\"XML\">", x->f);
-    for (hsize_t c = 0; c < n_cells; c++) fputs(c ? " nan" : "nan", x->f);
-  }
-  fputs("</DataItem>\n        </Attribute>\n", x->f);
-}
-
-/* A grid that is not the blocks starts with theta_rad (NaN): ParaView shows the first field of
- * a grid on opening, and the blocks' rotation is the one worth seeing first. */
-static void xdmf_theta_first(xdmf_ctx *x, hsize_t n_cells) { xdmf_nan_field(x, 0, n_cells); }
-
-/* End a grid of n_cells cells: the fields of XDMF_FIELDS it does not carry, NaN. */
-static void xdmf_grid_close(xdmf_ctx *x, hsize_t n_cells) {
-  for (int i = 0; i < XDMF_N_FIELDS; i++)
-    if (!(x->carried & (1u << i))) xdmf_nan_field(x, i, n_cells);
-  fputs("      </Grid>\n", x->f);
-}
+/* The NaN fields of grid `kind`: those it does not carry itself. A grid that is not the blocks
+ * starts with them, theta_rad first: ParaView shows the first field of a grid on opening, and
+ * the blocks' rotation is the one worth seeing first. */
+static void xdmf_pads(xdmf_ctx *x, int kind) { out_s(x, x->pads[kind]); }
 
 /* The blocks at row r: one polygon each, moved. */
 static void xdmf_blocks(xdmf_ctx *x, hsize_t r) {
-  const xdmf_ds *bc = &x->ds[X_BCONN];
-  xdmf_grid_open(x, "blocks");
-  fprintf(x->f,
-          "        <Topology TopologyType=\"Polygon\" NodesPerElement=\"%llu\" "
-          "NumberOfElements=\"%llu\">\n"
-          "          <DataItem Dimensions=\"%llu %llu\" NumberType=\"Int\" Precision=\"4\" "
-          "Format=\"HDF\">%s:%s</DataItem>\n"
-          "        </Topology>\n        <Geometry GeometryType=\"XY\">\n",
-          (unsigned long long)bc->dims[1], (unsigned long long)bc->dims[0],
-          (unsigned long long)bc->dims[0], (unsigned long long)bc->dims[1], x->h5name, bc->path);
-  xdmf_slab(x, X_BPTS, r, 0, 0, "Float", 4, "          ");
-  fputs("        </Geometry>\n", x->f);
-  xdmf_attribute(x, "theta_rad", X_BPOS, r, 2, 1, "Float", 8);
-  xdmf_attribute(x, "ux_m", X_BPOS, r, 0, 1, "Float", 8);
-  xdmf_attribute(x, "uz_m", X_BPOS, r, 1, 1, "Float", 8);
-  xdmf_attribute(x, "speed_m_s", X_BSPEED, r, 0, 0, "Float", 8);
-  xdmf_grid_close(x, bc->dims[0]);
+  xdmf_grid_open(x, "blocks", G_BLOCKS);
+  out_s(x, "<Geometry GeometryType=\"XY\">");
+  xdmf_slab(x, X_BPTS, r, 0, 0, 4);
+  out_s(x, "</Geometry>\n");
+  xdmf_attribute(x, F_THETA, X_BPOS, r, 2, 1);
+  xdmf_attribute(x, F_UX, X_BPOS, r, 0, 1);
+  xdmf_attribute(x, F_UZ, X_BPOS, r, 1, 1);
+  xdmf_attribute(x, F_SPEED, X_BSPEED, r, 0, 0);
+  xdmf_pads(x, G_BLOCKS);
+  out_s(x, "</Grid>\n");
 }
 
 /* The joints at row r: one segment each, intrados to extrados. */
 static void xdmf_joints(xdmf_ctx *x, hsize_t r) {
-  const xdmf_ds *jc = &x->ds[X_JCONN];
-  xdmf_grid_open(x, "joints");
-  fprintf(x->f,
-          "        <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" "
-          "NumberOfElements=\"%llu\">\n"
-          "          <DataItem Dimensions=\"%llu 2\" NumberType=\"Int\" Precision=\"4\" "
-          "Format=\"HDF\">%s:%s</DataItem>\n"
-          "        </Topology>\n        <Geometry GeometryType=\"XY\">\n",
-          (unsigned long long)jc->dims[0], (unsigned long long)jc->dims[0], x->h5name, jc->path);
-  xdmf_slab(x, X_JPTS, r, 0, 0, "Float", 4, "          ");
-  fputs("        </Geometry>\n", x->f);
-  xdmf_theta_first(x, jc->dims[0]);
-  xdmf_attribute(x, "N_N", X_N, r, 0, 0, "Float", 8);
-  xdmf_attribute(x, "T_N", X_T, r, 0, 0, "Float", 8);
-  xdmf_attribute(x, "M_N_m", X_M, r, 0, 0, "Float", 8);
-  xdmf_attribute(x, "gap_i_m", X_GAPI, r, 0, 0, "Float", 8);
-  xdmf_attribute(x, "gap_e_m", X_GAPE, r, 0, 0, "Float", 8);
+  xdmf_grid_open(x, "joints", G_JOINTS);
+  out_s(x, "<Geometry GeometryType=\"XY\">");
+  xdmf_slab(x, X_JPTS, r, 0, 0, 4);
+  out_s(x, "</Geometry>\n");
+  xdmf_pads(x, G_JOINTS);
+  xdmf_attribute(x, F_N, X_N, r, 0, 0);
+  xdmf_attribute(x, F_T, X_T, r, 0, 0);
+  xdmf_attribute(x, F_M, X_M, r, 0, 0);
+  xdmf_attribute(x, F_GAPI, X_GAPI, r, 0, 0);
+  xdmf_attribute(x, F_GAPE, X_GAPE, r, 0, 0);
   /* read as a double (HDF5 converts), the type the other grids' NaN has */
-  xdmf_attribute(x, "hinge_0closed_1intrados_2extrados", X_HINGE, r, 0, 0, "Float", 8);
-  xdmf_grid_close(x, jc->dims[0]);
+  xdmf_attribute(x, F_HINGE, X_HINGE, r, 0, 0);
+  out_s(x, "</Grid>\n");
 }
 
 /* A support at row r: the springing face it carries (joint 1 on the left, n+1 on the right),
  * with the force it exerts on the arch and, for the moved right support, its displacement. */
 static void xdmf_support(xdmf_ctx *x, int right, hsize_t r) {
-  const char *ind = "          ";
   const hsize_t nj = x->ds[X_JCONN].dims[0];
   const hsize_t start[3] = {r, right ? 2 * nj - 2 : 0, 0}, count[3] = {1, 2, 2};
-  xdmf_grid_open(x, right ? "support_right" : "support_left");
-  fputs("        <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" "
-        "NumberOfElements=\"1\">\n"
-        "          <DataItem Dimensions=\"1 2\" NumberType=\"Int\" Precision=\"4\" "
-        "Format=\"XML\">0 1</DataItem>\n"
-        "        </Topology>\n        <Geometry GeometryType=\"XY\">\n",
-        x->f);
-  xdmf_block(x, X_JPTS, start, count, "Float", 4, ind);
-  fputs("        </Geometry>\n", x->f);
-  xdmf_theta_first(x, 1);
-  xdmf_attribute(x, "Fx_N", X_REACT, r, right ? 3 : 0, 1, "Float", 8);
-  xdmf_attribute(x, "Fz_N", X_REACT, r, right ? 4 : 1, 1, "Float", 8);
-  xdmf_attribute(x, "M_N_m", X_REACT, r, right ? 5 : 2, 1, "Float", 8);
+  const int kind = right ? G_RIGHT : G_LEFT;
+  xdmf_grid_open(x, right ? "support_right" : "support_left", kind);
+  out_s(x, "<Geometry GeometryType=\"XY\">");
+  xdmf_block(x, X_JPTS, start, count, 4);
+  out_s(x, "</Geometry>\n");
+  xdmf_pads(x, kind);
+  xdmf_attribute(x, F_FX, X_REACT, r, right ? 3 : 0, 1);
+  xdmf_attribute(x, F_FZ, X_REACT, r, right ? 4 : 1, 1);
+  xdmf_attribute(x, F_M, X_REACT, r, right ? 5 : 2, 1);
   if (right) {
-    xdmf_attribute(x, "ux_m", X_SUPPORT, r, 0, 1, "Float", 8);
-    xdmf_attribute(x, "uz_m", X_SUPPORT, r, 1, 1, "Float", 8);
+    xdmf_attribute(x, F_UX, X_SUPPORT, r, 0, 1);
+    xdmf_attribute(x, F_UZ, X_SUPPORT, r, 1, 1);
   }
-  xdmf_grid_close(x, 1);
+  out_s(x, "</Grid>\n");
 }
 
-/* The ground (a fixed segment), when the fall landed on it; every field NaN (XDMF_FIELDS). */
+/* The ground (a fixed segment), when the fall landed on it: every part shared, every field
+ * NaN. */
 static void xdmf_ground(xdmf_ctx *x) {
-  xdmf_grid_open(x, "ground");
-  fprintf(x->f,
-          "        <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" "
-          "NumberOfElements=\"1\">\n"
-          "          <DataItem Dimensions=\"1 2\" NumberType=\"Int\" Precision=\"4\" "
-          "Format=\"XML\">0 1</DataItem>\n"
-          "        </Topology>\n        <Geometry GeometryType=\"XY\">\n"
-          "          <DataItem Dimensions=\"2 2\" NumberType=\"Float\" Precision=\"8\" "
-          "Format=\"HDF\">%s:/summary/ground/points</DataItem>\n"
-          "        </Geometry>\n",
-          x->h5name);
-  xdmf_theta_first(x, 1);
-  xdmf_grid_close(x, 1);
+  xdmf_grid_open(x, "ground", G_GROUND);
+  out_s(x, "<xi:include xpointer=\"gg\"/>\n");
+  xdmf_pads(x, G_GROUND);
+  out_s(x, "</Grid>\n");
 }
 
 /* One time step: the row's objects as named grids of a spatial collection. */
 static void xdmf_step(xdmf_ctx *x, hsize_t r, double t) {
-  fprintf(x->f,
-          "    <Grid Name=\"row %llu\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
-          "      <Time Value=\"%.17g\"/>\n",
-          (unsigned long long)r, t);
+  out_f(x,
+        "<Grid Name=\"row %llu\" GridType=\"Collection\" CollectionType=\"Spatial\">"
+        "<Time Value=\"%.17g\"/>\n",
+        (unsigned long long)r, t);
   xdmf_blocks(x, r);
   xdmf_joints(x, r);
   xdmf_support(x, 0, r);
   xdmf_support(x, 1, r);
   if (x->ground) xdmf_ground(x);
-  fputs("    </Grid>\n", x->f);
+  out_s(x, "</Grid>\n");
+}
+
+/* The NaN fields every row's grids of `pad` cells include: the union of what they lack. */
+static unsigned xdmf_pad_fields(const xdmf_ctx *x, int pad) {
+  unsigned m = 0;
+  for (int k = 0; k < G_COUNT; k++)
+    if (GRID_PAD[k] == pad && (k != G_GROUND || x->ground)) m |= F_ALL & ~GRID_OWN[k];
+  return m;
+}
+
+/* Field XDMF_FIELDS[i] as NaN on n_cells cells, named "<prefix><i>": the first n_cells values
+ * of the record's /xdmf/nan, or inline for a record written before it had that dataset. */
+static void xdmf_nan_field(xdmf_ctx *x, char prefix, int i, hsize_t n_cells) {
+  out_f(x,
+        "<Attribute xml:id=\"%c%d\" Name=\"%s\" Center=\"Cell\"><DataItem Dimensions=\"%llu\" "
+        "NumberType=\"Float\" Precision=\"8\" ",
+        prefix, i, XDMF_FIELDS[i], (unsigned long long)n_cells);
+  if (n_cells <= x->nan_n) {
+    out_f(x, "Format=\"HDF\">%s:" XDMF_NAN "|0:1:%llu:%llu", x->h5name, (unsigned long long)n_cells,
+          (unsigned long long)x->nan_n);
+  } else {
+    out_s(x, "Format=\"XML\">");
+    for (hsize_t c = 0; c < n_cells; c++) out_s(x, c ? " nan" : "nan");
+  }
+  out_s(x, "</DataItem></Attribute>\n");
+}
+
+/* The items every row includes (see PAD_PREFIX), and each grid's include of its NaN fields. */
+static void xdmf_shared(xdmf_ctx *x) {
+  const xdmf_ds *bc = &x->ds[X_BCONN], *jc = &x->ds[X_JCONN];
+  out_f(x,
+        "<Topology xml:id=\"tb\" TopologyType=\"Polygon\" NodesPerElement=\"%llu\" "
+        "NumberOfElements=\"%llu\"><DataItem Dimensions=\"%llu %llu\" NumberType=\"Int\" "
+        "Precision=\"4\" Format=\"HDF\">%s:%s</DataItem></Topology>\n"
+        "<Topology xml:id=\"tj\" TopologyType=\"Polyline\" NodesPerElement=\"2\" "
+        "NumberOfElements=\"%llu\"><DataItem Dimensions=\"%llu 2\" NumberType=\"Int\" "
+        "Precision=\"4\" Format=\"HDF\">%s:%s</DataItem></Topology>\n"
+        "<Topology xml:id=\"t1\" TopologyType=\"Polyline\" NodesPerElement=\"2\" "
+        "NumberOfElements=\"1\"><DataItem Dimensions=\"1 2\" NumberType=\"Int\" "
+        "Precision=\"4\" Format=\"XML\">0 1</DataItem></Topology>\n",
+        (unsigned long long)bc->dims[1], (unsigned long long)bc->dims[0],
+        (unsigned long long)bc->dims[0], (unsigned long long)bc->dims[1], x->h5name, bc->path,
+        (unsigned long long)jc->dims[0], (unsigned long long)jc->dims[0], x->h5name, jc->path);
+  if (x->ground)
+    out_f(x,
+          "<Geometry xml:id=\"gg\" GeometryType=\"XY\"><DataItem Dimensions=\"2 2\" "
+          "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">%s:/summary/ground/points"
+          "</DataItem></Geometry>\n",
+          x->h5name);
+  const hsize_t cells[PAD_COUNT] = {bc->dims[0], jc->dims[0], 1};
+  for (int p = 0; p < PAD_COUNT; p++) {
+    const unsigned m = xdmf_pad_fields(x, p);
+    for (int i = 0; i < F_COUNT; i++)
+      if (m & F_BIT(i)) xdmf_nan_field(x, PAD_PREFIX[p], i, cells[p]);
+  }
+  for (int k = 0; k < G_COUNT; k++) {
+    char *s = x->pads[k];
+    const size_t size = sizeof x->pads[k];
+    size_t n = (size_t)snprintf(s, size, "<xi:include xpointer=\"xpointer(id('");
+    const char *sep = "";
+    for (int i = 0; i < F_COUNT; i++)
+      if (!(GRID_OWN[k] & F_BIT(i))) {
+        n += (size_t)snprintf(s + n, size - n, "%s%c%d", sep, PAD_PREFIX[GRID_PAD[k]], i);
+        sep = " ";
+      }
+    snprintf(s + n, size - n, "'))\"/>\n");
+  }
 }
 
 /* Shapes of the datasets the XDMF refers to; the number of rows they all hold; -1 if the file
@@ -344,7 +429,7 @@ static long xdmf_shapes(hid_t file, xdmf_ctx *x) {
 }
 
 /* Times of rows [0, rows) of /observables/delta/time into t. */
-static herr_t xdmf_read_times(hid_t file, const xdmf_ctx *x, long rows, double *t) {
+static herr_t xdmf_read_times(hid_t file, xdmf_ctx *x, long rows, double *t) {
   hid_t td = H5Dopen2(file, x->ds[X_TIME].path, H5P_DEFAULT);
   hid_t fs = td >= 0 ? H5Dget_space(td) : H5I_INVALID_HID;
   hsize_t start[1] = {0}, count[1] = {(hsize_t)rows};
@@ -390,27 +475,31 @@ static vs_status xdmf_open_tmp(const char *xmf_path, char *tmp, size_t size, FIL
 }
 
 /* The sidecar's opening: what it shows and how ParaView reads it. */
-static void xdmf_header(FILE *f, const char *name, long rows, long stride) {
-  fprintf(
-      f,
-      "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
-      "<!-- voussoir: %s, %ld rows, every %ld-th shown (and the last), times strictly "
-      "increasing (the loading time delta / rate, s).\n"
-      "     ParaView: either XDMF 3 reader colours by any field: every grid carries every "
-      "field, NaN where it is not the grid's own (slabs of the record's /xdmf/nan; the default "
-      "Xdmf3ReaderS keeps only the fields all grids carry); Xdmf3ReaderT also keeps the grids as named blocks.\n"
-      "     blocks (polygons): theta_rad rotation, ux_m uz_m centroid displacement, speed_m_s;\n"
-      "     joints (segments, intrados to extrados): N_N normal force (compression > 0), T_N "
-      "shear force, M_N_m moment about the joint centre, gap_i_m gap_e_m edge openings, "
-      "hinge code 0 closed, 1 intrados, 2 extrados;\n"
-      "     support_left, support_right (the springing faces): Fx_N Fz_N force of the support "
-      "on the arch (x right, z up), M_N_m its moment (counter-clockwise, about the springing "
-      "joint's centre), ux_m uz_m displacement of the moved support;\n"
-      "     ground (a segment, when the fall landed on it): the plane the debris rests on.\n"
-      "     The HDF5 file is named relative to this file. -->\n"
-      "<Xdmf Version=\"3.0\">\n  <Domain>\n"
-      "    <Grid Name=\"voussoir\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
-      name, rows, stride);
+static void xdmf_header(xdmf_ctx *x, const char *name, long rows, long stride) {
+  out_f(x,
+        "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
+        "<!-- voussoir: %s, %ld rows, every %ld-th shown (and the last), times strictly "
+        "increasing (the loading time delta / rate, s).\n"
+        "     ParaView: either XDMF 3 reader colours by any field: every grid carries every "
+        "field, NaN where it is not the grid's own (slabs of the record's /xdmf/nan; the default "
+        "Xdmf3ReaderS keeps only the fields all grids carry); Xdmf3ReaderT also keeps the grids "
+        "as named blocks.\n"
+        "     blocks (polygons): theta_rad rotation, ux_m uz_m centroid displacement, speed_m_s;\n"
+        "     joints (segments, intrados to extrados): N_N normal force (compression > 0), T_N "
+        "shear force, M_N_m moment about the joint centre, gap_i_m gap_e_m edge openings, "
+        "hinge code 0 closed, 1 intrados, 2 extrados;\n"
+        "     support_left, support_right (the springing faces): Fx_N Fz_N force of the support "
+        "on the arch (x right, z up), M_N_m its moment (counter-clockwise, about the springing "
+        "joint's centre), ux_m uz_m displacement of the moved support;\n"
+        "     ground (a segment, when the fall landed on it): the plane the debris rests on.\n"
+        "     What every row shares is defined once, below, and included by xml:id (XInclude): "
+        "the topologies tb (blocks), tj (joints), t1 (one segment), the ground's points gg, and "
+        "the NaN fields b<i>, j<i>, s<i> (n_blocks, n_joints, one cell; i: the field's place in "
+        "the list theta_rad ux_m uz_m speed_m_s N_N T_N M_N_m gap_i_m gap_e_m "
+        "hinge_0closed_1intrados_2extrados Fx_N Fz_N).\n"
+        "     The HDF5 file is named relative to this file. -->\n"
+        "<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n<Domain>\n",
+        name, rows, stride);
 }
 
 /* Close f and rename tmp to xmf_path; on a write error remove tmp. */
@@ -462,7 +551,10 @@ vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, i
   }
   const long stride =
       (rows + max_grids - 1) / max_grids > 1 ? (rows + max_grids - 1) / max_grids : 1;
-  xdmf_header(x.f, name, rows, stride);
+  x.used = 0;
+  xdmf_header(&x, name, rows, stride);
+  xdmf_shared(&x);
+  out_s(&x, "<Grid Name=\"voussoir\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
   double t_last = -INFINITY;
   for (long r = 0; r < rows; r++) {
     if (r % stride != 0 && r != rows - 1) continue;
@@ -470,7 +562,8 @@ vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, i
     xdmf_step(&x, (hsize_t)r, t[r]);
     t_last = t[r];
   }
-  fputs("    </Grid>\n  </Domain>\n</Xdmf>\n", x.f);
+  out_s(&x, "</Grid>\n</Domain>\n</Xdmf>\n");
+  out_flush(&x);
   free(t);
   return xdmf_commit(x.f, tmp, xmf_path, err);
 }

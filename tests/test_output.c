@@ -267,7 +267,10 @@ static void check_root(hid_t f, const char *text, const char *status) {
 
 /* ---------------------------------------------------------------------------------------------
  * XDMF: balanced tags; every HDF data item names an existing dataset of the shape it states;
- * hyperslabs inside their datasets; times strictly increasing. */
+ * hyperslabs inside their datasets; times strictly increasing; the items every row shares
+ * defined once, as children of the Domain named by xml:id, and every XInclude naming such
+ * items; every grid, its includes resolved, with one topology, one geometry and each of the 12
+ * fields once, theta_rad first, every field on every cell, the included ones NaN. */
 
 static const char *attr_in_tag(const char *tag, const char *end, const char *name, char *out,
                                size_t size) {
@@ -295,12 +298,34 @@ static int parse_dims(const char *s, hsize_t *d, int max) {
   return n;
 }
 
+static const char *const XDMF_FIELDS[12] = {
+    "theta_rad", "ux_m",  "uz_m",    "speed_m_s", "N_N",
+    "T_N",       "M_N_m", "gap_i_m", "gap_e_m",   "hinge_0closed_1intrados_2extrados",
+    "Fx_N",      "Fz_N"};
+
 typedef struct {
   int grids, hdf_items, slabs; /* time steps; HDF items and slabs in all */
-  int nan_refs, nan_inline;    /* padding: slabs of /xdmf/nan; inline "nan" items */
+  int nan_refs, nan_inline;    /* NaN items: slabs of /xdmf/nan; inline "nan" items */
   int uniform;                 /* uniform grids: blocks, joints, support_left, support_right */
+  int defs, includes;          /* shared items (xml:id); xi:include elements */
+  int own, padded;             /* fields the grids carry: their own, included NaN */
   double t_last;
 } xdmf_stats;
+
+/* A shared item: an element of the Domain with an xml:id. */
+typedef struct {
+  char id[16], tag[16], name[64];
+  unsigned long long cells; /* Attribute: values; Topology: NumberOfElements */
+  int nan;                  /* an Attribute whose values are NaN */
+} xdmf_def;
+
+/* The uniform grid being read. */
+typedef struct {
+  int open, topologies, geometries, nf;
+  unsigned long long cells;
+  char fields[16][64];
+  unsigned long long field_cells[16];
+} xdmf_grid;
 
 static char *slurp(const char *path) {
   FILE *fp = fopen(path, "rb");
@@ -362,17 +387,73 @@ static int check_hdf_item(hid_t f, const char *h5base, const char *text, const h
   return 1;
 }
 
+/* src into dst of size bytes: it must fit. */
+static void copy_str(char *dst, size_t size, const char *src) {
+  const size_t n = strlen(src);
+  if (n >= size) fail_msg("XDMF: %s: longer than %zu", src, size - 1);
+  memcpy(dst, src, n + 1);
+}
+
+/* The shared items an include names: xpointer="ID" or "xpointer(id('ID ID ...'))". */
+static int include_ids(const char *xp, char ids[16][16]) {
+  const char *prefix = "xpointer(id('";
+  int n = 0;
+  if (strncmp(xp, prefix, strlen(prefix)) != 0) {
+    copy_str(ids[n++], sizeof ids[0], xp);
+    return n;
+  }
+  const char *p = xp + strlen(prefix), *end = strstr(p, "'))");
+  if (end == NULL || end[3] != '\0') fail_msg("XDMF: xpointer %s", xp);
+  while (p < end) {
+    const size_t len = strcspn(p, " '");
+    assert_true(n < 16 && len > 0 && len < sizeof ids[0]);
+    memcpy(ids[n], p, len);
+    ids[n++][len] = '\0';
+    p += len;
+    while (*p == ' ') p++;
+  }
+  return n;
+}
+
+static void grid_add_field(xdmf_grid *g, const char *name, unsigned long long cells) {
+  assert_true(g->open && g->nf < 16);
+  copy_str(g->fields[g->nf], sizeof g->fields[0], name);
+  g->field_cells[g->nf++] = cells;
+}
+
+/* At a uniform grid's end: one topology and one geometry; every field once, theta_rad first
+ * (ParaView shows it on opening); every field on every cell. */
+static void grid_close(const xdmf_grid *g) {
+  assert_int_equal(g->topologies, 1);
+  assert_int_equal(g->geometries, 1);
+  assert_int_equal(g->nf, 12);
+  assert_string_equal(g->fields[0], "theta_rad");
+  for (int i = 0; i < 12; i++) {
+    int n = 0;
+    for (int k = 0; k < g->nf; k++) n += strcmp(g->fields[k], XDMF_FIELDS[i]) == 0;
+    if (n != 1) fail_msg("XDMF: a grid carries %s %d times", XDMF_FIELDS[i], n);
+    if (g->field_cells[i] != g->cells)
+      fail_msg("XDMF: %s on %llu cells of %llu", g->fields[i], g->field_cells[i], g->cells);
+  }
+}
+
 static xdmf_stats check_xdmf(const char *xmf_path, hid_t f, const char *h5base) {
   char *s = slurp(xmf_path);
   const char *stack[16];
   size_t stack_len[16];
+  int uniform_at[16];
   int depth = 0;
   /* each step: the four, in order, and the ground when the fall landed on it */
   static const char *const NAMES[5] = {"blocks", "joints", "support_left", "support_right",
                                        "ground"};
   const int per_step = H5Lexists(f, "/summary/ground", H5P_DEFAULT) > 0 ? 5 : 4;
   int k = 0;
-  xdmf_stats st = {0, 0, 0, 0, 0, 0, -INFINITY};
+  xdmf_stats st = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, -INFINITY};
+  xdmf_def defs[64];
+  int ndefs = 0, def_open = -1, attr_open = 0; /* the definition, and an Attribute, being read */
+  unsigned long long attr_cells = 0;
+  char attr_name[64] = "";
+  xdmf_grid g = {0};
   for (const char *p = strchr(s, '<'); p != NULL; p = strchr(p + 1, '<')) {
     if (strncmp(p, "<?", 2) == 0 || strncmp(p, "<!DOCTYPE", 9) == 0) continue;
     if (strncmp(p, "<!--", 4) == 0) {
@@ -388,20 +469,90 @@ static xdmf_stats check_xdmf(const char *xmf_path, hid_t f, const char *h5base) 
       if (strncmp(p + 2, stack[depth], stack_len[depth]) != 0 || p[2 + stack_len[depth]] != '>')
         fail_msg("XDMF: </%.*s> closes <%.*s>", (int)(end - p - 2), p + 2, (int)stack_len[depth],
                  stack[depth]);
+      if (uniform_at[depth]) {
+        grid_close(&g);
+        g.open = 0;
+      }
+      if (strncmp(p + 2, "Attribute>", 10) == 0) {
+        if (def_open >= 0)
+          defs[def_open].cells = attr_cells;
+        else
+          grid_add_field(&g, attr_name, attr_cells);
+        attr_open = 0;
+      }
+      if (def_open >= 0 && depth == 2) def_open = -1;
       continue;
     }
     const size_t nlen = strcspn(p + 1, " />");
     const int self_closing = end[-1] == '/';
-    char gtype[32], gname[64];
-    if (strncmp(p + 1, "Grid", 4) == 0 && nlen == 4 &&
-        attr_in_tag(p, end, "GridType", gtype, sizeof gtype) && strcmp(gtype, "Uniform") == 0) {
-      assert_non_null(attr_in_tag(p, end, "Name", gname, sizeof gname));
-      assert_true(k < per_step);
-      assert_string_equal(gname, NAMES[k++]);
-      st.uniform++;
+    char gtype[32], gname[64], v[128];
+    int is_uniform = 0;
+    if (strncmp(p + 1, "Grid", 4) == 0 && nlen == 4) {
+      if (!attr_in_tag(p, end, "GridType", gtype, sizeof gtype))
+        snprintf(gtype, sizeof gtype, "Uniform");
+      if (strcmp(gtype, "Uniform") == 0) {
+        assert_non_null(attr_in_tag(p, end, "Name", gname, sizeof gname));
+        assert_true(k < per_step && !g.open && def_open < 0);
+        assert_string_equal(gname, NAMES[k++]);
+        st.uniform++;
+        memset(&g, 0, sizeof g);
+        g.open = is_uniform = 1;
+      }
+    }
+    if (attr_in_tag(p, end, "xml:id", v, sizeof v)) { /* a shared item: a child of the Domain */
+      assert_true(depth == 2 && strncmp(stack[1], "Domain", 6) == 0 && ndefs < 64);
+      for (int i = 0; i < ndefs; i++)
+        if (strcmp(defs[i].id, v) == 0) fail_msg("XDMF: xml:id %s twice", v);
+      xdmf_def *d = &defs[ndefs];
+      memset(d, 0, sizeof *d);
+      copy_str(d->id, sizeof d->id, v);
+      snprintf(d->tag, sizeof d->tag, "%.*s", (int)nlen, p + 1);
+      if (attr_in_tag(p, end, "Name", v, sizeof v)) copy_str(d->name, sizeof d->name, v);
+      if (attr_in_tag(p, end, "NumberOfElements", v, sizeof v)) d->cells = strtoull(v, NULL, 10);
+      def_open = ndefs++;
+      st.defs++;
+    }
+    if (strncmp(p + 1, "xi:include", 10) == 0 && nlen == 10) {
+      assert_true(self_closing && g.open);
+      assert_non_null(attr_in_tag(p, end, "xpointer", v, sizeof v));
+      char ids[16][16];
+      const int n = include_ids(v, ids);
+      for (int i = 0; i < n; i++) {
+        const xdmf_def *d = NULL;
+        for (int j = 0; j < ndefs; j++)
+          if (strcmp(defs[j].id, ids[i]) == 0) d = &defs[j];
+        if (d == NULL) fail_msg("XDMF: xml:id %s is not defined before it is included", ids[i]);
+        if (strcmp(d->tag, "Topology") == 0) {
+          g.topologies++;
+          g.cells = d->cells;
+        } else if (strcmp(d->tag, "Geometry") == 0) {
+          g.geometries++;
+        } else {
+          assert_string_equal(d->tag, "Attribute");
+          if (!d->nan) fail_msg("XDMF: included field %s (%s) is not NaN", d->id, d->name);
+          grid_add_field(&g, d->name, d->cells);
+          st.padded++;
+        }
+      }
+      st.includes++;
+    }
+    if (g.open && def_open < 0 && strncmp(p + 1, "Topology", 8) == 0 && nlen == 8) {
+      assert_non_null(attr_in_tag(p, end, "NumberOfElements", v, sizeof v));
+      g.topologies++;
+      g.cells = strtoull(v, NULL, 10);
+    }
+    if (g.open && strncmp(p + 1, "Geometry", 8) == 0 && nlen == 8) g.geometries++;
+    if (strncmp(p + 1, "Attribute", 9) == 0 && nlen == 9) {
+      char center[16];
+      assert_true(def_open >= 0 || g.open);
+      assert_non_null(attr_in_tag(p, end, "Name", attr_name, sizeof attr_name));
+      assert_non_null(attr_in_tag(p, end, "Center", center, sizeof center));
+      assert_string_equal(center, "Cell");
+      if (def_open < 0) st.own++;
+      attr_open = 1;
+      attr_cells = 0;
     }
     if (strncmp(p + 1, "Time", 4) == 0 && nlen == 4) {
-      char v[64];
       assert_non_null(attr_in_tag(p, end, "Value", v, sizeof v));
       double t = strtod(v, NULL);
       if (!(t > st.t_last)) fail_msg("XDMF: time %g after %g", t, st.t_last);
@@ -410,28 +561,45 @@ static xdmf_stats check_xdmf(const char *xmf_path, hid_t f, const char *h5base) 
       k = 0;
     }
     char fmt[16];
-    if (strncmp(p + 1, "DataItem", 8) == 0 && nlen == 8 &&
-        attr_in_tag(p, end, "Format", fmt, sizeof fmt) && strcmp(fmt, "HDF") == 0) {
+    if (strncmp(p + 1, "DataItem", 8) == 0 && nlen == 8) {
       char dimtxt[128], item[512];
       hsize_t dims[8];
       assert_non_null(attr_in_tag(p, end, "Dimensions", dimtxt, sizeof dimtxt));
       const int rank = parse_dims(dimtxt, dims, 8);
+      unsigned long long values = 1;
+      for (int i = 0; i < rank; i++) values *= dims[i];
+      if (attr_open) attr_cells = values;
+      assert_non_null(attr_in_tag(p, end, "Format", fmt, sizeof fmt));
       const char *text = end + 1, *close = strstr(text, "</DataItem>");
       assert_non_null(close);
       size_t len =
           (size_t)(close - text) < sizeof item - 1 ? (size_t)(close - text) : sizeof item - 1;
       memcpy(item, text, len);
       item[len] = '\0';
-      st.nan_refs += strstr(item, ":/xdmf/nan|") != NULL;
-      st.slabs += check_hdf_item(f, h5base, item, dims, rank);
-      st.hdf_items++;
+      int nan = 0;
+      if (strcmp(fmt, "HDF") == 0) {
+        nan = strstr(item, ":/xdmf/nan|") != NULL;
+        st.nan_refs += nan;
+        st.slabs += check_hdf_item(f, h5base, item, dims, rank);
+        st.hdf_items++;
+      } else if (strncmp(item, "nan", 3) == 0) {
+        nan = 1;
+        st.nan_inline++;
+        for (const char *q = item; *q != '\0'; q += strspn(q, " ")) { /* values nan only */
+          assert_true(strncmp(q, "nan", 3) == 0);
+          q += 3;
+          values--;
+        }
+        assert_true(values == 0);
+      }
+      if (attr_open && def_open >= 0) defs[def_open].nan = nan;
+      if (attr_open && def_open < 0 && nan) fail_msg("XDMF: own field %s is NaN", attr_name);
     }
-    if (strncmp(p + 1, "DataItem", 8) == 0 && nlen == 8 && strncmp(end + 1, "nan", 3) == 0)
-      st.nan_inline++;
     if (!self_closing) {
       assert_true(depth < 16);
       stack[depth] = p + 1;
       stack_len[depth] = nlen;
+      uniform_at[depth] = is_uniform;
       depth++;
     }
   }
@@ -601,13 +769,20 @@ static void test_quasistatic_record(void **state) {
 
   xdmf_stats xs = check_xdmf(xmf, f, "qs.h5");
   assert_int_equal(xs.grids, (int)rows); /* few rows: all of them, times increasing */
-  /* per step: blocks 6 items (connectivity, points, 4 fields), joints 8 (connectivity, points, 6
-   * fields), left support 4 (points, Fx, Fz, M), right support 6 (and its displacement); and
-   * each grid the other of the 12 fields as NaN, a slab of /xdmf/nan: 8 + 6 + 9 + 7 */
-  assert_int_equal(xs.nan_refs, xs.grids * 30);
+  /* defined once: the topologies of the blocks and the joints (their connectivity), of one
+   * segment (inline), and the NaN fields, slabs of /xdmf/nan: 8 on the blocks' cells, 6 on the
+   * joints', 9 on one cell (those the supports lack) */
+  assert_int_equal(xs.defs, 3 + 23);
+  assert_int_equal(xs.nan_refs, 23);
   assert_int_equal(xs.nan_inline, 0);
-  assert_int_equal(xs.hdf_items, xs.grids * (24 + 30));
-  assert_int_equal(xs.slabs, xs.grids * (22 + 30));
+  /* per step, as slabs of their row: blocks 5 items (points, 4 fields), joints 7 (points, 6
+   * fields), left support 4 (points, Fx, Fz, M), right support 6 (and its displacement); each
+   * grid includes its topology and the other of the 12 fields as NaN: 8 + 6 + 9 + 7 */
+  assert_int_equal(xs.hdf_items, 2 + 23 + xs.grids * 22);
+  assert_int_equal(xs.slabs, 23 + xs.grids * 22);
+  assert_int_equal(xs.own, xs.grids * 18);
+  assert_int_equal(xs.padded, xs.grids * 30);
+  assert_int_equal(xs.includes, xs.grids * 4 * 2);
   double *nan = read_all(f, "/xdmf/nan", &n);
   assert_int_equal(n, (size_t)vs_run_geometry(run)->n_joints); /* the largest grid */
   for (size_t i = 0; i < n; i++) assert_true(isnan(nan[i]));
@@ -623,9 +798,11 @@ static void test_quasistatic_record(void **state) {
   f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   xdmf_stats old = check_xdmf(xmf, f, "qs.h5");
   assert_int_equal(old.grids, xs.grids);
+  assert_int_equal(old.defs, xs.defs);
   assert_int_equal(old.nan_refs, 0);
-  assert_int_equal(old.nan_inline, xs.grids * 30);
-  assert_int_equal(old.hdf_items, xs.grids * 24);
+  assert_int_equal(old.nan_inline, 23);
+  assert_int_equal(old.hdf_items, 2 + xs.grids * 22);
+  assert_int_equal(old.padded, xs.padded);
   H5Fclose(f);
   assert_int_equal(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0); /* nothing left open */
   vs_run_destroy(&run);

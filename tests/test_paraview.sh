@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# ParaView (Debian's pvpython, on a private Xvfb server when there is no display) opens a record's
-# XDMF sidecar and colours the blocks by a field; skipped, saying why, without pvpython.
+# ParaView (Debian's pvpython, on a private Xvfb server when there is no display) opens two
+# records' XDMF sidecars (a run to its first limit point, a run to rest on the ground) with both
+# XDMF 3 readers, finds every grid of several frames equal to the records' data and colours each
+# grid by its own field; skipped, saying why, without pvpython.
 # usage: test_paraview.sh VOUSSOIR SOURCE_DIR
 set -euo pipefail
 vs=$1 src=$2
@@ -25,6 +27,7 @@ if [ -z "${DISPLAY:-}" ]; then
   export DISPLAY=":$(tr -d '[:space:]' <"$tmp/display")"
 fi
 "$vs" run "$src/runs/reference.ini" --first-limit -q -o "$tmp/run.h5" >/dev/null
+"$vs" run "$src/runs/reference.ini" -q -o "$tmp/fall.h5" >/dev/null
 cd "$tmp"
 # On this workplace's machines about a third of X connections to a fresh Xvfb fail right after
 # connect (measured: 87 of 300 XOpenDisplay calls), and pvpython then aborts with "bad X server
