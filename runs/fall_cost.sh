@@ -69,10 +69,7 @@ for scheme in "${schemes[@]}"; do
       steps=$(($(jnum dynamic_steps "$j1") - $(jnum dynamic_steps "$j0")))
       detail="$(($(jnum root_events "$j1") - $(jnum root_events "$j0"))) root events"
     fi
-    # the rest level (run.c): min(rest_factor x the arch moving at the rate, 0.01 x collapse_ke)
-    mass="$(h5dump -d /geometry/block_mass "$tmp/r.h5" | sed -nE 's/^ *\([0-9]+\): (.*)/\1/p' | tr ',' '\n' | awk '{s += $1} END {printf "%.10g", s}')"
-    rest="$(awk -v m="$mass" -v g=9.81 'BEGIN {v = 0.04e-3; ck = 0.1 * m * g * 0.024 + 0.5 * m * v * v;
-             r = 100 * 0.5 * m * v * v; if (0.01 * ck < r) r = 0.01 * ck; printf "%.6g", r}')"
+    rest="$(h5 "$tmp/r.h5" /summary/ground/rest_level)"
     inside="$(h5 "$tmp/r.h5" /summary/ground/overlap_max)"
     ke="$(last_ke "$tmp/r.h5")"
     pen_end="$(h5 "$tmp/r.h5" /summary/ground/penetration_final)"

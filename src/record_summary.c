@@ -277,6 +277,7 @@ static herr_t summary_ground(hid_t sum, const vs_run *run) {
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "penetration_final", vs_run_penetration(run), "m");
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "penetration_max", d->max_penetration, "m");
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "overlap_max", d->max_overlap, "m");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "rest_level", vs_run_rest_ke(run), "J");
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "fall_wall_time", d->fall_wall_s, "s");
   if (rc >= 0) rc = vs_h5_attr_int(g, "at_rest", d->fall_at_rest);
   if (rc >= 0)
@@ -285,7 +286,8 @@ static herr_t summary_ground(hid_t sum, const vs_run *run) {
         "the ground the collapsed arch fell onto (z up, the geometry's frame): level; "
         "points, a segment of it; penetration_final, the deepest block vertex below it "
         "at the last state (< 0: none touches), penetration_max over the fall; overlap_max, "
-        "the deepest vertex inside another block or a pier over the fall; at_rest "
+        "the deepest vertex inside another block or a pier over the fall; rest_level, the "
+        "kinetic energy the debris stays below for the rest window to be at rest; at_rest "
         "= 1 if the fall ended with the debris at rest; fall_wall_time, its cost");
   vs_h5_close(g);
   return rc;

@@ -395,6 +395,7 @@ double vs_run_ground(const vs_run *r) {
   if (r->fall != NULL) return r->fall_done ? r->fres.level : NAN;
   return (r->ground != NULL && vs_contact_armed(r->ground)) ? vs_contact_level(r->ground) : NAN;
 }
+double vs_run_rest_ke(const vs_run *r) { return r->dopts.rest_ke; }
 double vs_run_penetration(const vs_run *r) {
   if (r->fall != NULL) return r->fall_done ? vs_fall_penetration(r->fall) : NAN;
   return isfinite(vs_run_ground(r)) ? vs_contact_max_penetration(r->ground, r->q, NULL) : NAN;

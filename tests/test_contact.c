@@ -495,6 +495,7 @@ static void lands(vs_fall_scheme scheme, int voussoirs, double tol, const char *
   const double collapse_ke = c.collapse_ke * vs_geometry_weight(g) * c.thickness_mm * 1e-3 +
                              0.5 * mass * rate * rate;
   const double rest_ke = fmin(c.rest_factor * 0.5 * mass * rate * rate, 0.01 * collapse_ke);
+  assert_true(fabs(vs_run_rest_ke(run) - rest_ke) <= 1e-12 * rest_ke);
   print_message("%s fall: last state: deepest vertex %.3g um below the ground (tolerance %s = "
                 "%.3g um; %.3g um during the fall), kinetic %.3g J (rest level %.3g J)\n", name,
                 worst * 1e6, why, tol * 1e6, d->max_penetration * 1e6, ls.ke, rest_ke);

@@ -896,6 +896,12 @@ static void test_dynamic_record(void **state) {
   read_attr_str(sum, "mode", mode, sizeof mode);
   assert_string_equal(mode, vs_run_mode(run) != NULL ? vs_run_mode(run) : "");
   H5Gclose(sum);
+  /* the fall to rest: the rest level recorded, the last state's kinetic energy below it */
+  assert_true(H5Lexists(f, "/summary/ground", H5P_DEFAULT) > 0);
+  const double rest = read_scalar(f, "/summary/ground/rest_level");
+  assert_true(rest == vs_run_rest_ke(run) && rest > 0.0);
+  assert_int_equal(vs_run_dynamic_totals(run)->fall_at_rest, 1);
+  assert_true(en[7 * (rows - 1)] < rest);
   xdmf_stats xs = check_xdmf(xmf, f, "dyn.hdf5");
   assert_true(xs.grids > (int)rows / 2 && xs.grids <= (int)rows);
   free(ph), free(v), free(sp), free(en), free(t), free(dl);

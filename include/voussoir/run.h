@@ -159,6 +159,10 @@ const double *vs_run_reactions(const vs_run *r);
  * fall was followed. The largest during the fall and its cost: vs_run_dynamic_totals. */
 double vs_run_ground(const vs_run *r);
 double vs_run_penetration(const vs_run *r);
+/* The rest level (J): the debris is at rest once its kinetic energy has stayed below it for the
+ * rest window (dynamic.rest_factor times the kinetic energy of the arch moving bodily at the
+ * support's rate, at most a hundredth of the collapse threshold). */
+double vs_run_rest_ke(const vs_run *r);
 /* The rigid fall after the collapse (fall.scheme = rigid), NULL when none was followed: its
  * steps, solver work, overlaps, energy balance and cost. The summary figures (at rest, deepest
  * penetration and overlap, wall time, balance) are also in vs_run_dynamic_totals, as for the
