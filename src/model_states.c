@@ -71,24 +71,10 @@ int vs_model_commit_states(vs_model *m, const vs_joint_state *st) {
 
 void vs_model_reactions(const vs_model *m, const double *q, double delta, double left[2],
                         double right[2]) {
-  double qs[6];
-  sup_pos_q(m, q, delta, qs);
-  left[0] = left[1] = right[0] = right[1] = 0.0;
-  for (int k = 0; k < m->g->n_joints; k++) {
-    const vs_joint_geom *j = &m->g->joints[k];
-    if (body_is_block(j->a) && body_is_block(j->b)) continue; /* not at a support */
-    double f[6];
-    vs_model_eval_joint(m, q, qs, k, 0, NULL, f, NULL);
-    /* f on a support's translation is dE/du_support; the arch pushes it with -f */
-    const int body[2] = {j->a, j->b};
-    for (int s = 0; s < 2; s++) {
-      double *r = (body[s] == VS_SUPPORT_LEFT)    ? left
-                  : (body[s] == VS_SUPPORT_RIGHT) ? right : NULL;
-      if (r == NULL) continue;
-      r[0] -= f[3 * s];
-      r[1] -= f[3 * s + 1];
-    }
-  }
+  /* the forces on the supports: the negated forces of the supports on the arch */
+  double on_arch[6];
+  vs_model_support_reactions(m, q, delta, on_arch);
+  for (int c = 0; c < 2; c++) left[c] = -on_arch[c], right[c] = -on_arch[3 + c];
 }
 
 void vs_model_support_reactions(const vs_model *m, const double *q, double delta, double out[6]) {
