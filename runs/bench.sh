@@ -6,6 +6,8 @@
 #  1. the reference run (runs/reference.ini) with --no-record (it stops at the collapse);
 #  2. the same with its HDF5 record (the fall is then integrated);
 #  3. alpha 90 deg, k_n 48 N/mm^3, with its record;
+#     (full mode) the split of rows 2 and 3: the record of the run ending at the collapse
+#     (dynamic.fall_s = 0), and alpha 90 without a record; the fall to rest is the rest;
 #  4. the seed domain (alpha 0:45:5,60,75,90 x k_n 3, 48, records) by `sweep -j 2`: wall seconds;
 #  5. process start-up: `voussoir --version`, mean CPU milliseconds (user + sys) over 50 starts
 #     (HDF5 and cairo are loaded only by the commands that need them: src/plugin.h);
@@ -132,6 +134,12 @@ printf '  %-44s %10s %10s %7s\n' "" previous this ratio
 both "reference, --no-record (CPU s)" ref_run --no-record
 both "reference, with record (CPU s)" ref_run -o "$work/r.h5"
 both "alpha 90, k_n 48, with record (CPU s)" ref_run --alpha 90 --kn 48 -o "$work/r.h5"
+if ((!quick)); then # where the record rows' time goes: the same runs ending at the collapse
+  both "  reference, record to the collapse (CPU s)" ref_run -o "$work/r.h5" --set dynamic.fall_s=0
+  both "  alpha 90, k_n 48, --no-record (CPU s)" ref_run --alpha 90 --kn 48 --no-record
+  both "  alpha 90, k_n 48, record to the collapse" ref_run --alpha 90 --kn 48 -o "$work/r.h5" \
+    --set dynamic.fall_s=0
+fi
 ((quick)) || both "seed domain, 26 runs, sweep -j 2 (wall s)" domain
 a=""
 [ -n "$base_bin" ] && a="$(startup "$base_bin")"
