@@ -34,6 +34,12 @@
  * A + A^T; KLU's partial pivoting (threshold 0.001 by default) then takes the off-diagonal
  * pivots that the zero block needs. Natural ordering would pivot too but leaves the fill. */
 static const int VS_DYN_KLU_ORDERING = 0;
+/* KLU's row scaling: -1, none (nor its check of the pattern at each factorisation), as the
+ * quasi-static path's. The iteration matrix's rows (forces, moments, constraints) differ by the
+ * joint length and cj (the BDF coefficient) at most, which the pivot tolerance absorbs:
+ * measured on the seed domain, delta_u moves by 9e-10 relative at most, the mechanisms and
+ * solver counts stay, and the reference run is 2.5 % faster. */
+static const int VS_DYN_KLU_SCALE = -1;
 /* BDF order cap. The joints' contact modes are stiff, lightly damped oscillators (k_n b t over a
  * voussoir's mass: ~1e4 rad/s); BDF of order 3-5 is unstable near the imaginary axis, so it would
  * need steps of 1/omega throughout. BDF1-2 are A-stable and damp those modes at large steps. */
@@ -227,6 +233,7 @@ static vs_status setup_klu(vs_dynamic *d, vs_error *err) {
   if (d->LS == NULL) return setup_fail(err, "SUNLinSol_KLU", 0);
   if ((flag = SUNLinSol_KLUSetOrdering(d->LS, VS_DYN_KLU_ORDERING)) != 0)
     return setup_fail(err, "SUNLinSol_KLUSetOrdering", flag);
+  SUNLinSol_KLUGetCommon(d->LS)->scale = VS_DYN_KLU_SCALE;
   vs_klu_keep_analysis(d->LS); /* one analysis for every restart (IDAReInit) */
   vs_sparse_zero_none(d->J); /* vs_dyn_jacobian writes the pattern */
   return VS_OK;
