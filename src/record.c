@@ -86,8 +86,10 @@ static char *dup_str(const char *s) {
  *    deflate flushes are shorter: 471 of 476 intact, 2 one flush behind in some datasets, 2 with
  *    NaN rows, 1 with a group index past the end of file;
  *  - the file is built as PATH.part and renamed once its layout is complete; vs_output_finish only
- *    adds to /summary, created empty at the start, and rewrites root attributes in place (a kill
- *    while the root group gained /summary once left a file whose root could not be opened).
+ *    adds to /xdmf and /summary, created at the start, and rewrites root attributes in place (a
+ *    kill while the root group gained /summary once left a file whose root could not be opened).
+ *    What it adds (the outlines' frames in /xdmf, then /summary) is flushed before the status,
+ *    which vouches for it; a reader of a "running" file must not trust it.
  * SWMR writing (H5Fstart_swmr_write, latest format) was measured too and rejected: a killed file
  * keeps an "open for writing" mark so that an ordinary open fails (h5py needs swmr=True, or
  * h5clear -s); 4 files in 194, killed while /summary was written, opened in no mode at all; and
