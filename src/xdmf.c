@@ -123,9 +123,20 @@ typedef struct {
   char pads[G_COUNT][160]; /* each grid's include of its NaN fields */
   int bp_source;           /* BP_STATES, BP_FRAMES or BP_INLINE */
   long *geo;     /* per listed row: its frame of /xdmf/block_points, or -1 - its inline frame */
-  float *inl;    /* the inline frames' outlines, nb * P * 2 values each */
   long listed;   /* rows listed so far */
+  /* the inline frames: need[i] is the row of inline frame i; inl holds the outlines of frames
+   * inl_at .. inl_at + XDMF_INLINE_BLOCK - 1 (nb * P * 2 values each), computed from pos (the
+   * record's /observables/block_position/value), ref and cen (its /geometry/block_points and
+   * block_centroid) as the rows are written; failed: one could not be read */
+  long *need, n_inl, inl_at;
+  float *inl;
+  hid_t pos;
+  double *ref, *cen;
+  int failed;
 } xdmf_ctx;
+
+/* Inline frames computed at a time: the memory they take stays small whatever the rows. */
+#define XDMF_INLINE_BLOCK 64
 
 /* NaN values the grids' padding refers to (written with the record's layout). */
 #define XDMF_NAN "/xdmf/nan"
@@ -288,11 +299,18 @@ static void xdmf_outline(xdmf_ctx *x, hsize_t r) {
     xdmf_slab(x, X_BPTS, (hsize_t)g, 0, 0, 4);
     return;
   }
-  const hsize_t pts = x->ds[X_BCONN].dims[0] * x->ds[X_BCONN].dims[1];
+  const hsize_t nb = x->ds[X_BCONN].dims[0], np = x->ds[X_BCONN].dims[1];
+  const long i = -1 - g; /* its inline frame */
+  if (x->inl_at < 0 || i < x->inl_at || i >= x->inl_at + XDMF_INLINE_BLOCK) {
+    const long m = x->n_inl - i < XDMF_INLINE_BLOCK ? x->n_inl - i : XDMF_INLINE_BLOCK;
+    if (vs_xdmf_outlines(x->pos, x->need + i, m, (int)nb, (int)np, x->ref, x->cen, x->inl) < 0)
+      x->failed = 1;
+    x->inl_at = i;
+  }
   out_s(x, "<DataItem Dimensions=\"");
-  out_u(x, (unsigned long long)pts);
+  out_u(x, (unsigned long long)(nb * np));
   out_s(x, " 2\" Format=\"XML\">");
-  xdmf_inline_floats(x, x->inl + (size_t)(-1 - g) * 2 * (size_t)pts, 2 * (size_t)pts);
+  xdmf_inline_floats(x, x->inl + (size_t)(i - x->inl_at) * 2 * nb * np, 2 * nb * np);
   out_s(x, "</DataItem>");
 }
 
@@ -576,47 +594,43 @@ int vs_xdmf_outlines(hid_t pos, const long *sel, long n, int nb, int np, const d
   return rc;
 }
 
-/* x->geo for the n listed rows sel: each row's frame of /xdmf/block_points, or the place of its
- * outlines in x->inl, computed from the blocks' positions. Returns 0, or -1 (read error, out of
- * memory). */
+/* x->geo for the n listed rows sel: each row's frame of /xdmf/block_points, or its inline frame,
+ * whose outlines xdmf_outline computes (the positions' dataset opened, the reference outlines
+ * read). Returns 0, or -1 (read error, out of memory). */
 static int xdmf_outline_frames(hid_t file, xdmf_ctx *x, const long *sel, long n) {
   if (x->bp_source == BP_STATES) return 0;
   const hsize_t nb = x->ds[X_BCONN].dims[0], np = x->ds[X_BCONN].dims[1];
   const long nf = x->bp_source == BP_FRAMES ? (long)x->ds[X_BPTS].dims[0] : 0;
   int64_t *fr = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *fr);
-  long *need = malloc((size_t)(n > 0 ? n : 1) * sizeof *need);
+  x->need = malloc((size_t)(n > 0 ? n : 1) * sizeof *x->need);
   x->geo = malloc((size_t)(n > 0 ? n : 1) * sizeof *x->geo);
-  int rc = fr != NULL && need != NULL && x->geo != NULL ? 0 : -1;
+  int rc = fr != NULL && x->need != NULL && x->geo != NULL ? 0 : -1;
   if (rc == 0 && nf > 0) {
     hid_t d = H5Dopen2(file, XDMF_BPTS_ROWS, H5P_DEFAULT);
     rc = d >= 0 && H5Dread(d, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, fr) >= 0 ? 0 : -1;
     vs_h5_close(d);
   }
-  long n_inl = 0;
   for (long i = 0, f = 0; rc == 0 && i < n; i++) {
     while (f < nf && fr[f] < sel[i]) f++;
     if (f < nf && fr[f] == sel[i]) {
       x->geo[i] = f;
     } else {
-      x->geo[i] = -1 - n_inl;
-      need[n_inl++] = sel[i];
+      x->geo[i] = -1 - x->n_inl;
+      x->need[x->n_inl++] = sel[i];
     }
   }
-  if (rc == 0 && n_inl > 0) {
-    double *ref = malloc(2 * nb * np * sizeof *ref), *cen = malloc(2 * nb * sizeof *cen);
-    x->inl = malloc((size_t)n_inl * 2 * nb * np * sizeof *x->inl);
-    hid_t pos = H5Dopen2(file, x->ds[X_BPOS].path, H5P_DEFAULT);
-    rc = ref != NULL && cen != NULL && x->inl != NULL && pos >= 0 &&
-                 vs_h5_read_doubles(file, "/geometry/block_points", ref, 2 * nb * np) == 0 &&
-                 vs_h5_read_doubles(file, "/geometry/block_centroid", cen, 2 * nb) == 0
-             ? vs_xdmf_outlines(pos, need, n_inl, (int)nb, (int)np, ref, cen, x->inl)
+  if (rc == 0 && x->n_inl > 0) {
+    x->ref = malloc(2 * nb * np * sizeof *x->ref);
+    x->cen = malloc(2 * nb * sizeof *x->cen);
+    x->inl = malloc(XDMF_INLINE_BLOCK * 2 * nb * np * sizeof *x->inl);
+    x->pos = H5Dopen2(file, x->ds[X_BPOS].path, H5P_DEFAULT);
+    rc = x->ref != NULL && x->cen != NULL && x->inl != NULL && x->pos >= 0 &&
+                 vs_h5_read_doubles(file, "/geometry/block_points", x->ref, 2 * nb * np) == 0 &&
+                 vs_h5_read_doubles(file, "/geometry/block_centroid", x->cen, 2 * nb) == 0
+             ? 0
              : -1;
-    vs_h5_close(pos);
-    free(ref);
-    free(cen);
   }
   free(fr);
-  free(need);
   return rc;
 }
 
@@ -735,8 +749,13 @@ static vs_status xdmf_listing(hid_t file, xdmf_ctx *x, long rows, int max_grids,
 vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, int max_grids,
                         vs_error *err) {
   xdmf_ctx x;
-  x.geo = NULL;
+  x.geo = x.need = NULL;
+  x.n_inl = 0;
+  x.inl_at = -1;
   x.inl = NULL;
+  x.pos = H5I_INVALID_HID;
+  x.ref = x.cen = NULL;
+  x.failed = 0;
   const long rows = xdmf_shapes(file, &x);
   if (rows < 0)
     return vs_error_set(err, VS_ERR_INVALID,
@@ -764,12 +783,22 @@ vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, i
       xdmf_step(&x, (hsize_t)sel[x.listed], t[sel[x.listed]]);
     out_s(&x, "</Grid>\n</Domain>\n</Xdmf>\n");
     out_flush(&x);
-    st = xdmf_commit(x.f, tmp, xmf_path, err);
+    if (x.failed) {
+      fclose(x.f);
+      remove(tmp);
+      st = vs_h5_fail(err, h5_path, "cannot read /observables/block_position");
+    } else {
+      st = xdmf_commit(x.f, tmp, xmf_path, err);
+    }
   }
+  vs_h5_close(x.pos);
   free(t);
   free(sel);
   free(x.geo);
+  free(x.need);
   free(x.inl);
+  free(x.ref);
+  free(x.cen);
   return st;
 }
 
