@@ -86,8 +86,10 @@ static char *dup_str(const char *s) {
  *    deflate flushes are shorter: 471 of 476 intact, 2 one flush behind in some datasets, 2 with
  *    NaN rows, 1 with a group index past the end of file;
  *  - the file is built as PATH.part and renamed once its layout is complete; vs_output_finish only
- *    adds to /summary, created empty at the start, and rewrites root attributes in place (a kill
- *    while the root group gained /summary once left a file whose root could not be opened).
+ *    adds to /xdmf and /summary, created at the start, and rewrites root attributes in place (a
+ *    kill while the root group gained /summary once left a file whose root could not be opened).
+ *    What it adds (the outlines' frames in /xdmf, then /summary) is flushed before the status,
+ *    which vouches for it; a reader of a "running" file must not trust it.
  * SWMR writing (H5Fstart_swmr_write, latest format) was measured too and rejected: a killed file
  * keeps an "open for writing" mark so that an ordinary open fails (h5py needs swmr=True, or
  * h5clear -s); 4 files in 194, killed while /summary was written, opened in no mode at all; and
@@ -260,12 +262,136 @@ static void status_text(const vs_output *o, vs_status run_status, const vs_error
     snprintf(buf, size, "completed");
 }
 
+/* Dataset `name` of /xdmf with its attributes (unit and columns when not NULL), chunked by
+ * chunk[0] rows; unwritten rows read as the fill value (NaN, -1), as in the time series;
+ * shuffled and deflated when asked. */
+static hid_t frames_dataset(const vs_output *o, hid_t grp, const char *name, int rank,
+                            const hsize_t *dims, const hsize_t *chunk, hid_t ftype, hid_t mtype,
+                            const void *fill, const char *unit, const char *columns,
+                            const char *description) {
+  hid_t p = H5Pcreate(H5P_DATASET_CREATE);
+  herr_t rc = p >= 0 ? H5Pset_fill_value(p, mtype, fill) : -1;
+  if (rc >= 0 && dims[0] > 0) rc = H5Pset_chunk(p, rank, chunk);
+  if (rc >= 0 && dims[0] > 0 && o->opts.deflate > 0) rc = H5Pset_shuffle(p);
+  if (rc >= 0 && dims[0] > 0 && o->opts.deflate > 0)
+    rc = H5Pset_deflate(p, (unsigned)o->opts.deflate);
+  hid_t sp = rc >= 0 ? H5Screate_simple(rank, dims, NULL) : H5I_INVALID_HID;
+  hid_t d = sp >= 0 ? H5Dcreate2(grp, name, ftype, sp, H5P_DEFAULT, p, H5P_DEFAULT)
+                    : H5I_INVALID_HID;
+  rc = d >= 0 ? 0 : -1;
+  if (rc >= 0 && unit != NULL) rc = vs_h5_attr_str(d, "unit", unit);
+  if (rc >= 0 && columns != NULL) rc = vs_h5_attr_str(d, "columns", columns);
+  if (rc >= 0) rc = vs_h5_attr_str(d, "description", description);
+  vs_h5_close(sp);
+  vs_h5_close(p);
+  if (rc < 0) {
+    vs_h5_close(d);
+    return H5I_INVALID_HID;
+  }
+  return d;
+}
+
+/* Rows [start, start + count[0]) of dataset d from buf. */
+static herr_t write_rows(hid_t d, hid_t mtype, int rank, hsize_t start0, const hsize_t *count,
+                         const void *buf) {
+  const hsize_t start[3] = {start0, 0, 0};
+  hid_t fs = H5Dget_space(d), ms = H5Screate_simple(rank, count, NULL);
+  herr_t rc = fs >= 0 && ms >= 0 ? H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL)
+                                 : -1;
+  if (rc >= 0) rc = H5Dwrite(d, mtype, ms, fs, H5P_DEFAULT, buf);
+  vs_h5_close(ms);
+  vs_h5_close(fs);
+  return rc;
+}
+
+/* The n listed rows sel's outlines into /xdmf/block_points, computed a chunk of frames at a
+ * time (at most about 1 MiB of them in memory), and the rows into /xdmf/block_points_row. */
+static herr_t write_frames(const vs_output *o, hid_t grp, const double *cen, const long *sel,
+                           long n) {
+  const hsize_t pts = (hsize_t)o->nb * (hsize_t)o->np, frame_bytes = 2 * pts * sizeof(float);
+  /* chunks of at most about 1 MiB, as even as can be: the last one, stored whole, wastes little */
+  const hsize_t most = VS_OUT_CHUNK_BYTES / frame_bytes > 0 ? VS_OUT_CHUNK_BYTES / frame_bytes : 1;
+  const hsize_t nf = n > 0 ? (hsize_t)n : 1, chunks = (nf + most - 1) / most;
+  const hsize_t c = (nf + chunks - 1) / chunks;
+  const hsize_t dims[3] = {(hsize_t)n, pts, 2}, chunk[3] = {c, pts, 2};
+  const float nan_f = NAN;
+  const int64_t minus1 = -1;
+  float *buf = malloc((size_t)c * (size_t)frame_bytes);
+  int64_t *row = malloc((size_t)(n > 0 ? n : 1) * sizeof *row);
+  hid_t d = buf != NULL && row != NULL
+                ? frames_dataset(o, grp, "block_points", 3, dims, chunk, H5T_IEEE_F32LE,
+                                 H5T_NATIVE_FLOAT, &nan_f, "m,m", "x,z",
+                                 "outline of every block moved to the rows the XDMF sidecar "
+                                 "lists (float32, for display): frame i shows row "
+                                 "block_points_row[i] of /observables; block b owns points "
+                                 "b*P .. b*P+P-1, those of /geometry/block_points moved rigidly "
+                                 "by /observables/block_position (centroid + (ux, uz) + rotation "
+                                 "by theta about /geometry/block_centroid)")
+                : H5I_INVALID_HID;
+  herr_t rc = d >= 0 ? 0 : -1;
+  for (long i = 0; rc >= 0 && i < n; i += (long)c) {
+    const long m = n - i < (long)c ? n - i : (long)c;
+    const hsize_t count[3] = {(hsize_t)m, pts, 2};
+    rc = vs_xdmf_outlines(o->s[S_BPOS].dset, sel + i, m, o->nb, o->np, o->bref, cen, buf);
+    if (rc >= 0) rc = write_rows(d, H5T_NATIVE_FLOAT, 3, (hsize_t)i, count, buf);
+  }
+  vs_h5_close(d);
+  for (long i = 0; rc >= 0 && i < n; i++) row[i] = (int64_t)sel[i];
+  const hsize_t rchunk[1] = {(hsize_t)(n > 0 ? n : 1)};
+  d = rc >= 0 ? frames_dataset(o, grp, "block_points_row", 1, dims, rchunk, H5T_STD_I64LE,
+                               H5T_NATIVE_INT64, &minus1, NULL, NULL,
+                               "the row of /observables each frame of block_points shows")
+              : H5I_INVALID_HID;
+  rc = d >= 0 ? 0 : -1;
+  if (rc >= 0 && n > 0) rc = write_rows(d, H5T_NATIVE_INT64, 1, 0, dims, row);
+  vs_h5_close(d);
+  free(buf);
+  free(row);
+  return rc;
+}
+
+/* /xdmf/block_points and /xdmf/block_points_row: the blocks' outlines moved to the rows the
+ * sidecar lists (vs_xdmf_rows), and those rows. Kept for every row they were 30 % of a record's
+ * bytes, and the sidecar is their only reader; they follow from /geometry/block_points and
+ * /observables/block_position (read back here: as cheap as keeping every row's positions in
+ * memory, 0.2 ms of the 5 these frames cost for 1400 rows), by the formula the joints' ends are
+ * moved with. Written once every row is, before /summary and the status: a record that is not
+ * "running" has them. */
+static vs_status write_outlines(vs_output *o, const vs_run *run) {
+  const vs_geometry *g = vs_run_geometry(run);
+  const size_t nb = (size_t)o->nb;
+  const long rows = o->rows;
+  double *t = malloc((size_t)(rows > 0 ? rows : 1) * sizeof *t);
+  double *cen = malloc(2 * (nb > 0 ? nb : 1) * sizeof *cen);
+  long n = 0, *sel = NULL;
+  herr_t rc = t != NULL && cen != NULL ? 0 : -1;
+  if (rc >= 0 && rows > 0)
+    rc = H5Dread(o->s[S_TIME].dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, t);
+  if (rc >= 0) {
+    n = vs_xdmf_rows(t, rows, o->opts.xdmf_max_grids, NULL);
+    sel = malloc((size_t)(n > 0 ? n : 1) * sizeof *sel);
+    rc = sel != NULL ? 0 : -1;
+  }
+  if (rc >= 0) {
+    vs_xdmf_rows(t, rows, o->opts.xdmf_max_grids, sel);
+    for (size_t b = 0; b < nb; b++) cen[2 * b] = g->blocks[b].cx, cen[2 * b + 1] = g->blocks[b].cz;
+  }
+  hid_t grp = rc >= 0 ? H5Gopen2(o->file, "xdmf", H5P_DEFAULT) : H5I_INVALID_HID;
+  rc = grp >= 0 ? write_frames(o, grp, cen, sel, n) : -1;
+  vs_h5_close(grp);
+  free(t);
+  free(cen);
+  free(sel);
+  return rc >= 0 ? VS_OK : vs_h5_fail(&o->err, o->path, "cannot write /xdmf/block_points");
+}
+
 vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status,
                            const vs_error *run_err, vs_error *err) {
   if (o->finished) return vs_error_set(err, VS_ERR_INVALID, "output: %s: finished twice", o->path);
   o->finished = 1;
   vs_h5_quiet q = vs_h5_quiet_begin();
   vs_status st = o->err.status == VS_OK ? vs_record_write_pending(o) : o->err.status;
+  if (st == VS_OK) st = write_outlines(o, run);
   if (st == VS_OK) st = vs_record_events_rewrite(o, run);
   if (st == VS_OK) st = vs_record_summary_write(o, run);
   /* what the status vouches for is on disk before the status is written */
@@ -320,16 +446,13 @@ static void body_move(const vs_geometry *g, const double *q, const double *rot,
     out[1] = Z + usup[1];
   } else {
     const vs_block *b = &g->blocks[body];
-    const double c = rot[2 * body], s = rot[2 * body + 1];
-    const double dx = X - b->cx, dz = Z - b->cz;
-    out[0] = b->cx + q[3 * body] + c * dx - s * dz;
-    out[1] = b->cz + q[3 * body + 1] + s * dx + c * dz;
+    vs_xdmf_move(b->cx, b->cz, q[3 * body], q[3 * body + 1], rot[2 * body], rot[2 * body + 1], X,
+                 Z, out);
   }
 }
 
-static void fill_blocks(vs_output *o, const vs_run *run, const vs_run_sample *s,
-                        const double usup[2]) {
-  const vs_geometry *g = vs_run_geometry(run);
+/* The blocks' series; their moved outlines are not kept for every row (see write_outlines). */
+static void fill_blocks(vs_output *o, const vs_run_sample *s) {
   const size_t n3 = 3 * (size_t)o->nb;
   double *bv = row_ptr(o, S_BVEL), *sp = row_ptr(o, S_BSPEED);
   memcpy(row_ptr(o, S_BPOS), s->q, n3 * sizeof(double));
@@ -338,16 +461,6 @@ static void fill_blocks(vs_output *o, const vs_run *run, const vs_run_sample *s,
   else
     memset(bv, 0, n3 * sizeof(double));
   for (int b = 0; b < o->nb; b++) sp[b] = hypot(bv[3 * b], bv[3 * b + 1]);
-  float *pts = row_ptr(o, S_BPTS);
-  const size_t np = (size_t)o->np;
-  for (int b = 0; b < o->nb; b++)
-    for (size_t k = 0; k < np; k++) {
-      const double *ref = o->bref + 2 * ((size_t)b * np + k);
-      double p[2];
-      body_move(g, s->q, o->rot, usup, b, ref[0], ref[1], p);
-      pts[2 * ((size_t)b * np + k)] = (float)p[0];
-      pts[2 * ((size_t)b * np + k) + 1] = (float)p[1];
-    }
 }
 
 static void fill_joints(vs_output *o, const vs_run *run, const vs_run_sample *s,
@@ -387,12 +500,12 @@ static void fill_row(vs_output *o, const vs_run *run, const vs_run_sample *s) {
   *(double *)row_ptr(o, S_DELTA) = s->delta;
   memcpy(row_ptr(o, S_SUPPORT), usup, sizeof usup);
   *(int8_t *)row_ptr(o, S_PHASE) = (int8_t)s->phase;
-  /* one cos and sin per block and row (the outlines' points and the joints' ends use them) */
+  /* one cos and sin per block and row (the joints' ends use them) */
   for (int b = 0; b < o->nb; b++) {
     o->rot[2 * b] = cos(s->q[3 * b + 2]);
     o->rot[2 * b + 1] = sin(s->q[3 * b + 2]);
   }
-  fill_blocks(o, run, s, usup);
+  fill_blocks(o, s);
   fill_joints(o, run, s, usup);
   double *r = row_ptr(o, S_REACT);
   memcpy(r, s->reactions, 6 * sizeof *r); /* the run's, at this state */

@@ -38,7 +38,6 @@ enum {
   S_HINGE,
   S_REACT,
   S_ENERGY,
-  S_BPTS,
   S_JPTS,
   S_SOLVER,
   S_COUNT
@@ -80,7 +79,7 @@ struct vs_output {
   vs_output_opts opts;
   int nb, nj, np;     /* blocks, joints, outline points per block */
   size_t flush_rows;  /* rows buffered before a write */
-  double *bref;       /* reference outlines, nb * np * 2 */
+  double *bref;       /* reference outlines, nb * np * 2 (/xdmf/block_points moves them) */
   double *jref;       /* reference joint ends (intrados, extrados), nj * 2 * 2 */
   double *rot;        /* per block: cos, sin of its rotation at the row being filled */
   series s[S_COUNT];

@@ -11,7 +11,7 @@
 #include "voussoir/version.h"
 
 /* Layout version, in the root attribute "layout". */
-#define VS_OUTPUT_LAYOUT "voussoir-h5 1"
+#define VS_OUTPUT_LAYOUT "voussoir-h5 2"
 
 /* ------------------------------------------------------------------------------------------ */
 /* Geometry: outlines of the voussoirs and the joint segments                                   */

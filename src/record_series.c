@@ -11,7 +11,7 @@
 typedef enum { K_F64, K_F32, K_I8, K_I64 } elem_kind;
 
 /* Symbolic sizes of the dimensions after the row. */
-enum { DIM_BLOCKS = -1, DIM_JOINTS = -2, DIM_BLOCK_POINTS = -3, DIM_JOINT_POINTS = -4 };
+enum { DIM_BLOCKS = -1, DIM_JOINTS = -2, DIM_JOINT_POINTS = -4 };
 
 typedef struct {
   const char *group, *dataset;
@@ -70,9 +70,6 @@ static const series_def SERIES[S_COUNT] = {
                   "fall carries on from the phase it follows: the joints' elastic energy there "
                   "goes into damped). Quasi-static rows: kinetic 0, gravity and elastic of the "
                   "state, the others NaN"},
-    [S_BPTS] = {"block_points", "value", K_F32, 3, {DIM_BLOCK_POINTS, 2}, "m,m", "x,z",
-                "outline of every block, moved (float32, for display): block i owns points i*P .. "
-                "i*P+P-1 of /geometry/block_points"},
     [S_JPTS] = {"joint_points", "value", K_F32, 3, {DIM_JOINT_POINTS, 2}, "m,m", "x,z",
                 "intrados and extrados ends of every joint, moved with its two faces (mean)"},
     [S_SOLVER] = {"solver", "value", K_I64, 2, {3, 0}, NULL,
@@ -116,7 +113,6 @@ static hsize_t dim_size(const vs_output *o, int code) {
   switch (code) {
   case DIM_BLOCKS: return (hsize_t)o->nb;
   case DIM_JOINTS: return (hsize_t)o->nj;
-  case DIM_BLOCK_POINTS: return (hsize_t)o->nb * (hsize_t)o->np;
   case DIM_JOINT_POINTS: return 2 * (hsize_t)o->nj;
   default: return (hsize_t)code;
   }

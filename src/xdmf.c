@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -38,7 +39,8 @@ enum {
   X_COUNT
 };
 
-static const char *const XDMF_PATHS[X_COUNT] = {"/observables/block_points/value",
+/* X_BPTS, the blocks' moved outlines, is found by xdmf_outline_source. */
+static const char *const XDMF_PATHS[X_COUNT] = {NULL,
                                                 "/geometry/block_connectivity",
                                                 "/observables/joint_points/value",
                                                 "/geometry/joint_connectivity",
@@ -99,6 +101,17 @@ static const char PAD_PREFIX[PAD_COUNT] = {'b', 'j', 's'};
 static const int GRID_PAD[G_COUNT] = {PAD_BLOCKS, PAD_JOINTS, PAD_ONE, PAD_ONE, PAD_ONE};
 static const char *const GRID_TOPOLOGY[G_COUNT] = {"tb", "tj", "t1", "t1", "t1"};
 
+/* Where the blocks' moved outlines of a listed row come from: a record written by this version
+ * holds them for the rows its sidecar lists (/xdmf/block_points, its row numbers in
+ * /xdmf/block_points_row, written at the finish, before /summary and the status); one written
+ * by an earlier version holds them for every row (/observables/block_points/value). Rows that
+ * have neither (a killed run's record, whose status is still "running", or a sidecar listing
+ * other rows) get theirs computed from /observables/block_position and /geometry, inline. */
+enum { BP_STATES, BP_FRAMES, BP_INLINE };
+#define XDMF_BPTS_STATES "/observables/block_points/value"
+#define XDMF_BPTS_FRAMES "/xdmf/block_points"
+#define XDMF_BPTS_ROWS "/xdmf/block_points_row"
+
 typedef struct {
   FILE *f;
   char buf[1 << 15]; /* what is written goes through here: see out_mem */
@@ -108,7 +121,22 @@ typedef struct {
   int ground;              /* the record has /summary/ground/points */
   hsize_t nan_n;           /* values in /xdmf/nan (0: the record has none) */
   char pads[G_COUNT][160]; /* each grid's include of its NaN fields */
+  int bp_source;           /* BP_STATES, BP_FRAMES or BP_INLINE */
+  long *geo;     /* per listed row: its frame of /xdmf/block_points, or -1 - its inline frame */
+  long listed;   /* rows listed so far */
+  /* the inline frames: need[i] is the row of inline frame i; inl holds the outlines of frames
+   * inl_at .. inl_at + XDMF_INLINE_BLOCK - 1 (nb * P * 2 values each), computed from pos (the
+   * record's /observables/block_position/value), ref and cen (its /geometry/block_points and
+   * block_centroid) as the rows are written; failed: one could not be read */
+  long *need, n_inl, inl_at;
+  float *inl;
+  hid_t pos;
+  double *ref, *cen;
+  int failed;
 } xdmf_ctx;
+
+/* Inline frames computed at a time: the memory they take stays small whatever the rows. */
+#define XDMF_INLINE_BLOCK 64
 
 /* NaN values the grids' padding refers to (written with the record's layout). */
 #define XDMF_NAN "/xdmf/nan"
@@ -254,11 +282,43 @@ static void xdmf_grid_open(xdmf_ctx *x, const char *name, int kind) {
  * the blocks' rotation is the one worth seeing first. */
 static void xdmf_pads(xdmf_ctx *x, int kind) { out_s(x, x->pads[kind]); }
 
+/* The n float32 values v inline, as "%.9g" prints them (enough to read back the same float). */
+static void xdmf_inline_floats(xdmf_ctx *x, const float *v, size_t n) {
+  char b[32];
+  for (size_t i = 0; i < n; i++) {
+    const int len = snprintf(b + 1, sizeof b - 1, "%.9g", (double)v[i]);
+    b[0] = ' ';
+    out_mem(x, i ? b : b + 1, (size_t)len + (i ? 1 : 0));
+  }
+}
+
+/* The blocks' moved outlines at row r, the x->listed-th listed row (see BP_STATES). */
+static void xdmf_outline(xdmf_ctx *x, hsize_t r) {
+  const long g = x->bp_source == BP_STATES ? (long)r : x->geo[x->listed];
+  if (g >= 0) {
+    xdmf_slab(x, X_BPTS, (hsize_t)g, 0, 0, 4);
+    return;
+  }
+  const hsize_t nb = x->ds[X_BCONN].dims[0], np = x->ds[X_BCONN].dims[1];
+  const long i = -1 - g; /* its inline frame */
+  if (x->inl_at < 0 || i < x->inl_at || i >= x->inl_at + XDMF_INLINE_BLOCK) {
+    const long m = x->n_inl - i < XDMF_INLINE_BLOCK ? x->n_inl - i : XDMF_INLINE_BLOCK;
+    if (vs_xdmf_outlines(x->pos, x->need + i, m, (int)nb, (int)np, x->ref, x->cen, x->inl) < 0)
+      x->failed = 1;
+    x->inl_at = i;
+  }
+  out_s(x, "<DataItem Dimensions=\"");
+  out_u(x, (unsigned long long)(nb * np));
+  out_s(x, " 2\" Format=\"XML\">");
+  xdmf_inline_floats(x, x->inl + (size_t)(i - x->inl_at) * 2 * nb * np, 2 * nb * np);
+  out_s(x, "</DataItem>");
+}
+
 /* The blocks at row r: one polygon each, moved. */
 static void xdmf_blocks(xdmf_ctx *x, hsize_t r) {
   xdmf_grid_open(x, "blocks", G_BLOCKS);
   out_s(x, "<Geometry GeometryType=\"XY\">");
-  xdmf_slab(x, X_BPTS, r, 0, 0, 4);
+  xdmf_outline(x, r);
   out_s(x, "</Geometry>\n");
   xdmf_attribute(x, F_THETA, X_BPOS, r, 2, 1);
   xdmf_attribute(x, F_UX, X_BPOS, r, 0, 1);
@@ -396,36 +456,182 @@ static void xdmf_shared(xdmf_ctx *x) {
   }
 }
 
+/* The dimensions of the dataset at path into dims: 0, or -1 if it is missing or not of rank
+ * `rank`. */
+static int xdmf_dims_of(hid_t file, const char *path, int rank, hsize_t *dims) {
+  hid_t ds = H5Dopen2(file, path, H5P_DEFAULT);
+  hid_t sp = ds >= 0 ? H5Dget_space(ds) : H5I_INVALID_HID;
+  const int r = sp >= 0 ? H5Sget_simple_extent_ndims(sp) : -1;
+  if (r == rank) H5Sget_simple_extent_dims(sp, dims, NULL);
+  vs_h5_close(sp);
+  vs_h5_close(ds);
+  return r == rank ? 0 : -1;
+}
+
+/* 1 if the record's status is "running" (a killed run's, or one being written), or unreadable. */
+static int xdmf_running(hid_t file) {
+  hid_t a = H5Aexists(file, "status") > 0 ? H5Aopen(file, "status", H5P_DEFAULT) : H5I_INVALID_HID;
+  hid_t t = a >= 0 ? vs_h5_vlstr_type() : H5I_INVALID_HID;
+  char *v = NULL;
+  const int ok = t >= 0 && H5Aread(a, t, &v) >= 0 && v != NULL;
+  const int running = !ok || strcmp(v, "running") == 0;
+  if (v != NULL) H5free_memory(v);
+  vs_h5_close(t);
+  vs_h5_close(a);
+  return running;
+}
+
+/* Where the blocks' outlines come from (see BP_STATES); -1 if the record has none of them and
+ * not what they are computed from. rows: lowered to the rows of a per-state dataset. */
+static int xdmf_outline_source(hid_t file, xdmf_ctx *x, long *rows) {
+  const hsize_t nb = x->ds[X_BCONN].dims[0], pts = nb * x->ds[X_BCONN].dims[1];
+  xdmf_ds *d = &x->ds[X_BPTS];
+  hsize_t a[3], b[3];
+  d->rank = 3;
+  d->path = XDMF_BPTS_STATES;
+  if (H5Lexists(file, "/observables/block_points", H5P_DEFAULT) > 0) {
+    if (xdmf_dims_of(file, d->path, 3, d->dims) < 0 || d->dims[1] != pts || d->dims[2] != 2)
+      return -1;
+    if ((long)d->dims[0] < *rows) *rows = (long)d->dims[0];
+    x->bp_source = BP_STATES;
+    return 0;
+  }
+  if (xdmf_dims_of(file, "/geometry/block_points", 2, a) < 0 || a[0] != pts || a[1] != 2 ||
+      xdmf_dims_of(file, "/geometry/block_centroid", 2, b) < 0 || b[0] != nb || b[1] != 2)
+    return -1;
+  d->path = XDMF_BPTS_FRAMES;
+  /* the frames are vouched for by the status, written after them (and flushed) */
+  x->bp_source = !xdmf_running(file) && H5Lexists(file, "/xdmf", H5P_DEFAULT) > 0 &&
+                         xdmf_dims_of(file, XDMF_BPTS_FRAMES, 3, d->dims) == 0 &&
+                         d->dims[1] == pts && d->dims[2] == 2 &&
+                         xdmf_dims_of(file, XDMF_BPTS_ROWS, 1, a) == 0 && a[0] == d->dims[0]
+                     ? BP_FRAMES
+                     : BP_INLINE;
+  return 0;
+}
+
 /* Shapes of the datasets the XDMF refers to; the number of rows they all hold; -1 if the file
  * is not a consistent voussoir record. */
 static long xdmf_shapes(hid_t file, xdmf_ctx *x) {
   long rows = -1;
   for (int i = 0; i < X_COUNT; i++) {
+    if (i == X_BPTS) continue; /* see xdmf_outline_source */
     xdmf_ds *d = &x->ds[i];
     d->path = XDMF_PATHS[i];
     d->rank = XDMF_RANKS[i];
     d->dims[1] = d->dims[2] = 1;
-    hid_t ds = H5Dopen2(file, d->path, H5P_DEFAULT);
-    hid_t sp = ds >= 0 ? H5Dget_space(ds) : H5I_INVALID_HID;
-    int rank = sp >= 0 ? H5Sget_simple_extent_ndims(sp) : -1;
-    if (rank == d->rank) H5Sget_simple_extent_dims(sp, d->dims, NULL);
-    vs_h5_close(sp);
-    vs_h5_close(ds);
-    if (rank != d->rank) return -1;
+    if (xdmf_dims_of(file, d->path, d->rank, d->dims) < 0) return -1;
     if (i != X_BCONN && i != X_JCONN && (rows < 0 || (long)d->dims[0] < rows))
       rows = (long)d->dims[0];
   }
-  const hsize_t nb = x->ds[X_BCONN].dims[0], P = x->ds[X_BCONN].dims[1];
-  const hsize_t nj = x->ds[X_JCONN].dims[0];
-  if (x->ds[X_BPTS].dims[1] != nb * P || x->ds[X_BPTS].dims[2] != 2 ||
-      x->ds[X_JCONN].dims[1] != 2 || x->ds[X_JPTS].dims[1] != 2 * nj ||
+  const hsize_t nb = x->ds[X_BCONN].dims[0], nj = x->ds[X_JCONN].dims[0];
+  if (x->ds[X_JCONN].dims[1] != 2 || x->ds[X_JPTS].dims[1] != 2 * nj ||
       x->ds[X_JPTS].dims[2] != 2 || x->ds[X_BPOS].dims[1] != nb || x->ds[X_BPOS].dims[2] != 3 ||
       x->ds[X_BSPEED].dims[1] != nb)
     return -1;
   for (int i = X_N; i <= X_HINGE; i++)
     if (x->ds[i].dims[1] != nj) return -1;
   if (nj < 2 || x->ds[X_REACT].dims[1] != 6 || x->ds[X_SUPPORT].dims[1] != 2) return -1;
-  return rows;
+  return xdmf_outline_source(file, x, &rows) < 0 ? -1 : rows;
+}
+
+static long xdmf_stride(long rows, int max_grids) {
+  const long k = (rows + max_grids - 1) / max_grids;
+  return k > 1 ? k : 1;
+}
+
+long vs_xdmf_rows(const double *t, long rows, int max_grids, long *sel) {
+  const long k = xdmf_stride(rows, max_grids);
+  long n = 0;
+  double t_last = -INFINITY;
+  for (long r = 0; r < rows; r++) {
+    if ((r % k != 0 && r != rows - 1) || !(t[r] > t_last)) continue;
+    if (sel != NULL) sel[n] = r;
+    n++;
+    t_last = t[r];
+  }
+  return n;
+}
+
+/* The outline frame of block positions q (one row: nb x 3) into out (nb * np * 2). */
+static void outline_frame(const double *q, int nb, int np, const double *ref,
+                          const double *centroid, float *out) {
+  for (int b = 0; b < nb; b++) {
+    const double c = cos(q[3 * b + 2]), s = sin(q[3 * b + 2]);
+    for (int k = 0; k < np; k++) {
+      const size_t i = 2 * ((size_t)b * (size_t)np + (size_t)k);
+      double p[2];
+      vs_xdmf_move(centroid[2 * b], centroid[2 * b + 1], q[3 * b], q[3 * b + 1], c, s, ref[i],
+                   ref[i + 1], p);
+      out[i] = (float)p[0];
+      out[i + 1] = (float)p[1];
+    }
+  }
+}
+
+int vs_xdmf_outlines(hid_t pos, const long *sel, long n, int nb, int np, const double *ref,
+                     const double *centroid, float *out) {
+  enum { BLOCK = 64 };
+  const size_t w = 3 * (size_t)nb, frame = 2 * (size_t)nb * (size_t)np;
+  double *q = malloc(BLOCK * (w > 0 ? w : 1) * sizeof *q);
+  hid_t fs = H5Dget_space(pos);
+  int rc = q != NULL && fs >= 0 ? 0 : -1;
+  for (long i = 0, j; rc == 0 && i < n; i = j + 1) {
+    for (j = i; j + 1 < n && sel[j + 1] - sel[i] < BLOCK;) j++; /* rows sel[i..j]: one read */
+    const hsize_t start[3] = {(hsize_t)sel[i], 0, 0},
+                  count[3] = {(hsize_t)(sel[j] - sel[i] + 1), (hsize_t)nb, 3};
+    hid_t ms = H5Screate_simple(3, count, NULL);
+    if (ms < 0 || H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL) < 0 ||
+        H5Dread(pos, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, q) < 0)
+      rc = -1;
+    vs_h5_close(ms);
+    for (long k = i; rc == 0 && k <= j; k++)
+      outline_frame(q + (size_t)(sel[k] - sel[i]) * w, nb, np, ref, centroid,
+                    out + (size_t)k * frame);
+  }
+  vs_h5_close(fs);
+  free(q);
+  return rc;
+}
+
+/* x->geo for the n listed rows sel: each row's frame of /xdmf/block_points, or its inline frame,
+ * whose outlines xdmf_outline computes (the positions' dataset opened, the reference outlines
+ * read). Returns 0, or -1 (read error, out of memory). */
+static int xdmf_outline_frames(hid_t file, xdmf_ctx *x, const long *sel, long n) {
+  if (x->bp_source == BP_STATES) return 0;
+  const hsize_t nb = x->ds[X_BCONN].dims[0], np = x->ds[X_BCONN].dims[1];
+  const long nf = x->bp_source == BP_FRAMES ? (long)x->ds[X_BPTS].dims[0] : 0;
+  int64_t *fr = malloc((size_t)(nf > 0 ? nf : 1) * sizeof *fr);
+  x->need = malloc((size_t)(n > 0 ? n : 1) * sizeof *x->need);
+  x->geo = malloc((size_t)(n > 0 ? n : 1) * sizeof *x->geo);
+  int rc = fr != NULL && x->need != NULL && x->geo != NULL ? 0 : -1;
+  if (rc == 0 && nf > 0) {
+    hid_t d = H5Dopen2(file, XDMF_BPTS_ROWS, H5P_DEFAULT);
+    rc = d >= 0 && H5Dread(d, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, fr) >= 0 ? 0 : -1;
+    vs_h5_close(d);
+  }
+  for (long i = 0, f = 0; rc == 0 && i < n; i++) {
+    while (f < nf && fr[f] < sel[i]) f++;
+    if (f < nf && fr[f] == sel[i]) {
+      x->geo[i] = f;
+    } else {
+      x->geo[i] = -1 - x->n_inl;
+      x->need[x->n_inl++] = sel[i];
+    }
+  }
+  if (rc == 0 && x->n_inl > 0) {
+    x->ref = malloc(2 * nb * np * sizeof *x->ref);
+    x->cen = malloc(2 * nb * sizeof *x->cen);
+    x->inl = malloc(XDMF_INLINE_BLOCK * 2 * nb * np * sizeof *x->inl);
+    x->pos = H5Dopen2(file, x->ds[X_BPOS].path, H5P_DEFAULT);
+    rc = x->ref != NULL && x->cen != NULL && x->inl != NULL && x->pos >= 0 &&
+                 vs_h5_read_doubles(file, "/geometry/block_points", x->ref, 2 * nb * np) == 0 &&
+                 vs_h5_read_doubles(file, "/geometry/block_centroid", x->cen, 2 * nb) == 0
+             ? 0
+             : -1;
+  }
+  free(fr);
+  return rc;
 }
 
 /* Times of rows [0, rows) of /observables/delta/time into t. */
@@ -521,21 +727,44 @@ static vs_status xdmf_commit(FILE *f, const char *tmp, const char *xmf_path, vs_
   return VS_OK;
 }
 
+/* The rows the sidecar lists into *sel (n of them) and where their outlines come from: reads
+ * the times and, for rows without a frame in the record, the blocks' positions. */
+static vs_status xdmf_listing(hid_t file, xdmf_ctx *x, long rows, int max_grids,
+                              const char *h5_path, double **t, long **sel, long *n,
+                              vs_error *err) {
+  *t = malloc((size_t)(rows > 0 ? rows : 1) * sizeof **t);
+  if (*t == NULL) return vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
+  if (xdmf_read_times(file, x, rows, *t) < 0)
+    return vs_h5_fail(err, h5_path, "cannot read /observables/delta/time");
+  *n = vs_xdmf_rows(*t, rows, max_grids, NULL);
+  *sel = malloc((size_t)(*n > 0 ? *n : 1) * sizeof **sel);
+  if (*sel == NULL) return vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
+  vs_xdmf_rows(*t, rows, max_grids, *sel);
+  if (xdmf_outline_frames(file, x, *sel, *n) < 0)
+    return vs_h5_fail(err, h5_path, "cannot compute the blocks' outlines (out of memory, or "
+                                    "/geometry or /observables/block_position unreadable)");
+  return VS_OK;
+}
+
 vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, int max_grids,
                         vs_error *err) {
   xdmf_ctx x;
+  x.geo = x.need = NULL;
+  x.n_inl = 0;
+  x.inl_at = -1;
+  x.inl = NULL;
+  x.pos = H5I_INVALID_HID;
+  x.ref = x.cen = NULL;
+  x.failed = 0;
   const long rows = xdmf_shapes(file, &x);
   if (rows < 0)
     return vs_error_set(err, VS_ERR_INVALID,
                         "output: %s: not a voussoir record (datasets for "
                         "the XDMF missing or of inconsistent shapes)",
                         h5_path);
-  double *t = malloc((size_t)(rows > 0 ? rows : 1) * sizeof *t);
-  if (t == NULL) return vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
-  if (xdmf_read_times(file, &x, rows, t) < 0) {
-    free(t);
-    return vs_h5_fail(err, h5_path, "cannot read /observables/delta/time");
-  }
+  double *t = NULL;
+  long *sel = NULL, n = 0;
+  vs_status st = xdmf_listing(file, &x, rows, max_grids, h5_path, &t, &sel, &n, err);
   const char *base = strrchr(h5_path, '/');
   char name[1024], tmp[4096];
   xml_escape(base != NULL ? base + 1 : h5_path, name, sizeof name);
@@ -544,28 +773,33 @@ vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, i
              H5Lexists(file, "/summary/ground", H5P_DEFAULT) > 0 &&
              H5Lexists(file, "/summary/ground/points", H5P_DEFAULT) > 0;
   x.nan_n = xdmf_nan_count(file);
-  vs_status st = xdmf_open_tmp(xmf_path, tmp, sizeof tmp, &x.f, err);
-  if (st != VS_OK) {
-    free(t);
-    return st;
+  if (st == VS_OK) st = xdmf_open_tmp(xmf_path, tmp, sizeof tmp, &x.f, err);
+  if (st == VS_OK) {
+    x.used = 0;
+    xdmf_header(&x, name, rows, xdmf_stride(rows, max_grids));
+    xdmf_shared(&x);
+    out_s(&x, "<Grid Name=\"voussoir\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+    for (x.listed = 0; x.listed < n; x.listed++)
+      xdmf_step(&x, (hsize_t)sel[x.listed], t[sel[x.listed]]);
+    out_s(&x, "</Grid>\n</Domain>\n</Xdmf>\n");
+    out_flush(&x);
+    if (x.failed) {
+      fclose(x.f);
+      remove(tmp);
+      st = vs_h5_fail(err, h5_path, "cannot read /observables/block_position");
+    } else {
+      st = xdmf_commit(x.f, tmp, xmf_path, err);
+    }
   }
-  const long stride =
-      (rows + max_grids - 1) / max_grids > 1 ? (rows + max_grids - 1) / max_grids : 1;
-  x.used = 0;
-  xdmf_header(&x, name, rows, stride);
-  xdmf_shared(&x);
-  out_s(&x, "<Grid Name=\"voussoir\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
-  double t_last = -INFINITY;
-  for (long r = 0; r < rows; r++) {
-    if (r % stride != 0 && r != rows - 1) continue;
-    if (!(t[r] > t_last)) continue;
-    xdmf_step(&x, (hsize_t)r, t[r]);
-    t_last = t[r];
-  }
-  out_s(&x, "</Grid>\n</Domain>\n</Xdmf>\n");
-  out_flush(&x);
+  vs_h5_close(x.pos);
   free(t);
-  return xdmf_commit(x.f, tmp, xmf_path, err);
+  free(sel);
+  free(x.geo);
+  free(x.need);
+  free(x.inl);
+  free(x.ref);
+  free(x.cen);
+  return st;
 }
 
 vs_status vs_output_write_xdmf(const char *h5_path, int max_grids, vs_error *err) {

@@ -1,4 +1,6 @@
-/* Private: the XDMF sidecar of a record, from the HDF5 file that holds it (xdmf.c). */
+/* Private: the XDMF sidecar of a record, from the HDF5 file that holds it (xdmf.c), and what the
+ * record's writer shares with it: the rows the sidecar lists and the blocks' outlines moved to
+ * them (the record keeps those frames only, in /xdmf/block_points). */
 #ifndef VS_XDMF_H
 #define VS_XDMF_H
 
@@ -11,5 +13,30 @@
  * voussoir record, or xmf_path is not a regular file), VS_ERR_IO, VS_ERR_NOMEM. */
 vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, int max_grids,
                         vs_error *err);
+
+/* The rows a sidecar lists, of rows [0, rows) with times t: every k-th row, k = ceil(rows /
+ * max_grids), and the last, each only if its time is above the previous listed one (ParaView
+ * wants times strictly increasing). Into sel (room for max_grids + 1 rows; NULL: only counted),
+ * increasing; returns how many. */
+long vs_xdmf_rows(const double *t, long rows, int max_grids, long *sel);
+
+/* Point (X, Z) of a block in the reference configuration (centroid cx, cz) moved to a state in
+ * which the block's centroid moved by (ux, uz) and the block turned by the angle whose cosine
+ * and sine are c, s: the one formula of the record's moved points (the joints' ends at every
+ * row, the outlines of the frames the sidecar lists). */
+static inline void vs_xdmf_move(double cx, double cz, double ux, double uz, double c, double s,
+                                double X, double Z, double out[2]) {
+  const double dx = X - cx, dz = Z - cz;
+  out[0] = cx + ux + c * dx - s * dz;
+  out[1] = cz + uz + s * dx + c * dz;
+}
+
+/* The outlines of nb blocks of np points each (ref: the reference points, nb * np * 2 values, as
+ * /geometry/block_points; centroid: nb * 2, as /geometry/block_centroid) moved to rows sel[0..n)
+ * (increasing) of pos, the record's open /observables/block_position/value (rows x nb x 3: ux,
+ * uz, theta), into out (n * nb * np * 2 float32, frame after frame). Reads the rows in blocks of
+ * at most 64 consecutive rows. Returns 0, or -1 (a read failed, or out of memory). */
+int vs_xdmf_outlines(hid_t pos, const long *sel, long n, int nb, int np, const double *ref,
+                     const double *centroid, float *out);
 
 #endif

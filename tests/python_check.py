@@ -41,6 +41,12 @@ with voussoir.open_record(rec_path) as r:
     check(np.abs(fx[qs]).max() < 1e-6 * weight, "horizontal forces do not cancel")
     kinds = [e["kind"] for e in r.events()]
     check("limit_point" in kinds, f"events {kinds}")
+    # The blocks' outlines from the positions: the record's frames (float32) at the rows it keeps.
+    frames, frame_rows = r.file["xdmf/block_points"][:], r.file["xdmf/block_points_row"][:]
+    every = r.block_outlines()
+    check(every.shape[0] == len(delta.values) and len(frame_rows) > 0, "outlines: rows")
+    check(np.abs(every[frame_rows] - frames).max() < 1e-6, "outlines differ from the frames")
+    check(np.array_equal(r.block_outlines(-1), every[-1]), "outlines of one row")
     fig, ax = plt.subplots(1, 2, figsize=(12, 4))
     voussoir.draw_mechanism(r, -1, ax[0])
     voussoir.draw_curves(r, ax[1])

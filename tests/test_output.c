@@ -78,14 +78,16 @@ static vs_case small_case(int follow) {
   return c;
 }
 
-/* Run c, recording it at path; returns the run (caller destroys), the run status in *st. */
-static vs_run *record(const vs_case *c, const char *path, const char *text, long interrupt_after,
-                      long *samples, vs_status *st) {
+/* Run c, recording it at path (opts: NULL for the defaults); returns the run (caller destroys),
+ * the run status in *st. */
+static vs_run *record(const vs_case *c, const char *path, const char *text,
+                      const vs_output_opts *opts, long interrupt_after, long *samples,
+                      vs_status *st) {
   vs_error err;
   vs_run *run = NULL;
   assert_int_equal(vs_run_create(c, &run, &err), VS_OK);
   sink k = {NULL, 0, interrupt_after};
-  if (vs_output_create(path, run, text, NULL, &k.o, &err) != VS_OK) fail_msg("%s", err.msg);
+  if (vs_output_create(path, run, text, opts, &k.o, &err) != VS_OK) fail_msg("%s", err.msg);
   vs_error rerr;
   vs_error_clear(&rerr);
   *st = vs_run_execute(run, on_sample, on_event, &k, &rerr);
@@ -225,7 +227,7 @@ static const char *const SERIES_GROUPS[] = {
     "block_velocity", "block_speed",          "joint_N",     "joint_T",
     "joint_M",        "joint_contact",        "joint_gap_i", "joint_gap_e",
     "joint_slip",     "joint_slip_plastic",   "joint_hinge", "reactions",
-    "energy",         "block_points",         "joint_points"};
+    "energy",         "joint_points"};
 
 /* Every observable has value, step and time with the same number of rows; returns it. */
 static hsize_t check_series_rows(hid_t f) {
@@ -641,30 +643,143 @@ static void check_joint_states(hid_t f, const vs_run *run, size_t rows) {
   free(N), free(T), free(gi), free(ge), free(h), free(R);
 }
 
-/* The first outline point of every block is its intrados corner at phi0, moved rigidly. */
-static void check_outlines(hid_t f, const vs_run *run, size_t row, const double *q) {
+/* /geometry/block_points and /geometry/block_centroid against the run's sectors: block b's P
+ * points are the intrados arc from phi0 to phi1, then the extrados arc back, P/2 each, evenly
+ * spaced in angle (the corners included). */
+static void check_reference_outlines(hid_t f, const vs_run *run) {
   const vs_geometry *g = vs_run_geometry(run);
   hsize_t dims[3];
-  rank_of(f, "/observables/block_points/value", dims);
-  const size_t P = (size_t)dims[1] / (size_t)g->n_blocks;
+  rank_of(f, "/geometry/block_points", dims);
+  const size_t nb = (size_t)g->n_blocks, P = (size_t)dims[0] / nb;
   assert_int_equal(P, 8); /* 2 + 2 corners and 2 x 2 arc points, the default */
   size_t n;
-  double *pts = read_all(f, "/observables/block_points/value", &n);
-  for (int b = 0; b < g->n_blocks; b++) {
+  double *ref = read_all(f, "/geometry/block_points", &n);
+  double *cen = read_all(f, "/geometry/block_centroid", &n);
+  const double ri = g->radius, re = g->radius + g->thickness;
+  for (size_t b = 0; b < nb; b++) {
     const vs_block *blk = &g->blocks[b];
-    const double X = g->radius * sin(blk->phi0), Z = g->radius * cos(blk->phi0);
-    const double th = q[3 * b + 2], dx = X - blk->cx, dz = Z - blk->cz;
-    const double x = blk->cx + q[3 * b] + cos(th) * dx - sin(th) * dz;
-    const double z = blk->cz + q[3 * b + 1] + sin(th) * dx + cos(th) * dz;
-    const double *p = pts + 2 * (row * (size_t)dims[1] + (size_t)b * P);
-    assert_true(fabs(p[0] - x) < 1e-6 && fabs(p[1] - z) < 1e-6); /* float32 */
-    /* the extrados corner at phi0 is the last point */
-    const double Xe = (g->radius + g->thickness) * sin(blk->phi0);
-    const double Ze = (g->radius + g->thickness) * cos(blk->phi0);
-    const double xe = blk->cx + q[3 * b] + cos(th) * (Xe - blk->cx) - sin(th) * (Ze - blk->cz);
-    assert_true(fabs(p[2 * (P - 1)] - xe) < 1e-6);
+    assert_true(cen[2 * b] == blk->cx && cen[2 * b + 1] == blk->cz);
+    for (size_t k = 0; k < P / 2; k++) {
+      const double f1 = (double)k / (double)(P / 2 - 1);
+      const double pi = blk->phi0 + f1 * (blk->phi1 - blk->phi0);
+      const double pe = blk->phi1 - f1 * (blk->phi1 - blk->phi0);
+      const double *p = ref + 2 * (b * P + k), *e = ref + 2 * (b * P + P / 2 + k);
+      assert_true(fabs(p[0] - ri * sin(pi)) < 1e-12 && fabs(p[1] - ri * cos(pi)) < 1e-12);
+      assert_true(fabs(e[0] - re * sin(pe)) < 1e-12 && fabs(e[1] - re * cos(pe)) < 1e-12);
+    }
   }
-  free(pts);
+  free(ref), free(cen);
+}
+
+/* The rows a sidecar lists (output.h: every k-th row, k = ceil(rows / max_grids), and the last;
+ * times strictly increasing) into sel; returns how many. */
+static long listed_rows(const double *t, long rows, int max_grids, long *sel) {
+  const long k = (rows + max_grids - 1) / max_grids > 1 ? (rows + max_grids - 1) / max_grids : 1;
+  long n = 0;
+  for (long r = 0; r < rows; r++)
+    if ((r % k == 0 || r == rows - 1) && (n == 0 || t[r] > t[sel[n - 1]])) sel[n++] = r;
+  return n;
+}
+
+typedef struct {
+  int frames, states, inline_; /* blocks' geometries from /xdmf/block_points, from
+                                  /observables/block_points/value, inline */
+} outline_sources;
+
+/* The blocks' geometry of every step of the sidecar xmf_path of record f (h5base: its name)
+ * against outlines computed here: /geometry/block_points moved rigidly with the blocks' positions
+ * of the step's row (turned by theta about /geometry/block_centroid, which moved by ux, uz), to
+ * float32 precision, NaN where the positions are. A geometry from /xdmf/block_points must be the
+ * frame of its row (/xdmf/block_points_row). max_grids > 0: the steps must be the rows the
+ * listing rule gives (0: rows increasing only: a killed record's datasets may differ in rows). */
+static outline_sources check_outlines(const char *xmf_path, hid_t f, const char *h5base,
+                                      int max_grids) {
+  size_t n, nq, nt;
+  double *ref = read_all(f, "/geometry/block_points", &n);
+  double *cen = read_all(f, "/geometry/block_centroid", &nq);
+  const size_t nb = nq / 2, np = n / 2, P = np / nb;
+  double *q = read_all(f, "/observables/block_position/value", &nq);
+  double *t = read_all(f, "/observables/delta/time", &nt);
+  const long rows = (long)(nq / (3 * nb) < nt ? nq / (3 * nb) : nt);
+  long *sel = malloc((size_t)(rows > 0 ? rows : 1) * sizeof *sel);
+  double *want = malloc(2 * np * sizeof *want);
+  float *got = malloc(2 * np * sizeof *got);
+  assert_true(sel != NULL && want != NULL && got != NULL);
+  const long listed = max_grids > 0 ? listed_rows(t, rows, max_grids, sel) : -1;
+  /* the record's outlines, whole, when it has them */
+  double *frames = NULL, *frame_row = NULL, *states = NULL;
+  size_t n_frames = 0, n_states = 0;
+  if (H5Lexists(f, "/xdmf", H5P_DEFAULT) > 0 &&
+      H5Lexists(f, "/xdmf/block_points", H5P_DEFAULT) > 0) {
+    frames = read_all(f, "/xdmf/block_points", &n_frames);
+    frame_row = read_all(f, "/xdmf/block_points_row", &n);
+    assert_int_equal(n_frames, n * 2 * np);
+  }
+  if (H5Lexists(f, "/observables/block_points", H5P_DEFAULT) > 0)
+    states = read_all(f, "/observables/block_points/value", &n_states);
+  outline_sources src = {0, 0, 0};
+  char *x = slurp(xmf_path);
+  long step = 0, last = -1;
+  for (const char *p = strstr(x, "<Grid Name=\"row "); p != NULL;
+       p = strstr(p + 1, "<Grid Name=\"row "), step++) {
+    const long r = strtol(p + strlen("<Grid Name=\"row "), NULL, 10);
+    assert_true(r > last && r < rows);
+    if (listed >= 0) assert_true(step < listed && r == sel[step]);
+    last = r;
+    /* the outlines computed here */
+    for (size_t b = 0; b < nb; b++) {
+      const double *qb = q + (size_t)r * 3 * nb + 3 * b;
+      const double c = cos(qb[2]), sn = sin(qb[2]);
+      for (size_t k = 0; k < P; k++) {
+        const double *rp = ref + 2 * (b * P + k);
+        const double dx = rp[0] - cen[2 * b], dz = rp[1] - cen[2 * b + 1];
+        want[2 * (b * P + k)] = cen[2 * b] + qb[0] + c * dx - sn * dz;
+        want[2 * (b * P + k) + 1] = cen[2 * b + 1] + qb[1] + sn * dx + c * dz;
+      }
+    }
+    /* what the step's blocks show */
+    const char *geo = strstr(strstr(p, "<Grid Name=\"blocks\">"), "<Geometry GeometryType=\"XY\">");
+    const char *tag = strstr(geo, "<DataItem "), *item = strchr(tag, '>') + 1;
+    char fmt[16];
+    assert_non_null(attr_in_tag(tag, item, "Format", fmt, sizeof fmt));
+    if (strcmp(fmt, "XML") == 0) {
+      src.inline_++;
+      char *e = (char *)item;
+      for (size_t i = 0; i < 2 * np; i++) {
+        const char *v = e;
+        got[i] = strtof(v, &e);
+        assert_true(e != v);
+      }
+      assert_true(strncmp(e, "</DataItem>", 11) == 0);
+    } else {
+      char path[64];
+      unsigned long long start;
+      const size_t hl = strlen(h5base);
+      assert_true(strncmp(item, h5base, hl) == 0 && item[hl] == ':');
+      assert_int_equal(sscanf(item + hl + 1, "%63[^|]|%llu ", path, &start), 2);
+      const double *from;
+      if (strcmp(path, "/xdmf/block_points") == 0) {
+        src.frames++;
+        assert_non_null(frames);
+        assert_true(start < n_frames / (2 * np) && frame_row[start] == (double)r);
+        from = frames + start * 2 * np;
+      } else {
+        assert_string_equal(path, "/observables/block_points/value");
+        src.states++;
+        assert_true(states != NULL && start == (unsigned long long)r);
+        from = states + start * 2 * np;
+      }
+      for (size_t i = 0; i < 2 * np; i++) got[i] = (float)from[i];
+    }
+    for (size_t i = 0; i < 2 * np; i++)
+      if (isnan(want[i]) ? !isnan(got[i]) : !(fabs(got[i] - want[i]) < 1e-6)) /* float32 */
+        fail_msg("%s row %ld: point %zu of the blocks is %.9g, computed %.9g", xmf_path, r, i / 2,
+                 (double)got[i], want[i]);
+  }
+  if (listed >= 0) assert_int_equal(step, listed);
+  free(x), free(ref), free(cen), free(q), free(t), free(sel), free(want), free(got);
+  free(frames), free(frame_row), free(states);
+  return src;
 }
 
 static void check_events(hid_t f, const vs_run *run) {
@@ -711,7 +826,7 @@ static void test_quasistatic_record(void **state) {
   long samples;
   vs_status st;
   const char *text = "[arch]\nvoussoirs = 11 ; coarse\n";
-  vs_run *run = record(&c, path, text, 0, &samples, &st);
+  vs_run *run = record(&c, path, text, NULL, 0, &samples, &st);
   assert_int_equal(st, VS_OK);
   hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   assert_true(f >= 0);
@@ -747,7 +862,7 @@ static void test_quasistatic_record(void **state) {
   }
   assert_true(dl[0] == 0.0); /* self-weight */
   check_joint_states(f, run, rows);
-  check_outlines(f, run, rows - 1, q + (rows - 1) * n3);
+  check_reference_outlines(f, run);
   check_events(f, run);
 
   /* summary */
@@ -769,6 +884,11 @@ static void test_quasistatic_record(void **state) {
 
   xdmf_stats xs = check_xdmf(xmf, f, "qs.h5");
   assert_int_equal(xs.grids, (int)rows); /* few rows: all of them, times increasing */
+  /* the blocks' outlines: the record's frames, one per listed row, none per state */
+  assert_true(H5Lexists(f, "/observables/block_points", H5P_DEFAULT) == 0);
+  outline_sources os = check_outlines(xmf, f, "qs.h5", 2000);
+  assert_int_equal(os.frames, xs.grids);
+  assert_true(os.states == 0 && os.inline_ == 0);
   /* defined once: the topologies of the blocks and the joints (their connectivity), of one
    * segment (inline), and the NaN fields, slabs of /xdmf/nan: 8 on the blocks' cells, 6 on the
    * joints', 9 on one cell (those the supports lack) */
@@ -787,11 +907,37 @@ static void test_quasistatic_record(void **state) {
   assert_int_equal(n, (size_t)vs_run_geometry(run)->n_joints); /* the largest grid */
   for (size_t i = 0; i < n; i++) assert_true(isnan(nan[i]));
   free(nan);
-  free(q), free(v), free(t), free(dl), free(ph), free(en), free(step);
+  free(v), free(t), free(dl), free(ph), free(en), free(step);
   H5Fclose(f);
-  /* a record written before /xdmf/nan existed: its sidecar pads inline, as those versions did */
+  /* a record written before /xdmf/nan existed: its sidecar pads inline, as those versions did,
+   * and takes the blocks' outlines from the per-state dataset they wrote (made here from the
+   * positions and the reference outlines, float32) */
   f = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
   assert_true(H5Ldelete(f, "/xdmf", H5P_DEFAULT) >= 0);
+  {
+    double *ref = read_all(f, "/geometry/block_points", &n);
+    const size_t np = n / 2, nb = n3 / 3, P = np / nb;
+    float *pts = malloc(rows * 2 * np * sizeof *pts);
+    assert_non_null(pts);
+    for (size_t r = 0; r < rows; r++)
+      for (size_t b = 0; b < nb; b++) {
+        const vs_block *blk = &vs_run_geometry(run)->blocks[b];
+        const double *qb = q + r * n3 + 3 * b;
+        const double co = cos(qb[2]), sn = sin(qb[2]);
+        for (size_t k = 0; k < P; k++) {
+          const double dx = ref[2 * (b * P + k)] - blk->cx, dz = ref[2 * (b * P + k) + 1] - blk->cz;
+          pts[2 * (r * np + b * P + k)] = (float)(blk->cx + qb[0] + co * dx - sn * dz);
+          pts[2 * (r * np + b * P + k) + 1] = (float)(blk->cz + qb[1] + sn * dx + co * dz);
+        }
+      }
+    hid_t g = H5Gcreate2(f, "/observables/block_points", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    const hsize_t d3[3] = {rows, np, 2};
+    hid_t sp = H5Screate_simple(3, d3, NULL);
+    hid_t d = H5Dcreate2(g, "value", H5T_IEEE_F32LE, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    assert_true(d >= 0 && H5Dwrite(d, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, pts) >= 0);
+    H5Dclose(d), H5Sclose(sp), H5Gclose(g);
+    free(pts), free(ref);
+  }
   H5Fclose(f);
   vs_error err;
   assert_int_equal(vs_output_write_xdmf(path, 0, &err), VS_OK);
@@ -803,7 +949,10 @@ static void test_quasistatic_record(void **state) {
   assert_int_equal(old.nan_inline, 23);
   assert_int_equal(old.hdf_items, 2 + xs.grids * 22);
   assert_int_equal(old.padded, xs.padded);
+  os = check_outlines(xmf, f, "qs.h5", 2000);
+  assert_true(os.states == xs.grids && os.frames == 0 && os.inline_ == 0);
   H5Fclose(f);
+  free(q);
   assert_int_equal(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0); /* nothing left open */
   vs_run_destroy(&run);
 }
@@ -819,7 +968,10 @@ static void test_dynamic_record(void **state) {
   vs_case c = small_case(1);
   long samples;
   vs_status st;
-  vs_run *run = record(&c, path, NULL, 0, &samples, &st);
+  vs_output_opts opts;
+  vs_output_opts_default(&opts);
+  opts.xdmf_max_grids = 40; /* the sidecar lists every k-th row: the record keeps their outlines */
+  vs_run *run = record(&c, path, NULL, &opts, 0, &samples, &st);
   assert_int_equal(st, VS_OK);
   assert_true(vs_run_collapse(run)->found);
   hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -903,7 +1055,19 @@ static void test_dynamic_record(void **state) {
   assert_int_equal(vs_run_dynamic_totals(run)->fall_at_rest, 1);
   assert_true(en[7 * (rows - 1)] < rest);
   xdmf_stats xs = check_xdmf(xmf, f, "dyn.hdf5");
+  assert_true(xs.grids > 20 && xs.grids <= 41 && rows > 200);
+  outline_sources os = check_outlines(xmf, f, "dyn.hdf5", 40);
+  assert_true(os.frames == xs.grids && os.states == 0 && os.inline_ == 0);
+  hsize_t fd[3];
+  rank_of(f, "/xdmf/block_points", fd);
+  assert_int_equal(fd[0], (hsize_t)xs.grids);
+  /* the sidecar rebuilt to list more rows: those without a frame get their outlines inline */
+  vs_error err;
+  assert_int_equal(vs_output_write_xdmf(path, 0, &err), VS_OK);
+  xs = check_xdmf(xmf, f, "dyn.hdf5");
   assert_true(xs.grids > (int)rows / 2 && xs.grids <= (int)rows);
+  os = check_outlines(xmf, f, "dyn.hdf5", 2000);
+  assert_true(os.frames > 20 && os.inline_ == xs.grids - os.frames && os.states == 0);
   free(ph), free(v), free(sp), free(en), free(t), free(dl);
   H5Fclose(f);
   assert_int_equal(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0);
@@ -1034,6 +1198,12 @@ static void check_killed(const char *path, const memrec *ref, long at_least) {
   const char *base = strrchr(path, '/') + 1;
   xdmf_stats xs = check_xdmf(xmf, f, base);
   assert_true(xs.grids >= 1 && xs.grids <= (int)hi);
+  /* the blocks' outlines: inline, from the positions, unless the status vouches for the frames */
+  outline_sources os = check_outlines(xmf, f, base, strcmp(status, "running") == 0 ? 0 : 2000);
+  if (strcmp(status, "running") == 0)
+    assert_true(os.inline_ == xs.grids && os.frames == 0 && os.states == 0);
+  else
+    assert_true(os.frames == xs.grids && os.inline_ == 0 && os.states == 0);
   H5Fclose(f);
 }
 
@@ -1124,7 +1294,8 @@ static void test_killed_at_states(void **state) {
     long die_at;
     const char *event_after, *fault;
   } at[] = {{64, NULL, NULL}, {65, NULL, NULL},  {127, NULL, NULL},        {129, NULL, NULL},
-            {200, NULL, NULL}, {0, "70", NULL}, {0, NULL, "mid-append"}};
+            {200, NULL, NULL}, {0, "70", NULL}, {0, NULL, "mid-append"},
+            {0, NULL, "before-status"}};
   for (size_t i = 0; i < sizeof at / sizeof at[0]; i++) {
     char path[128];
     snprintf(path, sizeof path, "%s/state%zu.h5", g_dir, i);
@@ -1212,7 +1383,7 @@ static void test_errors(void **state) {
   path_in(path, sizeof path, "int.h5");
   long samples;
   vs_status st;
-  run = record(&c, path, NULL, 5, &samples, &st);
+  run = record(&c, path, NULL, NULL, 5, &samples, &st);
   assert_int_not_equal(st, VS_OK);
   assert_true(samples == 5 || samples == 6); /* a sixth row, or an event, is refused */
   f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);

@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
-# ParaView (Debian's pvpython, on a private Xvfb server when there is no display) opens two
-# records' XDMF sidecars (a run to its first limit point, a run to rest on the ground) with both
+# ParaView (Debian's pvpython, on a private Xvfb server when there is no display) opens the XDMF
+# sidecars of two records (a run to its first limit point, a run to rest on the ground) with both
 # XDMF 3 readers, finds every grid of several frames equal to the records' data and colours each
-# grid by its own field; skipped, saying why, without pvpython.
-# usage: test_paraview.sh VOUSSOIR SOURCE_DIR
+# grid by its own field; skipped, saying why, without pvpython. The blocks' outlines come from
+# the record's frames (/xdmf/block_points) there; two more sidecars, rebuilt by XDMF_REBUILD,
+# take them from elsewhere: a run killed before its status (outlines inline, computed from the
+# positions) and that run turned into an earlier version's record (per-state outlines).
+# usage: test_paraview.sh VOUSSOIR SOURCE_DIR XDMF_REBUILD
 set -euo pipefail
-vs=$1 src=$2
+vs=$1 src=$2 rebuild=$3
 command -v pvpython >/dev/null ||
   { echo "SKIP: pvpython not found (Debian: apt-get install paraview python3-paraview xvfb)"; exit 77; }
 tmp=$(mktemp -d)
@@ -28,7 +31,40 @@ if [ -z "${DISPLAY:-}" ]; then
 fi
 "$vs" run "$src/runs/reference.ini" --first-limit -q -o "$tmp/run.h5" >/dev/null
 "$vs" run "$src/runs/reference.ini" -q -o "$tmp/fall.h5" >/dev/null
+# killed (SIGKILL) once /summary is written, before the status: "running"
+rc=0
+{ VS_FAULT_KILL=before-status "$vs" run "$src/runs/reference.ini" --first-limit -q \
+  -o "$tmp/killed.h5"; } >/dev/null 2>&1 || rc=$?
+[ $rc -eq 137 ] || { echo "the run meant to be killed ended with $rc"; exit 1; }
 cd "$tmp"
+/usr/bin/python3 - <<'EOF'
+# old.h5: killed.h5 as an earlier version wrote it: every row's moved outlines in
+# /observables/block_points/value, no frames in /xdmf (computed here from the positions)
+import shutil
+import h5py
+import numpy as np
+shutil.copy("killed.h5", "old.h5")
+with h5py.File("old.h5", "r+") as f:
+    q = f["observables/block_position/value"][:]
+    ref, cen = f["geometry/block_points"][:], f["geometry/block_centroid"][:]
+    nb = cen.shape[0]
+    d = ref.reshape(nb, -1, 2) - cen[:, None, :]
+    c, s = np.cos(q[:, :, 2])[:, :, None], np.sin(q[:, :, 2])[:, :, None]
+    x = cen[None, :, None, 0] + q[:, :, None, 0] + c * d[None, :, :, 0] - s * d[None, :, :, 1]
+    z = cen[None, :, None, 1] + q[:, :, None, 1] + s * d[None, :, :, 0] + c * d[None, :, :, 1]
+    g = f["observables"].create_group("block_points")
+    g["value"] = np.stack([x, z], axis=-1).reshape(q.shape[0], -1, 2).astype(np.float32)
+    g["value"].attrs["unit"] = "m,m"
+    g["value"].attrs["columns"] = "x,z"
+    del f["xdmf/block_points"], f["xdmf/block_points_row"]
+    f.attrs["status"] = "completed"
+EOF
+"$rebuild" killed.h5 old.h5
+grep -q 'Format="XML">-\?[0-9]' killed.xmf || { echo "killed.xmf: no inline outlines"; exit 1; }
+grep -q 'old.h5:/observables/block_points/value|' old.xmf ||
+  { echo "old.xmf: not the per-state outlines"; exit 1; }
+! grep -q '/xdmf/block_points' killed.xmf old.xmf ||
+  { echo "frames named by killed.xmf or old.xmf"; exit 1; }
 # On this workplace's machines about a third of X connections to a fresh Xvfb fail right after
 # connect (measured: 87 of 300 XOpenDisplay calls), and pvpython then aborts with "bad X server
 # connection" before the check starts. That is the X transport, not ParaView reading the record:

@@ -22,10 +22,11 @@ typedef struct {
                          divisor of flush_rows (writes then fill whole chunks) and capped at
                          about 1 MiB for wide rows */
   int deflate;        /* deflate level with shuffle, 1 to 9, or 0 (default): no compression
-                         (measured on runs/reference.ini: level 4 makes the record 3.0 MB
-                         instead of 4.5 MB and its writes longer; `run --compress` sets 4) */
+                         (measured on runs/reference.ini: level 4 makes the record 3.4 MB
+                         instead of 5.1 MB and its writes longer; `run --compress` sets 4) */
   int xdmf_max_grids; /* the XDMF lists at most this many rows (>= 2, default 2000): every k-th
-                         row with k = ceil(rows / xdmf_max_grids), and always the last one */
+                         row with k = ceil(rows / xdmf_max_grids), and always the last one; the
+                         record keeps the blocks' moved outlines of those rows only */
 } vs_output_opts;
 
 /* Fill o with the defaults above. */
@@ -62,7 +63,9 @@ int vs_output_event(void *user, const vs_run *run, const vs_run_event *e);
  * vs_output_finish records status "failed: interrupted". NULL is ignored. */
 void vs_output_interrupt(vs_output *o);
 
-/* Close the record of run: write the buffered rows, rewrite /events from the run's log (hinge
+/* Close the record of run: write the buffered rows, then the blocks' outlines moved to the rows
+ * the sidecar lists (/xdmf/block_points, and the rows in /xdmf/block_points_row: computed from
+ * /observables/block_position and /geometry), rewrite /events from the run's log (hinge
  * labels are assigned after the first three hinge events were emitted), write /summary (limit
  * points, first limit point, collapse, hinges, mode, totals, energy balance) and flush; only
  * then (so that a "completed" on disk vouches for them) set the root attributes status ("completed" when run_status is VS_OK, else "failed: <cause>" with run_err's
@@ -115,7 +118,11 @@ void vs_output_process_init(void);
 void vs_output_process_end(int clean);
 
 /* Write the XDMF sidecar of an existing record (e.g. of a run that was killed) next to it, from
- * the datasets it holds; max_grids as in vs_output_opts (<= 0: the default). Errors: VS_ERR_IO
+ * the datasets it holds (opened read-only); max_grids as in vs_output_opts (<= 0: the default).
+ * The blocks' outlines of a listed row are the record's /xdmf/block_points frame of that row when
+ * its status is not "running" (written before the status), an earlier version's
+ * /observables/block_points/value, or else computed from the positions and written into the
+ * sidecar (Format="XML"). Errors: VS_ERR_IO
  * (cannot open or read the file, or write the sidecar), VS_ERR_INVALID (not a voussoir
  * record). */
 vs_status vs_output_write_xdmf(const char *h5_path, int max_grids, vs_error *err);

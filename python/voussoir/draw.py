@@ -12,7 +12,7 @@ def _axes(ax):
 def draw_mechanism(rec, row=-1, ax=None):
     """The blocks at a recorded row, true scale (mm), open joints drawn red."""
     ax = _axes(ax)
-    pts = rec.series("block_points").values[row] * 1e3
+    pts = rec.block_outlines(row) * 1e3
     conn = rec.geometry("block_connectivity").values
     for c in conn:
         poly = pts[c]

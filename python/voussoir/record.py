@@ -66,6 +66,23 @@ class Record:
         cols = _text(ds.attrs["columns"]).split(",") if "columns" in ds.attrs else None
         return Series(ds[:], unit, cols)
 
+    def block_outlines(self, row=None):
+        """The blocks' outlines (m) at a row (None: every row), as (nb * P, 2) points (rows first
+        when every row): /geometry/block_points moved with each block's /observables/
+        block_position (its centroid, /geometry/block_centroid, moved by ux, uz; turned by theta
+        about it). Block b owns points b*P .. b*P+P-1, as in /geometry/block_connectivity. The
+        record keeps them only for the rows its XDMF sidecar lists (/xdmf/block_points)."""
+        ref = self.file["geometry/block_points"][()]
+        cen = self.file["geometry/block_centroid"][()]
+        pos = self.file["observables/block_position/value"]
+        q = pos[:] if row is None else pos[row][None]
+        d = (ref.reshape(cen.shape[0], -1, 2) - cen[:, None, :])[None]
+        c, s = np.cos(q[..., 2])[..., None], np.sin(q[..., 2])[..., None]
+        x = cen[None, :, None, 0] + q[..., 0, None] + c * d[..., 0] - s * d[..., 1]
+        z = cen[None, :, None, 1] + q[..., 1, None] + s * d[..., 0] + c * d[..., 1]
+        pts = np.stack([x, z], axis=-1).reshape(q.shape[0], -1, 2)
+        return pts if row is None else pts[0]
+
     def time(self):
         ds = self.file["observables/delta/time"]
         return Series(ds[:], _text(ds.attrs.get("unit", "s")))
