@@ -1,7 +1,7 @@
 /* The fall's geometry (fall.h): the bodies' outlines and joint faces, and the contact points at
  * a state, each with its rows and Delassus block: joint faces end against face, vertices
- * against the ground, and (broad phase on bounding boxes, narrow phase vertex against edge)
- * vertices against the outlines of other bodies. */
+ * against the ground, and (broad phase on bounding boxes, narrow phase vertex against the
+ * nearest edge or corner) vertices against the outlines of other bodies. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -271,8 +271,11 @@ static int shared_joint(const vs_fall *f, int a, int b) {
   return -1;
 }
 
-/* Vertex k (of body a) against body b's outline: in front of an edge within margin (its
- * projection on the edge), or inside (on the edge it is least deep behind). */
+/* Vertex k (of body a) against body b's outline (convex). Outside, within margin, on the
+ * feature of the outline nearest to it: an edge it is in front of (that edge's normal, its
+ * distance from the edge's line) or a corner whose region it is in (the normal from the corner
+ * to it, their distance), so that a vertex coming at a corner is met before it is inside.
+ * Inside, on the edge it is least deep behind. */
 static int vertex_edge(vs_fall *f, int k, int b, double margin) {
   const int fb = f->first[b], nb = f->count[b];
   double best = -INFINITY;
@@ -281,15 +284,31 @@ static int vertex_edge(vs_fall *f, int k, int b, double margin) {
     const double d = f->nx[fb + i] * f->px[k] + f->nz[fb + i] * f->pz[k] - f->no[fb + i];
     if (d > best) best = d, e = i;
   }
-  if (best > margin) return 0;
-  const int i0 = fb + e, i1 = fb + (e + 1) % nb;
-  if (best > 0.0) { /* outside: only in front of the edge itself, not off a corner */
-    const double tx = f->px[i1] - f->px[i0], tz = f->pz[i1] - f->pz[i0];
-    const double s = (f->px[k] - f->px[i0]) * tx + (f->pz[k] - f->pz[i0]) * tz;
-    if (s < 0.0 || s > tx * tx + tz * tz) return 0;
+  if (best > margin) return 0; /* its distance from the outline is at least best */
+  double gap = best, nx = f->nx[fb + e], nz = f->nz[fb + e];
+  int feature = e; /* the key's: edges 0 .. 15, corners 16 .. 31 */
+  if (best > 0.0) { /* outside: the nearest edge or corner (one nearer than a round-off length
+                       gives no direction: the edge's normal then) */
+    const double tiny = 1e-9 * f->rmax;
+    double near = INFINITY;
+    for (int i = 0; i < nb; i++) {
+      const int i0 = fb + i, i1 = fb + (i + 1) % nb;
+      const double tx = f->px[i1] - f->px[i0], tz = f->pz[i1] - f->pz[i0];
+      const double rx = f->px[k] - f->px[i0], rz = f->pz[k] - f->pz[i0];
+      const double s = rx * tx + rz * tz, tt = tx * tx + tz * tz;
+      if (s <= 0.0) { /* behind corner i0 along edge i: its region if nearest */
+        const double d = hypot(rx, rz);
+        if (d < near && d > tiny) near = d, nx = rx / d, nz = rz / d, feature = 16 + i;
+      } else if (s < tt) { /* abreast of edge i */
+        const double d = f->nx[i0] * f->px[k] + f->nz[i0] * f->pz[k] - f->no[i0];
+        if (d >= 0.0 && d < near) near = d, nx = f->nx[i0], nz = f->nz[i0], feature = i;
+      }
+    }
+    if (near < INFINITY) gap = near;
+    if (gap > margin) return 0;
   }
-  const long long key = ((long long)k * (f->nb + 2) + (b + 1)) * 32 + e;
-  return add(f, key, f->body[k], b, -1, f->px[k], f->pz[k], f->nx[i0], f->nz[i0], best);
+  const long long key = ((long long)k * (f->nb + 2) + (b + 1)) * 32 + feature;
+  return add(f, key, f->body[k], b, -1, f->px[k], f->pz[k], nx, nz, gap);
 }
 
 static int add_pair(vs_fall *f, int a, int b) {
