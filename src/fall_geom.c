@@ -1,7 +1,7 @@
 /* The fall's geometry (fall.h): the bodies' outlines and joint faces, and the contact points at
  * a state, each with its rows and Delassus block: joint faces end against face, vertices
- * against the ground, and (broad phase on bounding boxes, narrow phase vertex against edge)
- * vertices against the outlines of other bodies. */
+ * against the ground, and (broad phase on bounding boxes, narrow phase vertex against the
+ * nearest edge or corner) vertices against the outlines of other bodies. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,12 +10,24 @@
 #include "voussoir/collide.h"
 
 /* A face end counts as on its face while its projection is within this fraction of the joint's
- * length beyond the face's ends (a sliding joint keeps its contact until the end passes). */
+ * length beyond the face's end at its own edge (a sliding joint keeps its contact until the end
+ * passes; past the far end the faces have slid a whole length apart). */
 static const double VS_FALL_FACE_SLACK = 0.02;
 /* ... and while it is no deeper behind it than this fraction of the joint's length: deeper, the
  * bodies have come apart and met elsewhere (a vertex behind a face's line may be beyond the body,
  * or past its other side), and the vertex meets the other body's outline as any vertex would. */
 static const double VS_FALL_FACE_DEPTH = 0.1;
+/* A joint's faces are one contact surface at an edge (its two corners there one contact point,
+ * neither met by the narrow phase) while they have turned from each other by less than this
+ * share of the turn at which a corner could first reach the other body's outline beyond its
+ * face: pi minus the larger outline angle at the two corners, at least a right angle (89 and 90
+ * degrees between voussoirs, 62.5 at a pier's intrados end on the reference arch). Beyond it the
+ * joint has folded there: the corner that is not the contact's would enter the other body
+ * through another edge unseen, and a corner past the face's end is no longer in front of or
+ * behind the body, so both corners meet the other body's outline as any vertex does (and an
+ * overlap there is moved out). */
+static const double VS_FALL_FOLD = 0.5;
+static const double VS_PI = 3.14159265358979323846;
 
 /* Reference points (collide.h's), inverse masses (the piers: 0, driven). */
 static void bodies(vs_fall *f) {
@@ -38,6 +50,15 @@ static vs_status outlines(vs_fall *f, const int *count, const double *xz, vs_err
     f->rmax = fmax(f->rmax, f->rmaxb[b]);
   }
   return st;
+}
+
+/* The outline's interior angle at vertex v (rad; the outlines are convex). */
+static double corner_angle(const vs_fall *f, int v) {
+  const int b = f->body[v], i = v - f->first[b], nb = f->count[b];
+  const int p = f->first[b] + (i + nb - 1) % nb, q = f->first[b] + (i + 1) % nb;
+  const double ax = f->rx[p] - f->rx[v], az = f->rz[p] - f->rz[v];
+  const double bx = f->rx[q] - f->rx[v], bz = f->rz[q] - f->rz[v];
+  return atan2(fabs(ax * bz - az * bx), ax * bx + az * bz);
 }
 
 /* The joints' faces on their two bodies, which vertices are face ends, and each body's joints. */
@@ -71,13 +92,18 @@ static void faces(vs_fall *f) {
       const double x = j->px + h * sx, z = j->pz + h * sz;
       fc->ea[e][0] = x - f->ref[2 * fc->a], fc->ea[e][1] = z - f->ref[2 * fc->a + 1];
       fc->eb[e][0] = x - f->ref[2 * fc->b], fc->eb[e][1] = z - f->ref[2 * fc->b + 1];
+      double angle = 0.5 * VS_PI; /* the larger outline angle at the two corners, at least a
+                                     right angle (also where a face end is no vertex) */
       for (int s = 0; s < 2; s++) {
         const int bd = s == 0 ? fc->a : fc->b;
         const double *r = s == 0 ? fc->ea[e] : fc->eb[e];
         for (int v = f->first[bd]; v < f->first[bd] + f->count[bd]; v++)
-          if (hypot(f->rx[v] - r[0], f->rz[v] - r[1]) < 1e-6 * j->length)
+          if (hypot(f->rx[v] - r[0], f->rz[v] - r[1]) < 1e-6 * j->length) {
             f->face_of[v] = jn, fc->vend[s][e] = v;
+            angle = fmax(angle, corner_angle(f, v));
+          }
       }
+      fc->fold_cos[e] = cos(VS_FALL_FOLD * (VS_PI - angle));
     }
   }
 }
@@ -234,23 +260,44 @@ static face_end end_on_face(const vs_fall *f, const vs_fall_face *fc, int s, int
   return o;
 }
 
+/* The largest signed distance of (x, z) from the lines of body b's outline's edges (m; < 0:
+ * inside, as deep as it is behind the edge it is least deep behind; -inf: no outline). */
+static double least_deep(const vs_fall *f, int b, double x, double z) {
+  double best = -INFINITY;
+  for (int i = f->first[b]; i < f->first[b] + f->count[b]; i++)
+    best = fmax(best, f->nx[i] * x + f->nz[i] * z - f->no[i]);
+  return best;
+}
+
 /* Joint jn's two edges, each one contact point: of the two corners there (a's face end against
  * b's face, b's against a's), the one on the other's face nearer to or deeper behind it (where
  * the faces have slid apart, the corner that bounds their common part). Two points carry any
  * distribution of the joint's normal force and moment between its edges; more would only be
- * redundant. */
+ * redundant. Both corners at an edge with a contact are left out of the narrow phase; an edge
+ * where the joint has folded (VS_FALL_FOLD) has none. */
 static int face_contacts(vs_fall *f, int jn, double margin) {
   const vs_fall_face *fc = &f->faces[jn];
   if (!vs_fall_moving(f, fc->a) && !vs_fall_moving(f, fc->b)) return 0;
   const double reach = (0.5 + VS_FALL_FACE_SLACK) * fc->length;
+  const double turn = cos(f->q[3 * fc->a + 2] - f->q[3 * fc->b + 2]);
   for (int e = 0; e < 2; e++) {
+    if (turn < fc->fold_cos[e]) continue; /* folded: its corners are the narrow phase's */
     /* of the two corners at this edge (a's on b's face, b's on a's), the one on the other's
      * face that is nearer to or deeper behind it */
     int s = -1;
     face_end o = {0};
     for (int t = 0; t < 2; t++) {
       const face_end ot = end_on_face(f, fc, t, e);
-      if (fabs(ot.along) > reach || ot.gap < -VS_FALL_FACE_DEPTH * fc->length) continue;
+      /* from the face's middle towards the corner's own end (the other face's end there) */
+      const double own = (e == 0 ? -1.0 : 1.0) * (t == 0 ? -1.0 : 1.0) * ot.along;
+      if (own < -0.5 * fc->length || own > reach || ot.gap < -VS_FALL_FACE_DEPTH * fc->length)
+        continue;
+      /* behind the face on its far half: on it only where the face is the other outline's edge
+       * it is least deep behind (one that came round the face's far end is outside the other
+       * body, or inside it behind another edge: the face's line is not its surface there) */
+      if (own < 0.0 && ot.gap < 0.0 &&
+          least_deep(f, t == 0 ? fc->b : fc->a, ot.px, ot.pz) > ot.gap + 1e-9 * fc->length)
+        continue;
       if (s < 0 || ot.gap < o.gap) s = t, o = ot;
     }
     if (s < 0 || o.gap > margin) continue;
@@ -271,8 +318,11 @@ static int shared_joint(const vs_fall *f, int a, int b) {
   return -1;
 }
 
-/* Vertex k (of body a) against body b's outline: in front of an edge within margin (its
- * projection on the edge), or inside (on the edge it is least deep behind). */
+/* Vertex k (of body a) against body b's outline (convex). Outside, within margin, on the
+ * feature of the outline nearest to it: an edge it is in front of (that edge's normal, its
+ * distance from the edge's line) or a corner whose region it is in (the normal from the corner
+ * to it, their distance), so that a vertex coming at a corner is met before it is inside.
+ * Inside, on the edge it is least deep behind. */
 static int vertex_edge(vs_fall *f, int k, int b, double margin) {
   const int fb = f->first[b], nb = f->count[b];
   double best = -INFINITY;
@@ -281,15 +331,31 @@ static int vertex_edge(vs_fall *f, int k, int b, double margin) {
     const double d = f->nx[fb + i] * f->px[k] + f->nz[fb + i] * f->pz[k] - f->no[fb + i];
     if (d > best) best = d, e = i;
   }
-  if (best > margin) return 0;
-  const int i0 = fb + e, i1 = fb + (e + 1) % nb;
-  if (best > 0.0) { /* outside: only in front of the edge itself, not off a corner */
-    const double tx = f->px[i1] - f->px[i0], tz = f->pz[i1] - f->pz[i0];
-    const double s = (f->px[k] - f->px[i0]) * tx + (f->pz[k] - f->pz[i0]) * tz;
-    if (s < 0.0 || s > tx * tx + tz * tz) return 0;
+  if (best > margin) return 0; /* its distance from the outline is at least best */
+  double gap = best, nx = f->nx[fb + e], nz = f->nz[fb + e];
+  int feature = e; /* the key's: edges 0 .. 15, corners 16 .. 31 */
+  if (best > 0.0) { /* outside: the nearest edge or corner (one nearer than a round-off length
+                       gives no direction: the edge's normal then) */
+    const double tiny = 1e-9 * f->rmax;
+    double near = INFINITY;
+    for (int i = 0; i < nb; i++) {
+      const int i0 = fb + i, i1 = fb + (i + 1) % nb;
+      const double tx = f->px[i1] - f->px[i0], tz = f->pz[i1] - f->pz[i0];
+      const double rx = f->px[k] - f->px[i0], rz = f->pz[k] - f->pz[i0];
+      const double s = rx * tx + rz * tz, tt = tx * tx + tz * tz;
+      if (s <= 0.0) { /* behind corner i0 along edge i: its region if nearest */
+        const double d = hypot(rx, rz);
+        if (d < near && d > tiny) near = d, nx = rx / d, nz = rz / d, feature = 16 + i;
+      } else if (s < tt) { /* abreast of edge i */
+        const double d = f->nx[i0] * f->px[k] + f->nz[i0] * f->pz[k] - f->no[i0];
+        if (d >= 0.0 && d < near) near = d, nx = f->nx[i0], nz = f->nz[i0], feature = i;
+      }
+    }
+    if (near < INFINITY) gap = near;
+    if (gap > margin) return 0;
   }
-  const long long key = ((long long)k * (f->nb + 2) + (b + 1)) * 32 + e;
-  return add(f, key, f->body[k], b, -1, f->px[k], f->pz[k], f->nx[i0], f->nz[i0], best);
+  const long long key = ((long long)k * (f->nb + 2) + (b + 1)) * 32 + feature;
+  return add(f, key, f->body[k], b, -1, f->px[k], f->pz[k], nx, nz, gap);
 }
 
 static int add_pair(vs_fall *f, int a, int b) {
@@ -374,24 +440,26 @@ int vs_fall_find_contacts(vs_fall *f, double h, const double *v2) {
 
 void vs_fall_overlaps(vs_fall *f, double *bodies_out, double *joints_out) {
   double worst = 0.0, worst_j = 0.0;
+  const int nc = f->nc;
+  memset(f->onface, 0, (size_t)f->nv);
+  if (f->o.joints) { /* the face ends behind their faces: the contacts of a zero margin */
+    for (int jn = 0; jn < f->g->n_joints; jn++) face_contacts(f, jn, 0.0);
+    for (int i = nc; i < f->nc; i++) worst_j = fmax(worst_j, -f->c[i].gap);
+  }
+  f->nc = nc;
   if (sweep(f, NULL) != 0) f->ncand = 0; /* out of memory: bodies not measured */
   for (int p = 0; p < f->ncand; p++)
     for (int s = 0; s < 2; s++) {
       const int a = f->cand[2 * p + s], b = f->cand[2 * p + 1 - s];
-      if (f->o.joints && shared_joint(f, a, b) >= 0) continue;
+      const int jn = f->o.joints ? shared_joint(f, a, b) : -1;
       for (int k = f->first[a]; k < f->first[a] + f->count[a]; k++) {
+        if (jn >= 0 && f->face_of[k] == jn && f->onface[k]) continue; /* its face contact's */
         double best = -INFINITY;
         for (int i = f->first[b]; i < f->first[b] + f->count[b]; i++)
           best = fmax(best, f->nx[i] * f->px[k] + f->nz[i] * f->pz[k] - f->no[i]);
         worst = fmax(worst, -best);
       }
     }
-  const int nc = f->nc;
-  if (f->o.joints) { /* the face ends behind their faces: the contacts of a zero margin */
-    for (int jn = 0; jn < f->g->n_joints; jn++) face_contacts(f, jn, 0.0);
-    for (int i = nc; i < f->nc; i++) worst_j = fmax(worst_j, -f->c[i].gap);
-  }
-  f->nc = nc;
   *bodies_out = worst;
   *joints_out = worst_j;
 }

@@ -39,6 +39,8 @@ typedef struct {
   double na[2];      /* a's outward normal on it (reference configuration): the joint's n */
   double length;
   int vend[2][2];    /* the outline vertex at end e of body s's face (s 0: a, 1: b), or -1 */
+  double fold_cos[2]; /* per end e: the cosine of the faces' turn from each other beyond which
+                         the joint has folded there (fall_geom.c: VS_FALL_FOLD) */
 } vs_fall_face;
 
 struct vs_fall {

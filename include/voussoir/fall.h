@@ -18,14 +18,17 @@
  *  - every body has a convex outline (collide.h: a voussoir's four corners and its extrados
  *    mid-point; a pier's springing face and the vertical drops from its ends); the piers move
  *    as the supports do (the right one at the loading rate, a pinned one keeping its rotation);
- *  - a vertex meets another body's outline on the edge it is in front of (or, inside it, least
- *    deep behind), found by a broad phase on bounding boxes (sort and sweep along x) and that
- *    narrow phase; the ground is the plane z = level;
- *  - two bodies that share a joint meet on their joint faces: each face end of one against the
- *    other's face (four contact points per joint, which carry any distribution of the joint's
- *    normal force and moment between its two edges). What the joints' elastic, no-tension law
- *    does before the collapse, these rigid contacts do in the fall: a joint opens as a hinge
- *    about an edge, closes by an impact, and slides at mu.
+ *  - a vertex meets another body's outline on the feature nearest to it, an edge it is in
+ *    front of or a corner whose region it is in (the normal from the corner to it), or, inside
+ *    it, the edge it is least deep behind; found by a broad phase on bounding boxes (sort and
+ *    sweep along x) and that narrow phase; the ground is the plane z = level;
+ *  - two bodies that share a joint meet on their joint faces: at each edge the face end of one
+ *    on the other's face (two contact points per joint, which carry any distribution of the
+ *    joint's normal force and moment between its two edges). What the joints' elastic,
+ *    no-tension law does before the collapse, these rigid contacts do in the fall: a joint
+ *    opens as a hinge about an edge, closes by an impact, and slides at mu. Where a joint has
+ *    folded (its faces turned from each other by about 45 degrees at an edge), its corners
+ *    there meet the other body's outline as any vertex does.
  * Energy: the kinetic and gravitational energies with the work of the impulses give
  * kinetic + gravity + dissipated - support_work = const, up to the scheme's own error (the
  * positions advance with v+: O(h) of the energy, measured and reported as the balance). The
@@ -84,8 +87,8 @@ typedef struct {
   int max_contacts;        /* the most in one step */
   double level;            /* the ground's height z (m; NAN: none) */
   double max_penetration;  /* deepest vertex below the ground over the steps, m (0: none) */
-  double max_overlap;      /* deepest vertex inside another body's outline (bodies that share
-                              no joint) over the steps, m */
+  double max_overlap;      /* deepest vertex inside another body's outline over the steps (a
+                              vertex the narrow phase meets: not a joint's face contact), m */
   double max_joint_overlap; /* deepest face end behind the other face of its joint, m */
   double released;         /* the joints' elastic energy at the switch, released, J */
   double balance_error_rel; /* max |balance| / the largest energy term over the fall */
