@@ -96,4 +96,8 @@ vs_status vs_xdmf_open_tmp(const char *xmf_path, char *tmp, size_t size, FILE **
 /* Close f and rename tmp to xmf_path; on a write error remove tmp. */
 vs_status vs_xdmf_commit(FILE *f, const char *tmp, const char *xmf_path, vs_error *err);
 
+/* xdmf_rows.c */
+/* The k of vs_xdmf_rows: ceil(rows / max_grids), at least 1. */
+long vs_xdmf_stride(long rows, int max_grids);
+
 #endif
