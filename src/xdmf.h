@@ -1,6 +1,7 @@
-/* Private: the XDMF sidecar of a record, from the HDF5 file that holds it (xdmf.c), and what the
- * record's writer shares with it: the rows the sidecar lists and the blocks' outlines moved to
- * them (the record keeps those frames only, in /xdmf/block_points). */
+/* Private: the XDMF sidecar of a record, from the HDF5 file that holds it (xdmf.c, the record
+ * read in xdmf_record.c), and what the record's writer shares with it (xdmf_rows.c): the rows the
+ * sidecar lists and the blocks' outlines moved to them (the record keeps those frames only, in
+ * /xdmf/block_points). The sidecar's sources share xdmf_internal.h. */
 #ifndef VS_XDMF_H
 #define VS_XDMF_H
 
