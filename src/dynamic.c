@@ -34,12 +34,6 @@
  * A + A^T; KLU's partial pivoting (threshold 0.001 by default) then takes the off-diagonal
  * pivots that the zero block needs. Natural ordering would pivot too but leaves the fill. */
 static const int VS_DYN_KLU_ORDERING = 0;
-/* KLU's row scaling: -1, none (nor its check of the pattern at each factorisation), as the
- * quasi-static path's. Measured against the scaled factorisation on the seed domain: delta_u
- * moves by 9e-10 relative at most, the mechanisms stay and the solver counts move by one
- * iteration at most; the reference run is 2.5 % faster. The penalty fall's tests pass
- * unchanged. */
-static const int VS_DYN_KLU_SCALE = -1;
 /* BDF order cap. The joints' contact modes are stiff, lightly damped oscillators (k_n b t over a
  * voussoir's mass: ~1e4 rad/s); BDF of order 3-5 is unstable near the imaginary axis, so it would
  * need steps of 1/omega throughout. BDF1-2 are A-stable and damp those modes at large steps. */

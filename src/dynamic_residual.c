@@ -105,6 +105,7 @@ static int jac_dense(vs_dynamic *d, double cj, const double *y, SUNMatrix Jac) {
     if (SUNSparseMatrix_Reallocate(Jac, fill_dense(d, cj, NULL, NULL, NULL)) != 0 ||
         SUNLinSol_KLUReInit(d->LS, Jac, SUNSparseMatrix_NNZ(Jac), SUNKLU_REINIT_PARTIAL) != 0)
       return -1;
+    SUNLinSol_KLUGetCommon(d->LS)->scale = VS_DYN_KLU_SCALE_CONTACTS; /* a fresh factorisation */
   }
   fill_dense(d, cj, SUNSparseMatrix_IndexPointers(Jac), SUNSparseMatrix_IndexValues(Jac),
              SUNSparseMatrix_Data(Jac));
@@ -185,6 +186,7 @@ int vs_dyn_jacobian(double t, double cj, N_Vector yy, N_Vector yp, N_Vector rr, 
     if (SUNSparseMatrix_Reallocate(Jac, nnz) != 0 ||
         SUNLinSol_KLUReInit(d->LS, Jac, nnz, SUNKLU_REINIT_PARTIAL) != 0)
       return -1;
+    SUNLinSol_KLUGetCommon(d->LS)->scale = VS_DYN_KLU_SCALE; /* a fresh factorisation */
   }
   const sunindextype *kp = SUNSparseMatrix_IndexPointers(d->K), *ki = SUNSparseMatrix_IndexValues(d->K);
   const double *kx = SUNSparseMatrix_Data(d->K), *cx = SUNSparseMatrix_Data(d->C);
