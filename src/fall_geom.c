@@ -311,6 +311,12 @@ static int face_contacts(vs_fall *f, int jn, double margin) {
   return 0;
 }
 
+/* Is vertex k met by the narrow phase against the body it shares joint jn with (-1: none)? Not
+ * while that joint's face contact holds it (face_contacts marks it on its face). */
+static int met_by_narrow_phase(const vs_fall *f, int k, int jn) {
+  return jn < 0 || f->face_of[k] != jn || !f->onface[k];
+}
+
 /* Do bodies a and b share a joint (its index), or not (-1)? */
 static int shared_joint(const vs_fall *f, int a, int b) {
   for (int i = f->adj_first[a]; i < f->adj_first[a + 1]; i++)
@@ -432,7 +438,7 @@ int vs_fall_find_contacts(vs_fall *f, double h, const double *v2) {
       const int jn = f->o.joints ? shared_joint(f, a, b) : -1;
       const double margin = f->reach[a] + f->reach[b];
       for (int k = f->first[a]; k < f->first[a] + f->count[a]; k++)
-        if ((jn < 0 || f->face_of[k] != jn || !f->onface[k]) && vertex_edge(f, k, b, margin) != 0)
+        if (met_by_narrow_phase(f, k, jn) && vertex_edge(f, k, b, margin) != 0)
           return -1;
     }
   return 0;
@@ -453,11 +459,8 @@ void vs_fall_overlaps(vs_fall *f, double *bodies_out, double *joints_out) {
       const int a = f->cand[2 * p + s], b = f->cand[2 * p + 1 - s];
       const int jn = f->o.joints ? shared_joint(f, a, b) : -1;
       for (int k = f->first[a]; k < f->first[a] + f->count[a]; k++) {
-        if (jn >= 0 && f->face_of[k] == jn && f->onface[k]) continue; /* its face contact's */
-        double best = -INFINITY;
-        for (int i = f->first[b]; i < f->first[b] + f->count[b]; i++)
-          best = fmax(best, f->nx[i] * f->px[k] + f->nz[i] * f->pz[k] - f->no[i]);
-        worst = fmax(worst, -best);
+        if (!met_by_narrow_phase(f, k, jn)) continue; /* its face contact's */
+        worst = fmax(worst, -least_deep(f, b, f->px[k], f->pz[k]));
       }
     }
   *bodies_out = worst;
