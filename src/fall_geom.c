@@ -136,6 +136,7 @@ vs_status vs_fall_geom_init(vs_fall *f, const int *count, const double *xz, vs_e
   f->px = calloc(V, sizeof *f->px), f->pz = calloc(V, sizeof *f->pz);
   f->nx = calloc(V, sizeof *f->nx), f->nz = calloc(V, sizeof *f->nz);
   f->no = calloc(V, sizeof *f->no), f->box = calloc(4 * B, sizeof *f->box);
+  f->rot = calloc(2 * B, sizeof *f->rot);
   f->order = calloc(B, sizeof *f->order);
   f->rmaxb = calloc(B, sizeof *f->rmaxb), f->reach = calloc(B, sizeof *f->reach);
   const size_t J = 2 * (size_t)g->n_joints + 1;
@@ -145,7 +146,7 @@ vs_status vs_fall_geom_init(vs_fall *f, const int *count, const double *xz, vs_e
   vs_status st = VS_OK;
   if (!f->first || !f->count || !f->body || !f->face_of || !f->onface || !f->rx || !f->rz ||
       !f->n0x || !f->n0z || !f->ref || !f->minv || !f->faces || !f->px || !f->pz || !f->nx ||
-      !f->nz || !f->no || !f->box || !f->order || !f->rmaxb || !f->reach || !f->adj_first ||
+      !f->nz || !f->no || !f->box || !f->rot || !f->order || !f->rmaxb || !f->reach || !f->adj_first ||
       !f->adj_body || !f->adj_joint)
     st = vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory");
   if (st == VS_OK) {
@@ -164,18 +165,21 @@ void vs_fall_geom_free(vs_fall *f) {
   free(f->n0x), free(f->n0z), free(f->ref), free(f->minv), free(f->faces), free(f->px);
   free(f->pz), free(f->nx), free(f->nz), free(f->no), free(f->box), free(f->order);
   free(f->cand), free(f->rmaxb), free(f->reach), free(f->adj_first), free(f->adj_body);
-  free(f->adj_joint);
+  free(f->adj_joint), free(f->rot);
 }
 
-/* Body b's pose: position of its reference point and rotation's cosine and sine. */
+/* Body b's pose at f->q as vs_fall_positions last saw it: position of its reference point and
+ * rotation's cosine and sine (those computed there: the sines and cosines of a step are taken
+ * once). */
 static void pose(const vs_fall *f, int b, double *x, double *z, double *cs, double *sn) {
   const double *q = f->q + 3 * b;
   *x = f->ref[2 * b] + q[0], *z = f->ref[2 * b + 1] + q[1];
-  *cs = cos(q[2]), *sn = sin(q[2]);
+  *cs = f->rot[2 * b], *sn = f->rot[2 * b + 1];
 }
 
 void vs_fall_positions(vs_fall *f) {
   for (int b = 0; b < f->nb; b++) {
+    f->rot[2 * b] = cos(f->q[3 * b + 2]), f->rot[2 * b + 1] = sin(f->q[3 * b + 2]);
     double x, z, cs, sn;
     pose(f, b, &x, &z, &cs, &sn);
     double *bx = f->box + 4 * b;

@@ -71,6 +71,7 @@ struct vs_fall {
   double *px, *pz;        /* vertices */
   double *nx, *nz, *no;   /* edges: outward normal and n . (first vertex) */
   double *box;            /* per body: min x, max x, min z, max z */
+  double *rot;            /* per body: cosine and sine of its rotation */
   int *order, *cand, ncand, candcap; /* bodies by their boxes' left ends; candidate pairs */
   /* contacts of this step and the last (sorted by key, for warm starts) */
   vs_fall_contact *c;
