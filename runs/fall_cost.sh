@@ -14,6 +14,7 @@
 #   SCHEMES=rigid REPEAT=1 runs/fall_cost.sh
 #   CASES="0 3,90 48" runs/fall_cost.sh    # alpha k_n pairs
 #   CASES=seed SCHEMES=rigid REPEAT=1 runs/fall_cost.sh  # the seed domain, 26 cases (~15 s)
+#   ARGS="--set fall.step_ms=2" runs/fall_cost.sh          # more options for every run
 set -euo pipefail
 . "$(dirname "$0")/lib.sh"
 repeat="${REPEAT:-3}"
@@ -26,7 +27,7 @@ cpu() {
   local times=()
   for ((i = 0; i < repeat; i++)); do
     # bash's times: the second line is the children's user and sys time, "0m0.150s 0m0.020s"
-    times+=("$( ( "$bin" run "$ref" --json -q "$@" >"$tmp/out" || true; times ) | tail -1 |
+    times+=("$( ( "$bin" run "$ref" --json -q ${ARGS:-} "$@" >"$tmp/out" || true; times ) | tail -1 |
       awk '{t = 0; for (i = 1; i <= 2; i++) { split($i, p, /[ms]/); t += 60 * p[1] + p[2] } print t}')")
   done
   printf '%s\n' "${times[@]}" | sort -g | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'
