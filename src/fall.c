@@ -3,6 +3,7 @@
  * state). */
 #include "voussoir/fall.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -141,50 +142,56 @@ static void update(vs_fall *f, vs_fall_contact *c, double mu) {
   c->P[0] = P[0], c->P[1] = P[1];
 }
 
-static int cmp_key(const void *x, const void *y) {
-  const long long a = *(const long long *)x, b = *(const long long *)y;
-  return (a > b) - (a < b);
+/* The last step's impulses, by contact key, for the warm start: an open-addressing hash table
+ * (pkey, pP; pcap slots, a power of two, at most half full; VS_FALL_NO_KEY marks a free slot). */
+#define VS_FALL_NO_KEY LLONG_MIN
+
+static size_t slot_of(const vs_fall *f, long long key) {
+  /* Fibonacci hashing of the key's bits */
+  return (size_t)(((unsigned long long)key * 0x9E3779B97F4A7C15ULL) >> 32) & (size_t)(f->pcap - 1);
 }
 
 /* The last step's impulse of the contact with this key (0 if it had none). */
 static void warm(const vs_fall *f, long long key, double P[2]) {
-  int lo = 0, hi = f->npc - 1;
   P[0] = P[1] = 0.0;
-  while (lo <= hi) {
-    const int mid = (lo + hi) / 2;
-    if (f->pkey[mid] == key) {
-      P[0] = f->pP[2 * mid], P[1] = f->pP[2 * mid + 1];
+  if (f->npc == 0) return;
+  for (size_t i = slot_of(f, key);; i = (i + 1) & (size_t)(f->pcap - 1)) {
+    if (f->pkey[i] == VS_FALL_NO_KEY) return;
+    if (f->pkey[i] == key) {
+      P[0] = f->pP[2 * i], P[1] = f->pP[2 * i + 1];
       return;
     }
-    if (f->pkey[mid] < key) lo = mid + 1;
-    else hi = mid - 1;
   }
 }
 
-/* Room for n warm-start impulses (pkey, pP). 0 or -1 (memory). */
+/* An empty table with room for n impulses. 0 or -1 (memory). */
 static int reserve(vs_fall *f, int n) {
-  if (n <= f->pcap) return 0;
-  long long *k = realloc(f->pkey, (size_t)n * sizeof *k);
-  if (k != NULL) f->pkey = k;
-  double *p = k != NULL ? realloc(f->pP, 2 * (size_t)n * sizeof *p) : NULL;
-  if (p == NULL) return -1;
-  f->pP = p, f->pcap = n;
+  int cap = f->pcap > 0 ? f->pcap : 64;
+  while (cap < 2 * n) cap *= 2;
+  if (cap != f->pcap) {
+    long long *k = realloc(f->pkey, (size_t)cap * sizeof *k);
+    if (k != NULL) f->pkey = k;
+    double *p = k != NULL ? realloc(f->pP, 2 * (size_t)cap * sizeof *p) : NULL;
+    if (p == NULL) return -1;
+    f->pP = p, f->pcap = cap;
+  }
+  for (int i = 0; i < f->pcap; i++) f->pkey[i] = VS_FALL_NO_KEY;
+  f->npc = 0;
   return 0;
+}
+
+/* Store impulse P under key (keys are unique within a step). */
+static void store(vs_fall *f, long long key, double p0, double p1) {
+  size_t i = slot_of(f, key);
+  while (f->pkey[i] != VS_FALL_NO_KEY && f->pkey[i] != key) i = (i + 1) & (size_t)(f->pcap - 1);
+  f->npc += f->pkey[i] == VS_FALL_NO_KEY;
+  f->pkey[i] = key, f->pP[2 * i] = p0, f->pP[2 * i + 1] = p1;
 }
 
 /* Keep this step's impulses, by key, for the next step's warm start. 0 or -1 (memory). */
 static int keep(vs_fall *f) {
-  f->npc = 0;
-  if (f->nc == 0) return 0;
   if (reserve(f, f->nc) != 0) return -1;
-  for (int i = 0; i < f->nc; i++) f->pkey[i] = f->c[i].key;
-  qsort(f->pkey, (size_t)f->nc, sizeof *f->pkey, cmp_key);
-  f->npc = f->nc;
-  for (int i = 0; i < f->nc; i++) {
-    const long long *at = bsearch(&f->c[i].key, f->pkey, (size_t)f->nc, sizeof *f->pkey, cmp_key);
-    const size_t j = (size_t)(at - f->pkey);
-    f->pP[2 * j] = f->c[i].P[0], f->pP[2 * j + 1] = f->c[i].P[1];
-  }
+  for (int i = 0; i < f->nc; i++) store(f, f->c[i].key, f->c[i].P[0], f->c[i].P[1]);
   return 0;
 }
 
@@ -264,12 +271,14 @@ static int impulses(vs_fall *f, double h, double mu, step_out *so) {
     /* converged once no body's points move faster or slower by tol after a sweep (the bodies'
      * velocities: a contact's own can keep changing where two contacts share the work, such as
      * a joint's two edges' frictions, with no effect on any body) */
+    const int last = k == f->o.max_sweeps - 1; /* the largest change is kept from this one */
     double worst = 0.0;
     for (int b = 0; b < f->n; b++) {
       const double *v = f->v + 3 * b, *w = f->vs + 3 * b;
       const double dx = v[0] - w[0], dz = v[1] - w[1];
       const double d = sqrt(dx * dx + dz * dz) + fabs(v[2] - w[2]) * f->rmaxb[b];
       worst = d > worst ? d : worst;
+      if (worst > tol && !last) break; /* another sweep: its size is not needed */
     }
     so->converged = worst <= tol;
     so->last = worst;
@@ -434,15 +443,9 @@ static int warm_from_joints(vs_fall *f, const vs_joint_state *js, double h) {
     double Fi = 0.5 * N - js[j].M / t, Fe = 0.5 * N + js[j].M / t;
     if (Fi < 0.0 || js[j].gap_i > 0.0) Fi = 0.0, Fe = N;
     if (Fe < 0.0 || js[j].gap_e > 0.0) Fe = js[j].gap_i > 0.0 ? 0.0 : N, Fi = N - Fe;
-    for (int e = 0; e < 2; e++) {
-      /* keys -(2j + e) - 1 run downwards: store them ascending */
-      const int i = 2 * nj - 1 - (2 * j + e);
-      f->pkey[i] = -(long long)(2 * j + e) - 1;
-      f->pP[2 * i] = (e == 0 ? Fi : Fe) * h;
-      f->pP[2 * i + 1] = e == 0 ? -js[j].T * h : 0.0;
-    }
+    for (int e = 0; e < 2; e++)
+      store(f, -(long long)(2 * j + e) - 1, (e == 0 ? Fi : Fe) * h, e == 0 ? -js[j].T * h : 0.0);
   }
-  f->npc = 2 * nj;
   return 0;
 }
 
@@ -454,7 +457,7 @@ static vs_status fall_start(vs_fall *f, double t0, const double *qe, const doubl
   memcpy(f->q, qe, Q * sizeof *qe);
   memcpy(f->v, ve, Q * sizeof *ve);
   f->t = t0;
-  f->nc = f->npc = 0;
+  f->nc = f->npc = 0; /* no warm start from an earlier run (warm: none while npc is 0) */
   if (js0 != NULL && f->o.joints && warm_from_joints(f, js0, f->o.step) != 0)
     return vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory");
   supports(f, t0);

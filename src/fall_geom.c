@@ -188,8 +188,10 @@ void vs_fall_positions(vs_fall *f) {
     for (int k = f->first[b]; k < f->first[b] + f->count[b]; k++) {
       f->px[k] = x + cs * f->rx[k] - sn * f->rz[k];
       f->pz[k] = z + sn * f->rx[k] + cs * f->rz[k];
-      bx[0] = fmin(bx[0], f->px[k]), bx[1] = fmax(bx[1], f->px[k]);
-      bx[2] = fmin(bx[2], f->pz[k]), bx[3] = fmax(bx[3], f->pz[k]);
+      if (f->px[k] < bx[0]) bx[0] = f->px[k];
+      if (f->px[k] > bx[1]) bx[1] = f->px[k];
+      if (f->pz[k] < bx[2]) bx[2] = f->pz[k];
+      if (f->pz[k] > bx[3]) bx[3] = f->pz[k];
       f->nx[k] = cs * f->n0x[k] - sn * f->n0z[k];
       f->nz[k] = sn * f->n0x[k] + cs * f->n0z[k];
       f->no[k] = f->nx[k] * f->px[k] + f->nz[k] * f->pz[k];
@@ -208,7 +210,6 @@ static int add(vs_fall *f, long long key, int a, int b, int joint, double px, do
     f->c = c, f->cap = cap;
   }
   vs_fall_contact *c = &f->c[f->nc++];
-  memset(c, 0, sizeof *c);
   *c = (vs_fall_contact){.key = key, .a = a, .b = b, .joint = joint, .px = px, .pz = pz,
                          .n = {nx, nz}, .t = {-nz, nx}, .gap = gap};
   double W[3] = {0.0, 0.0, 0.0};
@@ -440,10 +441,14 @@ int vs_fall_find_contacts(vs_fall *f, double h, const double *v2) {
       const int a = f->cand[2 * p + s], b = f->cand[2 * p + 1 - s];
       if (!vs_fall_moving(f, a) && !vs_fall_moving(f, b)) continue;
       const int jn = f->o.joints ? shared_joint(f, a, b) : -1;
-      const double margin = f->reach[a] + f->reach[b];
-      for (int k = f->first[a]; k < f->first[a] + f->count[a]; k++)
-        if (met_by_narrow_phase(f, k, jn) && vertex_edge(f, k, b, margin) != 0)
-          return -1;
+      const double margin = f->reach[a] + f->reach[b], *B = f->box + 4 * b;
+      for (int k = f->first[a]; k < f->first[a] + f->count[a]; k++) {
+        /* farther than margin from b's box, so from its outline: no contact */
+        if (f->px[k] < B[0] - margin || f->px[k] > B[1] + margin || f->pz[k] < B[2] - margin ||
+            f->pz[k] > B[3] + margin)
+          continue;
+        if (met_by_narrow_phase(f, k, jn) && vertex_edge(f, k, b, margin) != 0) return -1;
+      }
     }
   return 0;
 }
