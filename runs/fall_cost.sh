@@ -15,6 +15,7 @@
 #   CASES="0 3,90 48" runs/fall_cost.sh    # alpha k_n pairs
 #   CASES=seed SCHEMES=rigid REPEAT=1 runs/fall_cost.sh  # the seed domain, 26 cases (~15 s)
 #   ARGS="--set fall.step_ms=2" runs/fall_cost.sh          # more options for every run
+#   CASES=seed KNS="6 10 20" SCHEMES=rigid REPEAT=1 runs/fall_cost.sh  # other k_n (N/mm^3)
 set -euo pipefail
 . "$(dirname "$0")/lib.sh"
 repeat="${REPEAT:-3}"
@@ -43,9 +44,12 @@ last_ke() {
 }
 
 cases=("0 3" "90 48" "45 48" "0 48" "90 3" "45 3")
-if [ "${CASES:-}" = seed ]; then # the seed domain: 13 directions x k_n 3, 48
+if [ "${CASES:-}" = seed ]; then # the seed domain: 13 directions x k_n 3, 48 (or KNS)
   cases=()
-  for a in 0 7.5 15 22.5 30 37.5 45 52.5 60 67.5 75 82.5 90; do cases+=("$a 3" "$a 48"); done
+  read -ra kns <<<"${KNS:-3 48}"
+  for a in 0 7.5 15 22.5 30 37.5 45 52.5 60 67.5 75 82.5 90; do
+    for kn in "${kns[@]}"; do cases+=("$a $kn"); done
+  done
 elif [ -n "${CASES:-}" ]; then
   IFS=, read -ra cases <<<"$CASES"
 fi
