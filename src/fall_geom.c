@@ -146,8 +146,8 @@ vs_status vs_fall_geom_init(vs_fall *f, const int *count, const double *xz, vs_e
   vs_status st = VS_OK;
   if (!f->first || !f->count || !f->body || !f->face_of || !f->onface || !f->rx || !f->rz ||
       !f->n0x || !f->n0z || !f->ref || !f->minv || !f->faces || !f->px || !f->pz || !f->nx ||
-      !f->nz || !f->no || !f->box || !f->rot || !f->order || !f->rmaxb || !f->reach || !f->adj_first ||
-      !f->adj_body || !f->adj_joint)
+      !f->nz || !f->no || !f->box || !f->rot || !f->order || !f->rmaxb || !f->reach ||
+      !f->adj_first || !f->adj_body || !f->adj_joint)
     st = vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory");
   if (st == VS_OK) {
     for (int b = 0; b < f->nb; b++) f->order[b] = b;

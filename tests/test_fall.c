@@ -115,6 +115,29 @@ static void fall_block(block *bk, const double q3[3], const double v3[3], trace 
   if (st != VS_OK) fail_msg("fall: %s", err.msg);
 }
 
+/* Run the block lying on the ground, at rest, for the given time (s) whatever its kinetic
+ * energy. */
+static void fall_block_for(block *bk, double duration, trace *tr, vs_fall_result *res) {
+  vs_fall_opts o;
+  vs_fall_opts_default(&o);
+  o.step = 1e-3;
+  o.joints = 0;
+  o.ground = 0.0;
+  o.rest_ke = 0.0; /* never at rest: the steps asked for */
+  o.duration = duration;
+  o.sample_dt = 1e-3;
+  o.tol = 1e-6;
+  o.max_sweeps = 1000;
+  vs_error err;
+  vs_error_clear(&err);
+  vs_fall_destroy(&bk->f);
+  const int count[3] = {4, 0, 0};
+  const double B = bk->B, H = bk->H;
+  const double xz[8] = {-0.5 * B, 0.0, 0.5 * B, 0.0, 0.5 * B, H, -0.5 * B, H};
+  assert_int_equal(vs_fall_create(bk->m, &o, count, xz, &bk->f, &err), VS_OK);
+  fall_block(bk, (double[3]){0.0, 0.0, 0.0}, (double[3]){0}, tr, res);
+}
+
 /* ------------------------------------------------------------------------------------------- */
 
 static void test_drop(void **state) {
@@ -154,6 +177,29 @@ static void test_drop(void **state) {
   const double mgh = bk.mass * GRAV * h0;
   assert_true(fabs(tr->e[tr->n - 1].damped - mgh) < 0.02 * mgh);
   assert_true(res.balance_error_rel < 0.02);
+  free(tr);
+  block_free(&bk);
+}
+
+/* A block lying on the ground: each step's contacts are the last step's and so is their problem,
+ * so the last step's impulses, the warm start, solve it and one sweep confirms it; a step that
+ * started from no impulses needs as many sweeps as the first one took. */
+static void test_warm_start(void **state) {
+  (void)state;
+  const double h = 1e-3;
+  block bk;
+  block_make(&bk, 0.2, 0.1, 0.7, h);
+  trace *tr = calloc(1, sizeof *tr);
+  assert_non_null(tr);
+  vs_fall_result one, many;
+  fall_block_for(&bk, h, tr, &one);
+  fall_block_for(&bk, 100 * h, tr, &many);
+  print_message("warm start: the first step %ld sweeps, %ld steps %ld sweeps\n", one.sweeps,
+                many.steps, many.sweeps);
+  assert_int_equal(one.steps, 1);
+  assert_true(one.sweeps > 2); /* the first step's two contacts need several sweeps */
+  assert_int_equal(many.steps, 100);
+  assert_true(many.sweeps - one.sweeps <= 2 * (many.steps - 1));
   free(tr);
   block_free(&bk);
 }
@@ -497,6 +543,7 @@ static void test_options(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_drop),
+      cmocka_unit_test(test_warm_start),
       cmocka_unit_test(test_overlap_recovery),
       cmocka_unit_test(test_slide),
       cmocka_unit_test(test_rocking_housner),
