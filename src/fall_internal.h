@@ -73,12 +73,13 @@ struct vs_fall {
   double *box;            /* per body: min x, max x, min z, max z */
   double *rot;            /* per body: cosine and sine of its rotation */
   int *order, *cand, ncand, candcap; /* bodies by their boxes' left ends; candidate pairs */
-  /* contacts of this step and the last (sorted by key, for warm starts) */
+  /* contacts of this step, and the last step's impulses by contact key for the warm starts (a
+   * hash table: fall.c, keep and warm) */
   vs_fall_contact *c;
   int nc, cap;
-  long long *pkey;
-  double *pP;
-  int npc, pcap;
+  long long *pkey;        /* per slot: a key, or none (fall.c: VS_FALL_NO_KEY) */
+  double *pP;             /* per slot: its impulse (P_n, P_t) */
+  int npc, pcap;          /* keys stored, slots (a power of two) */
   /* outputs at the current state */
   vs_joint_state *js;
   double react[6];
