@@ -20,6 +20,7 @@ void vs_fall_opts_default(vs_fall_opts *o) {
   o->ground = NAN;
   o->tol = 1e-2;
   o->max_sweeps = VS_FALL_MAX_SWEEPS;
+  o->calm = VS_FALL_CALM;
   o->joints = 1;
 }
 
@@ -27,14 +28,15 @@ static vs_status check_opts(const vs_fall_opts *o, vs_error *err) {
   if (!(o->step > 0.0 && o->step <= 0.1) || !(o->rate >= 0.0 && o->rate < INFINITY) ||
       !(o->rest_ke >= 0.0) || !(o->rest_time >= 0.0) || !(o->duration >= 0.0) ||
       !(o->sample_dt > 0.0) || !(o->tol > 0.0 && o->tol <= 1.0) || o->max_sweeps < 1 ||
-      isinf(o->ground))
+      !(o->calm >= 0.0 && o->calm < INFINITY) || isinf(o->ground))
     return vs_error_set(err, VS_ERR_INVALID,
                         "fall: options step = %g s, rate = %g m/s, rest_ke = %g J, rest_time = "
-                        "%g s, duration = %g s, sample_dt = %g s, tol = %g, max_sweeps = %d "
-                        "(allowed: 0 < step <= 0.1, rate >= 0, rest_ke >= 0, rest_time >= 0, "
-                        "duration >= 0, sample_dt > 0, 0 < tol <= 1, max_sweeps >= 1, ground "
-                        "finite or NaN)", o->step, o->rate, o->rest_ke, o->rest_time, o->duration,
-                        o->sample_dt, o->tol, o->max_sweeps);
+                        "%g s, duration = %g s, sample_dt = %g s, tol = %g, max_sweeps = %d, "
+                        "calm = %g (allowed: 0 < step <= 0.1, rate >= 0, rest_ke >= 0, "
+                        "rest_time >= 0, duration >= 0, sample_dt > 0, 0 < tol <= 1, max_sweeps "
+                        ">= 1, 0 <= calm < inf, ground finite or NaN)", o->step, o->rate,
+                        o->rest_ke, o->rest_time, o->duration, o->sample_dt, o->tol,
+                        o->max_sweeps, o->calm);
   return VS_OK;
 }
 
@@ -222,7 +224,14 @@ typedef struct {
                                  body without a joint, behind a joint's face (m; 0: none) */
   double last;           /* the largest change of a body's velocity in the last sweep, m/s */
   int sweeps, solves, converged, chain, redone;
+  int calm;              /* set by the caller: the step is near rest (vs_fall_opts.calm) */
 } step_out;
+
+/* Gauss-Seidel's tolerance in a step of h, as a velocity (m/s): tol g h, a tenth of it near rest
+ * (fall.h: VS_FALL_CALM_TOL). */
+static double sweep_tol(const vs_fall *f, double h, const step_out *so) {
+  return f->o.tol * f->g->gravity * h * (so->calm ? VS_FALL_CALM_TOL : 1.0);
+}
 
 /* Overlaps of a vertex with the ground or another body (the scheme's own: a step is a straight
  * line in each body's coordinates) are taken back by this fraction per step, through the
@@ -240,8 +249,9 @@ static void contact_law(vs_fall_contact *c, double h) {
 /* The step's impulses for the contacts found: from the free velocity, each contact's law and
  * warm start; when every contact is a joint's, the chain's impulses solved at once
  * (fall_chain.c); otherwise, or if that did not settle, nonsmooth Gauss-Seidel over the contacts
- * (alternating directions) until no body's velocity moves by tol g h in a sweep, or
- * max_sweeps. 0, or -2 when the joints' system failed. */
+ * (alternating directions) until no body's velocity moves by sweep_tol in a sweep, or
+ * max_sweeps (near rest at least VS_FALL_CALM_SWEEPS). 0, or -2 when the joints' system
+ * failed. */
 static int impulses(vs_fall *f, double h, double mu, step_out *so) {
   const double g = f->g->gravity;
   memcpy(f->v, f->vk, 3 * (size_t)f->nb * sizeof *f->v);
@@ -254,7 +264,9 @@ static int impulses(vs_fall *f, double h, double mu, step_out *so) {
     warm(f, c->key, c->P);
     vs_fall_apply(f, c, c->P[0], c->P[1], f->v);
   }
-  const double tol = f->o.tol * g * h;
+  const double tol = sweep_tol(f, h, so);
+  const int cap = so->calm && f->o.max_sweeps < VS_FALL_CALM_SWEEPS ? VS_FALL_CALM_SWEEPS
+                                                                    : f->o.max_sweeps;
   so->converged = f->nc == 0;
   so->last = 0.0;
   int joints = 0;
@@ -264,14 +276,14 @@ static int impulses(vs_fall *f, double h, double mu, step_out *so) {
     if (rc < 0) return -2;
     so->converged = so->chain = rc == 0;
   }
-  for (int k = 0; k < f->o.max_sweeps && !so->converged; k++) {
+  for (int k = 0; k < cap && !so->converged; k++) {
     const int s = so->sweeps++;
     memcpy(f->vs, f->v, 3 * (size_t)f->n * sizeof *f->v);
     for (int i = 0; i < f->nc; i++) update(f, &f->c[(s % 2) ? f->nc - 1 - i : i], mu);
     /* converged once no body's points move faster or slower by tol after a sweep (the bodies'
      * velocities: a contact's own can keep changing where two contacts share the work, such as
      * a joint's two edges' frictions, with no effect on any body) */
-    const int last = k == f->o.max_sweeps - 1; /* the largest change is kept from this one */
+    const int last = k == cap - 1; /* the largest change is kept from this one */
     double worst = 0.0;
     for (int b = 0; b < f->n; b++) {
       const double *v = f->v + 3 * b, *w = f->vs + 3 * b;
@@ -311,8 +323,8 @@ static int outran(const vs_fall *f, double h) {
 static void recover(vs_fall *f, double h, step_out *so) {
   memset(f->w, 0, 3 * (size_t)f->nb * sizeof *f->w);
   /* nothing to do while every overlap is below what the impulses' own tolerance lets a contact
-   * sink in a step (tol g h^2) */
-  const double tol = f->o.tol * f->g->gravity * h;
+   * sink in a step (sweep_tol h) */
+  const double tol = sweep_tol(f, h, so);
   int deep = 0;
   for (int i = 0; i < f->nc; i++) {
     f->c[i].Pw = 0.0;
@@ -500,6 +512,8 @@ static void tally_step(const vs_fall *f, const step_out *so, energy_acc *acc,
   res->solves += so->solves;
   res->chain_steps += so->chain;
   res->redone += so->redone;
+  res->calm_steps += so->calm;
+  res->recovered += so->recovered;
   if (!so->converged) res->residual = fmax(res->residual, so->last);
   res->unconverged += !so->converged;
   res->contacts += f->nc;
@@ -558,7 +572,8 @@ vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_en
       st = vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
       break;
     }
-    step_out so;
+    /* near rest by the last step's kinetic energy */
+    step_out so = {.calm = f->o.calm > 0.0 && e.kinetic < f->o.calm * f->o.rest_ke};
     const int rc = step(f, h, mu, &so);
     if (rc != 0) {
       st = step_error(f, rc, err);

@@ -307,21 +307,25 @@ static herr_t summary_fall(hid_t sum, const vs_run *run) {
   if (rc >= 0) rc = vs_h5_attr_int(g, "chain_solves", fr->solves);
   if (rc >= 0) rc = vs_h5_attr_int(g, "sweeps", fr->sweeps);
   if (rc >= 0) rc = vs_h5_attr_int(g, "capped_steps", fr->unconverged);
+  if (rc >= 0) rc = vs_h5_attr_int(g, "calm_steps", fr->calm_steps);
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "last_change_max", fr->residual, "m/s");
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "overlap_max", fr->max_overlap, "m");
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "joint_overlap_max", fr->max_joint_overlap, "m");
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "released", fr->released, "J");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "recovered", fr->recovered, "J");
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "balance_error_rel", fr->balance_error_rel, "1");
   if (rc >= 0)
     rc = vs_h5_attr_str(
         g, "description",
         "the fall after the collapse as rigid blocks with impulsive contacts (fall.h): step, "
         "duration (to rest or fall_s); steps, of which chain_steps had only joint contacts "
-        "and were solved at once (chain_solves solves); Gauss-Seidel sweeps, capped_steps "
-        "stopped at the cap with the largest last-sweep velocity change last_change_max; "
-        "overlap_max of a vertex into another block or a pier, joint_overlap_max of a face "
-        "end behind its joint's other face; released, the joints' elastic energy at the "
-        "switch; balance_error_rel, the scheme's energy balance");
+        "and were solved at once (chain_solves solves), calm_steps were near rest and solved "
+        "to a tenth of the tolerance; Gauss-Seidel sweeps, capped_steps stopped at the cap "
+        "with the largest last-sweep velocity change last_change_max; overlap_max of a vertex "
+        "into another block or a pier, joint_overlap_max of a face end behind its joint's "
+        "other face; released, the joints' elastic energy at the switch; recovered, the work "
+        "of the overlaps' recovery against gravity; balance_error_rel, the scheme's energy "
+        "balance");
   vs_h5_close(g);
   return rc;
 }

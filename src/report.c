@@ -218,8 +218,8 @@ static void json_tail(FILE *out, const vs_run *r) {
   fputs(",\"fall\":", out);
   if (fr != NULL) {
     fprintf(out, "{\"scheme\":\"rigid\",\"steps\":%ld,\"chain_steps\":%ld,\"solves\":%ld,"
-                 "\"sweeps\":%ld,\"capped_steps\":%ld",
-            fr->steps, fr->chain_steps, fr->solves, fr->sweeps, fr->unconverged);
+                 "\"sweeps\":%ld,\"capped_steps\":%ld,\"calm_steps\":%ld",
+            fr->steps, fr->chain_steps, fr->solves, fr->sweeps, fr->unconverged, fr->calm_steps);
     jnum(out, ",\"step_s\":", fr->step, 10);
     jnum(out, ",\"last_change_m_s\":", fr->residual, 3);
     jnum(out, ",\"duration_s\":", fr->t_end - vs_run_collapse(r)->t_criterion, 6);
@@ -228,6 +228,7 @@ static void json_tail(FILE *out, const vs_run *r) {
     jnum(out, ",\"overlap_max_m\":", fr->max_overlap, 3);
     jnum(out, ",\"joint_overlap_max_m\":", fr->max_joint_overlap, 3);
     jnum(out, ",\"released_J\":", fr->released, 6);
+    jnum(out, ",\"recovered_J\":", fr->recovered, 6);
     jnum(out, ",\"balance_error_rel\":", fr->balance_error_rel, 6);
     jnum(out, ",\"wall_s\":", fr->wall_s, 6);
     fputc('}', out);
@@ -436,12 +437,13 @@ static void text_stats(FILE *out, const vs_run *r) {
   }
   if (fr != NULL)
     fprintf(out, "         fall: rigid blocks, impulsive contacts, steps of %g ms: %ld steps (%ld of the "
-                 "arch in the air solved as a chain, %ld solves), %ld Gauss-Seidel sweeps, %ld "
-                 "steps stopped at %d sweeps (last change up to %.3g mm/s); energy balance %.2g; "
-                 "joint faces overlapping up to %.3g mm\n",
-            1e3 * fr->step, fr->steps, fr->chain_steps, fr->solves, fr->sweeps,
-            fr->unconverged, VS_FALL_MAX_SWEEPS, fr->residual / VS_MM, fr->balance_error_rel,
-            fr->max_joint_overlap / VS_MM);
+                 "arch in the air solved as a chain, %ld solves; %ld near rest, to a tenth of the "
+                 "tolerance), %ld Gauss-Seidel sweeps, %ld steps stopped at their cap (%d sweeps, "
+                 "%d near rest; last change up to %.3g mm/s); energy balance %.2g; joint faces "
+                 "overlapping up to %.3g mm\n",
+            1e3 * fr->step, fr->steps, fr->chain_steps, fr->solves, fr->calm_steps, fr->sweeps,
+            fr->unconverged, VS_FALL_MAX_SWEEPS, VS_FALL_CALM_SWEEPS, fr->residual / VS_MM,
+            fr->balance_error_rel, fr->max_joint_overlap / VS_MM);
   if (isfinite(vs_run_ground(r)))
     fprintf(out, "         fall: onto the ground at z = %.3f mm, %s; deepest vertex %.3g mm below "
                  "it at the end (%.3g mm during the fall), %.3g mm inside another block or a pier "

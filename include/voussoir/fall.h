@@ -56,6 +56,9 @@ typedef struct {
   double tol;         /* Gauss-Seidel stops once no contact's velocity changes by more than tol
                          times g h in a sweep (dimensionless, > 0) */
   int max_sweeps;     /* ... or after this many sweeps (the step is then counted unconverged) */
+  double calm;        /* near rest, while the kinetic energy is below calm times rest_ke (>= 0;
+                         0: never), Gauss-Seidel stops at VS_FALL_CALM_TOL times tol, or after
+                         VS_FALL_CALM_SWEEPS sweeps if that is more than max_sweeps */
   int joints;         /* 1: bodies that share a joint meet on its faces (the arch); 0: no joint
                          contact (tests with a free block on a dummy joint) */
   const volatile sig_atomic_t *stop; /* NULL, or a flag that, once non-zero, stops the fall at
@@ -64,9 +67,18 @@ typedef struct {
 
 /* The default cap on Gauss-Seidel sweeps per step. */
 #define VS_FALL_MAX_SWEEPS 30
+/* Near rest (vs_fall_opts.calm): the tolerance's fraction and the cap on sweeps. Gauss-Seidel's
+ * tolerance lets a resting contact sink by up to tol g h^2 a step, which the overlaps' recovery
+ * moves back out through the positions; that lift, repeated every step, feeds the debris a
+ * little energy, enough to keep blocks rocking just above the rest level (README, *The fall's
+ * cost*). Near rest the tolerance is tightened so that the sink and its lift are a tenth. */
+#define VS_FALL_CALM_TOL 0.1
+#define VS_FALL_CALM_SWEEPS 100
+/* The default of vs_fall_opts.calm: near rest below 100 times the rest level. */
+#define VS_FALL_CALM 100.0
 
-/* Defaults: h = 1 ms, tol = 1e-2, VS_FALL_MAX_SWEEPS sweeps, joints on; the rest from the
- * caller. */
+/* Defaults: h = 1 ms, tol = 1e-2, VS_FALL_MAX_SWEEPS sweeps, calm VS_FALL_CALM, joints on; the
+ * rest from the caller. */
 void vs_fall_opts_default(vs_fall_opts *o);
 
 typedef struct {
@@ -80,7 +92,9 @@ typedef struct {
   long solves;             /* ... in this many solves of the joints' system */
   long redone;             /* steps solved again: the impulses sped a body beyond what its
                               contacts had been looked for */
-  long unconverged;        /* steps whose Gauss-Seidel stopped at max_sweeps ... */
+  long calm_steps;         /* steps near rest (vs_fall_opts.calm), solved to the tighter
+                              tolerance */
+  long unconverged;        /* steps whose Gauss-Seidel stopped at its cap ... */
   double residual;         /* ... the largest change of a body's velocity (at its outline's
                               reach) in their last sweep, m/s (0: none stopped there) */
   long contacts;           /* contact points solved, all steps together */
@@ -91,6 +105,7 @@ typedef struct {
                               vertex the narrow phase meets: not a joint's face contact), m */
   double max_joint_overlap; /* deepest face end behind the other face of its joint, m */
   double released;         /* the joints' elastic energy at the switch, released, J */
+  double recovered;        /* work of the overlaps' recovery against gravity over the fall, J */
   double balance_error_rel; /* max |balance| / the largest energy term over the fall */
   double wall_s;           /* wall-clock time of the fall, s */
 } vs_fall_result;
