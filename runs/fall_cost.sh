@@ -28,7 +28,9 @@ cpu() {
   local times=()
   for ((i = 0; i < repeat; i++)); do
     # bash's times: the second line is the children's user and sys time, "0m0.150s 0m0.020s"
-    times+=("$( ( "$bin" run "$ref" --json -q ${ARGS:-} "$@" >"$tmp/out" || true; times ) | tail -1 |
+    # shellcheck disable=SC2086 # ARGS: words, split on purpose
+    times+=("$( ( "$bin" run "$ref" --json -q ${ARGS:-} "$@" >"$tmp/out" || true; times ) |
+      tail -1 |
       awk '{t = 0; for (i = 1; i <= 2; i++) { split($i, p, /[ms]/); t += 60 * p[1] + p[2] } print t}')")
   done
   printf '%s\n' "${times[@]}" | sort -g | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'
@@ -96,8 +98,9 @@ for scheme in "${schemes[@]}"; do
     fi
     ratios+=("$ratio")
   done
-  summary+=("$scheme: $n_rest of $n_cases cases at rest; the fall's CPU $(printf '%s\n' "${ratios[@]}" |
-    sort -g | sed -n '1p;$p' | paste -sd- ) times the rest of the run, at most once in $n_cheap of the $n_rest at rest")
+  range="$(printf '%s\n' "${ratios[@]}" | sort -g | sed -n '1p;$p' | paste -sd-)"
+  summary+=("$scheme: $n_rest of $n_cases cases at rest; the fall's CPU $range times the rest of \
+the run, at most once in $n_cheap of the $n_rest at rest")
 done
 echo
 printf '%s\n' "${summary[@]}"
