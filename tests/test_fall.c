@@ -44,9 +44,37 @@ typedef struct {
   double B, H, mass, inertia;
 } block;
 
+/* The block tests' fall options: steps of step, no joint contacts, the ground, Gauss-Seidel to
+ * 1e-6 (up to 1000 sweeps), at rest below 1e-12 J for 0.05 s, at most 3 s. */
+static void block_opts(vs_fall_opts *o, double step) {
+  vs_fall_opts_default(o);
+  o->step = step;
+  o->joints = 0;
+  o->ground = 0.0; /* offset from the lower springing's base: set below */
+  o->rest_ke = 1e-12;
+  o->rest_time = 0.05;
+  o->duration = 3.0;
+  o->sample_dt = step;
+  o->tol = 1e-6;
+  o->max_sweeps = 1000;
+}
+
+/* The block's fall with options o (its outline B x H on z = 0), replacing any it had. */
+static void block_fall(block *bk, const vs_fall_opts *o) {
+  vs_error err;
+  vs_error_clear(&err);
+  vs_fall_destroy(&bk->f);
+  const double B = bk->B, H = bk->H;
+  const int count[3] = {4, 0, 0};
+  const double xz[8] = {-0.5 * B, 0.0, 0.5 * B, 0.0, 0.5 * B, H, -0.5 * B, H};
+  /* the ground at z = 0: the springing base is the dummy joint's intrados end, at z = 0 */
+  assert_int_equal(vs_fall_create(bk->m, o, count, xz, &bk->f, &err), VS_OK);
+}
+
 static void block_make(block *bk, double B, double H, double mu, double step) {
   vs_error err;
   vs_error_clear(&err);
+  bk->f = NULL;
   assert_int_equal(vs_geometry_create(1, 1, &bk->g, &err), VS_OK);
   vs_block *blk = &bk->g->blocks[0];
   blk->area = B * H;
@@ -59,22 +87,10 @@ static void block_make(block *bk, double B, double H, double mu, double step) {
   bk->g->gravity = GRAV;
   vs_joint_law law = {.kn = 1e9, .ks = 0.5e9, .mu = mu, .gap0 = 1.0};
   assert_int_equal(vs_model_create(bk->g, &law, 0.0, &bk->m, &err), VS_OK);
-  vs_fall_opts o;
-  vs_fall_opts_default(&o);
-  o.step = step;
-  o.joints = 0;
-  o.ground = 0.0; /* offset from the lower springing's base: set below */
-  o.rest_ke = 1e-12;
-  o.rest_time = 0.05;
-  o.duration = 3.0;
-  o.sample_dt = step;
-  o.tol = 1e-6;
-  o.max_sweeps = 1000;
-  const int count[3] = {4, 0, 0};
-  const double xz[8] = {-0.5 * B, 0.0, 0.5 * B, 0.0, 0.5 * B, H, -0.5 * B, H};
-  /* the ground at z = 0: the springing base is the dummy joint's intrados end, at z = 0 */
-  assert_int_equal(vs_fall_create(bk->m, &o, count, xz, &bk->f, &err), VS_OK);
   bk->B = B, bk->H = H, bk->mass = blk->mass, bk->inertia = blk->inertia;
+  vs_fall_opts o;
+  block_opts(&o, step);
+  block_fall(bk, &o);
 }
 
 static void block_free(block *bk) {
@@ -119,22 +135,10 @@ static void fall_block(block *bk, const double q3[3], const double v3[3], trace 
  * energy. */
 static void fall_block_for(block *bk, double duration, trace *tr, vs_fall_result *res) {
   vs_fall_opts o;
-  vs_fall_opts_default(&o);
-  o.step = 1e-3;
-  o.joints = 0;
-  o.ground = 0.0;
+  block_opts(&o, 1e-3);
   o.rest_ke = 0.0; /* never at rest: the steps asked for */
   o.duration = duration;
-  o.sample_dt = 1e-3;
-  o.tol = 1e-6;
-  o.max_sweeps = 1000;
-  vs_error err;
-  vs_error_clear(&err);
-  vs_fall_destroy(&bk->f);
-  const int count[3] = {4, 0, 0};
-  const double B = bk->B, H = bk->H;
-  const double xz[8] = {-0.5 * B, 0.0, 0.5 * B, 0.0, 0.5 * B, H, -0.5 * B, H};
-  assert_int_equal(vs_fall_create(bk->m, &o, count, xz, &bk->f, &err), VS_OK);
+  block_fall(bk, &o);
   fall_block(bk, (double[3]){0.0, 0.0, 0.0}, (double[3]){0}, tr, res);
 }
 
@@ -363,6 +367,18 @@ static void pier_block_make(pier_block *pb, double W, double L, double mu, int j
   pb->W = W, pb->L = L;
 }
 
+/* Run the pier block from (q, v) (the block's three, the piers' zero) into tr. */
+static void pier_block_fall(pier_block *pb, const double q3[3], const double v3[3], trace *tr,
+                            vs_fall_result *res) {
+  double qe[9] = {0}, ve[9] = {0};
+  memcpy(qe, q3, 3 * sizeof *qe);
+  memcpy(ve, v3, 3 * sizeof *ve);
+  vs_error err;
+  vs_error_clear(&err);
+  tr->n = 0;
+  assert_int_equal(vs_fall_run(pb->f, 0.0, qe, ve, NULL, NULL, on_sample, tr, res, &err), VS_OK);
+}
+
 static void pier_block_free(pier_block *pb) {
   vs_fall_destroy(&pb->f);
   vs_model_destroy(&pb->m);
@@ -418,14 +434,11 @@ static void test_fold_over_corner(void **state) {
   /* the speed that lifts the centroid over the corner (its height there |r0|), with 10 % more */
   const double ip = pb.g->blocks[0].inertia / pb.g->blocks[0].mass + r0x * r0x + r0z * r0z;
   const double w0 = 1.1 * sqrt(2.0 * GRAV * (hypot(r0x, r0z) - rz) / ip);
-  double qe[9] = {rx - 0.5 * W, rz + 0.5 * L, th0}, ve[9] = {-w0 * rz, w0 * rx, w0};
   trace *tr = calloc(1, sizeof *tr);
   assert_non_null(tr);
   vs_fall_result res;
-  vs_error err;
-  vs_error_clear(&err);
-  tr->n = 0;
-  assert_int_equal(vs_fall_run(pb.f, 0.0, qe, ve, NULL, NULL, on_sample, tr, &res, &err), VS_OK);
+  pier_block_fall(&pb, (double[3]){rx - 0.5 * W, rz + 0.5 * L, th0},
+                  (double[3]){-w0 * rz, w0 * rx, w0}, tr, &res);
   const double worst = pier_block_overlap(&pb, tr), tol = 3.0 * GRAV * h * h;
   print_message("fold over a corner: turned %.1f degrees at the end (90: lying on the pier), "
                 "deepest corner inside the other body %.3g m (tolerance 3 g h^2 = %.3g m; the "
@@ -447,14 +460,10 @@ static void test_corner_corner(void **state) {
   const double h = 1e-3, W = 0.06, L = 0.1;
   pier_block pb;
   pier_block_make(&pb, W, L, 0.7, 0, h, 0.05);
-  double qe[9] = {3e-4, L + 4e-4, 0.0}, ve[9] = {-1.0, -1.2, 0.0};
   trace *tr = calloc(1, sizeof *tr);
   assert_non_null(tr);
   vs_fall_result res;
-  vs_error err;
-  vs_error_clear(&err);
-  tr->n = 0;
-  assert_int_equal(vs_fall_run(pb.f, 0.0, qe, ve, NULL, NULL, on_sample, tr, &res, &err), VS_OK);
+  pier_block_fall(&pb, (double[3]){3e-4, L + 4e-4, 0.0}, (double[3]){-1.0, -1.2, 0.0}, tr, &res);
   const double worst = pier_block_overlap(&pb, tr), tol = 3.0 * GRAV * h * h;
   print_message("corner against corner: deepest corner inside the other body %.3g m "
                 "(tolerance 3 g h^2 = %.3g m; the fall's own measure %.3g m)\n", worst, tol,
