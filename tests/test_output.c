@@ -1207,14 +1207,15 @@ static void check_killed(const char *path, const memrec *ref, long at_least) {
   H5Fclose(f);
 }
 
-static void test_killed(void **state) {
-  (void)state;
-  vs_case c;
-  vs_case_defaults(&c); /* the reference specimen: 294 rows, long enough to be killed in */
-  c.fall_s = 0.0;        /* every kill is before the collapse: the fall to rest is not needed */
+/* The case the kill tests run, the reference specimen ending at the collapse (294 rows, long
+ * enough to be killed in; every kill is before the collapse, so the fall is not needed), into
+ * *c, and its rows run in memory: what a killed record must hold. */
+static memrec killed_case(vs_case *c) {
+  vs_case_defaults(c);
+  c->fall_s = 0.0;
   vs_error err;
   vs_run *run = NULL;
-  assert_int_equal(vs_run_create(&c, &run, &err), VS_OK);
+  assert_int_equal(vs_run_create(c, &run, &err), VS_OK);
   memrec ref = {0, 4096, vs_model_size(vs_run_model(run)), NULL, NULL, 1 << 30};
   ref.delta = malloc((size_t)ref.cap * sizeof *ref.delta);
   ref.q = malloc((size_t)ref.cap * (size_t)ref.n3 * sizeof *ref.q);
@@ -1222,6 +1223,32 @@ static void test_killed(void **state) {
   vs_run_execute(run, mem_sample, NULL, &ref, &err);
   vs_run_destroy(&run);
   assert_true(ref.n > 200);
+  return ref;
+}
+
+/* Fork a child that records case c at path (child_run: a byte down the pipe at row signal_at,
+ * SIGKILL to itself at row die_at; event_after, fault: VS_TEST_DIE_AT_EVENT_AFTER and
+ * VS_FAULT_KILL in the child, or NULL). Returns its pid; fds[0] is the pipe's read end. */
+static pid_t start_child(const vs_case *c, const char *path, int fds[2], long signal_at,
+                         long die_at, const char *event_after, const char *fault) {
+  assert_int_equal(pipe(fds), 0);
+  fflush(NULL);
+  const pid_t pid = fork();
+  assert_true(pid >= 0);
+  if (pid == 0) {
+    close(fds[0]);
+    if (event_after != NULL) setenv("VS_TEST_DIE_AT_EVENT_AFTER", event_after, 1);
+    if (fault != NULL) setenv("VS_FAULT_KILL", fault, 1);
+    child_run(c, path, fds[1], signal_at, die_at);
+  }
+  close(fds[1]);
+  return pid;
+}
+
+static void test_killed(void **state) {
+  (void)state;
+  vs_case c;
+  memrec ref = killed_case(&c);
 
   /* The child kills itself at row 137, after it reported row 100 through the pipe. A kill at a
    * random moment can land inside a flush, which HDF5 1.10 cannot make atomic (src/record.c): 1
@@ -1231,15 +1258,7 @@ static void test_killed(void **state) {
   char path[128];
   snprintf(path, sizeof path, "%s/killed.h5", g_dir);
   int fds[2];
-  assert_int_equal(pipe(fds), 0);
-  fflush(NULL);
-  pid_t pid = fork();
-  assert_true(pid >= 0);
-  if (pid == 0) {
-    close(fds[0]);
-    child_run(&c, path, fds[1], 100, 137);
-  }
-  close(fds[1]);
+  const pid_t pid = start_child(&c, path, fds, 100, 137, NULL, NULL);
   struct pollfd pfd = {fds[0], POLLIN, 0};
   char b;
   if (poll(&pfd, 1, 30000) != 1 || read(fds[0], &b, 1) != 1) {
@@ -1272,18 +1291,7 @@ static void test_killed(void **state) {
 static void test_killed_at_states(void **state) {
   (void)state;
   vs_case c;
-  vs_case_defaults(&c);
-  c.fall_s = 0.0; /* every kill is before the collapse: the fall to rest is not needed */
-  vs_error err;
-  vs_run *run = NULL;
-  assert_int_equal(vs_run_create(&c, &run, &err), VS_OK);
-  memrec ref = {0, 4096, vs_model_size(vs_run_model(run)), NULL, NULL, 1 << 30};
-  ref.delta = malloc((size_t)ref.cap * sizeof *ref.delta);
-  ref.q = malloc((size_t)ref.cap * (size_t)ref.n3 * sizeof *ref.q);
-  assert_true(ref.delta != NULL && ref.q != NULL);
-  vs_run_execute(run, mem_sample, NULL, &ref, &err);
-  vs_run_destroy(&run);
-  assert_true(ref.n > 200);
+  memrec ref = killed_case(&c);
   const struct {
     long die_at;
     const char *event_after, *fault;
@@ -1294,17 +1302,8 @@ static void test_killed_at_states(void **state) {
     char path[128];
     snprintf(path, sizeof path, "%s/state%zu.h5", g_dir, i);
     int fds[2];
-    assert_int_equal(pipe(fds), 0);
-    fflush(NULL);
-    pid_t pid = fork();
-    assert_true(pid >= 0);
-    if (pid == 0) {
-      close(fds[0]);
-      if (at[i].event_after != NULL) setenv("VS_TEST_DIE_AT_EVENT_AFTER", at[i].event_after, 1);
-      if (at[i].fault != NULL) setenv("VS_FAULT_KILL", at[i].fault, 1);
-      child_run(&c, path, fds[1], 1L << 30, at[i].die_at);
-    }
-    close(fds[1]);
+    const pid_t pid = start_child(&c, path, fds, 1L << 30, at[i].die_at, at[i].event_after,
+                                  at[i].fault);
     /* the pipe reads end-of-file once the child is dead; a byte: it finished without the kill */
     struct pollfd pfd = {fds[0], POLLIN, 0};
     char b;
