@@ -118,16 +118,16 @@ static int on_sample(void *user, double t, double delta, const double *q, const 
   return 0;
 }
 
-/* Run the block from (q, v) (the block's three, the supports' zero). */
-static void fall_block(block *bk, const double q3[3], const double v3[3], trace *tr,
-                       vs_fall_result *res) {
+/* Run fall f of one block from (q, v) (the block's three, the piers' zero) into tr. */
+static void fall_from(vs_fall *f, const double q3[3], const double v3[3], trace *tr,
+                      vs_fall_result *res) {
   double qe[9] = {0}, ve[9] = {0};
   memcpy(qe, q3, 3 * sizeof *qe);
   memcpy(ve, v3, 3 * sizeof *ve);
   vs_error err;
   vs_error_clear(&err);
   tr->n = 0;
-  vs_status st = vs_fall_run(bk->f, 0.0, qe, ve, NULL, NULL, on_sample, tr, res, &err);
+  vs_status st = vs_fall_run(f, 0.0, qe, ve, NULL, NULL, on_sample, tr, res, &err);
   if (st != VS_OK) fail_msg("fall: %s", err.msg);
 }
 
@@ -139,7 +139,7 @@ static void fall_block_for(block *bk, double duration, trace *tr, vs_fall_result
   o.rest_ke = 0.0; /* never at rest: the steps asked for */
   o.duration = duration;
   block_fall(bk, &o);
-  fall_block(bk, (double[3]){0.0, 0.0, 0.0}, (double[3]){0}, tr, res);
+  fall_from(bk->f, (double[3]){0.0, 0.0, 0.0}, (double[3]){0}, tr, res);
 }
 
 /* ------------------------------------------------------------------------------------------- */
@@ -152,7 +152,7 @@ static void test_drop(void **state) {
   trace *tr = calloc(1, sizeof *tr);
   assert_non_null(tr);
   vs_fall_result res;
-  fall_block(&bk, (double[3]){0.0, h0, 0.0}, (double[3]){0}, tr, &res);
+  fall_from(bk.f, (double[3]){0.0, h0, 0.0}, (double[3]){0}, tr, &res);
   assert_int_equal(vs_fall_level(bk.f) == 0.0, 1);
   /* free flight exact: z = h0 - g t^2 / 2 at every sample before the landing */
   const double t_land = sqrt(2.0 * h0 / GRAV);
@@ -221,7 +221,7 @@ static void test_overlap_recovery(void **state) {
   trace *tr = calloc(1, sizeof *tr);
   assert_non_null(tr);
   vs_fall_result res;
-  fall_block(&bk, (double[3]){0.0, -d, 0.0}, (double[3]){0}, tr, &res);
+  fall_from(bk.f, (double[3]){0.0, -d, 0.0}, (double[3]){0}, tr, &res);
   double vmax = 0.0, zmax = -INFINITY;
   int slow = 0; /* samples where the overlap shrank by less than a fifth a step (test_drop's
                    solver tolerance) */
@@ -257,7 +257,7 @@ static void slide(double h, double *dist, double *time, double *friction, double
   trace *tr = calloc(1, sizeof *tr);
   assert_non_null(tr);
   vs_fall_result res;
-  fall_block(&bk, (double[3]){0.0, 0.0, 0.0}, (double[3]){v0, 0.0, 0.0}, tr, &res);
+  fall_from(bk.f, (double[3]){0.0, 0.0, 0.0}, (double[3]){v0, 0.0, 0.0}, tr, &res);
   int k = 0;
   while (k < tr->n && tr->vx[k] > 1e-8) k++; /* stopped: sticking, to the solver's tolerance */
   assert_true(k < tr->n);
@@ -300,7 +300,7 @@ static void rock(double HB, double *ratio, double *housner) {
   trace *tr = calloc(1, sizeof *tr);
   assert_non_null(tr);
   vs_fall_result res;
-  fall_block(&bk, (double[3]){cx, cz, -th0}, (double[3]){0}, tr, &res);
+  fall_from(bk.f, (double[3]){cx, cz, -th0}, (double[3]){0}, tr, &res);
   /* the impact: the first sample with the block level (its left corner down) */
   int k = 0;
   while (k < tr->n && tr->th[k] < -1e-12) k++;
@@ -367,18 +367,6 @@ static void pier_block_make(pier_block *pb, double W, double L, double mu, int j
   pb->W = W, pb->L = L;
 }
 
-/* Run the pier block from (q, v) (the block's three, the piers' zero) into tr. */
-static void pier_block_fall(pier_block *pb, const double q3[3], const double v3[3], trace *tr,
-                            vs_fall_result *res) {
-  double qe[9] = {0}, ve[9] = {0};
-  memcpy(qe, q3, 3 * sizeof *qe);
-  memcpy(ve, v3, 3 * sizeof *ve);
-  vs_error err;
-  vs_error_clear(&err);
-  tr->n = 0;
-  assert_int_equal(vs_fall_run(pb->f, 0.0, qe, ve, NULL, NULL, on_sample, tr, res, &err), VS_OK);
-}
-
 static void pier_block_free(pier_block *pb) {
   vs_fall_destroy(&pb->f);
   vs_model_destroy(&pb->m);
@@ -437,7 +425,7 @@ static void test_fold_over_corner(void **state) {
   trace *tr = calloc(1, sizeof *tr);
   assert_non_null(tr);
   vs_fall_result res;
-  pier_block_fall(&pb, (double[3]){rx - 0.5 * W, rz + 0.5 * L, th0},
+  fall_from(pb.f, (double[3]){rx - 0.5 * W, rz + 0.5 * L, th0},
                   (double[3]){-w0 * rz, w0 * rx, w0}, tr, &res);
   const double worst = pier_block_overlap(&pb, tr), tol = 3.0 * GRAV * h * h;
   print_message("fold over a corner: turned %.1f degrees at the end (90: lying on the pier), "
@@ -463,7 +451,7 @@ static void test_corner_corner(void **state) {
   trace *tr = calloc(1, sizeof *tr);
   assert_non_null(tr);
   vs_fall_result res;
-  pier_block_fall(&pb, (double[3]){3e-4, L + 4e-4, 0.0}, (double[3]){-1.0, -1.2, 0.0}, tr, &res);
+  fall_from(pb.f, (double[3]){3e-4, L + 4e-4, 0.0}, (double[3]){-1.0, -1.2, 0.0}, tr, &res);
   const double worst = pier_block_overlap(&pb, tr), tol = 3.0 * GRAV * h * h;
   print_message("corner against corner: deepest corner inside the other body %.3g m "
                 "(tolerance 3 g h^2 = %.3g m; the fall's own measure %.3g m)\n", worst, tol,
