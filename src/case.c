@@ -129,6 +129,13 @@ static const key_spec keys[] = {
               "joints' elastic law at every contact, integrated by IDA (20-100 times slower)"),
     KEY(fall, step_ms, 1.0, 1e-3, true, 10.0, true, "ms",
         "time step of the rigid scheme (a block falling at 2 m/s moves 2 mm in 1 ms)"),
+    KEY(fall, slow_factor, 2.0, 1.0, true, 10.0, true, "",
+        "rigid scheme: the step is this many times step_ms while no point of a block moves "
+        "faster than slow_mm_s (1: always step_ms)"),
+    KEY(fall, slow_mm_s, 500.0, 0.0, true, 1e6, true, "mm/s",
+        "... that speed (0: always step_ms)"),
+    KEY(fall, max_sweeps, 15.0, 1.0, true, 10000.0, true, "",
+        "rigid scheme: Gauss-Seidel sweeps at most per step (100 near rest if fewer)"),
     KEY(fall, restitution, 0.5, 0.0, false, 1.0, true, "",
         "penalty scheme: coefficient of restitution of a block landing flat on the ground (the "
         "rigid scheme's impacts are perfectly plastic)"),
@@ -454,4 +461,6 @@ void vs_case_to_si(const vs_case *c, vs_case_si *si) {
   si->atol_q = c->atol_mm * VS_MM;
   si->ground = c->ground_mm * VS_MM;
   si->fall_step = c->step_ms * 1e-3;
+  si->fall_slow_step = c->slow_factor * c->step_ms * 1e-3;
+  si->fall_slow_speed = c->slow_mm_s * VS_MM;
 }

@@ -14,6 +14,8 @@
 void vs_fall_opts_default(vs_fall_opts *o) {
   memset(o, 0, sizeof *o);
   o->step = 1e-3;
+  o->slow_step = 2e-3;
+  o->slow_speed = 0.5;
   o->rest_time = 0.1;
   o->duration = 5.0;
   o->sample_dt = 0.01;
@@ -25,6 +27,12 @@ void vs_fall_opts_default(vs_fall_opts *o) {
 }
 
 static vs_status check_opts(const vs_fall_opts *o, vs_error *err) {
+  if (!(o->slow_step >= o->step && o->slow_step <= 0.1) ||
+      !(o->slow_speed >= 0.0 && o->slow_speed < INFINITY))
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "fall: options slow_step = %g s, slow_speed = %g m/s (allowed: step = %g "
+                        "<= slow_step <= 0.1, 0 <= slow_speed < inf)", o->slow_step,
+                        o->slow_speed, o->step);
   if (!(o->step > 0.0 && o->step <= 0.1) || !(o->rate >= 0.0 && o->rate < INFINITY) ||
       !(o->rest_ke >= 0.0) || !(o->rest_time >= 0.0) || !(o->duration >= 0.0) ||
       !(o->sample_dt > 0.0) || !(o->tol > 0.0 && o->tol <= 1.0) || o->max_sweeps < 1 ||
@@ -153,14 +161,16 @@ static size_t slot_of(const vs_fall *f, long long key) {
   return (size_t)(((unsigned long long)key * 0x9E3779B97F4A7C15ULL) >> 32) & (size_t)(f->pcap - 1);
 }
 
-/* The last step's impulse of the contact with this key (0 if it had none). */
-static void warm(const vs_fall *f, long long key, double P[2]) {
+/* The last step's impulse of the contact with this key (0 if it had none), for a step of h:
+ * the same force, the impulse scaled by h over that step's length. */
+static void warm(const vs_fall *f, long long key, double h, double P[2]) {
   P[0] = P[1] = 0.0;
   if (f->npc == 0) return;
   for (size_t i = slot_of(f, key);; i = (i + 1) & (size_t)(f->pcap - 1)) {
     if (f->pkey[i] == VS_FALL_NO_KEY) return;
     if (f->pkey[i] == key) {
-      P[0] = f->pP[2 * i], P[1] = f->pP[2 * i + 1];
+      const double r = h == f->hp ? 1.0 : h / f->hp;
+      P[0] = r * f->pP[2 * i], P[1] = r * f->pP[2 * i + 1];
       return;
     }
   }
@@ -227,10 +237,17 @@ typedef struct {
   int calm;              /* set by the caller: the step is near rest (vs_fall_opts.calm) */
 } step_out;
 
-/* Gauss-Seidel's tolerance in a step of h, as a velocity (m/s): tol g h, a tenth of it near rest
- * (fall.h: VS_FALL_CALM_TOL). */
+/* Gauss-Seidel's cap on sweeps near rest: max_sweeps, or VS_FALL_CALM_SWEEPS if more. */
+static int calm_cap(const vs_fall *f) {
+  return f->o.max_sweeps < VS_FALL_CALM_SWEEPS ? VS_FALL_CALM_SWEEPS : f->o.max_sweeps;
+}
+
+/* Gauss-Seidel's tolerance in a step of h, as a velocity (m/s): tol g h; near rest a tenth of
+ * tol g step (fall.h: VS_FALL_CALM_TOL), the short step's whatever this one's length, so that
+ * what it lets a resting contact sink in a second (the tolerance itself) does not grow with the
+ * slow step. */
 static double sweep_tol(const vs_fall *f, double h, const step_out *so) {
-  return f->o.tol * f->g->gravity * h * (so->calm ? VS_FALL_CALM_TOL : 1.0);
+  return f->o.tol * f->g->gravity * (so->calm ? VS_FALL_CALM_TOL * f->o.step : h);
 }
 
 /* Overlaps of a vertex with the ground or another body (the scheme's own: a step is a straight
@@ -261,12 +278,11 @@ static int impulses(vs_fall *f, double h, double mu, step_out *so) {
     vs_fall_rel_velocity(c, f->vk, c->u0);
     contact_law(c, h);
     prepare(c, mu);
-    warm(f, c->key, c->P);
+    warm(f, c->key, h, c->P);
     vs_fall_apply(f, c, c->P[0], c->P[1], f->v);
   }
   const double tol = sweep_tol(f, h, so);
-  const int cap = so->calm && f->o.max_sweeps < VS_FALL_CALM_SWEEPS ? VS_FALL_CALM_SWEEPS
-                                                                    : f->o.max_sweeps;
+  const int cap = so->calm ? calm_cap(f) : f->o.max_sweeps;
   so->converged = f->nc == 0;
   so->last = 0.0;
   int joints = 0;
@@ -374,6 +390,7 @@ static int step(vs_fall *f, double h, double mu, step_out *so) {
   if (rc == 0 && outran(f, h)) {
     memcpy(f->vs, f->v, 3 * (size_t)f->nb * sizeof *f->v);
     if (keep(f) != 0) return -1; /* this solve's impulses: the warm start of the next */
+    f->hp = h;
     memcpy(f->v, f->vk, 3 * (size_t)f->nb * sizeof *f->v);
     if (vs_fall_find_contacts(f, h, f->vs) != 0) return -1;
     so->redone = 1;
@@ -399,7 +416,21 @@ static int step(vs_fall *f, double h, double mu, step_out *so) {
   recover(f, h, so);
   for (int i = 0; i < 3 * f->n; i++) f->q[i] += h * (f->v[i] + f->w[i]);
   f->t += h;
+  f->h = f->hp = h;
   return keep(f);
+}
+
+/* The next step's length: slow_step while no point of a block moves faster than slow_speed
+ * (each body's speed turned at its outline's reach, as outran bounds it), else step (always
+ * where slow_speed is 0). */
+static double next_step(const vs_fall *f) {
+  if (!(f->o.slow_step > f->o.step && f->o.slow_speed > 0.0)) return f->o.step;
+  for (int b = 0; b < f->n; b++) {
+    const double *v = f->v + 3 * b;
+    if (sqrt(v[0] * v[0] + v[1] * v[1]) + fabs(v[2]) * f->rmaxb[b] > f->o.slow_speed)
+      return f->o.step;
+  }
+  return f->o.slow_step;
 }
 
 /* --- the run --- */
@@ -469,6 +500,7 @@ static vs_status fall_start(vs_fall *f, double t0, const double *qe, const doubl
   memcpy(f->q, qe, Q * sizeof *qe);
   memcpy(f->v, ve, Q * sizeof *ve);
   f->t = t0;
+  f->h = f->hp = f->o.step;
   f->nc = f->npc = 0; /* no warm start from an earlier run (warm: none while npc is 0) */
   if (js0 != NULL && f->o.joints && warm_from_joints(f, js0, f->o.step) != 0)
     return vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory");
@@ -554,9 +586,11 @@ static void fall_finish(vs_fall *f, double *qe, double *ve, vs_fall_result *res)
 vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_energy *e0,
                       const vs_joint_state *js0, vs_dyn_sample_fn sample, void *user,
                       vs_fall_result *res, vs_error *err) {
-  const double w0 = vs_wall_now();
+  const double w0 = vs_wall_now(), c0 = vs_cpu_now();
   memset(res, 0, sizeof *res);
   res->step = f->o.step;
+  res->slow_step = f->o.slow_step;
+  res->cap = f->o.max_sweeps, res->calm_cap = calm_cap(f);
   vs_status st = fall_start(f, t0, qe, ve, js0, res, err);
   if (st != VS_OK) return st;
   energy_acc acc = {0};
@@ -574,7 +608,10 @@ vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_en
     }
     /* near rest by the last step's kinetic energy */
     step_out so = {.calm = f->o.calm > 0.0 && e.kinetic < f->o.calm * f->o.rest_ke};
-    const int rc = step(f, h, mu, &so);
+    double hk = next_step(f);
+    if (f->t + hk > t_end + 0.5 * h) hk = h; /* no step beyond the end */
+    res->slow_steps += hk > h;
+    const int rc = step(f, hk, mu, &so);
     if (rc != 0) {
       st = step_error(f, rc, err);
       break;
@@ -596,5 +633,6 @@ vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_en
   }
   fall_finish(f, qe, ve, res);
   res->wall_s = vs_wall_now() - w0;
+  res->cpu_s = vs_cpu_now() - c0;
   return st;
 }

@@ -19,7 +19,7 @@ void vs_fall_static_state(vs_fall *f) {
 
 /* Mean force of contact c over the last step on body b (N), at its point. */
 static void force_on(const vs_fall *f, const vs_fall_contact *c, int b, double F[2]) {
-  const double sg = (b == c->a ? 1.0 : -1.0) / f->o.step;
+  const double sg = (b == c->a ? 1.0 : -1.0) / f->h;
   F[0] = sg * (c->P[0] * c->n[0] + c->P[1] * c->t[0]);
   F[1] = sg * (c->P[0] * c->n[1] + c->P[1] * c->t[1]);
 }

@@ -301,13 +301,16 @@ static herr_t summary_fall(hid_t sum, const vs_run *run) {
   hid_t g = vs_h5_group_create(sum, "fall");
   herr_t rc = g >= 0 ? vs_h5_attr_str(g, "scheme", "rigid") : -1;
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "step", fr->step, "s");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "slow_step", fr->slow_step, "s");
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "duration", fr->t_end - vs_run_collapse(run)->t_criterion, "s");
   if (rc >= 0) rc = vs_h5_attr_int(g, "steps", fr->steps);
   if (rc >= 0) rc = vs_h5_attr_int(g, "chain_steps", fr->chain_steps);
   if (rc >= 0) rc = vs_h5_attr_int(g, "chain_solves", fr->solves);
   if (rc >= 0) rc = vs_h5_attr_int(g, "sweeps", fr->sweeps);
+  if (rc >= 0) rc = vs_h5_attr_int(g, "max_sweeps", fr->cap);
   if (rc >= 0) rc = vs_h5_attr_int(g, "capped_steps", fr->unconverged);
   if (rc >= 0) rc = vs_h5_attr_int(g, "calm_steps", fr->calm_steps);
+  if (rc >= 0) rc = vs_h5_attr_int(g, "slow_steps", fr->slow_steps);
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "last_change_max", fr->residual, "m/s");
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "overlap_max", fr->max_overlap, "m");
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "joint_overlap_max", fr->max_joint_overlap, "m");
@@ -318,14 +321,15 @@ static herr_t summary_fall(hid_t sum, const vs_run *run) {
     rc = vs_h5_attr_str(
         g, "description",
         "the fall after the collapse as rigid blocks with impulsive contacts (fall.h): step, "
-        "duration (to rest or fall_s); steps, of which chain_steps had only joint contacts "
-        "and were solved at once (chain_solves solves), calm_steps were near rest and solved "
-        "to a tenth of the tolerance; Gauss-Seidel sweeps, capped_steps stopped at the cap "
-        "with the largest last-sweep velocity change last_change_max; overlap_max of a vertex "
-        "into another block or a pier, joint_overlap_max of a face end behind its joint's "
-        "other face; released, the joints' elastic energy at the switch; recovered, the work "
-        "of the overlaps' recovery against gravity; balance_error_rel, the scheme's energy "
-        "balance");
+        "slow_step (while no point of a block moves faster than fall.slow_mm_s), duration (to "
+        "rest or fall_s); steps, of which slow_steps of slow_step, chain_steps had only joint "
+        "contacts and were solved at once (chain_solves solves), calm_steps were near rest and "
+        "solved to a tenth of the tolerance; Gauss-Seidel sweeps, capped_steps stopped at "
+        "the cap (max_sweeps) with the largest last-sweep velocity change last_change_max; "
+        "overlap_max of a vertex into another block or a pier, joint_overlap_max of a face end "
+        "behind its joint's other face; released, the joints' elastic energy at the switch; "
+        "recovered, the work of the overlaps' recovery against gravity; balance_error_rel, the "
+        "scheme's energy balance");
   vs_h5_close(g);
   return rc;
 }

@@ -218,9 +218,12 @@ static void json_tail(FILE *out, const vs_run *r) {
   fputs(",\"fall\":", out);
   if (fr != NULL) {
     fprintf(out, "{\"scheme\":\"rigid\",\"steps\":%ld,\"chain_steps\":%ld,\"solves\":%ld,"
-                 "\"sweeps\":%ld,\"capped_steps\":%ld,\"calm_steps\":%ld",
-            fr->steps, fr->chain_steps, fr->solves, fr->sweeps, fr->unconverged, fr->calm_steps);
+                 "\"sweeps\":%ld,\"max_sweeps\":%d,\"capped_steps\":%ld,\"calm_steps\":%ld,"
+                 "\"slow_steps\":%ld",
+            fr->steps, fr->chain_steps, fr->solves, fr->sweeps, fr->cap, fr->unconverged,
+            fr->calm_steps, fr->slow_steps);
     jnum(out, ",\"step_s\":", fr->step, 10);
+    jnum(out, ",\"slow_step_s\":", fr->slow_step, 10);
     jnum(out, ",\"last_change_m_s\":", fr->residual, 3);
     jnum(out, ",\"duration_s\":", fr->t_end - vs_run_collapse(r)->t_criterion, 6);
     fprintf(out, ",\"at_rest\":%s", fr->at_rest ? "true" : "false");
@@ -231,6 +234,7 @@ static void json_tail(FILE *out, const vs_run *r) {
     jnum(out, ",\"recovered_J\":", fr->recovered, 6);
     jnum(out, ",\"balance_error_rel\":", fr->balance_error_rel, 6);
     jnum(out, ",\"wall_s\":", fr->wall_s, 6);
+    jnum(out, ",\"cpu_s\":", fr->cpu_s, 6);
     fputc('}', out);
   } else {
     fputs("null", out);
@@ -436,13 +440,14 @@ static void text_stats(FILE *out, const vs_run *r) {
             d->dae_index, d->dae_differential, d->dae_algebraic, d->max_drift);
   }
   if (fr != NULL)
-    fprintf(out, "         fall: rigid blocks, impulsive contacts, steps of %g ms: %ld steps (%ld of the "
-                 "arch in the air solved as a chain, %ld solves; %ld near rest, to a tenth of the "
-                 "tolerance), %ld Gauss-Seidel sweeps, %ld steps stopped at their cap (%d sweeps, "
-                 "%d near rest; last change up to %.3g mm/s); energy balance %.2g; joint faces "
-                 "overlapping up to %.3g mm\n",
-            1e3 * fr->step, fr->steps, fr->chain_steps, fr->solves, fr->calm_steps, fr->sweeps,
-            fr->unconverged, VS_FALL_MAX_SWEEPS, VS_FALL_CALM_SWEEPS, fr->residual / VS_MM,
+    fprintf(out, "         fall: rigid blocks, impulsive contacts, steps of %g ms (%g ms while "
+                 "slow): %ld steps (%ld slow; %ld of the arch in the air solved as a chain, %ld "
+                 "solves; %ld near rest, to a tenth of the tolerance), %ld Gauss-Seidel "
+                 "sweeps, %ld steps stopped at their cap (%d sweeps, %d near rest; last change up "
+                 "to %.3g mm/s); energy balance %.2g; joint faces overlapping up to %.3g mm\n",
+            1e3 * fr->step, 1e3 * fr->slow_step, fr->steps, fr->slow_steps, fr->chain_steps,
+            fr->solves, fr->calm_steps, fr->sweeps,
+            fr->unconverged, fr->cap, fr->calm_cap, fr->residual / VS_MM,
             fr->balance_error_rel, fr->max_joint_overlap / VS_MM);
   if (isfinite(vs_run_ground(r)))
     fprintf(out, "         fall: onto the ground at z = %.3f mm, %s; deepest vertex %.3g mm below "

@@ -50,6 +50,9 @@ static vs_status fall_create(vs_run *r, const vs_case_si *si, vs_error *err) {
   vs_fall_opts fo;
   vs_fall_opts_default(&fo);
   fo.step = si->fall_step;
+  fo.slow_step = si->fall_slow_step;
+  fo.slow_speed = si->fall_slow_speed;
+  fo.max_sweeps = r->c.max_sweeps;
   fo.rate = si->rate;
   fo.rest_ke = r->dopts.rest_ke;
   fo.rest_time = fmin(r->c.rest_s, VS_RUN_FALL_REST);

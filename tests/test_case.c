@@ -126,6 +126,9 @@ static const key_case all_keys[] = {
     {"dynamic", "sample_s", "9e-7", "2e6", {"1e-4", "1e-6"}},
     {"fall", "ground_mm", "-1.1e6", "0.001", {"-1e6", "0"}},
     {"fall", "step_ms", "9e-4", "10.01", {"1e-3", "10"}},
+    {"fall", "slow_factor", "0.99", "10.01", {"1", "10"}},
+    {"fall", "slow_mm_s", "-1", "1.1e6", {"0", "1e6"}},
+    {"fall", "max_sweeps", "0", "10001", {"1", "10000"}},
     {"fall", "restitution", "0", "1.01", {"1", "1e-3"}},
     {"imperfections", "seed", "-1", "2147483648", {"0", "2147483647"}},
     {"imperfections", "sample", "-1", "2147483648", {"0", "2147483647"}},
@@ -340,7 +343,7 @@ static void check_out_of_range(const key_case *k, const char *value) {
 
 static void test_every_key_out_of_range(void **state) {
   (void)state;
-  assert_int_equal(NKEYS_TESTED, 42);
+  assert_int_equal(NKEYS_TESTED, 45);
   for (size_t i = 0; i < NKEYS_TESTED; i++) {
     check_out_of_range(&all_keys[i], all_keys[i].below);
     if (all_keys[i].above != NULL) check_out_of_range(&all_keys[i], all_keys[i].above);

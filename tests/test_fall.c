@@ -3,7 +3,9 @@
  *    step), and the perfectly plastic landing takes m g h0, all of the energy, into the
  *    dissipated energy; it then lies on the ground without sinking or moving;
  *  - a block sliding on the ground stops after v0^2 / (2 mu g), in v0 / (mu g), its kinetic energy
- *    all dissipated by friction, closer to both as the step is refined;
+ *    all dissipated by friction, closer to both as the step is refined; with the slow step
+ *    (twice as long below 0.5 m/s) it takes as many short steps as that rule gives, stops as
+ *    near, and the warm start, scaled to the longer step, needs no more sweeps;
  *  - a block rocking on a corner: at the impact on its other corner it keeps
  *    (1 - (3/2) sin^2 a)^2 of its kinetic energy (Housner: angular momentum conserved about the
  *    new corner, a = atan(B / H)), within 2 %, for H/B = 6 and 2;
@@ -44,11 +46,12 @@ typedef struct {
   double B, H, mass, inertia;
 } block;
 
-/* The block tests' fall options: steps of step, no joint contacts, the ground, Gauss-Seidel to
- * 1e-6 (up to 1000 sweeps), at rest below 1e-12 J for 0.05 s, at most 3 s. */
+/* The block tests' fall options: steps of step, all of them (the closed forms' steps), no joint
+ * contacts, the ground, Gauss-Seidel to 1e-6 (up to 1000 sweeps), at rest below 1e-12 J for
+ * 0.05 s, at most 3 s. */
 static void block_opts(vs_fall_opts *o, double step) {
   vs_fall_opts_default(o);
-  o->step = step;
+  o->step = o->slow_step = step;
   o->joints = 0;
   o->ground = 0.0; /* offset from the lower springing's base: set below */
   o->rest_ke = 1e-12;
@@ -287,6 +290,50 @@ static void test_slide(void **state) {
   for (int i = 0; i < 2; i++) assert_true(fabs(fr[i] - ke0) < 0.01 * ke0);
 }
 
+/* The slow step (vs_fall_opts.slow_step): a block sliding at v0 = 1 m/s on the ground (mu 0.5)
+ * takes steps of 1 ms while faster than 0.5 m/s, then of 2 ms. Friction slows it by mu g h a
+ * step, so the fast steps are those k = 0, 1, ... with v0 - mu g h k > 0.5 m/s: 102. It still
+ * stops within a slow step of v0 / (mu g), within 1 % of v0^2 / (2 mu g), with its kinetic
+ * energy dissipated by friction. At the switch the contact's impulses double with the step,
+ * and the warm start, scaled by the steps' ratio, still solves the step in one sweep (Gauss-Seidel
+ * to 1e-6 g h): the sweeps beyond one a step (the first step's, the stop's) are those of the
+ * same slide in steps of 1 ms throughout, to within 2 (unscaled: 15 more). */
+static void test_slow_step(void **state) {
+  (void)state;
+  const double v0 = 1.0, mu = 0.5, h = 1e-3, vs = 0.5;
+  block bk;
+  block_make(&bk, 0.2, 0.1, mu, h);
+  trace *tr = calloc(1, sizeof *tr);
+  assert_non_null(tr);
+  vs_fall_result fixed, res;
+  fall_from(bk.f, (double[3]){0.0, 0.0, 0.0}, (double[3]){v0, 0.0, 0.0}, tr, &fixed);
+  vs_fall_opts o;
+  block_opts(&o, h);
+  o.slow_step = 2.0 * h;
+  o.slow_speed = vs;
+  block_fall(&bk, &o);
+  fall_from(bk.f, (double[3]){0.0, 0.0, 0.0}, (double[3]){v0, 0.0, 0.0}, tr, &res);
+  const long fast = (long)ceil((v0 - vs) / (mu * GRAV * h));
+  int k = 0;
+  while (k < tr->n && tr->vx[k] > 1e-8) k++;
+  assert_true(k < tr->n);
+  const double d_exact = v0 * v0 / (2 * mu * GRAV), t_exact = v0 / (mu * GRAV);
+  const double ke0 = 0.5 * bk.mass * v0 * v0, fr = tr->e[tr->n - 1].friction;
+  print_message("slow step: %ld steps, %ld of 2 ms (%ld of 1 ms, expected %ld); stopped at "
+                "%.5f s (%.5f), after %.6f m (%.6f); friction %.6f J of %.6f J; sweeps beyond "
+                "one a step %ld (all of 1 ms: %ld)\n", res.steps, res.slow_steps,
+                res.steps - res.slow_steps, fast, tr->t[k], t_exact, tr->x[tr->n - 1], d_exact,
+                fr, ke0, res.sweeps - res.steps, fixed.sweeps - fixed.steps);
+  assert_int_equal(res.steps - res.slow_steps, fast);
+  assert_true(fabs(tr->t[k] - t_exact) <= 2.0 * h);
+  assert_true(fabs(tr->x[tr->n - 1] - d_exact) < 0.01 * d_exact);
+  assert_true(fabs(fr - ke0) < 0.01 * ke0);
+  assert_int_equal(fixed.slow_steps, 0);
+  assert_true(res.sweeps - res.steps <= fixed.sweeps - fixed.steps + 2);
+  free(tr);
+  block_free(&bk);
+}
+
 /* A block B x H standing on its right corner, tilted clockwise by theta0 (its left corner up):
  * released, it falls back and strikes with its left corner, then rocks on about that one. Its
  * angular velocity (counter-clockwise, > 0) just before and just after that impact. */
@@ -516,7 +563,7 @@ static double tower(int n, double B, double H, double off, double calm, vs_fall_
 
 /* A tower of eight blocks set in equilibrium on the ground stays there: at rest after the rest
  * window, every block within 0.01 mm of where it stood. Without the tighter tolerance near rest
- * (calm 0) Gauss-Seidel's tolerance lets the blocks sink by up to 0.01 g h^2 a step, the
+ * (calm 0) Gauss-Seidel's tolerance lets the blocks sink by up to tol g h^2 a step, the
  * recovery lifts them back, and the tower creeps and never comes to rest. */
 static void test_tower_rests(void **state) {
   (void)state;
@@ -602,6 +649,14 @@ static void test_options(void **state) {
   assert_int_equal(vs_fall_create(bk.m, &o, NULL, NULL, &f, &err), VS_ERR_INVALID);
   assert_non_null(strstr(err.msg, "0 < tol <= 1"));
   vs_fall_opts_default(&o);
+  o.slow_step = 0.5 * o.step;
+  assert_int_equal(vs_fall_create(bk.m, &o, NULL, NULL, &f, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "step = 0.001 <= slow_step <= 0.1"));
+  vs_fall_opts_default(&o);
+  o.slow_speed = -1.0;
+  assert_int_equal(vs_fall_create(bk.m, &o, NULL, NULL, &f, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "0 <= slow_speed < inf"));
+  vs_fall_opts_default(&o);
   o.calm = -1.0;
   assert_int_equal(vs_fall_create(bk.m, &o, NULL, NULL, &f, &err), VS_ERR_INVALID);
   assert_non_null(strstr(err.msg, "0 <= calm < inf"));
@@ -619,6 +674,7 @@ int main(void) {
       cmocka_unit_test(test_warm_start),
       cmocka_unit_test(test_overlap_recovery),
       cmocka_unit_test(test_slide),
+      cmocka_unit_test(test_slow_step),
       cmocka_unit_test(test_rocking_housner),
       cmocka_unit_test(test_fold_over_corner),
       cmocka_unit_test(test_corner_corner),

@@ -72,7 +72,12 @@ typedef struct {
   int scheme;          /* vs_fall_scheme: rigid (default: rigid blocks with impulsive contacts,
                           fall.h) or penalty (the joints' law at every contact, IDA: contact.h,
                           collide.h); written by name */
-  double step_ms;      /* time step of the rigid scheme, [1e-3, 10] ms, default 1 */
+  double step_ms;      /* time step of the rigid scheme, [1e-3, 10] ms, default 1 ... */
+  double slow_factor;  /* ... this many times longer, [1, 10], default 2, while no point of a
+                          block moves faster than slow_mm_s, [0, 1e6] mm/s, default 500 */
+  double slow_mm_s;
+  int max_sweeps;      /* rigid scheme: Gauss-Seidel sweeps per step at most, 1..10000, default
+                          15 (VS_FALL_MAX_SWEEPS; near rest at least VS_FALL_CALM_SWEEPS) */
   double restitution;  /* penalty scheme: coefficient of restitution of a block landing flat on
                           the ground, (0, 1], default 0.5 */
 
@@ -155,6 +160,8 @@ typedef struct {
   double atol_q;                   /* m: dynamic.atol_mm */
   double ground;                   /* m: fall.ground_mm */
   double fall_step;                /* s: fall.step_ms */
+  double fall_slow_step;           /* s: fall.slow_factor times that */
+  double fall_slow_speed;          /* m/s: fall.slow_mm_s */
 } vs_case_si;
 
 /* Fill si from c (units.h factors; nothing else is derived). */

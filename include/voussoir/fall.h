@@ -14,7 +14,11 @@
  *     gives Housner's rocking law, and an existing overlap does not deepen);
  *   - Coulomb: |P_t| <= mu P_n, and P_t = -mu P_n sign(u_t) where the contact slides.
  * The impulses are solved by nonsmooth Gauss-Seidel over the contacts (each contact's 2 x 2
- * problem exactly), warm-started from the previous step's impulses. Bodies and contacts:
+ * problem exactly), warm-started from the previous step's impulses (scaled by the ratio of
+ * the steps where the step changes: what a contact carries is a force). The step is h while any
+ * point of a block moves faster than a set speed, a longer one while none does (the debris
+ * settling): both bound how far a point moves in a step, and so how deep an impact can
+ * overlap. Bodies and contacts:
  *  - every body has a convex outline (collide.h: a voussoir's four corners and its extrados
  *    mid-point; a pier's springing face and the vertical drops from its ends); the piers move
  *    as the supports do (the right one at the loading rate, a pinned one keeping its rotation);
@@ -45,7 +49,11 @@
 #include "voussoir/status.h"
 
 typedef struct {
-  double step;        /* time step h, s (> 0) */
+  double step;        /* time step h, s (> 0), while the debris moves fast ... */
+  double slow_step;   /* ... and this one (>= step, <= 0.1 s) while no point of any block moves
+                         faster than slow_speed: a step then moves a point at most slow_step
+                         slow_speed, plus what gravity adds in it */
+  double slow_speed;  /* m/s (>= 0; 0: always step) */
   double rate;        /* support speed, m/s (the right pier moves on at it) */
   double rest_ke;     /* the debris is at rest once the kinetic energy stays below this, J ... */
   double rest_time;   /* ... for this long, s */
@@ -57,16 +65,21 @@ typedef struct {
                          times g h in a sweep (dimensionless, > 0) */
   int max_sweeps;     /* ... or after this many sweeps (the step is then counted unconverged) */
   double calm;        /* near rest, while the kinetic energy is below calm times rest_ke (>= 0;
-                         0: never), Gauss-Seidel stops at VS_FALL_CALM_TOL times tol, or after
-                         VS_FALL_CALM_SWEEPS sweeps if that is more than max_sweeps */
+                         0: never), Gauss-Seidel stops at VS_FALL_CALM_TOL times tol g step (the
+                         short step's, whatever the step), or after VS_FALL_CALM_SWEEPS sweeps
+                         if that is more than max_sweeps */
   int joints;         /* 1: bodies that share a joint meet on its faces (the arch); 0: no joint
                          contact (tests with a free block on a dummy joint) */
   const volatile sig_atomic_t *stop; /* NULL, or a flag that, once non-zero, stops the fall at
                                         its next step: VS_ERR_INTERRUPTED */
 } vs_fall_opts;
 
-/* The default cap on Gauss-Seidel sweeps per step. */
-#define VS_FALL_MAX_SWEEPS 30
+/* The default cap on Gauss-Seidel sweeps per step. Where a step reaches it, its contacts are
+ * a chain of bodies that passes a force one contact per sweep, and the change per sweep falls
+ * slowly: in the capped steps of a fall of the reference arch, sweeps 16-30 cut it by a median
+ * of 29 % only (README, *The fall's cost*), and the next step starts from where these stopped
+ * (the warm start). */
+#define VS_FALL_MAX_SWEEPS 15
 /* Near rest (vs_fall_opts.calm): the tolerance's fraction and the cap on sweeps. Gauss-Seidel's
  * tolerance lets a resting contact sink by up to tol g h^2 a step, which the overlaps' recovery
  * moves back out through the positions; that lift, repeated every step, feeds the debris a
@@ -77,15 +90,18 @@ typedef struct {
 /* The default of vs_fall_opts.calm: near rest below 100 times the rest level. */
 #define VS_FALL_CALM 100.0
 
-/* Defaults: h = 1 ms, tol = 1e-2, VS_FALL_MAX_SWEEPS sweeps, calm VS_FALL_CALM, joints on; the
- * rest from the caller. */
+/* Defaults: h = 1 ms, 2 ms below 0.5 m/s, tol = 1e-2, VS_FALL_MAX_SWEEPS sweeps, calm
+ * VS_FALL_CALM, joints on; the rest from the caller. */
 void vs_fall_opts_default(vs_fall_opts *o);
 
 typedef struct {
   double t_end, delta_end; /* where it stopped (s, m) */
-  double step;             /* the time step, s */
+  double step;             /* the time step, s ... */
+  double slow_step;        /* ... and the slow one (vs_fall_opts), s */
   int at_rest;             /* 1: the kinetic energy stayed below rest_ke for rest_time */
-  long steps;              /* time steps */
+  long steps;              /* time steps ... */
+  long slow_steps;         /* ... of which of slow_step (where that is longer than step) */
+  double cpu_s;            /* CPU time of the process over the fall (its samples included), s */
   long sweeps;             /* Gauss-Seidel sweeps, all steps together */
   long chain_steps;        /* steps whose contacts were all joints' (the arch in the air),
                               their impulses solved together ... */
@@ -94,6 +110,7 @@ typedef struct {
                               contacts had been looked for */
   long calm_steps;         /* steps near rest (vs_fall_opts.calm), solved to the tighter
                               tolerance */
+  int cap, calm_cap;       /* Gauss-Seidel's caps on sweeps per step, and near rest */
   long unconverged;        /* steps whose Gauss-Seidel stopped at its cap ... */
   double residual;         /* ... the largest change of a body's velocity (at its outline's
                               reach) in their last sweep, m/s (0: none stopped there) */
