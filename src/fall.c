@@ -161,15 +161,14 @@ static size_t slot_of(const vs_fall *f, long long key) {
   return (size_t)(((unsigned long long)key * 0x9E3779B97F4A7C15ULL) >> 32) & (size_t)(f->pcap - 1);
 }
 
-/* The last step's impulse of the contact with this key (0 if it had none), for a step of h:
- * the same force, the impulse scaled by h over that step's length. */
-static void warm(const vs_fall *f, long long key, double h, double P[2]) {
+/* The last step's impulse of the contact with this key (0 if it had none), times r: for a step
+ * r times as long, the same force. */
+static void warm(const vs_fall *f, long long key, double r, double P[2]) {
   P[0] = P[1] = 0.0;
   if (f->npc == 0) return;
   for (size_t i = slot_of(f, key);; i = (i + 1) & (size_t)(f->pcap - 1)) {
     if (f->pkey[i] == VS_FALL_NO_KEY) return;
     if (f->pkey[i] == key) {
-      const double r = h == f->hp ? 1.0 : h / f->hp;
       P[0] = r * f->pP[2 * i], P[1] = r * f->pP[2 * i + 1];
       return;
     }
@@ -270,7 +269,7 @@ static void contact_law(vs_fall_contact *c, double h) {
  * max_sweeps (near rest at least VS_FALL_CALM_SWEEPS). 0, or -2 when the joints' system
  * failed. */
 static int impulses(vs_fall *f, double h, double mu, step_out *so) {
-  const double g = f->g->gravity;
+  const double g = f->g->gravity, r = h / f->h; /* the warm start's impulses to this step */
   memcpy(f->v, f->vk, 3 * (size_t)f->nb * sizeof *f->v);
   for (int b = 0; b < f->n; b++) f->v[3 * b + 1] -= g * h; /* the free velocity */
   for (int i = 0; i < f->nc; i++) {
@@ -278,7 +277,7 @@ static int impulses(vs_fall *f, double h, double mu, step_out *so) {
     vs_fall_rel_velocity(c, f->vk, c->u0);
     contact_law(c, h);
     prepare(c, mu);
-    warm(f, c->key, h, c->P);
+    warm(f, c->key, r, c->P);
     vs_fall_apply(f, c, c->P[0], c->P[1], f->v);
   }
   const double tol = sweep_tol(f, h, so);
@@ -390,7 +389,7 @@ static int step(vs_fall *f, double h, double mu, step_out *so) {
   if (rc == 0 && outran(f, h)) {
     memcpy(f->vs, f->v, 3 * (size_t)f->nb * sizeof *f->v);
     if (keep(f) != 0) return -1; /* this solve's impulses: the warm start of the next */
-    f->hp = h;
+    f->h = h;
     memcpy(f->v, f->vk, 3 * (size_t)f->nb * sizeof *f->v);
     if (vs_fall_find_contacts(f, h, f->vs) != 0) return -1;
     so->redone = 1;
@@ -416,7 +415,7 @@ static int step(vs_fall *f, double h, double mu, step_out *so) {
   recover(f, h, so);
   for (int i = 0; i < 3 * f->n; i++) f->q[i] += h * (f->v[i] + f->w[i]);
   f->t += h;
-  f->h = f->hp = h;
+  f->h = h;
   return keep(f);
 }
 
@@ -500,7 +499,7 @@ static vs_status fall_start(vs_fall *f, double t0, const double *qe, const doubl
   memcpy(f->q, qe, Q * sizeof *qe);
   memcpy(f->v, ve, Q * sizeof *ve);
   f->t = t0;
-  f->h = f->hp = f->o.step;
+  f->h = f->o.step; /* warm_from_joints' impulses are over it */
   f->nc = f->npc = 0; /* no warm start from an earlier run (warm: none while npc is 0) */
   if (js0 != NULL && f->o.joints && warm_from_joints(f, js0, f->o.step) != 0)
     return vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory");

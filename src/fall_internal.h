@@ -66,8 +66,8 @@ struct vs_fall {
   double *q, *v, *vk, *vs; /* vk: velocities at the step's start; vs: after a first solve */
   double *w;              /* work: the step's pseudo-velocities (overlaps' recovery), 3 nb */
   double t;
-  double h;               /* the last step's length (its impulses are over it), s */
-  double hp;              /* the length of the step whose impulses the warm start holds, s */
+  double h;               /* the length of the step whose impulses the contacts and the warm
+                             start hold (the last step's), s */
   double level;           /* the ground (NAN: none) */
   /* work at the current positions */
   double *px, *pz;        /* vertices */
