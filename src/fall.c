@@ -262,6 +262,12 @@ static void contact_law(vs_fall_contact *c, double h) {
   c->bias = c->gap > 0.0 ? -c->gap / h : 0.0;
 }
 
+/* A bound on how fast any point of body b moves at the velocity (vx, vz, w), m/s: the speed of
+ * its reference point, and its rotation's at its outline's reach. Also for velocity changes. */
+static double point_speed(const vs_fall *f, int b, double vx, double vz, double w) {
+  return sqrt(vx * vx + vz * vz) + fabs(w) * f->rmaxb[b];
+}
+
 /* The step's impulses for the contacts found: from the free velocity, each contact's law and
  * warm start; when every contact is a joint's, the chain's impulses solved at once
  * (fall_chain.c); otherwise, or if that did not settle, nonsmooth Gauss-Seidel over the contacts
@@ -302,8 +308,7 @@ static int impulses(vs_fall *f, double h, double mu, step_out *so) {
     double worst = 0.0;
     for (int b = 0; b < f->n; b++) {
       const double *v = f->v + 3 * b, *w = f->vs + 3 * b;
-      const double dx = v[0] - w[0], dz = v[1] - w[1];
-      const double d = sqrt(dx * dx + dz * dz) + fabs(v[2] - w[2]) * f->rmaxb[b];
+      const double d = point_speed(f, b, v[0] - w[0], v[1] - w[1], v[2] - w[2]);
       worst = d > worst ? d : worst;
       if (worst > tol && !last) break; /* another sweep: its size is not needed */
     }
@@ -320,8 +325,7 @@ static int outran(const vs_fall *f, double h) {
   const double gh2 = f->g->gravity * h * h;
   for (int b = 0; b < f->n; b++) {
     const double *v = f->v + 3 * b;
-    const double speed = sqrt(v[0] * v[0] + v[1] * v[1]) + fabs(v[2]) * f->rmaxb[b];
-    const double reach = h * speed + 1e-9 * f->rmax;
+    const double reach = h * point_speed(f, b, v[0], v[1], v[2]) + 1e-9 * f->rmax;
     if (reach > f->reach[b] + gh2) return 1;
   }
   return 0;
@@ -420,14 +424,12 @@ static int step(vs_fall *f, double h, double mu, step_out *so) {
 }
 
 /* The next step's length: slow_step while no point of a block moves faster than slow_speed
- * (each body's speed turned at its outline's reach, as outran bounds it), else step (always
- * where slow_speed is 0). */
+ * (point_speed), else step (always where slow_speed is 0). */
 static double next_step(const vs_fall *f) {
   if (!(f->o.slow_step > f->o.step && f->o.slow_speed > 0.0)) return f->o.step;
   for (int b = 0; b < f->n; b++) {
     const double *v = f->v + 3 * b;
-    if (sqrt(v[0] * v[0] + v[1] * v[1]) + fabs(v[2]) * f->rmaxb[b] > f->o.slow_speed)
-      return f->o.step;
+    if (point_speed(f, b, v[0], v[1], v[2]) > f->o.slow_speed) return f->o.step;
   }
   return f->o.slow_step;
 }
