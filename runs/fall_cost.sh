@@ -48,6 +48,7 @@ cpu() {
   echo "$(median "${totals[@]}") $(median "${falls[@]}") $(median "${rests[@]}")"
 }
 median() { printf '%s\n' "$@" | sort -g | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'; }
+um() { awk -v x="$1" 'BEGIN {printf "%.3g", x * 1e6}'; } # m -> um, 3 digits
 # h5 FILE DATASET: a scalar of the record
 h5() { h5dump -d "$2" "$1" 2>/dev/null | sed -nE 's/^ *\(0\): ([-0-9.eE+]+).*/\1/p' | head -1; }
 # h5a FILE ATTRIBUTE: an integer attribute of the record
@@ -124,7 +125,6 @@ for scheme in "${schemes[@]}"; do
   done
   range="$(printf '%s\n' "${ratios[@]}" | sort -g | sed -n '1p;$p' | paste -sd-)"
   read -r s_fall s_rest d_end d_during d_inside t_long <<<"$sums"
-  um() { awk -v x="$1" 'BEGIN {printf "%.3g", x * 1e6}'; }
   summary+=("$scheme: $n_rest of $n_cases cases at rest; the fall's CPU $range times the rest of \
 the run, at most once in $n_cheap of the $n_rest at rest; all together $(printf %.2f "$s_fall") s \
 of falls against $(printf %.2f "$s_rest") s of the rest; deepest below the ground at the end \
