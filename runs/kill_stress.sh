@@ -2,12 +2,14 @@
 # How a record survives SIGKILL at a random moment: N runs of the reference specimen with their
 # record (to the collapse: dynamic.fall_s = 0), each killed after a random delay of 5 to 64 ms
 # (most of the run: it takes about 60 ms), and what each left at the record's path:
-#   - nothing (killed before the record's layout was complete: only PATH.part, which the next run
-#     removes; the record is renamed into place once its layout is written);
+#   - nothing (killed before the record's first snapshot, taken once its layout is written:
+#     only PATH.part, the working file, which the next run removes);
 #   - a record that opens and whose every dataset and attribute reads (h5dump of the whole file);
-#   - a record that opens but holds an object that does not read (a kill inside a flush: HDF5
-#     1.10 writes a flush's metadata in place, the superblock last, with no crash consistency;
-#     see src/record.c), kept as torn-K.h5 in OUT_DIR for inspection.
+#   - a record that opens but holds an object that does not read, kept as torn-K.h5 in OUT_DIR
+#     for inspection. HDF5 1.10 has no crash-consistent flush, so a kill inside one can tear the
+#     file it writes; that file is PATH.part, and PATH is only ever replaced (renamed over) by a
+#     whole copy of it taken after a flush (src/record_snapshot.c). Before that design, 1 record
+#     in 247 was torn.
 # A measurement, not a test: it exits 0 whatever it finds, and prints the counts.
 # usage: runs/kill_stress.sh [N]   (N default 200; VOUSSOIR=binary, OUT_DIR=... as the other
 #        scripts; about 0.2 s a kill)

@@ -39,6 +39,11 @@ const char VS_CLI_RUN_USAGE[] =
     "                         collapse: the fall after it is integrated only to be recorded)\n"
     "  --compress             deflate the HDF5 record (level 4 with shuffle; for archives:\n"
     "                         about a fifth smaller, slower to write; default: uncompressed)\n"
+    "  --snapshot-share S     the record at FILE.h5 is a whole copy of the file HDF5 writes\n"
+    "                         (FILE.h5.part), renamed into place after a flush, so that a run\n"
+    "                         killed at any moment leaves a readable record: copies take at\n"
+    "                         most this share of the wall time, in [1e-6, 1] (default 0.1;\n"
+    "                         1: after every flush, which loses no more than 64 rows)\n"
     "  --csv FILE             also write the history as CSV (one row per equilibrium or dynamic\n"
     "                         sample: phase, time, support displacement, reactions, hinges)\n"
     "  -q                     no progress line\n"
@@ -135,13 +140,14 @@ typedef struct {
 typedef struct {
   const char *case_path, *out_path, *csv_path; /* out_path NULL: no record */
   int json, quiet, record, compress;
+  double snapshot_share; /* 0: the default */
   run_override *overrides; /* argc entries at most */
   int n_overrides;
   char default_path[1024];
 } run_args;
 
 enum { OPT_ALPHA = 256, OPT_KN, OPT_SET, OPT_DYNAMIC, OPT_FIRST_LIMIT, OPT_JSON, OPT_NO_RECORD,
-       OPT_COMPRESS, OPT_CSV };
+       OPT_COMPRESS, OPT_CSV, OPT_SNAPSHOT_SHARE };
 
 static const struct option RUN_OPTIONS[] = {
     {"alpha", required_argument, NULL, OPT_ALPHA},
@@ -153,6 +159,7 @@ static const struct option RUN_OPTIONS[] = {
     {"no-record", no_argument, NULL, OPT_NO_RECORD},
     {"compress", no_argument, NULL, OPT_COMPRESS},
     {"csv", required_argument, NULL, OPT_CSV},
+    {"snapshot-share", required_argument, NULL, OPT_SNAPSHOT_SHARE},
     {0, 0, 0, 0}};
 
 static int run_option(void *user, int code, const char *value) {
@@ -168,6 +175,8 @@ static int run_option(void *user, int code, const char *value) {
   case OPT_NO_RECORD: a->record = 0; return 0;
   case OPT_COMPRESS: a->compress = 1; return 0;
   case OPT_CSV: a->csv_path = value; return 0;
+  case OPT_SNAPSHOT_SHARE:
+    return cli_double("voussoir", "--snapshot-share", value, 1e-6, 1.0, &a->snapshot_share);
   case 'o': a->out_path = value; return 0;
   case 'q': a->quiet = 1; return 0;
   default: /* 1: the case */
@@ -291,6 +300,7 @@ static int open_outputs(const run_args *a, const vs_run *run, const char *case_t
   vs_output_opts oo = {0};
   if (a->out_path != NULL) vs_output_opts_default(&oo); /* the record plugin is loaded */
   if (a->compress) oo.deflate = 4; /* for archives: about 10 % smaller, slower to write */
+  if (a->snapshot_share > 0.0) oo.snapshot_share = a->snapshot_share;
   if (a->out_path != NULL &&
       vs_output_create(a->out_path, run, case_text, &oo, &sink->record, &err) != VS_OK) {
     /* a refused path ("PATH: reason") is bad input; the writer's own errors name the path */

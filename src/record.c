@@ -22,10 +22,12 @@
 #include <unistd.h>
 
 #include "record_internal.h"
+#include "wall_clock.h"
 #include "xdmf.h"
 
-/* Suffix of the file while its layout is being written. */
+/* Suffixes of the working file HDF5 writes and of a snapshot's copy (record_snapshot.c). */
 #define VS_OUT_PART ".part"
+#define VS_OUT_SNAP ".snap"
 
 /* Fault injection for the crash tests: when the environment variable VS_FAULT_KILL names this
  * point, the process kills itself there with SIGKILL (see vs_output_finish for the points;
@@ -52,16 +54,20 @@ void vs_output_opts_default(vs_output_opts *o) {
   o->chunk_rows = 64;
   o->deflate = 0;
   o->xdmf_max_grids = 2000;
+  o->snapshot_share = 0.1;
 }
 
 static vs_status check_opts(const vs_output_opts *o, vs_error *err) {
   if (o->arc_points < 0 || o->arc_points > 64 || o->flush_rows < 1 || o->chunk_rows < 1 ||
-      o->deflate < 0 || o->deflate > 9 || o->xdmf_max_grids < 2)
+      o->deflate < 0 || o->deflate > 9 || o->xdmf_max_grids < 2 ||
+      !(o->snapshot_share > 0.0 && o->snapshot_share <= 1.0))
     return vs_error_set(err, VS_ERR_INVALID,
                         "output: options arc_points = %d, flush_rows = %d, chunk_rows = %d, "
-                        "deflate = %d, xdmf_max_grids = %d (allowed: arc_points in [0, 64], "
-                        "flush_rows >= 1, chunk_rows >= 1, deflate in [0, 9], xdmf_max_grids >= 2)",
-                        o->arc_points, o->flush_rows, o->chunk_rows, o->deflate, o->xdmf_max_grids);
+                        "deflate = %d, xdmf_max_grids = %d, snapshot_share = %g (allowed: "
+                        "arc_points in [0, 64], flush_rows >= 1, chunk_rows >= 1, deflate in "
+                        "[0, 9], xdmf_max_grids >= 2, 0 < snapshot_share <= 1)",
+                        o->arc_points, o->flush_rows, o->chunk_rows, o->deflate, o->xdmf_max_grids,
+                        o->snapshot_share);
   return VS_OK;
 }
 
@@ -69,6 +75,14 @@ static char *dup_str(const char *s) {
   size_t n = strlen(s) + 1;
   char *d = malloc(n);
   if (d != NULL) memcpy(d, s, n);
+  return d;
+}
+
+/* path with suffix appended (malloc'd; NULL when out of memory). */
+static char *suffixed(const char *path, const char *suffix) {
+  const size_t n = strlen(path) + strlen(suffix) + 1;
+  char *d = malloc(n);
+  if (d != NULL) snprintf(d, n, "%s%s", path, suffix);
   return d;
 }
 
@@ -107,31 +121,6 @@ static vs_status file_create(vs_output *o, const char *path) {
   return st;
 }
 
-/* A "<path>.part" left by a killed run is ours to remove (we hold the lock on path); anything
- * there that is not a regular file is not. */
-static vs_status remove_stale_part(vs_output *o, const char *part) {
-  struct stat st;
-  if (lstat(part, &st) != 0) return VS_OK;
-  if (!S_ISREG(st.st_mode))
-    return vs_error_set(&o->err, VS_ERR_INVALID, "%s: exists and is not a regular file", part);
-  if (unlink(part) != 0)
-    return vs_error_set(&o->err, VS_ERR_IO, "output: %s: cannot remove the stale file: %s", part,
-                        strerror(errno));
-  return VS_OK;
-}
-
-/* Rename part over path, checked again just before: never over anything but a regular file. */
-static vs_status replace_target(vs_output *o, const char *part) {
-  struct stat st;
-  if (lstat(o->path, &st) == 0 && !S_ISREG(st.st_mode))
-    return vs_error_set(&o->err, VS_ERR_INVALID,
-                        "%s: became something other than a regular file; not replaced", o->path);
-  if (rename(part, o->path) != 0)
-    return vs_error_set(&o->err, VS_ERR_IO, "output: %s: cannot rename to %s: %s", part, o->path,
-                        strerror(errno));
-  return VS_OK;
-}
-
 vs_status vs_output_create(const char *path, const vs_run *run, const char *case_text,
                            const vs_output_opts *opts, vs_output **out, vs_error *err) {
   *out = NULL;
@@ -164,32 +153,32 @@ vs_status vs_output_create(const char *path, const vs_run *run, const char *case
     vs_output_destroy(&o);
     return st;
   }
-  /* built under a temporary name: a file at path always has its whole layout */
-  char *part = malloc(strlen(path) + sizeof VS_OUT_PART);
-  if (part == NULL) {
+  /* HDF5 writes path.part; path is its snapshot (record_snapshot.c), the first once the layout
+   * is written: a file at path always has its whole layout */
+  o->part = suffixed(path, VS_OUT_PART);
+  o->snap = suffixed(path, VS_OUT_SNAP);
+  if (o->part == NULL || o->snap == NULL) {
     vs_output_destroy(&o);
     return vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
   }
-  snprintf(part, strlen(path) + sizeof VS_OUT_PART, "%s%s", path, VS_OUT_PART);
+  o->t_open = vs_wall_now();
   vs_h5_quiet q = vs_h5_quiet_begin();
-  st = remove_stale_part(o, part);
-  const int made = st == VS_OK; /* a part file from here on is ours */
+  st = vs_record_remove_stale(o, o->part);
+  if (st == VS_OK) st = vs_record_remove_stale(o, o->snap);
   if (st == VS_OK) {
-    st = file_create(o, part);
+    o->working = 1; /* a part file from here on is ours */
+    st = file_create(o, o->part);
     if (st == VS_OK) st = vs_record_layout_write(o, run, case_text);
+    if (st == VS_OK && o->snapshots == 0) st = vs_record_snapshot(o, 1);
   }
-  if (st == VS_OK) st = replace_target(o, part);
   vs_h5_quiet_end(q);
   if (st != VS_OK) {
     if (err != NULL) *err = o->err;
     o->pending = 0;
-    o->err.status = VS_ERR_IO; /* destroy must not flush */
+    o->err.status = VS_ERR_IO; /* destroy must not flush, and removes the part file */
     vs_output_destroy(&o);
-    if (made) remove(part);
-    free(part);
     return st;
   }
-  free(part);
   *out = o;
   return VS_OK;
 }
@@ -218,10 +207,17 @@ void vs_output_destroy(vs_output **op) {
   vs_h5_close(o->events);
   vs_h5_close(o->ev_mtype);
   free(o->ev_buf);
-  vs_h5_close(o->file);
+  const int closed = o->file >= 0 && H5Fclose(o->file) >= 0;
+  o->file = H5I_INVALID_HID;
   H5Eclear2(H5E_DEFAULT);
   vs_h5_quiet_end(q);
+  /* not finished: the closed working file, whole, replaces the snapshot; after a write error it
+   * is removed, and path keeps the last snapshot */
+  if (o->working && !(closed && o->err.status == VS_OK && vs_record_publish(o, o->part) == VS_OK))
+    unlink(o->part);
   vs_outlock_release(&o->lock);
+  free(o->part);
+  free(o->snap);
   free(o->path);
   free(o->xmf_path);
   free(o->bref);
@@ -397,6 +393,7 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
   /* what the status vouches for is on disk before the status is written */
   if (st == VS_OK && H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0)
     st = vs_h5_fail(&o->err, o->path, "cannot flush /events and /summary");
+  if (st == VS_OK) st = vs_record_snapshot(o, 0);
   if (st == VS_OK) vs_record_fault_point("before-status");
   /* the status is recorded when the run failed but the file is sound (see abandon_file) */
   char status[sizeof o->err.msg + 64], now[32];
@@ -406,7 +403,6 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
       (vs_h5_attr_str(o->file, "status", status) < 0 ||
        vs_h5_attr_str(o->file, "finished", now) < 0 || H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0))
     st = vs_h5_fail(&o->err, o->path, "cannot write the status");
-  if (st == VS_OK) vs_record_fault_point("after-status");
   if (o->err.status != VS_OK) abandon_file(o);
   /* the sidecar is written from what the closed file holds */
   for (int i = 0; i < S_COUNT; i++) {
@@ -418,6 +414,12 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
   if (o->file >= 0 && H5Fclose(o->file) < 0 && st == VS_OK)
     st = vs_h5_fail(&o->err, o->path, "cannot close");
   o->file = H5I_INVALID_HID;
+  /* the closed working file replaces the snapshot (after a write error: removed, path keeps
+   * the last snapshot) */
+  if (o->working && st == VS_OK) st = vs_record_publish(o, o->part);
+  if (o->working && st != VS_OK) unlink(o->part);
+  o->working = 0;
+  if (st == VS_OK) vs_record_fault_point("after-status");
   if (st == VS_OK) {
     hid_t f = H5Fopen(o->path, H5F_ACC_RDONLY, H5P_DEFAULT);
     st = f < 0 ? vs_h5_fail(&o->err, o->path, "cannot reopen")

@@ -76,6 +76,7 @@ typedef struct {
 struct vs_output {
   hid_t file;
   char *path, *xmf_path;
+  char *part, *snap;  /* the working file HDF5 writes, path.part; a snapshot's copy, path.snap */
   vs_output_opts opts;
   int nb, nj, np;     /* blocks, joints, outline points per block */
   size_t flush_rows;  /* rows buffered before a write */
@@ -91,7 +92,11 @@ struct vs_output {
   event_row *ev_buf;      /* events waiting for the next write */
   long ev_pending, ev_cap;
   int interrupted, finished, xmf_written;
+  int working;      /* 1 while path.part is ours: created, not yet renamed over path */
   vs_outlock *lock; /* the exclusive lock on path, held until destroy */
+  double t_open;    /* wall clock at the start, s */
+  double snap_spent, snap_last, snap_size; /* the snapshots' wall time, the last's, its bytes */
+  long snapshots;
   vs_error err;     /* first write error (sticky) */
 };
 
@@ -108,6 +113,18 @@ static inline void *row_ptr(vs_output *o, int i) {
 void vs_record_fault_point(const char *name);
 /* "2024-05-01T12:00:00Z" (now, UTC) into buf. */
 void vs_record_iso8601_utc(char *buf, size_t size);
+
+/* record_snapshot.c: the file at path is a snapshot of the working file (see there) */
+/* Remove a stale working or snapshot file at path left by a killed run (ours: we hold the lock);
+ * VS_ERR_INVALID if what is there is not a regular file. */
+vs_status vs_record_remove_stale(vs_output *o, const char *path);
+/* Rename `from` over o->path, checked just before: never over anything but a regular file. */
+vs_status vs_record_publish(vs_output *o, const char *from);
+/* After a flush: copy the working file and rename the copy over path when force is set, or when
+ * the snapshots' wall time, with this one's (estimated from the last's and the file's growth),
+ * stays within opts.snapshot_share of the time since the start (always when it is 1). VS_OK, or
+ * VS_ERR_IO with the cause in o->err (the copy removed, path left as it was). */
+vs_status vs_record_snapshot(vs_output *o, int force);
 
 /* record_series.c: the schema table and the buffered rows */
 /* Rows buffered before a write: opts.flush_rows, fewer when rows are wide. */

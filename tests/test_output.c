@@ -20,6 +20,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/time.h>
 #include <sys/wait.h>
 #include <poll.h>
 #include <time.h>
@@ -1124,7 +1126,10 @@ static void child_run(const vs_case *c, const char *path, int fd, long signal_at
   child_sink k = {NULL, 0, signal_at, die_at, fd, 0};
   const char *ev = getenv("VS_TEST_DIE_AT_EVENT_AFTER"); /* set in the child only */
   if (ev != NULL) k.die_at_event_after = atol(ev);
-  if (vs_run_create(c, &run, &err) != VS_OK || vs_output_create(path, run, "", NULL, &k.o, &err))
+  vs_output_opts o;
+  vs_output_opts_default(&o);
+  o.snapshot_share = 1.0; /* a snapshot after every flush: what a kill leaves is known */
+  if (vs_run_create(c, &run, &err) != VS_OK || vs_output_create(path, run, "", &o, &k.o, &err))
     _exit(2);
   vs_status st = vs_run_execute(run, child_sample, child_event, &k, &err);
   vs_output_finish(k.o, run, st, &err, &err);
@@ -1165,7 +1170,28 @@ static size_t check_rows(const double *got, const double *want, size_t n, size_t
   return good;
 }
 
-static void check_killed(const char *path, const memrec *ref, long at_least) {
+/* H5Ovisit: read dataset `name` whole into memory (its native type); count it. */
+static herr_t read_one(hid_t loc, const char *name, const H5O_info_t *info, void *op_data) {
+  if (info->type != H5O_TYPE_DATASET) return 0;
+  hid_t d = H5Dopen2(loc, name, H5P_DEFAULT);
+  if (d < 0) fail_msg("dataset %s does not open", name);
+  hid_t ft = H5Dget_type(d), t = H5Tget_native_type(ft, H5T_DIR_ASCEND), sp = H5Dget_space(d);
+  const hssize_t n = H5Sget_simple_extent_npoints(sp);
+  void *buf = malloc((size_t)(n > 0 ? n : 1) * H5Tget_size(t));
+  assert_non_null(buf);
+  if (n > 0 && H5Dread(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf) < 0)
+    fail_msg("dataset %s does not read", name);
+  if (n > 0) H5Dvlen_reclaim(t, sp, H5P_DEFAULT, buf); /* variable-length strings, if any */
+  free(buf);
+  H5Sclose(sp), H5Tclose(t), H5Tclose(ft), H5Dclose(d);
+  ++*(int *)op_data;
+  return 0;
+}
+
+/* A killed record's data (check_killed without the sidecar): it opens normally; its status is
+ * "running" or "completed"; every series has the same rows, each the run's bit for bit (at
+ * least at_least of them while "running"); the units, and every dataset, read whole. */
+static void check_killed_data(const char *path, const memrec *ref, long at_least) {
   char status[64];
   hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT); /* an ordinary open */
   if (f < 0) fail_msg("%s: H5Fopen failed after SIGKILL", path);
@@ -1181,6 +1207,9 @@ static void check_killed(const char *path, const memrec *ref, long at_least) {
   const size_t good_q = check_rows(q, ref->q, nq / (size_t)ref->n3, (size_t)ref->n3);
   if (strcmp(status, "running") == 0)
     assert_true((long)good >= at_least && (long)good_q >= at_least);
+  /* a snapshot, never the file HDF5 was writing: every series has the same rows, all of them
+   * the run's (no row of a flush cut short) */
+  assert_true(lo == hi && good == nd && good_q == nd && nq == nd * (size_t)ref->n3);
   print_message("  %s: status %s, %zu rows (datasets of %llu to %llu rows) of %d\n",
                 strrchr(path, '/') + 1, status, good, (unsigned long long)lo,
                 (unsigned long long)hi, ref->n);
@@ -1188,6 +1217,21 @@ static void check_killed(const char *path, const memrec *ref, long at_least) {
   hsize_t dims[3];
   rank_of(f, "/events", dims); /* readable */
   check_units(f, 30);
+  int datasets = 0; /* every dataset reads whole */
+  assert_true(H5Ovisit2(f, H5_INDEX_NAME, H5_ITER_NATIVE, read_one, &datasets, H5O_INFO_BASIC) >= 0);
+  assert_true(datasets > 30);
+  H5Fclose(f);
+}
+
+/* A killed record (check_killed_data), and its sidecar: written from what survived, with the
+ * blocks' outlines inline unless the status vouches for the frames. */
+static void check_killed(const char *path, const memrec *ref, long at_least) {
+  check_killed_data(path, ref, at_least);
+  char status[64];
+  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  read_attr_str(f, "status", status, sizeof status);
+  hsize_t lo, hi;
+  series_rows_range(f, &lo, &hi);
   H5Fclose(f);
   /* the sidecar can be written from what survived */
   vs_error err;
@@ -1197,7 +1241,7 @@ static void check_killed(const char *path, const memrec *ref, long at_least) {
   f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   const char *base = strrchr(path, '/') + 1;
   xdmf_stats xs = check_xdmf(xmf, f, base);
-  assert_true(xs.grids >= 1 && xs.grids <= (int)hi);
+  assert_true(xs.grids >= (hi > 0) && xs.grids <= (int)hi); /* none for the layout alone */
   /* the blocks' outlines: inline, from the positions, unless the status vouches for the frames */
   outline_sources os = check_outlines(xmf, f, base, strcmp(status, "running") == 0 ? 0 : 2000);
   if (strcmp(status, "running") == 0)
@@ -1283,11 +1327,13 @@ static void test_killed(void **state) {
 }
 
 /* Killed at chosen states, each reached deterministically in the child (no timing): right after
- * the 64th row (a write has just filled whole chunks), one row after it, just before and after the
- * second write, late in the dynamic phase, at the first event after row 70 (events are buffered
- * with the rows), and inside the second write with half the time series extended
- * (VS_FAULT_KILL "mid-append"). Every file opens normally and holds the run's rows up to its last write (at
- * least the rows of the whole writes before the kill); any longer series read NaN past them. */
+ * the 64th row (a write has just filled whole chunks), one row after it, just before and after
+ * the second write, late in the dynamic phase, at the first event after row 70 (events are
+ * buffered with the rows), inside the second write with half the time series extended
+ * (VS_FAULT_KILL "mid-append"), before the status, and in the second snapshot, half copied
+ * ("mid-snapshot") or copied but not renamed ("before-publish"). Every file opens normally and
+ * holds the run's rows up to its last snapshot, here its last write (at least the rows of the
+ * whole writes before the kill), every series as many. */
 static void test_killed_at_states(void **state) {
   (void)state;
   vs_case c;
@@ -1297,7 +1343,7 @@ static void test_killed_at_states(void **state) {
     const char *event_after, *fault;
   } at[] = {{64, NULL, NULL}, {65, NULL, NULL},  {127, NULL, NULL},        {129, NULL, NULL},
             {200, NULL, NULL}, {0, "70", NULL}, {0, NULL, "mid-append"},
-            {0, NULL, "before-status"}};
+            {0, NULL, "before-status"}, {0, NULL, "mid-snapshot"}, {0, NULL, "before-publish"}};
   for (size_t i = 0; i < sizeof at / sizeof at[0]; i++) {
     char path[128];
     snprintf(path, sizeof path, "%s/state%zu.h5", g_dir, i);
@@ -1316,13 +1362,114 @@ static void test_killed_at_states(void **state) {
     assert_int_equal(waitpid(pid, &wst, 0), pid);
     close(fds[0]);
     assert_true(WIFSIGNALED(wst) && WTERMSIG(wst) == SIGKILL);
-    check_killed(path, &ref, at[i].fault != NULL ? 64 : (at[i].die_at / 64) * 64);
+    /* in the second snapshot's copy, or before its rename: the first, the layout's */
+    const int snap = at[i].fault != NULL && strstr(at[i].fault, "snap") != NULL;
+    const int pub = at[i].fault != NULL && strstr(at[i].fault, "publish") != NULL;
+    check_killed(path, &ref, snap || pub ? 0 : at[i].fault != NULL ? 64 : (at[i].die_at / 64) * 64);
+    if (snap || pub) { /* the layout alone, and the working file left beside it */
+      hid_t g = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+      hsize_t lo, hi;
+      series_rows_range(g, &lo, &hi);
+      assert_true(hi == 0);
+      H5Fclose(g);
+      char part[160];
+      snprintf(part, sizeof part, "%s.part", path);
+      assert_int_equal(access(part, F_OK), 0);
+    }
     hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
     char status[64];
     read_attr_str(f, "status", status, sizeof status);
     assert_string_equal(status, "running");
     H5Fclose(f);
   }
+  free(ref.delta);
+  free(ref.q);
+  assert_int_equal(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0);
+}
+
+/* The CPU time (user and system) of the children waited for so far, us. */
+static long children_cpu_us(void) {
+  struct rusage ru;
+  if (getrusage(RUSAGE_CHILDREN, &ru) != 0) return 0;
+  return (long)(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) * 1000000L + ru.ru_utime.tv_usec +
+         ru.ru_stime.tv_usec;
+}
+
+/* In a child: record case c at path with the default options to the end, finish, _exit(0);
+ * prof_us > 0: the process dies by SIGPROF (its default action) once it has used that much CPU
+ * time, wherever it is then: computing, inside an HDF5 write or flush, copying a snapshot. */
+static void child_to_end(const vs_case *c, const char *path, long prof_us) {
+  if (prof_us > 0) {
+    struct itimerval it = {{0, 0}, {prof_us / 1000000, prof_us % 1000000}};
+    if (setitimer(ITIMER_PROF, &it, NULL) != 0) _exit(4);
+  }
+  vs_error err;
+  vs_run *run = NULL;
+  vs_output *o = NULL;
+  if (vs_run_create(c, &run, &err) != VS_OK || vs_output_create(path, run, "", NULL, &o, &err))
+    _exit(2);
+  vs_status st = vs_run_execute(run, vs_output_sample, vs_output_event, o, &err);
+  st = vs_output_finish(o, run, st, &err, &err);
+  vs_output_destroy(&o);
+  vs_run_destroy(&run);
+  _exit(st == VS_OK ? 0 : 1);
+}
+
+/* Killed at moments spread over the whole of a recording run, by its own CPU time (so that a
+ * loaded machine moves nothing: no wall-clock race), with the default snapshot policy: at the
+ * path there is either nothing yet (before the layout's snapshot) or a record that opens and
+ * reads whole, every series with the same rows, each of them the run's (check_killed). The kill
+ * lands wherever the process is, also inside HDF5's writes and flushes of the working file;
+ * runs/kill_stress.sh measures the same over hundreds of wall-clock kills. */
+static void test_killed_anywhere(void **state) {
+  (void)state;
+  vs_case c;
+  memrec ref = killed_case(&c);
+  char path[128];
+  snprintf(path, sizeof path, "%s/anywhere.h5", g_dir);
+  /* the whole run's CPU time: the least of three runs to the end (the first can pay for cold
+   * caches) */
+  long total_us = 0;
+  pid_t pid;
+  int wst;
+  for (int i = 0; i < 3; i++) {
+    fflush(NULL);
+    pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) child_to_end(&c, path, 0);
+    const long before_us = children_cpu_us();
+    assert_int_equal(waitpid(pid, &wst, 0), pid);
+    assert_true(WIFEXITED(wst) && WEXITSTATUS(wst) == 0);
+    const long us = children_cpu_us() - before_us;
+    total_us = i == 0 || us < total_us ? us : total_us;
+  }
+  const int kills = 16;
+  int none = 0, whole = 0, ended = 0;
+  for (int k = 0; k < kills; k++) {
+    char part[160];
+    snprintf(part, sizeof part, "%s.part", path);
+    unlink(path), unlink(part);
+    fflush(NULL);
+    pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) child_to_end(&c, path, 1 + total_us * (2 * k + 1) / (2 * kills));
+    assert_int_equal(waitpid(pid, &wst, 0), pid);
+    if (WIFEXITED(wst)) { /* it ended first: a completed record */
+      assert_int_equal(WEXITSTATUS(wst), 0);
+      ended++;
+      continue;
+    }
+    assert_true(WIFSIGNALED(wst) && WTERMSIG(wst) == SIGPROF);
+    if (access(path, F_OK) != 0) {
+      none++;
+      continue;
+    }
+    check_killed_data(path, &ref, 0); /* the sidecar: the tests above */
+    whole++;
+  }
+  print_message("  %d kills over %.3f s of CPU time: %d before the first snapshot, %d records "
+                "whole, %d runs ended first\n", kills, 1e-6 * (double)total_us, none, whole, ended);
+  assert_true(whole >= kills / 4); /* the kills were in the run, not all before or after it */
   free(ref.delta);
   free(ref.q);
   assert_int_equal(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0);
@@ -1409,6 +1556,7 @@ int main(void) {
       cmocka_unit_test(test_dynamic_record),
       cmocka_unit_test(test_killed),
       cmocka_unit_test(test_killed_at_states),
+      cmocka_unit_test(test_killed_anywhere),
       cmocka_unit_test(test_errors),
   };
   return cmocka_run_group_tests(tests, setup, teardown);

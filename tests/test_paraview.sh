@@ -31,10 +31,11 @@ if [ -z "${DISPLAY:-}" ]; then
 fi
 "$vs" run "$src/runs/reference.ini" --first-limit -q -o "$tmp/run.h5" >/dev/null
 "$vs" run "$src/runs/reference.ini" -q -o "$tmp/fall.h5" >/dev/null
-# killed (SIGKILL) once /summary is written, before the status: "running"
+# killed (SIGKILL) once /summary is written, before the status: "running" (a snapshot after
+# every flush: the record has all but the status)
 rc=0
 { VS_FAULT_KILL=before-status "$vs" run "$src/runs/reference.ini" --first-limit -q \
-  -o "$tmp/killed.h5"; } >/dev/null 2>&1 || rc=$?
+  --snapshot-share 1 -o "$tmp/killed.h5"; } >/dev/null 2>&1 || rc=$?
 [ $rc -eq 137 ] || { echo "the run meant to be killed ended with $rc"; exit 1; }
 cd "$tmp"
 /usr/bin/python3 - <<'EOF'

@@ -147,6 +147,8 @@ static void test_refused_targets(void **s) {
       {"-o x.h5 --csv x.xmf", "--csv", "x.xmf"},
       {"-o x.h5 --csv x.h5", "-o", "x.h5"},
       {"-o y.h5", "-o", "y.xmf"}, /* the record's sidecar */
+      {"-o x.h5 --snapshot-share 0", "--snapshot-share", "0"},
+      {"-o x.h5 --snapshot-share 1.5", "--snapshot-share", "1.5"},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     const int rc = run_cli("case.ini", cases[i].args);
@@ -340,8 +342,10 @@ static void test_stop_flag_in_solvers(void **s) {
 /* ---------------------------------------------------------------------------------------------
  * Crash consistency */
 
-/* Killed (SIGKILL) at the final write, before and after the status: a record whose status reads
- * "completed" has readable /events and /summary; one killed before reads "running". */
+/* Killed (SIGKILL) at the final write, before the status (everything else flushed and, with a
+ * snapshot after every flush, in the record) and after it (the working file closed and renamed
+ * over the record): a record whose status reads "completed" has readable /events and /summary;
+ * one killed before reads "running". */
 static void test_killed_at_final_write(void **s) {
   (void)s;
   const char *points[] = {"before-status", "after-status"};
@@ -349,7 +353,7 @@ static void test_killed_at_final_write(void **s) {
     char cmd[1024], status[256];
     snprintf(cmd, sizeof cmd, /* the shell's "Killed" goes to /dev/null too */
              "cd %s && exec 2> /dev/null && VS_FAULT_KILL=%s %s run %s -q --set dynamic.fall_s=0 "
-             "-o k%d.h5 > /dev/null", /* the fall (most of a run) does not matter here */
+             "--snapshot-share 1 -o k%d.h5 > /dev/null", /* the fall (most of a run) does not matter here */
              g_dir, points[i], VS_BINARY, REFERENCE, i);
     assert_int_equal(sh(cmd), 128 + SIGKILL); /* the hook fired */
     char path[256];

@@ -1,9 +1,11 @@
 /* The record of a run: an HDF5 file laid out in the spirit of H5MD (the case's parameters, the
  * reference geometry, one group per time-dependent quantity, an event table and a summary) and
  * an XDMF sidecar with which ParaView plays the motion. SI units; every floating-point dataset
- * carries a "unit" attribute. A run killed at any moment (even by SIGKILL) leaves a file that
- * HDF5 opens normally, holding every row up to the last flush (see vs_output_opts); a kill that
- * lands inside a flush may add, in some datasets, rows that read as NaN (-1 for integers). */
+ * carries a "unit" attribute. HDF5 writes "<path>.part"; the file at path is a whole copy of it
+ * taken after a flush and renamed into place (vs_output_opts.snapshot_share), and at the end the
+ * closed file itself: a run killed at any moment (even by SIGKILL) leaves at path nothing (before
+ * the first snapshot) or a file that HDF5 opens normally and reads whole, every time series up
+ * to the same row. */
 #ifndef VOUSSOIR_OUTPUT_H
 #define VOUSSOIR_OUTPUT_H
 
@@ -27,13 +29,19 @@ typedef struct {
   int xdmf_max_grids; /* the XDMF lists at most this many rows (>= 2, default 2000): every k-th
                          row with k = ceil(rows / xdmf_max_grids), and always the last one; the
                          record keeps the blocks' moved outlines of those rows only */
+  double snapshot_share; /* the file at path is a snapshot: HDF5 writes "<path>.part", which is
+                         copied and the copy renamed over path after a flush, as long as the
+                         copies take at most this share of the wall time since the start, in
+                         (0, 1], default 0.1; 1: after every flush. Always after the layout and
+                         before the status; at the end the working file itself is renamed */
 } vs_output_opts;
 
 /* Fill o with the defaults above. */
 void vs_output_opts_default(vs_output_opts *o);
 
-/* Create the HDF5 file at path (replaced if it exists; built as "<path>.part" and renamed once
- * complete). path and its sidecar must be absent or regular files (vs_outpath_check) and path
+/* Create the HDF5 file at path (replaced if it exists; written as "<path>.part", copied to
+ * "<path>.snap" and renamed over path after the layout and some flushes, renamed itself at the
+ * end; a killed run's .part and .snap are removed). path and its sidecar must be absent or regular files (vs_outpath_check) and path
  * is locked for this writer until vs_output_destroy (vs_outlock_acquire): otherwise
  * VS_ERR_INVALID and nothing is created. For run (borrowed: its geometry and model are read now and at every sample), with
  * opts (NULL: defaults) copied. Writes the root attributes (program "voussoir", version, layout,
@@ -74,8 +82,9 @@ void vs_output_interrupt(vs_output *o);
  * it at most once, after vs_run_execute (a second call fails with VS_ERR_INVALID). Returns VS_OK or
  * VS_ERR_IO (err, and vs_output_error, have the cause). For the crash tests only: when the
  * environment variable VS_FAULT_KILL is "before-status" (everything flushed but the status) or
- * "after-status" (the status flushed, the file not yet closed), the process kills itself with
- * SIGKILL at that point. */
+ * "after-status" (the file closed and renamed over path, the sidecar not yet written), or, in a
+ * snapshot after the layout's, "mid-snapshot" (half of the copy written) or "before-publish"
+ * (the copy written, not renamed), the process kills itself with SIGKILL at that point. */
 vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status,
                            const vs_error *run_err, vs_error *err);
 
