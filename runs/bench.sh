@@ -7,7 +7,9 @@
 #  2. the same with its HDF5 record (the fall is then integrated);
 #  3. alpha 90 deg, k_n 48 N/mm^3, with its record;
 #     (full mode) the split of rows 2 and 3: the record of the run ending at the collapse
-#     (dynamic.fall_s = 0), and alpha 90 without a record; the fall to rest is the rest;
+#     (dynamic.fall_s = 0), and alpha 90 without a record; the fall to rest is the rest; and
+#     rows 2 and 3 with the record's snapshots (src/record_snapshot.c) after the layout only
+#     (--snapshot-share 1e-6) and after every flush (1), this build only;
 #  4. the seed domain (alpha 0:45:5,60,75,90 x k_n 3, 48, records) by `sweep -j 2`: wall seconds;
 #  5. process start-up: `voussoir --version`, mean CPU milliseconds (user + sys) over 50 starts
 #     (HDF5 and cairo are loaded only by the commands that need them: src/plugin.h);
@@ -139,6 +141,14 @@ if ((!quick)); then # where the record rows' time goes: the same runs ending at 
   both "  alpha 90, k_n 48, --no-record (CPU s)" ref_run --alpha 90 --kn 48 --no-record
   both "  alpha 90, k_n 48, record to the collapse" ref_run --alpha 90 --kn 48 -o "$work/r.h5" \
     --set dynamic.fall_s=0
+  # what the record's snapshots cost (this build: the previous one has none): the layout's alone,
+  # against the default's (rows 2 and 3), and one after every flush
+  for share in 1e-6 1; do
+    row "  reference, record, --snapshot-share $share" "" \
+      "$(ref_run "$bin" -o "$work/r.h5" --snapshot-share "$share")"
+    row "  alpha 90, record, --snapshot-share $share" "" \
+      "$(ref_run "$bin" --alpha 90 --kn 48 -o "$work/r.h5" --snapshot-share "$share")"
+  done
 fi
 ((quick)) || both "seed domain, 26 runs, sweep -j 2 (wall s)" domain
 a=""
