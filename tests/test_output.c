@@ -1218,7 +1218,8 @@ static void check_killed_data(const char *path, const memrec *ref, long at_least
   rank_of(f, "/events", dims); /* readable */
   check_units(f, 30);
   int datasets = 0; /* every dataset reads whole */
-  assert_true(H5Ovisit2(f, H5_INDEX_NAME, H5_ITER_NATIVE, read_one, &datasets, H5O_INFO_BASIC) >= 0);
+  assert_true(H5Ovisit2(f, H5_INDEX_NAME, H5_ITER_NATIVE, read_one, &datasets,
+                        H5O_INFO_BASIC) >= 0);
   assert_true(datasets > 30);
   H5Fclose(f);
 }
@@ -1294,11 +1295,8 @@ static void test_killed(void **state) {
   vs_case c;
   memrec ref = killed_case(&c);
 
-  /* The child kills itself at row 137, after it reported row 100 through the pipe. A kill at a
-   * random moment can land inside a flush, which HDF5 1.10 cannot make atomic (src/record.c): 1
-   * record in 247 kept an object that does not read (runs/kill_stress.sh 300). That is measured,
-   * not asserted here, where it would fail at random: every kill in this file is at a state the
-   * run reaches deterministically. */
+  /* The child kills itself at row 137, after it reported row 100 through the pipe (kills at
+   * moments spread over a run: test_killed_anywhere). */
   char path[128];
   snprintf(path, sizeof path, "%s/killed.h5", g_dir);
   int fds[2];
@@ -1418,9 +1416,9 @@ static void child_to_end(const vs_case *c, const char *path, long prof_us) {
 /* Killed at moments spread over the whole of a recording run, by its own CPU time (so that a
  * loaded machine moves nothing: no wall-clock race), with the default snapshot policy: at the
  * path there is either nothing yet (before the layout's snapshot) or a record that opens and
- * reads whole, every series with the same rows, each of them the run's (check_killed). The kill
- * lands wherever the process is, also inside HDF5's writes and flushes of the working file;
- * runs/kill_stress.sh measures the same over hundreds of wall-clock kills. */
+ * reads whole, every series with the same rows, each of them the run's (check_killed_data).
+ * The kill lands wherever the process is, also inside HDF5's writes and flushes of the working
+ * file; runs/kill_stress.sh measures the same over hundreds of wall-clock kills. */
 static void test_killed_anywhere(void **state) {
   (void)state;
   vs_case c;
