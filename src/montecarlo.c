@@ -159,7 +159,32 @@ static void stats_free(mc_stats *st) {
 }
 
 /* ---------------------------------------------------------------------------------------------
- * Files */
+ * Files: each written as "<name>.part" and renamed into place */
+
+/* dir/name into path (1200 bytes) and dir/name.part into part (1300). */
+static void target(const char *dir, const char *name, char *path, char *part) {
+  snprintf(path, 1200, "%s/%s", dir, name);
+  snprintf(part, 1300, "%s.part", path);
+}
+
+static vs_status cannot(const char *path, vs_error *err) {
+  return vs_error_set(err, VS_ERR_IO, "montecarlo: %s: cannot write: %s", path, strerror(errno));
+}
+
+/* After part was written with status st: renamed over path (checked just before: never over
+ * anything but a regular file), or removed. */
+static vs_status publish(const char *path, const char *part, vs_status st, vs_error *err) {
+  struct stat sb;
+  if (st == VS_OK && lstat(path, &sb) == 0 && !S_ISREG(sb.st_mode))
+    st = vs_error_set(err, VS_ERR_INVALID,
+                      "montecarlo: %s: became something other than a regular file; not replaced",
+                      path);
+  if (st == VS_OK && rename(part, path) != 0)
+    st = vs_error_set(err, VS_ERR_IO, "montecarlo: %s: cannot rename to %s: %s", part, path,
+                      strerror(errno));
+  if (st != VS_OK) remove(part);
+  return st;
+}
 
 static const char *status_name(int s) {
   return s == VS_MC_COLLAPSE ? "collapse" : s == VS_MC_NO_COLLAPSE ? "max_displacement" : "failed";
@@ -304,10 +329,11 @@ static herr_t write_stats_h5(hid_t file, const mc_stats *st) {
   return rc;
 }
 
-static vs_status write_h5(const char *path, const vs_case *cs, const vs_mc_sample *s, int n,
-                          const mc_stats *st, vs_error *err) {
+/* summary.h5 (named path in messages) written at part. */
+static vs_status write_h5(const char *path, const char *part, const vs_case *cs,
+                          const vs_mc_sample *s, int n, const mc_stats *st, vs_error *err) {
   hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
-  hid_t file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  hid_t file = H5Fcreate(part, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
   H5Pclose(fapl);
   if (file < 0) return vs_error_set(err, VS_ERR_IO, "montecarlo: %s: cannot create", path);
   char desc[256];
@@ -331,18 +357,20 @@ static vs_status write_plots(const char *dir, const vs_case *c, const mc_stats *
                                 {"DKW 95 % band, lower", st->frag_lo},
                                 {"DKW 95 % band, upper", st->frag_hi}};
   const vs_plot_panel fp = {{"probability of collapse", 1.0, 0}, fs, 3};
-  snprintf(path, sizeof path, "%s/fragility.png", dir);
+  char part[1300];
+  target(dir, "fragility.png", path, part);
   snprintf(title, sizeof title, "fragility, alpha = %g deg, %d samples", c->alpha_deg, st->n);
-  vs_status s = vs_plot_curves(path, VS_PLOT_PNG, title, &xd, st->frag_delta,
-                               VS_MC_FRAGILITY_POINTS, &fp, 1, err);
+  vs_status s = publish(path, part, vs_plot_curves(part, VS_PLOT_PNG, title, &xd, st->frag_delta,
+                                                   VS_MC_FRAGILITY_POINTS, &fp, 1, err), err);
   if (s != VS_OK || st->n < 1) return s;
   const vs_plot_axis xn = {"samples", 1.0, 1};
   const vs_plot_series m1 = {"mean delta_u / L", st->run_mean}, m2 = {"5 % quantile", st->run_q05};
   const vs_plot_series cv = {"CoV of delta_u", st->run_cov};
   const vs_plot_series ms[2] = {m1, m2};
   const vs_plot_panel cp[2] = {{{"delta_u / L (%)", 1.0, 0}, ms, 2}, {{"CoV", 1.0, 0}, &cv, 1}};
-  snprintf(path, sizeof path, "%s/convergence.png", dir);
-  s = vs_plot_curves(path, VS_PLOT_PNG, "running statistics", &xn, st->run_n, st->n_run, cp, 2, err);
+  target(dir, "convergence.png", path, part);
+  s = publish(path, part, vs_plot_curves(part, VS_PLOT_PNG, "running statistics", &xn, st->run_n,
+                                         st->n_run, cp, 2, err), err);
   if (s != VS_OK) return s;
   double *joints = malloc((size_t)st->n_joints * sizeof *joints);
   if (joints == NULL) return vs_error_set(err, VS_ERR_NOMEM, "montecarlo: out of memory");
@@ -352,8 +380,9 @@ static vs_status write_plots(const char *dir, const vs_case *c, const mc_stats *
   for (int l = 0; l < VS_MC_LABELS; l++) hs[l] = (vs_plot_series){names[l], st->hist + l * st->n_joints};
   const vs_plot_panel hp = {{"collapses with the hinge at that joint", 1.0, 0}, hs, VS_MC_LABELS};
   const vs_plot_axis xj = {"joint", 1.0, 1};
-  snprintf(path, sizeof path, "%s/hinges.png", dir);
-  s = vs_plot_curves(path, VS_PLOT_PNG, "hinges at collapse", &xj, joints, st->n_joints, &hp, 1, err);
+  target(dir, "hinges.png", path, part);
+  s = publish(path, part, vs_plot_curves(part, VS_PLOT_PNG, "hinges at collapse", &xj, joints,
+                                         st->n_joints, &hp, 1, err), err);
   free(joints);
   return s;
 }
@@ -365,15 +394,15 @@ vs_status vs_mc_write_summary(const char *dir, const vs_case *c, vs_mc_sample *s
   qsort(s, (size_t)n, sizeof *s, cmp_sample);
   mc_stats st;
   vs_status rc = compute(s, n, c, &st, err);
-  char path[1200];
-  snprintf(path, sizeof path, "%s/samples.csv", dir);
-  if (rc == VS_OK && write_samples_csv(path, c, s, n) != 0)
-    rc = vs_error_set(err, VS_ERR_IO, "montecarlo: %s: cannot write", path);
-  snprintf(path, sizeof path, "%s/statistics.csv", dir);
-  if (rc == VS_OK && write_stats_csv(path, &st) != 0)
-    rc = vs_error_set(err, VS_ERR_IO, "montecarlo: %s: cannot write", path);
-  snprintf(path, sizeof path, "%s/summary.h5", dir);
-  if (rc == VS_OK) rc = write_h5(path, c, s, n, &st, err);
+  char path[1200], part[1300];
+  target(dir, "samples.csv", path, part);
+  if (rc == VS_OK)
+    rc = publish(path, part, write_samples_csv(part, c, s, n) != 0 ? cannot(path, err) : VS_OK, err);
+  target(dir, "statistics.csv", path, part);
+  if (rc == VS_OK)
+    rc = publish(path, part, write_stats_csv(part, &st) != 0 ? cannot(path, err) : VS_OK, err);
+  target(dir, "summary.h5", path, part);
+  if (rc == VS_OK) rc = publish(path, part, write_h5(path, part, c, s, n, &st, err), err);
   if (rc == VS_OK) rc = write_plots(dir, c, &st, err);
   stats_free(&st);
   return rc;

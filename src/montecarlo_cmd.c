@@ -21,6 +21,7 @@
 #include "montecarlo_mpi.h"
 #include "pipe_io.h"
 #include "plugin.h"
+#include "voussoir/outpath.h"
 #include "voussoir/parse.h"
 #include "voussoir/plot.h"
 
@@ -134,6 +135,24 @@ static int load_case(const vs_mc_opts *a, vs_case *c) {
   return -1;
 }
 
+/* Check that dir may receive the summary's files (VS_MC_OUTPUTS): dir absent or a directory,
+ * each file there absent or a regular file and none of the others (the case file, an input
+ * shard's table). 0, or EXIT_USAGE after printing why ("voussoir CMD: -o PATH: reason"). */
+static int check_outputs(const char *cmd, const char *dir, const vs_outpath_other *others,
+                         int n_others) {
+  static const char *const names[] = {VS_MC_OUTPUTS};
+  vs_error err;
+  vs_error_clear(&err);
+  int bad = vs_outpath_check_dir(dir, &err) != VS_OK;
+  for (size_t i = 0; !bad && access(dir, F_OK) == 0 && i < sizeof names / sizeof names[0]; i++) {
+    char path[1200];
+    snprintf(path, sizeof path, "%s/%s", dir, names[i]);
+    bad = vs_outpath_check(path, others, n_others, &err) != VS_OK;
+  }
+  if (bad) fprintf(stderr, "voussoir %s: -o %s\n", cmd, err.msg);
+  return bad ? EXIT_USAGE : 0;
+}
+
 static void print_result(const char *dir, const vs_mc_sample *r, int n, double wall, int jobs) {
   int collapses = 0, failed = 0;
   for (int i = 0; i < n; i++) {
@@ -161,6 +180,9 @@ int vs_mc_main(const vs_mc_opts *o) {
     goto done;
   }
   for (int i = a.shard_k - 1, k = 0; i < a.samples; i += a.shard_m) samples[k++] = i;
+  const vs_outpath_other case_file[1] = {{a.case_path, "the case file"}};
+  if ((rc = check_outputs("montecarlo", a.dir, case_file, 1)) != 0) goto done;
+  rc = EXIT_FAIL;
   if (mkdir(a.dir, 0755) != 0 && errno != EEXIST) { /* before hours of work, not after */
     fprintf(stderr, "voussoir montecarlo: -o %s: cannot create: %s\n", a.dir, strerror(errno));
     goto done;
@@ -312,6 +334,19 @@ int vs_merge_main(const char *const *dirs, int nd, const char *out) {
   char header[1024] = "";
   vs_mc_sample *all = NULL;
   int n = 0, cap = 0, rc = EXIT_USAGE;
+  /* the shards' tables are inputs: never replaced by the merged one */
+  char (*tables)[1100] = malloc((size_t)(nd > 0 ? nd : 1) * sizeof *tables);
+  vs_outpath_other *others = malloc((size_t)(nd > 0 ? nd : 1) * sizeof *others);
+  if (tables == NULL || others == NULL) {
+    fprintf(stderr, "voussoir merge: out of memory\n");
+    rc = EXIT_FAIL;
+    goto done;
+  }
+  for (int d = 0; d < nd; d++) {
+    snprintf(tables[d], sizeof tables[d], "%s/samples.csv", dirs[d]);
+    others[d] = (vs_outpath_other){tables[d], "an input shard's table"};
+  }
+  if (check_outputs("merge", out, others, nd) != 0) goto done;
   for (int d = 0; d < nd; d++)
     if (read_shard(dirs[d], header, sizeof header, &all, &n, &cap) != 0) goto done;
   qsort(all, (size_t)n, sizeof *all, cmp_sample_no);
@@ -336,6 +371,8 @@ int vs_merge_main(const char *const *dirs, int nd, const char *out) {
   rc = 0;
 done:
   free(all);
+  free(tables);
+  free(others);
   vs_plot_release();
   return rc;
 }

@@ -333,12 +333,14 @@ static void resumed_row(void *user, const vs_sweep_row *row) {
  * status after printing why. */
 static int sweep_open(sweep_state *s, const char *manifest) {
   const sweep_opts *o = s->o;
-  char path[1100];
+  char path[1100], h5[1100];
   snprintf(path, sizeof path, "%s/summary.csv", o->dir);
+  snprintf(h5, sizeof h5, "%s/summary.h5", o->dir);
   vs_error err;
   vs_error_clear(&err);
   if (vs_outpath_check_dir(o->dir, &err) != VS_OK ||
-      (access(o->dir, F_OK) == 0 && vs_outpath_check(path, NULL, 0, &err) != VS_OK)) {
+      (access(o->dir, F_OK) == 0 && (vs_outpath_check(path, NULL, 0, &err) != VS_OK ||
+                                     vs_outpath_check(h5, NULL, 0, &err) != VS_OK))) {
     fprintf(stderr, "voussoir sweep: -o %s\n", err.msg);
     return EXIT_USAGE;
   }

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include <hdf5.h>
 
@@ -57,7 +58,11 @@ int vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
   snprintf(units + used, sizeof units - used,
            "; status, hinges_at_collapse, mode, error: text; first_limit_mm, delta_u_mm: mm; "
            "dz_over_L_pct, dx_over_L_pct: %% of the intrados span; snaps: count; wall_s: s");
-  hid_t f = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  /* written as summary.h5.part and renamed into place (only over a regular file): never
+   * half-written */
+  char part[1200];
+  snprintf(part, sizeof part, "%s.part", path);
+  hid_t f = H5Fcreate(part, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   hsize_t dims[1] = {(hsize_t)n};
   hid_t sp = H5Screate_simple(1, dims, NULL);
   hid_t d = f >= 0 ? H5Dcreate2(f, "summary", t, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT) : -1;
@@ -71,7 +76,11 @@ int vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
   }
   if (d >= 0) H5Dclose(d);
   H5Sclose(sp);
-  if (f >= 0) H5Fclose(f);
+  if (f >= 0 && H5Fclose(f) < 0) ok = 0;
+  struct stat sb;
+  if (ok && lstat(path, &sb) == 0 && !S_ISREG(sb.st_mode)) ok = 0;
+  if (ok && rename(part, path) != 0) ok = 0;
+  if (!ok) remove(part);
   H5Tclose(t);
   H5Tclose(str);
   free(m);

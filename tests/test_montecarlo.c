@@ -88,9 +88,26 @@ static void test_same_summary_any_process_count(void **state) {
   assert_int_equal(run(args), 0);
   same_file("j1", "merged", "samples.csv");
   same_file("j1", "merged", "statistics.csv");
-  /* a shard twice is refused */
+  /* a shard twice is refused; so is a merge into a shard's own directory (its table is an
+   * input), which stays as it was */
   snprintf(args, sizeof args, "merge %s/s1 %s/s1 -o %s/twice", g_dir, g_dir, g_dir);
   assert_int_equal(run(args), 2);
+  char *s1 = slurp("s1", "samples.csv");
+  snprintf(args, sizeof args, "merge %s/s2 %s/s1 -o %s/s1", g_dir, g_dir, g_dir);
+  assert_int_equal(run(args), 2);
+  char *s1_after = slurp("s1", "samples.csv");
+  assert_string_equal(s1, s1_after);
+  free(s1), free(s1_after);
+  /* every file renamed into place: no working file left */
+  const char *names[] = {"samples.csv", "statistics.csv", "summary.h5", "fragility.png",
+                         "convergence.png", "hinges.png"};
+  for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+    struct stat sp;
+    snprintf(args, sizeof args, "%s/merged/%s", g_dir, names[i]);
+    assert_int_equal(stat(args, &sp), 0);
+    snprintf(args, sizeof args, "%s/merged/%s.part", g_dir, names[i]);
+    assert_int_not_equal(stat(args, &sp), 0);
+  }
   /* the draws differ between samples: not every sample collapses at the same displacement */
   char *t = slurp("j1", "samples.csv");
   double first = NAN;
@@ -131,6 +148,23 @@ static void test_bad_input(void **state) {
     snprintf(path, sizeof path, "%s/bad%d", g_dir, i);
     assert_int_not_equal(stat(path, &sb), 0);
   }
+  /* an output that is not a regular file (a FIFO where hinges.png goes): refused before any
+   * sample runs (opening it would block), left as it was */
+  snprintf(path, sizeof path, "%s/fifo", g_dir);
+  assert_int_equal(mkdir(path, 0755), 0);
+  snprintf(path, sizeof path, "%s/fifo/hinges.png", g_dir);
+  assert_int_equal(mkfifo(path, 0644), 0);
+  snprintf(args, sizeof args, "montecarlo %s --samples 3 -q -o %s/fifo", CASE, g_dir);
+  assert_int_equal(run(args), 2);
+  char *err = slurp(".", "err.txt");
+  if (strstr(err, "voussoir montecarlo: -o ") == NULL || strstr(err, "hinges.png") == NULL ||
+      strstr(err, "FIFO") == NULL)
+    fail_msg("stderr \"%s\": expected the FIFO named", err);
+  free(err);
+  assert_int_equal(lstat(path, &sb), 0);
+  assert_true(S_ISFIFO(sb.st_mode));
+  snprintf(path, sizeof path, "%s/fifo/samples.csv", g_dir);
+  assert_int_not_equal(stat(path, &sb), 0); /* nothing written */
 }
 
 int main(void) {

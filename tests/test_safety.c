@@ -393,7 +393,8 @@ static void test_plot_dir_refused(void **s) {
   assert_int_not_equal(access(in_dir("pics/arch_reference.png"), F_OK), 0); /* nothing drawn */
 }
 
-/* `sweep -o DIR`: a regular file as DIR, or a FIFO as its summary.csv: exit 2, no run started. */
+/* `sweep -o DIR`: a regular file as DIR, or a FIFO as its summary.csv or summary.h5: exit 2, no
+ * run started. */
 static void test_sweep_dir_refused(void **s) {
   (void)s;
   char cmd[1024];
@@ -411,6 +412,17 @@ static void test_sweep_dir_refused(void **s) {
   snprintf(cmd, sizeof cmd, "cd %s && touch swfile && %s sweep %s --alpha 0 --kn 3 -q -o swfile "
            "> out.txt 2> err.txt", g_dir, VS_BINARY, REFERENCE);
   assert_int_equal(sh(cmd), 2);
+  /* a FIFO as its summary.h5, the table written at the end */
+  snprintf(cmd, sizeof cmd, "cd %s && mkdir sw2 && mkfifo sw2/summary.h5 && timeout -s KILL 60 "
+           "%s sweep %s --alpha 0 --kn 3 -q -o sw2 > out.txt 2> err.txt", g_dir, VS_BINARY,
+           REFERENCE);
+  assert_int_equal(sh(cmd), 2);
+  err = slurp(in_dir("err.txt"));
+  assert_non_null(strstr(err, "voussoir sweep: -o sw2/summary.h5: exists and is a FIFO"));
+  free(err);
+  assert_int_equal(lstat(in_dir("sw2/summary.h5"), &st), 0);
+  assert_true(S_ISFIFO(st.st_mode));
+  assert_int_not_equal(access(in_dir("sw2/run_0000.h5"), F_OK), 0);
 }
 
 /* ---------------------------------------------------------------------------------------------

@@ -33,10 +33,15 @@ typedef struct {
  * Never fails as a function: a failed run gives status VS_MC_FAILED with its cause. */
 void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *out);
 
+/* The files vs_mc_write_summary writes into its directory (for an initialiser list). */
+#define VS_MC_OUTPUTS \
+  "samples.csv", "statistics.csv", "summary.h5", "fragility.png", "convergence.png", "hinges.png"
+
 /* Write the summary of n samples (sorted here by sample number) into directory dir (created if
- * missing): samples.csv, statistics.csv, summary.h5, fragility.png, convergence.png,
- * hinges.png. span_mm normalises (L). Errors: VS_ERR_IO, VS_ERR_NOMEM. In libvoussoir-plot
- * (HDF5 and cairo); the rest of this header is in libvoussoir. */
+ * missing): VS_MC_OUTPUTS, each written as "<name>.part" and renamed into place (only over a
+ * regular file), so that none is ever half-written. span_mm normalises (L). Errors: VS_ERR_IO,
+ * VS_ERR_NOMEM, VS_ERR_INVALID (a target became something other than a regular file). In
+ * libvoussoir-plot (HDF5 and cairo); the rest of this header is in libvoussoir. */
 vs_status vs_mc_write_summary(const char *dir, const vs_case *base, vs_mc_sample *samples, int n,
                               vs_error *err);
 
