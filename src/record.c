@@ -198,7 +198,8 @@ void vs_output_destroy(vs_output **op) {
   if (op == NULL || *op == NULL) return;
   vs_output *o = *op;
   vs_h5_quiet q = vs_h5_quiet_begin();
-  if (o->file >= 0 && o->err.status == VS_OK) vs_record_flush(o);
+  /* the buffered rows (no snapshot: the closed file is renamed into place below) */
+  if (o->file >= 0 && o->err.status == VS_OK) vs_record_write_pending(o);
   if (o->err.status != VS_OK) abandon_file(o);
   for (int i = 0; i < S_COUNT; i++) {
     vs_h5_close(o->s[i].dset);
