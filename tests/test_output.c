@@ -1532,6 +1532,28 @@ static void test_errors(void **state) {
   H5Fclose(f);
   vs_run_destroy(&run);
 
+  /* destroyed without vs_output_finish (after 7 rows, far from a flush): the closed working
+   * file, with every row, replaces the snapshot at path, status "running"; nothing left beside
+   * it */
+  path_in(path, sizeof path, "unfinished.h5");
+  assert_int_equal(vs_run_create(&c, &run, &err), VS_OK);
+  sink k = {NULL, 0, 7};
+  assert_int_equal(vs_output_create(path, run, NULL, NULL, &k.o, &err), VS_OK);
+  vs_error rerr0;
+  vs_run_execute(run, on_sample, on_event, &k, &rerr0);
+  vs_output_destroy(&k.o);
+  f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  read_attr_str(f, "status", status, sizeof status);
+  assert_string_equal(status, "running");
+  assert_int_equal(check_series_rows(f), 7);
+  H5Fclose(f);
+  char part[200];
+  snprintf(part, sizeof part, "%s.part", path);
+  assert_int_not_equal(access(part, F_OK), 0);
+  snprintf(part, sizeof part, "%s.snap", path);
+  assert_int_not_equal(access(part, F_OK), 0);
+  vs_run_destroy(&run);
+
   /* a failed run: its cause is recorded */
   path_in(path, sizeof path, "failed.h5");
   assert_int_equal(vs_run_create(&c, &run, &err), VS_OK);
