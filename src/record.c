@@ -1,10 +1,12 @@
 /* The HDF5 record of a run (an H5MD-like layout: /parameters, /geometry, /observables/<name>/
  * {step,time,value}, /events, /summary) and its XDMF sidecar for ParaView: the writer's life
  * (create, rows, finish, destroy). Rows and events are buffered and written in blocks, each
- * followed by a flush, and the file never reuses freed space, so that a killed run leaves what
- * its last flush wrote (see file_create for what was measured). The layout is written by
- * record_layout.c, the series by record_series.c, /events by record_events.c, /summary by
- * record_summary.c, the sidecar by xdmf.c. */
+ * followed by a flush, to the working file path.part; path itself is only ever a whole copy of
+ * it taken after a flush and renamed into place (record_snapshot.c), or at the end the closed
+ * file, so that a run killed at any moment leaves a record that reads whole (see file_create
+ * for what was measured). The layout is written by record_layout.c, the series by
+ * record_series.c, /events by record_events.c, /summary by record_summary.c, the sidecar by
+ * xdmf.c. */
 #define _POSIX_C_SOURCE 200809L /* gmtime_r */
 #include "voussoir/output.h"
 
@@ -87,19 +89,21 @@ static char *suffixed(const char *path, const char *suffix) {
 }
 
 /* Crash safety. HDF5 1.10 has no crash consistency: a flush rewrites metadata in place. What a
- * kill -9 at a random moment of a run (runs/reference.ini, about 30 flushes) leaves was measured:
+ * kill -9 at a random moment of a run (runs/reference.ini, about 30 flushes) left in the file
+ * HDF5 writes was measured, when that file was the record itself (hence the snapshots: the
+ * record is now a copy of it taken after a flush, and none of 1130 killed records tore):
  *  - HDF5's default file-space strategy reuses freed space: a partial chunk rewritten at a flush
  *    may land where the last flushed index still points. 22 killed files in 25 (a prototype
  *    writing like this one) had chunks that failed to inflate or held other data. Hence
  *    H5F_FSPACE_STRATEGY_NONE: freed space is never reused;
  *  - between flushes nothing is written (rows wait in memory), so a kill there leaves the state
- *    of the last flush intact. A kill inside a flush can tear it. Of 140 killed files (deflate 4)
+ *    of the last flush intact. A kill inside a flush can tear it (1 record in 247 did). Of 140 killed files (deflate 4)
  *    138 were intact; 1 had some datasets a flush ahead of the others, the extra rows reading as
  *    NaN (-1 for integers: the fill values, never plausible numbers); in 1 the last chunk of
  *    /observables/.../step lay past the recorded end of file (that dataset fails to read). Without
  *    deflate flushes are shorter: 471 of 476 intact, 2 one flush behind in some datasets, 2 with
  *    NaN rows, 1 with a group index past the end of file;
- *  - the file is built as PATH.part and renamed once its layout is complete; vs_output_finish only
+ *  - the first snapshot is taken once the layout is complete; vs_output_finish only
  *    adds to /xdmf and /summary, created at the start, and rewrites root attributes in place (a
  *    kill while the root group gained /summary once left a file whose root could not be opened).
  *    What it adds (the outlines' frames in /xdmf, then /summary) is flushed before the status,
