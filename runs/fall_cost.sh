@@ -32,13 +32,17 @@ trap 'rm -rf "$tmp"' EXIT
 
 # cpu ARGS...: REPEAT runs; prints the medians (s) of their CPU times (user + sys), of their
 # falls' own (stats.fall.cpu_s; 0 where the JSON has none) and of the difference; the last run's
-# stdout in $tmp/out
+# stdout in $tmp/out, the exit status of the first that failed (0: none) in $tmp/rc. Every
+# record and output is removed first: a run that fails must not leave an earlier case's to read.
 cpu() {
   local totals=() falls=() rests=()
+  echo 0 >"$tmp/rc"
   for ((i = 0; i < repeat; i++)); do
+    rm -f "$tmp"/r*.h5 "$tmp"/r*.xmf "$tmp/out"
     # bash's times: the second line is the children's user and sys time, "0m0.150s 0m0.020s"
     # shellcheck disable=SC2086 # ARGS: words, split on purpose
-    totals+=("$( ( "$bin" run "$ref" --json -q ${ARGS:-} "$@" >"$tmp/out" || true; times ) |
+    totals+=("$( ( "$bin" run "$ref" --json -q ${ARGS:-} "$@" >"$tmp/out" 2>"$tmp/err" ||
+      { rc=$?; [ "$(cat "$tmp/rc")" != 0 ] || echo "$rc" >"$tmp/rc"; }; times ) |
       tail -1 |
       awk '{t = 0; for (i = 1; i <= 2; i++) { split($i, p, /[ms]/); t += 60 * p[1] + p[2] } print t}')")
     local fc; fc="$(jnum cpu_s "$(cat "$tmp/out")")"
@@ -74,19 +78,32 @@ echo "| scheme | alpha (deg) | k_n (N/mm^3) | CPU of the rest (s) | CPU of the f
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 summary=()
 for scheme in "${schemes[@]}"; do
-  n_rest=0 n_cheap=0 n_cases=0 ratios=() sums="0 0 0 0 0 0" # fall, rest CPU; deepest (m) below
-  # the ground at the end, during; inside another body; the longest fall (s)
+  n_rest=0 n_cheap=0 n_cases=0 n_failed=0 ratios=()
+  sums="0 0 0 0 0 0" # fall, rest CPU; deepest (m) below the ground at the end, during; inside
+  # another body; the longest fall (s)
   for c in "${cases[@]}"; do
     set -- $c
     a="$1" kn="$2"
     read -r c1 cf c0 < <(cpu --alpha "$a" --kn "$kn" --set fall.scheme="$scheme" -o "$tmp/r.h5")
     j1="$(cat "$tmp/out")"
+    if [ "$(cat "$tmp/rc")" != 0 ]; then # no figures from a run that failed
+      echo "| $scheme | $a | $kn | run failed (exit $(cat "$tmp/rc")): $(head -c 120 "$tmp/err" | head -1) |"
+      n_cases=$((n_cases + 1)) n_failed=$((n_failed + 1))
+      continue
+    fi
     if [ "$scheme" = rigid ]; then # the rest: the whole run's CPU less the fall's own
       c1="$(awk -v r="$c0" -v f="$cf" 'BEGIN {print r + f}')"
     else # the rest: the run that ends at the collapse criterion
+      cp "$tmp/r.h5" "$tmp/keep.h5" # the run's record, which the next one's removal would take
       read -r c0 _ _ < <(cpu --alpha "$a" --kn "$kn" --set fall.scheme="$scheme" \
         --set dynamic.fall_s=0 -o "$tmp/r0.h5")
       j0="$(cat "$tmp/out")"
+      mv "$tmp/keep.h5" "$tmp/r.h5"
+      if [ "$(cat "$tmp/rc")" != 0 ]; then
+        echo "| $scheme | $a | $kn | run to the collapse failed (exit $(cat "$tmp/rc")) |"
+        n_cases=$((n_cases + 1)) n_failed=$((n_failed + 1))
+        continue
+      fi
     fi
     tsim="$(awk -v a="$(jnum last_time_s "$j1")" -v b="$(jcollapse time_detected_s "$j1")" 'BEGIN {printf "%.3f", a - b}')"
     if [ "$scheme" = rigid ]; then
@@ -125,7 +142,9 @@ for scheme in "${schemes[@]}"; do
   done
   range="$(printf '%s\n' "${ratios[@]}" | sort -g | sed -n '1p;$p' | paste -sd-)"
   read -r s_fall s_rest d_end d_during d_inside t_long <<<"$sums"
-  summary+=("$scheme: $n_rest of $n_cases cases at rest; the fall's CPU $range times the rest of \
+  failed=""
+  ((n_failed == 0)) || failed=" ($n_failed runs failed: above)"
+  summary+=("$scheme: $n_rest of $n_cases cases at rest$failed; the fall's CPU $range times the rest of \
 the run, at most once in $n_cheap of the $n_rest at rest; all together $(printf %.2f "$s_fall") s \
 of falls against $(printf %.2f "$s_rest") s of the rest; deepest below the ground at the end \
 $(um "$d_end") um, during a fall $(um "$d_during") um, inside another body $(um "$d_inside") um; \
