@@ -30,25 +30,15 @@ for kn in 3 48; do
     done
   done
 done
-"${PYTHON:-/usr/bin/python3}" - "$tmp/out" "$old_commit" <<'EOF'
-import json, os, sys
-out, old = sys.argv[1], sys.argv[2]
+"${PYTHON:-/usr/bin/python3}" - "$here" "$tmp/out" "$old_commit" <<'EOF'
+import os, sys
+sys.dont_write_bytecode = True  # nothing written into runs/
+sys.path.insert(0, sys.argv[1])
+from run_json import collapse_lp as limit, hinges, load as load_json
+out, old = sys.argv[2], sys.argv[3]
 
 def load(which, a, kn):
-    try:
-        with open(os.path.join(out, f"{which}-{a}-{kn}.json")) as f:
-            return json.load(f)
-    except (OSError, ValueError):
-        return None
-
-def limit(d):  # the collapsing limit point: the last limit point of a run that collapsed
-    lps = [lp for lp in (d or {}).get("limit_points") or [] if lp.get("kind") == "collapse"]
-    return lps[-1]["delta_mm"] if lps else None
-
-def hinges(d):
-    col = (d or {}).get("collapse") or {}
-    hs = sorted(col.get("hinges") or [], key=lambda h: h["joints"][0])
-    return " ".join(f"{h['label']}:{'-'.join(map(str, h['joints']))}-{h['side']}" for h in hs)
+    return load_json(os.path.join(out, f"{which}-{a}-{kn}.json"))
 
 print(f"{'alpha':>5} {'k_n':>4} {'old LP mm':>12} {'new LP mm':>12} {'rel diff':>9}  hinges at collapse"
       f" (old | new)")

@@ -23,26 +23,18 @@ printf '%s\n' "${points[@]}" | xargs -P 2 -L 1 bash -c \
   '"$bin" run "$here/reference.ini" --alpha "$0" --kn "$1" --no-record -q --json \
      >"$out/run-$0-$1.json" 2>"$out/run-$0-$1.err" || true'
 [ -n "$base" ] || { echo "wrote $out (26 runs)"; exit 0; }
-"${PYTHON:-/usr/bin/python3}" - "$base" "$out" <<'EOF'
-import json, os, sys
-base, new = sys.argv[1], sys.argv[2]
+"${PYTHON:-/usr/bin/python3}" - "$here" "$base" "$out" <<'EOF'
+import os, sys
+sys.dont_write_bytecode = True  # nothing written into runs/
+sys.path.insert(0, sys.argv[1])
+from run_json import collapse_lp, hinges, load as load_json
+base, new = sys.argv[2], sys.argv[3]
 
 def load(d, a, kn):
-    try:
-        with open(os.path.join(d, f"run-{a}-{kn}.json")) as f:
-            return json.load(f)
-    except (OSError, ValueError):
-        return None
-
-def collapse_lp(d):  # the collapsing limit point: where the arch left its last stable equilibrium
-    lps = [lp for lp in (d or {}).get("limit_points") or [] if lp.get("kind") == "collapse"]
-    return lps[-1]["delta_mm"] if lps else None
+    return load_json(os.path.join(d, f"run-{a}-{kn}.json"))
 
 def mechanism(d):
-    col = (d or {}).get("collapse") or {}
-    hs = sorted(col.get("hinges") or [], key=lambda h: h["joints"][0])
-    return (" ".join(f"{h['label']}:{'-'.join(map(str, h['joints']))}-{h['side']}" for h in hs),
-            (d or {}).get("mode"), (d or {}).get("hinge_sides_initial"),
+    return (hinges(d), (d or {}).get("mode"), (d or {}).get("hinge_sides_initial"),
             (d or {}).get("hinge_sides_collapse"))
 
 def rel(x, y):
