@@ -20,7 +20,9 @@ static const char *const MC_USAGE =
     "  -q            no progress line\n"
     "Values: --samples 100 or --samples=100.\n"
     "exit status: 0 done (failed samples are in the table with their cause), 1 every sample\n"
-    "failed or the summary could not be written, 2 bad input (nothing written)\n";
+    "failed or the summary could not be written, 2 bad input (nothing written), 130\n"
+    "interrupted (SIGINT/SIGTERM: no sample starts after it, those under way finish, or are\n"
+    "dropped at a second signal, and the summary of the samples done is written)\n";
 
 static const char *const MERGE_USAGE =
     "usage: voussoir merge DIR... -o OUT\n"

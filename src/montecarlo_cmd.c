@@ -25,7 +25,35 @@
 #include "voussoir/parse.h"
 #include "voussoir/plot.h"
 
-enum { EXIT_FAIL = VS_EXIT_FAILED, EXIT_USAGE = VS_EXIT_BAD_INPUT };
+enum { EXIT_FAIL = VS_EXIT_FAILED, EXIT_USAGE = VS_EXIT_BAD_INPUT,
+       EXIT_INTERRUPTED = VS_EXIT_INTERRUPTED };
+
+/* SIGINT/SIGTERM during the pool: no sample is started after the first (those under way end and
+ * count), the workers are killed after the second; the summary of the samples done is written
+ * and the exit status is 130. A signal handler can only reach a global. */
+static volatile sig_atomic_t g_stops = 0;
+
+static void on_stop(int sig) {
+  (void)sig;
+  g_stops++;
+}
+
+static void catch_stops(void) {
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_stop; /* no SA_RESTART: wait() returns at once with EINTR */
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+}
+
+/* For the crash tests only: the environment variable VS_FAULT_STOP_AFTER = K makes the pool
+ * raise SIGINT at itself once K samples are done (a stop at a state reached without timing). */
+static long fault_stop_after(void) {
+  const char *v = getenv("VS_FAULT_STOP_AFTER");
+  long k = 0;
+  return v != NULL && vs_parse_long(v, &k) == VS_NUM_OK && k > 0 ? k : 0;
+}
 
 static double now_s(void) {
   struct timespec ts;
@@ -79,16 +107,25 @@ static void finish_worker(worker *w, int status, int sample, vs_mc_sample *out) 
   w->pid = 0;
 }
 
-/* Run the listed samples on `jobs` processes; results[i] for samples[i]. */
+/* Run the listed samples on `jobs` processes; results[i] for samples[i], done[i] set once it is
+ * there. After a stop (g_stops) no sample starts; after a second the workers under way are
+ * killed and their samples left undone. 0 when every sample ran or a stop ended the pool, -1
+ * when a worker could not be started. */
 static int run_pool(const vs_case *c, const int *samples, int n, int jobs, int quiet,
-                    vs_mc_sample *results) {
+                    vs_mc_sample *results, char *done_at) {
   worker *ws = calloc((size_t)jobs, sizeof *ws);
   if (ws == NULL) return -1;
-  int next = 0, done = 0, active = 0, failed = 0;
+  int next = 0, done = 0, active = 0, failed = 0, killed = 0;
+  const long stop_after = fault_stop_after();
   const double t0 = now_s();
   const int progress = !quiet && isatty(STDERR_FILENO);
   while (done < n) {
-    while (active < jobs && next < n) {
+    if (g_stops > 1 && !killed) { /* a second stop: the samples under way are dropped */
+      for (int k = 0; k < jobs; k++)
+        if (ws[k].pid != 0) kill(ws[k].pid, SIGKILL);
+      killed = 1;
+    }
+    while (active < jobs && next < n && g_stops == 0) {
       int k = 0;
       while (ws[k].pid != 0) k++;
       if (start_worker(c, samples[next], &ws[k]) != 0) break;
@@ -103,10 +140,17 @@ static int run_pool(const vs_case *c, const int *samples, int n, int jobs, int q
     for (int k = 0; k < jobs; k++) {
       if (ws[k].pid != pid) continue;
       const int slot = ws[k].slot;
-      finish_worker(&ws[k], status, samples[slot], &results[slot]);
-      failed += results[slot].status == VS_MC_FAILED;
       active--;
+      if (killed) { /* stopped by us: not a sample's failure */
+        close(ws[k].fd);
+        ws[k].pid = 0;
+        continue;
+      }
+      finish_worker(&ws[k], status, samples[slot], &results[slot]);
+      done_at[slot] = 1;
+      failed += results[slot].status == VS_MC_FAILED;
       done++;
+      if (stop_after > 0 && done == stop_after) raise(SIGINT);
     }
     if (progress)
       fprintf(stderr, "\r  samples %d/%d done, %d running, %d failed, %.1f s   ", done, n, active,
@@ -114,7 +158,7 @@ static int run_pool(const vs_case *c, const int *samples, int n, int jobs, int q
   }
   if (progress) fputs("\r\033[K", stderr);
   free(ws);
-  return done == n ? 0 : -1;
+  return done == n || g_stops > 0 ? 0 : -1;
 }
 
 /* The case with the overrides and the seed applied, validated. */
@@ -174,8 +218,9 @@ int vs_mc_main(const vs_mc_opts *o) {
   for (int i = a.shard_k - 1; i < a.samples; i += a.shard_m) n++;
   int *samples = malloc((size_t)(n > 0 ? n : 1) * sizeof *samples);
   vs_mc_sample *res = calloc((size_t)(n > 0 ? n : 1), sizeof *res);
+  char *done_at = calloc((size_t)(n > 0 ? n : 1), 1);
   int rc = EXIT_FAIL;
-  if (samples == NULL || res == NULL) {
+  if (samples == NULL || res == NULL || done_at == NULL) {
     fprintf(stderr, "voussoir montecarlo: out of memory\n");
     goto done;
   }
@@ -197,9 +242,22 @@ int vs_mc_main(const vs_mc_opts *o) {
     }
   } else
 #endif
-  if (run_pool(&c, samples, n, a.jobs, a.quiet, res) != 0) {
-    fprintf(stderr, "voussoir montecarlo: cannot start the workers: %s\n", strerror(errno));
-    goto done;
+  {
+    catch_stops();
+    if (run_pool(&c, samples, n, a.jobs, a.quiet, res, done_at) != 0) {
+      fprintf(stderr, "voussoir montecarlo: cannot start the workers: %s\n", strerror(errno));
+      goto done;
+    }
+    /* stopped: the summary of the samples done (in sample order, as every summary) */
+    int k = 0;
+    for (int i = 0; i < n; i++)
+      if (done_at[i]) res[k++] = res[i];
+    if (k < n) {
+      const int total = n;
+      n = k;
+      fprintf(stderr, "voussoir montecarlo: interrupted: %d of %d samples done, their summary "
+              "in %s\n", n, total, a.dir);
+    }
   }
   vs_error err;
   vs_error_clear(&err);
@@ -208,7 +266,7 @@ int vs_mc_main(const vs_mc_opts *o) {
     goto done;
   }
   print_result(a.dir, res, n, now_s() - t0, a.jobs);
-  rc = 0;
+  rc = g_stops > 0 ? EXIT_INTERRUPTED : 0;
   int failed = 0;
   for (int i = 0; i < n; i++) failed += res[i].status == VS_MC_FAILED;
   if (n > 0 && failed == n) { /* no statistics at all: say why (the first cause) */
@@ -219,6 +277,7 @@ int vs_mc_main(const vs_mc_opts *o) {
 done:
   free(samples);
   free(res);
+  free(done_at);
   vs_plot_release();
   return rc;
 }

@@ -167,10 +167,58 @@ static void test_bad_input(void **state) {
   assert_int_not_equal(stat(path, &sb), 0); /* nothing written */
 }
 
+/* Stopped (SIGINT, raised by the pool itself once 3 samples are done: VS_FAULT_STOP_AFTER, no
+ * timing): exit 130, no sample started after the stop, those under way finished, and the
+ * summary of the samples done written, each row the sample's own (the same as in the run of
+ * samples 0-5 above: a sample's draws depend on its number alone). */
+static void test_interrupted(void **state) {
+  (void)state;
+  char args[1024];
+  snprintf(args, sizeof args, "montecarlo %s --samples 40 --seed 11 -j 2 -q -o %s/int", CASE,
+           g_dir);
+  assert_int_equal(setenv("VS_FAULT_STOP_AFTER", "3", 1), 0);
+  const int rc = run(args);
+  assert_int_equal(unsetenv("VS_FAULT_STOP_AFTER"), 0);
+  assert_int_equal(rc, 130);
+  char *err = slurp(".", "err.txt");
+  int k = -1, total = -1;
+  const char *at = strstr(err, "interrupted: ");
+  if (at == NULL || sscanf(at, "interrupted: %d of %d samples done", &k, &total) != 2)
+    fail_msg("stderr \"%s\": expected \"interrupted: K of 40 samples done\"", err);
+  free(err);
+  /* the third sample done stops the pool; at most the other worker's sample was under way */
+  assert_true(k >= 3 && k <= 4 && total == 40);
+  char *t = slurp("int", "samples.csv"), *ref = slurp("j1", "samples.csv");
+  int rows = 0;
+  for (char *line = strchr(strchr(t, '\n') + 1, '\n') + 1; *line; rows++) {
+    char *end = strchr(line, '\n');
+    assert_non_null(end);
+    *end = '\0';
+    int sample = -1;
+    assert_int_equal(sscanf(line, "%d,", &sample), 1);
+    assert_true(sample >= 0 && sample < 6); /* among the first: dispatched in order */
+    char want[64];
+    snprintf(want, sizeof want, "\n%d,", sample);
+    const char *r = strstr(ref, want);
+    assert_non_null(r);
+    if (strncmp(r + 1, line, strlen(line)) != 0 || r[1 + strlen(line)] != '\n')
+      fail_msg("sample %d: \"%s\" differs from the uninterrupted run's row", sample, line);
+    line = end + 1;
+  }
+  assert_int_equal(rows, k);
+  free(t), free(ref);
+  char *st = slurp("int", "statistics.csv");
+  char want[32];
+  snprintf(want, sizeof want, "samples,%d,", k);
+  assert_non_null(strstr(st, want));
+  free(st);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_bad_input),
       cmocka_unit_test(test_same_summary_any_process_count),
+      cmocka_unit_test(test_interrupted), /* after the run of samples 0-5, which it reads */
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
