@@ -56,6 +56,10 @@ int cli_add_set(const char *name, const char *value, const char **sets, int *nse
 /* The usage of run (src/cli_run.c), which the program's own --help ends with. */
 extern const char VS_CLI_RUN_USAGE[];
 
+/* Install fn for SIGINT and SIGTERM (no SA_RESTART: a blocking wait returns with EINTR), the
+ * stop signals every command handles its own way (src/cli_opts.c). */
+void cli_on_stop_signals(void (*fn)(int));
+
 /* The stop flag set by SIGINT/SIGTERM during `run` (src/cli_main.c). */
 const volatile sig_atomic_t *cli_stop_flag(void);
 

@@ -22,14 +22,7 @@ static void on_signal(int sig) {
   g_interrupted = 1;
 }
 
-static void catch_signals(void) {
-  struct sigaction sa;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_signal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, NULL);
-  sigaction(SIGTERM, &sa, NULL);
-}
+static void catch_signals(void) { cli_on_stop_signals(on_signal); }
 
 /* For the commands that do not watch g_interrupted: the default disposition back, and a signal
  * that came meanwhile delivered again (it then ends the process as it would have). */

@@ -1,5 +1,7 @@
-/* The one option loop of the command line: getopt_long over a command's table (src/cli.h). */
+/* The one option loop of the command line: getopt_long over a command's table (src/cli.h); and
+ * the stop signals' handler, installed the same way by every command that handles them. */
 #define _GNU_SOURCE /* getopt_long */
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -78,4 +80,13 @@ int cli_add_set(const char *name, const char *value, const char **sets, int *nse
   }
   sets[(*nsets)++] = value;
   return 0;
+}
+
+void cli_on_stop_signals(void (*fn)(int)) {
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = fn;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
 }

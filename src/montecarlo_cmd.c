@@ -38,15 +38,6 @@ static void on_stop(int sig) {
   g_stops++;
 }
 
-static void catch_stops(void) {
-  struct sigaction sa;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_stop; /* no SA_RESTART: wait() returns at once with EINTR */
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, NULL);
-  sigaction(SIGTERM, &sa, NULL);
-}
-
 /* For the crash tests only: the environment variable VS_FAULT_STOP_AFTER = K makes the pool
  * raise SIGINT at itself once K samples are done (a stop at a state reached without timing). */
 static long fault_stop_after(void) {
@@ -243,7 +234,7 @@ int vs_mc_main(const vs_mc_opts *o) {
   } else
 #endif
   {
-    catch_stops();
+    cli_on_stop_signals(on_stop); /* no SA_RESTART: wait() returns at once with EINTR */
     if (run_pool(&c, samples, n, a.jobs, a.quiet, res, done_at) != 0) {
       fprintf(stderr, "voussoir montecarlo: cannot start the workers: %s\n", strerror(errno));
       goto done;

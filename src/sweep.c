@@ -146,14 +146,7 @@ static void on_stop_signal(int sig) {
   g_stop_count++;
 }
 
-void vs_sweep_catch_signals(void) {
-  struct sigaction sa;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_stop_signal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, NULL);
-  sigaction(SIGTERM, &sa, NULL);
-}
+void vs_sweep_catch_signals(void) { cli_on_stop_signals(on_stop_signal); }
 
 /* What the sweep is, as text: the case after --set, every axis with its values, the mode. A
  * --resume must find the same in DIR/sweep.manifest, so that it completes the same sweep. */
