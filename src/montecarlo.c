@@ -16,6 +16,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "voussoir/outpath.h"
 #include "voussoir/plot.h"
 #include "voussoir/run.h"
 #include "voussoir/units.h"
@@ -161,10 +162,13 @@ static void stats_free(mc_stats *st) {
 /* ---------------------------------------------------------------------------------------------
  * Files: each written as "<name>.part" and renamed into place */
 
-/* dir/name into path (1200 bytes) and dir/name.part into part (1300). */
+/* The sizes of a summary file's path and of its working file's. */
+enum { MC_PATH = 1200, MC_PART = MC_PATH + sizeof ".part" };
+
+/* dir/name into path (MC_PATH bytes) and dir/name.part into part (MC_PART). */
 static void target(const char *dir, const char *name, char *path, char *part) {
-  snprintf(path, 1200, "%s/%s", dir, name);
-  snprintf(part, 1300, "%s.part", path);
+  snprintf(path, MC_PATH, "%s/%s", dir, name);
+  snprintf(part, MC_PART, "%s.part", path);
 }
 
 static vs_status cannot(const char *path, vs_error *err) {
@@ -174,12 +178,12 @@ static vs_status cannot(const char *path, vs_error *err) {
 /* After part was written with status st: renamed over path (checked just before: never over
  * anything but a regular file), or removed. */
 static vs_status publish(const char *path, const char *part, vs_status st, vs_error *err) {
-  struct stat sb;
-  if (st == VS_OK && lstat(path, &sb) == 0 && !S_ISREG(sb.st_mode))
+  const int rc = st == VS_OK ? vs_outpath_replace(part, path) : 0;
+  if (rc > 0)
     st = vs_error_set(err, VS_ERR_INVALID,
                       "montecarlo: %s: became something other than a regular file; not replaced",
                       path);
-  if (st == VS_OK && rename(part, path) != 0)
+  if (rc < 0)
     st = vs_error_set(err, VS_ERR_IO, "montecarlo: %s: cannot rename to %s: %s", part, path,
                       strerror(errno));
   if (st != VS_OK) remove(part);
@@ -351,13 +355,13 @@ static vs_status write_h5(const char *path, const char *part, const vs_case *cs,
 
 static vs_status write_plots(const char *dir, const vs_case *c, const mc_stats *st,
                              vs_error *err) {
-  char path[1200], title[160];
+  char path[MC_PATH], title[160];
   const vs_plot_axis xd = {"support displacement delta (mm)", 1e3, 0};
   const vs_plot_series fs[3] = {{"P(collapse)", st->frag_p},
                                 {"DKW 95 % band, lower", st->frag_lo},
                                 {"DKW 95 % band, upper", st->frag_hi}};
   const vs_plot_panel fp = {{"probability of collapse", 1.0, 0}, fs, 3};
-  char part[1300];
+  char part[MC_PART];
   target(dir, "fragility.png", path, part);
   snprintf(title, sizeof title, "fragility, alpha = %g deg, %d samples", c->alpha_deg, st->n);
   vs_status s = publish(path, part, vs_plot_curves(part, VS_PLOT_PNG, title, &xd, st->frag_delta,
@@ -394,7 +398,7 @@ vs_status vs_mc_write_summary(const char *dir, const vs_case *c, vs_mc_sample *s
   qsort(s, (size_t)n, sizeof *s, cmp_sample);
   mc_stats st;
   vs_status rc = compute(s, n, c, &st, err);
-  char path[1200], part[1300];
+  char path[MC_PATH], part[MC_PART];
   target(dir, "samples.csv", path, part);
   if (rc == VS_OK)
     rc = publish(path, part, write_samples_csv(part, c, s, n) != 0 ? cannot(path, err) : VS_OK, err);

@@ -125,6 +125,12 @@ vs_status vs_outpath_check_dir(const char *dir, vs_error *err) {
   return check_parent(dir, err);
 }
 
+int vs_outpath_replace(const char *from, const char *path) {
+  struct stat st;
+  if (lstat(path, &st) == 0 && !S_ISREG(st.st_mode)) return 1;
+  return rename(from, path) == 0 ? 0 : -1;
+}
+
 /* ------------------------------------------------------------------------------------------ */
 /* Lock                                                                                         */
 

@@ -172,8 +172,8 @@ vs_status vs_output_create(const char *path, const vs_run *run, const char *case
   if (st == VS_OK) {
     o->working = 1; /* a part file from here on is ours */
     st = file_create(o, o->part);
+    /* its last flush takes the first snapshot (always taken: vs_record_snapshot) */
     if (st == VS_OK) st = vs_record_layout_write(o, run, case_text);
-    if (st == VS_OK && o->snapshots == 0) st = vs_record_snapshot(o, 1);
   }
   vs_h5_quiet_end(q);
   if (st != VS_OK) {
@@ -398,7 +398,7 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
   /* what the status vouches for is on disk before the status is written */
   if (st == VS_OK && H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0)
     st = vs_h5_fail(&o->err, o->path, "cannot flush /events and /summary");
-  if (st == VS_OK) st = vs_record_snapshot(o, 0);
+  if (st == VS_OK) st = vs_record_snapshot(o);
   if (st == VS_OK) vs_record_fault_point("before-status");
   /* the status is recorded when the run failed but the file is sound (see abandon_file) */
   char status[sizeof o->err.msg + 64], now[32];

@@ -120,11 +120,11 @@ void vs_record_iso8601_utc(char *buf, size_t size);
 vs_status vs_record_remove_stale(vs_output *o, const char *path);
 /* Rename `from` over o->path, checked just before: never over anything but a regular file. */
 vs_status vs_record_publish(vs_output *o, const char *from);
-/* After a flush: copy the working file and rename the copy over path when force is set, or when
- * the snapshots' wall time, with this one's (estimated from the last's and the file's growth),
- * stays within opts.snapshot_share of the time since the start (always when it is 1). VS_OK, or
- * VS_ERR_IO with the cause in o->err (the copy removed, path left as it was). */
-vs_status vs_record_snapshot(vs_output *o, int force);
+/* After a flush: copy the working file and rename the copy over path if it is the first (the
+ * layout's), or when the snapshots' wall time, with this one's (estimated from the last's and the
+ * file's growth), stays within opts.snapshot_share of the time since the start (always when it
+ * is 1). VS_OK, or VS_ERR_IO with the cause in o->err (the copy removed, path left as it was). */
+vs_status vs_record_snapshot(vs_output *o);
 
 /* record_series.c: the schema table and the buffered rows */
 /* Rows buffered before a write: opts.flush_rows, fewer when rows are wide. */

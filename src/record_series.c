@@ -242,6 +242,6 @@ vs_status vs_record_flush(vs_output *o) {
   vs_status st = vs_record_write_pending(o);
   if (st == VS_OK && H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0)
     st = vs_h5_fail(&o->err, o->path, "cannot flush");
-  if (st == VS_OK) st = vs_record_snapshot(o, 0);
+  if (st == VS_OK) st = vs_record_snapshot(o);
   return st;
 }

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "record_internal.h"
+#include "voussoir/outpath.h"
 #include "wall_clock.h"
 
 vs_status vs_record_remove_stale(vs_output *o, const char *path) {
@@ -29,11 +30,11 @@ vs_status vs_record_remove_stale(vs_output *o, const char *path) {
 }
 
 vs_status vs_record_publish(vs_output *o, const char *from) {
-  struct stat st;
-  if (lstat(o->path, &st) == 0 && !S_ISREG(st.st_mode))
+  const int rc = vs_outpath_replace(from, o->path);
+  if (rc > 0)
     return vs_error_set(&o->err, VS_ERR_INVALID,
                         "%s: became something other than a regular file; not replaced", o->path);
-  if (rename(from, o->path) != 0)
+  if (rc < 0)
     return vs_error_set(&o->err, VS_ERR_IO, "output: %s: cannot rename to %s: %s", from, o->path,
                         strerror(errno));
   return VS_OK;
@@ -100,10 +101,10 @@ static vs_status take(vs_output *o, off_t *size) {
   return s;
 }
 
-vs_status vs_record_snapshot(vs_output *o, int force) {
+vs_status vs_record_snapshot(vs_output *o) {
   if (o->err.status != VS_OK) return o->err.status;
   const double now = vs_wall_now();
-  if (!force && o->opts.snapshot_share < 1.0 && o->snapshots > 0) {
+  if (o->opts.snapshot_share < 1.0 && o->snapshots > 0) {
     /* the next copy's cost, from the last's, grows with the file */
     struct stat st;
     const double size = stat(o->part, &st) == 0 ? (double)st.st_size : o->snap_size;

@@ -3,11 +3,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include <hdf5.h>
 
 #include "plugin.h"
+#include "voussoir/outpath.h"
 #include "sweep_private.h"
 
 /* The summary as an HDF5 compound table DIR/summary.h5 (/summary), units in an attribute; rows
@@ -77,9 +77,7 @@ int vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
   if (d >= 0) H5Dclose(d);
   H5Sclose(sp);
   if (f >= 0 && H5Fclose(f) < 0) ok = 0;
-  struct stat sb;
-  if (ok && lstat(path, &sb) == 0 && !S_ISREG(sb.st_mode)) ok = 0;
-  if (ok && rename(part, path) != 0) ok = 0;
+  if (ok && vs_outpath_replace(part, path) != 0) ok = 0;
   if (!ok) remove(part);
   H5Tclose(t);
   H5Tclose(str);

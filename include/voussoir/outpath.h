@@ -24,6 +24,11 @@ vs_status vs_outpath_check(const char *path, const vs_outpath_other *others, int
  * directory (not a symbolic link to one). Creates nothing. Errors: VS_ERR_INVALID. */
 vs_status vs_outpath_check_dir(const char *dir, vs_error *err);
 
+/* Rename the finished file `from` over path, checked just before: never over anything but a
+ * regular file. 0; 1 when path exists and is something else (nothing renamed); -1 when the
+ * rename failed (errno says why). from is left in place either way. */
+int vs_outpath_replace(const char *from, const char *path);
+
 typedef struct vs_outlock vs_outlock;
 
 /* Take the exclusive lock of the output path: "<path>.lock" is created if needed (0644, holding

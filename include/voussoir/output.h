@@ -32,8 +32,8 @@ typedef struct {
   double snapshot_share; /* the file at path is a snapshot: HDF5 writes "<path>.part", which is
                          copied and the copy renamed over path after a flush, as long as the
                          copies take at most this share of the wall time since the start, in
-                         (0, 1], default 0.1; 1: after every flush. Always after the layout and
-                         before the status; at the end the working file itself is renamed */
+                         (0, 1], default 0.1; 1: after every flush. Always after the layout; at
+                         the end the working file itself is renamed */
 } vs_output_opts;
 
 /* Fill o with the defaults above. */
