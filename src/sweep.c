@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "journal.h"
 #include "plugin.h"
 #include "sweep_private.h"
 #include "voussoir/outpath.h"
@@ -172,52 +173,15 @@ static char *manifest_text(const vs_case *c, const axis *ax, int nax, const char
   return t;
 }
 
-/* --- the journal: DIR/sweep.journal, the rows of the complete runs as they end --- */
+/* --- the journal: DIR/sweep.journal, the rows of the complete runs as they end (journal.h) --- */
 
 /* Its first line names this layout (the row's size): a journal of another build is refused. */
 static void journal_header(char *buf, size_t size) {
   snprintf(buf, size, "voussoir sweep journal 1 row %zu bytes\n", sizeof(vs_sweep_row));
 }
 
-/* Open DIR/sweep.journal to append rows: a fresh one (with its header) unless resume. */
-static FILE *journal_open(const char *dir, int resume) {
-  char path[1100], head[96];
-  snprintf(path, sizeof path, "%s/sweep.journal", dir);
-  journal_header(head, sizeof head);
-  FILE *f = fopen(path, resume ? "ab" : "wb");
-  if (f != NULL && ftell(f) == 0 && (fputs(head, f) < 0 || fflush(f) != 0)) {
-    fclose(f);
-    f = NULL;
-  }
-  if (f == NULL) fprintf(stderr, "voussoir sweep: %s: cannot write: %s\n", path, strerror(errno));
-  return f;
-}
-
-/* One complete run's row, written whole before the next (a kill may cut the last row short: a
- * reader ignores a partial row). */
-static void journal_append(FILE *f, const vs_sweep_row *row) {
-  if (fwrite(row, sizeof *row, 1, f) != 1 || fflush(f) != 0)
-    fprintf(stderr, "voussoir sweep: sweep.journal: cannot write: %s\n", strerror(errno));
-}
-
-/* The rows in DIR/sweep.journal (a missing file: none), each calling take(user, row). -1 (after
- * printing why) for a journal of another layout. */
-static int journal_read(const char *dir, void (*take)(void *, const vs_sweep_row *), void *user) {
-  char path[1100], head[96], line[96];
-  snprintf(path, sizeof path, "%s/sweep.journal", dir);
-  journal_header(head, sizeof head);
-  FILE *f = fopen(path, "rb");
-  if (f == NULL) return 0;
-  if (fgets(line, sizeof line, f) == NULL || strcmp(line, head) != 0) {
-    fprintf(stderr, "voussoir sweep: --resume: %s was not written by this build of voussoir (it "
-                    "expects \"%.*s\"); run the sweep afresh\n", path, (int)strlen(head) - 1, head);
-    fclose(f);
-    return -1;
-  }
-  vs_sweep_row row;
-  while (fread(&row, sizeof row, 1, f) == 1) take(user, &row);
-  fclose(f);
-  return 0;
+static void journal_path(const char *dir, char *path, size_t size) {
+  snprintf(path, size, "%s/sweep.journal", dir);
 }
 
 /* Fresh sweep: write the manifest and forget the results of any earlier sweep in DIR (its
@@ -307,7 +271,8 @@ static void take_row(void *user, const vs_sweep_row *in) {
   if (row.code == VS_SWEEP_OK || row.code == VS_SWEEP_FAILED) {
     if (access(part, F_OK) == 0 && rename(part, json) != 0)
       fprintf(stderr, "voussoir sweep: %s: cannot rename: %s\n", part, strerror(errno));
-    journal_append(s->journal, &row);
+    if (vs_journal_append(s->journal, &row, sizeof row) != 0)
+      fprintf(stderr, "voussoir sweep: sweep.journal: cannot write: %s\n", strerror(errno));
     keep_row(s, &row);
     return;
   }
@@ -316,8 +281,9 @@ static void take_row(void *user, const vs_sweep_row *in) {
 }
 
 /* A row from the journal of the sweep being resumed (a complete run's). */
-static void resumed_row(void *user, const vs_sweep_row *row) {
+static void resumed_row(void *user, const void *r) {
   sweep_state *s = user;
+  const vs_sweep_row *row = r;
   if (row->run < 1 || row->run > s->total || s->state[row->run - 1] != 0) return;
   keep_row(s, row);
 }
@@ -326,14 +292,18 @@ static void resumed_row(void *user, const vs_sweep_row *row) {
  * status after printing why. */
 static int sweep_open(sweep_state *s, const char *manifest) {
   const sweep_opts *o = s->o;
-  char path[1100], h5[1100];
+  char path[1100], h5[1100], jpath[1100], mpath[1100];
   snprintf(path, sizeof path, "%s/summary.csv", o->dir);
   snprintf(h5, sizeof h5, "%s/summary.h5", o->dir);
+  journal_path(o->dir, jpath, sizeof jpath);
+  snprintf(mpath, sizeof mpath, "%s/sweep.manifest", o->dir);
   vs_error err;
   vs_error_clear(&err);
   if (vs_outpath_check_dir(o->dir, &err) != VS_OK ||
       (access(o->dir, F_OK) == 0 && (vs_outpath_check(path, NULL, 0, &err) != VS_OK ||
-                                     vs_outpath_check(h5, NULL, 0, &err) != VS_OK))) {
+                                     vs_outpath_check(h5, NULL, 0, &err) != VS_OK ||
+                                     vs_outpath_check(jpath, NULL, 0, &err) != VS_OK ||
+                                     vs_outpath_check(mpath, NULL, 0, &err) != VS_OK))) {
     fprintf(stderr, "voussoir sweep: -o %s\n", err.msg);
     return EXIT_USAGE;
   }
@@ -354,12 +324,22 @@ static int sweep_open(sweep_state *s, const char *manifest) {
     fprintf(stderr, "voussoir sweep: out of memory\n");
     return EXIT_FAIL;
   }
-  if (o->resume) { /* the journal's rows first, then it is appended to */
-    if (journal_read(o->dir, resumed_row, s) != 0) return EXIT_USAGE;
+  char head[96];
+  journal_header(head, sizeof head);
+  long rows = -1; /* fresh */
+  if (o->resume) { /* the journal's rows first, then it is appended to, after its whole rows */
+    if (vs_journal_read(jpath, head, sizeof(vs_sweep_row), resumed_row, s, &rows) != 0) {
+      fprintf(stderr, "voussoir sweep: --resume: %s was not written by this build of voussoir "
+              "(it expects \"%.*s\"); run the sweep afresh\n", jpath, (int)strlen(head) - 1, head);
+      return EXIT_USAGE;
+    }
     fprintf(stderr, "voussoir sweep: resuming: %d of %d runs already complete\n", s->n, s->total);
   }
-  s->journal = journal_open(o->dir, o->resume);
-  if (s->journal == NULL) return EXIT_USAGE;
+  s->journal = vs_journal_open(jpath, head, sizeof(vs_sweep_row), rows);
+  if (s->journal == NULL) {
+    fprintf(stderr, "voussoir sweep: %s: cannot write: %s\n", jpath, strerror(errno));
+    return EXIT_USAGE;
+  }
   s->todo = s->total - s->n;
   return 0;
 }

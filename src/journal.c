@@ -1,0 +1,51 @@
+/* The journals of sweep and montecarlo (src/journal.h). */
+#define _POSIX_C_SOURCE 200809L /* fileno, ftruncate */
+#include "journal.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+int vs_journal_read(const char *path, const char *head, size_t size,
+                    void (*take)(void *user, const void *row), void *user, long *rows) {
+  *rows = 0;
+  FILE *f = fopen(path, "rb");
+  if (f == NULL) return 0;
+  const size_t hl = strlen(head);
+  char *buf = malloc(hl + 1 > size ? hl + 1 : size);
+  int rc = buf != NULL && fread(buf, 1, hl, f) == hl && memcmp(buf, head, hl) == 0 ? 0 : -1;
+  while (rc == 0 && fread(buf, size, 1, f) == 1) {
+    take(user, buf);
+    (*rows)++;
+  }
+  free(buf);
+  fclose(f);
+  return rc;
+}
+
+FILE *vs_journal_open(const char *path, const char *head, size_t size, long rows) {
+  FILE *f = rows >= 0 ? fopen(path, "r+b") : NULL;
+  if (f == NULL && (rows < 0 || errno == ENOENT)) { /* fresh */
+    f = fopen(path, "wb");
+    if (f != NULL && (fputs(head, f) < 0 || fflush(f) != 0)) {
+      const int e = errno;
+      fclose(f);
+      errno = e;
+      return NULL;
+    }
+    return f;
+  }
+  const off_t end = (off_t)strlen(head) + (off_t)rows * (off_t)size;
+  if (f != NULL && (ftruncate(fileno(f), end) != 0 || fseek(f, 0, SEEK_END) != 0)) {
+    const int e = errno;
+    fclose(f);
+    errno = e;
+    return NULL;
+  }
+  return f;
+}
+
+int vs_journal_append(FILE *f, const void *row, size_t size) {
+  return fwrite(row, size, 1, f) == 1 && fflush(f) == 0 ? 0 : -1;
+}
