@@ -99,7 +99,7 @@ int vs_calibrate_main(const vs_calibrate_opts *o);
 typedef struct {
   const char *case_path, *dir, *seed;
   const char **sets;
-  int nsets, samples, jobs, quiet, shard_k, shard_m;
+  int nsets, samples, jobs, quiet, shard_k, shard_m, resume;
 } vs_mc_opts;
 int vs_mc_main(const vs_mc_opts *o);
 int vs_merge_main(const char *const *dirs, int ndirs, const char *out);

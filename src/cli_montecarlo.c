@@ -9,20 +9,24 @@
 
 static const char *const MC_USAGE =
     "usage: voussoir montecarlo CASE --samples N [--seed S] [--set SECTION.KEY=VALUE]...\n"
-    "                           [-j N] [--shard K/M] [-o DIR] [-q]\n"
+    "                           [-j N] [--shard K/M] [-o DIR] [--resume] [-q]\n"
     "  --samples N   imperfect arches 0..N-1, each with its own draws ([imperfections])\n"
     "  --seed S      generator seed (same as --set imperfections.seed=S)\n"
     "  -j N          worker processes (default: the cores)\n"
     "  --shard K/M   run only the samples i with i mod M = K-1 (K in 1..M), for a scheduler's\n"
     "                array job; voussoir merge then joins the shards' directories\n"
     "  -o DIR        output directory (default montecarlo_out): samples.csv, statistics.csv,\n"
-    "                summary.h5, fragility.png, convergence.png, hinges.png\n"
+    "                summary.h5, fragility.png, convergence.png, hinges.png; and the study's\n"
+    "                montecarlo.manifest and montecarlo.journal (each sample's result as it ends)\n"
+    "  --resume      continue the study in DIR (same case, --set, --seed, --samples, --shard):\n"
+    "                the samples in its journal are not run again (after a kill, a stop, a crash)\n"
     "  -q            no progress line\n"
     "Values: --samples 100 or --samples=100.\n"
     "exit status: 0 done (failed samples are in the table with their cause), 1 every sample\n"
     "failed or the summary could not be written, 2 bad input (nothing written), 130\n"
     "interrupted (SIGINT/SIGTERM: no sample starts after it, those under way finish, or are\n"
-    "dropped at a second signal, and the summary of the samples done is written)\n";
+    "dropped at a second signal, and the summary of the samples done is written; continue\n"
+    "with --resume)\n";
 
 static const char *const MERGE_USAGE =
     "usage: voussoir merge DIR... -o OUT\n"
@@ -32,13 +36,14 @@ static const char *const MERGE_USAGE =
     "exit status: 0 done, 1 the summary could not be written, 2 bad input (a missing or foreign\n"
     "table, a sample twice)\n";
 
-enum { OPT_SAMPLES = 256, OPT_SEED, OPT_SET, OPT_SHARD };
+enum { OPT_SAMPLES = 256, OPT_SEED, OPT_SET, OPT_SHARD, OPT_RESUME };
 
 static const struct option MC_OPTIONS[] = {
     {"samples", required_argument, NULL, OPT_SAMPLES},
     {"seed", required_argument, NULL, OPT_SEED},
     {"set", required_argument, NULL, OPT_SET},
     {"shard", required_argument, NULL, OPT_SHARD},
+    {"resume", no_argument, NULL, OPT_RESUME},
     {0, 0, 0, 0}};
 
 static const cli_command MONTECARLO = {"voussoir montecarlo", MC_USAGE, "j:o:q", MC_OPTIONS};
@@ -70,6 +75,7 @@ static int mc_option(void *user, int code, const char *value) {
   case OPT_SEED: o->seed = value; return 0;
   case OPT_SET: return cli_add_set(name, value, o->sets, &o->nsets);
   case OPT_SHARD: return parse_shard(value, o);
+  case OPT_RESUME: o->resume = 1; return 0;
   case 'j': return cli_int(name, "-j", value, 1, 1024, &o->jobs);
   case 'o': o->dir = value; return 0;
   case 'q': o->quiet = 1; return 0;

@@ -1,12 +1,11 @@
-/* The montecarlo and merge commands' work (their command lines are read by
- * src/cli_montecarlo.c): samples handed out to a pool of forked workers (one process per sample,
- * its result sent back through a pipe), --shard K/M for batch schedulers, and merge of shard
- * directories into one summary. */
+/* The montecarlo command's work (its command line is read by src/cli_montecarlo.c): samples
+ * handed out to a pool of forked workers (one process per sample, its result sent back through
+ * a pipe) or to MPI ranks, --shard K/M for batch schedulers, the study's journal for --resume.
+ * merge: src/montecarlo_merge.c. */
 #define _POSIX_C_SOURCE 200809L /* fork, pipe, clock_gettime */
 #include "voussoir/montecarlo.h"
 
 #include <errno.h>
-#include <limits.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -18,12 +17,18 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "journal.h"
+#include "montecarlo_cmd.h"
 #include "montecarlo_mpi.h"
 #include "pipe_io.h"
 #include "plugin.h"
 #include "voussoir/outpath.h"
 #include "voussoir/parse.h"
 #include "voussoir/plot.h"
+
+/* The size of the paths of the study's files in its directory; run_study's status on an MPI
+ * worker rank (not an exit status). */
+enum { MC_JPATH = 1200, MC_WORKER_RANK = -1 };
 
 enum { EXIT_FAIL = VS_EXIT_FAILED, EXIT_USAGE = VS_EXIT_BAD_INPUT,
        EXIT_INTERRUPTED = VS_EXIT_INTERRUPTED };
@@ -38,13 +43,186 @@ static void on_stop(int sig) {
   g_stops++;
 }
 
-/* For the crash tests only: the environment variable VS_FAULT_STOP_AFTER = K makes the pool
- * raise SIGINT at itself once K samples are done (a stop at a state reached without timing). */
-static long fault_stop_after(void) {
-  const char *v = getenv("VS_FAULT_STOP_AFTER");
+/* --- a study under way: this shard's samples, their results, the journal --- */
+
+/* What a --resume must find the same in DIR/montecarlo.manifest: the case after --set and
+ * --seed (every key), the sample count and the shard. */
+static const char MANIFEST[] = "montecarlo.manifest", JOURNAL[] = "montecarlo.journal";
+
+typedef struct {
+  const vs_mc_opts *o;
+  const vs_case *c;
+  int n;              /* this shard's samples: shard_k - 1, shard_k - 1 + shard_m, ... */
+  vs_mc_sample *res;  /* per slot (sample (slot) = shard_k - 1 + slot shard_m) */
+  char *done;         /* per slot: its result is in res */
+  int next;           /* the next slot to consider handing out */
+  int ndone, resumed, taken; /* results held, of which from the journal; taken in this run */
+  FILE *journal;
+} mc_study;
+
+static int sample_of(const mc_study *s, int slot) {
+  return s->o->shard_k - 1 + slot * s->o->shard_m;
+}
+
+/* The slot of sample `sample`, or -1 when it is not one of this shard's. */
+static int slot_of(const mc_study *s, int sample) {
+  const int d = sample - (s->o->shard_k - 1);
+  return d >= 0 && d % s->o->shard_m == 0 && d / s->o->shard_m < s->n ? d / s->o->shard_m : -1;
+}
+
+/* The journal's first line: its kind and the layout of its rows (a journal of another build is
+ * refused). */
+static void journal_head(char *buf, size_t size) {
+  snprintf(buf, size, "voussoir montecarlo journal 1 row %zu bytes\n", sizeof(vs_mc_sample));
+}
+
+static char *manifest_text(const mc_study *s) {
+  const int nk = vs_case_key_count();
+  const size_t cap = 128 + 96 * (size_t)nk;
+  char *t = malloc(cap);
+  if (t == NULL) return NULL;
+  size_t used = 0;
+  for (int i = 0; i < nk; i++) {
+    const char *sec, *key;
+    double v;
+    vs_case_key(s->c, i, &sec, &key, NULL, NULL, &v);
+    used += (size_t)snprintf(t + used, cap - used, "%s.%s=%.17g\n", sec, key, v);
+  }
+  snprintf(t + used, cap - used, "samples %d\nshard %d/%d\n", s->o->samples, s->o->shard_k,
+           s->o->shard_m);
+  return t;
+}
+
+/* A result kept (from a worker, or from the journal). */
+static void keep(mc_study *s, const vs_mc_sample *r) {
+  const int slot = slot_of(s, r->sample);
+  if (slot < 0) return;
+  s->ndone += !s->done[slot];
+  s->res[slot] = *r;
+  s->done[slot] = 1;
+}
+
+/* A row of the journal being resumed: kept if it is one of this shard's samples and whole. */
+static void resumed(void *user, const void *row) {
+  mc_study *s = user;
+  vs_mc_sample r;
+  memcpy(&r, row, sizeof r);
+  r.pattern[sizeof r.pattern - 1] = r.error[sizeof r.error - 1] = '\0';
+  if (r.status < VS_MC_COLLAPSE || r.status > VS_MC_FAILED) return;
+  keep(s, &r);
+}
+
+/* The text file dir/name, or NULL. */
+static char *read_text(const char *dir, const char *name) {
+  char path[1200];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  FILE *f = fopen(path, "rb");
+  if (f == NULL) return NULL;
+  char *t = NULL;
+  if (fseek(f, 0, SEEK_END) == 0) {
+    const long n = ftell(f);
+    t = n >= 0 && n < (1 << 20) ? malloc((size_t)n + 1) : NULL;
+    if (t != NULL) {
+      rewind(f);
+      t[fread(t, 1, (size_t)n, f)] = '\0';
+    }
+  }
+  fclose(f);
+  return t;
+}
+
+/* Fresh: the manifest written (renamed into place) and an empty journal. --resume: the manifest
+ * must be the same, the journal's results are kept and it is appended to after its whole rows.
+ * 0, or an exit status after printing why. */
+static int study_open(mc_study *s) {
+  const char *dir = s->o->dir;
+  char *want = manifest_text(s), path[MC_JPATH], head[96];
+  if (want == NULL) {
+    fprintf(stderr, "voussoir montecarlo: out of memory\n");
+    return EXIT_FAIL;
+  }
+  journal_head(head, sizeof head);
+  snprintf(path, sizeof path, "%s/%s", dir, JOURNAL);
+  long rows = -1;
+  int rc = 0;
+  if (s->o->resume) {
+    char *had = read_text(dir, MANIFEST);
+    if (had == NULL || strcmp(had, want) != 0) {
+      fprintf(stderr, "voussoir montecarlo: --resume: %s/%s %s\n", dir, MANIFEST,
+              had == NULL ? "is missing: no study to resume in this directory"
+                          : "differs: that study had another case, --set, --seed, --samples or "
+                            "--shard");
+      rc = EXIT_USAGE;
+    } else if (vs_journal_read(path, head, sizeof(vs_mc_sample), resumed, s, &rows) != 0) {
+      fprintf(stderr, "voussoir montecarlo: --resume: %s was not written by this build of "
+              "voussoir (it expects \"%.*s\"); run the study afresh\n", path,
+              (int)strlen(head) - 1, head);
+      rc = EXIT_USAGE;
+    }
+    free(had);
+    s->resumed = s->ndone;
+    if (rc == 0 && !s->o->quiet)
+      fprintf(stderr, "voussoir montecarlo: resuming: %d of %d samples already done\n",
+              s->ndone, s->n);
+  } else {
+    char mpath[MC_JPATH], part[MC_JPATH + 8];
+    snprintf(mpath, sizeof mpath, "%s/%s", dir, MANIFEST);
+    snprintf(part, sizeof part, "%s.part", mpath);
+    FILE *f = fopen(part, "w");
+    int ok = f != NULL && fputs(want, f) >= 0;
+    if (f != NULL && fclose(f) != 0) ok = 0;
+    if (!ok || vs_outpath_replace(part, mpath) != 0) {
+      fprintf(stderr, "voussoir montecarlo: %s: cannot write: %s\n", mpath, strerror(errno));
+      remove(part);
+      rc = EXIT_FAIL;
+    }
+  }
+  free(want);
+  if (rc == 0 && (s->journal = vs_journal_open(path, head, sizeof(vs_mc_sample), rows)) == NULL) {
+    fprintf(stderr, "voussoir montecarlo: %s: cannot write: %s\n", path, strerror(errno));
+    rc = EXIT_FAIL;
+  }
+  return rc;
+}
+
+/* For the crash tests only: VS_FAULT_STOP_AFTER = K makes the study raise SIGINT at itself once
+ * K samples are taken in this run, VS_FAULT_KILL_AFTER = K SIGKILL once K are journalled (stops
+ * at states reached without timing). */
+static long fault_after(const char *name) {
+  const char *v = getenv(name);
   long k = 0;
   return v != NULL && vs_parse_long(v, &k) == VS_NUM_OK && k > 0 ? k : 0;
 }
+
+/* A sample's result as it comes back: kept and, when the sample ran to its own end (a result,
+ * even a failed run's; not a worker lost), journalled. */
+static void take(mc_study *s, const vs_mc_sample *r, int ran) {
+  const int slot = slot_of(s, r->sample);
+  if (slot < 0 || s->done[slot]) return;
+  keep(s, r);
+  s->taken++;
+  if (ran && vs_journal_append(s->journal, r, sizeof *r) != 0)
+    fprintf(stderr, "voussoir montecarlo: %s: cannot write: %s\n", JOURNAL, strerror(errno));
+  if (ran && s->taken == fault_after("VS_FAULT_KILL_AFTER")) raise(SIGKILL);
+  if (s->taken == fault_after("VS_FAULT_STOP_AFTER")) raise(SIGINT);
+}
+
+/* The next sample to run, or -1: none left, or the study was asked to stop. */
+static int next_sample(mc_study *s) {
+  while (g_stops == 0 && s->next < s->n) {
+    const int slot = s->next++;
+    if (!s->done[slot]) return sample_of(s, slot);
+  }
+  return -1;
+}
+
+static void study_close(mc_study *s) {
+  if (s->journal != NULL) fclose(s->journal);
+  free(s->res);
+  free(s->done);
+}
+
+/* --- the local pool: one forked worker per sample --- */
 
 static double now_s(void) {
   struct timespec ts;
@@ -54,7 +232,7 @@ static double now_s(void) {
 
 typedef struct {
   pid_t pid;
-  int fd, slot; /* read end of the result pipe; index into the results */
+  int fd, sample; /* read end of the result pipe; the sample it runs */
 } worker;
 
 /* Fork a worker for sample `sample`: it runs it and writes the result into a pipe. */
@@ -77,50 +255,58 @@ static int start_worker(const vs_case *c, int sample, worker *w) {
   close(fds[1]);
   w->pid = pid;
   w->fd = fds[0];
+  w->sample = sample;
   return 0;
 }
 
-/* Collect a finished worker's result (or record why there is none). */
-static void finish_worker(worker *w, int status, int sample, vs_mc_sample *out) {
+/* Collect a finished worker's result (or record why there is none). 1 when the worker sent its
+ * sample's result, 0 when it was lost. */
+static int finish_worker(worker *w, int status, vs_mc_sample *out) {
   const size_t got = vs_read_full(w->fd, out, sizeof *out);
   close(w->fd);
-  if (got != sizeof *out || out->sample != sample) {
-    memset(out, 0, sizeof *out);
-    out->sample = sample;
-    out->status = VS_MC_FAILED;
-    out->first_limit_mm = out->delta_u_mm = out->dz_u_mm = out->dx_u_mm = NAN;
-    if (WIFSIGNALED(status))
-      snprintf(out->error, sizeof out->error, "worker killed by signal %d", WTERMSIG(status));
-    else
-      snprintf(out->error, sizeof out->error, "worker exited with status %d and no result",
-               WIFEXITED(status) ? WEXITSTATUS(status) : -1);
-  }
   w->pid = 0;
+  if (got == sizeof *out && out->sample == w->sample) return 1;
+  memset(out, 0, sizeof *out);
+  out->sample = w->sample;
+  out->status = VS_MC_FAILED;
+  out->first_limit_mm = out->delta_u_mm = out->dz_u_mm = out->dx_u_mm = NAN;
+  if (WIFSIGNALED(status))
+    snprintf(out->error, sizeof out->error, "worker killed by signal %d", WTERMSIG(status));
+  else
+    snprintf(out->error, sizeof out->error, "worker exited with status %d and no result",
+             WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  return 0;
 }
 
-/* Run the listed samples on `jobs` processes; results[i] for samples[i], done[i] set once it is
- * there. After a stop (g_stops) no sample starts; after a second the workers under way are
- * killed and their samples left undone. 0 when every sample ran or a stop ended the pool, -1
- * when a worker could not be started. */
-static int run_pool(const vs_case *c, const int *samples, int n, int jobs, int quiet,
-                    vs_mc_sample *results, char *done_at) {
+/* Run the study's samples still to do on `jobs` processes. After a stop (g_stops) no sample
+ * starts; after a second the workers under way are killed and their samples left undone. 0 when
+ * every sample ran or a stop ended the pool, -1 when a worker could not be started. */
+static int run_pool(mc_study *s, int jobs) {
   worker *ws = calloc((size_t)jobs, sizeof *ws);
   if (ws == NULL) return -1;
-  int next = 0, done = 0, active = 0, failed = 0, killed = 0;
-  const long stop_after = fault_stop_after();
+  int active = 0, failed = 0, killed = 0, more = 1;
+  const int todo = s->n - s->ndone;
   const double t0 = now_s();
-  const int progress = !quiet && isatty(STDERR_FILENO);
-  while (done < n) {
+  const int progress = !s->o->quiet && isatty(STDERR_FILENO);
+  while (s->ndone < s->n) {
     if (g_stops > 1 && !killed) { /* a second stop: the samples under way are dropped */
       for (int k = 0; k < jobs; k++)
         if (ws[k].pid != 0) kill(ws[k].pid, SIGKILL);
       killed = 1;
     }
-    while (active < jobs && next < n && g_stops == 0) {
+    while (active < jobs && more) {
+      const int sample = next_sample(s);
+      if (sample < 0) {
+        more = 0;
+        break;
+      }
       int k = 0;
       while (ws[k].pid != 0) k++;
-      if (start_worker(c, samples[next], &ws[k]) != 0) break;
-      ws[k].slot = next++;
+      if (start_worker(s->c, sample, &ws[k]) != 0) {
+        s->next--; /* not started */
+        more = 0;
+        break;
+      }
       active++;
     }
     if (active == 0) break;
@@ -130,27 +316,31 @@ static int run_pool(const vs_case *c, const int *samples, int n, int jobs, int q
     if (pid < 0) break;
     for (int k = 0; k < jobs; k++) {
       if (ws[k].pid != pid) continue;
-      const int slot = ws[k].slot;
       active--;
       if (killed) { /* stopped by us: not a sample's failure */
         close(ws[k].fd);
         ws[k].pid = 0;
         continue;
       }
-      finish_worker(&ws[k], status, samples[slot], &results[slot]);
-      done_at[slot] = 1;
-      failed += results[slot].status == VS_MC_FAILED;
-      done++;
-      if (stop_after > 0 && done == stop_after) raise(SIGINT);
+      vs_mc_sample r;
+      const int ran = finish_worker(&ws[k], status, &r);
+      failed += r.status == VS_MC_FAILED;
+      take(s, &r, ran);
     }
     if (progress)
-      fprintf(stderr, "\r  samples %d/%d done, %d running, %d failed, %.1f s   ", done, n, active,
-              failed, now_s() - t0);
+      fprintf(stderr, "\r  samples %d/%d done, %d running, %d failed, %.1f s   ",
+              s->ndone - s->resumed, todo, active, failed, now_s() - t0);
   }
   if (progress) fputs("\r\033[K", stderr);
   free(ws);
-  return done == n || g_stops > 0 ? 0 : -1;
+  return s->ndone == s->n || g_stops > 0 ? 0 : -1;
 }
+
+#ifdef VS_HAVE_MPI
+static int mpi_open(void *user) { return study_open(user); }
+static int mpi_next(void *user) { return next_sample(user); }
+static void mpi_take(void *user, const vs_mc_sample *r) { take(user, r, 1); }
+#endif
 
 /* The case with the overrides and the seed applied, validated. */
 static int load_case(const vs_mc_opts *a, vs_case *c) {
@@ -170,17 +360,15 @@ static int load_case(const vs_mc_opts *a, vs_case *c) {
   return -1;
 }
 
-/* Check that dir may receive the summary's files (VS_MC_OUTPUTS): dir absent or a directory,
- * each file there absent or a regular file and none of the others (the case file, an input
- * shard's table). 0, or EXIT_USAGE after printing why ("voussoir CMD: -o PATH: reason"). */
-static int check_outputs(const char *cmd, const char *dir, const vs_outpath_other *others,
-                         int n_others) {
-  static const char *const names[] = {VS_MC_OUTPUTS};
+int vs_mc_check_outputs(const char *cmd, const char *dir, const vs_outpath_other *others,
+                        int n_others, int state) {
+  static const char *const names[] = {VS_MC_OUTPUTS, MANIFEST, JOURNAL};
+  const size_t count = sizeof names / sizeof names[0] - (state ? 0 : 2);
   vs_error err;
   vs_error_clear(&err);
   int bad = vs_outpath_check_dir(dir, &err) != VS_OK;
-  for (size_t i = 0; !bad && access(dir, F_OK) == 0 && i < sizeof names / sizeof names[0]; i++) {
-    char path[1200];
+  for (size_t i = 0; !bad && access(dir, F_OK) == 0 && i < count; i++) {
+    char path[MC_JPATH];
     snprintf(path, sizeof path, "%s/%s", dir, names[i]);
     bad = vs_outpath_check(path, others, n_others, &err) != VS_OK;
   }
@@ -188,15 +376,39 @@ static int check_outputs(const char *cmd, const char *dir, const vs_outpath_othe
   return bad ? EXIT_USAGE : 0;
 }
 
-static void print_result(const char *dir, const vs_mc_sample *r, int n, double wall, int jobs) {
+static void print_result(const mc_study *s, const vs_mc_sample *r, int n, double wall, int jobs) {
   int collapses = 0, failed = 0;
   for (int i = 0; i < n; i++) {
     collapses += r[i].status == VS_MC_COLLAPSE;
     failed += r[i].status == VS_MC_FAILED;
   }
-  printf("%d samples (%d collapses, %d failed) in %.1f s on %d processes (or MPI ranks); summary: %s/summary.h5, "
-         "statistics: %s/statistics.csv\n",
-         n, collapses, failed, wall, jobs, dir, dir);
+  char from[64] = "";
+  if (s->resumed > 0) snprintf(from, sizeof from, ", %d of them from the journal", s->resumed);
+  printf("%d samples (%d collapses, %d failed%s) in %.1f s on %d processes (or MPI ranks); "
+         "summary: %s/summary.h5, statistics: %s/statistics.csv\n",
+         n, collapses, failed, from, wall, jobs, s->o->dir, s->o->dir);
+}
+
+/* The samples' runs, locally or across MPI ranks. 0 on the process that writes the summary,
+ * MC_WORKER_RANK on an MPI worker rank (done), or an exit status after printing why. */
+static int run_study(mc_study *s, vs_mc_opts *a) {
+#ifdef VS_HAVE_MPI
+  if (vs_plugin_mpi_launched()) {
+    if (vs_plugin_load(VS_PLUGIN_MPI, "voussoir montecarlo") != 0) return EXIT_FAIL;
+    int opened = 0;
+    const vs_mc_server srv = {mpi_open, mpi_next, mpi_take, s};
+    if (vs_mc_run_mpi(s->c, &srv, &opened, &a->jobs) != 0) return MC_WORKER_RANK;
+    return opened;
+  }
+#endif
+  int rc = study_open(s);
+  if (rc != 0) return rc;
+  cli_on_stop_signals(on_stop); /* no SA_RESTART: wait() returns at once with EINTR */
+  if (run_pool(s, a->jobs) != 0) {
+    fprintf(stderr, "voussoir montecarlo: cannot start the workers: %s\n", strerror(errno));
+    return EXIT_FAIL;
+  }
+  return 0;
 }
 
 int vs_mc_main(const vs_mc_opts *o) {
@@ -205,224 +417,59 @@ int vs_mc_main(const vs_mc_opts *o) {
   if (load_case(&a, &c) != 0) return EXIT_USAGE;
   /* the summary is HDF5 and pictures: the plot plugin, before anything is written */
   if (vs_plugin_load(VS_PLUGIN_PLOT, "voussoir montecarlo") != 0) return EXIT_FAIL;
-  int n = 0;
-  for (int i = a.shard_k - 1; i < a.samples; i += a.shard_m) n++;
-  int *samples = malloc((size_t)(n > 0 ? n : 1) * sizeof *samples);
-  vs_mc_sample *res = calloc((size_t)(n > 0 ? n : 1), sizeof *res);
-  char *done_at = calloc((size_t)(n > 0 ? n : 1), 1);
+  mc_study s = {.o = &a, .c = &c};
+  for (int i = a.shard_k - 1; i < a.samples; i += a.shard_m) s.n++;
+  s.res = calloc((size_t)(s.n > 0 ? s.n : 1), sizeof *s.res);
+  s.done = calloc((size_t)(s.n > 0 ? s.n : 1), 1);
   int rc = EXIT_FAIL;
-  if (samples == NULL || res == NULL || done_at == NULL) {
+  if (s.res == NULL || s.done == NULL) {
     fprintf(stderr, "voussoir montecarlo: out of memory\n");
     goto done;
   }
-  for (int i = a.shard_k - 1, k = 0; i < a.samples; i += a.shard_m) samples[k++] = i;
   const vs_outpath_other case_file[1] = {{a.case_path, "the case file"}};
-  if ((rc = check_outputs("montecarlo", a.dir, case_file, 1)) != 0) goto done;
+  if ((rc = vs_mc_check_outputs("montecarlo", a.dir, case_file, 1, 1)) != 0) goto done;
+  if (a.resume && access(a.dir, F_OK) != 0) {
+    fprintf(stderr, "voussoir montecarlo: --resume: -o %s: no such directory: no study to resume "
+            "there\n", a.dir);
+    rc = EXIT_USAGE;
+    goto done;
+  }
   rc = EXIT_FAIL;
   if (mkdir(a.dir, 0755) != 0 && errno != EEXIST) { /* before hours of work, not after */
     fprintf(stderr, "voussoir montecarlo: -o %s: cannot create: %s\n", a.dir, strerror(errno));
     goto done;
   }
   const double t0 = now_s();
-#ifdef VS_HAVE_MPI
-  if (vs_plugin_mpi_launched()) {
-    if (vs_plugin_load(VS_PLUGIN_MPI, "voussoir montecarlo") != 0) goto done;
-    if (vs_mc_run_mpi(&c, samples, n, res, &a.jobs) != 0) { /* a worker rank: rank 0 reports */
-      rc = 0;
-      goto done;
-    }
-  } else
-#endif
-  {
-    cli_on_stop_signals(on_stop); /* no SA_RESTART: wait() returns at once with EINTR */
-    if (run_pool(&c, samples, n, a.jobs, a.quiet, res, done_at) != 0) {
-      fprintf(stderr, "voussoir montecarlo: cannot start the workers: %s\n", strerror(errno));
-      goto done;
-    }
-    /* stopped: the summary of the samples done (in sample order, as every summary) */
-    int k = 0;
-    for (int i = 0; i < n; i++)
-      if (done_at[i]) res[k++] = res[i];
-    if (k < n) {
-      const int total = n;
-      n = k;
-      fprintf(stderr, "voussoir montecarlo: interrupted: %d of %d samples done, their summary "
-              "in %s\n", n, total, a.dir);
-    }
-  }
-  vs_error err;
-  vs_error_clear(&err);
-  if (vs_mc_write_summary(a.dir, &c, res, n, &err) != VS_OK) {
-    fprintf(stderr, "voussoir montecarlo: %s\n", err.msg);
-    goto done;
-  }
-  print_result(a.dir, res, n, now_s() - t0, a.jobs);
-  rc = g_stops > 0 ? EXIT_INTERRUPTED : 0;
-  int failed = 0;
-  for (int i = 0; i < n; i++) failed += res[i].status == VS_MC_FAILED;
-  if (n > 0 && failed == n) { /* no statistics at all: say why (the first cause) */
-    fprintf(stderr, "voussoir montecarlo: every sample failed; sample %d: %s\n", res[0].sample,
-            res[0].error);
-    rc = EXIT_FAIL;
-  }
-done:
-  free(samples);
-  free(res);
-  free(done_at);
-  vs_plot_release();
-  return rc;
-}
-
-/* --- merge --- */
-
-/* Split line in place at commas into at most max fields; returns the count. */
-static int split_csv(char *line, char **f, int max) {
-  int n = 0;
-  f[n++] = line;
-  for (char *p = line; *p && n < max; p++)
-    if (*p == ',') {
-      *p = '\0';
-      f[n++] = p + 1;
-    }
-  return n;
-}
-
-static int parse_row(char *line, vs_mc_sample *x) {
-  char *f[14];
-  line[strcspn(line, "\r\n")] = '\0';
-  if (split_csv(line, f, 14) != 14) return -1;
-  memset(x, 0, sizeof *x);
-  long smp = -1, mode = 0;
-  if (vs_parse_long(f[0], &smp) != VS_NUM_OK || smp < 0 || smp > INT_MAX ||
-      vs_parse_long(f[6], &mode) != VS_NUM_OK || mode < 0 || mode > 3)
-    return -1;
-  x->sample = (int)smp;
-  x->mode = (int)mode;
-  x->status = strcmp(f[1], "collapse") == 0           ? VS_MC_COLLAPSE
-              : strcmp(f[1], "max_displacement") == 0 ? VS_MC_NO_COLLAPSE
-                                                      : VS_MC_FAILED;
-  /* the table is ours: "nan" marks a missing value, which the strict parser refuses */
-  x->first_limit_mm = strtod(f[2], NULL);
-  x->delta_u_mm = strtod(f[3], NULL);
-  x->dz_u_mm = strtod(f[4], NULL);
-  x->dx_u_mm = strtod(f[5], NULL);
-  snprintf(x->pattern, sizeof x->pattern, "%s", f[7]);
-  for (int l = 0; l < VS_MC_LABELS; l++) {
-    char side = 0;
-    int j = 0;
-    if (f[8 + l][0] != '\0' && sscanf(f[8 + l], "%d-%c", &j, &side) == 2) {
-      x->hinge_joint[l] = j;
-      x->hinge_side[l] = side;
-    }
-  }
-  snprintf(x->error, sizeof x->error, "%s", f[13]);
-  return 0;
-}
-
-/* Append the samples of DIR/samples.csv to *all; the header line must equal *header (set by the
- * first directory). */
-static int read_shard(const char *dir, char *header, size_t hsize, vs_mc_sample **all, int *n,
-                      int *cap) {
-  char path[1200], line[1024];
-  snprintf(path, sizeof path, "%s/samples.csv", dir);
-  FILE *f = fopen(path, "r");
-  if (f == NULL) {
-    fprintf(stderr, "voussoir merge: %s: cannot open: %s\n", path, strerror(errno));
-    return -1;
-  }
-  int rc = 0;
-  if (fgets(line, sizeof line, f) == NULL || strncmp(line, "# voussoir montecarlo ", 22) != 0) {
-    fprintf(stderr, "voussoir merge: %s: not a montecarlo table\n", path);
-    rc = -1;
-  } else if (header[0] == '\0') {
-    snprintf(header, hsize, "%s", line);
-  } else if (strcmp(header, line) != 0) {
-    fprintf(stderr, "voussoir merge: %s: another case or seed than the first directory\n", path);
-    rc = -1;
-  }
-  if (rc == 0 && fgets(line, sizeof line, f) == NULL) rc = -1; /* column names */
-  while (rc == 0 && fgets(line, sizeof line, f) != NULL) {
-    if (*n == *cap) {
-      const int nc = *cap ? 2 * *cap : 256;
-      vs_mc_sample *b = realloc(*all, (size_t)nc * sizeof *b);
-      if (b == NULL) {
-        rc = -1;
-        break;
-      }
-      *all = b;
-      *cap = nc;
-    }
-    if (parse_row(line, &(*all)[*n]) != 0) {
-      fprintf(stderr, "voussoir merge: %s: malformed row %d\n", path, *n + 1);
-      rc = -1;
-    } else {
-      (*n)++;
-    }
-  }
-  fclose(f);
-  return rc;
-}
-
-static int header_case(const char *header, vs_case *c) {
-  vs_case_defaults(c);
-  return sscanf(header,
-                "# voussoir montecarlo seed=%d radius_mm=%lf embrace_deg=%lf max_mm=%lf "
-                "alpha_deg=%lf voussoirs=%d",
-                &c->seed, &c->radius_mm, &c->embrace_deg, &c->max_mm, &c->alpha_deg,
-                &c->voussoirs) == 6
-             ? 0
-             : -1;
-}
-
-static int cmp_sample_no(const void *x, const void *y) {
-  const int a = ((const vs_mc_sample *)x)->sample, b = ((const vs_mc_sample *)y)->sample;
-  return (a > b) - (a < b);
-}
-
-int vs_merge_main(const char *const *dirs, int nd, const char *out) {
-  if (vs_plugin_load(VS_PLUGIN_PLOT, "voussoir merge") != 0) return EXIT_FAIL;
-  char header[1024] = "";
-  vs_mc_sample *all = NULL;
-  int n = 0, cap = 0, rc = EXIT_USAGE;
-  /* the shards' tables are inputs: never replaced by the merged one */
-  char (*tables)[1100] = malloc((size_t)(nd > 0 ? nd : 1) * sizeof *tables);
-  vs_outpath_other *others = malloc((size_t)(nd > 0 ? nd : 1) * sizeof *others);
-  if (tables == NULL || others == NULL) {
-    fprintf(stderr, "voussoir merge: out of memory\n");
-    rc = EXIT_FAIL;
-    goto done;
-  }
-  for (int d = 0; d < nd; d++) {
-    snprintf(tables[d], sizeof tables[d], "%s/samples.csv", dirs[d]);
-    others[d] = (vs_outpath_other){tables[d], "an input shard's table"};
-  }
-  if (check_outputs("merge", out, others, nd) != 0) goto done;
-  for (int d = 0; d < nd; d++)
-    if (read_shard(dirs[d], header, sizeof header, &all, &n, &cap) != 0) goto done;
-  qsort(all, (size_t)n, sizeof *all, cmp_sample_no);
-  for (int i = 1; i < n; i++)
-    if (all[i].sample == all[i - 1].sample) {
-      fprintf(stderr, "voussoir merge: sample %d appears twice\n", all[i].sample);
-      goto done;
-    }
-  vs_case c;
-  vs_error err;
-  vs_error_clear(&err);
-  if (n == 0 || header_case(header, &c) != 0) {
-    fprintf(stderr, "voussoir merge: no samples, or an unreadable table header\n");
+  rc = run_study(&s, &a);
+  if (rc != 0) {
+    if (rc == MC_WORKER_RANK) rc = 0; /* rank 0 reports */
     goto done;
   }
   rc = EXIT_FAIL;
-  if (vs_mc_write_summary(out, &c, all, n, &err) != VS_OK) {
-    fprintf(stderr, "voussoir merge: %s\n", err.msg);
+  /* the summary of the samples done, in sample order (a stop may leave some undone) */
+  int n = 0;
+  for (int i = 0; i < s.n; i++)
+    if (s.done[i]) s.res[n++] = s.res[i];
+  if (n < s.n)
+    fprintf(stderr, "voussoir montecarlo: interrupted: %d of %d samples done, their summary "
+            "in %s (continue with --resume)\n", n, s.n, a.dir);
+  vs_error err;
+  vs_error_clear(&err);
+  if (vs_mc_write_summary(a.dir, &c, s.res, n, &err) != VS_OK) {
+    fprintf(stderr, "voussoir montecarlo: %s\n", err.msg);
     goto done;
   }
-  printf("%d samples from %d directories; summary: %s/summary.h5\n", n, nd, out);
-  rc = 0;
+  print_result(&s, s.res, n, now_s() - t0, a.jobs);
+  rc = n < s.n ? EXIT_INTERRUPTED : 0;
+  int failed = 0;
+  for (int i = 0; i < n; i++) failed += s.res[i].status == VS_MC_FAILED;
+  if (n > 0 && failed == n) { /* no statistics at all: say why (the first cause) */
+    fprintf(stderr, "voussoir montecarlo: every sample failed; sample %d: %s\n", s.res[0].sample,
+            s.res[0].error);
+    rc = EXIT_FAIL;
+  }
 done:
-  free(all);
-  free(tables);
-  free(others);
+  study_close(&s);
   vs_plot_release();
   return rc;
 }

@@ -1,8 +1,8 @@
 /* The montecarlo command under MPI (mpirun -np N voussoir montecarlo ...): rank 0 hands out the
- * samples one at a time to the ranks that ask for work and gathers their results; it writes the
- * summary. A sample's result depends only on (case, seed, sample), so the summary is the one a
- * single process writes. In the MPI plugin (libvoussoir-mpi, src/plugin.h), built only when
- * CMake finds MPI. */
+ * samples one at a time to the ranks that ask for work and passes their results on (to the
+ * study's journal and summary, src/montecarlo_cmd.c). A sample's result depends only on (case,
+ * seed, sample), so the summary is the one a single process writes. In the MPI plugin
+ * (libvoussoir-mpi, src/plugin.h), built only when CMake finds MPI. */
 #define _POSIX_C_SOURCE 200809L /* nanosleep */
 #include "voussoir/montecarlo.h"
 #include "montecarlo_mpi.h"
@@ -29,24 +29,18 @@ static void wait_result(vs_mc_sample *r, MPI_Status *st) {
 
 /* Rank 0: every message from a worker is a result (sample -1: "ready"); the reply is the next
  * sample, or -1 to stop. */
-static void dispatch(const int *samples, int n, vs_mc_sample *results, int size) {
-  int next = 0, done = 0, stopped = 0;
+static void dispatch(const vs_mc_server *s, int more, int size) {
+  int stopped = 0;
   while (stopped < size - 1) {
     vs_mc_sample r;
     MPI_Status st;
     wait_result(&r, &st);
-    if (r.sample >= 0)
-      for (int i = 0; i < n; i++)
-        if (samples[i] == r.sample) {
-          results[i] = r;
-          done++;
-          break;
-        }
-    int work = next < n ? samples[next++] : -1;
+    if (r.sample >= 0) s->take(s->user, &r);
+    int work = more ? s->next(s->user) : -1;
+    more = work >= 0;
     stopped += work < 0;
     MPI_Send(&work, 1, MPI_INT, st.MPI_SOURCE, TAG_WORK, MPI_COMM_WORLD);
   }
-  (void)done;
 }
 
 static void work(const vs_case *c) {
@@ -62,19 +56,23 @@ static void work(const vs_case *c) {
   }
 }
 
-int vs_mc_run_mpi(const vs_case *c, const int *samples, int n, vs_mc_sample *results,
-                  int *ranks) {
+int vs_mc_run_mpi(const vs_case *c, const vs_mc_server *s, int *opened, int *ranks) {
   int rank = 0, size = 1;
   MPI_Init(NULL, NULL);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   *ranks = size;
-  if (size == 1) {
-    for (int i = 0; i < n; i++) vs_mc_run_sample(c, samples[i], &results[i]);
-  } else if (rank == 0) {
-    dispatch(samples, n, results, size);
-  } else {
+  if (rank == 0) *opened = s->open(s->user);
+  if (rank != 0) {
     work(c);
+  } else if (size > 1) {
+    dispatch(s, *opened == 0, size);
+  } else if (*opened == 0) {
+    for (int k = s->next(s->user); k >= 0; k = s->next(s->user)) {
+      vs_mc_sample r;
+      vs_mc_run_sample(c, k, &r);
+      s->take(s->user, &r);
+    }
   }
   MPI_Finalize();
   return rank;

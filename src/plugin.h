@@ -25,7 +25,7 @@
 #include "voussoir/output.h"
 
 /* Bumped whenever a table below changes. */
-#define VS_PLUGIN_ABI 2
+#define VS_PLUGIN_ABI 3
 
 /* What every table starts with. */
 typedef struct {
@@ -70,7 +70,7 @@ typedef struct {
 /* libvoussoir-mpi: exported as vs_mpi_plugin_table (montecarlo_mpi.h, sweep_private.h). */
 typedef struct {
   vs_plugin_head head;
-  int (*mc_run)(const vs_case *c, const int *samples, int n, vs_mc_sample *results, int *ranks);
+  int (*mc_run)(const vs_case *c, const vs_mc_server *s, int *opened, int *ranks);
   int (*sweep_begin)(int *size);
   void (*sweep_serve)(const vs_sweep_server *s, int size);
   void (*sweep_work)(const vs_sweep_job *job, vs_sweep_case_fn run_case,

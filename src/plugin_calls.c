@@ -88,9 +88,8 @@ static const vs_mpi_plugin *mpi(void) {
   return t;
 }
 
-int vs_mc_run_mpi(const vs_case *c, const int *samples, int n, vs_mc_sample *results,
-                  int *ranks) {
-  return mpi()->mc_run(c, samples, n, results, ranks);
+int vs_mc_run_mpi(const vs_case *c, const vs_mc_server *s, int *opened, int *ranks) {
+  return mpi()->mc_run(c, s, opened, ranks);
 }
 
 int vs_sweep_mpi_begin(int *size) { return mpi()->sweep_begin(size); }

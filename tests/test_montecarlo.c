@@ -9,10 +9,12 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -165,6 +167,18 @@ static void test_bad_input(void **state) {
   assert_true(S_ISFIFO(sb.st_mode));
   snprintf(path, sizeof path, "%s/fifo/samples.csv", g_dir);
   assert_int_not_equal(stat(path, &sb), 0); /* nothing written */
+  /* so is a FIFO where the study's journal goes */
+  snprintf(path, sizeof path, "%s/fifo/hinges.png", g_dir);
+  assert_int_equal(remove(path), 0);
+  snprintf(path, sizeof path, "%s/fifo/montecarlo.journal", g_dir);
+  assert_int_equal(mkfifo(path, 0644), 0);
+  assert_int_equal(run(args), 2);
+  err = slurp(".", "err.txt");
+  if (strstr(err, "montecarlo.journal") == NULL || strstr(err, "FIFO") == NULL)
+    fail_msg("stderr \"%s\": expected the FIFO named", err);
+  free(err);
+  snprintf(path, sizeof path, "%s/fifo/montecarlo.manifest", g_dir);
+  assert_int_not_equal(stat(path, &sb), 0); /* nothing written */
 }
 
 /* Stopped (SIGINT, raised by the pool itself once 3 samples are done: VS_FAULT_STOP_AFTER, no
@@ -214,11 +228,80 @@ static void test_interrupted(void **state) {
   free(st);
 }
 
+/* The size of dir/name in bytes (-1: missing). */
+static long file_size(const char *dir, const char *name) {
+  char path[512];
+  snprintf(path, sizeof path, "%s/%s/%s", g_dir, dir, name);
+  struct stat sb;
+  return stat(path, &sb) == 0 ? (long)sb.st_size : -1;
+}
+
+/* Killed (SIGKILL, raised by the study itself once 2 samples are journalled:
+ * VS_FAULT_KILL_AFTER, no timing), with the journal's last row then torn as a kill in the middle
+ * of its write would leave it: --resume keeps the whole row, runs the other 5 samples, and writes
+ * the uninterrupted run's summary; a second --resume runs none. A --resume of another study, in
+ * a directory without one, or from a journal of another layout is refused with exit 2. */
+static void test_resume(void **state) {
+  (void)state;
+  char args[1024];
+  snprintf(args, sizeof args, "montecarlo %s --samples 6 --seed 11 -j 2 -q -o %s/res", CASE, g_dir);
+  assert_int_equal(setenv("VS_FAULT_KILL_AFTER", "2", 1), 0);
+  const int rc = run(args);
+  assert_int_equal(unsetenv("VS_FAULT_KILL_AFTER"), 0);
+  assert_true(rc == 128 + SIGKILL || rc == -1); /* killed (as the shell reports it, or not) */
+  assert_int_equal(file_size("res", "samples.csv"), -1); /* no summary yet */
+  char *j = slurp("res", "montecarlo.journal");
+  size_t row = 0;
+  if (sscanf(j, "voussoir montecarlo journal 1 row %zu bytes", &row) != 1)
+    fail_msg("journal header \"%.60s\"", j);
+  const long head = (long)(strchr(j, '\n') + 1 - j);
+  free(j);
+  assert_int_equal(file_size("res", "montecarlo.journal"), head + 2 * (long)row);
+  char path[512];
+  snprintf(path, sizeof path, "%s/res/montecarlo.journal", g_dir);
+  assert_int_equal(truncate(path, head + 2 * (long)row - 10), 0); /* the second row torn */
+  snprintf(args, sizeof args, "montecarlo %s --samples 6 --seed 11 -j 2 -o %s/res --resume", CASE,
+           g_dir);
+  for (int k = 0; k < 2; k++) {
+    assert_int_equal(run(args), 0);
+    char *err = slurp(".", "err.txt"), want[64];
+    snprintf(want, sizeof want, "resuming: %d of 6 samples already done", k == 0 ? 1 : 6);
+    if (strstr(err, want) == NULL) fail_msg("stderr \"%s\": expected \"%s\"", err, want);
+    free(err);
+    same_file("j1", "res", "samples.csv");
+    same_file("j1", "res", "statistics.csv");
+    assert_int_equal(file_size("res", "montecarlo.journal"), head + 6 * (long)row);
+  }
+  /* refused: another study, no study, another layout; the directory left as it was */
+  snprintf(args, sizeof args, "montecarlo %s --samples 6 --seed 12 -q -o %s/res --resume", CASE,
+           g_dir);
+  assert_int_equal(run(args), 2);
+  char *err = slurp(".", "err.txt");
+  assert_non_null(strstr(err, "montecarlo.manifest differs"));
+  free(err);
+  snprintf(args, sizeof args, "montecarlo %s --samples 6 --seed 11 -q -o %s/nores --resume", CASE,
+           g_dir);
+  assert_int_equal(run(args), 2);
+  assert_int_equal(file_size("nores", "."), -1);
+  FILE *f = fopen(path, "r+b");
+  assert_non_null(f);
+  assert_int_equal(fputs("voussoir montecarlo journal 0", f) >= 0, 1);
+  assert_int_equal(fclose(f), 0);
+  snprintf(args, sizeof args, "montecarlo %s --samples 6 --seed 11 -q -o %s/res --resume", CASE,
+           g_dir);
+  assert_int_equal(run(args), 2);
+  err = slurp(".", "err.txt");
+  assert_non_null(strstr(err, "was not written by this build"));
+  free(err);
+  same_file("j1", "res", "samples.csv");
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_bad_input),
       cmocka_unit_test(test_same_summary_any_process_count),
       cmocka_unit_test(test_interrupted), /* after the run of samples 0-5, which it reads */
+      cmocka_unit_test(test_resume),      /* so does this one */
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
