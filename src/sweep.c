@@ -98,7 +98,7 @@ static int rewrite_table(const char *path, const axis *ax, int nax, const vs_swe
   if (f == NULL) return -1;
   write_csv_header(f, ax, nax);
   for (int i = 0; i < n; i++) write_csv_row(f, &rows[i], nax);
-  if (fclose(f) != 0 || rename(tmp, path) != 0) {
+  if (fclose(f) != 0 || vs_outpath_replace(tmp, path) != 0) { /* never over a non-regular file */
     remove(tmp);
     return -1;
   }
@@ -269,8 +269,12 @@ static void take_row(void *user, const vs_sweep_row *in) {
   snprintf(part, sizeof part, "%s/run_%04d.json.part", s->o->dir, row.run);
   snprintf(json, sizeof json, "%s/run_%04d.json", s->o->dir, row.run);
   if (row.code == VS_SWEEP_OK || row.code == VS_SWEEP_FAILED) {
-    if (access(part, F_OK) == 0 && rename(part, json) != 0)
-      fprintf(stderr, "voussoir sweep: %s: cannot rename: %s\n", part, strerror(errno));
+    errno = 0;
+    if (access(part, F_OK) == 0 && vs_outpath_replace(part, json) != 0) {
+      fprintf(stderr, "voussoir sweep: %s: not renamed to %s (%s)\n", part, json,
+              errno != 0 ? strerror(errno) : "not a regular file");
+      remove(part);
+    }
     if (vs_journal_append(s->journal, &row, sizeof row) != 0)
       fprintf(stderr, "voussoir sweep: sweep.journal: cannot write: %s\n", strerror(errno));
     keep_row(s, &row);

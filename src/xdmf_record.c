@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 
 #include "h5util.h"
+#include "voussoir/outpath.h"
 #include "voussoir/output.h"
 #include "xdmf.h"
 #include "xdmf_internal.h"
@@ -202,11 +203,15 @@ vs_status vs_xdmf_commit(FILE *f, const char *tmp, const char *xmf_path, vs_erro
     return vs_error_set(err, VS_ERR_IO, "output: %s: cannot write: %s", xmf_path,
                         e != 0 ? strerror(e) : "write error");
   }
-  if (fclose(f) != 0 || rename(tmp, xmf_path) != 0) {
-    const int e = errno;
-    remove(tmp);
+  const int rc = fclose(f) != 0 ? -1 : vs_outpath_replace(tmp, xmf_path);
+  const int e = errno;
+  if (rc != 0) remove(tmp);
+  if (rc > 0)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "output: %s: became something other than a regular file; not replaced",
+                        xmf_path);
+  if (rc < 0)
     return vs_error_set(err, VS_ERR_IO, "output: %s: cannot write: %s", xmf_path, strerror(e));
-  }
   return VS_OK;
 }
 
