@@ -14,7 +14,14 @@ int vs_journal_read(const char *path, const char *head, size_t size,
   if (f == NULL) return 0;
   const size_t hl = strlen(head);
   char *buf = malloc(hl + 1 > size ? hl + 1 : size);
-  int rc = buf != NULL && fread(buf, 1, hl, f) == hl && memcmp(buf, head, hl) == 0 ? 0 : -1;
+  const size_t got = buf != NULL ? fread(buf, 1, hl, f) : 0;
+  /* a header cut short by a kill while it was written is an empty journal */
+  int rc = buf != NULL && memcmp(buf, head, got) == 0 ? 0 : -1;
+  if (got < hl) {
+    free(buf);
+    fclose(f);
+    return rc;
+  }
   while (rc == 0 && fread(buf, size, 1, f) == 1) {
     take(user, buf);
     (*rows)++;
@@ -25,8 +32,8 @@ int vs_journal_read(const char *path, const char *head, size_t size,
 }
 
 FILE *vs_journal_open(const char *path, const char *head, size_t size, long rows) {
-  FILE *f = rows >= 0 ? fopen(path, "r+b") : NULL;
-  if (f == NULL && (rows < 0 || errno == ENOENT)) { /* fresh */
+  FILE *f = rows > 0 ? fopen(path, "r+b") : NULL;
+  if (f == NULL && (rows <= 0 || errno == ENOENT)) { /* fresh: no row to keep */
     f = fopen(path, "wb");
     if (f != NULL && (fputs(head, f) < 0 || fflush(f) != 0)) {
       const int e = errno;

@@ -10,13 +10,13 @@
 #include <stdio.h>
 
 /* The rows of the journal at path, each passed to take(user, row) in file order; *rows receives
- * their count (a missing journal: 0 rows). 0, or -1 when the journal's first line is not head
- * (another build's or another kind's journal). */
+ * their count (a missing journal, or one whose header a kill cut short: 0 rows). 0, or -1 when
+ * the journal's first line is not head (another build's or another kind's journal). */
 int vs_journal_read(const char *path, const char *head, size_t size,
                     void (*take)(void *user, const void *row), void *user, long *rows);
 
-/* Open the journal at path to append rows: rows < 0, a fresh one (head written); otherwise the one
- * read with that many whole rows, cut after them. NULL (errno set) on failure. */
+/* Open the journal at path to append rows: rows <= 0, a fresh one (head written); otherwise the
+ * one read with that many whole rows, cut after them. NULL (errno set) on failure. */
 FILE *vs_journal_open(const char *path, const char *head, size_t size, long rows);
 
 /* Append one row, flushed. 0, or -1 (errno set). */

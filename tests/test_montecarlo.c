@@ -240,7 +240,8 @@ static long file_size(const char *dir, const char *name) {
  * VS_FAULT_KILL_AFTER, no timing), with the journal's last row then torn as a kill in the middle
  * of its write would leave it: --resume keeps the whole row, runs the other 5 samples, and writes
  * the uninterrupted run's summary; a second --resume runs none. A --resume of another study, in
- * a directory without one, or from a journal of another layout is refused with exit 2. */
+ * a directory without one, or from a journal of another layout is refused with exit 2; one whose
+ * header was cut short is empty. */
 static void test_resume(void **state) {
   (void)state;
   char args[1024];
@@ -294,6 +295,16 @@ static void test_resume(void **state) {
   assert_non_null(strstr(err, "was not written by this build"));
   free(err);
   same_file("j1", "res", "samples.csv");
+  /* a header cut short (a kill while it was written) is an empty journal: every sample runs */
+  assert_int_equal(truncate(path, 10), 0);
+  snprintf(args, sizeof args, "montecarlo %s --samples 6 --seed 11 -j 2 -o %s/res --resume", CASE,
+           g_dir);
+  assert_int_equal(run(args), 0);
+  err = slurp(".", "err.txt");
+  assert_non_null(strstr(err, "resuming: 0 of 6 samples already done"));
+  free(err);
+  same_file("j1", "res", "samples.csv");
+  assert_int_equal(file_size("res", "montecarlo.journal"), head + 6 * (long)row);
 }
 
 int main(void) {
