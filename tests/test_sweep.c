@@ -396,7 +396,7 @@ static void strip_wall(char *t) {
 /* A kill while a row is being appended leaves a torn last row in the journal: --resume ignores it
  * and runs that case again, and cuts the torn bytes away before appending, so that a second
  * --resume reads whole rows (it used to read the rows appended after the torn one out of line)
- * and the table is the uninterrupted sweep's. */
+ * and the table is the uninterrupted sweep's. A FIFO where the journal goes is refused. */
 static void test_sweep_torn_journal(void **s) {
   (void)s;
   char cmd[2048], path[600], table[600];
@@ -424,6 +424,18 @@ static void test_sweep_torn_journal(void **s) {
     free(t);
   }
   free(whole);
+  /* a FIFO where the journal goes is refused before anything runs, and left as it was */
+  snprintf(path, sizeof path, "%s/fifo", g_dir);
+  assert_int_equal(mkdir(path, 0755), 0);
+  snprintf(path, sizeof path, "%s/fifo/sweep.journal", g_dir);
+  assert_int_equal(mkfifo(path, 0644), 0);
+  snprintf(cmd, sizeof cmd, "%s sweep %s --alpha 0,30 --first-limit -q -o %s/fifo 2>/dev/null",
+           VS_BINARY, REFERENCE, g_dir);
+  assert_int_equal(sh(cmd), 2);
+  assert_int_equal(lstat(path, &st), 0);
+  assert_true(S_ISFIFO(st.st_mode));
+  snprintf(path, sizeof path, "%s/fifo/summary.csv", g_dir);
+  assert_int_not_equal(access(path, F_OK), 0);
 }
 
 static int setup(void **s) {
