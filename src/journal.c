@@ -1,4 +1,4 @@
-/* The journals of sweep and montecarlo (src/journal.h). */
+/* The manifests and journals of sweep and montecarlo (src/journal.h). */
 #define _POSIX_C_SOURCE 200809L /* fileno, ftruncate */
 #include "journal.h"
 
@@ -6,6 +6,35 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+
+char *vs_manifest_case(const vs_case *c, size_t extra) {
+  const int nk = vs_case_key_count();
+  const size_t cap = 96 * (size_t)nk + extra + 1;
+  char *t = malloc(cap);
+  if (t == NULL) return NULL;
+  size_t used = 0;
+  t[0] = '\0';
+  for (int i = 0; i < nk; i++) {
+    const char *sec, *key;
+    double v;
+    vs_case_key(c, i, &sec, &key, NULL, NULL, &v);
+    used += (size_t)snprintf(t + used, cap - used, "%s.%s=%.17g\n", sec, key, v);
+  }
+  return t;
+}
+
+int vs_manifest_same(const char *path, const char *text) {
+  FILE *f = fopen(path, "rb");
+  if (f == NULL) return -1;
+  const size_t n = strlen(text);
+  char *buf = malloc(n + 1);
+  /* one byte more than the text: a longer manifest is another */
+  const size_t got = buf != NULL ? fread(buf, 1, n + 1, f) : 0;
+  const int rc = buf == NULL || ferror(f) ? -1 : got == n && memcmp(buf, text, n) == 0;
+  free(buf);
+  fclose(f);
+  return rc;
+}
 
 int vs_journal_read(const char *path, const char *head, size_t size,
                     void (*take)(void *user, const void *row), void *user, long *rows) {

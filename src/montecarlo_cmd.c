@@ -77,19 +77,11 @@ static void journal_head(char *buf, size_t size) {
 }
 
 static char *manifest_text(const mc_study *s) {
-  const int nk = vs_case_key_count();
-  const size_t cap = 128 + 96 * (size_t)nk;
-  char *t = malloc(cap);
-  if (t == NULL) return NULL;
-  size_t used = 0;
-  for (int i = 0; i < nk; i++) {
-    const char *sec, *key;
-    double v;
-    vs_case_key(s->c, i, &sec, &key, NULL, NULL, &v);
-    used += (size_t)snprintf(t + used, cap - used, "%s.%s=%.17g\n", sec, key, v);
-  }
-  snprintf(t + used, cap - used, "samples %d\nshard %d/%d\n", s->o->samples, s->o->shard_k,
-           s->o->shard_m);
+  enum { EXTRA = 64 };
+  char *t = vs_manifest_case(s->c, EXTRA);
+  if (t != NULL)
+    snprintf(t + strlen(t), EXTRA + 1, "samples %d\nshard %d/%d\n", s->o->samples,
+             s->o->shard_k, s->o->shard_m);
   return t;
 }
 
@@ -112,25 +104,6 @@ static void resumed(void *user, const void *row) {
   keep(s, &r);
 }
 
-/* The text file dir/name, or NULL. */
-static char *read_text(const char *dir, const char *name) {
-  char path[1200];
-  snprintf(path, sizeof path, "%s/%s", dir, name);
-  FILE *f = fopen(path, "rb");
-  if (f == NULL) return NULL;
-  char *t = NULL;
-  if (fseek(f, 0, SEEK_END) == 0) {
-    const long n = ftell(f);
-    t = n >= 0 && n < (1 << 20) ? malloc((size_t)n + 1) : NULL;
-    if (t != NULL) {
-      rewind(f);
-      t[fread(t, 1, (size_t)n, f)] = '\0';
-    }
-  }
-  fclose(f);
-  return t;
-}
-
 /* Fresh: the manifest written (renamed into place) and an empty journal. --resume: the manifest
  * must be the same, the journal's results are kept and it is appended to after its whole rows.
  * 0, or an exit status after printing why. */
@@ -145,13 +118,15 @@ static int study_open(mc_study *s) {
   snprintf(path, sizeof path, "%s/%s", dir, JOURNAL);
   long rows = -1;
   int rc = 0;
+  char mpath[MC_JPATH];
+  snprintf(mpath, sizeof mpath, "%s/%s", dir, MANIFEST);
   if (s->o->resume) {
-    char *had = read_text(dir, MANIFEST);
-    if (had == NULL || strcmp(had, want) != 0) {
-      fprintf(stderr, "voussoir montecarlo: --resume: %s/%s %s\n", dir, MANIFEST,
-              had == NULL ? "is missing: no study to resume in this directory"
-                          : "differs: that study had another case, --set, --seed, --samples or "
-                            "--shard");
+    const int same = vs_manifest_same(mpath, want);
+    if (same != 1) {
+      fprintf(stderr, "voussoir montecarlo: --resume: %s %s\n", mpath,
+              same < 0 ? "is missing: no study to resume in this directory"
+                       : "differs: that study had another case, --set, --seed, --samples or "
+                         "--shard");
       rc = EXIT_USAGE;
     } else if (vs_journal_read(path, head, sizeof(vs_mc_sample), resumed, s, &rows) != 0) {
       fprintf(stderr, "voussoir montecarlo: --resume: %s was not written by this build of "
@@ -159,14 +134,12 @@ static int study_open(mc_study *s) {
               (int)strlen(head) - 1, head);
       rc = EXIT_USAGE;
     }
-    free(had);
     s->resumed = s->ndone;
     if (rc == 0 && !s->o->quiet)
       fprintf(stderr, "voussoir montecarlo: resuming: %d of %d samples already done\n",
               s->ndone, s->n);
   } else {
-    char mpath[MC_JPATH], part[MC_JPATH + 8];
-    snprintf(mpath, sizeof mpath, "%s/%s", dir, MANIFEST);
+    char part[MC_JPATH + 8];
     snprintf(part, sizeof part, "%s.part", mpath);
     FILE *f = fopen(part, "w");
     int ok = f != NULL && fputs(want, f) >= 0;

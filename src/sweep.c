@@ -28,28 +28,6 @@ enum { EXIT_FAIL = VS_EXIT_FAILED, EXIT_USAGE = VS_EXIT_BAD_INPUT,
 
 typedef vs_sweep_axis axis;
 
-static char *slurp(const char *path) {
-  FILE *f = fopen(path, "rb");
-  if (f == NULL) return NULL;
-  size_t cap = 4096, n = 0;
-  char *buf = malloc(cap);
-  for (size_t r; buf != NULL && (r = fread(buf + n, 1, cap - n - 1, f)) > 0;) {
-    n += r;
-    if (cap - n < 2) {
-      char *nb = realloc(buf, cap *= 2);
-      if (nb == NULL) {
-        free(buf);
-        buf = NULL;
-      } else {
-        buf = nb;
-      }
-    }
-  }
-  fclose(f);
-  if (buf) buf[n] = '\0';
-  return buf;
-}
-
 /* --- sweep --- */
 
 static double now_s(void) {
@@ -152,17 +130,12 @@ void vs_sweep_catch_signals(void) { cli_on_stop_signals(on_stop_signal); }
 /* What the sweep is, as text: the case after --set, every axis with its values, the mode. A
  * --resume must find the same in DIR/sweep.manifest, so that it completes the same sweep. */
 static char *manifest_text(const vs_case *c, const axis *ax, int nax, const char *mode_flag) {
-  size_t cap = 4096, used = 0;
-  for (int x = 0; x < nax; x++) cap += 128 + 26 * (size_t)ax[x].n;
-  char *t = malloc(cap);
+  size_t extra = 64;
+  for (int x = 0; x < nax; x++) extra += 128 + 26 * (size_t)ax[x].n;
+  char *t = vs_manifest_case(c, extra);
   if (t == NULL) return NULL;
-  t[0] = '\0';
-  for (int i = 0; i < vs_case_key_count(); i++) {
-    const char *sec, *key;
-    double v;
-    vs_case_key(c, i, &sec, &key, NULL, NULL, &v);
-    used += (size_t)snprintf(t + used, cap - used, "%s.%s=%.17g\n", sec, key, v);
-  }
+  size_t used = strlen(t);
+  const size_t cap = used + extra + 1;
   for (int x = 0; x < nax; x++) {
     used += (size_t)snprintf(t + used, cap - used, "axis %s:", ax[x].key);
     for (int k = 0; k < ax[x].n; k++)
@@ -190,14 +163,12 @@ static int prepare_dir(const char *dir, const char *manifest, int total, int res
   char path[1100];
   snprintf(path, sizeof path, "%s/sweep.manifest", dir);
   if (resume) {
-    char *old = slurp(path);
-    int same = old != NULL && strcmp(old, manifest) == 0;
-    if (!same)
+    const int same = vs_manifest_same(path, manifest);
+    if (same != 1)
       fprintf(stderr, "voussoir sweep: --resume: %s %s\n", path,
-              old == NULL ? "is missing: no sweep to resume in this directory"
-                          : "differs: that sweep had another case, lists, --set or mode");
-    free(old);
-    return same ? 0 : -1;
+              same < 0 ? "is missing: no sweep to resume in this directory"
+                       : "differs: that sweep had another case, lists, --set or mode");
+    return same == 1 ? 0 : -1;
   }
   remove(path);
   for (int r = 1; r <= total; r++) {
