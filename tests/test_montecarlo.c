@@ -236,6 +236,18 @@ static long file_size(const char *dir, const char *name) {
   return stat(path, &sb) == 0 ? (long)sb.st_size : -1;
 }
 
+/* Run "voussoir montecarlo CASE --samples 6 EXTRA" into g_dir/DIR: its exit status must be rc
+ * and its standard error must say text (NULL: not checked). */
+static void resume_run(const char *extra, const char *dir, int rc, const char *text) {
+  char args[1024];
+  snprintf(args, sizeof args, "montecarlo %s --samples 6 %s -o %s/%s", CASE, extra, g_dir, dir);
+  assert_int_equal(run(args), rc);
+  if (text == NULL) return;
+  char *err = slurp(".", "err.txt");
+  if (strstr(err, text) == NULL) fail_msg("stderr \"%s\": expected \"%s\"", err, text);
+  free(err);
+}
+
 /* Killed (SIGKILL, raised by the study itself once 2 samples are journalled:
  * VS_FAULT_KILL_AFTER, no timing), with the journal's last row then torn as a kill in the middle
  * of its write would leave it: --resume keeps the whole row, runs the other 5 samples, and writes
@@ -247,7 +259,7 @@ static void test_resume(void **state) {
   char args[1024];
   snprintf(args, sizeof args, "montecarlo %s --samples 6 --seed 11 -j 2 -q -o %s/res", CASE, g_dir);
   assert_int_equal(setenv("VS_FAULT_KILL_AFTER", "2", 1), 0);
-  const int rc = run(args);
+  const int rc = run(args); /* not resume_run: the shell may report the kill either way */
   assert_int_equal(unsetenv("VS_FAULT_KILL_AFTER"), 0);
   assert_true(rc == 128 + SIGKILL || rc == -1); /* killed (as the shell reports it, or not) */
   assert_int_equal(file_size("res", "samples.csv"), -1); /* no summary yet */
@@ -261,48 +273,27 @@ static void test_resume(void **state) {
   char path[512];
   snprintf(path, sizeof path, "%s/res/montecarlo.journal", g_dir);
   assert_int_equal(truncate(path, head + 2 * (long)row - 10), 0); /* the second row torn */
-  snprintf(args, sizeof args, "montecarlo %s --samples 6 --seed 11 -j 2 -o %s/res --resume", CASE,
-           g_dir);
   for (int k = 0; k < 2; k++) {
-    assert_int_equal(run(args), 0);
-    char *err = slurp(".", "err.txt"), want[64];
+    char want[64];
     snprintf(want, sizeof want, "resuming: %d of 6 samples already done", k == 0 ? 1 : 6);
-    if (strstr(err, want) == NULL) fail_msg("stderr \"%s\": expected \"%s\"", err, want);
-    free(err);
+    resume_run("--seed 11 -j 2 --resume", "res", 0, want);
     same_file("j1", "res", "samples.csv");
     same_file("j1", "res", "statistics.csv");
     assert_int_equal(file_size("res", "montecarlo.journal"), head + 6 * (long)row);
   }
   /* refused: another study, no study, another layout; the directory left as it was */
-  snprintf(args, sizeof args, "montecarlo %s --samples 6 --seed 12 -q -o %s/res --resume", CASE,
-           g_dir);
-  assert_int_equal(run(args), 2);
-  char *err = slurp(".", "err.txt");
-  assert_non_null(strstr(err, "montecarlo.manifest differs"));
-  free(err);
-  snprintf(args, sizeof args, "montecarlo %s --samples 6 --seed 11 -q -o %s/nores --resume", CASE,
-           g_dir);
-  assert_int_equal(run(args), 2);
+  resume_run("--seed 12 -q --resume", "res", 2, "montecarlo.manifest differs");
+  resume_run("--seed 11 -q --resume", "nores", 2, NULL);
   assert_int_equal(file_size("nores", "."), -1);
   FILE *f = fopen(path, "r+b");
   assert_non_null(f);
   assert_int_equal(fputs("voussoir montecarlo journal 0", f) >= 0, 1);
   assert_int_equal(fclose(f), 0);
-  snprintf(args, sizeof args, "montecarlo %s --samples 6 --seed 11 -q -o %s/res --resume", CASE,
-           g_dir);
-  assert_int_equal(run(args), 2);
-  err = slurp(".", "err.txt");
-  assert_non_null(strstr(err, "was not written by this build"));
-  free(err);
+  resume_run("--seed 11 -q --resume", "res", 2, "was not written by this build");
   same_file("j1", "res", "samples.csv");
   /* a header cut short (a kill while it was written) is an empty journal: every sample runs */
   assert_int_equal(truncate(path, 10), 0);
-  snprintf(args, sizeof args, "montecarlo %s --samples 6 --seed 11 -j 2 -o %s/res --resume", CASE,
-           g_dir);
-  assert_int_equal(run(args), 0);
-  err = slurp(".", "err.txt");
-  assert_non_null(strstr(err, "resuming: 0 of 6 samples already done"));
-  free(err);
+  resume_run("--seed 11 -j 2 --resume", "res", 0, "resuming: 0 of 6 samples already done");
   same_file("j1", "res", "samples.csv");
   assert_int_equal(file_size("res", "montecarlo.journal"), head + 6 * (long)row);
 }
