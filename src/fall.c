@@ -55,6 +55,7 @@ void vs_fall_destroy(vs_fall **fp) {
   vs_fall_chain_free(f);
   free(f->q), free(f->v), free(f->vk), free(f->vs), free(f->w), free(f->c), free(f->pkey);
   free(f->pP), free(f->js);
+  free(f->isl_first), free(f->isl_bfirst), free(f->isl_c), free(f->isl_b), free(f->isl_of);
   free(f->qst), free(f->vst), free(f->jlo), free(f->jhi);
   free(f);
   *fp = NULL;
@@ -80,8 +81,12 @@ vs_status vs_fall_create(vs_model *m, const vs_fall_opts *o, const int *count, c
   f->qst = calloc(nq, sizeof *f->qst), f->vst = calloc(nq, sizeof *f->vst);
   f->jlo = calloc((size_t)f->g->n_joints + 1, sizeof *f->jlo);
   f->jhi = calloc((size_t)f->g->n_joints + 1, sizeof *f->jhi);
+  f->isl_first = calloc((size_t)f->nb + 1, sizeof *f->isl_first);
+  f->isl_bfirst = calloc((size_t)f->nb + 1, sizeof *f->isl_bfirst);
+  f->isl_b = calloc((size_t)f->nb, sizeof *f->isl_b);
+  f->isl_of = calloc((size_t)f->nb, sizeof *f->isl_of);
   if (!f->q || !f->v || !f->vk || !f->vs || !f->w || !f->js || !f->qst || !f->vst || !f->jlo ||
-      !f->jhi)
+      !f->jhi || !f->isl_first || !f->isl_bfirst || !f->isl_b || !f->isl_of)
     st = vs_error_set(err, VS_ERR_NOMEM, "fall: out of memory");
   if (st == VS_OK) st = vs_fall_geom_init(f, count, xz, err);
   if (st == VS_OK && o->joints && f->g->n_joints > 0 && vs_fall_chain_init(f) != 0)
@@ -268,13 +273,61 @@ static double point_speed(const vs_fall *f, int b, double vx, double vz, double 
   return sqrt(vx * vx + vz * vz) + fabs(w) * f->rmaxb[b];
 }
 
+/* The step's islands: the bodies that contacts join (through moving bodies only: the ground
+ * and the piers join nothing), each with its contacts in the order of f->c, so that Gauss-Seidel
+ * solves each island on its own, until its own bodies settle: an island at rest takes a sweep
+ * or two while another rocks. Bodies with no contact are in no island. 0, or -1 when out of
+ * memory. */
+static int islands(vs_fall *f) {
+  int *root = f->isl_of;
+  for (int b = 0; b < f->n; b++) root[b] = b;
+  for (int i = 0; i < f->nc; i++) {
+    int a = f->c[i].a, b = f->c[i].b;
+    if (!vs_fall_moving(f, a) || !vs_fall_moving(f, b)) continue;
+    while (root[a] != a) a = root[a] = root[root[a]];
+    while (root[b] != b) b = root[b] = root[root[b]];
+    if (a != b) root[a < b ? b : a] = a < b ? a : b; /* the lower body is the root */
+  }
+  if (f->nc > f->iccap) {
+    int *c = realloc(f->isl_c, (size_t)f->cap * sizeof *c);
+    if (c == NULL) return -1;
+    f->isl_c = c, f->iccap = f->cap;
+  }
+  /* every body's root (a body's parent is never above it, so its parent's is final by then),
+   * then the islands numbered by their roots (isl_b holds the roots' numbers meanwhile) */
+  int *count = f->isl_first, *bcount = f->isl_bfirst, nisl = 0;
+  for (int b = 0; b < f->n; b++) root[b] = root[root[b]];
+  for (int b = 0; b < f->n; b++)
+    if (root[b] == b) f->isl_b[b] = nisl++;
+  for (int b = 0; b < f->n; b++) root[b] = f->isl_b[root[b]];
+  /* the contacts' and bodies' counts per island, then the slots by prefix sums */
+  for (int s = 0; s <= nisl; s++) count[s] = bcount[s] = 0;
+  for (int i = 0; i < f->nc; i++) {
+    const int b = vs_fall_moving(f, f->c[i].a) ? f->c[i].a : f->c[i].b;
+    if (vs_fall_moving(f, b)) count[root[b] + 1]++;
+  }
+  for (int b = 0; b < f->n; b++) bcount[root[b] + 1]++;
+  for (int s = 0; s < nisl; s++) count[s + 1] += count[s], bcount[s + 1] += bcount[s];
+  for (int i = 0; i < f->nc; i++) {
+    const int b = vs_fall_moving(f, f->c[i].a) ? f->c[i].a : f->c[i].b;
+    if (vs_fall_moving(f, b)) f->isl_c[count[root[b]]++] = i;
+  }
+  for (int b = 0; b < f->n; b++) f->isl_b[bcount[root[b]]++] = b;
+  for (int s = nisl; s > 0; s--) count[s] = count[s - 1], bcount[s] = bcount[s - 1];
+  count[0] = bcount[0] = 0;
+  f->nisl = nisl;
+  return 0;
+}
+
 /* The step's impulses for the contacts found: from the free velocity, each contact's law and
  * warm start; when every contact is a joint's, the chain's impulses solved at once
  * (fall_chain.c); otherwise, or if that did not settle, nonsmooth Gauss-Seidel over the contacts
- * (alternating directions) until no body's velocity moves by sweep_tol in a sweep, or
- * max_sweeps (near rest at least VS_FALL_CALM_SWEEPS). 0, or -2 when the joints' system
- * failed. */
+ * (alternating directions), island by island, until none of the island's bodies' velocities
+ * moves by sweep_tol in a sweep, or max_sweeps (near rest at least VS_FALL_CALM_SWEEPS); the
+ * step's sweeps are those of the island that took the most. 0, -1 when out of memory, -2 when
+ * the joints' system failed. */
 static int impulses(vs_fall *f, double h, double mu, step_out *so) {
+  if (islands(f) != 0) return -1;
   const double g = f->g->gravity, r = h / f->h; /* the warm start's impulses to this step */
   memcpy(f->v, f->vk, 3 * (size_t)f->nb * sizeof *f->v);
   for (int b = 0; b < f->n; b++) f->v[3 * b + 1] -= g * h; /* the free velocity */
@@ -297,24 +350,35 @@ static int impulses(vs_fall *f, double h, double mu, step_out *so) {
     if (rc < 0) return -2;
     so->converged = so->chain = rc == 0;
   }
-  for (int k = 0; k < cap && !so->converged; k++) {
-    const int s = so->sweeps++;
-    memcpy(f->vs, f->v, 3 * (size_t)f->n * sizeof *f->v);
-    for (int i = 0; i < f->nc; i++) update(f, &f->c[(s % 2) ? f->nc - 1 - i : i], mu);
-    /* converged once no body's points move faster or slower by tol after a sweep (the bodies'
-     * velocities: a contact's own can keep changing where two contacts share the work, such as
-     * a joint's two edges' frictions, with no effect on any body) */
-    const int last = k == cap - 1; /* the largest change is kept from this one */
+  if (so->converged) return 0;
+  const int s0 = so->sweeps; /* the sweeps' directions go on from a first solve's */
+  int most = 0;
+  so->converged = 1;
+  for (int s = 0; s < f->nisl; s++) {
+    const int *ci = f->isl_c + f->isl_first[s], nci = f->isl_first[s + 1] - f->isl_first[s];
+    const int *bi = f->isl_b + f->isl_bfirst[s], nbi = f->isl_bfirst[s + 1] - f->isl_bfirst[s];
+    int k = 0, converged = 0;
     double worst = 0.0;
-    for (int b = 0; b < f->n; b++) {
-      const double *v = f->v + 3 * b, *w = f->vs + 3 * b;
-      const double d = point_speed(f, b, v[0] - w[0], v[1] - w[1], v[2] - w[2]);
-      worst = d > worst ? d : worst;
-      if (worst > tol && !last) break; /* another sweep: its size is not needed */
+    for (; k < cap && !converged; k++) {
+      for (int j = 0; j < nbi; j++) memcpy(f->vs + 3 * bi[j], f->v + 3 * bi[j], 3 * sizeof *f->v);
+      for (int i = 0; i < nci; i++) update(f, &f->c[ci[((s0 + k) % 2) ? nci - 1 - i : i]], mu);
+      /* converged once none of the island's bodies' points move faster or slower by tol after
+       * a sweep (the bodies' velocities: a contact's own can keep changing where two contacts
+       * share the work, such as a joint's two edges' frictions, with no effect on any body) */
+      const int last = k == cap - 1; /* the largest change is kept from this one */
+      worst = 0.0;
+      for (int j = 0; j < nbi; j++) {
+        const double *v = f->v + 3 * bi[j], *w = f->vs + 3 * bi[j];
+        const double d = point_speed(f, bi[j], v[0] - w[0], v[1] - w[1], v[2] - w[2]);
+        worst = d > worst ? d : worst;
+        if (worst > tol && !last) break; /* another sweep: its size is not needed */
+      }
+      converged = worst <= tol;
     }
-    so->converged = worst <= tol;
-    so->last = worst;
+    most = k > most ? k : most;
+    if (!converged) so->converged = 0, so->last = fmax(so->last, worst);
   }
+  so->sweeps += most;
   return 0;
 }
 
@@ -341,32 +405,33 @@ static int outran(const vs_fall *f, double h) {
  * gravity enters the energy balance as the contacts' (the dissipated energy, negative). */
 static void recover(vs_fall *f, double h, step_out *so) {
   memset(f->w, 0, 3 * (size_t)f->nb * sizeof *f->w);
-  /* nothing to do while every overlap is below what the impulses' own tolerance lets a contact
-   * sink in a step (sweep_tol h) */
+  /* nothing to do in an island while every overlap is below what the impulses' own tolerance
+   * lets a contact sink in a step (sweep_tol h) */
   const double tol = sweep_tol(f, h, so);
-  int deep = 0;
-  for (int i = 0; i < f->nc; i++) {
-    f->c[i].Pw = 0.0;
-    deep += f->c[i].gap < -tol * h && f->c[i].joint < 0;
-  }
-  if (deep == 0) return;
-  for (int k = 0; k < f->o.max_sweeps; k++) {
-    double worst = 0.0;
-    for (int i = 0; i < f->nc; i++) {
-      vs_fall_contact *c = &f->c[(k % 2) ? f->nc - 1 - i : i];
-      if (c->gap > 0.0) continue;
-      const double target = c->joint < 0 ? -VS_FALL_RECOVER * c->gap / h : 0.0;
-      double un = dot3(c->Ja, f->w + 3 * c->a);
-      if (c->b >= 0) un += dot3(c->Jb, f->w + 3 * c->b);
-      const double p = fmax(0.0, c->Pw + (target - un) * c->iWnn), dp = p - c->Pw;
-      if (dp == 0.0) continue;
-      for (int j = 0; j < 3; j++) f->w[3 * c->a + j] += c->Ka[j] * dp;
-      if (c->b >= 0)
-        for (int j = 0; j < 3; j++) f->w[3 * c->b + j] += c->Kb[j] * dp;
-      c->Pw = p;
-      worst = fabs(dp) * c->W[0] > worst ? fabs(dp) * c->W[0] : worst;
+  for (int i = 0; i < f->nc; i++) f->c[i].Pw = 0.0;
+  for (int s = 0; s < f->nisl; s++) { /* each island on its own (impulses) */
+    const int *ci = f->isl_c + f->isl_first[s], nci = f->isl_first[s + 1] - f->isl_first[s];
+    int deep = 0;
+    for (int i = 0; i < nci; i++) deep += f->c[ci[i]].gap < -tol * h && f->c[ci[i]].joint < 0;
+    if (deep == 0) continue;
+    for (int k = 0; k < f->o.max_sweeps; k++) {
+      double worst = 0.0;
+      for (int i = 0; i < nci; i++) {
+        vs_fall_contact *c = &f->c[ci[(k % 2) ? nci - 1 - i : i]];
+        if (c->gap > 0.0) continue;
+        const double target = c->joint < 0 ? -VS_FALL_RECOVER * c->gap / h : 0.0;
+        double un = dot3(c->Ja, f->w + 3 * c->a);
+        if (c->b >= 0) un += dot3(c->Jb, f->w + 3 * c->b);
+        const double p = fmax(0.0, c->Pw + (target - un) * c->iWnn), dp = p - c->Pw;
+        if (dp == 0.0) continue;
+        for (int j = 0; j < 3; j++) f->w[3 * c->a + j] += c->Ka[j] * dp;
+        if (c->b >= 0)
+          for (int j = 0; j < 3; j++) f->w[3 * c->b + j] += c->Kb[j] * dp;
+        c->Pw = p;
+        worst = fabs(dp) * c->W[0] > worst ? fabs(dp) * c->W[0] : worst;
+      }
+      if (worst <= tol) break;
     }
-    if (worst <= tol) break;
   }
   for (int b = 0; b < f->n; b++) /* the work against gravity: m g h w_z */
     so->recovered += h * f->g->gravity * f->w[3 * b + 1] / f->minv[3 * b];

@@ -79,6 +79,14 @@ struct vs_fall {
    * hash table: fall.c, keep and warm) */
   vs_fall_contact *c;
   int nc, cap;
+  /* the step's islands (fall.c: islands): bodies joined by contacts, which Gauss-Seidel solves
+   * one at a time, each until its own bodies' velocities settle */
+  int nisl;
+  int *isl_first;         /* per island s: its contacts isl_c[isl_first[s] .. isl_first[s + 1]
+                             - 1], in the order of f->c (nb + 1) */
+  int *isl_bfirst;        /* ... its bodies isl_b[isl_bfirst[s] .. isl_bfirst[s + 1] - 1] */
+  int *isl_c, iccap;      /* contacts by island (iccap: room) */
+  int *isl_b, *isl_of;    /* bodies by island; work: per body, its root, then its island */
   long long *pkey;        /* per slot: a key, or none (fall.c: VS_FALL_NO_KEY) */
   double *pP;             /* per slot: its impulse (P_n, P_t) */
   int npc, pcap;          /* keys stored, slots (a power of two) */

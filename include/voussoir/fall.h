@@ -102,7 +102,8 @@ typedef struct {
   long steps;              /* time steps ... */
   long slow_steps;         /* ... of which of slow_step (where that is longer than step) */
   double cpu_s;            /* CPU time of the process over the fall (its samples included), s */
-  long sweeps;             /* Gauss-Seidel sweeps, all steps together */
+  long sweeps;             /* Gauss-Seidel sweeps, all steps together (a step's: those of the
+                              island of bodies, solved on its own, that took the most) */
   long chain_steps;        /* steps whose contacts were all joints' (the arch in the air),
                               their impulses solved together ... */
   long solves;             /* ... in this many solves of the joints' system */
@@ -111,7 +112,7 @@ typedef struct {
   long calm_steps;         /* steps near rest (vs_fall_opts.calm), solved to the tighter
                               tolerance */
   int cap, calm_cap;       /* Gauss-Seidel's caps on sweeps per step, and near rest */
-  long unconverged;        /* steps whose Gauss-Seidel stopped at its cap ... */
+  long unconverged;        /* steps where an island's Gauss-Seidel stopped at its cap ... */
   double residual;         /* ... the largest change of a body's velocity (at its outline's
                               reach) in their last sweep, m/s (0: none stopped there) */
   long contacts;           /* contact points solved, all steps together */
