@@ -125,7 +125,18 @@ vs_status vs_outpath_check_dir(const char *dir, vs_error *err) {
   return check_parent(dir, err);
 }
 
+/* Fault injection for the race tests: where the environment variable VS_FAULT_FIFO names this
+ * path and nothing is there, a FIFO is made there just before the check, as another process
+ * could between the run's checks at its start and the rename (it never removes anything). */
+static void fault_fifo(const char *path) {
+  const char *v = getenv("VS_FAULT_FIFO");
+  struct stat st;
+  if (v != NULL && strcmp(v, path) == 0 && lstat(path, &st) != 0 && errno == ENOENT)
+    (void)mkfifo(path, 0600);
+}
+
 int vs_outpath_replace(const char *from, const char *path) {
+  fault_fifo(path);
   struct stat st;
   if (lstat(path, &st) == 0 && !S_ISREG(st.st_mode)) return 1;
   return rename(from, path) == 0 ? 0 : -1;

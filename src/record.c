@@ -217,8 +217,9 @@ void vs_output_destroy(vs_output **op) {
   H5Eclear2(H5E_DEFAULT);
   vs_h5_quiet_end(q);
   /* not finished: the closed working file, whole, replaces the snapshot; after a write error it
-   * is removed, and path keeps the last snapshot */
-  if (o->working && !(closed && o->err.status == VS_OK && vs_record_publish(o, o->part) == VS_OK))
+   * is removed, and path keeps the last snapshot; where path is no longer ours it stays */
+  if (o->working && !(closed && o->err.status == VS_OK && vs_record_publish(o, o->part) == VS_OK) &&
+      !(closed && o->stranded))
     unlink(o->part);
   vs_outlock_release(&o->lock);
   free(o->part);
@@ -420,9 +421,10 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
     st = vs_h5_fail(&o->err, o->path, "cannot close");
   o->file = H5I_INVALID_HID;
   /* the closed working file replaces the snapshot (after a write error: removed, path keeps
-   * the last snapshot) */
+   * the last snapshot; where path is no longer ours, the working file stays, whole) */
   if (o->working && st == VS_OK) st = vs_record_publish(o, o->part);
-  if (o->working && st != VS_OK) unlink(o->part);
+  if (st != VS_OK && o->stranded) st = vs_record_stranded_error(o, &o->err);
+  else if (o->working && st != VS_OK) unlink(o->part);
   o->working = 0;
   if (st == VS_OK) vs_record_fault_point("after-status");
   if (st == VS_OK) {

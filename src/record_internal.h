@@ -93,6 +93,9 @@ struct vs_output {
   long ev_pending, ev_cap;
   int interrupted, finished, xmf_written;
   int working;      /* 1 while path.part is ours: created, not yet renamed over path */
+  int stranded;     /* 1 once path became something other than a regular file during the run:
+                       nothing is renamed over it again, and the record stays whole in path.part
+                       (record_snapshot.c) */
   vs_outlock *lock; /* the exclusive lock on path, held until destroy */
   double t_open;    /* wall clock at the start, s */
   double snap_spent, snap_last, snap_size; /* the snapshots' wall time, the last's, its bytes */
@@ -118,12 +121,20 @@ void vs_record_iso8601_utc(char *buf, size_t size);
 /* Remove a stale working or snapshot file at path left by a killed run (ours: we hold the lock);
  * VS_ERR_INVALID if what is there is not a regular file. */
 vs_status vs_record_remove_stale(vs_output *o, const char *path);
-/* Rename `from` over o->path, checked just before: never over anything but a regular file. */
+/* Rename `from` over o->path, checked just before: never over anything but a regular file.
+ * VS_OK; VS_ERR_INVALID when path has become something else (o->stranded set, o->err left
+ * alone: the working file is sound) or was already; VS_ERR_IO (in o->err) when the rename
+ * failed. */
 vs_status vs_record_publish(vs_output *o, const char *from);
+/* The error of a stranded record (o->stranded) into err: path not replaced, the record in
+ * path.part. */
+vs_status vs_record_stranded_error(const vs_output *o, vs_error *err);
 /* After a flush: copy the working file and rename the copy over path if it is the first (the
  * layout's), or when the snapshots' wall time, with this one's (estimated from the last's and the
  * file's growth), stays within opts.snapshot_share of the time since the start (always when it
- * is 1). VS_OK, or VS_ERR_IO with the cause in o->err (the copy removed, path left as it was). */
+ * is 1). VS_OK, or VS_ERR_IO with the cause in o->err (the copy removed, path left as it was).
+ * Once path has become something other than a regular file (o->stranded) there are no more
+ * snapshots, and the run goes on writing path.part. */
 vs_status vs_record_snapshot(vs_output *o);
 
 /* record_series.c: the schema table and the buffered rows */

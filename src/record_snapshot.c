@@ -30,14 +30,21 @@ vs_status vs_record_remove_stale(vs_output *o, const char *path) {
 }
 
 vs_status vs_record_publish(vs_output *o, const char *from) {
-  const int rc = vs_outpath_replace(from, o->path);
-  if (rc > 0)
-    return vs_error_set(&o->err, VS_ERR_INVALID,
-                        "%s: became something other than a regular file; not replaced", o->path);
+  const int rc = o->stranded ? 1 : vs_outpath_replace(from, o->path);
+  if (rc > 0) {
+    o->stranded = 1;
+    return VS_ERR_INVALID;
+  }
   if (rc < 0)
     return vs_error_set(&o->err, VS_ERR_IO, "output: %s: cannot rename to %s: %s", from, o->path,
                         strerror(errno));
   return VS_OK;
+}
+
+vs_status vs_record_stranded_error(const vs_output *o, vs_error *err) {
+  return vs_error_set(err, VS_ERR_INVALID,
+                      "%s: became something other than a regular file during the run; not "
+                      "replaced: the record is in %s", o->path, o->part);
 }
 
 /* Copy n bytes of fd `in` to `out` from their offsets: in the kernel where the file system can
@@ -98,11 +105,12 @@ static vs_status take(vs_output *o, off_t *size) {
   if (o->snapshots > 0) vs_record_fault_point("before-publish");
   const vs_status s = vs_record_publish(o, o->snap);
   if (s != VS_OK) unlink(o->snap);
-  return s;
+  return o->stranded ? VS_OK : s; /* stranded: the run goes on, into the working file */
 }
 
 vs_status vs_record_snapshot(vs_output *o) {
   if (o->err.status != VS_OK) return o->err.status;
+  if (o->stranded) return VS_OK;
   const double now = vs_wall_now();
   if (o->opts.snapshot_share < 1.0 && o->snapshots > 0) {
     /* the next copy's cost, from the last's, grows with the file */

@@ -2,8 +2,9 @@
  * a scratch directory (a FIFO, a copy of the case, symbolic links, a small tmpfs; never a real
  * device): refused targets exit 2 with one line and leave everything as it was; a second writer
  * of the same output is refused; a stop flag stops the solvers inside their callbacks; a run
- * killed at the final write never reads "completed" without its /events and /summary; a full
- * disk gives one line with the OS reason and no false claim. */
+ * killed at the final write never reads "completed" without its /events and /summary; a record
+ * whose path became something else during the run is not renamed over it and stays whole in
+ * its working file; a full disk gives one line with the OS reason and no false claim. */
 #define _DEFAULT_SOURCE /* mkdtemp, mount */
 
 #include <stdarg.h>
@@ -393,6 +394,47 @@ static void test_plot_dir_refused(void **s) {
   assert_int_not_equal(access(in_dir("pics/arch_reference.png"), F_OK), 0); /* nothing drawn */
 }
 
+/* Something else put at the record's path, or its sidecar's, during the run (a FIFO, made by
+ * the hook VS_FAULT_FIFO where the record is first put in place, as another process could after
+ * the checks at the start): nothing is renamed over it; the run goes on and ends with exit 1 and
+ * one line saying where the record is (the working file, whole: the run's status, its events and
+ * summary), or that the sidecar was not written (the record in place, whole). */
+static void test_target_replaced_during_run(void **s) {
+  (void)s;
+  const char *names[] = {"t.h5", "u.xmf"};
+  for (int i = 0; i < 2; i++) {
+    char prefix[64];
+    snprintf(prefix, sizeof prefix, "VS_FAULT_FIFO=%s", names[i]);
+    const int rc = run_cli_with(prefix, REFERENCE, i == 0 ? "-o t.h5 --set dynamic.fall_s=0"
+                                                          : "-o u.h5 --set dynamic.fall_s=0");
+    char *err = slurp(in_dir("err.txt"));
+    assert_non_null(err);
+    const char *want = i == 0 ? "voussoir: run failed: t.h5: became something other than a "
+                                "regular file during the run; not replaced: the record is in "
+                                "t.h5.part\n"
+                              : "voussoir: run failed: output: u.xmf: became something other "
+                                "than a regular file; not replaced\n";
+    if (rc != 1 || strcmp(err, want) != 0)
+      fail_msg("%s: exit %d, stderr \"%s\"; expected 1, \"%s\"", names[i], rc, err, want);
+    free(err);
+    struct stat st;
+    assert_int_equal(lstat(in_dir(names[i]), &st), 0);
+    assert_true(S_ISFIFO(st.st_mode)); /* left as it was */
+    const char *record = in_dir(i == 0 ? "t.h5.part" : "u.h5");
+    char status[256];
+    read_status(record, status, sizeof status);
+    assert_string_equal(status, "completed");
+    hid_t f = H5Fopen(record, H5F_ACC_RDONLY, H5P_DEFAULT);
+    assert_true(f >= 0);
+    assert_true(read_rows(f, "/events") > 3);
+    assert_true(read_rows(f, "/summary/hinges") >= 4);
+    H5Fclose(f);
+  }
+  const char *absent[] = {"t.xmf", "t.h5.snap", "t.h5.lock", "u.h5.part", "u.h5.lock"};
+  for (size_t i = 0; i < sizeof absent / sizeof absent[0]; i++)
+    if (access(in_dir(absent[i]), F_OK) == 0) fail_msg("%s was left", absent[i]);
+}
+
 /* `sweep -o DIR`: a regular file as DIR, or a FIFO as its summary.csv or summary.h5: exit 2, no
  * run started. */
 static void test_sweep_dir_refused(void **s) {
@@ -506,6 +548,7 @@ int main(void) {
       cmocka_unit_test(test_stop_flag_in_solvers),
       cmocka_unit_test(test_killed_at_final_write),
       cmocka_unit_test(test_plot_dir_refused),
+      cmocka_unit_test(test_target_replaced_during_run),
       cmocka_unit_test(test_sweep_dir_refused),
       cmocka_unit_test(test_full_disk),
       cmocka_unit_test(test_file_size_limit),
