@@ -422,9 +422,9 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
   o->file = H5I_INVALID_HID;
   /* the closed working file replaces the snapshot (after a write error: removed, path keeps
    * the last snapshot; where path is no longer ours, the working file stays, whole) */
-  if (o->working && st == VS_OK) st = vs_record_publish(o, o->part);
-  if (st != VS_OK && o->stranded) st = vs_record_stranded_error(o, &o->err);
-  else if (o->working && st != VS_OK) unlink(o->part);
+  if (o->working && st == VS_OK && vs_record_publish(o, o->part) != VS_OK)
+    st = o->stranded ? vs_record_stranded_error(o, &o->err) : o->err.status;
+  if (o->working && st != VS_OK && !o->stranded) unlink(o->part);
   o->working = 0;
   if (st == VS_OK) vs_record_fault_point("after-status");
   if (st == VS_OK) {
