@@ -276,8 +276,8 @@ static double point_speed(const vs_fall *f, int b, double vx, double vz, double 
 /* The step's islands: the bodies that contacts join (through moving bodies only: the ground
  * and the piers join nothing), each with its contacts in the order of f->c, so that Gauss-Seidel
  * solves each island on its own, until its own bodies settle: an island at rest takes a sweep
- * or two while another rocks. Bodies with no contact are in no island. 0, or -1 when out of
- * memory. */
+ * or two while another rocks. A body with no contact is an island of its own, with nothing to
+ * solve. 0, or -1 when out of memory. */
 static int islands(vs_fall *f) {
   int *root = f->isl_of;
   for (int b = 0; b < f->n; b++) root[b] = b;
@@ -357,6 +357,7 @@ static int impulses(vs_fall *f, double h, double mu, step_out *so) {
   for (int s = 0; s < f->nisl; s++) {
     const int *ci = f->isl_c + f->isl_first[s], nci = f->isl_first[s + 1] - f->isl_first[s];
     const int *bi = f->isl_b + f->isl_bfirst[s], nbi = f->isl_bfirst[s + 1] - f->isl_bfirst[s];
+    if (nci == 0) continue; /* a body in free flight */
     int k = 0, converged = 0;
     double worst = 0.0;
     for (; k < cap && !converged; k++) {
