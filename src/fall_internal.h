@@ -27,6 +27,8 @@ typedef struct {
   double iW[3];     /* W's inverse (nn, nt, tt) and, per sliding direction, the normal impulse */
   double slide[2][2]; /* per unit of its velocity deficit and the tangential one's ratio to it */
   double P[2];      /* impulse, normal and tangential, N s */
+  double Ps[2];     /* NNCG (fall.c: solve_island): the impulse before the sweep ... */
+  double Pd[2];     /* ... and the search direction, N s */
   double Pw;        /* normal pseudo-impulse of the overlaps' recovery, N s */
   double u0[2];     /* relative velocity at the step's start, m/s */
 } vs_fall_contact;

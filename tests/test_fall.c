@@ -13,7 +13,9 @@
  *    block's corner flying at the pier's corner: no corner goes deeper into the other body than
  *    3 g h^2 (outlines written out here);
  *  - bodies that do not touch do not act on each other: a tower on the ground creeps the same,
- *    bit for bit, with or without a block landing beside it;
+ *    bit for bit, with or without a block landing beside it (with either solver);
+ *  - both solvers give a standing tower's exact impulses (every block still after a step from no
+ *    warm start), NNCG in fewer sweeps, and keep it at rest;
  *  - the reference arch at its self-weight equilibrium, its joints turned into rigid contacts
  *    whose impulses start from the elastic joints' forces there (as the fall starts from those at
  *    the collapse), stands: the supports carry its weight and it does not move;
@@ -514,28 +516,45 @@ static void test_corner_corner(void **state) {
  * off sideways by +-off from the one below, placed touching, at rest, on the ground; calm as
  * vs_fall_opts.calm, the rest level that of the run (100 times the kinetic energy at 0.04
  * mm/s). With drop >= 0, one more block B x H, 1 m to the right of the tower, its base drop (m)
- * above the ground. With timed, the fall runs its whole 2 s in 1-ms steps (never at rest, no
- * slow step). Returns the largest displacement of a tower block (m) after the fall, the tower's
- * final positions (3 n) in qt (unless NULL), the result in *res. */
-static double tower(int n, double B, double H, double off, double calm, double drop, int timed,
-                    double *qt, vs_fall_result *res) {
+ * above the ground. With timed, the fall runs its whole duration in 1-ms steps (never at rest,
+ * no slow step). tol, max_sweeps (0: the defaults') and solver as vs_fall_opts'. */
+typedef struct {
+  int n;
+  double B, H, off, calm, drop;
+  int timed;
+  double duration; /* s */
+  double tol;
+  int max_sweeps, solver;
+} tower_spec;
+
+/* The tower of eight blocks 0.1 x 0.05 m, set off by 5 mm, followed for 2 s (the defaults'
+ * solver and tolerances, no block dropped). */
+static tower_spec tower8(void) {
+  return (tower_spec){.n = 8, .B = 0.1, .H = 0.05, .off = 0.005, .calm = VS_FALL_CALM,
+                      .drop = -1.0, .duration = 2.0, .solver = VS_FALL_NNCG};
+}
+
+/* Tower ts's fall. Returns the largest displacement of a tower block (m) after it; the tower's
+ * final positions (3 n) into qt and velocities into vt (unless NULL), the result into *res. */
+static double tower(const tower_spec *ts, double *qt, double *vt, vs_fall_result *res) {
   vs_error err;
   vs_error_clear(&err);
   vs_geometry *g = NULL;
   vs_model *m = NULL;
-  const int nb = n + (drop >= 0.0);
+  const int n = ts->n, nb = n + (ts->drop >= 0.0);
+  const double B = ts->B, H = ts->H;
   assert_int_equal(vs_geometry_create(nb, 1, &g, &err), VS_OK);
   double M = 0.0;
-  int count[16 + 2] = {0};
-  double xz[8 * 16];
-  assert_true(nb <= 16);
+  int count[32 + 2] = {0};
+  double xz[8 * 32];
+  assert_true(nb <= 32);
   for (int i = 0; i < nb; i++) {
     vs_block *b = &g->blocks[i];
     b->area = B * H;
     b->mass = 2000.0 * 0.1 * B * H;
     b->inertia = b->mass * (B * B + H * H) / 12.0;
-    b->cx = i == n ? 1.0 : i % 2 ? off : -off;
-    const double z0 = i == n ? drop : i * H;
+    b->cx = i == n ? 1.0 : i % 2 ? ts->off : -ts->off;
+    const double z0 = i == n ? ts->drop : i * H;
     b->cz = z0 + 0.5 * H;
     M += b->mass;
     count[i] = 4;
@@ -553,18 +572,22 @@ static double tower(int n, double B, double H, double off, double calm, double d
   vs_fall_opts_default(&o);
   o.joints = 0;
   o.ground = 0.0;
-  o.rest_ke = timed ? 0.0 : 100.0 * 0.5 * M * 4e-5 * 4e-5;
+  o.rest_ke = ts->timed ? 0.0 : 100.0 * 0.5 * M * 4e-5 * 4e-5;
   o.rest_time = 0.1;
-  o.duration = 2.0;
-  o.calm = calm;
-  if (timed) o.slow_step = o.step;
+  o.duration = ts->duration;
+  o.calm = ts->calm;
+  o.solver = ts->solver;
+  if (ts->tol > 0.0) o.tol = ts->tol;
+  if (ts->max_sweeps > 0) o.max_sweeps = ts->max_sweeps;
+  if (ts->timed) o.slow_step = o.step;
   vs_fall *f = NULL;
   assert_int_equal(vs_fall_create(m, &o, count, xz, &f, &err), VS_OK);
-  double qe[3 * 16 + 6] = {0}, ve[3 * 16 + 6] = {0};
+  double qe[3 * 32 + 6] = {0}, ve[3 * 32 + 6] = {0};
   assert_int_equal(vs_fall_run(f, 0.0, qe, ve, NULL, NULL, NULL, NULL, res, &err), VS_OK);
   double worst = 0.0;
   for (int i = 0; i < 3 * n; i++) worst = fmax(worst, fabs(qe[i]) * (i % 3 == 2 ? H : 1.0));
   if (qt != NULL) memcpy(qt, qe, 3 * (size_t)n * sizeof *qt);
+  if (vt != NULL) memcpy(vt, ve, 3 * (size_t)n * sizeof *vt);
   vs_fall_destroy(&f);
   vs_model_destroy(&m);
   vs_geometry_destroy(&g);
@@ -578,8 +601,10 @@ static double tower(int n, double B, double H, double off, double calm, double d
 static void test_tower_rests(void **state) {
   (void)state;
   vs_fall_result res, res0;
-  const double moved = tower(8, 0.1, 0.05, 0.005, VS_FALL_CALM, -1.0, 0, NULL, &res);
-  const double moved0 = tower(8, 0.1, 0.05, 0.005, 0.0, -1.0, 0, NULL, &res0);
+  tower_spec ts = tower8();
+  const double moved = tower(&ts, NULL, NULL, &res);
+  ts.calm = 0.0;
+  const double moved0 = tower(&ts, NULL, NULL, &res0);
   print_message("tower of 8: at rest %d after %.3f s, moved %.3g m, recovery's work %.3g J, "
                 "%ld steps near rest; without the calm tolerance: at rest %d after %.3f s, moved "
                 "%.3g m, recovery's work %.3g J\n", res.at_rest, res.t_end, moved, res.recovered,
@@ -600,15 +625,63 @@ static void test_islands_independent(void **state) {
   (void)state;
   vs_fall_result alone, with;
   double qa[3 * 8], qw[3 * 8];
-  tower(8, 0.1, 0.05, 0.005, 0.0, -1.0, 1, qa, &alone);
-  tower(8, 0.1, 0.05, 0.005, 0.0, 0.2, 1, qw, &with);
-  double diff = 0.0;
-  for (int i = 0; i < 3 * 8; i++) diff = fmax(diff, fabs(qa[i] - qw[i]));
-  print_message("tower of 8 for 2 s: %ld sweeps alone, %ld with the block dropped beside it; "
-                "largest difference of a coordinate %.3g\n", alone.sweeps, with.sweeps, diff);
-  assert_int_equal(alone.steps, with.steps);
-  assert_memory_equal(qa, qw, sizeof qa);
-  assert_true(with.sweeps > alone.sweeps); /* the block's impact took sweeps of its own */
+  for (int solver = VS_FALL_NNCG; solver <= VS_FALL_GAUSS_SEIDEL; solver++) {
+    tower_spec ts = tower8();
+    ts.calm = 0.0, ts.timed = 1, ts.solver = solver;
+    tower(&ts, qa, NULL, &alone);
+    ts.drop = 0.2;
+    tower(&ts, qw, NULL, &with);
+    double diff = 0.0;
+    for (int i = 0; i < 3 * 8; i++) diff = fmax(diff, fabs(qa[i] - qw[i]));
+    print_message("tower of 8 for 2 s, %s: %ld sweeps alone, %ld with the block dropped beside "
+                  "it; largest difference of a coordinate %.3g\n", vs_fall_solver_name(solver),
+                  alone.sweeps, with.sweeps, diff);
+    assert_int_equal(alone.steps, with.steps);
+    assert_memory_equal(qa, qw, sizeof qa);
+    assert_true(with.sweeps > alone.sweeps); /* the block's impact took sweeps of its own */
+  }
+}
+
+/* Both solvers on a contact problem with an exact solution: the tower of eight standing on the
+ * ground at rest, one 1-ms step from no warm start. The exact impulses hold every block still
+ * (each contact carries what stands on it over the step), so every velocity after the step is
+ * zero, against the free velocity g h. Solved to 1e-6 g h a sweep, each leaves every point of
+ * every block slower than 1e-4 g h; NNCG in fewer sweeps. Then the tower standing for its rest
+ * window: each brings it to rest where it stood, NNCG in fewer sweeps and fewer capped steps. */
+static void test_nncg_stack(void **state) {
+  (void)state;
+  const double gh = GRAV * 1e-3;
+  long step_sweeps[2], rest_sweeps[2], capped[2];
+  for (int sv = 0; sv < 2; sv++) {
+    const int solver = sv == 0 ? VS_FALL_NNCG : VS_FALL_GAUSS_SEIDEL;
+    tower_spec ts = tower8();
+    ts.solver = solver, ts.calm = 0.0, ts.timed = 1, ts.duration = 1e-3;
+    ts.tol = 1e-6, ts.max_sweeps = 10000;
+    vs_fall_result res;
+    double v[3 * 8];
+    tower(&ts, NULL, v, &res);
+    double fastest = 0.0;
+    for (int i = 0; i < 8; i++) /* a block's points: within 0.056 m of its centre */
+      fastest = fmax(fastest, hypot(v[3 * i], v[3 * i + 1]) + fabs(v[3 * i + 2]) * 0.056);
+    assert_int_equal(res.steps, 1);
+    assert_int_equal(res.unconverged, 0);
+    step_sweeps[sv] = res.sweeps;
+    ts = tower8();
+    ts.solver = solver;
+    vs_fall_result rest;
+    const double moved = tower(&ts, NULL, NULL, &rest);
+    rest_sweeps[sv] = rest.sweeps, capped[sv] = rest.unconverged;
+    print_message("tower of 8, %s: one step from cold in %ld sweeps, fastest point then %.3g g h; "
+                  "standing: at rest %d after %.3f s, moved %.3g m, %ld sweeps, %ld steps capped\n",
+                  vs_fall_solver_name(solver), res.sweeps, fastest / gh, rest.at_rest,
+                  rest.t_end, moved, rest.sweeps, rest.unconverged);
+    assert_true(fastest < 1e-4 * gh);
+    assert_int_equal(rest.at_rest, 1);
+    assert_true(moved < 1e-5);
+  }
+  assert_true(step_sweeps[0] < step_sweeps[1]);
+  assert_true(rest_sweeps[0] < rest_sweeps[1]);
+  assert_true(capped[0] < capped[1]);
 }
 
 /* The reference arch at its self-weight equilibrium (the elastic joints' solution), its joints
@@ -715,6 +788,7 @@ int main(void) {
       cmocka_unit_test(test_corner_corner),
       cmocka_unit_test(test_tower_rests),
       cmocka_unit_test(test_islands_independent),
+      cmocka_unit_test(test_nncg_stack),
       cmocka_unit_test(test_arch_stands),
       cmocka_unit_test(test_options),
   };

@@ -14,7 +14,8 @@
  *     gives Housner's rocking law, and an existing overlap does not deepen);
  *   - Coulomb: |P_t| <= mu P_n, and P_t = -mu P_n sign(u_t) where the contact slides.
  * The impulses are solved by nonsmooth Gauss-Seidel over the contacts (each contact's 2 x 2
- * problem exactly), warm-started from the previous step's impulses (scaled by the ratio of
+ * problem exactly), each sweep followed by a nonsmooth nonlinear conjugate gradient step (NNCG:
+ * fewer sweeps to the same tolerance), warm-started from the previous step's impulses (scaled by the ratio of
  * the steps where the step changes: what a contact carries is a force). The step is h while any
  * point of a block moves faster than a set speed, a longer one while none does (the debris
  * settling): both bound how far a point moves in a step, and so how deep an impact can
@@ -48,6 +49,13 @@
 #include "voussoir/model.h"
 #include "voussoir/status.h"
 
+/* How the contacts' impulses are solved in an island of bodies (fall.c: solve_island). */
+typedef enum {
+  VS_FALL_NNCG = 0,        /* Gauss-Seidel sweeps, each followed by a nonsmooth nonlinear
+                              conjugate gradient step (the default) */
+  VS_FALL_GAUSS_SEIDEL = 1 /* Gauss-Seidel sweeps alone */
+} vs_fall_solver;
+
 typedef struct {
   double step;        /* time step h, s (> 0), while the debris moves fast ... */
   double slow_step;   /* ... and this one (>= step, <= 0.1 s) while no point of any block moves
@@ -64,6 +72,7 @@ typedef struct {
   double tol;         /* Gauss-Seidel stops once no contact's velocity changes by more than tol
                          times g h in a sweep (dimensionless, > 0) */
   int max_sweeps;     /* ... or after this many sweeps (the step is then counted unconverged) */
+  int solver;         /* vs_fall_solver */
   double calm;        /* near rest, while the kinetic energy is below calm times rest_ke (>= 0;
                          0: never), Gauss-Seidel stops at VS_FALL_CALM_TOL times tol g step (the
                          short step's, whatever the step), or after VS_FALL_CALM_SWEEPS sweeps
@@ -91,8 +100,11 @@ typedef struct {
 #define VS_FALL_CALM 100.0
 
 /* Defaults: h = 1 ms, 2 ms below 0.5 m/s, tol = 1e-2, VS_FALL_MAX_SWEEPS sweeps, calm
- * VS_FALL_CALM, joints on; the rest from the caller. */
+ * VS_FALL_CALM, NNCG, joints on; the rest from the caller. */
 void vs_fall_opts_default(vs_fall_opts *o);
+
+/* The solver's name as the case file writes it (fall.solver): "nncg", "gauss_seidel". */
+const char *vs_fall_solver_name(int solver);
 
 typedef struct {
   double t_end, delta_end; /* where it stopped (s, m) */
@@ -111,6 +123,7 @@ typedef struct {
                               contacts had been looked for */
   long calm_steps;         /* steps near rest (vs_fall_opts.calm), solved to the tighter
                               tolerance */
+  int solver;              /* vs_fall_solver */
   int cap, calm_cap;       /* Gauss-Seidel's caps on sweeps per step, and near rest */
   long unconverged;        /* steps where an island's Gauss-Seidel stopped at its cap ... */
   double residual;         /* ... the largest change of a body's velocity (at its outline's
