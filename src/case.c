@@ -52,6 +52,8 @@ static const char *const support_kinds[] = {"fixed", "pinned", NULL};
 static const char *const damping_models[] = {"none", "joint", "rayleigh", "impact", NULL};
 /* fall.scheme, in the order of vs_fall_scheme (case.h) */
 static const char *const fall_schemes[] = {"rigid", "penalty", NULL};
+/* fall.solver, in the order of vs_fall_solver (fall.h) */
+static const char *const fall_solvers[] = {"nncg", "gauss_seidel", NULL};
 
 #define INF INFINITY
 /* Every bound is finite (except where a sign is all that matters) so that every quantity derived
@@ -136,6 +138,9 @@ static const key_spec keys[] = {
         "... that speed (0: always step_ms)"),
     KEY(fall, max_sweeps, 15.0, 1.0, true, 10000.0, true, "",
         "rigid scheme: Gauss-Seidel sweeps at most per step (100 near rest if fewer)"),
+    KEY_NAMED(fall, solver, 0.0, 2, fall_solvers,
+              "rigid scheme: the contacts' impulses by Gauss-Seidel sweeps, each followed by a "
+              "nonsmooth conjugate gradient step (nncg), or the sweeps alone (gauss_seidel)"),
     KEY(fall, restitution, 0.5, 0.0, false, 1.0, true, "",
         "penalty scheme: coefficient of restitution of a block landing flat on the ground (the "
         "rigid scheme's impacts are perfectly plastic)"),

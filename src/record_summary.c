@@ -300,6 +300,7 @@ static herr_t summary_fall(hid_t sum, const vs_run *run) {
   if (fr == NULL) return 0;
   hid_t g = vs_h5_group_create(sum, "fall");
   herr_t rc = g >= 0 ? vs_h5_attr_str(g, "scheme", "rigid") : -1;
+  if (rc >= 0) rc = vs_h5_attr_str(g, "solver", vs_fall_solver_name(fr->solver));
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "step", fr->step, "s");
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "slow_step", fr->slow_step, "s");
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "duration", fr->t_end - vs_run_collapse(run)->t_criterion, "s");
@@ -324,7 +325,9 @@ static herr_t summary_fall(hid_t sum, const vs_run *run) {
         "slow_step (while no point of a block moves faster than fall.slow_mm_s), duration (to "
         "rest or fall_s); steps, of which slow_steps of slow_step, chain_steps had only joint "
         "contacts and were solved at once (chain_solves solves), calm_steps were near rest and "
-        "solved to a tenth of the tolerance; Gauss-Seidel sweeps (each island of bodies joined "
+        "solved to a tenth of the tolerance; solver, how the impulses were solved (nncg: "
+        "Gauss-Seidel sweeps each followed by a nonsmooth conjugate gradient step; "
+        "gauss_seidel: the sweeps alone); sweeps (each island of bodies joined "
         "by contacts solved on its own: a step's sweeps are those of the island that took the "
         "most), capped_steps had an island stop at the cap (max_sweeps), with the largest "
         "last-sweep velocity change last_change_max; "

@@ -217,11 +217,11 @@ static void json_tail(FILE *out, const vs_run *r) {
   const vs_fall_result *fr = vs_run_fall(r);
   fputs(",\"fall\":", out);
   if (fr != NULL) {
-    fprintf(out, "{\"scheme\":\"rigid\",\"steps\":%ld,\"chain_steps\":%ld,\"solves\":%ld,"
-                 "\"sweeps\":%ld,\"max_sweeps\":%d,\"capped_steps\":%ld,\"calm_steps\":%ld,"
-                 "\"slow_steps\":%ld",
-            fr->steps, fr->chain_steps, fr->solves, fr->sweeps, fr->cap, fr->unconverged,
-            fr->calm_steps, fr->slow_steps);
+    fprintf(out, "{\"scheme\":\"rigid\",\"solver\":\"%s\",\"steps\":%ld,\"chain_steps\":%ld,"
+                 "\"solves\":%ld,\"sweeps\":%ld,\"max_sweeps\":%d,\"capped_steps\":%ld,"
+                 "\"calm_steps\":%ld,\"slow_steps\":%ld",
+            vs_fall_solver_name(fr->solver), fr->steps, fr->chain_steps, fr->solves, fr->sweeps,
+            fr->cap, fr->unconverged, fr->calm_steps, fr->slow_steps);
     jnum(out, ",\"step_s\":", fr->step, 10);
     jnum(out, ",\"slow_step_s\":", fr->slow_step, 10);
     jnum(out, ",\"last_change_m_s\":", fr->residual, 3);
@@ -443,10 +443,11 @@ static void text_stats(FILE *out, const vs_run *r) {
     fprintf(out, "         fall: rigid blocks, impulsive contacts, steps of %g ms (%g ms while "
                  "slow): %ld steps (%ld slow; %ld of the arch in the air solved as a chain, %ld "
                  "solves; %ld near rest, to a tenth of the tolerance), %ld Gauss-Seidel "
-                 "sweeps, %ld steps stopped at their cap (%d sweeps, %d near rest; last change up "
-                 "to %.3g mm/s); energy balance %.2g; joint faces overlapping up to %.3g mm\n",
+                 "sweeps%s, %ld steps stopped at their cap (%d sweeps, %d near rest; last change "
+                 "up to %.3g mm/s); energy balance %.2g; joint faces overlapping up to %.3g mm\n",
             1e3 * fr->step, 1e3 * fr->slow_step, fr->steps, fr->slow_steps, fr->chain_steps,
             fr->solves, fr->calm_steps, fr->sweeps,
+            fr->solver == VS_FALL_NNCG ? " with NNCG steps" : "",
             fr->unconverged, fr->cap, fr->calm_cap, fr->residual / VS_MM,
             fr->balance_error_rel, fr->max_joint_overlap / VS_MM);
   if (isfinite(vs_run_ground(r)))

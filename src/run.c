@@ -53,6 +53,7 @@ static vs_status fall_create(vs_run *r, const vs_case_si *si, vs_error *err) {
   fo.slow_step = si->fall_slow_step;
   fo.slow_speed = si->fall_slow_speed;
   fo.max_sweeps = r->c.max_sweeps;
+  fo.solver = r->c.solver;
   fo.rate = si->rate;
   fo.rest_ke = r->dopts.rest_ke;
   fo.rest_time = fmin(r->c.rest_s, VS_RUN_FALL_REST);

@@ -10,6 +10,7 @@
 #include <cmocka.h>
 
 #include "voussoir/case.h"
+#include "voussoir/fall.h"
 #include "voussoir/geometry.h"
 #include "voussoir/run.h"
 
@@ -143,8 +144,8 @@ static const key_case all_keys[] = {
 #define NKEYS_TESTED (sizeof all_keys / sizeof all_keys[0])
 /* Keys that are named choices, tested by name in test_support_kinds (support.left_kind,
  * support.right_kind), test_named_key (dynamic.damping_model) and test_fall_scheme
- * (fall.scheme). */
-#define NKEYS_NAMED 4
+ * (fall.scheme, fall.solver). */
+#define NKEYS_NAMED 5
 
 /* ---------------------------------------------------------------------------------------------
  * Defaults and a valid file */
@@ -795,7 +796,8 @@ static void test_support_kinds(void **state) {
   }
 }
 
-/* fall.scheme takes names only (rigid, penalty; default rigid). */
+/* fall.scheme and fall.solver take names only (rigid, penalty, default rigid; nncg, gauss_seidel,
+ * default nncg). */
 static void test_fall_scheme(void **state) {
   (void)state;
   vs_case c;
@@ -810,6 +812,13 @@ static void test_fall_scheme(void **state) {
   assert_int_equal(vs_case_set(&c, "fall.scheme=1", &err), VS_ERR_INVALID);
   assert_non_null(strstr(err.msg, "unknown name (allowed: one of rigid, penalty)"));
   assert_int_equal(c.scheme, VS_FALL_RIGID); /* unchanged */
+  assert_int_equal(c.solver, VS_FALL_NNCG);
+  assert_int_equal(vs_case_set(&c, "fall.solver=gauss_seidel", &err), VS_OK);
+  assert_int_equal(c.solver, VS_FALL_GAUSS_SEIDEL);
+  assert_int_equal(vs_case_set(&c, "fall.solver=cg", &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "fall.solver = cg: unknown name (allowed: one of nncg, "
+                                  "gauss_seidel)"));
+  assert_int_equal(c.solver, VS_FALL_GAUSS_SEIDEL); /* unchanged */
 }
 
 /* dynamic.damping_model takes names only; the iterator gives its value's index and name. */

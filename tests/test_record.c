@@ -30,12 +30,13 @@ static int sh(const char *cmd) {
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
-/* The root attribute "status" of an HDF5 record (variable-length string). */
-static void read_status(const char *path, char *out, size_t size) {
+/* The string attribute name of object obj of an HDF5 record (variable-length string). */
+static void read_attr(const char *path, const char *obj, const char *name, char *out,
+                      size_t size) {
   out[0] = '\0';
   hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   assert_true(f >= 0);
-  hid_t a = H5Aopen(f, "status", H5P_DEFAULT);
+  hid_t a = H5Aopen_by_name(f, obj, name, H5P_DEFAULT, H5P_DEFAULT);
   assert_true(a >= 0);
   hid_t t = H5Aget_type(a);
   char *s = NULL;
@@ -51,6 +52,11 @@ static void read_status(const char *path, char *out, size_t size) {
   H5Tclose(t);
   H5Aclose(a);
   H5Fclose(f);
+}
+
+/* The root attribute "status" of an HDF5 record. */
+static void read_status(const char *path, char *out, size_t size) {
+  read_attr(path, "/", "status", out, size);
 }
 
 static long rows_of(const char *path, const char *dset) {
@@ -161,6 +167,27 @@ static int lines_of(const char *path) {
 /* A long run (880 voussoirs) interrupted by SIGINT once it has recorded a state: the test waits
  * for a first data row in the run's CSV (written and flushed at every state), an observable
  * state rather than a sleep that races the run under load. */
+/* The rigid fall's solver (fall.solver) is named in the record (/summary/fall, attribute
+ * solver) and in the JSON (stats.fall.solver): nncg by default, gauss_seidel when chosen. */
+static void test_fall_solver_recorded(void **s) {
+  (void)s;
+  const char *const solvers[] = {"", "gauss_seidel"};
+  for (int i = 0; i < 2; i++) {
+    char cmd[1024], h5[256], json[256], want[64], got[64];
+    snprintf(h5, sizeof h5, "%s/solver%d.h5", g_dir, i);
+    snprintf(json, sizeof json, "%s/solver%d.json", g_dir, i);
+    snprintf(cmd, sizeof cmd, "%s run %s -q --json -o %s %s%s > %s", VS_BINARY, REFERENCE, h5,
+             i > 0 ? "--set fall.solver=" : "", solvers[i], json);
+    assert_int_equal(sh(cmd), 0);
+    snprintf(want, sizeof want, "%s", i > 0 ? solvers[i] : "nncg");
+    read_attr(h5, "/summary/fall", "solver", got, sizeof got);
+    assert_string_equal(got, want);
+    snprintf(cmd, sizeof cmd, "grep -q '\"fall\":{\"scheme\":\"rigid\",\"solver\":\"%s\"' %s",
+             want, json);
+    assert_int_equal(sh(cmd), 0);
+  }
+}
+
 static void test_sigint(void **s) {
   (void)s;
   char h5[256], csv[256], status[256];
@@ -219,6 +246,7 @@ static int teardown(void **s) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_completed_record),
+      cmocka_unit_test(test_fall_solver_recorded),
       cmocka_unit_test(test_sigint),
       cmocka_unit_test(test_bad_input_no_record),
   };

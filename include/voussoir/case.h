@@ -78,6 +78,8 @@ typedef struct {
   double slow_mm_s;
   int max_sweeps;      /* rigid scheme: Gauss-Seidel sweeps per step at most, 1..10000, default
                           15 (VS_FALL_MAX_SWEEPS; near rest at least VS_FALL_CALM_SWEEPS) */
+  int solver;          /* rigid scheme: vs_fall_solver (fall.h), nncg (default) or gauss_seidel;
+                          written by name */
   double restitution;  /* penalty scheme: coefficient of restitution of a block landing flat on
                           the ground, (0, 1], default 0.5 */
 
