@@ -350,12 +350,13 @@ static void nncg_step(vs_fall *f, const int *ci, int nci, double *rr) {
     const double r0 = c->P[0] - c->Ps[0], r1 = c->P[1] - c->Ps[1];
     if (beta > 1.0) { /* a restart: the sweep's own change is the direction */
       c->Pd[0] = r0, c->Pd[1] = r1;
-      continue;
+    } else {
+      const double a0 = beta * c->Pd[0], a1 = beta * c->Pd[1];
+      vs_fall_apply(f, c, a0, a1, f->v);
+      c->P[0] += a0, c->P[1] += a1;
+      c->Pd[0] = a0 + r0, c->Pd[1] = a1 + r1;
     }
-    const double a0 = beta * c->Pd[0], a1 = beta * c->Pd[1];
-    vs_fall_apply(f, c, a0, a1, f->v);
-    c->P[0] += a0, c->P[1] += a1;
-    c->Pd[0] = a0 + r0, c->Pd[1] = a1 + r1;
+    c->Ps[0] = c->P[0], c->Ps[1] = c->P[1]; /* where the next sweep starts */
   }
 }
 
@@ -373,13 +374,13 @@ static int solve_island(vs_fall *f, int s, double mu, double tol, int cap, int s
   const int nncg = f->o.solver == VS_FALL_NNCG;
   double worst = 0.0, rr = 0.0;
   int k = 0, converged = 0;
+  if (nncg) /* the first sweep's start (nncg_step sets the next ones') */
+    for (int i = 0; i < nci; i++) {
+      vs_fall_contact *c = &f->c[ci[i]];
+      c->Ps[0] = c->P[0], c->Ps[1] = c->P[1];
+    }
   for (; k < cap && !converged; k++) {
     for (int j = 0; j < nbi; j++) memcpy(f->vs + 3 * bi[j], f->v + 3 * bi[j], 3 * sizeof *f->v);
-    if (nncg)
-      for (int i = 0; i < nci; i++) {
-        vs_fall_contact *c = &f->c[ci[i]];
-        c->Ps[0] = c->P[0], c->Ps[1] = c->P[1];
-      }
     for (int i = 0; i < nci; i++) update(f, &f->c[ci[((s0 + k) % 2) ? nci - 1 - i : i]], mu);
     /* converged once none of the island's bodies' points move faster or slower by tol after a
      * sweep (the bodies' velocities: a contact's own can keep changing where two contacts share
