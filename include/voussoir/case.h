@@ -63,7 +63,7 @@ typedef struct {
                           weight times its thickness, > 0, default 0.1 */
   double fall_s;       /* after the collapse criterion, the fall is followed at most this long
                           (it ends once the debris is at rest on the ground), >= 0, default 5 s
-                          (the reference arch is at rest 1.6 s after the detection) */
+                          (the reference arch is at rest 0.9 s after the detection) */
   double sample_s;     /* at most one dynamic sample per this interval, > 0, default 0.01 s */
 
   /* [fall] the ground the collapsed arch falls onto (contact.h) */
