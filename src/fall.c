@@ -1,6 +1,6 @@
 /* The fall (fall.h): time stepping with impulsive contacts, the impulses by nonsmooth
- * Gauss-Seidel over the contacts (accelerated by NNCG), the energies (fall_state.c: what the record reads at a
- * state). */
+ * Gauss-Seidel over the contacts (accelerated by NNCG), the energies (fall_state.c: what the
+ * record reads at a state). */
 #include "voussoir/fall.h"
 
 #include <limits.h>
@@ -411,9 +411,9 @@ static int solve_island(vs_fall *f, int s, double mu, double tol, int cap, int s
 /* The step's impulses for the contacts found: from the free velocity, each contact's law and
  * warm start; when every contact is a joint's, the chain's impulses solved at once
  * (fall_chain.c); otherwise, or if that did not settle, island by island (solve_island) until
- * none of the island's bodies' velocities moves by sweep_tol in a sweep, or max_sweeps (near rest
- * at least VS_FALL_CALM_SWEEPS); the step's sweeps are those of the island that took the most. 0, -1 when out of memory, -2 when
- * the joints' system failed. */
+ * none of the island's bodies' velocities moves by sweep_tol in a sweep, or max_sweeps (near
+ * rest at least VS_FALL_CALM_SWEEPS); the step's sweeps are those of the island that took the
+ * most. 0, -1 when out of memory, -2 when the joints' system failed. */
 static int impulses(vs_fall *f, double h, double mu, step_out *so) {
   if (islands(f) != 0) return -1;
   const double g = f->g->gravity, r = h / f->h; /* the warm start's impulses to this step */

@@ -15,11 +15,11 @@
  *   - Coulomb: |P_t| <= mu P_n, and P_t = -mu P_n sign(u_t) where the contact slides.
  * The impulses are solved by nonsmooth Gauss-Seidel over the contacts (each contact's 2 x 2
  * problem exactly), each sweep followed by a nonsmooth nonlinear conjugate gradient step (NNCG:
- * fewer sweeps to the same tolerance), warm-started from the previous step's impulses (scaled by the ratio of
- * the steps where the step changes: what a contact carries is a force). The step is h while any
- * point of a block moves faster than a set speed, a longer one while none does (the debris
- * settling): both bound how far a point moves in a step, and so how deep an impact can
- * overlap. Bodies and contacts:
+ * fewer sweeps to the same stopping tolerance), warm-started from the previous step's impulses
+ * (scaled by the ratio of the steps where the step changes: what a contact carries is a
+ * force). The step is h while any point of a block moves faster than a set speed, a longer one
+ * while none does (the debris settling): both bound how far a point moves in a step, and so how
+ * deep an impact can overlap. Bodies and contacts:
  *  - every body has a convex outline (collide.h: a voussoir's four corners and its extrados
  *    mid-point; a pier's springing face and the vertical drops from its ends); the piers move
  *    as the supports do (the right one at the loading rate, a pinned one keeping its rotation);
