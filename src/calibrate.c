@@ -43,7 +43,7 @@ static double cal_eval(cal_ctx *c, double kn) {
   if (vs_run_create(&k, &r, &err) == VS_OK && vs_run_execute(r, NULL, NULL, NULL, &err) == VS_OK &&
       vs_run_collapse(r)->found) {
     const double d = vs_run_collapse(r)->delta / VS_MM;
-    const vs_support_dir sd = vs_support_case_direction(&k);
+    const vs_support_dir sd = vs_support_direction(k.alpha_deg * VS_DEG);
     out = 100.0 * d * (c->dx ? sd.dx : sd.dz) / vs_case_span_mm(&k);
   }
   vs_run_destroy(&r);

@@ -449,23 +449,60 @@ int vs_case_key(const vs_case *c, int i, const char **section, const char **key,
   return 0;
 }
 
-void vs_case_to_si(const vs_case *c, vs_case_si *si) {
-  si->radius = c->radius_mm * VS_MM;
-  si->thickness = c->thickness_mm * VS_MM;
-  si->depth = c->depth_mm * VS_MM;
-  si->embrace = c->embrace_deg * VS_DEG;
-  si->kn = c->kn_N_mm3 * VS_N_MM3;
-  si->ks = c->ks_ratio * c->kn_N_mm3 * VS_N_MM3;
-  si->alpha = c->alpha_deg * VS_DEG;
-  si->rate = c->rate_mm_s * VS_MM;
-  si->max_delta = c->max_mm * VS_MM;
-  si->step = c->step_mm * VS_MM;
-  si->step_max = c->step_max_mm * VS_MM;
-  si->limit_tol = c->limit_tol_mm * VS_MM;
-  si->open = c->open_mm * VS_MM;
-  si->atol_q = c->atol_mm * VS_MM;
-  si->ground = c->ground_mm * VS_MM;
-  si->fall_step = c->step_ms * 1e-3;
-  si->fall_slow_step = c->slow_factor * c->step_ms * 1e-3;
-  si->fall_slow_speed = c->slow_mm_s * VS_MM;
+void vs_case_to_def(const vs_case *c, vs_run_def *d) {
+  d->arch = (vs_arch_def){.radius = c->radius_mm * VS_MM,
+                          .thickness = c->thickness_mm * VS_MM,
+                          .embrace = c->embrace_deg * VS_DEG,
+                          .depth = c->depth_mm * VS_MM,
+                          .voussoirs = c->voussoirs,
+                          .density = c->density_kg_m3,
+                          .gravity = c->gravity_m_s2};
+  d->joints = (vs_joints_def){.kn = c->kn_N_mm3 * VS_N_MM3,
+                              .ks = c->ks_ratio * c->kn_N_mm3 * VS_N_MM3,
+                              .mu = c->friction};
+  d->support = (vs_support_def){.left_kind = (vs_support_kind)c->left_kind,
+                                .right_kind = (vs_support_kind)c->right_kind,
+                                .alpha = c->alpha_deg * VS_DEG,
+                                .rate = c->rate_mm_s * VS_MM,
+                                .max_delta = c->max_mm * VS_MM};
+  d->path = (vs_path_def){.step = c->step_mm * VS_MM,
+                          .step_max = c->step_max_mm * VS_MM,
+                          .limit_tol = c->limit_tol_mm * VS_MM,
+                          .newton_tol = c->newton_tol,
+                          .newton_maxiter = c->newton_maxiter};
+  d->hinges = (vs_hinge_def){.open = c->open_mm * VS_MM, .migrate = c->migrate_joints};
+  d->dynamic = (vs_dynamic_def){.follow = c->follow,
+                                .full = c->full,
+                                .damping_model = (vs_damping_model)c->damping_model,
+                                .damping = c->damping,
+                                .rtol = c->rtol,
+                                .atol_q = c->atol_mm * VS_MM,
+                                .rest_factor = c->rest_factor,
+                                .rest_time = c->rest_s,
+                                .collapse_ke = c->collapse_ke,
+                                .fall_time = c->fall_s,
+                                .sample_dt = c->sample_s};
+  d->fall = (vs_fall_def){.ground = c->ground_mm * VS_MM,
+                          .scheme = (vs_fall_scheme)c->scheme,
+                          .step = c->step_ms * 1e-3,
+                          .slow_step = c->slow_factor * c->step_ms * 1e-3,
+                          .slow_speed = c->slow_mm_s * VS_MM,
+                          .max_sweeps = c->max_sweeps,
+                          .solver = (vs_fall_solver)c->solver,
+                          .restitution = c->restitution};
+  d->imperfections = (vs_imperfection_def){.seed = c->seed,
+                                           .sample = c->sample,
+                                           .kn_cov = c->kn_cov,
+                                           .kn_corr = c->kn_corr_mm * VS_MM,
+                                           .face = c->face_mm * VS_MM,
+                                           .angle_cov = c->angle_cov,
+                                           .thickness_cov = c->thickness_cov,
+                                           .support_dx = c->support_dx_mm * VS_MM,
+                                           .support_dz = c->support_dz_mm * VS_MM};
+}
+
+void vs_run_def_default(vs_run_def *d) {
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_case_to_def(&c, d);
 }

@@ -57,23 +57,21 @@ static void sector_block(double ri, double re, double phi0, double phi1, double 
   blk->phi1 = phi1;
 }
 
-vs_status vs_geometry_create_arch(const vs_case *c, vs_geometry **out, vs_error *err) {
-  vs_case_si si;
-  vs_case_to_si(c, &si);
-  const int n = c->voussoirs;
+vs_status vs_geometry_create_arch(const vs_arch_def *a, vs_geometry **out, vs_error *err) {
+  const int n = a->voussoirs;
   vs_status st = vs_geometry_create(n, n + 1, out, err);
   if (st != VS_OK) return st;
   vs_geometry *g = *out;
-  const double ri = si.radius, t = si.thickness, b = si.depth;
-  const double beta = 0.5 * si.embrace, dphi = 2.0 * beta / n;
+  const double ri = a->radius, t = a->thickness, b = a->depth;
+  const double beta = 0.5 * a->embrace, dphi = 2.0 * beta / n;
   g->radius = ri;
   g->thickness = t;
   g->embrace = 2.0 * beta;
   g->span = 2.0 * ri * sin(beta);
   g->rise = ri * (1.0 - cos(beta));
-  g->gravity = c->gravity_m_s2;
+  g->gravity = a->gravity;
   for (int i = 0; i < n; i++)
-    sector_block(ri, ri + t, -beta + i * dphi, -beta + (i + 1) * dphi, c->density_kg_m3 * b,
+    sector_block(ri, ri + t, -beta + i * dphi, -beta + (i + 1) * dphi, a->density * b,
                  &g->blocks[i]);
   for (int k = 0; k <= n; k++) {
     double phi = -beta + k * dphi, rm = ri + 0.5 * t;

@@ -42,76 +42,77 @@ static double lognormal(double cov, double z) {
   return exp(sqrt(s2) * z - 0.5 * s2);
 }
 
-int vs_imperfections_any(const vs_case *c) {
-  return c->kn_cov > 0.0 || c->face_mm > 0.0 || c->angle_cov > 0.0 || c->thickness_cov > 0.0 ||
-         c->support_dx_mm != 0.0 || c->support_dz_mm != 0.0;
+int vs_imperfections_any(const vs_imperfection_def *d) {
+  return d->kn_cov > 0.0 || d->face > 0.0 || d->angle_cov > 0.0 || d->thickness_cov > 0.0 ||
+         d->support_dx != 0.0 || d->support_dz != 0.0;
 }
 
 void vs_imperfections_destroy(vs_imperfections **p) {
   if (p == NULL || *p == NULL) return;
   free((*p)->kn_factor);
-  free((*p)->face_gap_mm);
-  free((*p)->angle_deg);
-  free((*p)->thickness_mm);
+  free((*p)->face_gap);
+  free((*p)->angle);
+  free((*p)->thickness);
   free(*p);
   *p = NULL;
 }
 
 /* k_n factors: lognormal over an Ornstein-Uhlenbeck (or white) normal field along the arch. */
-static void draw_kn(const vs_case *c, vs_imperfections *p) {
-  const uint64_t seed = (uint64_t)c->seed, smp = (uint64_t)c->sample;
-  const double dphi = c->embrace_deg * VS_DEG / c->voussoirs;
-  const double ds = (c->radius_mm + 0.5 * c->thickness_mm) * dphi; /* joint spacing, mm */
-  const double rho = c->kn_corr_mm > 0.0 ? exp(-ds / c->kn_corr_mm) : 0.0;
+static void draw_kn(const vs_imperfection_def *d, const vs_arch_def *a, vs_imperfections *p) {
+  const uint64_t seed = (uint64_t)d->seed, smp = (uint64_t)d->sample;
+  const double dphi = a->embrace / a->voussoirs;
+  const double ds = (a->radius + 0.5 * a->thickness) * dphi; /* joint spacing, m */
+  const double rho = d->kn_corr > 0.0 ? exp(-ds / d->kn_corr) : 0.0;
   double z = 0.0;
   for (int k = 0; k < p->n_joints; k++) {
     const double e = vs_rng_normal(seed, smp, STREAM_KN, (uint64_t)k);
     z = k == 0 ? e : rho * z + sqrt(1.0 - rho * rho) * e;
-    p->kn_factor[k] = c->kn_cov > 0.0 ? lognormal(c->kn_cov, z) : 1.0;
+    p->kn_factor[k] = d->kn_cov > 0.0 ? lognormal(d->kn_cov, z) : 1.0;
   }
 }
 
-vs_status vs_imperfections_draw(const vs_case *c, vs_imperfections **out, vs_error *err) {
+vs_status vs_imperfections_draw(const vs_imperfection_def *d, const vs_arch_def *a,
+                                vs_imperfections **out, vs_error *err) {
   *out = NULL;
   vs_imperfections *p = calloc(1, sizeof *p);
-  const int nb = c->voussoirs, nj = c->voussoirs + 1;
+  const int nb = a->voussoirs, nj = a->voussoirs + 1;
   if (p != NULL) {
     p->n_joints = nj;
     p->n_blocks = nb;
     p->kn_factor = malloc((size_t)nj * sizeof(double));
-    p->face_gap_mm = malloc((size_t)nj * sizeof(double));
-    p->angle_deg = malloc((size_t)nb * sizeof(double));
-    p->thickness_mm = malloc((size_t)nb * sizeof(double));
+    p->face_gap = malloc((size_t)nj * sizeof(double));
+    p->angle = malloc((size_t)nb * sizeof(double));
+    p->thickness = malloc((size_t)nb * sizeof(double));
   }
-  if (p == NULL || p->kn_factor == NULL || p->face_gap_mm == NULL || p->angle_deg == NULL ||
-      p->thickness_mm == NULL) {
+  if (p == NULL || p->kn_factor == NULL || p->face_gap == NULL || p->angle == NULL ||
+      p->thickness == NULL) {
     vs_imperfections_destroy(&p);
     return vs_error_set(err, VS_ERR_NOMEM, "imperfections: out of memory");
   }
-  const uint64_t seed = (uint64_t)c->seed, smp = (uint64_t)c->sample;
-  draw_kn(c, p);
+  const uint64_t seed = (uint64_t)d->seed, smp = (uint64_t)d->sample;
+  draw_kn(d, a, p);
   for (int k = 0; k < nj; k++)
-    p->face_gap_mm[k] =
-        c->face_mm > 0.0 ? c->face_mm * vs_rng_normal(seed, smp, STREAM_FACE, (uint64_t)k) : 0.0;
+    p->face_gap[k] =
+        d->face > 0.0 ? d->face * vs_rng_normal(seed, smp, STREAM_FACE, (uint64_t)k) : 0.0;
   /* angles: deviations from nominal, shifted by their mean so that they fill the embrace */
-  const double dphi = c->embrace_deg / nb;
+  const double dphi = a->embrace / nb;
   double mean = 0.0;
   for (int i = 0; i < nb; i++) {
-    const double f = c->angle_cov > 0.0
-                         ? lognormal(c->angle_cov, vs_rng_normal(seed, smp, STREAM_ANGLE, (uint64_t)i))
+    const double f = d->angle_cov > 0.0
+                         ? lognormal(d->angle_cov, vs_rng_normal(seed, smp, STREAM_ANGLE, (uint64_t)i))
                          : 1.0;
-    p->angle_deg[i] = dphi * (f - 1.0);
-    mean += p->angle_deg[i] / nb;
+    p->angle[i] = dphi * (f - 1.0);
+    mean += p->angle[i] / nb;
   }
-  for (int i = 0; i < nb; i++) p->angle_deg[i] = dphi + (p->angle_deg[i] - mean);
+  for (int i = 0; i < nb; i++) p->angle[i] = dphi + (p->angle[i] - mean);
   for (int i = 0; i < nb; i++)
-    p->thickness_mm[i] =
-        c->thickness_cov > 0.0
-            ? c->thickness_mm *
-                  lognormal(c->thickness_cov, vs_rng_normal(seed, smp, STREAM_THICK, (uint64_t)i))
-            : c->thickness_mm;
-  p->support_mm[0] = c->support_dx_mm;
-  p->support_mm[1] = c->support_dz_mm;
+    p->thickness[i] =
+        d->thickness_cov > 0.0
+            ? a->thickness *
+                  lognormal(d->thickness_cov, vs_rng_normal(seed, smp, STREAM_THICK, (uint64_t)i))
+            : a->thickness;
+  p->support[0] = d->support_dx;
+  p->support[1] = d->support_dz;
   *out = p;
   return VS_OK;
 }
@@ -132,33 +133,32 @@ static void sector(double ri, double re, double phi0, double phi1, double rho_b,
   blk->phi1 = phi1;
 }
 
-vs_status vs_imperfections_arch(const vs_case *c, const vs_imperfections *imp, vs_geometry **out,
-                                vs_error *err) {
-  vs_status st = vs_geometry_create_arch(c, out, err);
-  if (st != VS_OK || (c->angle_cov == 0.0 && c->thickness_cov == 0.0)) return st;
+vs_status vs_imperfections_arch(const vs_imperfection_def *d, const vs_arch_def *a,
+                                const vs_imperfections *imp, vs_geometry **out, vs_error *err) {
+  vs_status st = vs_geometry_create_arch(a, out, err);
+  if (st != VS_OK || (d->angle_cov == 0.0 && d->thickness_cov == 0.0)) return st;
   vs_geometry *g = *out;
   const int n = g->n_blocks;
   const double ri = g->radius, beta = 0.5 * g->embrace, dphi = g->embrace / n;
   double phi0 = -beta, dev = 0.0; /* accumulated deviation from the nominal joint angle */
   for (int i = 0; i < n; i++) {
-    if (!(imp->angle_deg[i] > 0.0)) {
+    if (!(imp->angle[i] > 0.0)) {
       vs_geometry_destroy(out);
       return vs_error_set(err, VS_ERR_INVALID,
                           "imperfections.angle_cov = %g: voussoir %d of sample %d drawn with angle "
                           "%g deg (allowed: > 0; lower the CoV)",
-                          c->angle_cov, i + 1, c->sample, imp->angle_deg[i]);
+                          d->angle_cov, i + 1, d->sample, imp->angle[i] / VS_DEG);
     }
-    dev += imp->angle_deg[i] * VS_DEG - dphi;
+    dev += imp->angle[i] - dphi;
     const double phi1 = i == n - 1 ? beta : -beta + (i + 1) * dphi + dev;
-    sector(ri, ri + imp->thickness_mm[i] * VS_MM, phi0, phi1, c->density_kg_m3 * c->depth_mm * VS_MM,
-           &g->blocks[i]);
+    sector(ri, ri + imp->thickness[i], phi0, phi1, a->density * a->depth, &g->blocks[i]);
     phi0 = phi1;
   }
   for (int k = 0; k <= n; k++) {
     const double phi = k == 0 ? -beta : g->blocks[k - 1].phi1;
-    const double ta = k > 0 ? imp->thickness_mm[k - 1] : INFINITY;
-    const double tb = k < n ? imp->thickness_mm[k] : INFINITY;
-    const double t = fmin(ta, tb) * VS_MM, rm = ri + 0.5 * t;
+    const double ta = k > 0 ? imp->thickness[k - 1] : INFINITY;
+    const double tb = k < n ? imp->thickness[k] : INFINITY;
+    const double t = fmin(ta, tb), rm = ri + 0.5 * t;
     vs_joint_geom *j = &g->joints[k];
     j->px = rm * sin(phi);
     j->pz = rm * cos(phi);
@@ -169,23 +169,23 @@ vs_status vs_imperfections_arch(const vs_case *c, const vs_imperfections *imp, v
   return VS_OK;
 }
 
-vs_status vs_imperfections_apply(const vs_case *c, const vs_imperfections *imp, vs_model *m,
-                                 vs_error *err) {
+vs_status vs_imperfections_apply(const vs_imperfection_def *d, const vs_imperfections *imp,
+                                 vs_model *m, vs_error *err) {
   const vs_geometry *g = vs_model_geometry(m);
-  if (c->kn_cov > 0.0 || c->face_mm > 0.0) {
+  if (d->kn_cov > 0.0 || d->face > 0.0) {
     for (int k = 0; k < g->n_joints; k++) {
       vs_joint_law law = *vs_model_joint_law(m, k);
       law.kn *= imp->kn_factor[k];
       law.ks *= imp->kn_factor[k];
-      const double a = imp->face_gap_mm[k] * VS_MM, t = g->joints[k].length;
+      const double a = imp->face_gap[k], t = g->joints[k].length;
       law.gap0 = 0.5 * fabs(a);
       law.gap1 = a / t;
       vs_status st = vs_model_set_joint_law(m, k, &law, err);
       if (st != VS_OK) return st;
     }
   }
-  if (c->support_dx_mm != 0.0 || c->support_dz_mm != 0.0) {
-    const double off[2] = {c->support_dx_mm * VS_MM, -c->support_dz_mm * VS_MM};
+  if (d->support_dx != 0.0 || d->support_dz != 0.0) {
+    const double off[2] = {d->support_dx, -d->support_dz};
     vs_model_set_support_offset(m, off);
   }
   return VS_OK;

@@ -44,7 +44,7 @@ void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *o) {
     snprintf(o->error, sizeof o->error, "%.399s", err.msg);
   } else if (vs_run_collapse(r)->found) {
     const double d = vs_run_collapse(r)->delta / VS_MM;
-    const vs_support_dir sd = vs_support_case_direction(&c);
+    const vs_support_dir sd = vs_support_direction(c.alpha_deg * VS_DEG);
     o->status = VS_MC_COLLAPSE;
     o->delta_u_mm = d;
     o->dz_u_mm = d * sd.dz;

@@ -199,7 +199,7 @@ static int draw_curves(vs_plotrec *r, const char *dir, const char *ext) {
     labels[nm] = lbl[nm], mx[nm] = r->limits[i];
   }
   if (isfinite(r->collapse) && nm < 8) labels[nm] = "collapse", mx[nm++] = r->collapse;
-  const double L = r->g->span, ca = vs_support_case_direction(&r->c).dz;
+  const double L = r->g->span, ca = vs_support_direction(r->c.alpha_deg * VS_DEG).dz;
   vs_plot_marks marks = {nm, mx, labels, {NULL, 1.0, 0}, NULL};
   if (fabs(ca) > 1e-9 && L > 0.0) marks.x2 = (vs_plot_axis){"dz/L (%)", 100.0 * ca / L, 0};
   char path[1200];

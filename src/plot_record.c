@@ -132,20 +132,21 @@ static int support_kind(hid_t f, const char *name) {
  * when the case scatters them), else those the case's seed draws. */
 static vs_status record_geometry(vs_plotrec *r, vs_error *err) {
   vs_imperfections *imp = NULL;
-  vs_status st = vs_imperfections_draw(&r->c, &imp, err);
+  vs_run_def d;
+  vs_case_to_def(&r->c, &d);
+  vs_status st = vs_imperfections_draw(&d.imperfections, &d.arch, &imp, err);
   const size_t nb = st == VS_OK ? (size_t)imp->n_blocks : 0;
   double *buf = st == VS_OK ? malloc((nb > 0 ? nb : 1) * sizeof *buf) : NULL;
   if (buf != NULL && vs_h5_read_doubles(r->file, "/imperfections/voussoir_angle", buf, nb) == 0)
-    for (size_t i = 0; i < nb; i++) imp->angle_deg[i] = buf[i] / VS_DEG;
+    memcpy(imp->angle, buf, nb * sizeof *buf);
   if (buf != NULL && vs_h5_read_doubles(r->file, "/imperfections/voussoir_thickness", buf, nb) == 0)
-    for (size_t i = 0; i < nb; i++) imp->thickness_mm[i] = buf[i] / VS_MM;
+    memcpy(imp->thickness, buf, nb * sizeof *buf);
   free(buf);
-  if (st == VS_OK) st = vs_imperfections_arch(&r->c, imp, &r->g, err);
+  if (st == VS_OK) st = vs_imperfections_arch(&d.imperfections, &d.arch, imp, &r->g, err);
   if (st == VS_OK && r->c.thickness_cov > 0.0) {
     r->thick = malloc((size_t)imp->n_blocks * sizeof *r->thick);
     if (r->thick == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "out of memory");
-    for (int i = 0; r->thick != NULL && i < imp->n_blocks; i++)
-      r->thick[i] = imp->thickness_mm[i] * VS_MM;
+    for (int i = 0; r->thick != NULL && i < imp->n_blocks; i++) r->thick[i] = imp->thickness[i];
   }
   vs_imperfections_destroy(&imp);
   return st;

@@ -291,16 +291,14 @@ int vs_qs_solve(vs_qs_solver *s, double delta, double *q, long *iters) {
   return flag;
 }
 
-void vs_path_opts_from_case(const vs_case *c, vs_path_opts *o) {
-  vs_case_si si;
-  vs_case_to_si(c, &si);
-  o->step = si.step;
-  o->step_max = si.step_max;
-  o->limit_tol = si.limit_tol;
-  o->max_delta = si.max_delta;
-  o->newton_tol = c->newton_tol;
-  o->newton_maxiter = c->newton_maxiter;
-  o->open = si.open;
+void vs_path_opts_from_def(const vs_run_def *d, vs_path_opts *o) {
+  o->step = d->path.step;
+  o->step_max = d->path.step_max;
+  o->limit_tol = d->path.limit_tol;
+  o->max_delta = d->support.max_delta;
+  o->newton_tol = d->path.newton_tol;
+  o->newton_maxiter = d->path.newton_maxiter;
+  o->open = d->hinges.open;
   o->stop = NULL;
 }
 

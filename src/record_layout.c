@@ -220,24 +220,19 @@ static herr_t write_imperfections(hid_t file, const vs_imperfections *p) {
   if (rc >= 0)
     rc = vs_h5_dset_write(grp, "kn_factor", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &nj, p->kn_factor,
                           "1", NULL);
-  for (hsize_t k = 0; rc >= 0 && k < nj; k++) buf[k] = p->face_gap_mm[k] * VS_MM;
   if (rc >= 0)
-    rc = vs_h5_dset_write(grp, "face_gap", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &nj, buf, "m",
-                          NULL);
-  for (hsize_t i = 0; rc >= 0 && i < nb; i++) buf[i] = p->angle_deg[i] * VS_DEG;
-  if (rc >= 0)
-    rc = vs_h5_dset_write(grp, "voussoir_angle", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &nb, buf,
-                          "rad", NULL);
-  for (hsize_t i = 0; rc >= 0 && i < nb; i++) buf[i] = p->thickness_mm[i] * VS_MM;
-  if (rc >= 0)
-    rc = vs_h5_dset_write(grp, "voussoir_thickness", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &nb, buf,
+    rc = vs_h5_dset_write(grp, "face_gap", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &nj, p->face_gap,
                           "m", NULL);
-  const hsize_t two = 2;
-  const double off[2] = {p->support_mm[0] * VS_MM, p->support_mm[1] * VS_MM};
   if (rc >= 0)
-    rc = vs_h5_dset_write(grp, "support_offset", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &two, off,
-                          "m, m", "outward, downward");
-  free(buf);
+    rc = vs_h5_dset_write(grp, "voussoir_angle", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &nb,
+                          p->angle, "rad", NULL);
+  if (rc >= 0)
+    rc = vs_h5_dset_write(grp, "voussoir_thickness", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &nb,
+                          p->thickness, "m", NULL);
+  const hsize_t two = 2;
+  if (rc >= 0)
+    rc = vs_h5_dset_write(grp, "support_offset", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &two,
+                          p->support, "m, m", "outward, downward");
   vs_h5_close(grp);
   return rc;
 }

@@ -144,7 +144,7 @@ static herr_t summary_collapse(hid_t sum, const vs_run *run) {
   const vs_collapse_record *c = vs_run_collapse(run);
   const vs_case *cs = vs_run_case(run);
   const double L = vs_run_geometry(run)->span;
-  const vs_support_dir sd = vs_support_case_direction(cs);
+  const vs_support_dir sd = vs_support_direction(cs->alpha_deg * VS_DEG);
   const double rate = cs->rate_mm_s * VS_MM;
   hid_t g = vs_h5_group_create(sum, "collapse");
   herr_t rc = g >= 0 ? vs_h5_attr_int(g, "found", c->found) : -1;

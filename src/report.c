@@ -23,7 +23,7 @@ void vs_json_string(FILE *out, const char *s) {
 /* Support displacement components over the span, in %. */
 static void components_pct(const vs_case *c, double delta_m, double *dz, double *dx) {
   const double L = vs_case_span_mm(c), d = delta_m / VS_MM;
-  const vs_support_dir sd = vs_support_case_direction(c);
+  const vs_support_dir sd = vs_support_direction(c->alpha_deg * VS_DEG);
   *dz = 100.0 * d * sd.dz / L;
   *dx = 100.0 * d * sd.dx / L;
 }

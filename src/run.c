@@ -19,26 +19,25 @@
  * rest threshold above it). */
 static const double VS_REST_OF_COLLAPSE = 0.01;
 
-static void dyn_opts_from_case(const vs_case *c, const vs_case_si *si, const vs_geometry *g,
-                               vs_dyn_opts *o) {
+static void dyn_opts_from_def(const vs_run_def *d, const vs_geometry *g, vs_dyn_opts *o) {
   double mass = 0.0;
   for (int i = 0; i < g->n_blocks; i++) mass += g->blocks[i].mass;
-  o->rate = si->rate;
-  o->rtol = c->rtol;
-  o->atol_q = si->atol_q;
-  o->open = si->open;
+  o->rate = d->support.rate;
+  o->rtol = d->dynamic.rtol;
+  o->atol_q = d->dynamic.atol_q;
+  o->open = d->hinges.open;
   /* the collapse threshold rides on the kinetic energy of the arch moving bodily at the
    * support's rate, which fast loading reaches without any collapse; rest stays well below it */
-  o->collapse_ke = c->collapse_ke * vs_geometry_weight(g) * c->thickness_mm * VS_MM +
+  o->collapse_ke = d->dynamic.collapse_ke * vs_geometry_weight(g) * d->arch.thickness +
                    0.5 * mass * o->rate * o->rate;
-  o->rest_ke = fmin(c->rest_factor * 0.5 * mass * o->rate * o->rate,
+  o->rest_ke = fmin(d->dynamic.rest_factor * 0.5 * mass * o->rate * o->rate,
                     VS_REST_OF_COLLAPSE * o->collapse_ke);
-  o->rest_time = c->rest_s;
-  o->fall_time = c->fall_s;
-  o->max_delta = si->max_delta;
-  o->sample_dt = c->sample_s;
+  o->rest_time = d->dynamic.rest_time;
+  o->fall_time = d->dynamic.fall_time;
+  o->max_delta = d->support.max_delta;
+  o->sample_dt = d->dynamic.sample_dt;
   o->settle = 1;
-  o->impact = c->damping_model == VS_DAMPING_IMPACT;
+  o->impact = d->dynamic.damping_model == VS_DAMPING_IMPACT;
 }
 
 /* The rest window in the fall: the shorter of rest_s and this (s), a hundred periods of the
@@ -46,52 +45,64 @@ static void dyn_opts_from_case(const vs_case *c, const vs_case_si *si, const vs_
  * penalty scheme's fall in dynamic_run.c). */
 static const double VS_RUN_FALL_REST = 0.1;
 
-static vs_status fall_create(vs_run *r, const vs_case_si *si, vs_error *err) {
+static vs_status fall_create(vs_run *r, vs_error *err) {
+  const vs_fall_def *f = &r->def.fall;
   vs_fall_opts fo;
   vs_fall_opts_default(&fo);
-  fo.step = si->fall_step;
-  fo.slow_step = si->fall_slow_step;
-  fo.slow_speed = si->fall_slow_speed;
-  fo.max_sweeps = r->c.max_sweeps;
-  fo.solver = r->c.solver;
-  fo.rate = si->rate;
+  fo.step = f->step;
+  fo.slow_step = f->slow_step;
+  fo.slow_speed = f->slow_speed;
+  fo.max_sweeps = f->max_sweeps;
+  fo.solver = f->solver;
+  fo.rate = r->def.support.rate;
   fo.rest_ke = r->dopts.rest_ke;
-  fo.rest_time = fmin(r->c.rest_s, VS_RUN_FALL_REST);
-  fo.duration = r->c.fall_s;
-  fo.sample_dt = r->c.sample_s;
-  fo.ground = si->ground;
+  fo.rest_time = fmin(r->def.dynamic.rest_time, VS_RUN_FALL_REST);
+  fo.duration = r->def.dynamic.fall_time;
+  fo.sample_dt = r->def.dynamic.sample_dt;
+  fo.ground = f->ground;
   return vs_fall_create(r->m, &fo, NULL, NULL, &r->fall, err);
 }
 
 vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
+  vs_run_def d;
+  vs_case_to_def(c, &d);
+  vs_status st = vs_run_create_def(&d, out, err);
+  if (st == VS_OK) {
+    (*out)->c = *c;
+    (*out)->have_case = 1;
+  }
+  return st;
+}
+
+vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) {
   *out = NULL;
   vs_run *r = calloc(1, sizeof *r);
   if (r == NULL) return vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
-  r->c = *c;
-  vs_case_si si;
-  vs_case_to_si(c, &si);
+  r->def = *def;
+  const vs_run_def *d = &r->def;
   for (int i = 0; i < 6; i++) r->react[i] = r->react_eq[i] = NAN;
-  vs_status st = vs_imperfections_draw(c, &r->imp, err);
-  if (st == VS_OK) st = vs_imperfections_arch(c, r->imp, &r->g, err);
+  vs_status st = vs_imperfections_draw(&d->imperfections, &d->arch, &r->imp, err);
+  if (st == VS_OK) st = vs_imperfections_arch(&d->imperfections, &d->arch, r->imp, &r->g, err);
   if (st == VS_OK) {
-    vs_joint_law law = {.kn = si.kn, .ks = si.ks, .mu = c->friction};
-    st = vs_model_create(r->g, &law, si.alpha, &r->m, err);
+    vs_joint_law law = {.kn = d->joints.kn, .ks = d->joints.ks, .mu = d->joints.mu};
+    st = vs_model_create(r->g, &law, d->support.alpha, &r->m, err);
     if (st == VS_OK)
-      st = vs_model_set_support_kinds(r->m, (vs_support_kind)c->left_kind,
-                                      (vs_support_kind)c->right_kind, err);
+      st = vs_model_set_support_kinds(r->m, d->support.left_kind, d->support.right_kind, err);
   }
-  if (st == VS_OK) st = vs_imperfections_apply(c, r->imp, r->m, err);
-  if (st == VS_OK && c->damping_model == VS_DAMPING_RAYLEIGH &&
-      3 * c->voussoirs > VS_MODAL_MAX_DOF)
+  if (st == VS_OK) st = vs_imperfections_apply(&d->imperfections, r->imp, r->m, err);
+  if (st == VS_OK && d->dynamic.damping_model == VS_DAMPING_RAYLEIGH &&
+      3 * d->arch.voussoirs > VS_MODAL_MAX_DOF)
     st = vs_error_set(err, VS_ERR_INVALID,
                       "dynamic.damping_model = rayleigh needs the natural frequencies: arch.voussoirs "
                       "= %d (allowed with rayleigh: <= %d)",
-                      c->voussoirs, VS_MODAL_MAX_DOF / 3);
+                      d->arch.voussoirs, VS_MODAL_MAX_DOF / 3);
   if (st == VS_OK) { /* rayleigh is set at the self-weight equilibrium (damping_setup) */
-    if (c->damping_model == VS_DAMPING_RAYLEIGH) vs_model_set_damping(r->m, 0.0);
-    else vs_damping_apply(r->m, (vs_damping_model)c->damping_model, c->damping, 0.0, 0.0, NULL, NULL, NULL);
-    r->hopts.open = si.open;
-    r->hopts.migrate = c->migrate_joints;
+    if (d->dynamic.damping_model == VS_DAMPING_RAYLEIGH) vs_model_set_damping(r->m, 0.0);
+    else
+      vs_damping_apply(r->m, d->dynamic.damping_model, d->dynamic.damping, 0.0, 0.0, NULL, NULL,
+                       NULL);
+    r->hopts.open = d->hinges.open;
+    r->hopts.migrate = d->hinges.migrate;
     st = vs_hinges_create(r->g->n_joints, &r->hopts, &r->h, err);
   }
   if (st == VS_OK) {
@@ -102,22 +113,24 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
       st = vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
   }
   if (st == VS_OK) {
-    vs_path_opts_from_case(c, &r->popts);
-    dyn_opts_from_case(c, &si, r->g, &r->dopts);
+    vs_path_opts_from_def(d, &r->popts);
+    dyn_opts_from_def(d, r->g, &r->dopts);
     double mass = 0.0;
     for (int i = 0; i < r->g->n_blocks; i++) mass += r->g->blocks[i].mass;
     r->ke_move = 0.5 * mass * r->dopts.rate * r->dopts.rate;
-    const int rigid = c->scheme == VS_FALL_RIGID && c->fall_s > 0.0 && (c->follow || c->full);
+    const vs_dynamic_def *dy = &d->dynamic;
+    const int rigid = d->fall.scheme == VS_FALL_RIGID && dy->fall_time > 0.0 && (dy->follow || dy->full);
     if (rigid) { /* IDA stops at the collapse criterion, the rigid fall goes on from there */
       r->dopts.fall_time = 0.0;
-      st = fall_create(r, &si, err);
+      st = fall_create(r, err);
     }
-    if (st == VS_OK && (c->follow || c->full))
+    if (st == VS_OK && (dy->follow || dy->full))
       st = vs_dynamic_create(r->m, &r->dopts, &r->dyn, err);
-    if (st == VS_OK && r->dyn != NULL && c->fall_s > 0.0 && !rigid) { /* armed at the collapse */
-      st = vs_contact_create(r->m, c->restitution, 0, NULL, NULL, &r->ground, err);
-      if (st == VS_OK) st = vs_dynamic_set_contact(r->dyn, r->ground, si.ground, err);
-      if (st == VS_OK) st = vs_collide_create(r->m, c->restitution, NULL, NULL, &r->bodies, err);
+    if (st == VS_OK && r->dyn != NULL && dy->fall_time > 0.0 && !rigid) { /* armed at the collapse */
+      const double e = d->fall.restitution;
+      st = vs_contact_create(r->m, e, 0, NULL, NULL, &r->ground, err);
+      if (st == VS_OK) st = vs_dynamic_set_contact(r->dyn, r->ground, d->fall.ground, err);
+      if (st == VS_OK) st = vs_collide_create(r->m, e, NULL, NULL, &r->bodies, err);
       if (st == VS_OK) st = vs_dynamic_set_collide(r->dyn, r->bodies, err);
     }
   }
@@ -307,7 +320,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
   const double t0 = vs_wall_now();
   vs_status st = VS_OK;
   double delta0 = 0.0;
-  if (r->c.full) {
+  if (r->def.dynamic.full) {
     /* self-weight by KINSOL, then the whole loading dynamically from rest */
     vs_path_opts sw = r->popts;
     sw.max_delta = 0.0;
@@ -349,7 +362,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
         st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
         break;
       }
-      if (!r->c.follow) break;
+      if (!r->def.dynamic.follow) break;
       memset(r->v, 0, (size_t)vs_model_size(r->m) * sizeof *r->v);
       st = dynamic_phase(r, &delta0, err);
       if (st != VS_OK || isnan(delta0)) break;
@@ -361,7 +374,8 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
   return st;
 }
 
-const vs_case *vs_run_case(const vs_run *r) { return &r->c; }
+const vs_case *vs_run_case(const vs_run *r) { return r->have_case ? &r->c : NULL; }
+const vs_run_def *vs_run_def_of(const vs_run *r) { return &r->def; }
 const vs_geometry *vs_run_geometry(const vs_run *r) { return r->g; }
 const vs_imperfections *vs_run_imperfections(const vs_run *r) { return r->imp; }
 const vs_model *vs_run_model(const vs_run *r) { return r->m; }

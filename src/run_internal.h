@@ -10,7 +10,9 @@
 #include "voussoir/run.h"
 
 struct vs_run {
-  vs_case c;
+  vs_run_def def; /* what the run is (SI): the engine reads this */
+  vs_case c;      /* the case it was made from, for the reports (have_case; else zero) */
+  int have_case;
   vs_geometry *g;
   vs_imperfections *imp; /* the drawn imperfections ([imperfections]; none: the perfect arch) */
   vs_model *m;

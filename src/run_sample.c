@@ -114,16 +114,16 @@ static void fill_counters(const vs_run *r, vs_run_sample *s) {
 static int damping_setup(vs_run *r, double delta, const double *q) {
   r->modal_done = 1;
   vs_error_clear(&r->modal_err);
-  if (3 * r->c.voussoirs > VS_MODAL_MAX_DOF) return 0; /* not computed (not rayleigh: checked) */
+  if (3 * r->def.arch.voussoirs > VS_MODAL_MAX_DOF) return 0; /* not computed (not rayleigh: checked) */
   r->modal_st = vs_modal_compute(r->m, q, delta, VS_MODAL_MAX, &r->modal, &r->modal_err);
-  const int rayleigh = r->c.damping_model == VS_DAMPING_RAYLEIGH;
+  const int rayleigh = r->def.dynamic.damping_model == VS_DAMPING_RAYLEIGH;
   if (r->modal_st != VS_OK && !rayleigh) { /* the modes are only reported: none, then */
     r->modal_st = VS_OK;
     return 0;
   }
   if (r->modal_st != VS_OK) return 1;
   if (rayleigh && r->modal.n_modes >= 2) {
-    r->modal_st = vs_damping_apply(r->m, VS_DAMPING_RAYLEIGH, r->c.damping, r->modal.omega[0],
+    r->modal_st = vs_damping_apply(r->m, VS_DAMPING_RAYLEIGH, r->def.dynamic.damping, r->modal.omega[0],
                                    r->modal.omega[1], &r->ray_alpha, &r->ray_beta, &r->modal_err);
     if (r->modal_st == VS_OK)
       r->modal_st = vs_modal_damping_ratios(r->m, q, delta, &r->modal, &r->modal_err);
@@ -250,7 +250,7 @@ void vs_run_record_collapse(vs_run *r, const vs_dyn_result *d) {
   c->delta_detected = d->t_collapse * r->dopts.rate;
   c->t_onset = (d->onset_found && d->t_motion <= d->t_collapse) ? d->t_motion : NAN;
   /* the departure: the limit point the motion started from, or (--dynamic) its located onset */
-  c->delta = (!r->c.full && r->n_limits > 0) ? r->limits[r->n_limits - 1].delta
+  c->delta = (!r->def.dynamic.full && r->n_limits > 0) ? r->limits[r->n_limits - 1].delta
                                              : c->t_onset * r->dopts.rate;
   c->t = c->delta / r->dopts.rate;
   if (!r->frozen) freeze_mechanism(r); /* (frozen at the collapse criterion's sample) */

@@ -3,14 +3,8 @@
 
 #include <math.h>
 
-#include "voussoir/units.h"
-
 vs_support_dir vs_support_direction(double alpha_rad) {
   return (vs_support_dir){.dx = sin(alpha_rad), .dz = cos(alpha_rad)};
-}
-
-vs_support_dir vs_support_case_direction(const vs_case *c) {
-  return vs_support_direction(c->alpha_deg * VS_DEG);
 }
 
 void vs_support_displacement(vs_support_dir d, double delta, double u[2]) {

@@ -54,7 +54,7 @@ static void fill_row(const vs_run *r, vs_status st, const vs_error *err, vs_swee
     row->first_limit_mm = p->delta_limit / VS_MM;
   if (col->found) {
     const double L = vs_case_span_mm(c);
-    const vs_support_dir sd = vs_support_case_direction(c);
+    const vs_support_dir sd = vs_support_direction(c->alpha_deg * VS_DEG);
     row->delta_u_mm = col->delta / VS_MM;
     row->dz_pct = 100.0 * row->delta_u_mm * sd.dz / L;
     row->dx_pct = 100.0 * row->delta_u_mm * sd.dx / L;

@@ -213,7 +213,7 @@ static const char full_file[] =
 
 /* The case in SI: every length in metres, angles in radians, stiffness in N/m^3 (1 N/mm^3 =
  * 1e9 N/m^3), speed in m/s; ks is ks_ratio times kn. Values chosen by hand, not the defaults. */
-static void test_to_si(void **state) {
+static void test_to_def(void **state) {
   (void)state;
   vs_case c;
   vs_case_defaults(&c);
@@ -221,17 +221,36 @@ static void test_to_si(void **state) {
   c.kn_N_mm3 = 2.0, c.ks_ratio = 0.25, c.alpha_deg = -45.0, c.rate_mm_s = 0.5, c.max_mm = 40.0;
   c.step_mm = 0.25, c.step_max_mm = 1.5, c.limit_tol_mm = 0.002, c.open_mm = 0.1;
   c.atol_mm = 1e-4, c.ground_mm = -30.0;
-  vs_case_si si;
-  vs_case_to_si(&c, &si);
+  c.step_ms = 0.5, c.slow_factor = 3.0, c.slow_mm_s = 200.0, c.kn_corr_mm = 40.0, c.face_mm = 0.2;
+  c.support_dx_mm = 1.5, c.support_dz_mm = -2.5, c.rest_s = 0.7, c.fall_s = 2.0, c.sample_s = 0.02;
+  vs_run_def d;
+  vs_case_to_def(&c, &d);
   const double eps = 1e-15, pi = 3.14159265358979323846;
-  assert_true(fabs(si.radius - 0.25) < eps && fabs(si.thickness - 0.02) < eps);
-  assert_true(fabs(si.depth - 0.1) < eps && fabs(si.embrace - pi / 2.0) < eps);
-  assert_true(fabs(si.kn - 2e9) < 1e-6 && fabs(si.ks - 5e8) < 1e-6);
-  assert_true(fabs(si.alpha + pi / 4.0) < eps && fabs(si.rate - 5e-4) < eps);
-  assert_true(fabs(si.max_delta - 0.04) < eps && fabs(si.step - 2.5e-4) < eps);
-  assert_true(fabs(si.step_max - 1.5e-3) < eps && fabs(si.limit_tol - 2e-6) < eps);
-  assert_true(fabs(si.open - 1e-4) < eps && fabs(si.atol_q - 1e-7) < eps);
-  assert_true(fabs(si.ground + 0.03) < eps);
+  assert_true(fabs(d.arch.radius - 0.25) < eps && fabs(d.arch.thickness - 0.02) < eps);
+  assert_true(fabs(d.arch.depth - 0.1) < eps && fabs(d.arch.embrace - pi / 2.0) < eps);
+  assert_true(fabs(d.joints.kn - 2e9) < 1e-6 && fabs(d.joints.ks - 5e8) < 1e-6);
+  assert_true(fabs(d.support.alpha + pi / 4.0) < eps && fabs(d.support.rate - 5e-4) < eps);
+  assert_true(fabs(d.support.max_delta - 0.04) < eps && fabs(d.path.step - 2.5e-4) < eps);
+  assert_true(fabs(d.path.step_max - 1.5e-3) < eps && fabs(d.path.limit_tol - 2e-6) < eps);
+  assert_true(fabs(d.hinges.open - 1e-4) < eps && fabs(d.dynamic.atol_q - 1e-7) < eps);
+  assert_true(fabs(d.fall.ground + 0.03) < eps);
+  assert_true(fabs(d.fall.step - 5e-4) < eps && fabs(d.fall.slow_step - 1.5e-3) < eps);
+  assert_true(fabs(d.fall.slow_speed - 0.2) < eps);
+  assert_true(fabs(d.imperfections.kn_corr - 0.04) < eps && fabs(d.imperfections.face - 2e-4) < eps);
+  assert_true(fabs(d.imperfections.support_dx - 1.5e-3) < eps);
+  assert_true(fabs(d.imperfections.support_dz + 2.5e-3) < eps);
+  /* dimensionless values and times (s) pass unchanged */
+  assert_true(d.joints.mu == c.friction && d.arch.density == c.density_kg_m3);
+  assert_true(d.dynamic.rest_time == 0.7 && d.dynamic.fall_time == 2.0 && d.dynamic.sample_dt == 0.02);
+  assert_int_equal(d.arch.voussoirs, c.voussoirs);
+  assert_int_equal(d.hinges.migrate, c.migrate_joints);
+  /* the definition's defaults: the reference specimen (docs/specimen.md) at k_n = 3 N/mm^3 */
+  vs_run_def dd;
+  vs_run_def_default(&dd);
+  assert_true(fabs(dd.arch.radius - 0.3) < eps && fabs(dd.arch.thickness - 0.024) < eps);
+  assert_true(fabs(dd.arch.embrace - 125.0 * pi / 180.0) < eps && dd.arch.voussoirs == 55);
+  assert_true(fabs(dd.arch.depth - 0.12) < eps && dd.arch.density == 1640.0);
+  assert_true(fabs(dd.joints.kn - 3e9) < 1e-6 && dd.joints.mu == 0.7 && dd.support.alpha == 0.0);
 }
 
 static void test_full_file(void **state) {
@@ -1052,7 +1071,7 @@ int main(void) {
       cmocka_unit_test(test_named_key),
       cmocka_unit_test(test_fall_scheme),
       cmocka_unit_test(test_defaults),
-      cmocka_unit_test(test_to_si),
+      cmocka_unit_test(test_to_def),
       cmocka_unit_test(test_full_file),
       cmocka_unit_test(test_partial_file_keeps_rest),
       cmocka_unit_test(test_empty_file),

@@ -32,6 +32,7 @@
 #include <sundials/sundials_context.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include "test_support.h"
 #include "voussoir/case.h"
 #include "voussoir/contact.h"
 #include "voussoir/dynamic.h"
@@ -59,7 +60,7 @@ static void test_jacobian(void **state) {
   vs_geometry *g = NULL;
   vs_model *m = NULL;
   vs_contact *ct = NULL;
-  assert_int_equal(vs_geometry_create_arch(&c, &g, &err), VS_OK);
+  assert_int_equal(vs_test_arch(&c, &g, &err), VS_OK);
   vs_joint_law law = {.kn = 3e9, .ks = 1.5e9, .mu = 0.7};
   assert_int_equal(vs_model_create(g, &law, 0.0, &m, &err), VS_OK);
   assert_int_equal(vs_contact_create(m, 0.5, 0, NULL, NULL, &ct, &err), VS_OK);
@@ -533,7 +534,7 @@ static void test_reference_lands(void **state) {
   vs_geometry *g = NULL;
   vs_error err;
   c.voussoirs = 21;
-  assert_int_equal(vs_geometry_create_arch(&c, &g, &err), VS_OK);
+  assert_int_equal(vs_test_arch(&c, &g, &err), VS_OK);
   const double kv = 0.5 * c.kn_N_mm3 * 1e9 * g->joints[0].depth * g->joints[0].length;
   const double W = vs_geometry_weight(g);
   vs_geometry_destroy(&g);

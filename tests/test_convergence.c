@@ -17,6 +17,7 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "test_support.h"
 #include "voussoir/run.h"
 #include "voussoir/units.h"
 
@@ -113,11 +114,11 @@ static double self_weight_thrust(double kn) {
   vs_model *m = NULL;
   vs_error err;
   vs_error_clear(&err);
-  assert_int_equal(vs_geometry_create_arch(&c, &g, &err), VS_OK);
+  assert_int_equal(vs_test_arch(&c, &g, &err), VS_OK);
   vs_joint_law law = {.kn = kn * VS_N_MM3, .ks = c.ks_ratio * kn * VS_N_MM3, .mu = c.friction};
   assert_int_equal(vs_model_create(g, &law, 0.0, &m, &err), VS_OK);
   vs_path_opts o;
-  vs_path_opts_from_case(&c, &o);
+  vs_test_path_opts(&c, &o);
   double q[3 * 55] = {0};
   long it = 0;
   assert_int_equal(vs_equilibrium_solve(m, &o, 0.0, q, &it, &err), VS_OK);

@@ -23,6 +23,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "test_support.h"
 #include "voussoir/case.h"
 #include "voussoir/dynamic.h"
 #include "voussoir/geometry.h"
@@ -808,7 +809,7 @@ static void arch_to_limit_kinds(arch *A, double kn_N_mm3, vs_support_kind left,
   A->c.alpha_deg = 0.0;
   vs_error err;
   vs_error_clear(&err);
-  vs_status st = vs_geometry_create_arch(&A->c, &A->g, &err);
+  vs_status st = vs_test_arch(&A->c, &A->g, &err);
   if (st != VS_OK) fail_msg("geometry: %s: %s", vs_strerror(st), err.msg);
   vs_joint_law law = {.kn = kn_N_mm3 * 1e9, .ks = A->c.ks_ratio * kn_N_mm3 * 1e9,
                       .mu = A->c.friction};
@@ -821,7 +822,7 @@ static void arch_to_limit_kinds(arch *A, double kn_N_mm3, vs_support_kind left,
   A->v = calloc((size_t)A->n, sizeof *A->v);
   assert_non_null(A->q);
   assert_non_null(A->v);
-  vs_path_opts_from_case(&A->c, &A->po);
+  vs_test_path_opts(&A->c, &A->po);
   const double t0 = now_s();
   st = vs_path_run(A->m, &A->po, 0.0, A->q, NULL, NULL, &A->pres, &err);
   A->wall_path = now_s() - t0;

@@ -32,6 +32,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "test_support.h"
 #include "voussoir/case.h"
 #include "voussoir/fall.h"
 #include "voussoir/geometry.h"
@@ -697,11 +698,11 @@ static void test_arch_stands(void **state) {
   vs_error_clear(&err);
   vs_geometry *g = NULL;
   vs_model *m = NULL;
-  assert_int_equal(vs_geometry_create_arch(&c, &g, &err), VS_OK);
+  assert_int_equal(vs_test_arch(&c, &g, &err), VS_OK);
   vs_joint_law law = {.kn = 3e9, .ks = 1.5e9, .mu = 0.7};
   assert_int_equal(vs_model_create(g, &law, 0.0, &m, &err), VS_OK);
   vs_path_opts po;
-  vs_path_opts_from_case(&c, &po);
+  vs_test_path_opts(&c, &po);
   const int ne = vs_model_ext_size(m), n = 3 * g->n_blocks;
   double *qe = calloc((size_t)ne, sizeof *qe), *ve = calloc((size_t)ne, sizeof *ve);
   vs_joint_state *js = calloc((size_t)g->n_joints, sizeof *js);

@@ -9,6 +9,7 @@
 
 #include <math.h>
 
+#include "test_support.h"
 #include "voussoir/case.h"
 #include "voussoir/geometry.h"
 
@@ -106,7 +107,7 @@ static vs_geometry *build(const vs_case *c) {
   vs_geometry *g = NULL;
   vs_error err;
   vs_error_clear(&err);
-  vs_status s = vs_geometry_create_arch(c, &g, &err);
+  vs_status s = vs_test_arch(c, &g, &err);
   if (s != VS_OK || !g) fail_msg("vs_geometry_create_arch: %s: %s", vs_strerror(s), err.msg);
   return g;
 }

@@ -17,6 +17,13 @@
 #include "voussoir/run.h"
 #include "voussoir/units.h"
 
+/* The imperfections case c asks for (on its arch). */
+static vs_status draw(const vs_case *c, vs_imperfections **p, vs_error *err) {
+  vs_run_def d;
+  vs_case_to_def(c, &d);
+  return vs_imperfections_draw(&d.imperfections, &d.arch, p, err);
+}
+
 static void set(vs_case *c, const char *a) {
   vs_error err;
   if (vs_case_set(c, a, &err) != VS_OK) fail_msg("%s: %s", a, err.msg);
@@ -78,7 +85,7 @@ static void test_lognormal_moments(void **state) {
     c.sample = smp;
     vs_imperfections *p = NULL;
     vs_error err;
-    assert_int_equal(vs_imperfections_draw(&c, &p, &err), VS_OK);
+    assert_int_equal(draw(&c, &p, &err), VS_OK);
     for (int k = 0; k < p->n_joints; k++, n++) {
       const double f = p->kn_factor[k], l = log(f);
       sum += f;
@@ -109,7 +116,7 @@ static void test_lognormal_moments(void **state) {
     c.sample = smp;
     vs_imperfections *p = NULL;
     vs_error err;
-    assert_int_equal(vs_imperfections_draw(&c, &p, &err), VS_OK);
+    assert_int_equal(draw(&c, &p, &err), VS_OK);
     for (int k = 1; k < p->n_joints; k++, m++) {
       const double x = (log(p->kn_factor[k - 1]) + 0.5 * s2) / sqrt(s2);
       const double y = (log(p->kn_factor[k]) + 0.5 * s2) / sqrt(s2);
@@ -212,24 +219,26 @@ static void test_scattered_arch_closes(void **state) {
   vs_imperfections *p = NULL;
   vs_geometry *g = NULL;
   vs_error err;
-  assert_int_equal(vs_imperfections_draw(&c, &p, &err), VS_OK);
-  assert_int_equal(vs_imperfections_arch(&c, p, &g, &err), VS_OK);
+  assert_int_equal(draw(&c, &p, &err), VS_OK);
+  vs_run_def d;
+  vs_case_to_def(&c, &d);
+  assert_int_equal(vs_imperfections_arch(&d.imperfections, &d.arch, p, &g, &err), VS_OK);
   const double beta = 0.5 * c.embrace_deg * VS_DEG;
   double total = 0;
   int differs = 0;
   for (int i = 0; i < g->n_blocks; i++) {
     total += g->blocks[i].phi1 - g->blocks[i].phi0;
     if (i > 0) assert_true(g->blocks[i].phi0 == g->blocks[i - 1].phi1);
-    if (fabs(p->angle_deg[i] - c.embrace_deg / c.voussoirs) > 1e-6) differs++;
+    if (fabs(p->angle[i] - d.arch.embrace / c.voussoirs) > 1e-8) differs++;
   }
   assert_true(g->blocks[0].phi0 == -beta);
   assert_true(g->blocks[g->n_blocks - 1].phi1 == beta);
   assert_true(fabs(total - 2 * beta) < 1e-12);
   assert_true(differs > g->n_blocks / 2);
   for (int k = 0; k < g->n_joints; k++) {
-    const double ta = k > 0 ? p->thickness_mm[k - 1] : INFINITY;
-    const double tb = k < g->n_blocks ? p->thickness_mm[k] : INFINITY;
-    assert_true(fabs(g->joints[k].length - fmin(ta, tb) * VS_MM) < 1e-15);
+    const double ta = k > 0 ? p->thickness[k - 1] : INFINITY;
+    const double tb = k < g->n_blocks ? p->thickness[k] : INFINITY;
+    assert_true(fabs(g->joints[k].length - fmin(ta, tb)) < 1e-15);
   }
   vs_geometry_destroy(&g);
   vs_imperfections_destroy(&p);

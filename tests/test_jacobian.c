@@ -15,6 +15,7 @@
 #include <sundials/sundials_context.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include "test_support.h"
 #include "voussoir/case.h"
 #include "voussoir/dynamic.h"
 #include "voussoir/geometry.h"
@@ -62,7 +63,7 @@ static void fixture_init_kinds(fixture *fx, double alpha_deg, double mu, vs_supp
   vs_error_clear(&err);
   fx->g = NULL;
   fx->m = NULL;
-  vs_status s = vs_geometry_create_arch(&fx->c, &fx->g, &err);
+  vs_status s = vs_test_arch(&fx->c, &fx->g, &err);
   if (s != VS_OK) fail_msg("geometry: %s", err.msg);
   double kn = fx->c.kn_N_mm3 * 1e9;
   fx->law = (vs_joint_law){.kn = kn, .ks = fx->c.ks_ratio * kn, .mu = fx->c.friction};

@@ -9,6 +9,7 @@
 #include <setjmp.h>
 #include <cmocka.h>
 
+#include "test_support.h"
 #include "voussoir/case.h"
 #include "voussoir/geometry.h"
 #include "voussoir/plot.h"
@@ -42,7 +43,7 @@ static int setup(void **state) {
   vs_case_defaults(&c);
   vs_error err;
   vs_error_clear(&err);
-  assert_int_equal(vs_geometry_create_arch(&c, &f->g, &err), VS_OK);
+  assert_int_equal(vs_test_arch(&c, &f->g, &err), VS_OK);
   f->n = f->g->n_blocks;
   f->q = calloc((size_t)(3 * f->n), sizeof *f->q);
   assert_non_null(f->q);

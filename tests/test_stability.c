@@ -17,6 +17,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include "test_support.h"
 #include "voussoir/case.h"
 #include "voussoir/geometry.h"
 #include "voussoir/model.h"
@@ -86,7 +87,7 @@ static void arch_tangent(vs_support_kind kind) {
   vs_error_clear(&err);
   vs_geometry *g = NULL;
   vs_model *m = NULL;
-  assert_int_equal(vs_geometry_create_arch(&c, &g, &err), VS_OK);
+  assert_int_equal(vs_test_arch(&c, &g, &err), VS_OK);
   vs_joint_law law = {.kn = c.kn_N_mm3 * 1e9, .ks = c.ks_ratio * c.kn_N_mm3 * 1e9, .mu = c.friction};
   assert_int_equal(vs_model_create(g, &law, 0.0, &m, &err), VS_OK);
   assert_int_equal(vs_model_set_support_kinds(m, kind, kind, &err), VS_OK);
@@ -98,7 +99,7 @@ static void arch_tangent(vs_support_kind kind) {
   assert_non_null(perm);
   assert_non_null(natural);
   vs_path_opts po;
-  vs_path_opts_from_case(&c, &po);
+  vs_test_path_opts(&c, &po);
   po.max_delta = 0.0;
   vs_path_result pr;
   if (vs_path_run(m, &po, 0.0, q, NULL, NULL, &pr, &err) != VS_OK) fail_msg("%s", err.msg);

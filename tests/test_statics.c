@@ -11,6 +11,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "test_support.h"
 #include "voussoir/case.h"
 #include "voussoir/geometry.h"
 #include "voussoir/joint.h"
@@ -42,7 +43,7 @@ typedef struct {
 static void arch_solve(arch_run *r) {
   vs_error err;
   vs_error_clear(&err);
-  vs_status s = vs_geometry_create_arch(&r->c, &r->g, &err);
+  vs_status s = vs_test_arch(&r->c, &r->g, &err);
   if (s != VS_OK) fail_msg("geometry: %s: %s", vs_strerror(s), err.msg);
   vs_joint_law law = {.kn = r->c.kn_N_mm3 * 1e9, .ks = r->c.ks_ratio * r->c.kn_N_mm3 * 1e9, .mu = r->c.friction};
   s = vs_model_create(r->g, &law, deg(r->c.alpha_deg), &r->m, &err);
@@ -55,7 +56,7 @@ static void arch_solve(arch_run *r) {
   r->q = calloc((size_t)r->n, sizeof(double));
   assert_non_null(r->q);
   vs_path_opts o;
-  vs_path_opts_from_case(&r->c, &o);
+  vs_test_path_opts(&r->c, &o);
   long iters = 0;
   s = vs_equilibrium_solve(r->m, &o, 0.0, r->q, &iters, &err);
   if (s != VS_OK) fail_msg("self-weight equilibrium: %s: %s", vs_strerror(s), err.msg);
@@ -347,7 +348,7 @@ static void incline_solve(double tanb, incline_run *r) {
   vs_case c;
   vs_case_defaults(&c);
   vs_path_opts o;
-  vs_path_opts_from_case(&c, &o);
+  vs_test_path_opts(&c, &o);
   r->q[0] = r->q[1] = r->q[2] = 0;
   long iters = 0;
   r->status = vs_equilibrium_solve(r->m, &o, 0.0, r->q, &iters, &err);
@@ -465,7 +466,7 @@ static void test_pinned_supports(void **state) {
   print_message("pinned: springing eccentricity under self-weight %.3g t\n", ecc);
   assert_true(ecc < 1e-4);
   vs_path_opts o;
-  vs_path_opts_from_case(&r.c, &o);
+  vs_test_path_opts(&r.c, &o);
   pin_path p = {.W = W};
   vs_path_result res;
   vs_error err;
@@ -492,7 +493,7 @@ static double spreading_limit(vs_support_kind left, vs_support_kind right, doubl
   r.c.right_kind = (int)right;
   arch_solve(&r);
   vs_path_opts o;
-  vs_path_opts_from_case(&r.c, &o);
+  vs_test_path_opts(&r.c, &o);
   vs_path_result res;
   vs_error err;
   vs_error_clear(&err);

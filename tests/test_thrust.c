@@ -12,6 +12,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "test_support.h"
 #include "voussoir/case.h"
 #include "voussoir/geometry.h"
 #include "voussoir/joint.h"
@@ -39,7 +40,7 @@ static int setup(void **state) {
   vs_case_defaults(&f->c);
   vs_error err;
   vs_error_clear(&err);
-  assert_int_equal(vs_geometry_create_arch(&f->c, &f->g, &err), VS_OK);
+  assert_int_equal(vs_test_arch(&f->c, &f->g, &err), VS_OK);
   f->nb = f->g->n_blocks, f->nj = f->g->n_joints;
   f->q = calloc((size_t)(3 * f->nb + 2), sizeof *f->q);
   f->N = calloc((size_t)f->nj, sizeof *f->N);
@@ -110,7 +111,7 @@ static void test_symmetric_self_weight(void **state) {
   vs_model *m = NULL;
   assert_int_equal(vs_model_create(f->g, &law, 0.0, &m, &err), VS_OK);
   vs_path_opts o;
-  vs_path_opts_from_case(&f->c, &o);
+  vs_test_path_opts(&f->c, &o);
   long iters = 0;
   for (int i = 0; i < 3 * f->nb; i++) f->q[i] = 0.0;
   assert_int_equal(vs_equilibrium_solve(m, &o, 0.0, f->q, &iters, &err), VS_OK);

@@ -1,13 +1,12 @@
 /* The case: every input parameter of a run, in the units engineers use for the specimen
  * (mm, N/mm^3, deg, kg/m^3), read from an INI file and validated before anything runs.
- * Conversion to SI happens once, where the geometry and the model are built. */
+ * The engine never reads this struct: vs_case_to_def turns it into the run's definition
+ * (def.h), in SI, once. */
 #ifndef VOUSSOIR_CASE_H
 #define VOUSSOIR_CASE_H
 
+#include "voussoir/def.h"
 #include "voussoir/status.h"
-
-/* fall.scheme: how the fall after the collapse is integrated. */
-typedef enum { VS_FALL_RIGID = 0, VS_FALL_PENALTY = 1 } vs_fall_scheme;
 
 typedef struct {
   /* [arch] segmental circular arch */
@@ -148,25 +147,8 @@ const char *vs_case_key_name_of(int i, int value);
 /* Intrados span L = 2 R sin(embrace/2), in mm: the length the study normalises by. */
 double vs_case_span_mm(const vs_case *c);
 
-/* The case's lengths, angles, stiffnesses and speed in SI (m, rad, N/m^3, m/s), converted once at
- * the boundary: the library's modules read these, not the case's own units. */
-typedef struct {
-  double radius, thickness, depth; /* m */
-  double embrace;                  /* rad */
-  double kn, ks;                   /* N/m^3: joints.kn_N_mm3, and ks_ratio times it */
-  double alpha;                    /* rad: support.alpha_deg */
-  double rate;                     /* m/s: support.rate_mm_s */
-  double max_delta;                /* m: support.max_mm */
-  double step, step_max, limit_tol; /* m: the path's increments and limit-point tolerance */
-  double open;                     /* m: hinges.open_mm */
-  double atol_q;                   /* m: dynamic.atol_mm */
-  double ground;                   /* m: fall.ground_mm */
-  double fall_step;                /* s: fall.step_ms */
-  double fall_slow_step;           /* s: fall.slow_factor times that */
-  double fall_slow_speed;          /* m/s: fall.slow_mm_s */
-} vs_case_si;
-
-/* Fill si from c (units.h factors; nothing else is derived). */
-void vs_case_to_si(const vs_case *c, vs_case_si *si);
+/* The engine's definition of the run case c asks for (def.h): every length, angle, stiffness
+ * and speed converted to SI once, here (units.h factors; nothing else is derived). */
+void vs_case_to_def(const vs_case *c, vs_run_def *d);
 
 #endif

@@ -15,13 +15,6 @@
 #include "voussoir/model.h"
 #include "voussoir/status.h"
 
-typedef enum {
-  VS_DAMPING_NONE = 0,
-  VS_DAMPING_JOINT = 1,
-  VS_DAMPING_RAYLEIGH = 2,
-  VS_DAMPING_IMPACT = 3
-} vs_damping_model;
-
 #define VS_DAMPING_MODEL_COUNT 4
 
 /* "none", "joint", "rayleigh", "impact"; NULL for an unknown value. */

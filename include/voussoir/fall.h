@@ -50,12 +50,6 @@
 #include "voussoir/status.h"
 
 /* How the contacts' impulses are solved in an island of bodies (fall.c: solve_island). */
-typedef enum {
-  VS_FALL_NNCG = 0,        /* Gauss-Seidel sweeps, each followed by a nonsmooth nonlinear
-                              conjugate gradient step (the default) */
-  VS_FALL_GAUSS_SEIDEL = 1 /* Gauss-Seidel sweeps alone */
-} vs_fall_solver;
-
 typedef struct {
   double step;        /* time step h, s (> 0), while the debris moves fast ... */
   double slow_step;   /* ... and this one (>= step, <= 0.1 s) while no point of any block moves

@@ -4,7 +4,7 @@
 #ifndef VOUSSOIR_GEOMETRY_H
 #define VOUSSOIR_GEOMETRY_H
 
-#include "voussoir/case.h"
+#include "voussoir/def.h"
 #include "voussoir/status.h"
 
 /* Joint ends that are not blocks. The left support is fixed; the right one is moved. */
@@ -48,10 +48,10 @@ static inline void vs_joint_tangent(const vs_joint_geom *j, double *sx, double *
   *sz = j->nx;
 }
 
-/* Build the segmental circular arch of case c: voussoirs of equal angular size, radial joints,
+/* Build the segmental circular arch a: voussoirs of equal angular size, radial joints,
  * joint 1 on the left springing plane, joint n+1 on the right one. The circle's centre is the
  * origin; the crown is on the +z axis. Exact annular-sector mass, centroid and inertia. */
-vs_status vs_geometry_create_arch(const vs_case *c, vs_geometry **out, vs_error *err);
+vs_status vs_geometry_create_arch(const vs_arch_def *a, vs_geometry **out, vs_error *err);
 
 /* Allocate an empty geometry with room for n_blocks blocks and n_joints joints (tests, other
  * shapes); the caller fills the arrays. */

@@ -8,17 +8,17 @@
  * A uniform in (0, 1) is ((x >> 11) + 0.5) 2^-53; a standard normal is Box-Muller on the uniforms
  * of indices 2i and 2i + 1 (the cosine branch). Streams: 1 k_n, 2 faces, 3 angles, 4 thickness.
  *
- * What is drawn (SI inside, mm at the boundary):
+ * What is drawn (SI, as the definition, def.h):
  * - k_n of joint k: k_n exp(s z_k - s^2/2), s^2 = ln(1 + CoV^2) (lognormal, mean k_n, CoV kn_cov);
  *   k_s keeps its ratio. With a correlation length l_c the z_k are an Ornstein-Uhlenbeck process
  *   along the arch's centre line (correlation exp(-|s_i - s_j| / l_c)), else independent.
- * - faces: a_k = face_mm z_k; joint k's faces touch at one edge and gap by |a_k| at the other
+ * - faces: a_k = face z_k; joint k's faces touch at one edge and gap by |a_k| at the other
  *   (the extrados when a_k > 0): initial gap |a_k|/2 + (a_k/t) xi, xi from the joint centre.
  * - angles: each voussoir's angle nominal x lognormal(angle_cov), the deviations shifted by their
  *   mean so that the voussoirs still fill the embrace exactly (both springings in place).
  * - thickness: each voussoir's t nominal x lognormal(thickness_cov); a joint's faces are the
  *   overlap of its two voussoirs' (a support's, its voussoir's), from the intrados.
- * - support: the right support offset by (support_dx_mm outward, support_dz_mm down), entering
+ * - support: the right support offset by (support_dx outward, support_dz down), entering
  *   as the arch's weight comes on (vs_model_set_support_offset).
  * With every amplitude 0 nothing is changed: the perfect arch, bit for bit. */
 #ifndef VOUSSOIR_IMPERFECTIONS_H
@@ -26,7 +26,7 @@
 
 #include <stdint.h>
 
-#include "voussoir/case.h"
+#include "voussoir/def.h"
 #include "voussoir/geometry.h"
 #include "voussoir/model.h"
 #include "voussoir/status.h"
@@ -36,31 +36,33 @@ uint64_t vs_rng_key(uint64_t seed, uint64_t sample, uint64_t stream, uint64_t in
 double vs_rng_uniform(uint64_t seed, uint64_t sample, uint64_t stream, uint64_t index);
 double vs_rng_normal(uint64_t seed, uint64_t sample, uint64_t stream, uint64_t index);
 
-/* The drawn values of one sample, in the units of the case (stored in the record). */
+/* The drawn values of one sample (stored in the record). */
 typedef struct {
   int n_joints, n_blocks;
-  double *kn_factor;    /* n_joints: k_n / nominal k_n */
-  double *face_gap_mm;  /* n_joints: a_k, the as-built gap at the open edge, signed (> 0 extrados) */
-  double *angle_deg;    /* n_blocks: angular size of each voussoir */
-  double *thickness_mm; /* n_blocks: radial thickness of each voussoir */
-  double support_mm[2]; /* offset of the right support: outward, downward */
+  double *kn_factor; /* n_joints: k_n / nominal k_n */
+  double *face_gap;  /* n_joints: a_k, the as-built gap at the open edge, m, signed (> 0 extrados) */
+  double *angle;     /* n_blocks: angular size of each voussoir, rad */
+  double *thickness; /* n_blocks: radial thickness of each voussoir, m */
+  double support[2]; /* offset of the right support: outward, downward, m */
 } vs_imperfections;
 
-/* Draw the imperfections of case c (its seed and sample). *out is owned by the caller
- * (vs_imperfections_destroy). VS_ERR_NOMEM only. */
-vs_status vs_imperfections_draw(const vs_case *c, vs_imperfections **out, vs_error *err);
+/* Draw the imperfections d asks for (its seed and sample) on arch a. *out is owned by the
+ * caller (vs_imperfections_destroy). VS_ERR_NOMEM only. */
+vs_status vs_imperfections_draw(const vs_imperfection_def *d, const vs_arch_def *a,
+                                vs_imperfections **out, vs_error *err);
 void vs_imperfections_destroy(vs_imperfections **p);
 
-/* 1 when case c asks for any imperfection, else 0. */
-int vs_imperfections_any(const vs_case *c);
+/* 1 when d asks for any imperfection, else 0. */
+int vs_imperfections_any(const vs_imperfection_def *d);
 
-/* Build the arch of case c with the drawn angles and thickness (vs_geometry_create_arch when
- * their CoVs are 0). */
-vs_status vs_imperfections_arch(const vs_case *c, const vs_imperfections *imp, vs_geometry **out,
-                                vs_error *err);
+/* Build arch a with the drawn angles and thickness (vs_geometry_create_arch when d's CoVs of
+ * them are 0). */
+vs_status vs_imperfections_arch(const vs_imperfection_def *d, const vs_arch_def *a,
+                                const vs_imperfections *imp, vs_geometry **out, vs_error *err);
 
-/* Apply the joint laws (k_n, faces) and the support offset to model m built over that arch. */
-vs_status vs_imperfections_apply(const vs_case *c, const vs_imperfections *imp, vs_model *m,
-                                 vs_error *err);
+/* Apply the joint laws (k_n, faces) and the support offset d asks for to model m built over
+ * that arch. */
+vs_status vs_imperfections_apply(const vs_imperfection_def *d, const vs_imperfections *imp,
+                                 vs_model *m, vs_error *err);
 
 #endif

@@ -24,7 +24,6 @@ void vs_model_destroy(vs_model **m);
 /* Support kinds. fixed: the springer is clamped (no rotation). pinned: the springer rotates
  * freely about its pivot, the centre of its joint with the arch (the mid-point of the springing
  * face; a pier on a hinge), while the pivot follows the prescribed motion. */
-typedef enum { VS_SUPPORT_FIXED = 0, VS_SUPPORT_PINNED = 1 } vs_support_kind;
 
 /* Set the two supports' kinds (default both fixed); call before any other use of m, since it
  * changes the unknowns: each pinned support's rotation theta_s (rad, counter-clockwise) becomes

@@ -31,8 +31,9 @@ typedef struct {
  * (VS_ERR_SOLVER) that says so. */
 #define VS_PATH_MAX_INCREMENTS 1000000L
 
-/* Options from a case (mm -> m). */
-void vs_path_opts_from_case(const vs_case *c, vs_path_opts *o);
+/* Options from a run's definition: its path, the support's largest displacement and the hinges'
+ * opening; no stop flag. */
+void vs_path_opts_from_def(const vs_run_def *d, vs_path_opts *o);
 
 typedef enum {
   VS_PATH_LIMIT_POINT = 1,     /* stopped at a confirmed limit point */

@@ -91,8 +91,12 @@ typedef struct {
 typedef int (*vs_run_sample_fn)(void *user, const vs_run *run, const vs_run_sample *s);
 typedef int (*vs_run_event_fn)(void *user, const vs_run *run, const vs_run_event *e);
 
-/* Build everything for case c (copied). Errors: VS_ERR_INVALID / VS_ERR_NOMEM. */
+/* Build everything for case c (copied; vs_case_to_def gives the run's definition).
+ * Errors: VS_ERR_INVALID / VS_ERR_NOMEM. */
 vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err);
+/* The same from a definition (def.h, copied): a run no case file describes. vs_run_case is then
+ * NULL, and the reports and the record, which echo a case, need one (vs_run_create). */
+vs_status vs_run_create_def(const vs_run_def *d, vs_run **out, vs_error *err);
 void vs_run_destroy(vs_run **r);
 
 /* Stop flag of the run (NULL: none), e.g. set by a SIGINT handler: once non-zero, the solve
@@ -111,7 +115,9 @@ void vs_run_set_stop(vs_run *r, const volatile sig_atomic_t *stop);
 vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn event, void *user,
                          vs_error *err);
 
+/* The case the run was made from (NULL: made from a definition); its definition. */
 const vs_case *vs_run_case(const vs_run *r);
+const vs_run_def *vs_run_def_of(const vs_run *r);
 const vs_geometry *vs_run_geometry(const vs_run *r);
 /* The imperfections drawn for the case (all nominal when it asks for none). */
 const vs_imperfections *vs_run_imperfections(const vs_run *r);

@@ -5,8 +5,6 @@
 #ifndef VOUSSOIR_SUPPORT_H
 #define VOUSSOIR_SUPPORT_H
 
-#include "voussoir/case.h"
-
 typedef struct {
   double dx; /* sin alpha: the outward (x) share of delta, the spreading */
   double dz; /* cos alpha: the downward share of delta, the settlement */
@@ -14,9 +12,6 @@ typedef struct {
 
 /* The direction alpha_rad (rad). */
 vs_support_dir vs_support_direction(double alpha_rad);
-
-/* The direction of case c (support.alpha_deg, converted here). */
-vs_support_dir vs_support_case_direction(const vs_case *c);
 
 /* The right support's displacement for delta (m) along d: u = (delta dx, -delta dz), m. */
 void vs_support_displacement(vs_support_dir d, double delta, double u[2]);
