@@ -12,11 +12,11 @@ install(TARGETS vslib vsrecord vsplot vs_all voussoir EXPORT voussoirTargets
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
-# sweep.h declares the CLI's sweep and calibrate commands, which live in the program, not in
-# the library: it is not part of the installed API.
-file(GLOB VS_PUBLIC_HEADERS ${PROJECT_SOURCE_DIR}/include/voussoir/*.h)
-list(FILTER VS_PUBLIC_HEADERS EXCLUDE REGEX "/sweep\\.h$")
-install(FILES ${VS_PUBLIC_HEADERS} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/voussoir)
+# The public headers: include/voussoir/ (every header there is API; the private ones stand beside
+# their sources in src/) and the generated version.h.
+file(GLOB VS_PUBLIC_HEADERS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/include/voussoir/*.h)
+install(FILES ${VS_PUBLIC_HEADERS} ${PROJECT_BINARY_DIR}/include/voussoir/version.h
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/voussoir)
 
 # The MPI plugin (a build with MPI) goes next to them too; it is the program's, not an API.
 if(TARGET vsmpi)

@@ -8,11 +8,11 @@
 #  3. alpha 90 deg, k_n 48 N/mm^3, with its record;
 #     (full mode) the split of rows 2 and 3: the record of the run ending at the collapse
 #     (dynamic.fall_s = 0), and alpha 90 without a record; the fall to rest is the rest; and
-#     rows 2 and 3 with the record's snapshots (src/record_snapshot.c) after the layout only
+#     rows 2 and 3 with the record's snapshots (src/record/record_snapshot.c) after the layout only
 #     (--snapshot-share 1e-6) and after every flush (1), this build only;
 #  4. the seed domain (alpha 0:45:5,60,75,90 x k_n 3, 48, records) by `sweep -j 2`: wall seconds;
 #  5. process start-up: `voussoir --version`, mean CPU milliseconds (user + sys) over 50 starts
-#     (HDF5 and cairo are loaded only by the commands that need them: src/plugin.h);
+#     (HDF5 and cairo are loaded only by the commands that need them: src/plugin/plugin.h);
 #  6. one run to collapse (--no-record) with 55 to 1760 voussoirs: CPU seconds, and the cost
 #     relative to 55 voussoirs (linear: the ratio of the counts).
 # Each row prints both figures and their ratio this / previous (below 1: faster). The full mode

@@ -8,7 +8,7 @@
 #   - a record that opens but holds an object that does not read, kept as torn-K.h5 in OUT_DIR
 #     for inspection. HDF5 1.10 has no crash-consistent flush, so a kill inside one can tear the
 #     file it writes; that file is PATH.part, and PATH is only ever replaced (renamed over) by a
-#     whole copy of it taken after a flush (src/record_snapshot.c). Before that design, 1 record
+#     whole copy of it taken after a flush (src/record/record_snapshot.c). Before that design, 1 record
 #     in 247 was torn.
 # A measurement, not a test: it exits 0 whatever it finds, and prints the counts.
 # usage: runs/kill_stress.sh [N]   (N default 200; VOUSSOIR=binary, OUT_DIR=... as the other

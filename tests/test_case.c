@@ -1,6 +1,6 @@
 /* Tests of the case module: defaults, INI reading, every range and syntax error with its
  * FILE:LINE message, --set overrides, cross-field validation and the span.
- * Expected values are written out here, independently of the key table in src/case.c. */
+ * Expected values are written out here, independently of the key table in src/case/case.c. */
 #define _POSIX_C_SOURCE 200809L /* mkstemp, fdopen, mkdtemp, mkfifo */
 
 #include <stdarg.h>

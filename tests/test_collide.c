@@ -20,7 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "voussoir/collide.h"
+#include "collide.h"
 #include "voussoir/dynamic.h"
 #include "voussoir/geometry.h"
 #include "voussoir/model.h"

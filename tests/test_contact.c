@@ -34,7 +34,7 @@
 
 #include "test_support.h"
 #include "voussoir/case.h"
-#include "voussoir/contact.h"
+#include "contact.h"
 #include "voussoir/dynamic.h"
 #include "voussoir/geometry.h"
 #include "voussoir/model.h"

@@ -24,6 +24,7 @@
 #include <time.h>
 
 #include "test_support.h"
+#include "model_matrix.h"
 #include "voussoir/case.h"
 #include "voussoir/dynamic.h"
 #include "voussoir/geometry.h"

@@ -24,7 +24,7 @@
 #include "voussoir/case.h"
 #include "voussoir/dynamic.h"
 #include "voussoir/geometry.h"
-#include "voussoir/impact.h"
+#include "impact.h"
 #include "voussoir/joint.h"
 #include "voussoir/modal.h"
 #include "voussoir/model.h"

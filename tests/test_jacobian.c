@@ -16,6 +16,7 @@
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include "test_support.h"
+#include "dynamic_internal.h"
 #include "voussoir/case.h"
 #include "voussoir/dynamic.h"
 #include "voussoir/geometry.h"

@@ -18,7 +18,7 @@
 #include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
-#include "voussoir/klu_reuse.h"
+#include "klu_reuse.h"
 
 /* A 2 x 2 dense-pattern CSC matrix [[a00, a01], [a10, a11]]. */
 static void set2(SUNMatrix A, double a00, double a01, double a10, double a11) {

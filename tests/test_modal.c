@@ -24,6 +24,7 @@
 #include <sundials/sundials_context.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include "model_matrix.h"
 #include "voussoir/damping.h"
 #include "voussoir/dynamic.h"
 #include "voussoir/geometry.h"

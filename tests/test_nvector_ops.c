@@ -15,7 +15,7 @@
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 
-#include "voussoir/nvector_ops.h"
+#include "nvector_ops.h"
 
 enum { N = 37 }; /* odd: vectorised loops have a remainder */
 

@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "voussoir/parse.h"
+#include "parse.h"
 
 static void ok_double(const char *s, double want) {
   double v = NAN;

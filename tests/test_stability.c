@@ -18,11 +18,12 @@
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include "test_support.h"
+#include "model_matrix.h"
 #include "voussoir/case.h"
 #include "voussoir/geometry.h"
 #include "voussoir/model.h"
 #include "voussoir/quasistatic.h"
-#include "voussoir/stability.h"
+#include "stability.h"
 
 /* vs_spd_test of the n x n row-major matrix a. */
 static int spd_of(SUNContext ctx, int n, const double *a) {

@@ -22,7 +22,7 @@
 #include <hdf5.h>
 
 #include "voussoir/run.h"
-#include "voussoir/sweep.h"
+#include "list.h"
 
 #define REFERENCE VS_SOURCE_DIR "/runs/reference.ini"
 

@@ -5,6 +5,8 @@
 #ifndef VOUSSOIR_CASE_H
 #define VOUSSOIR_CASE_H
 
+#include "voussoir/api.h"
+
 #include "voussoir/def.h"
 #include "voussoir/status.h"
 
@@ -82,7 +84,7 @@ typedef struct {
   double restitution;  /* penalty scheme: coefficient of restitution of a block landing flat on
                           the ground, (0, 1], default 0.5 */
 
-  /* [imperfections] drawn per (seed, sample) by src/imperfections.c; all zero: the perfect arch */
+  /* [imperfections] drawn per (seed, sample) by src/model/imperfections.c; all zero: the perfect arch */
   int seed;             /* generator seed, 0..2147483647, default 1 */
   int sample;           /* sample number (montecarlo sets it), 0..2147483647, default 0 */
   double kn_cov;        /* CoV of each joint's k_n (lognormal, mean k_n), [0, 3], default 0 */
@@ -95,7 +97,7 @@ typedef struct {
 } vs_case;
 
 /* Fill c with the defaults: the reference specimen (docs/specimen.md) with k_n = 3 N/mm^3, alpha = 0. */
-void vs_case_defaults(vs_case *c);
+VS_API void vs_case_defaults(vs_case *c);
 
 /* Read an INI case file (libinih) over the current contents of c (call vs_case_defaults first).
  * Every value is parsed and range-checked; the first problem is reported in err as
@@ -110,7 +112,7 @@ void vs_case_defaults(vs_case *c);
  * ignored (there are no continuation lines). c is changed only if the whole file is accepted.
  * If text_out is not NULL, *text_out receives a malloc'd copy of the file's text (caller frees)
  * for echoing, or NULL on failure. */
-vs_status vs_case_read(vs_case *c, const char *path, char **text_out, vs_error *err);
+VS_API vs_status vs_case_read(vs_case *c, const char *path, char **text_out, vs_error *err);
 
 /* Largest case file read, in bytes (1 MiB): a real case is a few hundred bytes; the text is also
  * copied into the record, so an unbounded file (or /dev/zero) must not reach it. */
@@ -119,36 +121,36 @@ vs_status vs_case_read(vs_case *c, const char *path, char **text_out, vs_error *
 /* As vs_case_read, from text in memory (len bytes, need not be NUL-terminated; a NUL byte is an
  * error); name stands for the file in messages. Same rules, same messages, except that len above
  * VS_CASE_MAX_BYTES fails with VS_ERR_IO. */
-vs_status vs_case_parse(vs_case *c, const char *name, const char *text, size_t len,
-                        vs_error *err);
+VS_API vs_status vs_case_parse(vs_case *c, const char *name, const char *text, size_t len,
+                               vs_error *err);
 
 /* Apply one "section.key=value" override (the CLI's --set); blanks around the parts are
  * ignored. Errors as vs_case_read, with "--set section.key=value" in place of FILE:LINE;
  * c is unchanged on failure. */
-vs_status vs_case_set(vs_case *c, const char *assignment, vs_error *err);
+VS_API vs_status vs_case_set(vs_case *c, const char *assignment, vs_error *err);
 
 /* Check every field's range again (fields may have been set in code) and the relations between
  * fields: limit_tol_mm <= step_mm <= step_max_mm and step_mm < max_mm. Call it after all
  * overrides. Fails with VS_ERR_INVALID; err names the field(s) and the allowed range. */
-vs_status vs_case_validate(const vs_case *c, vs_error *err);
+VS_API vs_status vs_case_validate(const vs_case *c, vs_error *err);
 
 /* The case's keys, from the one table that defines them (so that records and tools cannot miss
  * a key): how many, and key i (0-based, in the table's order) with its section, name, unit ("" if
  * dimensionless), whether it is an integer, and its value in c. Returns 0, or -1 when i is out of
  * range (the outputs are then untouched). Any output pointer may be NULL. */
-int vs_case_key_count(void);
-int vs_case_key(const vs_case *c, int i, const char **section, const char **key, const char **unit,
-                int *is_int, double *value);
+VS_API int vs_case_key_count(void);
+VS_API int vs_case_key(const vs_case *c, int i, const char **section, const char **key,
+                       const char **unit, int *is_int, double *value);
 
 /* For a key that is a named choice (support.left_kind, support.right_kind, dynamic.damping_model), the name of value `value` of key i;
  * NULL when key i is a number or value is out of range. */
-const char *vs_case_key_name_of(int i, int value);
+VS_API const char *vs_case_key_name_of(int i, int value);
 
 /* Intrados span L = 2 R sin(embrace/2), in mm: the length the study normalises by. */
-double vs_case_span_mm(const vs_case *c);
+VS_API double vs_case_span_mm(const vs_case *c);
 
 /* The engine's definition of the run case c asks for (def.h): every length, angle, stiffness
  * and speed converted to SI once, here (units.h factors; nothing else is derived). */
-void vs_case_to_def(const vs_case *c, vs_run_def *d);
+VS_API void vs_case_to_def(const vs_case *c, vs_run_def *d);
 
 #endif

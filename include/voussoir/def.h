@@ -8,6 +8,8 @@
 #ifndef VOUSSOIR_DEF_H
 #define VOUSSOIR_DEF_H
 
+#include "voussoir/api.h"
+
 /* A support: clamped, or rotating freely about the centre of its springing face. */
 typedef enum { VS_SUPPORT_FIXED = 0, VS_SUPPORT_PINNED = 1 } vs_support_kind;
 
@@ -74,8 +76,8 @@ typedef struct {
 
 /* Beyond the limit points (dynamic.h). */
 typedef struct {
-  int follow;                     /* 1: every limit point followed to the collapse; 0: stop at the first */
-  int full;                       /* 1: the whole loading dynamic from rest */
+  int follow; /* 1: every limit point followed to the collapse; 0: stop at the first */
+  int full;   /* 1: the whole loading dynamic from rest */
   vs_damping_model damping_model;
   double damping;                 /* damping ratio (joint: of each joint's critical; rayleigh:
                                      of the two lowest modes) */
@@ -84,7 +86,8 @@ typedef struct {
   double rest_factor;             /* at rest below this many times the kinetic energy of the arch
                                      moving bodily at the support's rate ... */
   double rest_time;               /* ... for this long, s */
-  double collapse_ke;             /* collapsing beyond this fraction of weight x thickness (J/(N m)) */
+  double collapse_ke;             /* collapsing beyond this fraction of weight x thickness,
+                                     J/(N m) */
   double fall_time;               /* the fall followed at most this long after the collapse, s */
   double sample_dt;               /* at most one dynamic sample per this interval, s */
 } vs_dynamic_def;
@@ -126,6 +129,6 @@ typedef struct {
 
 /* Fill d with the defaults: the reference specimen with k_n = 3 N/mm^3, settlement (alpha = 0),
  * the defaults of every solver; the same values as the case file's defaults (case.h). */
-void vs_run_def_default(vs_run_def *d);
+VS_API void vs_run_def_default(vs_run_def *d);
 
 #endif

@@ -7,6 +7,8 @@
 #ifndef VOUSSOIR_DYNAMIC_H
 #define VOUSSOIR_DYNAMIC_H
 
+#include "voussoir/api.h"
+
 #include <signal.h>
 
 #include "voussoir/model.h"
@@ -105,8 +107,9 @@ typedef int (*vs_dyn_event_fn)(void *user, const vs_dyn_event *ev, const double 
 typedef struct vs_dynamic vs_dynamic;
 
 /* Create the integrator for model m (borrowed; its damping ratio set beforehand). */
-vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out, vs_error *err);
-void vs_dynamic_destroy(vs_dynamic **d);
+VS_API vs_status vs_dynamic_create(vs_model *m, const vs_dyn_opts *o, vs_dynamic **out,
+                                   vs_error *err);
+VS_API void vs_dynamic_destroy(vs_dynamic **d);
 
 /* The ground (contact.h; borrowed, NULL: none). If c is armed when vs_dynamic_run starts, it
  * acts from the start; otherwise it is armed when the collapse criterion fires, offset (m) above
@@ -114,7 +117,8 @@ void vs_dynamic_destroy(vs_dynamic **d);
  * at rest (kinetic energy below rest_ke for rest_time) or after fall_time. Its vertices crossing
  * the ground are IDA roots (counted in root_events, not reported as events). */
 struct vs_contact;
-vs_status vs_dynamic_set_contact(vs_dynamic *d, struct vs_contact *c, double offset, vs_error *err);
+VS_API vs_status vs_dynamic_set_contact(vs_dynamic *d, struct vs_contact *c, double offset,
+                                        vs_error *err);
 
 /* Contact between bodies without a joint (collide.h; borrowed, NULL: none); call after
  * vs_dynamic_set_contact. Armed with the ground at the collapse criterion if it is not armed
@@ -122,17 +126,18 @@ vs_status vs_dynamic_set_contact(vs_dynamic *d, struct vs_contact *c, double off
  * roots. Its forces couple two bodies: the Jacobian's pattern is the joints' plus the pairs of
  * its broad phase, and KLU's analysis is redone when those pairs change (jac_fn). */
 struct vs_collide;
-vs_status vs_dynamic_set_collide(vs_dynamic *d, struct vs_collide *c, vs_error *err);
+VS_API vs_status vs_dynamic_set_collide(vs_dynamic *d, struct vs_collide *c, vs_error *err);
 
 /* Replace the stop flag of the options d was created with (NULL: none). */
-void vs_dynamic_set_stop(vs_dynamic *d, const volatile sig_atomic_t *stop);
+VS_API void vs_dynamic_set_stop(vs_dynamic *d, const volatile sig_atomic_t *stop);
 
 /* Integrate from time t0 (delta = rate t0) with positions q and velocities v (updated to the
  * final state). Friction slips are committed after every step. Energies accumulate from zero
  * at t0. Errors: VS_ERR_SOLVER with IDA's cause (or VS_DYN_MAX_STEPS reached);
  * VS_ERR_INTERRUPTED when o->stop was raised. */
-vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_sample_fn sample,
-                         vs_dyn_event_fn event, void *user, vs_dyn_result *res, vs_error *err);
+VS_API vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v,
+                                vs_dyn_sample_fn sample, vs_dyn_event_fn event, void *user,
+                                vs_dyn_result *res, vs_error *err);
 
 /* The DAE as IDA sees it, for checks: the length N of y, y = (q, v, lambda, mu, W, D, Df) with
  * q, v over the blocks then the left and right support bodies (3 n_blocks + 6 each; offsets
@@ -140,11 +145,10 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
  * into r (N entries) and the iteration matrix dF/dy + cj dF/dy' into J (CSC, N x N, capacity
  * vs_dynamic_nnz). The matrix leaves out the energy integrals' dependence on the state and the
  * damping forces' dependence on the positions (IDA's Newton is a modified Newton). */
-int vs_dynamic_size(const vs_dynamic *d);
-int vs_dynamic_nnz(const vs_dynamic *d);
-void vs_dynamic_layout(const vs_dynamic *d, int *iv, int *il, int *imu, int *ie);
-void vs_dynamic_residual(vs_dynamic *d, double t, double *y, double *yp, double *r);
-void vs_dynamic_jacobian(vs_dynamic *d, double t, double cj, double *y, SUNMatrix J);
+VS_API int vs_dynamic_size(const vs_dynamic *d);
+VS_API int vs_dynamic_nnz(const vs_dynamic *d);
+VS_API void vs_dynamic_layout(const vs_dynamic *d, int *iv, int *il, int *imu, int *ie);
+VS_API void vs_dynamic_residual(vs_dynamic *d, double t, double *y, double *yp, double *r);
 
 /* The Lagrange multipliers lambda at the current state of d (after vs_dynamic_run or inside its
  * callbacks): per support (left, right) the force (Fx, Fz, N) and moment (about the support
@@ -154,17 +158,17 @@ void vs_dynamic_jacobian(vs_dynamic *d, double t, double cj, double *y, SUNMatri
  * their prescribed (constant-rate, so unaccelerated) motion, lambda = F(q, v) on their
  * constrained rows. They equal the springing joints' forces to round-off; IDA's own iterate
  * (vs_dynamic_multipliers) agrees to its Newton tolerance. One force evaluation. */
-void vs_dynamic_reactions(vs_dynamic *d, double out[6]);
+VS_API void vs_dynamic_reactions(vs_dynamic *d, double out[6]);
 /* The blocks' accelerations at the current state of d (3 n_blocks), from the equations of
  * motion at (q, v) as vs_dynamic_reactions: a = -F(q, v) / m. One force evaluation. */
-void vs_dynamic_accelerations(vs_dynamic *d, double *a);
+VS_API void vs_dynamic_accelerations(vs_dynamic *d, double *a);
 /* IDA's own iterates, for checks: the algebraic unknowns lambda (laid out as
  * vs_dynamic_reactions) and the blocks' v' of the BDF formula (3 n_blocks). */
-void vs_dynamic_multipliers(const vs_dynamic *d, double out[6]);
+VS_API void vs_dynamic_multipliers(const vs_dynamic *d, double out[6]);
 /* The joints' states at the current state of d (n_joints entries, owned by d, valid until the
  * next call into d), as vs_model_ext_joint_states gives them with the committed slips: the
  * evaluation the step's commit, energies and root function shared, not a new one. */
-const vs_joint_state *vs_dynamic_joint_states(vs_dynamic *d);
-void vs_dynamic_derivatives(const vs_dynamic *d, double *a);
+VS_API const vs_joint_state *vs_dynamic_joint_states(vs_dynamic *d);
+VS_API void vs_dynamic_derivatives(const vs_dynamic *d, double *a);
 
 #endif

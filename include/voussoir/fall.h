@@ -42,6 +42,8 @@
 #ifndef VOUSSOIR_FALL_H
 #define VOUSSOIR_FALL_H
 
+#include "voussoir/api.h"
+
 #include <signal.h>
 
 #include "voussoir/dynamic.h"
@@ -95,10 +97,10 @@ typedef struct {
 
 /* Defaults: h = 1 ms, 2 ms below 0.5 m/s, tol = 1e-2, VS_FALL_MAX_SWEEPS sweeps, calm
  * VS_FALL_CALM, NNCG, joints on; the rest from the caller. */
-void vs_fall_opts_default(vs_fall_opts *o);
+VS_API void vs_fall_opts_default(vs_fall_opts *o);
 
 /* The solver's name as the case file writes it (fall.solver): "nncg", "gauss_seidel". */
-const char *vs_fall_solver_name(int solver);
+VS_API const char *vs_fall_solver_name(int solver);
 
 typedef struct {
   double t_end, delta_end; /* where it stopped (s, m) */
@@ -141,12 +143,12 @@ typedef struct vs_fall vs_fall;
  * (the n_blocks blocks, then the left and the right support), their reference coordinates (m)
  * concatenated in xz, each convex (0 vertices: the body takes no part); or count NULL: the
  * arch's (collide.h). VS_ERR_INVALID on a bad option or outline. */
-vs_status vs_fall_create(vs_model *m, const vs_fall_opts *o, const int *count, const double *xz,
-                         vs_fall **out, vs_error *err);
-void vs_fall_destroy(vs_fall **f);
+VS_API vs_status vs_fall_create(vs_model *m, const vs_fall_opts *o, const int *count,
+                                const double *xz, vs_fall **out, vs_error *err);
+VS_API void vs_fall_destroy(vs_fall **f);
 
 /* Replace the stop flag (NULL: none). */
-void vs_fall_set_stop(vs_fall *f, const volatile sig_atomic_t *stop);
+VS_API void vs_fall_set_stop(vs_fall *f, const volatile sig_atomic_t *stop);
 
 /* Follow the fall from time t0 with the extended state qe, ve (vs_model_ext_size entries: the
  * blocks, then the supports' (ux, uz, theta) as vs_model_support_states gives them, a pinned
@@ -161,9 +163,9 @@ void vs_fall_set_stop(vs_fall *f, const volatile sig_atomic_t *stop);
  * vs_fall_joint_states and vs_fall_reactions
  * describe that state. qe, ve are updated to the last state. Errors: VS_ERR_INTERRUPTED;
  * VS_ERR_INTERNAL when the callback stops it; VS_ERR_NOMEM. */
-vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_energy *e0,
-                      const vs_joint_state *js0, vs_dyn_sample_fn sample, void *user,
-                      vs_fall_result *res, vs_error *err);
+VS_API vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_energy *e0,
+                             const vs_joint_state *js0, vs_dyn_sample_fn sample, void *user,
+                             vs_fall_result *res, vs_error *err);
 
 /* The joints at the current state (n_joints entries, owned by f, valid until the next call
  * into f): openings, slips and contact from the geometry (vs_model_ext_joint_states); N, T and
@@ -171,16 +173,16 @@ vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_en
  * the joint's centre, > 0 when the extrados end carries more), contact the length between the
  * outermost loaded face ends (0 for a single point, the joint's length for both ends), energy
  * 0 (rigid contacts store none). */
-const vs_joint_state *vs_fall_joint_states(vs_fall *f);
+VS_API const vs_joint_state *vs_fall_joint_states(vs_fall *f);
 
 /* Forces the supports exert on the arch at the current state (as vs_dynamic_reactions: left
  * Fx, Fz, M about the centre of the springing joint, then right): the last step's impulses on
  * the piers over h. */
-void vs_fall_reactions(const vs_fall *f, double out[6]);
+VS_API void vs_fall_reactions(const vs_fall *f, double out[6]);
 
 /* The ground's height z (m; NAN: none) and the deepest vertex below it at the current state
  * (m; <= 0: none touches). */
-double vs_fall_level(const vs_fall *f);
-double vs_fall_penetration(vs_fall *f);
+VS_API double vs_fall_level(const vs_fall *f);
+VS_API double vs_fall_penetration(vs_fall *f);
 
 #endif

@@ -4,6 +4,8 @@
 #ifndef VOUSSOIR_GEOMETRY_H
 #define VOUSSOIR_GEOMETRY_H
 
+#include "voussoir/api.h"
+
 #include "voussoir/def.h"
 #include "voussoir/status.h"
 
@@ -51,16 +53,16 @@ static inline void vs_joint_tangent(const vs_joint_geom *j, double *sx, double *
 /* Build the segmental circular arch a: voussoirs of equal angular size, radial joints,
  * joint 1 on the left springing plane, joint n+1 on the right one. The circle's centre is the
  * origin; the crown is on the +z axis. Exact annular-sector mass, centroid and inertia. */
-vs_status vs_geometry_create_arch(const vs_arch_def *a, vs_geometry **out, vs_error *err);
+VS_API vs_status vs_geometry_create_arch(const vs_arch_def *a, vs_geometry **out, vs_error *err);
 
 /* Allocate an empty geometry with room for n_blocks blocks and n_joints joints (tests, other
  * shapes); the caller fills the arrays. */
-vs_status vs_geometry_create(int n_blocks, int n_joints, vs_geometry **out, vs_error *err);
+VS_API vs_status vs_geometry_create(int n_blocks, int n_joints, vs_geometry **out, vs_error *err);
 
 /* Free g and NULL *g; NULL and *g == NULL are allowed. */
-void vs_geometry_destroy(vs_geometry **g);
+VS_API void vs_geometry_destroy(vs_geometry **g);
 
 /* Total weight of the blocks, N. */
-double vs_geometry_weight(const vs_geometry *g);
+VS_API double vs_geometry_weight(const vs_geometry *g);
 
 #endif

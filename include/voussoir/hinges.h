@@ -3,6 +3,8 @@
 #ifndef VOUSSOIR_HINGES_H
 #define VOUSSOIR_HINGES_H
 
+#include "voussoir/api.h"
+
 #include <stddef.h>
 
 #include "voussoir/joint.h"
@@ -29,48 +31,48 @@ typedef struct {
 typedef struct vs_hinges vs_hinges;
 
 /* Tracker for n_joints joints. */
-vs_status vs_hinges_create(int n_joints, const vs_hinge_opts *opts, vs_hinges **out,
-                           vs_error *err);
-void vs_hinges_destroy(vs_hinges **h);
+VS_API vs_status vs_hinges_create(int n_joints, const vs_hinge_opts *opts, vs_hinges **out,
+                                  vs_error *err);
+VS_API void vs_hinges_destroy(vs_hinges **h);
 
 /* Open side of one joint: 'I' (hinge at the intrados: the extrados opened), 'E', or 0 closed. */
-char vs_hinges_joint_side(const vs_hinge_opts *opts, const vs_joint_state *st);
+VS_API char vs_hinges_joint_side(const vs_hinge_opts *opts, const vs_joint_state *st);
 
 /* Classify every joint at support displacement delta (m) and update the hinges.
  * Returns the number of hinges that formed in this update. */
-int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st);
+VS_API int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st);
 
 /* Name the first n hinges (at most three) A, B, C from left to right and every later one by
  * its order of appearance (the fourth D, ...), replacing the labels they had. For a mechanism
  * that forms with fewer than three hinges (a pinned springer needs only two in the arch), or a
  * run that ends with fewer: n = the hinges formed by then, so that none stays '?' and none
  * formed later (in the fall) takes their letters. */
-void vs_hinges_name_first(vs_hinges *h, int n);
+VS_API void vs_hinges_name_first(vs_hinges *h, int n);
 
 /* The label of the hinge named i-th (0-based): 'A'..'Z', then 'a'..'z' (a fall can open more than
  * 26 hinges), then '#' for every later one; '?' for i < 0. One character, as the record stores it. */
-char vs_hinges_label(int i);
+VS_API char vs_hinges_label(int i);
 
 /* Hinges in order of appearance. */
-int vs_hinges_count(const vs_hinges *h);
-const vs_hinge *vs_hinges_get(const vs_hinges *h, int i);
+VS_API int vs_hinges_count(const vs_hinges *h);
+VS_API const vs_hinge *vs_hinges_get(const vs_hinges *h, int i);
 
 /* Number of hinges open now. */
-int vs_hinges_open_count(const vs_hinges *h);
+VS_API int vs_hinges_open_count(const vs_hinges *h);
 
 /* "9-I" or "44-45-46-I" for the current joints (onset = 0) or the onset joints (onset = 1). */
-void vs_hinge_name(const vs_hinge *hg, int onset, char *buf, size_t size);
+VS_API void vs_hinge_name(const vs_hinge *hg, int onset, char *buf, size_t size);
 
 /* The sides of h[0..n) in the order given, "I-E-E", into buf (truncated to size, NUL-ended). */
-void vs_hinges_side_pattern(const vs_hinge *h, int n, char *buf, size_t size);
+VS_API void vs_hinges_side_pattern(const vs_hinge *h, int n, char *buf, size_t size);
 
 /* The side pattern of the first three hinges to appear, left to right (by first joint), into
  * buf; "" while fewer than three have formed. */
-void vs_hinges_pattern_first(const vs_hinges *h, char *buf, size_t size);
+VS_API void vs_hinges_pattern_first(const vs_hinges *h, char *buf, size_t size);
 
 /* The mode (docs/vocabulary.md) from pattern_first (vs_hinges_pattern_first) and pattern_collapse
  * (the sides of the hinges open at the collapse, left to right): "I" for I-E-E then E-I-E-E, "II"
  * for I-E-E then E-I-E-I, "III" for I-E-I then E-I-E-I or E-I-E-I-E; NULL when they fit none. */
-const char *vs_hinges_mode(const char *pattern_first, const char *pattern_collapse);
+VS_API const char *vs_hinges_mode(const char *pattern_first, const char *pattern_collapse);
 
 #endif

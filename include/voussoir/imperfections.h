@@ -24,6 +24,8 @@
 #ifndef VOUSSOIR_IMPERFECTIONS_H
 #define VOUSSOIR_IMPERFECTIONS_H
 
+#include "voussoir/api.h"
+
 #include <stdint.h>
 
 #include "voussoir/def.h"
@@ -32,9 +34,9 @@
 #include "voussoir/status.h"
 
 /* The generator (documented above). */
-uint64_t vs_rng_key(uint64_t seed, uint64_t sample, uint64_t stream, uint64_t index);
-double vs_rng_uniform(uint64_t seed, uint64_t sample, uint64_t stream, uint64_t index);
-double vs_rng_normal(uint64_t seed, uint64_t sample, uint64_t stream, uint64_t index);
+VS_API uint64_t vs_rng_key(uint64_t seed, uint64_t sample, uint64_t stream, uint64_t index);
+VS_API double vs_rng_uniform(uint64_t seed, uint64_t sample, uint64_t stream, uint64_t index);
+VS_API double vs_rng_normal(uint64_t seed, uint64_t sample, uint64_t stream, uint64_t index);
 
 /* The drawn values of one sample (stored in the record). */
 typedef struct {
@@ -48,21 +50,22 @@ typedef struct {
 
 /* Draw the imperfections d asks for (its seed and sample) on arch a. *out is owned by the
  * caller (vs_imperfections_destroy). VS_ERR_NOMEM only. */
-vs_status vs_imperfections_draw(const vs_imperfection_def *d, const vs_arch_def *a,
-                                vs_imperfections **out, vs_error *err);
-void vs_imperfections_destroy(vs_imperfections **p);
+VS_API vs_status vs_imperfections_draw(const vs_imperfection_def *d, const vs_arch_def *a,
+                                       vs_imperfections **out, vs_error *err);
+VS_API void vs_imperfections_destroy(vs_imperfections **p);
 
 /* 1 when d asks for any imperfection, else 0. */
-int vs_imperfections_any(const vs_imperfection_def *d);
+VS_API int vs_imperfections_any(const vs_imperfection_def *d);
 
 /* Build arch a with the drawn angles and thickness (vs_geometry_create_arch when d's CoVs of
  * them are 0). */
-vs_status vs_imperfections_arch(const vs_imperfection_def *d, const vs_arch_def *a,
-                                const vs_imperfections *imp, vs_geometry **out, vs_error *err);
+VS_API vs_status vs_imperfections_arch(const vs_imperfection_def *d, const vs_arch_def *a,
+                                       const vs_imperfections *imp, vs_geometry **out,
+                                       vs_error *err);
 
 /* Apply the joint laws (k_n, faces) and the support offset d asks for to model m built over
  * that arch. */
-vs_status vs_imperfections_apply(const vs_imperfection_def *d, const vs_imperfections *imp,
-                                 vs_model *m, vs_error *err);
+VS_API vs_status vs_imperfections_apply(const vs_imperfection_def *d, const vs_imperfections *imp,
+                                        vs_model *m, vs_error *err);
 
 #endif

@@ -17,6 +17,8 @@
 #ifndef VOUSSOIR_JOINT_H
 #define VOUSSOIR_JOINT_H
 
+#include "voussoir/api.h"
+
 #include "voussoir/geometry.h"
 
 typedef struct {
@@ -44,7 +46,8 @@ typedef struct {
 
 /* Closed-form normal response (see vs_normal_response). kn in N/m^3, b and t in m, a in m,
  * w dimensionless (the gap slope). Never fails. */
-void vs_joint_normal(double kn, double b, double t, double a, double w, vs_normal_response *r);
+VS_API void vs_joint_normal(double kn, double b, double t, double a, double w,
+                            vs_normal_response *r);
 
 /* Everything one joint evaluation yields. */
 typedef struct {
@@ -67,21 +70,21 @@ typedef struct {
  * Outputs (any may be NULL): st, the state; f[6], the gradient of the joint energy with respect
  * to (qa, qb) -- the internal generalised force, so that equilibrium reads sum f = external
  * load; K[36], row-major df/d(qa, qb), exact (consistent tangent of the return mapping). */
-void vs_joint_eval(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
-                   const double qb[3], const double ra[2], const double rb[2], double slip_p_old,
-                   vs_joint_state *st, double f[6], double K[36]);
+VS_API void vs_joint_eval(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
+                          const double qb[3], const double ra[2], const double rb[2],
+                          double slip_p_old, vs_joint_state *st, double f[6], double K[36]);
 
 /* A body's rotation theta (rad) as the cosine and sine of theta / 2, h[0], h[1]: the joint
  * kinematics need R(theta_a), R(theta_b), the mean rotation and sin of the half difference, all
  * products of the two bodies' half angles, so that a model takes one sincos per body and
  * evaluation instead of two per joint. */
-void vs_joint_half_angle(double theta, double h[2]);
+VS_API void vs_joint_half_angle(double theta, double h[2]);
 
 /* vs_joint_eval with the bodies' half angles ha = vs_joint_half_angle(qa[2]), hb likewise. */
-void vs_joint_eval_h(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
-                     const double qb[3], const double ha[2], const double hb[2],
-                     const double ra[2], const double rb[2], double slip_p_old, vs_joint_state *st,
-                     double f[6], double K[36]);
+VS_API void vs_joint_eval_h(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
+                            const double qb[3], const double ha[2], const double hb[2],
+                            const double ra[2], const double rb[2], double slip_p_old,
+                            vs_joint_state *st, double f[6], double K[36]);
 
 /* --- a joint at one configuration, kept --- */
 
@@ -114,15 +117,16 @@ typedef struct {
 
 /* The point of the joint at (qa, qb) with the bodies' half angles ha, hb, arguments as
  * vs_joint_eval_h; the kinematics include their second derivatives. */
-void vs_joint_point_eval(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
-                         const double qb[3], const double ha[2], const double hb[2],
-                         const double ra[2], const double rb[2], double slip_p_old,
-                         vs_joint_point *pt);
+VS_API void vs_joint_point_eval(const vs_joint_geom *jg, const vs_joint_law *law,
+                                const double qa[3], const double qb[3], const double ha[2],
+                                const double hb[2], const double ra[2], const double rb[2],
+                                double slip_p_old, vs_joint_point *pt);
 
 /* The outputs of vs_joint_eval_h at the point's configuration (the same values, bit for bit;
  * any may be NULL). law: the one the point was evaluated with. */
-void vs_joint_point_out(const vs_joint_geom *jg, const vs_joint_law *law, const vs_joint_point *pt,
-                        vs_joint_state *st, double f[6], double K[36]);
+VS_API void vs_joint_point_out(const vs_joint_geom *jg, const vs_joint_law *law,
+                               const vs_joint_point *pt, vs_joint_state *st, double f[6],
+                               double K[36]);
 
 /* Viscous damping of a joint in contact: the full section's dashpots, normal b c_n t adot,
  * rotational b c_n t^3/12 wdot and shear b c_s t sdot (c_n, c_s in N s/m^3, adot, wdot, sdot the
@@ -134,10 +138,10 @@ void vs_joint_point_out(const vs_joint_geom *jg, const vs_joint_law *law, const 
  * va, vb: velocities of the bodies' reference points and their angular velocities. Outputs
  * (any may be NULL): f[6]; C[36] = df/d(va, vb), row-major (its dependence on the positions is
  * not included); *power = dissipated power, W (>= 0). */
-void vs_joint_damping(const vs_joint_geom *jg, const vs_joint_law *law, double cn, double cs,
-                      const double qa[3], const double qb[3], const double va[3],
-                      const double vb[3], const double ra[2], const double rb[2], double f[6],
-                      double C[36], double *power);
+VS_API void vs_joint_damping(const vs_joint_geom *jg, const vs_joint_law *law, double cn, double cs,
+                             const double qa[3], const double qb[3], const double va[3],
+                             const double vb[3], const double ra[2], const double rb[2],
+                             double f[6], double C[36], double *power);
 
 /* Stiffness-proportional damping: beta (s) times the joint's material tangent stiffness (the
  * normal law's N_a, N_w, M_w over the compressed length, and k_s b t in shear; no geometric
@@ -145,18 +149,18 @@ void vs_joint_damping(const vs_joint_geom *jg, const vs_joint_law *law, double c
  * beta k_s b t; a hinge only what its compressed part carries, an open joint nothing in the
  * normal direction. Outputs as vs_joint_damping; the power is >= 0 (the tangent is the Hessian
  * of a convex energy). */
-void vs_joint_damping_tangent(const vs_joint_geom *jg, const vs_joint_law *law, double beta,
-                              const double qa[3], const double qb[3], const double va[3],
-                              const double vb[3], const double ra[2], const double rb[2],
-                              double f[6], double C[36], double *power);
+VS_API void vs_joint_damping_tangent(const vs_joint_geom *jg, const vs_joint_law *law, double beta,
+                                     const double qa[3], const double qb[3], const double va[3],
+                                     const double vb[3], const double ra[2], const double rb[2],
+                                     double f[6], double C[36], double *power);
 
 /* Power dissipated by frictional slip, W: T (sdot - Tdot / (k_s b t)) for a sliding joint
  * (the shear power T sdot minus the rate of the shear energy T^2 / (2 k_s b t)), 0 when the
  * joint sticks. Rates from the bodies' velocities va, vb as in vs_joint_damping. */
-double vs_joint_friction_power(const vs_joint_geom *jg, const vs_joint_law *law,
-                               const double qa[3], const double qb[3], const double va[3],
-                               const double vb[3], const double ra[2], const double rb[2],
-                               double slip_p_old);
+VS_API double vs_joint_friction_power(const vs_joint_geom *jg, const vs_joint_law *law,
+                                      const double qa[3], const double qb[3], const double va[3],
+                                      const double vb[3], const double ra[2], const double rb[2],
+                                      double slip_p_old);
 
 /* --- one evaluation for the equations of motion --- */
 
@@ -185,8 +189,8 @@ typedef struct {
 /* Everything the equations of motion take from a joint at one state, from one evaluation of
  * its kinematics and its law: the values are those of vs_joint_eval, vs_joint_damping (or
  * vs_joint_damping_tangent) and vs_joint_friction_power at the same state. dp NULL: no damping. */
-void vs_joint_eval_motion(const vs_joint_geom *jg, const vs_joint_law *law,
-                          const vs_joint_bodies *bd, double slip_p_old, const vs_joint_dashpot *dp,
-                          vs_joint_motion *out);
+VS_API void vs_joint_eval_motion(const vs_joint_geom *jg, const vs_joint_law *law,
+                                 const vs_joint_bodies *bd, double slip_p_old,
+                                 const vs_joint_dashpot *dp, vs_joint_motion *out);
 
 #endif

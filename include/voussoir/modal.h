@@ -7,6 +7,8 @@
 #ifndef VOUSSOIR_MODAL_H
 #define VOUSSOIR_MODAL_H
 
+#include "voussoir/api.h"
+
 #include "voussoir/model.h"
 #include "voussoir/status.h"
 
@@ -35,14 +37,14 @@ typedef struct {
  * joint dashpots act where the joints are in contact). out->phi is allocated. Errors:
  * VS_ERR_INVALID (more than VS_MODAL_MAX_DOF unknowns, or K not positive definite: the state is
  * not a stable equilibrium), VS_ERR_SOLVER (LAPACK failed), VS_ERR_NOMEM. */
-vs_status vs_modal_compute(const vs_model *m, const double *q, double delta, int n_modes,
-                           vs_modal *out, vs_error *err);
+VS_API vs_status vs_modal_compute(const vs_model *m, const double *q, double delta, int n_modes,
+                                  vs_modal *out, vs_error *err);
 
 /* Recompute out->zeta with the model's current damping (after changing it). */
-vs_status vs_modal_damping_ratios(const vs_model *m, const double *q, double delta, vs_modal *out,
-                                  vs_error *err);
+VS_API vs_status vs_modal_damping_ratios(const vs_model *m, const double *q, double delta,
+                                         vs_modal *out, vs_error *err);
 
 /* Free out->phi; the frequencies stay. NULL allowed. */
-void vs_modal_free(vs_modal *out);
+VS_API void vs_modal_free(vs_modal *out);
 
 #endif

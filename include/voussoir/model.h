@@ -4,7 +4,7 @@
 #ifndef VOUSSOIR_MODEL_H
 #define VOUSSOIR_MODEL_H
 
-#include <sundials/sundials_matrix.h>
+#include "voussoir/api.h"
 
 #include "voussoir/geometry.h"
 #include "voussoir/joint.h"
@@ -15,11 +15,11 @@ typedef struct vs_model vs_model;
 /* Create a model over geometry g (borrowed: it must outlive the model) with joint law law and
  * the right support moving along alpha_rad measured from the vertical: the support
  * displacement is delta (sin alpha, -cos alpha). Fails with VS_ERR_INVALID on a bad law. */
-vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double alpha_rad,
-                          vs_model **out, vs_error *err);
+VS_API vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double alpha_rad,
+                                 vs_model **out, vs_error *err);
 
 /* Free m and NULL *m; NULL allowed. */
-void vs_model_destroy(vs_model **m);
+VS_API void vs_model_destroy(vs_model **m);
 
 /* Support kinds. fixed: the springer is clamped (no rotation). pinned: the springer rotates
  * freely about its pivot, the centre of its joint with the arch (the mid-point of the springing
@@ -29,28 +29,28 @@ void vs_model_destroy(vs_model **m);
  * changes the unknowns: each pinned support's rotation theta_s (rad, counter-clockwise) becomes
  * a static unknown after the blocks' (left first), whose equation dE/dtheta_s = 0 is the moment
  * of the springing joint's forces about the pivot. VS_ERR_INVALID on an unknown kind. */
-vs_status vs_model_set_support_kinds(vs_model *m, vs_support_kind left, vs_support_kind right,
-                                     vs_error *err);
-vs_support_kind vs_model_support_kind(const vs_model *m, int right);
+VS_API vs_status vs_model_set_support_kinds(vs_model *m, vs_support_kind left,
+                                            vs_support_kind right, vs_error *err);
+VS_API vs_support_kind vs_model_support_kind(const vs_model *m, int right);
 /* Index in q of the support's rotation (right = 0: left, 1: right), -1 if it is fixed. */
-int vs_model_support_dof(const vs_model *m, int right);
+VS_API int vs_model_support_dof(const vs_model *m, int right);
 /* The unknowns in an order in which the Jacobian is a narrow band (perm[new] = old; perm has
  * vs_model_size entries): the blocks' in q's order, and a pinned support's rotation, which q
  * keeps after the blocks, next to the block it carries (left first, right last). In q's own
  * order those rotations couple the first and last blocks to the last rows, and a band
  * factorisation (LAPACK's) would take the whole matrix as its band. */
-void vs_model_band_order(const vs_model *m, int *perm);
+VS_API void vs_model_band_order(const vs_model *m, int *perm);
 
 /* Number of unknowns and Jacobian non-zeros. The state q is block-major: q[3i], q[3i+1] are the
  * displacement (m) of block i's centroid (its reference point) and q[3i+2] its rotation (rad,
  * counter-clockwise); then the rotations of the pinned supports (vs_model_support_dof). */
-int vs_model_size(const vs_model *m);
-int vs_model_nnz(const vs_model *m);
-const vs_geometry *vs_model_geometry(const vs_model *m);
-const vs_joint_law *vs_model_law(const vs_model *m);
+VS_API int vs_model_size(const vs_model *m);
+VS_API int vs_model_nnz(const vs_model *m);
+VS_API const vs_geometry *vs_model_geometry(const vs_model *m);
+VS_API const vs_joint_law *vs_model_law(const vs_model *m);
 
 /* Displacement of the right support (ux, uz, m) for support displacement delta (m). */
-void vs_model_support_displacement(const vs_model *m, double delta, double u[2]);
+VS_API void vs_model_support_displacement(const vs_model *m, double delta, double u[2]);
 
 /* Imperfections. vs_model_set_joint_law replaces the law of joint k (0-based; every joint starts
  * with the law given at creation) and recomputes its damping coefficients; VS_ERR_INVALID on a
@@ -61,58 +61,56 @@ void vs_model_support_displacement(const vs_model *m, double delta, double u[2])
  * arch stands on its nominal faces and supports, then settles into its misfit (a face touching
  * at one edge has no stiffness, so the stress-free reference is no place to start from).
  * vs_model_has_misfit: 1 if there is any misfit to apply. */
-vs_status vs_model_set_joint_law(vs_model *m, int k, const vs_joint_law *law, vs_error *err);
-const vs_joint_law *vs_model_joint_law(const vs_model *m, int k);
-void vs_model_set_support_offset(vs_model *m, const double offset[2]);
-int vs_model_has_misfit(const vs_model *m);
-void vs_model_set_misfit_scale(vs_model *m, double s);
+VS_API vs_status vs_model_set_joint_law(vs_model *m, int k, const vs_joint_law *law, vs_error *err);
+VS_API const vs_joint_law *vs_model_joint_law(const vs_model *m, int k);
+VS_API void vs_model_set_support_offset(vs_model *m, const double offset[2]);
+VS_API int vs_model_has_misfit(const vs_model *m);
+VS_API void vs_model_set_misfit_scale(vs_model *m, double s);
 
 /* Residual G(q; delta) = joint forces - gravity, per block (Fx, Fz in N, moment in N m).
  * Equilibrium is G = 0. Uses the committed plastic slips. */
-void vs_model_residual(const vs_model *m, const double *q, double delta, double *G);
-
-/* Jacobian dG/dq at (q, delta) into J, a CSC SUNSparseMatrix of size vs_model_size and
- * capacity >= vs_model_nnz; the pattern is written too (it never changes). Returns 0. */
-int vs_model_jacobian(const vs_model *m, const double *q, double delta, SUNMatrix J);
+VS_API void vs_model_residual(const vs_model *m, const double *q, double delta, double *G);
 
 /* dG/d(delta) at (q, delta), the load vector of the support motion. */
-void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double *out);
+VS_API void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double *out);
 
 /* States of all joints at (q, delta) with the committed plastic slips; st has n_joints entries. */
-void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_joint_state *st);
+VS_API void vs_model_joint_states(const vs_model *m, const double *q, double delta,
+                                  vs_joint_state *st);
 
 /* Accept (q, delta) as a converged state: the plastic slips of sliding joints are updated.
  * Returns the number of joints in contact (N > 0) that slid in this step. */
-int vs_model_commit(vs_model *m, const double *q, double delta);
+VS_API int vs_model_commit(vs_model *m, const double *q, double delta);
 
 /* vs_model_commit from the joint states st (n_joints) at the state accepted, as
  * vs_model_joint_states or vs_model_ext_joint_states gave them with the committed slips: the
  * commit then takes no evaluation of its own. Returns as vs_model_commit. */
-int vs_model_commit_states(vs_model *m, const vs_joint_state *st);
+VS_API int vs_model_commit_states(vs_model *m, const vs_joint_state *st);
 
 /* Plastic slip of every joint (m), committed; n_joints entries. */
-const double *vs_model_slips(const vs_model *m);
+VS_API const double *vs_model_slips(const vs_model *m);
 
 /* Forces exerted by the arch on the left and right supports (Fx, Fz in N). */
-void vs_model_reactions(const vs_model *m, const double *q, double delta, double left[2],
-                        double right[2]);
+VS_API void vs_model_reactions(const vs_model *m, const double *q, double delta, double left[2],
+                               double right[2]);
 
 /* Forces and moments the supports exert on the arch at an equilibrium (q, delta): left (Fx, Fz
  * in N, M in N m counter-clockwise about the centre of the springing joint), then right. The
  * quasi-static phase's reactions; in the dynamic phase they are the multipliers lambda
  * (vs_dynamic_reactions), which add the joints' damping forces. */
-void vs_model_support_reactions(const vs_model *m, const double *q, double delta, double out[6]);
+VS_API void vs_model_support_reactions(const vs_model *m, const double *q, double delta,
+                                       double out[6]);
 /* Total potential energy: joint elastic energy minus the work of gravity, J. */
-double vs_model_energy(const vs_model *m, const double *q, double delta);
+VS_API double vs_model_energy(const vs_model *m, const double *q, double delta);
 
 /* Typical force (N) and moment (N m) of each equation, for scaling: the block's weight and its
  * weight times the joint length. scale has vs_model_size entries. */
-void vs_model_residual_scale(const vs_model *m, double *scale);
+VS_API void vs_model_residual_scale(const vs_model *m, double *scale);
 
 /* Gravity load factor lambda (default 1: the arch's own weight), for the self-weight
  * continuation; residual and energies use lambda m g. */
-void vs_model_set_gravity_scale(vs_model *m, double lambda);
-double vs_model_gravity_scale(const vs_model *m);
+VS_API void vs_model_set_gravity_scale(vs_model *m, double lambda);
+VS_API double vs_model_gravity_scale(const vs_model *m);
 
 /* --- dynamics --- */
 
@@ -121,47 +119,38 @@ double vs_model_gravity_scale(const vs_model *m);
  * m = m_a m_b / (m_a + m_b); the block's mass at a support), c_n = 2 zeta sqrt(k_n A m) / A and
  * likewise c_s with k_s. Acts only where the joint is in contact (vs_joint_damping).
  * Default 0 (no damping) until set. */
-void vs_model_set_damping(vs_model *m, double zeta);
-double vs_model_damping_ratio(const vs_model *m);
+VS_API void vs_model_set_damping(vs_model *m, double zeta);
+VS_API double vs_model_damping_ratio(const vs_model *m);
 
 /* Rayleigh damping C = alpha M + beta K_c (alpha 1/s, beta s, both >= 0), replacing the joint
  * damping: K_c is the joints' current material tangent stiffness (vs_joint_damping_tangent: no
  * damping force across an open gap, a hinge damped by what its compressed part carries); the
  * mass part acts on absolute velocities. vs_model_set_damping(m, 0) removes it. */
-void vs_model_set_rayleigh(vs_model *m, double alpha, double beta);
-
-/* Damping forces at (q, v) with the right support moving at ddelta_dt (m/s): fd (3n entries,
- * may be NULL) adds to the residual of the equations of motion; *dissipated = power dissipated
- * in all joints (W, >= 0); *support_power = power of the damping force on the moving support
- * (W, part of the support's work); C (may be NULL): dfd/dv as a CSC matrix with the pattern of
- * vs_model_jacobian. */
-void vs_model_damping(const vs_model *m, const double *q, const double *v, double delta,
-                      double ddelta_dt, double *fd, double *dissipated, double *support_power,
-                      SUNMatrix C);
+VS_API void vs_model_set_rayleigh(vs_model *m, double alpha, double beta);
 
 /* Power dissipated by frictional slip in all joints at (q, v), W (vs_joint_friction_power). */
-double vs_model_friction_power(const vs_model *m, const double *q, const double *v, double delta,
-                               double ddelta_dt);
+VS_API double vs_model_friction_power(const vs_model *m, const double *q, const double *v,
+                                      double delta, double ddelta_dt);
 
 /* Diagonal of the mass matrix (3n: m, m, I per block; constant for centroid coordinates). */
-void vs_model_mass(const vs_model *m, double *mdiag);
+VS_API void vs_model_mass(const vs_model *m, double *mdiag);
 
 /* Kinetic energy of velocities v, J. */
-double vs_model_kinetic_energy(const vs_model *m, const double *v);
+VS_API double vs_model_kinetic_energy(const vs_model *m, const double *v);
 
 /* Force (N) the moving support exerts on the arch along its direction of motion, through the
  * joint's elastic and frictional forces; times d(delta)/dt it is the support's power. */
-double vs_model_support_force(const vs_model *m, const double *q, double delta);
+VS_API double vs_model_support_force(const vs_model *m, const double *q, double delta);
 
 /* Gravitational potential of the blocks at q (J; zero in the reference configuration): the
  * first 3 n_blocks entries of q, so a static state or an extended one. With the joints' energies
  * (vs_joint_state.energy) it makes vs_model_energies without another evaluation. */
-double vs_model_gravity_energy(const vs_model *m, const double *q);
+VS_API double vs_model_gravity_energy(const vs_model *m, const double *q);
 
 /* Joint elastic energy and gravitational potential separately (J; potential zero in the
  * reference configuration). */
-void vs_model_energies(const vs_model *m, const double *q, double delta, double *elastic,
-                       double *gravity);
+VS_API void vs_model_energies(const vs_model *m, const double *q, double delta, double *elastic,
+                              double *gravity);
 
 /* --- driven supports (the dynamic phase's semi-explicit DAE) ---
  * The two springers as bodies: the extended state qe has vs_model_ext_size = 3 n_blocks + 6
@@ -170,41 +159,29 @@ void vs_model_energies(const vs_model *m, const double *q, double delta, double 
  * turns it about that point). The ext functions evaluate the joints at the supports' states
  * taken from qe instead of prescribed by delta; forces and matrices cover all 3 n_blocks + 6
  * unknowns (gravity acts on the blocks only). */
-int vs_model_ext_size(const vs_model *m);
-int vs_model_ext_nnz(const vs_model *m);
+VS_API int vs_model_ext_size(const vs_model *m);
+VS_API int vs_model_ext_nnz(const vs_model *m);
 /* Supports' states (qs: left (ux, uz, theta), right) prescribed by delta and their velocities
  * (vs) at the support speed rate (m/s): left fixed, right moving along alpha, no rotation (a
  * pinned support's rotation is not prescribed: the caller sets it). */
-void vs_model_support_states(const vs_model *m, double delta, double rate, double qs[6],
-                             double vs[6]);
+VS_API void vs_model_support_states(const vs_model *m, double delta, double rate, double qs[6],
+                                    double vs[6]);
 /* Mass diagonal over qe: the blocks' (vs_model_mass), then each support body with the mean
  * voussoir's mass and inertia (for a pinned support, its rotary inertia about the pivot). Driven at constant speed, a support has no acceleration, so its
  * mass only keeps the equations of motion regular; it does not enter the reactions. */
-void vs_model_ext_mass(const vs_model *m, double *mdiag);
+VS_API void vs_model_ext_mass(const vs_model *m, double *mdiag);
 /* Ge = dE/dqe (joint forces minus the load) over qe; the supports' rows are the joint forces'
  * gradients with respect to the supports' coordinates. */
-void vs_model_ext_residual(const vs_model *m, const double *qe, double *Ge);
-/* dGe/dqe (CSC, its own pattern of vs_model_ext_nnz entries, written too). */
-void vs_model_ext_jacobian(const vs_model *m, const double *qe, SUNMatrix J);
-/* Damping forces over qe at velocities ve (3 n_blocks + 6), dissipated power and dfd/dve (any
- * output may be NULL). */
-void vs_model_ext_damping(const vs_model *m, const double *qe, const double *ve, double *fd,
-                          double *dissipated, SUNMatrix C);
-double vs_model_ext_friction_power(const vs_model *m, const double *qe, const double *ve);
+VS_API void vs_model_ext_residual(const vs_model *m, const double *qe, double *Ge);
+VS_API double vs_model_ext_friction_power(const vs_model *m, const double *qe, const double *ve);
 /* The supports' rows of vs_model_ext_motion's F (left ux, uz, theta, then right; elastic and
  * damping forces of the joints at the supports, the only ones acting there) from those joints
  * alone. */
-void vs_model_ext_support_forces(const vs_model *m, const double *qe, const double *ve,
-                                 double out[6]);
-/* One pass over the joints at (qe, ve) for the equations of motion: F = vs_model_ext_residual
- * plus the damping forces of vs_model_ext_damping, *dissipated (their power), *friction
- * (vs_model_ext_friction_power), K = vs_model_ext_jacobian and C = vs_model_ext_damping's
- * matrix, each joint's kinematics and law evaluated once. Any output may be NULL; ve NULL: no
- * damping and no friction power. */
-void vs_model_ext_motion(const vs_model *m, const double *qe, const double *ve, double *F,
-                         double *dissipated, double *friction, SUNMatrix K, SUNMatrix C);
-void vs_model_ext_joint_states(const vs_model *m, const double *qe, vs_joint_state *st);
-int vs_model_ext_commit(vs_model *m, const double *qe);
-void vs_model_ext_energies(const vs_model *m, const double *qe, double *elastic, double *gravity);
+VS_API void vs_model_ext_support_forces(const vs_model *m, const double *qe, const double *ve,
+                                        double out[6]);
+VS_API void vs_model_ext_joint_states(const vs_model *m, const double *qe, vs_joint_state *st);
+VS_API int vs_model_ext_commit(vs_model *m, const double *qe);
+VS_API void vs_model_ext_energies(const vs_model *m, const double *qe, double *elastic,
+                                  double *gravity);
 
 #endif

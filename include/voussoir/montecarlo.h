@@ -7,6 +7,8 @@
 #ifndef VOUSSOIR_MONTECARLO_H
 #define VOUSSOIR_MONTECARLO_H
 
+#include "voussoir/api.h"
+
 #include "voussoir/case.h"
 #include "voussoir/status.h"
 
@@ -31,7 +33,7 @@ typedef struct {
 /* Run sample `sample` of case base (validated): base with imperfections.sample = sample and
  * dynamic.fall_s = 0 (the collapse displacement and the mechanism are read before the fall).
  * Never fails as a function: a failed run gives status VS_MC_FAILED with its cause. */
-void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *out);
+VS_API void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *out);
 
 /* The files vs_mc_write_summary writes into its directory (for an initialiser list). */
 #define VS_MC_OUTPUTS \
@@ -42,7 +44,7 @@ void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *out);
  * regular file), so that none is ever half-written. span_mm normalises (L). Errors: VS_ERR_IO,
  * VS_ERR_NOMEM, VS_ERR_INVALID (a target became something other than a regular file). In
  * libvoussoir-plot (HDF5 and cairo); the rest of this header is in libvoussoir. */
-vs_status vs_mc_write_summary(const char *dir, const vs_case *base, vs_mc_sample *samples, int n,
-                              vs_error *err);
+VS_API vs_status vs_mc_write_summary(const char *dir, const vs_case *base, vs_mc_sample *samples,
+                                     int n, vs_error *err);
 
 #endif

@@ -9,6 +9,8 @@
 #ifndef VOUSSOIR_OUTPUT_H
 #define VOUSSOIR_OUTPUT_H
 
+#include "voussoir/api.h"
+
 #include "voussoir/run.h"
 #include "voussoir/status.h"
 
@@ -37,7 +39,7 @@ typedef struct {
 } vs_output_opts;
 
 /* Fill o with the defaults above. */
-void vs_output_opts_default(vs_output_opts *o);
+VS_API void vs_output_opts_default(vs_output_opts *o);
 
 /* Create the HDF5 file at path (replaced if it exists; written as "<path>.part", copied to
  * "<path>.snap" and renamed over path after the layout and some flushes, renamed itself at the
@@ -52,24 +54,24 @@ void vs_output_opts_default(vs_output_opts *o);
  * ".hdf") replaced by ".xmf" (or ".xmf" appended); it is written by vs_output_finish. *out
  * receives the writer (NULL on failure). Errors: VS_ERR_IO with the HDF5 cause (path is left as it
  * was), VS_ERR_INVALID for bad options, VS_ERR_NOMEM. */
-vs_status vs_output_create(const char *path, const vs_run *run, const char *case_text,
-                           const vs_output_opts *opts, vs_output **out, vs_error *err);
+VS_API vs_status vs_output_create(const char *path, const vs_run *run, const char *case_text,
+                                  const vs_output_opts *opts, vs_output **out, vs_error *err);
 
 /* A vs_run_sample_fn: user is the vs_output. Appends one row to every time series (buffered;
  * written with the buffered events and flushed at every flush_rows-th row and whenever the
  * phase changes). Returns 0, or 1
  * when the file cannot be written (the run then stops; vs_output_error has the cause) or after
  * vs_output_interrupt. */
-int vs_output_sample(void *user, const vs_run *run, const vs_run_sample *s);
+VS_API int vs_output_sample(void *user, const vs_run *run, const vs_run_sample *s);
 
 /* A vs_run_event_fn: user is the vs_output. Buffers the event for /events (written with the next
  * rows; all events are written again by vs_output_finish). Returns as vs_output_sample. */
-int vs_output_event(void *user, const vs_run *run, const vs_run_event *e);
+VS_API int vs_output_event(void *user, const vs_run *run, const vs_run_event *e);
 
 /* Mark the run as interrupted (e.g. after SIGINT; call it from normal code, not from a signal
  * handler): the next sample or event callback returns 1 so that the run stops, and
  * vs_output_finish records status "failed: interrupted". NULL is ignored. */
-void vs_output_interrupt(vs_output *o);
+VS_API void vs_output_interrupt(vs_output *o);
 
 /* Close the record of run: write the buffered rows, then the blocks' outlines moved to the rows
  * the sidecar lists (/xdmf/block_points, and the rows in /xdmf/block_points_row: computed from
@@ -85,14 +87,14 @@ void vs_output_interrupt(vs_output *o);
  * "after-status" (the file closed and renamed over path, the sidecar not yet written), or, in a
  * snapshot after the layout's, "mid-snapshot" (half of the copy written) or "before-publish"
  * (the copy written, not renamed), the process kills itself with SIGKILL at that point. */
-vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status,
-                           const vs_error *run_err, vs_error *err);
+VS_API vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status,
+                                  const vs_error *run_err, vs_error *err);
 
 /* The first write error of o (status VS_OK if none); never NULL for a non-NULL o. */
-const vs_error *vs_output_error(const vs_output *o);
+VS_API const vs_error *vs_output_error(const vs_output *o);
 
 /* Rows written so far (flushed or buffered). */
-long vs_output_rows(const vs_output *o);
+VS_API long vs_output_rows(const vs_output *o);
 
 /* Path of the XDMF sidecar: an XDMF 3 temporal collection with one spatial collection per listed
  * row (Time = the loading time, s; rows whose time does not increase, or is NaN, are skipped),
@@ -102,19 +104,19 @@ long vs_output_rows(const vs_output *o);
  * extrados (N, N; gap_i, gap_e, m; hinge 0/1/2). Rows are XDMF 3 hyperslabs of the time series
  * ("file:/path|start:stride:count:dims"): ParaView's default reader for .xmf (Xdmf3ReaderS/T)
  * plays it; its legacy "XDMF Reader" does not read this form. */
-const char *vs_output_xdmf_path(const vs_output *o);
+VS_API const char *vs_output_xdmf_path(const vs_output *o);
 
 /* 1 once vs_output_finish has written the XDMF sidecar, else 0. */
-int vs_output_xdmf_written(const vs_output *o);
+VS_API int vs_output_xdmf_written(const vs_output *o);
 
 /* The sidecar's path for a record at h5_path (see vs_output_xdmf_path), malloc'd (the caller
  * frees it), or NULL when out of memory. */
-char *vs_output_xdmf_path_for(const char *h5_path);
+VS_API char *vs_output_xdmf_path_for(const char *h5_path);
 
 /* Close every HDF5 object and the file (flushing it), free o and NULL *o; NULL and *o == NULL
  * are allowed. Without vs_output_finish the buffered rows are written but the status stays
  * "running" and there is no XDMF. */
-void vs_output_destroy(vs_output **o);
+VS_API void vs_output_destroy(vs_output **o);
 
 /* For a program: call vs_output_process_init before anything else uses HDF5 and
  * vs_output_process_end before it exits, with clean = 0 if a record failed to be created or
@@ -123,8 +125,8 @@ void vs_output_destroy(vs_output **o);
  * such a file is abandoned (it keeps what its last good flush wrote, status "running"), the exit
  * handler is not installed, and process_end shuts HDF5 down only when it is clean and no file
  * is left open. */
-void vs_output_process_init(void);
-void vs_output_process_end(int clean);
+VS_API void vs_output_process_init(void);
+VS_API void vs_output_process_end(int clean);
 
 /* Write the XDMF sidecar of an existing record (e.g. of a run that was killed) next to it, from
  * the datasets it holds (opened read-only); max_grids as in vs_output_opts (<= 0: the default).
@@ -134,6 +136,6 @@ void vs_output_process_end(int clean);
  * sidecar (Format="XML"). Errors: VS_ERR_IO
  * (cannot open or read the file, or write the sidecar), VS_ERR_INVALID (not a voussoir
  * record). */
-vs_status vs_output_write_xdmf(const char *h5_path, int max_grids, vs_error *err);
+VS_API vs_status vs_output_write_xdmf(const char *h5_path, int max_grids, vs_error *err);
 
 #endif

@@ -4,6 +4,8 @@
 #ifndef VOUSSOIR_PLOT_H
 #define VOUSSOIR_PLOT_H
 
+#include "voussoir/api.h"
+
 #include "voussoir/geometry.h"
 #include "voussoir/hinges.h"
 #include "voussoir/status.h"
@@ -21,13 +23,13 @@ typedef enum { VS_PLOT_PNG = 0, VS_PLOT_SVG = 1 } vs_plot_format;
 #define VS_PLOT_MAX_SERIES 16
 
 /* Format named by a file name's extension: ".svg" (any case) is SVG, anything else PNG. */
-vs_plot_format vs_plot_format_from_path(const char *path);
+VS_API vs_plot_format vs_plot_format_from_path(const char *path);
 
 /* Release the caches that cairo and fontconfig keep for the whole process (fonts, font
  * patterns), so that a leak checker (the sanitizer build) reports only real leaks. Call it at the
  * end of a process that drew pictures (main's cleanup, a test's teardown), when no other thread
  * draws; pictures drawn afterwards still work, the caches are rebuilt. */
-void vs_plot_release(void);
+VS_API void vs_plot_release(void);
 
 /* ---------------------------------------------------------------------------------------------
  * The arch */
@@ -51,8 +53,8 @@ static inline void vs_plot_to_px(const vs_plot_frame *f, double x, double z, dou
  * the reference arch, the deformed voussoirs and both supports (the right one at its fixed and
  * its moved position), fitted with margins into VS_PLOT_ARCH_WIDTH x VS_PLOT_ARCH_HEIGHT and
  * centred. Arguments and errors as vs_plot_arch. */
-vs_status vs_plot_arch_frame(const vs_geometry *g, const double *q, double delta_m,
-                             double alpha_rad, vs_plot_frame *f, vs_error *err);
+VS_API vs_status vs_plot_arch_frame(const vs_geometry *g, const double *q, double delta_m,
+                                    double alpha_rad, vs_plot_frame *f, vs_error *err);
 
 /* Draw the arch of g (from vs_geometry_create_arch: blocks with phi0/phi1, n_blocks + 1 joints)
  * in state q into the file path (created or truncated) as a PNG or SVG picture of
@@ -79,21 +81,23 @@ vs_status vs_plot_arch_frame(const vs_geometry *g, const double *q, double delta
  * is not 'I'/'E', a negative open_m; VS_ERR_IO when the file cannot be created or written or
  * cairo fails ("PATH: ...: cairo's status string"; a partly written file is removed);
  * VS_ERR_NOMEM. Nothing is printed. */
-vs_status vs_plot_arch(const char *path, vs_plot_format fmt, const vs_geometry *g,
-                       const double *q, double delta_m, double alpha_rad, const vs_hinge *hinges,
-                       int n_hinges, const double *joint_gap_i, const double *joint_gap_e,
-                       double open_m, const char *title, vs_error *err);
+VS_API vs_status vs_plot_arch(const char *path, vs_plot_format fmt, const vs_geometry *g,
+                              const double *q, double delta_m, double alpha_rad,
+                              const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
+                              const double *joint_gap_e, double open_m, const char *title,
+                              vs_error *err);
 
 /* vs_plot_arch with the thrust line: joint_N and joint_M (n_joints entries each, N and N m, as
  * vs_joint_state: compression > 0, moment about the joint centre > 0 when the extrados carries
  * more) place the centre of pressure of joint k at e = M/N from its centre towards the extrados
  * along the moved joint; the line joins those of consecutive compressed joints (a joint with
  * N <= 0 breaks it) and the key names it. Either array NULL: no thrust line. */
-vs_status vs_plot_arch_thrust(const char *path, vs_plot_format fmt, const vs_geometry *g,
-                              const double *q, double delta_m, double alpha_rad,
-                              const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
-                              const double *joint_gap_e, double open_m, const double *joint_N,
-                              const double *joint_M, const char *title, vs_error *err);
+VS_API vs_status vs_plot_arch_thrust(const char *path, vs_plot_format fmt, const vs_geometry *g,
+                                     const double *q, double delta_m, double alpha_rad,
+                                     const vs_hinge *hinges, int n_hinges,
+                                     const double *joint_gap_i, const double *joint_gap_e,
+                                     double open_m, const double *joint_N, const double *joint_M,
+                                     const char *title, vs_error *err);
 
 /* Everything vs_plot_arch_thrust draws (the same fields, the same meaning), and what an arch
  * that is not the nominal one on fixed supports needs:
@@ -124,26 +128,26 @@ typedef struct {
 /* Draw a->... as vs_plot_arch_thrust does. Errors as vs_plot_arch_thrust, and VS_ERR_INVALID
  * for a NULL a, a block thickness outside (0, R), a non-finite springer rotation or a non-zero
  * one on a fixed support. */
-vs_status vs_plot_arch_draw(const char *path, vs_plot_format fmt, const vs_plot_arch_args *a,
-                            vs_error *err);
+VS_API vs_status vs_plot_arch_draw(const char *path, vs_plot_format fmt, const vs_plot_arch_args *a,
+                                   vs_error *err);
 
 /* The points the thrust line of vs_plot_arch_thrust joins, in model coordinates (m): x[k], z[k]
  * for joint k + 1 (n_joints entries each), the centre of pressure e = M/N from the centre of
  * the moved joint towards its extrados; NaN where the joint carries no compression (N <= 0).
  * Arguments as vs_plot_arch_thrust. Errors: VS_ERR_INVALID as vs_plot_arch, and for NULL
  * joint_N, joint_M, x or z. */
-vs_status vs_plot_thrust_points(const vs_geometry *g, const double *q, double delta_m,
-                                double alpha_rad, const double *joint_N, const double *joint_M,
-                                double *x, double *z, vs_error *err);
+VS_API vs_status vs_plot_thrust_points(const vs_geometry *g, const double *q, double delta_m,
+                                       double alpha_rad, const double *joint_N,
+                                       const double *joint_M, double *x, double *z, vs_error *err);
 
 /* vs_plot_arch_thrust with the ground the fall landed on (contact.h): the plane z = ground_z
  * (m; NaN: none) drawn across the picture, hatched below and named, and kept in the frame. */
-vs_status vs_plot_arch_landed(const char *path, vs_plot_format fmt, const vs_geometry *g,
-                              const double *q, double delta_m, double alpha_rad,
-                              const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
-                              const double *joint_gap_e, double open_m, const double *joint_N,
-                              const double *joint_M, double ground_z, const char *title,
-                              vs_error *err);
+VS_API vs_status vs_plot_arch_landed(const char *path, vs_plot_format fmt, const vs_geometry *g,
+                                     const double *q, double delta_m, double alpha_rad,
+                                     const vs_hinge *hinges, int n_hinges,
+                                     const double *joint_gap_i, const double *joint_gap_e,
+                                     double open_m, const double *joint_N, const double *joint_M,
+                                     double ground_z, const char *title, vs_error *err);
 
 /* ---------------------------------------------------------------------------------------------
  * Curves */
@@ -192,9 +196,9 @@ typedef struct {
  * 1..VS_PLOT_MAX_PANELS, a panel with NULL series or n_series outside 1..VS_PLOT_MAX_SERIES, a
  * series with NULL y, a non-finite or negative axis scale; VS_ERR_IO and VS_ERR_NOMEM as
  * vs_plot_arch. Nothing is printed. */
-vs_status vs_plot_curves(const char *path, vs_plot_format fmt, const char *title,
-                         const vs_plot_axis *x_axis, const double *x, int n,
-                         const vs_plot_panel *panels, int n_panels, vs_error *err);
+VS_API vs_status vs_plot_curves(const char *path, vs_plot_format fmt, const char *title,
+                                const vs_plot_axis *x_axis, const double *x, int n,
+                                const vs_plot_panel *panels, int n_panels, vs_error *err);
 
 /* Extras for vs_plot_curves_marked: vertical marks at n x values (e.g. the limit points), each
  * with a label (NULL: none), dashed across every panel; a second x axis on top of the first
@@ -210,9 +214,9 @@ typedef struct {
 
 /* vs_plot_curves with marks (NULL: none); errors as vs_plot_curves, and VS_ERR_INVALID for
  * n < 0, NULL x with n > 0, a bad x2 scale or a style outside vs_plot_style. */
-vs_status vs_plot_curves_marked(const char *path, vs_plot_format fmt, const char *title,
-                                const vs_plot_axis *x_axis, const double *x, int n,
-                                const vs_plot_panel *panels, int n_panels,
-                                const vs_plot_marks *marks, vs_error *err);
+VS_API vs_status vs_plot_curves_marked(const char *path, vs_plot_format fmt, const char *title,
+                                       const vs_plot_axis *x_axis, const double *x, int n,
+                                       const vs_plot_panel *panels, int n_panels,
+                                       const vs_plot_marks *marks, vs_error *err);
 
 #endif

@@ -5,6 +5,8 @@
 #ifndef VOUSSOIR_QUASISTATIC_H
 #define VOUSSOIR_QUASISTATIC_H
 
+#include "voussoir/api.h"
+
 #include <signal.h>
 
 #include "voussoir/model.h"
@@ -33,7 +35,7 @@ typedef struct {
 
 /* Options from a run's definition: its path, the support's largest displacement and the hinges'
  * opening; no stop flag. */
-void vs_path_opts_from_def(const vs_run_def *d, vs_path_opts *o);
+VS_API void vs_path_opts_from_def(const vs_run_def *d, vs_path_opts *o);
 
 typedef enum {
   VS_PATH_LIMIT_POINT = 1,     /* stopped at a confirmed limit point */
@@ -76,25 +78,26 @@ typedef int (*vs_path_step_fn)(void *user, double delta, const double *q, const 
  * cannot stand) or a Newton failure is not a limit point (cause in err); VS_ERR_SOLVER when
  * SUNDIALS fails, the residual is not finite (NaN or infinity) or VS_PATH_MAX_INCREMENTS is
  * reached; VS_ERR_INTERRUPTED when o->stop was raised. res is filled as far as the path got. */
-vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double *q,
-                      vs_path_step_fn step_fn, void *user, vs_path_result *res, vs_error *err);
+VS_API vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double *q,
+                             vs_path_step_fn step_fn, void *user, vs_path_result *res,
+                             vs_error *err);
 
 /* A quasi-static solver (KINSOL and KLU over model m's fixed Jacobian pattern) kept for several
  * paths: a run makes one and passes it to every vs_path_run_with (segments, rest probes), so the
  * solver is created and its pattern analysed once. o gives the first options (each run re-reads
  * its own). vs_path_run is vs_path_run_with on a solver of its own. */
 typedef struct vs_path_solver vs_path_solver;
-vs_status vs_path_solver_create(vs_model *m, const vs_path_opts *o, vs_path_solver **out,
-                                vs_error *err);
-void vs_path_solver_destroy(vs_path_solver **p);
+VS_API vs_status vs_path_solver_create(vs_model *m, const vs_path_opts *o, vs_path_solver **out,
+                                       vs_error *err);
+VS_API void vs_path_solver_destroy(vs_path_solver **p);
 /* vs_path_run on solver p (its model); results as with a new solver. */
-vs_status vs_path_run_with(vs_path_solver *p, const vs_path_opts *o, double delta0, double *q,
-                           vs_path_step_fn step_fn, void *user, vs_path_result *res,
-                           vs_error *err);
+VS_API vs_status vs_path_run_with(vs_path_solver *p, const vs_path_opts *o, double delta0,
+                                  double *q, vs_path_step_fn step_fn, void *user,
+                                  vs_path_result *res, vs_error *err);
 
 /* One equilibrium solve at support displacement delta from the guess q (replaced by the
  * solution). Used by tests and the dynamic phase. *iters receives the Newton iterations. */
-vs_status vs_equilibrium_solve(vs_model *m, const vs_path_opts *o, double delta, double *q,
-                               long *iters, vs_error *err);
+VS_API vs_status vs_equilibrium_solve(vs_model *m, const vs_path_opts *o, double delta, double *q,
+                                      long *iters, vs_error *err);
 
 #endif

@@ -3,23 +3,25 @@
 #ifndef VOUSSOIR_REPORT_H
 #define VOUSSOIR_REPORT_H
 
+#include "voussoir/api.h"
+
 #include <stdio.h>
 
 #include "voussoir/run.h"
 
 /* Human summary of run r to out. status/err: how vs_run_execute ended (err may be NULL). */
-void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error *err,
-                    const char *case_path);
+VS_API void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error *err,
+                           const char *case_path);
 
 /* One JSON object (and a newline) to out. Stable keys: alpha_deg, kn_N_mm3, span_mm,
  * first_limit {delta_mm, dz_over_L_pct, dx_over_L_pct, ...} (null when there is none), hinges
  * [{label, joints, joints_onset, side, delta_onset_mm, open}], stats {steps, newton_iterations,
  * wall_s, ...}, status, error. A number that is not finite (no collapse time, a quantity the
  * run did not reach) is written as null: the output is always valid JSON. */
-void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error *err,
-                    const char *case_path);
+VS_API void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error *err,
+                           const char *case_path);
 
 /* Write s as a JSON string literal (quoted, escaped). */
-void vs_json_string(FILE *out, const char *s);
+VS_API void vs_json_string(FILE *out, const char *s);
 
 #endif

@@ -5,6 +5,8 @@
 #ifndef VOUSSOIR_RUN_H
 #define VOUSSOIR_RUN_H
 
+#include "voussoir/api.h"
+
 #include "voussoir/case.h"
 #include "voussoir/dynamic.h"
 #include "voussoir/fall.h"
@@ -93,16 +95,16 @@ typedef int (*vs_run_event_fn)(void *user, const vs_run *run, const vs_run_event
 
 /* Build everything for case c (copied; vs_case_to_def gives the run's definition).
  * Errors: VS_ERR_INVALID / VS_ERR_NOMEM. */
-vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err);
+VS_API vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err);
 /* The same from a definition (def.h, copied): a run no case file describes. vs_run_case is then
  * NULL, and the reports and the record, which echo a case, need one (vs_run_create). */
-vs_status vs_run_create_def(const vs_run_def *d, vs_run **out, vs_error *err);
-void vs_run_destroy(vs_run **r);
+VS_API vs_status vs_run_create_def(const vs_run_def *d, vs_run **out, vs_error *err);
+VS_API void vs_run_destroy(vs_run **r);
 
 /* Stop flag of the run (NULL: none), e.g. set by a SIGINT handler: once non-zero, the solve
  * under way stops at its next residual evaluation (KINSOL or IDA) and vs_run_execute returns
  * VS_ERR_INTERRUPTED. The flag is borrowed and only read. */
-void vs_run_set_stop(vs_run *r, const volatile sig_atomic_t *stop);
+VS_API void vs_run_set_stop(vs_run *r, const volatile sig_atomic_t *stop);
 
 /* Bounds of a run: dynamic phases after one limit point (each ended by the arch at rest with no
  * equilibrium there), and limit points; reaching one is an error (VS_ERR_SOLVER) that says so. */
@@ -112,79 +114,79 @@ void vs_run_set_stop(vs_run *r, const volatile sig_atomic_t *stop);
 /* Run the case. The status is that of the solvers (VS_OK when the run reached the collapse, the
  * first limit point with dynamic.follow = 0, or support.max_mm); VS_ERR_INTERRUPTED after the
  * stop flag; everything recorded up to a failure stays available. */
-vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn event, void *user,
-                         vs_error *err);
+VS_API vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn event,
+                                void *user, vs_error *err);
 
 /* The case the run was made from (NULL: made from a definition); its definition. */
-const vs_case *vs_run_case(const vs_run *r);
-const vs_run_def *vs_run_def_of(const vs_run *r);
-const vs_geometry *vs_run_geometry(const vs_run *r);
+VS_API const vs_case *vs_run_case(const vs_run *r);
+VS_API const vs_run_def *vs_run_def_of(const vs_run *r);
+VS_API const vs_geometry *vs_run_geometry(const vs_run *r);
 /* The imperfections drawn for the case (all nominal when it asks for none). */
-const vs_imperfections *vs_run_imperfections(const vs_run *r);
-const vs_model *vs_run_model(const vs_run *r);
-const vs_hinges *vs_run_hinges(const vs_run *r);
-const vs_hinge_opts *vs_run_hinge_opts(const vs_run *r);
+VS_API const vs_imperfections *vs_run_imperfections(const vs_run *r);
+VS_API const vs_model *vs_run_model(const vs_run *r);
+VS_API const vs_hinges *vs_run_hinges(const vs_run *r);
+VS_API const vs_hinge_opts *vs_run_hinge_opts(const vs_run *r);
 
 /* The first quasi-static segment (to the first limit point) and the totals of all segments. */
-const vs_path_result *vs_run_path(const vs_run *r);
-const vs_path_result *vs_run_path_totals(const vs_run *r);
+VS_API const vs_path_result *vs_run_path(const vs_run *r);
+VS_API const vs_path_result *vs_run_path_totals(const vs_run *r);
 
 /* Limit points in order; the collapse; the dynamic phases' totals (steps, Newton iterations,
  * root events, the worst energy balance). */
-int vs_run_limit_count(const vs_run *r);
-const vs_limit_record *vs_run_limit(const vs_run *r, int i);
-const vs_collapse_record *vs_run_collapse(const vs_run *r);
-const vs_dyn_result *vs_run_dynamic_totals(const vs_run *r);
+VS_API int vs_run_limit_count(const vs_run *r);
+VS_API const vs_limit_record *vs_run_limit(const vs_run *r, int i);
+VS_API const vs_collapse_record *vs_run_collapse(const vs_run *r);
+VS_API const vs_dyn_result *vs_run_dynamic_totals(const vs_run *r);
 
 /* Hinges to report: all of them, or after a collapse those formed up to its onset (the falling
  * arch opens joints everywhere; they stay in the event log). */
-int vs_run_hinge_count(const vs_run *r);
+VS_API int vs_run_hinge_count(const vs_run *r);
 /* Hinge i (0-based, in order of appearance) as reported: after a collapse, as it was at the
  * collapse's onset (its joints and whether it was open then), not at the end of the fall; beyond
  * vs_run_hinge_count (hinges of the fall) and without a collapse, the tracker's current state. */
-const vs_hinge *vs_run_hinge(const vs_run *r, int i);
+VS_API const vs_hinge *vs_run_hinge(const vs_run *r, int i);
 
 /* Logged events in order. */
-int vs_run_event_count(const vs_run *r);
-const vs_run_event *vs_run_event_get(const vs_run *r, int i);
+VS_API int vs_run_event_count(const vs_run *r);
+VS_API const vs_run_event *vs_run_event_get(const vs_run *r, int i);
 
 /* Evolution mode (docs/vocabulary.md): "I", "II", "III", or NULL when the hinge sides match none; and the
  * side patterns it was read from (first three hinges, left to right; hinges at the collapse). */
-const char *vs_run_mode(const vs_run *r);
-const char *vs_run_pattern_initial(const vs_run *r);
-const char *vs_run_pattern_collapse(const vs_run *r);
+VS_API const char *vs_run_mode(const vs_run *r);
+VS_API const char *vs_run_pattern_initial(const vs_run *r);
+VS_API const char *vs_run_pattern_collapse(const vs_run *r);
 
 /* Last state: positions (vs_model_size entries), support displacement (m), time (s). */
-const double *vs_run_state(const vs_run *r);
-double vs_run_delta(const vs_run *r);
-double vs_run_time(const vs_run *r);
+VS_API const double *vs_run_state(const vs_run *r);
+VS_API double vs_run_delta(const vs_run *r);
+VS_API double vs_run_time(const vs_run *r);
 /* Forces the supports exert on the arch at the last recorded state (as vs_run_sample.reactions). */
-const double *vs_run_reactions(const vs_run *r);
+VS_API const double *vs_run_reactions(const vs_run *r);
 /* The ground the fall landed on (contact.h): its height z (m, in the geometry's frame) and the
  * largest penetration (m) of a block vertex into it at the last recorded state; NaN when no
  * fall was followed. The largest during the fall and its cost: vs_run_dynamic_totals. */
-double vs_run_ground(const vs_run *r);
-double vs_run_penetration(const vs_run *r);
+VS_API double vs_run_ground(const vs_run *r);
+VS_API double vs_run_penetration(const vs_run *r);
 /* The rest level (J): the debris is at rest once its kinetic energy has stayed below it for the
  * rest window (dynamic.rest_factor times the kinetic energy of the arch moving bodily at the
  * support's rate, at most a hundredth of the collapse threshold). */
-double vs_run_rest_ke(const vs_run *r);
+VS_API double vs_run_rest_ke(const vs_run *r);
 /* The rigid fall after the collapse (fall.scheme = rigid), NULL when none was followed: its
  * steps, solver work, overlaps, energy balance and cost. The summary figures (at rest, deepest
  * penetration and overlap, wall time, balance) are also in vs_run_dynamic_totals, as for the
  * penalty scheme. */
-const vs_fall_result *vs_run_fall(const vs_run *r);
+VS_API const vs_fall_result *vs_run_fall(const vs_run *r);
 /* Wall-clock time of vs_run_execute, s. */
-double vs_run_wall_s(const vs_run *r);
+VS_API double vs_run_wall_s(const vs_run *r);
 
 /* Natural vibration under self-weight (computed at the first equilibrium; n_modes = 0 before,
  * or above VS_MODAL_MAX_DOF unknowns, or when the self-weight state was not stable) with the
  * damping ratio the case's damping model gives each mode; the Rayleigh coefficients (alpha 1/s,
  * beta s; 0 unless dynamic.damping_model = rayleigh). */
-const vs_modal *vs_run_modal(const vs_run *r);
-void vs_run_rayleigh(const vs_run *r, double *alpha, double *beta);
+VS_API const vs_modal *vs_run_modal(const vs_run *r);
+VS_API void vs_run_rayleigh(const vs_run *r, double *alpha, double *beta);
 
 /* Name of the open hinges, "A:8-I B:30-E C:56-E", into buf. */
-void vs_run_open_hinges(const vs_run *r, char *buf, size_t size);
+VS_API void vs_run_open_hinges(const vs_run *r, char *buf, size_t size);
 
 #endif

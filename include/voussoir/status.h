@@ -3,6 +3,8 @@
 #ifndef VOUSSOIR_STATUS_H
 #define VOUSSOIR_STATUS_H
 
+#include "voussoir/api.h"
+
 #include <stddef.h>
 
 #define VS_STATUS_LIST(X)                                                          \
@@ -24,7 +26,7 @@ typedef enum {
 } vs_status;
 
 /* Short, static description of a status code; never NULL. */
-const char *vs_strerror(vs_status status);
+VS_API const char *vs_strerror(vs_status status);
 
 /* Detail of the last error: a status and a human-readable message such as
  * "case.ini:14: joints.kn_N_mm3 = -3: must be > 0 (allowed: > 0)".
@@ -35,10 +37,10 @@ typedef struct {
 } vs_error;
 
 /* Reset err to VS_OK with an empty message. NULL is allowed and ignored. */
-void vs_error_clear(vs_error *err);
+VS_API void vs_error_clear(vs_error *err);
 
 /* Record status and a printf-style message in err (NULL allowed) and return status. */
-vs_status vs_error_set(vs_error *err, vs_status status, const char *fmt, ...)
+VS_API vs_status vs_error_set(vs_error *err, vs_status status, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))
 #endif

@@ -5,15 +5,17 @@
 #ifndef VOUSSOIR_SUPPORT_H
 #define VOUSSOIR_SUPPORT_H
 
+#include "voussoir/api.h"
+
 typedef struct {
   double dx; /* sin alpha: the outward (x) share of delta, the spreading */
   double dz; /* cos alpha: the downward share of delta, the settlement */
 } vs_support_dir;
 
 /* The direction alpha_rad (rad). */
-vs_support_dir vs_support_direction(double alpha_rad);
+VS_API vs_support_dir vs_support_direction(double alpha_rad);
 
 /* The right support's displacement for delta (m) along d: u = (delta dx, -delta dz), m. */
-void vs_support_displacement(vs_support_dir d, double delta, double u[2]);
+VS_API void vs_support_displacement(vs_support_dir d, double delta, double u[2]);
 
 #endif

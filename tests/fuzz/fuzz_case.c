@@ -13,8 +13,8 @@
 #include <string.h>
 
 #include "voussoir/case.h"
-#include "voussoir/parse.h"
-#include "voussoir/sweep.h"
+#include "parse.h"
+#include "list.h"
 
 #define CHECK(cond)                                                                               \
   do {                                                                                            \

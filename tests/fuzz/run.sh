@@ -15,9 +15,10 @@ mkdir -p "$work/corpus"
 cp -n "$here"/corpus/* "$work/corpus/" 2>/dev/null || true
 # shellcheck disable=SC2046
 clang -std=c17 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-  -I"$root/include" $(pkg-config --cflags inih) \
-  "$here/fuzz_case.c" "$root/src/case.c" "$root/src/case_read.c" "$root/src/parse.c" \
-  "$root/src/list.c" "$root/src/status.c" $(pkg-config --libs inih) -lm -o "$work/fuzz_case"
+  -I"$root/include" -I"$root/src/base" -I"$root/src/case" $(pkg-config --cflags inih) \
+  "$here/fuzz_case.c" "$root/src/case/case.c" "$root/src/case/case_read.c" \
+  "$root/src/base/parse.c" \
+  "$root/src/base/list.c" "$root/src/base/status.c" $(pkg-config --libs inih) -lm -o "$work/fuzz_case"
 echo "fuzz: $work/fuzz_case for $secs s (corpus and any reproducer in $work)"
 cd "$work"
 ./fuzz_case -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -max_len=8192 \

@@ -1,0 +1,508 @@
+/* The case: every input parameter of a run. One table (section, key, type, range, unit, default)
+ * drives the defaults, the INI reader, --set overrides, the range checks and every message, so a
+ * key cannot exist in one of them and be missing from another. The file reader itself is
+ * case_read.c: its assignments come here (case_internal.h). */
+#include "voussoir/case.h"
+
+#include "case_internal.h"
+#include "parse.h"
+#include "voussoir/units.h"
+
+#include <limits.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---------------------------------------------------------------------------------------------
+ * The table */
+
+typedef enum { KEY_DOUBLE, KEY_INT } key_type;
+
+typedef struct {
+  const char *section;
+  const char *name;
+  key_type type;
+  size_t offset; /* of the field in vs_case */
+  double def;
+  double min, max; /* -INFINITY / INFINITY: unbounded on that side */
+  bool min_incl, max_incl;
+  const char *unit; /* "" when dimensionless */
+  const char *what;
+  const char *const *names; /* a named choice: the names of values 0, 1, ... (NULL-terminated),
+                               written in the file as names; NULL for a number */
+} key_spec;
+
+/* The field's own type picks the storage, so a row cannot write a double into an int. */
+#define FIELD_TYPE(field) _Generic(((vs_case *)0)->field, double: KEY_DOUBLE, int: KEY_INT)
+#define KEY(sec, field, def, lo, lo_in, hi, hi_in, unit, what)                                    \
+  {#sec, #field, FIELD_TYPE(field), offsetof(vs_case, field), def, lo, hi, lo_in, hi_in, unit, what, \
+   NULL}
+/* A named choice stored as an int field: value i is names[i]. */
+#define KEY_NAMED(sec, field, def, count, names, what)                                           \
+  {#sec, #field, KEY_INT, offsetof(vs_case, field), def, 0.0, (count) - 1.0, true, true, "", what, \
+   names}
+
+/* support.left_kind, support.right_kind, in the order of vs_support_kind (model.h) */
+static const char *const support_kinds[] = {"fixed", "pinned", NULL};
+/* dynamic.damping_model, in the order of vs_damping_model (damping.h) */
+static const char *const damping_models[] = {"none", "joint", "rayleigh", "impact", NULL};
+/* fall.scheme, in the order of vs_fall_scheme (case.h) */
+static const char *const fall_schemes[] = {"rigid", "penalty", NULL};
+/* fall.solver, in the order of vs_fall_solver (fall.h) */
+static const char *const fall_solvers[] = {"nncg", "gauss_seidel", NULL};
+
+#define INF INFINITY
+/* Every bound is finite (except where a sign is all that matters) so that every quantity derived
+ * from the case (areas, masses, weights, times delta / rate, the span) stays a finite, non-zero
+ * double; the README's table of keys gives the reason for each. Lengths: 1 um to 1 km. */
+#define LEN_MIN 1e-3
+#define LEN_MAX 1e6
+static const key_spec keys[] = {
+    /*  section  key           default  min  incl   max   incl   unit      meaning */
+    KEY(arch, radius_mm, 300.0, LEN_MIN, true, LEN_MAX, true, "mm", "intrados radius R"),
+    KEY(arch, thickness_mm, 24.0, LEN_MIN, true, LEN_MAX, true, "mm", "radial thickness t"),
+    KEY(arch, embrace_deg, 125.0, 1.0, true, 180.0, true, "deg",
+        "angle of embrace, symmetric about the crown (below 1 deg the arch is a flat beam)"),
+    KEY(arch, voussoirs, 55.0, 1.0, true, 2000.0, true, "",
+        "number of voussoirs, equal angles (per voussoir a run takes ~10 kB of memory and ~1 ms "
+        "of CPU to the collapse, its record ~200 bytes a state: 2000 write up to ~400 MB)"),
+    KEY(arch, depth_mm, 120.0, LEN_MIN, true, LEN_MAX, true, "mm", "out-of-plane depth b"),
+    KEY(arch, density_kg_m3, 1640.0, 10.0, true, 1e5, true, "kg/m^3",
+        "density of the blocks (foams to beyond any metal; lighter blocks weigh less than the "
+        "Newton tolerance can resolve against the joint stiffness)"),
+    KEY(arch, gravity_m_s2, 9.81, 0.1, true, 1000.0, true, "m/s^2",
+        "gravitational acceleration (up to 100 g, as in a centrifuge model)"),
+    KEY(joints, kn_N_mm3, 3.0, 1e-4, true, 1e4, true, "N/mm^3",
+        "normal stiffness k_n (above 1e4 doubles cannot resolve joint forces against a voussoir "
+        "weight; below 1e-4 a lab arch sinks by its own thickness under self-weight)"),
+    KEY(joints, ks_ratio, 0.5, 0.0, false, 100.0, true, "", "shear stiffness ratio k_s / k_n"),
+    KEY(joints, friction, 0.7, 0.0, false, 100.0, true, "", "Coulomb friction coefficient mu"),
+    KEY(support, alpha_deg, 0.0, -180.0, true, 180.0, true, "deg",
+        "direction of the right support's motion from the vertical (0 down, 90 outward)"),
+    KEY(support, rate_mm_s, 0.04, 1e-6, true, 1e6, true, "mm/s",
+        "speed of the right support (times are delta / rate: bounded both ways)"),
+    KEY(support, max_mm, 300.0, 0.0, false, LEN_MAX, true, "mm",
+        "largest support displacement followed"),
+    KEY_NAMED(support, left_kind, 0.0, 2, support_kinds,
+              "left support: fixed (clamped) or pinned (free to rotate about its pivot)"),
+    KEY_NAMED(support, right_kind, 0.0, 2, support_kinds,
+              "right (moving) support: fixed (clamped) or pinned (free to rotate about its pivot)"),
+    KEY(solver, step_mm, 0.5, 0.0, false, LEN_MAX, true, "mm",
+        "initial increment of the support displacement"),
+    KEY(solver, step_max_mm, 2.0, 0.0, false, LEN_MAX, true, "mm", "largest increment"),
+    KEY(solver, limit_tol_mm, 1e-3, 1e-9, true, LEN_MAX, true, "mm",
+        "bisection tolerance on a limit point (below 1e-9 mm it is under the round-off of positions)"),
+    KEY(solver, newton_tol, 1e-8, 0.0, false, 1e-2, true, "",
+        "scaled residual tolerance (fraction of a voussoir's weight)"),
+    KEY(solver, newton_maxiter, 8.0, 2.0, true, 1000.0, true, "",
+        "Newton iterations per increment"),
+    KEY(hinges, open_mm, 0.05, 0.0, false, LEN_MAX, true, "mm",
+        "edge opening beyond which a joint counts as a hinge"),
+    KEY(hinges, migrate_joints, 3.0, 0.0, true, 100.0, true, "joints",
+        "a hinge reappearing within this many joints, same side, has migrated"),
+    KEY(dynamic, follow, 1.0, 0.0, true, 1.0, true, "",
+        "1: follow the limit points dynamically to the collapse; 0: stop at the first"),
+    KEY(dynamic, full, 0.0, 0.0, true, 1.0, true, "",
+        "1: integrate the whole loading dynamically from rest"),
+    KEY_NAMED(dynamic, damping_model, 1.0, 4, damping_models,
+              "damping: none, joint (dashpots), rayleigh (alpha M + beta K), impact (Housner)"),
+    KEY(dynamic, damping, 0.05, 0.0, true, 1.0, true, "",
+        "damping ratio: joint, of each joint's critical damping; rayleigh, of the two lowest modes"),
+    KEY(dynamic, rtol, 1e-6, 0.0, false, 1e-2, true, "", "IDA relative tolerance"),
+    KEY(dynamic, atol_mm, 1e-5, 0.0, false, LEN_MAX, true, "mm",
+        "IDA absolute tolerance on positions"),
+    KEY(dynamic, rest_factor, 100.0, 1.0, true, 1e12, true, "",
+        "at rest below this many times the kinetic energy of the arch moving at the support rate"),
+    KEY(dynamic, rest_s, 1.0, 0.0, false, 1e6, true, "s", "... for this long"),
+    KEY(dynamic, collapse_ke, 0.1, 0.0, false, 1e6, true, "",
+        "collapsing beyond this kinetic energy, as a fraction of weight x thickness"),
+    KEY(dynamic, fall_s, 5.0, 0.0, true, 1e6, true, "s",
+        "the fall is followed at most this long (it ends earlier once the debris is at rest)"),
+    KEY(dynamic, sample_s, 0.01, 1e-6, true, 1e6, true, "s", "interval between dynamic samples"),
+    KEY(fall, ground_mm, 0.0, -LEN_MAX, true, 0.0, true, "mm",
+        "the ground's height above the lower springing's base when the fall starts (above it, "
+        "it would cut the standing springers)"),
+    KEY_NAMED(fall, scheme, 0.0, 2, fall_schemes,
+              "rigid: rigid blocks, impulsive contacts, time stepping (fall.h); penalty: the "
+              "joints' elastic law at every contact, integrated by IDA (20-100 times slower)"),
+    KEY(fall, step_ms, 1.0, 1e-3, true, 10.0, true, "ms",
+        "time step of the rigid scheme (a block falling at 2 m/s moves 2 mm in 1 ms)"),
+    KEY(fall, slow_factor, 2.0, 1.0, true, 10.0, true, "",
+        "rigid scheme: the step is this many times step_ms while no point of a block moves "
+        "faster than slow_mm_s (1: always step_ms)"),
+    KEY(fall, slow_mm_s, 500.0, 0.0, true, 1e6, true, "mm/s",
+        "... that speed (0: always step_ms)"),
+    KEY(fall, max_sweeps, 15.0, 1.0, true, 10000.0, true, "",
+        "rigid scheme: Gauss-Seidel sweeps at most per step (100 near rest if fewer)"),
+    KEY_NAMED(fall, solver, 0.0, 2, fall_solvers,
+              "rigid scheme: the contacts' impulses by Gauss-Seidel sweeps, each followed by a "
+              "nonsmooth conjugate gradient step (nncg), or the sweeps alone (gauss_seidel)"),
+    KEY(fall, restitution, 0.5, 0.0, false, 1.0, true, "",
+        "penalty scheme: coefficient of restitution of a block landing flat on the ground (the "
+        "rigid scheme's impacts are perfectly plastic)"),
+    /* imperfections: src/model/imperfections.c; all amplitudes 0 give the perfect arch exactly */
+    KEY(imperfections, seed, 1.0, 0.0, true, 2147483647.0, true, "", "seed of the generator"),
+    KEY(imperfections, sample, 0.0, 0.0, true, 2147483647.0, true, "",
+        "sample number (each sample draws its own imperfections)"),
+    KEY(imperfections, kn_cov, 0.0, 0.0, true, 3.0, true, "",
+        "coefficient of variation of each joint's k_n (lognormal, mean the nominal k_n)"),
+    KEY(imperfections, kn_corr_mm, 0.0, 0.0, true, 1e6, true, "mm",
+        "correlation length of the k_n scatter along the arch (0: independent joints)"),
+    KEY(imperfections, face_mm, 0.0, 0.0, true, 10.0, true, "mm",
+        "non-coplanar faces: standard deviation of the as-built gap at a joint's open edge"),
+    KEY(imperfections, angle_cov, 0.0, 0.0, true, 0.5, true, "",
+        "coefficient of variation of the voussoirs' angular sizes (the arch still closes)"),
+    KEY(imperfections, thickness_cov, 0.0, 0.0, true, 0.5, true, "",
+        "coefficient of variation of the voussoirs' thickness"),
+    KEY(imperfections, support_dx_mm, 0.0, -100.0, true, 100.0, true, "mm",
+        "initial offset of the moving support, outward"),
+    KEY(imperfections, support_dz_mm, 0.0, -100.0, true, 100.0, true, "mm",
+        "initial offset of the moving support, downward"),
+};
+#undef LEN_MIN
+#undef LEN_MAX
+#undef INF
+#undef KEY
+#undef KEY_NAMED
+#undef FIELD_TYPE
+
+#define NKEYS (sizeof keys / sizeof keys[0])
+
+/* Relations between fields checked by vs_case_validate: lo < hi (strict) or lo <= hi. */
+typedef struct {
+  const char *lo_section, *lo_name, *hi_section, *hi_name;
+  bool strict;
+  const char *rule;
+} relation;
+
+static const relation relations[] = {
+    {"solver", "limit_tol_mm", "solver", "step_mm", false,
+     "limit_tol_mm <= step_mm <= step_max_mm, mm"},
+    {"solver", "step_mm", "solver", "step_max_mm", false,
+     "limit_tol_mm <= step_mm <= step_max_mm, mm"},
+    {"solver", "step_mm", "support", "max_mm", true, "solver.step_mm < support.max_mm, mm"},
+};
+
+/* ---------------------------------------------------------------------------------------------
+ * Table access */
+
+static const key_spec *find_key(const char *section, const char *name) {
+  for (size_t i = 0; i < NKEYS; i++)
+    if (strcmp(keys[i].section, section) == 0 && strcmp(keys[i].name, name) == 0) return &keys[i];
+  return NULL;
+}
+
+/* section need not be NUL-terminated: the reader checks "[name]" in place. */
+bool vs_case_section_known(const char *section, size_t len) {
+  for (size_t i = 0; i < NKEYS; i++)
+    if (strlen(keys[i].section) == len && memcmp(keys[i].section, section, len) == 0) return true;
+  return false;
+}
+
+static double get_value(const vs_case *c, const key_spec *k) {
+  const char *p = (const char *)c + k->offset;
+  return k->type == KEY_INT ? (double)*(const int *)(const void *)p
+                            : *(const double *)(const void *)p;
+}
+
+/* v has been range-checked, so the int conversion is exact. */
+static void set_value(vs_case *c, const key_spec *k, double v) {
+  char *p = (char *)c + k->offset;
+  if (k->type == KEY_INT)
+    *(int *)(void *)p = (int)v;
+  else
+    *(double *)(void *)p = v;
+}
+
+static bool in_range(const key_spec *k, double v) {
+  if (!isfinite(v)) return false;
+  if (k->min_incl ? v < k->min : v <= k->min) return false;
+  if (k->max_incl ? v > k->max : v >= k->max) return false;
+  return true;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Message pieces */
+
+static void append(char *buf, size_t size, const char *s) {
+  size_t used = strlen(buf);
+  if (used + 1 < size) snprintf(buf + used, size - used, "%s", s);
+}
+
+/* "> 0 N/mm^3", "(0, 180] deg", "integer in [1, 20000]" */
+static void range_text(const key_spec *k, char *buf, size_t size) {
+  if (k->names != NULL) {
+    snprintf(buf, size, "one of ");
+    for (int i = 0; k->names[i] != NULL; i++) {
+      if (i > 0) append(buf, size, ", ");
+      append(buf, size, k->names[i]);
+    }
+    return;
+  }
+  bool lo = isfinite(k->min), hi = isfinite(k->max);
+  const char *integer = k->type == KEY_INT ? "integer " : "";
+  if (lo && hi)
+    snprintf(buf, size, "%s%s%c%g, %g%c", integer, *integer ? "in " : "", k->min_incl ? '[' : '(',
+             k->min, k->max, k->max_incl ? ']' : ')');
+  else if (lo)
+    snprintf(buf, size, "%s%s %g", integer, k->min_incl ? ">=" : ">", k->min);
+  else if (hi)
+    snprintf(buf, size, "%s%s %g", integer, k->max_incl ? "<=" : "<", k->max);
+  else
+    snprintf(buf, size, "%sany finite value", integer);
+  if (k->unit[0] != '\0') {
+    append(buf, size, " ");
+    append(buf, size, k->unit);
+  }
+}
+
+void vs_case_list_sections(char *buf, size_t size) {
+  buf[0] = '\0';
+  for (size_t i = 0; i < NKEYS; i++) {
+    if (i > 0 && strcmp(keys[i].section, keys[i - 1].section) == 0) continue;
+    if (i > 0) append(buf, size, ", ");
+    append(buf, size, keys[i].section);
+  }
+}
+
+static void list_keys(const char *section, char *buf, size_t size) {
+  buf[0] = '\0';
+  for (size_t i = 0; i < NKEYS; i++) {
+    if (strcmp(keys[i].section, section) != 0) continue;
+    if (buf[0] != '\0') append(buf, size, ", ");
+    append(buf, size, keys[i].name);
+  }
+}
+
+/* Echo user text into a message (case_internal.h: vs_case_echo). */
+const char *vs_case_clip(const char *s, vs_case_echo *b) {
+  if (strlen(s) <= VS_CASE_ECHO_MAX) return s;
+  memcpy(b->s, s, VS_CASE_ECHO_MAX);
+  memcpy(b->s + VS_CASE_ECHO_MAX, "...", 4);
+  return b->s;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Numbers: the one parser of parse.h (same accepted forms as every command-line option). */
+
+static vs_num_status parse_value(const key_spec *k, const char *s, double *out) {
+  if (k->type == KEY_DOUBLE) return vs_parse_double(s, out);
+  long v = 0;
+  vs_num_status st = vs_parse_long(s, &v);
+  if (st != VS_NUM_OK) return st;
+  if (v < INT_MIN || v > INT_MAX) return VS_NUM_OUT_OF_RANGE;
+  *out = (double)v;
+  return VS_NUM_OK;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * One assignment, shared by the file reader and --set. where is "FILE:LINE" or "--set ...".
+ * c is written only when the value is accepted. */
+
+vs_status vs_case_assign(vs_case *c, const char *section, const char *name, const char *value,
+                         const char *where, vs_error *err) {
+  vs_case_echo bs, bn, bv;
+  const char *sec = vs_case_clip(section, &bs), *key = vs_case_clip(name, &bn),
+             *val = vs_case_clip(value, &bv);
+  char list[256];
+  const key_spec *k = find_key(section, name);
+  if (k == NULL) {
+    if (vs_case_section_known(section, strlen(section))) {
+      list_keys(section, list, sizeof list);
+      return vs_error_set(err, VS_ERR_PARSE, "%s: %s.%s = %s: unknown key (allowed keys in [%s]: %s)",
+                          where, sec, key, val, sec, list);
+    }
+    vs_case_list_sections(list, sizeof list);
+    if (section[0] == '\0')
+      return vs_error_set(err, VS_ERR_PARSE,
+                          "%s: %s = %s: key outside any [section] (allowed sections: %s)", where, key,
+                          val, list);
+    return vs_error_set(err, VS_ERR_PARSE, "%s: %s.%s = %s: unknown section (allowed sections: %s)",
+                        where, sec, key, val, list);
+  }
+
+  char range[96];
+  range_text(k, range, sizeof range);
+  double v = 0.0;
+  if (k->names != NULL) {
+    for (int i = 0; k->names[i] != NULL; i++)
+      if (strcmp(value, k->names[i]) == 0) {
+        set_value(c, k, (double)i);
+        return VS_OK;
+      }
+    return vs_error_set(err, value[0] == '\0' ? VS_ERR_PARSE : VS_ERR_INVALID,
+                        "%s: %s.%s = %s: %s (allowed: %s)", where, sec, key, val,
+                        value[0] == '\0' ? "empty value" : "unknown name", range);
+  }
+  vs_num_status r = parse_value(k, value, &v);
+  if (r == VS_NUM_OK && !in_range(k, v)) r = VS_NUM_OUT_OF_RANGE;
+  if (r != VS_NUM_OK)
+    return vs_error_set(err, r == VS_NUM_OUT_OF_RANGE ? VS_ERR_INVALID : VS_ERR_PARSE,
+                        "%s: %s.%s = %s: %s (allowed: %s)", where, sec, key, val, vs_num_reason(r),
+                        range);
+  set_value(c, k, v);
+  return VS_OK;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Public functions */
+
+void vs_case_defaults(vs_case *c) {
+  if (c == NULL) return;
+  memset(c, 0, sizeof *c);
+  for (size_t i = 0; i < NKEYS; i++) set_value(c, &keys[i], keys[i].def);
+}
+
+
+static char *trim(char *s) {
+  while (vs_case_is_blank(*s)) s++;
+  size_t n = strlen(s);
+  while (n > 0 && vs_case_is_blank(s[n - 1])) s[--n] = '\0';
+  return s;
+}
+
+vs_status vs_case_set(vs_case *c, const char *assignment, vs_error *err) {
+  if (c == NULL || assignment == NULL)
+    return vs_error_set(err, VS_ERR_INVALID, "vs_case_set: %s is NULL",
+                        c == NULL ? "case" : "assignment");
+  vs_case_echo b;
+  char where[sizeof err->msg];
+  snprintf(where, sizeof where, "--set %s", vs_case_clip(assignment, &b));
+
+  size_t n = strlen(assignment) + 1;
+  char *copy = malloc(n);
+  if (copy == NULL) return vs_error_set(err, VS_ERR_NOMEM, "%s: out of memory", where);
+  memcpy(copy, assignment, n);
+
+  vs_status st;
+  char *eq = strchr(copy, '=');
+  char *dot = eq != NULL ? memchr(copy, '.', (size_t)(eq - copy)) : NULL;
+  char *section = copy, *key = NULL;
+  if (dot != NULL) {
+    *eq = '\0';
+    *dot = '\0';
+    section = trim(copy);
+    key = trim(dot + 1);
+  }
+  if (dot == NULL || section[0] == '\0' || key[0] == '\0')
+    st = vs_error_set(err, VS_ERR_PARSE, "%s: malformed (expected section.key=value)", where);
+  else
+    st = vs_case_assign(c, section, key, trim(eq + 1), where, err);
+  free(copy);
+  return st;
+}
+
+vs_status vs_case_validate(const vs_case *c, vs_error *err) {
+  if (c == NULL) return vs_error_set(err, VS_ERR_INVALID, "vs_case_validate: case is NULL");
+  char range[96];
+  for (size_t i = 0; i < NKEYS; i++) {
+    const key_spec *k = &keys[i];
+    double v = get_value(c, k);
+    if (in_range(k, v)) continue;
+    range_text(k, range, sizeof range);
+    return vs_error_set(err, VS_ERR_INVALID, "%s.%s = %.15g: out of range (allowed: %s)",
+                        k->section, k->name, v, range);
+  }
+  for (size_t i = 0; i < sizeof relations / sizeof relations[0]; i++) {
+    const relation *r = &relations[i];
+    double lo = get_value(c, find_key(r->lo_section, r->lo_name));
+    double hi = get_value(c, find_key(r->hi_section, r->hi_name));
+    if (r->strict ? lo < hi : lo <= hi) continue;
+    return vs_error_set(err, VS_ERR_INVALID, "%s.%s = %.15g: must be %s %s.%s = %.15g (allowed: %s)",
+                        r->lo_section, r->lo_name, lo, r->strict ? "<" : "<=", r->hi_section,
+                        r->hi_name, hi, r->rule);
+  }
+  return VS_OK;
+}
+
+double vs_case_span_mm(const vs_case *c) {
+  const double pi = 3.14159265358979323846;
+  if (c == NULL) return NAN;
+  return 2.0 * c->radius_mm * sin(0.5 * c->embrace_deg * pi / 180.0);
+}
+
+int vs_case_key_count(void) { return (int)NKEYS; }
+
+const char *vs_case_key_name_of(int i, int value) {
+  if (i < 0 || (size_t)i >= NKEYS || keys[i].names == NULL || value < 0) return NULL;
+  for (int v = 0; keys[i].names[v] != NULL; v++)
+    if (v == value) return keys[i].names[v];
+  return NULL;
+}
+
+int vs_case_key(const vs_case *c, int i, const char **section, const char **key, const char **unit,
+                int *is_int, double *value) {
+  if (i < 0 || (size_t)i >= NKEYS) return -1;
+  const key_spec *k = &keys[i];
+  const char *field = (const char *)c + k->offset;
+  if (section != NULL) *section = k->section;
+  if (key != NULL) *key = k->name;
+  if (unit != NULL) *unit = k->unit;
+  if (is_int != NULL) *is_int = k->type == KEY_INT;
+  if (value != NULL)
+    *value = k->type == KEY_INT ? (double)*(const int *)(const void *)field
+                                : *(const double *)(const void *)field;
+  return 0;
+}
+
+void vs_case_to_def(const vs_case *c, vs_run_def *d) {
+  d->arch = (vs_arch_def){.radius = c->radius_mm * VS_MM,
+                          .thickness = c->thickness_mm * VS_MM,
+                          .embrace = c->embrace_deg * VS_DEG,
+                          .depth = c->depth_mm * VS_MM,
+                          .voussoirs = c->voussoirs,
+                          .density = c->density_kg_m3,
+                          .gravity = c->gravity_m_s2};
+  d->joints = (vs_joints_def){.kn = c->kn_N_mm3 * VS_N_MM3,
+                              .ks = c->ks_ratio * c->kn_N_mm3 * VS_N_MM3,
+                              .mu = c->friction};
+  d->support = (vs_support_def){.left_kind = (vs_support_kind)c->left_kind,
+                                .right_kind = (vs_support_kind)c->right_kind,
+                                .alpha = c->alpha_deg * VS_DEG,
+                                .rate = c->rate_mm_s * VS_MM,
+                                .max_delta = c->max_mm * VS_MM};
+  d->path = (vs_path_def){.step = c->step_mm * VS_MM,
+                          .step_max = c->step_max_mm * VS_MM,
+                          .limit_tol = c->limit_tol_mm * VS_MM,
+                          .newton_tol = c->newton_tol,
+                          .newton_maxiter = c->newton_maxiter};
+  d->hinges = (vs_hinge_def){.open = c->open_mm * VS_MM, .migrate = c->migrate_joints};
+  d->dynamic = (vs_dynamic_def){.follow = c->follow,
+                                .full = c->full,
+                                .damping_model = (vs_damping_model)c->damping_model,
+                                .damping = c->damping,
+                                .rtol = c->rtol,
+                                .atol_q = c->atol_mm * VS_MM,
+                                .rest_factor = c->rest_factor,
+                                .rest_time = c->rest_s,
+                                .collapse_ke = c->collapse_ke,
+                                .fall_time = c->fall_s,
+                                .sample_dt = c->sample_s};
+  d->fall = (vs_fall_def){.ground = c->ground_mm * VS_MM,
+                          .scheme = (vs_fall_scheme)c->scheme,
+                          .step = c->step_ms * 1e-3,
+                          .slow_step = c->slow_factor * c->step_ms * 1e-3,
+                          .slow_speed = c->slow_mm_s * VS_MM,
+                          .max_sweeps = c->max_sweeps,
+                          .solver = (vs_fall_solver)c->solver,
+                          .restitution = c->restitution};
+  d->imperfections = (vs_imperfection_def){.seed = c->seed,
+                                           .sample = c->sample,
+                                           .kn_cov = c->kn_cov,
+                                           .kn_corr = c->kn_corr_mm * VS_MM,
+                                           .face = c->face_mm * VS_MM,
+                                           .angle_cov = c->angle_cov,
+                                           .thickness_cov = c->thickness_cov,
+                                           .support_dx = c->support_dx_mm * VS_MM,
+                                           .support_dz = c->support_dz_mm * VS_MM};
+}
+
+void vs_run_def_default(vs_run_def *d) {
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_case_to_def(&c, d);
+}

@@ -1,0 +1,23 @@
+/* The plot library's plugin table (libvoussoir-plot): what the program calls through it after
+ * loading it with dlopen (src/plugin/plugin.h). */
+#ifndef VS_PLOT_PLUGIN_H
+#define VS_PLOT_PLUGIN_H
+
+#include "plugin_head.h"
+#include "voussoir/montecarlo.h"
+
+/* libvoussoir-plot: exported as vs_plot_plugin_table. */
+typedef struct {
+  vs_plugin_head head;
+  /* the plot command's work: the pictures of a record or of a sweep's summary.h5 into dir
+   * (ext "png" or "svg"); an exit status */
+  int (*plot_command)(const char *record, const char *dir, const char *ext);
+  vs_status (*mc_write_summary)(const char *dir, const vs_case *base, vs_mc_sample *samples,
+                                int n, vs_error *err);
+  void (*plot_release)(void);
+} vs_plot_plugin;
+
+/* The plot command's work (plot_cmd.c, in the plot library), as in vs_plot_plugin. */
+int vs_plot_command(const char *record, const char *dir, const char *ext);
+
+#endif

@@ -1,0 +1,40 @@
+/* A sweep's summary table as plain data (no pointers: a row travels through a pipe from a forked
+ * worker, or as bytes between MPI ranks): its axes and one row per case, the inputs and the
+ * results. Written as DIR/summary.h5 here, in the record library (sweep_summary.c), and as
+ * summary.csv by the sweep command (src/study/). */
+#ifndef VS_SWEEP_ROWS_H
+#define VS_SWEEP_ROWS_H
+
+enum { VS_SWEEP_MAX_AXES = 8 };
+
+/* An axis of a sweep: the key it sets and its values (case units). */
+typedef struct {
+  char key[96]; /* section.key */
+  double *v;
+  int n;
+} vs_sweep_axis;
+
+/* How a case ended, in vs_sweep_row.code: run (VS_SWEEP_OK), failed with its cause, stopped by
+ * the stop flag, or lost: its worker ended without a result (killed, crashed; set by the pool). */
+enum { VS_SWEEP_OK = 0, VS_SWEEP_FAILED = 1, VS_SWEEP_LOST = 2, VS_SWEEP_INTERRUPTED = 130 };
+
+/* One row of the summary: a case's inputs and results. Plain data, no pointers. */
+typedef struct {
+  int run;                            /* 1-based run number */
+  int code;                           /* VS_SWEEP_OK, _FAILED (cause in error), _INTERRUPTED */
+  double axis[VS_SWEEP_MAX_AXES];     /* the axes' values (case units) */
+  char status[32];                    /* collapse, limit_point, max_displacement, failed, ... */
+  char mode[8];                       /* I, II, III or "" */
+  char hinges[512];                   /* hinges at collapse: "D:1-E A:9-10-I ..." */
+  char error[512];                    /* the cause of a failure, "" otherwise */
+  double first_limit_mm, delta_u_mm;  /* NaN when absent */
+  double dz_pct, dx_pct;              /* delta_u's components, % of the intrados span */
+  double wall_s;                      /* the run's wall time */
+  int snaps;                          /* limit points the path snapped through */
+} vs_sweep_row;
+
+/* The summary table of a sweep as DIR/summary.h5 (sweep_summary.c): 0 or -1. */
+int vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
+                        const vs_sweep_row *rows, int n);
+
+#endif

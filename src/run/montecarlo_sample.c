@@ -1,0 +1,57 @@
+/* Monte Carlo over imperfect arches: one sample's run (the core library; its statistics and
+ * summary files are in src/plot/montecarlo.c, in the plot plugin). */
+#define _POSIX_C_SOURCE 200809L
+#include "voussoir/montecarlo.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "voussoir/run.h"
+#include "voussoir/support.h"
+#include "voussoir/units.h"
+
+static void fill_hinges(const vs_run *r, vs_mc_sample *o) {
+  const vs_collapse_record *cr = vs_run_collapse(r);
+  for (int i = 0; i < cr->n_hinges; i++) {
+    const vs_hinge *h = &cr->hinges[i];
+    const int l = h->label - 'A';
+    if (l < 0 || l >= VS_MC_LABELS) continue;
+    o->hinge_joint[l] = (h->first + h->last) / 2;
+    o->hinge_side[l] = h->side;
+  }
+  const char *pat = vs_run_pattern_collapse(r), *mode = vs_run_mode(r);
+  snprintf(o->pattern, sizeof o->pattern, "%s", pat != NULL ? pat : "");
+  o->mode = mode == NULL ? 0 : strcmp(mode, "I") == 0 ? 1 : strcmp(mode, "II") == 0 ? 2
+                                                        : strcmp(mode, "III") == 0 ? 3 : 0;
+}
+
+void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *o) {
+  memset(o, 0, sizeof *o);
+  o->sample = sample;
+  o->first_limit_mm = o->delta_u_mm = o->dz_u_mm = o->dx_u_mm = NAN;
+  vs_case c = *base;
+  c.sample = sample;
+  c.fall_s = 0.0; /* delta_u and the mechanism are read before the fall, which costs the most */
+  vs_run *r = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  vs_status st = vs_run_create(&c, &r, &err);
+  if (st == VS_OK) st = vs_run_execute(r, NULL, NULL, NULL, &err);
+  if (r != NULL && vs_run_limit_count(r) > 0) o->first_limit_mm = vs_run_limit(r, 0)->delta / VS_MM;
+  if (st != VS_OK) {
+    o->status = VS_MC_FAILED;
+    snprintf(o->error, sizeof o->error, "%.399s", err.msg);
+  } else if (vs_run_collapse(r)->found) {
+    const double d = vs_run_collapse(r)->delta / VS_MM;
+    const vs_support_dir sd = vs_support_direction(c.alpha_deg * VS_DEG);
+    o->status = VS_MC_COLLAPSE;
+    o->delta_u_mm = d;
+    o->dz_u_mm = d * sd.dz;
+    o->dx_u_mm = d * sd.dx;
+    fill_hinges(r, o);
+  } else {
+    o->status = VS_MC_NO_COLLAPSE;
+  }
+  vs_run_destroy(&r);
+}

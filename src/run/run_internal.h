@@ -1,0 +1,91 @@
+/* Private to the run (run.h): the object and what its files share. run.c: the run's objects,
+ * its phases (the quasi-static path, the motion, the rigid fall) and the accessors; run_sample.c:
+ * the solvers' callbacks (each equilibrium, sample and event), the hinges and events they log,
+ * and the mechanism of the collapse. */
+#ifndef VOUSSOIR_RUN_INTERNAL_H
+#define VOUSSOIR_RUN_INTERNAL_H
+
+#include "collide.h"
+#include "contact.h"
+#include "voussoir/run.h"
+
+struct vs_run {
+  vs_run_def def; /* what the run is (SI): the engine reads this */
+  vs_case c;      /* the case it was made from, for the reports (have_case; else zero) */
+  int have_case;
+  vs_geometry *g;
+  vs_imperfections *imp; /* the drawn imperfections ([imperfections]; none: the perfect arch) */
+  vs_model *m;
+  vs_hinges *h;
+  vs_dynamic *dyn;
+  vs_path_solver *ps; /* the quasi-static solver of every path segment and rest probe */
+  vs_contact *ground; /* the ground the fall lands on (NULL: no fall followed) */
+  vs_collide *bodies; /* ... and the blocks' and piers' contacts in the fall */
+  vs_fall *fall;      /* the rigid fall after the collapse (NULL: none, or the penalty scheme) */
+  vs_fall_result fres;
+  int fall_done;
+  vs_hinge_opts hopts;
+  vs_path_opts popts;
+  vs_dyn_opts dopts;
+  double ke_move; /* kinetic energy of the whole arch moving at the support's rate, J */
+  vs_path_result first, totals;
+  int have_first;
+  vs_dyn_result dtot;
+  double *q, *v;
+  vs_joint_state *js;
+  double delta, t, wall_s;
+  vs_phase phase;
+  double react[6];    /* reactions at the last recorded state (vs_run_sample.reactions) */
+  double react_eq[6]; /* ... at the last equilibrium of the quasi-static path (NaN: none) */
+  vs_limit_record *limits;
+  int n_limits, cap_limits;
+  vs_run_event *events;
+  int n_events, cap_events;
+  vs_collapse_record collapse;
+  vs_hinge onset[8];     /* open hinges early in the current motion (collapse candidates) */
+  int n_onset, onset_taken, frozen;
+  int hinges_at_onset; /* hinges formed up to the snapshot of the collapse's onset */
+  vs_hinge onset_all[64]; /* all of them as they were then (joints, open) */
+  int pending_snap;    /* limit record waiting for the equilibrium its snap settled in, or -1 */
+  const vs_path_result *live_path; /* the segment or phase under way (its counters so far) */
+  const vs_dyn_result *live_dyn;
+  char pattern0[16], pattern_u[16];
+  const char *mode;
+  vs_run_sample_fn sample_fn;
+  vs_run_event_fn event_fn;
+  void *user;
+  /* --- damping (damping.h, modal.h): modes under self-weight, set at the first equilibrium --- */
+  vs_modal modal;
+  double ray_alpha, ray_beta;
+  int modal_done;
+  vs_status modal_st;
+  vs_error modal_err;
+};
+
+/* run_sample.c */
+/* Log an event of the run (phase: the current one) and hand it to the caller's event function.
+ * Returns non-zero when out of memory or when the caller asks to stop. */
+int vs_run_log_event(vs_run *r, vs_event_kind kind, double t, double delta, int joint, char side,
+                     char label, int order);
+/* Record a limit point at delta (the hinges open before it) and log its event; as
+ * vs_run_log_event. */
+int vs_run_add_limit(vs_run *r, double delta);
+/* Name the first n hinges (n < 3: A, B from left to right, later ones in order) and the
+ * events of those hinges. */
+void vs_run_name_first(vs_run *r, int n);
+/* The solvers' callbacks (user: the run): an equilibrium of the quasi-static path
+ * (vs_path_step_fn), a sample of the motion and a joint's event (vs_dyn_sample_fn,
+ * vs_dyn_event_fn), a sample of the rigid fall (vs_dyn_sample_fn). Non-zero stops the solver. */
+int vs_run_on_equilibrium(void *user, double delta, const double *q, const vs_model *m);
+int vs_run_on_dyn_sample(void *user, double t, double delta, const double *q, const double *v,
+                         const vs_energy *e);
+int vs_run_on_dyn_event(void *user, const vs_dyn_event *ev, const double *q);
+int vs_run_on_fall_sample(void *user, double t, double delta, const double *q, const double *v,
+                          const vs_energy *e);
+/* The collapse of the IDA phase d into r->collapse: its times, the departure, the hinges of the
+ * mechanism (frozen at the criterion), the reactions at the limit point. */
+void vs_run_record_collapse(vs_run *r, const vs_dyn_result *d);
+/* The run's initial hinge pattern, the pattern at the collapse and the mode they make. */
+void vs_run_classify(vs_run *r);
+
+#endif

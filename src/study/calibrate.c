@@ -1,0 +1,132 @@
+/* The calibrate command's work (its command line is read by src/cli/cli_sweep.c): the k_n that
+ * reproduces a measured collapse displacement, found by a log-spaced scan and bracketed false
+ * position on log k_n, each evaluation a run in this process. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "study.h"
+#include "voussoir/run.h"
+#include "voussoir/support.h"
+#include "list.h"
+#include "voussoir/units.h"
+
+enum { EXIT_FAIL = VS_EXIT_FAILED, EXIT_USAGE = VS_EXIT_BAD_INPUT };
+
+/* The case file with the --set overrides applied (in order), not yet validated. */
+static vs_status load_case(const char *case_path, const char *const *sets, int nsets, vs_case *c,
+                           vs_error *err) {
+  vs_case_defaults(c);
+  vs_status st = vs_case_read(c, case_path, NULL, err);
+  for (int s = 0; st == VS_OK && s < nsets; s++) st = vs_case_set(c, sets[s], err);
+  return st;
+}
+
+typedef struct {
+  vs_case base;
+  int dx;        /* 1: the dx component, 0: dz */
+  int quiet;
+  int runs;
+} cal_ctx;
+
+/* Collapse displacement component (% of L) at k_n; NaN if the run has no collapse. */
+static double cal_eval(cal_ctx *c, double kn) {
+  vs_case k = c->base;
+  k.kn_N_mm3 = kn;
+  k.fall_s = 0.0; /* delta_u is read before the fall, which costs the most */
+  vs_run *r = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  double out = NAN;
+  c->runs++;
+  if (vs_run_create(&k, &r, &err) == VS_OK && vs_run_execute(r, NULL, NULL, NULL, &err) == VS_OK &&
+      vs_run_collapse(r)->found) {
+    const double d = vs_run_collapse(r)->delta / VS_MM;
+    const vs_support_dir sd = vs_support_direction(k.alpha_deg * VS_DEG);
+    out = 100.0 * d * (c->dx ? sd.dx : sd.dz) / vs_case_span_mm(&k);
+  }
+  vs_run_destroy(&r);
+  if (!c->quiet) fprintf(stderr, "  k_n = %-12.6g  collapse %s/L = %.4f %%\n", kn, c->dx ? "dx" : "dz", out);
+  return out;
+}
+
+int vs_calibrate_main(const vs_calibrate_opts *o) {
+  const double target = o->target, kmin = o->kn_min, kmax = o->kn_max, tol = o->tol;
+  cal_ctx c = {.dx = o->dx, .quiet = o->quiet};
+  vs_error err;
+  vs_error_clear(&err);
+  if (load_case(o->case_path, o->sets, o->nsets, &c.base, &err) != VS_OK) goto bad;
+  c.base.follow = 1;
+  c.base.full = 0;
+  if (vs_case_validate(&c.base, &err) != VS_OK) goto bad;
+  if (c.dx && fabs(sin(c.base.alpha_deg * VS_DEG)) < 1e-12) {
+    fprintf(stderr, "voussoir calibrate: --target-dx-pct with alpha = 0: dx is always 0\n");
+    return EXIT_USAGE;
+  }
+  /* scan: log-spaced k_n, the first bracket of the target */
+  enum { SCAN = 9 };
+  double kn[SCAN], f[SCAN];
+  int lo = -1;
+  for (int i = 0; i < SCAN; i++) {
+    kn[i] = kmin * pow(kmax / kmin, (double)i / (SCAN - 1));
+    f[i] = cal_eval(&c, kn[i]) - target;
+    if (i > 0 && isfinite(f[i]) && isfinite(f[i - 1]) && (f[i - 1] <= 0.0) != (f[i] <= 0.0)) {
+      lo = i - 1;
+      break;
+    }
+  }
+  if (lo < 0) {
+    double fmin_ = INFINITY, fmax_ = -INFINITY;
+    for (int i = 0; i < SCAN; i++)
+      if (isfinite(f[i])) {
+        fmin_ = fmin(fmin_, f[i] + target);
+        fmax_ = fmax(fmax_, f[i] + target);
+      }
+    printf("no k_n in [%g, %g] N/mm^3 gives a collapse %s/L of %g %%: the scan gives %.4f..%.4f %%\n",
+           kmin, kmax, c.dx ? "dx" : "dz", target, fmin_, fmax_);
+    return EXIT_FAIL;
+  }
+  /* Illinois false position on log k_n within the bracket */
+  double xa = log10(kn[lo]), xb = log10(kn[lo + 1]), fa = f[lo], fb = f[lo + 1], x = xa, fx = fa;
+  printf("bracket: k_n in [%.6g, %.6g] N/mm^3 (%s/L %.4f .. %.4f %%)\n", kn[lo], kn[lo + 1],
+         c.dx ? "dx" : "dz", fa + target, fb + target);
+  int side = 0, it = 0;
+  for (; it < 40; it++) {
+    x = (xa * fb - xb * fa) / (fb - fa);
+    fx = cal_eval(&c, pow(10.0, x)) - target;
+    if (!isfinite(fx)) { /* no collapse there: bisect instead */
+      x = 0.5 * (xa + xb);
+      fx = cal_eval(&c, pow(10.0, x)) - target;
+      if (!isfinite(fx)) break;
+    }
+    printf("  iteration %2d: k_n = %.6g N/mm^3, %s/L = %.4f %%\n", it + 1, pow(10.0, x),
+           c.dx ? "dx" : "dz", fx + target);
+    if (fabs(fx) <= tol || xb - xa < 1e-5) break;
+    if ((fx <= 0.0) == (fa <= 0.0)) {
+      xa = x;
+      fa = fx;
+      if (side == -1) fb *= 0.5;
+      side = -1;
+    } else {
+      xb = x;
+      fb = fx;
+      if (side == 1) fa *= 0.5;
+      side = 1;
+    }
+  }
+  if (!isfinite(fx)) {
+    printf("calibration failed: no collapse within support.max_mm near k_n = %.6g\n", pow(10.0, x));
+    return EXIT_FAIL;
+  }
+  const double k = pow(10.0, x), h = 0.01; /* central difference over +-0.01 in log10 k_n */
+  const double fp = cal_eval(&c, pow(10.0, x + h)), fm = cal_eval(&c, pow(10.0, x - h));
+  printf("k_n = %.6g N/mm^3 gives collapse %s/L = %.4f %% (target %g %%, tolerance %g %%)\n", k,
+         c.dx ? "dx" : "dz", fx + target, target, tol);
+  printf("sensitivity d(%s/L)/d(log10 k_n) = %.4g %% per decade; %d runs\n", c.dx ? "dx" : "dz",
+         (fp - fm) / (2.0 * h), c.runs);
+  return fabs(fx) <= tol ? 0 : EXIT_FAIL;
+bad:
+  fprintf(stderr, "voussoir calibrate: %s\n", err.msg);
+  return EXIT_USAGE;
+}

@@ -1,0 +1,471 @@
+/* The sweep command's work (its command line is read by src/cli/cli_sweep.c): many runs of one case.
+ * A sweep runs every combination of its axes, each case in a worker forked from this process (or
+ * on the ranks of an MPI job), and gathers the rows the cases return into a summary table (CSV;
+ * HDF5 by src/record/sweep_summary.c in the record plugin) and a journal for --resume. */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "stop.h"
+#include "study.h"
+#include "journal.h"
+#include "plugin.h"
+#include "sweep_private.h"
+#include "outpath.h"
+#include "parse.h"
+#include "voussoir/run.h"
+#include "list.h"
+#include "voussoir/units.h"
+
+enum { EXIT_FAIL = VS_EXIT_FAILED, EXIT_USAGE = VS_EXIT_BAD_INPUT,
+       EXIT_STOPPED = VS_EXIT_INTERRUPTED, MAX_AXES = VS_SWEEP_MAX_AXES };
+
+typedef vs_sweep_axis axis;
+
+/* --- sweep --- */
+
+static double now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The signal that asked the sweep to stop (0: none) and how many arrived: the first is passed
+ * on to the runs under way, a second kills them. Static because a handler can reach nothing
+ * else; a forked worker inherits the handler, and its run watches its own copy of the count. */
+static volatile sig_atomic_t g_stop_signal = 0, g_stop_count = 0;
+
+/* One line of the table (the error's double quotes as single quotes, its first line only). */
+static void write_csv_row(FILE *csv, const vs_sweep_row *row, int nax) {
+  char error[sizeof row->error];
+  snprintf(error, sizeof error, "%s", row->error);
+  error[strcspn(error, "\n")] = '\0';
+  for (char *p = error; *p; p++)
+    if (*p == '"') *p = '\'';
+  fprintf(csv, "%d", row->run);
+  for (int x = 0; x < nax; x++) fprintf(csv, ",%.10g", row->axis[x]);
+  fprintf(csv, ",%s,%.10g,%.10g,%.10g,%.10g,\"%s\",%s,%d,%.4g,\"%s\"\n", row->status,
+          row->first_limit_mm, row->delta_u_mm, row->dz_pct, row->dx_pct, row->hinges, row->mode,
+          row->snaps, row->wall_s, error);
+}
+
+static void write_csv_header(FILE *csv, const axis *ax, int nax) {
+  fputs("run", csv);
+  for (int x = 0; x < nax; x++) fprintf(csv, ",%s", ax[x].key);
+  fputs(",status,first_limit_mm,delta_u_mm,dz_over_L_pct,dx_over_L_pct,hinges_at_collapse,mode,"
+        "snaps,wall_s,error\n",
+        csv);
+}
+
+static int cmp_sweep_rows(const void *x, const void *y) {
+  return ((const vs_sweep_row *)x)->run - ((const vs_sweep_row *)y)->run;
+}
+
+/* The whole table in run order, replacing the one written in completion order, atomically. */
+static int rewrite_table(const char *path, const axis *ax, int nax, const vs_sweep_row *rows,
+                         int n) {
+  char tmp[1200];
+  snprintf(tmp, sizeof tmp, "%s.tmp", path);
+  FILE *f = fopen(tmp, "w");
+  if (f == NULL) return -1;
+  write_csv_header(f, ax, nax);
+  for (int i = 0; i < n; i++) write_csv_row(f, &rows[i], nax);
+  if (fclose(f) != 0 || vs_outpath_replace(tmp, path) != 0) { /* never over a non-regular file */
+    remove(tmp);
+    return -1;
+  }
+  return 0;
+}
+
+/* The case file with the --set overrides applied (in order), not yet validated; *text (when
+ * not NULL) receives the file's text (malloc'd). The runs do not follow the fall: the domain is
+ * read before it, and the fall (to rest on the ground) costs the most; a --set of the sweep's
+ * own, applied after, still follows it. */
+static vs_status load_case_text(const char *case_path, const char *const *sets, int nsets, vs_case *c,
+                                char **text, vs_error *err) {
+  vs_case_defaults(c);
+  vs_status st = vs_case_read(c, case_path, text, err);
+  if (st == VS_OK) st = vs_case_set(c, "dynamic.fall_s=0", err);
+  for (int s = 0; st == VS_OK && s < nsets; s++) st = vs_case_set(c, sets[s], err);
+  return st;
+}
+
+static vs_status load_case(const char *case_path, const char *const *sets, int nsets, vs_case *c,
+                           vs_error *err) {
+  return load_case_text(case_path, sets, nsets, c, NULL, err);
+}
+
+/* Validate the case with the fixed overrides and every value of every axis. */
+static int validate_all(const char *case_path, const char *const *sets, int nsets, const axis *ax, int nax) {
+  vs_case c;
+  vs_error err;
+  vs_error_clear(&err);
+  if (load_case(case_path, sets, nsets, &c, &err) != VS_OK) goto bad;
+  for (int x = 0; x < nax; x++)
+    for (int k = 0; k < ax[x].n; k++) {
+      vs_case t = c;
+      char buf[160];
+      snprintf(buf, sizeof buf, "%.95s=%.17g", ax[x].key, ax[x].v[k]);
+      if (vs_case_set(&t, buf, &err) != VS_OK || vs_case_validate(&t, &err) != VS_OK) goto bad;
+    }
+  return 0;
+bad:
+  fprintf(stderr, "voussoir sweep: %s\n", err.msg);
+  return -1;
+}
+
+static void on_stop_signal(int sig) {
+  g_stop_signal = sig;
+  g_stop_count++;
+}
+
+void vs_sweep_catch_signals(void) { vs_on_stop_signals(on_stop_signal); }
+
+/* What the sweep is, as text: the case after --set, every axis with its values, the mode. A
+ * --resume must find the same in DIR/sweep.manifest, so that it completes the same sweep. */
+static char *manifest_text(const vs_case *c, const axis *ax, int nax, const char *mode_flag) {
+  size_t extra = 64;
+  for (int x = 0; x < nax; x++) extra += 128 + 26 * (size_t)ax[x].n;
+  char *t = vs_manifest_case(c, extra);
+  if (t == NULL) return NULL;
+  size_t used = strlen(t);
+  const size_t cap = used + extra + 1;
+  for (int x = 0; x < nax; x++) {
+    used += (size_t)snprintf(t + used, cap - used, "axis %s:", ax[x].key);
+    for (int k = 0; k < ax[x].n; k++)
+      used += (size_t)snprintf(t + used, cap - used, " %.17g", ax[x].v[k]);
+    used += (size_t)snprintf(t + used, cap - used, "\n");
+  }
+  snprintf(t + used, cap - used, "mode %s\n", mode_flag ? mode_flag : "default");
+  return t;
+}
+
+/* --- the journal: DIR/sweep.journal, the rows of the complete runs as they end (journal.h) --- */
+
+/* Its first line names this layout (the row's size): a journal of another build is refused. */
+static void journal_header(char *buf, size_t size) {
+  snprintf(buf, size, "voussoir sweep journal 1 row %zu bytes\n", sizeof(vs_sweep_row));
+}
+
+static void journal_path(const char *dir, char *path, size_t size) {
+  snprintf(path, size, "%s/sweep.journal", dir);
+}
+
+/* Fresh sweep: write the manifest and forget the results of any earlier sweep in DIR (its
+ * journal and run_NNNN.json). Resume: require the same manifest. 0, or -1 after printing why. */
+static int prepare_dir(const char *dir, const char *manifest, int total, int resume) {
+  char path[1100];
+  snprintf(path, sizeof path, "%s/sweep.manifest", dir);
+  if (resume) {
+    const int same = vs_manifest_same(path, manifest);
+    if (same != 1)
+      fprintf(stderr, "voussoir sweep: --resume: %s %s\n", path,
+              same < 0 ? "is missing: no sweep to resume in this directory"
+                       : "differs: that sweep had another case, lists, --set or mode");
+    return same == 1 ? 0 : -1;
+  }
+  remove(path);
+  for (int r = 1; r <= total; r++) {
+    char json[1100];
+    snprintf(json, sizeof json, "%s/run_%04d.json", dir, r);
+    remove(json);
+  }
+  FILE *f = fopen(path, "w");
+  int ok = f != NULL && fputs(manifest, f) >= 0;
+  if (f != NULL && fclose(f) != 0) ok = 0;
+  if (!ok) fprintf(stderr, "voussoir sweep: %s: cannot write: %s\n", path, strerror(errno));
+  return ok ? 0 : -1;
+}
+
+/* The product of the axes' lengths, or -1 beyond VS_SWEEP_MAX_RUNS (checked before multiplying,
+ * so it cannot overflow). */
+static int sweep_size(const axis *ax, int nax) {
+  long total = 1;
+  for (int x = 0; x < nax; x++) {
+    if (ax[x].n > VS_SWEEP_MAX_RUNS / total) return -1;
+    total *= ax[x].n;
+  }
+  return (int)total;
+}
+
+typedef vs_sweep_opts sweep_opts;
+
+/* A sweep under way: which runs are done, their rows, the table and the journal. */
+typedef struct {
+  const sweep_opts *o;
+  vs_sweep_job job;
+  int total, n, failed, next, todo;
+  char *state;        /* per run: 0 to run, 1 handed out, 2 done (its row kept) */
+  vs_sweep_row *rows; /* the rows kept, in the order they came */
+  FILE *csv, *journal;
+} sweep_state;
+
+static void keep_row(sweep_state *s, const vs_sweep_row *row) {
+  s->rows[s->n++] = *row;
+  s->state[row->run - 1] = 2;
+  s->failed += row->code != VS_SWEEP_OK;
+  write_csv_row(s->csv, row, s->o->nax);
+  fflush(s->csv);
+}
+
+/* The next run to hand out (1-based), or 0: none left, or the sweep was asked to stop. */
+static int next_run(void *user) {
+  sweep_state *s = user;
+  while (g_stop_count == 0 && s->next < s->total) {
+    const int r = s->next++;
+    if (s->state[r] != 0) continue;
+    s->state[r] = 1;
+    return r + 1;
+  }
+  return 0;
+}
+
+/* A run's row as it comes back: a complete run (worked, or failed with its cause) is kept and
+ * journalled, and its JSON renamed into place; a worker lost on its own is a failed row (run
+ * again by --resume); an interrupted run stays handed out (marked at the end). */
+static void take_row(void *user, const vs_sweep_row *in) {
+  sweep_state *s = user;
+  if (in->run < 1 || in->run > s->total || s->state[in->run - 1] != 1) return;
+  vs_sweep_row row = *in;
+  int pick[MAX_AXES];
+  vs_sweep_pick(&s->job, row.run, pick);
+  for (int x = 0; x < s->o->nax; x++) row.axis[x] = s->o->ax[x].v[pick[x]];
+  char part[1100], json[1100];
+  snprintf(part, sizeof part, "%s/run_%04d.json.part", s->o->dir, row.run);
+  snprintf(json, sizeof json, "%s/run_%04d.json", s->o->dir, row.run);
+  if (row.code == VS_SWEEP_OK || row.code == VS_SWEEP_FAILED) {
+    errno = 0;
+    if (access(part, F_OK) == 0 && vs_outpath_replace(part, json) != 0) {
+      fprintf(stderr, "voussoir sweep: %s: not renamed to %s (%s)\n", part, json,
+              errno != 0 ? strerror(errno) : "not a regular file");
+      remove(part);
+    }
+    if (vs_journal_append(s->journal, &row, sizeof row) != 0)
+      fprintf(stderr, "voussoir sweep: sweep.journal: cannot write: %s\n", strerror(errno));
+    keep_row(s, &row);
+    return;
+  }
+  remove(part);
+  if (row.code == VS_SWEEP_LOST && g_stop_count == 0) keep_row(s, &row);
+}
+
+/* A row from the journal of the sweep being resumed (a complete run's). */
+static void resumed_row(void *user, const void *r) {
+  sweep_state *s = user;
+  const vs_sweep_row *row = r;
+  if (row->run < 1 || row->run > s->total || s->state[row->run - 1] != 0) return;
+  keep_row(s, row);
+}
+
+/* Check and create DIR, its manifest, the table (header written) and the journal. 0, or an exit
+ * status after printing why. */
+static int sweep_open(sweep_state *s, const char *manifest) {
+  const sweep_opts *o = s->o;
+  char path[1100], h5[1100], jpath[1100], mpath[1100];
+  snprintf(path, sizeof path, "%s/summary.csv", o->dir);
+  snprintf(h5, sizeof h5, "%s/summary.h5", o->dir);
+  journal_path(o->dir, jpath, sizeof jpath);
+  snprintf(mpath, sizeof mpath, "%s/sweep.manifest", o->dir);
+  vs_error err;
+  vs_error_clear(&err);
+  if (vs_outpath_check_dir(o->dir, &err) != VS_OK ||
+      (access(o->dir, F_OK) == 0 && (vs_outpath_check(path, NULL, 0, &err) != VS_OK ||
+                                     vs_outpath_check(h5, NULL, 0, &err) != VS_OK ||
+                                     vs_outpath_check(jpath, NULL, 0, &err) != VS_OK ||
+                                     vs_outpath_check(mpath, NULL, 0, &err) != VS_OK))) {
+    fprintf(stderr, "voussoir sweep: -o %s\n", err.msg);
+    return EXIT_USAGE;
+  }
+  if (mkdir(o->dir, 0755) != 0 && errno != EEXIST) {
+    fprintf(stderr, "voussoir sweep: -o %s: cannot create: %s\n", o->dir, strerror(errno));
+    return EXIT_USAGE;
+  }
+  if (prepare_dir(o->dir, manifest, s->total, o->resume) != 0) return EXIT_USAGE;
+  s->csv = fopen(path, "w");
+  if (s->csv == NULL) {
+    fprintf(stderr, "voussoir sweep: %s: cannot create: %s\n", path, strerror(errno));
+    return EXIT_USAGE;
+  }
+  write_csv_header(s->csv, o->ax, o->nax);
+  s->rows = calloc((size_t)s->total, sizeof *s->rows);
+  s->state = calloc((size_t)s->total, 1);
+  if (s->rows == NULL || s->state == NULL) {
+    fprintf(stderr, "voussoir sweep: out of memory\n");
+    return EXIT_FAIL;
+  }
+  char head[96];
+  journal_header(head, sizeof head);
+  long rows = -1; /* fresh */
+  if (o->resume) { /* the journal's rows first, then it is appended to, after its whole rows */
+    if (vs_journal_read(jpath, head, sizeof(vs_sweep_row), resumed_row, s, &rows) != 0) {
+      fprintf(stderr, "voussoir sweep: --resume: %s was not written by this build of voussoir "
+              "(it expects \"%.*s\"); run the sweep afresh\n", jpath, (int)strlen(head) - 1, head);
+      return EXIT_USAGE;
+    }
+    fprintf(stderr, "voussoir sweep: resuming: %d of %d runs already complete\n", s->n, s->total);
+  }
+  s->journal = vs_journal_open(jpath, head, sizeof(vs_sweep_row), rows);
+  if (s->journal == NULL) {
+    fprintf(stderr, "voussoir sweep: %s: cannot write: %s\n", jpath, strerror(errno));
+    return EXIT_USAGE;
+  }
+  s->todo = s->total - s->n;
+  return 0;
+}
+
+/* Rows for the runs that did not finish, the table in run order, summary.h5, the last line. */
+static int sweep_close(sweep_state *s, double wall, int processes) {
+  const sweep_opts *o = s->o;
+  const int skipped = s->total - s->todo;
+  int unfinished = 0;
+  for (int r = 0; r < s->total; r++) /* interrupted or never started: marked as such */
+    if (s->state[r] != 2) {
+      vs_sweep_row row;
+      memset(&row, 0, sizeof row);
+      row.run = r + 1;
+      int pick[MAX_AXES];
+      vs_sweep_pick(&s->job, row.run, pick);
+      for (int x = 0; x < o->nax; x++) row.axis[x] = o->ax[x].v[pick[x]];
+      snprintf(row.status, sizeof row.status, "%s", s->state[r] == 1 ? "interrupted" : "not_run");
+      snprintf(row.error, sizeof row.error, "%s", s->state[r] == 1
+                                                      ? "interrupted (rerun with --resume)"
+                                                      : "not started: the sweep was interrupted");
+      row.first_limit_mm = row.delta_u_mm = row.dz_pct = row.dx_pct = row.wall_s = NAN;
+      s->rows[s->n++] = row;
+      unfinished++;
+    }
+  qsort(s->rows, (size_t)s->n, sizeof *s->rows, cmp_sweep_rows);
+  char path[1100];
+  snprintf(path, sizeof path, "%s/summary.csv", o->dir);
+  if (rewrite_table(path, o->ax, o->nax, s->rows, s->n) != 0)
+    fprintf(stderr, "voussoir sweep: %s: cannot write: %s\n", path, strerror(errno));
+  if (vs_sweep_summary_h5(o->dir, o->ax, o->nax, s->rows, s->n) != 0)
+    fprintf(stderr, "voussoir sweep: %s/summary.h5: cannot write\n", o->dir);
+  if (unfinished > 0) {
+    printf("interrupted: %d of %d runs complete (%d failed), %d unfinished; table: %s; "
+           "continue with --resume\n", s->total - unfinished, s->total, s->failed, unfinished,
+           path);
+    return EXIT_STOPPED;
+  }
+  printf("%d runs (%d failed%s) in %.1f s on %d processes; table: %s (and summary.h5)\n", s->total,
+         s->failed, skipped ? ", some from before --resume" : "", wall, processes, path);
+  return s->failed ? EXIT_FAIL : 0;
+}
+
+static void sweep_free(sweep_state *s) {
+  if (s->csv != NULL) fclose(s->csv);
+  if (s->journal != NULL) fclose(s->journal);
+  free(s->rows);
+  free(s->state);
+}
+
+/* The runs on this machine: forked workers, -j at a time. */
+static int serve_local(sweep_state *s, int *h5_clean) {
+  (void)h5_clean; /* the workers' records are closed in the workers */
+  const vs_sweep_server srv = {next_run, take_row, s};
+  const int progress = !s->o->quiet && isatty(STDERR_FILENO);
+  if (vs_sweep_pool_serve(&srv, &s->job, s->o->jobs, s->todo, progress, &g_stop_count,
+                          &g_stop_signal) != 0)
+    fprintf(stderr, "voussoir sweep: cannot start a worker: %s\n", strerror(errno));
+  return s->o->jobs;
+}
+
+#ifdef VS_HAVE_MPI
+/* The MPI farm's view of vs_sweep_run_case: its job is opaque there. */
+static void run_case_any(const void *job, int run, const volatile sig_atomic_t *stop,
+                         vs_sweep_row *row, int *h5_clean) {
+  vs_sweep_run_case(job, run, stop, row, h5_clean);
+}
+#endif
+
+#ifdef VS_HAVE_MPI
+/* The runs across the ranks of an MPI job: rank 0 hands them out (one rank: it runs them
+ * itself). Returns the number of ranks on rank 0, 0 on the others (which have finished). */
+static int serve_mpi(sweep_state *s, const char *manifest, int *rc, int *h5_clean) {
+  int size = 1;
+  const int rank = vs_sweep_mpi_begin(&size);
+  if (rank != 0) {
+    vs_sweep_mpi_work(&s->job, run_case_any, &g_stop_count, h5_clean);
+  } else if ((*rc = sweep_open(s, manifest)) != 0) {
+    const vs_sweep_server none = {next_run, take_row, s};
+    s->total = 0; /* nothing to hand out: the other ranks are told to stop */
+    vs_sweep_mpi_serve(&none, size);
+  } else if (size == 1) {
+    for (int r = next_run(s); r > 0; r = next_run(s)) {
+      vs_sweep_row row;
+      vs_sweep_run_case(&s->job, r, &g_stop_count, &row, h5_clean);
+      take_row(s, &row);
+    }
+  } else {
+    const vs_sweep_server srv = {next_run, take_row, s};
+    vs_sweep_mpi_serve(&srv, size);
+  }
+  vs_sweep_mpi_end();
+  return rank == 0 ? (size > 1 ? size - 1 : 1) : 0;
+}
+#endif
+
+static int sweep_run(const sweep_opts *o, const vs_case *base, const char *case_text,
+                     const char *manifest, int *h5_clean) {
+  sweep_state s = {.o = o, .total = sweep_size(o->ax, o->nax)}; /* checked by vs_cmd_sweep */
+  s.job = (vs_sweep_job){o->case_path, case_text, o->dir, base, o->ax, o->nax,
+                         o->mode_flag == NULL                        ? NULL
+                         : strcmp(o->mode_flag, "--dynamic") == 0 ? "dynamic.full=1"
+                                                                   : "dynamic.follow=0"};
+  const double t0 = now_s();
+  int rc = 0, processes;
+#ifdef VS_HAVE_MPI
+  if (vs_plugin_mpi_launched()) {
+    if (vs_plugin_load(VS_PLUGIN_MPI, "voussoir sweep") != 0) {
+      sweep_free(&s);
+      return EXIT_FAIL;
+    }
+    processes = serve_mpi(&s, manifest, &rc, h5_clean);
+    if (processes == 0 || rc != 0) { /* a worker rank, or rank 0 could not start */
+      sweep_free(&s);
+      return rc;
+    }
+  } else
+#endif
+  {
+    if ((rc = sweep_open(&s, manifest)) != 0) {
+      sweep_free(&s);
+      return rc;
+    }
+    processes = serve_local(&s, h5_clean);
+  }
+  rc = sweep_close(&s, now_s() - t0, processes);
+  sweep_free(&s);
+  return rc;
+}
+
+int vs_sweep_main(const vs_sweep_opts *o, int *h5_clean) {
+  int rc = -1;
+  if (sweep_size(o->ax, o->nax) < 0) {
+    fprintf(stderr, "voussoir sweep: more than %d runs (the product of the lists' lengths); "
+                    "split the study\n", VS_SWEEP_MAX_RUNS);
+    rc = EXIT_USAGE;
+  }
+  if (rc < 0 && validate_all(o->case_path, o->sets, o->nsets, o->ax, o->nax) != 0) rc = EXIT_USAGE;
+  /* every run writes a record: the record plugin, before anything is written or forked */
+  if (rc < 0 && vs_plugin_load(VS_PLUGIN_RECORD, "voussoir sweep") != 0) rc = EXIT_FAIL;
+  if (rc < 0) {
+    vs_case c;
+    vs_error err;
+    vs_error_clear(&err);
+    char *manifest = NULL, *case_text = NULL;
+    if (load_case_text(o->case_path, o->sets, o->nsets, &c, &case_text, &err) == VS_OK)
+      manifest = manifest_text(&c, o->ax, o->nax, o->mode_flag);
+    rc = manifest == NULL ? EXIT_FAIL : sweep_run(o, &c, case_text, manifest, h5_clean);
+    free(manifest);
+    free(case_text);
+  }
+  return rc;
+}
