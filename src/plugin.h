@@ -25,7 +25,7 @@
 #include "voussoir/output.h"
 
 /* Bumped whenever a table below changes. */
-#define VS_PLUGIN_ABI 3
+#define VS_PLUGIN_ABI 4
 
 /* What every table starts with. */
 typedef struct {
@@ -52,8 +52,8 @@ typedef struct {
   void (*output_destroy)(vs_output **o);
   void (*output_process_init)(void);
   void (*output_process_end)(int clean);
-  int (*sweep_summary_h5)(const char *dir, const vs_sweep_axis *ax, int nax,
-                          const vs_sweep_row *rows, int n);
+  vs_status (*sweep_summary_h5)(const char *dir, const vs_sweep_axis *ax, int nax,
+                                const vs_sweep_row *rows, int n, vs_error *err);
 } vs_record_plugin;
 
 /* libvoussoir-plot: exported as vs_plot_plugin_table. */
@@ -78,10 +78,11 @@ typedef struct {
   void (*sweep_end)(void);
 } vs_mpi_plugin;
 
-/* The summary table of a sweep as DIR/summary.h5 (src/sweep_summary.c, in the record library):
- * 0 or -1. */
-int vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
-                        const vs_sweep_row *rows, int n);
+/* The summary table of a sweep as DIR/summary.h5 (src/sweep_summary.c, in the record library).
+ * Errors: VS_ERR_INVALID (something other than a regular file in the way), VS_ERR_IO,
+ * VS_ERR_NOMEM, the path in err. */
+vs_status vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
+                              const vs_sweep_row *rows, int n, vs_error *err);
 
 /* The plot command's work (src/plot_cmd.c, in the plot library), as in vs_plot_plugin. */
 int vs_plot_command(const char *record, const char *dir, const char *ext);

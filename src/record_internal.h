@@ -118,9 +118,6 @@ void vs_record_fault_point(const char *name);
 void vs_record_iso8601_utc(char *buf, size_t size);
 
 /* record_snapshot.c: the file at path is a snapshot of the working file (see there) */
-/* Remove a stale working or snapshot file at path left by a killed run (ours: we hold the lock);
- * VS_ERR_INVALID if what is there is not a regular file. */
-vs_status vs_record_remove_stale(vs_output *o, const char *path);
 /* Rename `from` over o->path, checked just before: never over anything but a regular file.
  * VS_OK; VS_ERR_INVALID when path has become something else (o->stranded set, o->err left
  * alone: the working file is sound) or was already; VS_ERR_IO (in o->err) when the rename

@@ -9,6 +9,9 @@
 
 #include "voussoir/status.h"
 
+/* The suffix of the sidecar's working file, "<xmf_path>.tmp". */
+#define VS_XDMF_TMP ".tmp"
+
 /* Write the sidecar xmf_path (through "<xmf_path>.tmp", renamed) of the record h5_path opened
  * as file, listing at most max_grids rows (see vs_output_opts). Errors: VS_ERR_INVALID (not a
  * voussoir record, or xmf_path is not a regular file), VS_ERR_IO, VS_ERR_NOMEM. */
