@@ -401,6 +401,17 @@ static vs_status write_outlines(vs_output *o, const vs_run *run) {
   return rc >= 0 ? VS_OK : vs_h5_fail(&o->err, o->path, "cannot write /xdmf/block_points");
 }
 
+/* The sidecar of the closed working file, naming the record path, written whole at tmp (the
+ * name "<xmf_path>.tmp" into tmp, size bytes) and not yet put in place. */
+static vs_status sidecar_tmp(const vs_output *o, char *tmp, size_t size, vs_error *err) {
+  const hid_t f = H5Fopen(o->part, H5F_ACC_RDONLY, H5P_DEFAULT);
+  const vs_status st =
+      f < 0 ? vs_h5_fail(err, o->path, "cannot reopen")
+            : vs_xdmf_write_tmp(f, o->path, o->xmf_path, o->opts.xdmf_max_grids, tmp, size, err);
+  vs_h5_close(f);
+  return st;
+}
+
 vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status,
                            const vs_error *run_err, vs_error *err) {
   if (o->finished) return vs_error_set(err, VS_ERR_INVALID, "output: %s: finished twice", o->path);
@@ -434,6 +445,14 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
   if (o->file >= 0 && H5Fclose(o->file) < 0 && st == VS_OK)
     st = vs_h5_fail(&o->err, o->path, "cannot close");
   o->file = H5I_INVALID_HID;
+  /* the sidecar is written from the closed working file before that file is put in place, and
+   * put in place after it: a record at path is never beside a sidecar that is not its own (the
+   * previous record's went with the first snapshot); a kill between the two renames leaves the
+   * record without a sidecar (vs_output_write_xdmf rebuilds it) */
+  char tmp[4096];
+  vs_error side; /* the sidecar's outcome */
+  vs_error_set(&side, VS_ERR_INTERNAL, "output: %s: no record, no sidecar", o->path);
+  if (o->working && st == VS_OK) side.status = sidecar_tmp(o, tmp, sizeof tmp, &side);
   /* the closed working file replaces the snapshot (after a write error: removed, path keeps
    * the last snapshot; where path is no longer ours, the working file stays, whole) */
   if (o->working && st == VS_OK && vs_record_publish(o, o->part) != VS_OK)
@@ -441,13 +460,10 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
   if (o->working && st != VS_OK && !o->stranded) unlink(o->part);
   o->working = 0;
   if (st == VS_OK) vs_record_fault_point("after-status");
-  if (st == VS_OK) {
-    hid_t f = H5Fopen(o->path, H5F_ACC_RDONLY, H5P_DEFAULT);
-    st = f < 0 ? vs_h5_fail(&o->err, o->path, "cannot reopen")
-               : vs_xdmf_write(f, o->path, o->xmf_path, o->opts.xdmf_max_grids, &o->err);
-    vs_h5_close(f);
-    o->xmf_written = st == VS_OK;
-  }
+  if (side.status == VS_OK && st != VS_OK) remove(tmp); /* no record in place: no sidecar */
+  if (st == VS_OK && side.status != VS_OK) st = (o->err = side).status; /* the record in place */
+  if (st == VS_OK) st = vs_xdmf_publish(tmp, o->xmf_path, &o->err);
+  o->xmf_written = st == VS_OK;
   H5Eclear2(H5E_DEFAULT);
   vs_h5_quiet_end(q);
   if (st != VS_OK && err != NULL) *err = o->err;

@@ -19,6 +19,10 @@
 #include "wall_clock.h"
 
 vs_status vs_record_publish(vs_output *o, const char *from) {
+  if (!o->replaced && !o->stranded) { /* the record there goes: its sidecar first */
+    vs_outpath_discard(o->xmf_path);
+    o->replaced = 1;
+  }
   const int rc = o->stranded ? 1 : vs_outpath_replace(from, o->path);
   if (rc > 0) {
     o->stranded = 1;

@@ -18,6 +18,15 @@
 vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, int max_grids,
                         vs_error *err);
 
+/* vs_xdmf_write in two halves, for a writer that puts the record in place between them (so that
+ * no sidecar is ever beside a record that is not its own, record.c): the sidecar written whole
+ * and closed as "<xmf_path>.tmp" (its name into tmp, size bytes; removed on failure), and that
+ * file renamed over xmf_path (only over a regular file; removed on failure). file may be the
+ * record's working file: h5_path is the name the sidecar gives the record. */
+vs_status vs_xdmf_write_tmp(hid_t file, const char *h5_path, const char *xmf_path, int max_grids,
+                            char *tmp, size_t size, vs_error *err);
+vs_status vs_xdmf_publish(const char *tmp, const char *xmf_path, vs_error *err);
+
 /* The rows a sidecar lists, of rows [0, rows) with times t: every k-th row, k = ceil(rows /
  * max_grids), and the last, each only if its time is above the previous listed one (ParaView
  * wants times strictly increasing). Into sel (room for max_grids + 1 rows; NULL: only counted),

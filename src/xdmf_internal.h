@@ -93,8 +93,8 @@ hsize_t vs_xdmf_nan_count(hid_t file);
  * written through, nor renamed over, anything but a regular file. */
 vs_status vs_xdmf_open_tmp(const char *xmf_path, char *tmp, size_t size, FILE **f,
                            vs_error *err);
-/* Close f and rename tmp to xmf_path; on a write error remove tmp. */
-vs_status vs_xdmf_commit(FILE *f, const char *tmp, const char *xmf_path, vs_error *err);
+/* Close f, the sidecar written at tmp; on a write error remove tmp. */
+vs_status vs_xdmf_close_tmp(FILE *f, const char *tmp, const char *xmf_path, vs_error *err);
 
 /* xdmf_rows.c */
 /* The k of vs_xdmf_rows: ceil(rows / max_grids), at least 1. */
