@@ -26,6 +26,7 @@
 #include <unistd.h>
 
 #include "voussoir/case.h"
+#include "voussoir/output.h"
 #include "voussoir/run.h"
 
 #define REFERENCE VS_SOURCE_DIR "/runs/reference.ini"
@@ -46,15 +47,18 @@ static const char *in_dir(const char *name) {
   return buf[k];
 }
 
+/* The whole file (a sidecar is megabytes), NUL-terminated; NULL when it cannot be read. */
 static char *slurp(const char *path) {
   FILE *f = fopen(path, "rb");
   if (f == NULL) return NULL;
-  static char text[1 << 16];
-  const size_t n = fread(text, 1, sizeof text - 1, f);
-  text[n] = '\0';
+  long n = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+  char *s = n >= 0 && fseek(f, 0, SEEK_SET) == 0 ? malloc((size_t)n + 1) : NULL;
+  if (s != NULL && fread(s, 1, (size_t)n, f) != (size_t)n) {
+    free(s);
+    s = NULL;
+  }
+  if (s != NULL) s[n] = '\0';
   fclose(f);
-  char *s = malloc(n + 1);
-  if (s != NULL) memcpy(s, text, n + 1);
   return s;
 }
 
@@ -371,6 +375,49 @@ static void test_killed_at_final_write(void **s) {
   }
 }
 
+/* A record never sits beside a sidecar that is not its own. A run of another arch (21
+ * voussoirs) leaves sc.h5 and sc.xmf; a run of the reference arch (55) over them is killed
+ * (SIGKILL) before its status (its record at sc.h5, "running") and after it (the record in place,
+ * "completed"), and the sidecar at sc.xmf, if any, must be the one rebuilt from the record at
+ * sc.h5, byte for byte. Then the same run not killed: its sidecar is there, and its record's. */
+static void test_sidecar_is_its_records(void **s) {
+  (void)s;
+  const char *points[] = {"before-status", "after-status", NULL};
+  for (int i = 0; i < 3; i++) {
+    char cmd[1024], h5[256], xmf[256];
+    snprintf(h5, sizeof h5, "%s/sc%d.h5", g_dir, i);
+    snprintf(xmf, sizeof xmf, "%s/sc%d.xmf", g_dir, i);
+    snprintf(cmd, sizeof cmd, "cd %s && %s run %s -q --set arch.voussoirs=21 --first-limit -o %s "
+             "> /dev/null", g_dir, VS_BINARY, REFERENCE, h5);
+    assert_int_equal(sh(cmd), 0);
+    char *first = slurp(xmf);
+    assert_non_null(first);
+    snprintf(cmd, sizeof cmd, /* the shell's "Killed" goes to /dev/null too */
+             "cd %s && exec 2> /dev/null && %s%s %s run %s -q --set dynamic.fall_s=0 "
+             "--snapshot-share 1 -o %s > /dev/null", g_dir,
+             points[i] != NULL ? "VS_FAULT_KILL=" : "", points[i] != NULL ? points[i] : "",
+             VS_BINARY, REFERENCE, h5);
+    assert_int_equal(sh(cmd), points[i] != NULL ? 128 + SIGKILL : 0);
+    char status[256];
+    read_status(h5, status, sizeof status);
+    assert_string_equal(status, i == 0 ? "running" : "completed");
+    char *side = slurp(xmf);
+    if (side != NULL || points[i] == NULL) {
+      vs_error err;
+      if (vs_output_write_xdmf(h5, 0, &err) != VS_OK) fail_msg("%s", err.msg); /* over sc.xmf */
+      char *own = slurp(xmf);
+      if (side == NULL || own == NULL || strcmp(side, own) != 0)
+        fail_msg("%s: sc%d.xmf is %s, not the sidecar of the record at sc%d.h5",
+                 points[i] != NULL ? points[i] : "not killed", i,
+                 side == NULL ? "missing" : strcmp(side, first) == 0 ? "the first run's" : "other",
+                 i);
+      free(own);
+    }
+    free(side);
+    free(first);
+  }
+}
+
 /* `plot -o DIR`: a regular file as DIR, or a FIFO where a picture would go, is refused (exit 2)
  * before anything is drawn, and left as it was. Uses the completed record of the test above. */
 static void test_plot_dir_refused(void **s) {
@@ -386,7 +433,7 @@ static void test_plot_dir_refused(void **s) {
            VS_BINARY);
   assert_int_equal(sh(cmd), 2);
   err = slurp(in_dir("err.txt"));
-  assert_non_null(strstr(err, "arch_end.png exists and is not a regular file"));
+  assert_non_null(strstr(err, "voussoir plot: -o pics/arch_end.png: exists and is a FIFO"));
   free(err);
   struct stat st;
   assert_int_equal(lstat(in_dir("pics/arch_end.png"), &st), 0);
@@ -547,6 +594,7 @@ int main(void) {
       cmocka_unit_test(test_nonfinite_residual_ends),
       cmocka_unit_test(test_stop_flag_in_solvers),
       cmocka_unit_test(test_killed_at_final_write),
+      cmocka_unit_test(test_sidecar_is_its_records),
       cmocka_unit_test(test_plot_dir_refused),
       cmocka_unit_test(test_target_replaced_during_run),
       cmocka_unit_test(test_sweep_dir_refused),

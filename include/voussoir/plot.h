@@ -57,7 +57,8 @@ VS_API vs_status vs_plot_arch_frame(const vs_geometry *g, const double *q, doubl
                                     double alpha_rad, vs_plot_frame *f, vs_error *err);
 
 /* Draw the arch of g (from vs_geometry_create_arch: blocks with phi0/phi1, n_blocks + 1 joints)
- * in state q into the file path (created or truncated) as a PNG or SVG picture of
+ * in state q into the file path (created anew: a regular file there is replaced; a symbolic
+ * link, FIFO, device or directory is refused, never written through) as a PNG or SVG picture of
  * VS_PLOT_ARCH_WIDTH x VS_PLOT_ARCH_HEIGHT at true scale:
  *   - the reference arch faint in the background, each voussoir of state q as a filled polygon
  *     (its intrados and extrados arcs sampled at least every degree, moved rigidly:
@@ -78,9 +79,9 @@ VS_API vs_status vs_plot_arch_frame(const vs_geometry *g, const double *q, doubl
  * reference configuration. hinges may be NULL when n_hinges is 0.
  * Errors: VS_ERR_INVALID for NULL path or g, a geometry that is not an arch, non-finite q or
  * delta_m or alpha_rad, n_hinges < 0, a hinge whose joints are outside 1..n_joints or whose side
- * is not 'I'/'E', a negative open_m; VS_ERR_IO when the file cannot be created or written or
- * cairo fails ("PATH: ...: cairo's status string"; a partly written file is removed);
- * VS_ERR_NOMEM. Nothing is printed. */
+ * is not 'I'/'E', a negative open_m; VS_ERR_IO when the file cannot be created (something other
+ * than a regular file at path included) or written or cairo fails ("PATH: ...: cairo's status
+ * string"; a partly written file is removed); VS_ERR_NOMEM. Nothing is printed. */
 VS_API vs_status vs_plot_arch(const char *path, vs_plot_format fmt, const vs_geometry *g,
                               const double *q, double delta_m, double alpha_rad,
                               const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
@@ -195,7 +196,7 @@ typedef struct {
  * Errors: VS_ERR_INVALID for NULL path, x or panels, n < 1, n_panels outside
  * 1..VS_PLOT_MAX_PANELS, a panel with NULL series or n_series outside 1..VS_PLOT_MAX_SERIES, a
  * series with NULL y, a non-finite or negative axis scale; VS_ERR_IO and VS_ERR_NOMEM as
- * vs_plot_arch. Nothing is printed. */
+ * vs_plot_arch (path is created anew, as there). Nothing is printed. */
 VS_API vs_status vs_plot_curves(const char *path, vs_plot_format fmt, const char *title,
                                 const vs_plot_axis *x_axis, const double *x, int n,
                                 const vs_plot_panel *panels, int n_panels, vs_error *err);

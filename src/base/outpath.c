@@ -3,6 +3,7 @@
 #define _DEFAULT_SOURCE /* flock, O_NOFOLLOW */
 #include "outpath.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <stdio.h>
@@ -78,6 +79,13 @@ static vs_status check_parent(const char *path, vs_error *err) {
   return VS_OK;
 }
 
+/* The refusal of something other than a regular file at an output's path. */
+static vs_status not_regular(const char *path, mode_t m, vs_error *err) {
+  return vs_error_set(err, VS_ERR_INVALID,
+                      "%s: exists and is %s (an output must be a regular file or absent)", path,
+                      kind_of(m));
+}
+
 vs_status vs_outpath_check(const char *path, const vs_outpath_other *others, int n_others,
                            vs_error *err) {
   struct stat st;
@@ -86,10 +94,7 @@ vs_status vs_outpath_check(const char *path, const vs_outpath_other *others, int
   if (path[strlen(path) - 1] == '/')
     return vs_error_set(err, VS_ERR_INVALID, "%s: names a directory, not a file", path);
   if (lstat(path, &st) == 0) {
-    if (!S_ISREG(st.st_mode))
-      return vs_error_set(err, VS_ERR_INVALID,
-                          "%s: exists and is %s (an output must be a regular file or absent)",
-                          path, kind_of(st.st_mode));
+    if (!S_ISREG(st.st_mode)) return not_regular(path, st.st_mode, err);
   } else if (errno != ENOENT) {
     return vs_error_set(err, VS_ERR_INVALID, "%s: %s", path, strerror(errno));
   }
@@ -125,6 +130,98 @@ vs_status vs_outpath_check_dir(const char *dir, vs_error *err) {
   return check_parent(dir, err);
 }
 
+vs_status vs_outpath_check_entries(const char *dir, int (*ours)(const char *name, void *user),
+                                   void *user, vs_error *err) {
+  DIR *d = opendir(dir);
+  if (d == NULL) return VS_OK;
+  vs_status s = VS_OK;
+  for (struct dirent *e = readdir(d); e != NULL && s == VS_OK; e = readdir(d)) {
+    struct stat st;
+    if (ours(e->d_name, user) && fstatat(dirfd(d), e->d_name, &st, AT_SYMLINK_NOFOLLOW) == 0 &&
+        !S_ISREG(st.st_mode)) {
+      char path[4096];
+      snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+      s = not_regular(path, st.st_mode, err);
+    }
+  }
+  closedir(d);
+  return s;
+}
+
+/* Fault injection for the link tests: where the environment variable VS_FAULT_LINK is
+ * "PATH=TARGET" and path is PATH, a symbolic link to TARGET is made there once the way is clear,
+ * as another process could between a writer's checks and its creating the file. */
+static void fault_link(const char *path) {
+  const char *v = getenv("VS_FAULT_LINK");
+  const char *eq = v != NULL ? strchr(v, '=') : NULL;
+  if (eq != NULL && strlen(path) == (size_t)(eq - v) && strncmp(v, path, (size_t)(eq - v)) == 0)
+    (void)symlink(eq + 1, path);
+}
+
+vs_status vs_outpath_clear(const char *path, vs_error *err) {
+  struct stat st;
+  if (lstat(path, &st) == 0) {
+    if (!S_ISREG(st.st_mode)) return not_regular(path, st.st_mode, err);
+    if (unlink(path) != 0 && errno != ENOENT)
+      return vs_error_set(err, VS_ERR_IO, "%s: cannot remove the file there: %s", path,
+                          strerror(errno));
+  }
+  fault_link(path);
+  return VS_OK;
+}
+
+vs_status vs_outpath_intruded(const char *path, vs_error *err) {
+  struct stat st;
+  if (lstat(path, &st) != 0 || S_ISREG(st.st_mode)) return VS_OK;
+  return vs_error_set(err, VS_ERR_INVALID,
+                      "%s: became %s as it was created (nothing written through it)", path,
+                      kind_of(st.st_mode));
+}
+
+vs_status vs_outpath_create(const char *path, int *fd, vs_error *err) {
+  *fd = -1;
+  vs_status s = vs_outpath_clear(path, err);
+  if (s != VS_OK) return s;
+  *fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (*fd >= 0) return VS_OK;
+  const int e = errno;
+  if (e == EEXIST && (s = vs_outpath_intruded(path, err)) != VS_OK) return s;
+  if (e == EEXIST)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "%s: created by another process meanwhile (not written over)", path);
+  return vs_error_set(err, VS_ERR_IO, "%s: cannot create: %s", path, strerror(e));
+}
+
+vs_status vs_outpath_open_existing(const char *path, int *fd, int *created, vs_error *err) {
+  *created = 0;
+  *fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (*fd >= 0) {
+    *created = 1;
+    return VS_OK;
+  }
+  if (errno == EEXIST) *fd = open(path, O_WRONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  struct stat st;
+  if (*fd >= 0 && fstat(*fd, &st) == 0 && S_ISREG(st.st_mode)) return VS_OK;
+  const int e = errno;
+  if (*fd >= 0) close(*fd);
+  *fd = -1;
+  if (lstat(path, &st) == 0 && !S_ISREG(st.st_mode)) return not_regular(path, st.st_mode, err);
+  return vs_error_set(err, VS_ERR_IO, "%s: cannot create: %s", path, strerror(e));
+}
+
+vs_status vs_outpath_fopen(const char *path, FILE **f, vs_error *err) {
+  int fd;
+  *f = NULL;
+  vs_status s = vs_outpath_create(path, &fd, err);
+  if (s != VS_OK) return s;
+  *f = fdopen(fd, "wb");
+  if (*f != NULL) return VS_OK;
+  s = vs_error_set(err, VS_ERR_NOMEM, "%s: cannot create: %s", path, strerror(errno));
+  close(fd);
+  unlink(path);
+  return s;
+}
+
 /* Fault injection for the race tests: where the environment variable VS_FAULT_FIFO names this
  * path and nothing is there, a FIFO is made there just before the check, as another process
  * could between the run's checks at its start and the rename (it never removes anything). */
@@ -140,6 +237,22 @@ int vs_outpath_replace(const char *from, const char *path) {
   struct stat st;
   if (lstat(path, &st) == 0 && !S_ISREG(st.st_mode)) return 1;
   return rename(from, path) == 0 ? 0 : -1;
+}
+
+void vs_outpath_discard(const char *path) {
+  struct stat st;
+  if (lstat(path, &st) == 0 && S_ISREG(st.st_mode)) unlink(path);
+}
+
+vs_status vs_outpath_publish(const char *from, const char *path, vs_error *err) {
+  const int rc = vs_outpath_replace(from, path);
+  if (rc > 0)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "%s: became something other than a regular file; not replaced", path);
+  if (rc < 0)
+    return vs_error_set(err, VS_ERR_IO, "%s: cannot rename to %s: %s", from, path,
+                        strerror(errno));
+  return VS_OK;
 }
 
 /* ------------------------------------------------------------------------------------------ */

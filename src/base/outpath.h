@@ -1,8 +1,13 @@
 /* Output paths made safe to write: a target must be absent or a regular file (never a symbolic
  * link, FIFO, device or directory), must not be one of the run's inputs or another of its
- * outputs, and is written by one process at a time (an exclusive lock on "<target>.lock"). */
+ * outputs, and is written by one process at a time (an exclusive lock on "<target>.lock").
+ * Every file the program writes is created here, anew (vs_outpath_create; vs_outpath_clear
+ * before HDF5's exclusive create): never opened through a link, nor truncated in place (the one
+ * exception, a run's --csv kept until the run starts: vs_outpath_open_existing). */
 #ifndef VOUSSOIR_OUTPATH_H
 #define VOUSSOIR_OUTPATH_H
+
+#include <stdio.h>
 
 #include "voussoir/status.h"
 
@@ -24,10 +29,59 @@ vs_status vs_outpath_check(const char *path, const vs_outpath_other *others, int
  * directory (not a symbolic link to one). Creates nothing. Errors: VS_ERR_INVALID. */
 vs_status vs_outpath_check_dir(const char *dir, vs_error *err);
 
+/* Check that every entry of directory dir whose name ours(name, user) claims is a regular file:
+ * one pass over the directory, for the names a command writes there that are too many to check
+ * one by one (a sweep's run_NNNN.*). An absent or unreadable dir passes (its files are checked
+ * as they are created). Errors: VS_ERR_INVALID with "DIR/NAME: <reason>" in err. */
+vs_status vs_outpath_check_entries(const char *dir, int (*ours)(const char *name, void *user),
+                                   void *user, vs_error *err);
+
+/* Make way for a file about to be created at path: nothing there, or a regular file (a working
+ * file a killed process left behind, or the output being replaced), which is removed, never
+ * truncated (a hard link to it keeps its bytes). Anything else (a symbolic link, FIFO, device,
+ * directory) is left as it is, and refused. For a creator that cannot take a descriptor
+ * (HDF5: H5Fcreate with H5F_ACC_EXCL, which then fails on whatever is put there meanwhile);
+ * everything else uses vs_outpath_create. Errors: VS_ERR_INVALID "PATH: exists and is ...";
+ * VS_ERR_IO when the stale file cannot be removed. */
+vs_status vs_outpath_clear(const char *path, vs_error *err);
+
+/* Create path as a new file (0644) for writing: vs_outpath_clear, then
+ * open(O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC), so that nothing put at path
+ * between the checks and the creation (a link, a FIFO) is ever opened, let alone written
+ * through. *fd receives the descriptor, -1 on failure. Errors: those of vs_outpath_clear;
+ * VS_ERR_INVALID "PATH: became ... as it was created" when something was put there meanwhile;
+ * VS_ERR_IO with the OS reason. */
+vs_status vs_outpath_create(const char *path, int *fd, vs_error *err);
+
+/* After an exclusive create of path failed: VS_ERR_INVALID "PATH: became ... as it was created"
+ * when something other than a regular file is there now (put there meanwhile), else VS_OK (the
+ * caller reports its own cause). */
+vs_status vs_outpath_intruded(const char *path, vs_error *err);
+
+/* Open path for writing without truncating it, for a writer that keeps the old file until its
+ * run starts (voussoir run --csv): created as vs_outpath_create does when nothing is there
+ * (*created = 1), else opened without following a link, and kept only if it is a regular file.
+ * *fd receives the descriptor, -1 on failure. Errors: VS_ERR_INVALID "PATH: exists and is ...";
+ * VS_ERR_IO with the OS reason. */
+vs_status vs_outpath_open_existing(const char *path, int *fd, int *created, vs_error *err);
+
+/* vs_outpath_create as a stdio stream, "wb"; *f is NULL on failure. Errors: as
+ * vs_outpath_create, and VS_ERR_NOMEM. */
+vs_status vs_outpath_fopen(const char *path, FILE **f, vs_error *err);
+
 /* Rename the finished file `from` over path, checked just before: never over anything but a
  * regular file. 0; 1 when path exists and is something else (nothing renamed); -1 when the
  * rename failed (errno says why). from is left in place either way. */
 int vs_outpath_replace(const char *from, const char *path);
+
+/* Remove the working file path after a failure, when it is a regular file: never a link or
+ * anything else put there (whose presence may be why the file could not be created). */
+void vs_outpath_discard(const char *path);
+
+/* vs_outpath_replace with its outcome as an error: VS_ERR_INVALID "PATH: became something
+ * other than a regular file; not replaced", VS_ERR_IO "FROM: cannot rename to PATH: reason".
+ * from is left in place on failure (the caller removes it). */
+vs_status vs_outpath_publish(const char *from, const char *path, vs_error *err);
 
 typedef struct vs_outlock vs_outlock;
 

@@ -2,11 +2,9 @@
  * through the record plugin (src/plugin/plugin.h), to an HDF5 record. */
 #define _GNU_SOURCE /* getopt_long; isatty, ftruncate */
 #include <errno.h>
-#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include "cli.h"
@@ -260,19 +258,13 @@ static int csv_open(const char *path, vs_outlock **lock, FILE **out, int *create
     fprintf(stderr, "voussoir: --csv %s\n", err.msg);
     return EXIT_BAD_INPUT;
   }
-  int fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-  if (fd >= 0) *created = 1;
-  else if (errno == EEXIST) fd = open(path, O_WRONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
-  struct stat st;
-  if (fd >= 0 && (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode))) {
-    close(fd);
-    fd = -1;
-    errno = EINVAL;
+  int fd;
+  if (vs_outpath_open_existing(path, &fd, created, &err) != VS_OK) {
+    fprintf(stderr, "voussoir: --csv %s\n", err.msg);
+  } else if ((*out = fdopen(fd, "w")) == NULL) {
+    fprintf(stderr, "voussoir: --csv %s: cannot create: %s\n", path, strerror(errno));
   }
-  if (fd >= 0) *out = fdopen(fd, "w");
   if (*out == NULL) {
-    fprintf(stderr, "voussoir: --csv %s: cannot create: %s\n", path,
-            errno == EINVAL ? "not a regular file" : strerror(errno));
     if (fd >= 0) close(fd);
     if (*created) unlink(path);
     vs_outlock_release(lock);

@@ -178,15 +178,8 @@ static vs_status cannot(const char *path, vs_error *err) {
 /* After part was written with status st: renamed over path (checked just before: never over
  * anything but a regular file), or removed. */
 static vs_status publish(const char *path, const char *part, vs_status st, vs_error *err) {
-  const int rc = st == VS_OK ? vs_outpath_replace(part, path) : 0;
-  if (rc > 0)
-    st = vs_error_set(err, VS_ERR_INVALID,
-                      "montecarlo: %s: became something other than a regular file; not replaced",
-                      path);
-  if (rc < 0)
-    st = vs_error_set(err, VS_ERR_IO, "montecarlo: %s: cannot rename to %s: %s", part, path,
-                      strerror(errno));
-  if (st != VS_OK) remove(part);
+  if (st == VS_OK) st = vs_outpath_publish(part, path, err);
+  if (st != VS_OK) vs_outpath_discard(part);
   return st;
 }
 
@@ -194,10 +187,13 @@ static const char *status_name(int s) {
   return s == VS_MC_COLLAPSE ? "collapse" : s == VS_MC_NO_COLLAPSE ? "max_displacement" : "failed";
 }
 
-/* One row per sample, in sample order; no timings, so the file depends only on the inputs. */
-static int write_samples_csv(const char *path, const vs_case *c, const vs_mc_sample *s, int n) {
-  FILE *f = fopen(path, "w");
-  if (f == NULL) return -1;
+/* One row per sample, in sample order; no timings, so the file depends only on the inputs.
+ * Written at part (created anew), named path in messages. */
+static vs_status write_samples_csv(const char *path, const char *part, const vs_case *c,
+                                   const vs_mc_sample *s, int n, vs_error *err) {
+  FILE *f;
+  vs_status st = vs_outpath_fopen(part, &f, err);
+  if (st != VS_OK) return st;
   fprintf(f, "# voussoir montecarlo seed=%d radius_mm=%.17g embrace_deg=%.17g max_mm=%.17g "
              "alpha_deg=%.17g voussoirs=%d\n",
           c->seed, c->radius_mm, c->embrace_deg, c->max_mm, c->alpha_deg, c->voussoirs);
@@ -216,12 +212,14 @@ static int write_samples_csv(const char *path, const vs_case *c, const vs_mc_sam
       if (*p == ',' || *p == '\n' || *p == '"') *p = ';';
     fprintf(f, ",%s\n", e);
   }
-  return fclose(f) == 0 ? 0 : -1;
+  return fclose(f) == 0 ? VS_OK : cannot(path, err);
 }
 
-static int write_stats_csv(const char *path, const mc_stats *st) {
-  FILE *f = fopen(path, "w");
-  if (f == NULL) return -1;
+static vs_status write_stats_csv(const char *path, const char *part, const mc_stats *st,
+                                 vs_error *err) {
+  FILE *f;
+  const vs_status s = vs_outpath_fopen(part, &f, err);
+  if (s != VS_OK) return s;
   fputs("quantity,value,unit\n", f);
   fprintf(f, "samples,%d,\ncollapses,%d,\nno_collapse_within_max,%d,\nfailed,%d,\n", st->n,
           st->n_collapse, st->n_none, st->n_failed);
@@ -233,7 +231,7 @@ static int write_stats_csv(const char *path, const mc_stats *st) {
           st->modes[2], st->modes[3], st->modes[0]);
   fprintf(f, "fragility_band_halfwidth,%.6f,(DKW %.0f %% simultaneous)\n", st->band_eps,
           100.0 * (1.0 - VS_MC_BAND_ALPHA));
-  return fclose(f) == 0 ? 0 : -1;
+  return fclose(f) == 0 ? VS_OK : cannot(path, err);
 }
 
 /* A double dataset of rank 1 or 2 (rank 0: scalar) with its unit ("1" dimensionless). */
@@ -336,10 +334,8 @@ static herr_t write_stats_h5(hid_t file, const mc_stats *st) {
 /* summary.h5 (named path in messages) written at part. */
 static vs_status write_h5(const char *path, const char *part, const vs_case *cs,
                           const vs_mc_sample *s, int n, const mc_stats *st, vs_error *err) {
-  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
-  hid_t file = H5Fcreate(part, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
-  H5Pclose(fapl);
-  if (file < 0) return vs_error_set(err, VS_ERR_IO, "montecarlo: %s: cannot create", path);
+  hid_t file = vs_h5_create(part, H5P_DEFAULT, err);
+  if (file < 0) return err->status;
   char desc[256];
   snprintf(desc, sizeof desc, "voussoir montecarlo: %d samples, seed %d, alpha %g deg, L %.6g mm",
            n, cs->seed, cs->alpha_deg, vs_case_span_mm(cs));
@@ -400,11 +396,9 @@ vs_status vs_mc_write_summary(const char *dir, const vs_case *c, vs_mc_sample *s
   vs_status rc = compute(s, n, c, &st, err);
   char path[MC_PATH], part[MC_PART];
   target(dir, "samples.csv", path, part);
-  if (rc == VS_OK)
-    rc = publish(path, part, write_samples_csv(part, c, s, n) != 0 ? cannot(path, err) : VS_OK, err);
+  if (rc == VS_OK) rc = publish(path, part, write_samples_csv(path, part, c, s, n, err), err);
   target(dir, "statistics.csv", path, part);
-  if (rc == VS_OK)
-    rc = publish(path, part, write_stats_csv(part, &st) != 0 ? cannot(path, err) : VS_OK, err);
+  if (rc == VS_OK) rc = publish(path, part, write_stats_csv(path, part, &st, err), err);
   target(dir, "summary.h5", path, part);
   if (rc == VS_OK) rc = publish(path, part, write_h5(path, part, c, s, n, &st, err), err);
   if (rc == VS_OK) rc = write_plots(dir, c, &st, err);

@@ -3,11 +3,12 @@
  * Every picture is drawn by one function on a cairo context; vs_plot_emit() owns the file and
  * surface. This file: the output and the drawing helpers both kinds of picture share
  * (plot_draw.h); the arch is drawn by plot_arch.c, the curves by chart.c. */
-#define _POSIX_C_SOURCE 200809L /* stat */
+#define _POSIX_C_SOURCE 200809L
 #include "voussoir/plot.h"
 
 #include "plot_draw.h"
 
+#include "outpath.h"
 #include "voussoir/units.h"
 
 #include <cairo-svg.h>
@@ -18,7 +19,6 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <sys/stat.h>
 
 /* ---------------------------------------------------------------------------------------------
  * Output: a file, a surface, one drawing function */
@@ -46,22 +46,21 @@ static vs_status cairo_fail(vs_error *err, const char *path, const char *what,
   return vs_error_set(err, st, "%s: cannot %s: %s", path, what, cairo_status_to_string(cst));
 }
 
-/* Close the file; on failure (or if st already failed) remove it if it is a regular file (not
- * a device such as /dev/full). */
+/* Close the file; on failure (or if st already failed) remove it. */
 static vs_status sink_close(sink *s, const char *path, vs_status st, vs_error *err) {
   if (fclose(s->fp) != 0 && st == VS_OK)
     st = vs_error_set(err, VS_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
-  struct stat sb;
-  if (st != VS_OK && stat(path, &sb) == 0 && S_ISREG(sb.st_mode)) remove(path);
+  if (st != VS_OK) vs_outpath_discard(path);
   return st;
 }
 
+/* The picture's file, created anew: a picture there before is replaced, nothing else (a file
+ * that cannot be created, as plot.h says: VS_ERR_IO). */
 static vs_status open_sink(sink *s, const char *path, vs_error *err) {
   s->err_no = 0;
-  s->fp = fopen(path, "wb");
-  if (s->fp == NULL)
-    return vs_error_set(err, VS_ERR_IO, "%s: cannot create: %s", path, strerror(errno));
-  return VS_OK;
+  const vs_status st = vs_outpath_fopen(path, &s->fp, err);
+  if (st == VS_ERR_INVALID && err != NULL) err->status = VS_ERR_IO;
+  return st == VS_ERR_INVALID ? VS_ERR_IO : st;
 }
 
 /* PNG: draw into an image surface first, so that a drawing failure creates no file. */

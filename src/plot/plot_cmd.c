@@ -3,9 +3,7 @@
  * the support reaction and hinge joints against the support displacement. Reads the HDF5 record
  * written by record.c; draws with plot.c. */
 #define _POSIX_C_SOURCE 200809L
-#include <dirent.h>
 #include <errno.h>
-#include <fcntl.h>
 #include <hdf5.h>
 #include <math.h>
 #include <stdio.h>
@@ -234,9 +232,10 @@ static int draw_curves(vs_plotrec *r, const char *dir, const char *ext) {
 static FILE *json_open(const char *dir, const char *source) {
   char path[1200];
   snprintf(path, sizeof path, "%s/plots.json", dir);
-  FILE *f = fopen(path, "w");
-  if (f == NULL) {
-    fprintf(stderr, "voussoir plot: %s: cannot write: %s\n", path, strerror(errno));
+  FILE *f;
+  vs_error err;
+  if (vs_outpath_fopen(path, &f, &err) != VS_OK) {
+    fprintf(stderr, "voussoir plot: %s\n", err.msg);
     return NULL;
   }
   fputs("{\"source\": ", f);
@@ -257,36 +256,27 @@ static int json_close(FILE **f, const char *dir) {
   return rc;
 }
 
-/* Every picture this command may write in dir (arch_*.EXT, curves.EXT) is absent or a regular
- * file, and dir is a directory or absent: checked before anything is drawn. 0, or 2 with the
- * reason printed. */
+/* Whether name is one this command may write (arch_*.EXT, curves.EXT, domain.EXT,
+ * sensitivity.EXT, plots.json); user: the pictures' extension, as a const char **. */
+static int picture_name(const char *name, void *user) {
+  const char *ext = *(const char **)user;
+  const size_t n = strlen(name), ne = strlen(ext);
+  return ((strncmp(name, "arch_", 5) == 0 || strncmp(name, "curves.", 7) == 0 ||
+           strncmp(name, "domain.", 7) == 0 || strncmp(name, "sensitivity.", 12) == 0) &&
+          n > ne + 1 && name[n - ne - 1] == '.' && strcmp(name + n - ne, ext) == 0) ||
+         strcmp(name, "plots.json") == 0;
+}
+
+/* Every picture this command may write in dir is absent or a regular file, and dir is a
+ * directory or absent: checked before anything is drawn. 0, or 2 with the reason printed. */
 static int check_picture_dir(const char *dir, const char *ext) {
   vs_error err;
-  if (vs_outpath_check_dir(dir, &err) != VS_OK) {
+  if (vs_outpath_check_dir(dir, &err) != VS_OK ||
+      vs_outpath_check_entries(dir, picture_name, &ext, &err) != VS_OK) {
     fprintf(stderr, "voussoir plot: -o %s\n", err.msg);
     return 2;
   }
-  DIR *d = opendir(dir);
-  if (d == NULL) return 0; /* absent: created later */
-  const size_t ne = strlen(ext);
-  int rc = 0;
-  for (struct dirent *e = readdir(d); e != NULL && rc == 0; e = readdir(d)) {
-    const size_t n = strlen(e->d_name);
-    const int ours =
-        ((strncmp(e->d_name, "arch_", 5) == 0 || strncmp(e->d_name, "curves.", 7) == 0 ||
-          strncmp(e->d_name, "domain.", 7) == 0 || strncmp(e->d_name, "sensitivity.", 12) == 0) &&
-         n > ne + 1 && e->d_name[n - ne - 1] == '.' && strcmp(e->d_name + n - ne, ext) == 0) ||
-        strcmp(e->d_name, "plots.json") == 0;
-    struct stat st;
-    if (ours && fstatat(dirfd(d), e->d_name, &st, AT_SYMLINK_NOFOLLOW) == 0 &&
-        !S_ISREG(st.st_mode)) {
-      fprintf(stderr, "voussoir plot: -o %s: %s exists and is not a regular file\n", dir,
-              e->d_name);
-      rc = 2;
-    }
-  }
-  closedir(d);
-  return rc;
+  return 0;
 }
 
 /* When run is a sweep's summary.h5: its pictures in dir, and the exit status in *status (1). 0

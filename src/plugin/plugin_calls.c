@@ -65,9 +65,9 @@ void vs_output_destroy(vs_output **o) {
   if (o != NULL && *o != NULL) rec()->output_destroy(o);
 }
 
-int vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
-                        const vs_sweep_row *rows, int n) {
-  return rec()->sweep_summary_h5(dir, ax, nax, rows, n);
+vs_status vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
+                              const vs_sweep_row *rows, int n, vs_error *err) {
+  return rec()->sweep_summary_h5(dir, ax, nax, rows, n, err);
 }
 
 vs_status vs_mc_write_summary(const char *dir, const vs_case *c, vs_mc_sample *s, int n,

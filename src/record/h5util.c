@@ -2,6 +2,8 @@
  * records (see h5util.h). */
 #include "h5util.h"
 
+#include "outpath.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -56,6 +58,18 @@ vs_status vs_h5_fail(vs_error *err, const char *path, const char *what) {
     return vs_error_set(err, VS_ERR_IO, "output: %s: %s: %s", path, what, strerror(c.os_errno));
   return vs_error_set(err, VS_ERR_IO, "output: %s: %s%s%s%s%s", path, what, c.cause[0] ? ": " : "",
                       c.cause, c.api[0] ? " in " : "", c.api);
+}
+
+hid_t vs_h5_create(const char *path, hid_t fcpl, vs_error *err) {
+  if (vs_outpath_clear(path, err) != VS_OK) return H5I_INVALID_HID;
+  const vs_h5_quiet q = vs_h5_quiet_begin();
+  const hid_t f = H5Fcreate(path, H5F_ACC_EXCL, fcpl, H5P_DEFAULT);
+  /* something put there meanwhile is named as such; otherwise HDF5's cause */
+  if (f < 0 && vs_outpath_intruded(path, err) == VS_OK)
+    vs_h5_fail(err, path, "cannot create the file");
+  H5Eclear2(H5E_DEFAULT);
+  vs_h5_quiet_end(q);
+  return f;
 }
 
 hid_t vs_h5_vlstr_type(void) {

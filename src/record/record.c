@@ -88,6 +88,22 @@ static char *suffixed(const char *path, const char *suffix) {
   return d;
 }
 
+/* Before anything is written: the target, its sidecar and the sidecar's working file (written
+ * at the end) are absent or regular files, the target is not its own sidecar, and no other
+ * process writes them (the lock taken). The working and snapshot files are checked as they are
+ * made, also before the run. */
+static vs_status check_targets(vs_output *o, vs_error *err) {
+  const vs_outpath_other sidecar[1] = {{o->xmf_path, "its XDMF sidecar"}};
+  char *xmf_tmp = suffixed(o->xmf_path, VS_XDMF_TMP);
+  vs_status st = xmf_tmp == NULL ? vs_error_set(err, VS_ERR_NOMEM, "output: out of memory")
+                                 : vs_outpath_check(o->path, sidecar, 1, err);
+  if (st == VS_OK) st = vs_outpath_check(o->xmf_path, NULL, 0, err);
+  if (st == VS_OK) st = vs_outpath_check(xmf_tmp, NULL, 0, err);
+  if (st == VS_OK) st = vs_outlock_acquire(o->path, &o->lock, err);
+  free(xmf_tmp);
+  return st;
+}
+
 /* Crash safety. HDF5 1.10 has no crash consistency: a flush rewrites metadata in place. What a
  * kill -9 at a random moment of a run (runs/reference.ini, about 30 flushes) left in the file
  * HDF5 writes was measured, when that file was the record itself (hence the snapshots: the
@@ -117,10 +133,12 @@ static char *suffixed(const char *path, const char *suffix) {
  * are written at chunk boundaries (every flush_rows-th row), so most writes fill whole chunks. */
 static vs_status file_create(vs_output *o, const char *path) {
   hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
-  if (fcpl >= 0 && H5Pset_file_space_strategy(fcpl, H5F_FSPACE_STRATEGY_NONE, 0, 1) >= 0)
-    o->file = H5Fcreate(path, H5F_ACC_EXCL, fcpl, H5P_DEFAULT);
+  vs_status st = VS_OK;
+  if (fcpl < 0 || H5Pset_file_space_strategy(fcpl, H5F_FSPACE_STRATEGY_NONE, 0, 1) < 0)
+    st = vs_h5_fail(&o->err, path, "cannot create the file");
   /* the cause is read before closing fcpl (any API call clears the error stack) */
-  vs_status st = o->file < 0 ? vs_h5_fail(&o->err, path, "cannot create the file") : VS_OK;
+  else if ((o->file = vs_h5_create(path, fcpl, &o->err)) < 0)
+    st = o->err.status;
   vs_h5_close(fcpl);
   return st;
 }
@@ -148,11 +166,7 @@ vs_status vs_output_create(const char *path, const vs_run *run, const char *case
     return vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
   }
   o->flush_rows = vs_record_buffer_rows(o);
-  /* the target and its sidecar are absent or regular files, and no other process writes them */
-  const vs_outpath_other sidecar[1] = {{o->xmf_path, "its XDMF sidecar"}};
-  st = vs_outpath_check(path, sidecar, 1, err);
-  if (st == VS_OK) st = vs_outpath_check(o->xmf_path, NULL, 0, err);
-  if (st == VS_OK) st = vs_outlock_acquire(path, &o->lock, err);
+  st = check_targets(o, err);
   if (st != VS_OK) {
     vs_output_destroy(&o);
     return st;
@@ -167,11 +181,11 @@ vs_status vs_output_create(const char *path, const vs_run *run, const char *case
   }
   o->t_open = vs_wall_now();
   vs_h5_quiet q = vs_h5_quiet_begin();
-  st = vs_record_remove_stale(o, o->part);
-  if (st == VS_OK) st = vs_record_remove_stale(o, o->snap);
+  st = vs_outpath_clear(o->snap, &o->err); /* a kill's leftover removed; created at each snapshot */
   if (st == VS_OK) {
-    o->working = 1; /* a part file from here on is ours */
     st = file_create(o, o->part);
+    /* a part file from here on is ours, even half created (a full disk); not one refused */
+    o->working = st != VS_ERR_INVALID;
     /* its last flush takes the first snapshot (always taken: vs_record_snapshot) */
     if (st == VS_OK) st = vs_record_layout_write(o, run, case_text);
   }
@@ -387,6 +401,17 @@ static vs_status write_outlines(vs_output *o, const vs_run *run) {
   return rc >= 0 ? VS_OK : vs_h5_fail(&o->err, o->path, "cannot write /xdmf/block_points");
 }
 
+/* The sidecar of the closed working file, naming the record path, written whole at tmp (the
+ * name "<xmf_path>.tmp" into tmp, size bytes) and not yet put in place. */
+static vs_status sidecar_tmp(const vs_output *o, char *tmp, size_t size, vs_error *err) {
+  const hid_t f = H5Fopen(o->part, H5F_ACC_RDONLY, H5P_DEFAULT);
+  const vs_status st =
+      f < 0 ? vs_h5_fail(err, o->path, "cannot reopen")
+            : vs_xdmf_write_tmp(f, o->path, o->xmf_path, o->opts.xdmf_max_grids, tmp, size, err);
+  vs_h5_close(f);
+  return st;
+}
+
 vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status,
                            const vs_error *run_err, vs_error *err) {
   if (o->finished) return vs_error_set(err, VS_ERR_INVALID, "output: %s: finished twice", o->path);
@@ -420,6 +445,14 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
   if (o->file >= 0 && H5Fclose(o->file) < 0 && st == VS_OK)
     st = vs_h5_fail(&o->err, o->path, "cannot close");
   o->file = H5I_INVALID_HID;
+  /* the sidecar is written from the closed working file before that file is put in place, and
+   * put in place after it: a record at path is never beside a sidecar that is not its own (the
+   * previous record's went with the first snapshot); a kill between the two renames leaves the
+   * record without a sidecar (vs_output_write_xdmf rebuilds it) */
+  char tmp[4096];
+  vs_error side; /* the sidecar's outcome */
+  vs_error_set(&side, VS_ERR_INTERNAL, "output: %s: no record, no sidecar", o->path);
+  if (o->working && st == VS_OK) side.status = sidecar_tmp(o, tmp, sizeof tmp, &side);
   /* the closed working file replaces the snapshot (after a write error: removed, path keeps
    * the last snapshot; where path is no longer ours, the working file stays, whole) */
   if (o->working && st == VS_OK && vs_record_publish(o, o->part) != VS_OK)
@@ -427,13 +460,10 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
   if (o->working && st != VS_OK && !o->stranded) unlink(o->part);
   o->working = 0;
   if (st == VS_OK) vs_record_fault_point("after-status");
-  if (st == VS_OK) {
-    hid_t f = H5Fopen(o->path, H5F_ACC_RDONLY, H5P_DEFAULT);
-    st = f < 0 ? vs_h5_fail(&o->err, o->path, "cannot reopen")
-               : vs_xdmf_write(f, o->path, o->xmf_path, o->opts.xdmf_max_grids, &o->err);
-    vs_h5_close(f);
-    o->xmf_written = st == VS_OK;
-  }
+  if (side.status == VS_OK && st != VS_OK) remove(tmp); /* no record in place: no sidecar */
+  if (st == VS_OK && side.status != VS_OK) st = (o->err = side).status; /* the record in place */
+  if (st == VS_OK) st = vs_xdmf_publish(tmp, o->xmf_path, &o->err);
+  o->xmf_written = st == VS_OK;
   H5Eclear2(H5E_DEFAULT);
   vs_h5_quiet_end(q);
   if (st != VS_OK && err != NULL) *err = o->err;

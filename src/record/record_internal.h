@@ -96,6 +96,8 @@ struct vs_output {
   int stranded;     /* 1 once path became something other than a regular file during the run:
                        nothing is renamed over it again, and the record stays whole in path.part
                        (record_snapshot.c) */
+  int replaced;     /* 1 once something was renamed over path: the sidecar beside the record
+                       that was there (not this run's) was removed just before */
   vs_outlock *lock; /* the exclusive lock on path, held until destroy */
   double t_open;    /* wall clock at the start, s */
   double snap_spent, snap_last, snap_size; /* the snapshots' wall time, the last's, its bytes */
@@ -118,10 +120,8 @@ void vs_record_fault_point(const char *name);
 void vs_record_iso8601_utc(char *buf, size_t size);
 
 /* record_snapshot.c: the file at path is a snapshot of the working file (see there) */
-/* Remove a stale working or snapshot file at path left by a killed run (ours: we hold the lock);
- * VS_ERR_INVALID if what is there is not a regular file. */
-vs_status vs_record_remove_stale(vs_output *o, const char *path);
-/* Rename `from` over o->path, checked just before: never over anything but a regular file.
+/* Rename `from` over o->path, checked just before: never over anything but a regular file. The
+ * first time, the sidecar at o->xmf_path (a regular file: another record's) is removed first.
  * VS_OK; VS_ERR_INVALID when path has become something else (o->stranded set, o->err left
  * alone: the working file is sound) or was already; VS_ERR_IO (in o->err) when the rename
  * failed. */

@@ -26,8 +26,8 @@ typedef struct {
   void (*output_destroy)(vs_output **o);
   void (*output_process_init)(void);
   void (*output_process_end)(int clean);
-  int (*sweep_summary_h5)(const char *dir, const vs_sweep_axis *ax, int nax,
-                          const vs_sweep_row *rows, int n);
+  vs_status (*sweep_summary_h5)(const char *dir, const vs_sweep_axis *ax, int nax,
+                                const vs_sweep_row *rows, int n, vs_error *err);
 } vs_record_plugin;
 
 #endif

@@ -18,18 +18,11 @@
 #include "outpath.h"
 #include "wall_clock.h"
 
-vs_status vs_record_remove_stale(vs_output *o, const char *path) {
-  struct stat st;
-  if (lstat(path, &st) != 0) return VS_OK;
-  if (!S_ISREG(st.st_mode))
-    return vs_error_set(&o->err, VS_ERR_INVALID, "%s: exists and is not a regular file", path);
-  if (unlink(path) != 0)
-    return vs_error_set(&o->err, VS_ERR_IO, "output: %s: cannot remove the stale file: %s", path,
-                        strerror(errno));
-  return VS_OK;
-}
-
 vs_status vs_record_publish(vs_output *o, const char *from) {
+  if (!o->replaced && !o->stranded) { /* the record there goes: its sidecar first */
+    vs_outpath_discard(o->xmf_path);
+    o->replaced = 1;
+  }
   const int rc = o->stranded ? 1 : vs_outpath_replace(from, o->path);
   if (rc > 0) {
     o->stranded = 1;
@@ -88,17 +81,20 @@ static vs_status take(vs_output *o, off_t *size) {
                         o->path, o->part, strerror(e));
   }
   *size = st.st_size;
-  /* O_EXCL, O_NOFOLLOW: a snapshot name is ours (a stale one was removed at the start) */
-  const int out = open(o->snap, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-  int rc = out >= 0 ? copy_bytes(in, out, st.st_size / 2) : -1;
+  int out;
+  if (vs_outpath_create(o->snap, &out, &o->err) != VS_OK) {
+    close(in);
+    return o->err.status;
+  }
+  int rc = copy_bytes(in, out, st.st_size / 2);
   /* the crash tests' points, in a snapshot after the layout's (there is one at path) */
   if (rc == 0 && o->snapshots > 0) vs_record_fault_point("mid-snapshot"); /* half copied */
   if (rc == 0) rc = copy_bytes(in, out, st.st_size - st.st_size / 2);
   int e = errno;
-  if (out >= 0 && close(out) != 0 && rc == 0) rc = -1, e = errno;
+  if (close(out) != 0 && rc == 0) rc = -1, e = errno;
   close(in);
   if (rc != 0) {
-    if (out >= 0) unlink(o->snap);
+    unlink(o->snap);
     return vs_error_set(&o->err, VS_ERR_IO, "output: %s: cannot write its snapshot %s: %s",
                         o->path, o->snap, strerror(e));
   }

@@ -5,6 +5,8 @@
 #ifndef VS_SWEEP_ROWS_H
 #define VS_SWEEP_ROWS_H
 
+#include "voussoir/status.h"
+
 enum { VS_SWEEP_MAX_AXES = 8 };
 
 /* An axis of a sweep: the key it sets and its values (case units). */
@@ -33,8 +35,10 @@ typedef struct {
   int snaps;                          /* limit points the path snapped through */
 } vs_sweep_row;
 
-/* The summary table of a sweep as DIR/summary.h5 (sweep_summary.c): 0 or -1. */
-int vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
-                        const vs_sweep_row *rows, int n);
+/* The summary table of a sweep as DIR/summary.h5 (sweep_summary.c, in the record library).
+ * Errors: VS_ERR_INVALID (something other than a regular file in the way), VS_ERR_IO,
+ * VS_ERR_NOMEM, the path in err. */
+vs_status vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
+                              const vs_sweep_row *rows, int n, vs_error *err);
 
 #endif

@@ -6,13 +6,14 @@
 
 #include <hdf5.h>
 
+#include "h5util.h"
 #include "outpath.h"
 #include "sweep_rows.h"
 
 /* The summary as an HDF5 compound table DIR/summary.h5 (/summary), units in an attribute; rows
  * in run order. */
-int vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
-                        const vs_sweep_row *rows, int n) {
+vs_status vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
+                              const vs_sweep_row *rows, int n, vs_error *err) {
   char path[1100];
   snprintf(path, sizeof path, "%s/summary.h5", dir);
   typedef struct {
@@ -23,7 +24,7 @@ int vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
     int snaps;
   } mem;
   mem *m = calloc((size_t)(n > 0 ? n : 1), sizeof *m);
-  if (m == NULL) return -1;
+  if (m == NULL) return vs_error_set(err, VS_ERR_NOMEM, "%s: out of memory", path);
   for (int i = 0; i < n; i++)
     m[i] = (mem){rows[i].run,         {0},
                  rows[i].status,      rows[i].mode,
@@ -61,7 +62,7 @@ int vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
    * half-written */
   char part[1200];
   snprintf(part, sizeof part, "%s.part", path);
-  hid_t f = H5Fcreate(part, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  hid_t f = vs_h5_create(part, H5P_DEFAULT, err);
   hsize_t dims[1] = {(hsize_t)n};
   hid_t sp = H5Screate_simple(1, dims, NULL);
   hid_t d = f >= 0 ? H5Dcreate2(f, "summary", t, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT) : -1;
@@ -76,10 +77,12 @@ int vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
   if (d >= 0) H5Dclose(d);
   H5Sclose(sp);
   if (f >= 0 && H5Fclose(f) < 0) ok = 0;
-  if (ok && vs_outpath_replace(part, path) != 0) ok = 0;
-  if (!ok) remove(part);
+  const vs_status st = f < 0 ? err->status
+                       : !ok ? vs_h5_fail(err, part, "cannot write")
+                             : vs_outpath_publish(part, path, err);
+  if (st != VS_OK) vs_outpath_discard(part);
   H5Tclose(t);
   H5Tclose(str);
   free(m);
-  return ok ? 0 : -1;
+  return st;
 }

@@ -398,6 +398,13 @@ static void xdmf_header(xdmf_ctx *x, const char *name, long rows, long stride) {
 
 vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, int max_grids,
                         vs_error *err) {
+  char tmp[4096];
+  const vs_status st = vs_xdmf_write_tmp(file, h5_path, xmf_path, max_grids, tmp, sizeof tmp, err);
+  return st == VS_OK ? vs_xdmf_publish(tmp, xmf_path, err) : st;
+}
+
+vs_status vs_xdmf_write_tmp(hid_t file, const char *h5_path, const char *xmf_path, int max_grids,
+                            char *tmp, size_t size, vs_error *err) {
   xdmf_ctx x;
   x.geo = x.need = NULL;
   x.n_inl = 0;
@@ -416,14 +423,14 @@ vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, i
   long *sel = NULL, n = 0;
   vs_status st = vs_xdmf_listing(file, &x, rows, max_grids, h5_path, &t, &sel, &n, err);
   const char *base = strrchr(h5_path, '/');
-  char name[1024], tmp[4096];
+  char name[1024];
   xml_escape(base != NULL ? base + 1 : h5_path, name, sizeof name);
   x.h5name = name;
   x.ground = H5Lexists(file, "/summary", H5P_DEFAULT) > 0 &&
              H5Lexists(file, "/summary/ground", H5P_DEFAULT) > 0 &&
              H5Lexists(file, "/summary/ground/points", H5P_DEFAULT) > 0;
   x.nan_n = vs_xdmf_nan_count(file);
-  if (st == VS_OK) st = vs_xdmf_open_tmp(xmf_path, tmp, sizeof tmp, &x.f, err);
+  if (st == VS_OK) st = vs_xdmf_open_tmp(xmf_path, tmp, size, &x.f, err);
   if (st == VS_OK) {
     x.used = 0;
     xdmf_header(&x, name, rows, vs_xdmf_stride(rows, max_grids));
@@ -438,7 +445,7 @@ vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, i
       remove(tmp);
       st = vs_h5_fail(err, h5_path, "cannot read /observables/block_position");
     } else {
-      st = vs_xdmf_commit(x.f, tmp, xmf_path, err);
+      st = vs_xdmf_close_tmp(x.f, tmp, xmf_path, err);
     }
   }
   vs_h5_close(x.pos);

@@ -9,11 +9,23 @@
 
 #include "voussoir/status.h"
 
+/* The suffix of the sidecar's working file, "<xmf_path>.tmp". */
+#define VS_XDMF_TMP ".tmp"
+
 /* Write the sidecar xmf_path (through "<xmf_path>.tmp", renamed) of the record h5_path opened
  * as file, listing at most max_grids rows (see vs_output_opts). Errors: VS_ERR_INVALID (not a
  * voussoir record, or xmf_path is not a regular file), VS_ERR_IO, VS_ERR_NOMEM. */
 vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, int max_grids,
                         vs_error *err);
+
+/* vs_xdmf_write in two halves, for a writer that puts the record in place between them (so that
+ * no sidecar is ever beside a record that is not its own, record.c): the sidecar written whole
+ * and closed as "<xmf_path>.tmp" (its name into tmp, size bytes; removed on failure), and that
+ * file renamed over xmf_path (only over a regular file; removed on failure). file may be the
+ * record's working file: h5_path is the name the sidecar gives the record. */
+vs_status vs_xdmf_write_tmp(hid_t file, const char *h5_path, const char *xmf_path, int max_grids,
+                            char *tmp, size_t size, vs_error *err);
+vs_status vs_xdmf_publish(const char *tmp, const char *xmf_path, vs_error *err);
 
 /* The rows a sidecar lists, of rows [0, rows) with times t: every k-th row, k = ceil(rows /
  * max_grids), and the last, each only if its time is above the previous listed one (ParaView

@@ -89,12 +89,12 @@ vs_status vs_xdmf_listing(hid_t file, xdmf_ctx *x, long rows, int max_grids,
                           vs_error *err);
 /* The number of values of a rank-1 /xdmf/nan, or 0 if the record has none. */
 hsize_t vs_xdmf_nan_count(hid_t file);
-/* Open "<xmf_path>.tmp" (its name into tmp) for writing: never written through, nor renamed
- * over, anything but a regular file. */
+/* Create "<xmf_path>.tmp" (its name into tmp) anew for writing (vs_outpath_fopen): never
+ * written through, nor renamed over, anything but a regular file. */
 vs_status vs_xdmf_open_tmp(const char *xmf_path, char *tmp, size_t size, FILE **f,
                            vs_error *err);
-/* Close f and rename tmp to xmf_path; on a write error remove tmp. */
-vs_status vs_xdmf_commit(FILE *f, const char *tmp, const char *xmf_path, vs_error *err);
+/* Close f, the sidecar written at tmp; on a write error remove tmp. */
+vs_status vs_xdmf_close_tmp(FILE *f, const char *tmp, const char *xmf_path, vs_error *err);
 
 /* xdmf_rows.c */
 /* The k of vs_xdmf_rows: ceil(rows / max_grids), at least 1. */

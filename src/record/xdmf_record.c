@@ -180,30 +180,29 @@ hsize_t vs_xdmf_nan_count(hid_t file) {
 
 vs_status vs_xdmf_open_tmp(const char *xmf_path, char *tmp, size_t size, FILE **f,
                            vs_error *err) {
-  snprintf(tmp, size, "%s.tmp", xmf_path);
+  snprintf(tmp, size, "%s" VS_XDMF_TMP, xmf_path);
   struct stat sb;
-  const char *odd = lstat(tmp, &sb) == 0 && !S_ISREG(sb.st_mode)        ? tmp
-                    : lstat(xmf_path, &sb) == 0 && !S_ISREG(sb.st_mode) ? xmf_path
-                                                                        : NULL;
-  if (odd != NULL)
-    return vs_error_set(err, VS_ERR_INVALID, "output: %s: exists and is not a regular file", odd);
-  *f = fopen(tmp, "w");
-  if (*f == NULL)
-    return vs_error_set(err, VS_ERR_IO, "output: %s: cannot write: %s", tmp, strerror(errno));
-  return VS_OK;
+  if (lstat(xmf_path, &sb) == 0 && !S_ISREG(sb.st_mode))
+    return vs_error_set(err, VS_ERR_INVALID, "output: %s: exists and is not a regular file",
+                        xmf_path);
+  vs_error e; /* the working file: created anew, whatever is in its way refused */
+  const vs_status st = vs_outpath_fopen(tmp, f, &e);
+  return st == VS_OK ? st : vs_error_set(err, st, "output: %.500s", e.msg);
 }
 
-vs_status vs_xdmf_commit(FILE *f, const char *tmp, const char *xmf_path, vs_error *err) {
+vs_status vs_xdmf_close_tmp(FILE *f, const char *tmp, const char *xmf_path, vs_error *err) {
   const int bad = ferror(f);
   errno = 0;
-  if (fflush(f) != 0 || bad) {
-    const int e = errno;
-    fclose(f);
-    remove(tmp);
-    return vs_error_set(err, VS_ERR_IO, "output: %s: cannot write: %s", xmf_path,
-                        e != 0 ? strerror(e) : "write error");
-  }
-  const int rc = fclose(f) != 0 ? -1 : vs_outpath_replace(tmp, xmf_path);
+  const int rc = fflush(f) != 0 || bad ? -1 : 0;
+  const int e = errno;
+  if (fclose(f) == 0 && rc == 0) return VS_OK;
+  remove(tmp);
+  return vs_error_set(err, VS_ERR_IO, "output: %s: cannot write: %s", xmf_path,
+                      rc == 0 ? strerror(errno) : e != 0 ? strerror(e) : "write error");
+}
+
+vs_status vs_xdmf_publish(const char *tmp, const char *xmf_path, vs_error *err) {
+  const int rc = vs_outpath_replace(tmp, xmf_path);
   const int e = errno;
   if (rc != 0) remove(tmp);
   if (rc > 0)

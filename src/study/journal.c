@@ -1,11 +1,15 @@
 /* The manifests and journals of sweep and montecarlo (src/study/journal.h). */
-#define _POSIX_C_SOURCE 200809L /* fileno, ftruncate */
+#define _DEFAULT_SOURCE /* fileno, ftruncate, O_NOFOLLOW */
 #include "journal.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
+#include "outpath.h"
 
 char *vs_manifest_case(const vs_case *c, size_t extra) {
   const int nk = vs_case_key_count();
@@ -60,26 +64,39 @@ int vs_journal_read(const char *path, const char *head, size_t size,
   return rc;
 }
 
-FILE *vs_journal_open(const char *path, const char *head, size_t size, long rows) {
-  FILE *f = rows > 0 ? fopen(path, "r+b") : NULL;
-  if (f == NULL && (rows <= 0 || errno == ENOENT)) { /* fresh: no row to keep */
-    f = fopen(path, "wb");
-    if (f != NULL && (fputs(head, f) < 0 || fflush(f) != 0)) {
-      const int e = errno;
-      fclose(f);
-      errno = e;
-      return NULL;
-    }
-    return f;
-  }
-  const off_t end = (off_t)strlen(head) + (off_t)rows * (off_t)size;
-  if (f != NULL && (ftruncate(fileno(f), end) != 0 || fseek(f, 0, SEEK_END) != 0)) {
+/* The journal being resumed, opened to be cut and appended to: never through a link, nor
+ * anything but a regular file (EINVAL). NULL with errno on failure. */
+static FILE *reopen(const char *path) {
+  const int fd = open(path, O_RDWR | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  struct stat st;
+  FILE *f = NULL;
+  if (fd >= 0 && fstat(fd, &st) == 0 && !S_ISREG(st.st_mode)) errno = EINVAL;
+  else if (fd >= 0) f = fdopen(fd, "r+b");
+  if (f == NULL && fd >= 0) {
     const int e = errno;
-    fclose(f);
+    close(fd);
     errno = e;
-    return NULL;
   }
   return f;
+}
+
+FILE *vs_journal_open(const char *path, const char *head, size_t size, long rows,
+                      vs_error *err) {
+  FILE *f = rows > 0 ? reopen(path) : NULL;
+  if (f == NULL && (rows <= 0 || errno == ENOENT)) { /* fresh: no row to keep */
+    if (vs_outpath_fopen(path, &f, err) != VS_OK) return NULL;
+    if (fputs(head, f) >= 0 && fflush(f) == 0) return f;
+  } else if (f != NULL) {
+    const off_t end = (off_t)strlen(head) + (off_t)rows * (off_t)size;
+    if (ftruncate(fileno(f), end) == 0 && fseek(f, 0, SEEK_END) == 0) return f;
+  }
+  vs_error_set(err, VS_ERR_IO, "%s: cannot write: %s", path,
+               f != NULL         ? strerror(errno)
+               : errno == EINVAL ? "not a regular file"
+               : errno == ELOOP  ? "a symbolic link (not followed)"
+                                 : strerror(errno));
+  if (f != NULL) fclose(f);
+  return NULL;
 }
 
 int vs_journal_append(FILE *f, const void *row, size_t size) {

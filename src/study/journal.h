@@ -28,9 +28,12 @@ int vs_manifest_same(const char *path, const char *text);
 int vs_journal_read(const char *path, const char *head, size_t size,
                     void (*take)(void *user, const void *row), void *user, long *rows);
 
-/* Open the journal at path to append rows: rows <= 0, a fresh one (head written); otherwise the
- * one read with that many whole rows, cut after them. NULL (errno set) on failure. */
-FILE *vs_journal_open(const char *path, const char *head, size_t size, long rows);
+/* Open the journal at path to append rows: rows <= 0, a fresh one (created anew, head written:
+ * vs_outpath_create); otherwise the one read with that many whole rows, cut after them (opened
+ * without following a link, and only if it is a regular file). NULL on failure, with the reason
+ * in err ("PATH: ..."). */
+FILE *vs_journal_open(const char *path, const char *head, size_t size, long rows,
+                      vs_error *err);
 
 /* Append one row, flushed. 0, or -1 (errno set). */
 int vs_journal_append(FILE *f, const void *row, size_t size);

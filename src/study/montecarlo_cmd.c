@@ -142,19 +142,27 @@ static int study_open(mc_study *s) {
   } else {
     char part[MC_JPATH + 8];
     snprintf(part, sizeof part, "%s.part", mpath);
-    FILE *f = fopen(part, "w");
-    int ok = f != NULL && fputs(want, f) >= 0;
-    if (f != NULL && fclose(f) != 0) ok = 0;
-    if (!ok || vs_outpath_replace(part, mpath) != 0) {
-      fprintf(stderr, "voussoir montecarlo: %s: cannot write: %s\n", mpath, strerror(errno));
-      remove(part);
-      rc = EXIT_FAIL;
+    FILE *f;
+    vs_error err;
+    vs_status st = vs_outpath_fopen(part, &f, &err);
+    if (st == VS_OK) {
+      const int ok = fputs(want, f) >= 0;
+      st = fclose(f) == 0 && ok ? vs_outpath_publish(part, mpath, &err)
+                                : vs_error_set(&err, VS_ERR_IO, "%s: cannot write: %s", part,
+                                               strerror(errno));
+      if (st != VS_OK) vs_outpath_discard(part);
+    }
+    if (st != VS_OK) {
+      fprintf(stderr, "voussoir montecarlo: %s\n", err.msg);
+      rc = st == VS_ERR_INVALID ? EXIT_USAGE : EXIT_FAIL;
     }
   }
   free(want);
-  if (rc == 0 && (s->journal = vs_journal_open(path, head, sizeof(vs_mc_sample), rows)) == NULL) {
-    fprintf(stderr, "voussoir montecarlo: %s: cannot write: %s\n", path, strerror(errno));
-    rc = EXIT_FAIL;
+  vs_error err;
+  if (rc == 0 &&
+      (s->journal = vs_journal_open(path, head, sizeof(vs_mc_sample), rows, &err)) == NULL) {
+    fprintf(stderr, "voussoir montecarlo: %s\n", err.msg);
+    rc = err.status == VS_ERR_INVALID ? EXIT_USAGE : EXIT_FAIL;
   }
   return rc;
 }
@@ -336,14 +344,16 @@ static int load_case(const vs_mc_opts *a, vs_case *c) {
 
 int vs_mc_check_outputs(const char *cmd, const char *dir, const vs_outpath_other *others,
                         int n_others, int state) {
+  /* each written through "<name>.part" but the journal */
   static const char *const names[] = {VS_MC_OUTPUTS, MANIFEST, JOURNAL};
   const size_t count = sizeof names / sizeof names[0] - (state ? 0 : 2);
   vs_error err;
   vs_error_clear(&err);
   int bad = vs_outpath_check_dir(dir, &err) != VS_OK;
-  for (size_t i = 0; !bad && access(dir, F_OK) == 0 && i < count; i++) {
+  for (size_t i = 0; !bad && access(dir, F_OK) == 0 && i < 2 * count; i++) {
     char path[MC_JPATH];
-    snprintf(path, sizeof path, "%s/%s", dir, names[i]);
+    const char *part = i % 2 == 0 || names[i / 2] == JOURNAL ? "" : ".part";
+    snprintf(path, sizeof path, "%s/%s%s", dir, names[i / 2], part);
     bad = vs_outpath_check(path, others, n_others, &err) != VS_OK;
   }
   if (bad) fprintf(stderr, "voussoir %s: -o %s\n", cmd, err.msg);

@@ -68,20 +68,28 @@ static int cmp_sweep_rows(const void *x, const void *y) {
   return ((const vs_sweep_row *)x)->run - ((const vs_sweep_row *)y)->run;
 }
 
-/* The whole table in run order, replacing the one written in completion order, atomically. */
+/* The whole table in run order, replacing the one written in completion order, atomically. 0,
+ * or -1 after printing why. */
 static int rewrite_table(const char *path, const axis *ax, int nax, const vs_sweep_row *rows,
                          int n) {
   char tmp[1200];
   snprintf(tmp, sizeof tmp, "%s.tmp", path);
-  FILE *f = fopen(tmp, "w");
-  if (f == NULL) return -1;
-  write_csv_header(f, ax, nax);
-  for (int i = 0; i < n; i++) write_csv_row(f, &rows[i], nax);
-  if (fclose(f) != 0 || vs_outpath_replace(tmp, path) != 0) { /* never over a non-regular file */
-    remove(tmp);
+  FILE *f;
+  vs_error err;
+  if (vs_outpath_fopen(tmp, &f, &err) != VS_OK) {
+    fprintf(stderr, "voussoir sweep: %s\n", err.msg);
     return -1;
   }
-  return 0;
+  write_csv_header(f, ax, nax);
+  for (int i = 0; i < n; i++) write_csv_row(f, &rows[i], nax);
+  /* renamed never over anything but a regular file */
+  const vs_status st =
+      fclose(f) == 0 ? vs_outpath_publish(tmp, path, &err)
+                     : vs_error_set(&err, VS_ERR_IO, "%s: cannot write: %s", tmp, strerror(errno));
+  if (st == VS_OK) return 0;
+  fprintf(stderr, "voussoir sweep: %s\n", err.msg);
+  remove(tmp);
+  return -1;
 }
 
 /* The case file with the --set overrides applied (in order), not yet validated; *text (when
@@ -171,15 +179,19 @@ static int prepare_dir(const char *dir, const char *manifest, int total, int res
                        : "differs: that sweep had another case, lists, --set or mode");
     return same == 1 ? 0 : -1;
   }
-  remove(path);
   for (int r = 1; r <= total; r++) {
     char json[1100];
     snprintf(json, sizeof json, "%s/run_%04d.json", dir, r);
     remove(json);
   }
-  FILE *f = fopen(path, "w");
-  int ok = f != NULL && fputs(manifest, f) >= 0;
-  if (f != NULL && fclose(f) != 0) ok = 0;
+  FILE *f;
+  vs_error err;
+  if (vs_outpath_fopen(path, &f, &err) != VS_OK) { /* the earlier sweep's manifest replaced */
+    fprintf(stderr, "voussoir sweep: %s\n", err.msg);
+    return -1;
+  }
+  int ok = fputs(manifest, f) >= 0;
+  if (fclose(f) != 0) ok = 0;
   if (!ok) fprintf(stderr, "voussoir sweep: %s: cannot write: %s\n", path, strerror(errno));
   return ok ? 0 : -1;
 }
@@ -240,9 +252,11 @@ static void take_row(void *user, const vs_sweep_row *in) {
   char part[1100], json[1100];
   snprintf(part, sizeof part, "%s/run_%04d.json.part", s->o->dir, row.run);
   snprintf(json, sizeof json, "%s/run_%04d.json", s->o->dir, row.run);
+  struct stat st; /* the worker's JSON: a regular file, never a link put in its place */
+  const int written = lstat(part, &st) == 0 && S_ISREG(st.st_mode);
   if (row.code == VS_SWEEP_OK || row.code == VS_SWEEP_FAILED) {
     errno = 0;
-    if (access(part, F_OK) == 0 && vs_outpath_replace(part, json) != 0) {
+    if (written && vs_outpath_replace(part, json) != 0) {
       fprintf(stderr, "voussoir sweep: %s: not renamed to %s (%s)\n", part, json,
               errno != 0 ? strerror(errno) : "not a regular file");
       remove(part);
@@ -252,7 +266,7 @@ static void take_row(void *user, const vs_sweep_row *in) {
     keep_row(s, &row);
     return;
   }
-  remove(part);
+  if (written) remove(part);
   if (row.code == VS_SWEEP_LOST && g_stop_count == 0) keep_row(s, &row);
 }
 
@@ -264,22 +278,46 @@ static void resumed_row(void *user, const void *r) {
   keep_row(s, row);
 }
 
+/* Whether name is one a run of a sweep writes: run_NNNN followed by ".h5", ".xmf", ".json",
+ * with or without the suffix of its working file, snapshot or lock. */
+static int run_file(const char *name, void *user) {
+  (void)user;
+  static const char *const ends[] = {".h5",  ".h5.part", ".h5.snap", ".h5.lock", ".xmf",
+                                     ".xmf.tmp", ".json", ".json.part"};
+  if (strncmp(name, "run_", 4) != 0) return 0;
+  const char *p = name + 4;
+  while (*p >= '0' && *p <= '9') p++;
+  if (p == name + 4) return 0;
+  for (size_t i = 0; i < sizeof ends / sizeof ends[0]; i++)
+    if (strcmp(p, ends[i]) == 0) return 1;
+  return 0;
+}
+
+/* DIR and every file the sweep writes there are fit to be written (absent or regular files):
+ * checked before DIR or anything in it is created or removed. 0, or -1 with err set. */
+static int check_dir(const char *dir, vs_error *err) {
+  static const char *const names[] = {"summary.csv", "summary.csv.tmp", "summary.h5",
+                                      "summary.h5.part", "sweep.journal", "sweep.manifest"};
+  if (vs_outpath_check_dir(dir, err) != VS_OK) return -1;
+  if (access(dir, F_OK) != 0) return 0; /* created afresh */
+  for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+    char path[1100];
+    snprintf(path, sizeof path, "%s/%s", dir, names[i]);
+    if (vs_outpath_check(path, NULL, 0, err) != VS_OK) return -1;
+  }
+  return vs_outpath_check_entries(dir, run_file, NULL, err) == VS_OK ? 0 : -1;
+}
+
 /* Check and create DIR, its manifest, the table (header written) and the journal. 0, or an exit
  * status after printing why. */
 static int sweep_open(sweep_state *s, const char *manifest) {
   const sweep_opts *o = s->o;
-  char path[1100], h5[1100], jpath[1100], mpath[1100];
+  char path[1100], jpath[1100];
   snprintf(path, sizeof path, "%s/summary.csv", o->dir);
-  snprintf(h5, sizeof h5, "%s/summary.h5", o->dir);
   journal_path(o->dir, jpath, sizeof jpath);
-  snprintf(mpath, sizeof mpath, "%s/sweep.manifest", o->dir);
   vs_error err;
   vs_error_clear(&err);
-  if (vs_outpath_check_dir(o->dir, &err) != VS_OK ||
-      (access(o->dir, F_OK) == 0 && (vs_outpath_check(path, NULL, 0, &err) != VS_OK ||
-                                     vs_outpath_check(h5, NULL, 0, &err) != VS_OK ||
-                                     vs_outpath_check(jpath, NULL, 0, &err) != VS_OK ||
-                                     vs_outpath_check(mpath, NULL, 0, &err) != VS_OK))) {
+  if (check_dir(o->dir, &err) != 0) {
     fprintf(stderr, "voussoir sweep: -o %s\n", err.msg);
     return EXIT_USAGE;
   }
@@ -288,9 +326,8 @@ static int sweep_open(sweep_state *s, const char *manifest) {
     return EXIT_USAGE;
   }
   if (prepare_dir(o->dir, manifest, s->total, o->resume) != 0) return EXIT_USAGE;
-  s->csv = fopen(path, "w");
-  if (s->csv == NULL) {
-    fprintf(stderr, "voussoir sweep: %s: cannot create: %s\n", path, strerror(errno));
+  if (vs_outpath_fopen(path, &s->csv, &err) != VS_OK) {
+    fprintf(stderr, "voussoir sweep: %s\n", err.msg);
     return EXIT_USAGE;
   }
   write_csv_header(s->csv, o->ax, o->nax);
@@ -311,9 +348,9 @@ static int sweep_open(sweep_state *s, const char *manifest) {
     }
     fprintf(stderr, "voussoir sweep: resuming: %d of %d runs already complete\n", s->n, s->total);
   }
-  s->journal = vs_journal_open(jpath, head, sizeof(vs_sweep_row), rows);
+  s->journal = vs_journal_open(jpath, head, sizeof(vs_sweep_row), rows, &err);
   if (s->journal == NULL) {
-    fprintf(stderr, "voussoir sweep: %s: cannot write: %s\n", jpath, strerror(errno));
+    fprintf(stderr, "voussoir sweep: %s\n", err.msg);
     return EXIT_USAGE;
   }
   s->todo = s->total - s->n;
@@ -344,19 +381,24 @@ static int sweep_close(sweep_state *s, double wall, int processes) {
   qsort(s->rows, (size_t)s->n, sizeof *s->rows, cmp_sweep_rows);
   char path[1100];
   snprintf(path, sizeof path, "%s/summary.csv", o->dir);
-  if (rewrite_table(path, o->ax, o->nax, s->rows, s->n) != 0)
-    fprintf(stderr, "voussoir sweep: %s: cannot write: %s\n", path, strerror(errno));
-  if (vs_sweep_summary_h5(o->dir, o->ax, o->nax, s->rows, s->n) != 0)
-    fprintf(stderr, "voussoir sweep: %s/summary.h5: cannot write\n", o->dir);
+  /* a table not written is a failed sweep, though its runs are in the journal */
+  int tables_ok = rewrite_table(path, o->ax, o->nax, s->rows, s->n) == 0;
+  vs_error err;
+  if (vs_sweep_summary_h5(o->dir, o->ax, o->nax, s->rows, s->n, &err) != VS_OK) {
+    fprintf(stderr, "voussoir sweep: %s\n", err.msg);
+    tables_ok = 0;
+  }
   if (unfinished > 0) {
     printf("interrupted: %d of %d runs complete (%d failed), %d unfinished; table: %s; "
            "continue with --resume\n", s->total - unfinished, s->total, s->failed, unfinished,
            path);
     return EXIT_STOPPED;
   }
-  printf("%d runs (%d failed%s) in %.1f s on %d processes; table: %s (and summary.h5)\n", s->total,
-         s->failed, skipped ? ", some from before --resume" : "", wall, processes, path);
-  return s->failed ? EXIT_FAIL : 0;
+  printf("%d runs (%d failed%s) in %.1f s on %d processes; ", s->total, s->failed,
+         skipped ? ", some from before --resume" : "", wall, processes);
+  if (tables_ok) printf("table: %s (and summary.h5)\n", path);
+  else printf("the tables were not written (above); --resume writes them\n");
+  return s->failed || !tables_ok ? EXIT_FAIL : 0;
 }
 
 static void sweep_free(sweep_state *s) {

@@ -2,6 +2,7 @@
  * the sweep's base and the run's axis values, its record and JSON written as `voussoir run`
  * writes them, and its summary row taken from the run itself (no output is read back). */
 #define _POSIX_C_SOURCE 200809L
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,6 +10,7 @@
 #include <time.h>
 
 #include "sweep_private.h"
+#include "outpath.h"
 #include "voussoir/output.h"
 #include "voussoir/report.h"
 #include "voussoir/run.h"
@@ -77,13 +79,16 @@ static void fill_row(const vs_run *r, vs_status st, const vs_error *err, vs_swee
   row->wall_s = vs_run_wall_s(r);
 }
 
-/* The run's JSON, as `voussoir run --json` prints it, into path. 0 or -1. */
-static int write_json(const char *path, const vs_run *r, vs_status st, const vs_error *err,
-                      const char *case_path) {
-  FILE *f = fopen(path, "w");
-  if (f == NULL) return -1;
+/* The run's JSON, as `voussoir run --json` prints it, into path (created anew). VS_OK, or the
+ * reason in why. */
+static vs_status write_json(const char *path, const vs_run *r, vs_status st, const vs_error *err,
+                            const char *case_path, vs_error *why) {
+  FILE *f;
+  const vs_status s = vs_outpath_fopen(path, &f, why);
+  if (s != VS_OK) return s;
   vs_report_json(f, r, st, err, case_path);
-  return fclose(f) == 0 ? 0 : -1;
+  if (fclose(f) == 0) return VS_OK;
+  return vs_error_set(why, VS_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
 }
 
 /* A sweep run's XDMF sidecar lists at most this many of its states (every k-th and the last; a
@@ -162,10 +167,12 @@ void vs_sweep_run_case(const vs_sweep_job *job, int run, const volatile sig_atom
     return;
   }
   fill_row(r, st, &err, row);
-  if (row->code != VS_SWEEP_INTERRUPTED && write_json(json, r, st, &err, job->case_path) != 0) {
+  vs_error why;
+  if (row->code != VS_SWEEP_INTERRUPTED &&
+      write_json(json, r, st, &err, job->case_path, &why) != VS_OK) {
     row->code = VS_SWEEP_FAILED;
     snprintf(row->status, sizeof row->status, "failed");
-    snprintf(row->error, sizeof row->error, "%.400s: cannot write", json);
+    snprintf(row->error, sizeof row->error, "%s", why.msg);
   }
   vs_run_destroy(&r);
 }

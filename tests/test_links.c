@@ -1,0 +1,199 @@
+/* Symbolic links planted at every name a command writes (its outputs, their working files
+ * "<name>.part" / ".tmp" / ".snap", the lock files), each in a directory of its own, pointing at
+ * a file of the test's outside the output directory: before the command starts, and (through the
+ * hook VS_FAULT_LINK) at the moment the file is about to be created, as another process could
+ * after the command's checks. Nothing is ever written through a link: the file it points to
+ * keeps its bytes, the link stays, and the command names the path it refused (exit 2 when the
+ * link was there before it started; a failure naming it, on stderr or for a sweep's run in its
+ * table, when the link appeared meanwhile). */
+#define _DEFAULT_SOURCE /* mkdtemp, symlink */
+
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#define REFERENCE VS_SOURCE_DIR "/runs/reference.ini"
+/* a cheap case: 21 voussoirs */
+#define CASE REFERENCE " --set arch.voussoirs=21"
+#define MC_CASE CASE " --set imperfections.kn_cov=0.3 --set imperfections.face_mm=0.002"
+
+/* What the file a link points to holds; it must hold it still after the command. */
+static const char PRECIOUS[] = "bytes that no command of voussoir may overwrite\n";
+
+static char g_dir[64];
+
+static int sh(const char *cmd) {
+  const int st = system(cmd);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
+}
+
+static char *slurp(const char *path) {
+  FILE *f = fopen(path, "rb");
+  if (f == NULL) return NULL;
+  static char text[1 << 16];
+  const size_t n = fread(text, 1, sizeof text - 1, f);
+  text[n] = '\0';
+  fclose(f);
+  return strdup(text);
+}
+
+/* A command and the names it writes, relative to the directory it runs in. */
+typedef struct {
+  const char *label;       /* for messages */
+  const char *args;        /* after the program's name; %s: the test's scratch directory */
+  const char *const *pre;  /* links planted before it starts: each refused, exit 2 */
+  const char *const *live; /* files it creates: a link put there just before, refused */
+} command;
+
+static const char *const run_pre[] = {"r.h5", "r.h5.part", "r.h5.snap", "r.h5.lock", "r.xmf",
+                                      "r.xmf.tmp", "r.csv", "r.csv.lock", NULL};
+static const char *const run_live[] = {"r.h5.part", "r.h5.snap", "r.xmf.tmp", NULL};
+
+static const char *const sweep_pre[] = {
+    "sw/sweep.manifest",    "sw/sweep.journal",      "sw/summary.csv",     "sw/summary.csv.tmp",
+    "sw/summary.h5",        "sw/summary.h5.part",    "sw/run_0001.h5",     "sw/run_0001.h5.part",
+    "sw/run_0001.h5.snap",  "sw/run_0001.h5.lock",   "sw/run_0001.xmf",    "sw/run_0001.xmf.tmp",
+    "sw/run_0001.json",     "sw/run_0001.json.part", NULL};
+static const char *const sweep_live[] = {
+    "sw/sweep.manifest",   "sw/sweep.journal",    "sw/summary.csv",       "sw/summary.csv.tmp",
+    "sw/summary.h5.part",  "sw/run_0001.h5.part", "sw/run_0001.h5.snap",  "sw/run_0001.xmf.tmp",
+    "sw/run_0001.json.part", NULL};
+
+#define MC_SUMMARY(d)                                                                            \
+  d "/samples.csv", d "/samples.csv.part", d "/statistics.csv", d "/statistics.csv.part",        \
+      d "/summary.h5", d "/summary.h5.part", d "/fragility.png", d "/fragility.png.part",        \
+      d "/convergence.png", d "/convergence.png.part", d "/hinges.png", d "/hinges.png.part"
+#define MC_SUMMARY_PARTS(d)                                                                      \
+  d "/samples.csv.part", d "/statistics.csv.part", d "/summary.h5.part", d "/fragility.png.part", \
+      d "/convergence.png.part", d "/hinges.png.part"
+
+static const char *const mc_pre[] = {"mc/montecarlo.manifest", "mc/montecarlo.manifest.part",
+                                     "mc/montecarlo.journal", MC_SUMMARY("mc"), NULL};
+static const char *const mc_live[] = {"mc/montecarlo.manifest.part", "mc/montecarlo.journal",
+                                      MC_SUMMARY_PARTS("mc"), NULL};
+static const char *const merge_pre[] = {MC_SUMMARY("mg"), NULL};
+static const char *const merge_live[] = {MC_SUMMARY_PARTS("mg"), NULL};
+
+static const char *const plot_pre[] = {
+    "pics/arch_reference.png", "pics/arch_hinge_A.png", "pics/arch_hinge_B.png",
+    "pics/arch_hinge_C.png",   "pics/arch_hinge_D.png", "pics/arch_limit_1.png",
+    "pics/arch_end.png",       "pics/curves.png",       "pics/plots.json", NULL};
+/* the first picture drawn, the last, and the listing */
+static const char *const plot_live[] = {"pics/arch_reference.png", "pics/curves.png",
+                                        "pics/plots.json", NULL};
+static const char *const plot_sweep_pre[] = {"pics/domain.png", "pics/sensitivity.png",
+                                             "pics/plots.json", NULL};
+
+static const command commands[] = {
+    {"run", "run " CASE " --first-limit -q -o r.h5 --csv r.csv", run_pre, run_live},
+    {"sweep", "sweep " CASE " --alpha 0 --first-limit -q -o sw", sweep_pre, sweep_live},
+    {"montecarlo", "montecarlo " MC_CASE " --samples 2 --seed 1 -j 1 -q -o mc", mc_pre, mc_live},
+    {"merge", "merge %s/s1 %s/s2 -o mg", merge_pre, merge_live},
+    {"plot", "plot %s/base.h5 -o pics", plot_pre, plot_live},
+    {"plot (sweep)", "plot %s/swbase/summary.h5 -o pics", plot_sweep_pre, plot_sweep_pre},
+};
+
+/* Run c in a fresh directory with a link at name to a file of the test's: planted before the
+ * command (live = 0), or by the hook just before the command creates name (live = 1). 1, with
+ * the fault printed, unless the file linked to keeps its bytes, the link stays, and the command
+ * refused it (exit 2 when planted before; any failure when made meanwhile) naming it on stderr. */
+static int try_link(const command *c, const char *name, int live, int k) {
+  char dir[256], target[300], link[600], cmd[3000], args[1024], env[1000] = "";
+  snprintf(dir, sizeof dir, "%s/%s%d", g_dir, live ? "live" : "pre", k);
+  snprintf(target, sizeof target, "%s/precious", dir);
+  snprintf(link, sizeof link, "%s/%s", dir, name);
+  snprintf(cmd, sizeof cmd, "mkdir -p %s/sw %s/mc %s/mg %s/pics && printf '%%s' '%s' > %s", dir,
+           dir, dir, dir, PRECIOUS, target);
+  assert_int_equal(sh(cmd), 0);
+  if (live) snprintf(env, sizeof env, "VS_FAULT_LINK='%s=%s'", name, target);
+  else assert_int_equal(symlink(target, link), 0);
+  snprintf(args, sizeof args, c->args, g_dir, g_dir);
+  snprintf(cmd, sizeof cmd, "cd %s && %s timeout -s KILL 120 %s %s > out.txt 2> err.txt", dir,
+           env, VS_BINARY, args);
+  const int rc = sh(cmd);
+  /* where a refusal is said: stderr, or the table of a sweep for a run's files */
+  snprintf(cmd, sizeof cmd, "%s/err.txt", dir);
+  char *err = slurp(cmd), *after = slurp(target);
+  snprintf(cmd, sizeof cmd, "%s/sw/summary.csv", dir);
+  char *table = strncmp(name, "sw/run_", 7) == 0 ? slurp(cmd) : NULL;
+  const char *base = strrchr(name, '/') != NULL ? strrchr(name, '/') + 1 : name;
+  const char *how = live ? "made as it was created" : "planted before";
+  struct stat st;
+  int bad = 1;
+  if (after == NULL || strcmp(after, PRECIOUS) != 0)
+    printf("  %s, link at %s %s: the file it points to was overwritten (exit %d)\n", c->label,
+           name, how, rc);
+  else if (lstat(link, &st) != 0 || !S_ISLNK(st.st_mode))
+    printf("  %s, link at %s %s: no longer a link (exit %d)\n", c->label, name, how, rc);
+  else if ((live ? rc == 0 : rc != 2) || err == NULL ||
+           (strstr(err, base) == NULL && (table == NULL || strstr(table, base) == NULL)))
+    printf("  %s, link at %s %s: exit %d, stderr \"%s\": expected %s and a message naming %s\n",
+           c->label, name, how, rc, err != NULL ? err : "", live ? "a failure" : "exit 2", base);
+  else
+    bad = 0;
+  free(table);
+  free(err);
+  free(after);
+  return bad;
+}
+
+/* A link at each name of every command, planted before (live = 0) or as the file is created;
+ * fails after listing those not refused. */
+static void try_all(int live) {
+  int k = 0, bad = 0;
+  for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+    for (const char *const *n = live ? commands[i].live : commands[i].pre; *n != NULL; n++)
+      bad += try_link(&commands[i], *n, live, k++);
+  if (bad > 0)
+    fail_msg("%d of %d links %s not refused (above)", bad, k,
+             live ? "made as the file was created" : "planted before");
+}
+
+static void test_links_planted_before(void **s) {
+  (void)s;
+  try_all(0);
+}
+
+static void test_links_made_meanwhile(void **s) {
+  (void)s;
+  try_all(1);
+}
+
+/* The inputs of merge and plot, made once: two shards, a record, a sweep's summary. */
+static int setup(void **s) {
+  (void)s;
+  snprintf(g_dir, sizeof g_dir, "/tmp/vs_test_links_XXXXXX");
+  if (mkdtemp(g_dir) == NULL) return -1;
+  char cmd[2048];
+  snprintf(cmd, sizeof cmd,
+           "cd %s && %s montecarlo " MC_CASE " --samples 2 --seed 1 --shard 1/2 -q -o s1 && "
+           "%s montecarlo " MC_CASE " --samples 2 --seed 1 --shard 2/2 -q -o s2 && "
+           "%s run " CASE " --first-limit -q -o base.h5 > /dev/null && "
+           "%s sweep " CASE " --alpha 0,45 -q -o swbase > /dev/null",
+           g_dir, VS_BINARY, VS_BINARY, VS_BINARY, VS_BINARY);
+  return sh(cmd) == 0 ? 0 : -1;
+}
+
+static int teardown(void **s) {
+  (void)s;
+  char cmd[128];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", g_dir);
+  return sh(cmd) == 0 ? 0 : -1;
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_links_planted_before),
+      cmocka_unit_test(test_links_made_meanwhile),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}
