@@ -148,9 +148,11 @@ static char *manifest_text(const vs_case *c, const axis *ax, int nax, const char
 
 /* --- the journal: DIR/sweep.journal, the rows of the complete runs as they end (journal.h) --- */
 
-/* Its first line names this layout (the row's size): a journal of another build is refused. */
+/* Its first line names this layout (the row's size with its checksum): a journal of another
+ * build, or of the layout before the checksums (journal 1), is refused by --resume. */
 static void journal_header(char *buf, size_t size) {
-  snprintf(buf, size, "voussoir sweep journal 1 row %zu bytes\n", sizeof(vs_sweep_row));
+  snprintf(buf, size, "voussoir sweep journal 2 row %zu bytes\n",
+           sizeof(vs_sweep_row) + VS_JOURNAL_SUM);
 }
 
 static void journal_path(const char *dir, char *path, size_t size) {
@@ -206,10 +208,12 @@ typedef struct {
   FILE *csv, *journal;
 } sweep_state;
 
+/* A row kept: in the table too once it is open (the journal's rows are read before). */
 static void keep_row(sweep_state *s, const vs_sweep_row *row) {
   s->rows[s->n++] = *row;
   s->state[row->run - 1] = 2;
   s->failed += row->code != VS_SWEEP_OK;
+  if (s->csv == NULL) return;
   write_csv_row(s->csv, row, s->o->nax);
   fflush(s->csv);
 }
@@ -255,12 +259,42 @@ static void take_row(void *user, const vs_sweep_row *in) {
   if (row.code == VS_SWEEP_LOST && g_stop_count == 0) keep_row(s, &row);
 }
 
-/* A row from the journal of the sweep being resumed (a complete run's). */
-static void resumed_row(void *user, const void *r) {
+/* A row from the journal of the sweep being resumed (a complete run's): taken when every field
+ * is sound, its axes' values are its run's, and it is the first for its run. */
+static int resumed_row(void *user, const void *r, char *why, size_t size) {
   sweep_state *s = user;
   const vs_sweep_row *row = r;
-  if (row->run < 1 || row->run > s->total || s->state[row->run - 1] != 0) return;
+  if (!vs_sweep_row_check(row, s->total, s->o->nax, why, size)) return 0;
+  int pick[MAX_AXES];
+  vs_sweep_pick(&s->job, row->run, pick);
+  for (int x = 0; x < s->o->nax; x++)
+    if (row->axis[x] != s->o->ax[x].v[pick[x]]) {
+      snprintf(why, size, "run %d: %s = %.17g is not the run's %.17g", row->run, s->o->ax[x].key,
+               row->axis[x], s->o->ax[x].v[pick[x]]);
+      return 0;
+    }
+  if (s->state[row->run - 1] != 0) {
+    snprintf(why, size, "a second row for run %d", row->run);
+    return 0;
+  }
   keep_row(s, row);
+  return 1;
+}
+
+/* The rows of the journal of the sweep being resumed (jpath), those found sound kept, the
+ * others removed from it; *rows: how many it keeps. 0, or an exit status after printing why. */
+static int resume_journal(sweep_state *s, const char *jpath, const char *head, long *rows) {
+  const int rc = vs_journal_read(jpath, head, sizeof(vs_sweep_row), "voussoir sweep",
+                                 resumed_row, s, rows);
+  if (rc == VS_JOURNAL_FOREIGN)
+    fprintf(stderr, "voussoir sweep: --resume: %s was not written by this build of voussoir "
+            "(it expects \"%.*s\"); run the sweep afresh\n", jpath, (int)strlen(head) - 1, head);
+  else if (rc != 0)
+    fprintf(stderr, "voussoir sweep: --resume: %s: cannot read or rewrite: %s\n", jpath,
+            strerror(errno));
+  else
+    fprintf(stderr, "voussoir sweep: resuming: %d of %d runs already complete\n", s->n, s->total);
+  return rc == 0 ? 0 : EXIT_USAGE;
 }
 
 /* Check and create DIR, its manifest, the table (header written) and the journal. 0, or an exit
@@ -287,12 +321,6 @@ static int sweep_open(sweep_state *s, const char *manifest) {
     return EXIT_USAGE;
   }
   if (prepare_dir(o->dir, manifest, s->total, o->resume) != 0) return EXIT_USAGE;
-  s->csv = fopen(path, "w");
-  if (s->csv == NULL) {
-    fprintf(stderr, "voussoir sweep: %s: cannot create: %s\n", path, strerror(errno));
-    return EXIT_USAGE;
-  }
-  write_csv_header(s->csv, o->ax, o->nax);
   s->rows = calloc((size_t)s->total, sizeof *s->rows);
   s->state = calloc((size_t)s->total, 1);
   if (s->rows == NULL || s->state == NULL) {
@@ -302,14 +330,18 @@ static int sweep_open(sweep_state *s, const char *manifest) {
   char head[96];
   journal_header(head, sizeof head);
   long rows = -1; /* fresh */
-  if (o->resume) { /* the journal's rows first, then it is appended to, after its whole rows */
-    if (vs_journal_read(jpath, head, sizeof(vs_sweep_row), resumed_row, s, &rows) != 0) {
-      fprintf(stderr, "voussoir sweep: --resume: %s was not written by this build of voussoir "
-              "(it expects \"%.*s\"); run the sweep afresh\n", jpath, (int)strlen(head) - 1, head);
-      return EXIT_USAGE;
-    }
-    fprintf(stderr, "voussoir sweep: resuming: %d of %d runs already complete\n", s->n, s->total);
+  /* the journal's rows first (a journal refused leaves the table as it was), then it is appended
+   * to, after the rows kept */
+  int rc = o->resume ? resume_journal(s, jpath, head, &rows) : 0;
+  if (rc != 0) return rc;
+  s->csv = fopen(path, "w");
+  if (s->csv == NULL) {
+    fprintf(stderr, "voussoir sweep: %s: cannot create: %s\n", path, strerror(errno));
+    return EXIT_USAGE;
   }
+  write_csv_header(s->csv, o->ax, o->nax);
+  for (int i = 0; i < s->n; i++) write_csv_row(s->csv, &s->rows[i], o->nax);
+  fflush(s->csv);
   s->journal = vs_journal_open(jpath, head, sizeof(vs_sweep_row), rows);
   if (s->journal == NULL) {
     fprintf(stderr, "voussoir sweep: %s: cannot write: %s\n", jpath, strerror(errno));

@@ -22,6 +22,9 @@
 #error "VS_BINARY (path of the voussoir executable) must be defined"
 #endif
 
+#include "study_procs.h"
+#include "voussoir/montecarlo.h"
+
 static char g_dir[] = "/tmp/vs_mc_XXXXXX";
 
 static int setup(void **state) {
@@ -265,7 +268,7 @@ static void test_resume(void **state) {
   assert_int_equal(file_size("res", "samples.csv"), -1); /* no summary yet */
   char *j = slurp("res", "montecarlo.journal");
   size_t row = 0;
-  if (sscanf(j, "voussoir montecarlo journal 1 row %zu bytes", &row) != 1)
+  if (sscanf(j, "voussoir montecarlo journal 2 row %zu bytes", &row) != 1)
     fail_msg("journal header \"%.60s\"", j);
   const long head = (long)(strchr(j, '\n') + 1 - j);
   free(j);
@@ -298,12 +301,135 @@ static void test_resume(void **state) {
   assert_int_equal(file_size("res", "montecarlo.journal"), head + 6 * (long)row);
 }
 
+/* --- the journal's rows: checksummed, every field checked before a sample counts as done --- */
+
+/* g_dir/DIR/montecarlo.journal; *n its size, *head its header's length, *rows its rows (each a
+ * vs_mc_sample and its checksum, checked). */
+static unsigned char *load_journal(const char *dir, size_t *n, size_t *head, int *rows) {
+  char *j = slurp(dir, "montecarlo.journal");
+  *n = (size_t)file_size(dir, "montecarlo.journal");
+  size_t stored = 0;
+  if (sscanf(j, "voussoir montecarlo journal 2 row %zu bytes", &stored) != 1)
+    fail_msg("journal header \"%.60s\"", j);
+  assert_int_equal(stored, sizeof(vs_mc_sample) + 8);
+  *head = (size_t)(strchr(j, '\n') + 1 - j);
+  assert_int_equal((*n - *head) % stored, 0);
+  *rows = (int)((*n - *head) / stored);
+  const unsigned char *b = (const unsigned char *)j + *head;
+  for (int i = 0; i < *rows; i++)
+    assert_true(sum_holds(b + (size_t)i * stored, sizeof(vs_mc_sample)));
+  return (unsigned char *)j;
+}
+
+/* A damage done to sample 1's journal row (sample 0's at hand), whether its checksum is then
+ * made right again, and what stderr must say of it. */
+typedef struct {
+  void (*damage)(vs_mc_sample *r, const vs_mc_sample *first);
+  int resum;
+  const char *says;
+} mc_damage;
+
+static void dmg_pattern(vs_mc_sample *r, const vs_mc_sample *f) {
+  (void)f;
+  memset(r->pattern, 'E', sizeof r->pattern);
+}
+static void dmg_error(vs_mc_sample *r, const vs_mc_sample *f) { /* and the padding after it */
+  (void)f;
+  r->status = VS_MC_FAILED;
+  memset(r->error, 'x', sizeof *r - offsetof(vs_mc_sample, error));
+}
+static void dmg_flip(vs_mc_sample *r, const vs_mc_sample *f) {
+  (void)f;
+  ((unsigned char *)&r->delta_u_mm)[2] ^= 0x04;
+}
+static void dmg_sample(vs_mc_sample *r, const vs_mc_sample *f) { (void)f; r->sample = 99; }
+static void dmg_status(vs_mc_sample *r, const vs_mc_sample *f) { (void)f; r->status = 5; }
+static void dmg_mode(vs_mc_sample *r, const vs_mc_sample *f) { (void)f; r->mode = 7; }
+static void dmg_joint(vs_mc_sample *r, const vs_mc_sample *f) { (void)f; r->hinge_joint[0] = 999; }
+static void dmg_side(vs_mc_sample *r, const vs_mc_sample *f) { (void)f; r->hinge_side[1] = 'X'; }
+static void dmg_inf(vs_mc_sample *r, const vs_mc_sample *f) { (void)f; r->delta_u_mm = INFINITY; }
+static void dmg_nan(vs_mc_sample *r, const vs_mc_sample *f) { (void)f; r->dz_u_mm = NAN; }
+static void dmg_cause(vs_mc_sample *r, const vs_mc_sample *f) {
+  (void)f;
+  snprintf(r->error, sizeof r->error, "no memory");
+}
+static void dmg_twice(vs_mc_sample *r, const vs_mc_sample *f) { *r = *f; }
+
+/* A study of 6 samples, then, for each damage, a copy of its directory with sample 1's journal
+ * row damaged and --resume there: the row is named once on stderr with what is wrong, sample 1
+ * (and it alone) runs again, its row is appended after the others' (the damaged one is gone),
+ * and the summary is the uninterrupted study's (j1, samples 0-5). */
+static void test_journal_rows(void **state) {
+  (void)state;
+  static const mc_damage damages[] = {
+      {dmg_pattern, 1, "pattern is not NUL-terminated"},
+      {dmg_error, 1, "error is not NUL-terminated"},
+      {dmg_flip, 0, "checksum does not match"},
+      {dmg_sample, 1, "sample 99 is not one of this study's (0..5, shard 1/1)"},
+      {dmg_status, 1, "status 5"},
+      {dmg_mode, 1, "mode 7"},
+      {dmg_joint, 1, "hinge A: joint 999"},
+      {dmg_side, 1, "hinge B:"},
+      {dmg_inf, 1, "delta_u_mm inf"},
+      {dmg_nan, 1, "dz_u_mm nan"},
+      {dmg_cause, 1, "an error for a sample that did not fail"},
+      {dmg_twice, 1, "a second row for sample 0"},
+  };
+  resume_run("--seed 11 -j 1 -q", "jr", 0, NULL);
+  for (size_t k = 0; k < sizeof damages / sizeof damages[0]; k++) {
+    const mc_damage *d = &damages[k];
+    char dir[32], cmd[1024];
+    snprintf(dir, sizeof dir, "jr%zu", k);
+    snprintf(cmd, sizeof cmd, "rm -rf %s/%s && cp -a %s/jr %s/%s", g_dir, dir, g_dir, g_dir, dir);
+    assert_int_equal(system(cmd), 0);
+    size_t n = 0, head = 0;
+    int rows = 0;
+    unsigned char *j = load_journal(dir, &n, &head, &rows);
+    const size_t stored = sizeof(vs_mc_sample) + 8;
+    assert_int_equal(rows, 6);
+    vs_mc_sample first, r;
+    memcpy(&first, j + head, sizeof first);
+    memcpy(&r, j + head + stored, sizeof r);
+    assert_int_equal(first.sample, 0); /* -j 1: the rows in sample order */
+    assert_int_equal(r.sample, 1);
+    d->damage(&r, &first);
+    memcpy(j + head + stored, &r, sizeof r);
+    if (d->resum) set_sum(j + head + stored, sizeof r);
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s/montecarlo.journal", g_dir, dir);
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(j, 1, n, f), n);
+    assert_int_equal(fclose(f), 0);
+    free(j);
+    resume_run("--seed 11 -j 1 --resume", dir, 0, "resuming: 5 of 6 samples already done");
+    char *e = slurp(".", "err.txt");
+    const char *at = strstr(e, "montecarlo.journal: row 2: ");
+    if (at == NULL || strstr(at + 1, "montecarlo.journal: row") != NULL ||
+        strstr(at, d->says) == NULL)
+      fail_msg("damage %zu: stderr \"%s\": expected row 2 named once with \"%s\"", k, e, d->says);
+    free(e);
+    j = load_journal(dir, &n, &head, &rows); /* the others kept, sample 1 run again and appended */
+    assert_int_equal(rows, 6);
+    static const int order[] = {0, 2, 3, 4, 5, 1};
+    for (int i = 0; i < 6; i++) {
+      memcpy(&r, j + head + (size_t)i * stored, sizeof r);
+      assert_int_equal(r.sample, order[i]);
+    }
+    free(j);
+    same_file("j1", dir, "samples.csv");
+    same_file("j1", dir, "statistics.csv");
+  }
+}
+
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_bad_input),
       cmocka_unit_test(test_same_summary_any_process_count),
       cmocka_unit_test(test_interrupted), /* after the run of samples 0-5, which it reads */
       cmocka_unit_test(test_resume),      /* so does this one */
+      cmocka_unit_test(test_journal_rows), /* and this one */
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

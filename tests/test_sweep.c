@@ -21,6 +21,8 @@
 
 #include <hdf5.h>
 
+#include "study_procs.h"
+#include "sweep_private.h" /* the journal's row (vs_sweep_row) */
 #include "voussoir/run.h"
 #include "voussoir/sweep.h"
 
@@ -244,24 +246,6 @@ static int processes_with(const char *text) {
   return n;
 }
 
-/* Start "voussoir ARGS..." with stdout and stderr to files; returns its pid. */
-static pid_t spawn(char *const argv[], const char *out, const char *err) {
-  pid_t pid = fork();
-  assert_true(pid >= 0);
-  if (pid == 0) {
-    if (freopen(out, "w", stdout) == NULL || freopen(err, "w", stderr) == NULL) _exit(127);
-    execv(VS_BINARY, argv);
-    _exit(127);
-  }
-  return pid;
-}
-
-static int exit_code(pid_t pid) {
-  int st = 0;
-  assert_int_equal(waitpid(pid, &st, 0), pid);
-  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
 /* Field 3 (status) of the row of run r in the summary, copied to out. */
 static void row_status(const char *table, int r, char *out, size_t size) {
   char head[16];
@@ -438,6 +422,178 @@ static void test_sweep_torn_journal(void **s) {
   assert_int_not_equal(access(path, F_OK), 0);
 }
 
+/* --- the journal's rows: checksummed, and every field checked before its run counts as done --- */
+
+static void save(const char *path, const unsigned char *b, size_t n) {
+  FILE *f = fopen(path, "wb");
+  assert_non_null(f);
+  assert_int_equal(fwrite(b, 1, n, f), n);
+  assert_int_equal(fclose(f), 0);
+}
+
+/* The sweep journal j (n bytes): its header's length; its rows must be a vs_sweep_row and the
+ * 8 bytes of its checksum (little endian), each whole and sound. *rows: how many. */
+static size_t sweep_journal_layout(const unsigned char *j, size_t n, int *rows) {
+  size_t stored = 0;
+  if (sscanf((const char *)j, "voussoir sweep journal 2 row %zu bytes", &stored) != 1)
+    fail_msg("journal header \"%.60s\"", (const char *)j);
+  assert_int_equal(stored, sizeof(vs_sweep_row) + 8);
+  const size_t head = (size_t)((const unsigned char *)memchr(j, '\n', n) + 1 - j);
+  assert_int_equal((n - head) % stored, 0);
+  *rows = (int)((n - head) / stored);
+  for (int i = 0; i < *rows; i++)
+    assert_true(sum_holds(j + head + (size_t)i * stored, sizeof(vs_sweep_row)));
+  return head;
+}
+
+/* A damage done to the journal's row of run 2: what it changes (the first row, run 1's, at
+ * hand), whether its checksum is then made right again (so that the row's fields are what gives
+ * it away), and what stderr must say of it. */
+typedef struct {
+  void (*damage)(vs_sweep_row *r, const vs_sweep_row *first);
+  int resum;
+  const char *says;
+} sweep_damage;
+
+/* error, and every byte after it, without a NUL: a reader that trusts the row reads on past the
+ * row's buffer (an ASan heap-buffer-overflow) and copies what follows into the table */
+static void dmg_unterminated(vs_sweep_row *r, const vs_sweep_row *f) {
+  (void)f;
+  memset((char *)r + offsetof(vs_sweep_row, error), 'A', sizeof *r - offsetof(vs_sweep_row, error));
+}
+static void dmg_flip(vs_sweep_row *r, const vs_sweep_row *f) {
+  (void)f;
+  ((unsigned char *)&r->delta_u_mm)[3] ^= 0x10;
+}
+static void dmg_run(vs_sweep_row *r, const vs_sweep_row *f) { (void)f; r->run = 4; }
+static void dmg_code(vs_sweep_row *r, const vs_sweep_row *f) { (void)f; r->code = 7; }
+static void dmg_status(vs_sweep_row *r, const vs_sweep_row *f) {
+  (void)f;
+  snprintf(r->status, sizeof r->status, "running");
+}
+static void dmg_mode(vs_sweep_row *r, const vs_sweep_row *f) {
+  (void)f;
+  snprintf(r->mode, sizeof r->mode, "IV");
+}
+static void dmg_hinges(vs_sweep_row *r, const vs_sweep_row *f) {
+  (void)f;
+  r->hinges[2] = '"';
+}
+static void dmg_axis(vs_sweep_row *r, const vs_sweep_row *f) { (void)f; r->axis[0] = 45.0; }
+static void dmg_double(vs_sweep_row *r, const vs_sweep_row *f) { (void)f; r->delta_u_mm = -1.0; }
+static void dmg_nan(vs_sweep_row *r, const vs_sweep_row *f) { (void)f; r->dz_pct = NAN; }
+static void dmg_wall(vs_sweep_row *r, const vs_sweep_row *f) { (void)f; r->wall_s = INFINITY; }
+static void dmg_count(vs_sweep_row *r, const vs_sweep_row *f) { (void)f; r->snaps = -3; }
+static void dmg_twice(vs_sweep_row *r, const vs_sweep_row *f) { *r = *f; }
+
+#define JR_ARGS "--alpha 0,30,60 --set arch.voussoirs=21 -j 1 -q"
+
+/* A sweep of 3 runs, then, for each damage, a copy of its directory with run 2's journal row
+ * damaged and --resume there: the row is named once on stderr with what is wrong, run 2 (and it
+ * alone) runs again, its row is appended after the others' (the damaged one is gone from the
+ * journal), and the table is the uninterrupted sweep's. A journal of the layout before the
+ * checksums is refused (exit 2) and the table left as it was. */
+static void test_sweep_journal_rows(void **s) {
+  (void)s;
+  static const sweep_damage damages[] = {
+      {dmg_unterminated, 1, "error is not NUL-terminated"},
+      {dmg_flip, 0, "checksum does not match"},
+      {dmg_run, 1, "run 4 is not one of this sweep's 1..3"},
+      {dmg_code, 1, "code 7"},
+      {dmg_status, 1, "status \"running\""},
+      {dmg_mode, 1, "mode is not"},
+      {dmg_hinges, 1, "hinges holds"},
+      {dmg_axis, 1, "support.alpha_deg = 45 is not the run's 30"},
+      {dmg_double, 1, "delta_u_mm -1"},
+      {dmg_nan, 1, "must be finite, as delta_u_mm is"},
+      {dmg_wall, 1, "wall_s inf"},
+      {dmg_count, 1, "snaps -3"},
+      {dmg_twice, 1, "a second row for run 1"},
+  };
+  char cmd[2048], path[600], err[600];
+  snprintf(cmd, sizeof cmd, "%s sweep %s " JR_ARGS " -o %s/jr >/dev/null", VS_BINARY, REFERENCE,
+           g_dir);
+  assert_int_equal(sh(cmd), 0);
+  snprintf(path, sizeof path, "%s/jr/summary.csv", g_dir);
+  char *whole = slurp(path);
+  strip_wall(whole);
+  snprintf(err, sizeof err, "%s/jr.err", g_dir);
+  for (size_t k = 0; k < sizeof damages / sizeof damages[0]; k++) {
+    const sweep_damage *d = &damages[k];
+    snprintf(cmd, sizeof cmd, "rm -rf %s/jr%zu && cp -a %s/jr %s/jr%zu", g_dir, k, g_dir, g_dir, k);
+    assert_int_equal(sh(cmd), 0);
+    snprintf(path, sizeof path, "%s/jr%zu/sweep.journal", g_dir, k);
+    size_t n = 0;
+    int rows = 0;
+    unsigned char *j = load_file(path, &n);
+    const size_t head = sweep_journal_layout(j, n, &rows), stored = sizeof(vs_sweep_row) + 8;
+    assert_int_equal(rows, 3);
+    vs_sweep_row first, r;
+    memcpy(&first, j + head, sizeof first);
+    memcpy(&r, j + head + stored, sizeof r);
+    assert_int_equal(first.run, 1); /* -j 1: the rows in run order */
+    assert_int_equal(r.run, 2);
+    d->damage(&r, &first);
+    memcpy(j + head + stored, &r, sizeof r);
+    if (d->resum) set_sum(j + head + stored, sizeof r);
+    save(path, j, n);
+    free(j);
+    snprintf(cmd, sizeof cmd, "%s sweep %s " JR_ARGS " -o %s/jr%zu --resume >/dev/null 2>%s",
+             VS_BINARY, REFERENCE, g_dir, k, err);
+    const int rc = sh(cmd);
+    char *e = slurp(err);
+    const char *at = strstr(e, "sweep.journal: row 2: ");
+    if (rc != 0 || at == NULL || strstr(at + 1, "sweep.journal: row") != NULL ||
+        strstr(at, d->says) == NULL ||
+        strstr(e, "resuming: 2 of 3 runs already complete") == NULL)
+      fail_msg("damage %zu: exit %d, stderr \"%s\": expected exit 0, row 2 named once with "
+               "\"%s\", 2 of 3 runs kept", k, rc, e, d->says);
+    free(e);
+    j = load_file(path, &n); /* runs 1 and 3 kept, run 2 run again and appended */
+    assert_int_equal(sweep_journal_layout(j, n, &rows), head);
+    assert_int_equal(rows, 3);
+    static const int order[] = {1, 3, 2};
+    for (int i = 0; i < 3; i++) {
+      memcpy(&r, j + head + (size_t)i * stored, sizeof r);
+      assert_int_equal(r.run, order[i]);
+    }
+    free(j);
+    snprintf(path, sizeof path, "%s/jr%zu/summary.csv", g_dir, k);
+    char *t = slurp(path);
+    strip_wall(t);
+    if (strcmp(t, whole) != 0) fail_msg("damage %zu: table\n%s\nnot the sweep's\n%s", k, t, whole);
+    free(t);
+  }
+  /* the layout before the checksums (journal 1): --resume refused, nothing rewritten */
+  snprintf(path, sizeof path, "%s/jr/sweep.journal", g_dir);
+  size_t n = 0;
+  unsigned char *j = load_file(path, &n);
+  int rows = 0;
+  const size_t head = sweep_journal_layout(j, n, &rows);
+  char old[64];
+  const int hl =
+      snprintf(old, sizeof old, "voussoir sweep journal 1 row %zu bytes\n", sizeof(vs_sweep_row));
+  FILE *f = fopen(path, "wb");
+  assert_non_null(f);
+  assert_int_equal(fwrite(old, 1, (size_t)hl, f), (size_t)hl);
+  for (int i = 0; i < rows; i++) { /* its rows as they were: without their checksums */
+    const unsigned char *r = j + head + (size_t)i * (sizeof(vs_sweep_row) + 8);
+    assert_int_equal(fwrite(r, sizeof(vs_sweep_row), 1, f), 1);
+  }
+  assert_int_equal(fclose(f), 0);
+  free(j);
+  snprintf(path, sizeof path, "%s/jr/summary.csv", g_dir);
+  char *before = slurp(path);
+  snprintf(cmd, sizeof cmd, "%s sweep %s " JR_ARGS " -o %s/jr --resume >/dev/null 2>%s", VS_BINARY,
+           REFERENCE, g_dir, err);
+  assert_int_equal(sh(cmd), 2);
+  char *e = slurp(err), *after = slurp(path);
+  assert_non_null(strstr(e, "was not written by this build"));
+  assert_string_equal(after, before);
+  free(e), free(before), free(after), free(whole);
+}
+
+
 static int setup(void **s) {
   (void)s;
   snprintf(g_dir, sizeof g_dir, "/tmp/vs_test_sweep_XXXXXX");
@@ -460,6 +616,7 @@ int main(void) {
       cmocka_unit_test(test_sweep_strict_options),
       cmocka_unit_test(test_sweep_interrupt_resume),
       cmocka_unit_test(test_sweep_torn_journal),
+      cmocka_unit_test(test_sweep_journal_rows),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
