@@ -1,13 +1,15 @@
-/* The manifests and journals of sweep and montecarlo (src/journal.h). */
+/* The manifests, journals and directory locks of sweep and montecarlo (src/journal.h). */
 #define _DEFAULT_SOURCE /* fileno, ftruncate, pread, O_NOFOLLOW */
 #include "journal.h"
 
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "voussoir/run.h"
@@ -297,4 +299,50 @@ int vs_mc_sample_check(const vs_mc_sample *r, int samples, int shard_k, int shar
   if (!none_or_size(r->first_limit_mm))
     return refuse(why, why_size, "first_limit_mm %g is not >= 0 or NaN", r->first_limit_mm);
   return mc_collapse_ok(r, joints, why, why_size);
+}
+
+/* --- the study's lock --- */
+
+/* Whether process pid still runs (or runs under another user). A zombie does not: it holds no
+ * file, and the killed study stays one until its parent waits for it. */
+static int alive(long pid) {
+  if (kill((pid_t)pid, 0) != 0 && errno != EPERM) return 0;
+  char path[64], stat[256] = "";
+  snprintf(path, sizeof path, "/proc/%ld/stat", pid);
+  FILE *f = fopen(path, "r");
+  const size_t n = f != NULL ? fread(stat, 1, sizeof stat - 1, f) : 0;
+  if (f != NULL) fclose(f);
+  stat[n] = '\0';
+  const char *end = strrchr(stat, ')'); /* "pid (comm) S ...": comm may hold anything */
+  return end == NULL || end[1] == '\0' || (end[2] != 'Z' && end[2] != 'X');
+}
+
+vs_status vs_study_lock(const char *dir, const char *who, vs_outlock **out, vs_error *err) {
+  char base[4096];
+  const int n = snprintf(base, sizeof base, "%s/%s", dir, VS_STUDY_LOCK);
+  if (n < 0 || (size_t)n + sizeof ".lock" > sizeof base)
+    return vs_error_set(err, VS_ERR_INVALID, "-o %.64s...: directory name too long", dir);
+  const int polls = VS_STUDY_LOCK_WAIT_S * 50; /* every 20 ms */
+  for (int i = 0;; i++) {
+    vs_error e;
+    vs_error_clear(&e);
+    const vs_status st = vs_outlock_acquire(base, out, &e);
+    if (st == VS_OK) return VS_OK;
+    const long pid = vs_outlock_holder(base);
+    if (st != VS_ERR_INVALID || pid <= 0) { /* not a lock held by a study: the OS's reason */
+      if (err != NULL) *err = e;
+      return st;
+    }
+    if (alive(pid))
+      return vs_error_set(err, st, "another study (pid %ld) is under way in -o %s (lock "
+                          "%s.lock): one study at a time in a directory", pid, dir, base);
+    if (i == polls)
+      return vs_error_set(err, st, "the workers of a study that ended (pid %ld) still hold the "
+                          "lock %s.lock after %d s (fuser shows them)", pid, base,
+                          VS_STUDY_LOCK_WAIT_S);
+    if (i == 0)
+      fprintf(stderr, "%s: -o %s: waiting for the workers of a study that ended (pid %ld) to "
+              "end too\n", who, dir, pid);
+    nanosleep(&(struct timespec){0, 20000000}, NULL);
+  }
 }

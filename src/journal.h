@@ -1,4 +1,4 @@
-/* A study's manifest and journal (sweep, montecarlo). The manifest says what the study is
+/* A study's manifest, journal and lock (sweep, montecarlo). The manifest says what the study is
  * (its case and its own settings), so that --resume continues only the same study. The journal:
  * a header line naming what it holds and the layout of its rows (their size), then whole rows of
  * that size, each appended and flushed as a run ends, so that a study killed at any moment can
@@ -6,7 +6,9 @@
  * a damaged row is told from a sound one, and a reader checks every field of a row before it
  * counts the row's run as done: a row that fails is not done (the run runs again). A kill may
  * cut the last row short; a reader ignores it, and a resumed study truncates it away before
- * appending, so that the rows after it stay aligned. In the program (src/journal.c). */
+ * appending, so that the rows after it stay aligned. The lock keeps a second study out of the
+ * directory while one (or any worker it forked) is at work there. In the program
+ * (src/journal.c). */
 #ifndef VS_JOURNAL_H
 #define VS_JOURNAL_H
 
@@ -17,6 +19,7 @@
 #include "sweep_private.h"
 #include "voussoir/case.h"
 #include "voussoir/montecarlo.h"
+#include "voussoir/outpath.h"
 
 /* The case's every key as "section.key=value" lines (%.17g): the part of a manifest that says
  * which case the study runs, with extra bytes to spare at the end for the study's own lines.
@@ -84,5 +87,25 @@ int vs_sweep_row_check(const vs_sweep_row *row, int total, int nax, char *why, s
  * hinge or pattern without a collapse. 1 sound; 0 with the first fault in why. No I/O. */
 int vs_mc_sample_check(const vs_mc_sample *r, int samples, int shard_k, int shard_m, int joints,
                        char *why, size_t why_size);
+
+/* The lock of a study's directory, DIR/study.lock (vs_outlock on DIR/study), one for every
+ * study command, so that two studies (sweep or montecarlo) never share a directory. Taken
+ * before anything in DIR is written and held until the study's end; its workers, forked from
+ * the study, share it (flock: the lock goes with the open file), so that it is free only once
+ * the study and every worker it started have ended. */
+#define VS_STUDY_LOCK "study"
+
+/* Most seconds a study waits for the workers of a study that was killed (its pid, in the lock
+ * file, no longer runs) to let go of the directory's lock: they end with it (parent-death
+ * signal), within milliseconds. */
+enum { VS_STUDY_LOCK_WAIT_S = 30 };
+
+/* Take the lock of directory dir (which must exist) for the study command who ("voussoir
+ * sweep"). Held by a running process: refused at once, err says "-o DIR: another study is under
+ * way in this directory (pid N, lock DIR/study.lock)". Held with its pid no longer running: the
+ * killed study's workers have not ended yet; waits for them (saying so on stderr once) up to
+ * VS_STUDY_LOCK_WAIT_S. Errors as vs_outlock_acquire's (VS_ERR_INVALID: held, or the lock file
+ * is not a regular file). */
+vs_status vs_study_lock(const char *dir, const char *who, vs_outlock **out, vs_error *err);
 
 #endif

@@ -58,6 +58,7 @@ typedef struct {
   int next;           /* the next slot to consider handing out */
   int ndone, resumed, taken; /* results held, of which from the journal; taken in this run */
   FILE *journal;
+  vs_outlock *lock; /* DIR's (journal.h), from before anything in DIR is written to the end */
 } mc_study;
 
 static int sample_of(const mc_study *s, int slot) {
@@ -139,9 +140,9 @@ static int resume_study(mc_study *s, const char *mpath, const char *want, const 
   return rc == 0 ? 0 : EXIT_USAGE;
 }
 
-/* Fresh: the manifest written (renamed into place) and an empty journal. --resume: the manifest
- * must be the same, the journal's sound results are kept and it is appended to after them. 0,
- * or an exit status after printing why. */
+/* The directory locked; fresh: the manifest written (renamed into place) and an empty journal.
+ * --resume: the manifest must be the same, the journal's sound results are kept and it is
+ * appended to after them. 0, or an exit status after printing why. */
 static int study_open(mc_study *s) {
   const char *dir = s->o->dir;
   char *want = manifest_text(s), path[MC_JPATH], head[96];
@@ -155,7 +156,12 @@ static int study_open(mc_study *s) {
   int rc = 0;
   char mpath[MC_JPATH];
   snprintf(mpath, sizeof mpath, "%s/%s", dir, MANIFEST);
-  if (s->o->resume) {
+  vs_error err;
+  vs_error_clear(&err);
+  if (vs_study_lock(dir, "voussoir montecarlo", &s->lock, &err) != VS_OK) {
+    fprintf(stderr, "voussoir montecarlo: %s\n", err.msg);
+    rc = EXIT_USAGE;
+  } else if (s->o->resume) {
     rc = resume_study(s, mpath, want, path, head, &rows);
   } else {
     char part[MC_JPATH + 8];
@@ -210,6 +216,7 @@ static int next_sample(mc_study *s) {
 
 static void study_close(mc_study *s) {
   if (s->journal != NULL) fclose(s->journal);
+  vs_outlock_release(&s->lock);
   free(s->res);
   free(s->done);
 }
@@ -240,6 +247,7 @@ static int start_worker(const vs_case *c, int sample, worker *w) {
   }
   if (pid == 0) {
     close(fds[0]);
+    vs_fault_hold(sample, &g_stops); /* tests only */
     vs_mc_sample r;
     vs_mc_run_sample(c, sample, &r);
     _exit(vs_write_all(fds[1], &r, sizeof r) == 0 ? 0 : 3);
@@ -354,8 +362,8 @@ static int load_case(const vs_mc_opts *a, vs_case *c) {
 
 int vs_mc_check_outputs(const char *cmd, const char *dir, const vs_outpath_other *others,
                         int n_others, int state) {
-  static const char *const names[] = {VS_MC_OUTPUTS, MANIFEST, JOURNAL};
-  const size_t count = sizeof names / sizeof names[0] - (state ? 0 : 2);
+  static const char *const names[] = {VS_MC_OUTPUTS, MANIFEST, JOURNAL, VS_STUDY_LOCK ".lock"};
+  const size_t count = sizeof names / sizeof names[0] - (state ? 0 : 3);
   vs_error err;
   vs_error_clear(&err);
   int bad = vs_outpath_check_dir(dir, &err) != VS_OK;

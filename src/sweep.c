@@ -206,6 +206,7 @@ typedef struct {
   char *state;        /* per run: 0 to run, 1 handed out, 2 done (its row kept) */
   vs_sweep_row *rows; /* the rows kept, in the order they came */
   FILE *csv, *journal;
+  vs_outlock *lock;   /* DIR's (journal.h), from before anything in DIR is written to the end */
 } sweep_state;
 
 /* A row kept: in the table too once it is open (the journal's rows are read before). */
@@ -297,27 +298,33 @@ static int resume_journal(sweep_state *s, const char *jpath, const char *head, l
   return rc == 0 ? 0 : EXIT_USAGE;
 }
 
-/* Check and create DIR, its manifest, the table (header written) and the journal. 0, or an exit
- * status after printing why. */
+/* Check and create DIR and lock it, its manifest, the table (header written) and the journal.
+ * 0, or an exit status after printing why. */
 static int sweep_open(sweep_state *s, const char *manifest) {
   const sweep_opts *o = s->o;
-  char path[1100], h5[1100], jpath[1100], mpath[1100];
+  char path[1100], h5[1100], jpath[1100], mpath[1100], lpath[1100];
   snprintf(path, sizeof path, "%s/summary.csv", o->dir);
   snprintf(h5, sizeof h5, "%s/summary.h5", o->dir);
   journal_path(o->dir, jpath, sizeof jpath);
   snprintf(mpath, sizeof mpath, "%s/sweep.manifest", o->dir);
+  snprintf(lpath, sizeof lpath, "%s/" VS_STUDY_LOCK ".lock", o->dir);
   vs_error err;
   vs_error_clear(&err);
   if (vs_outpath_check_dir(o->dir, &err) != VS_OK ||
       (access(o->dir, F_OK) == 0 && (vs_outpath_check(path, NULL, 0, &err) != VS_OK ||
                                      vs_outpath_check(h5, NULL, 0, &err) != VS_OK ||
                                      vs_outpath_check(jpath, NULL, 0, &err) != VS_OK ||
-                                     vs_outpath_check(mpath, NULL, 0, &err) != VS_OK))) {
+                                     vs_outpath_check(mpath, NULL, 0, &err) != VS_OK ||
+                                     vs_outpath_check(lpath, NULL, 0, &err) != VS_OK))) {
     fprintf(stderr, "voussoir sweep: -o %s\n", err.msg);
     return EXIT_USAGE;
   }
   if (mkdir(o->dir, 0755) != 0 && errno != EEXIST) {
     fprintf(stderr, "voussoir sweep: -o %s: cannot create: %s\n", o->dir, strerror(errno));
+    return EXIT_USAGE;
+  }
+  if (vs_study_lock(o->dir, "voussoir sweep", &s->lock, &err) != VS_OK) {
+    fprintf(stderr, "voussoir sweep: %s\n", err.msg);
     return EXIT_USAGE;
   }
   if (prepare_dir(o->dir, manifest, s->total, o->resume) != 0) return EXIT_USAGE;
@@ -393,6 +400,7 @@ static int sweep_close(sweep_state *s, double wall, int processes) {
 static void sweep_free(sweep_state *s) {
   if (s->csv != NULL) fclose(s->csv);
   if (s->journal != NULL) fclose(s->journal);
+  vs_outlock_release(&s->lock);
   free(s->rows);
   free(s->state);
 }

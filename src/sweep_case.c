@@ -8,6 +8,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "pipe_io.h"
 #include "sweep_private.h"
 #include "voussoir/output.h"
 #include "voussoir/report.h"
@@ -93,17 +94,6 @@ static int write_json(const char *path, const vs_run *r, vs_status st, const vs_
  * 57 MB and adds 6 % to its CPU (each state's 54 HDF references, not the padding, dominate). */
 static const int VS_SWEEP_XDMF_GRIDS = 200;
 
-/* Fault injection for the interrupt test: with the environment variable VS_FAULT_HOLD = N, run N
- * waits once its record is created until the stop flag is raised, so that a signal lands while
- * it is under way however fast the machine runs it (the test waits for the record to appear,
- * then signals: no race). Polls the flag (10 ms): a stop flag cannot be waited on otherwise. At
- * most 600 s, so that a test that fails before signalling leaves no process waiting for ever. */
-static void fault_hold(int run, const volatile sig_atomic_t *stop) {
-  const char *v = getenv("VS_FAULT_HOLD");
-  if (v == NULL || stop == NULL || atoi(v) != run) return;
-  for (int i = 0; i < 60000 && !*stop; i++) nanosleep(&(struct timespec){0, 10000000}, NULL);
-}
-
 /* Execute r into its record (created at h5), closing the record with the run's status. */
 static vs_status execute(const vs_sweep_job *job, int run, vs_run *r, const char *h5,
                          const volatile sig_atomic_t *stop, int *h5_clean, vs_error *err) {
@@ -116,7 +106,7 @@ static vs_status execute(const vs_sweep_job *job, int run, vs_run *r, const char
     if (st == VS_ERR_IO) *h5_clean = 0;
     return st;
   }
-  fault_hold(run, stop);
+  vs_fault_hold(run, stop); /* tests only */
   st = vs_run_execute(r, vs_output_sample, vs_output_event, rec, err);
   if (st != VS_OK && stop != NULL && *stop) {
     st = vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");

@@ -422,6 +422,86 @@ static void test_journal_rows(void **state) {
   }
 }
 
+/* --- a killed study's workers, and one study at a time in a directory --- */
+
+/* CASE as arguments, for spawn(). */
+#define CASE_ARGV VS_SOURCE_DIR "/runs/reference.ini", "--set", "arch.voussoirs=21", "--set", \
+  "imperfections.kn_cov=0.3", "--set", "imperfections.face_mm=0.002", "--set",                  \
+  "imperfections.angle_cov=0.02"
+
+/* A study under way in g_dir/dir (process pid): ready once its journal holds `rows` rows and,
+ * with worker, it has a worker (forked, not yet ended). */
+typedef struct {
+  const char *dir;
+  int rows, worker;
+  pid_t pid;
+} study_state;
+
+static int study_reached(const void *arg) {
+  const study_state *s = arg;
+  char head[96];
+  const int hl = snprintf(head, sizeof head, "voussoir montecarlo journal 2 row %zu bytes\n",
+                          sizeof(vs_mc_sample) + 8);
+  pid_t w[4];
+  const long size = hl + s->rows * (long)(sizeof(vs_mc_sample) + 8);
+  return file_size(s->dir, "montecarlo.journal") >= size &&
+         (!s->worker || children_of(s->pid, w, 4) == 1);
+}
+
+/* One study at a time in a directory: a montecarlo held with sample 1 under way (VS_FAULT_HOLD,
+ * let go by a file: VS_FAULT_RELEASE) holds the directory's lock; a second montecarlo there,
+ * fresh or --resume, and a sweep there are refused with exit 2 and the first's pid, before they
+ * write anything (a second montecarlo used to empty the first's journal): the first's manifest
+ * and journal are as they were, and once let go it finishes with the uninterrupted study's
+ * summary. */
+static void test_study_lock(void **state) {
+  (void)state;
+  char dir[256], out[256], err[256], release[256];
+  snprintf(dir, sizeof dir, "%s/lock", g_dir);
+  snprintf(out, sizeof out, "%s/lock.out", g_dir);
+  snprintf(err, sizeof err, "%s/lock.err", g_dir);
+  snprintf(release, sizeof release, "%s/lock.release", g_dir);
+  char *argv[] = {VS_BINARY, "montecarlo", CASE_ARGV, "--samples", "6", "--seed", "11", "-j", "1",
+                  "-q", "-o", dir, NULL};
+  assert_int_equal(setenv("VS_FAULT_HOLD", "1", 1), 0);
+  assert_int_equal(setenv("VS_FAULT_RELEASE", release, 1), 0);
+  const pid_t first = spawn(argv, out, err);
+  assert_int_equal(unsetenv("VS_FAULT_HOLD"), 0);
+  assert_int_equal(unsetenv("VS_FAULT_RELEASE"), 0);
+  const study_state reached = {"lock", 1, 0, first};
+  wait_until(study_reached, &reached, first, "sample 0 journalled");
+  char *manifest = slurp("lock", "montecarlo.manifest");
+  char *journal = slurp("lock", "montecarlo.journal");
+  const long jsize = file_size("lock", "montecarlo.journal");
+  char *resume[] = {VS_BINARY, "montecarlo", CASE_ARGV, "--samples", "6", "--seed", "11", "-q",
+                    "-o", dir, "--resume", NULL};
+  char *sweep[] = {VS_BINARY, "sweep", VS_SOURCE_DIR "/runs/reference.ini", "--alpha", "0", "-q",
+                   "-o", dir, NULL};
+  char **others[] = {argv, resume, sweep};
+  char pid[32], err2[256];
+  snprintf(pid, sizeof pid, "pid %d", (int)first);
+  snprintf(err2, sizeof err2, "%s/lock2.err", g_dir);
+  for (int k = 0; k < 3; k++) {
+    const int rc = exit_code(spawn(others[k], out, err2));
+    char *e = slurp(".", "lock2.err");
+    if (rc != 2 || strstr(e, pid) == NULL || strstr(e, "another study") == NULL)
+      fail_msg("%s in the directory of a study under way: exit %d, stderr \"%s\" (expected 2 "
+               "and %s)", others[k][1], rc, e, pid);
+    free(e);
+  }
+  char *m2 = slurp("lock", "montecarlo.manifest"), *j2 = slurp("lock", "montecarlo.journal");
+  assert_string_equal(m2, manifest);
+  assert_int_equal(file_size("lock", "montecarlo.journal"), jsize);
+  assert_memory_equal(j2, journal, (size_t)jsize);
+  free(manifest), free(journal), free(m2), free(j2);
+  FILE *f = fopen(release, "w"); /* let the first go on */
+  assert_non_null(f);
+  fclose(f);
+  assert_int_equal(exit_code(first), 0);
+  same_file("j1", "lock", "samples.csv");
+  same_file("j1", "lock", "statistics.csv");
+  assert_int_equal(file_size("lock", "study.lock"), -1); /* released: removed */
+}
 
 int main(void) {
   const struct CMUnitTest tests[] = {
@@ -430,6 +510,7 @@ int main(void) {
       cmocka_unit_test(test_interrupted), /* after the run of samples 0-5, which it reads */
       cmocka_unit_test(test_resume),      /* so does this one */
       cmocka_unit_test(test_journal_rows), /* and this one */
+      cmocka_unit_test(test_study_lock),   /* and this one */
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

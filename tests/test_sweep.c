@@ -593,6 +593,105 @@ static void test_sweep_journal_rows(void **s) {
   free(e), free(before), free(after), free(whole);
 }
 
+/* --- a killed sweep's workers, and one study at a time in a directory --- */
+
+/* Whether the record at path ("DIR/run_NNNN.h5") is created: its .part first, renamed once its
+ * layout is in. */
+static int record_begun(const void *path) {
+  char part[300];
+  snprintf(part, sizeof part, "%s.part", (const char *)path);
+  return access(path, F_OK) == 0 || access(part, F_OK) == 0;
+}
+
+/* The table (wall_s cut) of the uninterrupted sweep of JR_ARGS, run into g_dir/name. */
+static char *uninterrupted_table(const char *name) {
+  char cmd[1024], path[600];
+  snprintf(cmd, sizeof cmd, "%s sweep %s " JR_ARGS " -o %s/%s >/dev/null", VS_BINARY, REFERENCE,
+           g_dir, name);
+  assert_int_equal(sh(cmd), 0);
+  snprintf(path, sizeof path, "%s/%s/summary.csv", g_dir, name);
+  char *t = slurp(path);
+  assert_non_null(t);
+  strip_wall(t);
+  return t;
+}
+
+/* One study at a time in a directory: a sweep held with run 2 under way (VS_FAULT_HOLD, let go
+ * by a file: VS_FAULT_RELEASE) holds the directory's lock; a second sweep there, fresh or
+ * --resume, and a montecarlo there are refused with exit 2 and the first's pid, before they
+ * write anything: the first's manifest, journal, table and run 1's JSON are as they were, and
+ * once let go it finishes with the uninterrupted sweep's table. (A second sweep used to wipe the
+ * first's journal and JSONs, and each failed the other's runs.) */
+static void test_sweep_study_lock(void **s) {
+  (void)s;
+  char *whole = uninterrupted_table("lock_ref");
+  char dir[128], out[160], err[160], h5[200], release[160], path[200];
+  snprintf(dir, sizeof dir, "%s/lock", g_dir);
+  snprintf(out, sizeof out, "%s/lock.out", g_dir);
+  snprintf(err, sizeof err, "%s/lock.err", g_dir);
+  snprintf(h5, sizeof h5, "%s/run_0002.h5", dir);
+  snprintf(release, sizeof release, "%s/lock.release", g_dir);
+  char *argv[] = {VS_BINARY, "sweep", REFERENCE, "--alpha", "0,30,60", "--set",
+                  "arch.voussoirs=21", "-j", "1", "-q", "-o", dir, NULL};
+  assert_int_equal(setenv("VS_FAULT_HOLD", "2", 1), 0);
+  assert_int_equal(setenv("VS_FAULT_RELEASE", release, 1), 0);
+  const pid_t first = spawn(argv, out, err);
+  assert_int_equal(unsetenv("VS_FAULT_HOLD"), 0);
+  assert_int_equal(unsetenv("VS_FAULT_RELEASE"), 0);
+  wait_until(record_begun, h5, first, "run 2's record created");
+  static const char *const names[] = {"sweep.manifest", "sweep.journal", "summary.csv",
+                                      "run_0001.json"};
+  char *before[4];
+  struct stat st1, st2;
+  for (int i = 0; i < 4; i++) {
+    snprintf(path, sizeof path, "%s/%s", dir, names[i]);
+    before[i] = slurp(path);
+    assert_non_null(before[i]);
+  }
+  snprintf(path, sizeof path, "%s/run_0001.json", dir);
+  assert_int_equal(stat(path, &st1), 0);
+  char pid[32];
+  snprintf(pid, sizeof pid, "pid %d", (int)first);
+  char err2[160];
+  snprintf(err2, sizeof err2, "%s/lock2.err", g_dir);
+  char *second[] = {VS_BINARY, "sweep", REFERENCE, "--alpha", "0,30", "--set",
+                    "arch.voussoirs=21", "-j", "1", "-q", "-o", dir, NULL};
+  char *resume[] = {VS_BINARY, "sweep", REFERENCE, "--alpha", "0,30,60", "--set",
+                    "arch.voussoirs=21", "-j", "1", "-q", "-o", dir, "--resume", NULL};
+  char *mc[] = {VS_BINARY, "montecarlo", REFERENCE, "--samples", "2", "-q", "-o", dir, NULL};
+  char **others[] = {second, resume, mc};
+  for (int k = 0; k < 3; k++) {
+    const int rc = exit_code(spawn(others[k], out, err2));
+    char *e = slurp(err2);
+    if (rc != 2 || strstr(e, pid) == NULL || strstr(e, "another study") == NULL)
+      fail_msg("%s in the directory of a study under way: exit %d, stderr \"%s\" (expected 2 "
+               "and %s)", others[k][1], rc, e, pid);
+    free(e);
+  }
+  for (int i = 0; i < 4; i++) {
+    snprintf(path, sizeof path, "%s/%s", dir, names[i]);
+    char *now = slurp(path);
+    if (now == NULL || strcmp(now, before[i]) != 0) fail_msg("%s changed", names[i]);
+    free(now);
+    free(before[i]);
+  }
+  snprintf(path, sizeof path, "%s/run_0001.json", dir);
+  assert_int_equal(stat(path, &st2), 0);
+  assert_true(st1.st_ino == st2.st_ino && st1.st_mtim.tv_sec == st2.st_mtim.tv_sec &&
+              st1.st_mtim.tv_nsec == st2.st_mtim.tv_nsec);
+  FILE *f = fopen(release, "w"); /* let the first go on */
+  assert_non_null(f);
+  fclose(f);
+  assert_int_equal(exit_code(first), 0);
+  snprintf(path, sizeof path, "%s/summary.csv", dir);
+  char *t = slurp(path);
+  strip_wall(t);
+  assert_string_equal(t, whole);
+  free(t);
+  free(whole);
+  snprintf(path, sizeof path, "%s/study.lock", dir); /* released: removed */
+  assert_int_not_equal(access(path, F_OK), 0);
+}
 
 static int setup(void **s) {
   (void)s;
@@ -617,6 +716,7 @@ int main(void) {
       cmocka_unit_test(test_sweep_interrupt_resume),
       cmocka_unit_test(test_sweep_torn_journal),
       cmocka_unit_test(test_sweep_journal_rows),
+      cmocka_unit_test(test_sweep_study_lock),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
