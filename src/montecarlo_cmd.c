@@ -234,11 +234,13 @@ typedef struct {
   int fd, sample; /* read end of the result pipe; the sample it runs */
 } worker;
 
-/* Fork a worker for sample `sample`: it runs it and writes the result into a pipe. */
+/* Fork a worker for sample `sample`: it runs it and writes the result into a pipe; killed with
+ * the study if that is killed outright (vs_worker_tie). */
 static int start_worker(const vs_case *c, int sample, worker *w) {
   int fds[2];
   if (pipe(fds) != 0) return -1;
   fflush(NULL);
+  const pid_t parent = getpid();
   pid_t pid = fork();
   if (pid < 0) {
     close(fds[0]);
@@ -246,6 +248,7 @@ static int start_worker(const vs_case *c, int sample, worker *w) {
     return -1;
   }
   if (pid == 0) {
+    vs_worker_tie(parent);
     close(fds[0]);
     vs_fault_hold(sample, &g_stops); /* tests only */
     vs_mc_sample r;

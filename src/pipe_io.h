@@ -1,6 +1,6 @@
 /* Whole-buffer reads and writes on a pipe, retried on EINTR: how a forked worker hands its
  * result (a plain struct) back to the process that forked it (sweep and montecarlo); and the
- * tests' hold on a worker. Private to the executable. */
+ * worker's tie to that process. Private to the executable. */
 #ifndef VS_PIPE_IO_H
 #define VS_PIPE_IO_H
 
@@ -10,6 +10,9 @@
 #include <stdlib.h>
 #include <time.h>
 #include <unistd.h>
+#ifdef __linux__
+#include <sys/prctl.h>
+#endif
 
 /* Write all n bytes of buf to fd: 0, or -1 on an error or a closed pipe. */
 static inline int vs_write_all(int fd, const void *buf, size_t n) {
@@ -35,6 +38,18 @@ static inline size_t vs_read_full(int fd, void *buf, size_t n) {
     got += (size_t)k;
   }
   return got;
+}
+
+/* First thing in a forked worker: it ends with the study that forked it (pid parent), at once.
+ * SIGKILL, not SIGTERM: the worker inherits the study's SIGTERM handler, under which its run
+ * would go on to the end of its step and close its record, while it holds the study's directory
+ * lock and its run's lock, so that a --resume started right after the kill found them taken.
+ * A parent that died before the prctl: the worker ends here. */
+static inline void vs_worker_tie(pid_t parent) {
+#ifdef __linux__
+  prctl(PR_SET_PDEATHSIG, SIGKILL);
+#endif
+  if (getppid() != parent) _exit(130);
 }
 
 /* Fault injection for the tests: with the environment variable VS_FAULT_HOLD = N, the worker of

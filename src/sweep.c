@@ -202,7 +202,7 @@ typedef vs_sweep_opts sweep_opts;
 typedef struct {
   const sweep_opts *o;
   vs_sweep_job job;
-  int total, n, failed, next, todo;
+  int total, n, failed, not_started, next, todo;
   char *state;        /* per run: 0 to run, 1 handed out, 2 done (its row kept) */
   vs_sweep_row *rows; /* the rows kept, in the order they came */
   FILE *csv, *journal;
@@ -232,8 +232,10 @@ static int next_run(void *user) {
 }
 
 /* A run's row as it comes back: a complete run (worked, or failed with its cause) is kept and
- * journalled, and its JSON renamed into place; a worker lost on its own is a failed row (run
- * again by --resume); an interrupted run stays handed out (marked at the end). */
+ * journalled, and its JSON renamed into place; a worker lost on its own, or a run that could not
+ * start (its record refused: locked, not a regular file, not creatable), is a failed row that
+ * is not journalled (run again by --resume); an interrupted run stays handed out (marked at
+ * the end). */
 static void take_row(void *user, const vs_sweep_row *in) {
   sweep_state *s = user;
   if (in->run < 1 || in->run > s->total || s->state[in->run - 1] != 1) return;
@@ -257,7 +259,13 @@ static void take_row(void *user, const vs_sweep_row *in) {
     return;
   }
   remove(part);
-  if (row.code == VS_SWEEP_LOST && g_stop_count == 0) keep_row(s, &row);
+  if (row.code == VS_SWEEP_NOT_STARTED) {
+    fprintf(stderr, "voussoir sweep: run %d could not start: %s (not journalled: --resume runs "
+            "it)\n", row.run, row.error);
+    s->not_started++;
+  }
+  if ((row.code == VS_SWEEP_LOST && g_stop_count == 0) || row.code == VS_SWEEP_NOT_STARTED)
+    keep_row(s, &row);
 }
 
 /* A row from the journal of the sweep being resumed (a complete run's): taken when every field
@@ -392,8 +400,13 @@ static int sweep_close(sweep_state *s, double wall, int processes) {
            path);
     return EXIT_STOPPED;
   }
-  printf("%d runs (%d failed%s) in %.1f s on %d processes; table: %s (and summary.h5)\n", s->total,
-         s->failed, skipped ? ", some from before --resume" : "", wall, processes, path);
+  char not_started[96] = "";
+  if (s->not_started > 0)
+    snprintf(not_started, sizeof not_started, ", %d of them could not start: run them with "
+             "--resume", s->not_started);
+  printf("%d runs (%d failed%s%s) in %.1f s on %d processes; table: %s (and summary.h5)\n",
+         s->total, s->failed, not_started, skipped ? ", some from before --resume" : "", wall,
+         processes, path);
   return s->failed ? EXIT_FAIL : 0;
 }
 

@@ -94,9 +94,11 @@ static int write_json(const char *path, const vs_run *r, vs_status st, const vs_
  * 57 MB and adds 6 % to its CPU (each state's 54 HDF references, not the padding, dominate). */
 static const int VS_SWEEP_XDMF_GRIDS = 200;
 
-/* Execute r into its record (created at h5), closing the record with the run's status. */
+/* Execute r into its record (created at h5), closing the record with the run's status.
+ * *started becomes 0 when the record could not be created: nothing of the case ran. */
 static vs_status execute(const vs_sweep_job *job, int run, vs_run *r, const char *h5,
-                         const volatile sig_atomic_t *stop, int *h5_clean, vs_error *err) {
+                         const volatile sig_atomic_t *stop, int *h5_clean, int *started,
+                         vs_error *err) {
   vs_output *rec = NULL;
   vs_output_opts opts;
   vs_output_opts_default(&opts);
@@ -104,6 +106,7 @@ static vs_status execute(const vs_sweep_job *job, int run, vs_run *r, const char
   vs_status st = vs_output_create(h5, r, job->case_text, &opts, &rec, err);
   if (st != VS_OK) {
     if (st == VS_ERR_IO) *h5_clean = 0;
+    *started = 0;
     return st;
   }
   vs_fault_hold(run, stop); /* tests only */
@@ -139,16 +142,19 @@ void vs_sweep_run_case(const vs_sweep_job *job, int run, const volatile sig_atom
   vs_error_clear(&err);
   vs_status st = build_case(job, run, row, &c, &err);
   if (st == VS_OK) st = vs_run_create(&c, &r, &err);
+  int started = st != VS_ERR_NOMEM; /* out of memory says nothing of the case */
   if (st == VS_OK) {
     vs_run_set_stop(r, stop);
     st = stop != NULL && *stop ? vs_error_set(&err, VS_ERR_INTERRUPTED, "interrupted")
-                               : execute(job, run, r, h5, stop, h5_clean, &err);
+                               : execute(job, run, r, h5, stop, h5_clean, &started, &err);
   }
-  row->code = st == VS_OK ? VS_SWEEP_OK
+  row->code = !started ? VS_SWEEP_NOT_STARTED
+              : st == VS_OK ? VS_SWEEP_OK
               : st == VS_ERR_INTERRUPTED ? VS_SWEEP_INTERRUPTED : VS_SWEEP_FAILED;
-  if (r == NULL) { /* no run: the case itself was refused */
-    snprintf(row->status, sizeof row->status, "failed");
+  if (r == NULL || !started) { /* no run (the case itself was refused), or it could not start */
+    snprintf(row->status, sizeof row->status, "%s", started ? "failed" : "not_started");
     snprintf(row->error, sizeof row->error, "%s", err.msg);
+    vs_run_destroy(&r);
     return;
   }
   fill_row(r, st, &err, row);

@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/types.h>
 #include <sys/wait.h>
@@ -448,6 +449,51 @@ static int study_reached(const void *arg) {
          (!s->worker || children_of(s->pid, w, 4) == 1);
 }
 
+/* SIGKILL to a study while sample 1 is under way (held: VS_FAULT_HOLD, sample 0 journalled),
+ * then --resume at once. The worker is stopped (SIGSTOP) before the kill, as slow to react to
+ * its parent's death as a loaded machine may make it: it must die with the study all the same
+ * (montecarlo's workers had no parent-death signal and ran on with their samples after the
+ * study was gone). This process is the killed study's subreaper: the orphaned worker becomes
+ * its child, and it sees how it ended. The resume gives the uninterrupted study's summary. */
+static void test_kill_resume(void **state) {
+  (void)state;
+  char dir[256], out[256], err[256];
+  snprintf(dir, sizeof dir, "%s/kill", g_dir);
+  snprintf(out, sizeof out, "%s/kill.out", g_dir);
+  snprintf(err, sizeof err, "%s/kill.err", g_dir);
+  char *argv[] = {VS_BINARY, "montecarlo", CASE_ARGV, "--samples", "6", "--seed", "11", "-j", "1",
+                  "-q", "-o", dir, NULL};
+  char *resume[] = {VS_BINARY, "montecarlo", CASE_ARGV, "--samples", "6", "--seed", "11", "-j",
+                    "1", "-o", dir, "--resume", NULL};
+  assert_int_equal(prctl(PR_SET_CHILD_SUBREAPER, 1), 0);
+  assert_int_equal(setenv("VS_FAULT_HOLD", "1", 1), 0);
+  const pid_t pid = spawn(argv, out, err);
+  assert_int_equal(unsetenv("VS_FAULT_HOLD"), 0);
+  const study_state reached = {"kill", 1, 1, pid};
+  wait_until(study_reached, &reached, pid, "sample 0 journalled and sample 1 under way");
+  pid_t worker[4];
+  assert_int_equal(children_of(pid, worker, 4), 1);
+  assert_int_equal(kill(worker[0], SIGSTOP), 0);
+  assert_int_equal(kill(pid, SIGKILL), 0);
+  int st = 0;
+  assert_int_equal(waitpid(pid, &st, 0), pid);
+  const int rc = exit_code(spawn(resume, out, err));
+  kill(worker[0], SIGCONT); /* if it still lives, let it end as it would */
+  pid_t p;
+  while ((p = waitpid(-1, &st, 0)) > 0) /* the orphaned worker, now ours */
+    if (p != worker[0] || !WIFSIGNALED(st) || WTERMSIG(st) != SIGKILL)
+      fail_msg("orphan %d ended %s %d, not killed with the study", (int)p,
+               WIFSIGNALED(st) ? "by signal" : "with status",
+               WIFSIGNALED(st) ? WTERMSIG(st) : WEXITSTATUS(st));
+  assert_int_equal(prctl(PR_SET_CHILD_SUBREAPER, 0), 0);
+  assert_int_equal(rc, 0);
+  char *e = slurp(".", "kill.err");
+  assert_non_null(strstr(e, "resuming: 1 of 6 samples already done"));
+  free(e);
+  same_file("j1", "kill", "samples.csv");
+  same_file("j1", "kill", "statistics.csv");
+}
+
 /* One study at a time in a directory: a montecarlo held with sample 1 under way (VS_FAULT_HOLD,
  * let go by a file: VS_FAULT_RELEASE) holds the directory's lock; a second montecarlo there,
  * fresh or --resume, and a sweep there are refused with exit 2 and the first's pid, before they
@@ -510,6 +556,7 @@ int main(void) {
       cmocka_unit_test(test_interrupted), /* after the run of samples 0-5, which it reads */
       cmocka_unit_test(test_resume),      /* so does this one */
       cmocka_unit_test(test_journal_rows), /* and this one */
+      cmocka_unit_test(test_kill_resume),  /* and this one */
       cmocka_unit_test(test_study_lock),   /* and this one */
   };
   return cmocka_run_group_tests(tests, setup, teardown);

@@ -14,6 +14,9 @@
 #include <string.h>
 #include <dirent.h>
 #include <signal.h>
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -616,6 +619,115 @@ static char *uninterrupted_table(const char *name) {
   return t;
 }
 
+/* A run that cannot start (its record's lock held by another process, here this one) is not
+ * journalled: the sweep says so on stderr, lists it as not_started with the cause and exits 1,
+ * and --resume, once the lock is let go, runs it (it used to be journalled as a failed run,
+ * which every later --resume kept); the table is then the uninterrupted sweep's. */
+static void test_sweep_not_started(void **s) {
+  (void)s;
+  char *whole = uninterrupted_table("ns_ref");
+  char dir[128], path[200], cmd[1024], err[160];
+  snprintf(dir, sizeof dir, "%s/ns", g_dir);
+  assert_int_equal(mkdir(dir, 0755), 0);
+  snprintf(path, sizeof path, "%s/run_0002.h5.lock", dir);
+  const int fd = open(path, O_RDWR | O_CREAT, 0644);
+  assert_true(fd >= 0);
+  assert_int_equal(flock(fd, LOCK_EX | LOCK_NB), 0);
+  snprintf(err, sizeof err, "%s/ns.err", g_dir);
+  snprintf(cmd, sizeof cmd, "%s sweep %s " JR_ARGS " -o %s >/dev/null 2>%s", VS_BINARY, REFERENCE,
+           dir, err);
+  assert_int_equal(sh(cmd), 1);
+  char *e = slurp(err);
+  if (strstr(e, "run 2 could not start") == NULL || strstr(e, "being written by another") == NULL)
+    fail_msg("stderr \"%s\": expected run 2 named, and why", e);
+  free(e);
+  snprintf(path, sizeof path, "%s/summary.csv", dir);
+  char *t = slurp(path), status[32];
+  row_status(t, 2, status, sizeof status);
+  assert_string_equal(status, "not_started");
+  free(t);
+  snprintf(path, sizeof path, "%s/sweep.journal", dir);
+  size_t n = 0;
+  int rows = 0;
+  unsigned char *j = load_file(path, &n);
+  const size_t head = sweep_journal_layout(j, n, &rows);
+  assert_int_equal(rows, 2); /* runs 1 and 3 */
+  for (int i = 0; i < rows; i++) {
+    vs_sweep_row r;
+    memcpy(&r, j + head + (size_t)i * (sizeof r + 8), sizeof r);
+    assert_int_not_equal(r.run, 2);
+  }
+  free(j);
+  close(fd); /* the lock let go */
+  snprintf(cmd, sizeof cmd, "%s sweep %s " JR_ARGS " -o %s --resume >/dev/null 2>%s", VS_BINARY,
+           REFERENCE, dir, err);
+  assert_int_equal(sh(cmd), 0);
+  e = slurp(err);
+  assert_non_null(strstr(e, "resuming: 2 of 3 runs already complete"));
+  free(e);
+  snprintf(path, sizeof path, "%s/summary.csv", dir);
+  t = slurp(path);
+  strip_wall(t);
+  assert_string_equal(t, whole);
+  free(t);
+  free(whole);
+}
+
+/* SIGKILL to a sweep while its run R is under way (held: VS_FAULT_HOLD, its record created and
+ * locked), then --resume at once. The worker is stopped (SIGSTOP) before the kill, as slow to
+ * react to its parent's death as a loaded machine may make it: it must die with the sweep all
+ * the same (its parent-death signal was SIGTERM, under which it finished its step and closed its
+ * record, holding its run's lock meanwhile), so that the resume runs run R instead of journalling
+ * it as a failed run ("being written by another process"), which later resumes kept. This
+ * process is the killed sweep's subreaper: its orphaned workers become its children, and it
+ * sees how they ended. Three rounds, R = 1, 2, 3; the table each time the uninterrupted
+ * sweep's. */
+static void test_sweep_kill_resume(void **s) {
+  (void)s;
+  char *whole = uninterrupted_table("kill_ref");
+  assert_int_equal(prctl(PR_SET_CHILD_SUBREAPER, 1), 0);
+  for (int round = 1; round <= 3; round++) {
+    char dir[128], out[160], err[160], h5[200], hold[8], table[200];
+    snprintf(dir, sizeof dir, "%s/kill%d", g_dir, round);
+    snprintf(out, sizeof out, "%s/kill.out", g_dir);
+    snprintf(err, sizeof err, "%s/kill.err", g_dir);
+    snprintf(h5, sizeof h5, "%s/run_%04d.h5", dir, round);
+    snprintf(hold, sizeof hold, "%d", round);
+    char *argv[] = {VS_BINARY, "sweep", REFERENCE, "--alpha", "0,30,60", "--set",
+                    "arch.voussoirs=21", "-j", "1", "-q", "-o", dir, NULL};
+    assert_int_equal(setenv("VS_FAULT_HOLD", hold, 1), 0);
+    const pid_t pid = spawn(argv, out, err);
+    assert_int_equal(unsetenv("VS_FAULT_HOLD"), 0);
+    wait_until(record_begun, h5, pid, "run R's record created");
+    pid_t worker[4];
+    assert_int_equal(children_of(pid, worker, 4), 1); /* -j 1: run R's, holding its lock */
+    assert_int_equal(kill(worker[0], SIGSTOP), 0);
+    assert_int_equal(kill(pid, SIGKILL), 0);
+    int st = 0;
+    assert_int_equal(waitpid(pid, &st, 0), pid);
+    char *resume[] = {VS_BINARY, "sweep", REFERENCE, "--alpha", "0,30,60", "--set",
+                      "arch.voussoirs=21", "-j", "1", "-q", "-o", dir, "--resume", NULL};
+    const int rc = exit_code(spawn(resume, out, err));
+    kill(worker[0], SIGCONT); /* if it still lives, let it end as it would */
+    snprintf(table, sizeof table, "%s/summary.csv", dir);
+    char *t = slurp(table);
+    assert_non_null(t);
+    strip_wall(t);
+    if (rc != 0 || strcmp(t, whole) != 0)
+      fail_msg("round %d: resume exit %d, table\n%s\nnot the uninterrupted sweep's\n%s", round, rc,
+               t, whole);
+    free(t);
+    pid_t p;
+    while ((p = waitpid(-1, &st, 0)) > 0) /* the orphaned worker, now ours */
+      if (p != worker[0] || !WIFSIGNALED(st) || WTERMSIG(st) != SIGKILL)
+        fail_msg("round %d: orphan %d ended %s %d, not killed with the sweep", round, (int)p,
+                 WIFSIGNALED(st) ? "by signal" : "with status",
+                 WIFSIGNALED(st) ? WTERMSIG(st) : WEXITSTATUS(st));
+  }
+  assert_int_equal(prctl(PR_SET_CHILD_SUBREAPER, 0), 0);
+  free(whole);
+}
+
 /* One study at a time in a directory: a sweep held with run 2 under way (VS_FAULT_HOLD, let go
  * by a file: VS_FAULT_RELEASE) holds the directory's lock; a second sweep there, fresh or
  * --resume, and a montecarlo there are refused with exit 2 and the first's pid, before they
@@ -716,6 +828,8 @@ int main(void) {
       cmocka_unit_test(test_sweep_interrupt_resume),
       cmocka_unit_test(test_sweep_torn_journal),
       cmocka_unit_test(test_sweep_journal_rows),
+      cmocka_unit_test(test_sweep_not_started),
+      cmocka_unit_test(test_sweep_kill_resume),
       cmocka_unit_test(test_sweep_study_lock),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
