@@ -619,6 +619,17 @@ static char *uninterrupted_table(const char *name) {
   return t;
 }
 
+/* The table in dir (wall_s cut) must be whole, an uninterrupted sweep's. */
+static void expect_table(const char *dir, const char *whole) {
+  char path[300];
+  snprintf(path, sizeof path, "%s/summary.csv", dir);
+  char *t = slurp(path);
+  if (t == NULL) fail_msg("%s: missing", path);
+  strip_wall(t);
+  if (strcmp(t, whole) != 0) fail_msg("%s:\n%s\nnot the uninterrupted sweep's\n%s", path, t, whole);
+  free(t);
+}
+
 /* A run that cannot start (its record's lock held by another process, here this one) is not
  * journalled: the sweep says so on stderr, lists it as not_started with the cause and exits 1,
  * and --resume, once the lock is let go, runs it (it used to be journalled as a failed run,
@@ -665,11 +676,7 @@ static void test_sweep_not_started(void **s) {
   e = slurp(err);
   assert_non_null(strstr(e, "resuming: 2 of 3 runs already complete"));
   free(e);
-  snprintf(path, sizeof path, "%s/summary.csv", dir);
-  t = slurp(path);
-  strip_wall(t);
-  assert_string_equal(t, whole);
-  free(t);
+  expect_table(dir, whole);
   free(whole);
 }
 
@@ -687,7 +694,7 @@ static void test_sweep_kill_resume(void **s) {
   char *whole = uninterrupted_table("kill_ref");
   assert_int_equal(prctl(PR_SET_CHILD_SUBREAPER, 1), 0);
   for (int round = 1; round <= 3; round++) {
-    char dir[128], out[160], err[160], h5[200], hold[8], table[200];
+    char dir[128], out[160], err[160], h5[200], hold[8];
     snprintf(dir, sizeof dir, "%s/kill%d", g_dir, round);
     snprintf(out, sizeof out, "%s/kill.out", g_dir);
     snprintf(err, sizeof err, "%s/kill.err", g_dir);
@@ -709,14 +716,8 @@ static void test_sweep_kill_resume(void **s) {
                       "arch.voussoirs=21", "-j", "1", "-q", "-o", dir, "--resume", NULL};
     const int rc = exit_code(spawn(resume, out, err));
     kill(worker[0], SIGCONT); /* if it still lives, let it end as it would */
-    snprintf(table, sizeof table, "%s/summary.csv", dir);
-    char *t = slurp(table);
-    assert_non_null(t);
-    strip_wall(t);
-    if (rc != 0 || strcmp(t, whole) != 0)
-      fail_msg("round %d: resume exit %d, table\n%s\nnot the uninterrupted sweep's\n%s", round, rc,
-               t, whole);
-    free(t);
+    expect_table(dir, whole);
+    if (rc != 0) fail_msg("round %d: resume exit %d", round, rc);
     pid_t p;
     while ((p = waitpid(-1, &st, 0)) > 0) /* the orphaned worker, now ours */
       if (p != worker[0] || !WIFSIGNALED(st) || WTERMSIG(st) != SIGKILL)
@@ -795,11 +796,7 @@ static void test_sweep_study_lock(void **s) {
   assert_non_null(f);
   fclose(f);
   assert_int_equal(exit_code(first), 0);
-  snprintf(path, sizeof path, "%s/summary.csv", dir);
-  char *t = slurp(path);
-  strip_wall(t);
-  assert_string_equal(t, whole);
-  free(t);
+  expect_table(dir, whole);
   free(whole);
   snprintf(path, sizeof path, "%s/study.lock", dir); /* released: removed */
   assert_int_not_equal(access(path, F_OK), 0);
@@ -861,11 +858,7 @@ static void test_sweep_lock_wait(void **s) {
   close(fd); /* let go */
   assert_int_equal(exit_code(sweep), 0);
   assert_int_equal(waitpid(z, NULL, 0), z);
-  snprintf(path, sizeof path, "%s/summary.csv", dir);
-  char *t = slurp(path);
-  strip_wall(t);
-  assert_string_equal(t, whole);
-  free(t);
+  expect_table(dir, whole);
   free(whole);
 }
 
