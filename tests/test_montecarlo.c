@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/types.h>
 #include <sys/wait.h>
@@ -21,6 +22,9 @@
 #ifndef VS_BINARY
 #error "VS_BINARY (path of the voussoir executable) must be defined"
 #endif
+
+#include "study_procs.h"
+#include "voussoir/montecarlo.h"
 
 static char g_dir[] = "/tmp/vs_mc_XXXXXX";
 
@@ -265,7 +269,7 @@ static void test_resume(void **state) {
   assert_int_equal(file_size("res", "samples.csv"), -1); /* no summary yet */
   char *j = slurp("res", "montecarlo.journal");
   size_t row = 0;
-  if (sscanf(j, "voussoir montecarlo journal 1 row %zu bytes", &row) != 1)
+  if (sscanf(j, "voussoir montecarlo journal 2 row %zu bytes", &row) != 1)
     fail_msg("journal header \"%.60s\"", j);
   const long head = (long)(strchr(j, '\n') + 1 - j);
   free(j);
@@ -298,12 +302,262 @@ static void test_resume(void **state) {
   assert_int_equal(file_size("res", "montecarlo.journal"), head + 6 * (long)row);
 }
 
+/* --- the journal's rows: checksummed, every field checked before a sample counts as done --- */
+
+/* g_dir/DIR/montecarlo.journal; *n its size, *head its header's length, *rows its rows (each a
+ * vs_mc_sample and its checksum, checked). */
+static unsigned char *load_journal(const char *dir, size_t *n, size_t *head, int *rows) {
+  char *j = slurp(dir, "montecarlo.journal");
+  *n = (size_t)file_size(dir, "montecarlo.journal");
+  size_t stored = 0;
+  if (sscanf(j, "voussoir montecarlo journal 2 row %zu bytes", &stored) != 1)
+    fail_msg("journal header \"%.60s\"", j);
+  assert_int_equal(stored, sizeof(vs_mc_sample) + 8);
+  *head = (size_t)(strchr(j, '\n') + 1 - j);
+  assert_int_equal((*n - *head) % stored, 0);
+  *rows = (int)((*n - *head) / stored);
+  const unsigned char *b = (const unsigned char *)j + *head;
+  for (int i = 0; i < *rows; i++)
+    assert_true(sum_holds(b + (size_t)i * stored, sizeof(vs_mc_sample)));
+  return (unsigned char *)j;
+}
+
+/* A damage done to sample 1's journal row (sample 0's at hand), whether its checksum is then
+ * made right again, and what stderr must say of it. */
+typedef struct {
+  void (*damage)(vs_mc_sample *r, const vs_mc_sample *first);
+  int resum;
+  const char *says;
+} mc_damage;
+
+static void dmg_pattern(vs_mc_sample *r, const vs_mc_sample *f) {
+  (void)f;
+  memset(r->pattern, 'E', sizeof r->pattern);
+}
+static void dmg_error(vs_mc_sample *r, const vs_mc_sample *f) { /* and the padding after it */
+  (void)f;
+  r->status = VS_MC_FAILED;
+  memset(r->error, 'x', sizeof *r - offsetof(vs_mc_sample, error));
+}
+static void dmg_flip(vs_mc_sample *r, const vs_mc_sample *f) {
+  (void)f;
+  ((unsigned char *)&r->delta_u_mm)[2] ^= 0x04;
+}
+static void dmg_sample(vs_mc_sample *r, const vs_mc_sample *f) { (void)f; r->sample = 99; }
+static void dmg_status(vs_mc_sample *r, const vs_mc_sample *f) { (void)f; r->status = 5; }
+static void dmg_mode(vs_mc_sample *r, const vs_mc_sample *f) { (void)f; r->mode = 7; }
+static void dmg_joint(vs_mc_sample *r, const vs_mc_sample *f) { (void)f; r->hinge_joint[0] = 999; }
+static void dmg_side(vs_mc_sample *r, const vs_mc_sample *f) { (void)f; r->hinge_side[1] = 'X'; }
+static void dmg_inf(vs_mc_sample *r, const vs_mc_sample *f) { (void)f; r->delta_u_mm = INFINITY; }
+static void dmg_nan(vs_mc_sample *r, const vs_mc_sample *f) { (void)f; r->dz_u_mm = NAN; }
+static void dmg_cause(vs_mc_sample *r, const vs_mc_sample *f) {
+  (void)f;
+  snprintf(r->error, sizeof r->error, "no memory");
+}
+static void dmg_twice(vs_mc_sample *r, const vs_mc_sample *f) { *r = *f; }
+
+/* A study of 6 samples, then, for each damage, a copy of its directory with sample 1's journal
+ * row damaged and --resume there: the row is named once on stderr with what is wrong, sample 1
+ * (and it alone) runs again, its row is appended after the others' (the damaged one is gone),
+ * and the summary is the uninterrupted study's (j1, samples 0-5). */
+static void test_journal_rows(void **state) {
+  (void)state;
+  static const mc_damage damages[] = {
+      {dmg_pattern, 1, "pattern is not NUL-terminated"},
+      {dmg_error, 1, "error is not NUL-terminated"},
+      {dmg_flip, 0, "checksum does not match"},
+      {dmg_sample, 1, "sample 99 is not one of this study's (0..5, shard 1/1)"},
+      {dmg_status, 1, "status 5"},
+      {dmg_mode, 1, "mode 7"},
+      {dmg_joint, 1, "hinge A: joint 999"},
+      {dmg_side, 1, "hinge B:"},
+      {dmg_inf, 1, "delta_u_mm inf"},
+      {dmg_nan, 1, "dz_u_mm nan"},
+      {dmg_cause, 1, "an error for a sample that did not fail"},
+      {dmg_twice, 1, "a second row for sample 0"},
+  };
+  resume_run("--seed 11 -j 1 -q", "jr", 0, NULL);
+  for (size_t k = 0; k < sizeof damages / sizeof damages[0]; k++) {
+    const mc_damage *d = &damages[k];
+    char dir[32], cmd[1024];
+    snprintf(dir, sizeof dir, "jr%zu", k);
+    snprintf(cmd, sizeof cmd, "rm -rf %s/%s && cp -a %s/jr %s/%s", g_dir, dir, g_dir, g_dir, dir);
+    assert_int_equal(system(cmd), 0);
+    size_t n = 0, head = 0;
+    int rows = 0;
+    unsigned char *j = load_journal(dir, &n, &head, &rows);
+    const size_t stored = sizeof(vs_mc_sample) + 8;
+    assert_int_equal(rows, 6);
+    vs_mc_sample first, r;
+    memcpy(&first, j + head, sizeof first);
+    memcpy(&r, j + head + stored, sizeof r);
+    assert_int_equal(first.sample, 0); /* -j 1: the rows in sample order */
+    assert_int_equal(r.sample, 1);
+    d->damage(&r, &first);
+    memcpy(j + head + stored, &r, sizeof r);
+    if (d->resum) set_sum(j + head + stored, sizeof r);
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s/montecarlo.journal", g_dir, dir);
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(j, 1, n, f), n);
+    assert_int_equal(fclose(f), 0);
+    free(j);
+    resume_run("--seed 11 -j 1 --resume", dir, 0, "resuming: 5 of 6 samples already done");
+    char *e = slurp(".", "err.txt");
+    const char *at = strstr(e, "montecarlo.journal: row 2: ");
+    if (at == NULL || strstr(at + 1, "montecarlo.journal: row") != NULL ||
+        strstr(at, d->says) == NULL)
+      fail_msg("damage %zu: stderr \"%s\": expected row 2 named once with \"%s\"", k, e, d->says);
+    free(e);
+    j = load_journal(dir, &n, &head, &rows); /* the others kept, sample 1 run again and appended */
+    assert_int_equal(rows, 6);
+    static const int order[] = {0, 2, 3, 4, 5, 1};
+    for (int i = 0; i < 6; i++) {
+      memcpy(&r, j + head + (size_t)i * stored, sizeof r);
+      assert_int_equal(r.sample, order[i]);
+    }
+    free(j);
+    same_file("j1", dir, "samples.csv");
+    same_file("j1", dir, "statistics.csv");
+  }
+}
+
+/* --- a killed study's workers, and one study at a time in a directory --- */
+
+/* CASE as arguments, for spawn(). */
+#define CASE_ARGV VS_SOURCE_DIR "/runs/reference.ini", "--set", "arch.voussoirs=21", "--set", \
+  "imperfections.kn_cov=0.3", "--set", "imperfections.face_mm=0.002", "--set",                  \
+  "imperfections.angle_cov=0.02"
+
+/* A study under way in g_dir/dir (process pid): ready once its journal holds `rows` rows and,
+ * with worker, it has a worker (forked, not yet ended). */
+typedef struct {
+  const char *dir;
+  int rows, worker;
+  pid_t pid;
+} study_state;
+
+static int study_reached(const void *arg) {
+  const study_state *s = arg;
+  char head[96];
+  const int hl = snprintf(head, sizeof head, "voussoir montecarlo journal 2 row %zu bytes\n",
+                          sizeof(vs_mc_sample) + 8);
+  pid_t w[4];
+  const long size = hl + s->rows * (long)(sizeof(vs_mc_sample) + 8);
+  return file_size(s->dir, "montecarlo.journal") >= size &&
+         (!s->worker || children_of(s->pid, w, 4) == 1);
+}
+
+/* SIGKILL to a study while sample 1 is under way (held: VS_FAULT_HOLD, sample 0 journalled),
+ * then --resume at once. The worker is stopped (SIGSTOP) before the kill, as slow to react to
+ * its parent's death as a loaded machine may make it: it must die with the study all the same
+ * (montecarlo's workers had no parent-death signal and ran on with their samples after the
+ * study was gone). This process is the killed study's subreaper: the orphaned worker becomes
+ * its child, and it sees how it ended. The resume gives the uninterrupted study's summary. */
+static void test_kill_resume(void **state) {
+  (void)state;
+  char dir[256], out[256], err[256];
+  snprintf(dir, sizeof dir, "%s/kill", g_dir);
+  snprintf(out, sizeof out, "%s/kill.out", g_dir);
+  snprintf(err, sizeof err, "%s/kill.err", g_dir);
+  char *argv[] = {VS_BINARY, "montecarlo", CASE_ARGV, "--samples", "6", "--seed", "11", "-j", "1",
+                  "-q", "-o", dir, NULL};
+  char *resume[] = {VS_BINARY, "montecarlo", CASE_ARGV, "--samples", "6", "--seed", "11", "-j",
+                    "1", "-o", dir, "--resume", NULL};
+  assert_int_equal(prctl(PR_SET_CHILD_SUBREAPER, 1), 0);
+  assert_int_equal(setenv("VS_FAULT_HOLD", "1", 1), 0);
+  const pid_t pid = spawn(argv, out, err);
+  assert_int_equal(unsetenv("VS_FAULT_HOLD"), 0);
+  const study_state reached = {"kill", 1, 1, pid};
+  wait_until(study_reached, &reached, pid, "sample 0 journalled and sample 1 under way");
+  pid_t worker[4];
+  assert_int_equal(children_of(pid, worker, 4), 1);
+  assert_int_equal(kill(worker[0], SIGSTOP), 0);
+  assert_int_equal(kill(pid, SIGKILL), 0);
+  int st = 0;
+  assert_int_equal(waitpid(pid, &st, 0), pid);
+  const int rc = exit_code(spawn(resume, out, err));
+  kill(worker[0], SIGCONT); /* if it still lives, let it end as it would */
+  pid_t p;
+  while ((p = waitpid(-1, &st, 0)) > 0) /* the orphaned worker, now ours */
+    if (p != worker[0] || !WIFSIGNALED(st) || WTERMSIG(st) != SIGKILL)
+      fail_msg("orphan %d ended %s %d, not killed with the study", (int)p,
+               WIFSIGNALED(st) ? "by signal" : "with status",
+               WIFSIGNALED(st) ? WTERMSIG(st) : WEXITSTATUS(st));
+  assert_int_equal(prctl(PR_SET_CHILD_SUBREAPER, 0), 0);
+  assert_int_equal(rc, 0);
+  char *e = slurp(".", "kill.err");
+  assert_non_null(strstr(e, "resuming: 1 of 6 samples already done"));
+  free(e);
+  same_file("j1", "kill", "samples.csv");
+  same_file("j1", "kill", "statistics.csv");
+}
+
+/* One study at a time in a directory: a montecarlo held with sample 1 under way (VS_FAULT_HOLD,
+ * let go by a file: VS_FAULT_RELEASE) holds the directory's lock; a second montecarlo there,
+ * fresh or --resume, and a sweep there are refused with exit 2 and the first's pid, before they
+ * write anything (a second montecarlo used to empty the first's journal): the first's manifest
+ * and journal are as they were, and once let go it finishes with the uninterrupted study's
+ * summary. */
+static void test_study_lock(void **state) {
+  (void)state;
+  char dir[256], out[256], err[256], release[256];
+  snprintf(dir, sizeof dir, "%s/lock", g_dir);
+  snprintf(out, sizeof out, "%s/lock.out", g_dir);
+  snprintf(err, sizeof err, "%s/lock.err", g_dir);
+  snprintf(release, sizeof release, "%s/lock.release", g_dir);
+  char *argv[] = {VS_BINARY, "montecarlo", CASE_ARGV, "--samples", "6", "--seed", "11", "-j", "1",
+                  "-q", "-o", dir, NULL};
+  assert_int_equal(setenv("VS_FAULT_HOLD", "1", 1), 0);
+  assert_int_equal(setenv("VS_FAULT_RELEASE", release, 1), 0);
+  const pid_t first = spawn(argv, out, err);
+  assert_int_equal(unsetenv("VS_FAULT_HOLD"), 0);
+  assert_int_equal(unsetenv("VS_FAULT_RELEASE"), 0);
+  const study_state reached = {"lock", 1, 0, first};
+  wait_until(study_reached, &reached, first, "sample 0 journalled");
+  char *manifest = slurp("lock", "montecarlo.manifest");
+  char *journal = slurp("lock", "montecarlo.journal");
+  const long jsize = file_size("lock", "montecarlo.journal");
+  char *resume[] = {VS_BINARY, "montecarlo", CASE_ARGV, "--samples", "6", "--seed", "11", "-q",
+                    "-o", dir, "--resume", NULL};
+  char *sweep[] = {VS_BINARY, "sweep", VS_SOURCE_DIR "/runs/reference.ini", "--alpha", "0", "-q",
+                   "-o", dir, NULL};
+  char **others[] = {argv, resume, sweep};
+  char pid[32], err2[256];
+  snprintf(pid, sizeof pid, "pid %d", (int)first);
+  snprintf(err2, sizeof err2, "%s/lock2.err", g_dir);
+  for (int k = 0; k < 3; k++) {
+    const int rc = exit_code(spawn(others[k], out, err2));
+    char *e = slurp(".", "lock2.err");
+    if (rc != 2 || strstr(e, pid) == NULL || strstr(e, "another study") == NULL)
+      fail_msg("%s in the directory of a study under way: exit %d, stderr \"%s\" (expected 2 "
+               "and %s)", others[k][1], rc, e, pid);
+    free(e);
+  }
+  char *m2 = slurp("lock", "montecarlo.manifest"), *j2 = slurp("lock", "montecarlo.journal");
+  assert_string_equal(m2, manifest);
+  assert_int_equal(file_size("lock", "montecarlo.journal"), jsize);
+  assert_memory_equal(j2, journal, (size_t)jsize);
+  free(manifest), free(journal), free(m2), free(j2);
+  FILE *f = fopen(release, "w"); /* let the first go on */
+  assert_non_null(f);
+  fclose(f);
+  assert_int_equal(exit_code(first), 0);
+  same_file("j1", "lock", "samples.csv");
+  same_file("j1", "lock", "statistics.csv");
+  assert_int_equal(file_size("lock", "study.lock"), -1); /* released: removed */
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_bad_input),
       cmocka_unit_test(test_same_summary_any_process_count),
       cmocka_unit_test(test_interrupted), /* after the run of samples 0-5, which it reads */
       cmocka_unit_test(test_resume),      /* so does this one */
+      cmocka_unit_test(test_journal_rows), /* and this one */
+      cmocka_unit_test(test_kill_resume),  /* and this one */
+      cmocka_unit_test(test_study_lock),   /* and this one */
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

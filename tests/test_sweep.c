@@ -14,6 +14,9 @@
 #include <string.h>
 #include <dirent.h>
 #include <signal.h>
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -21,6 +24,8 @@
 
 #include <hdf5.h>
 
+#include "study_procs.h"
+#include "sweep_rows.h" /* the journal's row (vs_sweep_row) */
 #include "voussoir/run.h"
 #include "list.h"
 
@@ -244,24 +249,6 @@ static int processes_with(const char *text) {
   return n;
 }
 
-/* Start "voussoir ARGS..." with stdout and stderr to files; returns its pid. */
-static pid_t spawn(char *const argv[], const char *out, const char *err) {
-  pid_t pid = fork();
-  assert_true(pid >= 0);
-  if (pid == 0) {
-    if (freopen(out, "w", stdout) == NULL || freopen(err, "w", stderr) == NULL) _exit(127);
-    execv(VS_BINARY, argv);
-    _exit(127);
-  }
-  return pid;
-}
-
-static int exit_code(pid_t pid) {
-  int st = 0;
-  assert_int_equal(waitpid(pid, &st, 0), pid);
-  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
 /* Field 3 (status) of the row of run r in the summary, copied to out. */
 static void row_status(const char *table, int r, char *out, size_t size) {
   char head[16];
@@ -438,6 +425,443 @@ static void test_sweep_torn_journal(void **s) {
   assert_int_not_equal(access(path, F_OK), 0);
 }
 
+/* --- the journal's rows: checksummed, and every field checked before its run counts as done --- */
+
+static void save(const char *path, const unsigned char *b, size_t n) {
+  FILE *f = fopen(path, "wb");
+  assert_non_null(f);
+  assert_int_equal(fwrite(b, 1, n, f), n);
+  assert_int_equal(fclose(f), 0);
+}
+
+/* The sweep journal j (n bytes): its header's length; its rows must be a vs_sweep_row and the
+ * 8 bytes of its checksum (little endian), each whole and sound. *rows: how many. */
+static size_t sweep_journal_layout(const unsigned char *j, size_t n, int *rows) {
+  size_t stored = 0;
+  if (sscanf((const char *)j, "voussoir sweep journal 2 row %zu bytes", &stored) != 1)
+    fail_msg("journal header \"%.60s\"", (const char *)j);
+  assert_int_equal(stored, sizeof(vs_sweep_row) + 8);
+  const size_t head = (size_t)((const unsigned char *)memchr(j, '\n', n) + 1 - j);
+  assert_int_equal((n - head) % stored, 0);
+  *rows = (int)((n - head) / stored);
+  for (int i = 0; i < *rows; i++)
+    assert_true(sum_holds(j + head + (size_t)i * stored, sizeof(vs_sweep_row)));
+  return head;
+}
+
+/* A damage done to the journal's row of run 2: what it changes (the first row, run 1's, at
+ * hand), whether its checksum is then made right again (so that the row's fields are what gives
+ * it away), and what stderr must say of it. */
+typedef struct {
+  void (*damage)(vs_sweep_row *r, const vs_sweep_row *first);
+  int resum;
+  const char *says;
+} sweep_damage;
+
+/* error, and every byte after it, without a NUL: a reader that trusts the row reads on past the
+ * row's buffer (an ASan heap-buffer-overflow) and copies what follows into the table */
+static void dmg_unterminated(vs_sweep_row *r, const vs_sweep_row *f) {
+  (void)f;
+  memset((char *)r + offsetof(vs_sweep_row, error), 'A', sizeof *r - offsetof(vs_sweep_row, error));
+}
+static void dmg_flip(vs_sweep_row *r, const vs_sweep_row *f) {
+  (void)f;
+  ((unsigned char *)&r->delta_u_mm)[3] ^= 0x10;
+}
+static void dmg_run(vs_sweep_row *r, const vs_sweep_row *f) { (void)f; r->run = 4; }
+static void dmg_code(vs_sweep_row *r, const vs_sweep_row *f) { (void)f; r->code = 7; }
+static void dmg_status(vs_sweep_row *r, const vs_sweep_row *f) {
+  (void)f;
+  snprintf(r->status, sizeof r->status, "running");
+}
+static void dmg_mode(vs_sweep_row *r, const vs_sweep_row *f) {
+  (void)f;
+  snprintf(r->mode, sizeof r->mode, "IV");
+}
+static void dmg_hinges(vs_sweep_row *r, const vs_sweep_row *f) {
+  (void)f;
+  r->hinges[2] = '"';
+}
+static void dmg_axis(vs_sweep_row *r, const vs_sweep_row *f) { (void)f; r->axis[0] = 45.0; }
+static void dmg_double(vs_sweep_row *r, const vs_sweep_row *f) { (void)f; r->delta_u_mm = -1.0; }
+static void dmg_nan(vs_sweep_row *r, const vs_sweep_row *f) { (void)f; r->dz_pct = NAN; }
+static void dmg_wall(vs_sweep_row *r, const vs_sweep_row *f) { (void)f; r->wall_s = INFINITY; }
+static void dmg_count(vs_sweep_row *r, const vs_sweep_row *f) { (void)f; r->snaps = -3; }
+static void dmg_twice(vs_sweep_row *r, const vs_sweep_row *f) { *r = *f; }
+
+#define JR_ARGS "--alpha 0,30,60 --set arch.voussoirs=21 -j 1 -q"
+
+/* A sweep of 3 runs, then, for each damage, a copy of its directory with run 2's journal row
+ * damaged and --resume there: the row is named once on stderr with what is wrong, run 2 (and it
+ * alone) runs again, its row is appended after the others' (the damaged one is gone from the
+ * journal), and the table is the uninterrupted sweep's. A journal of the layout before the
+ * checksums is refused (exit 2) and the table left as it was. */
+static void test_sweep_journal_rows(void **s) {
+  (void)s;
+  static const sweep_damage damages[] = {
+      {dmg_unterminated, 1, "error is not NUL-terminated"},
+      {dmg_flip, 0, "checksum does not match"},
+      {dmg_run, 1, "run 4 is not one of this sweep's 1..3"},
+      {dmg_code, 1, "code 7"},
+      {dmg_status, 1, "status \"running\""},
+      {dmg_mode, 1, "mode is not"},
+      {dmg_hinges, 1, "hinges holds"},
+      {dmg_axis, 1, "support.alpha_deg = 45 is not the run's 30"},
+      {dmg_double, 1, "delta_u_mm -1"},
+      {dmg_nan, 1, "must be finite, as delta_u_mm is"},
+      {dmg_wall, 1, "wall_s inf"},
+      {dmg_count, 1, "snaps -3"},
+      {dmg_twice, 1, "a second row for run 1"},
+  };
+  char cmd[2048], path[600], err[600];
+  snprintf(cmd, sizeof cmd, "%s sweep %s " JR_ARGS " -o %s/jr >/dev/null", VS_BINARY, REFERENCE,
+           g_dir);
+  assert_int_equal(sh(cmd), 0);
+  snprintf(path, sizeof path, "%s/jr/summary.csv", g_dir);
+  char *whole = slurp(path);
+  strip_wall(whole);
+  snprintf(err, sizeof err, "%s/jr.err", g_dir);
+  for (size_t k = 0; k < sizeof damages / sizeof damages[0]; k++) {
+    const sweep_damage *d = &damages[k];
+    snprintf(cmd, sizeof cmd, "rm -rf %s/jr%zu && cp -a %s/jr %s/jr%zu", g_dir, k, g_dir, g_dir, k);
+    assert_int_equal(sh(cmd), 0);
+    snprintf(path, sizeof path, "%s/jr%zu/sweep.journal", g_dir, k);
+    size_t n = 0;
+    int rows = 0;
+    unsigned char *j = load_file(path, &n);
+    const size_t head = sweep_journal_layout(j, n, &rows), stored = sizeof(vs_sweep_row) + 8;
+    assert_int_equal(rows, 3);
+    vs_sweep_row first, r;
+    memcpy(&first, j + head, sizeof first);
+    memcpy(&r, j + head + stored, sizeof r);
+    assert_int_equal(first.run, 1); /* -j 1: the rows in run order */
+    assert_int_equal(r.run, 2);
+    d->damage(&r, &first);
+    memcpy(j + head + stored, &r, sizeof r);
+    if (d->resum) set_sum(j + head + stored, sizeof r);
+    save(path, j, n);
+    free(j);
+    snprintf(cmd, sizeof cmd, "%s sweep %s " JR_ARGS " -o %s/jr%zu --resume >/dev/null 2>%s",
+             VS_BINARY, REFERENCE, g_dir, k, err);
+    const int rc = sh(cmd);
+    char *e = slurp(err);
+    const char *at = strstr(e, "sweep.journal: row 2: ");
+    if (rc != 0 || at == NULL || strstr(at + 1, "sweep.journal: row") != NULL ||
+        strstr(at, d->says) == NULL ||
+        strstr(e, "resuming: 2 of 3 runs already complete") == NULL)
+      fail_msg("damage %zu: exit %d, stderr \"%s\": expected exit 0, row 2 named once with "
+               "\"%s\", 2 of 3 runs kept", k, rc, e, d->says);
+    free(e);
+    j = load_file(path, &n); /* runs 1 and 3 kept, run 2 run again and appended */
+    assert_int_equal(sweep_journal_layout(j, n, &rows), head);
+    assert_int_equal(rows, 3);
+    static const int order[] = {1, 3, 2};
+    for (int i = 0; i < 3; i++) {
+      memcpy(&r, j + head + (size_t)i * stored, sizeof r);
+      assert_int_equal(r.run, order[i]);
+    }
+    free(j);
+    snprintf(path, sizeof path, "%s/jr%zu/summary.csv", g_dir, k);
+    char *t = slurp(path);
+    strip_wall(t);
+    if (strcmp(t, whole) != 0) fail_msg("damage %zu: table\n%s\nnot the sweep's\n%s", k, t, whole);
+    free(t);
+  }
+  /* the layout before the checksums (journal 1): --resume refused, nothing rewritten */
+  snprintf(path, sizeof path, "%s/jr/sweep.journal", g_dir);
+  size_t n = 0;
+  unsigned char *j = load_file(path, &n);
+  int rows = 0;
+  const size_t head = sweep_journal_layout(j, n, &rows);
+  char old[64];
+  const int hl =
+      snprintf(old, sizeof old, "voussoir sweep journal 1 row %zu bytes\n", sizeof(vs_sweep_row));
+  FILE *f = fopen(path, "wb");
+  assert_non_null(f);
+  assert_int_equal(fwrite(old, 1, (size_t)hl, f), (size_t)hl);
+  for (int i = 0; i < rows; i++) { /* its rows as they were: without their checksums */
+    const unsigned char *r = j + head + (size_t)i * (sizeof(vs_sweep_row) + 8);
+    assert_int_equal(fwrite(r, sizeof(vs_sweep_row), 1, f), 1);
+  }
+  assert_int_equal(fclose(f), 0);
+  free(j);
+  snprintf(path, sizeof path, "%s/jr/summary.csv", g_dir);
+  char *before = slurp(path);
+  snprintf(cmd, sizeof cmd, "%s sweep %s " JR_ARGS " -o %s/jr --resume >/dev/null 2>%s", VS_BINARY,
+           REFERENCE, g_dir, err);
+  assert_int_equal(sh(cmd), 2);
+  char *e = slurp(err), *after = slurp(path);
+  assert_non_null(strstr(e, "was not written by this build"));
+  assert_string_equal(after, before);
+  free(e), free(before), free(after), free(whole);
+}
+
+/* --- a killed sweep's workers, and one study at a time in a directory --- */
+
+/* Whether the record at path ("DIR/run_NNNN.h5") is created: its .part first, renamed once its
+ * layout is in. */
+static int record_begun(const void *path) {
+  char part[300];
+  snprintf(part, sizeof part, "%s.part", (const char *)path);
+  return access(path, F_OK) == 0 || access(part, F_OK) == 0;
+}
+
+/* The table (wall_s cut) of the uninterrupted sweep of JR_ARGS, run into g_dir/name. */
+static char *uninterrupted_table(const char *name) {
+  char cmd[1024], path[600];
+  snprintf(cmd, sizeof cmd, "%s sweep %s " JR_ARGS " -o %s/%s >/dev/null", VS_BINARY, REFERENCE,
+           g_dir, name);
+  assert_int_equal(sh(cmd), 0);
+  snprintf(path, sizeof path, "%s/%s/summary.csv", g_dir, name);
+  char *t = slurp(path);
+  assert_non_null(t);
+  strip_wall(t);
+  return t;
+}
+
+/* The table in dir (wall_s cut) must be whole, an uninterrupted sweep's. */
+static void expect_table(const char *dir, const char *whole) {
+  char path[300];
+  snprintf(path, sizeof path, "%s/summary.csv", dir);
+  char *t = slurp(path);
+  if (t == NULL) fail_msg("%s: missing", path);
+  strip_wall(t);
+  if (strcmp(t, whole) != 0) fail_msg("%s:\n%s\nnot the uninterrupted sweep's\n%s", path, t, whole);
+  free(t);
+}
+
+/* A run that cannot start (its record's lock held by another process, here this one) is not
+ * journalled: the sweep says so on stderr, lists it as not_started with the cause and exits 1,
+ * and --resume, once the lock is let go, runs it (it used to be journalled as a failed run,
+ * which every later --resume kept); the table is then the uninterrupted sweep's. */
+static void test_sweep_not_started(void **s) {
+  (void)s;
+  char *whole = uninterrupted_table("ns_ref");
+  char dir[128], path[200], cmd[1024], err[160];
+  snprintf(dir, sizeof dir, "%s/ns", g_dir);
+  assert_int_equal(mkdir(dir, 0755), 0);
+  snprintf(path, sizeof path, "%s/run_0002.h5.lock", dir);
+  const int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  assert_true(fd >= 0);
+  assert_int_equal(flock(fd, LOCK_EX | LOCK_NB), 0);
+  snprintf(err, sizeof err, "%s/ns.err", g_dir);
+  snprintf(cmd, sizeof cmd, "%s sweep %s " JR_ARGS " -o %s >/dev/null 2>%s", VS_BINARY, REFERENCE,
+           dir, err);
+  assert_int_equal(sh(cmd), 1);
+  char *e = slurp(err);
+  if (strstr(e, "run 2 could not start") == NULL || strstr(e, "being written by another") == NULL)
+    fail_msg("stderr \"%s\": expected run 2 named, and why", e);
+  free(e);
+  snprintf(path, sizeof path, "%s/summary.csv", dir);
+  char *t = slurp(path), status[32];
+  row_status(t, 2, status, sizeof status);
+  assert_string_equal(status, "not_started");
+  free(t);
+  snprintf(path, sizeof path, "%s/sweep.journal", dir);
+  size_t n = 0;
+  int rows = 0;
+  unsigned char *j = load_file(path, &n);
+  const size_t head = sweep_journal_layout(j, n, &rows);
+  assert_int_equal(rows, 2); /* runs 1 and 3 */
+  for (int i = 0; i < rows; i++) {
+    vs_sweep_row r;
+    memcpy(&r, j + head + (size_t)i * (sizeof r + 8), sizeof r);
+    assert_int_not_equal(r.run, 2);
+  }
+  free(j);
+  close(fd); /* the lock let go */
+  snprintf(cmd, sizeof cmd, "%s sweep %s " JR_ARGS " -o %s --resume >/dev/null 2>%s", VS_BINARY,
+           REFERENCE, dir, err);
+  assert_int_equal(sh(cmd), 0);
+  e = slurp(err);
+  assert_non_null(strstr(e, "resuming: 2 of 3 runs already complete"));
+  free(e);
+  expect_table(dir, whole);
+  free(whole);
+}
+
+/* SIGKILL to a sweep while its run R is under way (held: VS_FAULT_HOLD, its record created and
+ * locked), then --resume at once. The worker is stopped (SIGSTOP) before the kill, as slow to
+ * react to its parent's death as a loaded machine may make it: it must die with the sweep all
+ * the same (its parent-death signal was SIGTERM, under which it finished its step and closed its
+ * record, holding its run's lock meanwhile), so that the resume runs run R instead of journalling
+ * it as a failed run ("being written by another process"), which later resumes kept. This
+ * process is the killed sweep's subreaper: its orphaned workers become its children, and it
+ * sees how they ended. Three rounds, R = 1, 2, 3; the table each time the uninterrupted
+ * sweep's. */
+static void test_sweep_kill_resume(void **s) {
+  (void)s;
+  char *whole = uninterrupted_table("kill_ref");
+  assert_int_equal(prctl(PR_SET_CHILD_SUBREAPER, 1), 0);
+  for (int round = 1; round <= 3; round++) {
+    char dir[128], out[160], err[160], h5[200], hold[8];
+    snprintf(dir, sizeof dir, "%s/kill%d", g_dir, round);
+    snprintf(out, sizeof out, "%s/kill.out", g_dir);
+    snprintf(err, sizeof err, "%s/kill.err", g_dir);
+    snprintf(h5, sizeof h5, "%s/run_%04d.h5", dir, round);
+    snprintf(hold, sizeof hold, "%d", round);
+    char *argv[] = {VS_BINARY, "sweep", REFERENCE, "--alpha", "0,30,60", "--set",
+                    "arch.voussoirs=21", "-j", "1", "-q", "-o", dir, NULL};
+    assert_int_equal(setenv("VS_FAULT_HOLD", hold, 1), 0);
+    const pid_t pid = spawn(argv, out, err);
+    assert_int_equal(unsetenv("VS_FAULT_HOLD"), 0);
+    wait_until(record_begun, h5, pid, "run R's record created");
+    pid_t worker[4];
+    assert_int_equal(children_of(pid, worker, 4), 1); /* -j 1: run R's, holding its lock */
+    assert_int_equal(kill(worker[0], SIGSTOP), 0);
+    assert_int_equal(kill(pid, SIGKILL), 0);
+    int st = 0;
+    assert_int_equal(waitpid(pid, &st, 0), pid);
+    char *resume[] = {VS_BINARY, "sweep", REFERENCE, "--alpha", "0,30,60", "--set",
+                      "arch.voussoirs=21", "-j", "1", "-q", "-o", dir, "--resume", NULL};
+    const int rc = exit_code(spawn(resume, out, err));
+    kill(worker[0], SIGCONT); /* if it still lives, let it end as it would */
+    expect_table(dir, whole);
+    if (rc != 0) fail_msg("round %d: resume exit %d", round, rc);
+    pid_t p;
+    while ((p = waitpid(-1, &st, 0)) > 0) /* the orphaned worker, now ours */
+      if (p != worker[0] || !WIFSIGNALED(st) || WTERMSIG(st) != SIGKILL)
+        fail_msg("round %d: orphan %d ended %s %d, not killed with the sweep", round, (int)p,
+                 WIFSIGNALED(st) ? "by signal" : "with status",
+                 WIFSIGNALED(st) ? WTERMSIG(st) : WEXITSTATUS(st));
+  }
+  assert_int_equal(prctl(PR_SET_CHILD_SUBREAPER, 0), 0);
+  free(whole);
+}
+
+/* One study at a time in a directory: a sweep held with run 2 under way (VS_FAULT_HOLD, let go
+ * by a file: VS_FAULT_RELEASE) holds the directory's lock; a second sweep there, fresh or
+ * --resume, and a montecarlo there are refused with exit 2 and the first's pid, before they
+ * write anything: the first's manifest, journal, table and run 1's JSON are as they were, and
+ * once let go it finishes with the uninterrupted sweep's table. (A second sweep used to wipe the
+ * first's journal and JSONs, and each failed the other's runs.) */
+static void test_sweep_study_lock(void **s) {
+  (void)s;
+  char *whole = uninterrupted_table("lock_ref");
+  char dir[128], out[160], err[160], h5[200], release[160], path[200];
+  snprintf(dir, sizeof dir, "%s/lock", g_dir);
+  snprintf(out, sizeof out, "%s/lock.out", g_dir);
+  snprintf(err, sizeof err, "%s/lock.err", g_dir);
+  snprintf(h5, sizeof h5, "%s/run_0002.h5", dir);
+  snprintf(release, sizeof release, "%s/lock.release", g_dir);
+  char *argv[] = {VS_BINARY, "sweep", REFERENCE, "--alpha", "0,30,60", "--set",
+                  "arch.voussoirs=21", "-j", "1", "-q", "-o", dir, NULL};
+  assert_int_equal(setenv("VS_FAULT_HOLD", "2", 1), 0);
+  assert_int_equal(setenv("VS_FAULT_RELEASE", release, 1), 0);
+  const pid_t first = spawn(argv, out, err);
+  assert_int_equal(unsetenv("VS_FAULT_HOLD"), 0);
+  assert_int_equal(unsetenv("VS_FAULT_RELEASE"), 0);
+  wait_until(record_begun, h5, first, "run 2's record created");
+  static const char *const names[] = {"sweep.manifest", "sweep.journal", "summary.csv",
+                                      "run_0001.json"};
+  char *before[4];
+  struct stat st1, st2;
+  for (int i = 0; i < 4; i++) {
+    snprintf(path, sizeof path, "%s/%s", dir, names[i]);
+    before[i] = slurp(path);
+    assert_non_null(before[i]);
+  }
+  snprintf(path, sizeof path, "%s/run_0001.json", dir);
+  assert_int_equal(stat(path, &st1), 0);
+  char pid[32];
+  snprintf(pid, sizeof pid, "pid %d", (int)first);
+  char err2[160];
+  snprintf(err2, sizeof err2, "%s/lock2.err", g_dir);
+  char *second[] = {VS_BINARY, "sweep", REFERENCE, "--alpha", "0,30", "--set",
+                    "arch.voussoirs=21", "-j", "1", "-q", "-o", dir, NULL};
+  char *resume[] = {VS_BINARY, "sweep", REFERENCE, "--alpha", "0,30,60", "--set",
+                    "arch.voussoirs=21", "-j", "1", "-q", "-o", dir, "--resume", NULL};
+  char *mc[] = {VS_BINARY, "montecarlo", REFERENCE, "--samples", "2", "-q", "-o", dir, NULL};
+  char **others[] = {second, resume, mc};
+  for (int k = 0; k < 3; k++) {
+    const int rc = exit_code(spawn(others[k], out, err2));
+    char *e = slurp(err2);
+    if (rc != 2 || strstr(e, pid) == NULL || strstr(e, "another study") == NULL)
+      fail_msg("%s in the directory of a study under way: exit %d, stderr \"%s\" (expected 2 "
+               "and %s)", others[k][1], rc, e, pid);
+    free(e);
+  }
+  for (int i = 0; i < 4; i++) {
+    snprintf(path, sizeof path, "%s/%s", dir, names[i]);
+    char *now = slurp(path);
+    if (now == NULL || strcmp(now, before[i]) != 0) fail_msg("%s changed", names[i]);
+    free(now);
+    free(before[i]);
+  }
+  snprintf(path, sizeof path, "%s/run_0001.json", dir);
+  assert_int_equal(stat(path, &st2), 0);
+  assert_true(st1.st_ino == st2.st_ino && st1.st_mtim.tv_sec == st2.st_mtim.tv_sec &&
+              st1.st_mtim.tv_nsec == st2.st_mtim.tv_nsec);
+  FILE *f = fopen(release, "w"); /* let the first go on */
+  assert_non_null(f);
+  fclose(f);
+  assert_int_equal(exit_code(first), 0);
+  expect_table(dir, whole);
+  free(whole);
+  snprintf(path, sizeof path, "%s/study.lock", dir); /* released: removed */
+  assert_int_not_equal(access(path, F_OK), 0);
+}
+
+/* Whether the text (a C string) is in the file g_dir/lockwait.err. */
+static int stderr_says(const void *text) {
+  char path[200];
+  snprintf(path, sizeof path, "%s/lockwait.err", g_dir);
+  char *e = slurp(path);
+  const int yes = e != NULL && strstr(e, text) != NULL;
+  free(e);
+  return yes;
+}
+
+/* Whether process pid is a zombie (ended, not waited for). */
+static int zombie(const void *pid) {
+  char path[64], buf[256] = "";
+  snprintf(path, sizeof path, "/proc/%d/stat", *(const pid_t *)pid);
+  FILE *f = fopen(path, "r");
+  if (f == NULL) return 0;
+  const size_t k = fread(buf, 1, sizeof buf - 1, f);
+  fclose(f);
+  buf[k] = '\0';
+  const char *end = strrchr(buf, ')');
+  return end != NULL && end[1] == ' ' && end[2] == 'Z';
+}
+
+/* A directory lock held, by a process other than the one its lock file names, which has ended
+ * (here: this process holds it, and the file names a child of it that has ended and is not yet
+ * waited for, as a killed study's workers hold its lock while they die): a sweep there says on
+ * stderr that it waits for the workers of the study that ended, waits, and runs once the lock
+ * is let go. (A zombie holds no file: it must not count as a study under way, which would be
+ * refused with exit 2.) */
+static void test_sweep_lock_wait(void **s) {
+  (void)s;
+  char *whole = uninterrupted_table("wait_ref");
+  char dir[128], path[200], out[160], err[160], says[96];
+  snprintf(dir, sizeof dir, "%s/wait", g_dir);
+  assert_int_equal(mkdir(dir, 0755), 0);
+  const pid_t z = fork();
+  assert_true(z >= 0);
+  if (z == 0) _exit(0);
+  wait_until(zombie, &z, getpid(), "the child a zombie");
+  snprintf(path, sizeof path, "%s/study.lock", dir);
+  const int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644); /* the sweep must not share it */
+  assert_true(fd >= 0);
+  assert_int_equal(flock(fd, LOCK_EX | LOCK_NB), 0);
+  char pid[32];
+  const int n = snprintf(pid, sizeof pid, "%d\n", (int)z);
+  assert_int_equal(write(fd, pid, (size_t)n), n);
+  snprintf(out, sizeof out, "%s/lockwait.out", g_dir);
+  snprintf(err, sizeof err, "%s/lockwait.err", g_dir);
+  char *argv[] = {VS_BINARY, "sweep", REFERENCE, "--alpha", "0,30,60", "--set",
+                  "arch.voussoirs=21", "-j", "1", "-q", "-o", dir, NULL};
+  const pid_t sweep = spawn(argv, out, err);
+  snprintf(says, sizeof says, "waiting for the workers of a study that ended (pid %d)", (int)z);
+  wait_until(stderr_says, says, sweep, "the sweep waiting for the lock");
+  close(fd); /* let go */
+  assert_int_equal(exit_code(sweep), 0);
+  assert_int_equal(waitpid(z, NULL, 0), z);
+  expect_table(dir, whole);
+  free(whole);
+}
+
 static int setup(void **s) {
   (void)s;
   snprintf(g_dir, sizeof g_dir, "/tmp/vs_test_sweep_XXXXXX");
@@ -460,6 +884,11 @@ int main(void) {
       cmocka_unit_test(test_sweep_strict_options),
       cmocka_unit_test(test_sweep_interrupt_resume),
       cmocka_unit_test(test_sweep_torn_journal),
+      cmocka_unit_test(test_sweep_journal_rows),
+      cmocka_unit_test(test_sweep_not_started),
+      cmocka_unit_test(test_sweep_kill_resume),
+      cmocka_unit_test(test_sweep_study_lock),
+      cmocka_unit_test(test_sweep_lock_wait),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -343,3 +343,19 @@ void vs_outlock_release(vs_outlock **lp) {
   free(l);
   *lp = NULL;
 }
+
+long vs_outlock_holder(const char *path) {
+  char lp[4096], pid[32] = "";
+  const int n = snprintf(lp, sizeof lp, "%s.lock", path);
+  if (n < 0 || (size_t)n >= sizeof lp) return 0;
+  const int f = open(lp, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (f < 0) return 0;
+  struct stat st;
+  const ssize_t got = fstat(f, &st) == 0 && S_ISREG(st.st_mode) ? pread(f, pid, sizeof pid - 1, 0)
+                                                                 : 0;
+  close(f);
+  pid[got > 0 ? got : 0] = '\0';
+  char *end = NULL;
+  const long v = strtol(pid, &end, 10);
+  return end != pid && *end == '\n' && v > 0 ? v : 0;
+}

@@ -98,4 +98,9 @@ vs_status vs_outlock_acquire(const char *path, vs_outlock **out, vs_error *err);
  * lock file stays behind and is reused by the next writer. */
 void vs_outlock_release(vs_outlock **l);
 
+/* The pid recorded in path's lock file ("<path>.lock", as vs_outlock_acquire writes it) by its
+ * latest owner, who may hold it still or may have ended (the file outlives a killed owner): 0
+ * when there is none, or the file is not a regular file or holds no pid. */
+long vs_outlock_holder(const char *path);
+
 #endif

@@ -26,7 +26,10 @@ static const char *const SWEEP_USAGE =
     "SIGINT/SIGTERM: the runs under way are interrupted (the signal is passed on), the summary\n"
     "lists what finished and marks the rest 'interrupted' or 'not_run'; exit status 130.\n"
     "--resume: continue the sweep in DIR (same case, lists, --set and mode): a run whose row is\n"
-    "in DIR/sweep.journal (written as each run ends) is complete and is not run again.\n"
+    "in DIR/sweep.journal (written as each run ends) is complete and is not run again; a row\n"
+    "that is damaged or out of range is named on stderr and its run runs again. A run that could\n"
+    "not start (its record locked or refused) is listed 'not_started' and is left to --resume.\n"
+    "One study at a time in DIR (DIR/study.lock): another sweep or montecarlo there is refused.\n"
     "Exit status 0 when every run worked, 1 if any failed, 2 bad input, 130 interrupted.\n";
 
 enum { OPT_ALPHA = 256, OPT_KN, OPT_VARY, OPT_SET, OPT_FIRST_LIMIT, OPT_DYNAMIC, OPT_RESUME };

@@ -17,13 +17,17 @@ typedef struct {
 } vs_sweep_axis;
 
 /* How a case ended, in vs_sweep_row.code: run (VS_SWEEP_OK), failed with its cause, stopped by
- * the stop flag, or lost: its worker ended without a result (killed, crashed; set by the pool). */
-enum { VS_SWEEP_OK = 0, VS_SWEEP_FAILED = 1, VS_SWEEP_LOST = 2, VS_SWEEP_INTERRUPTED = 130 };
+ * the stop flag, lost: its worker ended without a result (killed, crashed; set by the pool), or
+ * not started: its record could not be created (locked by another process, not a regular
+ * file, no space, no memory), so that nothing of the case ran; the cause in error. Only OK and
+ * FAILED are journalled: the others are run again by --resume. */
+enum { VS_SWEEP_OK = 0, VS_SWEEP_FAILED = 1, VS_SWEEP_LOST = 2, VS_SWEEP_NOT_STARTED = 3,
+       VS_SWEEP_INTERRUPTED = 130 };
 
 /* One row of the summary: a case's inputs and results. Plain data, no pointers. */
 typedef struct {
   int run;                            /* 1-based run number */
-  int code;                           /* VS_SWEEP_OK, _FAILED (cause in error), _INTERRUPTED */
+  int code;                           /* VS_SWEEP_OK, _FAILED (cause in error), ... (above) */
   double axis[VS_SWEEP_MAX_AXES];     /* the axes' values (case units) */
   char status[32];                    /* collapse, limit_point, max_displacement, failed, ... */
   char mode[8];                       /* I, II, III or "" */

@@ -59,6 +59,7 @@ typedef struct {
   int next;           /* the next slot to consider handing out */
   int ndone, resumed, taken; /* results held, of which from the journal; taken in this run */
   FILE *journal;
+  vs_outlock *lock; /* DIR's (journal.h), from before anything in DIR is written to the end */
 } mc_study;
 
 static int sample_of(const mc_study *s, int slot) {
@@ -71,10 +72,11 @@ static int slot_of(const mc_study *s, int sample) {
   return d >= 0 && d % s->o->shard_m == 0 && d / s->o->shard_m < s->n ? d / s->o->shard_m : -1;
 }
 
-/* The journal's first line: its kind and the layout of its rows (a journal of another build is
- * refused). */
+/* The journal's first line: its kind and the layout of its rows, their size with the checksum
+ * (a journal of another build, or of the layout before the checksums, journal 1, is refused). */
 static void journal_head(char *buf, size_t size) {
-  snprintf(buf, size, "voussoir montecarlo journal 1 row %zu bytes\n", sizeof(vs_mc_sample));
+  snprintf(buf, size, "voussoir montecarlo journal 2 row %zu bytes\n",
+           sizeof(vs_mc_sample) + VS_JOURNAL_SUM);
 }
 
 static char *manifest_text(const mc_study *s) {
@@ -95,19 +97,53 @@ static void keep(mc_study *s, const vs_mc_sample *r) {
   s->done[slot] = 1;
 }
 
-/* A row of the journal being resumed: kept if it is one of this shard's samples and whole. */
-static void resumed(void *user, const void *row) {
+/* A row of the journal being resumed: kept when every field is sound (one of this shard's
+ * samples, on this arch) and it is the first for its sample. */
+static int resumed(void *user, const void *row, char *why, size_t size) {
   mc_study *s = user;
-  vs_mc_sample r;
-  memcpy(&r, row, sizeof r);
-  r.pattern[sizeof r.pattern - 1] = r.error[sizeof r.error - 1] = '\0';
-  if (r.status < VS_MC_COLLAPSE || r.status > VS_MC_FAILED) return;
-  keep(s, &r);
+  const vs_mc_sample *r = row;
+  if (!vs_mc_sample_check(r, s->o->samples, s->o->shard_k, s->o->shard_m, s->c->voussoirs + 1,
+                          why, size))
+    return 0;
+  if (s->done[slot_of(s, r->sample)]) {
+    snprintf(why, size, "a second row for sample %d", r->sample);
+    return 0;
+  }
+  keep(s, r);
+  return 1;
 }
 
-/* Fresh: the manifest written (renamed into place) and an empty journal. --resume: the manifest
- * must be the same, the journal's results are kept and it is appended to after its whole rows.
- * 0, or an exit status after printing why. */
+/* --resume: the manifest at mpath must say want; the sound rows of the journal at path are kept
+ * (*rows: how many). 0, or an exit status after printing why. */
+static int resume_study(mc_study *s, const char *mpath, const char *want, const char *path,
+                        const char *head, long *rows) {
+  const int same = vs_manifest_same(mpath, want);
+  if (same != 1) {
+    fprintf(stderr, "voussoir montecarlo: --resume: %s %s\n", mpath,
+            same < 0 ? "is missing: no study to resume in this directory"
+                     : "differs: that study had another case, --set, --seed, --samples or "
+                       "--shard");
+    return EXIT_USAGE;
+  }
+  const int rc = vs_journal_read(path, head, sizeof(vs_mc_sample), "voussoir montecarlo",
+                                 resumed, s, rows);
+  if (rc == VS_JOURNAL_FOREIGN)
+    fprintf(stderr, "voussoir montecarlo: --resume: %s was not written by this build of "
+            "voussoir (it expects \"%.*s\"); run the study afresh\n", path,
+            (int)strlen(head) - 1, head);
+  else if (rc != 0)
+    fprintf(stderr, "voussoir montecarlo: --resume: %s: cannot read or rewrite: %s\n", path,
+            strerror(errno));
+  s->resumed = s->ndone;
+  if (rc == 0 && !s->o->quiet)
+    fprintf(stderr, "voussoir montecarlo: resuming: %d of %d samples already done\n", s->ndone,
+            s->n);
+  return rc == 0 ? 0 : EXIT_USAGE;
+}
+
+/* The directory locked; fresh: the manifest written (renamed into place) and an empty journal.
+ * --resume: the manifest must be the same, the journal's sound results are kept and it is
+ * appended to after them. 0, or an exit status after printing why. */
 static int study_open(mc_study *s) {
   const char *dir = s->o->dir;
   char *want = manifest_text(s), path[MC_JPATH], head[96];
@@ -121,29 +157,17 @@ static int study_open(mc_study *s) {
   int rc = 0;
   char mpath[MC_JPATH];
   snprintf(mpath, sizeof mpath, "%s/%s", dir, MANIFEST);
-  if (s->o->resume) {
-    const int same = vs_manifest_same(mpath, want);
-    if (same != 1) {
-      fprintf(stderr, "voussoir montecarlo: --resume: %s %s\n", mpath,
-              same < 0 ? "is missing: no study to resume in this directory"
-                       : "differs: that study had another case, --set, --seed, --samples or "
-                         "--shard");
-      rc = EXIT_USAGE;
-    } else if (vs_journal_read(path, head, sizeof(vs_mc_sample), resumed, s, &rows) != 0) {
-      fprintf(stderr, "voussoir montecarlo: --resume: %s was not written by this build of "
-              "voussoir (it expects \"%.*s\"); run the study afresh\n", path,
-              (int)strlen(head) - 1, head);
-      rc = EXIT_USAGE;
-    }
-    s->resumed = s->ndone;
-    if (rc == 0 && !s->o->quiet)
-      fprintf(stderr, "voussoir montecarlo: resuming: %d of %d samples already done\n",
-              s->ndone, s->n);
+  vs_error err;
+  vs_error_clear(&err);
+  if (vs_study_lock(dir, "voussoir montecarlo", &s->lock, &err) != VS_OK) {
+    fprintf(stderr, "voussoir montecarlo: %s\n", err.msg);
+    rc = EXIT_USAGE;
+  } else if (s->o->resume) {
+    rc = resume_study(s, mpath, want, path, head, &rows);
   } else {
     char part[MC_JPATH + 8];
     snprintf(part, sizeof part, "%s.part", mpath);
     FILE *f;
-    vs_error err;
     vs_status st = vs_outpath_fopen(part, &f, &err);
     if (st == VS_OK) {
       const int ok = fputs(want, f) >= 0;
@@ -158,7 +182,6 @@ static int study_open(mc_study *s) {
     }
   }
   free(want);
-  vs_error err;
   if (rc == 0 &&
       (s->journal = vs_journal_open(path, head, sizeof(vs_mc_sample), rows, &err)) == NULL) {
     fprintf(stderr, "voussoir montecarlo: %s\n", err.msg);
@@ -200,6 +223,7 @@ static int next_sample(mc_study *s) {
 
 static void study_close(mc_study *s) {
   if (s->journal != NULL) fclose(s->journal);
+  vs_outlock_release(&s->lock);
   free(s->res);
   free(s->done);
 }
@@ -217,11 +241,13 @@ typedef struct {
   int fd, sample; /* read end of the result pipe; the sample it runs */
 } worker;
 
-/* Fork a worker for sample `sample`: it runs it and writes the result into a pipe. */
+/* Fork a worker for sample `sample`: it runs it and writes the result into a pipe; killed with
+ * the study if that is killed outright (vs_worker_tie). */
 static int start_worker(const vs_case *c, int sample, worker *w) {
   int fds[2];
   if (pipe(fds) != 0) return -1;
   fflush(NULL);
+  const pid_t parent = getpid();
   pid_t pid = fork();
   if (pid < 0) {
     close(fds[0]);
@@ -229,7 +255,9 @@ static int start_worker(const vs_case *c, int sample, worker *w) {
     return -1;
   }
   if (pid == 0) {
+    vs_worker_tie(parent);
     close(fds[0]);
+    vs_fault_hold(sample, &g_stops); /* tests only */
     vs_mc_sample r;
     vs_mc_run_sample(c, sample, &r);
     _exit(vs_write_all(fds[1], &r, sizeof r) == 0 ? 0 : 3);
@@ -344,9 +372,9 @@ static int load_case(const vs_mc_opts *a, vs_case *c) {
 
 int vs_mc_check_outputs(const char *cmd, const char *dir, const vs_outpath_other *others,
                         int n_others, int state) {
-  /* each written through "<name>.part" but the journal */
-  static const char *const names[] = {VS_MC_OUTPUTS, MANIFEST, JOURNAL};
-  const size_t count = sizeof names / sizeof names[0] - (state ? 0 : 2);
+  /* each written through "<name>.part" but the journal and the study lock */
+  static const char *const names[] = {VS_MC_OUTPUTS, MANIFEST, JOURNAL, VS_STUDY_LOCK ".lock"};
+  const size_t count = sizeof names / sizeof names[0] - (state ? 0 : 3);
   vs_error err;
   vs_error_clear(&err);
   int bad = vs_outpath_check_dir(dir, &err) != VS_OK;

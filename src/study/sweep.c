@@ -157,9 +157,11 @@ static char *manifest_text(const vs_case *c, const axis *ax, int nax, const char
 
 /* --- the journal: DIR/sweep.journal, the rows of the complete runs as they end (journal.h) --- */
 
-/* Its first line names this layout (the row's size): a journal of another build is refused. */
+/* Its first line names this layout (the row's size with its checksum): a journal of another
+ * build, or of the layout before the checksums (journal 1), is refused by --resume. */
 static void journal_header(char *buf, size_t size) {
-  snprintf(buf, size, "voussoir sweep journal 1 row %zu bytes\n", sizeof(vs_sweep_row));
+  snprintf(buf, size, "voussoir sweep journal 2 row %zu bytes\n",
+           sizeof(vs_sweep_row) + VS_JOURNAL_SUM);
 }
 
 static void journal_path(const char *dir, char *path, size_t size) {
@@ -213,16 +215,19 @@ typedef vs_sweep_opts sweep_opts;
 typedef struct {
   const sweep_opts *o;
   vs_sweep_job job;
-  int total, n, failed, next, todo;
+  int total, n, failed, not_started, next, todo;
   char *state;        /* per run: 0 to run, 1 handed out, 2 done (its row kept) */
   vs_sweep_row *rows; /* the rows kept, in the order they came */
   FILE *csv, *journal;
+  vs_outlock *lock;   /* DIR's (journal.h), from before anything in DIR is written to the end */
 } sweep_state;
 
+/* A row kept: in the table too once it is open (the journal's rows are read before). */
 static void keep_row(sweep_state *s, const vs_sweep_row *row) {
   s->rows[s->n++] = *row;
   s->state[row->run - 1] = 2;
   s->failed += row->code != VS_SWEEP_OK;
+  if (s->csv == NULL) return;
   write_csv_row(s->csv, row, s->o->nax);
   fflush(s->csv);
 }
@@ -240,8 +245,10 @@ static int next_run(void *user) {
 }
 
 /* A run's row as it comes back: a complete run (worked, or failed with its cause) is kept and
- * journalled, and its JSON renamed into place; a worker lost on its own is a failed row (run
- * again by --resume); an interrupted run stays handed out (marked at the end). */
+ * journalled, and its JSON renamed into place; a worker lost on its own, or a run that could not
+ * start (its record refused: locked, not a regular file, not creatable), is a failed row that
+ * is not journalled (run again by --resume); an interrupted run stays handed out (marked at
+ * the end). */
 static void take_row(void *user, const vs_sweep_row *in) {
   sweep_state *s = user;
   if (in->run < 1 || in->run > s->total || s->state[in->run - 1] != 1) return;
@@ -267,15 +274,35 @@ static void take_row(void *user, const vs_sweep_row *in) {
     return;
   }
   if (written) remove(part);
-  if (row.code == VS_SWEEP_LOST && g_stop_count == 0) keep_row(s, &row);
+  if (row.code == VS_SWEEP_NOT_STARTED) {
+    fprintf(stderr, "voussoir sweep: run %d could not start: %s (not journalled: --resume runs "
+            "it)\n", row.run, row.error);
+    s->not_started++;
+  }
+  if ((row.code == VS_SWEEP_LOST && g_stop_count == 0) || row.code == VS_SWEEP_NOT_STARTED)
+    keep_row(s, &row);
 }
 
-/* A row from the journal of the sweep being resumed (a complete run's). */
-static void resumed_row(void *user, const void *r) {
+/* A row from the journal of the sweep being resumed (a complete run's): taken when every field
+ * is sound, its axes' values are its run's, and it is the first for its run. */
+static int resumed_row(void *user, const void *r, char *why, size_t size) {
   sweep_state *s = user;
   const vs_sweep_row *row = r;
-  if (row->run < 1 || row->run > s->total || s->state[row->run - 1] != 0) return;
+  if (!vs_sweep_row_check(row, s->total, s->o->nax, why, size)) return 0;
+  int pick[MAX_AXES];
+  vs_sweep_pick(&s->job, row->run, pick);
+  for (int x = 0; x < s->o->nax; x++)
+    if (row->axis[x] != s->o->ax[x].v[pick[x]]) {
+      snprintf(why, size, "run %d: %s = %.17g is not the run's %.17g", row->run, s->o->ax[x].key,
+               row->axis[x], s->o->ax[x].v[pick[x]]);
+      return 0;
+    }
+  if (s->state[row->run - 1] != 0) {
+    snprintf(why, size, "a second row for run %d", row->run);
+    return 0;
+  }
   keep_row(s, row);
+  return 1;
 }
 
 /* Whether name is one a run of a sweep writes: run_NNNN followed by ".h5", ".xmf", ".json",
@@ -296,8 +323,9 @@ static int run_file(const char *name, void *user) {
 /* DIR and every file the sweep writes there are fit to be written (absent or regular files):
  * checked before DIR or anything in it is created or removed. 0, or -1 with err set. */
 static int check_dir(const char *dir, vs_error *err) {
-  static const char *const names[] = {"summary.csv", "summary.csv.tmp", "summary.h5",
-                                      "summary.h5.part", "sweep.journal", "sweep.manifest"};
+  static const char *const names[] = {"summary.csv",   "summary.csv.tmp", "summary.h5",
+                                      "summary.h5.part", "sweep.journal",  "sweep.manifest",
+                                      VS_STUDY_LOCK ".lock"};
   if (vs_outpath_check_dir(dir, err) != VS_OK) return -1;
   if (access(dir, F_OK) != 0) return 0; /* created afresh */
   for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
@@ -308,8 +336,24 @@ static int check_dir(const char *dir, vs_error *err) {
   return vs_outpath_check_entries(dir, run_file, NULL, err) == VS_OK ? 0 : -1;
 }
 
-/* Check and create DIR, its manifest, the table (header written) and the journal. 0, or an exit
- * status after printing why. */
+/* The rows of the journal of the sweep being resumed (jpath), those found sound kept, the
+ * others removed from it; *rows: how many it keeps. 0, or an exit status after printing why. */
+static int resume_journal(sweep_state *s, const char *jpath, const char *head, long *rows) {
+  const int rc = vs_journal_read(jpath, head, sizeof(vs_sweep_row), "voussoir sweep",
+                                 resumed_row, s, rows);
+  if (rc == VS_JOURNAL_FOREIGN)
+    fprintf(stderr, "voussoir sweep: --resume: %s was not written by this build of voussoir "
+            "(it expects \"%.*s\"); run the sweep afresh\n", jpath, (int)strlen(head) - 1, head);
+  else if (rc != 0)
+    fprintf(stderr, "voussoir sweep: --resume: %s: cannot read or rewrite: %s\n", jpath,
+            strerror(errno));
+  else
+    fprintf(stderr, "voussoir sweep: resuming: %d of %d runs already complete\n", s->n, s->total);
+  return rc == 0 ? 0 : EXIT_USAGE;
+}
+
+/* Check and create DIR and lock it, its manifest, the table (header written) and the journal.
+ * 0, or an exit status after printing why. */
 static int sweep_open(sweep_state *s, const char *manifest) {
   const sweep_opts *o = s->o;
   char path[1100], jpath[1100];
@@ -325,12 +369,11 @@ static int sweep_open(sweep_state *s, const char *manifest) {
     fprintf(stderr, "voussoir sweep: -o %s: cannot create: %s\n", o->dir, strerror(errno));
     return EXIT_USAGE;
   }
-  if (prepare_dir(o->dir, manifest, s->total, o->resume) != 0) return EXIT_USAGE;
-  if (vs_outpath_fopen(path, &s->csv, &err) != VS_OK) {
+  if (vs_study_lock(o->dir, "voussoir sweep", &s->lock, &err) != VS_OK) {
     fprintf(stderr, "voussoir sweep: %s\n", err.msg);
     return EXIT_USAGE;
   }
-  write_csv_header(s->csv, o->ax, o->nax);
+  if (prepare_dir(o->dir, manifest, s->total, o->resume) != 0) return EXIT_USAGE;
   s->rows = calloc((size_t)s->total, sizeof *s->rows);
   s->state = calloc((size_t)s->total, 1);
   if (s->rows == NULL || s->state == NULL) {
@@ -340,14 +383,17 @@ static int sweep_open(sweep_state *s, const char *manifest) {
   char head[96];
   journal_header(head, sizeof head);
   long rows = -1; /* fresh */
-  if (o->resume) { /* the journal's rows first, then it is appended to, after its whole rows */
-    if (vs_journal_read(jpath, head, sizeof(vs_sweep_row), resumed_row, s, &rows) != 0) {
-      fprintf(stderr, "voussoir sweep: --resume: %s was not written by this build of voussoir "
-              "(it expects \"%.*s\"); run the sweep afresh\n", jpath, (int)strlen(head) - 1, head);
-      return EXIT_USAGE;
-    }
-    fprintf(stderr, "voussoir sweep: resuming: %d of %d runs already complete\n", s->n, s->total);
+  /* the journal's rows first (a journal refused leaves the table as it was), then it is appended
+   * to, after the rows kept */
+  int rc = o->resume ? resume_journal(s, jpath, head, &rows) : 0;
+  if (rc != 0) return rc;
+  if (vs_outpath_fopen(path, &s->csv, &err) != VS_OK) {
+    fprintf(stderr, "voussoir sweep: %s\n", err.msg);
+    return EXIT_USAGE;
   }
+  write_csv_header(s->csv, o->ax, o->nax);
+  for (int i = 0; i < s->n; i++) write_csv_row(s->csv, &s->rows[i], o->nax);
+  fflush(s->csv);
   s->journal = vs_journal_open(jpath, head, sizeof(vs_sweep_row), rows, &err);
   if (s->journal == NULL) {
     fprintf(stderr, "voussoir sweep: %s\n", err.msg);
@@ -394,7 +440,11 @@ static int sweep_close(sweep_state *s, double wall, int processes) {
            path);
     return EXIT_STOPPED;
   }
-  printf("%d runs (%d failed%s) in %.1f s on %d processes; ", s->total, s->failed,
+  char not_started[96] = "";
+  if (s->not_started > 0)
+    snprintf(not_started, sizeof not_started, ", %d of them could not start: run them with "
+             "--resume", s->not_started);
+  printf("%d runs (%d failed%s%s) in %.1f s on %d processes; ", s->total, s->failed, not_started,
          skipped ? ", some from before --resume" : "", wall, processes);
   if (tables_ok) printf("table: %s (and summary.h5)\n", path);
   else printf("the tables were not written (above); --resume writes them\n");
@@ -404,6 +454,7 @@ static int sweep_close(sweep_state *s, double wall, int processes) {
 static void sweep_free(sweep_state *s) {
   if (s->csv != NULL) fclose(s->csv);
   if (s->journal != NULL) fclose(s->journal);
+  vs_outlock_release(&s->lock);
   free(s->rows);
   free(s->state);
 }

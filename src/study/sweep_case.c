@@ -9,6 +9,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "pipe_io.h"
 #include "sweep_private.h"
 #include "outpath.h"
 #include "voussoir/output.h"
@@ -98,20 +99,11 @@ static vs_status write_json(const char *path, const vs_run *r, vs_status st, con
  * 57 MB and adds 6 % to its CPU (each state's 54 HDF references, not the padding, dominate). */
 static const int VS_SWEEP_XDMF_GRIDS = 200;
 
-/* Fault injection for the interrupt test: with the environment variable VS_FAULT_HOLD = N, run N
- * waits once its record is created until the stop flag is raised, so that a signal lands while
- * it is under way however fast the machine runs it (the test waits for the record to appear,
- * then signals: no race). Polls the flag (10 ms): a stop flag cannot be waited on otherwise. At
- * most 600 s, so that a test that fails before signalling leaves no process waiting for ever. */
-static void fault_hold(int run, const volatile sig_atomic_t *stop) {
-  const char *v = getenv("VS_FAULT_HOLD");
-  if (v == NULL || stop == NULL || atoi(v) != run) return;
-  for (int i = 0; i < 60000 && !*stop; i++) nanosleep(&(struct timespec){0, 10000000}, NULL);
-}
-
-/* Execute r into its record (created at h5), closing the record with the run's status. */
+/* Execute r into its record (created at h5), closing the record with the run's status.
+ * *started becomes 0 when the record could not be created: nothing of the case ran. */
 static vs_status execute(const vs_sweep_job *job, int run, vs_run *r, const char *h5,
-                         const volatile sig_atomic_t *stop, int *h5_clean, vs_error *err) {
+                         const volatile sig_atomic_t *stop, int *h5_clean, int *started,
+                         vs_error *err) {
   vs_output *rec = NULL;
   vs_output_opts opts;
   vs_output_opts_default(&opts);
@@ -119,9 +111,10 @@ static vs_status execute(const vs_sweep_job *job, int run, vs_run *r, const char
   vs_status st = vs_output_create(h5, r, job->case_text, &opts, &rec, err);
   if (st != VS_OK) {
     if (st == VS_ERR_IO) *h5_clean = 0;
+    *started = 0;
     return st;
   }
-  fault_hold(run, stop);
+  vs_fault_hold(run, stop); /* tests only */
   st = vs_run_execute(r, vs_output_sample, vs_output_event, rec, err);
   if (st != VS_OK && stop != NULL && *stop) {
     st = vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
@@ -154,16 +147,19 @@ void vs_sweep_run_case(const vs_sweep_job *job, int run, const volatile sig_atom
   vs_error_clear(&err);
   vs_status st = build_case(job, run, row, &c, &err);
   if (st == VS_OK) st = vs_run_create(&c, &r, &err);
+  int started = st != VS_ERR_NOMEM; /* out of memory says nothing of the case */
   if (st == VS_OK) {
     vs_run_set_stop(r, stop);
     st = stop != NULL && *stop ? vs_error_set(&err, VS_ERR_INTERRUPTED, "interrupted")
-                               : execute(job, run, r, h5, stop, h5_clean, &err);
+                               : execute(job, run, r, h5, stop, h5_clean, &started, &err);
   }
-  row->code = st == VS_OK ? VS_SWEEP_OK
+  row->code = !started ? VS_SWEEP_NOT_STARTED
+              : st == VS_OK ? VS_SWEEP_OK
               : st == VS_ERR_INTERRUPTED ? VS_SWEEP_INTERRUPTED : VS_SWEEP_FAILED;
-  if (r == NULL) { /* no run: the case itself was refused */
-    snprintf(row->status, sizeof row->status, "failed");
+  if (r == NULL || !started) { /* no run (the case itself was refused), or it could not start */
+    snprintf(row->status, sizeof row->status, "%s", started ? "failed" : "not_started");
     snprintf(row->error, sizeof row->error, "%s", err.msg);
+    vs_run_destroy(&r);
     return;
   }
   fill_row(r, st, &err, row);

@@ -10,9 +10,6 @@
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
-#ifdef __linux__
-#include <sys/prctl.h>
-#endif
 
 #include "pipe_io.h"
 #include "sweep_private.h"
@@ -30,15 +27,12 @@ static double now_s(void) {
 }
 
 /* The worker: its own process group (a terminal's ^C reaches the sweep, which passes it on
- * once), ended with the sweep if that is killed outright, the case run here, the row written
- * into the pipe. Never returns. */
+ * once), killed with the sweep if that is killed outright (vs_worker_tie), the case run here,
+ * the row written into the pipe. Never returns. */
 static void worker_main(const vs_sweep_job *job, int run, int fd, pid_t parent,
                         volatile sig_atomic_t *stop_count) {
   setpgid(0, 0);
-#ifdef __linux__
-  prctl(PR_SET_PDEATHSIG, SIGTERM);
-#endif
-  if (getppid() != parent) _exit(130); /* it died before prctl */
+  vs_worker_tie(parent);
   vs_sweep_row row;
   int clean = 1;
   /* the handler inherited from the sweep raises *stop_count: the run stops at its next step */
