@@ -278,13 +278,9 @@ static void list_keys(const char *section, char *buf, size_t size) {
   }
 }
 
-/* Echo user text into a message (case_internal.h: vs_case_echo). */
-const char *vs_case_clip(const char *s, vs_case_echo *b) {
-  if (strlen(s) <= VS_CASE_ECHO_MAX) return s;
-  memcpy(b->s, s, VS_CASE_ECHO_MAX);
-  memcpy(b->s + VS_CASE_ECHO_MAX, "...", 4);
-  return b->s;
-}
+/* Echo user text into a message (case_internal.h: vs_case_echo), quoted: a case file's token
+ * may hold an escape sequence. */
+const char *vs_case_clip(const char *s, vs_case_echo *b) { return vs_quote(s, b->s, sizeof b->s); }
 
 /* ---------------------------------------------------------------------------------------------
  * Numbers: the one parser of parse.h (same accepted forms as every command-line option). */

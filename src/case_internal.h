@@ -14,7 +14,8 @@ typedef struct {
   char s[VS_CASE_ECHO_MAX + 4];
 } vs_case_echo;
 
-/* s, or its first VS_CASE_ECHO_MAX characters and "..." in b. */
+/* s quoted (vs_quote: no control character or escape sequence gets through) in b: at most
+ * VS_CASE_ECHO_MAX characters, or its first ones and "...". */
 const char *vs_case_clip(const char *s, vs_case_echo *b);
 
 /* Is section[0, len) a section of the table? section need not be NUL-terminated. */

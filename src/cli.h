@@ -50,6 +50,18 @@ int cli_int(const char *name, const char *option, const char *text, int lo, int 
 int cli_double(const char *name, const char *option, const char *text, double lo, double hi,
                double *out);
 
+/* A word of the command line or a path, quoted for a message (vs_quote: no control character or
+ * escape sequence reaches the terminal), by value: cli_q(path).s lives until the end of the
+ * printf that uses it. */
+typedef struct {
+  char s[1024];
+} cli_quoted;
+static inline cli_quoted cli_q(const char *s) {
+  cli_quoted q;
+  vs_quote(s, q.s, sizeof q.s);
+  return q;
+}
+
 /* Keep one more --set value; VS_EXIT_BAD_INPUT beyond VS_CLI_MAX_SETS. */
 int cli_add_set(const char *name, const char *value, const char **sets, int *nsets);
 

@@ -63,7 +63,7 @@ static int parse_shard(const char *v, vs_mc_opts *o) {
     o->shard_m = (int)lm;
   }
   if (ok) return 0;
-  fprintf(stderr, "voussoir montecarlo: --shard %s: expected K/M with 1 <= K <= M\n", v);
+  fprintf(stderr, "voussoir montecarlo: --shard %s: expected K/M with 1 <= K <= M\n", cli_q(v).s);
   return VS_EXIT_BAD_INPUT;
 }
 
@@ -85,7 +85,7 @@ static int mc_option(void *user, int code, const char *value) {
     o->case_path = value;
     return 0;
   }
-  fprintf(stderr, "voussoir montecarlo: unexpected argument %s\n%s", value, MC_USAGE);
+  fprintf(stderr, "voussoir montecarlo: unexpected argument %s\n%s", cli_q(value).s, MC_USAGE);
   return VS_EXIT_BAD_INPUT;
 }
 

@@ -47,8 +47,8 @@ int cli_parse(const cli_command *cmd, int argc, char **argv, cli_option_fn on_op
     if (code == '?' || code == ':') {
       refused_option(argv + 1, word, sizeof word);
       const char *why = code == ':' ? "needs a value" : optopt >= 256 ? "takes no value" : NULL;
-      if (why != NULL) fprintf(stderr, "%s: %s %s\n%s", cmd->name, word, why, cmd->usage);
-      else fprintf(stderr, "%s: unknown option %s\n%s", cmd->name, word, cmd->usage);
+      if (why != NULL) fprintf(stderr, "%s: %s %s\n%s", cmd->name, cli_q(word).s, why, cmd->usage);
+      else fprintf(stderr, "%s: unknown option %s\n%s", cmd->name, cli_q(word).s, cmd->usage);
       return VS_EXIT_BAD_INPUT;
     }
     rc = on_option(user, code, optarg);

@@ -181,7 +181,8 @@ static int run_option(void *user, int code, const char *value) {
   case 'q': a->quiet = 1; return 0;
   default: /* 1: the case */
     if (a->case_path != NULL) {
-      fprintf(stderr, "voussoir: more than one case file (%s, %s)\n", a->case_path, value);
+      fprintf(stderr, "voussoir: more than one case file (%s, %s)\n", cli_q(a->case_path).s,
+              cli_q(value).s);
       return EXIT_BAD_INPUT;
     }
     a->case_path = value;

@@ -55,8 +55,9 @@ static int add_axis(vs_sweep_opts *o, int code, const char *value) {
   if (code == OPT_VARY) {
     const char *eq = strchr(list, '=');
     if (eq == NULL || (size_t)(eq - list) >= sizeof x->key) {
-      fprintf(stderr, "voussoir sweep: --vary %.64s: expected SECTION.KEY=LIST (KEY shorter "
-                      "than %d characters)\n", list, (int)sizeof x->key);
+      char q[68];
+      fprintf(stderr, "voussoir sweep: --vary %s: expected SECTION.KEY=LIST (KEY shorter "
+                      "than %d characters)\n", vs_quote(list, q, sizeof q), (int)sizeof x->key);
       return VS_EXIT_BAD_INPUT;
     }
     snprintf(x->key, sizeof x->key, "%.*s", (int)(eq - list), list);
@@ -91,7 +92,7 @@ static int sweep_option(void *user, int code, const char *value) {
     o->case_path = value;
     return 0;
   }
-  fprintf(stderr, "voussoir sweep: unexpected argument %s\n%s", value, SWEEP_USAGE);
+  fprintf(stderr, "voussoir sweep: unexpected argument %s\n%s", cli_q(value).s, SWEEP_USAGE);
   return VS_EXIT_BAD_INPUT;
 }
 
@@ -106,8 +107,9 @@ int vs_cli_sweep(int argc, char **argv, int *h5_clean) {
   vs_sweep_catch_signals(); /* first, so that no signal is lost while the sweep sets up */
   int rc = cli_parse(&SWEEP, argc, argv, sweep_option, &o);
   if (rc == 0 && strlen(o.dir) > 1000) {
-    fprintf(stderr, "voussoir sweep: -o %.64s...: directory name too long (at most 1000 "
-                    "characters)\n", o.dir);
+    char q[68];
+    fprintf(stderr, "voussoir sweep: -o %s: directory name too long (at most 1000 "
+                    "characters)\n", vs_quote(o.dir, q, sizeof q));
     rc = VS_EXIT_BAD_INPUT;
   }
   if (rc == 0 && (o.case_path == NULL || o.nax == 0)) {
@@ -169,7 +171,7 @@ static int cal_option(void *user, int code, const char *value) {
     a->o.case_path = value;
     return 0;
   }
-  fprintf(stderr, "voussoir calibrate: unexpected argument %s\n%s", value, CAL_USAGE);
+  fprintf(stderr, "voussoir calibrate: unexpected argument %s\n%s", cli_q(value).s, CAL_USAGE);
   return VS_EXIT_BAD_INPUT;
 }
 

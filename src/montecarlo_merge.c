@@ -68,17 +68,18 @@ static int read_shard(const char *dir, char *header, size_t hsize, vs_mc_sample 
   snprintf(path, sizeof path, "%s/samples.csv", dir);
   FILE *f = fopen(path, "r");
   if (f == NULL) {
-    fprintf(stderr, "voussoir merge: %s: cannot open: %s\n", path, strerror(errno));
+    fprintf(stderr, "voussoir merge: %s: cannot open: %s\n", cli_q(path).s, strerror(errno));
     return -1;
   }
   int rc = 0;
   if (fgets(line, sizeof line, f) == NULL || strncmp(line, "# voussoir montecarlo ", 22) != 0) {
-    fprintf(stderr, "voussoir merge: %s: not a montecarlo table\n", path);
+    fprintf(stderr, "voussoir merge: %s: not a montecarlo table\n", cli_q(path).s);
     rc = -1;
   } else if (header[0] == '\0') {
     snprintf(header, hsize, "%s", line);
   } else if (strcmp(header, line) != 0) {
-    fprintf(stderr, "voussoir merge: %s: another case or seed than the first directory\n", path);
+    fprintf(stderr, "voussoir merge: %s: another case or seed than the first directory\n",
+            cli_q(path).s);
     rc = -1;
   }
   if (rc == 0 && fgets(line, sizeof line, f) == NULL) rc = -1; /* column names */
@@ -94,7 +95,7 @@ static int read_shard(const char *dir, char *header, size_t hsize, vs_mc_sample 
       *cap = nc;
     }
     if (parse_row(line, &(*all)[*n]) != 0) {
-      fprintf(stderr, "voussoir merge: %s: malformed row %d\n", path, *n + 1);
+      fprintf(stderr, "voussoir merge: %s: malformed row %d\n", cli_q(path).s, *n + 1);
       rc = -1;
     } else {
       (*n)++;

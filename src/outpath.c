@@ -64,6 +64,19 @@ static const char *kind_of(mode_t m) {
   return "not a regular file";
 }
 
+/* An output's name is shown in messages and tables and written into its XDMF sidecar: it must
+ * be printable text (vs_quote_clean: no control character, no escape sequence, well-formed
+ * UTF-8), so that nothing that prints it can act on a terminal. */
+static vs_status check_name(const char *path, vs_error *err) {
+  size_t bad = 0;
+  if (!vs_quote_clean(path, &bad))
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "%s: byte %zu of the name (0x%02x) is a control character or not UTF-8 "
+                        "text (an output's name must be printable text)",
+                        path, bad + 1, (unsigned)(unsigned char)path[bad]);
+  return VS_OK;
+}
+
 /* The directory that will hold path must exist, be a directory and be writable. */
 static vs_status check_parent(const char *path, vs_error *err) {
   char dir[4096];
@@ -85,6 +98,8 @@ vs_status vs_outpath_check(const char *path, const vs_outpath_other *others, int
     return vs_error_set(err, VS_ERR_INVALID, "empty output path");
   if (path[strlen(path) - 1] == '/')
     return vs_error_set(err, VS_ERR_INVALID, "%s: names a directory, not a file", path);
+  vs_status s = check_name(path, err);
+  if (s != VS_OK) return s;
   if (lstat(path, &st) == 0) {
     if (!S_ISREG(st.st_mode))
       return vs_error_set(err, VS_ERR_INVALID,
@@ -93,7 +108,7 @@ vs_status vs_outpath_check(const char *path, const vs_outpath_other *others, int
   } else if (errno != ENOENT) {
     return vs_error_set(err, VS_ERR_INVALID, "%s: %s", path, strerror(errno));
   }
-  vs_status s = check_parent(path, err);
+  s = check_parent(path, err);
   if (s != VS_OK) return s;
   file_id me, other;
   identify(path, &me);
@@ -111,6 +126,8 @@ vs_status vs_outpath_check_dir(const char *dir, vs_error *err) {
   struct stat st;
   if (dir == NULL || dir[0] == '\0')
     return vs_error_set(err, VS_ERR_INVALID, "empty output directory");
+  const vs_status s = check_name(dir, err);
+  if (s != VS_OK) return s;
   if (lstat(dir, &st) == 0) {
     if (!S_ISDIR(st.st_mode))
       return vs_error_set(err, VS_ERR_INVALID,

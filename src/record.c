@@ -152,6 +152,7 @@ vs_status vs_output_create(const char *path, const vs_run *run, const char *case
   const vs_outpath_other sidecar[1] = {{o->xmf_path, "its XDMF sidecar"}};
   st = vs_outpath_check(path, sidecar, 1, err);
   if (st == VS_OK) st = vs_outpath_check(o->xmf_path, NULL, 0, err);
+  if (st == VS_OK) st = vs_xdmf_name_check(path, err); /* the sidecar must name the record */
   if (st == VS_OK) st = vs_outlock_acquire(path, &o->lock, err);
   if (st != VS_OK) {
     vs_output_destroy(&o);

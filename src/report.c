@@ -6,16 +6,24 @@
 
 #include <math.h>
 
+#include "utf8.h"
 #include "voussoir/units.h"
 #include "voussoir/version.h"
 
+/* JSON text is UTF-8 (RFC 8259): a byte of s that is not part of well-formed UTF-8 (a path in
+ * another encoding) becomes U+FFFD, the replacement character, so the output stays valid JSON;
+ * control characters and DEL are escaped, so that printing the JSON cannot act on a terminal. */
 void vs_json_string(FILE *out, const char *s) {
   fputc('"', out);
-  for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
-    if (*p == '"' || *p == '\\') fprintf(out, "\\%c", *p);
+  for (const unsigned char *p = (const unsigned char *)s; *p;) {
+    unsigned long cp = 0;
+    const int n = vs_utf8_char(p, &cp);
+    if (n == 0) fputs("\\ufffd", out);
+    else if (*p == '"' || *p == '\\') fprintf(out, "\\%c", *p);
     else if (*p == '\n') fputs("\\n", out);
-    else if (*p < 0x20) fprintf(out, "\\u%04x", *p);
-    else fputc(*p, out);
+    else if (*p < 0x20 || *p == 0x7f) fprintf(out, "\\u%04x", *p);
+    else fwrite(p, 1, (size_t)n, out);
+    p += n > 0 ? n : 1;
   }
   fputc('"', out);
 }
@@ -296,7 +304,9 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
 static void text_header(FILE *out, const vs_run *r, const char *case_path) {
   const vs_case *c = vs_run_case(r);
   const vs_geometry *g = vs_run_geometry(r);
-  fprintf(out, "voussoir %s  case %s\n", VS_VERSION, case_path ? case_path : "(defaults)");
+  char q[1024]; /* the case's path, quoted: it may hold anything */
+  fprintf(out, "voussoir %s  case %s\n", VS_VERSION,
+          case_path ? vs_quote(case_path, q, sizeof q) : "(defaults)");
   fprintf(out,
           "arch     R = %g mm, t = %g mm, embrace %g deg, %d voussoirs, b = %g mm\n"
           "         span L = %.2f mm, rise %.2f mm, weight %.3f N\n",

@@ -41,7 +41,9 @@ void vs_output_opts_default(vs_output_opts *o);
 
 /* Create the HDF5 file at path (replaced if it exists; written as "<path>.part", copied to
  * "<path>.snap" and renamed over path after the layout and some flushes, renamed itself at the
- * end; a killed run's .part and .snap are removed). path and its sidecar must be absent or regular files (vs_outpath_check) and path
+ * end; a killed run's .part and .snap are removed). path and its sidecar must be absent or regular files (vs_outpath_check), path's
+ * file name one the sidecar can refer to (printable UTF-8 text with no ':' or '|' and no
+ * leading blank: ParaView's XDMF reader splits and trims there), and path
  * is locked for this writer until vs_output_destroy (vs_outlock_acquire): otherwise
  * VS_ERR_INVALID and nothing is created. For run (borrowed: its geometry and model are read now and at every sample), with
  * opts (NULL: defaults) copied. Writes the root attributes (program "voussoir", version, layout,

@@ -19,7 +19,9 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
 void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error *err,
                     const char *case_path);
 
-/* Write s as a JSON string literal (quoted, escaped). */
+/* Write s as a JSON string literal (quoted; quotes, backslashes, control characters and DEL
+ * escaped; a byte that is not part of well-formed UTF-8 written as U+FFFD, so that the output
+ * is valid JSON whatever s holds). */
 void vs_json_string(FILE *out, const char *s);
 
 #endif
