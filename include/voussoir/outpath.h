@@ -13,7 +13,9 @@ typedef struct {
 } vs_outpath_other;
 
 /* Check that path may be written: its name is printable text (vs_quote_clean: no control
- * character, well-formed UTF-8); nothing exists there, or a regular file (lstat: a symbolic
+ * character, well-formed UTF-8) and leaves room for the suffix of its working names
+ * ("<path>.lock", "<path>.part", "<path>.snap") within NAME_MAX and PATH_MAX; nothing exists
+ * there, or a regular file (lstat: a symbolic
  * link is refused whatever it points to), and its directory exists and is writable; and it is
  * not the same file as any others[0..n_others) (same device and inode, or the same name in the
  * same directory, so that files not yet created compare too). Creates nothing. Errors:
