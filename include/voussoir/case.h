@@ -128,6 +128,15 @@ vs_status vs_case_parse(vs_case *c, const char *name, const char *text, size_t l
  * c is unchanged on failure. */
 vs_status vs_case_set(vs_case *c, const char *assignment, vs_error *err);
 
+/* One assignment section.key = value (text), as a line of a case file makes it: checked against
+ * the table (the key, the number or name, the range), c written only when the value is
+ * accepted. where starts every message ("FILE:LINE", "--set ..."), as in "FILE:LINE:
+ * arch.voussoirs = 0: out of range (allowed: integer in [1, 2000])". The file reader and --set
+ * use it, and so do readers of other files that carry case keys (a Monte Carlo shard's table).
+ * VS_ERR_PARSE or VS_ERR_INVALID with the message in err. */
+vs_status vs_case_assign(vs_case *c, const char *section, const char *key, const char *value,
+                         const char *where, vs_error *err);
+
 /* Check every field's range again (fields may have been set in code) and the relations between
  * fields: limit_tol_mm <= step_mm <= step_max_mm and step_mm < max_mm. Call it after all
  * overrides. Fails with VS_ERR_INVALID; err names the field(s) and the allowed range. */
