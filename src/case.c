@@ -162,6 +162,9 @@ static const key_spec keys[] = {
         "initial offset of the moving support, outward"),
     KEY(imperfections, support_dz_mm, 0.0, -100.0, true, 100.0, true, "mm",
         "initial offset of the moving support, downward"),
+    KEY(run, max_wall_s, 0.0, 0.0, true, 1e6, true, "s",
+        "wall-time limit of a run (0: none); once passed the run stops at its next step, its "
+        "record marked stopped"),
 };
 #undef LEN_MIN
 #undef LEN_MAX

@@ -82,6 +82,16 @@ int cli_add_set(const char *name, const char *value, const char **sets, int *nse
   return 0;
 }
 
+int cli_add_key_set(const char *name, const char *option, const char *key, const char *value,
+                    char *buf, size_t size, const char **sets, int *nsets) {
+  const int n = snprintf(buf, size, "%s=%s", key, value);
+  if (n < 0 || (size_t)n >= size) {
+    fprintf(stderr, "%s: %s %s: too long (allowed: a number)\n", name, option, cli_q(value).s);
+    return VS_EXIT_BAD_INPUT;
+  }
+  return cli_add_set(name, buf, sets, nsets);
+}
+
 void cli_on_stop_signals(void (*fn)(int)) {
   struct sigaction sa;
   memset(&sa, 0, sizeof sa);

@@ -258,6 +258,9 @@ static void status_text(const vs_output *o, vs_status run_status, const vs_error
     snprintf(buf, size, "failed: interrupted");
   else if (o->err.status != VS_OK)
     snprintf(buf, size, "failed: %s", o->err.msg);
+  else if (run_status == VS_ERR_WALL_TIME) /* "stopped: wall-time limit S s reached" */
+    snprintf(buf, size, "%s", run_err != NULL && run_err->msg[0] ? run_err->msg
+                                                                  : vs_strerror(run_status));
   else if (run_status != VS_OK)
     snprintf(buf, size, "failed: %s%s%s", vs_strerror(run_status),
              run_err != NULL && run_err->msg[0] ? ": " : "", run_err != NULL ? run_err->msg : "");

@@ -37,6 +37,7 @@ static void components_pct(const vs_case *c, double delta_m, double *dz, double 
 }
 
 static const char *end_name(const vs_run *r, vs_status st) {
+  if (st == VS_ERR_WALL_TIME) return "stopped";
   if (st != VS_OK) return "failed";
   if (vs_run_collapse(r)->found) return "collapse";
   if (!vs_run_case(r)->follow && !vs_run_case(r)->full && vs_run_limit_count(r) > 0)
@@ -432,7 +433,7 @@ static void text_hinges(FILE *out, const vs_run *r) {
 }
 
 /* Solver statistics, the fall, the wall time. */
-static void text_stats(FILE *out, const vs_run *r) {
+static void text_stats(FILE *out, const vs_run *r, vs_status status) {
   const vs_path_result *t = vs_run_path_totals(r);
   const vs_dyn_result *d = vs_run_dynamic_totals(r);
   fprintf(out, "\nstats    quasi-static: %ld equilibria (%ld rejected increments) + %ld locating hinge "
@@ -465,7 +466,9 @@ static void text_stats(FILE *out, const vs_run *r) {
                  "it at the end (%.3g mm during the fall), %.3g mm inside another block or a pier "
                  "during the fall; %.3f s wall\n",
             vs_run_ground(r) / VS_MM, d->fall_at_rest ? "the debris at rest"
-            : isfinite(d->fall_failed_t) ? "stopped early (below)" : "still moving at fall_s",
+            : isfinite(d->fall_failed_t) ? "stopped early (below)"
+            : status != VS_OK            ? "still moving when the run stopped"
+                                         : "still moving at fall_s",
             vs_run_penetration(r) / VS_MM, d->max_penetration / VS_MM, d->max_overlap / VS_MM,
             d->fall_wall_s);
   if (isfinite(d->fall_failed_t))
@@ -482,9 +485,12 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
   text_first_limit(out, r);
   text_limits(out, r);
   text_collapse(out, r, status);
-  if (status != VS_OK)
+  if (status == VS_ERR_WALL_TIME) /* not a failure: the results so far stand, as far as they go */
+    fprintf(out, "\n%s at delta = %.4f mm, t = %.6g s (the results above are the run's so far)\n",
+            err != NULL ? err->msg : vs_strerror(status), vs_run_delta(r) / VS_MM, vs_run_time(r));
+  else if (status != VS_OK)
     fprintf(out, "\nFAILED at delta = %.4f mm: %s\n", vs_run_delta(r) / VS_MM,
             err != NULL ? err->msg : vs_strerror(status));
   text_hinges(out, r);
-  text_stats(out, r);
+  text_stats(out, r, status);
 }

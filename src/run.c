@@ -60,6 +60,7 @@ static vs_status fall_create(vs_run *r, const vs_case_si *si, vs_error *err) {
   fo.duration = r->c.fall_s;
   fo.sample_dt = r->c.sample_s;
   fo.ground = si->ground;
+  fo.deadline = &r->deadline;
   return vs_fall_create(r->m, &fo, NULL, NULL, &r->fall, err);
 }
 
@@ -104,6 +105,7 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
   if (st == VS_OK) {
     vs_path_opts_from_case(c, &r->popts);
     dyn_opts_from_case(c, &si, r->g, &r->dopts);
+    r->popts.deadline = r->dopts.deadline = &r->deadline; /* the wall-time limit's */
     double mass = 0.0;
     for (int i = 0; i < r->g->n_blocks; i++) mass += r->g->blocks[i].mass;
     r->ke_move = 0.5 * mass * r->dopts.rate * r->dopts.rate;
@@ -299,12 +301,22 @@ static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
   return st;
 }
 
+/* A solver stopped as after the stop flag (VS_ERR_INTERRUPTED) when the stop flag was not
+ * raised: its deadline, the wall-time limit, passed. Said so (a raised flag wins). */
+static vs_status wall_time_stop(const vs_run *r, vs_status st, vs_error *err) {
+  const int flagged = r->popts.stop != NULL && *r->popts.stop;
+  if (st != VS_ERR_INTERRUPTED || flagged || !vs_deadline_passed(&r->deadline)) return st;
+  return vs_error_set(err, VS_ERR_WALL_TIME, "stopped: wall-time limit %g s reached",
+                      r->c.max_wall_s);
+}
+
 vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn event, void *user,
                          vs_error *err) {
   r->sample_fn = sample;
   r->event_fn = event;
   r->user = user;
   const double t0 = vs_wall_now();
+  r->deadline = r->c.max_wall_s > 0.0 ? vs_monotonic_s() + r->c.max_wall_s : 0.0;
   vs_status st = VS_OK;
   double delta0 = 0.0;
   if (r->c.full) {
@@ -358,7 +370,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
   if (!r->collapse.found) vs_run_name_first(r, vs_hinges_count(r->h));
   vs_run_classify(r);
   r->wall_s = vs_wall_now() - t0;
-  return st;
+  return wall_time_stop(r, st, err);
 }
 
 const vs_case *vs_run_case(const vs_run *r) { return &r->c; }

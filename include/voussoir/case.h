@@ -93,6 +93,11 @@ typedef struct {
   double thickness_cov; /* CoV of the voussoirs' thickness (lognormal), [0, 0.5] */
   double support_dx_mm; /* initial offset of the moving support, outward, [-100, 100] mm, default 0 */
   double support_dz_mm; /* ... downward, [-100, 100] mm, default 0 */
+
+  /* [run] how long a run may take */
+  double max_wall_s;    /* wall-time limit of a run, [0, 1e6] s, 0 (the default): none. Once
+                           passed, the run stops at its next step (VS_ERR_WALL_TIME): its
+                           record is closed, marked "stopped: wall-time limit S s reached" */
 } vs_case;
 
 /* Fill c with the defaults: the reference specimen (docs/specimen.md) with k_n = 3 N/mm^3, alpha = 0. */

@@ -80,7 +80,8 @@ void vs_output_interrupt(vs_output *o);
  * points, first limit point, collapse, hinges, mode, totals, energy balance) and flush; only
  * then (so that a "completed" on disk vouches for them) set the root attributes status ("completed" when run_status is VS_OK, else "failed: <cause>" with run_err's
  * message when given, "failed: <cause>" of a write error, "failed: interrupted" after
- * vs_output_interrupt) and finished (ISO 8601 UTC), close the file and write the XDMF sidecar. Call
+ * vs_output_interrupt, "stopped: wall-time limit S s reached" (run_err's message) when
+ * run_status is VS_ERR_WALL_TIME: the record holds the run up to its stop) and finished (ISO 8601 UTC), close the file and write the XDMF sidecar. Call
  * it at most once, after vs_run_execute (a second call fails with VS_ERR_INVALID). Returns VS_OK or
  * VS_ERR_IO (err, and vs_output_error, have the cause). For the crash tests only: when the
  * environment variable VS_FAULT_KILL is "before-status" (everything flushed but the status) or
