@@ -11,74 +11,16 @@
 #include <setjmp.h>
 #include <cmocka.h>
 
-#include <dirent.h>
-#include <fcntl.h>
 #include <limits.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 #include <unistd.h>
+
+#define VS_SCRATCH "exit"
+#include "scratch.h"
 
 #define REFERENCE VS_SOURCE_DIR "/runs/reference.ini"
 #define VS VS_BINARY
-
-static char g_dir[64]; /* scratch directory; every run's working directory */
-
-static int setup(void **state) {
-  (void)state;
-  snprintf(g_dir, sizeof g_dir, "/tmp/vs_test_exit_XXXXXX");
-  return mkdtemp(g_dir) == NULL ? -1 : 0;
-}
-
-/* argv run in g_dir, stdout and stderr into g_dir/out.txt, err.txt; the exit status or -1. */
-static int run_argv(char *const argv[]) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    char out[128], err[128];
-    snprintf(out, sizeof out, "%s/out.txt", g_dir);
-    snprintf(err, sizeof err, "%s/err.txt", g_dir);
-    const int fo = open(out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int fe = open(err, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fo < 0 || fe < 0 || dup2(fo, 1) < 0 || dup2(fe, 2) < 0 || chdir(g_dir) != 0) _exit(126);
-    execv(argv[0], argv);
-    _exit(127);
-  }
-  int st = 0;
-  if (pid < 0 || waitpid(pid, &st, 0) != pid) return -1;
-  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  char *rm[] = {"/bin/rm", "-rf", "--", g_dir, NULL};
-  return run_argv(rm) == 0 ? 0 : -1;
-}
-
-static char *slurp_err(void) {
-  char path[128];
-  snprintf(path, sizeof path, "%s/err.txt", g_dir);
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  static char text[1 << 16];
-  const size_t n = fread(text, 1, sizeof text - 1, f);
-  text[n] = '\0';
-  fclose(f);
-  return text;
-}
-
-/* The names in g_dir but the captured outputs, one a line. */
-static void listing(char *buf, size_t size) {
-  buf[0] = '\0';
-  DIR *d = opendir(g_dir);
-  assert_non_null(d);
-  for (struct dirent *e = readdir(d); e != NULL; e = readdir(d))
-    if (strcmp(e->d_name, "out.txt") != 0 && strcmp(e->d_name, "err.txt") != 0) {
-      strncat(buf, e->d_name, size - strlen(buf) - 2);
-      strcat(buf, "\n");
-    }
-  closedir(d);
-}
 
 /* A name of n bytes: 'x' repeated, then suffix. */
 static const char *long_name(char *buf, size_t n, const char *suffix) {
@@ -94,7 +36,7 @@ static void expect_refused(char *const argv[], const char *what) {
   char before[8192], after[8192];
   listing(before, sizeof before);
   const int rc = run_argv(argv);
-  const char *err = slurp_err();
+  const char *err = slurp(in_dir("err.txt"), NULL);
   if (rc != 2) fail_msg("%s: exit status %d, expected 2: %.300s", what, rc, err);
   if (strstr(err, "too long") == NULL) fail_msg("%s: the message does not say why: %s", what, err);
   listing(after, sizeof after);
@@ -151,13 +93,13 @@ static void test_sweep_failures_said(void **s) {
                  "--set", "arch.density_kg_m3=1e5", "--first-limit", "-q", "-j", "2", "-o",
                  "all_failed", NULL};
   assert_int_equal(run_argv(all), 1);
-  const char *err = slurp_err();
+  const char *err = slurp(in_dir("err.txt"), NULL);
   if (strstr(err, "every run failed (2 of 2)") == NULL || strstr(err, "cannot stand") == NULL)
     fail_msg("every run failed, stderr: \"%s\"", err);
   char *some[] = {VS, "sweep", REFERENCE, "--vary", "arch.thickness_mm=2,24", "--first-limit",
                   "-q", "-j", "2", "-o", "some_failed", NULL};
   assert_int_equal(run_argv(some), 1);
-  err = slurp_err();
+  err = slurp(in_dir("err.txt"), NULL);
   if (strstr(err, "1 of 2 runs failed") == NULL || strstr(err, "run 1: ") == NULL)
     fail_msg("one run of two failed, stderr: \"%s\"", err);
 }
@@ -167,5 +109,5 @@ int main(void) {
       cmocka_unit_test(test_long_output_names),
       cmocka_unit_test(test_sweep_failures_said),
   };
-  return cmocka_run_group_tests(tests, setup, teardown);
+  return cmocka_run_group_tests(tests, scratch_setup, scratch_teardown);
 }

@@ -13,52 +13,17 @@
 #include <cmocka.h>
 
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-static char g_dir[64];
+#define VS_SCRATCH "merge"
+#include "scratch.h"
 
-static int sh(const char *cmd) {
-  const int st = system(cmd);
-  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
-static int setup(void **state) {
-  (void)state;
-  snprintf(g_dir, sizeof g_dir, "/tmp/vs_test_merge_XXXXXX");
-  return mkdtemp(g_dir) == NULL ? -1 : 0;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  char cmd[128];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", g_dir);
-  return sh(cmd) == 0 ? 0 : -1;
-}
-
-static const char *in_dir(const char *name) {
-  static char buf[4][256];
-  static int k = 0;
-  k = (k + 1) % 4;
-  snprintf(buf[k], sizeof buf[k], "%s/%s", g_dir, name);
-  return buf[k];
-}
-
-static char *slurp(const char *path) {
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  static char text[1 << 16];
-  const size_t n = fread(text, 1, sizeof text - 1, f);
-  text[n] = '\0';
-  fclose(f);
-  return text;
-}
-
-#define HEADER "# voussoir montecarlo seed=1 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=0 voussoirs=55\n"
-#define COLUMNS "sample,status,first_limit_mm,delta_u_mm,dz_u_mm,dx_u_mm,mode,pattern,A,B,C,D,E,error\n"
+#define MAGIC "# voussoir montecarlo "
+#define HEADER MAGIC "seed=1 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=0 voussoirs=55\n"
+#define COLUMNS \
+  "sample,status,first_limit_mm,delta_u_mm,dz_u_mm,dx_u_mm,mode,pattern,A,B,C,D,E,error\n"
 /* Rows of two shards (--shard 1/2 and 2/2 of four samples), in the writer's format. */
 #define ROWS_1 "0,collapse,60.5,70.25,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,\n" \
                "2,failed,nan,nan,nan,nan,0,,,,,,,the arch cannot stand\n"
@@ -87,10 +52,11 @@ static int merge(int two) {
 /* merge refused: exit 2, every needle in its message, no output directory. */
 static void expect_refused(int two, const char *const needles[], const char *what) {
   const int rc = merge(two);
-  const char *err = slurp(in_dir("err.txt"));
+  const char *err = slurp(in_dir("err.txt"), NULL);
   if (rc != 2) fail_msg("%s: exit status %d, expected 2: %s", what, rc, err);
   for (int i = 0; needles[i] != NULL; i++)
-    if (strstr(err, needles[i]) == NULL) fail_msg("%s: message lacks \"%s\": %s", what, needles[i], err);
+    if (strstr(err, needles[i]) == NULL)
+      fail_msg("%s: message lacks \"%s\": %s", what, needles[i], err);
   if (access(in_dir("out"), F_OK) == 0) fail_msg("%s: the output directory was written", what);
 }
 
@@ -99,9 +65,9 @@ static void test_sound_tables_merge(void **s) {
   shard("s1", HEADER COLUMNS ROWS_1);
   shard("s2", HEADER COLUMNS ROWS_2);
   const int rc = merge(1);
-  if (rc != 0) fail_msg("exit status %d: %s", rc, slurp(in_dir("err.txt")));
+  if (rc != 0) fail_msg("exit status %d: %s", rc, slurp(in_dir("err.txt"), NULL));
   assert_int_equal(access(in_dir("out/summary.h5"), F_OK), 0);
-  const char *out = slurp(in_dir("out/samples.csv"));
+  const char *out = slurp(in_dir("out/samples.csv"), NULL);
   assert_non_null(strstr(out, "\n3,max_displacement,"));
 }
 
@@ -112,23 +78,24 @@ static void test_bad_headers(void **s) {
   static const struct {
     const char *header, *needles[5];
   } cases[] = {
-      {"# voussoir montecarlo seed=1 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=0 voussoirs=0\n",
+      {MAGIC "seed=1 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=0 voussoirs=0\n",
        {"s1/samples.csv:1:", "voussoirs = 0", "allowed: integer in [1, 2000]", NULL}},
-      {"# voussoir montecarlo seed=1 radius_mm=0 embrace_deg=125 max_mm=300 alpha_deg=0 voussoirs=55\n",
+      {MAGIC "seed=1 radius_mm=0 embrace_deg=125 max_mm=300 alpha_deg=0 voussoirs=55\n",
        {"s1/samples.csv:1:", "radius_mm = 0", "allowed: [0.001, 1e+06] mm", NULL}},
-      {"# voussoir montecarlo seed=1 radius_mm=300 embrace_deg=125 max_mm=nan alpha_deg=0 voussoirs=55\n",
+      {MAGIC "seed=1 radius_mm=300 embrace_deg=125 max_mm=nan alpha_deg=0 voussoirs=55\n",
        {"s1/samples.csv:1:", "max_mm = nan", "not a finite number", "allowed"}},
-      {"# voussoir montecarlo seed=1 radius_mm=300 embrace_deg=inf max_mm=300 alpha_deg=0 voussoirs=55\n",
+      {MAGIC "seed=1 radius_mm=300 embrace_deg=inf max_mm=300 alpha_deg=0 voussoirs=55\n",
        {"s1/samples.csv:1:", "embrace_deg = inf", "not a finite number", "allowed"}},
-      {"# voussoir montecarlo seed=1 radius_mm=300 max_mm=300 alpha_deg=0 voussoirs=55\n",
+      {MAGIC "seed=1 radius_mm=300 max_mm=300 alpha_deg=0 voussoirs=55\n",
        {"s1/samples.csv:1:", "embrace_deg missing", NULL}},
-      {"# voussoir montecarlo seed=1 radius_mm=300 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=0 voussoirs=55\n",
+      {MAGIC "seed=1 radius_mm=300 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=0 "
+             "voussoirs=55\n",
        {"s1/samples.csv:1:", "radius_mm given twice", NULL}},
-      {"# voussoir montecarlo seed=1 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=0 voussoirs=55 kn=3\n",
+      {MAGIC "seed=1 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=0 voussoirs=55 kn=3\n",
        {"s1/samples.csv:1:", "'kn'", NULL}},
-      {"# voussoir montecarlo seed=-1 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=0 voussoirs=55\n",
+      {MAGIC "seed=-1 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=0 voussoirs=55\n",
        {"s1/samples.csv:1:", "seed = -1", "allowed", NULL}},
-      {"# voussoir montecarlo seed=1 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=400 voussoirs=55\n",
+      {MAGIC "seed=1 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=400 voussoirs=55\n",
        {"s1/samples.csv:1:", "alpha_deg = 400", "allowed: [-180, 180] deg", NULL}},
       {"# another table\n", {"s1/samples.csv:1:", "not a montecarlo table", NULL}},
   };
@@ -145,11 +112,11 @@ static void test_bad_headers(void **s) {
 static void test_headers_disagree(void **s) {
   (void)s;
   shard("s1", HEADER COLUMNS ROWS_1);
-  shard("s2", "# voussoir montecarlo seed=1 radius_mm=301 embrace_deg=125 max_mm=300 alpha_deg=0 "
+  shard("s2", MAGIC "seed=1 radius_mm=301 embrace_deg=125 max_mm=300 alpha_deg=0 "
               "voussoirs=55\n" COLUMNS ROWS_2);
   const char *needles[] = {"s2/samples.csv:1:", "radius_mm=301", "s1/samples.csv:1", NULL};
   expect_refused(1, needles, "radius");
-  shard("s2", "# voussoir montecarlo seed=2 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=0 "
+  shard("s2", MAGIC "seed=2 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=0 "
               "voussoirs=55\n" COLUMNS ROWS_2);
   const char *seed[] = {"s2/samples.csv:1:", "seed=2", NULL};
   expect_refused(1, seed, "seed");
@@ -161,12 +128,14 @@ static void test_bad_rows(void **s) {
   static const struct {
     const char *row, *needles[4];
   } cases[] = {
-      {"0,collapse,abc,70.25,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,\n", {":3:", "first_limit_mm", NULL}},
+      {"0,collapse,abc,70.25,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,\n",
+       {":3:", "first_limit_mm", NULL}},
       {"0,collapse,60.5,inf,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,\n", {":3:", "delta_u_mm", NULL}},
       {"0,collapse,60.5,nan,nan,nan,1,E-I-E-E,9-I,28-E,56-E,1-E,,\n", {":3:", "delta_u_mm", NULL}},
       {"0,bogus,60.5,70.25,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,\n", {":3:", "status", NULL}},
       {"0,collapse,60.5,70.25,70.25,0,7,E-I-E-E,9-I,28-E,56-E,1-E,,\n", {":3:", "mode", NULL}},
-      {"0,collapse,60.5,70.25,70.25,0,1,E-I-E-E,57-I,28-E,56-E,1-E,,\n", {":3:", "A = '57-I'", NULL}},
+      {"0,collapse,60.5,70.25,70.25,0,1,E-I-E-E,57-I,28-E,56-E,1-E,,\n",
+       {":3:", "A = '57-I'", NULL}},
       {"0,collapse,60.5,70.25,70.25,0,1,E-I-E-E,9-X,28-E,56-E,1-E,,\n", {":3:", "A = '9-X'", NULL}},
       {"0,collapse,60.5,70.25,70.25,0,1,E-I-<b>,9-I,28-E,56-E,1-E,,\n", {":3:", "pattern", NULL}},
       {"-1,collapse,60.5,70.25,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,\n", {":3:", "sample", NULL}},
@@ -186,7 +155,7 @@ static void test_error_text_quoted(void **s) {
   (void)s;
   shard("s1", HEADER COLUMNS "0,failed,nan,nan,nan,nan,0,,,,,,,bad \x1b[2J\x07 luck\n");
   assert_int_equal(merge(0), 0);
-  const char *out = slurp(in_dir("out/samples.csv"));
+  const char *out = slurp(in_dir("out/samples.csv"), NULL);
   for (const char *p = out; *p; p++)
     if ((unsigned char)*p < 0x20 && *p != '\n') fail_msg("control byte 0x%02x in the table", *p);
   assert_non_null(strstr(out, "bad \\x1b[2J\\x07 luck"));
@@ -200,5 +169,5 @@ int main(void) {
       cmocka_unit_test(test_bad_rows),
       cmocka_unit_test(test_error_text_quoted),
   };
-  return cmocka_run_group_tests(tests, setup, teardown);
+  return cmocka_run_group_tests(tests, scratch_setup, scratch_teardown);
 }

@@ -14,90 +14,21 @@
 #include <setjmp.h>
 #include <cmocka.h>
 
-#include <dirent.h>
-#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
+#define VS_SCRATCH "quote"
+#include "scratch.h"
 #include "voussoir/status.h"
 
 #define REFERENCE VS_SOURCE_DIR "/runs/reference.ini"
-
-static char g_dir[64]; /* scratch directory; every run's working directory */
-
-static int setup(void **state) {
-  (void)state;
-  snprintf(g_dir, sizeof g_dir, "/tmp/vs_test_quote_XXXXXX");
-  return mkdtemp(g_dir) == NULL ? -1 : 0;
-}
-
-/* argv[0] run in g_dir with stdout and stderr into g_dir/out.txt and err.txt (argv is passed as
- * it is: no shell, so any byte reaches the program); the exit status, or -1. */
-static int run_argv(char *const argv[]) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    char out[128], err[128];
-    snprintf(out, sizeof out, "%s/out.txt", g_dir);
-    snprintf(err, sizeof err, "%s/err.txt", g_dir);
-    const int fo = open(out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int fe = open(err, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fo < 0 || fe < 0 || dup2(fo, 1) < 0 || dup2(fe, 2) < 0 || chdir(g_dir) != 0) _exit(126);
-    execv(argv[0], argv);
-    _exit(127);
-  }
-  int st = 0;
-  if (pid < 0 || waitpid(pid, &st, 0) != pid) return -1;
-  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  char *rm[] = {"/bin/rm", "-rf", "--", g_dir, NULL}; /* the names hold anything: no shell */
-  return run_argv(rm) == 0 ? 0 : -1;
-}
-
-/* g_dir/name in a rotating buffer. */
-static const char *in_dir(const char *name) {
-  static char buf[4][512];
-  static int k = 0;
-  k = (k + 1) % 4;
-  snprintf(buf[k], sizeof buf[k], "%s/%s", g_dir, name);
-  return buf[k];
-}
-
-/* The whole file (n bytes, NUL-terminated after them; caller frees). */
-static char *slurp(const char *path, size_t *n) {
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  char *s = malloc(1 << 20);
-  assert_non_null(s);
-  *n = fread(s, 1, (1 << 20) - 1, f);
-  s[*n] = '\0';
-  fclose(f);
-  return s;
-}
 
 static void write_file(const char *path, const char *text, size_t n) {
   FILE *f = fopen(path, "wb");
   assert_non_null(f);
   assert_int_equal(fwrite(text, 1, n, f), n);
   assert_int_equal(fclose(f), 0);
-}
-
-/* Bytes in g_dir's listing, one name a line (to compare before and after a refused run). */
-static void listing(char *buf, size_t size) {
-  buf[0] = '\0';
-  DIR *d = opendir(g_dir);
-  assert_non_null(d);
-  for (struct dirent *e = readdir(d); e != NULL; e = readdir(d))
-    if (strcmp(e->d_name, "out.txt") != 0 && strcmp(e->d_name, "err.txt") != 0) {
-      strncat(buf, e->d_name, size - strlen(buf) - 2);
-      strcat(buf, "\n");
-    }
-  closedir(d);
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -140,20 +71,17 @@ static void expect_safe_output(const char *what) {
   const char *names[2] = {"err.txt", "out.txt"};
   for (int i = 0; i < 2; i++) {
     size_t n = 0;
-    char *s = slurp(in_dir(names[i]), &n);
+    const char *s = slurp(in_dir(names[i]), &n);
     const size_t at = first_unsafe((const unsigned char *)s, n);
     if (at != 0)
       fail_msg("%s: %s byte %zu is 0x%02x: %s", what, names[i], at, (unsigned char)s[at - 1],
                shown(s));
-    free(s);
   }
 }
 
 static void expect_err_has(const char *needle, const char *what) {
-  size_t n = 0;
-  char *s = slurp(in_dir("err.txt"), &n);
+  const char *s = slurp(in_dir("err.txt"), NULL);
   if (strstr(s, needle) == NULL) fail_msg("%s: stderr lacks \"%s\": %s", what, needle, shown(s));
-  free(s);
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -172,7 +100,8 @@ static void test_quote_table(void **s) {
   expect_quote("\x1b]0;title\x07", "\\x1b]0;title\\x07");
   expect_quote("l1\nl2\tc\rd", "l1\\nl2\\tc\\rd");
   expect_quote("\x7f\x01\x1f", "\\x7f\\x01\\x1f");
-  expect_quote("vo\xc3\xbbte \xe2\x82\xac \xf0\x9f\x98\x80", "vo\xc3\xbbte \xe2\x82\xac \xf0\x9f\x98\x80");
+  expect_quote("vo\xc3\xbbte \xe2\x82\xac \xf0\x9f\x98\x80",
+               "vo\xc3\xbbte \xe2\x82\xac \xf0\x9f\x98\x80"); /* kept: printable UTF-8 */
   expect_quote("\xc2\x9b" "2J", "\\xc2\\x9b2J");       /* C1 CSI in UTF-8 */
   expect_quote("\x9b" "2J", "\\x9b2J");                /* C1 CSI of an 8-bit terminal */
   expect_quote("\xff\xfe", "\\xff\\xfe");              /* never UTF-8 */
@@ -350,20 +279,16 @@ static void test_sidecar_of_odd_name(void **s) {
   char *py[] = {"/usr/bin/env", "python3", "-c", (char *)check,
                 (char *)in_dir("a&b<c>\"d'e--f vo\xc3\xbbte.xmf"), (char *)name, NULL};
   const int rc = run_argv(py);
-  size_t n = 0;
-  char *out = slurp(in_dir("out.txt"), &n), *err = slurp(in_dir("err.txt"), &n);
-  if (rc != 0 || strstr(out, "xml ok") == NULL) fail_msg("sidecar: %s %s", out, shown(err));
-  free(out);
-  free(err);
+  if (rc != 0 || strstr(slurp(in_dir("out.txt"), NULL), "xml ok") == NULL)
+    fail_msg("sidecar: %s", shown(slurp(in_dir("err.txt"), NULL)));
 }
 
 /* The JSON of a run whose case path is not UTF-8 is still valid JSON. */
 static void test_json_of_non_utf8_path(void **s) {
   (void)s;
   size_t n = 0;
-  char *text = slurp(REFERENCE, &n);
+  const char *text = slurp(REFERENCE, &n);
   write_file(in_dir("arch\xff\x1b.ini"), text, n);
-  free(text);
   char *argv[] = {VS, "run", "arch\xff\x1b.ini", "--first-limit", "--json", "--no-record", "-q",
                   NULL};
   assert_int_equal(run_argv(argv), 0);
@@ -378,10 +303,8 @@ static void test_json_of_non_utf8_path(void **s) {
                 "print('json ok')\n",
                 copy, NULL};
   const int rc = run_argv(py);
-  char *out = slurp(in_dir("out.txt"), &n), *err = slurp(in_dir("err.txt"), &n);
-  if (rc != 0 || strstr(out, "json ok") == NULL) fail_msg("JSON: %s %s", out, shown(err));
-  free(out);
-  free(err);
+  if (rc != 0 || strstr(slurp(in_dir("out.txt"), NULL), "json ok") == NULL)
+    fail_msg("JSON: %s", shown(slurp(in_dir("err.txt"), NULL)));
 }
 
 int main(void) {
@@ -395,5 +318,5 @@ int main(void) {
       cmocka_unit_test(test_sidecar_of_odd_name),
       cmocka_unit_test(test_json_of_non_utf8_path),
   };
-  return cmocka_run_group_tests(tests, setup, teardown);
+  return cmocka_run_group_tests(tests, scratch_setup, scratch_teardown);
 }

@@ -15,56 +15,18 @@
 
 #include <hdf5.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
+#define VS_SCRATCH "wall"
+#include "scratch.h"
 #include "voussoir/case.h"
 #include "voussoir/run.h"
 
 #define REFERENCE VS_SOURCE_DIR "/runs/reference.ini"
 /* A fall that never ends: 1e6 s in steps of 1 us (both within the keys' ranges). */
 #define ENDLESS_FALL "[fall]\nstep_ms = 0.001\n[dynamic]\nfall_s = 1e6\n"
-
-static char g_dir[64];
-
-static int setup(void **state) {
-  (void)state;
-  snprintf(g_dir, sizeof g_dir, "/tmp/vs_test_wall_XXXXXX");
-  return mkdtemp(g_dir) == NULL ? -1 : 0;
-}
-
-static int sh(const char *cmd) {
-  const int st = system(cmd);
-  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  char cmd[128];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", g_dir);
-  return sh(cmd) == 0 ? 0 : -1;
-}
-
-static const char *in_dir(const char *name) {
-  static char buf[4][256];
-  static int k = 0;
-  k = (k + 1) % 4;
-  snprintf(buf[k], sizeof buf[k], "%s/%s", g_dir, name);
-  return buf[k];
-}
-
-static char *slurp(const char *path) {
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  static char text[1 << 18];
-  const size_t n = fread(text, 1, sizeof text - 1, f);
-  text[n] = '\0';
-  fclose(f);
-  return text;
-}
 
 static void expect_in(const char *text, const char *needle, const char *what) {
   if (strstr(text, needle) == NULL) fail_msg("%s lacks \"%s\": %.2000s", what, needle, text);
@@ -126,19 +88,22 @@ static void test_each_phase(void **s) {
     assert_int_equal(vs_case_set(&c, "fall.step_ms=0.01", &err), VS_OK);
     assert_int_equal(vs_case_set(&c, "dynamic.fall_s=1e6", &err), VS_OK);
     assert_int_equal(vs_case_set(&c, "run.max_wall_s=1", &err), VS_OK);
-    if (phases[i] == VS_PHASE_DYNAMIC) assert_int_equal(vs_case_set(&c, "dynamic.full=1", &err), VS_OK);
+    if (phases[i] == VS_PHASE_DYNAMIC)
+      assert_int_equal(vs_case_set(&c, "dynamic.full=1", &err), VS_OK);
     assert_int_equal(vs_case_validate(&c, &err), VS_OK);
     assert_int_equal(vs_run_create(&c, &run, &err), VS_OK);
     phase_probe p = {phases[i], c.max_wall_s, 0, 0.0, 0, 0};
     const double t0 = now_s();
     const vs_status st = vs_run_execute(run, on_sample, NULL, &p, &err);
     const double took = now_s() - t0;
-    if (p.gave_up) fail_msg("phase %d: still running %g s past the limit", (int)phases[i], GIVE_UP_S);
+    if (p.gave_up)
+      fail_msg("phase %d: still running %g s past the limit", (int)phases[i], GIVE_UP_S);
     if (st != VS_ERR_WALL_TIME)
       fail_msg("phase %d: status %s (%s), expected the wall-time stop", (int)phases[i],
                vs_strerror(st), err.msg);
     assert_string_equal(err.msg, "stopped: wall-time limit 1 s reached");
-    if (!p.waited) fail_msg("phase %d: no sample of the phase (stopped before it?)", (int)phases[i]);
+    if (!p.waited)
+      fail_msg("phase %d: no sample of the phase (stopped before it?)", (int)phases[i]);
     /* what ran: no IDA step before the motion, no fall before the fall */
     const int ida = vs_run_dynamic_totals(run)->steps > 0, fell = vs_run_fall(run) != NULL;
     if (p.later || (phases[i] == VS_PHASE_QUASISTATIC && ida) ||
@@ -197,11 +162,12 @@ static void test_option_stops_endless_fall(void **s) {
   write_case("endless.ini", ENDLESS_FALL);
   double took = 0.0;
   const int rc = voussoir("run endless.ini -q --max-wall-s 1 -o rec.h5", &took);
-  const char *err = slurp(in_dir("err.txt"));
+  const char *err = slurp(in_dir("err.txt"), NULL);
   if (rc != 130) fail_msg("exit status %d (expected 130) after %.1f s: %s", rc, took, err);
   if (took > 30.0) fail_msg("took %.1f s", took);
   expect_in(err, "voussoir: stopped: wall-time limit 1 s reached", "stderr");
-  expect_in(slurp(in_dir("out.txt")), "\nstopped: wall-time limit 1 s reached at delta", "summary");
+  expect_in(slurp(in_dir("out.txt"), NULL), "\nstopped: wall-time limit 1 s reached at delta",
+            "summary");
   char status[256];
   read_status(in_dir("rec.h5"), status, sizeof status);
   assert_string_equal(status, "stopped: wall-time limit 1 s reached");
@@ -216,7 +182,7 @@ static void test_key_stops_endless_fall(void **s) {
   const int rc = voussoir("run endless_key.ini -q --json -o rec_key.h5", &took);
   if (rc != 130) fail_msg("exit status %d (expected 130) after %.1f s", rc, took);
   if (took > 30.0) fail_msg("took %.1f s", took);
-  const char *out = slurp(in_dir("out.txt"));
+  const char *out = slurp(in_dir("out.txt"), NULL);
   expect_in(out, "\"status\":\"stopped\",\"error\":\"stopped: wall-time limit 1 s reached\"",
             "JSON");
   char status[256];
@@ -228,10 +194,10 @@ static void test_key_stops_endless_fall(void **s) {
 static void test_limit_checked(void **s) {
   (void)s;
   assert_int_equal(voussoir("run " REFERENCE " -q --no-record --max-wall-s -1", NULL), 2);
-  expect_in(slurp(in_dir("err.txt")), "run.max_wall_s = -1: out of range (allowed: [0, 1e+06] s)",
-            "stderr");
+  expect_in(slurp(in_dir("err.txt"), NULL),
+            "run.max_wall_s = -1: out of range (allowed: [0, 1e+06] s)", "stderr");
   assert_int_equal(voussoir("run " REFERENCE " -q --no-record --set run.max_wall_s=nan", NULL), 2);
-  expect_in(slurp(in_dir("err.txt")), "not a finite number", "stderr");
+  expect_in(slurp(in_dir("err.txt"), NULL), "not a finite number", "stderr");
   assert_int_equal(voussoir("sweep " REFERENCE " --alpha 0 -q -o sw0 --max-wall-s 2e6", NULL), 2);
   assert_int_equal(access(in_dir("sw0"), F_OK), -1);
 }
@@ -242,15 +208,17 @@ static void test_studies_stop_each_run(void **s) {
   (void)s;
   assert_int_equal(voussoir("sweep " REFERENCE " --alpha 0,10 --max-wall-s 1e-6 -q -j 2 -o sw",
                             NULL), 1);
-  expect_in(slurp(in_dir("err.txt")), "every run failed (2 of 2); run 1: stopped: wall-time limit "
-            "1e-06 s reached", "sweep's stderr");
-  const char *table = slurp(in_dir("sw/summary.csv"));
+  expect_in(slurp(in_dir("err.txt"), NULL),
+            "every run failed (2 of 2); run 1: stopped: wall-time limit 1e-06 s reached",
+            "sweep's stderr");
+  const char *table = slurp(in_dir("sw/summary.csv"), NULL);
   expect_in(table, "\n1,0,stopped,", "summary.csv");
   expect_in(table, "\n2,10,stopped,", "summary.csv");
   assert_int_equal(voussoir("montecarlo " REFERENCE " --samples 2 --max-wall-s 1e-6 -q -j 2 -o mc",
                             NULL), 1);
-  expect_in(slurp(in_dir("err.txt")), "every sample failed; sample 0: stopped: wall-time limit "
-            "1e-06 s reached", "montecarlo's stderr");
+  expect_in(slurp(in_dir("err.txt"), NULL),
+            "every sample failed; sample 0: stopped: wall-time limit 1e-06 s reached",
+            "montecarlo's stderr");
 }
 
 int main(void) {
@@ -261,5 +229,5 @@ int main(void) {
       cmocka_unit_test(test_limit_checked),
       cmocka_unit_test(test_studies_stop_each_run),
   };
-  return cmocka_run_group_tests(tests, setup, teardown);
+  return cmocka_run_group_tests(tests, scratch_setup, scratch_teardown);
 }

@@ -26,8 +26,8 @@ typedef struct {
                                         once non-zero, stops the solve under way at its next
                                         residual evaluation: VS_ERR_INTERRUPTED */
   const double *deadline; /* NULL, or a deadline (CLOCK_MONOTONIC seconds, 0: none; borrowed,
-                             read at every solve): once passed, the path stops as after the stop flag,
-                             VS_ERR_INTERRUPTED (the run's wall-time limit, run.max_wall_s) */
+                             read once a solve): once passed, the path stops as after the stop
+                             flag, VS_ERR_INTERRUPTED (the run's wall-time limit) */
 } vs_path_opts;
 
 /* Increments (accepted and rejected) of one vs_path_run at most: reaching it is an error

@@ -16,8 +16,9 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
  * [{label, joints, joints_onset, side, delta_onset_mm, open}], stats {steps, newton_iterations,
  * wall_s, ...}, status (collapse, limit_point, max_displacement, failed, or stopped: the
  * wall-time limit, run.max_wall_s, ended the run), error (the cause, or for a stopped run
- * "stopped: wall-time limit S s reached"; null otherwise). A number that is not finite (no collapse time, a quantity the
- * run did not reach) is written as null: the output is always valid JSON. */
+ * "stopped: wall-time limit S s reached"; null otherwise). A number that is not finite (no
+ * collapse time, a quantity the run did not reach) is written as null: the output is always
+ * valid JSON. */
 void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error *err,
                     const char *case_path);
 
