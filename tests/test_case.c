@@ -140,6 +140,7 @@ static const key_case all_keys[] = {
     {"imperfections", "thickness_cov", "-0.01", "0.51", {"0", "0.5"}},
     {"imperfections", "support_dx_mm", "-100.1", "100.1", {"-100", "100"}},
     {"imperfections", "support_dz_mm", "-100.1", "100.1", {"-100", "100"}},
+    {"run", "max_wall_s", "-1e-9", "1.0000001e6", {"0", "1e6"}},
 };
 #define NKEYS_TESTED (sizeof all_keys / sizeof all_keys[0])
 /* Keys that are named choices, tested by name in test_support_kinds (support.left_kind,
@@ -363,7 +364,7 @@ static void check_out_of_range(const key_case *k, const char *value) {
 
 static void test_every_key_out_of_range(void **state) {
   (void)state;
-  assert_int_equal(NKEYS_TESTED, 45);
+  assert_int_equal(NKEYS_TESTED, 46);
   for (size_t i = 0; i < NKEYS_TESTED; i++) {
     check_out_of_range(&all_keys[i], all_keys[i].below);
     if (all_keys[i].above != NULL) check_out_of_range(&all_keys[i], all_keys[i].above);
@@ -447,7 +448,7 @@ static void test_unknown_section(void **state) {
   (void)state;
   expect_read_error("[arch]\nradius_mm = 300\n\n[archh]\nradius_mm = 300\n", VS_ERR_PARSE, 4,
                     "[archh]: unknown section (allowed sections: arch, joints, support, solver, "
-                    "hinges, dynamic, fall, imperfections)");
+                    "hinges, dynamic, fall, imperfections, run)");
   /* an empty unknown section is still reported, on its own line */
   expect_read_error("; x\n[nothing]\n", VS_ERR_PARSE, 2, "[nothing]: unknown section");
   expect_read_error("[]\n", VS_ERR_PARSE, 1, "[]: unknown section");

@@ -7,6 +7,7 @@
 
 #include "voussoir/api.h"
 
+
 #include "voussoir/def.h"
 #include "voussoir/status.h"
 
@@ -94,6 +95,11 @@ typedef struct {
   double thickness_cov; /* CoV of the voussoirs' thickness (lognormal), [0, 0.5] */
   double support_dx_mm; /* initial offset of the moving support, outward, [-100, 100] mm, default 0 */
   double support_dz_mm; /* ... downward, [-100, 100] mm, default 0 */
+
+  /* [run] how long a run may take */
+  double max_wall_s;    /* wall-time limit of a run, [0, 1e6] s, 0 (the default): none. Once
+                           passed, the run stops at its next step (VS_ERR_WALL_TIME): its
+                           record is closed, marked "stopped: wall-time limit S s reached" */
 } vs_case;
 
 /* Fill c with the defaults: the reference specimen (docs/specimen.md) with k_n = 3 N/mm^3, alpha = 0. */
@@ -128,6 +134,15 @@ VS_API vs_status vs_case_parse(vs_case *c, const char *name, const char *text, s
  * ignored. Errors as vs_case_read, with "--set section.key=value" in place of FILE:LINE;
  * c is unchanged on failure. */
 VS_API vs_status vs_case_set(vs_case *c, const char *assignment, vs_error *err);
+
+/* One assignment section.key = value (text), as a line of a case file makes it: checked against
+ * the table (the key, the number or name, the range), c written only when the value is
+ * accepted. where starts every message ("FILE:LINE", "--set ..."), as in "FILE:LINE:
+ * arch.voussoirs = 0: out of range (allowed: integer in [1, 2000])". The file reader and --set
+ * use it, and so do readers of other files that carry case keys (a Monte Carlo shard's table).
+ * VS_ERR_PARSE or VS_ERR_INVALID with the message in err. */
+VS_API vs_status vs_case_assign(vs_case *c, const char *section, const char *key, const char *value,
+                                const char *where, vs_error *err);
 
 /* Check every field's range again (fields may have been set in code) and the relations between
  * fields: limit_tol_mm <= step_mm <= step_max_mm and step_mm < max_mm. Call it after all

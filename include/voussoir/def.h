@@ -125,6 +125,8 @@ typedef struct {
   vs_dynamic_def dynamic;
   vs_fall_def fall;
   vs_imperfection_def imperfections;
+  double max_wall_s; /* wall-time limit of the run, s (0: none): it then stops, as after the
+                        stop flag, with VS_ERR_WALL_TIME */
 } vs_run_def;
 
 /* Fill d with the defaults: the reference specimen with k_n = 3 N/mm^3, settlement (alpha = 0),

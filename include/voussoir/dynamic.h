@@ -35,6 +35,10 @@ typedef struct {
   const volatile sig_atomic_t *stop; /* NULL, or a flag (e.g. set by a signal handler) that,
                                         once non-zero, stops the integration at its next
                                         residual evaluation: VS_ERR_INTERRUPTED */
+  const double *deadline; /* NULL, or a deadline (CLOCK_MONOTONIC seconds, 0: none; borrowed,
+                             read once an IDA step): once passed, the integration stops as
+                             after the stop flag, VS_ERR_INTERRUPTED (the run's wall-time
+                             limit) */
 } vs_dyn_opts;
 
 /* IDA steps of one vs_dynamic_run at most: reaching it is an error (VS_ERR_SOLVER) that says

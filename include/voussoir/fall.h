@@ -75,6 +75,9 @@ typedef struct {
                          if that is more than max_sweeps */
   int joints;         /* 1: bodies that share a joint meet on its faces (the arch); 0: no joint
                          contact (tests with a free block on a dummy joint) */
+  const double *deadline; /* NULL, or a deadline (CLOCK_MONOTONIC seconds, 0: none; borrowed,
+                             read once a step): once passed, the fall stops as after the stop
+                             flag, VS_ERR_INTERRUPTED (the run's wall-time limit) */
   const volatile sig_atomic_t *stop; /* NULL, or a flag that, once non-zero, stops the fall at
                                         its next step: VS_ERR_INTERRUPTED */
 } vs_fall_opts;

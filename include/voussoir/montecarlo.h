@@ -35,6 +35,10 @@ typedef struct {
  * Never fails as a function: a failed run gives status VS_MC_FAILED with its cause. */
 VS_API void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *out);
 
+/* The columns of samples.csv (line 2; `voussoir merge` reads them back). */
+#define VS_MC_TABLE_COLUMNS \
+  "sample,status,first_limit_mm,delta_u_mm,dz_u_mm,dx_u_mm,mode,pattern,A,B,C,D,E,error"
+
 /* The files vs_mc_write_summary writes into its directory (for an initialiser list). */
 #define VS_MC_OUTPUTS \
   "samples.csv", "statistics.csv", "summary.h5", "fragility.png", "convergence.png", "hinges.png"

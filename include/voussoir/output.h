@@ -43,9 +43,11 @@ VS_API void vs_output_opts_default(vs_output_opts *o);
 
 /* Create the HDF5 file at path (replaced if it exists; written as "<path>.part", copied to
  * "<path>.snap" and renamed over path after the layout and some flushes, renamed itself at the
- * end; a killed run's .part and .snap are removed). path and its sidecar must be absent or regular files (vs_outpath_check) and path
- * is locked for this writer until vs_output_destroy (vs_outlock_acquire): otherwise
- * VS_ERR_INVALID and nothing is created. For run (borrowed: its geometry and model are read now and at every sample), with
+ * end; a killed run's .part and .snap are removed). path and its sidecar must be absent or
+ * regular files (vs_outpath_check), path's file name one the sidecar can refer to (printable
+ * UTF-8 text with no ':' or '|' and no leading blank: ParaView's XDMF reader splits and trims
+ * there), and path is locked for this writer until vs_output_destroy (vs_outlock_acquire):
+ * otherwise VS_ERR_INVALID and nothing is created. For run (borrowed: its geometry and model are read now and at every sample), with
  * opts (NULL: defaults) copied. Writes the root attributes (program "voussoir", version, layout,
  * created: ISO 8601 UTC, case: case_text or "" when NULL, status "running", finished ""),
  * /parameters (the case's values, as attributes named after the case keys, in the case's
@@ -80,7 +82,9 @@ VS_API void vs_output_interrupt(vs_output *o);
  * points, first limit point, collapse, hinges, mode, totals, energy balance) and flush; only
  * then (so that a "completed" on disk vouches for them) set the root attributes status ("completed" when run_status is VS_OK, else "failed: <cause>" with run_err's
  * message when given, "failed: <cause>" of a write error, "failed: interrupted" after
- * vs_output_interrupt) and finished (ISO 8601 UTC), close the file and write the XDMF sidecar. Call
+ * vs_output_interrupt, "stopped: wall-time limit S s reached" (run_err's message) when
+ * run_status is VS_ERR_WALL_TIME: the record holds the run up to its stop) and finished (ISO
+ * 8601 UTC), close the file and write the XDMF sidecar. Call
  * it at most once, after vs_run_execute (a second call fails with VS_ERR_INVALID). Returns VS_OK or
  * VS_ERR_IO (err, and vs_output_error, have the cause). For the crash tests only: when the
  * environment variable VS_FAULT_KILL is "before-status" (everything flushed but the status) or

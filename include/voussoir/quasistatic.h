@@ -27,6 +27,9 @@ typedef struct {
   const volatile sig_atomic_t *stop; /* NULL, or a flag (e.g. set by a signal handler) that,
                                         once non-zero, stops the solve under way at its next
                                         residual evaluation: VS_ERR_INTERRUPTED */
+  const double *deadline; /* NULL, or a deadline (CLOCK_MONOTONIC seconds, 0: none; borrowed,
+                             read once a solve): once passed, the path stops as after the stop
+                             flag, VS_ERR_INTERRUPTED (the run's wall-time limit) */
 } vs_path_opts;
 
 /* Increments (accepted and rejected) of one vs_path_run at most: reaching it is an error

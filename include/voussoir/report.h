@@ -16,12 +16,17 @@ VS_API void vs_report_text(FILE *out, const vs_run *r, vs_status status, const v
 /* One JSON object (and a newline) to out. Stable keys: alpha_deg, kn_N_mm3, span_mm,
  * first_limit {delta_mm, dz_over_L_pct, dx_over_L_pct, ...} (null when there is none), hinges
  * [{label, joints, joints_onset, side, delta_onset_mm, open}], stats {steps, newton_iterations,
- * wall_s, ...}, status, error. A number that is not finite (no collapse time, a quantity the
- * run did not reach) is written as null: the output is always valid JSON. */
+ * wall_s, ...}, status (collapse, limit_point, max_displacement, failed, or stopped: the
+ * wall-time limit, run.max_wall_s, ended the run), error (the cause, or for a stopped run
+ * "stopped: wall-time limit S s reached"; null otherwise). A number that is not finite (no
+ * collapse time, a quantity the run did not reach) is written as null: the output is always
+ * valid JSON. */
 VS_API void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error *err,
                            const char *case_path);
 
-/* Write s as a JSON string literal (quoted, escaped). */
+/* Write s as a JSON string literal (quoted; quotes, backslashes, control characters and DEL
+ * escaped; a byte that is not part of well-formed UTF-8 written as U+FFFD, so that the output
+ * is valid JSON whatever s holds). */
 VS_API void vs_json_string(FILE *out, const char *s);
 
 #endif

@@ -113,7 +113,10 @@ VS_API void vs_run_set_stop(vs_run *r, const volatile sig_atomic_t *stop);
 
 /* Run the case. The status is that of the solvers (VS_OK when the run reached the collapse, the
  * first limit point with dynamic.follow = 0, or support.max_mm); VS_ERR_INTERRUPTED after the
- * stop flag; everything recorded up to a failure stays available. */
+ * stop flag; VS_ERR_WALL_TIME ("stopped: wall-time limit S s reached") when the run took longer
+ * than run.max_wall_s (checked by every solver once a step: KINSOL's solves of the path, IDA's
+ * steps, the rigid fall's steps); everything recorded up to a failure or a stop stays
+ * available. */
 VS_API vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn event,
                                 void *user, vs_error *err);
 

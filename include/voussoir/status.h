@@ -17,7 +17,8 @@
   X(VS_ERR_NO_EQUILIBRIUM, -6, "no equilibrium found")                             \
   X(VS_ERR_USAGE, -7, "invalid command line")                                      \
   X(VS_ERR_INTERNAL, -8, "internal error")                                         \
-  X(VS_ERR_INTERRUPTED, -9, "interrupted")
+  X(VS_ERR_INTERRUPTED, -9, "interrupted")                                        \
+  X(VS_ERR_WALL_TIME, -10, "stopped: wall-time limit reached")
 
 typedef enum {
 #define VS_STATUS_ENUM(name, value, msg) name = value,
@@ -39,7 +40,9 @@ typedef struct {
 /* Reset err to VS_OK with an empty message. NULL is allowed and ignored. */
 VS_API void vs_error_clear(vs_error *err);
 
-/* Record status and a printf-style message in err (NULL allowed) and return status. */
+/* Record status and a printf-style message in err (NULL allowed) and return status. The message
+ * is quoted as a whole (control characters and escape sequences escaped), so that no error message carries a control character or a
+ * byte a terminal would act on, whatever path or token it names. */
 VS_API vs_status vs_error_set(vs_error *err, vs_status status, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))

@@ -41,7 +41,8 @@ class Record:
 
     @property
     def status(self):
-        """'completed', 'running' or 'failed: <cause>'."""
+        """'completed', 'running', 'failed: <cause>', or 'stopped: wall-time limit S s
+        reached' (run.max_wall_s ended the run: the record holds it up to the stop)."""
         return _text(self.file.attrs["status"])
 
     @property

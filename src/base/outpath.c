@@ -2,10 +2,12 @@
  * that keeps two processes from writing the same output. */
 #define _DEFAULT_SOURCE /* flock, O_NOFOLLOW */
 #include "outpath.h"
+#include "quote.h"
 
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -65,6 +67,47 @@ static const char *kind_of(mode_t m) {
   return "not a regular file";
 }
 
+/* The longest suffix of a working name made from an output's: "<path>.lock" (vs_outlock_acquire),
+ * "<path>.part" and "<path>.snap" (the record's working file and snapshot); ".tmp" is shorter. */
+enum { SUFFIX_MAX = sizeof ".lock" - 1 };
+
+/* An output's name is shown in messages and tables and written into its XDMF sidecar: it must
+ * be printable text (vs_quote_clean: no control character, no escape sequence, well-formed
+ * UTF-8), so that nothing that prints it can act on a terminal. A file's name (not a
+ * directory's) must also leave room for its working names' suffix within the file system's
+ * limits (NAME_MAX of its directory, PATH_MAX), so that "<name>.lock" cannot fail half-way
+ * through with ENAMETOOLONG: refused here, before anything is created. is_file: 0 a directory,
+ * 1 an output (room for its working names' suffix), 2 a working name itself (no more suffix). */
+static vs_status check_name(const char *path, int is_file, vs_error *err) {
+  size_t bad = 0;
+  if (!vs_quote_clean(path, &bad))
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "%s: byte %zu of the name (0x%02x) is a control character or not UTF-8 "
+                        "text (an output's name must be printable text)",
+                        path, bad + 1, (unsigned)(unsigned char)path[bad]);
+  if (!is_file) return VS_OK;
+  char dir[4096];
+  dir_of(path, dir, sizeof dir);
+  long name_max = pathconf(dir, _PC_NAME_MAX);
+  if (name_max <= 0) name_max = NAME_MAX;
+  const char *slash = strrchr(path, '/');
+  const size_t base = strlen(slash != NULL ? slash + 1 : path);
+  if (is_file == 2 && base > (size_t)name_max)
+    return vs_error_set(err, VS_ERR_INVALID, "%s: file name too long: %zu bytes (at most %ld)",
+                        path, base, name_max);
+  if (is_file == 2) return VS_OK;
+  if (base + SUFFIX_MAX > (size_t)name_max)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "%s: file name too long: %zu bytes (at most %ld, so that its lock file "
+                        "and working copy, NAME.lock and NAME.part, fit the file system's limit "
+                        "of %ld bytes)",
+                        path, base, name_max - (long)SUFFIX_MAX, name_max);
+  if (strlen(path) + SUFFIX_MAX >= PATH_MAX)
+    return vs_error_set(err, VS_ERR_INVALID, "%s: path too long: %zu bytes (at most %ld)", path,
+                        strlen(path), (long)(PATH_MAX - 1 - SUFFIX_MAX));
+  return VS_OK;
+}
+
 /* The directory that will hold path must exist, be a directory and be writable. */
 static vs_status check_parent(const char *path, vs_error *err) {
   char dir[4096];
@@ -86,19 +129,21 @@ static vs_status not_regular(const char *path, mode_t m, vs_error *err) {
                       kind_of(m));
 }
 
-vs_status vs_outpath_check(const char *path, const vs_outpath_other *others, int n_others,
-                           vs_error *err) {
+static vs_status check_file(const char *path, int kind, const vs_outpath_other *others,
+                            int n_others, vs_error *err) {
   struct stat st;
   if (path == NULL || path[0] == '\0')
     return vs_error_set(err, VS_ERR_INVALID, "empty output path");
   if (path[strlen(path) - 1] == '/')
     return vs_error_set(err, VS_ERR_INVALID, "%s: names a directory, not a file", path);
+  vs_status s = check_name(path, kind, err);
+  if (s != VS_OK) return s;
   if (lstat(path, &st) == 0) {
     if (!S_ISREG(st.st_mode)) return not_regular(path, st.st_mode, err);
   } else if (errno != ENOENT) {
     return vs_error_set(err, VS_ERR_INVALID, "%s: %s", path, strerror(errno));
   }
-  vs_status s = check_parent(path, err);
+  s = check_parent(path, err);
   if (s != VS_OK) return s;
   file_id me, other;
   identify(path, &me);
@@ -112,10 +157,21 @@ vs_status vs_outpath_check(const char *path, const vs_outpath_other *others, int
   return VS_OK;
 }
 
+vs_status vs_outpath_check(const char *path, const vs_outpath_other *others, int n_others,
+                           vs_error *err) {
+  return check_file(path, 1, others, n_others, err);
+}
+
+vs_status vs_outpath_check_working(const char *path, vs_error *err) {
+  return check_file(path, 2, NULL, 0, err);
+}
+
 vs_status vs_outpath_check_dir(const char *dir, vs_error *err) {
   struct stat st;
   if (dir == NULL || dir[0] == '\0')
     return vs_error_set(err, VS_ERR_INVALID, "empty output directory");
+  const vs_status s = check_name(dir, 0, err);
+  if (s != VS_OK) return s;
   if (lstat(dir, &st) == 0) {
     if (!S_ISDIR(st.st_mode))
       return vs_error_set(err, VS_ERR_INVALID,

@@ -17,16 +17,23 @@ typedef struct {
   const char *path, *role;
 } vs_outpath_other;
 
-/* Check that path may be written: nothing exists there, or a regular file (lstat: a symbolic
- * link is refused whatever it points to), and its directory exists and is writable; and that it
- * is not the same file as any others[0..n_others) (same device and inode, or the same name in
- * the same directory, so that files not yet created compare too). Creates nothing. Errors:
- * VS_ERR_INVALID with "PATH: <reason>" in err. */
+/* Check that path may be written: its name is printable text (vs_quote_clean: no control
+ * character, well-formed UTF-8) and leaves room for the suffix of its working names
+ * ("<path>.lock", "<path>.part", "<path>.snap") within NAME_MAX and PATH_MAX; nothing exists
+ * there, or a regular file (lstat: a symbolic link is refused whatever it points to), and its
+ * directory exists and is writable; and it is not the same file as any others[0..n_others)
+ * (same device and inode, or the same name in the same directory, so that files not yet created
+ * compare too). Creates nothing. Errors: VS_ERR_INVALID with "PATH: <reason>" in err. */
 vs_status vs_outpath_check(const char *path, const vs_outpath_other *others, int n_others,
                            vs_error *err);
 
-/* Check that dir may receive output files: absent (its parent directory must exist) or a
- * directory (not a symbolic link to one). Creates nothing. Errors: VS_ERR_INVALID. */
+/* As vs_outpath_check, for a working name made from an output's ("<path>.tmp", "<path>.part"):
+ * it gets no suffix of its own, so it need only fit NAME_MAX itself. */
+vs_status vs_outpath_check_working(const char *path, vs_error *err);
+
+/* Check that dir may receive output files: its name is printable text (as for
+ * vs_outpath_check), and it is absent (its parent directory must exist) or a directory (not a
+ * symbolic link to one). Creates nothing. Errors: VS_ERR_INVALID. */
 vs_status vs_outpath_check_dir(const char *dir, vs_error *err);
 
 /* Check that every entry of directory dir whose name ours(name, user) claims is a regular file:

@@ -3,12 +3,12 @@
  * through in one place and not another. */
 #define _POSIX_C_SOURCE 200809L /* strncasecmp */
 #include "parse.h"
+#include "quote.h"
 
 #include <errno.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
-#include <string.h>
 #include <strings.h>
 
 static size_t digits(const char *s) {
@@ -82,18 +82,21 @@ const char *vs_num_reason(vs_num_status st) {
   return "invalid number";
 }
 
-/* Echo at most this much of the user's text in a message. */
+/* Echo at most this much of the user's text in a message (quoted, "..." beyond). */
 enum { ECHO_MAX = 64 };
+typedef struct {
+  char s[ECHO_MAX + 4];
+} echo_buf;
 
 vs_status vs_parse_option_int(const char *option, const char *text, int lo, int hi, int *out,
                               vs_error *err) {
   long v = 0;
   vs_num_status st = vs_parse_long(text, &v);
   if (st == VS_NUM_OK && (v < lo || v > hi)) st = VS_NUM_OUT_OF_RANGE;
+  echo_buf b;
   if (st != VS_NUM_OK)
-    return vs_error_set(err, VS_ERR_USAGE, "%s %.*s%s: %s (allowed: integer in [%d, %d])", option,
-                        ECHO_MAX, text, strlen(text) > ECHO_MAX ? "..." : "", vs_num_reason(st),
-                        lo, hi);
+    return vs_error_set(err, VS_ERR_USAGE, "%s %s: %s (allowed: integer in [%d, %d])", option,
+                        vs_quote(text, b.s, sizeof b.s), vs_num_reason(st), lo, hi);
   *out = (int)v;
   return VS_OK;
 }
@@ -103,9 +106,10 @@ vs_status vs_parse_option_double(const char *option, const char *text, double lo
   double v = 0.0;
   vs_num_status st = vs_parse_double(text, &v);
   if (st == VS_NUM_OK && !(v >= lo && v <= hi)) st = VS_NUM_OUT_OF_RANGE;
+  echo_buf b;
   if (st != VS_NUM_OK)
-    return vs_error_set(err, VS_ERR_USAGE, "%s %.*s%s: %s (allowed: [%g, %g])", option, ECHO_MAX,
-                        text, strlen(text) > ECHO_MAX ? "..." : "", vs_num_reason(st), lo, hi);
+    return vs_error_set(err, VS_ERR_USAGE, "%s %s: %s (allowed: [%g, %g])", option,
+                        vs_quote(text, b.s, sizeof b.s), vs_num_reason(st), lo, hi);
   *out = v;
   return VS_OK;
 }

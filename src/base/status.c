@@ -1,8 +1,12 @@
-/* Status messages (generated from the X-macro list) and the error detail object. */
+/* Status messages (generated from the X-macro list), the error detail object, and the quoting
+ * that keeps untrusted text in a message from acting on the terminal that shows it. */
 #include "voussoir/status.h"
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <string.h>
+
+#include "quote.h"
 
 const char *vs_strerror(vs_status status) {
   switch (status) {
@@ -24,9 +28,11 @@ void vs_error_clear(vs_error *err) {
 vs_status vs_error_set(vs_error *err, vs_status status, const char *fmt, ...) {
   if (err == NULL) return status;
   err->status = status;
+  char raw[sizeof err->msg]; /* formatted apart: err->msg may be among the arguments */
   va_list ap;
   va_start(ap, fmt);
-  vsnprintf(err->msg, sizeof err->msg, fmt, ap);
+  vsnprintf(raw, sizeof raw, fmt, ap);
   va_end(ap);
+  vs_quote(raw, err->msg, sizeof err->msg);
   return status;
 }

@@ -1,5 +1,5 @@
 /* Wall-clock and CPU seconds for the runs' timings (C11 timespec_get, C clock; differences
- * only). */
+ * only), and the monotonic clock of the solvers' deadlines. */
 #ifndef VS_WALL_CLOCK_H
 #define VS_WALL_CLOCK_H
 
@@ -9,6 +9,16 @@ static inline double vs_wall_now(void) {
   struct timespec ts;
   timespec_get(&ts, TIME_UTC);
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Monotonic seconds (CLOCK_MONOTONIC: setting the system clock does not move it), the clock of
+ * the solvers' deadlines (vs_path_opts, vs_dyn_opts, vs_fall_opts: deadline); wall_clock.c. */
+double vs_monotonic_s(void);
+
+/* 1 once the deadline *deadline (vs_monotonic_s seconds; NULL, or 0: none) has passed. It reads
+ * the clock: the solvers call it once a step or a solve, never once a residual. */
+static inline int vs_deadline_passed(const double *deadline) {
+  return deadline != NULL && *deadline > 0.0 && vs_monotonic_s() >= *deadline;
 }
 
 /* CPU time of the process (user and system, all its threads), s. */

@@ -7,6 +7,7 @@
 #include "case_internal.h"
 #include "parse.h"
 #include "voussoir/units.h"
+#include "quote.h"
 
 #include <limits.h>
 #include <math.h>
@@ -162,6 +163,9 @@ static const key_spec keys[] = {
         "initial offset of the moving support, outward"),
     KEY(imperfections, support_dz_mm, 0.0, -100.0, true, 100.0, true, "mm",
         "initial offset of the moving support, downward"),
+    KEY(run, max_wall_s, 0.0, 0.0, true, 1e6, true, "s",
+        "wall-time limit of a run (0: none); once passed the run stops at its next step, its "
+        "record marked stopped"),
 };
 #undef LEN_MIN
 #undef LEN_MAX
@@ -278,13 +282,9 @@ static void list_keys(const char *section, char *buf, size_t size) {
   }
 }
 
-/* Echo user text into a message (case_internal.h: vs_case_echo). */
-const char *vs_case_clip(const char *s, vs_case_echo *b) {
-  if (strlen(s) <= VS_CASE_ECHO_MAX) return s;
-  memcpy(b->s, s, VS_CASE_ECHO_MAX);
-  memcpy(b->s + VS_CASE_ECHO_MAX, "...", 4);
-  return b->s;
-}
+/* Echo user text into a message (case_internal.h: vs_case_echo), quoted: a case file's token
+ * may hold an escape sequence. */
+const char *vs_case_clip(const char *s, vs_case_echo *b) { return vs_quote(s, b->s, sizeof b->s); }
 
 /* ---------------------------------------------------------------------------------------------
  * Numbers: the one parser of parse.h (same accepted forms as every command-line option). */
@@ -499,6 +499,7 @@ void vs_case_to_def(const vs_case *c, vs_run_def *d) {
                                            .thickness_cov = c->thickness_cov,
                                            .support_dx = c->support_dx_mm * VS_MM,
                                            .support_dz = c->support_dz_mm * VS_MM};
+  d->max_wall_s = c->max_wall_s;
 }
 
 void vs_run_def_default(vs_run_def *d) {

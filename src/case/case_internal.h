@@ -1,5 +1,6 @@
 /* Private to the case (case.h): case.c (the key table, one assignment, --set, validation, SI
- * values) and case_read.c (the INI file reader) share one assignment and its messages. */
+ * values) and case_read.c (the INI file reader) share the echo of a token and the table's
+ * sections (the one assignment, vs_case_assign, is public: case.h). */
 #ifndef VOUSSOIR_CASE_INTERNAL_H
 #define VOUSSOIR_CASE_INTERNAL_H
 
@@ -14,7 +15,8 @@ typedef struct {
   char s[VS_CASE_ECHO_MAX + 4];
 } vs_case_echo;
 
-/* s, or its first VS_CASE_ECHO_MAX characters and "..." in b. */
+/* s quoted (vs_quote: no control character or escape sequence gets through) in b: at most
+ * VS_CASE_ECHO_MAX characters, or its first ones and "...". */
 const char *vs_case_clip(const char *s, vs_case_echo *b);
 
 /* Is section[0, len) a section of the table? section need not be NUL-terminated. */
@@ -22,13 +24,6 @@ bool vs_case_section_known(const char *section, size_t len);
 
 /* The table's sections, ", "-separated, into buf (size bytes). */
 void vs_case_list_sections(char *buf, size_t size);
-
-/* One assignment section.name = value (text), shared by the file reader and --set: checked
- * against the table (the key, the number or name, the range), c written only when the value is
- * accepted. where is "FILE:LINE" or "--set ...", the start of every message. VS_ERR_PARSE or
- * VS_ERR_INVALID with the message in err. */
-vs_status vs_case_assign(vs_case *c, const char *section, const char *name, const char *value,
-                         const char *where, vs_error *err);
 
 /* The blanks of a case file's line (not the newline). */
 static inline bool vs_case_is_blank(char ch) {

@@ -13,6 +13,7 @@
 #include <signal.h>
 
 #include "exit_status.h"
+#include "quote.h"
 #include "study.h"
 #include "voussoir/case.h"
 #include "voussoir/status.h"
@@ -50,6 +51,12 @@ int cli_double(const char *name, const char *option, const char *text, double lo
 
 /* Keep one more --set value; VS_EXIT_BAD_INPUT beyond VS_CLI_MAX_SETS. */
 int cli_add_set(const char *name, const char *value, const char **sets, int *nsets);
+
+/* An option that stands for a --set (--max-wall-s S: run.max_wall_s=S): "KEY=VALUE" built in
+ * buf (size bytes, living as long as sets) and kept as cli_add_set keeps it (checked with the
+ * other --set, where the case is read); VS_EXIT_BAD_INPUT when it does not fit. */
+int cli_add_key_set(const char *name, const char *option, const char *key, const char *value,
+                    char *buf, size_t size, const char **sets, int *nsets);
 
 /* The usage of run (src/cli/cli_run.c), which the program's own --help ends with. */
 extern const char VS_CLI_RUN_USAGE[];

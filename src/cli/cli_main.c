@@ -47,7 +47,7 @@ static int dispatch(int argc, char **argv, int *h5_clean) {
   if (strcmp(cmd, "montecarlo") == 0) return vs_cli_montecarlo(argc, argv);
   if (strcmp(cmd, "merge") == 0) return vs_cli_merge(argc, argv);
   if (strcmp(cmd, "plot") == 0) return vs_cli_plot(argc, argv);
-  fprintf(stderr, "voussoir: unknown command '%s'\n%s", cmd, USAGE);
+  fprintf(stderr, "voussoir: unknown command '%s'\n%s", vs_q(cmd).s, USAGE);
   return VS_EXIT_BAD_INPUT;
 }
 

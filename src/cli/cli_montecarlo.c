@@ -9,9 +9,11 @@
 
 static const char *const MC_USAGE =
     "usage: voussoir montecarlo CASE --samples N [--seed S] [--set SECTION.KEY=VALUE]...\n"
-    "                           [-j N] [--shard K/M] [-o DIR] [--resume] [-q]\n"
+    "                           [--max-wall-s S] [-j N] [--shard K/M] [-o DIR] [--resume] [-q]\n"
     "  --samples N   imperfect arches 0..N-1, each with its own draws ([imperfections])\n"
     "  --seed S      generator seed (same as --set imperfections.seed=S)\n"
+    "  --max-wall-s S  each sample stops once it has taken S s of wall time (same as --set\n"
+    "                run.max_wall_s=S): it is then a failed sample, its cause 'stopped: ...'\n"
     "  -j N          worker processes (default: the cores)\n"
     "  --shard K/M   run only the samples i with i mod M = K-1 (K in 1..M), for a scheduler's\n"
     "                array job; voussoir merge then joins the shards' directories\n"
@@ -38,7 +40,7 @@ static const char *const MERGE_USAGE =
     "exit status: 0 done, 1 the summary could not be written, 2 bad input (a missing or foreign\n"
     "table, a sample twice)\n";
 
-enum { OPT_SAMPLES = 256, OPT_SEED, OPT_SET, OPT_SHARD, OPT_RESUME };
+enum { OPT_SAMPLES = 256, OPT_SEED, OPT_SET, OPT_SHARD, OPT_RESUME, OPT_MAX_WALL };
 
 static const struct option MC_OPTIONS[] = {
     {"samples", required_argument, NULL, OPT_SAMPLES},
@@ -46,6 +48,7 @@ static const struct option MC_OPTIONS[] = {
     {"set", required_argument, NULL, OPT_SET},
     {"shard", required_argument, NULL, OPT_SHARD},
     {"resume", no_argument, NULL, OPT_RESUME},
+    {"max-wall-s", required_argument, NULL, OPT_MAX_WALL},
     {0, 0, 0, 0}};
 
 static const cli_command MONTECARLO = {"voussoir montecarlo", MC_USAGE, "j:o:q", MC_OPTIONS};
@@ -65,17 +68,27 @@ static int parse_shard(const char *v, vs_mc_opts *o) {
     o->shard_m = (int)lm;
   }
   if (ok) return 0;
-  fprintf(stderr, "voussoir montecarlo: --shard %s: expected K/M with 1 <= K <= M\n", v);
+  fprintf(stderr, "voussoir montecarlo: --shard %s: expected K/M with 1 <= K <= M\n", vs_q(v).s);
   return VS_EXIT_BAD_INPUT;
 }
 
+/* The study's options, and the storage of the --set that --max-wall-s stands for. */
+typedef struct {
+  vs_mc_opts o;
+  char max_wall[96];
+} mc_args;
+
 static int mc_option(void *user, int code, const char *value) {
-  vs_mc_opts *o = user;
+  mc_args *a = user;
+  vs_mc_opts *o = &a->o;
   const char *name = MONTECARLO.name;
   switch (code) {
   case OPT_SAMPLES: return cli_int(name, "--samples", value, 1, 10000000, &o->samples);
   case OPT_SEED: o->seed = value; return 0;
   case OPT_SET: return cli_add_set(name, value, o->sets, &o->nsets);
+  case OPT_MAX_WALL:
+    return cli_add_key_set(name, "--max-wall-s", "run.max_wall_s", value, a->max_wall,
+                           sizeof a->max_wall, o->sets, &o->nsets);
   case OPT_SHARD: return parse_shard(value, o);
   case OPT_RESUME: o->resume = 1; return 0;
   case 'j': return cli_int(name, "-j", value, 1, 1024, &o->jobs);
@@ -87,16 +100,17 @@ static int mc_option(void *user, int code, const char *value) {
     o->case_path = value;
     return 0;
   }
-  fprintf(stderr, "voussoir montecarlo: unexpected argument %s\n%s", value, MC_USAGE);
+  fprintf(stderr, "voussoir montecarlo: unexpected argument %s\n%s", vs_q(value).s, MC_USAGE);
   return VS_EXIT_BAD_INPUT;
 }
 
 int vs_cli_montecarlo(int argc, char **argv) {
   const char *sets[VS_CLI_MAX_SETS];
-  vs_mc_opts o = {.dir = "montecarlo_out", .sets = sets, .samples = -1, .shard_k = 1,
-                  .shard_m = 1, .jobs = (int)sysconf(_SC_NPROCESSORS_ONLN)};
-  if (o.jobs < 1) o.jobs = 1;
-  const int rc = cli_parse(&MONTECARLO, argc, argv, mc_option, &o);
+  mc_args a = {.o = {.dir = "montecarlo_out", .sets = sets, .samples = -1, .shard_k = 1,
+                      .shard_m = 1, .jobs = (int)sysconf(_SC_NPROCESSORS_ONLN)}};
+  if (a.o.jobs < 1) a.o.jobs = 1;
+  const int rc = cli_parse(&MONTECARLO, argc, argv, mc_option, &a);
+  const vs_mc_opts o = a.o;
   if (rc != 0) return rc < 0 ? VS_EXIT_OK : rc;
   if (o.case_path == NULL || o.samples < 1) {
     fprintf(stderr, "voussoir montecarlo: needs a CASE and --samples N\n%s", MC_USAGE);

@@ -47,8 +47,8 @@ int cli_parse(const cli_command *cmd, int argc, char **argv, cli_option_fn on_op
     if (code == '?' || code == ':') {
       refused_option(argv + 1, word, sizeof word);
       const char *why = code == ':' ? "needs a value" : optopt >= 256 ? "takes no value" : NULL;
-      if (why != NULL) fprintf(stderr, "%s: %s %s\n%s", cmd->name, word, why, cmd->usage);
-      else fprintf(stderr, "%s: unknown option %s\n%s", cmd->name, word, cmd->usage);
+      if (why != NULL) fprintf(stderr, "%s: %s %s\n%s", cmd->name, vs_q(word).s, why, cmd->usage);
+      else fprintf(stderr, "%s: unknown option %s\n%s", cmd->name, vs_q(word).s, cmd->usage);
       return VS_EXIT_BAD_INPUT;
     }
     rc = on_option(user, code, optarg);
@@ -80,4 +80,14 @@ int cli_add_set(const char *name, const char *value, const char **sets, int *nse
   }
   sets[(*nsets)++] = value;
   return 0;
+}
+
+int cli_add_key_set(const char *name, const char *option, const char *key, const char *value,
+                    char *buf, size_t size, const char **sets, int *nsets) {
+  const int n = snprintf(buf, size, "%s=%s", key, value);
+  if (n < 0 || (size_t)n >= size) {
+    fprintf(stderr, "%s: %s %s: too long (allowed: a number)\n", name, option, vs_q(value).s);
+    return VS_EXIT_BAD_INPUT;
+  }
+  return cli_add_set(name, buf, sets, nsets);
 }

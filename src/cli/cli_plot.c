@@ -36,7 +36,7 @@ static int plot_option(void *user, int code, const char *value) {
   else if (code == OPT_SVG) a->ext = "svg";
   else if (a->run == NULL) a->run = value; /* 1: the record */
   else {
-    fprintf(stderr, "voussoir plot: unexpected argument %s\n%s", value, PLOT_USAGE);
+    fprintf(stderr, "voussoir plot: unexpected argument %s\n%s", vs_q(value).s, PLOT_USAGE);
     return VS_EXIT_BAD_INPUT;
   }
   return 0;

@@ -31,6 +31,10 @@ const char VS_CLI_RUN_USAGE[] =
     "  --dynamic              integrate the whole loading dynamically from rest at the support\n"
     "                         rate (no quasi-static phase); same as --set dynamic.full=1\n"
     "  --first-limit          stop at the first limit point (no dynamics); --set dynamic.follow=0\n"
+    "  --max-wall-s S         stop the run once it has taken S seconds of wall time (checked at\n"
+    "                         every step of every phase); its record, summary and JSON say\n"
+    "                         'stopped: wall-time limit S s reached'; 0: no limit (default);\n"
+    "                         same as --set run.max_wall_s=S\n"
     "  --json                 print one JSON object on stdout instead of the summary\n"
     "  -o FILE.h5             the HDF5 record of the run (default: the case's name with .h5, in\n"
     "                         the current directory) and its XDMF sidecar FILE.xmf (ParaView)\n"
@@ -48,11 +52,14 @@ const char VS_CLI_RUN_USAGE[] =
     "  -q                     no progress line\n"
     "  -h, --help             this help\n"
     "  --version              program version (voussoir --version)\n"
-    "The overrides (--alpha, --kn, --set, --dynamic, --first-limit) apply in the order given.\n"
+    "The overrides (--alpha, --kn, --set, --dynamic, --first-limit, --max-wall-s) apply in the\n"
+    "order given.\n"
     "CASE is an INI file (runs/reference.ini is the reference specimen). Units: mm, N/mm^3, deg.\n"
     "exit status: 0 ok, 1 the run failed (solver, full disk; the cause is printed), 2 bad input\n"
     "(also an output that is not a regular file, is the case file, or another run is writing),\n"
-    "130 interrupted (SIGINT/SIGTERM: the record is closed with status 'failed: interrupted').\n";
+    "130 interrupted (SIGINT/SIGTERM: the record is closed with status 'failed: interrupted'),\n"
+    "or stopped by the wall-time limit (--max-wall-s, run.max_wall_s: the record is closed with\n"
+    "status 'stopped: wall-time limit S s reached').\n";
 
 typedef struct {
   FILE *csv;
@@ -146,7 +153,7 @@ typedef struct {
 } run_args;
 
 enum { OPT_ALPHA = 256, OPT_KN, OPT_SET, OPT_DYNAMIC, OPT_FIRST_LIMIT, OPT_JSON, OPT_NO_RECORD,
-       OPT_COMPRESS, OPT_CSV, OPT_SNAPSHOT_SHARE };
+       OPT_COMPRESS, OPT_CSV, OPT_SNAPSHOT_SHARE, OPT_MAX_WALL };
 
 static const struct option RUN_OPTIONS[] = {
     {"alpha", required_argument, NULL, OPT_ALPHA},
@@ -159,6 +166,7 @@ static const struct option RUN_OPTIONS[] = {
     {"compress", no_argument, NULL, OPT_COMPRESS},
     {"csv", required_argument, NULL, OPT_CSV},
     {"snapshot-share", required_argument, NULL, OPT_SNAPSHOT_SHARE},
+    {"max-wall-s", required_argument, NULL, OPT_MAX_WALL},
     {0, 0, 0, 0}};
 
 static int run_option(void *user, int code, const char *value) {
@@ -167,6 +175,7 @@ static int run_option(void *user, int code, const char *value) {
   switch (code) {
   case OPT_ALPHA: *o = (run_override){"support.alpha_deg", value}; break;
   case OPT_KN: *o = (run_override){"joints.kn_N_mm3", value}; break;
+  case OPT_MAX_WALL: *o = (run_override){"run.max_wall_s", value}; break;
   case OPT_SET: *o = (run_override){NULL, value}; break;
   case OPT_DYNAMIC: *o = (run_override){NULL, "dynamic.full=1"}; break;
   case OPT_FIRST_LIMIT: *o = (run_override){NULL, "dynamic.follow=0"}; break;
@@ -180,7 +189,8 @@ static int run_option(void *user, int code, const char *value) {
   case 'q': a->quiet = 1; return 0;
   default: /* 1: the case */
     if (a->case_path != NULL) {
-      fprintf(stderr, "voussoir: more than one case file (%s, %s)\n", a->case_path, value);
+      fprintf(stderr, "voussoir: more than one case file (%s, %s)\n", vs_q(a->case_path).s,
+              vs_q(value).s);
       return EXIT_BAD_INPUT;
     }
     a->case_path = value;
@@ -382,8 +392,12 @@ int vs_cli_run(int argc, char **argv, int *h5_clean) {
   if (a.json) vs_report_json(stdout, run, st, &err, a.case_path);
   else vs_report_text(stdout, run, st, &err, a.case_path);
   print_record_line(&a, &sink);
-  if (st != VS_OK) fprintf(stderr, "voussoir: run failed: %s\n", err.msg);
-  rc = (st == VS_OK) ? EXIT_SUCCESS : st == VS_ERR_INTERRUPTED ? EXIT_INTERRUPTED : EXIT_RUN_FAILED;
+  if (st == VS_ERR_WALL_TIME) fprintf(stderr, "voussoir: %s\n", err.msg); /* stopped: ... */
+  else if (st != VS_OK) fprintf(stderr, "voussoir: run failed: %s\n", err.msg);
+  /* a run stopped by its wall-time limit ends as an interrupted one: it did not finish */
+  rc = (st == VS_OK)                                           ? EXIT_SUCCESS
+       : st == VS_ERR_INTERRUPTED || st == VS_ERR_WALL_TIME ? EXIT_INTERRUPTED
+                                                              : EXIT_RUN_FAILED;
   goto cleanup;
 
 input_error:

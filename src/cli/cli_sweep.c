@@ -14,7 +14,7 @@
 static const char *const SWEEP_USAGE =
     "usage: voussoir sweep CASE [--alpha LIST] [--kn LIST] [--vary SECTION.KEY=LIST]...\n"
     "                      [--set SECTION.KEY=VALUE]... [--first-limit | --dynamic]\n"
-    "                      [-j N] [-o DIR] [--resume] [-q]\n"
+    "                      [--max-wall-s S] [-j N] [-o DIR] [--resume] [-q]\n"
     "       mpirun -np N voussoir sweep ...   (rank 0 hands the runs out to the other ranks)\n"
     "Runs the case for every combination of the lists, each in a worker process forked from\n"
     "this one (-j at a time, default: the number of cores), and writes DIR/run_NNNN.h5 (the\n"
@@ -23,6 +23,8 @@ static const char *const SWEEP_USAGE =
     "LIST: comma-separated numbers and inclusive ranges first:last:step, e.g. 0:45:5,60,75,90.\n"
     "--alpha and --kn are the axes support.alpha_deg and joints.kn_N_mm3; --vary sweeps any key.\n"
     "-o DIR: default sweep_out. At most 100000 runs. Values: --alpha 0:90:5 or --alpha=0:90:5.\n"
+    "--max-wall-s S: each run stops once it has taken S s of wall time (--set run.max_wall_s=S);\n"
+    "its row says 'stopped' and it counts as failed.\n"
     "SIGINT/SIGTERM: the runs under way are interrupted (the signal is passed on), the summary\n"
     "lists what finished and marks the rest 'interrupted' or 'not_run'; exit status 130.\n"
     "--resume: continue the sweep in DIR (same case, lists, --set and mode): a run whose row is\n"
@@ -32,7 +34,8 @@ static const char *const SWEEP_USAGE =
     "One study at a time in DIR (DIR/study.lock): another sweep or montecarlo there is refused.\n"
     "Exit status 0 when every run worked, 1 if any failed, 2 bad input, 130 interrupted.\n";
 
-enum { OPT_ALPHA = 256, OPT_KN, OPT_VARY, OPT_SET, OPT_FIRST_LIMIT, OPT_DYNAMIC, OPT_RESUME };
+enum { OPT_ALPHA = 256, OPT_KN, OPT_VARY, OPT_SET, OPT_FIRST_LIMIT, OPT_DYNAMIC, OPT_RESUME,
+       OPT_MAX_WALL };
 
 static const struct option SWEEP_OPTIONS[] = {
     {"alpha", required_argument, NULL, OPT_ALPHA},
@@ -42,6 +45,7 @@ static const struct option SWEEP_OPTIONS[] = {
     {"first-limit", no_argument, NULL, OPT_FIRST_LIMIT},
     {"dynamic", no_argument, NULL, OPT_DYNAMIC},
     {"resume", no_argument, NULL, OPT_RESUME},
+    {"max-wall-s", required_argument, NULL, OPT_MAX_WALL},
     {0, 0, 0, 0}};
 
 static const cli_command SWEEP = {"voussoir sweep", SWEEP_USAGE, "j:o:q", SWEEP_OPTIONS};
@@ -58,8 +62,9 @@ static int add_axis(vs_sweep_opts *o, int code, const char *value) {
   if (code == OPT_VARY) {
     const char *eq = strchr(list, '=');
     if (eq == NULL || (size_t)(eq - list) >= sizeof x->key) {
-      fprintf(stderr, "voussoir sweep: --vary %.64s: expected SECTION.KEY=LIST (KEY shorter "
-                      "than %d characters)\n", list, (int)sizeof x->key);
+      char q[68];
+      fprintf(stderr, "voussoir sweep: --vary %s: expected SECTION.KEY=LIST (KEY shorter "
+                      "than %d characters)\n", vs_quote(list, q, sizeof q), (int)sizeof x->key);
       return VS_EXIT_BAD_INPUT;
     }
     snprintf(x->key, sizeof x->key, "%.*s", (int)(eq - list), list);
@@ -77,11 +82,21 @@ static int add_axis(vs_sweep_opts *o, int code, const char *value) {
   return 0;
 }
 
+/* The sweep's options, and the storage of the --set that --max-wall-s stands for. */
+typedef struct {
+  vs_sweep_opts o;
+  char max_wall[96];
+} sweep_args;
+
 static int sweep_option(void *user, int code, const char *value) {
-  vs_sweep_opts *o = user;
+  sweep_args *a = user;
+  vs_sweep_opts *o = &a->o;
   switch (code) {
   case OPT_ALPHA: case OPT_KN: case OPT_VARY: return add_axis(o, code, value);
   case OPT_SET: return cli_add_set(SWEEP.name, value, o->sets, &o->nsets);
+  case OPT_MAX_WALL:
+    return cli_add_key_set(SWEEP.name, "--max-wall-s", "run.max_wall_s", value, a->max_wall,
+                           sizeof a->max_wall, o->sets, &o->nsets);
   case OPT_FIRST_LIMIT: o->mode_flag = "--first-limit"; return 0;
   case OPT_DYNAMIC: o->mode_flag = "--dynamic"; return 0;
   case OPT_RESUME: o->resume = 1; return 0;
@@ -94,7 +109,7 @@ static int sweep_option(void *user, int code, const char *value) {
     o->case_path = value;
     return 0;
   }
-  fprintf(stderr, "voussoir sweep: unexpected argument %s\n%s", value, SWEEP_USAGE);
+  fprintf(stderr, "voussoir sweep: unexpected argument %s\n%s", vs_q(value).s, SWEEP_USAGE);
   return VS_EXIT_BAD_INPUT;
 }
 
@@ -102,15 +117,17 @@ int vs_cli_sweep(int argc, char **argv, int *h5_clean) {
   const char *sets[VS_CLI_MAX_SETS];
   vs_sweep_axis ax[VS_SWEEP_MAX_AXES];
   memset(ax, 0, sizeof ax);
-  vs_sweep_opts o = {.dir = "sweep_out", .sets = sets, .ax = ax,
-                     .jobs = (int)sysconf(_SC_NPROCESSORS_ONLN)};
-  if (o.jobs < 1) o.jobs = 1;
-  if (o.jobs > 1024) o.jobs = 1024;
+  sweep_args a = {.o = {.dir = "sweep_out", .sets = sets, .ax = ax,
+                        .jobs = (int)sysconf(_SC_NPROCESSORS_ONLN)}};
+  if (a.o.jobs < 1) a.o.jobs = 1;
+  if (a.o.jobs > 1024) a.o.jobs = 1024;
   vs_sweep_catch_signals(); /* first, so that no signal is lost while the sweep sets up */
-  int rc = cli_parse(&SWEEP, argc, argv, sweep_option, &o);
+  int rc = cli_parse(&SWEEP, argc, argv, sweep_option, &a);
+  vs_sweep_opts o = a.o; /* its --set may point into a: a outlives the sweep */
   if (rc == 0 && strlen(o.dir) > 1000) {
-    fprintf(stderr, "voussoir sweep: -o %.64s...: directory name too long (at most 1000 "
-                    "characters)\n", o.dir);
+    char q[68];
+    fprintf(stderr, "voussoir sweep: -o %s: directory name too long (at most 1000 "
+                    "characters)\n", vs_quote(o.dir, q, sizeof q));
     rc = VS_EXIT_BAD_INPUT;
   }
   if (rc == 0 && (o.case_path == NULL || o.nax == 0)) {
@@ -172,7 +189,7 @@ static int cal_option(void *user, int code, const char *value) {
     a->o.case_path = value;
     return 0;
   }
-  fprintf(stderr, "voussoir calibrate: unexpected argument %s\n%s", value, CAL_USAGE);
+  fprintf(stderr, "voussoir calibrate: unexpected argument %s\n%s", vs_q(value).s, CAL_USAGE);
   return VS_EXIT_BAD_INPUT;
 }
 

@@ -740,7 +740,7 @@ vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_en
   double t_sample = t0, t_moving = t0;
   const long max_steps = (long)ceil(f->o.duration / h) + 1;
   for (long k = 0; st == VS_OK && k < max_steps && f->t < t_end - 0.5 * h; k++) {
-    if (f->o.stop != NULL && *f->o.stop) {
+    if ((f->o.stop != NULL && *f->o.stop) || vs_deadline_passed(f->o.deadline)) {
       st = vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
       break;
     }

@@ -20,17 +20,19 @@
 #include "voussoir/model.h"
 #include "outpath.h"
 #include "voussoir/plot.h"
+#include "voussoir/report.h"
 #include "voussoir/support.h"
 #include "voussoir/units.h"
+#include "quote.h"
 
 /* Start a picture's entry in plots.json: its file and title (the caller adds fields and '}'). */
 static void json_picture(vs_plotrec *r, const char *path, const char *title) {
   if (r->json == NULL) return;
   const char *base = strrchr(path, '/');
   fputs(r->n_pictures++ ? ",\n  {\"file\": " : "\n  {\"file\": ", r->json);
-  vs_plot_json_str(r->json, base != NULL ? base + 1 : path);
+  vs_json_string(r->json, base != NULL ? base + 1 : path);
   fputs(", \"title\": ", r->json);
-  vs_plot_json_str(r->json, title);
+  vs_json_string(r->json, title);
 }
 
 /* The labels an arch picture draws, in plots.json. */
@@ -50,7 +52,7 @@ static void json_arch(vs_plotrec *r, const char *path, const char *title, const 
   for (int i = 0; i < nh; i++) {
     const char lab[2] = {h[i].label, '\0'}; /* beyond Z the letters run into punctuation */
     fputs(i ? ", {\"label\": " : "{\"label\": ", r->json);
-    vs_plot_json_str(r->json, lab);
+    vs_json_string(r->json, lab);
     fprintf(r->json, ", \"side\": \"%c\", \"first\": %d, \"last\": %d}", h[i].side, h[i].first,
             h[i].last);
   }
@@ -239,7 +241,7 @@ static FILE *json_open(const char *dir, const char *source) {
     return NULL;
   }
   fputs("{\"source\": ", f);
-  vs_plot_json_str(f, source);
+  vs_json_string(f, source);
   fputs(", \"pictures\": [", f);
   return f;
 }
@@ -312,7 +314,8 @@ static int plot_if_sweep(const char *run, const char *dir, const char *ext, int 
 static int plot_run(const char *run, const char *dir, const char *ext) {
   vs_plotrec r;
   if (vs_plotrec_open(run, &r) != 0) {
-    fprintf(stderr, "voussoir plot: %s\n", r.msg);
+    char q[sizeof r.msg];
+    fprintf(stderr, "voussoir plot: %s\n", vs_quote(r.msg, q, sizeof q)); /* it names run */
     vs_plotrec_free(&r);
     return 2;
   }
@@ -326,7 +329,8 @@ static int plot_run(const char *run, const char *dir, const char *ext) {
     return 1;
   }
   r.json = json_open(dir, run);
-  printf("pictures of %s (%d recorded states):\n", run, r.rows);
+  char q[1024];
+  printf("pictures of %s (%d recorded states):\n", vs_quote(run, q, sizeof q), r.rows);
   int bad = draw_row(&r, 0, dir, "reference", ext, "Self-weight");
   for (int i = 0; i < r.nh; i++) {
     if (r.h[i].during_fall) continue;

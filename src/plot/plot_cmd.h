@@ -68,13 +68,4 @@ state vs_plotrec_state(const vs_plotrec *r, int row);
  * their points in json (may be NULL). 0, or -1 with the reason printed. */
 int vs_plot_sweep(const char *path, hid_t f, const char *dir, const char *ext, FILE *json);
 
-/* A JSON string: the characters of s, quotes and backslashes escaped, controls dropped. */
-static inline void vs_plot_json_str(FILE *f, const char *s) {
-  fputc('"', f);
-  for (; *s != '\0'; s++)
-    if (*s == '"' || *s == '\\') fprintf(f, "\\%c", *s);
-    else if ((unsigned char)*s >= 0x20) fputc(*s, f);
-  fputc('"', f);
-}
-
 #endif

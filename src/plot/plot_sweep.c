@@ -10,6 +10,8 @@
 #include "h5util.h"
 #include "plot_cmd.h"
 #include "voussoir/plot.h"
+#include "voussoir/report.h"
+#include "quote.h"
 
 /* --- a sweep's summary table: the limit displacement domain, the k_n sensitivity --- */
 
@@ -123,7 +125,7 @@ static void sweep_json(FILE *f, const char *domain, const char *sens, const swee
     if (files[pic] == NULL) continue;
     const char *base = strrchr(files[pic], '/');
     fprintf(f, "%s\n  {\"file\": ", pic ? "," : "");
-    vs_plot_json_str(f, base != NULL ? base + 1 : files[pic]);
+    vs_json_string(f, base != NULL ? base + 1 : files[pic]);
     fputs(", \"points\": [", f);
     for (int i = 0; i < m; i++) {
       fprintf(f, "%s\n    {\"kn_N_mm3\": ", i ? "," : "");
@@ -146,7 +148,9 @@ int vs_plot_sweep(const char *path, hid_t f, const char *dir, const char *ext, F
   sweep_pt *p;
   const int n = read_sweep(f, &p);
   if (n < 0) {
-    fprintf(stderr, "voussoir plot: %s: /summary is not a sweep's summary table\n", path);
+    char q[1024];
+    fprintf(stderr, "voussoir plot: %s: /summary is not a sweep's summary table\n",
+            vs_quote(path, q, sizeof q));
     return -1;
   }
   int m = 0, rc = 0;
@@ -171,7 +175,8 @@ int vs_plot_sweep(const char *path, hid_t f, const char *dir, const char *ext, F
   vs_error_clear(&err);
   const int by_alpha = distinct(p, m, 1) >= 2, by_kn = distinct(p, m, 0) >= 2;
   if (x == NULL || v == NULL || du == NULL || y == NULL || m == 0) {
-    fprintf(stderr, "voussoir plot: %s: %s\n", path,
+    char q[1024];
+    fprintf(stderr, "voussoir plot: %s: %s\n", vs_quote(path, q, sizeof q),
             m == 0 ? "no run of the sweep collapsed" : "out of memory");
     rc = -1;
   } else {

@@ -98,7 +98,8 @@ static vs_status check_targets(vs_output *o, vs_error *err) {
   vs_status st = xmf_tmp == NULL ? vs_error_set(err, VS_ERR_NOMEM, "output: out of memory")
                                  : vs_outpath_check(o->path, sidecar, 1, err);
   if (st == VS_OK) st = vs_outpath_check(o->xmf_path, NULL, 0, err);
-  if (st == VS_OK) st = vs_outpath_check(xmf_tmp, NULL, 0, err);
+  if (st == VS_OK) st = vs_outpath_check_working(xmf_tmp, err);
+  if (st == VS_OK) st = vs_xdmf_name_check(o->path, err); /* the sidecar must name the record */
   if (st == VS_OK) st = vs_outlock_acquire(o->path, &o->lock, err);
   free(xmf_tmp);
   return st;
@@ -271,6 +272,9 @@ static void status_text(const vs_output *o, vs_status run_status, const vs_error
     snprintf(buf, size, "failed: interrupted");
   else if (o->err.status != VS_OK)
     snprintf(buf, size, "failed: %s", o->err.msg);
+  else if (run_status == VS_ERR_WALL_TIME) /* "stopped: wall-time limit S s reached" */
+    snprintf(buf, size, "%s", run_err != NULL && run_err->msg[0] ? run_err->msg
+                                                                  : vs_strerror(run_status));
   else if (run_status != VS_OK)
     snprintf(buf, size, "failed: %s%s%s", vs_strerror(run_status),
              run_err != NULL && run_err->msg[0] ? ": " : "", run_err != NULL ? run_err->msg : "");

@@ -7,8 +7,10 @@
 #include <string.h>
 
 #include "h5util.h"
+#include "utf8.h"
 #include "xdmf.h"
 #include "xdmf_internal.h"
+#include "quote.h"
 
 /* Every cell field any grid carries. ParaView's default XDMF reader (Xdmf3ReaderS, what File >
  * Open picks) flattens a step's grids into pieces of one data set, and its geometry filter then
@@ -52,22 +54,45 @@ static const char PAD_PREFIX[PAD_COUNT] = {'b', 'j', 's'};
 static const int GRID_PAD[G_COUNT] = {PAD_BLOCKS, PAD_JOINTS, PAD_ONE, PAD_ONE, PAD_ONE};
 static const char *const GRID_TOPOLOGY[G_COUNT] = {"tb", "tj", "t1", "t1", "t1"};
 
-static void xml_escape(const char *s, char *out, size_t size) {
-  size_t used = 0;
-  for (; *s != '\0' && used + 7 < size; s++) {
-    const char *rep = *s == '&'   ? "&amp;"
-                      : *s == '<' ? "&lt;"
-                      : *s == '>' ? "&gt;"
-                      : *s == '"' ? "&quot;"
-                                  : NULL;
-    if (rep != NULL) {
-      memcpy(out + used, rep, strlen(rep));
-      used += strlen(rep);
-    } else {
-      out[used++] = *s;
-    }
+/* The record's file name as the sidecar's text: XML's five markup characters as entities (a
+ * name checked by vs_xdmf_name_check holds nothing XML cannot). malloc'd, NULL when out of
+ * memory. */
+static char *xml_escape(const char *s) {
+  char *out = malloc(6 * strlen(s) + 1), *o = out; /* "&quot;" is the longest */
+  for (; out != NULL && *s != '\0'; s++) {
+    const char *rep = *s == '&'    ? "&amp;"
+                      : *s == '<'  ? "&lt;"
+                      : *s == '>'  ? "&gt;"
+                      : *s == '"'  ? "&quot;"
+                      : *s == '\'' ? "&apos;"
+                                   : NULL;
+    if (rep != NULL) o += sprintf(o, "%s", rep);
+    else *o++ = *s;
   }
-  out[used] = '\0';
+  if (out != NULL) *o = '\0';
+  return out;
+}
+
+vs_status vs_xdmf_name_check(const char *h5_path, vs_error *err) {
+  const char *slash = strrchr(h5_path, '/'), *base = slash != NULL ? slash + 1 : h5_path;
+  const char *why = NULL;
+  if (!vs_quote_clean(base, NULL))
+    why = "a control character or bytes that are not UTF-8 text, which XML cannot hold";
+  else if (base[0] == ' ')
+    why = "a leading blank, which XDMF trims from the reference";
+  else if (strpbrk(base, ":|") != NULL)
+    why = "':' or '|', where XDMF splits its reference FILE:/DATASET|SLAB";
+  for (const unsigned char *p = (const unsigned char *)base; why == NULL && *p != '\0';) {
+    unsigned long cp = 0;
+    const int n = vs_utf8_char(p, &cp);
+    if (cp == 0xfffe || cp == 0xffff) why = "U+FFFE or U+FFFF, which are not XML characters";
+    p += n > 0 ? n : 1;
+  }
+  if (why == NULL) return VS_OK;
+  return vs_error_set(err, VS_ERR_INVALID,
+                      "%s: the XDMF sidecar could not name this file: its name holds %s (rename "
+                      "the record)",
+                      h5_path, why);
 }
 
 /* The sidecar repeats its few kinds of lines for every grid of every state (some 20 000 numbers
@@ -369,10 +394,11 @@ static void xdmf_shared(xdmf_ctx *x) {
 
 
 /* The sidecar's opening: what it shows and how ParaView reads it. */
-static void xdmf_header(xdmf_ctx *x, const char *name, long rows, long stride) {
+static void xdmf_header(xdmf_ctx *x, long rows, long stride) {
+  /* the record's name stays out of the comment: a comment cannot hold "--", nor an entity */
   out_f(x,
         "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
-        "<!-- voussoir: %s, %ld rows, every %ld-th shown (and the last), times strictly "
+        "<!-- voussoir record, %ld rows, every %ld-th shown (and the last), times strictly "
         "increasing (the loading time delta / rate, s).\n"
         "     ParaView: either XDMF 3 reader colours by any field: every grid carries every "
         "field, NaN where it is not the grid's own (slabs of the record's /xdmf/nan; the default "
@@ -393,7 +419,7 @@ static void xdmf_header(xdmf_ctx *x, const char *name, long rows, long stride) {
         "hinge_0closed_1intrados_2extrados Fx_N Fz_N).\n"
         "     The HDF5 file is named relative to this file. -->\n"
         "<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n<Domain>\n",
-        name, rows, stride);
+        rows, stride);
 }
 
 vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, int max_grids,
@@ -421,10 +447,11 @@ vs_status vs_xdmf_write_tmp(hid_t file, const char *h5_path, const char *xmf_pat
                         h5_path);
   double *t = NULL;
   long *sel = NULL, n = 0;
-  vs_status st = vs_xdmf_listing(file, &x, rows, max_grids, h5_path, &t, &sel, &n, err);
+  vs_status st = vs_xdmf_name_check(h5_path, err);
+  if (st == VS_OK) st = vs_xdmf_listing(file, &x, rows, max_grids, h5_path, &t, &sel, &n, err);
   const char *base = strrchr(h5_path, '/');
-  char name[1024];
-  xml_escape(base != NULL ? base + 1 : h5_path, name, sizeof name);
+  char *name = xml_escape(base != NULL ? base + 1 : h5_path);
+  if (name == NULL && st == VS_OK) st = vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
   x.h5name = name;
   x.ground = H5Lexists(file, "/summary", H5P_DEFAULT) > 0 &&
              H5Lexists(file, "/summary/ground", H5P_DEFAULT) > 0 &&
@@ -433,7 +460,7 @@ vs_status vs_xdmf_write_tmp(hid_t file, const char *h5_path, const char *xmf_pat
   if (st == VS_OK) st = vs_xdmf_open_tmp(xmf_path, tmp, size, &x.f, err);
   if (st == VS_OK) {
     x.used = 0;
-    xdmf_header(&x, name, rows, vs_xdmf_stride(rows, max_grids));
+    xdmf_header(&x, rows, vs_xdmf_stride(rows, max_grids));
     xdmf_shared(&x);
     out_s(&x, "<Grid Name=\"voussoir\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
     for (x.listed = 0; x.listed < n; x.listed++)
@@ -449,6 +476,7 @@ vs_status vs_xdmf_write_tmp(hid_t file, const char *h5_path, const char *xmf_pat
     }
   }
   vs_h5_close(x.pos);
+  free(name);
   free(t);
   free(sel);
   free(x.geo);

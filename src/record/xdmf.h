@@ -27,6 +27,13 @@ vs_status vs_xdmf_write_tmp(hid_t file, const char *h5_path, const char *xmf_pat
                             char *tmp, size_t size, vs_error *err);
 vs_status vs_xdmf_publish(const char *tmp, const char *xmf_path, vs_error *err);
 
+/* Can the sidecar refer to the record at h5_path by its file name? XML escapes &, <, >, " and
+ * ', but cannot hold a control character nor bytes that are not UTF-8 (nor U+FFFE, U+FFFF),
+ * and ParaView's XDMF reader splits its reference "FILE:/DATASET|SLAB" at the first ':' and at
+ * every '|' and trims blanks: such a name is refused with VS_ERR_INVALID (the record's writer
+ * checks it before anything is written; vs_xdmf_write again). */
+vs_status vs_xdmf_name_check(const char *h5_path, vs_error *err);
+
 /* The rows a sidecar lists, of rows [0, rows) with times t: every k-th row, k = ceil(rows /
  * max_grids), and the last, each only if its time is above the previous listed one (ParaView
  * wants times strictly increasing). Into sel (room for max_grids + 1 rows; NULL: only counted),

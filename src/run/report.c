@@ -6,16 +6,25 @@
 
 #include <math.h>
 
+#include "utf8.h"
 #include "voussoir/units.h"
 #include "voussoir/version.h"
+#include "quote.h"
 
+/* JSON text is UTF-8 (RFC 8259): a byte of s that is not part of well-formed UTF-8 (a path in
+ * another encoding) becomes U+FFFD, the replacement character, so the output stays valid JSON;
+ * control characters and DEL are escaped, so that printing the JSON cannot act on a terminal. */
 void vs_json_string(FILE *out, const char *s) {
   fputc('"', out);
-  for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
-    if (*p == '"' || *p == '\\') fprintf(out, "\\%c", *p);
+  for (const unsigned char *p = (const unsigned char *)s; *p;) {
+    unsigned long cp = 0;
+    const int n = vs_utf8_char(p, &cp);
+    if (n == 0) fputs("\\ufffd", out);
+    else if (*p == '"' || *p == '\\') fprintf(out, "\\%c", *p);
     else if (*p == '\n') fputs("\\n", out);
-    else if (*p < 0x20) fprintf(out, "\\u%04x", *p);
-    else fputc(*p, out);
+    else if (*p < 0x20 || *p == 0x7f) fprintf(out, "\\u%04x", *p);
+    else fwrite(p, 1, (size_t)n, out);
+    p += n > 0 ? n : 1;
   }
   fputc('"', out);
 }
@@ -29,6 +38,7 @@ static void components_pct(const vs_case *c, double delta_m, double *dz, double 
 }
 
 static const char *end_name(const vs_run *r, vs_status st) {
+  if (st == VS_ERR_WALL_TIME) return "stopped";
   if (st != VS_OK) return "failed";
   if (vs_run_collapse(r)->found) return "collapse";
   if (!vs_run_case(r)->follow && !vs_run_case(r)->full && vs_run_limit_count(r) > 0)
@@ -296,7 +306,9 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
 static void text_header(FILE *out, const vs_run *r, const char *case_path) {
   const vs_case *c = vs_run_case(r);
   const vs_geometry *g = vs_run_geometry(r);
-  fprintf(out, "voussoir %s  case %s\n", VS_VERSION, case_path ? case_path : "(defaults)");
+  char q[1024]; /* the case's path, quoted: it may hold anything */
+  fprintf(out, "voussoir %s  case %s\n", VS_VERSION,
+          case_path ? vs_quote(case_path, q, sizeof q) : "(defaults)");
   fprintf(out,
           "arch     R = %g mm, t = %g mm, embrace %g deg, %d voussoirs, b = %g mm\n"
           "         span L = %.2f mm, rise %.2f mm, weight %.3f N\n",
@@ -422,7 +434,7 @@ static void text_hinges(FILE *out, const vs_run *r) {
 }
 
 /* Solver statistics, the fall, the wall time. */
-static void text_stats(FILE *out, const vs_run *r) {
+static void text_stats(FILE *out, const vs_run *r, vs_status status) {
   const vs_path_result *t = vs_run_path_totals(r);
   const vs_dyn_result *d = vs_run_dynamic_totals(r);
   fprintf(out, "\nstats    quasi-static: %ld equilibria (%ld rejected increments) + %ld locating hinge "
@@ -455,7 +467,9 @@ static void text_stats(FILE *out, const vs_run *r) {
                  "it at the end (%.3g mm during the fall), %.3g mm inside another block or a pier "
                  "during the fall; %.3f s wall\n",
             vs_run_ground(r) / VS_MM, d->fall_at_rest ? "the debris at rest"
-            : isfinite(d->fall_failed_t) ? "stopped early (below)" : "still moving at fall_s",
+            : isfinite(d->fall_failed_t) ? "stopped early (below)"
+            : status != VS_OK            ? "still moving when the run stopped"
+                                         : "still moving at fall_s",
             vs_run_penetration(r) / VS_MM, d->max_penetration / VS_MM, d->max_overlap / VS_MM,
             d->fall_wall_s);
   if (isfinite(d->fall_failed_t))
@@ -472,9 +486,12 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
   text_first_limit(out, r);
   text_limits(out, r);
   text_collapse(out, r, status);
-  if (status != VS_OK)
+  if (status == VS_ERR_WALL_TIME) /* not a failure: the results so far stand, as far as they go */
+    fprintf(out, "\n%s at delta = %.4f mm, t = %.6g s (the results above are the run's so far)\n",
+            err != NULL ? err->msg : vs_strerror(status), vs_run_delta(r) / VS_MM, vs_run_time(r));
+  else if (status != VS_OK)
     fprintf(out, "\nFAILED at delta = %.4f mm: %s\n", vs_run_delta(r) / VS_MM,
             err != NULL ? err->msg : vs_strerror(status));
   text_hinges(out, r);
-  text_stats(out, r);
+  text_stats(out, r, status);
 }

@@ -60,6 +60,7 @@ static vs_status fall_create(vs_run *r, vs_error *err) {
   fo.duration = r->def.dynamic.fall_time;
   fo.sample_dt = r->def.dynamic.sample_dt;
   fo.ground = f->ground;
+  fo.deadline = &r->deadline;
   return vs_fall_create(r->m, &fo, NULL, NULL, &r->fall, err);
 }
 
@@ -115,6 +116,7 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
   if (st == VS_OK) {
     vs_path_opts_from_def(d, &r->popts);
     dyn_opts_from_def(d, r->g, &r->dopts);
+    r->popts.deadline = r->dopts.deadline = &r->deadline; /* the wall-time limit's */
     double mass = 0.0;
     for (int i = 0; i < r->g->n_blocks; i++) mass += r->g->blocks[i].mass;
     r->ke_move = 0.5 * mass * r->dopts.rate * r->dopts.rate;
@@ -312,12 +314,22 @@ static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
   return st;
 }
 
+/* A solver stopped as after the stop flag (VS_ERR_INTERRUPTED) when the stop flag was not
+ * raised: its deadline, the wall-time limit, passed. Said so (a raised flag wins). */
+static vs_status wall_time_stop(const vs_run *r, vs_status st, vs_error *err) {
+  const int flagged = r->popts.stop != NULL && *r->popts.stop;
+  if (st != VS_ERR_INTERRUPTED || flagged || !vs_deadline_passed(&r->deadline)) return st;
+  return vs_error_set(err, VS_ERR_WALL_TIME, "stopped: wall-time limit %g s reached",
+                      r->def.max_wall_s);
+}
+
 vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn event, void *user,
                          vs_error *err) {
   r->sample_fn = sample;
   r->event_fn = event;
   r->user = user;
   const double t0 = vs_wall_now();
+  r->deadline = r->def.max_wall_s > 0.0 ? vs_monotonic_s() + r->def.max_wall_s : 0.0;
   vs_status st = VS_OK;
   double delta0 = 0.0;
   if (r->def.dynamic.full) {
@@ -371,7 +383,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
   if (!r->collapse.found) vs_run_name_first(r, vs_hinges_count(r->h));
   vs_run_classify(r);
   r->wall_s = vs_wall_now() - t0;
-  return st;
+  return wall_time_stop(r, st, err);
 }
 
 const vs_case *vs_run_case(const vs_run *r) { return r->have_case ? &r->c : NULL; }

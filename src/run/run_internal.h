@@ -34,6 +34,8 @@ struct vs_run {
   double *q, *v;
   vs_joint_state *js;
   double delta, t, wall_s;
+  double deadline; /* of case.max_wall_s: vs_monotonic_s seconds, 0 none; every solver's
+                      options point here (set when vs_run_execute starts) */
   vs_phase phase;
   double react[6];    /* reactions at the last recorded state (vs_run_sample.reactions) */
   double react_eq[6]; /* ... at the last equilibrium of the quasi-static path (NaN: none) */

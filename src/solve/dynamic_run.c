@@ -149,7 +149,7 @@ static vs_status first_sample(vs_dynamic *d, dyn_run *r, double t0) {
  * (r->st); so do a stop flag and the step limit. *flag: IDASolve's flag of a STEP_TAKEN. */
 static int take_step(vs_dynamic *d, dyn_run *r, long step, int *flag_out) {
   vs_dyn_result *res = r->res;
-  if (vs_dyn_stopped(d)) {
+  if (vs_dyn_stopped(d) || vs_deadline_passed(d->o.deadline)) { /* the deadline: once a step */
     r->st = vs_error_set(r->err, VS_ERR_INTERRUPTED, "interrupted");
     return STEP_END;
   }

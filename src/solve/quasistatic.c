@@ -17,6 +17,7 @@
 #include "klu_reuse.h"
 #include "nvector_ops.h"
 #include "voussoir/units.h"
+#include "wall_clock.h"
 
 /* KLU's fill-reducing ordering (0 AMD, 1 COLAMD, 2 natural), paid once per path (its analysis
  * is kept): AMD. The blocks form a chain, whose Jacobian is block-banded in the natural order:
@@ -261,6 +262,7 @@ int vs_qs_solve(vs_qs_solver *s, double delta, double *q, long *iters) {
   s->nonfinite = 0;
   s->evals = 0;
   s->backtracked_out = 0;
+  if (vs_deadline_passed(s->o->deadline)) s->interrupted = 1; /* once a solve: a clock read */
   if (qs_stopped(s)) return KIN_SYSFUNC_FAIL;
   memcpy(N_VGetArrayPointer(s->u), q, (size_t)s->n * sizeof *q);
   int flag = KINSol(s->kin, s->u, KIN_LINESEARCH, s->uscale, s->fscale);
@@ -300,6 +302,7 @@ void vs_path_opts_from_def(const vs_run_def *d, vs_path_opts *o) {
   o->newton_maxiter = d->path.newton_maxiter;
   o->open = d->hinges.open;
   o->stop = NULL;
+  o->deadline = NULL;
 }
 
 /* After a failed solve at delta: an error when the failure ends the path whatever follows (the

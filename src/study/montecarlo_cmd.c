@@ -26,6 +26,7 @@
 #include "outpath.h"
 #include "parse.h"
 #include "voussoir/plot.h"
+#include "quote.h"
 
 /* The size of the paths of the study's files in its directory; run_study's status on an MPI
  * worker rank (not an exit status). */
@@ -477,7 +478,7 @@ int vs_mc_main(const vs_mc_opts *o) {
   for (int i = 0; i < n; i++) failed += s.res[i].status == VS_MC_FAILED;
   if (n > 0 && failed == n) { /* no statistics at all: say why (the first cause) */
     fprintf(stderr, "voussoir montecarlo: every sample failed; sample %d: %s\n", s.res[0].sample,
-            s.res[0].error);
+            vs_q(s.res[0].error).s); /* it may come from the journal */
     rc = EXIT_FAIL;
   }
 done:

@@ -3,6 +3,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
 #include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,106 +14,223 @@
 #include "voussoir/montecarlo.h"
 #include "parse.h"
 #include "voussoir/plot.h"
+#include "quote.h"
 
 enum { EXIT_FAIL = VS_EXIT_FAILED, EXIT_USAGE = VS_EXIT_BAD_INPUT };
 
-/* Split line in place at commas into at most max fields; returns the count. */
-static int split_csv(char *line, char **f, int max) {
-  int n = 0;
-  f[n++] = line;
-  for (char *p = line; *p && n < max; p++)
-    if (*p == ',') {
-      *p = '\0';
-      f[n++] = p + 1;
-    }
-  return n;
+/* A shard's table, as montecarlo.c writes it: line 1 "# voussoir montecarlo" and the case keys
+ * its summary needs as NAME=VALUE (HEADER), line 2 the column names (VS_MC_TABLE_COLUMNS), then
+ * one row per sample. Nothing in it is trusted: every field is checked as the case file's line
+ * would be, and a problem is reported as "FILE:LINE: field = value: reason (allowed: ...)". */
+#define TABLE_MAGIC "# voussoir montecarlo "
+static const struct {
+  const char *field, *section; /* the header's NAME is the case key section.NAME */
+} HEADER[] = {{"seed", "imperfections"}, {"radius_mm", "arch"},     {"embrace_deg", "arch"},
+              {"max_mm", "support"},     {"alpha_deg", "support"}, {"voussoirs", "arch"}};
+enum { N_HEADER = sizeof HEADER / sizeof HEADER[0], N_COLUMNS = 8 + VS_MC_LABELS + 1 };
+#define HEADER_LIST "seed, radius_mm, embrace_deg, max_mm, alpha_deg, voussoirs"
+
+/* The first shard's header, which every other shard's must equal. */
+typedef struct {
+  char path[1100];
+  vs_case c;
+  int have;
+} shard_head;
+
+/* The value of header field i in c (the case key it names). */
+static double header_value(const vs_case *c, int i) {
+  const char *sec = NULL, *key = NULL;
+  double v = NAN;
+  for (int k = 0; vs_case_key(c, k, &sec, &key, NULL, NULL, &v) == 0; k++)
+    if (strcmp(sec, HEADER[i].section) == 0 && strcmp(key, HEADER[i].field) == 0) return v;
+  return NAN;
 }
 
-static int parse_row(char *line, vs_mc_sample *x) {
-  char *f[14];
-  line[strcspn(line, "\r\n")] = '\0';
-  if (split_csv(line, f, 14) != 14) return -1;
-  memset(x, 0, sizeof *x);
-  long smp = -1, mode = 0;
-  if (vs_parse_long(f[0], &smp) != VS_NUM_OK || smp < 0 || smp > INT_MAX ||
-      vs_parse_long(f[6], &mode) != VS_NUM_OK || mode < 0 || mode > 3)
-    return -1;
-  x->sample = (int)smp;
-  x->mode = (int)mode;
-  x->status = strcmp(f[1], "collapse") == 0           ? VS_MC_COLLAPSE
-              : strcmp(f[1], "max_displacement") == 0 ? VS_MC_NO_COLLAPSE
-                                                      : VS_MC_FAILED;
-  /* the table is ours: "nan" marks a missing value, which the strict parser refuses */
-  x->first_limit_mm = strtod(f[2], NULL);
-  x->delta_u_mm = strtod(f[3], NULL);
-  x->dz_u_mm = strtod(f[4], NULL);
-  x->dx_u_mm = strtod(f[5], NULL);
-  snprintf(x->pattern, sizeof x->pattern, "%s", f[7]);
-  for (int l = 0; l < VS_MC_LABELS; l++) {
-    char side = 0;
-    int j = 0;
-    if (f[8 + l][0] != '\0' && sscanf(f[8 + l], "%d-%c", &j, &side) == 2) {
-      x->hinge_joint[l] = j;
-      x->hinge_side[l] = side;
-    }
+/* Line 1 of path (line, its newline gone) into c over the defaults: every field of HEADER
+ * exactly once, each value parsed and range-checked by the case's own assignment. */
+static vs_status parse_header(const char *where, char *line, vs_case *c, vs_error *err) {
+  vs_case_defaults(c);
+  if (strncmp(line, TABLE_MAGIC, strlen(TABLE_MAGIC)) != 0)
+    return vs_error_set(err, VS_ERR_PARSE, "%s: not a montecarlo table (line 1 must start with "
+                        "\"%s\")", where, TABLE_MAGIC);
+  int seen[N_HEADER] = {0};
+  char *save = NULL;
+  for (char *tok = strtok_r(line + strlen(TABLE_MAGIC), " ", &save); tok != NULL;
+       tok = strtok_r(NULL, " ", &save)) {
+    char *eq = strchr(tok, '=');
+    int i = 0;
+    if (eq != NULL) *eq = '\0';
+    while (eq != NULL && i < N_HEADER && strcmp(HEADER[i].field, tok) != 0) i++;
+    if (eq == NULL || i == N_HEADER)
+      return vs_error_set(err, VS_ERR_PARSE, "%s: header field '%.64s': unknown (expected "
+                          "NAME=VALUE for each of %s)", where, tok, HEADER_LIST);
+    if (seen[i]++)
+      return vs_error_set(err, VS_ERR_PARSE, "%s: header field %s given twice", where, tok);
+    const vs_status st = vs_case_assign(c, HEADER[i].section, tok, eq + 1, where, err);
+    if (st != VS_OK) return st;
   }
-  snprintf(x->error, sizeof x->error, "%s", f[13]);
+  for (int i = 0; i < N_HEADER; i++)
+    if (!seen[i])
+      return vs_error_set(err, VS_ERR_PARSE, "%s: header field %s missing (expected NAME=VALUE "
+                          "for each of %s)", where, HEADER[i].field, HEADER_LIST);
+  return VS_OK;
+}
+
+/* The shards of one study share its case and seed: c (of where) equal to the first's. */
+static vs_status same_header(const char *where, const vs_case *c, const shard_head *first,
+                             vs_error *err) {
+  for (int i = 0; i < N_HEADER; i++) {
+    const double a = header_value(c, i), b = header_value(&first->c, i);
+    if (a != b)
+      return vs_error_set(err, VS_ERR_INVALID, "%s: %s=%.17g, but %s:1 has %s=%.17g (the shards "
+                          "of one study share its case and seed)", where, HEADER[i].field, a,
+                          first->path, HEADER[i].field, b);
+  }
+  return VS_OK;
+}
+
+/* A number of the table: a decimal (parse.h) or "nan" (none). */
+static int table_number(const char *s, double *out) {
+  if (strcmp(s, "nan") == 0) {
+    *out = NAN;
+    return 0;
+  }
+  return vs_parse_double(s, out) == VS_NUM_OK ? 0 : -1;
+}
+
+/* A hinge column: empty, or JOINT-SIDE with 1 <= JOINT <= n_joints and SIDE I or E. */
+static int table_hinge(const char *s, int n_joints, int *joint, char *side) {
+  *joint = 0;
+  *side = 0;
+  if (*s == '\0') return 0;
+  const char *dash = strchr(s, '-');
+  char num[16];
+  long j = 0;
+  if (dash == NULL || dash == s || (size_t)(dash - s) >= sizeof num) return -1;
+  snprintf(num, sizeof num, "%.*s", (int)(dash - s), s);
+  if (vs_parse_long(num, &j) != VS_NUM_OK || j < 1 || j > n_joints) return -1;
+  if ((dash[1] != 'I' && dash[1] != 'E') || dash[2] != '\0') return -1;
+  *joint = (int)j;
+  *side = dash[1];
   return 0;
 }
 
-/* Append the samples of DIR/samples.csv to *all; the header line must equal *header (set by the
- * first directory). */
-static int read_shard(const char *dir, char *header, size_t hsize, vs_mc_sample **all, int *n,
-                      int *cap) {
-  char path[1200], line[1024];
+/* Split line in place at commas into n fields, the last taking the rest; the count found. */
+static int split_csv(char *line, char **f, int n) {
+  int k = 0;
+  f[k++] = line;
+  for (char *p = line; *p && k < n; p++)
+    if (*p == ',') {
+      *p = '\0';
+      f[k++] = p + 1;
+    }
+  return k;
+}
+
+/* One row (where: "FILE:LINE") into x, every field checked; the error text is kept quoted. */
+static vs_status parse_row(const char *where, char *line, int n_joints, vs_mc_sample *x,
+                           vs_error *err) {
+  static const char *const COL[N_COLUMNS] = {"sample", "status", "first_limit_mm", "delta_u_mm",
+                                             "dz_u_mm", "dx_u_mm", "mode", "pattern", "A", "B",
+                                             "C", "D", "E", "error"};
+  char *f[N_COLUMNS];
+  memset(x, 0, sizeof *x);
+  if (split_csv(line, f, N_COLUMNS) != N_COLUMNS)
+    return vs_error_set(err, VS_ERR_PARSE, "%s: %d columns expected (%s)", where, N_COLUMNS,
+                        VS_MC_TABLE_COLUMNS);
+  long smp = -1, mode = -1;
+  double num[4];
+  int bad = -1; /* the column refused, and why */
+  const char *why = NULL;
+  if (vs_parse_long(f[0], &smp) != VS_NUM_OK || smp < 0 || smp > INT_MAX)
+    bad = 0, why = "an integer in [0, 2147483647]";
+  x->status = strcmp(f[1], "collapse") == 0           ? VS_MC_COLLAPSE
+              : strcmp(f[1], "max_displacement") == 0 ? VS_MC_NO_COLLAPSE
+              : strcmp(f[1], "failed") == 0           ? VS_MC_FAILED
+                                                      : -1;
+  if (bad < 0 && x->status < 0) bad = 1, why = "collapse, max_displacement or failed";
+  for (int i = 0; bad < 0 && i < 4; i++)
+    if (table_number(f[2 + i], &num[i]) != 0) bad = 2 + i, why = "a finite number, or nan";
+  if (bad < 0 && (vs_parse_long(f[6], &mode) != VS_NUM_OK || mode < 0 || mode > 3))
+    bad = 6, why = "an integer in [0, 3]";
+  if (bad < 0 && (strlen(f[7]) >= sizeof x->pattern || strspn(f[7], "IE-") != strlen(f[7])))
+    bad = 7, why = "sides I, E joined by '-', at most 15 characters";
+  for (int l = 0; bad < 0 && l < VS_MC_LABELS; l++)
+    if (table_hinge(f[8 + l], n_joints, &x->hinge_joint[l], &x->hinge_side[l]) != 0)
+      bad = 8 + l, why = "empty, or JOINT-I or JOINT-E with JOINT a joint of the arch";
+  if (bad < 0 && x->status == VS_MC_COLLAPSE && !isfinite(num[1]))
+    bad = 3, why = "a collapse's displacement, a finite number";
+  if (bad >= 0)
+    return vs_error_set(err, VS_ERR_PARSE, "%s: %s = '%.64s': not %s", where, COL[bad], f[bad],
+                        why);
+  x->sample = (int)smp;
+  x->mode = (int)mode;
+  x->first_limit_mm = num[0];
+  x->delta_u_mm = num[1];
+  x->dz_u_mm = num[2];
+  x->dx_u_mm = num[3];
+  snprintf(x->pattern, sizeof x->pattern, "%s", f[7]);
+  vs_quote(f[13], x->error, sizeof x->error); /* shown and written again: no control byte */
+  return VS_OK;
+}
+
+/* The next line of f into buf (its newline gone): 1, 0 at the end, -1 when it does not fit. */
+static int next_line(FILE *f, char *buf, int size) {
+  if (fgets(buf, size, f) == NULL) return 0;
+  const size_t n = strlen(buf);
+  if (n > 0 && buf[n - 1] == '\n') buf[n - 1] = '\0';
+  else if (!feof(f)) return -1;
+  buf[strcspn(buf, "\r")] = '\0';
+  return 1;
+}
+
+/* Append *all with the samples of DIR/samples.csv, its header checked (and, past the first
+ * shard, equal to the first's). VS_OK or the first problem in err. */
+static vs_status read_shard(const char *dir, shard_head *first, vs_mc_sample **all, int *n,
+                            int *cap, vs_error *err) {
+  char path[1100], where[1200], line[2048];
   snprintf(path, sizeof path, "%s/samples.csv", dir);
   FILE *f = fopen(path, "r");
-  if (f == NULL) {
-    fprintf(stderr, "voussoir merge: %s: cannot open: %s\n", path, strerror(errno));
-    return -1;
+  if (f == NULL) return vs_error_set(err, VS_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  vs_case c;
+  vs_status st = VS_OK;
+  int lineno = 1, got = next_line(f, line, sizeof line);
+  snprintf(where, sizeof where, "%s:%d", path, lineno);
+  if (got <= 0) st = vs_error_set(err, VS_ERR_PARSE, "%s: not a montecarlo table (%s)", where,
+                                  got == 0 ? "empty" : "line 1 too long");
+  if (st == VS_OK) st = parse_header(where, line, &c, err);
+  if (st == VS_OK && first->have) st = same_header(where, &c, first, err);
+  if (st == VS_OK && !first->have) {
+    snprintf(first->path, sizeof first->path, "%s", path);
+    first->c = c;
+    first->have = 1;
   }
-  int rc = 0;
-  if (fgets(line, sizeof line, f) == NULL || strncmp(line, "# voussoir montecarlo ", 22) != 0) {
-    fprintf(stderr, "voussoir merge: %s: not a montecarlo table\n", path);
-    rc = -1;
-  } else if (header[0] == '\0') {
-    snprintf(header, hsize, "%s", line);
-  } else if (strcmp(header, line) != 0) {
-    fprintf(stderr, "voussoir merge: %s: another case or seed than the first directory\n", path);
-    rc = -1;
-  }
-  if (rc == 0 && fgets(line, sizeof line, f) == NULL) rc = -1; /* column names */
-  while (rc == 0 && fgets(line, sizeof line, f) != NULL) {
+  if (st == VS_OK && (next_line(f, line, sizeof line) != 1 || strcmp(line, VS_MC_TABLE_COLUMNS)))
+    st = vs_error_set(err, VS_ERR_PARSE, "%s:2: not the columns of a montecarlo table (%s)", path,
+                      VS_MC_TABLE_COLUMNS);
+  lineno = 2;
+  while (st == VS_OK && (got = next_line(f, line, sizeof line)) != 0) {
+    snprintf(where, sizeof where, "%s:%d", path, ++lineno);
+    if (got < 0) {
+      st = vs_error_set(err, VS_ERR_PARSE, "%s: line too long (at most %d bytes)", where,
+                        (int)sizeof line - 2);
+      break;
+    }
     if (*n == *cap) {
       const int nc = *cap ? 2 * *cap : 256;
       vs_mc_sample *b = realloc(*all, (size_t)nc * sizeof *b);
       if (b == NULL) {
-        rc = -1;
+        st = vs_error_set(err, VS_ERR_NOMEM, "out of memory");
         break;
       }
       *all = b;
       *cap = nc;
     }
-    if (parse_row(line, &(*all)[*n]) != 0) {
-      fprintf(stderr, "voussoir merge: %s: malformed row %d\n", path, *n + 1);
-      rc = -1;
-    } else {
-      (*n)++;
-    }
+    st = parse_row(where, line, c.voussoirs + 1, &(*all)[*n], err);
+    if (st == VS_OK) (*n)++;
   }
   fclose(f);
-  return rc;
-}
-
-static int header_case(const char *header, vs_case *c) {
-  vs_case_defaults(c);
-  return sscanf(header,
-                "# voussoir montecarlo seed=%d radius_mm=%lf embrace_deg=%lf max_mm=%lf "
-                "alpha_deg=%lf voussoirs=%d",
-                &c->seed, &c->radius_mm, &c->embrace_deg, &c->max_mm, &c->alpha_deg,
-                &c->voussoirs) == 6
-             ? 0
-             : -1;
+  return st;
 }
 
 static int cmp_sample_no(const void *x, const void *y) {
@@ -122,7 +240,7 @@ static int cmp_sample_no(const void *x, const void *y) {
 
 int vs_merge_main(const char *const *dirs, int nd, const char *out) {
   if (vs_plugin_load(VS_PLUGIN_PLOT, "voussoir merge") != 0) return EXIT_FAIL;
-  char header[1024] = "";
+  shard_head first = {.have = 0};
   vs_mc_sample *all = NULL;
   int n = 0, cap = 0, rc = EXIT_USAGE;
   /* the shards' tables are inputs: never replaced by the merged one */
@@ -138,23 +256,26 @@ int vs_merge_main(const char *const *dirs, int nd, const char *out) {
     others[d] = (vs_outpath_other){tables[d], "an input shard's table"};
   }
   if (vs_mc_check_outputs("merge", out, others, nd, 0) != 0) goto done;
+  vs_error err;
+  vs_error_clear(&err);
   for (int d = 0; d < nd; d++)
-    if (read_shard(dirs[d], header, sizeof header, &all, &n, &cap) != 0) goto done;
+    if (read_shard(dirs[d], &first, &all, &n, &cap, &err) != VS_OK) {
+      fprintf(stderr, "voussoir merge: %s\n", err.msg);
+      if (err.status == VS_ERR_NOMEM) rc = EXIT_FAIL;
+      goto done;
+    }
   qsort(all, (size_t)n, sizeof *all, cmp_sample_no);
   for (int i = 1; i < n; i++)
     if (all[i].sample == all[i - 1].sample) {
       fprintf(stderr, "voussoir merge: sample %d appears twice\n", all[i].sample);
       goto done;
     }
-  vs_case c;
-  vs_error err;
-  vs_error_clear(&err);
-  if (n == 0 || header_case(header, &c) != 0) {
-    fprintf(stderr, "voussoir merge: no samples, or an unreadable table header\n");
+  if (n == 0) {
+    fprintf(stderr, "voussoir merge: no samples in the shards' tables\n");
     goto done;
   }
   rc = EXIT_FAIL;
-  if (vs_mc_write_summary(out, &c, all, n, &err) != VS_OK) {
+  if (vs_mc_write_summary(out, &first.c, all, n, &err) != VS_OK) {
     fprintf(stderr, "voussoir merge: %s\n", err.msg);
     goto done;
   }

@@ -23,6 +23,7 @@
 #include "voussoir/run.h"
 #include "list.h"
 #include "voussoir/units.h"
+#include "quote.h"
 
 enum { EXIT_FAIL = VS_EXIT_FAILED, EXIT_USAGE = VS_EXIT_BAD_INPUT,
        EXIT_STOPPED = VS_EXIT_INTERRUPTED, MAX_AXES = VS_SWEEP_MAX_AXES };
@@ -403,6 +404,23 @@ static int sweep_open(sweep_state *s, const char *manifest) {
   return 0;
 }
 
+/* Failed runs said on stderr (stdout's last line counts them, but -q or a redirected stdout
+ * would leave an exit status 1 unexplained): how many, and the first one's cause (its row in the
+ * table, in run order; the cause may come from the journal: quoted). */
+static void report_failures(const sweep_state *s, const char *table) {
+  for (int i = 0; s->failed > 0 && i < s->n; i++) {
+    const vs_sweep_row *r = &s->rows[i];
+    if (r->code == VS_SWEEP_OK) continue;
+    if (s->failed == s->total)
+      fprintf(stderr, "voussoir sweep: every run failed (%d of %d); run %d: %s\n", s->failed,
+              s->total, r->run, vs_q(r->error).s);
+    else
+      fprintf(stderr, "voussoir sweep: %d of %d runs failed (their causes: %s); the first, run %d: "
+              "%s\n", s->failed, s->total, table, r->run, vs_q(r->error).s);
+    return;
+  }
+}
+
 /* Rows for the runs that did not finish, the table in run order, summary.h5, the last line. */
 static int sweep_close(sweep_state *s, double wall, int processes) {
   const sweep_opts *o = s->o;
@@ -448,6 +466,7 @@ static int sweep_close(sweep_state *s, double wall, int processes) {
          skipped ? ", some from before --resume" : "", wall, processes);
   if (tables_ok) printf("table: %s (and summary.h5)\n", path);
   else printf("the tables were not written (above); --resume writes them\n");
+  report_failures(s, path);
   return s->failed || !tables_ok ? EXIT_FAIL : 0;
 }
 

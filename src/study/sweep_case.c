@@ -47,7 +47,8 @@ static void fill_row(const vs_run *r, vs_status st, const vs_error *err, vs_swee
   const vs_case *c = vs_run_case(r);
   const vs_collapse_record *col = vs_run_collapse(r);
   const vs_path_result *p = vs_run_path(r);
-  const char *status = st != VS_OK                                            ? "failed"
+  const char *status = st == VS_ERR_WALL_TIME                               ? "stopped"
+                       : st != VS_OK                                          ? "failed"
                        : col->found                                           ? "collapse"
                        : !c->follow && !c->full && vs_run_limit_count(r) > 0 ? "limit_point"
                                                                              : "max_displacement";
@@ -153,6 +154,8 @@ void vs_sweep_run_case(const vs_sweep_job *job, int run, const volatile sig_atom
     st = stop != NULL && *stop ? vs_error_set(&err, VS_ERR_INTERRUPTED, "interrupted")
                                : execute(job, run, r, h5, stop, h5_clean, &started, &err);
   }
+  /* a run stopped by its wall-time limit is over (journalled, not run again by --resume): it
+   * counts as failed, its row says "stopped" */
   row->code = !started ? VS_SWEEP_NOT_STARTED
               : st == VS_OK ? VS_SWEEP_OK
               : st == VS_ERR_INTERRUPTED ? VS_SWEEP_INTERRUPTED : VS_SWEEP_FAILED;
