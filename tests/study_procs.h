@@ -5,6 +5,7 @@
 #define VS_TEST_STUDY_PROCS_H
 
 #include <dirent.h>
+#include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,6 +30,14 @@ static inline int exit_code(pid_t pid) {
   int st = 0;
   assert_int_equal(waitpid(pid, &st, 0), pid);
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+/* How an orphaned worker of a killed study may end (wait status st): killed with it (its
+ * parent-death signal, SIGKILL), or, when the study died before the worker had set that signal
+ * up (a worker stopped just after fork, as a loaded machine may leave it), ended at once by the
+ * check that follows (exit status 130), before it ran anything. */
+static inline int died_with_study(int st) {
+  return (WIFSIGNALED(st) && WTERMSIG(st) == SIGKILL) || (WIFEXITED(st) && WEXITSTATUS(st) == 130);
 }
 
 /* The pids of the children of process parent (from /proc), at most max; how many. */

@@ -5,6 +5,7 @@
 #define VS_PIPE_IO_H
 
 #include <errno.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <stddef.h>
 #include <stdlib.h>
@@ -57,10 +58,16 @@ static inline void vs_worker_tie(pid_t parent) {
  * VS_FAULT_RELEASE names exists, so that a test finds the study with that case under way however
  * fast the machine runs it (it waits for an observable state, then signals, kills, or releases
  * it: no race). Polls (10 ms): neither can be waited on otherwise. At most 600 s, so that a test
- * that fails before releasing it leaves no process waiting for ever. */
+ * that fails before releasing it leaves no process waiting for ever. The file VS_FAULT_HELD
+ * names, if any, is created once it holds: the worker is then past vs_worker_tie. */
 static inline void vs_fault_hold(int id, const volatile sig_atomic_t *stop) {
   const char *v = getenv("VS_FAULT_HOLD"), *release = getenv("VS_FAULT_RELEASE");
+  const char *held = getenv("VS_FAULT_HELD");
   if (v == NULL || stop == NULL || atoi(v) != id) return;
+  if (held != NULL) {
+    const int fd = open(held, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd >= 0) close(fd);
+  }
   for (int i = 0; i < 60000 && !*stop && !(release != NULL && access(release, F_OK) == 0); i++)
     nanosleep(&(struct timespec){0, 10000000}, NULL);
 }
