@@ -1,6 +1,7 @@
 # cmake --install: the program, libvoussoir with its public headers, pkg-config and CMake
-# package files, the man page and the example cases. Paths follow GNUInstallDirs (configured
-# with a /usr prefix on Debian, the library goes to lib/<multiarch>; otherwise to lib).
+# package files, the man page, the documentation and the example cases. Paths follow
+# GNUInstallDirs (configured with a /usr prefix on Debian, the library goes to lib/<multiarch>;
+# otherwise to lib).
 include(CMakePackageConfigHelpers)
 
 set(VS_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/voussoir)
@@ -37,4 +38,7 @@ install(FILES ${PROJECT_BINARY_DIR}/voussoir.pc DESTINATION ${CMAKE_INSTALL_LIBD
 
 install(FILES man/voussoir.1 DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
 install(FILES runs/reference.ini examples/spreading.ini examples/run_case.c
+              examples/CMakeLists.txt
         DESTINATION ${CMAKE_INSTALL_DATADIR}/voussoir)
+# The documentation (docs/README.md is its index), next to the man page: share/doc/voussoir.
+install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR})

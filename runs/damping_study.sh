@@ -3,7 +3,7 @@
 # alpha = 0, 30, 45, 60, 90 deg, k_n = 3 and 48 N/mm^3 (quasi-static path, every limit point
 # followed dynamically). For each run: delta_u, which limit point turned into the collapse
 # (its index among the limit points and its delta), the hinge sides at collapse, the snaps, and
-# the modes' damping ratio the model gives, the impacts resolved (the impact model). Writes out/damping_study.csv and the README's table
+# the modes' damping ratio the model gives, the impacts resolved (the impact model). Writes out/damping_study.csv and the table of docs/results.md
 # out/damping_study.md; prints the table.
 # none and impact take no ratio (run once, ratio 0); joint and rayleigh at 0.5, 2, 5, 20 % (their
 # ratio 0 is the none model: the same code path, vs_model_set_damping(m, 0)).

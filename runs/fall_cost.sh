@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# What the fall after the collapse costs against the rest of the run (README, "The fall's cost"),
+# What the fall after the collapse costs against the rest of the run (docs/fall.md),
 # for each fall scheme (fall.scheme: rigid, the default; penalty). Per case, the CPU time (user +
 # sys) of the run with its record following the fall to rest, split in two (medians of REPEAT
 # runs). Rigid: the fall's own (the run's JSON, stats.fall.cpu_s: the process's CPU time over

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# How a Monte Carlo study survives SIGKILL at random moments (README, Imperfect arches:
+# How a Monte Carlo study survives SIGKILL at random moments (docs/studies.md, montecarlo
 # --resume): ROUNDS times, a study of SAMPLES imperfect arches (the reference specimen with 21
 # voussoirs and the test suite's imperfections) is started, killed with SIGKILL after a random
 # delay of 20 to 300 ms, and continued with --resume (started afresh while no manifest was

@@ -3,7 +3,7 @@
 #  1. One run of the reference case to its collapse, --no-record, with 55 to 1760 voussoirs: CPU
 #     seconds (user + sys, median of REPEAT runs), the ratio to 55 voussoirs and the ratio a cost
 #     linear in the count would give; then what the run did (quasi-static Newton iterations, IDA
-#     steps, root events: the physics changes with the count, see the README) and the CPU per
+#     steps, root events: the physics changes with the count, docs/benchmarks.md) and the CPU per
 #     voussoir and solver iteration (flat when each iteration costs the same per voussoir).
 #  2. The seed domain (alpha 0:45:5,60,75,90 x k_n 3, 48) by `voussoir sweep -j 2` with its
 #     records: wall seconds, the CPU of the sweep and its workers, the load average around it;

@@ -245,7 +245,7 @@ def main():
         print(f"{name}.xmf: {defs} items defined once, {includes} XIncludes of them")
         # Xdmf3ReaderT given a path with a directory, the default reader an absolute path (a bare
         # relative name makes ParaView 5.11 look for the HDF5 file at 'run.xmfrun.h5' and abort:
-        # see the README)
+        # see docs/record.md)
         for reader in (Xdmf3ReaderT(FileName=f"./{name}.xmf"), OpenDataFile(os.path.abspath(f"{name}.xmf"))):
             kind = reader.GetXMLName()
             tag = f"{name}.xmf {kind}"

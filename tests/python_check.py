@@ -54,6 +54,16 @@ with voussoir.open_record(rec_path) as r:
 table = voussoir.sweep(case, os.path.join(out, "sw"), {"support.alpha_deg": [0, 90]},
                        sets={"arch.voussoirs": 11}, first_limit=True, jobs=2)
 check(len(table) == 2 and {row["support.alpha_deg"] for row in table} == {0.0, 90.0}, f"table {table}")
+# The domain of a sweep over alpha alone (its table has no k_n column): one line through the
+# collapses, in the order of alpha, at the table's own dz/L and dx/L.
+table = voussoir.sweep(case, os.path.join(out, "sw_alpha"), {"support.alpha_deg": "90,0"},
+                       sets={"arch.voussoirs": 11}, jobs=2)
+coll = sorted((r for r in table if r["status"] == "collapse"), key=lambda r: r["support.alpha_deg"])
+check(len(coll) == 2, f"alpha sweep: {table}")
+lines = voussoir.draw_domain(table).get_lines()
+check(len(lines) == 1, f"domain: {len(lines)} lines")
+check(list(lines[0].get_xdata()) == [r["dz_over_L_pct"] for r in coll] and
+      list(lines[0].get_ydata()) == [r["dx_over_L_pct"] for r in coll], "domain: points")
 bad = False
 try:
     voussoir.run(case, sets={"joints.kn_N_mm3": -1})

@@ -723,7 +723,7 @@ static void test_span(void **state) {
   const double pi = 3.14159265358979323846;
   double closed_form = 2.0 * 300.0 * sin(62.5 * pi / 180.0);
   assert_true(fabs(vs_case_span_mm(&c) - closed_form) < 1e-9);
-  assert_true(fabs(vs_case_span_mm(&c) - 532.2065) < 1e-3); /* docs/specimen.md: about 532 mm */
+  assert_true(fabs(vs_case_span_mm(&c) - 532.2065) < 1e-3); /* docs/model.md: about 532 mm */
   c.embrace_deg = 180.0; /* semicircle: the span is the diameter */
   c.radius_mm = 100.0;
   assert_true(fabs(vs_case_span_mm(&c) - 200.0) < 1e-9);

@@ -395,8 +395,8 @@ static long check_json_run(const char *extra, double alpha_deg, double kn, char 
     p = (*e == ',') ? e + 1 : e;
   }
   assert_true(hs.e[-1] == ']');
-  /* docs/vocabulary.md labels: '?' until three exist; then the first three A, B, C from left to right
-   * (by the joint where each formed), the 4th D, the 5th E in order of appearance */
+  /* docs/model.md#vocabulary labels: '?' until three exist; then the first three A, B, C from left
+   * to right (by the joint where each formed), the 4th D, the 5th E in order of appearance */
   for (int i = 0; i < n; i++) {
     char want = '?';
     if (n >= 3 && order[i] > 3) want = (char)('A' + order[i] - 1);

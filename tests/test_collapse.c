@@ -2,7 +2,7 @@
  * followed dynamically, against the whole loading integrated dynamically at the laboratory rate
  * (0.04 mm/s: slow enough that inertia cannot matter, so both must give the same collapse), the
  * collapse's insensitivity to the time tolerances, the energy balance, and the hinge
- * configuration the specimen is known to collapse in (docs/specimen.md: three hinges A, B, C first,
+ * configuration the specimen is known to collapse in (docs/model.md: three hinges A, B, C first,
  * the fourth D at the left support; spreading is symmetric enough for a fifth at the right). */
 #include <stdarg.h>
 #include <stddef.h>

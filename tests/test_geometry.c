@@ -170,7 +170,7 @@ static void test_arch_dimensions(void **state) {
     CHECK(vs_case_span_mm(&c), 2 * c.radius_mm * sin(0.5 * E), 1e-13, 0);
     vs_geometry_destroy(&g);
   }
-  /* The reference specimen: span 532-533 mm, rise about 162 mm (docs/specimen.md). */
+  /* The reference specimen: span 532-533 mm, rise about 162 mm (docs/model.md). */
   vs_case c;
   vs_case_defaults(&c);
   vs_geometry *g = build(&c);

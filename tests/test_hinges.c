@@ -1,6 +1,7 @@
 /* Unit tests of the hinge tracker (include/voussoir/hinges.h) on synthetic joint states: the open
  * threshold, sides, spread hinges, A-E labels, migration, closing and reopening, errors.
- * Expected values follow docs/vocabulary.md (labels and modes), not the tracker's own output. */
+ * Expected values follow docs/model.md#vocabulary (labels and modes), not the tracker's own
+ * output. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -268,7 +269,7 @@ static void test_labels_left_to_right(void **state) {
   vs_hinges_destroy(&h);
 }
 
-/* Modes as docs/vocabulary.md defines them: the pattern of A, B, C read left to right (not in
+/* Modes as docs/model.md#vocabulary defines them: the pattern of A, B, C read left to right (not in
  * order of appearance), then the hinges at the collapse. */
 static void test_modes(void **state) {
   (void)state;
@@ -590,7 +591,7 @@ static void test_onset_interpolated(void **state) {
   vs_hinges_destroy(&h);
 }
 
-/* docs/vocabulary.md: after Z come a to z, then # for every later hinge (never '[' or other
+/* docs/model.md#vocabulary: after Z come a to z, then # for every later hinge (never '[' or other
  * characters past 'Z'). 65 separate hinges open one per update, left to right. */
 static void test_labels_past_z(void **state) {
   (void)state;

@@ -15,7 +15,9 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 cmake --install "$build" --prefix "$p" >/dev/null
 for f in bin/voussoir "$libdir/libvoussoir.so" include/voussoir/run.h include/voussoir/case.h \
          "$libdir/pkgconfig/voussoir.pc" "$libdir/cmake/voussoir/voussoirConfig.cmake" \
-         share/man/man1/voussoir.1 share/voussoir/reference.ini share/voussoir/spreading.ini; do
+         share/man/man1/voussoir.1 share/voussoir/reference.ini share/voussoir/spreading.ini \
+         share/voussoir/run_case.c share/voussoir/CMakeLists.txt share/doc/voussoir/README.md \
+         share/doc/voussoir/case-file.md; do
   [ -e "$p/$f" ] || fail "$f not installed"
 done
 [ -e "$p/include/voussoir/sweep.h" ] && fail "sweep.h (CLI only) installed"

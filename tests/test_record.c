@@ -101,7 +101,7 @@ static void test_completed_record(void **s) {
     H5Dclose(d);
     H5Fclose(f);
   }
-  /* h5dump (Debian hdf5-tools) lists the layout the README documents */
+  /* h5dump (Debian hdf5-tools) lists the layout docs/record.md documents */
   snprintf(cmd, sizeof cmd, "h5dump -n %s > %s/layout.txt 2>&1", h5, g_dir);
   assert_int_equal(sh(cmd), 0);
   {

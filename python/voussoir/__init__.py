@@ -3,7 +3,9 @@ summary and events as tables, draw the mechanism, the curves and the limit displ
 of a sweep, and run a case or a sweep through the voussoir program.
 
 Debian packages: python3-h5py, python3-numpy, python3-matplotlib.
-Install: pip install --no-build-isolation --no-deps ./python  (or PYTHONPATH=python).
+Install (Debian 12 refuses pip outside a virtual environment): python3 -m venv
+--system-site-packages VENV, then VENV/bin/pip install --no-index --no-build-isolation --no-deps
+./python (or use it in place: PYTHONPATH=python). docs/python.md says why.
 """
 from .record import Record, Series, open_record
 from .cli import run, sweep, read_table

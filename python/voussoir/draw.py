@@ -48,13 +48,18 @@ def draw_curves(rec, ax=None):
 
 def draw_domain(table, ax=None):
     """Limit displacement domain of a sweep (read_table rows): collapse dz/L against dx/L, one
-    line per k_n."""
+    line per k_n through the directions alpha. A column the sweep did not vary is not in its
+    table: without joints.kn_N_mm3 the collapses are one line (the case's k_n), without
+    support.alpha_deg they are joined in the table's order."""
     ax = _axes(ax)
     rows = [r for r in table if r.get("status") == "collapse"]
-    for kn in sorted({r["joints.kn_N_mm3"] for r in rows}):
-        sel = sorted((r for r in rows if r["joints.kn_N_mm3"] == kn), key=lambda r: r["support.alpha_deg"])
+    kns = {r.get("joints.kn_N_mm3") for r in rows}
+    for kn in sorted(kns, key=lambda k: -1.0 if k is None else k):
+        sel = [r for r in rows if r.get("joints.kn_N_mm3") == kn]
+        if all("support.alpha_deg" in r for r in sel):
+            sel.sort(key=lambda r: r["support.alpha_deg"])
         ax.plot([r["dz_over_L_pct"] for r in sel], [r["dx_over_L_pct"] for r in sel], "o-",
-                label=f"k_n = {kn:g} N/mm^3")
+                label="the case's k_n" if kn is None else f"k_n = {kn:g} N/mm^3")
     ax.set_xlabel("collapse settlement dz/L (%)")
     ax.set_ylabel("collapse spreading dx/L (%)")
     ax.grid(True, alpha=0.3)
