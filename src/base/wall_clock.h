@@ -21,6 +21,9 @@ static inline int vs_deadline_passed(const double *deadline) {
   return deadline != NULL && *deadline > 0.0 && vs_monotonic_s() >= *deadline;
 }
 
+/* The current UTC time as "2024-05-01T12:00:00Z" into buf ("unknown" if it cannot be read). */
+void vs_iso8601_utc(char *buf, size_t size);
+
 /* CPU time of the process (user and system, all its threads), s. */
 static inline double vs_cpu_now(void) { return (double)clock() / (double)CLOCKS_PER_SEC; }
 

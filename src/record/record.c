@@ -31,22 +31,6 @@
 #define VS_OUT_PART ".part"
 #define VS_OUT_SNAP ".snap"
 
-/* Fault injection for the crash tests: when the environment variable VS_FAULT_KILL names this
- * point, the process kills itself there with SIGKILL (see vs_output_finish for the points;
- * "mid-append": in a write of rows after the first, once half the time series have theirs). */
-void vs_record_fault_point(const char *name) {
-  const char *v = getenv("VS_FAULT_KILL");
-  if (v != NULL && strcmp(v, name) == 0) raise(SIGKILL);
-}
-
-/* "2024-05-01T12:00:00Z" */
-void vs_record_iso8601_utc(char *buf, size_t size) {
-  time_t now = time(NULL);
-  struct tm tmv;
-  if (gmtime_r(&now, &tmv) == NULL || strftime(buf, size, "%Y-%m-%dT%H:%M:%SZ", &tmv) == 0)
-    snprintf(buf, size, "unknown");
-}
-
 /* ------------------------------------------------------------------------------------------ */
 /* Create / destroy                                                                             */
 
@@ -429,11 +413,11 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
   if (st == VS_OK && H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0)
     st = vs_h5_fail(&o->err, o->path, "cannot flush /events and /summary");
   if (st == VS_OK) st = vs_record_snapshot(o);
-  if (st == VS_OK) vs_record_fault_point("before-status");
+  if (st == VS_OK) vs_fault_point("before-status");
   /* the status is recorded when the run failed but the file is sound (see abandon_file) */
   char status[sizeof o->err.msg + 64], now[32];
   status_text(o, run_status, run_err, status, sizeof status);
-  vs_record_iso8601_utc(now, sizeof now);
+  vs_iso8601_utc(now, sizeof now);
   if (o->err.status == VS_OK && o->file >= 0 &&
       (vs_h5_attr_str(o->file, "status", status) < 0 ||
        vs_h5_attr_str(o->file, "finished", now) < 0 || H5Fflush(o->file, H5F_SCOPE_LOCAL) < 0))
@@ -463,7 +447,7 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
     st = o->stranded ? vs_record_stranded_error(o, &o->err) : o->err.status;
   if (o->working && st != VS_OK && !o->stranded) unlink(o->part);
   o->working = 0;
-  if (st == VS_OK) vs_record_fault_point("after-status");
+  if (st == VS_OK) vs_fault_point("after-status");
   if (side.status == VS_OK && st != VS_OK) remove(tmp); /* no record in place: no sidecar */
   if (st == VS_OK && side.status != VS_OK) st = (o->err = side).status; /* the record in place */
   if (st == VS_OK) st = vs_xdmf_publish(tmp, o->xmf_path, &o->err);

@@ -8,9 +8,11 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "fault.h"
 #include "h5util.h"
 #include "outpath.h"
 #include "voussoir/output.h"
+#include "wall_clock.h"
 
 /* Buffered rows stay under this many bytes (wide rows: fewer rows per flush). */
 #define VS_OUT_BUFFER_BYTES ((size_t)16 << 20)
@@ -110,14 +112,6 @@ static inline void *row_ptr(vs_output *o, int i) {
   series *s = &o->s[i];
   return s->buf + (size_t)o->pending * s->row_elems * s->esize;
 }
-
-/* record.c */
-/* Fault injection for the crash tests: when the environment variable VS_FAULT_KILL names this
- * point, the process kills itself there with SIGKILL (see vs_output_finish for the points;
- * "mid-append": in a write of rows after the first, once half the time series have theirs). */
-void vs_record_fault_point(const char *name);
-/* "2024-05-01T12:00:00Z" (now, UTC) into buf. */
-void vs_record_iso8601_utc(char *buf, size_t size);
 
 /* record_snapshot.c: the file at path is a snapshot of the working file (see there) */
 /* Rename `from` over o->path, checked just before: never over anything but a regular file. The

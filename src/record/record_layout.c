@@ -194,7 +194,7 @@ static herr_t write_parameters(hid_t file, const vs_case *c) {
 
 static herr_t write_root(vs_output *o, const char *case_text) {
   char now[32];
-  vs_record_iso8601_utc(now, sizeof now);
+  vs_iso8601_utc(now, sizeof now);
   herr_t rc = vs_h5_attr_str(o->file, "program", "voussoir");
   if (rc >= 0) rc = vs_h5_attr_str(o->file, "version", VS_VERSION);
   if (rc >= 0) rc = vs_h5_attr_str(o->file, "layout", VS_OUTPUT_LAYOUT);

@@ -224,7 +224,7 @@ vs_status vs_record_write_pending(vs_output *o) {
     vs_h5_close(ms);
     vs_h5_close(fs);
     if (i == S_COUNT / 2 && start0 > 0)
-      vs_record_fault_point("mid-append"); /* half a write ahead */
+      vs_fault_point("mid-append"); /* half a write ahead */
     if (rc < 0) {
       char what[96];
       snprintf(what, sizeof what, "cannot append to /observables/%s/%s", SERIES[i].group,

@@ -88,7 +88,7 @@ static vs_status take(vs_output *o, off_t *size) {
   }
   int rc = copy_bytes(in, out, st.st_size / 2);
   /* the crash tests' points, in a snapshot after the layout's (there is one at path) */
-  if (rc == 0 && o->snapshots > 0) vs_record_fault_point("mid-snapshot"); /* half copied */
+  if (rc == 0 && o->snapshots > 0) vs_fault_point("mid-snapshot"); /* half copied */
   if (rc == 0) rc = copy_bytes(in, out, st.st_size - st.st_size / 2);
   int e = errno;
   if (close(out) != 0 && rc == 0) rc = -1, e = errno;
@@ -98,7 +98,7 @@ static vs_status take(vs_output *o, off_t *size) {
     return vs_error_set(&o->err, VS_ERR_IO, "output: %s: cannot write its snapshot %s: %s",
                         o->path, o->snap, strerror(e));
   }
-  if (o->snapshots > 0) vs_record_fault_point("before-publish");
+  if (o->snapshots > 0) vs_fault_point("before-publish");
   const vs_status s = vs_record_publish(o, o->snap);
   if (s != VS_OK) unlink(o->snap);
   return o->stranded ? VS_OK : s; /* stranded: the run goes on, into the working file */
