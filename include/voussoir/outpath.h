@@ -15,11 +15,10 @@ typedef struct {
 /* Check that path may be written: its name is printable text (vs_quote_clean: no control
  * character, well-formed UTF-8) and leaves room for the suffix of its working names
  * ("<path>.lock", "<path>.part", "<path>.snap") within NAME_MAX and PATH_MAX; nothing exists
- * there, or a regular file (lstat: a symbolic
- * link is refused whatever it points to), and its directory exists and is writable; and it is
- * not the same file as any others[0..n_others) (same device and inode, or the same name in the
- * same directory, so that files not yet created compare too). Creates nothing. Errors:
- * VS_ERR_INVALID with "PATH: <reason>" in err. */
+ * there, or a regular file (lstat: a symbolic link is refused whatever it points to), and its
+ * directory exists and is writable; and it is not the same file as any others[0..n_others)
+ * (same device and inode, or the same name in the same directory, so that files not yet created
+ * compare too). Creates nothing. Errors: VS_ERR_INVALID with "PATH: <reason>" in err. */
 vs_status vs_outpath_check(const char *path, const vs_outpath_other *others, int n_others,
                            vs_error *err);
 
