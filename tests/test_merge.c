@@ -44,7 +44,8 @@ static void shard(const char *dir, const char *text) {
 /* `voussoir merge s1 [s2] -o out` in g_dir; the exit status, stderr in err.txt. */
 static int merge(int two) {
   char cmd[512];
-  snprintf(cmd, sizeof cmd, "cd '%s' && rm -rf out && '%s' merge s1 %s -o out >out.txt 2>err.txt",
+  snprintf(cmd, sizeof cmd,
+           "cd '%s' && rm -rf out && timeout -s KILL 60 '%s' merge s1 %s -o out >out.txt 2>err.txt",
            g_dir, VS_BINARY, two ? "s2" : "");
   return sh(cmd);
 }
@@ -150,6 +151,20 @@ static void test_bad_rows(void **s) {
   }
 }
 
+/* A FIFO where a table goes (a stand-in in the scratch directory): refused at once, not waited
+ * on. */
+static void test_table_not_regular(void **s) {
+  (void)s;
+  char cmd[512];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s/s1' && mkdir '%s/s1' && mkfifo '%s/s1/samples.csv'", g_dir,
+           g_dir, g_dir);
+  assert_int_equal(sh(cmd), 0);
+  const char *needles[] = {"s1/samples.csv: not a regular file", NULL};
+  expect_refused(0, needles, "FIFO");
+  snprintf(cmd, sizeof cmd, "rm -rf '%s/s1'", g_dir); /* the next test writes a table there */
+  assert_int_equal(sh(cmd), 0);
+}
+
 /* An error text with an escape sequence and a bell: merged, quoted. */
 static void test_error_text_quoted(void **s) {
   (void)s;
@@ -167,6 +182,7 @@ int main(void) {
       cmocka_unit_test(test_bad_headers),
       cmocka_unit_test(test_headers_disagree),
       cmocka_unit_test(test_bad_rows),
+      cmocka_unit_test(test_table_not_regular),
       cmocka_unit_test(test_error_text_quoted),
   };
   return cmocka_run_group_tests(tests, scratch_setup, scratch_teardown);

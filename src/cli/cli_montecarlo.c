@@ -12,7 +12,8 @@ static const char *const MC_USAGE =
     "                           [--max-wall-s S] [-j N] [--shard K/M] [-o DIR] [--resume] [-q]\n"
     "  --samples N   imperfect arches 0..N-1, each with its own draws ([imperfections])\n"
     "  --seed S      generator seed (same as --set imperfections.seed=S)\n"
-    "  --max-wall-s S  each sample stops once it has taken S s of wall time (same as --set\n"
+    "  --max-wall-s S\n"
+    "                each sample stops once it has taken S s of wall time (same as --set\n"
     "                run.max_wall_s=S): it is then a failed sample, its cause 'stopped: ...'\n"
     "  -j N          worker processes (default: the cores)\n"
     "  --shard K/M   run only the samples i with i mod M = K-1 (K in 1..M), for a scheduler's\n"
@@ -37,8 +38,11 @@ static const char *const MERGE_USAGE =
     "Joins the directories of the shards of one Monte Carlo study (voussoir montecarlo --shard\n"
     "K/M, same case and seed) into one summary in OUT, as one run of every sample would write it:\n"
     "samples.csv, statistics.csv, summary.h5, fragility.png, convergence.png, hinges.png.\n"
-    "exit status: 0 done, 1 the summary could not be written, 2 bad input (a missing or foreign\n"
-    "table, a sample twice)\n";
+    "Each table is checked as a case file is: its header's fields (the case's keys) in their\n"
+    "ranges, each once, the same in every shard; every row's fields; a problem is named by file,\n"
+    "line and field.\n"
+    "exit status: 0 done, 1 the summary could not be written, 2 bad input (a missing, foreign or\n"
+    "malformed table, shards of different studies, a sample twice; nothing written)\n";
 
 enum { OPT_SAMPLES = 256, OPT_SEED, OPT_SET, OPT_SHARD, OPT_RESUME, OPT_MAX_WALL };
 

@@ -2,11 +2,14 @@
  * tables (voussoir montecarlo --shard K/M) joined into one summary. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "study.h"
 #include "montecarlo_cmd.h"
@@ -184,14 +187,31 @@ static int next_line(FILE *f, char *buf, int size) {
   return 1;
 }
 
+/* DIR/samples.csv opened for reading into *f (its path in path): only a regular file (a FIFO
+ * would block the merge, a device feed it without end), opened without blocking and checked on
+ * the open descriptor; a path that does not fit is refused, not cut. */
+static vs_status open_table(const char *dir, char *path, size_t size, FILE **f, vs_error *err) {
+  const int n = snprintf(path, size, "%s/samples.csv", dir);
+  if (n < 0 || (size_t)n >= size)
+    return vs_error_set(err, VS_ERR_INVALID, "%s: directory name too long (at most %zu bytes)",
+                        dir, size - sizeof "/samples.csv");
+  const int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+  struct stat sb;
+  if (fd < 0) return vs_error_set(err, VS_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  if (fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode) || (*f = fdopen(fd, "r")) == NULL) {
+    close(fd);
+    return vs_error_set(err, VS_ERR_INVALID, "%s: not a regular file", path);
+  }
+  return VS_OK;
+}
+
 /* Append *all with the samples of DIR/samples.csv, its header checked (and, past the first
  * shard, equal to the first's). VS_OK or the first problem in err. */
 static vs_status read_shard(const char *dir, shard_head *first, vs_mc_sample **all, int *n,
                             int *cap, vs_error *err) {
   char path[1100], where[1200], line[2048];
-  snprintf(path, sizeof path, "%s/samples.csv", dir);
-  FILE *f = fopen(path, "r");
-  if (f == NULL) return vs_error_set(err, VS_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  FILE *f = NULL;
+  if (open_table(dir, path, sizeof path, &f, err) != VS_OK) return err->status;
   vs_case c;
   vs_status st = VS_OK;
   int lineno = 1, got = next_line(f, line, sizeof line);
