@@ -26,7 +26,7 @@ function(vs_add_library target name)
   endforeach()
   add_library(${target} SHARED ${objs})
   set_target_properties(${target} PROPERTIES OUTPUT_NAME ${name}
-                        VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR}
+                        VERSION ${PROJECT_VERSION} SOVERSION ${VS_SOVERSION}
                         INSTALL_RPATH "$ORIGIN")
   target_include_directories(${target} PUBLIC
     $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>

@@ -23,14 +23,18 @@ done
 [ -e "$p/include/voussoir/sweep.h" ] && fail "sweep.h (CLI only) installed"
 so=$(readlink -f "$p/$libdir/libvoussoir.so")
 ver=$(sed -n 's/^project(voussoir VERSION \([0-9.]*\).*/\1/p' "$src/CMakeLists.txt")
+abi=$(sed -n 's/^set(VS_SOVERSION \([0-9]*\)).*/\1/p' "$src/CMakeLists.txt")
+[ -n "$abi" ] || fail "no VS_SOVERSION in CMakeLists.txt"
 [ "$(basename "$so")" = "libvoussoir.so.$ver" ] || fail "library is $(basename "$so"), expected libvoussoir.so.$ver"
-[ -e "$p/$libdir/libvoussoir.so.${ver%%.*}" ] || fail "no SONAME link libvoussoir.so.${ver%%.*}"
+[ -e "$p/$libdir/libvoussoir.so.$abi" ] || fail "no SONAME link libvoussoir.so.$abi"
+soname=$(objdump -p "$so" | awk '$1 == "SONAME" {print $2}')
+[ "$soname" = "libvoussoir.so.$abi" ] || fail "soname $soname, expected libvoussoir.so.$abi"
 
 # The installed program runs and loads the installed library, not the build tree's.
 "$p/bin/voussoir" --version | grep -q "$ver" || fail "installed voussoir --version"
 ldd "$p/bin/voussoir" | grep libvoussoir | grep -q "$p/" || fail "installed voussoir does not load $p/$libdir"
 # Its plugins are the installed record and plot libraries, loaded from the prefix.
-for f in libvoussoir-record.so.${ver%%.*} libvoussoir-plot.so.${ver%%.*}; do
+for f in libvoussoir-record.so.$abi libvoussoir-plot.so.$abi; do
   [ -e "$p/$libdir/$f" ] || fail "$libdir/$f not installed"
 done
 LD_DEBUG=files "$p/bin/voussoir" run "$p/share/voussoir/reference.ini" -q --first-limit \
