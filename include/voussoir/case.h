@@ -102,7 +102,8 @@ typedef struct {
                            record is closed, marked "stopped: wall-time limit S s reached" */
 } vs_case;
 
-/* Fill c with the defaults: the reference specimen (docs/specimen.md) with k_n = 3 N/mm^3, alpha = 0. */
+/* Fill c with the defaults: the reference specimen (docs/model.md, "The reference specimen")
+ * with k_n = 3 N/mm^3, alpha = 0. */
 VS_API void vs_case_defaults(vs_case *c);
 
 /* Read an INI case file (libinih) over the current contents of c (call vs_case_defaults first).

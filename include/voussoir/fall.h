@@ -85,14 +85,14 @@ typedef struct {
 /* The default cap on Gauss-Seidel sweeps per step. Where a step reaches it, its contacts are
  * a chain of bodies that passes a force one contact per sweep, and the change per sweep falls
  * slowly: in the capped steps of a fall of the reference arch, sweeps 16-30 cut it by a median
- * of 29 % only (README, *The fall's cost*), and the next step starts from where these stopped
- * (the warm start). */
+ * of 29 % only (docs/fall.md, "The fall's cost"), and the next step starts from where these
+ * stopped (the warm start). */
 #define VS_FALL_MAX_SWEEPS 15
 /* Near rest (vs_fall_opts.calm): the tolerance's fraction and the cap on sweeps. Gauss-Seidel's
  * tolerance lets a resting contact sink by up to tol g h^2 a step, which the overlaps' recovery
  * moves back out through the positions; that lift, repeated every step, feeds the debris a
- * little energy, enough to keep blocks rocking just above the rest level (README, *The fall's
- * cost*). Near rest the tolerance is tightened so that the sink and its lift are a tenth. */
+ * little energy, enough to keep blocks rocking just above the rest level (docs/fall.md, "The
+ * fall's cost"). Near rest the tolerance is tightened so that the sink and its lift are a tenth. */
 #define VS_FALL_CALM_TOL 0.1
 #define VS_FALL_CALM_SWEEPS 100
 /* The default of vs_fall_opts.calm: near rest below 100 times the rest level. */

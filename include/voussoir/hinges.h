@@ -1,5 +1,6 @@
 /* Hinges: which joints are open, on which side, grouped into (possibly spread) hinges, tracked
- * as the support moves (onset, migration, closing) and labelled as docs/vocabulary.md defines. */
+ * as the support moves (onset, migration, closing) and labelled as docs/model.md ("Vocabulary")
+ * defines. */
 #ifndef VOUSSOIR_HINGES_H
 #define VOUSSOIR_HINGES_H
 
@@ -70,8 +71,8 @@ VS_API void vs_hinges_side_pattern(const vs_hinge *h, int n, char *buf, size_t s
  * buf; "" while fewer than three have formed. */
 VS_API void vs_hinges_pattern_first(const vs_hinges *h, char *buf, size_t size);
 
-/* The mode (docs/vocabulary.md) from pattern_first (vs_hinges_pattern_first) and pattern_collapse
- * (the sides of the hinges open at the collapse, left to right): "I" for I-E-E then E-I-E-E, "II"
+/* The mode (docs/model.md, "Vocabulary") from pattern_first (vs_hinges_pattern_first) and
+ * pattern_collapse (the sides of the hinges open at the collapse, left to right): "I" for I-E-E then E-I-E-E, "II"
  * for I-E-E then E-I-E-I, "III" for I-E-I then E-I-E-I or E-I-E-I-E; NULL when they fit none. */
 VS_API const char *vs_hinges_mode(const char *pattern_first, const char *pattern_collapse);
 

@@ -153,8 +153,8 @@ VS_API const vs_hinge *vs_run_hinge(const vs_run *r, int i);
 VS_API int vs_run_event_count(const vs_run *r);
 VS_API const vs_run_event *vs_run_event_get(const vs_run *r, int i);
 
-/* Evolution mode (docs/vocabulary.md): "I", "II", "III", or NULL when the hinge sides match none; and the
- * side patterns it was read from (first three hinges, left to right; hinges at the collapse). */
+/* Evolution mode (docs/model.md, "Vocabulary"): "I", "II", "III", or NULL when the hinge sides
+ * match none; and the side patterns it was read from (first three hinges, left to right; hinges at the collapse). */
 VS_API const char *vs_run_mode(const vs_run *r);
 VS_API const char *vs_run_pattern_initial(const vs_run *r);
 VS_API const char *vs_run_pattern_collapse(const vs_run *r);

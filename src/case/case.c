@@ -59,7 +59,7 @@ static const char *const fall_solvers[] = {"nncg", "gauss_seidel", NULL};
 #define INF INFINITY
 /* Every bound is finite (except where a sign is all that matters) so that every quantity derived
  * from the case (areas, masses, weights, times delta / rate, the span) stays a finite, non-zero
- * double; the README's table of keys gives the reason for each. Lengths: 1 um to 1 km. */
+ * double; docs/case-file.md ("Why the ranges are bounded") gives the reason for each. Lengths: 1 um to 1 km. */
 #define LEN_MIN 1e-3
 #define LEN_MAX 1e6
 static const key_spec keys[] = {

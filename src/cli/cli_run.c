@@ -27,7 +27,7 @@ const char VS_CLI_RUN_USAGE[] =
     "  --alpha DEG            support direction from the vertical, deg (0 = settlement,\n"
     "                         90 = outward spreading); same as --set support.alpha_deg=DEG\n"
     "  --kn N_MM3             joint normal stiffness, N/mm^3; same as --set joints.kn_N_mm3=N_MM3\n"
-    "  --set SECTION.KEY=VAL  override any case key (repeatable; see README for all keys)\n"
+    "  --set SECTION.KEY=VAL  override any case key (repeatable; every key: man voussoir, docs/case-file.md)\n"
     "  --dynamic              integrate the whole loading dynamically from rest at the support\n"
     "                         rate (no quasi-static phase); same as --set dynamic.full=1\n"
     "  --first-limit          stop at the first limit point (no dynamics); --set dynamic.follow=0\n"

@@ -335,7 +335,8 @@ static int islands(vs_fall *f) {
  * first sweep), restarting with d = r where beta > 1 (the sweeps stopped closing in). The bodies'
  * velocities move with the impulses; the next sweep projects them back onto the contact laws.
  * Measured: a standing tower's exact impulses in about half the sweeps of Gauss-Seidel alone
- * (test_fall: test_nncg_stack), and falls that come to rest sooner (README, *Impulses*). */
+ * (test_fall: test_nncg_stack), and falls that come to rest sooner (docs/fall.md, "The rigid
+ * fall"). */
 static void nncg_step(vs_fall *f, const int *ci, int nci, double *rr) {
   double r2 = 0.0;
   for (int i = 0; i < nci; i++) {

@@ -263,8 +263,8 @@ void vs_run_record_collapse(vs_run *r, const vs_dyn_result *d) {
   memcpy(c->reactions_limit, r->react_eq, sizeof r->react_eq);
 }
 
-/* Modes (docs/vocabulary.md) from the first three hinges (A, B, C, left to right) and the hinges at the
- * collapse. */
+/* Modes (docs/model.md, "Vocabulary") from the first three hinges (A, B, C, left to right) and
+ * the hinges at the collapse. */
 void vs_run_classify(vs_run *r) {
   r->mode = NULL;
   r->pattern_u[0] = '\0';
