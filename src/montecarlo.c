@@ -201,7 +201,7 @@ static int write_samples_csv(const char *path, const vs_case *c, const vs_mc_sam
   fprintf(f, "# voussoir montecarlo seed=%d radius_mm=%.17g embrace_deg=%.17g max_mm=%.17g "
              "alpha_deg=%.17g voussoirs=%d\n",
           c->seed, c->radius_mm, c->embrace_deg, c->max_mm, c->alpha_deg, c->voussoirs);
-  fputs("sample,status,first_limit_mm,delta_u_mm,dz_u_mm,dx_u_mm,mode,pattern,A,B,C,D,E,error\n", f);
+  fputs(VS_MC_TABLE_COLUMNS "\n", f);
   for (int i = 0; i < n; i++) {
     const vs_mc_sample *x = &s[i];
     fprintf(f, "%d,%s,%.17g,%.17g,%.17g,%.17g,%d,%s", x->sample, status_name(x->status),

@@ -37,6 +37,11 @@ void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *out);
 #define VS_MC_OUTPUTS \
   "samples.csv", "statistics.csv", "summary.h5", "fragility.png", "convergence.png", "hinges.png"
 
+/* The column names of samples.csv, the table of the samples (its second line; the first names
+ * the case and the seed). */
+#define VS_MC_TABLE_COLUMNS \
+  "sample,status,first_limit_mm,delta_u_mm,dz_u_mm,dx_u_mm,mode,pattern,A,B,C,D,E,error"
+
 /* Write the summary of n samples (sorted here by sample number) into directory dir (created if
  * missing): VS_MC_OUTPUTS, each written as "<name>.part" and renamed into place (only over a
  * regular file), so that none is ever half-written. span_mm normalises (L). Errors: VS_ERR_IO,
