@@ -3,6 +3,7 @@
 # sources each needs) and fuzz each for SECONDS (default 60) on a copy of its seed corpus
 # (corpus/TARGET), so that the tree is not changed. Targets (fuzz_TARGET.c says what each checks):
 #   case     the case file and the option parsers (--set, lists, numbers)
+#   merge    `voussoir merge`: the shards' tables, and the summary written from them
 # Usage: tests/fuzz/run.sh [-j N] [SECONDS] [TARGET...]   (default: every target, one at a time;
 # -j N: N targets at once). The scratch directory is $FUZZ_WORK, or a new one under /tmp removed
 # when nothing was found. Prints, per target, the inputs it ran and how many per second.
@@ -12,7 +13,7 @@
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
-all=(case)
+all=(case merge)
 jobs=1
 if [ "${1:-}" = -j ]; then
   jobs="${2:?-j needs a number}"
@@ -46,12 +47,15 @@ case_src=("$s/case.c" "$s/case_read.c" "$s/parse.c" "$s/list.c" "$s/status.c")
 sources() {
   case "$1" in
   case) echo "${case_src[@]}" ;;
+  merge) echo "${case_src[@]}" "$s/montecarlo_merge.c" "$s/montecarlo.c" "$s/h5util.c" \
+              "$s/outpath.c" ;;
   esac
 }
 libs() {
   # shellcheck disable=SC2046
   case "$1" in
   case) echo $(pkg-config --libs inih) -lm ;;
+  merge) echo $(pkg-config --libs inih hdf5-serial) -lm -Wl,--wrap=vs_mc_write_summary ;;
   esac
 }
 

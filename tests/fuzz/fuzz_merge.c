@@ -1,0 +1,258 @@
+/* libFuzzer target for `voussoir merge`: the Monte Carlo shards' tables (samples.csv) read and
+ * joined by vs_merge_main (src/montecarlo_merge.c), their summary written by the real
+ * vs_mc_write_summary (src/montecarlo.c) into a temporary directory, the pictures left out.
+ * The input is up to 4 shards' tables, separated by a line "--shard--". Besides crashes and
+ * sanitizer reports it checks meaning:
+ *  - merge ends with 0 or 2 (bad input), never 1: a table it accepts can be summarised;
+ *  - what merge hands to the summary's writer is what `voussoir montecarlo` could have
+ *    written: at least one sample, in increasing sample order, each with a known status and
+ *    mode, its displacements finite or NaN (finite in a collapse), its pattern of sides I, E
+ *    and '-', its error text without a comma, its hinges on joints 1.. with side I or E;
+ *  - merge is idempotent: the merged table merged again gives the same samples.csv and
+ *    statistics.csv, byte for byte.
+ * Run it with tests/fuzz/run.sh [SECONDS] merge. Seams (run.sh links this file with the sources named there): the plot plugin's
+ * loading and release and its pictures (vs_plot_curves) are stubs; vs_mc_write_summary is wrapped
+ * (ld --wrap) to see what merge passes it; vs_mc_check_outputs (the output directory's checks,
+ * src/montecarlo_cmd.c, not what this target is about) accepts. */
+#define _POSIX_C_SOURCE 200809L
+#include <dirent.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "cli.h"
+#include "montecarlo_cmd.h"
+#include "plugin.h"
+#include "voussoir/montecarlo.h"
+#include "voussoir/plot.h"
+
+/* The program's messages are not shown (run.sh: -close_fd_mask=3); the target's own go to a copy
+ * of stderr taken before libFuzzer closes it. */
+static FILE *g_report;
+#define REPORT (g_report != NULL ? g_report : stderr)
+#define CHECK(cond)                                                                               \
+  do {                                                                                            \
+    if (!(cond)) {                                                                                \
+      fprintf(REPORT, "fuzz_merge: check failed: %s (line %d)\n", #cond, __LINE__);               \
+      abort();                                                                                    \
+    }                                                                                             \
+  } while (0)
+
+enum { MAX_SHARDS = 4 };
+static const char SEPARATOR[] = "--shard--\n";
+static char g_root[4096];  /* the scratch directory: shards s0..s3, summaries m1 and m2 */
+static int g_writes;       /* calls of the summary's writer by the current merge */
+static int g_refused;      /* ... of which refused here (see __wrap_vs_mc_write_summary) */
+
+/* --- seams --- */
+
+int vs_plugin_load(vs_plugin_kind kind, const char *name) {
+  (void)kind, (void)name;
+  return 0;
+}
+
+void vs_plot_release(void) {}
+
+int vs_mc_check_outputs(const char *cmd, const char *dir, const vs_outpath_other *others,
+                        int n_others, int state) {
+  (void)cmd, (void)dir, (void)others, (void)n_others, (void)state;
+  return 0;
+}
+
+/* The pictures: not drawn (an empty file is written), but every value the real one would read
+ * is read (ASan sees a short array) and its documented argument limits hold. */
+vs_status vs_plot_curves(const char *path, vs_plot_format fmt, const char *title,
+                         const vs_plot_axis *x_axis, const double *x, int n,
+                         const vs_plot_panel *panels, int n_panels, vs_error *err) {
+  (void)fmt, (void)title, (void)x_axis, (void)err;
+  CHECK(n >= 1 && x != NULL && n_panels >= 1 && n_panels <= VS_PLOT_MAX_PANELS);
+  volatile double sum = 0.0;
+  for (int i = 0; i < n; i++) sum += x[i];
+  for (int p = 0; p < n_panels; p++) {
+    CHECK(panels[p].n_series >= 1 && panels[p].n_series <= VS_PLOT_MAX_SERIES);
+    for (int s = 0; s < panels[p].n_series; s++)
+      for (int i = 0; i < n; i++) sum += panels[p].series[s].y[i];
+  }
+  (void)sum;
+  FILE *f = fopen(path, "w");
+  CHECK(f != NULL && fclose(f) == 0);
+  return VS_OK;
+}
+
+vs_status __real_vs_mc_write_summary(const char *dir, const vs_case *base, vs_mc_sample *samples,
+                                     int n, vs_error *err);
+
+static int terminated(const char *s, size_t size) { return memchr(s, '\0', size) != NULL; }
+
+/* What merge passes the writer: samples montecarlo could have written. */
+vs_status __wrap_vs_mc_write_summary(const char *dir, const vs_case *base, vs_mc_sample *samples,
+                                     int n, vs_error *err) {
+  g_writes++;
+  CHECK(n >= 1 && samples != NULL);
+  for (int i = 0; i < n; i++) {
+    const vs_mc_sample *x = &samples[i];
+    CHECK(x->sample >= 0 && (i == 0 || x->sample > samples[i - 1].sample));
+    CHECK(x->status == VS_MC_COLLAPSE || x->status == VS_MC_NO_COLLAPSE ||
+          x->status == VS_MC_FAILED);
+    CHECK(x->mode >= 0 && x->mode <= 3);
+    const double d[4] = {x->first_limit_mm, x->delta_u_mm, x->dz_u_mm, x->dx_u_mm};
+    for (int k = 0; k < 4; k++) CHECK(isfinite(d[k]) || isnan(d[k]));
+    CHECK(x->status != VS_MC_COLLAPSE || (isfinite(d[1]) && isfinite(d[2]) && isfinite(d[3])));
+    CHECK(terminated(x->pattern, sizeof x->pattern) && terminated(x->error, sizeof x->error));
+    CHECK(strspn(x->pattern, "IE-") == strlen(x->pattern) && strpbrk(x->error, ",\n") == NULL);
+    for (int l = 0; l < VS_MC_LABELS; l++)
+      CHECK(x->hinge_joint[l] == 0 ||
+            (x->hinge_joint[l] >= 1 && (x->hinge_side[l] == 'I' || x->hinge_side[l] == 'E')));
+  }
+  /* Issue 25, defect 8: merge does not validate a table's header yet (voussoirs=0, radius=0,
+   * nan are taken). Until it does, such a case is not summarised here, so that the fuzzing goes
+   * past it; once merge refuses them, this becomes CHECK(vs_case_validate(...) == VS_OK). */
+  vs_error verr;
+  if (vs_case_validate(base, &verr) != VS_OK && ++g_refused)
+    return vs_error_set(err, VS_ERR_INVALID, "fuzz_merge: header not valid: %s", verr.msg);
+  return __real_vs_mc_write_summary(dir, base, samples, n, err);
+}
+
+/* --- the scratch directory --- */
+
+static void path_of(char *buf, size_t size, const char *dir, const char *name) {
+  CHECK((size_t)snprintf(buf, size, "%s/%s%s%s", g_root, dir, name ? "/" : "", name ? name : "") <
+        size);
+}
+
+static void empty_dir(const char *dir) {
+  char path[4200];
+  path_of(path, sizeof path, dir, NULL);
+  DIR *d = opendir(path);
+  if (d == NULL) return;
+  for (struct dirent *e = readdir(d); e != NULL; e = readdir(d)) {
+    if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
+    char f[4200 + 256];
+    snprintf(f, sizeof f, "%s/%s", path, e->d_name);
+    CHECK(unlink(f) == 0);
+  }
+  closedir(d);
+}
+
+static void remove_root(void) {
+  static const char *dirs[] = {"s0", "s1", "s2", "s3", "m1", "m2"};
+  for (size_t i = 0; i < sizeof dirs / sizeof dirs[0]; i++) {
+    char path[4200];
+    empty_dir(dirs[i]);
+    path_of(path, sizeof path, dirs[i], NULL);
+    rmdir(path);
+  }
+  rmdir(g_root);
+}
+
+int LLVMFuzzerInitialize(int *argc, char ***argv) {
+  (void)argc, (void)argv;
+  const int fd = dup(2);
+  if (fd >= 0 && (g_report = fdopen(fd, "w")) != NULL) setvbuf(g_report, NULL, _IONBF, 0);
+  const char *tmp = getenv("TMPDIR");
+  snprintf(g_root, sizeof g_root, "%s/fuzz_merge.XXXXXX", tmp && *tmp ? tmp : "/tmp");
+  CHECK(mkdtemp(g_root) != NULL);
+  for (int k = 0; k < MAX_SHARDS; k++) {
+    char dir[8], path[4200];
+    snprintf(dir, sizeof dir, "s%d", k);
+    path_of(path, sizeof path, dir, NULL);
+    CHECK(mkdir(path, 0755) == 0);
+  }
+  atexit(remove_root);
+  return 0;
+}
+
+static void write_file(const char *path, const uint8_t *data, size_t size) {
+  FILE *f = fopen(path, "wb");
+  CHECK(f != NULL);
+  CHECK(fwrite(data, 1, size, f) == size || size == 0);
+  CHECK(fclose(f) == 0);
+}
+
+/* The whole file at path (NUL-terminated, *size bytes), or NULL if it is missing. */
+static char *slurp(const char *path, size_t *size) {
+  FILE *f = fopen(path, "rb");
+  if (f == NULL) return NULL;
+  size_t cap = 4096, n = 0;
+  char *buf = malloc(cap);
+  CHECK(buf != NULL);
+  for (size_t got; (got = fread(buf + n, 1, cap - n - 1, f)) > 0;) {
+    n += got;
+    if (n + 1 == cap) {
+      cap *= 2;
+      CHECK((buf = realloc(buf, cap)) != NULL);
+    }
+  }
+  fclose(f);
+  buf[n] = '\0';
+  *size = n;
+  return buf;
+}
+
+/* The shards of data (split at SEPARATOR) into s0/samples.csv ...; returns their count. */
+static int write_shards(const uint8_t *data, size_t size) {
+  int nd = 0;
+  const uint8_t *p = data, *end = data + size;
+  const size_t sl = strlen(SEPARATOR);
+  while (nd < MAX_SHARDS) {
+    const uint8_t *cut = NULL;
+    for (const uint8_t *q = p; q + sl <= end && cut == NULL; q++)
+      if (memcmp(q, SEPARATOR, sl) == 0) cut = q;
+    char dir[8], path[4200];
+    snprintf(dir, sizeof dir, "s%d", nd);
+    path_of(path, sizeof path, dir, "samples.csv");
+    const uint8_t *stop = cut != NULL && nd + 1 < MAX_SHARDS ? cut : end;
+    write_file(path, p, (size_t)(stop - p));
+    nd++;
+    if (stop == end) break;
+    p = stop + sl;
+  }
+  return nd;
+}
+
+static void same_file(const char *name) {
+  char a[4200], b[4200];
+  path_of(a, sizeof a, "m1", name);
+  path_of(b, sizeof b, "m2", name);
+  size_t na, nb;
+  char *x = slurp(a, &na), *y = slurp(b, &nb);
+  CHECK(x != NULL && y != NULL);
+  if (na != nb || memcmp(x, y, na) != 0) {
+    fprintf(REPORT, "fuzz_merge: %s differs when merged again:\n--- first\n%s--- again\n%s", name,
+            x, y);
+    abort();
+  }
+  free(x);
+  free(y);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+  const int nd = write_shards(data, size);
+  char dirs[MAX_SHARDS][4200], m1[4200], m2[4200];
+  const char *dp[MAX_SHARDS];
+  for (int k = 0; k < nd; k++) {
+    char dir[8];
+    snprintf(dir, sizeof dir, "s%d", k);
+    path_of(dirs[k], sizeof dirs[k], dir, NULL);
+    dp[k] = dirs[k];
+  }
+  path_of(m1, sizeof m1, "m1", NULL);
+  path_of(m2, sizeof m2, "m2", NULL);
+  empty_dir("m1");
+  empty_dir("m2");
+  g_writes = g_refused = 0;
+  const int rc = vs_merge_main(dp, nd, m1);
+  CHECK(rc == 0 || rc == 2 || (rc == 1 && g_refused == 1));
+  if (rc != 0) return 0;
+  CHECK(g_writes == 1);
+  const char *again[1] = {m1};
+  g_writes = 0;
+  CHECK(vs_merge_main(again, 1, m2) == 0 && g_writes == 1);
+  same_file("samples.csv");
+  same_file("statistics.csv");
+  return 0;
+}
