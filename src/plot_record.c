@@ -65,8 +65,9 @@ void vs_plotrec_free(vs_plotrec *r) {
 
 static int read_hinges(vs_plotrec *r) {
   const char *path = "/summary/hinges";
-  int n = vs_h5_rows(r->file, path);
-  if (n <= 0) return 0;
+  const int n = vs_h5_table_rows(r->file, path); /* a whole read fills n records */
+  if (n == -1 || n == 0) return 0;
+  if (n < 0) return -1;
   hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(rec_hinge)), c1 = H5Tcopy(H5T_C_S1);
   H5Tset_size(c1, 1);
   H5Tset_strpad(c1, H5T_STR_NULLPAD); /* one character, no terminator */
@@ -92,8 +93,9 @@ static int read_hinges(vs_plotrec *r) {
 
 static int read_limits(vs_plotrec *r) {
   const char *path = "/summary/limit_points";
-  int n = vs_h5_rows(r->file, path);
-  if (n <= 0) return 0;
+  const int n = vs_h5_table_rows(r->file, path);
+  if (n == -1 || n == 0) return 0;
+  if (n < 0) return -1;
   typedef struct {
     double delta, settled;
   } lim;
@@ -198,7 +200,6 @@ int vs_plotrec_open(const char *path, vs_plotrec *r) {
     snprintf(r->msg, sizeof r->msg, "out of memory");
     return -1;
   }
-  hid_t hd = H5Dopen2(r->file, "/observables/joint_hinge/value", H5P_DEFAULT);
   const int bad =
       vs_h5_read_doubles(r->file, "/observables/delta/value", r->delta, n) ||
       vs_h5_read_doubles(r->file, "/observables/block_position/value", r->pos,
@@ -208,8 +209,8 @@ int vs_plotrec_open(const char *path, vs_plotrec *r) {
       vs_h5_read_doubles(r->file, "/observables/reactions/value", r->react, n * 6) ||
       vs_h5_read_doubles(r->file, "/observables/joint_N/value", r->jN, n * (size_t)r->nj) ||
       vs_h5_read_doubles(r->file, "/observables/joint_M/value", r->jM, n * (size_t)r->nj) ||
-      hd < 0 || H5Dread(hd, H5T_NATIVE_SCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, r->hinge) < 0;
-  if (hd >= 0) H5Dclose(hd);
+      vs_h5_read(r->file, "/observables/joint_hinge/value", H5T_NATIVE_SCHAR, r->hinge,
+                 n * (size_t)r->nj);
   if (bad || read_hinges(r) || read_limits(r)) {
     snprintf(r->msg, sizeof r->msg, "%.400s: the record's time series are incomplete", path);
     return -1;

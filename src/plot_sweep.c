@@ -33,8 +33,9 @@ static int read_sweep(hid_t f, sweep_pt **out) {
       H5Oget_info_by_name2(f, "/summary", &info, H5O_INFO_BASIC, H5P_DEFAULT) < 0 ||
       info.type != H5O_TYPE_DATASET)
     return -1;
+  const int n = vs_h5_table_rows(f, "/summary"); /* a whole read fills n records */
+  if (n < 0) return -1;
   hid_t d = H5Dopen2(f, "/summary", H5P_DEFAULT), ft = H5Dget_type(d);
-  const int n = vs_h5_rows(f, "/summary");
   hid_t str = vs_h5_vlstr_type();
   hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(sweep_pt));
   if (H5Tget_member_index(ft, "joints.kn_N_mm3") >= 0)

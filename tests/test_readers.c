@@ -1,0 +1,191 @@
+/* The readers of a record (`voussoir plot`, the XDMF sidecar) on records the writer would not
+ * make, each one edit away from a real one (the cases tests/fuzz/fuzz_record.c found): a table
+ * of rank 2 (/summary/hinges, /summary/limit_points, a sweep's /summary) or a hinge series of
+ * more columns than joints is refused, not read past its buffer. */
+#define _POSIX_C_SOURCE 200809L
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <hdf5.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+static char g_dir[64];
+
+static int sh(const char *cmd) {
+  int st = system(cmd);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+/* The whole file at DIR/name (NUL-terminated, malloc'd), or NULL if it is missing. */
+static char *slurp(const char *name) {
+  char path[256];
+  snprintf(path, sizeof path, "%s/%s", g_dir, name);
+  FILE *f = fopen(path, "rb");
+  if (f == NULL) return NULL;
+  fseek(f, 0, SEEK_END);
+  const long n = ftell(f);
+  rewind(f);
+  char *s = malloc((size_t)n + 1);
+  assert_non_null(s);
+  assert_int_equal(fread(s, 1, (size_t)n, f), (size_t)n);
+  s[n] = '\0';
+  fclose(f);
+  return s;
+}
+
+/* DIR/name.h5: a copy of the reference record (7 voussoirs: it collapses, falls and lands). */
+static void copy_record(const char *name) {
+  char cmd[512];
+  snprintf(cmd, sizeof cmd, "cp '%s/ref.h5' '%s/%s.h5'", g_dir, g_dir, name);
+  assert_int_equal(sh(cmd), 0);
+}
+
+static hid_t open_rw(const char *name) {
+  char path[256];
+  snprintf(path, sizeof path, "%s/%s.h5", g_dir, name);
+  hid_t f = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+  assert_true(f >= 0);
+  return f;
+}
+
+/* Dataset dset of file f replaced by one of the same type and of rank `rank` with dimensions
+ * dims (its values the fill value). */
+static void reshape(hid_t f, const char *dset, int rank, const hsize_t *dims) {
+  hid_t d = H5Dopen2(f, dset, H5P_DEFAULT);
+  assert_true(d >= 0);
+  hid_t t = H5Dget_type(d);
+  H5Dclose(d);
+  assert_true(H5Ldelete(f, dset, H5P_DEFAULT) >= 0);
+  hid_t sp = H5Screate_simple(rank, dims, NULL);
+  d = H5Dcreate2(f, dset, t, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  assert_true(d >= 0);
+  H5Dclose(d);
+  H5Sclose(sp);
+  H5Tclose(t);
+}
+
+/* The first dimension of dataset dset of f. */
+static hsize_t rows_of(hid_t f, const char *dset) {
+  hid_t d = H5Dopen2(f, dset, H5P_DEFAULT);
+  assert_true(d >= 0);
+  hid_t sp = H5Dget_space(d);
+  hsize_t dims[3] = {0};
+  H5Sget_simple_extent_dims(sp, dims, NULL);
+  H5Sclose(sp);
+  H5Dclose(d);
+  return dims[0];
+}
+
+/* `voussoir plot DIR/name.h5 -o DIR/name_plots`: its exit status; its stderr in DIR/err.txt. */
+static int plot(const char *name) {
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd, "%s plot %s/%s.h5 -o %s/%s_plots > /dev/null 2> %s/err.txt",
+           VS_BINARY, g_dir, name, g_dir, name, g_dir);
+  return sh(cmd);
+}
+
+static void expect_refused(const char *name, int status, const char *said) {
+  const int rc = plot(name);
+  char *err = slurp("err.txt");
+  if (rc != status || err == NULL || strstr(err, said) == NULL)
+    fail_msg("%s: exit %d, stderr \"%s\": expected %d and \"%s\"", name, rc, err ? err : "",
+             status, said);
+  free(err);
+}
+
+/* A table of rank 2 is n x m records where the reader took n: refused (its rows alone are the
+ * table); so is a hinge series with a column more than the record has joints. */
+static void test_tables_of_another_rank(void **s) {
+  (void)s;
+  static const char *const tables[] = {"/summary/hinges", "/summary/limit_points"};
+  for (int i = 0; i < 2; i++) {
+    char name[32];
+    snprintf(name, sizeof name, "rank2_%d", i);
+    copy_record(name);
+    hid_t f = open_rw(name);
+    const hsize_t dims[2] = {rows_of(f, tables[i]), 3};
+    reshape(f, tables[i], 2, dims);
+    H5Fclose(f);
+    expect_refused(name, 2, "the record's time series are incomplete");
+  }
+  copy_record("wide_hinges");
+  hid_t f = open_rw("wide_hinges");
+  const hsize_t dims[2] = {rows_of(f, "/observables/joint_hinge/value"), 7 + 2};
+  reshape(f, "/observables/joint_hinge/value", 2, dims);
+  H5Fclose(f);
+  expect_refused("wide_hinges", 2, "the record's time series are incomplete");
+}
+
+/* A sweep's summary table (as voussoir sweep writes it: compound rows, UTF-8 strings) of
+ * `rank`; at DIR/name.h5. */
+static void sweep_table(const char *name, int rank) {
+  typedef struct {
+    double dz, dx;
+    const char *status, *mode;
+  } row;
+  const row rows[4] = {{20.0, 0.0, "collapse", "I"}, {15.0, NAN, "collapse", "II"},
+                       {20.0, 0.0, "collapse", "I"}, {15.0, NAN, "collapse", "II"}};
+  char path[256];
+  snprintf(path, sizeof path, "%s/%s.h5", g_dir, name);
+  hid_t f = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  assert_true(f >= 0);
+  hid_t str = H5Tcopy(H5T_C_S1);
+  H5Tset_size(str, H5T_VARIABLE);
+  H5Tset_cset(str, H5T_CSET_UTF8);
+  hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(row));
+  H5Tinsert(t, "dz_over_L_pct", HOFFSET(row, dz), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t, "dx_over_L_pct", HOFFSET(row, dx), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t, "status", HOFFSET(row, status), str);
+  H5Tinsert(t, "mode", HOFFSET(row, mode), str);
+  const hsize_t dims[2] = {2, 2};
+  hid_t sp = H5Screate_simple(rank, dims, NULL);
+  hid_t d = H5Dcreate2(f, "/summary", t, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  assert_true(d >= 0);
+  assert_true(H5Dwrite(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows) >= 0);
+  H5Dclose(d);
+  H5Sclose(sp);
+  H5Tclose(t);
+  H5Tclose(str);
+  H5Fclose(f);
+}
+
+static void test_sweep_table(void **s) {
+  (void)s;
+  sweep_table("sweep_rank2", 2);
+  expect_refused("sweep_rank2", 1, "/summary is not a sweep's summary table");
+}
+
+static int setup(void **s) {
+  (void)s;
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  snprintf(g_dir, sizeof g_dir, "/tmp/vs_test_readers_XXXXXX");
+  if (mkdtemp(g_dir) == NULL) return -1;
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd,
+           "%s run %s/runs/reference.ini --set arch.voussoirs=7 -q -o %s/ref.h5 > /dev/null",
+           VS_BINARY, VS_SOURCE_DIR, g_dir);
+  return sh(cmd) == 0 ? 0 : -1;
+}
+
+static int teardown(void **s) {
+  (void)s;
+  char cmd[128];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", g_dir);
+  return sh(cmd) == 0 ? 0 : -1;
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_tables_of_another_rank),
+      cmocka_unit_test(test_sweep_table),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}
