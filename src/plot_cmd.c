@@ -219,7 +219,10 @@ static int draw_curves(vs_plotrec *r, const char *dir, const char *ext) {
       for (int i = 0; i < 4; i++) fprintf(r->json, "%s\"%s\"", i ? ", " : "", rs[i].name);
       for (int i = 0; i < ns; i++) fprintf(r->json, ", \"%s\"", hs[i].name);
       fputs("], \"marks_mm\": [", r->json);
-      for (int i = 0; i < nm; i++) fprintf(r->json, "%s%.9g", i ? ", " : "", mx[i] / VS_MM);
+      for (int i = 0; i < nm; i++) { /* a limit point's delta is the record's: any value */
+        fputs(i ? ", " : "", r->json);
+        vs_plot_json_num(r->json, mx[i] / VS_MM);
+      }
       fputs("]}", r->json);
     }
     printf("  %s\n", path);

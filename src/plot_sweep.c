@@ -128,12 +128,15 @@ static void sweep_json(FILE *f, const char *domain, const char *sens, const swee
     fputs(", \"points\": [", f);
     for (int i = 0; i < m; i++) {
       fprintf(f, "%s\n    {\"kn_N_mm3\": ", i ? "," : "");
-      isnan(p[i].kn) ? fputs("null", f) : fprintf(f, "%.9g", p[i].kn);
+      vs_plot_json_num(f, p[i].kn); /* NaN: the column is absent, the case's k_n */
       fputs(", \"alpha_deg\": ", f);
-      isnan(p[i].alpha) ? fputs("null", f) : fprintf(f, "%.9g", p[i].alpha);
-      if (pic == 0)
-        fprintf(f, ", \"dz_over_L_pct\": %.9g, \"dx_over_L_pct\": %.9g", p[i].dz, p[i].dx);
-      else fprintf(f, ", \"delta_u_over_L_pct\": %.9g", du[i]);
+      vs_plot_json_num(f, p[i].alpha);
+      fputs(pic == 0 ? ", \"dz_over_L_pct\": " : ", \"delta_u_over_L_pct\": ", f);
+      vs_plot_json_num(f, pic == 0 ? p[i].dz : du[i]);
+      if (pic == 0) {
+        fputs(", \"dx_over_L_pct\": ", f);
+        vs_plot_json_num(f, p[i].dx);
+      }
       fprintf(f, ", \"mode\": \"%s\"}", MODES[mode_index(p[i].mode)]);
     }
     fputs("]}", f);

@@ -1,7 +1,8 @@
 /* The readers of a record (`voussoir plot`, the XDMF sidecar) on records the writer would not
  * make, each one edit away from a real one (the cases tests/fuzz/fuzz_record.c found): a table
  * of rank 2 (/summary/hinges, /summary/limit_points, a sweep's /summary) or a hinge series of
- * more columns than joints is refused, not read past its buffer. */
+ * more columns than joints is refused, not read past its buffer; a NaN or an infinity where a
+ * number goes into plots.json is written as null (JSON has neither). */
 #define _POSIX_C_SOURCE 200809L
 #include <stdarg.h>
 #include <stddef.h>
@@ -92,6 +93,18 @@ static int plot(const char *name) {
   return sh(cmd);
 }
 
+/* Whether JSON text holds a bare NaN or infinity where a number goes (printf's nan, inf). */
+static int bare_non_finite(const char *json) {
+  for (const char *p = json; (p = strpbrk(p, "ni")) != NULL; p++) {
+    const char *q = p;
+    if (strncmp(p, "nan", 3) != 0 && strncmp(p, "inf", 3) != 0) continue;
+    if (q > json && q[-1] == '-') q--;
+    while (q > json && q[-1] == ' ') q--;
+    if (q > json && (q[-1] == ':' || q[-1] == ',' || q[-1] == '[')) return 1;
+  }
+  return 0;
+}
+
 static void expect_refused(const char *name, int status, const char *said) {
   const int rc = plot(name);
   char *err = slurp("err.txt");
@@ -125,7 +138,7 @@ static void test_tables_of_another_rank(void **s) {
 }
 
 /* A sweep's summary table (as voussoir sweep writes it: compound rows, UTF-8 strings) of
- * `rank`; at DIR/name.h5. */
+ * `rank`, its second row's dx/L NaN; at DIR/name.h5. */
 static void sweep_table(const char *name, int rank) {
   typedef struct {
     double dz, dx;
@@ -161,6 +174,42 @@ static void test_sweep_table(void **s) {
   (void)s;
   sweep_table("sweep_rank2", 2);
   expect_refused("sweep_rank2", 1, "/summary is not a sweep's summary table");
+  /* rank 1: drawn, and the NaN in plots.json is null */
+  sweep_table("sweep_nan", 1);
+  assert_int_equal(plot("sweep_nan"), 0);
+  char *json = slurp("sweep_nan_plots/plots.json");
+  assert_non_null(json);
+  if (bare_non_finite(json) || strstr(json, "\"dx_over_L_pct\": null") == NULL)
+    fail_msg("plots.json: a NaN not written as null:\n%s", json);
+  free(json);
+}
+
+/* A limit point at NaN (the record's /summary/limit_points): its mark in plots.json is null. */
+static void test_limit_point_nan(void **s) {
+  (void)s;
+  copy_record("limit_nan");
+  hid_t f = open_rw("limit_nan");
+  hid_t d = H5Dopen2(f, "/summary/limit_points", H5P_DEFAULT);
+  assert_true(d >= 0);
+  hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(double)); /* that member only */
+  H5Tinsert(t, "delta", 0, H5T_NATIVE_DOUBLE);
+  const hsize_t n = rows_of(f, "/summary/limit_points");
+  assert_true(n >= 1);
+  double *v = malloc(n * sizeof *v);
+  assert_non_null(v);
+  for (hsize_t i = 0; i < n; i++) v[i] = NAN;
+  assert_true(H5Dwrite(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
+  free(v);
+  H5Tclose(t);
+  H5Dclose(d);
+  H5Fclose(f);
+  plot("limit_nan"); /* whatever becomes of the limit point's picture, plots.json is JSON */
+  char *json = slurp("limit_nan_plots/plots.json");
+  assert_non_null(json);
+  const char *marks = strstr(json, "\"marks_mm\": [");
+  if (marks == NULL || strncmp(marks + 13, "null", 4) != 0 || bare_non_finite(json))
+    fail_msg("plots.json: the NaN limit point not written as null:\n%s", json);
+  free(json);
 }
 
 static int setup(void **s) {
@@ -186,6 +235,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_tables_of_another_rank),
       cmocka_unit_test(test_sweep_table),
+      cmocka_unit_test(test_limit_point_nan),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
