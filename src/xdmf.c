@@ -419,9 +419,7 @@ vs_status vs_xdmf_write(hid_t file, const char *h5_path, const char *xmf_path, i
   char name[1024], tmp[4096];
   xml_escape(base != NULL ? base + 1 : h5_path, name, sizeof name);
   x.h5name = name;
-  x.ground = H5Lexists(file, "/summary", H5P_DEFAULT) > 0 &&
-             H5Lexists(file, "/summary/ground", H5P_DEFAULT) > 0 &&
-             H5Lexists(file, "/summary/ground/points", H5P_DEFAULT) > 0;
+  x.ground = vs_xdmf_has_ground(file);
   x.nan_n = vs_xdmf_nan_count(file);
   if (st == VS_OK) st = vs_xdmf_open_tmp(xmf_path, tmp, sizeof tmp, &x.f, err);
   if (st == VS_OK) {

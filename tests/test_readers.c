@@ -2,7 +2,8 @@
  * make, each one edit away from a real one (the cases tests/fuzz/fuzz_record.c found): a table
  * of rank 2 (/summary/hinges, /summary/limit_points, a sweep's /summary) or a hinge series of
  * more columns than joints is refused, not read past its buffer; a NaN or an infinity where a
- * number goes into plots.json is written as null (JSON has neither). */
+ * number goes into plots.json is written as null (JSON has neither); a ground of another shape
+ * than the 2 x 2 points the sidecar names is left out of it. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdarg.h>
 #include <stddef.h>
@@ -17,6 +18,8 @@
 #include <string.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include "voussoir/output.h"
 
 static char g_dir[64];
 
@@ -212,6 +215,31 @@ static void test_limit_point_nan(void **s) {
   free(json);
 }
 
+/* The sidecar names the ground as 2 x 2 points: a record whose ground is another shape gets a
+ * sidecar without it (the record's own is listed). */
+static void test_ground_of_another_shape(void **s) {
+  (void)s;
+  vs_error err;
+  char h5[256];
+  copy_record("ground");
+  snprintf(h5, sizeof h5, "%s/ground.h5", g_dir);
+  assert_int_equal(vs_output_write_xdmf(h5, 0, &err), VS_OK);
+  char *xmf = slurp("ground.xmf");
+  assert_non_null(xmf);
+  assert_non_null(strstr(xmf, ":/summary/ground/points<")); /* the control: it has a ground */
+  free(xmf);
+  hid_t f = open_rw("ground");
+  const hsize_t three = 3;
+  reshape(f, "/summary/ground/points", 1, &three);
+  H5Fclose(f);
+  assert_int_equal(vs_output_write_xdmf(h5, 0, &err), VS_OK);
+  xmf = slurp("ground.xmf");
+  assert_non_null(xmf);
+  if (strstr(xmf, "/summary/ground/points") != NULL)
+    fail_msg("the sidecar names /summary/ground/points, which holds 3 values, as 2 x 2");
+  free(xmf);
+}
+
 static int setup(void **s) {
   (void)s;
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
@@ -236,6 +264,7 @@ int main(void) {
       cmocka_unit_test(test_tables_of_another_rank),
       cmocka_unit_test(test_sweep_table),
       cmocka_unit_test(test_limit_point_nan),
+      cmocka_unit_test(test_ground_of_another_shape),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
