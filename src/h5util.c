@@ -191,7 +191,7 @@ int vs_h5_rows(hid_t f, const char *path) {
   hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
   if (d < 0) return -1;
   hid_t sp = H5Dget_space(d);
-  hsize_t dims[4] = {0};
+  hsize_t dims[H5S_MAX_RANK] = {0}; /* it writes as many as the dataset has: any rank */
   int nd = H5Sget_simple_extent_dims(sp, dims, NULL);
   H5Sclose(sp);
   H5Dclose(d);
