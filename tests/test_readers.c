@@ -3,7 +3,8 @@
  * of rank 2 (/summary/hinges, /summary/limit_points, a sweep's /summary) or a hinge series of
  * more columns than joints is refused, not read past its buffer, and a series of rank 6 is
  * read; a NaN or an infinity where a number goes into plots.json is written as null (JSON has
- * neither); the sidecar leaves out a ground of another shape than the 2 x 2 points it names. */
+ * neither); the sidecar leaves out a ground of another shape than the 2 x 2 points it names,
+ * and a row whose time is not finite. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdarg.h>
 #include <stddef.h>
@@ -264,6 +265,34 @@ static void test_ground_of_another_shape(void **s) {
   free(xmf);
 }
 
+/* A row whose time is infinite (the record's /observables/delta/time) is not listed: a
+ * sidecar's times are numbers, strictly increasing. */
+static void test_time_not_finite(void **s) {
+  (void)s;
+  vs_error err;
+  char h5[256];
+  copy_record("time_inf");
+  hid_t f = open_rw("time_inf");
+  const char *dset = "/observables/delta/time";
+  const hsize_t n = rows_of(f, dset);
+  double *t = malloc(n * sizeof *t);
+  assert_non_null(t);
+  hid_t d = H5Dopen2(f, dset, H5P_DEFAULT);
+  assert_true(d >= 0 && H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, t) >= 0);
+  t[n - 1] = INFINITY; /* the last row, which is always listed */
+  assert_true(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, t) >= 0);
+  H5Dclose(d);
+  H5Fclose(f);
+  free(t);
+  snprintf(h5, sizeof h5, "%s/time_inf.h5", g_dir);
+  assert_int_equal(vs_output_write_xdmf(h5, 0, &err), VS_OK);
+  char *xmf = slurp("time_inf.xmf");
+  assert_non_null(xmf);
+  assert_non_null(strstr(xmf, "<Time Value=\"")); /* the control: rows are listed */
+  if (strstr(xmf, "<Time Value=\"inf\"") != NULL) fail_msg("the sidecar lists a time inf");
+  free(xmf);
+}
+
 static int setup(void **s) {
   (void)s;
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
@@ -290,6 +319,7 @@ int main(void) {
       cmocka_unit_test(test_sweep_table),
       cmocka_unit_test(test_limit_point_nan),
       cmocka_unit_test(test_ground_of_another_shape),
+      cmocka_unit_test(test_time_not_finite),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
