@@ -268,6 +268,32 @@ static void test_limit_point_nan(void **s) {
   free(json);
 }
 
+/* The last state at a support displacement of 1e306 m, finite but not in mm: its picture's
+ * delta_mm in plots.json is null (it was inf). */
+static void test_delta_beyond_mm(void **s) {
+  (void)s;
+  copy_record("delta_far");
+  hid_t f = open_rw("delta_far");
+  const char *dset = "/observables/delta/value";
+  const hsize_t n = rows_of(f, dset);
+  double *v = malloc(n * sizeof *v);
+  assert_non_null(v);
+  hid_t d = H5Dopen2(f, dset, H5P_DEFAULT);
+  assert_true(d >= 0 && H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
+  v[n - 1] = 1e306;
+  assert_true(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
+  H5Dclose(d);
+  H5Fclose(f);
+  free(v);
+  plot("delta_far");
+  char *json = slurp("delta_far_plots/plots.json");
+  assert_non_null(json);
+  const char *end = strstr(json, "\"file\": \"arch_end.png\"");
+  if (end == NULL || bare_non_finite(json) || strstr(end, "\"delta_mm\": null") == NULL)
+    fail_msg("plots.json: the last state's delta_mm not null:\n%s", json);
+  free(json);
+}
+
 /* The sidecar names the ground as 2 x 2 points: a record whose ground is another shape gets a
  * sidecar without it (the record's own is listed). */
 static void test_ground_of_another_shape(void **s) {
@@ -347,6 +373,7 @@ int main(void) {
       cmocka_unit_test(test_series_of_rank_6),
       cmocka_unit_test(test_sweep_table),
       cmocka_unit_test(test_limit_point_nan),
+      cmocka_unit_test(test_delta_beyond_mm),
       cmocka_unit_test(test_ground_of_another_shape),
       cmocka_unit_test(test_time_not_finite),
   };
