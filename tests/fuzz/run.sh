@@ -5,8 +5,9 @@
 #   case     the case file and the option parsers (--set, lists, numbers)
 #   merge    `voussoir merge`: the shards' tables, and the summary written from them
 # Usage: tests/fuzz/run.sh [-j N] [SECONDS] [TARGET...]   (default: every target, one at a time;
-# -j N: N targets at once). The scratch directory is $FUZZ_WORK, or a new one under /tmp removed
-# when nothing was found. Prints, per target, the inputs it ran and how many per second.
+# -j N: N targets at once). The scratch directory is $FUZZ_WORK (kept, its corpora growing from
+# run to run), or a new one under /tmp, removed when nothing was found. Prints, per target, the
+# inputs it ran and how many per second.
 # Exit status: 0 no finding; 1 a finding (a crash, a sanitizer report or a failed check: the
 # reproducer's path and the log's are printed; replay with TARGET_BINARY REPRODUCER); 2 usage,
 # or clang or a build failed.
@@ -16,7 +17,8 @@ root="$(cd "$here/../.." && pwd)"
 all=(case merge)
 jobs=1
 if [ "${1:-}" = -j ]; then
-  jobs="${2:?-j needs a number}"
+  jobs="${2:-}"
+  [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz: -j needs a number >= 1" >&2; exit 2; }
   shift 2
 fi
 secs=60
@@ -48,24 +50,23 @@ sources() {
   case "$1" in
   case) echo "${case_src[@]}" ;;
   merge) echo "${case_src[@]}" "$s/montecarlo_merge.c" "$s/montecarlo.c" "$s/h5util.c" \
-              "$s/outpath.c" ;;
+              "$s/outpath.c" "$s/plot.c" "$s/chart.c" ;;
   esac
 }
 libs() {
   # shellcheck disable=SC2046
   case "$1" in
   case) echo $(pkg-config --libs inih) -lm ;;
-  merge) echo $(pkg-config --libs inih hdf5-serial) -lm -Wl,--wrap=vs_mc_write_summary ;;
+  merge) echo $(pkg-config --libs inih hdf5-serial cairo fontconfig) -lm \
+              -Wl,--wrap=vs_mc_write_summary -Wl,--wrap=vs_plot_emit ;;
   esac
 }
 
-# The longest input of each target (bytes): a case file, a few shards' tables, a record's
-# description, a journal of some rows.
+# The longest input of each target (bytes): a case file, a few shards' tables.
 max_len() {
   case "$1" in
-  case | journal) echo 8192 ;;
+  case) echo 8192 ;;
   merge) echo 16384 ;;
-  record) echo 4096 ;;
   esac
 }
 
@@ -74,21 +75,25 @@ build() {
   mkdir -p "$work/$t"
   # shellcheck disable=SC2046
   clang -std=c17 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-    -I"$root/include" -I"$s" $(pkg-config --cflags inih hdf5-serial) \
+    -I"$root/include" -I"$s" $(pkg-config --cflags inih hdf5-serial cairo) \
     "$here/fuzz_$t.c" $(sources "$t") $(libs "$t") -o "$work/$t/fuzz_$t" \
     >"$work/$t/build.log" 2>&1 || { cat "$work/$t/build.log" >&2; return 1; }
 }
 
 # Fuzz target $1 for $secs s in $work/$1; its summary line into $work/$1/result.
 fuzz() {
-  local t="$1" d="$work/$1" dict=()
-  mkdir -p "$d/corpus" "$d/tmp"
+  local t="$1" d="$work/$1" dict=() tmp
+  mkdir -p "$d/corpus"
   cp -n "$here/corpus/$t"/* "$d/corpus/" 2>/dev/null || true
   [ -f "$here/$t.dict" ] && dict=(-dict="$here/$t.dict")
+  # the files a target writes for each input: in memory when it can (a disk makes merge some
+  # 20 times slower), removed afterwards whatever happened
+  tmp="$(mktemp -d /dev/shm/voussoir-fuzz-"$t".XXXXXX 2>/dev/null || mktemp -d "$d/tmp.XXXXXX")"
   local rc=0
-  (cd "$d" && TMPDIR="$d/tmp" ./"fuzz_$t" -max_total_time="$secs" -timeout=10 \
+  (cd "$d" && TMPDIR="$tmp" ./"fuzz_$t" -max_total_time="$secs" -timeout=10 \
      -rss_limit_mb=2048 -max_len="$(max_len "$t")" -close_fd_mask=3 -print_final_stats=1 \
      -artifact_prefix="$d/" "${dict[@]}" corpus >"$d/log" 2>&1) || rc=$?
+  rm -rf "$tmp"
   local n r
   n="$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$d/log" | grep -o '[0-9]*$' || true)"
   r="$(grep -o 'stat::average_exec_per_sec: *[0-9]*' "$d/log" | grep -o '[0-9]*$' || true)"
