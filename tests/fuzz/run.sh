@@ -4,6 +4,7 @@
 # (corpus/TARGET), so that the tree is not changed. Targets (fuzz_TARGET.c says what each checks):
 #   case     the case file and the option parsers (--set, lists, numbers)
 #   merge    `voussoir merge`: the shards' tables, and the summary written from them
+#   record   `voussoir plot` and the XDMF sidecar: records of any shapes, types and values
 # Usage: tests/fuzz/run.sh [-j N] [SECONDS] [TARGET...]   (default: every target, one at a time;
 # -j N: N targets at once). The scratch directory is $FUZZ_WORK (kept, its corpora growing from
 # run to run), or a new one under /tmp, removed when nothing was found. Prints, per target, the
@@ -14,7 +15,7 @@
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
-all=(case merge)
+all=(case merge record)
 jobs=1
 if [ "${1:-}" = -j ]; then
   jobs="${2:-}"
@@ -51,6 +52,10 @@ sources() {
   case) echo "${case_src[@]}" ;;
   merge) echo "${case_src[@]}" "$s/montecarlo_merge.c" "$s/montecarlo.c" "$s/h5util.c" \
               "$s/outpath.c" "$s/plot.c" "$s/chart.c" ;;
+  record) echo "${case_src[@]}" "$s/plot_cmd.c" "$s/plot_record.c" "$s/plot_sweep.c" \
+               "$s/plot.c" "$s/plot_arch.c" "$s/plot_frame.c" "$s/chart.c" "$s/xdmf.c" \
+               "$s/xdmf_record.c" "$s/xdmf_rows.c" "$s/h5util.c" "$s/outpath.c" \
+               "$s/imperfections.c" "$s/geometry.c" "$s/support.c" "$s/hinges.c" ;;
   esac
 }
 libs() {
@@ -59,14 +64,18 @@ libs() {
   case) echo $(pkg-config --libs inih) -lm ;;
   merge) echo $(pkg-config --libs inih hdf5-serial cairo fontconfig) -lm \
               -Wl,--wrap=vs_mc_write_summary -Wl,--wrap=vs_plot_emit ;;
+  record) echo $(pkg-config --libs inih hdf5-serial cairo fontconfig) -lm \
+               -Wl,--wrap=vs_plot_emit ;;
   esac
 }
 
-# The longest input of each target (bytes): a case file, a few shards' tables.
+# The longest input of each target (bytes): a case file, a few shards' tables, a record's
+# description.
 max_len() {
   case "$1" in
   case) echo 8192 ;;
   merge) echo 16384 ;;
+  record) echo 4096 ;;
   esac
 }
 
@@ -86,8 +95,8 @@ fuzz() {
   mkdir -p "$d/corpus"
   cp -n "$here/corpus/$t"/* "$d/corpus/" 2>/dev/null || true
   [ -f "$here/$t.dict" ] && dict=(-dict="$here/$t.dict")
-  # the files a target writes for each input: in memory when it can (a disk makes merge some
-  # 20 times slower), removed afterwards whatever happened
+  # the files a target writes for each input: in memory when it can (a disk makes merge and
+  # record some 20 times slower), removed afterwards whatever happened
   tmp="$(mktemp -d /dev/shm/voussoir-fuzz-"$t".XXXXXX 2>/dev/null || mktemp -d "$d/tmp.XXXXXX")"
   local rc=0
   (cd "$d" && TMPDIR="$tmp" ./"fuzz_$t" -max_total_time="$secs" -timeout=10 \
