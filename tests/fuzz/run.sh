@@ -5,6 +5,7 @@
 #   case     the case file and the option parsers (--set, lists, numbers)
 #   merge    `voussoir merge`: the shards' tables, and the summary written from them
 #   record   `voussoir plot` and the XDMF sidecar: records of any shapes, types and values
+#   journal  `sweep --resume`, `montecarlo --resume`: the journals' header and rows
 # Usage: tests/fuzz/run.sh [-j N] [SECONDS] [TARGET...]   (default: every target, one at a time;
 # -j N: N targets at once). The scratch directory is $FUZZ_WORK (kept, its corpora growing from
 # run to run), or a new one under /tmp, removed when nothing was found. Prints, per target, the
@@ -15,7 +16,7 @@
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
-all=(case merge record)
+all=(case merge record journal)
 jobs=1
 if [ "${1:-}" = -j ]; then
   jobs="${2:-}"
@@ -56,12 +57,13 @@ sources() {
                "$s/plot.c" "$s/plot_arch.c" "$s/plot_frame.c" "$s/chart.c" "$s/xdmf.c" \
                "$s/xdmf_record.c" "$s/xdmf_rows.c" "$s/h5util.c" "$s/outpath.c" \
                "$s/imperfections.c" "$s/geometry.c" "$s/support.c" "$s/hinges.c" ;;
+  journal) echo "${case_src[@]}" "$s/journal.c" ;;
   esac
 }
 libs() {
   # shellcheck disable=SC2046
   case "$1" in
-  case) echo $(pkg-config --libs inih) -lm ;;
+  case | journal) echo $(pkg-config --libs inih) -lm ;;
   merge) echo $(pkg-config --libs inih hdf5-serial cairo fontconfig) -lm \
               -Wl,--wrap=vs_mc_write_summary -Wl,--wrap=vs_plot_emit ;;
   record) echo $(pkg-config --libs inih hdf5-serial cairo fontconfig) -lm \
@@ -70,10 +72,10 @@ libs() {
 }
 
 # The longest input of each target (bytes): a case file, a few shards' tables, a record's
-# description.
+# description, a journal of some rows.
 max_len() {
   case "$1" in
-  case) echo 8192 ;;
+  case | journal) echo 8192 ;;
   merge) echo 16384 ;;
   record) echo 4096 ;;
   esac
