@@ -23,19 +23,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#define FUZZ_NAME "fuzz_journal"
+#include "fuzz.h"
+
 #include "journal.h"
 #include "sweep_private.h"
 #include "voussoir/montecarlo.h"
-
-static FILE *g_report; /* a copy of stderr (run.sh closes the target's: -close_fd_mask=3) */
-#define REPORT (g_report != NULL ? g_report : stderr)
-#define CHECK(cond)                                                                               \
-  do {                                                                                            \
-    if (!(cond)) {                                                                                \
-      fprintf(REPORT, "fuzz_journal: check failed: %s (line %d)\n", #cond, __LINE__);             \
-      abort();                                                                                    \
-    }                                                                                             \
-  } while (0)
 
 static char g_root[4096], g_path[4200];
 
@@ -46,11 +39,8 @@ static void remove_root(void) {
 
 int LLVMFuzzerInitialize(int *argc, char ***argv) {
   (void)argc, (void)argv;
-  const int fd = dup(2);
-  if (fd >= 0 && (g_report = fdopen(fd, "w")) != NULL) setvbuf(g_report, NULL, _IONBF, 0);
-  const char *tmp = getenv("TMPDIR");
-  snprintf(g_root, sizeof g_root, "%s/fuzz_journal.XXXXXX", tmp && *tmp ? tmp : "/tmp");
-  CHECK(mkdtemp(g_root) != NULL);
+  fuzz_report_open();
+  fuzz_scratch(g_root, sizeof g_root);
   snprintf(g_path, sizeof g_path, "%s/study.journal", g_root);
   atexit(remove_root);
   return 0;
@@ -71,18 +61,9 @@ static void take(void *user, const void *row) {
 }
 
 static uint8_t *slurp(size_t *n) {
-  FILE *f = fopen(g_path, "rb");
-  CHECK(f != NULL);
-  size_t cap = 4096;
-  uint8_t *buf = malloc(cap);
-  CHECK(buf != NULL);
-  *n = 0;
-  for (size_t got; (got = fread(buf + *n, 1, cap - *n, f)) > 0;) {
-    *n += got;
-    if (*n == cap) CHECK((buf = realloc(buf, cap *= 2)) != NULL);
-  }
-  fclose(f);
-  return buf;
+  uint8_t *b = (uint8_t *)fuzz_slurp(g_path, n);
+  CHECK(b != NULL);
+  return b;
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {

@@ -26,24 +26,15 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#define FUZZ_NAME "fuzz_merge"
+#include "fuzz.h"
+
 #include "cli.h"
 #include "montecarlo_cmd.h"
 #include "plot_draw.h"
 #include "plugin.h"
 #include "voussoir/montecarlo.h"
 #include "voussoir/plot.h"
-
-/* The program's messages are not shown (run.sh: -close_fd_mask=3); the target's own go to a copy
- * of stderr taken before libFuzzer closes it. */
-static FILE *g_report;
-#define REPORT (g_report != NULL ? g_report : stderr)
-#define CHECK(cond)                                                                               \
-  do {                                                                                            \
-    if (!(cond)) {                                                                                \
-      fprintf(REPORT, "fuzz_merge: check failed: %s (line %d)\n", #cond, __LINE__);               \
-      abort();                                                                                    \
-    }                                                                                             \
-  } while (0)
 
 enum { MAX_SHARDS = 4 };
 static const char SEPARATOR[] = "--shard--\n";
@@ -143,12 +134,9 @@ static void remove_root(void) {
 
 int LLVMFuzzerInitialize(int *argc, char ***argv) {
   (void)argc, (void)argv;
-  const int fd = dup(2);
-  if (fd >= 0 && (g_report = fdopen(fd, "w")) != NULL) setvbuf(g_report, NULL, _IONBF, 0);
+  fuzz_report_open();
   H5set_free_list_limits(-1, -1, -1, -1, -1, -1); /* see fuzz_record.c */
-  const char *tmp = getenv("TMPDIR");
-  snprintf(g_root, sizeof g_root, "%s/fuzz_merge.XXXXXX", tmp && *tmp ? tmp : "/tmp");
-  CHECK(mkdtemp(g_root) != NULL);
+  fuzz_scratch(g_root, sizeof g_root);
   for (int k = 0; k < MAX_SHARDS; k++) {
     char dir[8], path[4200];
     snprintf(dir, sizeof dir, "s%d", k);
@@ -164,26 +152,6 @@ static void write_file(const char *path, const uint8_t *data, size_t size) {
   CHECK(f != NULL);
   CHECK(fwrite(data, 1, size, f) == size || size == 0);
   CHECK(fclose(f) == 0);
-}
-
-/* The whole file at path (NUL-terminated, *size bytes), or NULL if it is missing. */
-static char *slurp(const char *path, size_t *size) {
-  FILE *f = fopen(path, "rb");
-  if (f == NULL) return NULL;
-  size_t cap = 4096, n = 0;
-  char *buf = malloc(cap);
-  CHECK(buf != NULL);
-  for (size_t got; (got = fread(buf + n, 1, cap - n - 1, f)) > 0;) {
-    n += got;
-    if (n + 1 == cap) {
-      cap *= 2;
-      CHECK((buf = realloc(buf, cap)) != NULL);
-    }
-  }
-  fclose(f);
-  buf[n] = '\0';
-  *size = n;
-  return buf;
 }
 
 /* The shards of data (split at SEPARATOR) into s0/samples.csv ...; returns their count. */
@@ -212,11 +180,11 @@ static void same_file(const char *name) {
   path_of(a, sizeof a, "m1", name);
   path_of(b, sizeof b, "m2", name);
   size_t na, nb;
-  char *x = slurp(a, &na), *y = slurp(b, &nb);
+  char *x = fuzz_slurp(a, &na), *y = fuzz_slurp(b, &nb);
   CHECK(x != NULL && y != NULL);
   if (na != nb || memcmp(x, y, na) != 0) {
-    fprintf(REPORT, "fuzz_merge: %s differs when merged again:\n--- first\n%s--- again\n%s", name,
-            x, y);
+    fprintf(FUZZ_REPORT, "fuzz_merge: %s differs when merged again:\n--- first\n%s--- again\n%s",
+            name, x, y);
     abort();
   }
   free(x);

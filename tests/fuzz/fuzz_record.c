@@ -41,6 +41,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#define FUZZ_NAME "fuzz_record"
+#include "fuzz.h"
+
 #include "plot_cmd.h"
 #include "plot_draw.h"
 #include "plugin.h"
@@ -48,18 +51,6 @@
 #include "voussoir/model.h"
 #include "voussoir/output.h"
 #include "voussoir/plot.h"
-
-/* The program's messages are not shown (run.sh: -close_fd_mask=3); the target's own go to a copy
- * of stderr taken before libFuzzer closes it. */
-static FILE *g_report;
-#define REPORT (g_report != NULL ? g_report : stderr)
-#define CHECK(cond)                                                                               \
-  do {                                                                                            \
-    if (!(cond)) {                                                                                \
-      fprintf(REPORT, "fuzz_record: check failed: %s (line %d)\n", #cond, __LINE__);              \
-      abort();                                                                                    \
-    }                                                                                             \
-  } while (0)
 
 /* --- seams --- */
 
@@ -955,11 +946,8 @@ static void remove_root(void) {
 
 int LLVMFuzzerInitialize(int *argc, char ***argv) {
   (void)argc, (void)argv;
-  const int fd = dup(2);
-  if (fd >= 0 && (g_report = fdopen(fd, "w")) != NULL) setvbuf(g_report, NULL, _IONBF, 0);
-  const char *tmp = getenv("TMPDIR");
-  snprintf(g_root, sizeof g_root, "%s/fuzz_record.XXXXXX", tmp && *tmp ? tmp : "/tmp");
-  CHECK(mkdtemp(g_root) != NULL);
+  fuzz_report_open();
+  fuzz_scratch(g_root, sizeof g_root);
   snprintf(g_h5, sizeof g_h5, "%s/run.h5", g_root);
   snprintf(g_xmf, sizeof g_xmf, "%s/run.xmf", g_root);
   snprintf(g_plots, sizeof g_plots, "%s/plots", g_root);
@@ -971,22 +959,6 @@ int LLVMFuzzerInitialize(int *argc, char ***argv) {
   return 0;
 }
 
-static char *slurp(const char *path, size_t *size) {
-  FILE *f = fopen(path, "rb");
-  if (f == NULL) return NULL;
-  size_t cap = 1 << 16, n = 0;
-  char *buf = malloc(cap);
-  CHECK(buf != NULL);
-  for (size_t got; (got = fread(buf + n, 1, cap - n - 1, f)) > 0;) {
-    n += got;
-    if (n + 1 == cap) CHECK((buf = realloc(buf, cap *= 2)) != NULL);
-  }
-  fclose(f);
-  buf[n] = '\0';
-  *size = n;
-  return buf;
-}
-
 static void check_plot(void) {
   remove_plots();
   const int rc = vs_plot_command(g_h5, g_plots, "png");
@@ -994,9 +966,9 @@ static void check_plot(void) {
   char path[4300];
   snprintf(path, sizeof path, "%s/plots.json", g_plots);
   size_t n;
-  char *text = slurp(path, &n);
+  char *text = fuzz_slurp(path, &n);
   if (text != NULL && !is_json(text, n)) {
-    fprintf(REPORT, "fuzz_record: plots.json is not JSON:\n%s\n", text);
+    fprintf(FUZZ_REPORT, "fuzz_record: plots.json is not JSON:\n%s\n", text);
     abort();
   }
   free(text);
@@ -1009,7 +981,7 @@ static void check_xdmf(int max_grids) {
   const vs_status st = vs_output_write_xdmf(g_h5, max_grids, &err);
   CHECK(st == VS_OK || (err.status == st && err.msg[0] != '\0'));
   size_t n;
-  char *text = slurp(g_xmf, &n);
+  char *text = fuzz_slurp(g_xmf, &n);
   CHECK((st == VS_OK) == (text != NULL));
   if (text == NULL) return;
   xml x = {text, text + n, H5Fopen(g_h5, H5F_ACC_RDONLY, H5P_DEFAULT), -INFINITY, "", "", 0};
@@ -1017,7 +989,7 @@ static void check_xdmf(int max_grids) {
   const char *why = xmf_problem(&x);
   H5Fclose(x.file);
   if (why != NULL) {
-    fprintf(REPORT, "fuzz_record: the sidecar is not right: %s\n", why);
+    fprintf(FUZZ_REPORT, "fuzz_record: the sidecar is not right: %s\n", why);
     abort();
   }
   free(text);
