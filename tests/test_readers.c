@@ -1,10 +1,10 @@
 /* The readers of a record (`voussoir plot`, the XDMF sidecar) on records the writer would not
  * make, each one edit away from a real one (the cases tests/fuzz/fuzz_record.c found): a table
- * of rank 2 (/summary/hinges, /summary/limit_points, a sweep's /summary) or a hinge series of
- * more columns than joints is refused, not read past its buffer, as is a hinge beyond the
- * arch's joints, and a series of rank 6 is read; a NaN or an infinity where a number goes into plots.json is written as null (JSON has
- * neither); the sidecar leaves out a ground of another shape than the 2 x 2 points it names,
- * and a row whose time is not finite. */
+ * of rank 2 (/summary/hinges, /summary/limit_points, a sweep's /summary), a hinge series of
+ * more columns than joints or a hinge beyond the arch's joints is refused, not read past its
+ * buffer, and a series of rank 6 is read; a number for plots.json that is NaN or infinite
+ * (perhaps only once in mm) is written as null, JSON having neither; the sidecar leaves out a
+ * ground of another shape than the 2 x 2 points it names, and a row whose time is not finite. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdarg.h>
 #include <stddef.h>
@@ -89,6 +89,26 @@ static hsize_t rows_of(hid_t f, const char *dset) {
   return dims[0];
 }
 
+/* The whole of dataset dset of f in memory type mtype (elem bytes a value; the dataset of
+ * rank 1, or its other dimensions 1), malloc'd; *n its values. */
+static void *read_whole(hid_t f, const char *dset, hid_t mtype, size_t elem, hsize_t *n) {
+  *n = rows_of(f, dset);
+  void *v = malloc(*n * elem);
+  assert_non_null(v);
+  hid_t d = H5Dopen2(f, dset, H5P_DEFAULT);
+  assert_true(d >= 0 && H5Dread(d, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
+  H5Dclose(d);
+  return v;
+}
+
+/* v (memory type mtype) written over the whole of dataset dset of f, and freed. */
+static void write_whole(hid_t f, const char *dset, hid_t mtype, void *v) {
+  hid_t d = H5Dopen2(f, dset, H5P_DEFAULT);
+  assert_true(d >= 0 && H5Dwrite(d, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
+  H5Dclose(d);
+  free(v);
+}
+
 /* `voussoir plot DIR/name.h5 -o DIR/name_plots`: its exit status; its stderr in DIR/err.txt. */
 static int plot(const char *name) {
   char cmd[1024];
@@ -155,17 +175,12 @@ static void test_hinge_beyond_the_joints(void **s) {
   hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(span)); /* those members only */
   H5Tinsert(t, "first", HOFFSET(span, first), H5T_NATIVE_INT);
   H5Tinsert(t, "last", HOFFSET(span, last), H5T_NATIVE_INT);
-  const hsize_t n = rows_of(f, dset);
-  span *v = malloc(n * sizeof *v);
-  assert_non_null(v);
-  hid_t d = H5Dopen2(f, dset, H5P_DEFAULT);
-  assert_true(d >= 0 && H5Dread(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
+  hsize_t n;
+  span *v = read_whole(f, dset, t, sizeof *v, &n);
   v[0].first = v[0].last = 2147483647;
-  assert_true(H5Dwrite(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
-  H5Dclose(d);
+  write_whole(f, dset, t, v);
   H5Tclose(t);
   H5Fclose(f);
-  free(v);
   expect_plot("hinge_far", 2, "hinges within joints 1..8, on side I or E");
 }
 
@@ -178,18 +193,12 @@ static void test_series_of_rank_6(void **s) {
   copy_record("rank6");
   hid_t f = open_rw("rank6");
   const char *dset = "/observables/delta/value";
-  const hsize_t n = rows_of(f, dset), dims[6] = {n, 1, 1, 1, 1, 1};
-  double *v = malloc(n * sizeof *v);
-  assert_non_null(v);
-  hid_t d = H5Dopen2(f, dset, H5P_DEFAULT);
-  assert_true(d >= 0 && H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
-  H5Dclose(d);
+  hsize_t n;
+  double *v = read_whole(f, dset, H5T_NATIVE_DOUBLE, sizeof *v, &n);
+  const hsize_t dims[6] = {n, 1, 1, 1, 1, 1};
   reshape(f, dset, 6, dims);
-  d = H5Dopen2(f, dset, H5P_DEFAULT);
-  assert_true(d >= 0 && H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
-  H5Dclose(d);
+  write_whole(f, dset, H5T_NATIVE_DOUBLE, v);
   H5Fclose(f);
-  free(v);
   expect_plot("rank6", 0, ""); /* drawn: the same values as the reference's */
 }
 
@@ -245,19 +254,15 @@ static void test_limit_point_nan(void **s) {
   (void)s;
   copy_record("limit_nan");
   hid_t f = open_rw("limit_nan");
-  hid_t d = H5Dopen2(f, "/summary/limit_points", H5P_DEFAULT);
-  assert_true(d >= 0);
+  const char *dset = "/summary/limit_points";
   hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(double)); /* that member only */
   H5Tinsert(t, "delta", 0, H5T_NATIVE_DOUBLE);
-  const hsize_t n = rows_of(f, "/summary/limit_points");
+  hsize_t n;
+  double *v = read_whole(f, dset, t, sizeof *v, &n);
   assert_true(n >= 1);
-  double *v = malloc(n * sizeof *v);
-  assert_non_null(v);
   for (hsize_t i = 0; i < n; i++) v[i] = NAN;
-  assert_true(H5Dwrite(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
-  free(v);
+  write_whole(f, dset, t, v);
   H5Tclose(t);
-  H5Dclose(d);
   H5Fclose(f);
   plot("limit_nan"); /* whatever becomes of the limit point's picture, plots.json is JSON */
   char *json = slurp("limit_nan_plots/plots.json");
@@ -275,16 +280,11 @@ static void test_delta_beyond_mm(void **s) {
   copy_record("delta_far");
   hid_t f = open_rw("delta_far");
   const char *dset = "/observables/delta/value";
-  const hsize_t n = rows_of(f, dset);
-  double *v = malloc(n * sizeof *v);
-  assert_non_null(v);
-  hid_t d = H5Dopen2(f, dset, H5P_DEFAULT);
-  assert_true(d >= 0 && H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
+  hsize_t n;
+  double *v = read_whole(f, dset, H5T_NATIVE_DOUBLE, sizeof *v, &n);
   v[n - 1] = 1e306;
-  assert_true(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0);
-  H5Dclose(d);
+  write_whole(f, dset, H5T_NATIVE_DOUBLE, v);
   H5Fclose(f);
-  free(v);
   plot("delta_far");
   char *json = slurp("delta_far_plots/plots.json");
   assert_non_null(json);
@@ -328,16 +328,11 @@ static void test_time_not_finite(void **s) {
   copy_record("time_inf");
   hid_t f = open_rw("time_inf");
   const char *dset = "/observables/delta/time";
-  const hsize_t n = rows_of(f, dset);
-  double *t = malloc(n * sizeof *t);
-  assert_non_null(t);
-  hid_t d = H5Dopen2(f, dset, H5P_DEFAULT);
-  assert_true(d >= 0 && H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, t) >= 0);
+  hsize_t n;
+  double *t = read_whole(f, dset, H5T_NATIVE_DOUBLE, sizeof *t, &n);
   t[n - 1] = INFINITY; /* the last row, which is always listed */
-  assert_true(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, t) >= 0);
-  H5Dclose(d);
+  write_whole(f, dset, H5T_NATIVE_DOUBLE, t);
   H5Fclose(f);
-  free(t);
   snprintf(h5, sizeof h5, "%s/time_inf.h5", g_dir);
   assert_int_equal(vs_output_write_xdmf(h5, 0, &err), VS_OK);
   char *xmf = slurp("time_inf.xmf");
