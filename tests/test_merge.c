@@ -99,6 +99,9 @@ static void test_bad_headers(void **s) {
       {MAGIC "seed=1 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=400 voussoirs=55\n",
        {"s1/samples.csv:1:", "alpha_deg = 400", "allowed: [-180, 180] deg", NULL}},
       {"# another table\n", {"s1/samples.csv:1:", "not a montecarlo table", NULL}},
+      /* each field within its range, the case they make not valid: max_mm below step_mm */
+      {MAGIC "seed=1 radius_mm=300 embrace_deg=125 max_mm=0.25 alpha_deg=0 voussoirs=55\n",
+       {"s1/samples.csv:1:", "max_mm", "step_mm", NULL}},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     char text[1024], what[32];
@@ -141,6 +144,10 @@ static void test_bad_rows(void **s) {
       {"0,collapse,60.5,70.25,70.25,0,1,E-I-<b>,9-I,28-E,56-E,1-E,,\n", {":3:", "pattern", NULL}},
       {"-1,collapse,60.5,70.25,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,\n", {":3:", "sample", NULL}},
       {"0,collapse,60.5\n", {":3:", "columns", NULL}},
+      /* more columns than montecarlo writes: its causes' commas and quotes are written ';'
+       * (found by tests/fuzz/fuzz_merge.c) */
+      {"0,failed,nan,nan,nan,nan,0,,,,,,,cannot stand, 2 extra\n", {":3:", "error", NULL}},
+      {"0,failed,nan,nan,nan,nan,0,,,,,,,a \"quoted\" cause\n", {":3:", "error", NULL}},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     char text[1024], what[32];

@@ -185,6 +185,78 @@ static void test_bad_input(void **state) {
   assert_int_not_equal(stat(path, &sb), 0); /* nothing written */
 }
 
+/* DIR/samples.csv: a shard's table with the given rows after its two header lines (the case's
+ * and the column names, as the README documents them). */
+static void write_table(const char *dir, const char *columns, const char *rows) {
+  char path[512];
+  snprintf(path, sizeof path, "%s/%s", g_dir, dir);
+  assert_int_equal(mkdir(path, 0755), 0);
+  snprintf(path, sizeof path, "%s/%s/samples.csv", g_dir, dir);
+  FILE *f = fopen(path, "w");
+  assert_non_null(f);
+  fprintf(f, "# voussoir montecarlo seed=1 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=0 "
+             "voussoirs=21\n%s%s",
+          columns, rows);
+  assert_int_equal(fclose(f), 0);
+}
+
+/* merge reads a shard's table column by column: a row that montecarlo could not have written
+ * (found by tests/fuzz/fuzz_merge.c) is refused, exit 2, naming its line and column, and
+ * nothing is written; so is a table without its column names (its first row was skipped as if
+ * it were them) or without rows (a sanitizer report: qsort of a NULL array). */
+static void test_merge_bad_rows(void **state) {
+  (void)state;
+  static const char COLUMNS[] =
+      "sample,status,first_limit_mm,delta_u_mm,dz_u_mm,dx_u_mm,mode,pattern,A,B,C,D,E,error\n";
+  static const char GOOD[] = "0,collapse,85.9,85.9,85.9,0,1,E-I-E-E,4-I,12-E,22-E,1-E,,\n";
+  static const char TWO[] = "0,collapse,85.9,85.9,85.9,0,1,E-I-E-E,4-I,12-E,22-E,1-E,,\n"
+                            "1,collapse,87.1,87.1,87.1,0,1,E-I-E-E,4-I,12-E,22-E,1-E,,\n";
+  /* a row of 1023 bytes and no newline, then a good row: one line, whose cause holds the second
+   * row's commas (fgets into 1024 bytes would have read them as two rows) */
+  char long_rows[2048];
+  int k = snprintf(long_rows, sizeof long_rows, "%s1,failed,nan,nan,nan,nan,0,,,,,,,", GOOD);
+  memset(long_rows + k, 'x', 1023 - (size_t)k + strlen(GOOD));
+  snprintf(long_rows + strlen(GOOD) + 1023, sizeof long_rows - strlen(GOOD) - 1023, "%s",
+           "2,collapse,85.9,85.9,85.9,0,1,E-I-E-E,4-I,12-E,22-E,1-E,,\n");
+  struct {
+    const char *rows, *said;
+  } bad[] = {
+      {"0,collapsed,85.9,85.9,85.9,0,1,E-I-E-E,4-I,12-E,22-E,1-E,,\n", ":3: status"},
+      {"0,collapse,85.9,85.9mm,85.9,0,1,E-I-E-E,4-I,12-E,22-E,1-E,,\n", ":3: delta_u_mm"},
+      {"0,collapse,85.9,1e999,85.9,0,1,E-I-E-E,4-I,12-E,22-E,1-E,,\n", ":3: delta_u_mm"},
+      {"0,collapse,85.9,nan,nan,nan,1,E-I-E-E,4-I,12-E,22-E,1-E,,\n", ":3: delta_u_mm"},
+      {"0,collapse,85.9,85.9,85.9,0,1,E-I-E-E,-3-I,12-E,22-E,1-E,,\n", ":3: A = "},
+      {"0,collapse,85.9,85.9,85.9,0,1,E-I-E-E,4-X,12-E,22-E,1-E,,\n", ":3: A = "},
+      {"0,collapse,85.9,85.9,85.9,0,1,E-I-E-E-I-E-I-E-I-E,4-I,12-E,22-E,1-E,,\n",
+       ":3: pattern"},
+      {"0,failed,nan,nan,nan,nan,0,,,,,,,cause, with a comma\n", ":3: error"},
+      {NULL, ":4: error"}, /* long: below */
+  };
+  bad[sizeof bad / sizeof bad[0] - 1].rows = long_rows;
+  char dir[32], args[1024], path[512];
+  struct stat sb;
+  write_table("rows_good", COLUMNS, GOOD); /* the control: the same table with a good row */
+  snprintf(args, sizeof args, "merge %s/rows_good -o %s/rows_good_out", g_dir, g_dir);
+  assert_int_equal(run(args), 0);
+  const size_t nb = sizeof bad / sizeof bad[0];
+  for (size_t i = 0; i < nb + 2; i++) { /* the bad rows, then no column names, then no rows */
+    snprintf(dir, sizeof dir, "rows%zu", i);
+    const int no_columns = i == nb, no_rows = i == nb + 1;
+    write_table(dir, no_columns ? "" : COLUMNS,
+                no_rows ? "" : no_columns ? TWO : bad[i].rows);
+    snprintf(args, sizeof args, "merge %s/%s -o %s/%s_out", g_dir, dir, g_dir, dir);
+    const int rc = run(args);
+    char *err = slurp(".", "err.txt");
+    const char *said = no_rows ? "no samples" : no_columns ? ":2: not the columns"
+                                                           : bad[i].said;
+    if (rc != 2 || strstr(err, said) == NULL)
+      fail_msg("table %zu: exit %d, stderr \"%s\": expected 2 and \"%s\"", i, rc, err, said);
+    free(err);
+    snprintf(path, sizeof path, "%s/%s_out", g_dir, dir);
+    assert_int_not_equal(stat(path, &sb), 0); /* nothing written */
+  }
+}
+
 /* Stopped (SIGINT, raised by the pool itself once 3 samples are done: VS_FAULT_STOP_AFTER, no
  * timing): exit 130, no sample started after the stop, those under way finished, and the
  * summary of the samples done written, each row the sample's own (the same as in the run of
@@ -559,6 +631,7 @@ static void test_study_lock(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_bad_input),
+      cmocka_unit_test(test_merge_bad_rows),
       cmocka_unit_test(test_same_summary_any_process_count),
       cmocka_unit_test(test_interrupted), /* after the run of samples 0-5, which it reads */
       cmocka_unit_test(test_resume),      /* so does this one */

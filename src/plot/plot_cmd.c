@@ -40,12 +40,20 @@ static void json_arch(vs_plotrec *r, const char *path, const char *title, const 
                       const vs_plot_arch_args *a, const vs_hinge *h, int nh) {
   if (r->json == NULL) return;
   json_picture(r, path, title);
-  fprintf(r->json, ", \"delta_mm\": %.9g, \"support_theta_rad\": [%.9g, %.9g]", st->delta / VS_MM,
-          a->support_theta[0], a->support_theta[1]);
+  /* a finite delta in m may not be one in mm (1e306 m): every number through vs_plot_json_num */
+  fputs(", \"delta_mm\": ", r->json);
+  vs_plot_json_num(r->json, st->delta / VS_MM);
+  for (int s = 0; s < 2; s++) {
+    fputs(s ? ", " : ", \"support_theta_rad\": [", r->json);
+    vs_plot_json_num(r->json, a->support_theta[s]);
+  }
+  fputc(']', r->json);
   if (a->block_thickness != NULL && r->n_pictures == 1) { /* once, with the first picture */
     fputs(", \"block_thickness_mm\": [", r->json);
-    for (int i = 0; i < r->nb; i++)
-      fprintf(r->json, "%s%.9g", i ? ", " : "", a->block_thickness[i] / VS_MM);
+    for (int i = 0; i < r->nb; i++) {
+      fputs(i ? ", " : "", r->json);
+      vs_plot_json_num(r->json, a->block_thickness[i] / VS_MM);
+    }
     fputc(']', r->json);
   }
   fputs(", \"hinges\": [", r->json);
@@ -219,7 +227,10 @@ static int draw_curves(vs_plotrec *r, const char *dir, const char *ext) {
       for (int i = 0; i < 4; i++) fprintf(r->json, "%s\"%s\"", i ? ", " : "", rs[i].name);
       for (int i = 0; i < ns; i++) fprintf(r->json, ", \"%s\"", hs[i].name);
       fputs("], \"marks_mm\": [", r->json);
-      for (int i = 0; i < nm; i++) fprintf(r->json, "%s%.9g", i ? ", " : "", mx[i] / VS_MM);
+      for (int i = 0; i < nm; i++) { /* a limit point's delta is the record's: any value */
+        fputs(i ? ", " : "", r->json);
+        vs_plot_json_num(r->json, mx[i] / VS_MM);
+      }
       fputs("]}", r->json);
     }
     printf("  %s\n", path);

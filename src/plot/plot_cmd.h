@@ -4,6 +4,7 @@
 #define VS_PLOT_CMD_H
 
 #include <hdf5.h>
+#include <math.h>
 #include <stdio.h>
 
 #include "voussoir/case.h"
@@ -67,5 +68,12 @@ state vs_plotrec_state(const vs_plotrec *r, int row);
 /* A sweep's summary table (the open file f of path): domain and sensitivity pictures in dir,
  * their points in json (may be NULL). 0, or -1 with the reason printed. */
 int vs_plot_sweep(const char *path, hid_t f, const char *dir, const char *ext, FILE *json);
+
+/* A JSON number: v as %.9g, or null when it is not finite (JSON has no NaN nor infinity; a
+ * record may hold them). */
+static inline void vs_plot_json_num(FILE *f, double v) {
+  if (isfinite(v)) fprintf(f, "%.9g", v);
+  else fputs("null", f);
+}
 
 #endif

@@ -63,10 +63,22 @@ void vs_plotrec_free(vs_plotrec *r) {
   if (r->file >= 0) H5Fclose(r->file);
 }
 
+/* Whether a recorded hinge lies within the arch's nj joints, on a side, as the writer makes
+ * them: what the pictures' labels and the pairing of hinges with open joints (hinge_dist's sums
+ * of joint numbers) rely on. */
+static int hinge_within(const rec_hinge *h, int nj) {
+  return (h->side == 'I' || h->side == 'E') && h->first >= 1 && h->first <= h->last &&
+         h->last <= nj && h->onset_first >= 1 && h->onset_first <= h->onset_last &&
+         h->onset_last <= nj;
+}
+
+/* /summary/hinges (none when missing): 0, or -1 when it is not a table of hinges within the
+ * arch. */
 static int read_hinges(vs_plotrec *r) {
   const char *path = "/summary/hinges";
-  int n = vs_h5_rows(r->file, path);
-  if (n <= 0) return 0;
+  const int n = vs_h5_table_rows(r->file, path); /* a whole read fills n records */
+  if (n == -1 || n == 0) return 0;
+  if (n < 0) return -1;
   hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(rec_hinge)), c1 = H5Tcopy(H5T_C_S1);
   H5Tset_size(c1, 1);
   H5Tset_strpad(c1, H5T_STR_NULLPAD); /* one character, no terminator */
@@ -83,6 +95,7 @@ static int read_hinges(vs_plotrec *r) {
   r->h = calloc((size_t)n, sizeof *r->h);
   hid_t d = H5Dopen2(r->file, path, H5P_DEFAULT);
   int ok = r->h != NULL && d >= 0 && H5Dread(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, r->h) >= 0;
+  for (int i = 0; ok && i < n; i++) ok = hinge_within(&r->h[i], r->nj);
   if (d >= 0) H5Dclose(d);
   H5Tclose(c1);
   H5Tclose(t);
@@ -92,8 +105,9 @@ static int read_hinges(vs_plotrec *r) {
 
 static int read_limits(vs_plotrec *r) {
   const char *path = "/summary/limit_points";
-  int n = vs_h5_rows(r->file, path);
-  if (n <= 0) return 0;
+  const int n = vs_h5_table_rows(r->file, path);
+  if (n == -1 || n == 0) return 0;
+  if (n < 0) return -1;
   typedef struct {
     double delta, settled;
   } lim;
@@ -199,7 +213,6 @@ int vs_plotrec_open(const char *path, vs_plotrec *r) {
     snprintf(r->msg, sizeof r->msg, "out of memory");
     return -1;
   }
-  hid_t hd = H5Dopen2(r->file, "/observables/joint_hinge/value", H5P_DEFAULT);
   const int bad =
       vs_h5_read_doubles(r->file, "/observables/delta/value", r->delta, n) ||
       vs_h5_read_doubles(r->file, "/observables/block_position/value", r->pos,
@@ -209,10 +222,17 @@ int vs_plotrec_open(const char *path, vs_plotrec *r) {
       vs_h5_read_doubles(r->file, "/observables/reactions/value", r->react, n * 6) ||
       vs_h5_read_doubles(r->file, "/observables/joint_N/value", r->jN, n * (size_t)r->nj) ||
       vs_h5_read_doubles(r->file, "/observables/joint_M/value", r->jM, n * (size_t)r->nj) ||
-      hd < 0 || H5Dread(hd, H5T_NATIVE_SCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, r->hinge) < 0;
-  if (hd >= 0) H5Dclose(hd);
-  if (bad || read_hinges(r) || read_limits(r)) {
+      vs_h5_read(r->file, "/observables/joint_hinge/value", H5T_NATIVE_SCHAR, r->hinge,
+                 n * (size_t)r->nj);
+  if (bad) {
     snprintf(r->msg, sizeof r->msg, "%.400s: the record's time series are incomplete", path);
+    return -1;
+  }
+  if (read_hinges(r) || read_limits(r)) {
+    snprintf(r->msg, sizeof r->msg,
+             "%.300s: /summary/hinges or /summary/limit_points is not a table of rank 1 of the "
+             "record's layout (hinges within joints 1..%d, on side I or E)",
+             path, r->nj);
     return -1;
   }
   vs_h5_read_doubles(r->file, "/summary/collapse/delta", &r->collapse, 1);

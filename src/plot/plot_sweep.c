@@ -35,8 +35,9 @@ static int read_sweep(hid_t f, sweep_pt **out) {
       H5Oget_info_by_name2(f, "/summary", &info, H5O_INFO_BASIC, H5P_DEFAULT) < 0 ||
       info.type != H5O_TYPE_DATASET)
     return -1;
+  const int n = vs_h5_table_rows(f, "/summary"); /* a whole read fills n records */
+  if (n < 0) return -1;
   hid_t d = H5Dopen2(f, "/summary", H5P_DEFAULT), ft = H5Dget_type(d);
-  const int n = vs_h5_rows(f, "/summary");
   hid_t str = vs_h5_vlstr_type();
   hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(sweep_pt));
   if (H5Tget_member_index(ft, "joints.kn_N_mm3") >= 0)
@@ -129,12 +130,15 @@ static void sweep_json(FILE *f, const char *domain, const char *sens, const swee
     fputs(", \"points\": [", f);
     for (int i = 0; i < m; i++) {
       fprintf(f, "%s\n    {\"kn_N_mm3\": ", i ? "," : "");
-      isnan(p[i].kn) ? fputs("null", f) : fprintf(f, "%.9g", p[i].kn);
+      vs_plot_json_num(f, p[i].kn); /* NaN: the column is absent, the case's k_n */
       fputs(", \"alpha_deg\": ", f);
-      isnan(p[i].alpha) ? fputs("null", f) : fprintf(f, "%.9g", p[i].alpha);
-      if (pic == 0)
-        fprintf(f, ", \"dz_over_L_pct\": %.9g, \"dx_over_L_pct\": %.9g", p[i].dz, p[i].dx);
-      else fprintf(f, ", \"delta_u_over_L_pct\": %.9g", du[i]);
+      vs_plot_json_num(f, p[i].alpha);
+      fputs(pic == 0 ? ", \"dz_over_L_pct\": " : ", \"delta_u_over_L_pct\": ", f);
+      vs_plot_json_num(f, pic == 0 ? p[i].dz : du[i]);
+      if (pic == 0) {
+        fputs(", \"dx_over_L_pct\": ", f);
+        vs_plot_json_num(f, p[i].dx);
+      }
       fprintf(f, ", \"mode\": \"%s\"}", MODES[mode_index(p[i].mode)]);
     }
     fputs("]}", f);

@@ -2,11 +2,12 @@
  * records (see h5util.h). */
 #include "h5util.h"
 
-#include "outpath.h"
-
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "outpath.h"
 
 /* HDF5 prints its error stack to stderr by default; library code must not print. */
 vs_h5_quiet vs_h5_quiet_begin(void) {
@@ -167,19 +168,36 @@ hid_t vs_h5_group_create(hid_t loc, const char *name) {
   return H5Gcreate2(loc, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
 }
 
-int vs_h5_read_doubles(hid_t f, const char *path, double *out, size_t n) {
+int vs_h5_read(hid_t f, const char *path, hid_t mtype, void *out, size_t n) {
   if (H5Lexists(f, path, H5P_DEFAULT) <= 0) return -1;
   hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
   if (d < 0) return -1;
   hid_t sp = H5Dget_space(d);
   const hssize_t np = H5Sget_simple_extent_npoints(sp);
-  int rc =
-      (np == (hssize_t)n && H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) >= 0)
-          ? 0
-          : -1;
+  int rc = (np == (hssize_t)n && H5Dread(d, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) >= 0)
+               ? 0
+               : -1;
   H5Sclose(sp);
   H5Dclose(d);
   return rc;
+}
+
+int vs_h5_read_doubles(hid_t f, const char *path, double *out, size_t n) {
+  return vs_h5_read(f, path, H5T_NATIVE_DOUBLE, out, n);
+}
+
+int vs_h5_table_rows(hid_t f, const char *path) {
+  if (H5Lexists(f, path, H5P_DEFAULT) <= 0) return -1;
+  hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
+  if (d < 0) return -2;
+  hid_t sp = H5Dget_space(d);
+  hsize_t rows = 0;
+  const int ok = H5Sget_simple_extent_type(sp) == H5S_SIMPLE &&
+                 H5Sget_simple_extent_ndims(sp) == 1 &&
+                 H5Sget_simple_extent_dims(sp, &rows, NULL) == 1 && rows <= INT_MAX;
+  H5Sclose(sp);
+  H5Dclose(d);
+  return ok ? (int)rows : -2;
 }
 
 int vs_h5_rows(hid_t f, const char *path) {
@@ -187,7 +205,7 @@ int vs_h5_rows(hid_t f, const char *path) {
   hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
   if (d < 0) return -1;
   hid_t sp = H5Dget_space(d);
-  hsize_t dims[4] = {0};
+  hsize_t dims[H5S_MAX_RANK] = {0}; /* it writes as many as the dataset has: any rank */
   int nd = H5Sget_simple_extent_dims(sp, dims, NULL);
   H5Sclose(sp);
   H5Dclose(d);

@@ -59,9 +59,15 @@ herr_t vs_h5_dset_scalar(hid_t loc, const char *name, double v, const char *unit
 /* A group with default properties. */
 hid_t vs_h5_group_create(hid_t loc, const char *name);
 
-/* Read the whole dataset at path (converted to double) into out[0..n): 0, or -1 if it is
- * missing or does not hold exactly n values. */
+/* Read the whole dataset at path (converted to memory type mtype) into out[0..n): 0, or -1 if
+ * it is missing, does not hold exactly n values (whatever its rank) or cannot be converted.
+ * vs_h5_read_doubles: as double. */
+int vs_h5_read(hid_t f, const char *path, hid_t mtype, void *out, size_t n);
 int vs_h5_read_doubles(hid_t f, const char *path, double *out, size_t n);
+/* The rows of the table at path, a dataset of rank 1 (whose whole read fills that many
+ * records): -1 if it is missing, -2 if it is something else (another rank, a scalar, more rows
+ * than an int holds). */
+int vs_h5_table_rows(hid_t f, const char *path);
 /* The size of the first dimension of the dataset at path, or -1 if it is missing. */
 int vs_h5_rows(hid_t f, const char *path);
 

@@ -453,9 +453,7 @@ vs_status vs_xdmf_write_tmp(hid_t file, const char *h5_path, const char *xmf_pat
   char *name = xml_escape(base != NULL ? base + 1 : h5_path);
   if (name == NULL && st == VS_OK) st = vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
   x.h5name = name;
-  x.ground = H5Lexists(file, "/summary", H5P_DEFAULT) > 0 &&
-             H5Lexists(file, "/summary/ground", H5P_DEFAULT) > 0 &&
-             H5Lexists(file, "/summary/ground/points", H5P_DEFAULT) > 0;
+  x.ground = vs_xdmf_has_ground(file);
   x.nan_n = vs_xdmf_nan_count(file);
   if (st == VS_OK) st = vs_xdmf_open_tmp(xmf_path, tmp, size, &x.f, err);
   if (st == VS_OK) {

@@ -35,8 +35,8 @@ vs_status vs_xdmf_publish(const char *tmp, const char *xmf_path, vs_error *err);
 vs_status vs_xdmf_name_check(const char *h5_path, vs_error *err);
 
 /* The rows a sidecar lists, of rows [0, rows) with times t: every k-th row, k = ceil(rows /
- * max_grids), and the last, each only if its time is above the previous listed one (ParaView
- * wants times strictly increasing). Into sel (room for max_grids + 1 rows; NULL: only counted),
+ * max_grids), and the last, each only if its time is finite and above the previous listed one
+ * (ParaView wants times, strictly increasing). Into sel (room for max_grids + 1 rows; NULL: only counted),
  * increasing; returns how many. */
 long vs_xdmf_rows(const double *t, long rows, int max_grids, long *sel);
 

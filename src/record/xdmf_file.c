@@ -165,6 +165,14 @@ static herr_t xdmf_read_times(hid_t file, xdmf_ctx *x, long rows, double *t) {
   return rc;
 }
 
+int vs_xdmf_has_ground(hid_t file) {
+  hsize_t d[2];
+  return H5Lexists(file, "/summary", H5P_DEFAULT) > 0 &&
+         H5Lexists(file, "/summary/ground", H5P_DEFAULT) > 0 &&
+         H5Lexists(file, "/summary/ground/points", H5P_DEFAULT) > 0 &&
+         xdmf_dims_of(file, "/summary/ground/points", 2, d) == 0 && d[0] == 2 && d[1] == 2;
+}
+
 hsize_t vs_xdmf_nan_count(hid_t file) {
   hsize_t n = 0;
   if (H5Lexists(file, "/xdmf", H5P_DEFAULT) <= 0 || H5Lexists(file, XDMF_NAN, H5P_DEFAULT) <= 0)

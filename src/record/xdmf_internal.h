@@ -87,6 +87,9 @@ long vs_xdmf_shapes(hid_t file, xdmf_ctx *x);
 vs_status vs_xdmf_listing(hid_t file, xdmf_ctx *x, long rows, int max_grids,
                           const char *h5_path, double **t, long **sel, long *n,
                           vs_error *err);
+/* Whether the record has the ground the fall landed on: /summary/ground/points, 2 x 2 (the
+ * sidecar refers to it as such). */
+int vs_xdmf_has_ground(hid_t file);
 /* The number of values of a rank-1 /xdmf/nan, or 0 if the record has none. */
 hsize_t vs_xdmf_nan_count(hid_t file);
 /* Create "<xmf_path>.tmp" (its name into tmp) anew for writing (vs_outpath_fopen): never

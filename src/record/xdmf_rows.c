@@ -17,7 +17,7 @@ long vs_xdmf_rows(const double *t, long rows, int max_grids, long *sel) {
   long n = 0;
   double t_last = -INFINITY;
   for (long r = 0; r < rows; r++) {
-    if ((r % k != 0 && r != rows - 1) || !(t[r] > t_last)) continue;
+    if ((r % k != 0 && r != rows - 1) || !(t[r] > t_last) || !isfinite(t[r])) continue;
     if (sel != NULL) sel[n] = r;
     n++;
     t_last = t[r];

@@ -50,7 +50,8 @@ static double header_value(const vs_case *c, int i) {
 }
 
 /* Line 1 of path (line, its newline gone) into c over the defaults: every field of HEADER
- * exactly once, each value parsed and range-checked by the case's own assignment. */
+ * exactly once, each value parsed and range-checked by the case's own assignment, and the case
+ * they make validated as a case file is. */
 static vs_status parse_header(const char *where, char *line, vs_case *c, vs_error *err) {
   vs_case_defaults(c);
   if (strncmp(line, TABLE_MAGIC, strlen(TABLE_MAGIC)) != 0)
@@ -76,6 +77,10 @@ static vs_status parse_header(const char *where, char *line, vs_case *c, vs_erro
     if (!seen[i])
       return vs_error_set(err, VS_ERR_PARSE, "%s: header field %s missing (expected NAME=VALUE "
                           "for each of %s)", where, HEADER[i].field, HEADER_LIST);
+  /* and the relations between keys, as for a case file (support.max_mm > solver.step_mm) */
+  vs_error why;
+  if (vs_case_validate(c, &why) != VS_OK)
+    return vs_error_set(err, VS_ERR_INVALID, "%s: %s", where, why.msg);
   return VS_OK;
 }
 
@@ -163,6 +168,10 @@ static vs_status parse_row(const char *where, char *line, int n_joints, vs_mc_sa
       bad = 8 + l, why = "empty, or JOINT-I or JOINT-E with JOINT a joint of the arch";
   if (bad < 0 && x->status == VS_MC_COLLAPSE && !isfinite(num[1]))
     bad = 3, why = "a collapse's displacement, a finite number";
+  /* the writer turns a comma or a quote of the cause into ';': a table with one has more
+   * columns than montecarlo writes */
+  if (bad < 0 && strpbrk(f[13], ",\"") != NULL)
+    bad = 13, why = "a cause without a comma or a quote (montecarlo writes them as ';')";
   if (bad >= 0)
     return vs_error_set(err, VS_ERR_PARSE, "%s: %s = '%.64s': not %s", where, COL[bad], f[bad],
                         why);

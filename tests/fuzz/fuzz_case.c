@@ -6,23 +6,20 @@
  *    form, and reads back to itself when printed with %.17g;
  *  - --set, sweep lists and integer options either fail with a message or give finite values
  *    within their stated limits. */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#define FUZZ_NAME "fuzz_case"
+#include "fuzz.h"
+
 #include "voussoir/case.h"
 #include "parse.h"
 #include "list.h"
 
-#define CHECK(cond)                                                                               \
-  do {                                                                                            \
-    if (!(cond)) {                                                                                \
-      fprintf(stderr, "fuzz_case: check failed: %s (line %d)\n", #cond, __LINE__);                \
-      abort();                                                                                    \
-    }                                                                                             \
-  } while (0)
 
 /* Every key of c as INI text (sections in table order); returns a malloc'd string. */
 static char *serialise(const vs_case *c) {
@@ -61,7 +58,8 @@ static void check_case(const uint8_t *data, size_t size) {
   vs_case_defaults(&again);
   again.radius_mm = 1.0; /* so that a key the text omitted would show */
   if (vs_case_parse(&again, "again.ini", text, strlen(text), &err) != VS_OK) {
-    fprintf(stderr, "fuzz_case: re-reading the accepted case failed: %s\n%s", err.msg, text);
+    fprintf(FUZZ_REPORT, "fuzz_case: re-reading the accepted case failed: %s\n%s", err.msg,
+            text);
     abort();
   }
   for (int i = 0; i < vs_case_key_count(); i++) {
@@ -115,6 +113,12 @@ static void check_options(const char *s) {
   }
   free(values);
   check_number(s);
+}
+
+int LLVMFuzzerInitialize(int *argc, char ***argv) {
+  (void)argc, (void)argv;
+  fuzz_report_open();
+  return 0;
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
