@@ -85,6 +85,41 @@ static void test_long_output_names(void **s) {
   assert_int_equal(run_argv(fits), 0);
 }
 
+/* An output directory longer than VS_OUTPATH_DIR_MAX (1000 bytes), made of nested directories of
+ * 200-byte names in the scratch directory: refused up front (exit 2, "too long"), nothing
+ * written anywhere below. montecarlo used to cut its paths at 1200 bytes and write every file of
+ * the study into one truncated name, exit 0 (issue 25, defect 6). */
+static void test_long_output_dirs(void **s) {
+  (void)s;
+  char deep[1400] = "deep", cmd[1600];
+  for (int k = 0; k < 6; k++) {
+    const size_t n = strlen(deep);
+    deep[n] = '/';
+    memset(deep + n + 1, 'a' + k, 200);
+    deep[n + 201] = '\0';
+  }
+  snprintf(cmd, sizeof cmd, "mkdir -p '%s/%s'", g_dir, deep);
+  assert_int_equal(sh(cmd), 0);
+  char out[1500]; /* deep/.../out: 1215 bytes */
+  snprintf(out, sizeof out, "%s/out", deep);
+  assert_true(strlen(out) > 1000);
+  char *mc[] = {VS, "montecarlo", REFERENCE, "--samples", "2", "--set", "arch.voussoirs=11", "-q",
+                "-o", out, NULL};
+  char *sweep[] = {VS, "sweep", REFERENCE, "--alpha", "0", "--first-limit", "-q", "-o", out, NULL};
+  char *merge[] = {VS, "merge", "a", "-o", out, NULL};
+  char *rec[] = {VS, "run", REFERENCE, "-q", "--first-limit", "-o", "r.h5", NULL};
+  assert_int_equal(run_argv(rec), 0);
+  char *plot[] = {VS, "plot", "r.h5", "-o", out, NULL};
+  char *const *cmds[] = {mc, sweep, merge, plot};
+  const char *what[] = {"montecarlo", "sweep", "merge", "plot"};
+  for (int i = 0; i < 4; i++) {
+    expect_refused(cmds[i], what[i]);
+    snprintf(cmd, sizeof cmd, "test -z \"$(find '%s/deep' -type f)\"", g_dir);
+    if (sh(cmd) != 0) fail_msg("%s -o (%zu bytes): a file written below the scratch directory",
+                               what[i], strlen(out));
+  }
+}
+
 /* Every run of a quiet sweep fails (the arch cannot stand under its own weight): stderr says
  * so and names the cause; with one run of two failing, it says how many. */
 static void test_sweep_failures_said(void **s) {
@@ -107,6 +142,7 @@ static void test_sweep_failures_said(void **s) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_long_output_names),
+      cmocka_unit_test(test_long_output_dirs),
       cmocka_unit_test(test_sweep_failures_said),
   };
   return cmocka_run_group_tests(tests, scratch_setup, scratch_teardown);

@@ -170,6 +170,11 @@ vs_status vs_outpath_check_dir(const char *dir, vs_error *err) {
   struct stat st;
   if (dir == NULL || dir[0] == '\0')
     return vs_error_set(err, VS_ERR_INVALID, "empty output directory");
+  if (strlen(dir) > VS_OUTPATH_DIR_MAX)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "%.64s...: directory name too long: %zu bytes (at most %d, so that the "
+                        "paths of the files written there fit)",
+                        dir, strlen(dir), (int)VS_OUTPATH_DIR_MAX);
   const vs_status s = check_name(dir, 0, err);
   if (s != VS_OK) return s;
   if (lstat(dir, &st) == 0) {

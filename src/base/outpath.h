@@ -31,9 +31,15 @@ vs_status vs_outpath_check(const char *path, const vs_outpath_other *others, int
  * it gets no suffix of its own, so it need only fit NAME_MAX itself. */
 vs_status vs_outpath_check_working(const char *path, vs_error *err);
 
+/* The longest output directory (-o of sweep, montecarlo, merge, plot), bytes: the paths of the
+ * files a command writes there ("DIR/run_NNNN.json.part", "DIR/montecarlo.manifest.part") fit
+ * its buffers, so that none is ever cut short. */
+enum { VS_OUTPATH_DIR_MAX = 1000 };
+
 /* Check that dir may receive output files: its name is printable text (as for
- * vs_outpath_check), and it is absent (its parent directory must exist) or a directory (not a
- * symbolic link to one). Creates nothing. Errors: VS_ERR_INVALID. */
+ * vs_outpath_check) of at most VS_OUTPATH_DIR_MAX bytes, and it is absent (its parent directory
+ * must exist) or a directory (not a symbolic link to one). Creates nothing. Errors:
+ * VS_ERR_INVALID. */
 vs_status vs_outpath_check_dir(const char *dir, vs_error *err);
 
 /* Check that every entry of directory dir whose name ours(name, user) claims is a regular file:

@@ -8,6 +8,7 @@
 
 #include "cli.h"
 #include "list.h"
+#include "outpath.h"
 
 /* --- sweep --- */
 
@@ -124,10 +125,10 @@ int vs_cli_sweep(int argc, char **argv, int *h5_clean) {
   vs_sweep_catch_signals(); /* first, so that no signal is lost while the sweep sets up */
   int rc = cli_parse(&SWEEP, argc, argv, sweep_option, &a);
   vs_sweep_opts o = a.o; /* its --set may point into a: a outlives the sweep */
-  if (rc == 0 && strlen(o.dir) > 1000) {
+  if (rc == 0 && strlen(o.dir) > VS_OUTPATH_DIR_MAX) {
     char q[68];
-    fprintf(stderr, "voussoir sweep: -o %s: directory name too long (at most 1000 "
-                    "characters)\n", vs_quote(o.dir, q, sizeof q));
+    fprintf(stderr, "voussoir sweep: -o %s: directory name too long (at most %d bytes)\n",
+            vs_quote(o.dir, q, sizeof q), (int)VS_OUTPATH_DIR_MAX);
     rc = VS_EXIT_BAD_INPUT;
   }
   if (rc == 0 && (o.case_path == NULL || o.nax == 0)) {

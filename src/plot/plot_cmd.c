@@ -383,10 +383,17 @@ static int plot_run(const char *run, const char *dir, const char *ext) {
 }
 
 int vs_plot_command(const char *run, const char *dir, const char *ext) {
-  char defdir[1100];
-  if (dir == NULL) {
-    const char *dot = strrchr(run, '.');
-    snprintf(defdir, sizeof defdir, "%.*s_plots", dot ? (int)(dot - run) : (int)strlen(run), run);
+  char defdir[VS_OUTPATH_DIR_MAX + 1];
+  if (dir == NULL) { /* RUN without its extension, and "_plots" */
+    const char *dot = strrchr(run, '.'), *slash = strrchr(run, '/');
+    const size_t n = dot != NULL && (slash == NULL || dot > slash) ? (size_t)(dot - run)
+                                                                   : strlen(run);
+    if (n + sizeof "_plots" > sizeof defdir) {
+      fprintf(stderr, "voussoir plot: %s: name too long for the default -o %.*s..._plots (at "
+              "most %d bytes): give -o DIR\n", vs_q(run).s, 32, run, (int)VS_OUTPATH_DIR_MAX);
+      return 2;
+    }
+    snprintf(defdir, sizeof defdir, "%.*s_plots", (int)n, run);
     dir = defdir;
   }
   int status;
