@@ -13,7 +13,20 @@ function(vs_layer name)
   target_compile_options(${name} PRIVATE ${VS_WARNINGS})
   target_compile_definitions(${name} PRIVATE VS_BUILDING_LIBRARY)
   set_target_properties(${name} PROPERTIES POSITION_INDEPENDENT_CODE ON
-                        C_VISIBILITY_PRESET hidden)
+                        C_VISIBILITY_PRESET hidden VS_LAYER_DEPS "${L_DEPS}")
+endfunction()
+
+# The third-party libraries that the objects of layers ... call (their DEPS, not those of the
+# layers below them), into the variable out.
+function(vs_layer_deps out)
+  set(deps "")
+  foreach(l IN LISTS ARGN)
+    get_target_property(d ${l} VS_LAYER_DEPS)
+    if(d)
+      list(APPEND deps ${d})
+    endif()
+  endforeach()
+  set(${out} ${deps} PARENT_SCOPE)
 endfunction()
 
 # vs_add_library(target name OBJECTS layer ...): a shared library lib<name>.so.MAJOR of those
@@ -32,9 +45,8 @@ function(vs_add_library target name)
     $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
     $<BUILD_INTERFACE:${PROJECT_BINARY_DIR}/include>
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
-  foreach(l IN LISTS L_OBJECTS) # the layers' third-party libraries
-    target_link_libraries(${target} PRIVATE $<BUILD_INTERFACE:${l}>)
-  endforeach()
+  vs_layer_deps(deps ${L_OBJECTS}) # what these objects call, nothing more
+  target_link_libraries(${target} PRIVATE $<BUILD_INTERFACE:${deps}>)
   # A call from the library to one of its own functions binds to it: no interposition through
   # the PLT, so the compiler may inline it and the dynamic linker has nothing to look up.
   target_link_options(${target} PRIVATE -Wl,-Bsymbolic-functions)
