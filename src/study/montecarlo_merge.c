@@ -293,16 +293,16 @@ int vs_merge_main(const char *const *dirs, int nd, const char *out) {
       if (err.status == VS_ERR_NOMEM) rc = EXIT_FAIL;
       goto done;
     }
+  if (n == 0) { /* (and no qsort of a NULL array) */
+    fprintf(stderr, "voussoir merge: no samples in the shards' tables\n");
+    goto done;
+  }
   qsort(all, (size_t)n, sizeof *all, cmp_sample_no);
   for (int i = 1; i < n; i++)
     if (all[i].sample == all[i - 1].sample) {
       fprintf(stderr, "voussoir merge: sample %d appears twice\n", all[i].sample);
       goto done;
     }
-  if (n == 0) {
-    fprintf(stderr, "voussoir merge: no samples in the shards' tables\n");
-    goto done;
-  }
   rc = EXIT_FAIL;
   if (vs_mc_write_summary(out, &first.c, all, n, &err) != VS_OK) {
     fprintf(stderr, "voussoir merge: %s\n", err.msg);
