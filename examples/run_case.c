@@ -8,11 +8,8 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "voussoir/case.h"
 #include "voussoir/hinges.h"
-#include "voussoir/run.h"
-#include "voussoir/status.h"
-#include "voussoir/units.h"
+#include "voussoir/voussoir.h"
 
 /* Count the recorded states; a non-zero return would stop the run. */
 static int count_sample(void *user, const vs_run *run, const vs_run_sample *s) {
