@@ -102,7 +102,8 @@ typedef struct {
  * VS_FALL_CALM, NNCG, joints on; the rest from the caller. */
 VS_API void vs_fall_opts_default(vs_fall_opts *o);
 
-/* The solver's name as the case file writes it (fall.solver): "nncg", "gauss_seidel". */
+/* The solver's name as the case file writes it (fall.solver): "nncg", "gauss_seidel"; "?" for
+ * a value that is no vs_fall_solver. */
 VS_API const char *vs_fall_solver_name(int solver);
 
 typedef struct {

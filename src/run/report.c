@@ -37,6 +37,15 @@ static void components_pct(const vs_case *c, double delta_m, double *dz, double 
   *dx = 100.0 * d * sd.dx / L;
 }
 
+/* The supports' kinds as the case file names them (support.left_kind), by vs_support_kind. */
+static const char *const SUPPORT_KINDS[] = {"fixed", "pinned"};
+_Static_assert(sizeof SUPPORT_KINDS / sizeof SUPPORT_KINDS[0] == VS_SUPPORT_KIND_COUNT,
+               "a name for every vs_support_kind");
+
+static const char *support_kind(int kind) {
+  return kind >= 0 && kind < VS_SUPPORT_KIND_COUNT ? SUPPORT_KINDS[kind] : "?";
+}
+
 static const char *end_name(const vs_run *r, vs_status st) {
   if (st == VS_ERR_WALL_TIME) return "stopped";
   if (st != VS_OK) return "failed";
@@ -273,8 +282,8 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   jnum(out, ",\"span_mm\":", vs_case_span_mm(c), 17);
   fprintf(out, ",\"mode_of_run\":\"%s\"",
           c->full ? "dynamic" : c->follow ? "quasistatic+dynamic" : "quasistatic");
-  fprintf(out, ",\"supports\":{\"left\":\"%s\",\"right\":\"%s\"}",
-          c->left_kind ? "pinned" : "fixed", c->right_kind ? "pinned" : "fixed");
+  fprintf(out, ",\"supports\":{\"left\":\"%s\",\"right\":\"%s\"}", support_kind(c->left_kind),
+          support_kind(c->right_kind));
   fputs(",\"first_limit\":", out);
   json_first_limit(out, r);
   fputs(",\"collapse\":", out);
@@ -316,12 +325,11 @@ static void text_header(FILE *out, const vs_run *r, const char *case_path) {
           g->span / VS_MM, g->rise / VS_MM, vs_geometry_weight(g));
   fprintf(out, "joints   k_n = %g N/mm^3, k_s = %g k_n, mu = %g\n", c->kn_N_mm3, c->ks_ratio,
           c->friction);
-  static const char *const kind[] = {"fixed", "pinned"};
   fprintf(out, "support  right support moved at alpha = %g deg from the vertical, %g mm/s (left %s",
-          c->alpha_deg, c->rate_mm_s, kind[c->left_kind != 0]);
-  if (c->left_kind != 0 || c->right_kind != 0)
+          c->alpha_deg, c->rate_mm_s, support_kind(c->left_kind));
+  if (c->left_kind != VS_SUPPORT_FIXED || c->right_kind != VS_SUPPORT_FIXED)
     fprintf(out, ", right %s;\n         pinned: free to rotate about the centre of its springing face",
-            kind[c->right_kind != 0]);
+            support_kind(c->right_kind));
   fprintf(out, ")\n");
   fprintf(out,
           "criteria hinge: edge opening > %g mm, migration within %d joints;\n"
