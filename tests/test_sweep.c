@@ -24,6 +24,7 @@
 
 #include <hdf5.h>
 
+#include "record_status.h"
 #include "study_procs.h"
 #include "sweep_rows.h" /* the journal's row (vs_sweep_row) */
 #include "voussoir/run.h"
@@ -261,25 +262,6 @@ static void row_status(const char *table, int r, char *out, size_t size) {
   snprintf(out, size, "%.*s", (int)k, p);
 }
 
-/* The root attribute "status" of an HDF5 record (variable-length string). */
-static void read_status(const char *path, char *out, size_t size) {
-  out[0] = '\0';
-  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) fail_msg("%s: HDF5 cannot open it", path);
-  hid_t a = H5Aopen(f, "status", H5P_DEFAULT);
-  assert_true(a >= 0);
-  hid_t mt = H5Tcopy(H5T_C_S1);
-  H5Tset_size(mt, H5T_VARIABLE);
-  H5Tset_cset(mt, H5T_CSET_UTF8);
-  char *s = NULL;
-  assert_true(H5Aread(a, mt, &s) >= 0);
-  snprintf(out, size, "%s", s);
-  H5free_memory(s);
-  H5Tclose(mt);
-  H5Aclose(a);
-  H5Fclose(f);
-}
-
 /* SIGINT to the sweep once its first run has finished (its JSON appears only then) and its second
  * has created its record: the run under way is stopped (no process left) and its record closed
  * as interrupted, the table lists the finished run and marks the others; then
@@ -325,7 +307,7 @@ static void test_sweep_interrupt_resume(void **s) {
   assert_string_equal(status, "interrupted");
   char h5[200], rec[64];
   snprintf(h5, sizeof h5, "%s/run_0002.h5", dir);
-  read_status(h5, rec, sizeof rec);
+  vs_test_record_status(h5, rec, sizeof rec);
   assert_string_equal(rec, "failed: interrupted");
   row_status(t, 3, status, sizeof status);
   assert_string_equal(status, "not_run");

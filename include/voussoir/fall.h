@@ -166,7 +166,7 @@ VS_API void vs_fall_set_stop(vs_fall *f, const volatile sig_atomic_t *stop);
  * sample_dt after t0 (the caller has the state at t0) and at the end; inside it
  * vs_fall_joint_states and vs_fall_reactions
  * describe that state. qe, ve are updated to the last state. Errors: VS_ERR_INTERRUPTED;
- * VS_ERR_INTERNAL when the callback stops it; VS_ERR_NOMEM. */
+ * VS_ERR_STOPPED when sample returned non-zero; VS_ERR_NOMEM. */
 VS_API vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_energy *e0,
                              const vs_joint_state *js0, vs_dyn_sample_fn sample, void *user,
                              vs_fall_result *res, vs_error *err);

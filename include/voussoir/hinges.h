@@ -39,7 +39,7 @@ VS_API void vs_hinges_destroy(vs_hinges **h);
 VS_API char vs_hinges_joint_side(const vs_hinge_opts *opts, const vs_joint_state *st);
 
 /* Classify every joint at support displacement delta (m) and update the hinges.
- * Returns the number of hinges that formed in this update. */
+ * Returns the number of hinges that formed in this update, or -1 when out of memory. */
 VS_API int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st);
 
 /* Name the first n hinges (at most three) A, B, C from left to right and every later one by

@@ -89,7 +89,8 @@ typedef struct {
                                 point (as vs_run_sample.reactions); NaN without one (--dynamic) */
 } vs_collapse_record;
 
-/* Called for every recorded state and every event (either may be NULL). Non-zero stops. */
+/* Called for every recorded state and every event (either may be NULL). Non-zero stops the run:
+ * vs_run_execute returns VS_ERR_STOPPED ("stopped by the caller"). */
 typedef int (*vs_run_sample_fn)(void *user, const vs_run *run, const vs_run_sample *s);
 typedef int (*vs_run_event_fn)(void *user, const vs_run *run, const vs_run_event *e);
 
@@ -115,8 +116,8 @@ VS_API void vs_run_set_stop(vs_run *r, const volatile sig_atomic_t *stop);
  * first limit point with dynamic.follow = 0, or support.max_mm); VS_ERR_INTERRUPTED after the
  * stop flag; VS_ERR_WALL_TIME ("stopped: wall-time limit S s reached") when the run took longer
  * than run.max_wall_s (checked by every solver once a step: KINSOL's solves of the path, IDA's
- * steps, the rigid fall's steps); everything recorded up to a failure or a stop stays
- * available. */
+ * steps, the rigid fall's steps); VS_ERR_STOPPED when sample or event returned non-zero;
+ * everything recorded up to a failure or a stop stays available. */
 VS_API vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn event,
                                 void *user, vs_error *err);
 

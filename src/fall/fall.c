@@ -767,7 +767,7 @@ vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_en
     if (sample != NULL && (f->t - t_sample >= f->o.sample_dt * (1.0 - 1e-9) || last)) {
       t_sample = f->t;
       if (sample_now(f, sample, user, &e) != 0)
-        st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+        st = vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
     }
     if (at_rest) {
       res->at_rest = 1;

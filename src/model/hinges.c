@@ -199,7 +199,10 @@ int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st) {
   for (int g = 0; g < ng; g++) { /* left to right, so same-update hinges are ordered by place */
     int i = gr[g].hinge;
     if (i < 0) {
-      if (grow(h) != 0) continue;
+      if (grow(h) != 0) { /* no hinge is dropped without saying so */
+        free(gr);
+        return -1;
+      }
       i = h->count++;
       vs_hinge *hg = &h->h[i];
       memset(hg, 0, sizeof *hg);

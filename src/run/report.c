@@ -47,7 +47,7 @@ static const char *support_kind(int kind) {
 }
 
 static const char *end_name(const vs_run *r, vs_status st) {
-  if (st == VS_ERR_WALL_TIME) return "stopped";
+  if (st == VS_ERR_WALL_TIME || st == VS_ERR_STOPPED) return "stopped";
   if (st != VS_OK) return "failed";
   if (vs_run_collapse(r)->found) return "collapse";
   if (!vs_run_case(r)->follow && !vs_run_case(r)->full && vs_run_limit_count(r) > 0)
@@ -494,7 +494,8 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
   text_first_limit(out, r);
   text_limits(out, r);
   text_collapse(out, r, status);
-  if (status == VS_ERR_WALL_TIME) /* not a failure: the results so far stand, as far as they go */
+  /* a stop is not a failure: the results so far stand, as far as they go */
+  if (status == VS_ERR_WALL_TIME || status == VS_ERR_STOPPED)
     fprintf(out, "\n%s at delta = %.4f mm, t = %.6g s (the results above are the run's so far)\n",
             err != NULL ? err->msg : vs_strerror(status), vs_run_delta(r) / VS_MM, vs_run_time(r));
   else if (status != VS_OK)

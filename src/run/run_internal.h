@@ -56,6 +56,8 @@ struct vs_run {
   vs_run_sample_fn sample_fn;
   vs_run_event_fn event_fn;
   void *user;
+  int nomem; /* a callback ran out of memory logging what it saw: the solver it stopped says
+                VS_ERR_STOPPED, the run VS_ERR_NOMEM */
   /* --- damping (damping.h, modal.h): modes under self-weight, set at the first equilibrium --- */
   vs_modal modal;
   double ray_alpha, ray_beta;
@@ -66,7 +68,7 @@ struct vs_run {
 
 /* run_sample.c */
 /* Log an event of the run (phase: the current one) and hand it to the caller's event function.
- * Returns non-zero when out of memory or when the caller asks to stop. */
+ * Returns non-zero when out of memory (r->nomem set) or when the caller asks to stop. */
 int vs_run_log_event(vs_run *r, vs_event_kind kind, double t, double delta, int joint, char side,
                      char label, int order);
 /* Record a limit point at delta (the hinges open before it) and log its event; as

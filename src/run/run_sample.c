@@ -13,12 +13,18 @@
 
 /* --- records --- */
 
+/* A callback's allocation failed: its solver stops, and the run says why (r->nomem). */
+static int out_of_memory(vs_run *r) {
+  r->nomem = 1;
+  return -1;
+}
+
 int vs_run_log_event(vs_run *r, vs_event_kind kind, double t, double delta, int joint, char side,
                      char label, int order) {
   if (r->n_events == r->cap_events) {
     int cap = r->cap_events ? 2 * r->cap_events : 64;
     vs_run_event *e = realloc(r->events, (size_t)cap * sizeof *e);
-    if (e == NULL) return -1;
+    if (e == NULL) return out_of_memory(r);
     r->events = e;
     r->cap_events = cap;
   }
@@ -47,7 +53,7 @@ int vs_run_add_limit(vs_run *r, double delta) {
   if (r->n_limits == r->cap_limits) {
     int cap = r->cap_limits ? 2 * r->cap_limits : 8;
     vs_limit_record *l = realloc(r->limits, (size_t)cap * sizeof *l);
-    if (l == NULL) return -1;
+    if (l == NULL) return out_of_memory(r);
     r->limits = l;
     r->cap_limits = cap;
   }
@@ -83,7 +89,7 @@ static int track_hinges(vs_run *r, double delta, const double *q, const vs_joint
   const int before = vs_hinges_count(r->h);
   if (js != NULL) memcpy(r->js, js, (size_t)r->g->n_joints * sizeof *js);
   else vs_model_joint_states(r->m, q, delta, r->js);
-  vs_hinges_update(r->h, delta, r->js);
+  if (vs_hinges_update(r->h, delta, r->js) < 0) return out_of_memory(r);
   for (int i = before; i < vs_hinges_count(r->h); i++) {
     const vs_hinge *hg = vs_hinges_get(r->h, i);
     /* at its interpolated onset: delta = rate t holds for every event */

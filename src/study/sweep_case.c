@@ -121,8 +121,10 @@ static vs_status execute(const vs_sweep_job *job, int run, vs_run *r, const char
     st = vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
     vs_output_interrupt(rec);
   }
-  if (st != VS_OK && vs_output_error(rec)->status != VS_OK)
-    *err = *vs_output_error(rec); /* the run stopped because the record failed */
+  if (st != VS_OK && vs_output_error(rec)->status != VS_OK) {
+    *err = *vs_output_error(rec); /* the run stopped because the record failed: */
+    st = err->status;             /* that is the run's status, not VS_ERR_STOPPED */
+  }
   vs_error oerr;
   vs_error_clear(&oerr);
   if (vs_output_finish(rec, r, st, err, &oerr) != VS_OK && st == VS_OK) {
