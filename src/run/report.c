@@ -68,23 +68,20 @@ static void jnum(FILE *out, const char *sep_key, double x, int digits) {
   else fputs("null", out);
 }
 
-static void json_hinges(FILE *out, const vs_run *r, const vs_hinge *h, int n, int with_onset) {
+/* One hinge of a list (first: the list's first), its joints at onset too when with_onset. */
+static void json_hinge(FILE *out, const vs_run *r, const vs_hinge *h, int first, int with_onset) {
   const double rate = vs_run_case(r)->rate_mm_s * VS_MM;
-  fputc('[', out);
-  for (int i = 0; i < n; i++) {
-    fprintf(out, "%s{\"label\":\"%c\",\"side\":\"%c\",\"joints\":[", i ? "," : "", h[i].label,
-            h[i].side);
-    for (int j = h[i].first; j <= h[i].last; j++) fprintf(out, "%s%d", j > h[i].first ? "," : "", j);
-    if (with_onset) {
-      fputs("],\"joints_onset\":[", out);
-      for (int j = h[i].onset_first; j <= h[i].onset_last; j++)
-        fprintf(out, "%s%d", j > h[i].onset_first ? "," : "", j);
-    }
-    jnum(out, "],\"delta_onset_mm\":", h[i].delta_onset / VS_MM, 10);
-    jnum(out, ",\"time_onset_s\":", h[i].delta_onset / rate, 10);
-    fprintf(out, ",\"open\":%s,\"order\":%d}", h[i].open ? "true" : "false", h[i].order);
+  fprintf(out, "%s{\"label\":\"%c\",\"side\":\"%c\",\"joints\":[", first ? "" : ",", h->label,
+          h->side);
+  for (int j = h->first; j <= h->last; j++) fprintf(out, "%s%d", j > h->first ? "," : "", j);
+  if (with_onset) {
+    fputs("],\"joints_onset\":[", out);
+    for (int j = h->onset_first; j <= h->onset_last; j++)
+      fprintf(out, "%s%d", j > h->onset_first ? "," : "", j);
   }
-  fputc(']', out);
+  jnum(out, "],\"delta_onset_mm\":", h->delta_onset / VS_MM, 10);
+  jnum(out, ",\"time_onset_s\":", h->delta_onset / rate, 10);
+  fprintf(out, ",\"open\":%s,\"order\":%d}", h->open ? "true" : "false", h->order);
 }
 
 static void json_first_limit(FILE *out, const vs_run *r) {
@@ -137,9 +134,9 @@ static void json_collapse(FILE *out, const vs_run *r) {
   jnum(out, ",\"delta_onset_mm\":", col->t_onset * vs_run_case(r)->rate_mm_s, 10);
   fputs(",\"reactions_at_limit\":", out);
   json_reactions(out, col->reactions_limit);
-  fputs(",\"hinges\":", out);
-  json_hinges(out, r, col->hinges, col->n_hinges, 0);
-  fputc('}', out);
+  fputs(",\"hinges\":[", out);
+  for (int i = 0; i < col->n_hinges; i++) json_hinge(out, r, &col->hinges[i], i == 0, 0);
+  fputs("]}", out);
 }
 
 static void json_limits(FILE *out, const vs_run *r) {
@@ -302,11 +299,9 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   jnum(out, ",\"last_time_s\":", vs_run_time(r), 10);
   fputs(",\"reactions_last\":", out);
   json_reactions(out, vs_run_reactions(r));
-  fputs(",\"hinges\":", out);
-  vs_hinge all[64];
-  int n = 0;
-  for (int i = 0; i < vs_run_hinge_count(r) && n < 64; i++) all[n++] = *vs_run_hinge(r, i);
-  json_hinges(out, r, all, n, 1);
+  fputs(",\"hinges\":[", out); /* every one, however many */
+  for (int i = 0; i < vs_run_hinge_count(r); i++) json_hinge(out, r, vs_run_hinge(r, i), i == 0, 1);
+  fputc(']', out);
   fprintf(out, ",\"hinges_in_fall\":%d", vs_hinges_count(h) - vs_run_hinge_count(r));
   json_damping(out, r);
   json_tail(out, r);

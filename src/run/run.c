@@ -163,6 +163,9 @@ void vs_run_destroy(vs_run **r) {
   free(p->js);
   free(p->limits);
   free(p->events);
+  free(p->onset);
+  free(p->onset_all);
+  free(p->pattern_u);
   vs_modal_free(&p->modal);
   vs_dynamic_destroy(&p->dyn);
   vs_path_solver_destroy(&p->ps);
@@ -283,7 +286,10 @@ static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
     r->delta = d.delta_end;
     if (st != VS_OK) break;
     if (d.end == VS_DYN_COLLAPSED) {
-      vs_run_record_collapse(r, &d);
+      if (vs_run_record_collapse(r, &d) != 0) {
+        st = vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
+        break;
+      }
       if (r->n_limits > 0) r->limits[r->n_limits - 1].collapse = 1;
       st = vs_run_log_event(r, VS_EVENT_COLLAPSE, d.t_collapse, d.t_collapse * r->dopts.rate, 0,
                             0, 0, 0)
@@ -422,7 +428,9 @@ int vs_run_hinge_count(const vs_run *r) {
   return r->collapse.found ? r->hinges_at_onset : vs_hinges_count(r->h);
 }
 const char *vs_run_pattern_initial(const vs_run *r) { return r->pattern0; }
-const char *vs_run_pattern_collapse(const vs_run *r) { return r->pattern_u; }
+const char *vs_run_pattern_collapse(const vs_run *r) {
+  return r->collapse.found && r->pattern_u != NULL ? r->pattern_u : "";
+}
 const double *vs_run_state(const vs_run *r) { return r->q; }
 double vs_run_delta(const vs_run *r) { return r->delta; }
 double vs_run_time(const vs_run *r) { return r->t; }

@@ -62,15 +62,7 @@ static void fill_row(const vs_run *r, vs_status st, const vs_error *err, vs_swee
     row->delta_u_mm = col->delta / VS_MM;
     row->dz_pct = 100.0 * row->delta_u_mm * sd.dz / L;
     row->dx_pct = 100.0 * row->delta_u_mm * sd.dx / L;
-    size_t used = 0;
-    for (int i = 0; i < col->n_hinges; i++) {
-      char name[96];
-      vs_hinge_name(&col->hinges[i], 0, name, sizeof name);
-      int w = snprintf(row->hinges + used, sizeof row->hinges - used, "%s%c:%s", used ? " " : "",
-                       col->hinges[i].label, name);
-      if (w < 0 || (size_t)w >= sizeof row->hinges - used) break;
-      used += (size_t)w;
-    }
+    vs_hinges_list(col->hinges, col->n_hinges, 0, row->hinges, sizeof row->hinges);
   }
   const char *mode = vs_run_mode(r);
   snprintf(row->mode, sizeof row->mode, "%s", mode != NULL ? mode : "");
