@@ -212,11 +212,9 @@ static herr_t write_imperfections(hid_t file, const vs_imperfections *p) {
   hid_t grp = vs_h5_group_create(file, "imperfections");
   if (grp < 0) return -1;
   const hsize_t nj = (hsize_t)p->n_joints, nb = (hsize_t)p->n_blocks;
-  double *buf = malloc((size_t)(nj > nb ? nj : nb) * sizeof *buf);
-  herr_t rc = buf != NULL ? vs_h5_attr_str(grp, "description",
-                                           "drawn by the counter-based generator keyed by (seed, "
-                                           "sample); see /parameters/imperfections")
-                          : -1;
+  herr_t rc = vs_h5_attr_str(grp, "description",
+                             "drawn by the counter-based generator keyed by (seed, sample); see "
+                             "/parameters/imperfections");
   if (rc >= 0)
     rc = vs_h5_dset_write(grp, "kn_factor", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &nj, p->kn_factor,
                           "1", NULL);
