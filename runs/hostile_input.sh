@@ -130,5 +130,5 @@ row "merge: the table a FIFO (not waited on)" 2 no_dir -- "$bin" merge shard -o 
 # --- a run that would not end ---
 stopped() { h5dump -a /status endless.h5 2>/dev/null | grep -q 'stopped: wall-time limit'; }
 row "an endless fall (fall.step_ms=0.001, dynamic.fall_s=1e6) with --max-wall-s 2" 130 stopped -- \
-  "$bin" run "$ref" "${small[@]}" --set fall.step_ms=0.001 --set dynamic.fall_s=1e6 --max-wall-s 2 -q -o endless.h5
+  "$bin" run "$ref" --set fall.step_ms=0.001 --set dynamic.fall_s=1e6 --max-wall-s 2 -q -o endless.h5
 exit "$bad"

@@ -294,8 +294,16 @@ static void test_modes(void **state) {
   char pu[16];
   vs_hinges_side_pattern(four, 4, pu, sizeof pu);
   assert_string_equal(pu, "E-I-E-I");
-  vs_hinges_side_pattern(four, 4, pu, 4); /* truncated, still NUL-ended */
+  vs_hinges_side_pattern(four, 4, pu, 4); /* cut after a '-', still NUL-ended */
   assert_string_equal(pu, "E-");
+  /* eight sides fill 16 bytes exactly (15 and the NUL) and are whole; of nine, the first seven
+   * and the '-' that says the pattern goes on */
+  vs_hinge nine[9];
+  for (int i = 0; i < 9; i++) nine[i] = (vs_hinge){.side = i % 2 ? 'I' : 'E'};
+  vs_hinges_side_pattern(nine, 8, pu, sizeof pu);
+  assert_string_equal(pu, "E-I-E-I-E-I-E-I");
+  vs_hinges_side_pattern(nine, 9, pu, sizeof pu);
+  assert_string_equal(pu, "E-I-E-I-E-I-E-");
   assert_string_equal(vs_hinges_mode("I-E-E", "E-I-E-E"), "I");
   assert_string_equal(vs_hinges_mode("I-E-E", "E-I-E-I"), "II");
   assert_string_equal(vs_hinges_mode("I-E-I", "E-I-E-I"), "III");

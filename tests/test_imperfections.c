@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "joint_reference.h"
 #include "voussoir/imperfections.h"
 #include "voussoir/joint.h"
 #include "voussoir/run.h"
@@ -156,7 +157,7 @@ static void test_tilted_face_closed_form(void **state) {
     const double d = A * i / 20.0;
     const double qb[3] = {0, -d, 0};
     vs_joint_state st;
-    vs_joint_eval(&jg, &law, qa, qb, r0, r0, 0.0, &st, NULL, NULL);
+    vs_test_joint_eval(&jg, &law, qa, qb, r0, r0, 0.0, &st, NULL, NULL);
     const double Nw = d < A ? kn * b * t * d * d / (2 * A) : kn * b * t * (d - 0.5 * A);
     const double cw = d < A ? t * d / A : t;
     if (fabs(st.N - Nw) > 1e-9 * Nw) fail_msg("d = %g: N = %.15g, closed form %.15g", d, st.N, Nw);
@@ -169,7 +170,7 @@ static void test_tilted_face_closed_form(void **state) {
     const double d = N >= Nstar ? N / (kn * b * t) + 0.5 * A : sqrt(2 * A * N / (kn * b * t));
     const double qb[3] = {0, -d, 0};
     vs_joint_state st;
-    vs_joint_eval(&jg, &law, qa, qb, r0, r0, 0.0, &st, NULL, NULL);
+    vs_test_joint_eval(&jg, &law, qa, qb, r0, r0, 0.0, &st, NULL, NULL);
     assert_true(fabs(st.N - N) <= 1e-9 * N);
     if (sgn > 0) assert_true(st.contact == t);
     else assert_true(st.contact < t * (1 - 1e-7));
@@ -188,7 +189,7 @@ static void test_gap_jacobian_central_differences(void **state) {
                            {2e-6, 1e-6, 0.0, -4e-6, -3e-6, 2e-5}};
   for (int c = 0; c < 2; c++) {
     double K[36], f0[6];
-    vs_joint_eval(&jg, &law, qs[c], qs[c] + 3, ra, rb, 0.0, NULL, f0, K);
+    vs_test_joint_eval(&jg, &law, qs[c], qs[c] + 3, ra, rb, 0.0, NULL, f0, K);
     for (int j = 0; j < 6; j++) {
       double qp[6], qm[6], fp[6], fm[6];
       const double h = j % 3 == 2 ? 1e-9 : 1e-11;
@@ -196,8 +197,8 @@ static void test_gap_jacobian_central_differences(void **state) {
       memcpy(qm, qs[c], sizeof qm);
       qp[j] += h;
       qm[j] -= h;
-      vs_joint_eval(&jg, &law, qp, qp + 3, ra, rb, 0.0, NULL, fp, NULL);
-      vs_joint_eval(&jg, &law, qm, qm + 3, ra, rb, 0.0, NULL, fm, NULL);
+      vs_test_joint_eval(&jg, &law, qp, qp + 3, ra, rb, 0.0, NULL, fp, NULL);
+      vs_test_joint_eval(&jg, &law, qm, qm + 3, ra, rb, 0.0, NULL, fm, NULL);
       for (int i = 0; i < 6; i++) {
         const double fd = (fp[i] - fm[i]) / (2 * h);
         const double sc = (i % 3 == 2 ? 1.0 / t : 1.0) * (j % 3 == 2 ? t : 1.0);

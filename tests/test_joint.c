@@ -9,6 +9,7 @@
 
 #include <math.h>
 
+#include "joint_reference.h"
 #include "voussoir/joint.h"
 
 /* The reference joint: k_n = 3 N/mm^3, b = 120 mm, t = 24 mm; k_s = 0.5 k_n; mu = 0.7. */
@@ -236,7 +237,7 @@ static void test_normal_derivatives(void **state) {
   }
 }
 
-/* ------------------------------------ vs_joint_eval ------------------------------------ */
+/* ----------------------------------- vs_joint_eval_h ----------------------------------- */
 
 static void rot(double th, const double v[2], double out[2]) {
   double c = cos(th), s = sin(th);
@@ -341,11 +342,11 @@ static void check_mat6(const double *got, const double *want, double rtol, const
 
 static double step_for(int i) { return i % 3 == 2 ? 1e-7 : 1e-9; }
 
-/* f and K of vs_joint_eval at q (6 entries) with slip_p_old sp. */
+/* f and K of vs_joint_eval_h at q (6 entries) with slip_p_old sp. */
 static void eval_q(const double q[6], double sp, vs_joint_state *st, double f[6], double K[36]) {
   vs_joint_geom jg = joint_geom();
   vs_joint_law law = joint_law();
-  vs_joint_eval(&jg, &law, q, q + 3, RA, RB, sp, st, f, K);
+  vs_test_joint_eval(&jg, &law, q, q + 3, RA, RB, sp, st, f, K);
 }
 
 /* Check kinematics, forces and state fields of one evaluation against the closed forms. */
@@ -420,9 +421,9 @@ static void test_eval_closed_form(void **state) {
   vs_joint_law law = joint_law();
   vs_joint_state st;
   double f[6];
-  vs_joint_eval(&jg, &law, q, q + 3, RA, RB, 0.0, NULL, NULL, NULL);
-  vs_joint_eval(&jg, &law, q, q + 3, RA, RB, 0.0, &st, NULL, NULL);
-  vs_joint_eval(&jg, &law, q, q + 3, RA, RB, 0.0, NULL, f, NULL);
+  vs_test_joint_eval(&jg, &law, q, q + 3, RA, RB, 0.0, NULL, NULL, NULL);
+  vs_test_joint_eval(&jg, &law, q, q + 3, RA, RB, 0.0, &st, NULL, NULL);
+  vs_test_joint_eval(&jg, &law, q, q + 3, RA, RB, 0.0, NULL, f, NULL);
 }
 
 /* A common rigid motion (rotation psi about C, then translation) of both bodies produces no
@@ -617,9 +618,10 @@ static void test_eval_friction(void **state) {
   for (int k = 0; k < 6; k++) CHECK(f[k], 0, 0, 1e-12);
 }
 
-/* One evaluation for the equations of motion (vs_joint_eval_motion) gives what the separate
- * functions give at the same state -- elastic force and tangent, joint or stiffness-proportional
- * damping, friction power -- and its damping force is C v with the power v . C v >= 0. */
+/* One evaluation for the equations of motion (vs_joint_eval_motion) gives, at the same state,
+ * the elastic force and tangent of vs_joint_eval_h, and the joint or stiffness-proportional
+ * damping and the friction power as joint.h defines them (written again as matrices in
+ * tests/support/joint_reference.c); its damping force is C v with the power v . C v >= 0. */
 static void check_motion(const double q[6], const double v[6], double sp, const vs_joint_dashpot *dp) {
   vs_joint_geom jg = joint_geom();
   vs_joint_law law = joint_law();
@@ -631,14 +633,11 @@ static void check_motion(const double q[6], const double v[6], double sp, const 
   const vs_joint_bodies bd = {q, q + 3, ha, hb, v, v + 3, RA, RB};
   vs_joint_motion jm = {f, K, fd, C, 1, 0.0, 0.0};
   vs_joint_eval_motion(&jg, &law, &bd, sp, dp, &jm);
-  vs_joint_eval(&jg, &law, q, q + 3, RA, RB, sp, NULL, f1, K1);
-  if (dp->beta > 0.0)
-    vs_joint_damping_tangent(&jg, &law, dp->beta, q, q + 3, v, v + 3, RA, RB, fd1, C1, &pw1);
-  else
-    vs_joint_damping(&jg, &law, dp->cn, dp->cs, q, q + 3, v, v + 3, RA, RB, fd1, C1, &pw1);
-  const double fr1 = vs_joint_friction_power(&jg, &law, q, q + 3, v, v + 3, RA, RB, sp);
-  check_vec6(f, f1, 1e-12, "motion f vs vs_joint_eval", __LINE__);
-  check_mat6(K, K1, 1e-12, "motion K vs vs_joint_eval", __LINE__);
+  vs_test_joint_eval(&jg, &law, q, q + 3, RA, RB, sp, NULL, f1, K1);
+  vs_test_joint_dashpot(&jg, &law, dp, q, q + 3, v, v + 3, RA, RB, fd1, C1, &pw1);
+  const double fr1 = vs_test_joint_friction_power(&jg, &law, q, q + 3, v, v + 3, RA, RB, sp);
+  check_vec6(f, f1, 1e-12, "motion f vs vs_joint_eval_h", __LINE__);
+  check_mat6(K, K1, 1e-12, "motion K vs vs_joint_eval_h", __LINE__);
   double cv[6] = {0}, vcv = 0.0, fsc = 0.0; /* fsc: the largest force (moments over TL) */
   for (int i = 0; i < 6; i++) {
     for (int j = 0; j < 6; j++) cv[i] += C[6 * i + j] * v[j];

@@ -76,6 +76,12 @@ static int teardown(void **state) {
 
 static int file_exists(const char *path) { return access(path, F_OK) == 0; }
 
+/* The picture of f's arch in state q with nothing else (no hinges, joints, thrust line, title);
+ * a test sets what it draws. */
+static vs_plot_arch_args arch_args(const fixture *f, const double *q) {
+  return (vs_plot_arch_args){.g = f->g, .q = q};
+}
+
 /* ---------------------------------------------------------------------------------------------
  * Reading a PNG back */
 
@@ -160,16 +166,15 @@ static void test_reference_png_svg(void **state) {
   path_in(f, "ref.svg", svg, sizeof svg);
   vs_error err;
   vs_error_clear(&err);
-  assert_int_equal(vs_plot_arch(png, VS_PLOT_PNG, f->g, f->q, 0.0, 0.0, NULL, 0, NULL, NULL,
-                                5e-5, "reference", &err),
-                   VS_OK);
-  assert_int_equal(vs_plot_arch(svg, VS_PLOT_SVG, f->g, f->q, 0.0, 0.0, NULL, 0, NULL, NULL,
-                                5e-5, "reference", &err),
-                   VS_OK);
+  vs_plot_arch_args a = arch_args(f, f->q);
+  a.open_m = 5e-5;
+  a.title = "reference";
+  assert_int_equal(vs_plot_arch_draw(png, VS_PLOT_PNG, &a, &err), VS_OK);
+  assert_int_equal(vs_plot_arch_draw(svg, VS_PLOT_SVG, &a, &err), VS_OK);
   expect_svg(svg);
 
   vs_plot_frame fr;
-  assert_int_equal(vs_plot_arch_frame(f->g, f->q, 0.0, 0.0, &fr, &err), VS_OK);
+  assert_int_equal(vs_plot_arch_frame(&a, &fr, &err), VS_OK);
   assert_int_equal(fr.width, VS_PLOT_ARCH_WIDTH);
   assert_int_equal(fr.height, VS_PLOT_ARCH_HEIGHT);
   /* the span (with the abutments) fills most of the width: at least 1.5 px per mm */
@@ -246,16 +251,21 @@ static void test_open_joint_and_hinges(void **state) {
   vs_error err;
   vs_error_clear(&err);
   const double delta = 0.02, alpha = 30.0 * 3.14159265358979 / 180.0;
-  assert_int_equal(vs_plot_arch(png, VS_PLOT_PNG, f->g, f->q, delta, alpha, hs, 3, gi, ge, open_m,
-                                "half turned about joint 28", &err),
-                   VS_OK);
-  assert_int_equal(vs_plot_arch(svg, VS_PLOT_SVG, f->g, f->q, delta, alpha, hs, 3, gi, ge, open_m,
-                                "half turned about joint 28", &err),
-                   VS_OK);
+  vs_plot_arch_args a = arch_args(f, f->q);
+  a.delta_m = delta;
+  a.alpha_rad = alpha;
+  a.hinges = hs;
+  a.n_hinges = 3;
+  a.joint_gap_i = gi;
+  a.joint_gap_e = ge;
+  a.open_m = open_m;
+  a.title = "half turned about joint 28";
+  assert_int_equal(vs_plot_arch_draw(png, VS_PLOT_PNG, &a, &err), VS_OK);
+  assert_int_equal(vs_plot_arch_draw(svg, VS_PLOT_SVG, &a, &err), VS_OK);
   expect_svg(svg);
 
   vs_plot_frame fr;
-  assert_int_equal(vs_plot_arch_frame(f->g, f->q, delta, alpha, &fr, &err), VS_OK);
+  assert_int_equal(vs_plot_arch_frame(&a, &fr, &err), VS_OK);
   image im = load_png(png);
   assert_int_equal(im.w, VS_PLOT_ARCH_WIDTH);
   assert_int_equal(im.h, VS_PLOT_ARCH_HEIGHT);
@@ -320,11 +330,10 @@ static void test_reference_without_state(void **state) {
   vs_error err;
   vs_error_clear(&err);
   vs_plot_release();
-  assert_int_equal(vs_plot_arch(png, VS_PLOT_PNG, f->g, NULL, 0.0, 0.0, NULL, 0, NULL, NULL, 0.0,
-                                NULL, &err),
-                   VS_OK);
+  const vs_plot_arch_args a = arch_args(f, NULL);
+  assert_int_equal(vs_plot_arch_draw(png, VS_PLOT_PNG, &a, &err), VS_OK);
   vs_plot_frame fr;
-  assert_int_equal(vs_plot_arch_frame(f->g, NULL, 0.0, 0.0, &fr, &err), VS_OK);
+  assert_int_equal(vs_plot_arch_frame(&a, &fr, &err), VS_OK);
   image im = load_png(png);
   const vs_block *b = &f->g->blocks[f->n / 2];
   expect_stone_at(&im, &fr, b->cx, b->cz);
@@ -389,20 +398,17 @@ static void test_unwritable_path(void **state) {
   snprintf(bad, sizeof bad, "%s/no/such/dir/arch.png", f->dir);
   vs_error err;
   vs_error_clear(&err);
+  const vs_plot_arch_args a = arch_args(f, f->q);
   for (int fmt = 0; fmt < 2; fmt++) {
     vs_error_clear(&err);
-    assert_int_equal(vs_plot_arch(bad, (vs_plot_format)fmt, f->g, f->q, 0.0, 0.0, NULL, 0, NULL,
-                                  NULL, 0.0, NULL, &err),
-                     VS_ERR_IO);
+    assert_int_equal(vs_plot_arch_draw(bad, (vs_plot_format)fmt, &a, &err), VS_ERR_IO);
     assert_int_equal(err.status, VS_ERR_IO);
     assert_non_null(strstr(err.msg, bad));
     assert_false(file_exists(bad));
   }
   /* the directory itself is not a file */
   snprintf(dirfile, sizeof dirfile, "%s", f->dir);
-  assert_int_equal(vs_plot_arch(dirfile, VS_PLOT_SVG, f->g, f->q, 0.0, 0.0, NULL, 0, NULL, NULL,
-                                0.0, NULL, &err),
-                   VS_ERR_IO);
+  assert_int_equal(vs_plot_arch_draw(dirfile, VS_PLOT_SVG, &a, &err), VS_ERR_IO);
   double x[2] = {0.0, 1e-3}, y[2] = {1.0, 2.0};
   vs_plot_series s = {"r", y};
   vs_plot_panel p = {{"r (N)", 0.0, 0}, &s, 1};
@@ -428,10 +434,10 @@ static void test_write_error(void **state) {
   vs_error_clear(&e1);
   vs_error_clear(&e2);
   vs_error_clear(&e3);
-  vs_status s1 = vs_plot_arch(png, VS_PLOT_PNG, f->g, f->q, 0.0, 0.0, NULL, 0, NULL, NULL, 0.0,
-                              "too big", &e1);
-  vs_status s2 = vs_plot_arch(svg, VS_PLOT_SVG, f->g, f->q, 0.0, 0.0, NULL, 0, NULL, NULL, 0.0,
-                              "too big", &e2);
+  vs_plot_arch_args a = arch_args(f, f->q);
+  a.title = "too big";
+  vs_status s1 = vs_plot_arch_draw(png, VS_PLOT_PNG, &a, &e1);
+  vs_status s2 = vs_plot_arch_draw(svg, VS_PLOT_SVG, &a, &e2);
   double x[2] = {0.0, 1e-3}, y[2] = {1.0, 2.0};
   vs_plot_series s = {"r", y};
   vs_plot_panel p = {{"r (N)", 0.0, 0}, &s, 1};
@@ -455,36 +461,31 @@ static void test_invalid_arguments(void **state) {
   vs_error err;
   vs_error_clear(&err);
   vs_hinge h = hinge('A', 'I', 0, 0);
-  assert_int_equal(vs_plot_arch(NULL, VS_PLOT_PNG, f->g, f->q, 0.0, 0.0, NULL, 0, NULL, NULL,
-                                0.0, NULL, &err),
-                   VS_ERR_INVALID);
-  assert_int_equal(vs_plot_arch(png, VS_PLOT_PNG, NULL, f->q, 0.0, 0.0, NULL, 0, NULL, NULL, 0.0,
-                                NULL, &err),
-                   VS_ERR_INVALID);
-  assert_int_equal(vs_plot_arch(png, VS_PLOT_PNG, f->g, f->q, 0.0, 0.0, &h, 1, NULL, NULL, 0.0,
-                                NULL, &err),
-                   VS_ERR_INVALID);
+  const vs_plot_arch_args ok = arch_args(f, f->q);
+  vs_plot_arch_args a = ok;
+  assert_int_equal(vs_plot_arch_draw(NULL, VS_PLOT_PNG, &a, &err), VS_ERR_INVALID);
+  assert_int_equal(vs_plot_arch_draw(png, VS_PLOT_PNG, NULL, &err), VS_ERR_INVALID);
+  a.g = NULL;
+  assert_int_equal(vs_plot_arch_draw(png, VS_PLOT_PNG, &a, &err), VS_ERR_INVALID);
+  a = ok;
+  a.hinges = &h;
+  a.n_hinges = 1;
+  assert_int_equal(vs_plot_arch_draw(png, VS_PLOT_PNG, &a, &err), VS_ERR_INVALID);
   h = hinge('A', 'X', 3, 3);
-  assert_int_equal(vs_plot_arch(png, VS_PLOT_PNG, f->g, f->q, 0.0, 0.0, &h, 1, NULL, NULL, 0.0,
-                                NULL, &err),
-                   VS_ERR_INVALID);
-  assert_int_equal(vs_plot_arch(png, VS_PLOT_PNG, f->g, f->q, 0.0, 0.0, NULL, -1, NULL, NULL, 0.0,
-                                NULL, &err),
-                   VS_ERR_INVALID);
-  assert_int_equal(vs_plot_arch(png, VS_PLOT_PNG, f->g, f->q, NAN, 0.0, NULL, 0, NULL, NULL, 0.0,
-                                NULL, &err),
-                   VS_ERR_INVALID);
-  assert_int_equal(vs_plot_arch(png, VS_PLOT_PNG, f->g, f->q, 0.0, 0.0, NULL, 0, NULL, NULL, -1.0,
-                                NULL, &err),
-                   VS_ERR_INVALID);
+  assert_int_equal(vs_plot_arch_draw(png, VS_PLOT_PNG, &a, &err), VS_ERR_INVALID);
+  a = ok;
+  a.n_hinges = -1;
+  assert_int_equal(vs_plot_arch_draw(png, VS_PLOT_PNG, &a, &err), VS_ERR_INVALID);
+  a = ok;
+  a.delta_m = NAN;
+  assert_int_equal(vs_plot_arch_draw(png, VS_PLOT_PNG, &a, &err), VS_ERR_INVALID);
+  a = ok;
+  a.open_m = -1.0;
+  assert_int_equal(vs_plot_arch_draw(png, VS_PLOT_PNG, &a, &err), VS_ERR_INVALID);
   f->q[5] = INFINITY;
-  assert_int_equal(vs_plot_arch(png, VS_PLOT_PNG, f->g, f->q, 0.0, 0.0, NULL, 0, NULL, NULL, 0.0,
-                                NULL, &err),
-                   VS_ERR_INVALID);
+  assert_int_equal(vs_plot_arch_draw(png, VS_PLOT_PNG, &ok, &err), VS_ERR_INVALID);
   f->q[5] = 0.0;
-  assert_int_equal(vs_plot_arch(png, (vs_plot_format)7, f->g, f->q, 0.0, 0.0, NULL, 0, NULL,
-                                NULL, 0.0, NULL, &err),
-                   VS_ERR_INVALID);
+  assert_int_equal(vs_plot_arch_draw(png, (vs_plot_format)7, &ok, &err), VS_ERR_INVALID);
 
   double x[2] = {0.0, 1e-3}, y[2] = {1.0, 2.0};
   vs_plot_series s = {"r", y}, s0 = {"r", NULL};

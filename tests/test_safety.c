@@ -25,6 +25,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "record_status.h"
 #include "voussoir/case.h"
 #include "voussoir/output.h"
 #include "voussoir/run.h"
@@ -78,24 +79,6 @@ static int run_cli_with(const char *prefix, const char *case_path, const char *a
 
 static int run_cli(const char *case_path, const char *args) {
   return run_cli_with("", case_path, args);
-}
-
-static void read_status(const char *path, char *out, size_t size) {
-  out[0] = '\0';
-  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-  assert_true(f >= 0);
-  hid_t a = H5Aopen(f, "status", H5P_DEFAULT);
-  assert_true(a >= 0);
-  hid_t mt = H5Tcopy(H5T_C_S1);
-  H5Tset_size(mt, H5T_VARIABLE);
-  H5Tset_cset(mt, H5T_CSET_UTF8);
-  char *s = NULL;
-  assert_true(H5Aread(a, mt, &s) >= 0);
-  snprintf(out, size, "%s", s);
-  H5free_memory(s);
-  H5Tclose(mt);
-  H5Aclose(a);
-  H5Fclose(f);
 }
 
 /* Rows of a dataset read back whole (-1 when it does not read). */
@@ -262,7 +245,7 @@ static void test_second_writer_refused(void **s) {
   printf("  stopped %.3f s after SIGTERM\n", dt);
   assert_true(dt < 10.0); /* within a second on an idle machine; bounded loosely under load */
   char status[256];
-  read_status(in_dir("busy.h5"), status, sizeof status);
+  vs_test_record_status(in_dir("busy.h5"), status, sizeof status);
   assert_string_equal(status, "failed: interrupted");
   assert_int_not_equal(access(in_dir("busy.h5.lock"), F_OK), 0); /* removed at exit */
   /* the lock is free again */
@@ -363,7 +346,7 @@ static void test_killed_at_final_write(void **s) {
     assert_int_equal(sh(cmd), 128 + SIGKILL); /* the hook fired */
     char path[256];
     snprintf(path, sizeof path, "%s/k%d.h5", g_dir, i);
-    read_status(path, status, sizeof status);
+    vs_test_record_status(path, status, sizeof status);
     assert_string_equal(status, i == 0 ? "running" : "completed");
     hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
     assert_true(f >= 0);
@@ -399,7 +382,7 @@ static void test_sidecar_is_its_records(void **s) {
              VS_BINARY, REFERENCE, h5);
     assert_int_equal(sh(cmd), points[i] != NULL ? 128 + SIGKILL : 0);
     char status[256];
-    read_status(h5, status, sizeof status);
+    vs_test_record_status(h5, status, sizeof status);
     assert_string_equal(status, i == 0 ? "running" : "completed");
     char *side = slurp(xmf);
     if (side != NULL || points[i] == NULL) {
@@ -469,7 +452,7 @@ static void test_target_replaced_during_run(void **s) {
     assert_true(S_ISFIFO(st.st_mode)); /* left as it was */
     const char *record = in_dir(i == 0 ? "t.h5.part" : "u.h5");
     char status[256];
-    read_status(record, status, sizeof status);
+    vs_test_record_status(record, status, sizeof status);
     assert_string_equal(status, "completed");
     hid_t f = H5Fopen(record, H5F_ACC_RDONLY, H5P_DEFAULT);
     assert_true(f >= 0);
@@ -566,6 +549,16 @@ static void test_file_size_limit(void **s) {
   snprintf(sub, sizeof sub, "%s/lim", g_dir);
   assert_int_equal(mkdir(sub, 0755), 0);
   check_full("ulimit -f 300 &&", sub, "File too large");
+  /* its JSON: the run failed for the record's reason (the record's callback stopped the run,
+   * but that is the record's failure, not a run stopped by its caller) */
+  char args[512];
+  snprintf(args, sizeof args, "-o %s/j.h5 --json", sub);
+  assert_int_equal(run_cli_with("ulimit -f 300 &&", REFERENCE, args), 1);
+  char *out = slurp(in_dir("out.txt"));
+  if (strstr(out, "\"status\":\"failed\",\"error\":\"output: ") == NULL ||
+      strstr(out, "File too large\"") == NULL)
+    fail_msg("the JSON of a run whose record failed: %.300s", out);
+  free(out);
 }
 
 static int setup(void **s) {

@@ -24,6 +24,7 @@
 
 #include <hdf5.h>
 
+#include "record_status.h"
 #include "study_procs.h"
 #include "sweep_rows.h" /* the journal's row (vs_sweep_row) */
 #include "voussoir/run.h"
@@ -261,25 +262,6 @@ static void row_status(const char *table, int r, char *out, size_t size) {
   snprintf(out, size, "%.*s", (int)k, p);
 }
 
-/* The root attribute "status" of an HDF5 record (variable-length string). */
-static void read_status(const char *path, char *out, size_t size) {
-  out[0] = '\0';
-  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) fail_msg("%s: HDF5 cannot open it", path);
-  hid_t a = H5Aopen(f, "status", H5P_DEFAULT);
-  assert_true(a >= 0);
-  hid_t mt = H5Tcopy(H5T_C_S1);
-  H5Tset_size(mt, H5T_VARIABLE);
-  H5Tset_cset(mt, H5T_CSET_UTF8);
-  char *s = NULL;
-  assert_true(H5Aread(a, mt, &s) >= 0);
-  snprintf(out, size, "%s", s);
-  H5free_memory(s);
-  H5Tclose(mt);
-  H5Aclose(a);
-  H5Fclose(f);
-}
-
 /* SIGINT to the sweep once its first run has finished (its JSON appears only then) and its second
  * has created its record: the run under way is stopped (no process left) and its record closed
  * as interrupted, the table lists the finished run and marks the others; then
@@ -325,7 +307,7 @@ static void test_sweep_interrupt_resume(void **s) {
   assert_string_equal(status, "interrupted");
   char h5[200], rec[64];
   snprintf(h5, sizeof h5, "%s/run_0002.h5", dir);
-  read_status(h5, rec, sizeof rec);
+  vs_test_record_status(h5, rec, sizeof rec);
   assert_string_equal(rec, "failed: interrupted");
   row_status(t, 3, status, sizeof status);
   assert_string_equal(status, "not_run");
@@ -680,6 +662,33 @@ static void test_sweep_not_started(void **s) {
   free(whole);
 }
 
+/* A run stopped by its wall-time limit is over: journalled (row status "stopped", counted as
+ * failed) and not run again by --resume, which takes its row as sound (it used to refuse it as
+ * "not a failed run's" and run it again). */
+static void test_sweep_stopped_resumed(void **s) {
+  (void)s;
+  char dir[128], cmd[1024], err[160], path[200];
+  snprintf(dir, sizeof dir, "%s/st", g_dir);
+  snprintf(err, sizeof err, "%s/st.err", g_dir);
+  snprintf(cmd, sizeof cmd, "%s sweep %s " JR_ARGS " --max-wall-s 1e-6 -o %s >/dev/null 2>%s",
+           VS_BINARY, REFERENCE, dir, err);
+  assert_int_equal(sh(cmd), 1); /* every run failed: stopped */
+  snprintf(path, sizeof path, "%s/summary.csv", dir);
+  char *t = slurp(path), status[32];
+  for (int r = 1; r <= 3; r++) {
+    row_status(t, r, status, sizeof status);
+    assert_string_equal(status, "stopped");
+  }
+  free(t);
+  snprintf(cmd, sizeof cmd, "%s sweep %s " JR_ARGS " --max-wall-s 1e-6 -o %s --resume "
+           ">/dev/null 2>%s", VS_BINARY, REFERENCE, dir, err);
+  assert_int_equal(sh(cmd), 1);
+  char *e = slurp(err);
+  if (strstr(e, "resuming: 3 of 3 runs already complete") == NULL || strstr(e, "runs again"))
+    fail_msg("stderr \"%s\": expected the three stopped runs taken from the journal", e);
+  free(e);
+}
+
 /* SIGKILL to a sweep while its run R is under way (held: VS_FAULT_HOLD, its record created and
  * locked), then --resume at once. The worker is stopped (SIGSTOP) before the kill, as slow to
  * react to its parent's death as a loaded machine may make it: it must die with the sweep all
@@ -886,6 +895,7 @@ int main(void) {
       cmocka_unit_test(test_sweep_torn_journal),
       cmocka_unit_test(test_sweep_journal_rows),
       cmocka_unit_test(test_sweep_not_started),
+      cmocka_unit_test(test_sweep_stopped_resumed),
       cmocka_unit_test(test_sweep_kill_resume),
       cmocka_unit_test(test_sweep_study_lock),
       cmocka_unit_test(test_sweep_lock_wait),

@@ -60,6 +60,13 @@ static int teardown(void **state) {
   return 0;
 }
 
+/* The thrust line's points of f's arch in state f->q with joint forces f->N, f->M into f->x,
+ * f->z (vs_plot_thrust_points of that picture). */
+static vs_status thrust_points(fixture *f, vs_error *err) {
+  const vs_plot_arch_args a = {.g = f->g, .q = f->q, .joint_N = f->N, .joint_M = f->M};
+  return vs_plot_thrust_points(&a, f->x, f->z, err);
+}
+
 /* Joint k (1-based) lies on the radial plane at the angle its right-hand block starts at (the
  * last joint: where the last block ends), measured from the crown. */
 static double joint_angle(const fixture *f, int k) {
@@ -76,7 +83,7 @@ static void test_single_joint(void **state) {
   f->N[k - 1] = N, f->M[k - 1] = M;
   vs_error err;
   vs_error_clear(&err);
-  assert_int_equal(vs_plot_thrust_points(f->g, f->q, 0.0, 0.0, f->N, f->M, f->x, f->z, &err), VS_OK);
+  assert_int_equal(thrust_points(f, &err), VS_OK);
   const double phi = joint_angle(f, k), rho = f->c.radius_mm * 1e-3 + 0.5 * f->c.thickness_mm * 1e-3 + e;
   near(f->x[k - 1], rho * sin(phi), 1e-12);
   near(f->z[k - 1], rho * cos(phi), 1e-12);
@@ -84,7 +91,7 @@ static void test_single_joint(void **state) {
     if (j != k - 1) assert_true(isnan(f->x[j]) && isnan(f->z[j]));
   /* a joint in tension (N < 0) is no point of the line */
   f->N[k - 1] = -N;
-  assert_int_equal(vs_plot_thrust_points(f->g, f->q, 0.0, 0.0, f->N, f->M, f->x, f->z, &err), VS_OK);
+  assert_int_equal(thrust_points(f, &err), VS_OK);
   assert_true(isnan(f->x[k - 1]));
   f->N[k - 1] = N;
 
@@ -95,7 +102,7 @@ static void test_single_joint(void **state) {
     f->q[3 * b + 1] = s * cx + c * cz - cz;
     f->q[3 * b + 2] = th;
   }
-  assert_int_equal(vs_plot_thrust_points(f->g, f->q, 0.0, 0.0, f->N, f->M, f->x, f->z, &err), VS_OK);
+  assert_int_equal(thrust_points(f, &err), VS_OK);
   const double x0 = rho * sin(phi), z0 = rho * cos(phi);
   near(f->x[k - 1], c * x0 - s * z0, 1e-12);
   near(f->z[k - 1], s * x0 + c * z0, 1e-12);
@@ -119,7 +126,7 @@ static void test_symmetric_self_weight(void **state) {
   assert_non_null(st);
   vs_model_joint_states(m, f->q, 0.0, st);
   for (int k = 0; k < f->nj; k++) f->N[k] = st[k].N, f->M[k] = st[k].M;
-  assert_int_equal(vs_plot_thrust_points(f->g, f->q, 0.0, 0.0, f->N, f->M, f->x, f->z, &err), VS_OK);
+  assert_int_equal(thrust_points(f, &err), VS_OK);
   const double t = f->c.thickness_mm * 1e-3, R = f->c.radius_mm * 1e-3;
   for (int k = 0; k < f->nj; k++) {
     const int mk = f->nj - 1 - k;

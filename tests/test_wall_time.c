@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #define VS_SCRATCH "wall"
+#include "record_status.h"
 #include "scratch.h"
 #include "voussoir/case.h"
 #include "voussoir/run.h"
@@ -137,23 +138,6 @@ static void test_each_phase(void **s) {
 /* ---------------------------------------------------------------------------------------------
  * The program */
 
-static void read_status(const char *path, char *out, size_t size) {
-  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-  assert_true(f >= 0);
-  hid_t a = H5Aopen(f, "status", H5P_DEFAULT);
-  assert_true(a >= 0);
-  hid_t mt = H5Tcopy(H5T_C_S1);
-  H5Tset_size(mt, H5T_VARIABLE);
-  H5Tset_cset(mt, H5T_CSET_UTF8);
-  char *s = NULL;
-  assert_true(H5Aread(a, mt, &s) >= 0);
-  snprintf(out, size, "%s", s);
-  H5free_memory(s);
-  H5Tclose(mt);
-  H5Aclose(a);
-  H5Fclose(f);
-}
-
 static void write_case(const char *name, const char *text) {
   FILE *f = fopen(in_dir(name), "w");
   assert_non_null(f);
@@ -188,7 +172,7 @@ static void test_option_stops_endless_fall(void **s) {
   expect_in(slurp(in_dir("out.txt"), NULL), "\nstopped: wall-time limit 1 s reached at delta",
             "summary");
   char status[256];
-  read_status(in_dir("rec.h5"), status, sizeof status);
+  vs_test_record_status(in_dir("rec.h5"), status, sizeof status);
   assert_string_equal(status, "stopped: wall-time limit 1 s reached");
   assert_int_equal(access(in_dir("rec.xmf"), F_OK), 0);
 }
@@ -205,7 +189,7 @@ static void test_key_stops_endless_fall(void **s) {
   expect_in(out, "\"status\":\"stopped\",\"error\":\"stopped: wall-time limit 1 s reached\"",
             "JSON");
   char status[256];
-  read_status(in_dir("rec_key.h5"), status, sizeof status);
+  vs_test_record_status(in_dir("rec_key.h5"), status, sizeof status);
   assert_string_equal(status, "stopped: wall-time limit 1 s reached");
 }
 

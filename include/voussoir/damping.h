@@ -17,8 +17,6 @@
 #include "voussoir/model.h"
 #include "voussoir/status.h"
 
-#define VS_DAMPING_MODEL_COUNT 4
-
 /* "none", "joint", "rayleigh", "impact"; NULL for an unknown value. */
 VS_API const char *vs_damping_model_name(vs_damping_model model);
 

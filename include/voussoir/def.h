@@ -10,26 +10,40 @@
 
 #include "voussoir/api.h"
 
+/* Each enum below ends with its count, VS_..._COUNT: not a value but the number of values
+ * (0 .. COUNT - 1), so that a table with an entry per value (its names) is checked against the
+ * enum when it compiles. */
+
 /* A support: clamped, or rotating freely about the centre of its springing face. */
-typedef enum { VS_SUPPORT_FIXED = 0, VS_SUPPORT_PINNED = 1 } vs_support_kind;
+typedef enum {
+  VS_SUPPORT_FIXED = 0,
+  VS_SUPPORT_PINNED = 1,
+  VS_SUPPORT_KIND_COUNT
+} vs_support_kind;
 
 /* Damping of the dynamic phase (damping.h). */
 typedef enum {
   VS_DAMPING_NONE = 0,
   VS_DAMPING_JOINT = 1,
   VS_DAMPING_RAYLEIGH = 2,
-  VS_DAMPING_IMPACT = 3
+  VS_DAMPING_IMPACT = 3,
+  VS_DAMPING_MODEL_COUNT
 } vs_damping_model;
 
 /* How the fall after the collapse is integrated: rigid blocks with impulsive contacts (fall.h),
  * or the joints' law at every contact under IDA (contact.h, collide.h). */
-typedef enum { VS_FALL_RIGID = 0, VS_FALL_PENALTY = 1 } vs_fall_scheme;
+typedef enum {
+  VS_FALL_RIGID = 0,
+  VS_FALL_PENALTY = 1,
+  VS_FALL_SCHEME_COUNT
+} vs_fall_scheme;
 
 /* The rigid fall's contact solver (fall.h). */
 typedef enum {
   VS_FALL_NNCG = 0,        /* Gauss-Seidel sweeps, each followed by a nonsmooth nonlinear
                               conjugate gradient step (the default) */
-  VS_FALL_GAUSS_SEIDEL = 1 /* Gauss-Seidel sweeps alone */
+  VS_FALL_GAUSS_SEIDEL = 1, /* Gauss-Seidel sweeps alone */
+  VS_FALL_SOLVER_COUNT
 } vs_fall_solver;
 
 /* A segmental circular arch of equal voussoirs with radial joints (geometry.h). */

@@ -101,9 +101,10 @@ typedef struct {
   vs_energy e_end;             /* the energies at the last state */
 } vs_dyn_result;
 
-/* Called at samples (at most every sample_dt, at each event, at the start and at the end);
- * the result given to vs_dynamic_run then holds the steps and Newton iterations so far.
- * Non-zero stops. */
+/* Called at samples (at most every sample_dt, at each event, at the start and at the end) and at
+ * joint events; the result given to vs_dynamic_run then holds the steps and Newton iterations so
+ * far. Non-zero stops the integration: vs_dynamic_run (vs_fall_run) returns VS_ERR_STOPPED
+ * ("stopped by the caller"). */
 typedef int (*vs_dyn_sample_fn)(void *user, double t, double delta, const double *q,
                                 const double *v, const vs_energy *e);
 typedef int (*vs_dyn_event_fn)(void *user, const vs_dyn_event *ev, const double *q);
@@ -138,7 +139,8 @@ VS_API void vs_dynamic_set_stop(vs_dynamic *d, const volatile sig_atomic_t *stop
 /* Integrate from time t0 (delta = rate t0) with positions q and velocities v (updated to the
  * final state). Friction slips are committed after every step. Energies accumulate from zero
  * at t0. Errors: VS_ERR_SOLVER with IDA's cause (or VS_DYN_MAX_STEPS reached);
- * VS_ERR_INTERRUPTED when o->stop was raised. */
+ * VS_ERR_INTERRUPTED when o->stop was raised; VS_ERR_STOPPED when sample or event returned
+ * non-zero (q, v, res as far as the integration got). */
 VS_API vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v,
                                 vs_dyn_sample_fn sample, vs_dyn_event_fn event, void *user,
                                 vs_dyn_result *res, vs_error *err);

@@ -102,7 +102,8 @@ typedef struct {
  * VS_FALL_CALM, NNCG, joints on; the rest from the caller. */
 VS_API void vs_fall_opts_default(vs_fall_opts *o);
 
-/* The solver's name as the case file writes it (fall.solver): "nncg", "gauss_seidel". */
+/* The solver's name as the case file writes it (fall.solver): "nncg", "gauss_seidel"; "?" for
+ * a value that is no vs_fall_solver. */
 VS_API const char *vs_fall_solver_name(int solver);
 
 typedef struct {
@@ -165,7 +166,7 @@ VS_API void vs_fall_set_stop(vs_fall *f, const volatile sig_atomic_t *stop);
  * sample_dt after t0 (the caller has the state at t0) and at the end; inside it
  * vs_fall_joint_states and vs_fall_reactions
  * describe that state. qe, ve are updated to the last state. Errors: VS_ERR_INTERRUPTED;
- * VS_ERR_INTERNAL when the callback stops it; VS_ERR_NOMEM. */
+ * VS_ERR_STOPPED when sample returned non-zero; VS_ERR_NOMEM. */
 VS_API vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_energy *e0,
                              const vs_joint_state *js0, vs_dyn_sample_fn sample, void *user,
                              vs_fall_result *res, vs_error *err);

@@ -40,7 +40,7 @@ VS_API void vs_hinges_destroy(vs_hinges **h);
 VS_API char vs_hinges_joint_side(const vs_hinge_opts *opts, const vs_joint_state *st);
 
 /* Classify every joint at support displacement delta (m) and update the hinges.
- * Returns the number of hinges that formed in this update. */
+ * Returns the number of hinges that formed in this update, or -1 when out of memory. */
 VS_API int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st);
 
 /* Name the first n hinges (at most three) A, B, C from left to right and every later one by
@@ -54,7 +54,9 @@ VS_API void vs_hinges_name_first(vs_hinges *h, int n);
  * 26 hinges), then '#' for every later one; '?' for i < 0. One character, as the record stores it. */
 VS_API char vs_hinges_label(int i);
 
-/* Hinges in order of appearance. */
+/* Hinges in order of appearance: vs_hinges_get(h, i) for i in 0 .. vs_hinges_count(h) - 1, one
+ * array (vs_hinges_get(h, 0) + i is hinge i), valid until the next vs_hinges_update; NULL for
+ * an i outside. */
 VS_API int vs_hinges_count(const vs_hinges *h);
 VS_API const vs_hinge *vs_hinges_get(const vs_hinges *h, int i);
 
@@ -64,7 +66,15 @@ VS_API int vs_hinges_open_count(const vs_hinges *h);
 /* "9-I" or "44-45-46-I" for the current joints (onset = 0) or the onset joints (onset = 1). */
 VS_API void vs_hinge_name(const vs_hinge *hg, int onset, char *buf, size_t size);
 
-/* The sides of h[0..n) in the order given, "I-E-E", into buf (truncated to size, NUL-ended). */
+/* "A:8-I B:30-E C:56-E": the label and name (vs_hinge_name, current joints) of each of h[0..n),
+ * or of the open ones only when open_only is 1, in the order given, into buf (size bytes,
+ * NUL-ended). A list longer than size is never cut silently: as many hinges as fit, then
+ * "+K more" (K the hinges left out). */
+VS_API void vs_hinges_list(const vs_hinge *h, int n, int open_only, char *buf, size_t size);
+
+/* The sides of h[0..n) in the order given, "I-E-E", into buf (size bytes, NUL-ended; 2 n bytes
+ * hold any). A pattern longer than size is cut after a '-', so that it ends with '-', which a
+ * whole pattern never does. */
 VS_API void vs_hinges_side_pattern(const vs_hinge *h, int n, char *buf, size_t size);
 
 /* The side pattern of the first three hinges to appear, left to right (by first joint), into

@@ -63,24 +63,20 @@ typedef struct {
   double energy;      /* elastic energy (normal + shear), J */
 } vs_joint_state;
 
-/* Evaluate the joint between bodies a and b.
- * qa, qb: displacement of each body's reference point (ux, uz, m) and rotation (theta, rad,
- * counter-clockwise) ; ra, rb: vector from each body's reference point to the joint centre in
- * the reference configuration (m); slip_p_old: plastic slip at the last converged state.
- * Outputs (any may be NULL): st, the state; f[6], the gradient of the joint energy with respect
- * to (qa, qb) -- the internal generalised force, so that equilibrium reads sum f = external
- * load; K[36], row-major df/d(qa, qb), exact (consistent tangent of the return mapping). */
-VS_API void vs_joint_eval(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
-                          const double qb[3], const double ra[2], const double rb[2],
-                          double slip_p_old, vs_joint_state *st, double f[6], double K[36]);
-
 /* A body's rotation theta (rad) as the cosine and sine of theta / 2, h[0], h[1]: the joint
  * kinematics need R(theta_a), R(theta_b), the mean rotation and sin of the half difference, all
  * products of the two bodies' half angles, so that a model takes one sincos per body and
  * evaluation instead of two per joint. */
 VS_API void vs_joint_half_angle(double theta, double h[2]);
 
-/* vs_joint_eval with the bodies' half angles ha = vs_joint_half_angle(qa[2]), hb likewise. */
+/* Evaluate the joint between bodies a and b.
+ * qa, qb: displacement of each body's reference point (ux, uz, m) and rotation (theta, rad,
+ * counter-clockwise); ha, hb: their half angles (vs_joint_half_angle of qa[2], qb[2]); ra, rb:
+ * vector from each body's reference point to the joint centre in the reference configuration
+ * (m); slip_p_old: plastic slip at the last converged state.
+ * Outputs (any may be NULL): st, the state; f[6], the gradient of the joint energy with respect
+ * to (qa, qb) -- the internal generalised force, so that equilibrium reads sum f = external
+ * load; K[36], row-major df/d(qa, qb), exact (consistent tangent of the return mapping). */
 VS_API void vs_joint_eval_h(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
                             const double qb[3], const double ha[2], const double hb[2],
                             const double ra[2], const double rb[2], double slip_p_old,
@@ -128,67 +124,53 @@ VS_API void vs_joint_point_out(const vs_joint_geom *jg, const vs_joint_law *law,
                                const vs_joint_point *pt, vs_joint_state *st, double f[6],
                                double K[36]);
 
-/* Viscous damping of a joint in contact: the full section's dashpots, normal b c_n t adot,
- * rotational b c_n t^3/12 wdot and shear b c_s t sdot (c_n, c_s in N s/m^3, adot, wdot, sdot the
- * rates of the joint measures), acting while the joint is in contact and fading linearly to zero
- * as the contact length drops below 2 % of t (continuous at separation). A hinge thus damps its
- * rotation as the closed joint would, which is what makes a rocking mechanism lose energy; a
- * law on the compressed part only would damp a hinge like c^3 and leave rocking undamped.
- * The generalised force is f = C v with C symmetric positive semi-definite: it only dissipates.
- * va, vb: velocities of the bodies' reference points and their angular velocities. Outputs
- * (any may be NULL): f[6]; C[36] = df/d(va, vb), row-major (its dependence on the positions is
- * not included); *power = dissipated power, W (>= 0). */
-VS_API void vs_joint_damping(const vs_joint_geom *jg, const vs_joint_law *law, double cn, double cs,
-                             const double qa[3], const double qb[3], const double va[3],
-                             const double vb[3], const double ra[2], const double rb[2],
-                             double f[6], double C[36], double *power);
-
-/* Stiffness-proportional damping: beta (s) times the joint's material tangent stiffness (the
- * normal law's N_a, N_w, M_w over the compressed length, and k_s b t in shear; no geometric
- * terms) applied to the joint's rates. A closed joint gets beta k_n b t, beta k_n b t^3 / 12,
- * beta k_s b t; a hinge only what its compressed part carries, an open joint nothing in the
- * normal direction. Outputs as vs_joint_damping; the power is >= 0 (the tangent is the Hessian
- * of a convex energy). */
-VS_API void vs_joint_damping_tangent(const vs_joint_geom *jg, const vs_joint_law *law, double beta,
-                                     const double qa[3], const double qb[3], const double va[3],
-                                     const double vb[3], const double ra[2], const double rb[2],
-                                     double f[6], double C[36], double *power);
-
-/* Power dissipated by frictional slip, W: T (sdot - Tdot / (k_s b t)) for a sliding joint
- * (the shear power T sdot minus the rate of the shear energy T^2 / (2 k_s b t)), 0 when the
- * joint sticks. Rates from the bodies' velocities va, vb as in vs_joint_damping. */
-VS_API double vs_joint_friction_power(const vs_joint_geom *jg, const vs_joint_law *law,
-                                      const double qa[3], const double qb[3], const double va[3],
-                                      const double vb[3], const double ra[2], const double rb[2],
-                                      double slip_p_old);
-
 /* --- one evaluation for the equations of motion --- */
 
 /* The two bodies of a joint at one state: positions (ux, uz, theta), half angles
- * (vs_joint_half_angle), velocities (NULL: no rates wanted) and reference-point-to-joint-centre
- * vectors, as in vs_joint_eval and vs_joint_damping. */
+ * (vs_joint_half_angle), velocities of the reference points and angular velocities (va, vb:
+ * 3 entries each; NULL: no rates wanted) and reference-point-to-joint-centre vectors, as in
+ * vs_joint_eval_h. */
 typedef struct {
   const double *qa, *qb, *ha, *hb, *va, *vb, *ra, *rb;
 } vs_joint_bodies;
 
-/* A joint's dashpots: joint damping c_n, c_s (N s/m^3; vs_joint_damping), or, when beta > 0,
- * stiffness-proportional damping beta (s; vs_joint_damping_tangent) instead. */
+/* A joint's dashpots, acting on the rates adot, wdot, sdot of its measures (the penetration at
+ * the centre, the gap slope and the slip) with a matrix D: the damping force is f = C v with
+ * C = J^T D J (J: the measures' gradients in (qa, qb), v the bodies' velocities), symmetric
+ * positive semi-definite, so it only dissipates, the power v . C v >= 0; C leaves out its own
+ * dependence on the positions.
+ * Joint damping c_n, c_s (N s/m^3), when beta = 0: the full section's dashpots, D =
+ * diag(b c_n t, b c_n t^3/12, b c_s t), acting while the joint is in contact and fading
+ * linearly to zero as the contact length drops below 2 % of t (continuous at separation). A
+ * hinge thus damps its rotation as the closed joint would, which is what makes a rocking
+ * mechanism lose energy; a law on the compressed part only would damp a hinge like c^3 and leave
+ * rocking undamped.
+ * Stiffness-proportional damping beta (s), when beta > 0, instead: D = beta times the joint's
+ * material tangent stiffness (the normal law's [[N_a, N_w], [N_w, M_w]] over the compressed
+ * length, and k_s b t in shear; no geometric terms). A closed joint gets beta k_n b t,
+ * beta k_n b t^3 / 12, beta k_s b t; a hinge only what its compressed part carries, an open
+ * joint nothing in the normal direction; the power is >= 0 (the tangent is the Hessian of a
+ * convex energy). */
 typedef struct {
   double cn, cs, beta;
 } vs_joint_dashpot;
 
 /* Outputs of vs_joint_eval_motion: set the pointers wanted (NULL: not computed). */
 typedef struct {
-  double *f, *K;     /* elastic force [6] and tangent [36] (vs_joint_eval) */
-  double *fd, *C;    /* damping force [6] and df/dv [36] (vs_joint_damping[_tangent]) */
+  double *f, *K;     /* elastic force [6] and tangent [36] (vs_joint_eval_h) */
+  double *fd, *C;    /* damping force [6] and C = df/dv [36], row-major (vs_joint_dashpot) */
   int want_friction; /* compute the friction power */
   double power;      /* out: damping power, W (0 without dashpots or velocities) */
-  double friction;   /* out: friction power, W (vs_joint_friction_power; 0 unless wanted) */
+  double friction;   /* out: power dissipated by frictional slip, W: T (sdot - Tdot / (k_s b t))
+                        for a sliding joint (the shear power T sdot minus the rate of the shear
+                        energy T^2 / (2 k_s b t)), 0 when it sticks, without velocities or
+                        unless wanted */
 } vs_joint_motion;
 
 /* Everything the equations of motion take from a joint at one state, from one evaluation of
- * its kinematics and its law: the values are those of vs_joint_eval, vs_joint_damping (or
- * vs_joint_damping_tangent) and vs_joint_friction_power at the same state. dp NULL: no damping. */
+ * its kinematics and its law: the elastic force and tangent of vs_joint_eval_h, the dashpots'
+ * force, matrix and power (vs_joint_dashpot; dp NULL: no damping) and the friction power at the
+ * same state. */
 VS_API void vs_joint_eval_motion(const vs_joint_geom *jg, const vs_joint_law *law,
                                  const vs_joint_bodies *bd, double slip_p_old,
                                  const vs_joint_dashpot *dp, vs_joint_motion *out);

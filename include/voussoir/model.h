@@ -117,18 +117,18 @@ VS_API double vs_model_gravity_scale(const vs_model *m);
 /* Joint damping as a fraction zeta (>= 0) of each joint's own critical damping: for a joint of
  * area A = b t with normal stiffness k_n A between blocks of masses m_a, m_b (reduced mass
  * m = m_a m_b / (m_a + m_b); the block's mass at a support), c_n = 2 zeta sqrt(k_n A m) / A and
- * likewise c_s with k_s. Acts only where the joint is in contact (vs_joint_damping).
+ * likewise c_s with k_s. Acts only where the joint is in contact (joint.h, vs_joint_dashpot).
  * Default 0 (no damping) until set. */
 VS_API void vs_model_set_damping(vs_model *m, double zeta);
 VS_API double vs_model_damping_ratio(const vs_model *m);
 
 /* Rayleigh damping C = alpha M + beta K_c (alpha 1/s, beta s, both >= 0), replacing the joint
- * damping: K_c is the joints' current material tangent stiffness (vs_joint_damping_tangent: no
+ * damping: K_c is the joints' current material tangent stiffness (vs_joint_dashpot's beta: no
  * damping force across an open gap, a hinge damped by what its compressed part carries); the
  * mass part acts on absolute velocities. vs_model_set_damping(m, 0) removes it. */
 VS_API void vs_model_set_rayleigh(vs_model *m, double alpha, double beta);
 
-/* Power dissipated by frictional slip in all joints at (q, v), W (vs_joint_friction_power). */
+/* Power dissipated by frictional slip in all joints at (q, v), W (vs_joint_motion.friction). */
 VS_API double vs_model_friction_power(const vs_model *m, const double *q, const double *v,
                                       double delta, double ddelta_dt);
 

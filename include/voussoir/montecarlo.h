@@ -26,7 +26,8 @@ typedef struct {
   int mode;                /* 1..3 for modes I..III, 0 unclassified */
   int hinge_joint[VS_MC_LABELS]; /* hinges at collapse by label A..E: middle joint, 0 if none */
   char hinge_side[VS_MC_LABELS]; /* 'I', 'E' or 0 */
-  char pattern[16];        /* sides at collapse, left to right ("E-I-E-E") */
+  char pattern[16];        /* sides at collapse, left to right ("E-I-E-E"); of more than 8
+                              hinges the first 7 and a '-' (vs_hinges_side_pattern) */
   char error[400];         /* the cause of a failure, "" otherwise */
 } vs_mc_sample;
 

@@ -83,7 +83,8 @@ VS_API void vs_output_interrupt(vs_output *o);
  * then (so that a "completed" on disk vouches for them) set the root attributes status ("completed" when run_status is VS_OK, else "failed: <cause>" with run_err's
  * message when given, "failed: <cause>" of a write error, "failed: interrupted" after
  * vs_output_interrupt, "stopped: wall-time limit S s reached" (run_err's message) when
- * run_status is VS_ERR_WALL_TIME: the record holds the run up to its stop) and finished (ISO
+ * run_status is VS_ERR_WALL_TIME, "stopped by the caller" (run_err's message) when it is
+ * VS_ERR_STOPPED: the record holds the run up to its stop) and finished (ISO
  * 8601 UTC), close the file and write the XDMF sidecar. Call
  * it at most once, after vs_run_execute (a second call fails with VS_ERR_INVALID). Returns VS_OK or
  * VS_ERR_IO (err, and vs_output_error, have the cause). For the crash tests only: when the

@@ -49,66 +49,37 @@ static inline void vs_plot_to_px(const vs_plot_frame *f, double x, double z, dou
   *py = f->y0 - f->scale * z;
 }
 
-/* The frame vs_plot_arch uses for the same g, q, delta_m and alpha_rad: the smallest box holding
- * the reference arch, the deformed voussoirs and both supports (the right one at its fixed and
- * its moved position), fitted with margins into VS_PLOT_ARCH_WIDTH x VS_PLOT_ARCH_HEIGHT and
- * centred. Arguments and errors as vs_plot_arch. */
-VS_API vs_status vs_plot_arch_frame(const vs_geometry *g, const double *q, double delta_m,
-                                    double alpha_rad, vs_plot_frame *f, vs_error *err);
-
-/* Draw the arch of g (from vs_geometry_create_arch: blocks with phi0/phi1, n_blocks + 1 joints)
- * in state q into the file path (created anew: a regular file there is replaced; a symbolic
- * link, FIFO, device or directory is refused, never written through) as a PNG or SVG picture of
- * VS_PLOT_ARCH_WIDTH x VS_PLOT_ARCH_HEIGHT at true scale:
- *   - the reference arch faint in the background, each voussoir of state q as a filled polygon
- *     (its intrados and extrados arcs sampled at least every degree, moved rigidly:
- *     x = c + u + R(theta)(X - c));
- *   - the supports: the left fixed; the right moved by delta_m along alpha_rad from the vertical,
- *     (sin alpha, -cos alpha), its fixed position dashed and an arrow for the displacement;
- *   - open joints: where joint k's gap joint_gap_i[k-1] or joint_gap_e[k-1] (m, > 0 open,
- *     n_joints entries each, as vs_joint_state) exceeds open_m, a wedge between the two moved
- *     faces and the joint line, in red. Either array NULL: no joint is shaded;
- *   - each open hinge of hinges[0..n_hinges-1] (closed ones are skipped) as a dot in its label's
- *     colour on the side that stays in contact ('I' intrados, 'E' extrados) of its middle joint
- *     (between the two middle ones of an even spread), smaller dots on the other joints of a
- *     spread hinge, and its label beside it, outside the section on that side: "A  9-I",
- *     "B  27-28-29-30-E", beyond four joints "E  12-...-40-E". Pass the hinges worth naming
- *     (those of the report): every one passed is drawn and labelled;
- *   - the title (NULL: none), "delta = .. mm (dz .. mm, dx .. mm)", a scale bar in mm and a key.
- * q: 3 n_blocks entries (ux, uz in m, theta in rad per block, as vs_model); NULL draws the
- * reference configuration. hinges may be NULL when n_hinges is 0.
- * Errors: VS_ERR_INVALID for NULL path or g, a geometry that is not an arch, non-finite q or
- * delta_m or alpha_rad, n_hinges < 0, a hinge whose joints are outside 1..n_joints or whose side
- * is not 'I'/'E', a negative open_m; VS_ERR_IO when the file cannot be created (something other
- * than a regular file at path included) or written or cairo fails ("PATH: ...: cairo's status
- * string"; a partly written file is removed); VS_ERR_NOMEM. Nothing is printed. */
-VS_API vs_status vs_plot_arch(const char *path, vs_plot_format fmt, const vs_geometry *g,
-                              const double *q, double delta_m, double alpha_rad,
-                              const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
-                              const double *joint_gap_e, double open_m, const char *title,
-                              vs_error *err);
-
-/* vs_plot_arch with the thrust line: joint_N and joint_M (n_joints entries each, N and N m, as
- * vs_joint_state: compression > 0, moment about the joint centre > 0 when the extrados carries
- * more) place the centre of pressure of joint k at e = M/N from its centre towards the extrados
- * along the moved joint; the line joins those of consecutive compressed joints (a joint with
- * N <= 0 breaks it) and the key names it. Either array NULL: no thrust line. */
-VS_API vs_status vs_plot_arch_thrust(const char *path, vs_plot_format fmt, const vs_geometry *g,
-                                     const double *q, double delta_m, double alpha_rad,
-                                     const vs_hinge *hinges, int n_hinges,
-                                     const double *joint_gap_i, const double *joint_gap_e,
-                                     double open_m, const double *joint_N, const double *joint_M,
-                                     const char *title, vs_error *err);
-
-/* Everything vs_plot_arch_thrust draws (the same fields, the same meaning), and what an arch
- * that is not the nominal one on fixed supports needs:
+/* One arch picture: the arch of g in state q with its supports, open joints, hinges, thrust
+ * line and the ground of a fall. Plain data; a field left zero (a designated initialiser) is
+ * "none" or the nominal arch, so { .g = g, .q = q } draws the bare arch.
+ *   - g: the arch (from vs_geometry_create_arch: blocks with phi0/phi1, n_blocks + 1 joints);
+ *   - q: 3 n_blocks entries (ux, uz in m, theta in rad per block, as vs_model); NULL: the
+ *     reference configuration;
+ *   - delta_m, alpha_rad: the right support moved by delta_m along alpha_rad from the vertical,
+ *     (sin alpha, -cos alpha);
+ *   - hinges[0..n_hinges-1]: the hinges worth naming (those of the report; NULL when n_hinges
+ *     is 0), each open one drawn and labelled, closed ones skipped;
+ *   - joint_gap_i, joint_gap_e: joint k's edge openings at [k-1] (m, > 0 open, n_joints entries
+ *     each, as vs_joint_state); a joint opening beyond open_m (m, >= 0) is shaded. Either
+ *     array NULL: no joint is shaded;
+ *   - joint_N, joint_M: the joints' forces (n_joints entries each, N and N m, as
+ *     vs_joint_state: compression > 0, moment about the joint centre > 0 when the extrados
+ *     carries more) for the thrust line; either NULL: no thrust line;
+ *   - title: drawn on top (NULL or "": none);
  *   - block_thickness: each voussoir's radial thickness, m (n_blocks; NULL: g->thickness), for
  *     an arch whose thickness scatters (the record's imperfections);
  *   - pinned[s], support_theta[s] (s = 0 left, 1 right): a pinned support's springer, drawn as a
  *     plate under the springing face turned by support_theta (rad, counter-clockwise) about the
  *     pin at the face's centre, and the support's side of that joint turned with it. A fixed
  *     support (pinned 0) must have support_theta 0;
- *   - has_ground, ground_z: as vs_plot_arch_landed's ground_z (has_ground 0: none). */
+ *   - has_ground, ground_z: the ground the fall landed on (contact.h), the plane z = ground_z
+ *     (m), drawn across the picture, hatched below, named and kept in the frame (has_ground 0:
+ *     none).
+ * Errors of every function taking it: VS_ERR_INVALID for a NULL a or g, a geometry that is not
+ * an arch, non-finite q, delta_m or alpha_rad, n_hinges < 0 (or > 0 with NULL hinges), a hinge
+ * whose joints are outside 1..n_joints or whose side is not 'I'/'E', a negative open_m, a block
+ * thickness outside (0, R), a non-finite springer rotation or a non-zero one on a fixed
+ * support, a non-finite ground_z with has_ground. */
 typedef struct {
   const vs_geometry *g;
   const double *q;
@@ -122,33 +93,47 @@ typedef struct {
   const double *block_thickness;
   int pinned[2];
   double support_theta[2];
-  int has_ground;  /* 1: draw the ground the fall landed on, the plane z = ground_z (m) */
+  int has_ground; /* 1: draw the ground the fall landed on, the plane z = ground_z (m) */
   double ground_z;
 } vs_plot_arch_args;
 
-/* Draw a->... as vs_plot_arch_thrust does. Errors as vs_plot_arch_thrust, and VS_ERR_INVALID
- * for a NULL a, a block thickness outside (0, R), a non-finite springer rotation or a non-zero
- * one on a fixed support. */
+/* Draw the arch picture a into the file path (created anew: a regular file there is replaced;
+ * a symbolic link, FIFO, device or directory is refused, never written through) as a PNG or SVG
+ * picture of VS_PLOT_ARCH_WIDTH x VS_PLOT_ARCH_HEIGHT at true scale (vs_plot_arch_frame):
+ *   - the reference arch faint in the background, each voussoir of state q as a filled polygon
+ *     (its intrados and extrados arcs sampled at least every degree, moved rigidly:
+ *     x = c + u + R(theta)(X - c));
+ *   - the supports: the left fixed; the right moved, its fixed position dashed and an arrow for
+ *     the displacement; a pinned one's springer turned;
+ *   - open joints: a wedge between the two moved faces and the joint line, in red;
+ *   - each open hinge as a dot in its label's colour on the side that stays in contact ('I'
+ *     intrados, 'E' extrados) of its middle joint (between the two middle ones of an even
+ *     spread), smaller dots on the other joints of a spread hinge, and its label beside it,
+ *     outside the section on that side: "A  9-I", "B  27-28-29-30-E", beyond four joints
+ *     "E  12-...-40-E";
+ *   - the thrust line through the joints' centres of pressure (vs_plot_thrust_points), broken
+ *     where a joint carries no compression, named in the key;
+ *   - the ground, the title, "delta = .. mm (dz .. mm, dx .. mm)", a scale bar in mm and a key.
+ * Errors: as vs_plot_arch_args, and VS_ERR_INVALID for a NULL path or a format outside
+ * vs_plot_format; VS_ERR_IO when the file cannot be created (something other than a regular
+ * file at path included) or written or cairo fails ("PATH: ...: cairo's status string"; a
+ * partly written file is removed); VS_ERR_NOMEM. Nothing is printed. */
 VS_API vs_status vs_plot_arch_draw(const char *path, vs_plot_format fmt, const vs_plot_arch_args *a,
                                    vs_error *err);
 
-/* The points the thrust line of vs_plot_arch_thrust joins, in model coordinates (m): x[k], z[k]
- * for joint k + 1 (n_joints entries each), the centre of pressure e = M/N from the centre of
- * the moved joint towards its extrados; NaN where the joint carries no compression (N <= 0).
- * Arguments as vs_plot_arch_thrust. Errors: VS_ERR_INVALID as vs_plot_arch, and for NULL
- * joint_N, joint_M, x or z. */
-VS_API vs_status vs_plot_thrust_points(const vs_geometry *g, const double *q, double delta_m,
-                                       double alpha_rad, const double *joint_N,
-                                       const double *joint_M, double *x, double *z, vs_error *err);
+/* The frame vs_plot_arch_draw uses for a: the smallest box holding the reference arch, the
+ * deformed voussoirs, both supports (the right one at its fixed and its moved position) and the
+ * ground, fitted with margins into VS_PLOT_ARCH_WIDTH x VS_PLOT_ARCH_HEIGHT and centred. Errors
+ * as vs_plot_arch_args. */
+VS_API vs_status vs_plot_arch_frame(const vs_plot_arch_args *a, vs_plot_frame *f, vs_error *err);
 
-/* vs_plot_arch_thrust with the ground the fall landed on (contact.h): the plane z = ground_z
- * (m; NaN: none) drawn across the picture, hatched below and named, and kept in the frame. */
-VS_API vs_status vs_plot_arch_landed(const char *path, vs_plot_format fmt, const vs_geometry *g,
-                                     const double *q, double delta_m, double alpha_rad,
-                                     const vs_hinge *hinges, int n_hinges,
-                                     const double *joint_gap_i, const double *joint_gap_e,
-                                     double open_m, const double *joint_N, const double *joint_M,
-                                     double ground_z, const char *title, vs_error *err);
+/* The points the thrust line of vs_plot_arch_draw joins, in model coordinates (m): x[k], z[k]
+ * for joint k + 1 (n_joints entries each), the centre of pressure e = M/N from the centre of
+ * the moved joint (the mean of its two moved faces) towards its extrados; NaN where the joint
+ * carries no compression (N <= 0). Errors: as vs_plot_arch_args, and VS_ERR_INVALID for a NULL
+ * joint_N, joint_M, x or z. */
+VS_API vs_status vs_plot_thrust_points(const vs_plot_arch_args *a, double *x, double *z,
+                                       vs_error *err);
 
 /* ---------------------------------------------------------------------------------------------
  * Curves */
@@ -162,7 +147,7 @@ typedef struct {
 
 /* One curve: n values (the n of vs_plot_curves) against the shared x. A NaN leaves a gap (a
  * hinge not yet formed, or closed). Named "A".."E" it takes that hinge label's colour, the same
- * as in vs_plot_arch; other names take colours in order. */
+ * as in vs_plot_arch_draw; other names take colours in order. */
 /* How a series is drawn (vs_plot_marks.style): a line (markers too when it has at most 80
  * points), or only markers of a shape in the series' colour, outlined in black (points of
  * different kinds on one curve, e.g. the mode of each run of a sweep). */
@@ -196,7 +181,7 @@ typedef struct {
  * Errors: VS_ERR_INVALID for NULL path, x or panels, n < 1, n_panels outside
  * 1..VS_PLOT_MAX_PANELS, a panel with NULL series or n_series outside 1..VS_PLOT_MAX_SERIES, a
  * series with NULL y, a non-finite or negative axis scale; VS_ERR_IO and VS_ERR_NOMEM as
- * vs_plot_arch (path is created anew, as there). Nothing is printed. */
+ * vs_plot_arch_draw (path is created anew, as there). Nothing is printed. */
 VS_API vs_status vs_plot_curves(const char *path, vs_plot_format fmt, const char *title,
                                 const vs_plot_axis *x_axis, const double *x, int n,
                                 const vs_plot_panel *panels, int n_panels, vs_error *err);

@@ -68,9 +68,11 @@ typedef struct {
   double max_residual;   /* largest scaled residual (x voussoir weight) accepted */
 } vs_path_result;
 
-/* Called after every accepted equilibrium (delta = 0 is the self-weight state); the path result
- * given to vs_path_run then holds the Newton iterations so far. q has vs_model_size entries. Return non-zero to stop the path (reported as VS_ERR_INTERNAL with
- * "stopped by caller"). */
+/* Called after every accepted equilibrium (delta = 0 is the self-weight state) and, with
+ * vs_path_opts.open, every equilibrium located on both sides of a joint edge's opening; the path
+ * result given to vs_path_run then holds the Newton iterations so far. q has vs_model_size
+ * entries. Return non-zero to stop the path: vs_path_run then returns VS_ERR_STOPPED
+ * ("stopped by the caller"), with res and q as far as the path got. */
 typedef int (*vs_path_step_fn)(void *user, double delta, const double *q, const vs_model *m);
 
 /* Follow the path of model m from support displacement delta0 (m): 0 starts with self-weight
@@ -80,7 +82,8 @@ typedef int (*vs_path_step_fn)(void *user, double delta, const double *q, const 
  * VS_ERR_NO_EQUILIBRIUM when the start has no stable equilibrium (under self-weight: the arch
  * cannot stand) or a Newton failure is not a limit point (cause in err); VS_ERR_SOLVER when
  * SUNDIALS fails, the residual is not finite (NaN or infinity) or VS_PATH_MAX_INCREMENTS is
- * reached; VS_ERR_INTERRUPTED when o->stop was raised. res is filled as far as the path got. */
+ * reached; VS_ERR_INTERRUPTED when o->stop was raised; VS_ERR_STOPPED when step_fn returned
+ * non-zero. res is filled as far as the path got. */
 VS_API vs_status vs_path_run(vs_model *m, const vs_path_opts *o, double delta0, double *q,
                              vs_path_step_fn step_fn, void *user, vs_path_result *res,
                              vs_error *err);

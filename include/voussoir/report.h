@@ -17,8 +17,9 @@ VS_API void vs_report_text(FILE *out, const vs_run *r, vs_status status, const v
  * first_limit {delta_mm, dz_over_L_pct, dx_over_L_pct, ...} (null when there is none), hinges
  * [{label, joints, joints_onset, side, delta_onset_mm, open}], stats {steps, newton_iterations,
  * wall_s, ...}, status (collapse, limit_point, max_displacement, failed, or stopped: the
- * wall-time limit, run.max_wall_s, ended the run), error (the cause, or for a stopped run
- * "stopped: wall-time limit S s reached"; null otherwise). A number that is not finite (no
+ * wall-time limit, run.max_wall_s, or the caller's sample or event function ended the run),
+ * error (the cause, or for a stopped run "stopped: wall-time limit S s reached" or "stopped by
+ * the caller"; null otherwise). A number that is not finite (no
  * collapse time, a quantity the run did not reach) is written as null: the output is always
  * valid JSON. */
 VS_API void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error *err,

@@ -67,7 +67,9 @@ typedef struct {
   double delta;         /* m */
   int collapse;         /* 1 if the motion it started was the collapse, 0 a snap-through */
   double delta_settled; /* snap: where the quasi-static path resumed, m (NaN for a collapse) */
-  char hinges_before[160], hinges_after[160]; /* open hinges, e.g. "A:8-I B:30-E C:56-E" */
+  char hinges_before[160], hinges_after[160]; /* open hinges, e.g. "A:8-I B:30-E C:56-E" (as
+                                                vs_run_open_hinges: a longer list ends with
+                                                "+K more") */
 } vs_limit_record;
 
 typedef struct {
@@ -83,13 +85,15 @@ typedef struct {
   double delta_detected; /* the support displacement then, m */
   double t_onset;      /* when the final motion began (the kinetic energy last rose above the
                           rest threshold), s; NaN where the arch was never at rest (fast loading) */
-  int n_hinges;        /* hinges open at the criterion */
-  vs_hinge hinges[8];  /* their copies, left to right */
+  int n_hinges;            /* hinges open at the criterion, all of them ... */
+  const vs_hinge *hinges;  /* ... their copies, left to right (n_hinges; NULL without a
+                              collapse; owned by the run, valid until vs_run_destroy) */
   double reactions_limit[6]; /* forces the supports exert on the arch at the collapsing limit
                                 point (as vs_run_sample.reactions); NaN without one (--dynamic) */
 } vs_collapse_record;
 
-/* Called for every recorded state and every event (either may be NULL). Non-zero stops. */
+/* Called for every recorded state and every event (either may be NULL). Non-zero stops the run:
+ * vs_run_execute returns VS_ERR_STOPPED ("stopped by the caller"). */
 typedef int (*vs_run_sample_fn)(void *user, const vs_run *run, const vs_run_sample *s);
 typedef int (*vs_run_event_fn)(void *user, const vs_run *run, const vs_run_event *e);
 
@@ -115,8 +119,8 @@ VS_API void vs_run_set_stop(vs_run *r, const volatile sig_atomic_t *stop);
  * first limit point with dynamic.follow = 0, or support.max_mm); VS_ERR_INTERRUPTED after the
  * stop flag; VS_ERR_WALL_TIME ("stopped: wall-time limit S s reached") when the run took longer
  * than run.max_wall_s (checked by every solver once a step: KINSOL's solves of the path, IDA's
- * steps, the rigid fall's steps); everything recorded up to a failure or a stop stays
- * available. */
+ * steps, the rigid fall's steps); VS_ERR_STOPPED when sample or event returned non-zero;
+ * everything recorded up to a failure or a stop stays available. */
 VS_API vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn event,
                                 void *user, vs_error *err);
 
@@ -189,7 +193,8 @@ VS_API double vs_run_wall_s(const vs_run *r);
 VS_API const vs_modal *vs_run_modal(const vs_run *r);
 VS_API void vs_run_rayleigh(const vs_run *r, double *alpha, double *beta);
 
-/* Name of the open hinges, "A:8-I B:30-E C:56-E", into buf. */
+/* Name of the open hinges, "A:8-I B:30-E C:56-E", into buf (vs_hinges_list: a list longer than
+ * size ends with "+K more"). */
 VS_API void vs_run_open_hinges(const vs_run *r, char *buf, size_t size);
 
 #endif

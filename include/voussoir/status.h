@@ -17,8 +17,9 @@
   X(VS_ERR_NO_EQUILIBRIUM, -6, "no equilibrium found")                             \
   X(VS_ERR_USAGE, -7, "invalid command line")                                      \
   X(VS_ERR_INTERNAL, -8, "internal error")                                         \
-  X(VS_ERR_INTERRUPTED, -9, "interrupted")                                        \
-  X(VS_ERR_WALL_TIME, -10, "stopped: wall-time limit reached")
+  X(VS_ERR_INTERRUPTED, -9, "interrupted")                                         \
+  X(VS_ERR_WALL_TIME, -10, "stopped: wall-time limit reached")                     \
+  X(VS_ERR_STOPPED, -11, "stopped by the caller")
 
 typedef enum {
 #define VS_STATUS_ENUM(name, value, msg) name = value,

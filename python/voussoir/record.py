@@ -41,8 +41,9 @@ class Record:
 
     @property
     def status(self):
-        """'completed', 'running', 'failed: <cause>', or 'stopped: wall-time limit S s
-        reached' (run.max_wall_s ended the run: the record holds it up to the stop)."""
+        """'completed', 'running', 'failed: <cause>', 'stopped: wall-time limit S s
+        reached' (run.max_wall_s ended the run) or 'stopped by the caller' (a program on the
+        library stopped it from its callback): a stopped record holds the run up to the stop."""
         return _text(self.file.attrs["status"])
 
     @property

@@ -42,19 +42,27 @@ typedef struct {
 #define KEY(sec, field, def, lo, lo_in, hi, hi_in, unit, what)                                    \
   {#sec, #field, FIELD_TYPE(field), offsetof(vs_case, field), def, lo, hi, lo_in, hi_in, unit, what, \
    NULL}
-/* A named choice stored as an int field: value i is names[i]. */
-#define KEY_NAMED(sec, field, def, count, names, what)                                           \
-  {#sec, #field, KEY_INT, offsetof(vs_case, field), def, 0.0, (count) - 1.0, true, true, "", what, \
-   names}
+/* A named choice stored as an int field: value i is names[i], i in 0 .. (the names) - 1. */
+#define KEY_NAMED(sec, field, def, names, what)                                                 \
+  {#sec, #field, KEY_INT, offsetof(vs_case, field), def, 0.0,                                  \
+   (double)(sizeof names / sizeof names[0]) - 2.0, true, true, "", what, names}
 
-/* support.left_kind, support.right_kind, in the order of vs_support_kind (model.h) */
+/* The names of each named choice, in the order of its enum (def.h), NULL-terminated: one name
+ * for every value, checked against the enum's count when this compiles. */
+#define NAMES_OF(names, count)                                                                  \
+  _Static_assert(sizeof names / sizeof names[0] == (count) + 1, "a name for every value of " #count)
+/* support.left_kind, support.right_kind: vs_support_kind */
 static const char *const support_kinds[] = {"fixed", "pinned", NULL};
-/* dynamic.damping_model, in the order of vs_damping_model (damping.h) */
+NAMES_OF(support_kinds, VS_SUPPORT_KIND_COUNT);
+/* dynamic.damping_model: vs_damping_model */
 static const char *const damping_models[] = {"none", "joint", "rayleigh", "impact", NULL};
-/* fall.scheme, in the order of vs_fall_scheme (case.h) */
+NAMES_OF(damping_models, VS_DAMPING_MODEL_COUNT);
+/* fall.scheme: vs_fall_scheme */
 static const char *const fall_schemes[] = {"rigid", "penalty", NULL};
-/* fall.solver, in the order of vs_fall_solver (fall.h) */
+NAMES_OF(fall_schemes, VS_FALL_SCHEME_COUNT);
+/* fall.solver: vs_fall_solver */
 static const char *const fall_solvers[] = {"nncg", "gauss_seidel", NULL};
+NAMES_OF(fall_solvers, VS_FALL_SOLVER_COUNT);
 
 #define INF INFINITY
 /* Every bound is finite (except where a sign is all that matters) so that every quantity derived
@@ -88,9 +96,9 @@ static const key_spec keys[] = {
         "speed of the right support (times are delta / rate: bounded both ways)"),
     KEY(support, max_mm, 300.0, 0.0, false, LEN_MAX, true, "mm",
         "largest support displacement followed"),
-    KEY_NAMED(support, left_kind, 0.0, 2, support_kinds,
+    KEY_NAMED(support, left_kind, 0.0, support_kinds,
               "left support: fixed (clamped) or pinned (free to rotate about its pivot)"),
-    KEY_NAMED(support, right_kind, 0.0, 2, support_kinds,
+    KEY_NAMED(support, right_kind, 0.0, support_kinds,
               "right (moving) support: fixed (clamped) or pinned (free to rotate about its pivot)"),
     KEY(solver, step_mm, 0.5, 0.0, false, LEN_MAX, true, "mm",
         "initial increment of the support displacement"),
@@ -109,7 +117,7 @@ static const key_spec keys[] = {
         "1: follow the limit points dynamically to the collapse; 0: stop at the first"),
     KEY(dynamic, full, 0.0, 0.0, true, 1.0, true, "",
         "1: integrate the whole loading dynamically from rest"),
-    KEY_NAMED(dynamic, damping_model, 1.0, 4, damping_models,
+    KEY_NAMED(dynamic, damping_model, 1.0, damping_models,
               "damping: none, joint (dashpots), rayleigh (alpha M + beta K), impact (Housner)"),
     KEY(dynamic, damping, 0.05, 0.0, true, 1.0, true, "",
         "damping ratio: joint, of each joint's critical damping; rayleigh, of the two lowest modes"),
@@ -127,7 +135,7 @@ static const key_spec keys[] = {
     KEY(fall, ground_mm, 0.0, -LEN_MAX, true, 0.0, true, "mm",
         "the ground's height above the lower springing's base when the fall starts (above it, "
         "it would cut the standing springers)"),
-    KEY_NAMED(fall, scheme, 0.0, 2, fall_schemes,
+    KEY_NAMED(fall, scheme, 0.0, fall_schemes,
               "rigid: rigid blocks, impulsive contacts, time stepping (fall.h); penalty: the "
               "joints' elastic law at every contact, integrated by IDA (20-100 times slower)"),
     KEY(fall, step_ms, 1.0, 1e-3, true, 10.0, true, "ms",
@@ -139,7 +147,7 @@ static const key_spec keys[] = {
         "... that speed (0: always step_ms)"),
     KEY(fall, max_sweeps, 15.0, 1.0, true, 10000.0, true, "",
         "rigid scheme: Gauss-Seidel sweeps at most per step (100 near rest if fewer)"),
-    KEY_NAMED(fall, solver, 0.0, 2, fall_solvers,
+    KEY_NAMED(fall, solver, 0.0, fall_solvers,
               "rigid scheme: the contacts' impulses by Gauss-Seidel sweeps, each followed by a "
               "nonsmooth conjugate gradient step (nncg), or the sweeps alone (gauss_seidel)"),
     KEY(fall, restitution, 0.5, 0.0, false, 1.0, true, "",
@@ -172,6 +180,7 @@ static const key_spec keys[] = {
 #undef INF
 #undef KEY
 #undef KEY_NAMED
+#undef NAMES_OF
 #undef FIELD_TYPE
 
 #define NKEYS (sizeof keys / sizeof keys[0])

@@ -390,8 +390,10 @@ int vs_cli_run(int argc, char **argv, int *h5_clean) {
     st = vs_error_set(&err, VS_ERR_INTERRUPTED, "interrupted");
     vs_output_interrupt(sink.record);
   }
-  if (st != VS_OK && sink.record != NULL && vs_output_error(sink.record)->status != VS_OK)
-    err = *vs_output_error(sink.record); /* the run stopped because the record failed */
+  if (st != VS_OK && sink.record != NULL && vs_output_error(sink.record)->status != VS_OK) {
+    err = *vs_output_error(sink.record); /* the run stopped because the record failed: */
+    st = err.status;                     /* that is the run's status, not VS_ERR_STOPPED */
+  }
   st = finish_record(&sink, run, st, &err);
   if (a.json) vs_report_json(stdout, run, st, &err, a.case_path);
   else vs_report_text(stdout, run, st, &err, a.case_path);

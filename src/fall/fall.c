@@ -27,8 +27,13 @@ void vs_fall_opts_default(vs_fall_opts *o) {
   o->joints = 1;
 }
 
+/* The solvers' names as the case file writes them (fall.solver), in the order of vs_fall_solver. */
+static const char *const SOLVER_NAMES[] = {"nncg", "gauss_seidel"};
+_Static_assert(sizeof SOLVER_NAMES / sizeof SOLVER_NAMES[0] == VS_FALL_SOLVER_COUNT,
+               "a name for every vs_fall_solver");
+
 const char *vs_fall_solver_name(int solver) {
-  return solver == VS_FALL_NNCG ? "nncg" : solver == VS_FALL_GAUSS_SEIDEL ? "gauss_seidel" : "?";
+  return solver >= 0 && solver < VS_FALL_SOLVER_COUNT ? SOLVER_NAMES[solver] : "?";
 }
 
 static vs_status check_opts(const vs_fall_opts *o, vs_error *err) {
@@ -763,7 +768,7 @@ vs_status vs_fall_run(vs_fall *f, double t0, double *qe, double *ve, const vs_en
     if (sample != NULL && (f->t - t_sample >= f->o.sample_dt * (1.0 - 1e-9) || last)) {
       t_sample = f->t;
       if (sample_now(f, sample, user, &e) != 0)
-        st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+        st = vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
     }
     if (at_rest) {
       res->at_rest = 1;

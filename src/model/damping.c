@@ -4,7 +4,9 @@
 
 #include <math.h>
 
-static const char *const names[VS_DAMPING_MODEL_COUNT] = {"none", "joint", "rayleigh", "impact"};
+static const char *const names[] = {"none", "joint", "rayleigh", "impact"};
+_Static_assert(sizeof names / sizeof names[0] == VS_DAMPING_MODEL_COUNT,
+               "a name for every vs_damping_model");
 
 const char *vs_damping_model_name(vs_damping_model model) {
   return ((int)model >= 0 && (int)model < VS_DAMPING_MODEL_COUNT) ? names[model] : NULL;

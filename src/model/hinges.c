@@ -199,7 +199,10 @@ int vs_hinges_update(vs_hinges *h, double delta, const vs_joint_state *st) {
   for (int g = 0; g < ng; g++) { /* left to right, so same-update hinges are ordered by place */
     int i = gr[g].hinge;
     if (i < 0) {
-      if (grow(h) != 0) continue;
+      if (grow(h) != 0) { /* no hinge is dropped without saying so */
+        free(gr);
+        return -1;
+      }
       i = h->count++;
       vs_hinge *hg = &h->h[i];
       memset(hg, 0, sizeof *hg);
@@ -263,12 +266,52 @@ void vs_hinge_name(const vs_hinge *hg, int onset, char *buf, size_t size) {
 
 void vs_hinges_side_pattern(const vs_hinge *h, int n, char *buf, size_t size) {
   size_t used = 0;
-  buf[0] = '\0';
-  for (int i = 0; i < n && used + 2 < size; i++) {
+  if (size == 0) return;
+  for (int i = 0; i < n; i++) {
+    const size_t need = i + 1 < n ? 2 : 1; /* the side and, but after the last, a '-' */
+    if (used + need >= size) break;      /* cut after the last '-' written */
     buf[used++] = h[i].side;
     if (i + 1 < n) buf[used++] = '-';
   }
   buf[used] = '\0';
+}
+
+/* "A:8-I" (sep: " " between entries), hinge hg's entry of a list, into buf; its length. */
+static size_t list_entry(const vs_hinge *hg, const char *sep, char *buf, size_t size) {
+  char name[96];
+  vs_hinge_name(hg, 0, name, sizeof name);
+  const int n = snprintf(buf, size, "%s%c:%s", sep, hg->label, name);
+  return n > 0 ? (size_t)n : 0;
+}
+
+/* "+K more" for k hinges left out after `listed` ones, into buf; its length (0 for k = 0). */
+static size_t list_more(int listed, int k, char *buf, size_t size) {
+  if (k == 0) return 0;
+  const int n = snprintf(buf, size, "%s+%d more", listed ? " " : "", k);
+  return n > 0 ? (size_t)n : 0;
+}
+
+void vs_hinges_list(const vs_hinge *h, int n, int open_only, char *buf, size_t size) {
+  if (size == 0) return;
+  buf[0] = '\0';
+  int total = 0;
+  for (int i = 0; i < n; i++) total += !open_only || h[i].open;
+  /* the most entries k that fit with the marker of the total - k left out */
+  char tmp[128];
+  size_t len = 0;
+  int k = 0, fit = 0;
+  for (int i = 0; i < n && len < size; i++) {
+    if (open_only && !h[i].open) continue;
+    len += list_entry(&h[i], k ? " " : "", tmp, sizeof tmp);
+    k++;
+    if (len + list_more(k, total - k, tmp, sizeof tmp) < size) fit = k;
+  }
+  size_t used = 0;
+  for (int i = 0, listed = 0; i < n && listed < fit; i++) {
+    if (open_only && !h[i].open) continue;
+    used += list_entry(&h[i], listed++ ? " " : "", buf + used, size - used);
+  }
+  list_more(fit, total - fit, buf + used, size - used);
 }
 
 static int cmp_hinge_first(const void *x, const void *y) {

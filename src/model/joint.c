@@ -263,20 +263,12 @@ void vs_joint_point_out(const vs_joint_geom *jg, const vs_joint_law *law, const 
   if (K != NULL) tangent_out(law, &pt->k, &pt->ls, K);
 }
 
-void vs_joint_eval(const vs_joint_geom *jg, const vs_joint_law *law, const double qa[3],
-                   const double qb[3], const double ra[2], const double rb[2], double slip_p_old,
-                   vs_joint_state *st, double f[6], double K[36]) {
-  double ha[2], hb[2];
-  vs_joint_half_angle(qa[2], ha);
-  vs_joint_half_angle(qb[2], hb);
-  vs_joint_eval_h(jg, law, qa, qb, ha, hb, ra, rb, slip_p_old, st, f, K);
-}
-
 /* Below this contact length, as a fraction of the joint length, the damping fades linearly to
  * zero, so that it vanishes continuously when the joint separates completely. */
 static const double VS_DAMP_RAMP = 0.02;
 
-/* Full-section viscous damping (vs_joint_damping) from the kinematics and normal response. */
+/* Full-section viscous damping (joint.h, vs_joint_dashpot with beta = 0) from the kinematics
+ * and normal response. */
 static void dashpot_out(const vs_joint_geom *jg, double cn, double cs, const kinematics *k,
                         const vs_normal_response *nr, const double va[3], const double vb[3],
                         double f[6], double C[36], double *power) {
@@ -315,7 +307,7 @@ static void dashpot_out(const vs_joint_geom *jg, double cn, double cs, const kin
   }
 }
 
-/* Stiffness-proportional damping (vs_joint_damping_tangent) likewise. */
+/* Stiffness-proportional damping (vs_joint_dashpot with beta > 0) likewise. */
 static void tangent_dashpot_out(const vs_joint_geom *jg, const vs_joint_law *law, double beta,
                                 const kinematics *k, const vs_normal_response *nr,
                                 const double va[3], const double vb[3], double f[6], double C[36],
@@ -335,7 +327,7 @@ static void tangent_dashpot_out(const vs_joint_geom *jg, const vs_joint_law *law
                        cww * k->dw[i] * k->dw[j] + cs * k->ds[i] * k->ds[j];
 }
 
-/* Friction power (vs_joint_friction_power) from the kinematics and the law's state. */
+/* Friction power (vs_joint_motion.friction) from the kinematics and the law's state. */
 static double friction_out(const vs_joint_law *law, const kinematics *k, const law_state *ls,
                            const double va[3], const double vb[3]) {
   if (!ls->sliding) return 0.0;
@@ -343,50 +335,6 @@ static double friction_out(const vs_joint_law *law, const kinematics *k, const l
   joint_rates(k, va, vb, &adot, &wdot, &sdot);
   const double Tdot = ls->sgn * law->mu * (ls->nr.N_a * adot + ls->nr.N_w * wdot);
   return ls->T * (sdot - Tdot / ls->kst);
-}
-
-static void half_angles(const double qa[3], const double qb[3], double ha[2], double hb[2]) {
-  vs_joint_half_angle(qa[2], ha);
-  vs_joint_half_angle(qb[2], hb);
-}
-
-void vs_joint_damping(const vs_joint_geom *jg, const vs_joint_law *law, double cn, double cs,
-                      const double qa[3], const double qb[3], const double va[3],
-                      const double vb[3], const double ra[2], const double rb[2], double f[6],
-                      double C[36], double *power) {
-  kinematics k;
-  double ha[2], hb[2];
-  half_angles(qa, qb, ha, hb);
-  joint_kinematics(jg, qa, qb, ha, hb, ra, rb, 0, &k);
-  vs_normal_response nr;
-  vs_joint_normal(law->kn, jg->depth, jg->length, -k.g - law->gap0, k.w - law->gap1, &nr);
-  dashpot_out(jg, cn, cs, &k, &nr, va, vb, f, C, power);
-}
-
-void vs_joint_damping_tangent(const vs_joint_geom *jg, const vs_joint_law *law, double beta,
-                              const double qa[3], const double qb[3], const double va[3],
-                              const double vb[3], const double ra[2], const double rb[2],
-                              double f[6], double C[36], double *power) {
-  kinematics k;
-  double ha[2], hb[2];
-  half_angles(qa, qb, ha, hb);
-  joint_kinematics(jg, qa, qb, ha, hb, ra, rb, 0, &k);
-  vs_normal_response nr; /* as the law itself */
-  vs_joint_normal(law->kn, jg->depth, jg->length, -k.g - law->gap0, k.w - law->gap1, &nr);
-  tangent_dashpot_out(jg, law, beta, &k, &nr, va, vb, f, C, power);
-}
-
-double vs_joint_friction_power(const vs_joint_geom *jg, const vs_joint_law *law,
-                               const double qa[3], const double qb[3], const double va[3],
-                               const double vb[3], const double ra[2], const double rb[2],
-                               double slip_p_old) {
-  kinematics k;
-  double ha[2], hb[2];
-  half_angles(qa, qb, ha, hb);
-  joint_kinematics(jg, qa, qb, ha, hb, ra, rb, 0, &k);
-  law_state ls;
-  law_eval(jg, law, &k, slip_p_old, &ls);
-  return friction_out(law, &k, &ls, va, vb);
 }
 
 void vs_joint_eval_motion(const vs_joint_geom *jg, const vs_joint_law *law,

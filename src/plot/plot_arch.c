@@ -258,10 +258,9 @@ static void draw_hinges(cairo_t *cr, const arch_data *d) {
   }
 }
 
-/* The scale bar: four alternating segments of a round length in mm, bottom left. */
 /* Centre of pressure of joint k (model coordinates, m): e = M / N from the centre of the moved
- * joint (the mean of its two faces) towards its extrados; 0 where the joint carries no
- * compression (N <= 0 or M not finite). */
+ * joint (the mean of its two faces) towards its extrados; 0 (no point) where the joint carries
+ * no compression (N <= 0 or M not finite). */
 static int thrust_point(const arch_data *d, int k, double *x, double *z) {
   if (!(d->N[k] > 0.0) || !isfinite(d->M[k])) return 0;
   double fa[4], fb[4];
@@ -296,20 +295,7 @@ static void draw_thrust(cairo_t *cr, const arch_data *d) {
   cairo_stroke(cr);
 }
 
-vs_status vs_plot_thrust_points(const vs_geometry *g, const double *q, double delta_m,
-                                double alpha_rad, const double *joint_N, const double *joint_M,
-                                double *x, double *z, vs_error *err) {
-  vs_status st = vs_plot_check_arch(g, q, delta_m, alpha_rad, err);
-  if (st != VS_OK) return st;
-  if (joint_N == NULL || joint_M == NULL || x == NULL || z == NULL)
-    return vs_error_set(err, VS_ERR_INVALID, "plot: thrust points need N, M, x and z");
-  arch_data d = {.g = g, .q = q, .delta = delta_m, .alpha = alpha_rad, .N = joint_N, .M = joint_M};
-  vs_support_displacement(vs_support_direction(alpha_rad), delta_m, d.su);
-  for (int k = 0; k < g->n_joints; k++)
-    if (!thrust_point(&d, k, &x[k], &z[k])) x[k] = z[k] = NAN;
-  return VS_OK;
-}
-
+/* The scale bar: four alternating segments of a round length in mm, bottom left. */
 static void draw_scale_bar(cairo_t *cr, const vs_plot_frame *f) {
   double len_mm = vs_plot_nice_step(0.2 * (f->width - 2.0 * ARCH_SIDE) / f->scale / VS_MM, 1);
   double len = len_mm * VS_MM * f->scale, x = ARCH_SIDE, y = f->height - 32.0, hh = 7.0;
@@ -410,29 +396,9 @@ static vs_status check_hinges(const vs_geometry *g, const vs_hinge *hinges, int 
   return VS_OK;
 }
 
-vs_status vs_plot_arch(const char *path, vs_plot_format fmt, const vs_geometry *g, const double *q,
-                       double delta_m, double alpha_rad, const vs_hinge *hinges, int n_hinges,
-                       const double *joint_gap_i, const double *joint_gap_e, double open_m,
-                       const char *title, vs_error *err) {
-  return vs_plot_arch_thrust(path, fmt, g, q, delta_m, alpha_rad, hinges, n_hinges, joint_gap_i,
-                             joint_gap_e, open_m, NULL, NULL, title, err);
-}
-
-vs_status vs_plot_arch_thrust(const char *path, vs_plot_format fmt, const vs_geometry *g,
-                              const double *q, double delta_m, double alpha_rad,
-                              const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
-                              const double *joint_gap_e, double open_m, const double *joint_N,
-                              const double *joint_M, const char *title, vs_error *err) {
-  const vs_plot_arch_args a = {.g = g, .q = q, .delta_m = delta_m, .alpha_rad = alpha_rad,
-                               .hinges = hinges, .n_hinges = n_hinges, .joint_gap_i = joint_gap_i,
-                               .joint_gap_e = joint_gap_e, .open_m = open_m, .joint_N = joint_N,
-                               .joint_M = joint_M, .title = title};
-  return vs_plot_arch_draw(path, fmt, &a, err);
-}
-
-vs_status vs_plot_arch_draw(const char *path, vs_plot_format fmt, const vs_plot_arch_args *a,
-                            vs_error *err) {
-  if (path == NULL || a == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no file name");
+/* a checked and turned into the drawing's data, its frame included. */
+static vs_status arch_data_of(const vs_plot_arch_args *a, arch_data *d, vs_error *err) {
+  if (a == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no arch");
   const vs_geometry *g = a->g;
   vs_status st = vs_plot_check_arch(g, a->q, a->delta_m, a->alpha_rad, err);
   if (st == VS_OK) st = check_hinges(g, a->hinges, a->n_hinges, err);
@@ -447,31 +413,45 @@ vs_status vs_plot_arch_draw(const char *path, vs_plot_format fmt, const vs_plot_
     if (!isfinite(a->support_theta[s]) || (!a->pinned[s] && a->support_theta[s] != 0.0))
       return vs_error_set(err, VS_ERR_INVALID, "plot: support %d rotation %g rad (allowed: finite, "
                           "0 unless pinned)", s + 1, a->support_theta[s]);
-  arch_data d = {.g = g, .q = a->q, .delta = a->delta_m, .alpha = a->alpha_rad,
-                 .hinges = a->hinges, .n_hinges = a->n_hinges, .gap_i = a->joint_gap_i,
-                 .gap_e = a->joint_gap_e, .open = a->open_m, .N = a->joint_N, .M = a->joint_M,
-                 .title = a->title, .thick = a->block_thickness,
-                 .pinned = {a->pinned[0] != 0, a->pinned[1] != 0},
-                 .srot = {a->support_theta[0], a->support_theta[1]},
-                 .ground = a->has_ground ? a->ground_z : NAN};
   if (a->has_ground && !isfinite(a->ground_z))
     return vs_error_set(err, VS_ERR_INVALID, "plot: ground z = %g m (allowed: finite)",
                         a->ground_z);
-  vs_support_displacement(vs_support_direction(a->alpha_rad), a->delta_m, d.su);
-  vs_plot_frame_of(g, a->q, d.thick, d.su, d.ground, &d.f);
+  *d = (arch_data){.g = g, .q = a->q, .delta = a->delta_m, .alpha = a->alpha_rad,
+                   .hinges = a->hinges, .n_hinges = a->n_hinges, .gap_i = a->joint_gap_i,
+                   .gap_e = a->joint_gap_e, .open = a->open_m, .N = a->joint_N, .M = a->joint_M,
+                   .title = a->title, .thick = a->block_thickness,
+                   .pinned = {a->pinned[0] != 0, a->pinned[1] != 0},
+                   .srot = {a->support_theta[0], a->support_theta[1]},
+                   .ground = a->has_ground ? a->ground_z : NAN};
+  vs_support_displacement(vs_support_direction(a->alpha_rad), a->delta_m, d->su);
+  vs_plot_frame_of(g, a->q, d->thick, d->su, d->ground, &d->f);
+  return VS_OK;
+}
+
+vs_status vs_plot_arch_draw(const char *path, vs_plot_format fmt, const vs_plot_arch_args *a,
+                            vs_error *err) {
+  if (path == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no file name");
+  arch_data d;
+  vs_status st = arch_data_of(a, &d, err);
+  if (st != VS_OK) return st;
   return vs_plot_emit(path, fmt, d.f.width, d.f.height, draw_arch, &d, err);
 }
 
-vs_status vs_plot_arch_landed(const char *path, vs_plot_format fmt, const vs_geometry *g,
-                              const double *q, double delta_m, double alpha_rad,
-                              const vs_hinge *hinges, int n_hinges, const double *joint_gap_i,
-                              const double *joint_gap_e, double open_m, const double *joint_N,
-                              const double *joint_M, double ground_z, const char *title,
-                              vs_error *err) {
-  const vs_plot_arch_args a = {.g = g, .q = q, .delta_m = delta_m, .alpha_rad = alpha_rad,
-                               .hinges = hinges, .n_hinges = n_hinges, .joint_gap_i = joint_gap_i,
-                               .joint_gap_e = joint_gap_e, .open_m = open_m, .joint_N = joint_N,
-                               .joint_M = joint_M, .title = title,
-                               .has_ground = !isnan(ground_z), .ground_z = ground_z};
-  return vs_plot_arch_draw(path, fmt, &a, err);
+vs_status vs_plot_arch_frame(const vs_plot_arch_args *a, vs_plot_frame *f, vs_error *err) {
+  arch_data d;
+  vs_status st = arch_data_of(a, &d, err);
+  if (st == VS_OK) *f = d.f;
+  return st;
+}
+
+vs_status vs_plot_thrust_points(const vs_plot_arch_args *a, double *x, double *z,
+                                vs_error *err) {
+  arch_data d;
+  vs_status st = arch_data_of(a, &d, err);
+  if (st != VS_OK) return st;
+  if (a->joint_N == NULL || a->joint_M == NULL || x == NULL || z == NULL)
+    return vs_error_set(err, VS_ERR_INVALID, "plot: thrust points need N, M, x and z");
+  for (int k = 0; k < d.g->n_joints; k++)
+    if (!thrust_point(&d, k, &x[k], &z[k])) x[k] = z[k] = NAN;
+  return VS_OK;
 }

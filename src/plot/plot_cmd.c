@@ -81,10 +81,9 @@ static void springer_rotations(const vs_plotrec *r, const state *st, vs_plot_arc
   }
 }
 
-static int draw_state(vs_plotrec *r, const state *st, const char *dir, const char *name,
-                      const char *ext, const char *title) {
-  vs_hinge h[32];
-  const int nh = vs_plotrec_hinges_at(r, st->hinge_row, st->delta, st->kind, st->focus, h, 32);
+/* The picture of state st with the hinges h[0..nh) labelled. */
+static int draw_labelled(vs_plotrec *r, const state *st, const char *dir, const char *name,
+                         const char *ext, const char *title, const vs_hinge *h, int nh) {
   char path[1200];
   snprintf(path, sizeof path, "%s/arch_%s.%s", dir, name, ext);
   vs_error err;
@@ -116,6 +115,19 @@ static int draw_state(vs_plotrec *r, const state *st, const char *dir, const cha
   json_arch(r, path, title, st, &a, h, nh);
   printf("  %s\n", path);
   return 0;
+}
+
+/* The picture of state st with the hinges it labels (every one: vs_plotrec_hinges_at). */
+static int draw_state(vs_plotrec *r, const state *st, const char *dir, const char *name,
+                      const char *ext, const char *title) {
+  vs_hinge *h = malloc((size_t)(r->nh > 0 ? r->nh : 1) * sizeof *h);
+  const int nh =
+      h != NULL ? vs_plotrec_hinges_at(r, st->hinge_row, st->delta, st->kind, st->focus, h) : -1;
+  int rc = -1;
+  if (nh < 0) fputs("voussoir plot: out of memory\n", stderr);
+  else rc = draw_labelled(r, st, dir, name, ext, title, h, nh);
+  free(h);
+  return rc;
 }
 
 static int draw_row(vs_plotrec *r, int row, const char *dir, const char *name, const char *ext,
@@ -169,18 +181,19 @@ static int draw_curves(vs_plotrec *r, const char *dir, const char *ext) {
   const size_t n = (size_t)r->rows;
   double *reac = malloc(4 * n * sizeof(double)), *joint[5];
   vs_plot_series hs[5];
-  int ns = 0, rc = 0;
+  int ns = 0, rc = 0, oom = 0;
   static const int COL[4] = {0, 1, 3,
                              4}; /* left Fx, Fz, right Fx, Fz of the supports on the arch */
   for (size_t i = 0; reac && i < n; i++)
     for (int c = 0; c < 4; c++) reac[(size_t)c * n + i] = r->react[6 * i + (size_t)COL[c]];
+  vs_hinge *h = malloc((size_t)(r->nh > 0 ? r->nh : 1) * sizeof *h); /* every one it labels */
   for (int l = 0; l < 5; l++) {
-    joint[l] = malloc(n * sizeof(double));
+    joint[l] = h != NULL ? malloc(n * sizeof(double)) : NULL;
     if (joint[l] == NULL) continue;
     int any = 0;
     for (size_t i = 0; i < n; i++) {
-      vs_hinge h[32];
-      const int nh = vs_plotrec_hinges_at(r, (int)i, r->delta[i], PIC_ROW, -1, h, 32);
+      const int nh = vs_plotrec_hinges_at(r, (int)i, r->delta[i], PIC_ROW, -1, h);
+      oom |= nh < 0;
       joint[l][i] = NAN;
       for (int k = 0; k < nh; k++)
         if (h[k].label == 'A' + l) {
@@ -214,11 +227,12 @@ static int draw_curves(vs_plotrec *r, const char *dir, const char *ext) {
   snprintf(path, sizeof path, "%s/curves.%s", dir, ext);
   vs_error err;
   vs_error_clear(&err);
-  if (reac == NULL ||
+  oom |= reac == NULL || h == NULL;
+  if (oom ||
       vs_plot_curves_marked(path, vs_plot_format_from_path(path),
                             "Reactions and hinges against the support displacement", &x, r->delta,
                             (int)n, panels, ns > 0 ? 2 : 1, &marks, &err) != VS_OK) {
-    fprintf(stderr, "voussoir plot: %s\n", reac ? err.msg : "out of memory");
+    fprintf(stderr, "voussoir plot: %s\n", oom ? "out of memory" : err.msg);
     rc = -1;
   } else {
     json_picture(r, path, "Reactions and hinges against the support displacement");
@@ -236,6 +250,7 @@ static int draw_curves(vs_plotrec *r, const char *dir, const char *ext) {
     printf("  %s\n", path);
   }
   free(reac);
+  free(h);
   for (int l = 0; l < 5; l++) free(joint[l]);
   return rc;
 }

@@ -59,9 +59,11 @@ int vs_plotrec_open(const char *path, vs_plotrec *r);
 void vs_plotrec_free(vs_plotrec *r);
 /* First row at or after delta (the last row if none). */
 int vs_plotrec_row_at(const vs_plotrec *r, double delta);
-/* The hinges a picture of row `row` at delta labels (see plot_record.c), at most cap: the count. */
+/* The hinges a picture of row `row` at delta labels (see plot_record.c) into out, which has room
+ * for r->nh (each recorded hinge is labelled once at most): their count, or -1 when out of
+ * memory. */
 int vs_plotrec_hinges_at(const vs_plotrec *r, int row, double delta, pic_kind kind, int focus,
-                         vs_hinge *out, int cap);
+                         vs_hinge *out);
 /* The recorded state of row `row`, labelled as PIC_ROW. */
 state vs_plotrec_state(const vs_plotrec *r, int row);
 

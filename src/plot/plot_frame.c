@@ -140,13 +140,3 @@ void vs_plot_frame_of(const vs_geometry *g, const double *q, const double *thick
   f->x0 = ARCH_SIDE + 0.5 * (aw - f->scale * bw) - f->scale * b.x0;
   f->y0 = ARCH_TOP + 0.5 * (ah - f->scale * bh) + f->scale * b.z1;
 }
-
-vs_status vs_plot_arch_frame(const vs_geometry *g, const double *q, double delta_m,
-                             double alpha_rad, vs_plot_frame *f, vs_error *err) {
-  vs_status st = vs_plot_check_arch(g, q, delta_m, alpha_rad, err);
-  if (st != VS_OK) return st;
-  double su[2];
-  vs_support_displacement(vs_support_direction(alpha_rad), delta_m, su);
-  vs_plot_frame_of(g, q, NULL, su, NAN, f);
-  return VS_OK;
-}

@@ -263,27 +263,12 @@ static int hinge_dist(const rec_hinge *rh, int a, int b) {
   return abs(c - m) < abs(c0 - m) ? abs(c - m) : abs(c0 - m);
 }
 
-/* The labelled hinges of a picture of the state at support displacement delta whose open joints
- * are those of row `row`, every label one of /summary/hinges and none twice: PIC_COLLAPSE takes
- * them from the vs_plotrec; otherwise each group of consecutive open joints on one side is paired
- * with the nearest same-side recorded hinge formed by delta (within 6 joints of where it formed
- * or of where it was at the collapse), nearest pairs first; groups left unpaired are not labelled.
- * Hinges of the fall are not named (the end of a fall to rest opens dozens: they are in
- * /summary/hinges and /events); their open joints are shaded. */
-int vs_plotrec_hinges_at(const vs_plotrec *r, int row, double delta, pic_kind kind, int focus,
-                         vs_hinge *out, int cap) {
-  int n = 0;
-  if (kind == PIC_COLLAPSE) {
-    for (int i = 0; i < r->nh && n < cap; i++)
-      if (!r->h[i].during_fall && r->h[i].open)
-        out[n++] = hinge_of(&r->h[i], r->h[i].first, r->h[i].last);
-    return n;
-  }
-  if (kind == PIC_ONSET && n < cap)
-    out[n++] = hinge_of(&r->h[focus], r->h[focus].onset_first, r->h[focus].onset_last);
-  const signed char *hj = r->hinge + (size_t)row * (size_t)r->nj;
-  int ga[64], gb[64], ng = 0;
-  for (int k = 0; k < r->nj && ng < 64;) {
+/* The groups of consecutive joints of row hj open on one side, [ga[g], gb[g]] (1-based), all of
+ * them but the forming hinge's (PIC_ONSET, focus); their number. */
+static int open_groups(const vs_plotrec *r, const signed char *hj, pic_kind kind, int focus,
+                       int *ga, int *gb) {
+  int ng = 0;
+  for (int k = 0; k < r->nj;) {
     int e = k;
     while (hj[k] != 0 && e + 1 < r->nj && hj[e + 1] == hj[k]) e++;
     if (hj[k] != 0) {
@@ -294,11 +279,42 @@ int vs_plotrec_hinges_at(const vs_plotrec *r, int row, double delta, pic_kind ki
     }
     k = e + 1;
   }
-  int used_h[64] = {0}, used_g[64] = {0};
+  return ng;
+}
+
+/* The labelled hinges of a picture of the state at support displacement delta whose open joints
+ * are those of row `row`, every label one of /summary/hinges and none twice: PIC_COLLAPSE takes
+ * them from the vs_plotrec; otherwise each group of consecutive open joints on one side is paired
+ * with the nearest same-side recorded hinge formed by delta (within 6 joints of where it formed
+ * or of where it was at the collapse), nearest pairs first; groups left unpaired are not labelled.
+ * Hinges of the fall are not named (the end of a fall to rest opens dozens: they are in
+ * /summary/hinges and /events); their open joints are shaded. Every group and every recorded
+ * hinge is considered, however many. */
+int vs_plotrec_hinges_at(const vs_plotrec *r, int row, double delta, pic_kind kind, int focus,
+                         vs_hinge *out) {
+  int n = 0;
+  if (kind == PIC_COLLAPSE) {
+    for (int i = 0; i < r->nh; i++)
+      if (!r->h[i].during_fall && r->h[i].open)
+        out[n++] = hinge_of(&r->h[i], r->h[i].first, r->h[i].last);
+    return n;
+  }
+  if (kind == PIC_ONSET)
+    out[n++] = hinge_of(&r->h[focus], r->h[focus].onset_first, r->h[focus].onset_last);
+  const signed char *hj = r->hinge + (size_t)row * (size_t)r->nj;
+  int *ga = malloc(2 * (size_t)r->nj * sizeof *ga);
+  unsigned char *used_g = calloc((size_t)r->nj + (size_t)r->nh, 1), *used_h = used_g + r->nj;
+  if (ga == NULL || used_g == NULL) {
+    free(ga);
+    free(used_g);
+    return -1;
+  }
+  int *gb = ga + r->nj;
+  const int ng = open_groups(r, hj, kind, focus, ga, gb);
   for (;;) { /* nearest pair first */
     int bi = -1, bg = -1, bd = 7;
     for (int g = 0; g < ng; g++)
-      for (int i = 0; i < r->nh && i < 64; i++) {
+      for (int i = 0; i < r->nh; i++) {
         const rec_hinge *rh = &r->h[i];
         const char side = hj[ga[g] - 1] == 1 ? 'I' : 'E';
         if (used_g[g] || used_h[i] || i == focus || rh->side != side ||
@@ -307,10 +323,12 @@ int vs_plotrec_hinges_at(const vs_plotrec *r, int row, double delta, pic_kind ki
         const int d = hinge_dist(rh, ga[g], gb[g]);
         if (d < bd) bd = d, bi = i, bg = g;
       }
-    if (bi < 0 || n >= cap) break;
+    if (bi < 0) break;
     used_h[bi] = used_g[bg] = 1;
     out[n++] = hinge_of(&r->h[bi], ga[bg], gb[bg]);
   }
+  free(ga);
+  free(used_g);
   return n;
 }
 

@@ -256,7 +256,7 @@ static void status_text(const vs_output *o, vs_status run_status, const vs_error
     snprintf(buf, size, "failed: interrupted");
   else if (o->err.status != VS_OK)
     snprintf(buf, size, "failed: %s", o->err.msg);
-  else if (run_status == VS_ERR_WALL_TIME) /* "stopped: wall-time limit S s reached" */
+  else if (run_status == VS_ERR_WALL_TIME || run_status == VS_ERR_STOPPED) /* "stopped..." */
     snprintf(buf, size, "%s", run_err != NULL && run_err->msg[0] ? run_err->msg
                                                                   : vs_strerror(run_status));
   else if (run_status != VS_OK)

@@ -20,21 +20,23 @@
  * ranges; the NaN is the record's /xdmf/nan, written once, which the padding refers to);
  * Xdmf3ReaderT keeps the grids as named blocks and reads the same file. */
 enum { F_THETA, F_UX, F_UZ, F_SPEED, F_N, F_T, F_M, F_GAPI, F_GAPE, F_HINGE, F_FX, F_FZ, F_COUNT };
-static const char *const XDMF_FIELDS[F_COUNT] = {
+static const char *const XDMF_FIELDS[] = {
     "theta_rad", "ux_m",  "uz_m",    "speed_m_s", "N_N",
     "T_N",       "M_N_m", "gap_i_m", "gap_e_m",   "hinge_0closed_1intrados_2extrados",
     "Fx_N",      "Fz_N"};
+_Static_assert(sizeof XDMF_FIELDS / sizeof XDMF_FIELDS[0] == F_COUNT, "a name for every field");
 #define F_BIT(f) (1u << (f))
 #define F_ALL ((1u << F_COUNT) - 1u)
 
 /* The fields each grid carries itself; the rest it carries as NaN. */
-static const unsigned GRID_OWN[G_COUNT] = {
+static const unsigned GRID_OWN[] = {
     F_BIT(F_THETA) | F_BIT(F_UX) | F_BIT(F_UZ) | F_BIT(F_SPEED),
     F_BIT(F_N) | F_BIT(F_T) | F_BIT(F_M) | F_BIT(F_GAPI) | F_BIT(F_GAPE) | F_BIT(F_HINGE),
     F_BIT(F_FX) | F_BIT(F_FZ) | F_BIT(F_M),
     F_BIT(F_FX) | F_BIT(F_FZ) | F_BIT(F_M) | F_BIT(F_UX) | F_BIT(F_UZ),
     0u, /* the ground */
 };
+_Static_assert(sizeof GRID_OWN / sizeof GRID_OWN[0] == G_COUNT, "the fields of every grid");
 
 /* What every row shares is written once, before the rows, as children of the Domain (which
  * ParaView's XDMF 3 library leaves aside unless they are grids) named by xml:id, and each row
@@ -50,9 +52,13 @@ static const unsigned GRID_OWN[G_COUNT] = {
  * Reference="XML" items at all). Measured on the reference run (414 states): 6.4 MB of XML
  * with every grid spelling its items out, 2.0 MB this way. */
 enum { PAD_BLOCKS, PAD_JOINTS, PAD_ONE, PAD_COUNT };
-static const char PAD_PREFIX[PAD_COUNT] = {'b', 'j', 's'};
-static const int GRID_PAD[G_COUNT] = {PAD_BLOCKS, PAD_JOINTS, PAD_ONE, PAD_ONE, PAD_ONE};
-static const char *const GRID_TOPOLOGY[G_COUNT] = {"tb", "tj", "t1", "t1", "t1"};
+static const char PAD_PREFIX[] = {'b', 'j', 's'};
+static const int GRID_PAD[] = {PAD_BLOCKS, PAD_JOINTS, PAD_ONE, PAD_ONE, PAD_ONE};
+static const char *const GRID_TOPOLOGY[] = {"tb", "tj", "t1", "t1", "t1"};
+_Static_assert(sizeof PAD_PREFIX == PAD_COUNT, "a prefix for every padding");
+_Static_assert(sizeof GRID_PAD / sizeof GRID_PAD[0] == G_COUNT &&
+                   sizeof GRID_TOPOLOGY / sizeof GRID_TOPOLOGY[0] == G_COUNT,
+               "a padding and a topology for every grid");
 
 /* The record's file name as the sidecar's text: XML's five markup characters as entities (a
  * name checked by vs_xdmf_name_check holds nothing XML cannot). malloc'd, NULL when out of

@@ -16,22 +16,25 @@
 #include "xdmf_internal.h"
 
 /* X_BPTS, the blocks' moved outlines, is found by xdmf_outline_source. */
-static const char *const XDMF_PATHS[X_COUNT] = {NULL,
-                                                "/geometry/block_connectivity",
-                                                "/observables/joint_points/value",
-                                                "/geometry/joint_connectivity",
-                                                "/observables/delta/time",
-                                                "/observables/block_position/value",
-                                                "/observables/block_speed/value",
-                                                "/observables/joint_N/value",
-                                                "/observables/joint_T/value",
-                                                "/observables/joint_M/value",
-                                                "/observables/joint_gap_i/value",
-                                                "/observables/joint_gap_e/value",
-                                                "/observables/joint_hinge/value",
-                                                "/observables/reactions/value",
-                                                "/observables/support_displacement/value"};
-static const int XDMF_RANKS[X_COUNT] = {3, 2, 3, 2, 1, 3, 2, 2, 2, 2, 2, 2, 2, 2, 2};
+static const char *const XDMF_PATHS[] = {NULL,
+                                         "/geometry/block_connectivity",
+                                         "/observables/joint_points/value",
+                                         "/geometry/joint_connectivity",
+                                         "/observables/delta/time",
+                                         "/observables/block_position/value",
+                                         "/observables/block_speed/value",
+                                         "/observables/joint_N/value",
+                                         "/observables/joint_T/value",
+                                         "/observables/joint_M/value",
+                                         "/observables/joint_gap_i/value",
+                                         "/observables/joint_gap_e/value",
+                                         "/observables/joint_hinge/value",
+                                         "/observables/reactions/value",
+                                         "/observables/support_displacement/value"};
+static const int XDMF_RANKS[] = {3, 2, 3, 2, 1, 3, 2, 2, 2, 2, 2, 2, 2, 2, 2};
+_Static_assert(sizeof XDMF_PATHS / sizeof XDMF_PATHS[0] == X_COUNT &&
+                   sizeof XDMF_RANKS / sizeof XDMF_RANKS[0] == X_COUNT,
+               "a path and a rank for every dataset the sidecar refers to");
 
 /* The dimensions of the dataset at path into dims: 0, or -1 if it is missing or not of rank
  * `rank`. */

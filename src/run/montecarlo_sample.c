@@ -20,8 +20,9 @@ static void fill_hinges(const vs_run *r, vs_mc_sample *o) {
     o->hinge_joint[l] = (h->first + h->last) / 2;
     o->hinge_side[l] = h->side;
   }
-  const char *pat = vs_run_pattern_collapse(r), *mode = vs_run_mode(r);
-  snprintf(o->pattern, sizeof o->pattern, "%s", pat != NULL ? pat : "");
+  /* as vs_run_pattern_collapse, cut visibly (a trailing '-') when too long for the field */
+  vs_hinges_side_pattern(cr->hinges, cr->n_hinges, o->pattern, sizeof o->pattern);
+  const char *mode = vs_run_mode(r);
   o->mode = mode == NULL ? 0 : strcmp(mode, "I") == 0 ? 1 : strcmp(mode, "II") == 0 ? 2
                                                         : strcmp(mode, "III") == 0 ? 3 : 0;
 }

@@ -18,8 +18,17 @@ static void components_pct(const vs_case *c, double delta_m, double *dz, double 
   *dx = 100.0 * d * sd.dx / L;
 }
 
+/* The supports' kinds as the case file names them (support.left_kind), by vs_support_kind. */
+static const char *const SUPPORT_KINDS[] = {"fixed", "pinned"};
+_Static_assert(sizeof SUPPORT_KINDS / sizeof SUPPORT_KINDS[0] == VS_SUPPORT_KIND_COUNT,
+               "a name for every vs_support_kind");
+
+static const char *support_kind(int kind) {
+  return kind >= 0 && kind < VS_SUPPORT_KIND_COUNT ? SUPPORT_KINDS[kind] : "?";
+}
+
 static const char *end_name(const vs_run *r, vs_status st) {
-  if (st == VS_ERR_WALL_TIME) return "stopped";
+  if (st == VS_ERR_WALL_TIME || st == VS_ERR_STOPPED) return "stopped";
   if (st != VS_OK) return "failed";
   if (vs_run_collapse(r)->found) return "collapse";
   if (!vs_run_case(r)->follow && !vs_run_case(r)->full && vs_run_limit_count(r) > 0)
@@ -40,23 +49,20 @@ static void jnum(FILE *out, const char *sep_key, double x, int digits) {
   else fputs("null", out);
 }
 
-static void json_hinges(FILE *out, const vs_run *r, const vs_hinge *h, int n, int with_onset) {
+/* One hinge of a list (first: the list's first), its joints at onset too when with_onset. */
+static void json_hinge(FILE *out, const vs_run *r, const vs_hinge *h, int first, int with_onset) {
   const double rate = vs_run_case(r)->rate_mm_s * VS_MM;
-  fputc('[', out);
-  for (int i = 0; i < n; i++) {
-    fprintf(out, "%s{\"label\":\"%c\",\"side\":\"%c\",\"joints\":[", i ? "," : "", h[i].label,
-            h[i].side);
-    for (int j = h[i].first; j <= h[i].last; j++) fprintf(out, "%s%d", j > h[i].first ? "," : "", j);
-    if (with_onset) {
-      fputs("],\"joints_onset\":[", out);
-      for (int j = h[i].onset_first; j <= h[i].onset_last; j++)
-        fprintf(out, "%s%d", j > h[i].onset_first ? "," : "", j);
-    }
-    jnum(out, "],\"delta_onset_mm\":", h[i].delta_onset / VS_MM, 10);
-    jnum(out, ",\"time_onset_s\":", h[i].delta_onset / rate, 10);
-    fprintf(out, ",\"open\":%s,\"order\":%d}", h[i].open ? "true" : "false", h[i].order);
+  fprintf(out, "%s{\"label\":\"%c\",\"side\":\"%c\",\"joints\":[", first ? "" : ",", h->label,
+          h->side);
+  for (int j = h->first; j <= h->last; j++) fprintf(out, "%s%d", j > h->first ? "," : "", j);
+  if (with_onset) {
+    fputs("],\"joints_onset\":[", out);
+    for (int j = h->onset_first; j <= h->onset_last; j++)
+      fprintf(out, "%s%d", j > h->onset_first ? "," : "", j);
   }
-  fputc(']', out);
+  jnum(out, "],\"delta_onset_mm\":", h->delta_onset / VS_MM, 10);
+  jnum(out, ",\"time_onset_s\":", h->delta_onset / rate, 10);
+  fprintf(out, ",\"open\":%s,\"order\":%d}", h->open ? "true" : "false", h->order);
 }
 
 static void json_first_limit(FILE *out, const vs_run *r) {
@@ -109,9 +115,9 @@ static void json_collapse(FILE *out, const vs_run *r) {
   jnum(out, ",\"delta_onset_mm\":", col->t_onset * vs_run_case(r)->rate_mm_s, 10);
   fputs(",\"reactions_at_limit\":", out);
   json_reactions(out, col->reactions_limit);
-  fputs(",\"hinges\":", out);
-  json_hinges(out, r, col->hinges, col->n_hinges, 0);
-  fputc('}', out);
+  fputs(",\"hinges\":[", out);
+  for (int i = 0; i < col->n_hinges; i++) json_hinge(out, r, &col->hinges[i], i == 0, 0);
+  fputs("]}", out);
 }
 
 static void json_limits(FILE *out, const vs_run *r) {
@@ -254,8 +260,8 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   jnum(out, ",\"span_mm\":", vs_case_span_mm(c), 17);
   fprintf(out, ",\"mode_of_run\":\"%s\"",
           c->full ? "dynamic" : c->follow ? "quasistatic+dynamic" : "quasistatic");
-  fprintf(out, ",\"supports\":{\"left\":\"%s\",\"right\":\"%s\"}",
-          c->left_kind ? "pinned" : "fixed", c->right_kind ? "pinned" : "fixed");
+  fprintf(out, ",\"supports\":{\"left\":\"%s\",\"right\":\"%s\"}", support_kind(c->left_kind),
+          support_kind(c->right_kind));
   fputs(",\"first_limit\":", out);
   json_first_limit(out, r);
   fputs(",\"collapse\":", out);
@@ -274,11 +280,9 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   jnum(out, ",\"last_time_s\":", vs_run_time(r), 10);
   fputs(",\"reactions_last\":", out);
   json_reactions(out, vs_run_reactions(r));
-  fputs(",\"hinges\":", out);
-  vs_hinge all[64];
-  int n = 0;
-  for (int i = 0; i < vs_run_hinge_count(r) && n < 64; i++) all[n++] = *vs_run_hinge(r, i);
-  json_hinges(out, r, all, n, 1);
+  fputs(",\"hinges\":[", out); /* every one, however many */
+  for (int i = 0; i < vs_run_hinge_count(r); i++) json_hinge(out, r, vs_run_hinge(r, i), i == 0, 1);
+  fputc(']', out);
   fprintf(out, ",\"hinges_in_fall\":%d", vs_hinges_count(h) - vs_run_hinge_count(r));
   json_damping(out, r);
   json_tail(out, r);
@@ -297,12 +301,11 @@ static void text_header(FILE *out, const vs_run *r, const char *case_path) {
           g->span / VS_MM, g->rise / VS_MM, vs_geometry_weight(g));
   fprintf(out, "joints   k_n = %g N/mm^3, k_s = %g k_n, mu = %g\n", c->kn_N_mm3, c->ks_ratio,
           c->friction);
-  static const char *const kind[] = {"fixed", "pinned"};
   fprintf(out, "support  right support moved at alpha = %g deg from the vertical, %g mm/s (left %s",
-          c->alpha_deg, c->rate_mm_s, kind[c->left_kind != 0]);
-  if (c->left_kind != 0 || c->right_kind != 0)
+          c->alpha_deg, c->rate_mm_s, support_kind(c->left_kind));
+  if (c->left_kind != VS_SUPPORT_FIXED || c->right_kind != VS_SUPPORT_FIXED)
     fprintf(out, ", right %s;\n         pinned: free to rotate about the centre of its springing face",
-            kind[c->right_kind != 0]);
+            support_kind(c->right_kind));
   fprintf(out, ")\n");
   fprintf(out,
           "criteria hinge: edge opening > %g mm, migration within %d joints;\n"
@@ -467,7 +470,8 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
   text_first_limit(out, r);
   text_limits(out, r);
   text_collapse(out, r, status);
-  if (status == VS_ERR_WALL_TIME) /* not a failure: the results so far stand, as far as they go */
+  /* a stop is not a failure: the results so far stand, as far as they go */
+  if (status == VS_ERR_WALL_TIME || status == VS_ERR_STOPPED)
     fprintf(out, "\n%s at delta = %.4f mm, t = %.6g s (the results above are the run's so far)\n",
             err != NULL ? err->msg : vs_strerror(status), vs_run_delta(r) / VS_MM, vs_run_time(r));
   else if (status != VS_OK)

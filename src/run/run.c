@@ -163,6 +163,9 @@ void vs_run_destroy(vs_run **r) {
   free(p->js);
   free(p->limits);
   free(p->events);
+  free(p->onset);
+  free(p->onset_all);
+  free(p->pattern_u);
   vs_modal_free(&p->modal);
   vs_dynamic_destroy(&p->dyn);
   vs_path_solver_destroy(&p->ps);
@@ -283,11 +286,14 @@ static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
     r->delta = d.delta_end;
     if (st != VS_OK) break;
     if (d.end == VS_DYN_COLLAPSED) {
-      vs_run_record_collapse(r, &d);
+      if (vs_run_record_collapse(r, &d) != 0) {
+        st = vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
+        break;
+      }
       if (r->n_limits > 0) r->limits[r->n_limits - 1].collapse = 1;
       st = vs_run_log_event(r, VS_EVENT_COLLAPSE, d.t_collapse, d.t_collapse * r->dopts.rate, 0,
                             0, 0, 0)
-               ? vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller")
+               ? vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller")
                : VS_OK;
       if (st == VS_OK && r->fall != NULL) st = fall_phase(r, &d, err);
       break;
@@ -321,6 +327,13 @@ static vs_status wall_time_stop(const vs_run *r, vs_status st, vs_error *err) {
   if (st != VS_ERR_INTERRUPTED || flagged || !vs_deadline_passed(&r->deadline)) return st;
   return vs_error_set(err, VS_ERR_WALL_TIME, "stopped: wall-time limit %g s reached",
                       r->def.max_wall_s);
+}
+
+/* A solver stopped by the run's callbacks (VS_ERR_STOPPED) that stopped because they ran out
+ * of memory, not because the caller asked to: said so. */
+static vs_status nomem_stop(const vs_run *r, vs_status st, vs_error *err) {
+  if (st != VS_ERR_STOPPED || !r->nomem) return st;
+  return vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
 }
 
 vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn event, void *user,
@@ -371,7 +384,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
       r->t = r->delta / r->dopts.rate;
       vs_model_support_reactions(r->m, r->q, r->delta, r->react_eq);
       if (vs_run_add_limit(r, p.delta_limit) != 0) {
-        st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+        st = vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
         break;
       }
       if (!r->def.dynamic.follow) break;
@@ -383,7 +396,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
   if (!r->collapse.found) vs_run_name_first(r, vs_hinges_count(r->h));
   vs_run_classify(r);
   r->wall_s = vs_wall_now() - t0;
-  return wall_time_stop(r, st, err);
+  return wall_time_stop(r, nomem_stop(r, st, err), err);
 }
 
 const vs_case *vs_run_case(const vs_run *r) { return r->have_case ? &r->c : NULL; }
@@ -415,7 +428,9 @@ int vs_run_hinge_count(const vs_run *r) {
   return r->collapse.found ? r->hinges_at_onset : vs_hinges_count(r->h);
 }
 const char *vs_run_pattern_initial(const vs_run *r) { return r->pattern0; }
-const char *vs_run_pattern_collapse(const vs_run *r) { return r->pattern_u; }
+const char *vs_run_pattern_collapse(const vs_run *r) {
+  return r->collapse.found && r->pattern_u != NULL ? r->pattern_u : "";
+}
 const double *vs_run_state(const vs_run *r) { return r->q; }
 double vs_run_delta(const vs_run *r) { return r->delta; }
 double vs_run_time(const vs_run *r) { return r->t; }

@@ -44,18 +44,23 @@ struct vs_run {
   vs_run_event *events;
   int n_events, cap_events;
   vs_collapse_record collapse;
-  vs_hinge onset[8];     /* open hinges early in the current motion (collapse candidates) */
+  vs_hinge *onset;     /* open hinges early in the current motion (collapse candidates); at the
+                          collapse, left to right, the collapse record's */
   int n_onset, onset_taken, frozen;
-  int hinges_at_onset; /* hinges formed up to the snapshot of the collapse's onset */
-  vs_hinge onset_all[64]; /* all of them as they were then (joints, open) */
+  int hinges_at_onset; /* hinges formed up to the snapshot of the collapse's onset ... */
+  vs_hinge *onset_all; /* ... all of them as they were then (joints, open) */
+  int cap_onset;       /* entries of onset and onset_all */
   int pending_snap;    /* limit record waiting for the equilibrium its snap settled in, or -1 */
   const vs_path_result *live_path; /* the segment or phase under way (its counters so far) */
   const vs_dyn_result *live_dyn;
-  char pattern0[16], pattern_u[16];
+  char pattern0[16];
+  char *pattern_u; /* the sides at the collapse (2 collapse.n_hinges bytes; NULL: none) */
   const char *mode;
   vs_run_sample_fn sample_fn;
   vs_run_event_fn event_fn;
   void *user;
+  int nomem; /* a callback ran out of memory logging what it saw: the solver it stopped says
+                VS_ERR_STOPPED, the run VS_ERR_NOMEM */
   /* --- damping (damping.h, modal.h): modes under self-weight, set at the first equilibrium --- */
   vs_modal modal;
   double ray_alpha, ray_beta;
@@ -66,7 +71,7 @@ struct vs_run {
 
 /* run_sample.c */
 /* Log an event of the run (phase: the current one) and hand it to the caller's event function.
- * Returns non-zero when out of memory or when the caller asks to stop. */
+ * Returns non-zero when out of memory (r->nomem set) or when the caller asks to stop. */
 int vs_run_log_event(vs_run *r, vs_event_kind kind, double t, double delta, int joint, char side,
                      char label, int order);
 /* Record a limit point at delta (the hinges open before it) and log its event; as
@@ -85,8 +90,9 @@ int vs_run_on_dyn_event(void *user, const vs_dyn_event *ev, const double *q);
 int vs_run_on_fall_sample(void *user, double t, double delta, const double *q, const double *v,
                           const vs_energy *e);
 /* The collapse of the IDA phase d into r->collapse: its times, the departure, the hinges of the
- * mechanism (frozen at the criterion), the reactions at the limit point. */
-void vs_run_record_collapse(vs_run *r, const vs_dyn_result *d);
+ * mechanism (frozen at the criterion), the reactions at the limit point. 0, or -1 when out of
+ * memory (r->nomem set). */
+int vs_run_record_collapse(vs_run *r, const vs_dyn_result *d);
 /* The run's initial hinge pattern, the pattern at the collapse and the mode they make. */
 void vs_run_classify(vs_run *r);
 

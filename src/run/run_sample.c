@@ -13,12 +13,18 @@
 
 /* --- records --- */
 
+/* A callback's allocation failed: its solver stops, and the run says why (r->nomem). */
+static int out_of_memory(vs_run *r) {
+  r->nomem = 1;
+  return -1;
+}
+
 int vs_run_log_event(vs_run *r, vs_event_kind kind, double t, double delta, int joint, char side,
                      char label, int order) {
   if (r->n_events == r->cap_events) {
     int cap = r->cap_events ? 2 * r->cap_events : 64;
     vs_run_event *e = realloc(r->events, (size_t)cap * sizeof *e);
-    if (e == NULL) return -1;
+    if (e == NULL) return out_of_memory(r);
     r->events = e;
     r->cap_events = cap;
   }
@@ -29,25 +35,14 @@ int vs_run_log_event(vs_run *r, vs_event_kind kind, double t, double delta, int 
 }
 
 void vs_run_open_hinges(const vs_run *r, char *buf, size_t size) {
-  size_t used = 0;
-  if (size == 0) return;
-  buf[0] = '\0';
-  for (int i = 0; i < vs_hinges_count(r->h); i++) {
-    const vs_hinge *hg = vs_hinges_get(r->h, i);
-    if (!hg->open) continue;
-    char name[96];
-    vs_hinge_name(hg, 0, name, sizeof name);
-    int n = snprintf(buf + used, size - used, "%s%c:%s", used ? " " : "", hg->label, name);
-    if (n < 0 || (size_t)n >= size - used) return;
-    used += (size_t)n;
-  }
+  vs_hinges_list(vs_hinges_get(r->h, 0), vs_hinges_count(r->h), 1, buf, size);
 }
 
 int vs_run_add_limit(vs_run *r, double delta) {
   if (r->n_limits == r->cap_limits) {
     int cap = r->cap_limits ? 2 * r->cap_limits : 8;
     vs_limit_record *l = realloc(r->limits, (size_t)cap * sizeof *l);
-    if (l == NULL) return -1;
+    if (l == NULL) return out_of_memory(r);
     r->limits = l;
     r->cap_limits = cap;
   }
@@ -83,7 +78,7 @@ static int track_hinges(vs_run *r, double delta, const double *q, const vs_joint
   const int before = vs_hinges_count(r->h);
   if (js != NULL) memcpy(r->js, js, (size_t)r->g->n_joints * sizeof *js);
   else vs_model_joint_states(r->m, q, delta, r->js);
-  vs_hinges_update(r->h, delta, r->js);
+  if (vs_hinges_update(r->h, delta, r->js) < 0) return out_of_memory(r);
   for (int i = before; i < vs_hinges_count(r->h); i++) {
     const vs_hinge *hg = vs_hinges_get(r->h, i);
     /* at its interpolated onset: delta = rate t holds for every event */
@@ -163,21 +158,35 @@ int vs_run_on_equilibrium(void *user, double delta, const double *q, const vs_mo
  * everywhere. */
 static const double VS_ONSET_FRACTION = 0.01;
 
-static void snapshot_onset(vs_run *r) {
+/* Every hinge formed so far, and the open ones, as they are now: nothing is left out, however
+ * many (a long deformable arch can open many). 0, or -1 when out of memory. */
+static int snapshot_onset(vs_run *r) {
+  const int n = vs_hinges_count(r->h);
+  if (n > r->cap_onset) {
+    vs_hinge *o = realloc(r->onset, (size_t)n * sizeof *o);
+    if (o != NULL) r->onset = o;
+    vs_hinge *a = o != NULL ? realloc(r->onset_all, (size_t)n * sizeof *a) : NULL;
+    if (a == NULL) return out_of_memory(r);
+    r->onset_all = a;
+    r->cap_onset = n;
+  }
   r->n_onset = 0;
-  r->hinges_at_onset = vs_hinges_count(r->h);
-  if (r->hinges_at_onset > 64) r->hinges_at_onset = 64;
-  for (int i = 0; i < r->hinges_at_onset; i++) r->onset_all[i] = *vs_hinges_get(r->h, i);
-  for (int i = 0; i < vs_hinges_count(r->h) && r->n_onset < 8; i++)
-    if (vs_hinges_get(r->h, i)->open) r->onset[r->n_onset++] = *vs_hinges_get(r->h, i);
+  r->hinges_at_onset = n;
+  for (int i = 0; i < n; i++) {
+    r->onset_all[i] = *vs_hinges_get(r->h, i);
+    if (r->onset_all[i].open) r->onset[r->n_onset++] = r->onset_all[i];
+  }
+  return 0;
 }
 
 /* The mechanism is taken at the collapse criterion (the first three hinges, the onset snapshot):
- * the hinges of the fall after it never change the reported mode or hinges. */
-static void freeze_mechanism(vs_run *r) {
-  if (!r->onset_taken) snapshot_onset(r);
+ * the hinges of the fall after it never change the reported mode or hinges. 0, or -1 when out
+ * of memory. */
+static int freeze_mechanism(vs_run *r) {
+  if (!r->onset_taken && snapshot_onset(r) != 0) return -1;
   r->onset_taken = 1;
   r->frozen = 1;
+  return 0;
 }
 
 int vs_run_on_dyn_sample(void *user, double t, double delta, const double *q, const double *v,
@@ -195,11 +204,13 @@ int vs_run_on_dyn_sample(void *user, double t, double delta, const double *q, co
     r->onset_taken = 0;
   } else if (!r->onset_taken &&
              e->kinetic >= r->ke_move + VS_ONSET_FRACTION * (r->dopts.collapse_ke - r->ke_move)) {
-    snapshot_onset(r);
+    if (snapshot_onset(r) != 0) return 1;
     r->onset_taken = 1;
   }
-  if (!r->frozen && r->live_dyn != NULL && !isnan(r->live_dyn->t_collapse))
-    freeze_mechanism(r); /* the sample at the collapse criterion: nothing after it counts */
+  /* the sample at the collapse criterion: nothing after it counts */
+  if (!r->frozen && r->live_dyn != NULL && !isnan(r->live_dyn->t_collapse) &&
+      freeze_mechanism(r) != 0)
+    return 1;
   vs_dynamic_reactions(r->dyn, r->react);
   vs_run_sample s = {.phase = VS_PHASE_DYNAMIC, .t = t, .delta = delta, .q = q, .v = v,
                      .energy = e, .reactions = r->react, .joints = js,
@@ -243,7 +254,7 @@ static int cmp_hinge_first(const void *x, const void *y) {
   return (a->first > b->first) - (a->first < b->first);
 }
 
-void vs_run_record_collapse(vs_run *r, const vs_dyn_result *d) {
+int vs_run_record_collapse(vs_run *r, const vs_dyn_result *d) {
   vs_collapse_record *c = &r->collapse;
   c->found = 1;
   c->t_criterion = d->t_collapse;
@@ -253,25 +264,29 @@ void vs_run_record_collapse(vs_run *r, const vs_dyn_result *d) {
   c->delta = (!r->def.dynamic.full && r->n_limits > 0) ? r->limits[r->n_limits - 1].delta
                                              : c->t_onset * r->dopts.rate;
   c->t = c->delta / r->dopts.rate;
-  if (!r->frozen) freeze_mechanism(r); /* (frozen at the collapse criterion's sample) */
+  /* (frozen at the collapse criterion's sample) */
+  if (!r->frozen && freeze_mechanism(r) != 0) return -1;
+  char *pu = realloc(r->pattern_u, 2 * (size_t)r->n_onset + 1);
+  if (pu == NULL) return out_of_memory(r);
+  r->pattern_u = pu;
   vs_run_name_first(r, r->hinges_at_onset); /* the snapshot's hinges take the names too */
   for (int i = 0; i < r->hinges_at_onset; i++) r->onset_all[i].label = vs_hinges_get(r->h, i)->label;
   for (int i = 0; i < r->n_onset; i++) r->onset[i].label = vs_hinges_get(r->h, r->onset[i].order - 1)->label;
+  qsort(r->onset, (size_t)r->n_onset, sizeof r->onset[0], cmp_hinge_first);
   c->n_hinges = r->n_onset;
-  memcpy(c->hinges, r->onset, (size_t)r->n_onset * sizeof r->onset[0]);
-  qsort(c->hinges, (size_t)c->n_hinges, sizeof c->hinges[0], cmp_hinge_first);
+  c->hinges = r->onset;
   memcpy(c->reactions_limit, r->react_eq, sizeof r->react_eq);
+  return 0;
 }
 
 /* Modes (docs/model.md, "Vocabulary") from the first three hinges (A, B, C, left to right) and
  * the hinges at the collapse. */
 void vs_run_classify(vs_run *r) {
   r->mode = NULL;
-  r->pattern_u[0] = '\0';
   vs_hinges_pattern_first(r->h, r->pattern0, sizeof r->pattern0);
-  if (r->collapse.found)
+  if (r->collapse.found && r->pattern_u != NULL) /* it holds them all (vs_run_record_collapse) */
     vs_hinges_side_pattern(r->collapse.hinges, r->collapse.n_hinges, r->pattern_u,
-                           sizeof r->pattern_u);
+                           2 * (size_t)r->collapse.n_hinges + 1);
   if (r->collapse.found && r->pattern0[0] != '\0')
     r->mode = vs_hinges_mode(r->pattern0, r->pattern_u);
 }

@@ -126,7 +126,7 @@ static vs_status initial_conditions(vs_dynamic *d, double t0, double t_end, vs_e
 }
 
 /* The energies at t0 (the impact model armed there first), the balance's reference, and the
- * first sample. VS_ERR_INTERNAL when the caller stops it. */
+ * first sample. VS_ERR_STOPPED when the caller stops it. */
 static vs_status first_sample(vs_dynamic *d, dyn_run *r, double t0) {
   double *y = N_VGetArrayPointer(d->y);
   if (d->imp != NULL) vs_dyn_impact_arm(d, y, 1);
@@ -137,7 +137,7 @@ static vs_status first_sample(vs_dynamic *d, dyn_run *r, double t0) {
   if (r->sample != NULL &&
       (static_state(d, y),
        r->sample(r->user, t0, vs_dyn_delta_at(d, t0), d->qst, d->vst, &r->e)) != 0)
-    return vs_error_set(r->err, VS_ERR_INTERNAL, "stopped by caller");
+    return vs_error_set(r->err, VS_ERR_STOPPED, "stopped by the caller");
   r->t_last_sample = t0;
   r->res->t_motion = t0;
   r->res->delta_motion = vs_dyn_delta_at(d, t0);
@@ -325,7 +325,7 @@ static vs_status run_finish(vs_dynamic *d, dyn_run *r, double *q, double *v) {
   count_steps(d, r);
   if (r->st == VS_OK && r->sample != NULL && r->t > r->t_last_sample &&
       (static_state(d, y), r->sample(r->user, r->t, res->delta_end, d->qst, d->vst, &r->e)) != 0)
-    r->st = vs_error_set(r->err, VS_ERR_INTERNAL, "stopped by caller");
+    r->st = vs_error_set(r->err, VS_ERR_STOPPED, "stopped by the caller");
   res->jac_evals = d->jac_evals;
   res->e_end = r->e;
   static_state(d, y);
@@ -367,7 +367,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
         sample_now(d, &r, delta) != 0)
       stop = 1;
     if (stop) {
-      r.st = vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+      r.st = vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
       break;
     }
     if (run_over(d, &r, flag, at_rest)) break;

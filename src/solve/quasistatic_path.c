@@ -76,7 +76,7 @@ static vs_status path_begin(vs_qs_path *w, double delta0, vs_error *err) {
   res->delta_limit = delta0;
   res->newton_iterations = sp->iters; /* kept current for the callback */
   if (w->step_fn != NULL && w->step_fn(w->user, delta0, w->q, sp->m) != 0)
-    return vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+    return vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
   /* 2. displacement control of the right support */
   w->delta = delta0;
   w->h = w->o->step;
@@ -122,7 +122,7 @@ static vs_status path_accept(vs_qs_path *w, long it, vs_error *err) {
   if (w->step_fn != NULL && o->open > 0.0 &&
       vs_qs_locate_edges(sp, w->q, w->delta, w->qtry, w->delta + w->h, w->step_fn, w->user,
                          w->qloc, &res->located) != 0)
-    return vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+    return vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
   memcpy(w->qprev, w->q, bytes);
   w->delta_prev = w->delta;
   memcpy(w->q, w->qtry, bytes);
@@ -139,7 +139,7 @@ static vs_status path_accept(vs_qs_path *w, long it, vs_error *err) {
                         w->delta / VS_MM);
   res->newton_iterations = sp->iters;
   if (w->step_fn != NULL && w->step_fn(w->user, w->delta, w->q, sp->m) != 0)
-    return vs_error_set(err, VS_ERR_INTERNAL, "stopped by caller");
+    return vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
   if (it <= 3) w->h = fmin(2.0 * w->h, o->step_max);
   else if (it <= 6) w->h = fmin(1.25 * w->h, o->step_max);
   return VS_OK;

@@ -228,15 +228,18 @@ static int sweep_texts_ok(const vs_sweep_row *row, char *why, size_t size) {
   int known = 0;
   for (size_t i = 0; i < sizeof done / sizeof done[0]; i++)
     known |= row->code == VS_SWEEP_OK && strcmp(row->status, done[i]) == 0;
-  if (!known && !(row->code == VS_SWEEP_FAILED && strcmp(row->status, "failed") == 0))
+  /* a failed run, or one its wall-time limit stopped (journalled as failed: run.max_wall_s) */
+  const int ended = strcmp(row->status, "failed") == 0 || strcmp(row->status, "stopped") == 0;
+  if (!known && !(row->code == VS_SWEEP_FAILED && ended))
     return refuse(why, size, "status \"%.32s\" is not a %s run's", row->status,
                   row->code == VS_SWEEP_OK ? "finished" : "failed");
   if (row->mode[0] != '\0' && strcmp(row->mode, "I") != 0 && strcmp(row->mode, "II") != 0 &&
       strcmp(row->mode, "III") != 0)
     return refuse(why, size, "mode is not I, II, III or empty");
-  /* labels (A-Z, a-z, then # and ? for none), joints, sides, "D:1-E A:9-10-I" */
+  /* labels (A-Z, a-z, then # and ? for none), joints, sides, "D:1-E A:9-10-I", and the end of
+   * a list too long for the row, "+12 more" (vs_hinges_list) */
   static const char hinge_chars[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
-                                    "0123456789#?:- ";
+                                    "0123456789#?:-+ ";
   if (!made_of(row->hinges, hinge_chars))
     return refuse(why, size, "hinges holds a character no hinge name has");
   if (row->code == VS_SWEEP_OK && row->error[0] != '\0')

@@ -62,15 +62,7 @@ static void fill_row(const vs_run *r, vs_status st, const vs_error *err, vs_swee
     row->delta_u_mm = col->delta / VS_MM;
     row->dz_pct = 100.0 * row->delta_u_mm * sd.dz / L;
     row->dx_pct = 100.0 * row->delta_u_mm * sd.dx / L;
-    size_t used = 0;
-    for (int i = 0; i < col->n_hinges; i++) {
-      char name[96];
-      vs_hinge_name(&col->hinges[i], 0, name, sizeof name);
-      int w = snprintf(row->hinges + used, sizeof row->hinges - used, "%s%c:%s", used ? " " : "",
-                       col->hinges[i].label, name);
-      if (w < 0 || (size_t)w >= sizeof row->hinges - used) break;
-      used += (size_t)w;
-    }
+    vs_hinges_list(col->hinges, col->n_hinges, 0, row->hinges, sizeof row->hinges);
   }
   const char *mode = vs_run_mode(r);
   snprintf(row->mode, sizeof row->mode, "%s", mode != NULL ? mode : "");
@@ -121,8 +113,10 @@ static vs_status execute(const vs_sweep_job *job, int run, vs_run *r, const char
     st = vs_error_set(err, VS_ERR_INTERRUPTED, "interrupted");
     vs_output_interrupt(rec);
   }
-  if (st != VS_OK && vs_output_error(rec)->status != VS_OK)
-    *err = *vs_output_error(rec); /* the run stopped because the record failed */
+  if (st != VS_OK && vs_output_error(rec)->status != VS_OK) {
+    *err = *vs_output_error(rec); /* the run stopped because the record failed: */
+    st = err->status;             /* that is the run's status, not VS_ERR_STOPPED */
+  }
   vs_error oerr;
   vs_error_clear(&oerr);
   if (vs_output_finish(rec, r, st, err, &oerr) != VS_OK && st == VS_OK) {
