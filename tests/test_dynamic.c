@@ -23,6 +23,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "check.h"
 #include "test_support.h"
 #include "model_matrix.h"
 #include "voussoir/case.h"
@@ -34,14 +35,6 @@
 
 static const double PI = 3.14159265358979323846;
 static const double GRAV = 9.81;
-
-static void check_close(double got, double want, double rtol, double atol, const char *what,
-                        int line) {
-  if (!(fabs(got - want) <= rtol * fabs(want) + atol))
-    fail_msg("line %d: %s = %.17g, expected %.17g (rtol %g, atol %g, diff %g)", line, what, got,
-             want, rtol, atol, got - want);
-}
-#define CHECK(got, want, rtol, atol) check_close((got), (want), (rtol), (atol), #got, __LINE__)
 
 static double now_s(void) {
   struct timespec ts;

@@ -9,6 +9,7 @@
 
 #include <math.h>
 
+#include "check.h"
 #include "joint_reference.h"
 #include "voussoir/joint.h"
 
@@ -18,14 +19,6 @@ static const double BD = 0.12;
 static const double TL = 0.024;
 static const double KS = 1.5e9;
 static const double MU = 0.7;
-
-static void check_close(double got, double want, double rtol, double atol, const char *what,
-                        int line) {
-  if (!(fabs(got - want) <= rtol * fabs(want) + atol))
-    fail_msg("line %d: %s = %.17g, expected %.17g (rtol %g, atol %g, diff %g)", line, what, got,
-             want, rtol, atol, got - want);
-}
-#define CHECK(got, want, rtol, atol) check_close((got), (want), (rtol), (atol), #got, __LINE__)
 
 /* Deterministic generator (xorshift64*), uniform in [lo, hi). */
 typedef struct {

@@ -24,6 +24,7 @@
 #include <sundials/sundials_context.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include "check.h"
 #include "model_matrix.h"
 #include "voussoir/damping.h"
 #include "voussoir/dynamic.h"
@@ -35,14 +36,6 @@
 
 static const double PI = 3.14159265358979323846;
 static const double GRAV = 9.81;
-
-static void check_close(double got, double want, double rtol, double atol, const char *what,
-                        int line) {
-  if (!(fabs(got - want) <= rtol * fabs(want) + atol))
-    fail_msg("line %d: %s = %.17g, expected %.17g (rtol %g, atol %g, diff %g)", line, what, got,
-             want, rtol, atol, got - want);
-}
-#define CHECK(got, want, rtol, atol) check_close((got), (want), (rtol), (atol), #got, __LINE__)
 
 /* The block: B wide, H high, depth b, density rho, centred on x = 0 above a horizontal joint to
  * the fixed support. */

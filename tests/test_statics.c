@@ -11,20 +11,13 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "check.h"
 #include "test_support.h"
 #include "voussoir/case.h"
 #include "voussoir/geometry.h"
 #include "voussoir/joint.h"
 #include "voussoir/model.h"
 #include "voussoir/quasistatic.h"
-
-static void check_close(double got, double want, double rtol, double atol, const char *what,
-                        int line) {
-  if (!(fabs(got - want) <= rtol * fabs(want) + atol))
-    fail_msg("line %d: %s = %.17g, expected %.17g (rtol %g, atol %g, diff %g)", line, what, got,
-             want, rtol, atol, got - want);
-}
-#define CHECK(got, want, rtol, atol) check_close((got), (want), (rtol), (atol), #got, __LINE__)
 
 static double deg(double d) { return d * acos(-1.0) / 180; }
 
