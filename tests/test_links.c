@@ -158,6 +158,45 @@ static void try_all(int live) {
              live ? "made as the file was created" : "planted before");
 }
 
+/* A hard link to a file of the test's planted at a lock file's name (a run's FILE.lock, a
+ * study's DIR/study.lock): the lock file is written (the owner's pid), so the link is refused
+ * (exit 2) and the file keeps its bytes; before, the lock truncated it and wrote a pid there. */
+static void test_hard_link_at_lock(void **s) {
+  (void)s;
+  static const struct {
+    const char *name, *args;
+  } cases[] = {
+      {"r.h5.lock", "run " CASE " --first-limit -q -o r.h5"},
+      {"r.csv.lock", "run " CASE " --first-limit -q --no-record --csv r.csv"},
+      {"sw/study.lock", "sweep " CASE " --alpha 0 --first-limit -q -o sw"},
+      {"mc/study.lock", "montecarlo " MC_CASE " --samples 2 --seed 1 -j 1 -q -o mc"},
+  };
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+    char dir[256], target[300], at[600], cmd[3000];
+    snprintf(dir, sizeof dir, "%s/hard%zu", g_dir, k);
+    snprintf(target, sizeof target, "%s/precious", dir);
+    snprintf(at, sizeof at, "%s/%s", dir, cases[k].name);
+    snprintf(cmd, sizeof cmd, "mkdir -p %s/sw %s/mc && printf '%%s' '%s' > %s", dir, dir,
+             PRECIOUS, target);
+    assert_int_equal(sh(cmd), 0);
+    assert_int_equal(link(target, at), 0);
+    snprintf(cmd, sizeof cmd, "cd %s && timeout -s KILL 120 %s %s > out.txt 2> err.txt", dir,
+             VS_BINARY, cases[k].args);
+    const int rc = sh(cmd);
+    char *after = slurp(target);
+    snprintf(cmd, sizeof cmd, "%s/err.txt", dir);
+    char *err = slurp(cmd);
+    if (after == NULL || strcmp(after, PRECIOUS) != 0)
+      fail_msg("%s: a hard link at %s: its target was rewritten (exit %d)", cases[k].args,
+               cases[k].name, rc);
+    if (rc != 2 || err == NULL || strstr(err, "hard link") == NULL)
+      fail_msg("%s: a hard link at %s: exit %d, stderr \"%s\": expected 2 and the link named",
+               cases[k].args, cases[k].name, rc, err ? err : "");
+    free(after);
+    free(err);
+  }
+}
+
 static void test_links_planted_before(void **s) {
   (void)s;
   try_all(0);
@@ -192,6 +231,7 @@ static int teardown(void **s) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_hard_link_at_lock),
       cmocka_unit_test(test_links_planted_before),
       cmocka_unit_test(test_links_made_meanwhile),
   };

@@ -344,6 +344,16 @@ static int lock_once(const char *target, const char *lp, int *fd, vs_error *err)
     vs_error_set(err, VS_ERR_INVALID, "%s: its lock file %s is not a regular file", target, lp);
     return -1;
   }
+  /* the pid is written into the lock file: a hard link there to another file would have that
+   * file rewritten (a lock file of ours has one name) */
+  if (st.st_nlink != 1) {
+    close(f);
+    vs_error_set(err, VS_ERR_INVALID,
+                 "%s: its lock file %s has %ld names (a hard link to another file?): not "
+                 "written",
+                 target, lp, (long)st.st_nlink);
+    return -1;
+  }
   if (flock(f, LOCK_EX | LOCK_NB) != 0) {
     char pid[32] = "";
     const ssize_t n = pread(f, pid, sizeof pid - 1, 0);
