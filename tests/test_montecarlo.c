@@ -602,11 +602,14 @@ static void test_study_lock(void **state) {
                     "-o", dir, "--resume", NULL};
   char *sweep[] = {VS_BINARY, "sweep", VS_SOURCE_DIR "/runs/reference.ini", "--alpha", "0", "-q",
                    "-o", dir, NULL};
-  char **others[] = {argv, resume, sweep};
+  char shard[256];
+  snprintf(shard, sizeof shard, "%s/j1", g_dir);
+  char *merge[] = {VS_BINARY, "merge", shard, "-o", dir, NULL};
+  char **others[] = {argv, resume, sweep, merge};
   char pid[32], err2[256];
   snprintf(pid, sizeof pid, "pid %d", (int)first);
   snprintf(err2, sizeof err2, "%s/lock2.err", g_dir);
-  for (int k = 0; k < 3; k++) {
+  for (int k = 0; k < 4; k++) {
     const int rc = exit_code(spawn(others[k], out, err2));
     char *e = slurp(".", "lock2.err");
     if (rc != 2 || strstr(e, pid) == NULL || strstr(e, "another study") == NULL)

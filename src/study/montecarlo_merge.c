@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "study.h"
+#include "journal.h"
 #include "montecarlo_cmd.h"
 #include "plugin.h"
 #include "voussoir/montecarlo.h"
@@ -272,6 +273,7 @@ int vs_merge_main(const char *const *dirs, int nd, const char *out) {
   shard_head first = {.have = 0};
   vs_mc_sample *all = NULL;
   int n = 0, cap = 0, rc = EXIT_USAGE;
+  vs_outlock *lock = NULL;
   /* the shards' tables are inputs: never replaced by the merged one */
   char (*tables)[1100] = malloc((size_t)(nd > 0 ? nd : 1) * sizeof *tables);
   vs_outpath_other *others = malloc((size_t)(nd > 0 ? nd : 1) * sizeof *others);
@@ -303,6 +305,16 @@ int vs_merge_main(const char *const *dirs, int nd, const char *out) {
       fprintf(stderr, "voussoir merge: sample %d appears twice\n", all[i].sample);
       goto done;
     }
+  /* DIR is a study's: locked as sweep and montecarlo lock theirs, so that a merge into the
+   * directory of a study under way (or of another merge) is refused */
+  if (mkdir(out, 0755) != 0 && errno != EEXIST) {
+    fprintf(stderr, "voussoir merge: -o %s: cannot create: %s\n", out, strerror(errno));
+    goto done;
+  }
+  if (vs_study_lock(out, "voussoir merge", &lock, &err) != VS_OK) {
+    fprintf(stderr, "voussoir merge: %s\n", err.msg);
+    goto done;
+  }
   rc = EXIT_FAIL;
   if (vs_mc_write_summary(out, &first.c, all, n, &err) != VS_OK) {
     fprintf(stderr, "voussoir merge: %s\n", err.msg);
@@ -311,6 +323,7 @@ int vs_merge_main(const char *const *dirs, int nd, const char *out) {
   printf("%d samples from %d directories; summary: %s/summary.h5\n", n, nd, out);
   rc = 0;
 done:
+  vs_outlock_release(&lock);
   free(all);
   free(tables);
   free(others);
