@@ -699,6 +699,9 @@ static void test_validate(void **state) {
   vs_case_defaults(&c);
   c.voussoirs = 0;
   expect_invalid(&c, "arch.voussoirs = 0", "integer in [1, 2000]");
+  vs_case_defaults(&c); /* an integer's bounds whole, not 2.14748e+09 */
+  c.seed = -1;
+  expect_invalid(&c, "imperfections.seed = -1", "integer in [0, 2147483647]");
 
   assert_int_equal(vs_case_validate(NULL, &err), VS_ERR_INVALID);
   assert_int_equal(vs_case_validate(&c, NULL), VS_ERR_INVALID);

@@ -258,13 +258,18 @@ static void range_text(const key_spec *k, char *buf, size_t size) {
   }
   bool lo = isfinite(k->min), hi = isfinite(k->max);
   const char *integer = k->type == KEY_INT ? "integer " : "";
+  /* an integer's bounds whole ("[0, 2147483647]", not 2.14748e+09) */
+  const char *f = k->type == KEY_INT ? "%.0f" : "%g";
+  char a[32], b[32];
+  snprintf(a, sizeof a, f, k->min);
+  snprintf(b, sizeof b, f, k->max);
   if (lo && hi)
-    snprintf(buf, size, "%s%s%c%g, %g%c", integer, *integer ? "in " : "", k->min_incl ? '[' : '(',
-             k->min, k->max, k->max_incl ? ']' : ')');
+    snprintf(buf, size, "%s%s%c%s, %s%c", integer, *integer ? "in " : "", k->min_incl ? '[' : '(',
+             a, b, k->max_incl ? ']' : ')');
   else if (lo)
-    snprintf(buf, size, "%s%s %g", integer, k->min_incl ? ">=" : ">", k->min);
+    snprintf(buf, size, "%s%s %s", integer, k->min_incl ? ">=" : ">", a);
   else if (hi)
-    snprintf(buf, size, "%s%s %g", integer, k->max_incl ? "<=" : "<", k->max);
+    snprintf(buf, size, "%s%s %s", integer, k->max_incl ? "<=" : "<", b);
   else
     snprintf(buf, size, "%sany finite value", integer);
   if (k->unit[0] != '\0') {
