@@ -128,25 +128,25 @@ static void default_record_path(const char *case_path, char *buf, size_t size) {
   snprintf(buf, size, "%.*s.h5", n, base);
 }
 
+typedef struct {
+  const char *key, *value; /* key NULL: value is a --set assignment */
+  const char *option;      /* the option that stands for key=value ("--kn") */
+} run_override;
+
 /* Apply "KEY=VALUE" (key not NULL: --alpha, --kn) or the assignment VALUE (--set), whatever
  * its length: the whole text reaches the parser, so nothing is cut and trailing junk is seen. */
-static vs_status set_option(vs_case *c, const char *key, const char *value, vs_error *err) {
-  if (key == NULL) return vs_case_set(c, value, err);
-  size_t n = strlen(key) + strlen(value) + 2;
-  char *assignment = malloc(n);
-  if (assignment == NULL) return vs_error_set(err, VS_ERR_NOMEM, "out of memory");
-  snprintf(assignment, n, "%s=%s", key, value);
-  vs_status st = vs_case_set(c, assignment, err);
-  free(assignment);
-  return st;
+static vs_status set_option(vs_case *c, const run_override *o, vs_error *err) {
+  if (o->key == NULL) return vs_case_set(c, o->value, err);
+  /* the option the user typed starts the message ("--kn: joints.kn_N_mm3 = -3: ..."), not the
+   * --set it stands for */
+  char section[32];
+  const size_t dot = strcspn(o->key, ".");
+  snprintf(section, sizeof section, "%.*s", (int)dot, o->key);
+  return vs_case_assign(c, section, o->key + dot + 1, o->value, o->option, err);
 }
 
 /* One override of the case, in command-line order: "KEY=VALUE" (key not NULL: --alpha, --kn)
  * or the assignment VALUE (--set, --dynamic, --first-limit). */
-typedef struct {
-  const char *key, *value;
-} run_override;
-
 typedef struct {
   const char *case_path, *out_path, *csv_path; /* out_path NULL: no record */
   int json, quiet, record, compress;
@@ -177,12 +177,12 @@ static int run_option(void *user, int code, const char *value) {
   run_args *a = user;
   run_override *o = &a->overrides[a->n_overrides];
   switch (code) {
-  case OPT_ALPHA: *o = (run_override){"support.alpha_deg", value}; break;
-  case OPT_KN: *o = (run_override){"joints.kn_N_mm3", value}; break;
-  case OPT_MAX_WALL: *o = (run_override){"run.max_wall_s", value}; break;
-  case OPT_SET: *o = (run_override){NULL, value}; break;
-  case OPT_DYNAMIC: *o = (run_override){NULL, "dynamic.full=1"}; break;
-  case OPT_FIRST_LIMIT: *o = (run_override){NULL, "dynamic.follow=0"}; break;
+  case OPT_ALPHA: *o = (run_override){"support.alpha_deg", value, "--alpha"}; break;
+  case OPT_KN: *o = (run_override){"joints.kn_N_mm3", value, "--kn"}; break;
+  case OPT_MAX_WALL: *o = (run_override){"run.max_wall_s", value, "--max-wall-s"}; break;
+  case OPT_SET: *o = (run_override){NULL, value, NULL}; break;
+  case OPT_DYNAMIC: *o = (run_override){NULL, "dynamic.full=1", NULL}; break;
+  case OPT_FIRST_LIMIT: *o = (run_override){NULL, "dynamic.follow=0", NULL}; break;
   case OPT_JSON: a->json = 1; return 0;
   case OPT_NO_RECORD: a->record = 0; return 0;
   case OPT_COMPRESS: a->compress = 1; return 0;
@@ -233,7 +233,7 @@ static int parse_run_args(int argc, char **argv, run_args *a) {
 /* The overrides of the command line, in the order given. */
 static vs_status apply_overrides(const run_args *a, vs_case *c, vs_error *err) {
   for (int i = 0; i < a->n_overrides; i++) {
-    vs_status st = set_option(c, a->overrides[i].key, a->overrides[i].value, err);
+    vs_status st = set_option(c, &a->overrides[i], err);
     if (st != VS_OK) return st;
   }
   return VS_OK;
