@@ -28,5 +28,5 @@ for alpha in 0 90; do
     printf '%-6s %-8s %8s %9s %7s %12.3f %7.4f %12.3f\n' "$a" "$ff" "$n" "$c" "$fl" "$m" "$cv" "$q"
   done
 done
-"${PYTHON:-python3}" "$here/plot_imperfection_study.py" "$csv" "$out_dir/imperfection_study.png"
+"${PYTHON:-/usr/bin/python3}" "$here/plot_imperfection_study.py" "$csv" "$out_dir/imperfection_study.png"
 echo "table: $csv  figure: $out_dir/imperfection_study.png"
