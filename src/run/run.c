@@ -12,6 +12,7 @@
 #include "run_internal.h"
 #include "voussoir/damping.h"
 #include "voussoir/imperfections.h"
+#include "voussoir/support.h"
 #include "voussoir/units.h"
 #include "wall_clock.h"
 
@@ -22,7 +23,7 @@ static const double VS_REST_OF_COLLAPSE = 0.01;
 static void dyn_opts_from_def(const vs_run_def *d, const vs_geometry *g, vs_dyn_opts *o) {
   double mass = 0.0;
   for (int i = 0; i < g->n_blocks; i++) mass += g->blocks[i].mass;
-  o->rate = d->support.rate;
+  o->rate = vs_support_loading_rate(&d->support); /* delta = rate t */
   o->rtol = d->dynamic.rtol;
   o->atol_q = d->dynamic.atol_q;
   o->open = d->hinges.open;
@@ -54,7 +55,7 @@ static vs_status fall_create(vs_run *r, vs_error *err) {
   fo.slow_speed = f->slow_speed;
   fo.max_sweeps = f->max_sweeps;
   fo.solver = f->solver;
-  fo.rate = r->def.support.rate;
+  fo.rate = r->dopts.rate;
   fo.rest_ke = r->dopts.rest_ke;
   fo.rest_time = fmin(r->def.dynamic.rest_time, VS_RUN_FALL_REST);
   fo.duration = r->def.dynamic.fall_time;
@@ -89,6 +90,11 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
     st = vs_model_create(r->g, &law, d->support.alpha, &r->m, err);
     if (st == VS_OK)
       st = vs_model_set_support_kinds(r->m, d->support.left_kind, d->support.right_kind, err);
+    for (int s = 0; s < 2 && st == VS_OK; s++) { /* each support's own motion in delta */
+      vs_support_motion mo;
+      st = vs_support_motion_from_def(&d->support, s, &mo, err);
+      if (st == VS_OK) st = vs_model_set_support_motion(r->m, s, &mo, err);
+    }
   }
   if (st == VS_OK) st = vs_imperfections_apply(&d->imperfections, r->imp, r->m, err);
   if (st == VS_OK && d->dynamic.damping_model == VS_DAMPING_RAYLEIGH &&
