@@ -1,6 +1,7 @@
 /* The case's key table as text, for test_man.sh: one line per key, tab-separated:
  *   section  key  unit  default  allowed
- * from the table that defines the keys (vs_case_key_count, vs_case_key, vs_case_defaults), the
+ * from the table that defines the keys (vs_case_key_count, vs_case_key, vs_case_defaults; the
+ * text keys after them, vs_case_text_key), the
  * allowed range as the program states it when a value is refused (vs_case_set), without the unit,
  * which has its own column. usage: case_keys */
 #include "voussoir/case.h"
@@ -39,7 +40,7 @@ int main(void) {
     const char *section = NULL, *key = NULL, *unit = NULL, *name = NULL;
     int is_int = 0;
     double v = 0.0;
-    char allowed[128];
+    char allowed[512];
     if (vs_case_key(&c, i, &section, &key, &unit, &is_int, &v) != 0 ||
         allowed_text(section, key, unit, allowed, sizeof allowed) != 0) {
       fprintf(stderr, "case_keys: key %d: no range in the refusal of a value\n", i);
@@ -50,6 +51,16 @@ int main(void) {
       printf("%s\t%s\t%s\t%s\t%s\n", section, key, unit, name, allowed);
     else
       printf("%s\t%s\t%s\t%.15g\t%s\n", section, key, unit, v, allowed);
+  }
+  for (int i = 0; i < vs_case_text_key_count(); i++) { /* the paths: text, "none" unset */
+    const char *section = NULL, *key = NULL;
+    char text[64], allowed[512];
+    if (vs_case_text_key(&c, i, &section, &key, text, sizeof text) != 0 ||
+        allowed_text(section, key, "", allowed, sizeof allowed) != 0) {
+      fprintf(stderr, "case_keys: text key %d: no range in the refusal of a value\n", i);
+      return 1;
+    }
+    printf("%s\t%s\t\t%s\t%s\n", section, key, text[0] != '\0' ? text : "none", allowed);
   }
   return 0;
 }

@@ -108,6 +108,8 @@ static const key_case all_keys[] = {
     {"support", "alpha_deg", "-180.5", "181", {"-180", "180"}},
     {"support", "rate_mm_s", "9e-7", "1.5e6", {"1", "1e-6"}},
     {"support", "max_mm", "0", "1e7", {"100", "1e6"}},
+    {"support", "left_alpha_deg", "-180.5", "181", {"-180", "180"}},
+    {"support", "left_rate_mm_s", "9e-7", "1.5e6", {"1", "1e-6"}},
     {"solver", "step_mm", "0", "1000001", {"0.1", "1e6"}},
     {"solver", "step_max_mm", "-2", "2e6", {"5", "1e6"}},
     {"solver", "limit_tol_mm", "9e-10", "2e6", {"1e-6", "1e-9"}},
@@ -367,7 +369,7 @@ static void check_out_of_range(const key_case *k, const char *value) {
 
 static void test_every_key_out_of_range(void **state) {
   (void)state;
-  assert_int_equal(NKEYS_TESTED, 46);
+  assert_int_equal(NKEYS_TESTED, 48);
   for (size_t i = 0; i < NKEYS_TESTED; i++) {
     check_out_of_range(&all_keys[i], all_keys[i].below);
     if (all_keys[i].above != NULL) check_out_of_range(&all_keys[i], all_keys[i].above);

@@ -7,9 +7,19 @@
 
 #include "voussoir/api.h"
 
+#include <stddef.h>
 
 #include "voussoir/def.h"
 #include "voussoir/status.h"
+
+/* A support's path in time as the case file gives it (support.left_path, support.right_path:
+ * "t_s:dx_mm:dz_mm[:rot_deg], ..."), in its units; n = 0: none. def.h's vs_support_path_def
+ * says what the points mean. */
+typedef struct {
+  int n;
+  double t_s[VS_SUPPORT_PATH_MAX], dx_mm[VS_SUPPORT_PATH_MAX], dz_mm[VS_SUPPORT_PATH_MAX],
+      rot_deg[VS_SUPPORT_PATH_MAX];
+} vs_case_path;
 
 typedef struct {
   /* [arch] segmental circular arch */
@@ -28,11 +38,19 @@ typedef struct {
 
   /* [support] the right support moves, the left is fixed */
   double alpha_deg; /* direction from the vertical: 0 = settlement down, 90 = outward; [-180, 180], default 0 */
-  double rate_mm_s; /* support speed, > 0, default 0.04 (used by the dynamic phase) */
+  double rate_mm_s; /* the right support's speed, 0 or [1e-6, 1e6], default 0.04; 0: it stays
+                       (then left_rate_mm_s must be > 0) */
   double max_mm;    /* largest support displacement followed, > 0, default 300 */
   int left_kind;    /* vs_support_kind (model.h), by name: fixed (clamped) or pinned (the springer
                        rotates freely about the centre of its springing face); default fixed */
   int right_kind;   /* the same for the right (moving) support; default fixed */
+  /* [support] both supports on their own paths (docs/model.md, "Both supports move") */
+  double left_alpha_deg; /* direction of the left support's motion, mirrored: 0 = down, 90 =
+                            outward (to the left); [-180, 180], default 0 */
+  double left_rate_mm_s; /* its speed; 0 (the default): fixed. The loading rate (delta = rate
+                            x time) is rate_mm_s, or this when rate_mm_s is 0 */
+  vs_case_path left_path, right_path; /* text keys (vs_case_text_key): a path in time replaces
+                                         the support's straight motion */
 
   /* [solver] quasi-static path (KINSOL) */
   double step_mm;      /* initial increment of the support displacement, > 0, default 0.5 */
@@ -161,6 +179,18 @@ VS_API int vs_case_key(const vs_case *c, int i, const char **section, const char
 /* For a key that is a named choice (support.left_kind, support.right_kind, dynamic.damping_model), the name of value `value` of key i;
  * NULL when key i is a number or value is out of range. */
 VS_API const char *vs_case_key_name_of(int i, int value);
+
+/* The keys whose value is text, not a number (support.left_path, support.right_path): they are
+ * not among vs_case_key's. How many, and key i's section and name, and its value in c as the
+ * case file would give it ("" when unset; text of at most size - 1 bytes, cut short beyond).
+ * Returns 0, or -1 when i is out of range. Any output pointer may be NULL. */
+VS_API int vs_case_text_key_count(void);
+VS_API int vs_case_text_key(const vs_case *c, int i, const char **section, const char **key,
+                            char *text, size_t size);
+
+/* The loading rate in mm/s: rate_mm_s, or left_rate_mm_s when it is 0 (delta = this x time;
+ * the same as vs_support_loading_rate of the case's definition, in mm/s). */
+VS_API double vs_case_loading_rate_mm_s(const vs_case *c);
 
 /* Intrados span L = 2 R sin(embrace/2), in mm: the length the study normalises by. */
 VS_API double vs_case_span_mm(const vs_case *c);

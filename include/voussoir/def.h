@@ -65,13 +65,35 @@ typedef struct {
   double mu; /* friction coefficient */
 } vs_joints_def;
 
-/* The supports: the left one is fixed in place, the right one moves by delta along a direction
- * alpha from the vertical (0: down, pi/2: outward) at a constant rate. */
+/* Points of a support's path in time (vs_support_def): the support stands in place at t = 0,
+ * reaches point i at time t[i], moves linearly in between and along the last segment beyond. */
+#define VS_SUPPORT_PATH_MAX 32
+typedef struct {
+  int n;                          /* points, 0 .. VS_SUPPORT_PATH_MAX; 0: no path */
+  double t[VS_SUPPORT_PATH_MAX];  /* s, increasing, >= 0 (the first may be 0: the origin) */
+  double dx[VS_SUPPORT_PATH_MAX]; /* outward displacement, m (the right support: +x, left: -x) */
+  double dz[VS_SUPPORT_PATH_MAX]; /* downward displacement, m */
+  double rot[VS_SUPPORT_PATH_MAX]; /* rotation about the centre of the springing face, rad,
+                                      outward positive (the right support clockwise, the left
+                                      counter-clockwise); a pinned support takes none */
+} vs_support_path_def;
+
+/* The supports. The right one moves by delta along a direction alpha from the vertical (0: down,
+ * pi/2: outward) at a constant rate: the loading time is t = delta / rate. Each support may
+ * move on its own besides (support.h, docs/model.md "Both supports move"): the left one along
+ * left_alpha, mirrored (pi/2: outward, to the left), at left_rate, or either along a path in
+ * time, which replaces its straight motion. delta is always the loading rate times t, the
+ * loading rate being rate, or left_rate when rate is 0 (the right support then stays, unless
+ * its path moves it): with the right support alone moving, delta is its travel. */
 typedef struct {
   vs_support_kind left_kind, right_kind;
   double alpha;     /* rad */
-  double rate;      /* m/s */
+  double rate;      /* m/s, >= 0 (0: the right support does not move along alpha) */
   double max_delta; /* largest support displacement followed, m */
+  /* both supports on their own paths (all zero: the left fixed, no path) */
+  double left_alpha; /* rad, mirrored: 0 down, pi/2 outward (-x) */
+  double left_rate;  /* m/s, >= 0 (0: fixed) */
+  vs_support_path_def left_path, right_path;
 } vs_support_def;
 
 /* The quasi-static path (quasistatic.h). */

@@ -1,5 +1,6 @@
 /* The model: equilibrium of the rigid voussoirs under gravity and the joint forces, with the
- * right support moved by delta along a fixed direction. Residual and analytic CSC Jacobian share
+ * right support moved by delta along a fixed direction (or both supports each along its own
+ * motion in delta: vs_model_set_support_motion). Residual and analytic CSC Jacobian share
  * one evaluation of the joint law; the sparsity pattern is built once. SI units. */
 #ifndef VOUSSOIR_MODEL_H
 #define VOUSSOIR_MODEL_H
@@ -9,6 +10,7 @@
 #include "voussoir/geometry.h"
 #include "voussoir/joint.h"
 #include "voussoir/status.h"
+#include "voussoir/support.h"
 
 typedef struct vs_model vs_model;
 
@@ -51,6 +53,24 @@ VS_API const vs_joint_law *vs_model_law(const vs_model *m);
 
 /* Displacement of the right support (ux, uz, m) for support displacement delta (m). */
 VS_API void vs_model_support_displacement(const vs_model *m, double delta, double u[2]);
+
+/* Both supports' motions (support.h). The model is created with the left support fixed and the
+ * right one moving by delta along alpha; vs_model_set_support_motion gives support right (0:
+ * left, 1: right) motion mo instead (copied), so that delta becomes a loading parameter along
+ * which each support follows its own path, and the load vector dG/d(delta) is the sum of both
+ * supports' (a fixed support's rotation included). A pinned support's rotation stays free: its
+ * motion's theta is not used. VS_ERR_INVALID on segments that do not start at 0 or increase. */
+VS_API vs_status vs_model_set_support_motion(vs_model *m, int right, const vs_support_motion *mo,
+                                             vs_error *err);
+VS_API const vs_support_motion *vs_model_support_motion(const vs_model *m, int right);
+/* Both supports' (ux, uz, theta) at delta (m, m, rad: left, then right; the right support's
+ * initial offset included, as vs_model_support_displacement), a pinned support's rotation from
+ * the static state q (NULL: zero). */
+VS_API void vs_model_support_position(const vs_model *m, const double *q, double delta,
+                                      double u[6]);
+/* The first point beyond delta + tol (m) where a support's motion changes its rate: the path
+ * solver lands there, INFINITY if there is none. */
+VS_API double vs_model_support_next_kink(const vs_model *m, double delta, double tol);
 
 /* Imperfections. vs_model_set_joint_law replaces the law of joint k (0-based; every joint starts
  * with the law given at creation) and recomputes its damping coefficients; VS_ERR_INVALID on a
@@ -138,8 +158,10 @@ VS_API void vs_model_mass(const vs_model *m, double *mdiag);
 /* Kinetic energy of velocities v, J. */
 VS_API double vs_model_kinetic_energy(const vs_model *m, const double *v);
 
-/* Force (N) the moving support exerts on the arch along its direction of motion, through the
- * joint's elastic and frictional forces; times d(delta)/dt it is the support's power. */
+/* Force (N) the moving supports exert on the arch along their motion: the generalised force
+ * conjugate to delta (each support's force and moment on the arch dotted with its motion's rate
+ * d(ux, uz, theta)/d(delta)), through the joints' elastic and frictional forces; times
+ * d(delta)/dt it is the supports' power. */
 VS_API double vs_model_support_force(const vs_model *m, const double *q, double delta);
 
 /* Gravitational potential of the blocks at q (J; zero in the reference configuration): the
@@ -162,8 +184,9 @@ VS_API void vs_model_energies(const vs_model *m, const double *q, double delta, 
 VS_API int vs_model_ext_size(const vs_model *m);
 VS_API int vs_model_ext_nnz(const vs_model *m);
 /* Supports' states (qs: left (ux, uz, theta), right) prescribed by delta and their velocities
- * (vs) at the support speed rate (m/s): left fixed, right moving along alpha, no rotation (a
- * pinned support's rotation is not prescribed: the caller sets it). */
+ * (vs) at the loading rate d(delta)/dt = rate (m/s): each on its motion (by default the left
+ * fixed, the right moving along alpha, no rotation; a pinned support's rotation is not
+ * prescribed: the caller sets it). */
 VS_API void vs_model_support_states(const vs_model *m, double delta, double rate, double qs[6],
                                     double vs[6]);
 /* Mass diagonal over qe: the blocks' (vs_model_mass), then each support body with the mean

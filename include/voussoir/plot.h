@@ -79,7 +79,7 @@ static inline void vs_plot_to_px(const vs_plot_frame *f, double x, double z, dou
  * an arch, non-finite q, delta_m or alpha_rad, n_hinges < 0 (or > 0 with NULL hinges), a hinge
  * whose joints are outside 1..n_joints or whose side is not 'I'/'E', a negative open_m, a block
  * thickness outside (0, R), a non-finite springer rotation or a non-zero one on a fixed
- * support, a non-finite ground_z with has_ground. */
+ * support (without supports), a non-finite ground_z with has_ground. */
 typedef struct {
   const vs_geometry *g;
   const double *q;
@@ -95,6 +95,11 @@ typedef struct {
   double support_theta[2];
   int has_ground; /* 1: draw the ground the fall landed on, the plane z = ground_z (m) */
   double ground_z;
+  /* both supports (model.h, vs_model_support_position): left (ux, uz, theta), then right (m, m,
+   * rad), as the record's /observables/supports; each drawn where it is, a moved one with its
+   * arrow, a fixed one turned by its path turned. NULL: the right one by delta_m along
+   * alpha_rad, the left one in place. Non-finite values: VS_ERR_INVALID. */
+  const double *supports;
 } vs_plot_arch_args;
 
 /* Draw the arch picture a into the file path (created anew: a regular file there is replaced;

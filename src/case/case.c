@@ -35,17 +35,22 @@ typedef struct {
   const char *what;
   const char *const *names; /* a named choice: the names of values 0, 1, ... (NULL-terminated),
                                written in the file as names; NULL for a number */
+  bool zero_ok; /* 0 is accepted besides the range (a support's rate: 0, at rest) */
 } key_spec;
 
 /* The field's own type picks the storage, so a row cannot write a double into an int. */
 #define FIELD_TYPE(field) _Generic(((vs_case *)0)->field, double: KEY_DOUBLE, int: KEY_INT)
 #define KEY(sec, field, def, lo, lo_in, hi, hi_in, unit, what)                                    \
   {#sec, #field, FIELD_TYPE(field), offsetof(vs_case, field), def, lo, hi, lo_in, hi_in, unit, what, \
-   NULL}
+   NULL, false}
+/* A number that may also be 0 ("0 or [lo, hi]"). */
+#define KEY_OR_ZERO(sec, field, def, lo, hi, unit, what)                                          \
+  {#sec, #field, KEY_DOUBLE, offsetof(vs_case, field), def, lo, hi, true, true, unit, what, NULL, \
+   true}
 /* A named choice stored as an int field: value i is names[i], i in 0 .. (the names) - 1. */
 #define KEY_NAMED(sec, field, def, names, what)                                                 \
   {#sec, #field, KEY_INT, offsetof(vs_case, field), def, 0.0,                                  \
-   (double)(sizeof names / sizeof names[0]) - 2.0, true, true, "", what, names}
+   (double)(sizeof names / sizeof names[0]) - 2.0, true, true, "", what, names, false}
 
 /* The names of each named choice, in the order of its enum (def.h), NULL-terminated: one name
  * for every value, checked against the enum's count when this compiles. */
@@ -92,14 +97,22 @@ static const key_spec keys[] = {
     KEY(joints, friction, 0.7, 0.0, false, 100.0, true, "", "Coulomb friction coefficient mu"),
     KEY(support, alpha_deg, 0.0, -180.0, true, 180.0, true, "deg",
         "direction of the right support's motion from the vertical (0 down, 90 outward)"),
-    KEY(support, rate_mm_s, 0.04, 1e-6, true, 1e6, true, "mm/s",
-        "speed of the right support (times are delta / rate: bounded both ways)"),
+    KEY_OR_ZERO(support, rate_mm_s, 0.04, 1e-6, 1e6, "mm/s",
+                "speed of the right support, 0: at rest (times are delta / rate: bounded both "
+                "ways)"),
     KEY(support, max_mm, 300.0, 0.0, false, LEN_MAX, true, "mm",
         "largest support displacement followed"),
     KEY_NAMED(support, left_kind, 0.0, support_kinds,
               "left support: fixed (clamped) or pinned (free to rotate about its pivot)"),
     KEY_NAMED(support, right_kind, 0.0, support_kinds,
               "right (moving) support: fixed (clamped) or pinned (free to rotate about its pivot)"),
+    /* both supports on their own paths: the left one's straight motion (the paths are text
+     * keys, text_keys below) */
+    KEY(support, left_alpha_deg, 0.0, -180.0, true, 180.0, true, "deg",
+        "direction of the left support's motion from the vertical, mirrored (0 down, 90 outward, "
+        "to the left)"),
+    KEY_OR_ZERO(support, left_rate_mm_s, 0.0, 1e-6, 1e6, "mm/s",
+                "speed of the left support, 0: fixed (the loading rate when rate_mm_s is 0)"),
     KEY(solver, step_mm, 0.5, 0.0, false, LEN_MAX, true, "mm",
         "initial increment of the support displacement"),
     KEY(solver, step_max_mm, 2.0, 0.0, false, LEN_MAX, true, "mm", "largest increment"),
@@ -179,6 +192,7 @@ static const key_spec keys[] = {
 #undef LEN_MAX
 #undef INF
 #undef KEY
+#undef KEY_OR_ZERO
 #undef KEY_NAMED
 #undef NAMES_OF
 #undef FIELD_TYPE
@@ -199,6 +213,144 @@ static const relation relations[] = {
      "limit_tol_mm <= step_mm <= step_max_mm, mm"},
     {"solver", "step_mm", "support", "max_mm", true, "solver.step_mm < support.max_mm, mm"},
 };
+
+/* ---------------------------------------------------------------------------------------------
+ * Text keys: a support's path in time, "t_s:dx_mm:dz_mm[:rot_deg], ..." (def.h,
+ * vs_support_path_def). Points are separated by ',' and not ';', which starts a comment after a
+ * blank in a case file and would cut the path short without a word. */
+
+typedef struct {
+  const char *section, *name;
+  size_t offset; /* of the vs_case_path field */
+} text_key_spec;
+
+static const text_key_spec text_keys[] = {
+    {"support", "left_path", offsetof(vs_case, left_path)},
+    {"support", "right_path", offsetof(vs_case, right_path)},
+};
+#define NTEXT (sizeof text_keys / sizeof text_keys[0])
+
+/* The bounds of a path's values: times up to ~30 years, lengths as the table's, a lean below a
+ * right angle either way. */
+#define PATH_T_MAX 1e9
+#define PATH_LEN_MAX 1e6
+#define PATH_ROT_MAX 90.0
+#define PATH_ALLOWED                                                                              \
+  "none, or up to 32 points t_s:dx_mm:dz_mm[:rot_deg] separated by ',', times increasing from "  \
+  "0 (a point at 0 is the origin 0:0:0), t in [0, 1e9] s, dx, dz in [-1e6, 1e6] mm, rot in "     \
+  "[-90, 90] deg"
+_Static_assert(VS_SUPPORT_PATH_MAX == 32, "PATH_ALLOWED says 32 points");
+
+static void append(char *buf, size_t size, const char *s);
+
+static const text_key_spec *find_text_key(const char *section, const char *name) {
+  for (size_t i = 0; i < NTEXT; i++)
+    if (strcmp(text_keys[i].section, section) == 0 && strcmp(text_keys[i].name, name) == 0)
+      return &text_keys[i];
+  return NULL;
+}
+
+/* One number of a path's point, blanks around it allowed (tok is writable). */
+static int path_number(char *tok, double *out) {
+  while (*tok == ' ' || *tok == '\t') tok++;
+  size_t n = strlen(tok);
+  while (n > 0 && (tok[n - 1] == ' ' || tok[n - 1] == '\t')) tok[--n] = '\0';
+  return vs_parse_double(tok, out) == VS_NUM_OK ? 0 : -1;
+}
+
+/* Parse one point "t:dx:dz[:rot]" (writable) as point i of p; why says what is wrong. */
+static int path_point_parse(char *pt, vs_case_path *p, int i, char *why, size_t size) {
+  double v[4] = {0.0, 0.0, 0.0, 0.0};
+  int f = 0;
+  for (char *tok = pt, *next; tok != NULL; tok = next, f++) {
+    next = strchr(tok, ':');
+    if (next != NULL) *next++ = '\0';
+    if (f == 4 || path_number(tok, &v[f]) != 0) {
+      snprintf(why, size, "point %d: %s", i + 1, f == 4 ? "more than 4 numbers" : "not a number");
+      return -1;
+    }
+  }
+  if (f < 3) {
+    snprintf(why, size, "point %d: %d number%s (t_s:dx_mm:dz_mm[:rot_deg])", i + 1, f,
+             f == 1 ? "" : "s");
+    return -1;
+  }
+  p->t_s[i] = v[0], p->dx_mm[i] = v[1], p->dz_mm[i] = v[2], p->rot_deg[i] = v[3];
+  return 0;
+}
+
+/* The rules of a path's points (PATH_ALLOWED); 0, or -1 with the reason in why. */
+static int path_check(const vs_case_path *p, char *why, size_t size) {
+  if (p->n < 0 || p->n > VS_SUPPORT_PATH_MAX) {
+    snprintf(why, size, "%d points", p->n);
+    return -1;
+  }
+  for (int i = 0; i < p->n; i++) {
+    const double t = p->t_s[i], dx = p->dx_mm[i], dz = p->dz_mm[i], rot = p->rot_deg[i];
+    if (!(t >= 0.0 && t <= PATH_T_MAX) || !(fabs(dx) <= PATH_LEN_MAX) ||
+        !(fabs(dz) <= PATH_LEN_MAX) || !(fabs(rot) <= PATH_ROT_MAX)) {
+      snprintf(why, size, "point %d: out of range", i + 1);
+      return -1;
+    }
+    if (i > 0 && !(t > p->t_s[i - 1])) {
+      snprintf(why, size, "point %d: t = %g s not after %g s", i + 1, t, p->t_s[i - 1]);
+      return -1;
+    }
+    if (t == 0.0 && (dx != 0.0 || dz != 0.0 || rot != 0.0)) {
+      snprintf(why, size, "point %d: at t = 0 away from the origin", i + 1);
+      return -1;
+    }
+  }
+  return 0;
+}
+
+/* Parse a path's text into *out (written only when the whole text is accepted); "none": no
+ * path. Returns 0, or -1 with the reason in why. */
+static int path_parse(const char *text, vs_case_path *out, char *why, size_t size) {
+  vs_case_path p = {.n = 0};
+  if (strcmp(text, "none") != 0) {
+    const size_t len = strlen(text);
+    char *copy = malloc(len + 1);
+    if (copy == NULL) {
+      snprintf(why, size, "out of memory");
+      return -1;
+    }
+    memcpy(copy, text, len + 1);
+    int rc = 0;
+    for (char *pt = copy, *next; pt != NULL && rc == 0; pt = next) {
+      next = strchr(pt, ',');
+      if (next != NULL) *next++ = '\0';
+      if (p.n == VS_SUPPORT_PATH_MAX) {
+        snprintf(why, size, "more than %d points", VS_SUPPORT_PATH_MAX);
+        rc = -1;
+      } else {
+        rc = path_point_parse(pt, &p, p.n, why, size);
+        p.n += rc == 0;
+      }
+    }
+    free(copy);
+    if (rc != 0 || path_check(&p, why, size) != 0) return -1;
+  }
+  *out = p;
+  return 0;
+}
+
+static vs_case_path *path_field(vs_case *c, const text_key_spec *k) {
+  return (vs_case_path *)(void *)((char *)c + k->offset);
+}
+
+/* A path as the case file gives it ("" when there is none), %.17g: read back, the same bits. */
+static void path_text(const vs_case_path *p, char *buf, size_t size) {
+  buf[0] = '\0';
+  for (int i = 0; i < p->n && i < VS_SUPPORT_PATH_MAX; i++) {
+    char pt[128];
+    int n = snprintf(pt, sizeof pt, "%s%.17g:%.17g:%.17g", i > 0 ? ", " : "", p->t_s[i],
+                     p->dx_mm[i], p->dz_mm[i]);
+    if (p->rot_deg[i] != 0.0 && n > 0 && (size_t)n < sizeof pt)
+      snprintf(pt + n, sizeof pt - (size_t)n, ":%.17g", p->rot_deg[i]);
+    append(buf, size, pt);
+  }
+}
 
 /* ---------------------------------------------------------------------------------------------
  * Table access */
@@ -233,6 +385,7 @@ static void set_value(vs_case *c, const key_spec *k, double v) {
 
 static bool in_range(const key_spec *k, double v) {
   if (!isfinite(v)) return false;
+  if (k->zero_ok && v == 0.0) return true;
   if (k->min_incl ? v < k->min : v <= k->min) return false;
   if (k->max_incl ? v > k->max : v >= k->max) return false;
   return true;
@@ -264,8 +417,8 @@ static void range_text(const key_spec *k, char *buf, size_t size) {
   snprintf(a, sizeof a, f, k->min);
   snprintf(b, sizeof b, f, k->max);
   if (lo && hi)
-    snprintf(buf, size, "%s%s%c%s, %s%c", integer, *integer ? "in " : "", k->min_incl ? '[' : '(',
-             a, b, k->max_incl ? ']' : ')');
+    snprintf(buf, size, "%s%s%s%c%s, %s%c", k->zero_ok ? "0 or " : "", integer,
+             *integer ? "in " : "", k->min_incl ? '[' : '(', a, b, k->max_incl ? ']' : ')');
   else if (lo)
     snprintf(buf, size, "%s%s %s", integer, k->min_incl ? ">=" : ">", a);
   else if (hi)
@@ -293,6 +446,11 @@ static void list_keys(const char *section, char *buf, size_t size) {
     if (strcmp(keys[i].section, section) != 0) continue;
     if (buf[0] != '\0') append(buf, size, ", ");
     append(buf, size, keys[i].name);
+  }
+  for (size_t i = 0; i < NTEXT; i++) {
+    if (strcmp(text_keys[i].section, section) != 0) continue;
+    if (buf[0] != '\0') append(buf, size, ", ");
+    append(buf, size, text_keys[i].name);
   }
 }
 
@@ -322,7 +480,15 @@ vs_status vs_case_assign(vs_case *c, const char *section, const char *name, cons
   vs_case_echo bs, bn, bv;
   const char *sec = vs_case_clip(section, &bs), *key = vs_case_clip(name, &bn),
              *val = vs_case_clip(value, &bv);
-  char list[256];
+  char list[384];
+  const text_key_spec *tk = find_text_key(section, name);
+  if (tk != NULL) {
+    char why[96];
+    if (path_parse(value, path_field(c, tk), why, sizeof why) == 0) return VS_OK;
+    return vs_error_set(err, value[0] == '\0' ? VS_ERR_PARSE : VS_ERR_INVALID,
+                        "%s: %s.%s = %s: %s (allowed: %s)", where, sec, key, val,
+                        value[0] == '\0' ? "empty value" : why, PATH_ALLOWED);
+  }
   const key_spec *k = find_key(section, name);
   if (k == NULL) {
     if (vs_case_section_known(section, strlen(section))) {
@@ -410,6 +576,33 @@ vs_status vs_case_set(vs_case *c, const char *assignment, vs_error *err) {
   return st;
 }
 
+/* The supports' motion as a whole: a loading rate, each path's points again (a field may have
+ * been set in code), no rotation of a pinned support (the same checks as the definition's,
+ * vs_support_motion_from_def, in the case's words). */
+static vs_status supports_validate(const vs_case *c, vs_error *err) {
+  if (!(vs_case_loading_rate_mm_s(c) > 0.0))
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "support.rate_mm_s = 0 and support.left_rate_mm_s = 0: no support moves "
+                        "at a rate (allowed: at least one > 0: delta = that rate x time, also "
+                        "with paths)");
+  for (size_t i = 0; i < NTEXT; i++) {
+    const vs_case_path *p = path_field((vs_case *)(uintptr_t)c, &text_keys[i]);
+    char why[96];
+    if (path_check(p, why, sizeof why) != 0)
+      return vs_error_set(err, VS_ERR_INVALID, "support.%s: %s (allowed: %s)", text_keys[i].name,
+                          why, PATH_ALLOWED);
+    const int kind = strcmp(text_keys[i].name, "left_path") == 0 ? c->left_kind : c->right_kind;
+    for (int k = 0; k < p->n; k++)
+      if (kind == VS_SUPPORT_PINNED && p->rot_deg[k] != 0.0)
+        return vs_error_set(err, VS_ERR_INVALID,
+                            "support.%s: point %d turns the support by %g deg, and it is pinned "
+                            "(allowed: a rotation only on a fixed support; a pinned one turns "
+                            "freely)",
+                            text_keys[i].name, k + 1, p->rot_deg[k]);
+  }
+  return VS_OK;
+}
+
 vs_status vs_case_validate(const vs_case *c, vs_error *err) {
   if (c == NULL) return vs_error_set(err, VS_ERR_INVALID, "vs_case_validate: case is NULL");
   char range[96];
@@ -430,7 +623,7 @@ vs_status vs_case_validate(const vs_case *c, vs_error *err) {
                         r->lo_section, r->lo_name, lo, r->strict ? "<" : "<=", r->hi_section,
                         r->hi_name, hi, r->rule);
   }
-  return VS_OK;
+  return supports_validate(c, err);
 }
 
 double vs_case_span_mm(const vs_case *c) {
@@ -440,6 +633,33 @@ double vs_case_span_mm(const vs_case *c) {
 }
 
 int vs_case_key_count(void) { return (int)NKEYS; }
+
+int vs_case_text_key_count(void) { return (int)NTEXT; }
+
+int vs_case_text_key(const vs_case *c, int i, const char **section, const char **key, char *text,
+                     size_t size) {
+  if (i < 0 || (size_t)i >= NTEXT) return -1;
+  if (section != NULL) *section = text_keys[i].section;
+  if (key != NULL) *key = text_keys[i].name;
+  if (text != NULL && size > 0) path_text(path_field((vs_case *)(uintptr_t)c, &text_keys[i]), text, size);
+  return 0;
+}
+
+double vs_case_loading_rate_mm_s(const vs_case *c) {
+  return c->rate_mm_s > 0.0 ? c->rate_mm_s : c->left_rate_mm_s > 0.0 ? c->left_rate_mm_s : 0.0;
+}
+
+/* A case path in SI (def.h). */
+static vs_support_path_def path_def(const vs_case_path *p) {
+  vs_support_path_def d = {.n = p->n};
+  for (int i = 0; i < p->n && i < VS_SUPPORT_PATH_MAX; i++) {
+    d.t[i] = p->t_s[i];
+    d.dx[i] = p->dx_mm[i] * VS_MM;
+    d.dz[i] = p->dz_mm[i] * VS_MM;
+    d.rot[i] = p->rot_deg[i] * VS_DEG;
+  }
+  return d;
+}
 
 const char *vs_case_key_name_of(int i, int value) {
   if (i < 0 || (size_t)i >= NKEYS || keys[i].names == NULL || value < 0) return NULL;
@@ -478,7 +698,11 @@ void vs_case_to_def(const vs_case *c, vs_run_def *d) {
                                 .right_kind = (vs_support_kind)c->right_kind,
                                 .alpha = c->alpha_deg * VS_DEG,
                                 .rate = c->rate_mm_s * VS_MM,
-                                .max_delta = c->max_mm * VS_MM};
+                                .max_delta = c->max_mm * VS_MM,
+                                .left_alpha = c->left_alpha_deg * VS_DEG,
+                                .left_rate = c->left_rate_mm_s * VS_MM,
+                                .left_path = path_def(&c->left_path),
+                                .right_path = path_def(&c->right_path)};
   d->path = (vs_path_def){.step = c->step_mm * VS_MM,
                           .step_max = c->step_max_mm * VS_MM,
                           .limit_tol = c->limit_tol_mm * VS_MM,

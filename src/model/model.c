@@ -21,8 +21,9 @@ vs_status vs_model_create(const vs_geometry *g, const vs_joint_law *law, double 
   m->g = g;
   m->law = *law;
   const vs_support_dir sd = vs_support_direction(alpha_rad); /* support.h: delta (dx, -dz) */
-  m->dir[0] = sd.dx;
-  m->dir[1] = -sd.dz;
+  const double fixed[3] = {0.0, 0.0, 0.0}, line[3] = {sd.dx, -sd.dz, 0.0};
+  vs_support_motion_line(&m->mo[0], fixed);
+  vs_support_motion_line(&m->mo[1], line);
   m->gscale = 1.0;
   m->mscale = 1.0;
   m->n = 3 * g->n_blocks;
@@ -128,8 +129,44 @@ const vs_joint_law *vs_model_law(const vs_model *m) { return &m->law; }
 const double *vs_model_slips(const vs_model *m) { return m->slip_p; }
 
 void vs_model_support_displacement(const vs_model *m, double delta, double u[2]) {
-  u[0] = delta * m->dir[0] + m->mscale * m->offset[0];
-  u[1] = delta * m->dir[1] + m->mscale * m->offset[1];
+  double qs[6];
+  vs_model_support_position(m, NULL, delta, qs);
+  u[0] = qs[3];
+  u[1] = qs[4];
+}
+
+vs_status vs_model_set_support_motion(vs_model *m, int right, const vs_support_motion *mo,
+                                      vs_error *err) {
+  if (mo->n < 1 || mo->n > VS_SUPPORT_SEGMENTS_MAX || mo->d[0] != 0.0)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "model: %s support motion of %d segments from %g m (allowed: 1 .. %d, "
+                        "from 0)",
+                        right ? "right" : "left", mo->n, mo->d[0], VS_SUPPORT_SEGMENTS_MAX);
+  for (int i = 1; i < mo->n; i++)
+    if (!(mo->d[i] > mo->d[i - 1]))
+      return vs_error_set(err, VS_ERR_INVALID,
+                          "model: %s support motion: segment %d starts at %g m, not after %g m "
+                          "(allowed: increasing)",
+                          right ? "right" : "left", i + 1, mo->d[i], mo->d[i - 1]);
+  m->mo[right ? 1 : 0] = *mo;
+  memo_drop(m);
+  return VS_OK;
+}
+
+const vs_support_motion *vs_model_support_motion(const vs_model *m, int right) {
+  return &m->mo[right ? 1 : 0];
+}
+
+void vs_model_support_position(const vs_model *m, const double *q, double delta, double u[6]) {
+  sup_state_q(m, q, delta, u);
+  u[3] += m->mscale * m->offset[0]; /* always added (sup_pos_q: only when there is one): a
+                                       settlement's -0 is written 0, as it always was */
+  u[4] += m->mscale * m->offset[1];
+}
+
+double vs_model_support_next_kink(const vs_model *m, double delta, double tol) {
+  return fmin(vs_support_motion_next(&m->mo[0], delta, tol),
+              vs_support_motion_next(&m->mo[1], delta, tol));
 }
 
 vs_status vs_model_set_joint_law(vs_model *m, int k, const vs_joint_law *law, vs_error *err) {
@@ -203,6 +240,6 @@ int vs_model_ext_nnz(const vs_model *m) { return m->pate.nnz; }
 void vs_model_support_states(const vs_model *m, double delta, double rate, double qs[6],
                              double vs[6]) {
   sup_pos_q(m, NULL, delta, qs);
-  sup_state_q(m, NULL, rate, vs);
+  sup_vel_q(m, NULL, delta, rate, vs);
 }
 

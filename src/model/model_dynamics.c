@@ -138,7 +138,7 @@ void vs_model_damping(const vs_model *m, const double *q, const double *v, doubl
                       SUNMatrix C) {
   double qs[6], vs[6];
   sup_pos_q(m, q, delta, qs);
-  sup_state_q(m, v, ddelta_dt, vs);
+  sup_vel_q(m, v, delta, ddelta_dt, vs);
   damping_core(m, &m->pat, q, v, qs, vs, fd, dissipated, support_power, C);
 }
 
@@ -154,7 +154,7 @@ double vs_model_friction_power(const vs_model *m, const double *q, const double 
                                double ddelta_dt) {
   double qs[6], vs[6];
   sup_pos_q(m, q, delta, qs);
-  sup_state_q(m, v, ddelta_dt, vs);
+  sup_vel_q(m, v, delta, ddelta_dt, vs);
   return friction_core(m, &m->pat, q, v, qs, vs);
 }
 

@@ -8,6 +8,7 @@
 
 #include "model_matrix.h"
 #include "voussoir/model.h"
+#include "voussoir/support.h"
 
 /* A CSC pattern over the unknowns of a system: dof[3 slot + c] is the unknown of component c
  * (ux, uz, theta) of body slot (block i: slot i; left support: n_blocks, right: n_blocks + 1),
@@ -26,7 +27,7 @@ struct vs_model {
   const vs_geometry *g;
   vs_joint_law law;
   vs_joint_law *laws; /* per joint: the law (the nominal one unless an imperfection changed it) */
-  double dir[2];   /* unit direction of the right support's motion */
+  vs_support_motion mo[2]; /* left, right: each support's motion in delta (support.h) */
   double offset[2]; /* initial offset of the right support, m (imperfections) */
   double mscale;    /* misfit factor: fraction of the face gaps and support offset applied */
   int n;           /* unknowns, 3 per block */
@@ -86,16 +87,25 @@ static inline const double *body_rot(const vs_model *m, int body) {
   return m->rot + 2 * body_slot(m, body);
 }
 
-/* The supports' states prescribed by delta (or their velocities, given d(delta)/dt): the left
- * one fixed, the right one translated by delta along dir; a pinned support's rotation is the
- * static unknown q[dof] (NULL q: zero). */
+/* The supports' states prescribed by delta: each one's motion (struct vs_model's mo) at delta; a
+ * pinned support's rotation is the static unknown q[dof] (NULL q: zero). */
 static inline void sup_state_q(const vs_model *m, const double *q, double delta, double qs[6]) {
-  qs[0] = qs[1] = qs[2] = qs[5] = 0.0;
-  qs[3] = delta * m->dir[0];
-  qs[4] = delta * m->dir[1];
-  for (int s = 0; s < 2 && q != NULL; s++) {
+  for (int s = 0; s < 2; s++) {
+    vs_support_motion_at(&m->mo[s], delta, qs + 3 * s, NULL);
     const int d = m->pat.dof[3 * (m->g->n_blocks + s) + 2];
-    if (d >= 0) qs[3 * s + 2] = q[d];
+    if (d >= 0) qs[3 * s + 2] = q != NULL ? q[d] : 0.0;
+  }
+}
+
+/* The supports' velocities at delta, given d(delta)/dt: each one's motion's rate times it; a
+ * pinned support's rotation rate is v[dof] (NULL v: zero). */
+static inline void sup_vel_q(const vs_model *m, const double *v, double delta, double ddelta_dt,
+                             double vs[6]) {
+  for (int s = 0; s < 2; s++) {
+    vs_support_motion_at(&m->mo[s], delta, NULL, vs + 3 * s);
+    for (int c = 0; c < 3; c++) vs[3 * s + c] *= ddelta_dt;
+    const int d = m->pat.dof[3 * (m->g->n_blocks + s) + 2];
+    if (d >= 0) vs[3 * s + 2] = v != NULL ? v[d] : 0.0;
   }
 }
 

@@ -56,15 +56,27 @@ int vs_model_jacobian(const vs_model *m, const double *q, double delta, SUNMatri
   return 0;
 }
 
+/* dG/d(delta) = sum over the supports of dG/dqs dqs/d(delta): each joint at a moving support
+ * adds its stiffness against that support's coordinates times their rates (a pinned support's
+ * rotation is an unknown, not loaded). A support at rest adds nothing. */
 void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double *out) {
   const vs_geometry *g = m->g;
-  double qs[6];
+  double qs[6], rate[6];
   sup_pos_q(m, q, delta, qs);
+  int moving[2];
+  for (int s = 0; s < 2; s++) {
+    vs_support_motion_at(&m->mo[s], delta, NULL, rate + 3 * s);
+    if (m->pinned[s]) rate[3 * s + 2] = 0.0;
+    moving[s] = rate[3 * s] != 0.0 || rate[3 * s + 1] != 0.0 || rate[3 * s + 2] != 0.0;
+  }
   memset(out, 0, (size_t)m->n * sizeof *out);
   for (int k = 0; k < g->n_joints; k++) {
     const int body[2] = {g->joints[k].a, g->joints[k].b};
-    int ss = (body[1] == VS_SUPPORT_RIGHT) ? 1 : (body[0] == VS_SUPPORT_RIGHT) ? 0 : -1;
+    const int ss = !body_is_block(body[1]) ? 1 : !body_is_block(body[0]) ? 0 : -1;
     if (ss < 0) continue;
+    const int sup = body[ss] == VS_SUPPORT_LEFT ? 0 : 1;
+    if (!moving[sup]) continue;
+    const double *r = rate + 3 * sup;
     double K[36];
     int d[6];
     vs_model_eval_joint(m, q, qs, k, 0, NULL, NULL, K);
@@ -72,7 +84,9 @@ void vs_model_dG_ddelta(const vs_model *m, const double *q, double delta, double
     for (int e = 0; e < 6; e++) {
       if (d[e] < 0) continue;
       const double *row = K + 6 * e + 3 * ss;
-      out[d[e]] += row[0] * m->dir[0] + row[1] * m->dir[1];
+      double x = row[0] * r[0] + row[1] * r[1];
+      if (r[2] != 0.0) x += row[2] * r[2];
+      out[d[e]] += x;
     }
   }
 }

@@ -96,10 +96,15 @@ void vs_model_support_reactions(const vs_model *m, const double *q, double delta
 }
 
 double vs_model_support_force(const vs_model *m, const double *q, double delta) {
-  double left[2], right[2];
-  vs_model_reactions(m, q, delta, left, right);
-  /* dE/du_support = f = -(force of the arch on the support) */
-  return -(right[0] * m->dir[0] + right[1] * m->dir[1]);
+  double f[6], rate[6], x = 0.0;
+  vs_model_support_reactions(m, q, delta, f); /* what the supports exert on the arch */
+  for (int s = 0; s < 2; s++) {
+    vs_support_motion_at(&m->mo[s], delta, NULL, rate + 3 * s);
+    if (m->pinned[s]) rate[3 * s + 2] = 0.0;
+    for (int c = 0; c < 3; c++)
+      if (rate[3 * s + c] != 0.0) x += f[3 * s + c] * rate[3 * s + c];
+  }
+  return x;
 }
 
 double vs_model_gravity_energy(const vs_model *m, const double *q) {

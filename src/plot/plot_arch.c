@@ -17,7 +17,7 @@
 typedef struct {
   const vs_geometry *g;
   const double *q;
-  double delta, alpha, su[2];
+  double delta, alpha, su[4]; /* the supports' displacements: left ux, uz, right ux, uz */
   const vs_hinge *hinges;
   int n_hinges;
   const double *gap_i, *gap_e;
@@ -133,15 +133,19 @@ static void draw_supports(cairo_t *cr, const arch_data *d) {
   double x[SUPPORT_PTS], z[SUPPORT_PTS];
   const double zero[2] = {0.0, 0.0};
   const double dash[2] = {6.0, 4.0};
-  /* the right support's fixed position, dashed, under everything */
-  model_path(cr, &d->f, x, z, vs_plot_support_outline(d->g, 0, zero, x, z));
-  cairo_set_source_rgb(cr, 0.55, 0.55, 0.55);
-  cairo_set_line_width(cr, 1.0);
-  cairo_set_dash(cr, dash, 2, 0.0);
-  cairo_stroke(cr);
-  cairo_set_dash(cr, NULL, 0, 0.0);
+  /* the right support's fixed position, dashed, under everything (and the left one's if it
+   * moves) */
+  for (int left = 0; left < 2; left++) {
+    if (left && d->su[0] == 0.0 && d->su[1] == 0.0) continue;
+    model_path(cr, &d->f, x, z, vs_plot_support_outline(d->g, left, zero, x, z));
+    cairo_set_source_rgb(cr, 0.55, 0.55, 0.55);
+    cairo_set_line_width(cr, 1.0);
+    cairo_set_dash(cr, dash, 2, 0.0);
+    cairo_stroke(cr);
+    cairo_set_dash(cr, NULL, 0, 0.0);
+  }
   for (int left = 1; left >= 0; left--) {
-    vs_plot_support_outline(d->g, left, left ? zero : d->su, x, z);
+    vs_plot_support_outline(d->g, left, left ? d->su : d->su + 2, x, z);
     model_path(cr, &d->f, x, z, SUPPORT_PTS);
     cairo_set_source_rgb(cr, 0.70, 0.70, 0.70);
     cairo_fill_preserve(cr);
@@ -149,18 +153,20 @@ static void draw_supports(cairo_t *cr, const arch_data *d) {
     cairo_set_line_width(cr, 1.2);
     cairo_stroke(cr);
     ground(cr, &d->f, x[3], x[4], z[3]);
-    if (d->pinned[!left]) draw_springer(cr, d, left);
+    if (d->pinned[!left] || d->srot[!left] != 0.0) draw_springer(cr, d, left);
   }
 }
 
-/* The arrow of the right support's displacement, from the fixed face centre to the moved one. */
+/* The arrow of each support's displacement, from the fixed face centre to the moved one. */
 static void draw_support_arrow(cairo_t *cr, const arch_data *d) {
-  const vs_joint_geom *j = &d->g->joints[d->g->n_joints - 1];
-  double ax, ay, bx, by;
-  vs_plot_to_px(&d->f, j->px, j->pz, &ax, &ay);
-  vs_plot_to_px(&d->f, j->px + d->su[0], j->pz + d->su[1], &bx, &by);
-  if (hypot(bx - ax, by - ay) > 6.0)
-    vs_plot_arrow(cr, ax, ay, bx, by, 10.0, (vs_rgb){0.2, 0.2, 0.2});
+  for (int s = 1; s >= 0; s--) {
+    const vs_joint_geom *j = &d->g->joints[s ? d->g->n_joints - 1 : 0];
+    double ax, ay, bx, by;
+    vs_plot_to_px(&d->f, j->px, j->pz, &ax, &ay);
+    vs_plot_to_px(&d->f, j->px + d->su[2 * s], j->pz + d->su[2 * s + 1], &bx, &by);
+    if (hypot(bx - ax, by - ay) > 6.0)
+      vs_plot_arrow(cr, ax, ay, bx, by, 10.0, (vs_rgb){0.2, 0.2, 0.2});
+  }
 }
 
 /* Moved ends of joint k (0-based) on faces a and b: fa, fb = intrados x, z, extrados x, z. */
@@ -369,10 +375,16 @@ static void draw_arch(cairo_t *cr, const void *data) {
     vs_plot_text_at(cr, d->title, ARCH_SIDE, y, 0.0, 1.0, C_TEXT, 0);
     y += 28.0;
   }
-  char buf[160];
-  snprintf(buf, sizeof buf, "delta = %.2f mm (dz %.2f mm, dx %.2f mm), alpha = %.1f deg",
-           d->delta / VS_MM, d->delta * cos(d->alpha) / VS_MM, d->delta * sin(d->alpha) / VS_MM,
-           d->alpha / VS_DEG);
+  char buf[200];
+  if (d->su[0] != 0.0 || d->su[1] != 0.0) /* both supports moved: each one's, outward, down */
+    snprintf(buf, sizeof buf,
+             "delta = %.2f mm; left support dx %.2f mm, dz %.2f mm; right dx %.2f mm, dz %.2f mm",
+             d->delta / VS_MM, -d->su[0] / VS_MM, -d->su[1] / VS_MM, d->su[2] / VS_MM,
+             -d->su[3] / VS_MM);
+  else
+    snprintf(buf, sizeof buf, "delta = %.2f mm (dz %.2f mm, dx %.2f mm), alpha = %.1f deg",
+             d->delta / VS_MM, d->delta * cos(d->alpha) / VS_MM, d->delta * sin(d->alpha) / VS_MM,
+             d->alpha / VS_DEG);
   vs_plot_font(cr, 16.0, 0);
   vs_plot_text_at(cr, buf, ARCH_SIDE, y, 0.0, 1.0, C_TEXT, 0);
   draw_scale_bar(cr, &d->f);
@@ -409,8 +421,13 @@ static vs_status arch_data_of(const vs_plot_arch_args *a, arch_data *d, vs_error
     if (!(a->block_thickness[i] > 0.0 && a->block_thickness[i] < g->radius))
       return vs_error_set(err, VS_ERR_INVALID, "plot: block %d thickness %g m (allowed: (0, R))",
                           i + 1, a->block_thickness[i]);
+  for (int i = 0; a->supports != NULL && i < 6; i++)
+    if (!isfinite(a->supports[i]))
+      return vs_error_set(err, VS_ERR_INVALID, "plot: support %d: value %d is %g (allowed: finite)",
+                          i / 3 + 1, i % 3 + 1, a->supports[i]);
   for (int s = 0; s < 2; s++)
-    if (!isfinite(a->support_theta[s]) || (!a->pinned[s] && a->support_theta[s] != 0.0))
+    if (!isfinite(a->support_theta[s]) ||
+        (!a->pinned[s] && a->support_theta[s] != 0.0 && a->supports == NULL))
       return vs_error_set(err, VS_ERR_INVALID, "plot: support %d rotation %g rad (allowed: finite, "
                           "0 unless pinned)", s + 1, a->support_theta[s]);
   if (a->has_ground && !isfinite(a->ground_z))
@@ -423,7 +440,15 @@ static vs_status arch_data_of(const vs_plot_arch_args *a, arch_data *d, vs_error
                    .pinned = {a->pinned[0] != 0, a->pinned[1] != 0},
                    .srot = {a->support_theta[0], a->support_theta[1]},
                    .ground = a->has_ground ? a->ground_z : NAN};
-  vs_support_displacement(vs_support_direction(a->alpha_rad), a->delta_m, d->su);
+  if (a->supports != NULL) { /* both, as given; a fixed one's rotation its own */
+    const double *u = a->supports;
+    d->su[0] = u[0], d->su[1] = u[1], d->su[2] = u[3], d->su[3] = u[4];
+    for (int s = 0; s < 2; s++)
+      if (!a->pinned[s]) d->srot[s] = u[3 * s + 2];
+  } else {
+    d->su[0] = d->su[1] = 0.0;
+    vs_support_displacement(vs_support_direction(a->alpha_rad), a->delta_m, d->su + 2);
+  }
   vs_plot_frame_of(g, a->q, d->thick, d->su, d->ground, &d->f);
   return VS_OK;
 }

@@ -108,6 +108,7 @@ static int draw_labelled(vs_plotrec *r, const state *st, const char *dir, const 
       .has_ground = isfinite(ground),
       .ground_z = ground};
   springer_rotations(r, st, &a);
+  a.supports = st->sup;
   if (vs_plot_arch_draw(path, vs_plot_format_from_path(path), &a, &err) != VS_OK) {
     fprintf(stderr, "voussoir plot: %s\n", err.msg);
     return -1;
@@ -159,7 +160,7 @@ static int draw_at(vs_plotrec *r, double delta, pic_kind kind, int focus, const 
     return draw_state(r, &st, dir, name, ext, title);
   }
   const size_t nq = 3 * (size_t)r->nb, nj = (size_t)r->nj;
-  double *buf = malloc((nq + 4 * nj) * sizeof *buf);
+  double *buf = malloc((nq + 4 * nj + 6) * sizeof *buf);
   if (buf == NULL) return draw_state(r, &st, dir, name, ext, what);
   const state a = vs_plotrec_state(r, j - 1), b = vs_plotrec_state(r, j);
   const double w = (delta - a.delta) / (b.delta - a.delta);
@@ -168,8 +169,10 @@ static int draw_at(vs_plotrec *r, double delta, pic_kind kind, int focus, const 
   lerp(a.gap_e, b.gap_e, w, nj, buf + nq + nj);
   lerp(a.N, b.N, w, nj, buf + nq + 2 * nj);
   lerp(a.M, b.M, w, nj, buf + nq + 3 * nj);
+  double *sup = NULL;
+  if (a.sup != NULL && b.sup != NULL) lerp(a.sup, b.sup, w, 6, sup = buf + nq + 4 * nj);
   st = (state){buf, buf + nq, buf + nq + nj, buf + nq + 2 * nj, buf + nq + 3 * nj, delta,
-               j,   kind,     focus};
+               j,   kind,     focus,         sup};
   snprintf(title, sizeof title, "%s at delta = %.3f mm (interpolated between the states at %.3f "
            "and %.3f mm)", what, delta / VS_MM, a.delta / VS_MM, b.delta / VS_MM);
   const int rc = draw_state(r, &st, dir, name, ext, title);

@@ -23,6 +23,7 @@ typedef struct {
   vs_geometry *g;
   int rows, nb, nj;
   double *delta, *pos, *gap_i, *gap_e, *react, *jN, *jM;
+  double *sup; /* rows x 6: both supports (/observables/supports); NULL in an older record */
   signed char *hinge; /* rows x nj: 0 closed, 1 intrados, 2 extrados */
   rec_hinge *h;
   int nh;
@@ -51,6 +52,7 @@ typedef struct {
   int hinge_row;
   pic_kind kind;
   int focus;
+  const double *sup; /* both supports' (ux, uz, theta), left then right; NULL: not recorded */
 } state;
 
 /* Open the record at path and read what the pictures need: 0, or -1 with r->msg set (free r

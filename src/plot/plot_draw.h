@@ -48,9 +48,10 @@ enum { SUPPORT_PTS = 5 };
 enum { ARCH_SIDE = 50, ARCH_TOP = 95, ARCH_BOTTOM = 75 }; /* margins, px */
 
 /* Point X, Z of body `body` (a block index or a support) moved: x = c + u + R(theta)(X - c);
- * q NULL: the reference; su the right support's displacement, srot the springers' rotations
+ * q NULL: the reference; su the supports' displacements (left ux, uz, right ux, uz), srot
+ * the springers' rotations
  * (NULL: none). */
-void vs_plot_body_point(const vs_geometry *g, const double *q, const double su[2],
+void vs_plot_body_point(const vs_geometry *g, const double *q, const double su[4],
                         const double *srot, int body, double X, double Z, double *x, double *z);
 /* Reference ends of joint j: intrados (eta = 0) and extrados (eta = length). */
 void vs_plot_joint_ends(const vs_joint_geom *j, double e[4]);
@@ -69,6 +70,6 @@ vs_status vs_plot_check_arch(const vs_geometry *g, const double *q, double delta
 /* The frame (scale, origin) that shows the arch in state q, its supports and the ground (NaN:
  * none). */
 void vs_plot_frame_of(const vs_geometry *g, const double *q, const double *thick,
-                      const double su[2], double ground, vs_plot_frame *f);
+                      const double su[4], double ground, vs_plot_frame *f);
 
 #endif

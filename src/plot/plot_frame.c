@@ -11,7 +11,7 @@
 #include <string.h>
 
 /* Point X, Z of body `body` (a block index or a support) moved: x = c + u + R(theta)(X - c). */
-void vs_plot_body_point(const vs_geometry *g, const double *q, const double su[2],
+void vs_plot_body_point(const vs_geometry *g, const double *q, const double su[4],
                         const double *srot, int body, double X, double Z, double *x, double *z) {
   if (body < 0 || q == NULL) {
     const int moved = body == VS_SUPPORT_RIGHT;
@@ -22,8 +22,8 @@ void vs_plot_body_point(const vs_geometry *g, const double *q, const double su[2
       X = j->px + c * dx - s * dz;
       Z = j->pz + s * dx + c * dz;
     }
-    *x = X + (moved ? su[0] : 0.0);
-    *z = Z + (moved ? su[1] : 0.0);
+    *x = X + su[moved ? 2 : 0];
+    *z = Z + su[moved ? 3 : 1];
     return;
   }
   const vs_block *b = &g->blocks[body];
@@ -56,7 +56,7 @@ int vs_plot_block_outline(const vs_geometry *g, const double *q, const double *t
                           double *x, double *z) {
   const vs_block *b = &g->blocks[i];
   const double r[2] = {g->radius, g->radius + (thick != NULL ? thick[i] : g->thickness)};
-  const double su[2] = {0.0, 0.0};
+  const double su[4] = {0.0, 0.0, 0.0, 0.0};
   int m = arc_points(b->phi1 - b->phi0), k = 0;
   for (int side = 0; side < 2; side++)
     for (int p = 0; p < m; p++, k++) {
@@ -119,7 +119,7 @@ static void box_add(box *b, const double *x, const double *z, int n) {
 }
 
 void vs_plot_frame_of(const vs_geometry *g, const double *q, const double *thick,
-                      const double su[2], double ground, vs_plot_frame *f) {
+                      const double su[4], double ground, vs_plot_frame *f) {
   double x[2 * ARC_MAX], z[2 * ARC_MAX];
   const double zero[2] = {0.0, 0.0};
   box b = {INFINITY, -INFINITY, INFINITY, -INFINITY};
@@ -129,7 +129,8 @@ void vs_plot_frame_of(const vs_geometry *g, const double *q, const double *thick
   }
   box_add(&b, x, z, vs_plot_support_outline(g, 1, zero, x, z));
   box_add(&b, x, z, vs_plot_support_outline(g, 0, zero, x, z));
-  box_add(&b, x, z, vs_plot_support_outline(g, 0, su, x, z));
+  box_add(&b, x, z, vs_plot_support_outline(g, 0, su + 2, x, z));
+  box_add(&b, x, z, vs_plot_support_outline(g, 1, su, x, z));
   if (isfinite(ground)) box_add(&b, &b.x0, &ground, 1);
   const int w = VS_PLOT_ARCH_WIDTH, h = VS_PLOT_ARCH_HEIGHT;
   const double aw = w - 2.0 * ARCH_SIDE, ah = h - ARCH_TOP - ARCH_BOTTOM;

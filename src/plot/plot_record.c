@@ -51,6 +51,7 @@ void vs_plotrec_free(vs_plotrec *r) {
   free(r->thick);
   free(r->delta);
   free(r->pos);
+  free(r->sup);
   free(r->gap_i);
   free(r->gap_e);
   free(r->jN);
@@ -228,6 +229,15 @@ int vs_plotrec_open(const char *path, vs_plotrec *r) {
     snprintf(r->msg, sizeof r->msg, "%.400s: the record's time series are incomplete", path);
     return -1;
   }
+  /* both supports, in a record that has them (not before they could both move) */
+  if (H5Lexists(r->file, "/observables/supports", H5P_DEFAULT) > 0) {
+    r->sup = malloc(n * 6 * sizeof(double));
+    if (r->sup == NULL ||
+        vs_h5_read_doubles(r->file, "/observables/supports/value", r->sup, n * 6)) {
+      snprintf(r->msg, sizeof r->msg, "%.400s: the record's time series are incomplete", path);
+      return -1;
+    }
+  }
   if (read_hinges(r) || read_limits(r)) {
     snprintf(r->msg, sizeof r->msg,
              "%.300s: /summary/hinges or /summary/limit_points is not a table of rank 1 of the "
@@ -335,5 +345,6 @@ int vs_plotrec_hinges_at(const vs_plotrec *r, int row, double delta, pic_kind ki
 state vs_plotrec_state(const vs_plotrec *r, int row) {
   const size_t o = (size_t)row * (size_t)r->nj;
   return (state){r->pos + (size_t)row * 3 * (size_t)r->nb, r->gap_i + o, r->gap_e + o,
-                 r->jN + o, r->jM + o, r->delta[row], row, PIC_ROW, -1};
+                 r->jN + o, r->jM + o, r->delta[row], row, PIC_ROW, -1,
+                 r->sup != NULL ? r->sup + (size_t)row * 6 : NULL};
 }

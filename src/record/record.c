@@ -461,16 +461,20 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
 /* ------------------------------------------------------------------------------------------ */
 /* Rows                                                                                         */
 
-/* Point (X, Z) of body `body` in the reference configuration, moved to the state q with the right
- * support displaced by usup; rot: every block's cos and sin of its rotation in q. */
+/* Point (X, Z) of body `body` of joint j in the reference configuration, moved to the state q
+ * with the supports at usup (left ux, uz, theta, then right; a support turns about its pivot,
+ * the centre of its springing joint j); rot: every block's cos and sin of its rotation in q. */
 static void body_move(const vs_geometry *g, const double *q, const double *rot,
-                      const double usup[2], int body, double X, double Z, double out[2]) {
-  if (body == VS_SUPPORT_LEFT) {
-    out[0] = X;
-    out[1] = Z;
-  } else if (body == VS_SUPPORT_RIGHT) {
-    out[0] = X + usup[0];
-    out[1] = Z + usup[1];
+                      const double usup[6], const vs_joint_geom *j, int body, double X, double Z,
+                      double out[2]) {
+  if (body < 0) { /* a support */
+    const double *u = usup + (body == VS_SUPPORT_LEFT ? 0 : 3);
+    if (u[2] == 0.0) { /* most supports never turn: their points only translate */
+      out[0] = X + u[0];
+      out[1] = Z + u[1];
+    } else {
+      vs_xdmf_move(j->px, j->pz, u[0], u[1], cos(u[2]), sin(u[2]), X, Z, out);
+    }
   } else {
     const vs_block *b = &g->blocks[body];
     vs_xdmf_move(b->cx, b->cz, q[3 * body], q[3 * body + 1], rot[2 * body], rot[2 * body + 1], X,
@@ -491,7 +495,7 @@ static void fill_blocks(vs_output *o, const vs_run_sample *s) {
 }
 
 static void fill_joints(vs_output *o, const vs_run *run, const vs_run_sample *s,
-                        const double usup[2]) {
+                        const double usup[6]) {
   const vs_geometry *g = vs_run_geometry(run);
   const vs_hinge_opts *ho = vs_run_hinge_opts(run);
   double *N = row_ptr(o, S_N), *T = row_ptr(o, S_T), *M = row_ptr(o, S_M);
@@ -508,10 +512,10 @@ static void fill_joints(vs_output *o, const vs_run *run, const vs_run_sample *s,
     const vs_joint_geom *j = &g->joints[k];
     for (int e = 0; e < 2; e++) {
       double pa[2], pb[2];
-      body_move(g, s->q, o->rot, usup, j->a, o->jref[4 * k + 2 * e], o->jref[4 * k + 2 * e + 1],
-                pa);
-      body_move(g, s->q, o->rot, usup, j->b, o->jref[4 * k + 2 * e], o->jref[4 * k + 2 * e + 1],
-                pb);
+      body_move(g, s->q, o->rot, usup, j, j->a, o->jref[4 * k + 2 * e],
+                o->jref[4 * k + 2 * e + 1], pa);
+      body_move(g, s->q, o->rot, usup, j, j->b, o->jref[4 * k + 2 * e],
+                o->jref[4 * k + 2 * e + 1], pb);
       pts[4 * k + 2 * e] = (float)(0.5 * (pa[0] + pb[0]));
       pts[4 * k + 2 * e + 1] = (float)(0.5 * (pa[1] + pb[1]));
     }
@@ -520,12 +524,13 @@ static void fill_joints(vs_output *o, const vs_run *run, const vs_run_sample *s,
 
 static void fill_row(vs_output *o, const vs_run *run, const vs_run_sample *s) {
   const vs_model *m = vs_run_model(run);
-  double usup[2];
-  vs_model_support_displacement(m, s->delta, usup);
+  double usup[6]; /* both supports' (ux, uz, theta) */
+  vs_model_support_position(m, s->q, s->delta, usup);
   *(int64_t *)row_ptr(o, S_STEP) = (int64_t)(o->rows + o->pending);
   *(double *)row_ptr(o, S_TIME) = s->t;
   *(double *)row_ptr(o, S_DELTA) = s->delta;
-  memcpy(row_ptr(o, S_SUPPORT), usup, sizeof usup);
+  memcpy(row_ptr(o, S_SUPPORT), usup + 3, 2 * sizeof *usup);
+  memcpy(row_ptr(o, S_SUPPORTS), usup, sizeof usup);
   *(int8_t *)row_ptr(o, S_PHASE) = (int8_t)s->phase;
   /* one cos and sin per block and row (the joints' ends use them) */
   for (int b = 0; b < o->nb; b++) {

@@ -42,6 +42,7 @@ enum {
   S_ENERGY,
   S_JPTS,
   S_SOLVER,
+  S_SUPPORTS, /* both supports (docs/model.md, "Both supports move") */
   S_COUNT
 };
 

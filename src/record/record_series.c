@@ -77,6 +77,12 @@ static const series_def SERIES[S_COUNT] = {
                   "solver statistics up to this row, cumulative over the run: KINSOL Newton "
                   "iterations of the quasi-static path (equilibrium searches after snaps "
                   "included), IDA steps and IDA Newton iterations of the dynamic phases"},
+    [S_SUPPORTS] = {"supports", "value", K_F64, 2, {6, 0}, "m,m,rad,m,m,rad",
+                    "left_ux,left_uz,left_theta,right_ux,right_uz,right_theta",
+                    "each support's displacement and rotation (x right, z up, theta "
+                    "counter-clockwise about the centre of its springing face): its prescribed "
+                    "motion (the right one's initial offset included), a pinned one's rotation "
+                    "as solved"},
 };
 /* clang-format on */
 static size_t kind_size(elem_kind k) {

@@ -10,9 +10,49 @@
 #include "voussoir/version.h"
 #include "quote.h"
 
-/* Support displacement components over the span, in %. */
-static void components_pct(const vs_case *c, double delta_m, double *dz, double *dx) {
+/* --- both supports (docs/model.md, "Both supports move") --- */
+
+/* Does the case move the right support alone, along alpha (every case before both could)? */
+static int right_alone(const vs_case *c) {
+  return c->left_rate_mm_s == 0.0 && c->left_path.n == 0 && c->right_path.n == 0 &&
+         c->rate_mm_s > 0.0;
+}
+
+/* Support s's (0 left, 1 right) displacement at delta as the output gives it: dx outward, dz
+ * down (mm), the prescribed rotation outward (deg; NaN for a pinned support, whose rotation is
+ * free). The motion's own, without an imperfect arch's initial offset. */
+static void support_outward(const vs_run *r, int s, double delta, double out[3]) {
+  double u[3];
+  vs_support_motion_at(vs_model_support_motion(vs_run_model(r), s), delta, u, NULL);
+  out[0] = (s ? u[0] : -u[0]) / VS_MM;
+  out[1] = -u[1] / VS_MM;
+  out[2] = vs_model_support_kind(vs_run_model(r), s) == VS_SUPPORT_PINNED
+               ? NAN
+               : (s ? -u[2] : u[2]) / VS_DEG;
+  for (int c = 0; c < 3; c++) out[c] += 0.0; /* a support at rest: 0, not -0 */
+}
+
+/* The relative displacement of the supports (the right one's relative to the left one: dx the
+ * spreading of the span, dz the right one's settlement below the left one), mm. */
+static void support_relative(const vs_run *r, double delta, double *dx, double *dz) {
+  double lo[3], ro[3];
+  support_outward(r, 0, delta, lo);
+  support_outward(r, 1, delta, ro);
+  *dx = ro[0] + lo[0];
+  *dz = ro[1] - lo[1];
+}
+
+/* Support displacement components over the span, in %: delta along alpha when the right support
+ * moves alone (as always), else the supports' relative displacement. */
+static void components_pct(const vs_run *r, double delta_m, double *dz, double *dx) {
+  const vs_case *c = vs_run_case(r);
   const double L = vs_case_span_mm(c), d = delta_m / VS_MM;
+  if (!right_alone(c)) {
+    support_relative(r, delta_m, dx, dz);
+    *dz *= 100.0 / L;
+    *dx *= 100.0 / L;
+    return;
+  }
   const vs_support_dir sd = vs_support_direction(c->alpha_deg * VS_DEG);
   *dz = 100.0 * d * sd.dz / L;
   *dx = 100.0 * d * sd.dx / L;
@@ -51,7 +91,7 @@ static void jnum(FILE *out, const char *sep_key, double x, int digits) {
 
 /* One hinge of a list (first: the list's first), its joints at onset too when with_onset. */
 static void json_hinge(FILE *out, const vs_run *r, const vs_hinge *h, int first, int with_onset) {
-  const double rate = vs_run_case(r)->rate_mm_s * VS_MM;
+  const double rate = vs_case_loading_rate_mm_s(vs_run_case(r)) * VS_MM;
   fprintf(out, "%s{\"label\":\"%c\",\"side\":\"%c\",\"joints\":[", first ? "" : ",", h->label,
           h->side);
   for (int j = h->first; j <= h->last; j++) fprintf(out, "%s%d", j > h->first ? "," : "", j);
@@ -65,6 +105,18 @@ static void json_hinge(FILE *out, const vs_run *r, const vs_hinge *h, int first,
   fprintf(out, ",\"open\":%s,\"order\":%d}", h->open ? "true" : "false", h->order);
 }
 
+/* ,"left":{"dx_mm":..,"dz_mm":..,"rot_deg":..},"right":{..} at delta. */
+static void json_supports_at(FILE *out, const vs_run *r, double delta) {
+  for (int s = 0; s < 2; s++) {
+    double o[3];
+    support_outward(r, s, delta, o);
+    jnum(out, s ? ",\"right\":{\"dx_mm\":" : ",\"left\":{\"dx_mm\":", o[0], 10);
+    jnum(out, ",\"dz_mm\":", o[1], 10);
+    jnum(out, ",\"rot_deg\":", o[2], 10);
+    fputc('}', out);
+  }
+}
+
 static void json_first_limit(FILE *out, const vs_run *r) {
   const vs_path_result *p = vs_run_path(r);
   double dz, dx;
@@ -72,7 +124,7 @@ static void json_first_limit(FILE *out, const vs_run *r) {
     fputs("null", out);
     return;
   }
-  components_pct(vs_run_case(r), p->delta_limit, &dz, &dx);
+  components_pct(r, p->delta_limit, &dz, &dx);
   jnum(out, "{\"delta_mm\":", p->delta_limit / VS_MM, 10);
   jnum(out, ",\"dz_over_L_pct\":", dz, 10);
   jnum(out, ",\"dx_over_L_pct\":", dx, 10);
@@ -104,15 +156,16 @@ static void json_collapse(FILE *out, const vs_run *r) {
     fputs("null", out);
     return;
   }
-  components_pct(vs_run_case(r), col->delta, &dz, &dx);
+  components_pct(r, col->delta, &dz, &dx);
   jnum(out, "{\"delta_mm\":", col->delta / VS_MM, 10);
   jnum(out, ",\"dz_over_L_pct\":", dz, 10);
   jnum(out, ",\"dx_over_L_pct\":", dx, 10);
+  json_supports_at(out, r, col->delta);
   jnum(out, ",\"time_s\":", col->t, 10);
   jnum(out, ",\"delta_detected_mm\":", col->delta_detected / VS_MM, 10);
   jnum(out, ",\"time_detected_s\":", col->t_criterion, 10);
   jnum(out, ",\"onset_time_s\":", col->t_onset, 10);
-  jnum(out, ",\"delta_onset_mm\":", col->t_onset * vs_run_case(r)->rate_mm_s, 10);
+  jnum(out, ",\"delta_onset_mm\":", col->t_onset * vs_case_loading_rate_mm_s(vs_run_case(r)), 10);
   fputs(",\"reactions_at_limit\":", out);
   json_reactions(out, col->reactions_limit);
   fputs(",\"hinges\":[", out);
@@ -288,6 +341,35 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   json_tail(out, r);
 }
 
+/* One support's motion as the case gives it. */
+static void text_motion(FILE *out, const vs_case *c, int right) {
+  const vs_case_path *p = right ? &c->right_path : &c->left_path;
+  const double rate = right ? c->rate_mm_s : c->left_rate_mm_s;
+  fprintf(out, "%s ", right ? "right" : "left");
+  if (p->n > 0) {
+    fprintf(out, "on a path (outward, down):");
+    for (int i = 0; i < p->n; i++) {
+      fprintf(out, "%s at %g s %g, %g mm", i ? "," : "", p->t_s[i], p->dx_mm[i], p->dz_mm[i]);
+      if (p->rot_deg[i] != 0.0) fprintf(out, " turned %g deg", p->rot_deg[i]);
+    }
+  } else if (rate > 0.0) {
+    fprintf(out, "moved at alpha = %g deg from the vertical (90 outward), %g mm/s",
+            right ? c->alpha_deg : c->left_alpha_deg, rate);
+  } else {
+    fprintf(out, "in place");
+  }
+}
+
+/* The header's support lines when more than the right support moves. */
+static void text_motions(FILE *out, const vs_case *c) {
+  fprintf(out, "support  ");
+  text_motion(out, c, 0);
+  fprintf(out, ";\n         ");
+  text_motion(out, c, 1);
+  fprintf(out, ";\n         delta = %g mm/s x t (left %s", vs_case_loading_rate_mm_s(c),
+          support_kind(c->left_kind));
+}
+
 static void text_header(FILE *out, const vs_run *r, const char *case_path) {
   const vs_case *c = vs_run_case(r);
   const vs_geometry *g = vs_run_geometry(r);
@@ -301,8 +383,10 @@ static void text_header(FILE *out, const vs_run *r, const char *case_path) {
           g->span / VS_MM, g->rise / VS_MM, vs_geometry_weight(g));
   fprintf(out, "joints   k_n = %g N/mm^3, k_s = %g k_n, mu = %g\n", c->kn_N_mm3, c->ks_ratio,
           c->friction);
-  fprintf(out, "support  right support moved at alpha = %g deg from the vertical, %g mm/s (left %s",
-          c->alpha_deg, c->rate_mm_s, support_kind(c->left_kind));
+  if (!right_alone(c)) text_motions(out, c);
+  else
+    fprintf(out, "support  right support moved at alpha = %g deg from the vertical, %g mm/s (left %s",
+            c->alpha_deg, c->rate_mm_s, support_kind(c->left_kind));
   if (c->left_kind != VS_SUPPORT_FIXED || c->right_kind != VS_SUPPORT_FIXED)
     fprintf(out, ", right %s;\n         pinned: free to rotate about the centre of its springing face",
             support_kind(c->right_kind));
@@ -316,23 +400,24 @@ static void text_header(FILE *out, const vs_run *r, const char *case_path) {
           c->collapse_ke);
 }
 
-static void text_hinge_row(FILE *out, const vs_case *c, const vs_hinge *hg, int onset_name) {
+static void text_hinge_row(FILE *out, const vs_run *r, const vs_hinge *hg, int onset_name) {
+  const vs_case *c = vs_run_case(r);
   char a[96];
   vs_hinge_name(hg, onset_name, a, sizeof a);
   double dz, dx;
-  components_pct(c, hg->delta_onset, &dz, &dx);
+  components_pct(r, hg->delta_onset, &dz, &dx);
   const char *nth = hg->order == 4 ? " (4th hinge)" : hg->order == 5 ? " (5th hinge)" : "";
   fprintf(out, "  %c  %-16s %9.3f mm %9.2f s  %6.3f %%  %6.3f %%%s\n", hg->label, a,
-          hg->delta_onset / VS_MM, hg->delta_onset / (c->rate_mm_s * VS_MM), dz, dx, nth);
+          hg->delta_onset / VS_MM, hg->delta_onset / (vs_case_loading_rate_mm_s(c) * VS_MM), dz,
+          dx, nth);
 }
 
 /* The first limit point and the evidence that it is one. */
 static void text_first_limit(FILE *out, const vs_run *r) {
-  const vs_case *c = vs_run_case(r);
   const vs_path_result *p = vs_run_path(r);
   double dz, dx;
   if (p->end == VS_PATH_LIMIT_POINT && vs_run_limit_count(r) > 0) {
-    components_pct(c, p->delta_limit, &dz, &dx);
+    components_pct(r, p->delta_limit, &dz, &dx);
     fprintf(out, "first limit point  delta = %.4f mm   dz/L = %.3f %%   dx/L = %.3f %%\n",
             p->delta_limit / VS_MM, dz, dx);
     fprintf(out,
@@ -362,6 +447,22 @@ static void text_limits(FILE *out, const vs_run *r) {
   }
 }
 
+/* Each support's displacement and the relative one at delta (a case that moves more than the
+ * right support alone). */
+static void text_supports_at(FILE *out, const vs_run *r, double delta) {
+  double o[2][3], dx, dz;
+  support_outward(r, 0, delta, o[0]);
+  support_outward(r, 1, delta, o[1]);
+  support_relative(r, delta, &dx, &dz);
+  fprintf(out, "  supports (outward, down):");
+  for (int s = 0; s < 2; s++) {
+    fprintf(out, "%s dx = %.4f mm, dz = %.4f mm", s ? "; right" : " left", o[s][0], o[s][1]);
+    if (isfinite(o[s][2]) && o[s][2] != 0.0) fprintf(out, ", turned %.4f deg", o[s][2]);
+  }
+  fprintf(out, ";\n  relative (the right one's from the left one's): dx = %.4f mm spreading, dz = "
+               "%.4f mm settlement\n", dx, dz);
+}
+
 /* The collapse (delta_u, its components, mode, reactions, hinges at its onset), or how far the
  * support moved without one. */
 static void text_collapse(FILE *out, const vs_run *r, vs_status status) {
@@ -369,9 +470,10 @@ static void text_collapse(FILE *out, const vs_run *r, vs_status status) {
   const vs_collapse_record *col = vs_run_collapse(r);
   double dz, dx;
   if (col->found) {
-    components_pct(c, col->delta, &dz, &dx);
+    components_pct(r, col->delta, &dz, &dx);
     fprintf(out, "\nCOLLAPSE  delta_u = %.4f mm   dz/L = %.3f %%   dx/L = %.3f %%   at t = %.2f s\n",
             col->delta / VS_MM, dz, dx, col->t);
+    if (!right_alone(c)) text_supports_at(out, r, col->delta);
     fprintf(out, "  departure from the last stable equilibrium (%s); detected (kinetic energy past "
                  "the collapse threshold) at %.4f mm, t = %.2f s\n",
             c->full ? "the kinetic energy's last rise through the rest level" : "the collapsing limit point",
@@ -387,25 +489,25 @@ static void text_collapse(FILE *out, const vs_run *r, vs_status status) {
                    "M %.4f N m; right Fx %.3f N, Fz %.3f N, M %.4f N m\n",
               rc[0], rc[1], rc[2], rc[3], rc[4], rc[5]);
     fprintf(out, "  label  joints          onset delta   onset time    dz/L     dx/L\n");
-    for (int i = 0; i < col->n_hinges; i++) text_hinge_row(out, c, &col->hinges[i], 0);
+    for (int i = 0; i < col->n_hinges; i++) text_hinge_row(out, r, &col->hinges[i], 0);
     if (col->n_hinges == 0) fprintf(out, "  (none open by hinges.open_mm)\n");
   } else if (status == VS_OK && (c->follow || c->full)) {
-    components_pct(c, vs_run_delta(r), &dz, &dx);
+    components_pct(r, vs_run_delta(r), &dz, &dx);
     fprintf(out, "\nno collapse up to delta = %.4f mm (dz/L = %.3f %%, dx/L = %.3f %%)\n",
             vs_run_delta(r) / VS_MM, dz, dx);
+    if (!right_alone(c)) text_supports_at(out, r, vs_run_delta(r));
   }
 }
 
 /* Every hinge in order of appearance. */
 static void text_hinges(FILE *out, const vs_run *r) {
-  const vs_case *c = vs_run_case(r);
   const vs_hinges *h = vs_run_hinges(r);
   fprintf(out, "\nhinges in order of appearance (side = edge that stays in contact; joints at onset)\n");
   fprintf(out, "  label  joints          onset delta   onset time    dz/L     dx/L\n");
   int spread = 0;
   for (int i = 0; i < vs_run_hinge_count(r); i++) {
     const vs_hinge *hg = vs_run_hinge(r, i);
-    text_hinge_row(out, c, hg, 1);
+    text_hinge_row(out, r, hg, 1);
     spread |= (hg->last > hg->first) || (hg->onset_last > hg->onset_first);
   }
   if (vs_hinges_count(h) == 0) fprintf(out, "  (none)\n");

@@ -12,6 +12,7 @@
 #include "run_internal.h"
 #include "voussoir/damping.h"
 #include "voussoir/imperfections.h"
+#include "voussoir/support.h"
 #include "voussoir/units.h"
 #include "wall_clock.h"
 
@@ -19,18 +20,41 @@
  * rest threshold above it). */
 static const double VS_REST_OF_COLLAPSE = 0.01;
 
+/* The speed at which the supports deform the arch (m/s), for the energy levels of rest and
+ * collapse: the right support's rate when it moves alone (as always), else the largest relative
+ * speed of the two supports along their motions, so that moving both supports, or the whole
+ * arch bodily, changes neither level (the arch feels only the relative motion). */
+static double deform_speed(const vs_support_def *s) {
+  const double v = vs_support_loading_rate(s);
+  if (s->left_rate == 0.0 && s->left_path.n == 0 && s->right_path.n == 0) return v;
+  vs_support_motion mo[2];
+  if (vs_support_motion_from_def(s, 0, &mo[0], NULL) != VS_OK ||
+      vs_support_motion_from_def(s, 1, &mo[1], NULL) != VS_OK)
+    return v; /* refused when the model is set up */
+  double k = 0.0;
+  for (int side = 0; side < 2; side++)
+    for (int i = 0; i < mo[side].n; i++) { /* at every corner of either */
+      double l[3], r[3];
+      vs_support_motion_at(&mo[0], mo[side].d[i], NULL, l);
+      vs_support_motion_at(&mo[1], mo[side].d[i], NULL, r);
+      k = fmax(k, hypot(r[0] - l[0], r[1] - l[1]));
+    }
+  return k > 0.0 ? k * v : v;
+}
+
 static void dyn_opts_from_def(const vs_run_def *d, const vs_geometry *g, vs_dyn_opts *o) {
   double mass = 0.0;
   for (int i = 0; i < g->n_blocks; i++) mass += g->blocks[i].mass;
-  o->rate = d->support.rate;
+  o->rate = vs_support_loading_rate(&d->support); /* delta = rate t */
+  const double w = deform_speed(&d->support);
   o->rtol = d->dynamic.rtol;
   o->atol_q = d->dynamic.atol_q;
   o->open = d->hinges.open;
   /* the collapse threshold rides on the kinetic energy of the arch moving bodily at the
    * support's rate, which fast loading reaches without any collapse; rest stays well below it */
   o->collapse_ke = d->dynamic.collapse_ke * vs_geometry_weight(g) * d->arch.thickness +
-                   0.5 * mass * o->rate * o->rate;
-  o->rest_ke = fmin(d->dynamic.rest_factor * 0.5 * mass * o->rate * o->rate,
+                   0.5 * mass * w * w;
+  o->rest_ke = fmin(d->dynamic.rest_factor * 0.5 * mass * w * w,
                     VS_REST_OF_COLLAPSE * o->collapse_ke);
   o->rest_time = d->dynamic.rest_time;
   o->fall_time = d->dynamic.fall_time;
@@ -54,7 +78,7 @@ static vs_status fall_create(vs_run *r, vs_error *err) {
   fo.slow_speed = f->slow_speed;
   fo.max_sweeps = f->max_sweeps;
   fo.solver = f->solver;
-  fo.rate = r->def.support.rate;
+  fo.rate = r->dopts.rate;
   fo.rest_ke = r->dopts.rest_ke;
   fo.rest_time = fmin(r->def.dynamic.rest_time, VS_RUN_FALL_REST);
   fo.duration = r->def.dynamic.fall_time;
@@ -89,6 +113,11 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
     st = vs_model_create(r->g, &law, d->support.alpha, &r->m, err);
     if (st == VS_OK)
       st = vs_model_set_support_kinds(r->m, d->support.left_kind, d->support.right_kind, err);
+    for (int s = 0; s < 2 && st == VS_OK; s++) { /* each support's own motion in delta */
+      vs_support_motion mo;
+      st = vs_support_motion_from_def(&d->support, s, &mo, err);
+      if (st == VS_OK) st = vs_model_set_support_motion(r->m, s, &mo, err);
+    }
   }
   if (st == VS_OK) st = vs_imperfections_apply(&d->imperfections, r->imp, r->m, err);
   if (st == VS_OK && d->dynamic.damping_model == VS_DAMPING_RAYLEIGH &&
@@ -119,7 +148,8 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
     r->popts.deadline = r->dopts.deadline = &r->deadline; /* the wall-time limit's */
     double mass = 0.0;
     for (int i = 0; i < r->g->n_blocks; i++) mass += r->g->blocks[i].mass;
-    r->ke_move = 0.5 * mass * r->dopts.rate * r->dopts.rate;
+    const double w = deform_speed(&d->support);
+    r->ke_move = 0.5 * mass * w * w;
     const vs_dynamic_def *dy = &d->dynamic;
     const int rigid = d->fall.scheme == VS_FALL_RIGID && dy->fall_time > 0.0 && (dy->follow || dy->full);
     if (rigid) { /* IDA stops at the collapse criterion, the rigid fall goes on from there */

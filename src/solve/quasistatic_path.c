@@ -1,7 +1,8 @@
-/* Quasi-static path following (quasistatic.h): from the starting equilibrium, the right
- * support's displacement grows by adaptive increments, each a tangent predictor corrected by
- * Newton and accepted when it stayed on the branch and is stable; cut when not, until the limit
- * point (quasistatic_limit.c) or the largest displacement. */
+/* Quasi-static path following (quasistatic.h): from the starting equilibrium, the loading
+ * parameter delta (the right support's displacement, or the supports' paths' parameter) grows
+ * by adaptive increments, each a tangent predictor corrected by Newton and accepted when it
+ * stayed on the branch and is stable; cut when not, until the limit point
+ * (quasistatic_limit.c) or the largest displacement. */
 #include "quasistatic_internal.h"
 
 #include <math.h>
@@ -19,6 +20,8 @@ static const double VS_CORRECTOR_RATIO = 1.0;
  * cap. */
 static const double VS_EIG_TRACK_RTOL = 1e-4;
 static const int VS_EIG_TRACK_MAXIT = 6;
+/* A support's path turns "here" when within this fraction of limit_tol: no increment shorter. */
+static const double VS_KINK_TOL = 1e-3;
 
 /* Scaled distance between two states: translations / block length, rotations in rad. */
 static double scaled_norm(const vs_qs_solver *s, const double *a, const double *b) {
@@ -162,6 +165,10 @@ static vs_status path_follow(vs_qs_path *w, vs_error *err) {
                           "%.6g mm of %.6g mm",
                           VS_PATH_MAX_INCREMENTS, w->delta / VS_MM, o->max_delta / VS_MM);
     w->h = fmin(w->h, o->max_delta - w->delta);
+    /* an increment ends where a support's path turns, so that the tangent predictor follows one
+     * segment of the load at a time (none on a straight motion) */
+    const double kink = vs_model_support_next_kink(w->s->m, w->delta, VS_KINK_TOL * o->limit_tol);
+    if (kink < INFINITY) w->h = fmin(w->h, kink - w->delta);
     vs_qs_fold_limit(w);
     long it = 0;
     const int flag = path_try(w, &it);

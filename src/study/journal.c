@@ -16,9 +16,13 @@
 #include "outpath.h"
 #include "voussoir/run.h"
 
+/* A text key's value (a path: at most 32 points of 4 numbers of %.17g and their separators). */
+#define VS_MANIFEST_TEXT_MAX 4096
+
 char *vs_manifest_case(const vs_case *c, size_t extra) {
   const int nk = vs_case_key_count();
-  const size_t cap = 96 * (size_t)nk + extra + 1;
+  const size_t cap = 96 * (size_t)nk + (size_t)vs_case_text_key_count() * (VS_MANIFEST_TEXT_MAX + 96) +
+                     extra + 1;
   char *t = malloc(cap);
   if (t == NULL) return NULL;
   size_t used = 0;
@@ -28,6 +32,19 @@ char *vs_manifest_case(const vs_case *c, size_t extra) {
     double v;
     vs_case_key(c, i, &sec, &key, NULL, NULL, &v);
     used += (size_t)snprintf(t + used, cap - used, "%s.%s=%.17g\n", sec, key, v);
+  }
+  /* a support's path, when there is one (a manifest of a case without stays as it was) */
+  for (int i = 0; i < vs_case_text_key_count(); i++) {
+    const char *sec, *key;
+    char *text = malloc(VS_MANIFEST_TEXT_MAX);
+    if (text == NULL) {
+      free(t);
+      return NULL;
+    }
+    vs_case_text_key(c, i, &sec, &key, text, VS_MANIFEST_TEXT_MAX);
+    if (text[0] != '\0')
+      used += (size_t)snprintf(t + used, cap - used, "%s.%s=%s\n", sec, key, text);
+    free(text);
   }
   return t;
 }
