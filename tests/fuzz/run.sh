@@ -61,8 +61,9 @@ case_src=("$s/case/case.c" "$s/case/case_read.c" "$s/base/parse.c" "$s/base/list
 sources() {
   case "$1" in
   case) echo "${case_src[@]}" ;;
-  merge) echo "${case_src[@]}" "$s/study/montecarlo_merge.c" "$s/plot/montecarlo.c" \
-              "$s/record/h5util.c" "$s/base/outpath.c" "$s/plot/plot.c" "$s/plot/chart.c" ;;
+  merge) echo "${case_src[@]}" "$s/study/montecarlo_merge.c" "$s/study/journal.c" \
+              "$s/plot/montecarlo.c" "$s/record/h5util.c" "$s/base/outpath.c" "$s/plot/plot.c" \
+              "$s/plot/chart.c" ;;
   record) echo "${case_src[@]}" "$s/plot/plot_cmd.c" "$s/plot/plot_record.c" \
                "$s/plot/plot_sweep.c" "$s/plot/plot.c" "$s/plot/plot_arch.c" "$s/plot/plot_frame.c" \
                "$s/plot/chart.c" "$s/record/xdmf.c" "$s/record/xdmf_file.c" \
