@@ -41,16 +41,27 @@ typedef struct {
 VS_API void vs_path_opts_from_def(const vs_run_def *d, vs_path_opts *o);
 
 typedef enum {
-  VS_PATH_LIMIT_POINT = 1,     /* stopped at a confirmed limit point */
+  VS_PATH_LIMIT_POINT = 1,      /* stopped at a confirmed limit point */
   VS_PATH_MAX_DISPLACEMENT = 2 /* reached max_delta without one */
 } vs_path_end;
 
-/* Tangent-stiffness evidence at the limit point. */
+/* Tangent-stiffness evidence at the limit point. A limit point is a fold of the path (the
+ * tangent's smallest eigenvalue vanishes like the square root of the distance to it) or the
+ * onset of slip (a corner: joints reach their Coulomb limit |T| = mu N within the bracket, no
+ * equilibrium is found beyond on the sticking or the sliding branch, and with them sliding the
+ * tangent's symmetric part is not positive definite, while the sticking one's is; the evidence
+ * is then the sliding branch's tangent at the last equilibrium, and no extrapolation). */
 typedef struct {
   double lambda_start;  /* smallest |eigenvalue| of the scaled tangent after self-weight, N/m */
   double lambda_last;   /* the same at the last equilibrium before the limit, N/m */
-  double delta_extrap;  /* delta (m) where lambda^2, linear in delta near a fold, reaches 0 */
+  double delta_extrap;  /* delta (m) where lambda^2, linear in delta near a fold, reaches 0
+                           (NaN at the onset of slip) */
   int det_sign;         /* sign of det K at the last equilibrium (KLU factors) */
+  int slip_onset;       /* joints whose slip begins at the limit point (0: a fold); at the end
+                           of the path they are committed on their sliding branch. Without an
+                           equilibrium under self-weight: the joints the failed step would have
+                           made slide */
+  int slip_joint;       /* the first of them (0-based), when slip_onset > 0 */
 } vs_limit_evidence;
 
 typedef struct {

@@ -109,8 +109,9 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
   if (st == VS_OK) {
     r->q = calloc((size_t)vs_model_size(r->m), sizeof *r->q);
     r->v = calloc((size_t)vs_model_size(r->m), sizeof *r->v);
+    r->q_rest = calloc((size_t)vs_model_size(r->m), sizeof *r->q_rest);
     r->js = calloc((size_t)r->g->n_joints, sizeof *r->js);
-    if (r->q == NULL || r->v == NULL || r->js == NULL)
+    if (r->q == NULL || r->v == NULL || r->q_rest == NULL || r->js == NULL)
       st = vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
   }
   if (st == VS_OK) {
@@ -160,6 +161,7 @@ void vs_run_destroy(vs_run **r) {
   vs_run *p = *r;
   free(p->q);
   free(p->v);
+  free(p->q_rest);
   free(p->js);
   free(p->limits);
   free(p->events);
@@ -262,8 +264,7 @@ static void add_dyn_totals(vs_run *r, const vs_dyn_result *d) {
  * it. Returns through *resume_at the delta to resume from (NaN: the run is over). */
 static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
   const int n = vs_model_size(r->m);
-  double *qs = malloc((size_t)n * sizeof *qs);
-  if (qs == NULL) return vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
+  double *qs = r->q_rest;
   *resume_at = NAN;
   r->phase = VS_PHASE_DYNAMIC;
   vs_status st = VS_OK;
@@ -316,7 +317,6 @@ static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
       break;
     }
   }
-  free(qs);
   return st;
 }
 
@@ -371,6 +371,15 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
       memset(&p, 0, sizeof p);
       r->live_path = &p;
       st = vs_path_run_with(r->ps, &r->popts, delta0, r->q, vs_run_on_equilibrium, r, &p, err);
+      if (st == VS_ERR_NO_EQUILIBRIUM && delta0 > 0.0 && p.steps == 0) {
+        /* Newton from the state at rest missed the equilibrium the probe found from it, with the
+         * slips the probe committed there (a joint sliding along a nearly free mode can throw
+         * its steps onto the reverse branch): the path resumes from that equilibrium itself */
+        add_path_totals(r, &p);
+        memcpy(r->q, r->q_rest, (size_t)vs_model_size(r->m) * sizeof *r->q);
+        memset(&p, 0, sizeof p);
+        st = vs_path_run_with(r->ps, &r->popts, delta0, r->q, vs_run_on_equilibrium, r, &p, err);
+      }
       r->live_path = NULL;
       if (r->modal_st != VS_OK) st = vs_error_set(err, r->modal_st, "%s", r->modal_err.msg);
       add_path_totals(r, &p);

@@ -32,6 +32,7 @@ struct vs_run {
   int have_first;
   vs_dyn_result dtot;
   double *q, *v;
+  double *q_rest; /* the equilibrium found where the motion came to rest (dynamic_phase) */
   vs_joint_state *js;
   double delta, t, wall_s;
   double deadline; /* of case.max_wall_s: vs_monotonic_s seconds, 0 none; every solver's

@@ -69,7 +69,7 @@ static vs_status path_begin(vs_qs_path *w, double delta0, vs_error *err) {
   w->fold = INFINITY;
   w->fold_prev = INFINITY;
   res->evidence.lambda_start = w->lam;
-  vs_model_commit(sp->m, w->q, delta0);
+  w->slid = vs_model_commit(sp->m, w->q, delta0);
   memcpy(w->qprev, w->q, (size_t)sp->n * sizeof(double));
   w->delta_prev = delta0;
   res->steps = 1;
@@ -82,6 +82,7 @@ static vs_status path_begin(vs_qs_path *w, double delta0, vs_error *err) {
   w->h = w->o->step;
   if (vs_qs_path_tangent(sp, w->q, w->delta, w->tan) != 0)
     return vs_error_set(err, VS_ERR_SOLVER, "the path tangent could not be solved for");
+  if (w->slid > 0) vs_qs_loading_tangent(sp, w->q, w->delta, w->h, w->tan);
   return VS_OK;
 }
 
@@ -93,19 +94,36 @@ static int path_try(vs_qs_path *w, long *it) {
   return vs_qs_solve(sp, w->delta + w->h, w->qtry, it);
 }
 
+/* What became of a trial: accepted; missed (no convergence, or a converged state that left the
+ * followed branch); or unstable (it passed a limit point). */
+enum { TRIAL_OK = 0, TRIAL_MISSED = 1, TRIAL_UNSTABLE = 2 };
+
 /* A trial is accepted when it converged (flag 0), stayed on the followed branch (the corrector
  * moved it from the predictor by at most VS_CORRECTOR_RATIO of the predictor's own length) and
  * is stable (else it passed a limit point). */
-static int path_trial_ok(vs_qs_path *w, int flag) {
+static int path_trial_check(vs_qs_path *w, int flag) {
   vs_qs_solver *const sp = w->s;
-  int ok = (flag == 0);
-  if (ok) {
-    const double jump = scaled_norm(sp, w->qtry, w->qpred);
-    if (jump > VS_CORRECTOR_RATIO * scaled_norm(sp, w->qpred, w->q) + 10.0 * w->o->newton_tol)
-      ok = 0; /* left the branch */
-  }
-  if (ok && !vs_qs_stable_state(sp, w->qtry, w->delta + w->h)) ok = 0; /* passed a limit point */
-  return ok;
+  if (flag != 0) return TRIAL_MISSED;
+  const double jump = scaled_norm(sp, w->qtry, w->qpred);
+  if (jump > VS_CORRECTOR_RATIO * scaled_norm(sp, w->qpred, w->q) + 10.0 * w->o->newton_tol)
+    return TRIAL_MISSED; /* left the branch */
+  if (!vs_qs_stable_state(sp, w->qtry, w->delta + w->h)) return TRIAL_UNSTABLE;
+  return TRIAL_OK;
+}
+
+/* A trial that missed may have crossed joints' Coulomb limits: beyond them the path turns onto
+ * their sliding branch, away from the sticking predictor, by as much as the slip (a kink, which
+ * no increment makes small relative to the predictor). The increment is tried once more from the
+ * predictor that slides beyond the onset (vs_qs_slide_predictor).
+ * Returns that trial's check (*it: its Newton iterations), or TRIAL_MISSED when no limit is
+ * crossed; an error only when the solve failed for good (vs_qs_fatal). */
+static int path_retry_sliding(vs_qs_path *w, long *it, vs_status *st, vs_error *err) {
+  vs_qs_solver *const sp = w->s;
+  if (vs_qs_slide_predictor(sp, w->q, w->delta, w->h, w->tan, w->qpred) != 0) return TRIAL_MISSED;
+  memcpy(w->qtry, w->qpred, (size_t)sp->n * sizeof(double));
+  const int flag = vs_qs_solve(sp, w->delta + w->h, w->qtry, it);
+  if (flag != 0 && (*st = vs_qs_fatal(sp, w->delta + w->h, err)) != VS_OK) return TRIAL_MISSED;
+  return path_trial_check(w, flag);
 }
 
 /* The accepted trial becomes the path's state: the hinge onsets between the two located (when
@@ -127,7 +145,7 @@ static vs_status path_accept(vs_qs_path *w, long it, vs_error *err) {
   w->delta_prev = w->delta;
   memcpy(w->q, w->qtry, bytes);
   w->delta += w->h;
-  vs_model_commit(sp->m, w->q, w->delta);
+  w->slid = vs_model_commit(sp->m, w->q, w->delta);
   res->steps++;
   res->delta_limit = w->delta;
   w->lam_prev = w->lam;
@@ -142,6 +160,7 @@ static vs_status path_accept(vs_qs_path *w, long it, vs_error *err) {
     return vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
   if (it <= 3) w->h = fmin(2.0 * w->h, o->step_max);
   else if (it <= 6) w->h = fmin(1.25 * w->h, o->step_max);
+  if (w->slid > 0) vs_qs_loading_tangent(sp, w->q, w->delta, w->h, w->tan);
   return VS_OK;
 }
 
@@ -169,11 +188,20 @@ static vs_status path_follow(vs_qs_path *w, vs_error *err) {
       const vs_status st = vs_qs_fatal(w->s, w->delta + w->h, err);
       if (st != VS_OK) return st;
     }
-    if (!path_trial_ok(w, flag)) {
+    int check = path_trial_check(w, flag);
+    if (check != TRIAL_OK) {
       res->rejected++;
-      if (w->h <= o->limit_tol) return vs_qs_limit_end(w, err);
-      w->h *= 0.5;
-      continue;
+      if (w->h > o->limit_tol) {
+        w->h *= 0.5;
+        continue;
+      }
+      /* an increment at the tolerance still misses: where it crosses joints' Coulomb limits,
+       * the onset of slip is bracketed now, and the increment is tried on the sliding branch;
+       * else the path ends at a limit point */
+      vs_status st = VS_OK;
+      if (check == TRIAL_MISSED) check = path_retry_sliding(w, &it, &st, err);
+      if (st != VS_OK) return st;
+      if (check != TRIAL_OK) return vs_qs_limit_end(w, err);
     }
     const vs_status st = path_accept(w, it, err);
     if (st != VS_OK) return st;
