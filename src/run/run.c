@@ -111,7 +111,8 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
     r->v = calloc((size_t)vs_model_size(r->m), sizeof *r->v);
     r->q_rest = calloc((size_t)vs_model_size(r->m), sizeof *r->q_rest);
     r->js = calloc((size_t)r->g->n_joints, sizeof *r->js);
-    if (r->q == NULL || r->v == NULL || r->q_rest == NULL || r->js == NULL)
+    if (r->q == NULL || r->v == NULL || r->q_rest == NULL || r->js == NULL ||
+        vs_run_slips_create(r) != 0)
       st = vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
   }
   if (st == VS_OK) {
@@ -168,6 +169,7 @@ void vs_run_destroy(vs_run **r) {
   free(p->onset);
   free(p->onset_all);
   free(p->pattern_u);
+  vs_run_slips_free(p);
   vs_modal_free(&p->modal);
   vs_dynamic_destroy(&p->dyn);
   vs_path_solver_destroy(&p->ps);
@@ -320,6 +322,14 @@ static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
   return st;
 }
 
+/* A limit point at the onset of slip (p): the joints committed on their sliding branch there
+ * slip from it (their events). Non-zero when an event stopped the run. */
+static int limit_slips(vs_run *r, const vs_path_result *p) {
+  if (p->evidence.slip_onset == 0) return 0;
+  vs_model_joint_states(r->m, r->q, r->delta, r->js);
+  return vs_run_slips_at_equilibrium(r, r->delta, r->js);
+}
+
 /* A solver stopped as after the stop flag (VS_ERR_INTERRUPTED) when the stop flag was not
  * raised: its deadline, the wall-time limit, passed. Said so (a raised flag wins). */
 static vs_status wall_time_stop(const vs_run *r, vs_status st, vs_error *err) {
@@ -392,7 +402,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
       r->delta = p.delta_limit;
       r->t = r->delta / r->dopts.rate;
       vs_model_support_reactions(r->m, r->q, r->delta, r->react_eq);
-      if (vs_run_add_limit(r, p.delta_limit) != 0) {
+      if (limit_slips(r, &p) != 0 || vs_run_add_limit(r, p.delta_limit) != 0) {
         st = vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
         break;
       }
