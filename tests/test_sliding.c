@@ -1,6 +1,9 @@
 /* Sliding against statics in closed form, and named as it is:
  *  - a block on a support joint inclined at beta under gravity stands for tan beta < mu and
  *    slides for tan beta > mu, and the program says it slides, at which joint;
+ *  - a block pushed sideways by the moving support slides when the push reaches mu W, and then
+ *    the support drives a sliding mechanism: the push stays mu W while the slip grows with the
+ *    support's travel, which the path detects and ends on (VS_PATH_SLIDING);
  *  - the reference arch at mu = 0.2 collapses by a mixed mechanism from the onset of slip at its
  *    left springing: the event, its direction (from the sense of the shear that the support
  *    reactions of a run without slip give there), the limit point's evidence, the mechanism in
@@ -21,6 +24,8 @@
 #include "test_support.h"
 #include "voussoir/report.h"
 #include "voussoir/run.h"
+
+static double deg(double d) { return d * acos(-1.0) / 180; }
 
 /* The path options of the reference case, with the given increments and largest travel (m). */
 static void path_opts(vs_path_opts *o, double step, double max_delta) {
@@ -106,6 +111,97 @@ static void test_incline_threshold(void **s) {
     assert_non_null(strstr(hi.err.msg, "cannot stand without sliding: its weight takes the "
                                        "shear at joint 1 past the Coulomb limit"));
   }
+}
+
+/* ------------------------------- a block pushed sideways --------------------------------
+ * A block w x h on the fixed support (joint 1, horizontal, friction mu), its right face against
+ * the moving support (joint 2, frictionless: mu_p = 1e-6), which moves left (alpha = -90 deg)
+ * from a contact pressed by 1e-8 m. Statics of the block once the base slides: the push P (the
+ * force on the support along its motion) balances the base's shear mu N and N balances the
+ * weight W (the pusher's shear is at most mu_p of its force), in the base's frame turned by
+ * half the block's tilt theta: P / W = tan(atan mu - theta / 2), so |P - mu W| <= ((1 + mu^2)
+ * |theta| / 2 + 2 mu_p) W. */
+static const double MU_BASE = 0.3, MU_PUSH = 1e-6;
+
+typedef struct {
+  int n;
+  double delta[256], P[256], slip[256], theta[256];
+  int sliding[256];
+} push_track;
+
+static int on_push(void *user, double delta, const double *q, const vs_model *m) {
+  push_track *tr = user;
+  vs_joint_state st[2];
+  vs_model_joint_states(m, q, delta, st);
+  if (tr->n < 256) {
+    tr->delta[tr->n] = delta;
+    tr->P[tr->n] = vs_model_support_force(m, q, delta);
+    tr->slip[tr->n] = vs_model_slips(m)[0];
+    tr->theta[tr->n] = q[2];
+    tr->sliding[tr->n] = st[0].sliding;
+    tr->n++;
+  }
+  return 0;
+}
+
+static void test_pushed_block(void **s) {
+  (void)s;
+  vs_geometry *g = NULL;
+  vs_model *m = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  assert_int_equal(vs_geometry_create(1, 2, &g, &err), VS_OK);
+  const double h = 0.05, mass = RHO * BW * h * BD, W = mass * 9.81;
+  g->blocks[0] = (vs_block){.mass = mass, .inertia = mass * (BW * BW + h * h) / 12, .cz = 0.5 * h,
+                            .area = BW * h};
+  g->joints[0] = (vs_joint_geom){.a = VS_SUPPORT_LEFT, .b = 0, .nz = 1, .length = BW, .depth = BD};
+  g->joints[1] = (vs_joint_geom){.a = 0, .b = VS_SUPPORT_RIGHT, .px = 0.5 * BW, .pz = 0.5 * h,
+                                 .nx = 1, .length = h, .depth = BD};
+  g->gravity = 9.81;
+  g->span = g->thickness = BW;
+  vs_joint_law law = {.kn = KN, .ks = KS, .mu = MU_BASE};
+  assert_int_equal(vs_model_create(g, &law, deg(-90.0), &m, &err), VS_OK);
+  law.mu = MU_PUSH;
+  assert_int_equal(vs_model_set_joint_law(m, 1, &law, &err), VS_OK);
+  const double pressed[2] = {-1e-8, 0.0};
+  vs_model_set_support_offset(m, pressed);
+  vs_path_opts o;
+  path_opts(&o, 1e-7, 1e-4);
+  double q[3] = {0, 0, 0};
+  vs_path_result res;
+  push_track *tr = calloc(1, sizeof *tr);
+  assert_non_null(tr);
+  const vs_status st = vs_path_run(m, &o, 0.0, q, on_push, tr, &res, &err);
+  if (st != VS_OK) fail_msg("path: %s", err.msg);
+  /* the sliding mechanism that the support drives, detected and ended on */
+  assert_int_equal(res.end, VS_PATH_SLIDING);
+  assert_true(res.evidence.slip_onset >= 1 && res.evidence.slip_joint == 0);
+  assert_true(res.delta_fail < o.max_delta && res.delta_limit < res.delta_fail);
+  int first = -1;
+  for (int i = 0; i < tr->n; i++) {
+    if (!tr->sliding[i]) {
+      assert_true(tr->P[i] < MU_BASE * W); /* below the friction force, it sticks */
+      continue;
+    }
+    if (first < 0) first = i;
+    const double tol = (0.5 * (1 + MU_BASE * MU_BASE) * fabs(tr->theta[i]) + 2 * MU_PUSH) * W;
+    if (!(fabs(tr->P[i] - MU_BASE * W) <= tol))
+      fail_msg("sliding at %.6g mm: push %.9g N, mu W = %.9g N (tolerance %.3g N)",
+               tr->delta[i] * 1e3, tr->P[i], MU_BASE * W, tol);
+  }
+  assert_true(first > 0 && first < tr->n - 1);
+  print_message("the base slides from %.4g mm at a push of %.7g N (mu W = %.7g N); path ended at "
+                "%.4g mm\n", tr->delta[first] * 1e3, tr->P[first], MU_BASE * W,
+                res.delta_fail * 1e3);
+  assert_true(res.delta_limit == tr->delta[first]);
+  /* on the plateau the block follows the support: the slip grows as the travel (the elastic
+   * state stays put but for the tilt's second-order change) */
+  const int a = first, b = tr->n - 1;
+  assert_true(fabs((tr->slip[b] - tr->slip[a]) - (tr->delta[b] - tr->delta[a])) <=
+              1e-4 * (tr->delta[b] - tr->delta[a]));
+  free(tr);
+  vs_model_destroy(&m);
+  vs_geometry_destroy(&g);
 }
 
 /* ----------------------------- the reference arch, named -------------------------------- */
@@ -203,6 +299,7 @@ static void test_arch_rotational(void **s) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_incline_threshold),
+      cmocka_unit_test(test_pushed_block),
       cmocka_unit_test(test_arch_mixed_mechanism_named),
       cmocka_unit_test(test_arch_rotational),
   };

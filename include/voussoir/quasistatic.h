@@ -42,8 +42,17 @@ VS_API void vs_path_opts_from_def(const vs_run_def *d, vs_path_opts *o);
 
 typedef enum {
   VS_PATH_LIMIT_POINT = 1,      /* stopped at a confirmed limit point */
-  VS_PATH_MAX_DISPLACEMENT = 2 /* reached max_delta without one */
+  VS_PATH_MAX_DISPLACEMENT = 2, /* reached max_delta without one */
+  VS_PATH_SLIDING = 3           /* a sliding mechanism that the support drives: at two successive
+                                   equilibria joints slide and the force on the moving support
+                                   (vs_model_support_force) is the same to VS_PATH_PLATEAU_RTOL,
+                                   so the slip would grow without bound at that force */
 } vs_path_end;
+
+/* Relative change of the support's force over an increment below which sliding joints make a
+ * sliding mechanism that the support drives (VS_PATH_SLIDING): a slip held back by any
+ * stiffness changes the force by the increment times it. */
+#define VS_PATH_PLATEAU_RTOL 1e-6
 
 /* Tangent-stiffness evidence at the limit point. A limit point is a fold of the path (the
  * tangent's smallest eigenvalue vanishes like the square root of the distance to it) or the
@@ -60,14 +69,17 @@ typedef struct {
   int slip_onset;       /* joints whose slip begins at the limit point (0: a fold); at the end
                            of the path they are committed on their sliding branch. Without an
                            equilibrium under self-weight: the joints the failed step would have
-                           made slide */
+                           made slide. VS_PATH_SLIDING: the joints sliding at its end */
   int slip_joint;       /* the first of them (0-based), when slip_onset > 0 */
 } vs_limit_evidence;
 
 typedef struct {
   vs_path_end end;
-  double delta_limit;    /* last equilibrium delta, m (the limit point within limit_tol) */
-  double delta_fail;     /* smallest delta tried beyond it with no equilibrium nearby, m */
+  double delta_limit;    /* last equilibrium delta, m (the limit point within limit_tol); with
+                            VS_PATH_SLIDING, the first equilibrium at which the joints slid */
+  double delta_fail;     /* smallest delta tried beyond it with no equilibrium nearby, m; with
+                            VS_PATH_SLIDING, the equilibrium that showed the force stationary
+                            (the last one, q) */
   vs_limit_evidence evidence;
   long steps;            /* accepted increments (self-weight included) */
   long rejected;         /* rejected increments (bisection) */

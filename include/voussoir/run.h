@@ -109,7 +109,8 @@ typedef struct {
                               (both); NULL without a collapse */
   int n_slips;             /* joints that slid in the mechanism: from the departure to the
                               collapse's onset (where its hinges are taken), by more than
-                              hinges.open_mm ... */
+                              hinges.open_mm; for a sliding mechanism that the support drives
+                              (VS_PATH_SLIDING), those sliding at its end ... */
   const vs_slip *slips;    /* ... left to right (n_slips; owned by the run) */
 } vs_collapse_record;
 

@@ -201,7 +201,9 @@ static herr_t summary_collapse(hid_t sum, const vs_run *run) {
         "IDA root); delta_detected when the kinetic energy passed the collapse "
         "threshold; time_onset when the final motion began (NaN if the arch was never "
         "at rest); NaN everywhere when found = 0. mechanism: rotational (hinges alone), "
-        "sliding (slips alone) or mixed");
+        "sliding (slips alone) or mixed; for a sliding mechanism that the support drives "
+        "(the force on it stationary while joints slide) delta is where they all slid, "
+        "delta_detected where the force was seen stationary, and no motion follows");
   vs_h5_close(g);
   return rc;
 }

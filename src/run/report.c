@@ -442,10 +442,16 @@ static void text_collapse(FILE *out, const vs_run *r, vs_status status) {
     components_pct(c, col->delta, &dz, &dx);
     fprintf(out, "\nCOLLAPSE  delta_u = %.4f mm   dz/L = %.3f %%   dx/L = %.3f %%   at t = %.2f s\n",
             col->delta / VS_MM, dz, dx, col->t);
-    fprintf(out, "  departure from the last stable equilibrium (%s); detected (kinetic energy past "
-                 "the collapse threshold) at %.4f mm, t = %.2f s\n",
-            c->full ? "the kinetic energy's last rise through the rest level" : "the collapsing limit point",
-            col->delta_detected / VS_MM, col->t_criterion);
+    if (vs_run_path_totals(r)->end == VS_PATH_SLIDING)
+      fprintf(out, "  a sliding mechanism that the support drives: from where its joints all slid, "
+                   "the force on the support stays put (seen at %.4f mm); no motion follows\n",
+              col->delta_detected / VS_MM);
+    else
+      fprintf(out, "  departure from the last stable equilibrium (%s); detected (kinetic energy "
+                   "past the collapse threshold) at %.4f mm, t = %.2f s\n",
+              c->full ? "the kinetic energy's last rise through the rest level"
+                      : "the collapsing limit point",
+              col->delta_detected / VS_MM, col->t_criterion);
     const char *mode = vs_run_mode(r);
     fprintf(out, "  hinges at collapse (left to right): %s;  first three: %s;  mode %s\n",
             vs_run_pattern_collapse(r)[0] ? vs_run_pattern_collapse(r) : "none",

@@ -330,6 +330,18 @@ static int limit_slips(vs_run *r, const vs_path_result *p) {
   return vs_run_slips_at_equilibrium(r, r->delta, r->js);
 }
 
+/* The path p ended on a sliding mechanism that the support drives: that is the collapse, at
+ * the force the support can no longer raise; no motion follows (the support drags the
+ * mechanism at its own rate). */
+static vs_status sliding_collapse(vs_run *r, const vs_path_result *p, vs_error *err) {
+  r->delta = p->delta_fail;
+  r->t = r->delta / r->dopts.rate;
+  if (vs_run_record_sliding(r, p) != 0) return vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
+  if (vs_run_log_event(r, VS_EVENT_COLLAPSE, r->t, r->delta, 0, 0, 0, 0) != 0)
+    return vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
+  return VS_OK;
+}
+
 /* A solver stopped as after the stop flag (VS_ERR_INTERRUPTED) when the stop flag was not
  * raised: its deadline, the wall-time limit, passed. Said so (a raised flag wins). */
 static vs_status wall_time_stop(const vs_run *r, vs_status st, vs_error *err) {
@@ -393,6 +405,10 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
       r->live_path = NULL;
       if (r->modal_st != VS_OK) st = vs_error_set(err, r->modal_st, "%s", r->modal_err.msg);
       add_path_totals(r, &p);
+      if (st == VS_OK && p.end == VS_PATH_SLIDING) {
+        st = sliding_collapse(r, &p, err);
+        break;
+      }
       if (st != VS_OK || p.end != VS_PATH_LIMIT_POINT) break;
       if (r->n_limits >= VS_RUN_MAX_LIMITS) {
         st = vs_error_set(err, VS_ERR_SOLVER, "%d limit points (the limit) up to %.6g mm",

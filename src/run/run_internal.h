@@ -105,6 +105,10 @@ int vs_run_on_fall_sample(void *user, double t, double delta, const double *q, c
  * mechanism (frozen at the criterion), the reactions at the limit point. 0, or -1 when out of
  * memory (r->nomem set). */
 int vs_run_record_collapse(vs_run *r, const vs_dyn_result *d);
+/* The collapse of a sliding mechanism that the support drives (the path p ended with
+ * VS_PATH_SLIDING; r->q, r->delta its last equilibrium): no motion follows, the mechanism is
+ * the hinges open and the joints sliding there. 0, or -1 when out of memory. */
+int vs_run_record_sliding(vs_run *r, const vs_path_result *p);
 /* The run's initial hinge pattern, the pattern at the collapse and the mode they make. */
 void vs_run_classify(vs_run *r);
 

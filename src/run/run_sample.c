@@ -272,6 +272,21 @@ int vs_run_record_collapse(vs_run *r, const vs_dyn_result *d) {
   return 0;
 }
 
+int vs_run_record_sliding(vs_run *r, const vs_path_result *p) {
+  vs_collapse_record *c = &r->collapse;
+  c->found = 1;
+  c->delta = p->delta_limit; /* where the joints of the mechanism were all sliding */
+  c->t = c->delta / r->dopts.rate;
+  c->delta_detected = p->delta_fail; /* where the force on the support was seen stationary */
+  c->t_criterion = c->delta_detected / r->dopts.rate;
+  c->t_onset = NAN;
+  r->onset_taken = 0; /* the hinges open at the end of the path */
+  if (freeze_mechanism(r) != 0 || collapse_hinges(r) != 0) return -1;
+  vs_model_joint_states(r->m, r->q, r->delta, r->js);
+  vs_run_slips_mechanism(r, r->js);
+  return 0;
+}
+
 /* Modes (docs/model.md, "Vocabulary") from the first three hinges (A, B, C, left to right) and
  * the hinges at the collapse. */
 void vs_run_classify(vs_run *r) {

@@ -69,6 +69,9 @@ typedef struct {
   double lam, lam_prev;     /* smallest eigenvalue of the scaled tangent at q and qprev, N/m */
   double fold, fold_prev;   /* the fold predicted at this increment and at the last, m */
   int slid;                 /* joints in contact that slid into q (vs_model_commit) */
+  double force;             /* the force on the moving support at q when joints slid into it
+                               (vs_model_support_force), else NaN */
+  double slide_from;        /* delta of the first equilibrium of the sliding under way, m */
 } vs_qs_path;
 
 /* Unknown i is a rotation: a block's theta or a pinned support's. */

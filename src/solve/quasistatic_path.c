@@ -70,6 +70,8 @@ static vs_status path_begin(vs_qs_path *w, double delta0, vs_error *err) {
   w->fold_prev = INFINITY;
   res->evidence.lambda_start = w->lam;
   w->slid = vs_model_commit(sp->m, w->q, delta0);
+  w->force = w->slid > 0 ? vs_model_support_force(sp->m, w->q, delta0) : NAN;
+  w->slide_from = delta0;
   memcpy(w->qprev, w->q, (size_t)sp->n * sizeof(double));
   w->delta_prev = delta0;
   res->steps = 1;
@@ -145,7 +147,10 @@ static vs_status path_accept(vs_qs_path *w, long it, vs_error *err) {
   w->delta_prev = w->delta;
   memcpy(w->q, w->qtry, bytes);
   w->delta += w->h;
+  const int slid_prev = w->slid;
   w->slid = vs_model_commit(sp->m, w->q, w->delta);
+  w->force = w->slid > 0 ? vs_model_support_force(sp->m, w->q, w->delta) : NAN;
+  if (w->slid != slid_prev) w->slide_from = w->delta; /* other joints slide from here */
   res->steps++;
   res->delta_limit = w->delta;
   w->lam_prev = w->lam;
@@ -162,6 +167,24 @@ static vs_status path_accept(vs_qs_path *w, long it, vs_error *err) {
   else if (it <= 6) w->h = fmin(1.25 * w->h, o->step_max);
   if (w->slid > 0) vs_qs_loading_tangent(sp, w->q, w->delta, w->h, w->tan);
   return VS_OK;
+}
+
+/* The end of a path on which the support drives a sliding mechanism (VS_PATH_SLIDING): the
+ * equilibria from the first of the sliding to the last, the joints that slide at the last. */
+static void path_sliding_end(vs_qs_path *w) {
+  vs_path_result *const res = w->res;
+  res->end = VS_PATH_SLIDING;
+  res->delta_limit = w->slide_from;
+  res->delta_fail = w->delta;
+  const int nj = vs_model_geometry(w->s->m)->n_joints;
+  vs_joint_state *js = w->s->js;
+  vs_model_joint_states(w->s->m, w->q, w->delta, js);
+  res->evidence.slip_onset = 0;
+  for (int k = nj - 1; k >= 0; k--)
+    if (js[k].sliding && js[k].N > 0.0) {
+      res->evidence.slip_onset++;
+      res->evidence.slip_joint = k;
+    }
 }
 
 /* 2. Increments from the starting equilibrium until the largest displacement (VS_OK), the limit
@@ -203,8 +226,15 @@ static vs_status path_follow(vs_qs_path *w, vs_error *err) {
       if (st != VS_OK) return st;
       if (check != TRIAL_OK) return vs_qs_limit_end(w, err);
     }
+    const double force_prev = w->force;
+    const int slid_prev = w->slid;
     const vs_status st = path_accept(w, it, err);
     if (st != VS_OK) return st;
+    if (w->slid == slid_prev &&
+        fabs(w->force - force_prev) <= VS_PATH_PLATEAU_RTOL * fabs(w->force)) {
+      path_sliding_end(w); /* NaN, when either state did not slide, compares false */
+      return VS_OK;
+    }
   }
 }
 
