@@ -98,7 +98,8 @@ typedef struct {
  * ("stopped by the caller"), with res and q as far as the path got. */
 typedef int (*vs_path_step_fn)(void *user, double delta, const double *q, const vs_model *m);
 
-/* Follow the path of model m from support displacement delta0 (m): 0 starts with self-weight
+/* Follow the path of model m from support displacement delta0 (m) to a limit point, a sliding
+ * mechanism that the support drives or max_delta (res->end): 0 starts with self-weight
  * from the reference configuration, > 0 resumes from a state near an equilibrium there (after a
  * snap-through), with the model's committed slips. q (vs_model_size entries) is the start guess
  * on entry (zeros: the reference configuration) and the last equilibrium on return. Errors:

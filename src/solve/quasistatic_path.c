@@ -1,7 +1,8 @@
 /* Quasi-static path following (quasistatic.h): from the starting equilibrium, the right
  * support's displacement grows by adaptive increments, each a tangent predictor corrected by
  * Newton and accepted when it stayed on the branch and is stable; cut when not, until the limit
- * point (quasistatic_limit.c) or the largest displacement. */
+ * point (quasistatic_limit.c), a sliding mechanism that the support drives, or the largest
+ * displacement. Slip: quasistatic_slip.c. */
 #include "quasistatic_internal.h"
 
 #include <math.h>
@@ -188,8 +189,8 @@ static void path_sliding_end(vs_qs_path *w) {
 }
 
 /* 2. Increments from the starting equilibrium until the largest displacement (VS_OK), the limit
- * point (vs_qs_limit_end) or an error: a failed or rejected trial halves the increment, down to
- * limit_tol. */
+ * point (vs_qs_limit_end), a sliding mechanism that the support drives (path_sliding_end) or an
+ * error: a failed or rejected trial halves the increment, down to limit_tol. */
 static vs_status path_follow(vs_qs_path *w, vs_error *err) {
   const vs_path_opts *const o = w->o;
   vs_path_result *const res = w->res;
