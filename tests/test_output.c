@@ -805,7 +805,8 @@ static void check_events(hid_t f, const vs_run *run) {
   assert_non_null(rows);
   if (n > 0) assert_true(H5Dread(d, mt, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows) >= 0);
   static const char *const kinds[] = {"joint_opened", "joint_closed", "hinge_formed",
-                                      "limit_point",  "snap_settled", "collapse"};
+                                      "limit_point",  "snap_settled", "collapse",
+                                      "joint_slipped"};
   for (int i = 0; i < (int)n; i++) {
     const vs_run_event *e = vs_run_event_get(run, i);
     assert_true(rows[i].time == e->t && rows[i].delta == e->delta);

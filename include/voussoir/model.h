@@ -110,6 +110,22 @@ VS_API int vs_model_commit_states(vs_model *m, const vs_joint_state *st);
 /* Plastic slip of every joint (m), committed; n_joints entries. */
 VS_API const double *vs_model_slips(const vs_model *m);
 
+/* --- slip: a joint at the Coulomb limit put on its sliding branch --- */
+/* A joint that slid is committed a hair behind its return-mapped slip (by 1e-9 of its elastic
+ * slip), so that at the committed state it still evaluates as sliding, with its force mu N and
+ * the sliding branch's tangent. vs_model_set_branches puts joints on a branch at (q, delta) by
+ * their committed slips (branch: n_joints entries): VS_BRANCH_SLIDE_POS (slide with T > 0, b
+ * moving along s relative to a) or _NEG (the other way): the trial shear just past the Coulomb
+ * limit in that sense, so that the joint carries mu N (instead of its elastic shear) with the
+ * sliding branch's tangent; VS_BRANCH_STICK: a joint sliding there gets its trial just inside
+ * the limit, its force unchanged and its tangent elastic; VS_BRANCH_KEEP: left alone. Returns
+ * how many it changed. vs_model_set_slips sets every committed slip (n_joints, m), e.g. back to
+ * a copy of vs_model_slips. Both drop what the model kept of the joints' evaluation. */
+enum { VS_BRANCH_SLIDE_NEG = -1, VS_BRANCH_KEEP = 0, VS_BRANCH_SLIDE_POS = 1, VS_BRANCH_STICK = 2 };
+VS_API int vs_model_set_branches(vs_model *m, const double *q, double delta,
+                                 const signed char *branch);
+VS_API void vs_model_set_slips(vs_model *m, const double *slips);
+
 /* Forces exerted by the arch on the left and right supports (Fx, Fz in N). */
 VS_API void vs_model_reactions(const vs_model *m, const double *q, double delta, double left[2],
                                double right[2]);

@@ -41,22 +41,45 @@ typedef struct {
 VS_API void vs_path_opts_from_def(const vs_run_def *d, vs_path_opts *o);
 
 typedef enum {
-  VS_PATH_LIMIT_POINT = 1,     /* stopped at a confirmed limit point */
-  VS_PATH_MAX_DISPLACEMENT = 2 /* reached max_delta without one */
+  VS_PATH_LIMIT_POINT = 1,      /* stopped at a confirmed limit point */
+  VS_PATH_MAX_DISPLACEMENT = 2, /* reached max_delta without one */
+  VS_PATH_SLIDING = 3           /* a sliding mechanism that the support drives: at two successive
+                                   equilibria joints slide and the force on the moving support
+                                   (vs_model_support_force) is the same to VS_PATH_PLATEAU_RTOL,
+                                   so the slip would grow without bound at that force */
 } vs_path_end;
 
-/* Tangent-stiffness evidence at the limit point. */
+/* Relative change of the support's force over an increment below which sliding joints make a
+ * sliding mechanism that the support drives (VS_PATH_SLIDING): a slip held back by any
+ * stiffness changes the force by the increment times it. */
+#define VS_PATH_PLATEAU_RTOL 1e-6
+
+/* Tangent-stiffness evidence at the limit point. A limit point is a fold of the path (the
+ * tangent's smallest eigenvalue vanishes like the square root of the distance to it) or the
+ * onset of slip (a corner: joints reach their Coulomb limit |T| = mu N within the bracket, no
+ * equilibrium is found beyond on the sticking or the sliding branch, and with them sliding the
+ * tangent's symmetric part is not positive definite, while the sticking one's is; the evidence
+ * is then the sliding branch's tangent at the last equilibrium, and no extrapolation). */
 typedef struct {
   double lambda_start;  /* smallest |eigenvalue| of the scaled tangent after self-weight, N/m */
   double lambda_last;   /* the same at the last equilibrium before the limit, N/m */
-  double delta_extrap;  /* delta (m) where lambda^2, linear in delta near a fold, reaches 0 */
+  double delta_extrap;  /* delta (m) where lambda^2, linear in delta near a fold, reaches 0
+                           (NaN at the onset of slip) */
   int det_sign;         /* sign of det K at the last equilibrium (KLU factors) */
+  int slip_onset;       /* joints whose slip begins at the limit point (0: a fold); at the end
+                           of the path they are committed on their sliding branch. Without an
+                           equilibrium under self-weight: the joints the failed step would have
+                           made slide. VS_PATH_SLIDING: the joints sliding at its end */
+  int slip_joint;       /* the first of them (0-based), when slip_onset > 0 */
 } vs_limit_evidence;
 
 typedef struct {
   vs_path_end end;
-  double delta_limit;    /* last equilibrium delta, m (the limit point within limit_tol) */
-  double delta_fail;     /* smallest delta tried beyond it with no equilibrium nearby, m */
+  double delta_limit;    /* last equilibrium delta, m (the limit point within limit_tol); with
+                            VS_PATH_SLIDING, the first equilibrium at which the joints slid */
+  double delta_fail;     /* smallest delta tried beyond it with no equilibrium nearby, m; with
+                            VS_PATH_SLIDING, the equilibrium that showed the force stationary
+                            (the last one, q) */
   vs_limit_evidence evidence;
   long steps;            /* accepted increments (self-weight included) */
   long rejected;         /* rejected increments (bisection) */
@@ -75,7 +98,8 @@ typedef struct {
  * ("stopped by the caller"), with res and q as far as the path got. */
 typedef int (*vs_path_step_fn)(void *user, double delta, const double *q, const vs_model *m);
 
-/* Follow the path of model m from support displacement delta0 (m): 0 starts with self-weight
+/* Follow the path of model m from support displacement delta0 (m) to a limit point, a sliding
+ * mechanism that the support drives or max_delta (res->end): 0 starts with self-weight
  * from the reference configuration, > 0 resumes from a state near an equilibrium there (after a
  * snap-through), with the model's committed slips. q (vs_model_size entries) is the start guess
  * on entry (zeros: the reference configuration) and the last equilibrium on return. Errors:

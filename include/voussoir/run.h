@@ -49,7 +49,11 @@ typedef enum {
   VS_EVENT_HINGE_FORMED,     /* a hinge formed (tracker); label and order are set */
   VS_EVENT_LIMIT_POINT,      /* a limit point of the quasi-static path */
   VS_EVENT_SNAP_SETTLED,     /* the motion after a limit point settled on a stable branch */
-  VS_EVENT_COLLAPSE          /* the collapse criterion fired */
+  VS_EVENT_COLLAPSE,         /* the collapse criterion fired */
+  VS_EVENT_JOINT_SLIPPED     /* a joint began to slide, or to slide the other way: on the path
+                                at the equilibrium where it slides, at a limit point at the onset
+                                of slip, in the motion (up to the collapse criterion) once its
+                                plastic slip has moved by hinges.open_mm; side: the direction */
 } vs_event_kind;
 
 typedef struct {
@@ -57,10 +61,20 @@ typedef struct {
   vs_phase phase;
   double t, delta;  /* s, m */
   int joint;        /* 1-based, 0 if none */
-  char side;        /* 'I', 'E' or 0 */
+  char side;        /* 'I', 'E' or 0. A slip (VS_EVENT_JOINT_SLIPPED): the edge toward which the
+                       voussoir slides relative to the body across the joint (at joint k the
+                       voussoir k relative to the one on its left or the left support; at the
+                       right springing the last voussoir relative to the right support) */
   char label;       /* hinge label, or 0 */
   int order;        /* hinge order of appearance (4 = the fourth hinge), or 0 */
 } vs_run_event;
+
+/* A joint's slip in the collapse's mechanism. */
+typedef struct {
+  int joint;    /* 1-based */
+  char side;    /* the direction, as vs_run_event.side for a slip */
+  double slip;  /* how far it slid, m (> 0) */
+} vs_slip;
 
 /* A limit point and what followed it. */
 typedef struct {
@@ -90,6 +104,14 @@ typedef struct {
                               collapse; owned by the run, valid until vs_run_destroy) */
   double reactions_limit[6]; /* forces the supports exert on the arch at the collapsing limit
                                 point (as vs_run_sample.reactions); NaN without one (--dynamic) */
+  /* --- slip: what the mechanism is made of --- */
+  const char *mechanism;   /* "rotational" (hinges alone), "sliding" (slips alone), "mixed"
+                              (both); NULL without a collapse */
+  int n_slips;             /* joints that slid in the mechanism: from the departure to the
+                              collapse's onset (where its hinges are taken), by more than
+                              hinges.open_mm; for a sliding mechanism that the support drives
+                              (VS_PATH_SLIDING), those sliding at its end ... */
+  const vs_slip *slips;    /* ... left to right (n_slips; owned by the run) */
 } vs_collapse_record;
 
 /* Called for every recorded state and every event (either may be NULL). Non-zero stops the run:

@@ -30,6 +30,15 @@ void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_
   joint_states_core(m, q, qs, st, 1);
 }
 
+/* A joint that slid is committed a hair behind its return-mapped plastic slip, by this fraction
+ * of its elastic slip: at the committed state it then evaluates as sliding (its trial force past
+ * the Coulomb limit by this fraction, its force still mu N), so that the tangent there, which
+ * predicts the next increment and tests stability, is the sliding branch's, as the increment
+ * that ended there was; committed exactly, the trial would sit on the limit and the tangent
+ * would be the sticking one. The fraction is far above the round-off of the slip (a relative
+ * 1e-16 of the joint's displacement) and far below the Newton tolerance. */
+static const double VS_SLIP_HOLD = 1e-9;
+
 /* The plastic slips change. With the memo at these states, a joint whose slip moved is
  * evaluated again into it, so that it stays the joints' points (the joints' states of the
  * equilibrium just committed, which the hinge tracker reads next, are then taken from it);
@@ -44,8 +53,8 @@ static int commit_core(vs_model *m, const double *q, const double qs[6]) {
     else vs_model_eval_joint(m, q, qs, k, 1, &st, NULL, NULL);
     if (st.sliding && st.N > 0.0) slid++;
     const double old = m->slip_p[k];
-    m->slip_p[k] = st.slip_p;
-    if (!hit || memcmp(&old, &st.slip_p, sizeof old) == 0) continue;
+    m->slip_p[k] = st.sliding ? st.slip_p - VS_SLIP_HOLD * (st.slip - st.slip_p) : st.slip_p;
+    if (!hit || memcmp(&old, &m->slip_p[k], sizeof old) == 0) continue;
     if (!rot) vs_model_half_angles(m, q, qs), rot = 1; /* m->rot may hold another state's */
     vs_model_memo_eval(m, q, qs, k);
   }
@@ -67,6 +76,40 @@ int vs_model_commit_states(vs_model *m, const vs_joint_state *st) {
     m->slip_p[k] = st[k].slip_p;
   }
   return slid;
+}
+
+int vs_model_set_branches(vs_model *m, const double *q, double delta, const signed char *branch) {
+  double qs[6];
+  sup_pos_q(m, q, delta, qs);
+  vs_model_half_angles(m, q, qs);
+  int put = 0;
+  for (int k = 0; k < m->g->n_joints; k++) {
+    if (branch[k] == VS_BRANCH_KEEP) continue;
+    vs_joint_state st;
+    vs_model_eval_joint(m, q, qs, k, 1, &st, NULL, NULL);
+    const vs_joint_geom *j = &m->g->joints[k];
+    vs_joint_law tmp;
+    const vs_joint_law *law = law_at(m, k, &tmp);
+    const double kst = law->ks * j->depth * j->length, limit = law->mu * st.N / kst;
+    if (branch[k] == VS_BRANCH_STICK) {
+      if (!st.sliding || !(st.N > 0.0)) continue; /* inside the limit already */
+      /* the trial just inside the limit: its force unchanged, the elastic tangent */
+      m->slip_p[k] = st.slip - (st.T > 0.0 ? 1.0 : -1.0) * limit * (1.0 - VS_SLIP_HOLD);
+    } else {
+      /* past the limit by the commit's margin, and by a margin of the joint's length besides,
+       * so that a joint without normal force (limit 0) is on its sliding branch too */
+      const double over = limit * (1.0 + VS_SLIP_HOLD) + VS_SLIP_HOLD * j->length;
+      m->slip_p[k] = st.slip - (branch[k] > 0 ? over : -over);
+    }
+    put++;
+  }
+  memo_drop(m);
+  return put;
+}
+
+void vs_model_set_slips(vs_model *m, const double *slips) {
+  memcpy(m->slip_p, slips, (size_t)m->g->n_joints * sizeof *slips);
+  memo_drop(m);
 }
 
 void vs_model_reactions(const vs_model *m, const double *q, double delta, double left[2],

@@ -14,6 +14,7 @@ static const char *event_kind_name(vs_event_kind k) {
   case VS_EVENT_LIMIT_POINT: return "limit_point";
   case VS_EVENT_SNAP_SETTLED: return "snap_settled";
   case VS_EVENT_COLLAPSE: return "collapse";
+  case VS_EVENT_JOINT_SLIPPED: return "joint_slipped";
   }
   return "unknown";
 }
@@ -62,7 +63,9 @@ herr_t vs_record_events_create(vs_output *o) {
         "events in order. unit: one entry per field, comma-separated. kind: "
         "joint_opened/joint_closed (an edge crossed hinges.open_mm; side = the hinge side), "
         "hinge_formed (label A-E, order = order of appearance, delta = interpolated "
-        "onset), limit_point, snap_settled, collapse. joint: 1-based, 0 if none; "
+        "onset), limit_point, snap_settled, collapse, joint_slipped (the joint began to "
+        "slide, or to slide the other way; side = the edge toward which its voussoir slides "
+        "relative to the body across it). joint: 1-based, 0 if none; "
         "phase: 0 quasi-static, 1 dynamic (IDA), 2 the rigid fall after the collapse");
   vs_h5_close(dcpl);
   vs_h5_close(sp);

@@ -140,6 +140,34 @@ static herr_t limits_table(hid_t loc, const vs_run *run) {
   return rc;
 }
 
+/* The collapse's slips (vs_slip): joint, side (the direction), slip (m). */
+static herr_t slips_table(hid_t loc, const vs_collapse_record *c) {
+  typedef struct {
+    int32_t joint;
+    char side;
+    double slip;
+  } slip_row;
+  const int n = c->found ? c->n_slips : 0;
+  slip_row *rows = calloc((size_t)(n > 0 ? n : 1), sizeof *rows);
+  hid_t mt = H5Tcreate(H5T_COMPOUND, sizeof(slip_row)), c1 = vs_h5_fixed_str_type(1);
+  herr_t rc = (rows != NULL && mt >= 0 && c1 >= 0) ? 0 : -1;
+  if (rc >= 0) rc = H5Tinsert(mt, "joint", HOFFSET(slip_row, joint), H5T_NATIVE_INT32);
+  if (rc >= 0) rc = H5Tinsert(mt, "side", HOFFSET(slip_row, side), c1);
+  if (rc >= 0) rc = H5Tinsert(mt, "slip", HOFFSET(slip_row, slip), H5T_NATIVE_DOUBLE);
+  for (int i = 0; rc >= 0 && i < n; i++)
+    rows[i] = (slip_row){.joint = c->slips[i].joint, .side = c->slips[i].side,
+                         .slip = c->slips[i].slip};
+  if (rc >= 0)
+    rc = table_write(loc, "slips", mt, (size_t)n, rows, ",,m",
+                     "joints that slid in the collapse's mechanism, left to right: side = the "
+                     "edge toward which the voussoir slid relative to the body across the joint, "
+                     "slip = how far, from the departure to the collapse's onset");
+  vs_h5_close(c1);
+  vs_h5_close(mt);
+  free(rows);
+  return rc;
+}
+
 static herr_t summary_collapse(hid_t sum, const vs_run *run) {
   const vs_collapse_record *c = vs_run_collapse(run);
   const vs_case *cs = vs_run_case(run);
@@ -149,6 +177,8 @@ static herr_t summary_collapse(hid_t sum, const vs_run *run) {
   hid_t g = vs_h5_group_create(sum, "collapse");
   herr_t rc = g >= 0 ? vs_h5_attr_int(g, "found", c->found) : -1;
   if (rc >= 0) rc = vs_h5_attr_str(g, "pattern", vs_run_pattern_collapse(run));
+  if (rc >= 0) rc = vs_h5_attr_str(g, "mechanism", c->found ? c->mechanism : "");
+  if (rc >= 0) rc = slips_table(g, c);
   if (rc >= 0) rc = vs_h5_dset_scalar(g, "delta", c->found ? c->delta : NAN, "m");
   if (rc >= 0)
     rc = vs_h5_dset_scalar(g, "dz_over_L", c->found ? c->delta * sd.dz / L : NAN, "1");
@@ -170,7 +200,10 @@ static herr_t summary_collapse(hid_t sum, const vs_run *run) {
         "with --dynamic the kinetic energy's last rise through the rest level (an "
         "IDA root); delta_detected when the kinetic energy passed the collapse "
         "threshold; time_onset when the final motion began (NaN if the arch was never "
-        "at rest); NaN everywhere when found = 0");
+        "at rest); NaN everywhere when found = 0. mechanism: rotational (hinges alone), "
+        "sliding (slips alone) or mixed; for a sliding mechanism that the support drives "
+        "(the force on it stationary while joints slide) delta is where they all slid, "
+        "delta_detected where the force was seen stationary, and no motion follows");
   vs_h5_close(g);
   return rc;
 }

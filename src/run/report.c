@@ -134,7 +134,11 @@ static void json_first_limit(FILE *out, const vs_run *r) {
   jnum(out, ",\"lambda_start_N_m\":", p->evidence.lambda_start, 6);
   jnum(out, ",\"lambda_last_N_m\":", p->evidence.lambda_last, 6);
   jnum(out, ",\"delta_extrapolated_mm\":", p->evidence.delta_extrap / VS_MM, 10);
-  fputc('}', out);
+  if (p->evidence.slip_onset > 0) /* a limit point at the onset of slip */
+    fprintf(out, ",\"slip_onset\":{\"first_joint\":%d,\"joints\":%d}}",
+            p->evidence.slip_joint + 1, p->evidence.slip_onset);
+  else
+    fputs(",\"slip_onset\":null}", out);
 }
 
 /* {"left":[Fx,Fz,M],"right":[...]} (N, N, N m; null where NaN). */
@@ -147,6 +151,37 @@ static void json_reactions(FILE *out, const double rc[6]) {
     }
   }
   fputs("]}", out);
+}
+
+/* A slip's direction in words: the edge its voussoir slides toward. */
+static const char *slip_toward(char side) { return side == 'E' ? "extrados" : "intrados"; }
+
+/* The collapse's slips: [{"joint":1,"toward":"intrados","slip_mm":3.2}, ...]. */
+static void json_collapse_slips(FILE *out, const vs_collapse_record *col) {
+  fputs(",\"slips\":[", out);
+  for (int i = 0; i < col->n_slips; i++) {
+    fprintf(out, "%s{\"joint\":%d,\"toward\":\"%s\"", i ? "," : "", col->slips[i].joint,
+            slip_toward(col->slips[i].side));
+    jnum(out, ",\"slip_mm\":", col->slips[i].slip / VS_MM, 10);
+    fputc('}', out);
+  }
+  fputc(']', out);
+}
+
+/* Every slip event: [{"joint":1,"toward":"intrados","delta_mm":53.4,"phase":"quasistatic"}]. */
+static void json_slip_events(FILE *out, const vs_run *r) {
+  static const char *const phases[] = {"quasistatic", "dynamic", "fall"};
+  fputs(",\"slips\":[", out);
+  int n = 0;
+  for (int i = 0; i < vs_run_event_count(r); i++) {
+    const vs_run_event *e = vs_run_event_get(r, i);
+    if (e->kind != VS_EVENT_JOINT_SLIPPED) continue;
+    fprintf(out, "%s{\"joint\":%d,\"toward\":\"%s\"", n++ ? "," : "", e->joint,
+            slip_toward(e->side));
+    jnum(out, ",\"delta_mm\":", e->delta / VS_MM, 10);
+    fprintf(out, ",\"phase\":\"%s\"}", phases[e->phase]);
+  }
+  fputc(']', out);
 }
 
 static void json_collapse(FILE *out, const vs_run *r) {
@@ -170,7 +205,9 @@ static void json_collapse(FILE *out, const vs_run *r) {
   json_reactions(out, col->reactions_limit);
   fputs(",\"hinges\":[", out);
   for (int i = 0; i < col->n_hinges; i++) json_hinge(out, r, &col->hinges[i], i == 0, 0);
-  fputs("]}", out);
+  fprintf(out, "],\"mechanism\":\"%s\"", col->mechanism);
+  json_collapse_slips(out, col);
+  fputc('}', out);
 }
 
 static void json_limits(FILE *out, const vs_run *r) {
@@ -337,6 +374,7 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   for (int i = 0; i < vs_run_hinge_count(r); i++) json_hinge(out, r, vs_run_hinge(r, i), i == 0, 1);
   fputc(']', out);
   fprintf(out, ",\"hinges_in_fall\":%d", vs_hinges_count(h) - vs_run_hinge_count(r));
+  json_slip_events(out, r);
   json_damping(out, r);
   json_tail(out, r);
 }
@@ -420,12 +458,21 @@ static void text_first_limit(FILE *out, const vs_run *r) {
     components_pct(r, p->delta_limit, &dz, &dx);
     fprintf(out, "first limit point  delta = %.4f mm   dz/L = %.3f %%   dx/L = %.3f %%\n",
             p->delta_limit / VS_MM, dz, dx);
-    fprintf(out,
-            "  confirmed: no equilibrium at %.4f mm; smallest tangent eigenvalue %.3g N/m "
-            "(%.3g N/m after self-weight),\n  extrapolated to zero at %.4f mm; tangent positive "
-            "definite on the path (Cholesky of its symmetric part)\n",
-            p->delta_fail / VS_MM, p->evidence.lambda_last, p->evidence.lambda_start,
-            p->evidence.delta_extrap / VS_MM);
+    if (p->evidence.slip_onset > 0)
+      fprintf(out,
+              "  confirmed: the onset of slip; before %.4f mm joint %d%s reaches its Coulomb "
+              "limit |T| = mu N,\n  and with it sliding the tangent has det sign %+d (smallest "
+              "eigenvalue %.3g N/m; %.3g N/m after self-weight)\n",
+              p->delta_fail / VS_MM, p->evidence.slip_joint + 1,
+              p->evidence.slip_onset > 1 ? " and others" : "", p->evidence.det_sign,
+              p->evidence.lambda_last, p->evidence.lambda_start);
+    else
+      fprintf(out,
+              "  confirmed: no equilibrium at %.4f mm; smallest tangent eigenvalue %.3g N/m "
+              "(%.3g N/m after self-weight),\n  extrapolated to zero at %.4f mm; tangent "
+              "positive definite on the path (Cholesky of its symmetric part)\n",
+              p->delta_fail / VS_MM, p->evidence.lambda_last, p->evidence.lambda_start,
+              p->evidence.delta_extrap / VS_MM);
   }
 }
 
@@ -463,6 +510,29 @@ static void text_supports_at(FILE *out, const vs_run *r, double delta) {
                "%.4f mm settlement\n", dx, dz);
 }
 
+/* The collapse's mechanism: rotational, sliding or mixed, and its slips. */
+static void text_mechanism(FILE *out, const vs_collapse_record *col) {
+  fprintf(out, "  mechanism %s", col->mechanism);
+  for (int i = 0; i < col->n_slips; i++)
+    fprintf(out, "%s joint %d (toward the %s, %.3f mm)", i ? "," : ": slips at", col->slips[i].joint,
+            slip_toward(col->slips[i].side), col->slips[i].slip / VS_MM);
+  fputc('\n', out);
+}
+
+/* Every slip event: joint, direction, where. */
+static void text_slips(FILE *out, const vs_run *r) {
+  int n = 0;
+  for (int i = 0; i < vs_run_event_count(r); i++) {
+    const vs_run_event *e = vs_run_event_get(r, i);
+    if (e->kind != VS_EVENT_JOINT_SLIPPED) continue;
+    if (n++ == 0)
+      fprintf(out, "\nslips (a joint began to slide, or to slide the other way; toward: the edge "
+                   "its voussoir slides toward)\n");
+    fprintf(out, "  joint %-3d toward the %-8s at %9.4f mm (%s)\n", e->joint, slip_toward(e->side),
+            e->delta / VS_MM, e->phase == VS_PHASE_QUASISTATIC ? "on the path" : "in the motion");
+  }
+}
+
 /* The collapse (delta_u, its components, mode, reactions, hinges at its onset), or how far the
  * support moved without one. */
 static void text_collapse(FILE *out, const vs_run *r, vs_status status) {
@@ -474,15 +544,22 @@ static void text_collapse(FILE *out, const vs_run *r, vs_status status) {
     fprintf(out, "\nCOLLAPSE  delta_u = %.4f mm   dz/L = %.3f %%   dx/L = %.3f %%   at t = %.2f s\n",
             col->delta / VS_MM, dz, dx, col->t);
     if (!right_alone(c)) text_supports_at(out, r, col->delta);
-    fprintf(out, "  departure from the last stable equilibrium (%s); detected (kinetic energy past "
-                 "the collapse threshold) at %.4f mm, t = %.2f s\n",
-            c->full ? "the kinetic energy's last rise through the rest level" : "the collapsing limit point",
-            col->delta_detected / VS_MM, col->t_criterion);
+    if (vs_run_path_totals(r)->end == VS_PATH_SLIDING)
+      fprintf(out, "  a sliding mechanism that the support drives: from where its joints all slid, "
+                   "the force on the support stays put (seen at %.4f mm); no motion follows\n",
+              col->delta_detected / VS_MM);
+    else
+      fprintf(out, "  departure from the last stable equilibrium (%s); detected (kinetic energy "
+                   "past the collapse threshold) at %.4f mm, t = %.2f s\n",
+              c->full ? "the kinetic energy's last rise through the rest level"
+                      : "the collapsing limit point",
+              col->delta_detected / VS_MM, col->t_criterion);
     const char *mode = vs_run_mode(r);
     fprintf(out, "  hinges at collapse (left to right): %s;  first three: %s;  mode %s\n",
             vs_run_pattern_collapse(r)[0] ? vs_run_pattern_collapse(r) : "none",
             vs_run_pattern_initial(r)[0] ? vs_run_pattern_initial(r) : "none",
             mode ? mode : "unclassified");
+    text_mechanism(out, col);
     const double *rc = col->reactions_limit;
     if (isfinite(rc[0]))
       fprintf(out, "  reactions on the arch at the collapsing limit point: left Fx %.3f N, Fz %.3f N, "
@@ -580,5 +657,6 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
     fprintf(out, "\nFAILED at delta = %.4f mm: %s\n", vs_run_delta(r) / VS_MM,
             err != NULL ? err->msg : vs_strerror(status));
   text_hinges(out, r);
+  text_slips(out, r);
   text_stats(out, r, status);
 }

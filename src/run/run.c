@@ -138,8 +138,10 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
   if (st == VS_OK) {
     r->q = calloc((size_t)vs_model_size(r->m), sizeof *r->q);
     r->v = calloc((size_t)vs_model_size(r->m), sizeof *r->v);
+    r->q_rest = calloc((size_t)vs_model_size(r->m), sizeof *r->q_rest);
     r->js = calloc((size_t)r->g->n_joints, sizeof *r->js);
-    if (r->q == NULL || r->v == NULL || r->js == NULL)
+    if (r->q == NULL || r->v == NULL || r->q_rest == NULL || r->js == NULL ||
+        vs_run_slips_create(r) != 0)
       st = vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
   }
   if (st == VS_OK) {
@@ -190,12 +192,14 @@ void vs_run_destroy(vs_run **r) {
   vs_run *p = *r;
   free(p->q);
   free(p->v);
+  free(p->q_rest);
   free(p->js);
   free(p->limits);
   free(p->events);
   free(p->onset);
   free(p->onset_all);
   free(p->pattern_u);
+  vs_run_slips_free(p);
   vs_modal_free(&p->modal);
   vs_dynamic_destroy(&p->dyn);
   vs_path_solver_destroy(&p->ps);
@@ -292,8 +296,7 @@ static void add_dyn_totals(vs_run *r, const vs_dyn_result *d) {
  * it. Returns through *resume_at the delta to resume from (NaN: the run is over). */
 static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
   const int n = vs_model_size(r->m);
-  double *qs = malloc((size_t)n * sizeof *qs);
-  if (qs == NULL) return vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
+  double *qs = r->q_rest;
   *resume_at = NAN;
   r->phase = VS_PHASE_DYNAMIC;
   vs_status st = VS_OK;
@@ -346,8 +349,27 @@ static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
       break;
     }
   }
-  free(qs);
   return st;
+}
+
+/* A limit point at the onset of slip (p): the joints committed on their sliding branch there
+ * slip from it (their events). Non-zero when an event stopped the run. */
+static int limit_slips(vs_run *r, const vs_path_result *p) {
+  if (p->evidence.slip_onset == 0) return 0;
+  vs_model_joint_states(r->m, r->q, r->delta, r->js);
+  return vs_run_slips_at_equilibrium(r, r->delta, r->js);
+}
+
+/* The path p ended on a sliding mechanism that the support drives: that is the collapse, at
+ * the force the support can no longer raise; no motion follows (the support drags the
+ * mechanism at its own rate). */
+static vs_status sliding_collapse(vs_run *r, const vs_path_result *p, vs_error *err) {
+  r->delta = p->delta_fail;
+  r->t = r->delta / r->dopts.rate;
+  if (vs_run_record_sliding(r, p) != 0) return vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
+  if (vs_run_log_event(r, VS_EVENT_COLLAPSE, r->t, r->delta, 0, 0, 0, 0) != 0)
+    return vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
+  return VS_OK;
 }
 
 /* A solver stopped as after the stop flag (VS_ERR_INTERRUPTED) when the stop flag was not
@@ -401,9 +423,22 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
       memset(&p, 0, sizeof p);
       r->live_path = &p;
       st = vs_path_run_with(r->ps, &r->popts, delta0, r->q, vs_run_on_equilibrium, r, &p, err);
+      if (st == VS_ERR_NO_EQUILIBRIUM && delta0 > 0.0 && p.steps == 0) {
+        /* Newton from the state at rest missed the equilibrium the probe found from it, with the
+         * slips the probe committed there (a joint sliding along a nearly free mode can throw
+         * its steps onto the reverse branch): the path resumes from that equilibrium itself */
+        add_path_totals(r, &p);
+        memcpy(r->q, r->q_rest, (size_t)vs_model_size(r->m) * sizeof *r->q);
+        memset(&p, 0, sizeof p);
+        st = vs_path_run_with(r->ps, &r->popts, delta0, r->q, vs_run_on_equilibrium, r, &p, err);
+      }
       r->live_path = NULL;
       if (r->modal_st != VS_OK) st = vs_error_set(err, r->modal_st, "%s", r->modal_err.msg);
       add_path_totals(r, &p);
+      if (st == VS_OK && p.end == VS_PATH_SLIDING) {
+        st = sliding_collapse(r, &p, err);
+        break;
+      }
       if (st != VS_OK || p.end != VS_PATH_LIMIT_POINT) break;
       if (r->n_limits >= VS_RUN_MAX_LIMITS) {
         st = vs_error_set(err, VS_ERR_SOLVER, "%d limit points (the limit) up to %.6g mm",
@@ -413,7 +448,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
       r->delta = p.delta_limit;
       r->t = r->delta / r->dopts.rate;
       vs_model_support_reactions(r->m, r->q, r->delta, r->react_eq);
-      if (vs_run_add_limit(r, p.delta_limit) != 0) {
+      if (limit_slips(r, &p) != 0 || vs_run_add_limit(r, p.delta_limit) != 0) {
         st = vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
         break;
       }

@@ -32,6 +32,7 @@ struct vs_run {
   int have_first;
   vs_dyn_result dtot;
   double *q, *v;
+  double *q_rest; /* the equilibrium found where the motion came to rest (dynamic_phase) */
   vs_joint_state *js;
   double delta, t, wall_s;
   double deadline; /* of case.max_wall_s: vs_monotonic_s seconds, 0 none; every solver's
@@ -61,6 +62,13 @@ struct vs_run {
   void *user;
   int nomem; /* a callback ran out of memory logging what it saw: the solver it stopped says
                 VS_ERR_STOPPED, the run VS_ERR_NOMEM */
+  /* --- slip (run_slip.c), per joint --- */
+  signed char *slip_dir; /* sense of its last slip event (+1: body b along s), 0 none */
+  double *slip_anchor;   /* committed slip at the last equilibrium or event, m */
+  double *slip_from;     /* ... at the departure (a limit point, rest, the last state where
+                            every joint stuck) */
+  double *slip_onset;   /* ... at the collapse's onset (its hinges' snapshot) */
+  vs_slip *mech_slips;   /* the collapse's slips (collapse.slips) */
   /* --- damping (damping.h, modal.h): modes under self-weight, set at the first equilibrium --- */
   vs_modal modal;
   double ray_alpha, ray_beta;
@@ -69,11 +77,15 @@ struct vs_run {
   vs_error modal_err;
 };
 
-/* run_sample.c */
+/* run_events.c */
+/* A callback's allocation failed: its solver stops, and the run says why (r->nomem); -1. */
+int vs_run_out_of_memory(vs_run *r);
 /* Log an event of the run (phase: the current one) and hand it to the caller's event function.
  * Returns non-zero when out of memory (r->nomem set) or when the caller asks to stop. */
 int vs_run_log_event(vs_run *r, vs_event_kind kind, double t, double delta, int joint, char side,
                      char label, int order);
+
+/* run_sample.c */
 /* Record a limit point at delta (the hinges open before it) and log its event; as
  * vs_run_log_event. */
 int vs_run_add_limit(vs_run *r, double delta);
@@ -93,7 +105,31 @@ int vs_run_on_fall_sample(void *user, double t, double delta, const double *q, c
  * mechanism (frozen at the criterion), the reactions at the limit point. 0, or -1 when out of
  * memory (r->nomem set). */
 int vs_run_record_collapse(vs_run *r, const vs_dyn_result *d);
+/* The collapse of a sliding mechanism that the support drives (the path p ended with
+ * VS_PATH_SLIDING; r->q, r->delta its last equilibrium): no motion follows, the mechanism is
+ * the hinges open and the joints sliding there. 0, or -1 when out of memory. */
+int vs_run_record_sliding(vs_run *r, const vs_path_result *p);
 /* The run's initial hinge pattern, the pattern at the collapse and the mode they make. */
 void vs_run_classify(vs_run *r);
+
+/* run_slip.c */
+/* The per-joint arrays (0, or -1 when out of memory) and their release. */
+int vs_run_slips_create(vs_run *r);
+void vs_run_slips_free(vs_run *r);
+/* At an equilibrium of the path with its joints' states js (the slips committed): a slip event
+ * for each joint sliding in a sense it has not slid in last; the anchors of the motion set; the
+ * departure marked when every joint sticks. 0, or non-zero when an event stopped the run. */
+int vs_run_slips_at_equilibrium(vs_run *r, double delta, const vs_joint_state *js);
+/* In the motion: a slip event for each joint whose committed slip moved by more than
+ * hinges.open_mm from its anchor (in a sense it has not slid in last). As above. */
+int vs_run_slips_in_motion(vs_run *r, double t, double delta);
+/* The committed slips now: the departure's (vs_run_slips_mark), the collapse's onset's, where
+ * its hinges are taken (vs_run_slips_onset). */
+void vs_run_slips_mark(vs_run *r);
+void vs_run_slips_onset(vs_run *r);
+/* The collapse's slips and mechanism name, from the departure to its onset: the joints that
+ * slid by more than hinges.open_mm; or, given the joints' states at the end of a sliding
+ * mechanism the support drives (sliding_now), those sliding there. After the hinges. */
+void vs_run_slips_mechanism(vs_run *r, const vs_joint_state *sliding_now);
 
 #endif

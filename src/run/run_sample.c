@@ -13,27 +13,6 @@
 
 /* --- records --- */
 
-/* A callback's allocation failed: its solver stops, and the run says why (r->nomem). */
-static int out_of_memory(vs_run *r) {
-  r->nomem = 1;
-  return -1;
-}
-
-int vs_run_log_event(vs_run *r, vs_event_kind kind, double t, double delta, int joint, char side,
-                     char label, int order) {
-  if (r->n_events == r->cap_events) {
-    int cap = r->cap_events ? 2 * r->cap_events : 64;
-    vs_run_event *e = realloc(r->events, (size_t)cap * sizeof *e);
-    if (e == NULL) return out_of_memory(r);
-    r->events = e;
-    r->cap_events = cap;
-  }
-  vs_run_event *e = &r->events[r->n_events++];
-  *e = (vs_run_event){.kind = kind, .phase = r->phase, .t = t, .delta = delta, .joint = joint,
-                      .side = side, .label = label, .order = order};
-  return r->event_fn != NULL ? r->event_fn(r->user, r, e) : 0;
-}
-
 void vs_run_open_hinges(const vs_run *r, char *buf, size_t size) {
   vs_hinges_list(vs_hinges_get(r->h, 0), vs_hinges_count(r->h), 1, buf, size);
 }
@@ -42,7 +21,7 @@ int vs_run_add_limit(vs_run *r, double delta) {
   if (r->n_limits == r->cap_limits) {
     int cap = r->cap_limits ? 2 * r->cap_limits : 8;
     vs_limit_record *l = realloc(r->limits, (size_t)cap * sizeof *l);
-    if (l == NULL) return out_of_memory(r);
+    if (l == NULL) return vs_run_out_of_memory(r);
     r->limits = l;
     r->cap_limits = cap;
   }
@@ -51,6 +30,7 @@ int vs_run_add_limit(vs_run *r, double delta) {
   l->delta = delta;
   l->delta_settled = NAN;
   vs_run_open_hinges(r, l->hinges_before, sizeof l->hinges_before);
+  vs_run_slips_mark(r); /* the departure of what follows */
   return vs_run_log_event(r, VS_EVENT_LIMIT_POINT, delta / r->dopts.rate, delta, 0, 0, 0, 0);
 }
 
@@ -78,7 +58,7 @@ static int track_hinges(vs_run *r, double delta, const double *q, const vs_joint
   const int before = vs_hinges_count(r->h);
   if (js != NULL) memcpy(r->js, js, (size_t)r->g->n_joints * sizeof *js);
   else vs_model_joint_states(r->m, q, delta, r->js);
-  if (vs_hinges_update(r->h, delta, r->js) < 0) return out_of_memory(r);
+  if (vs_hinges_update(r->h, delta, r->js) < 0) return vs_run_out_of_memory(r);
   for (int i = before; i < vs_hinges_count(r->h); i++) {
     const vs_hinge *hg = vs_hinges_get(r->h, i);
     /* at its interpolated onset: delta = rate t holds for every event */
@@ -134,6 +114,7 @@ int vs_run_on_equilibrium(void *user, double delta, const double *q, const vs_mo
   r->t = delta / r->dopts.rate;
   r->phase = VS_PHASE_QUASISTATIC;
   if (track_hinges(r, delta, q, NULL) != 0) return 1;
+  if (vs_run_slips_at_equilibrium(r, delta, r->js) != 0) return 1;
   if (r->pending_snap >= 0) { /* the first equilibrium after a snap-through */
     vs_limit_record *l = &r->limits[r->pending_snap];
     r->pending_snap = -1;
@@ -166,12 +147,13 @@ static int snapshot_onset(vs_run *r) {
     vs_hinge *o = realloc(r->onset, (size_t)n * sizeof *o);
     if (o != NULL) r->onset = o;
     vs_hinge *a = o != NULL ? realloc(r->onset_all, (size_t)n * sizeof *a) : NULL;
-    if (a == NULL) return out_of_memory(r);
+    if (a == NULL) return vs_run_out_of_memory(r);
     r->onset_all = a;
     r->cap_onset = n;
   }
   r->n_onset = 0;
   r->hinges_at_onset = n;
+  vs_run_slips_onset(r);
   for (int i = 0; i < n; i++) {
     r->onset_all[i] = *vs_hinges_get(r->h, i);
     if (r->onset_all[i].open) r->onset[r->n_onset++] = r->onset_all[i];
@@ -198,10 +180,12 @@ int vs_run_on_dyn_sample(void *user, double t, double delta, const double *q, co
   /* the joints' states the integrator evaluated at this state (its commit and energies) */
   const vs_joint_state *js = vs_dynamic_joint_states(r->dyn);
   if (!r->frozen && track_hinges(r, delta, q, js) != 0) return 1;
+  if (!r->frozen && vs_run_slips_in_motion(r, t, delta) != 0) return 1;
   const int falling = r->live_dyn != NULL && isfinite(r->live_dyn->t_collapse);
   if (falling) { /* the onset is the collapse's: debris at rest and moving again is not one */
   } else if (e->kinetic < r->dopts.rest_ke) {
     r->onset_taken = 0;
+    vs_run_slips_mark(r); /* at rest: a motion that collapses departs from here */
   } else if (!r->onset_taken &&
              e->kinetic >= r->ke_move + VS_ONSET_FRACTION * (r->dopts.collapse_ke - r->ke_move)) {
     if (snapshot_onset(r) != 0) return 1;
@@ -254,6 +238,23 @@ static int cmp_hinge_first(const void *x, const void *y) {
   return (a->first > b->first) - (a->first < b->first);
 }
 
+/* The collapse's hinges, from the snapshot taken at its criterion (freeze_mechanism): named,
+ * left to right, with room for their side pattern. 0, or -1 when out of memory. */
+static int collapse_hinges(vs_run *r) {
+  vs_collapse_record *c = &r->collapse;
+  char *pu = realloc(r->pattern_u, 2 * (size_t)r->n_onset + 1);
+  if (pu == NULL) return vs_run_out_of_memory(r);
+  r->pattern_u = pu;
+  vs_run_name_first(r, r->hinges_at_onset); /* the snapshot's hinges take the names too */
+  for (int i = 0; i < r->hinges_at_onset; i++) r->onset_all[i].label = vs_hinges_get(r->h, i)->label;
+  for (int i = 0; i < r->n_onset; i++) r->onset[i].label = vs_hinges_get(r->h, r->onset[i].order - 1)->label;
+  qsort(r->onset, (size_t)r->n_onset, sizeof r->onset[0], cmp_hinge_first);
+  c->n_hinges = r->n_onset;
+  c->hinges = r->onset;
+  memcpy(c->reactions_limit, r->react_eq, sizeof r->react_eq);
+  return 0;
+}
+
 int vs_run_record_collapse(vs_run *r, const vs_dyn_result *d) {
   vs_collapse_record *c = &r->collapse;
   c->found = 1;
@@ -266,16 +267,23 @@ int vs_run_record_collapse(vs_run *r, const vs_dyn_result *d) {
   c->t = c->delta / r->dopts.rate;
   /* (frozen at the collapse criterion's sample) */
   if (!r->frozen && freeze_mechanism(r) != 0) return -1;
-  char *pu = realloc(r->pattern_u, 2 * (size_t)r->n_onset + 1);
-  if (pu == NULL) return out_of_memory(r);
-  r->pattern_u = pu;
-  vs_run_name_first(r, r->hinges_at_onset); /* the snapshot's hinges take the names too */
-  for (int i = 0; i < r->hinges_at_onset; i++) r->onset_all[i].label = vs_hinges_get(r->h, i)->label;
-  for (int i = 0; i < r->n_onset; i++) r->onset[i].label = vs_hinges_get(r->h, r->onset[i].order - 1)->label;
-  qsort(r->onset, (size_t)r->n_onset, sizeof r->onset[0], cmp_hinge_first);
-  c->n_hinges = r->n_onset;
-  c->hinges = r->onset;
-  memcpy(c->reactions_limit, r->react_eq, sizeof r->react_eq);
+  if (collapse_hinges(r) != 0) return -1;
+  vs_run_slips_mechanism(r, NULL);
+  return 0;
+}
+
+int vs_run_record_sliding(vs_run *r, const vs_path_result *p) {
+  vs_collapse_record *c = &r->collapse;
+  c->found = 1;
+  c->delta = p->delta_limit; /* where the joints of the mechanism were all sliding */
+  c->t = c->delta / r->dopts.rate;
+  c->delta_detected = p->delta_fail; /* where the force on the support was seen stationary */
+  c->t_criterion = c->delta_detected / r->dopts.rate;
+  c->t_onset = NAN;
+  r->onset_taken = 0; /* the hinges open at the end of the path */
+  if (freeze_mechanism(r) != 0 || collapse_hinges(r) != 0) return -1;
+  vs_model_joint_states(r->m, r->q, r->delta, r->js);
+  vs_run_slips_mechanism(r, r->js);
   return 0;
 }
 

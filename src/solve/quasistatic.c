@@ -105,6 +105,9 @@ static void qs_destroy(vs_qs_solver *s) {
   vs_spd_destroy(&s->spd);
   free(s->fwork);
   free(s->seen);
+  free(s->js);
+  free(s->onset);
+  free(s->slips);
   free(s->len);
   memset(s, 0, sizeof *s);
 }
@@ -132,8 +135,13 @@ static vs_status qs_alloc(vs_qs_solver *s, vs_error *err) {
   s->w2 = N_VNew_Serial(n, s->ctx);
   s->fwork = malloc((size_t)n * sizeof *s->fwork);
   s->seen = malloc((size_t)n);
+  const size_t nj = (size_t)vs_model_geometry(s->m)->n_joints;
+  s->js = malloc(2 * (nj > 0 ? nj : 1) * sizeof *s->js);
+  s->onset = calloc(nj > 0 ? nj : 1, 1);
+  s->slips = malloc((nj > 0 ? nj : 1) * sizeof *s->slips);
   if (s->u == NULL || s->uscale == NULL || s->fscale == NULL || s->J == NULL || s->Jt == NULL ||
-      s->len == NULL || s->w1 == NULL || s->w2 == NULL || s->fwork == NULL || s->seen == NULL) {
+      s->len == NULL || s->w1 == NULL || s->w2 == NULL || s->fwork == NULL || s->seen == NULL ||
+      s->js == NULL || s->onset == NULL || s->slips == NULL) {
     qs_destroy(s);
     return vs_error_set(err, VS_ERR_NOMEM, "quasi-static solver: out of memory");
   }

@@ -31,6 +31,10 @@ typedef struct {
   N_Vector w1, w2;
   double *fwork;
   unsigned char *seen;
+  vs_joint_state *js;         /* 2 n_joints: the joints' states at two states (slip onsets) */
+  signed char *onset;         /* per joint: its slip begins, in the sense of T (+1, -1), or 0
+                                 (vs_qs_slip_onsets) */
+  double *slips;              /* a copy of the committed slips (n_joints) */
   double kmax, lmax, wmin;    /* stiffest joint k_n b t (N/m), longest joint (m), lightest
                                  block (N) */
   long iters, jac_evals, floor_limited;
@@ -64,6 +68,10 @@ typedef struct {
   double h;                 /* the next increment, m */
   double lam, lam_prev;     /* smallest eigenvalue of the scaled tangent at q and qprev, N/m */
   double fold, fold_prev;   /* the fold predicted at this increment and at the last, m */
+  int slid;                 /* joints in contact that slid into q (vs_model_commit) */
+  double force;             /* the force on the moving support at q when joints slid into it
+                               (vs_model_support_force), else NaN */
+  double slide_from;        /* delta of the first equilibrium of the sliding under way, m */
 } vs_qs_path;
 
 /* Unknown i is a rotation: a block's theta or a pinned support's. */
@@ -107,6 +115,38 @@ vs_status vs_qs_start(vs_qs_solver *s, double delta0, double *q, vs_path_result 
 int vs_qs_locate_edges(vs_qs_solver *s, const double *qa0, double a0, const double *qb0,
                        double b0, vs_path_step_fn step_fn, void *user, double *work,
                        long *located);
+
+/* quasistatic_slip.c: slip on the path */
+/* The joints that slide at (q1, d1) but not at (q0, d0), with the committed slips, flagged in
+ * s->onset by the sense of their shear at q1; returns how many. *frac (may be NULL): the fraction of the way from q0 to q1 where
+ * the first of them reaches its Coulomb limit, the ratio |T| / (mu N) taken as linear. */
+int vs_qs_slip_onsets(vs_qs_solver *s, const double *q0, double d0, const double *q1, double d1,
+                      double *frac);
+/* The predictor of an increment h from the equilibrium (q, delta) with path tangent tan when
+ * the sticking predictor takes joints past their Coulomb limit: the sticking tangent up to the
+ * first onset, the tangent with those joints on their sliding branch beyond. Into qpred (n);
+ * 0, or -1 when no joint's limit is crossed (qpred then holds the sticking predictor) or the
+ * sliding tangent could not be had. Uses s->fwork and the tangent's factors (s->LSt). */
+int vs_qs_slide_predictor(vs_qs_solver *s, const double *q, double delta, double h,
+                          const double *tan, double *qpred);
+/* The path tangent tan at the equilibrium (q, delta) made consistent with the joints' loading:
+ * computed with the joints that slid into (q, delta) on their sliding branch, it predicts each
+ * one's slip over an increment h; a joint whose slip it turns back (against its shear) unloads
+ * and sticks instead, and tan is solved again with it sticking (a few passes: sticking one may
+ * turn back another). Returns how many it made stick. Uses s->fwork, s->onset, the tangent's
+ * factors. */
+int vs_qs_loading_tangent(vs_qs_solver *s, const double *q, double delta, double h,
+                          double *tan);
+/* The limit point at the onset of slip, once no increment found an equilibrium beyond on
+ * either branch: the sticking predictor from the last equilibrium (q, delta; path tangent tan)
+ * to delta_fail takes joints past their Coulomb limit, and with them on their sliding branch
+ * the tangent at q is not positive definite (Hill's condition of stability fails; the
+ * determinant is negative, or the smallest eigenvalues fell to nearly zero). Then those joints
+ * are left committed on their sliding branch, the tangent factored there (s->LSt), ev's
+ * det_sign, slip_onset and slip_joint set, and the number of joints returned; else 0 and
+ * nothing changed. work: n doubles. */
+int vs_qs_slip_corner(vs_qs_solver *s, const double *q, double delta, double delta_fail,
+                      const double *tan, double *work, vs_limit_evidence *ev);
 
 /* quasistatic_limit.c: the limit point */
 /* Bound the increment w->h ahead of the fold predicted from the tangent's smallest eigenvalue

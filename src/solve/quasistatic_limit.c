@@ -91,6 +91,14 @@ vs_status vs_qs_limit_end(vs_qs_path *w, vs_error *err) {
   vs_path_result *const res = w->res;
   res->delta_limit = w->delta;
   res->delta_fail = w->delta + w->h;
+  /* the onset of slip first: a corner, where the sticking tangent says nothing */
+  if (vs_qs_slip_corner(s, w->q, w->delta, w->delta + w->h, w->tan, w->qtry, &res->evidence) > 0) {
+    for (int i = 0; i < s->n; i++) w->qtry[i] = 0.0; /* a fixed start for the eigenvector */
+    res->evidence.lambda_last = vs_qs_tangent_min_eig(s, w->qtry, VS_EIG_RTOL, VS_EIG_MAXIT);
+    res->evidence.delta_extrap = NAN;
+    res->end = VS_PATH_LIMIT_POINT;
+    return VS_OK;
+  }
   vs_status st = confirm_limit(s, w->qprev, w->delta_prev, w->q, w->delta, w->delta + w->h, res,
                                err);
   if (s->interrupted || s->nonfinite) st = vs_qs_fatal(s, w->delta + w->h, err);

@@ -2,7 +2,8 @@
  * parameter delta (the right support's displacement, or the supports' paths' parameter) grows
  * by adaptive increments, each a tangent predictor corrected by Newton and accepted when it
  * stayed on the branch and is stable; cut when not, until the limit point
- * (quasistatic_limit.c) or the largest displacement. */
+ * (quasistatic_limit.c), a sliding mechanism that the support drives, or the largest
+ * displacement. Slip: quasistatic_slip.c. */
 #include "quasistatic_internal.h"
 
 #include <math.h>
@@ -72,7 +73,9 @@ static vs_status path_begin(vs_qs_path *w, double delta0, vs_error *err) {
   w->fold = INFINITY;
   w->fold_prev = INFINITY;
   res->evidence.lambda_start = w->lam;
-  vs_model_commit(sp->m, w->q, delta0);
+  w->slid = vs_model_commit(sp->m, w->q, delta0);
+  w->force = w->slid > 0 ? vs_model_support_force(sp->m, w->q, delta0) : NAN;
+  w->slide_from = delta0;
   memcpy(w->qprev, w->q, (size_t)sp->n * sizeof(double));
   w->delta_prev = delta0;
   res->steps = 1;
@@ -85,6 +88,7 @@ static vs_status path_begin(vs_qs_path *w, double delta0, vs_error *err) {
   w->h = w->o->step;
   if (vs_qs_path_tangent(sp, w->q, w->delta, w->tan) != 0)
     return vs_error_set(err, VS_ERR_SOLVER, "the path tangent could not be solved for");
+  if (w->slid > 0) vs_qs_loading_tangent(sp, w->q, w->delta, w->h, w->tan);
   return VS_OK;
 }
 
@@ -96,19 +100,36 @@ static int path_try(vs_qs_path *w, long *it) {
   return vs_qs_solve(sp, w->delta + w->h, w->qtry, it);
 }
 
+/* What became of a trial: accepted; missed (no convergence, or a converged state that left the
+ * followed branch); or unstable (it passed a limit point). */
+enum { TRIAL_OK = 0, TRIAL_MISSED = 1, TRIAL_UNSTABLE = 2 };
+
 /* A trial is accepted when it converged (flag 0), stayed on the followed branch (the corrector
  * moved it from the predictor by at most VS_CORRECTOR_RATIO of the predictor's own length) and
  * is stable (else it passed a limit point). */
-static int path_trial_ok(vs_qs_path *w, int flag) {
+static int path_trial_check(vs_qs_path *w, int flag) {
   vs_qs_solver *const sp = w->s;
-  int ok = (flag == 0);
-  if (ok) {
-    const double jump = scaled_norm(sp, w->qtry, w->qpred);
-    if (jump > VS_CORRECTOR_RATIO * scaled_norm(sp, w->qpred, w->q) + 10.0 * w->o->newton_tol)
-      ok = 0; /* left the branch */
-  }
-  if (ok && !vs_qs_stable_state(sp, w->qtry, w->delta + w->h)) ok = 0; /* passed a limit point */
-  return ok;
+  if (flag != 0) return TRIAL_MISSED;
+  const double jump = scaled_norm(sp, w->qtry, w->qpred);
+  if (jump > VS_CORRECTOR_RATIO * scaled_norm(sp, w->qpred, w->q) + 10.0 * w->o->newton_tol)
+    return TRIAL_MISSED; /* left the branch */
+  if (!vs_qs_stable_state(sp, w->qtry, w->delta + w->h)) return TRIAL_UNSTABLE;
+  return TRIAL_OK;
+}
+
+/* A trial that missed may have crossed joints' Coulomb limits: beyond them the path turns onto
+ * their sliding branch, away from the sticking predictor, by as much as the slip (a kink, which
+ * no increment makes small relative to the predictor). The increment is tried once more from the
+ * predictor that slides beyond the onset (vs_qs_slide_predictor).
+ * Returns that trial's check (*it: its Newton iterations), or TRIAL_MISSED when no limit is
+ * crossed; an error only when the solve failed for good (vs_qs_fatal). */
+static int path_retry_sliding(vs_qs_path *w, long *it, vs_status *st, vs_error *err) {
+  vs_qs_solver *const sp = w->s;
+  if (vs_qs_slide_predictor(sp, w->q, w->delta, w->h, w->tan, w->qpred) != 0) return TRIAL_MISSED;
+  memcpy(w->qtry, w->qpred, (size_t)sp->n * sizeof(double));
+  const int flag = vs_qs_solve(sp, w->delta + w->h, w->qtry, it);
+  if (flag != 0 && (*st = vs_qs_fatal(sp, w->delta + w->h, err)) != VS_OK) return TRIAL_MISSED;
+  return path_trial_check(w, flag);
 }
 
 /* The accepted trial becomes the path's state: the hinge onsets between the two located (when
@@ -130,7 +151,10 @@ static vs_status path_accept(vs_qs_path *w, long it, vs_error *err) {
   w->delta_prev = w->delta;
   memcpy(w->q, w->qtry, bytes);
   w->delta += w->h;
-  vs_model_commit(sp->m, w->q, w->delta);
+  const int slid_prev = w->slid;
+  w->slid = vs_model_commit(sp->m, w->q, w->delta);
+  w->force = w->slid > 0 ? vs_model_support_force(sp->m, w->q, w->delta) : NAN;
+  if (w->slid != slid_prev) w->slide_from = w->delta; /* other joints slide from here */
   res->steps++;
   res->delta_limit = w->delta;
   w->lam_prev = w->lam;
@@ -145,12 +169,31 @@ static vs_status path_accept(vs_qs_path *w, long it, vs_error *err) {
     return vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
   if (it <= 3) w->h = fmin(2.0 * w->h, o->step_max);
   else if (it <= 6) w->h = fmin(1.25 * w->h, o->step_max);
+  if (w->slid > 0) vs_qs_loading_tangent(sp, w->q, w->delta, w->h, w->tan);
   return VS_OK;
 }
 
+/* The end of a path on which the support drives a sliding mechanism (VS_PATH_SLIDING): the
+ * equilibria from the first of the sliding to the last, the joints that slide at the last. */
+static void path_sliding_end(vs_qs_path *w) {
+  vs_path_result *const res = w->res;
+  res->end = VS_PATH_SLIDING;
+  res->delta_limit = w->slide_from;
+  res->delta_fail = w->delta;
+  const int nj = vs_model_geometry(w->s->m)->n_joints;
+  vs_joint_state *js = w->s->js;
+  vs_model_joint_states(w->s->m, w->q, w->delta, js);
+  res->evidence.slip_onset = 0;
+  for (int k = nj - 1; k >= 0; k--)
+    if (js[k].sliding && js[k].N > 0.0) {
+      res->evidence.slip_onset++;
+      res->evidence.slip_joint = k;
+    }
+}
+
 /* 2. Increments from the starting equilibrium until the largest displacement (VS_OK), the limit
- * point (vs_qs_limit_end) or an error: a failed or rejected trial halves the increment, down to
- * limit_tol. */
+ * point (vs_qs_limit_end), a sliding mechanism that the support drives (path_sliding_end) or an
+ * error: a failed or rejected trial halves the increment, down to limit_tol. */
 static vs_status path_follow(vs_qs_path *w, vs_error *err) {
   const vs_path_opts *const o = w->o;
   vs_path_result *const res = w->res;
@@ -176,14 +219,30 @@ static vs_status path_follow(vs_qs_path *w, vs_error *err) {
       const vs_status st = vs_qs_fatal(w->s, w->delta + w->h, err);
       if (st != VS_OK) return st;
     }
-    if (!path_trial_ok(w, flag)) {
+    int check = path_trial_check(w, flag);
+    if (check != TRIAL_OK) {
       res->rejected++;
-      if (w->h <= o->limit_tol) return vs_qs_limit_end(w, err);
-      w->h *= 0.5;
-      continue;
+      if (w->h > o->limit_tol) {
+        w->h *= 0.5;
+        continue;
+      }
+      /* an increment at the tolerance still misses: where it crosses joints' Coulomb limits,
+       * the onset of slip is bracketed now, and the increment is tried on the sliding branch;
+       * else the path ends at a limit point */
+      vs_status st = VS_OK;
+      if (check == TRIAL_MISSED) check = path_retry_sliding(w, &it, &st, err);
+      if (st != VS_OK) return st;
+      if (check != TRIAL_OK) return vs_qs_limit_end(w, err);
     }
+    const double force_prev = w->force;
+    const int slid_prev = w->slid;
     const vs_status st = path_accept(w, it, err);
     if (st != VS_OK) return st;
+    if (w->slid == slid_prev &&
+        fabs(w->force - force_prev) <= VS_PATH_PLATEAU_RTOL * fabs(w->force)) {
+      path_sliding_end(w); /* NaN, when either state did not slide, compares false */
+      return VS_OK;
+    }
   }
 }
 

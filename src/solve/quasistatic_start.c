@@ -6,6 +6,7 @@
 
 #include <kinsol/kinsol.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -61,13 +62,16 @@ done:
 /* Self-weight by continuation in the gravity factor lambda: the reference configuration is the
  * exact equilibrium at lambda = 0; lambda grows by increments that halve when Newton fails (tangent
  * predictor dq/dlambda = -K^-1 dG/dlambda). Returns 0 when lambda = 1 is reached (q holds the
- * equilibrium), else -1 with *lambda_max the largest factor that had an equilibrium. */
-static int gravity_ramp(vs_qs_solver *s, double *q, double *lambda_max) {
+ * equilibrium), else -1 with *lambda_max the largest factor that had an equilibrium and *slides
+ * the joints that the last step's predictor took past their Coulomb limit (flagged in
+ * s->onset): the weight would make them slide. */
+static int gravity_ramp(vs_qs_solver *s, double *q, double *lambda_max, int *slides) {
   vs_model *m = s->m;
   const size_t bytes = (size_t)s->n * sizeof(double);
   double *qt = malloc(bytes), lam = 0.0, h = VS_RAMP_STEP;
   N_Vector b = s->w1, x = s->w2; /* vs_qs_solve and vs_qs_stable_state do not use them */
   int ok = -1;
+  *slides = 0;
   if (qt == NULL) goto done;
   memset(q, 0, bytes);
   /* the contact pattern is found at any load level alike (the no-tension law is homogeneous):
@@ -97,6 +101,7 @@ static int gravity_ramp(vs_qs_solver *s, double *q, double *lambda_max) {
       }
       h = fmin(2.0 * h, VS_RAMP_STEP);
     } else if ((h *= 0.5) < VS_RAMP_MIN || s->interrupted || s->nonfinite) {
+      *slides = vs_qs_slip_onsets(s, q, 0.0, qt, 0.0, NULL);
       break;
     }
   }
@@ -108,12 +113,39 @@ done:
   return ok;
 }
 
+/* The joints flagged in s->onset, 1-based, into buf: "1, 56" (a long list ends with "..."). */
+static void onset_names(const vs_qs_solver *s, char *buf, size_t size) {
+  const int nj = vs_model_geometry(s->m)->n_joints;
+  size_t len = 0;
+  buf[0] = '\0';
+  for (int k = 0; k < nj && len + 1 < size; k++) {
+    if (s->onset[k] == 0) continue;
+    const int w = snprintf(buf + len, size - len, "%s%d", len ? ", " : "", k + 1);
+    if (w < 0 || (size_t)w >= size - len) {
+      snprintf(buf + (size > 4 ? size - 4 : 0), size > 4 ? 4 : size, "...");
+      return;
+    }
+    len += (size_t)w;
+  }
+}
+
 /* No equilibrium to start from at delta0 (flag: the last solve's; lambda_max: how far the
- * self-weight's continuation went): the error that says so. */
+ * self-weight's continuation went; slides: the joints its last step would have made slide):
+ * the error that says so. */
 static vs_status start_failed(const vs_qs_solver *s, double delta0, int flag, double lambda_max,
-                              vs_error *err) {
+                              int slides, vs_error *err) {
   const vs_status st = vs_qs_fatal(s, delta0, err);
   if (st != VS_OK) return st;
+  if (delta0 == 0.0 && slides > 0) {
+    char joints[64];
+    onset_names(s, joints, sizeof joints);
+    return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
+                        "the arch cannot stand without sliding: its weight takes the shear at "
+                        "joint%s %s past the Coulomb limit |T| = mu N, and growing the weight "
+                        "from zero no equilibrium was found beyond %.4g of it (increments down "
+                        "to %.1e)",
+                        slides > 1 ? "s" : "", joints, lambda_max, VS_RAMP_MIN);
+  }
   if (delta0 == 0.0)
     return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
                         "the arch cannot stand: no equilibrium under self-weight (growing the "
@@ -128,10 +160,10 @@ vs_status vs_qs_start(vs_qs_solver *s, double delta0, double *q, vs_path_result 
                       vs_error *err) {
   const int misfit = delta0 == 0.0 && vs_model_has_misfit(s->m);
   if (misfit) vs_model_set_misfit_scale(s->m, 0.0);
-  int flag = vs_qs_solve(s, delta0, q, NULL);
+  int flag = vs_qs_solve(s, delta0, q, NULL), slides = 0;
   double lambda_max = 1.0, misfit_max = 1.0;
   if (flag != 0 && delta0 == 0.0 && vs_qs_fatal(s, delta0, NULL) == VS_OK &&
-      gravity_ramp(s, q, &lambda_max) == 0)
+      gravity_ramp(s, q, &lambda_max, &slides) == 0)
     flag = 0;
   if (flag == 0 && misfit && misfit_ramp(s, q, &misfit_max) != 0) {
     vs_status st = vs_qs_fatal(s, delta0, err); /* an interrupt or a non-finite residual says so */
@@ -144,7 +176,12 @@ vs_status vs_qs_start(vs_qs_solver *s, double delta0, double *q, vs_path_result 
     return st;
   }
   res->newton_iterations = s->iters;
-  if (flag != 0) return start_failed(s, delta0, flag, lambda_max, err);
+  if (flag != 0) {
+    res->evidence.slip_onset = slides;
+    for (int k = vs_model_geometry(s->m)->n_joints - 1; k >= 0 && slides > 0; k--)
+      if (s->onset[k] != 0) res->evidence.slip_joint = k;
+    return start_failed(s, delta0, flag, lambda_max, slides, err);
+  }
   if (!vs_qs_stable_state(s, q, delta0))
     return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
                         "the equilibrium at %.6g mm is unstable (tangent not positive definite)",

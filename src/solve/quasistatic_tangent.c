@@ -102,11 +102,26 @@ int vs_qs_path_tangent(vs_qs_solver *s, const double *q, double delta, double *d
   if (flag == 0) memcpy(dq, N_VGetArrayPointer(x), (size_t)s->n * sizeof *dq);
   return flag;
 }
+
+/* 1 if a joint in contact slides at (q, delta) with the committed slips. */
+static int any_sliding(vs_qs_solver *s, const double *q, double delta) {
+  const int nj = vs_model_geometry(s->m)->n_joints;
+  vs_model_joint_states(s->m, q, delta, s->js);
+  for (int k = 0; k < nj; k++)
+    if (s->js[k].sliding && s->js[k].N > 0.0) return 1;
+  return 0;
+}
+
 /* Accept a converged state as on the followed stable branch: the tangent must be positive
  * definite, established by a Cholesky factorisation of its symmetric part (stability.h; the sign
- * of det K alone would not). Its LU is kept for the eigenvalue tracking and the path tangent. */
+ * of det K alone would not). Where joints slide, the tangent is their sliding branch's, which is
+ * not symmetric (Coulomb friction is not associated: dT = mu dN, while N does not follow the
+ * slip), and its symmetric part can be indefinite at a state that is stable; there a positive
+ * determinant is enough, whose sign turns where the sliding branch folds or turns a corner.
+ * The LU is kept for the eigenvalue tracking and the path tangent. */
 int vs_qs_stable_state(vs_qs_solver *s, const double *q, double delta) {
   int sign = 0;
   if (vs_qs_tangent_factor(s, q, delta, &sign) != 0) return 0;
-  return vs_spd_test(s->spd, s->Jt) == 1;
+  if (vs_spd_test(s->spd, s->Jt) == 1) return 1;
+  return sign > 0 && any_sliding(s, q, delta);
 }
