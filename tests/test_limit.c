@@ -15,7 +15,8 @@
  *    t / r = 0.1075;
  *  - consistency: the elastic self-weight state's thrust lies between the least and the greatest,
  *    the mechanism has four hinges that all open, a pinned springing carries its thrust at its
- *    centre. */
+ *    centre; and the command line (analysis.type = limit, its errors). */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -33,6 +34,11 @@
 #include "voussoir/limit.h"
 #include "voussoir/model.h"
 #include "voussoir/quasistatic.h"
+
+#define VS_SCRATCH "limit"
+#include "scratch.h"
+
+#define REFERENCE VS_SOURCE_DIR "/runs/reference.ini"
 
 static const double PI = 3.14159265358979323846;
 
@@ -364,15 +370,23 @@ static void test_three_block_arch(void **state) {
   vs_geometry_destroy(&g);
 }
 
-/* The reference specimen: a point load at quarter span, and tilt. */
-static void test_reference_by_hand(void **state) {
-  (void)state;
-  vs_case c;
-  vs_case_defaults(&c);
+/* The reference specimen's case (the defaults) and its arch. */
+static vs_geometry *reference_arch(vs_case *c) {
+  vs_case_defaults(c);
   vs_geometry *g = NULL;
   vs_error err;
   vs_error_clear(&err);
-  assert_int_equal(vs_test_arch(&c, &g, &err), VS_OK);
+  assert_int_equal(vs_test_arch(c, &g, &err), VS_OK);
+  return g;
+}
+
+/* The reference specimen: a point load at quarter span, and tilt. */
+static double g_quarter_lambda = NAN; /* by hand, for the command line's test */
+
+static void test_reference_by_hand(void **state) {
+  (void)state;
+  vs_case c;
+  vs_geometry *g = reference_arch(&c);
   const vs_limit_force f = point_load(&c, 0.25 * vs_case_span_mm(&c), 1.0);
   const kin_result hand = kinematic(g, &f, 1);
   vs_limit_solution s = {0};
@@ -386,6 +400,7 @@ static void test_reference_by_hand(void **state) {
   near(s.value, hand.lambda, 1e-7 * hand.lambda);
   same_hinges(&s, &hand);
   assert_int_equal(s.n_friction, 0); /* no sliding at mu = 0.7: the bound is exact */
+  g_quarter_lambda = hand.lambda;
   vs_limit_solution_free(&s);
 
   vs_limit_force *t = NULL;
@@ -467,6 +482,14 @@ static int thrust_range(const halfplane *hp, int n, double scale, double *hmin, 
   return isfinite(*hmin);
 }
 
+/* The limit analysis of case c (its definition in *d). */
+static void analyse(const vs_case *c, vs_run_def *d, vs_limit_analysis *a) {
+  vs_error err;
+  vs_error_clear(&err);
+  vs_case_to_def(c, d);
+  assert_int_equal(vs_limit_analyse(d, NULL, a, &err), VS_OK);
+}
+
 static void test_reference_thrust(void **state) {
   (void)state;
   vs_case c;
@@ -477,11 +500,8 @@ static void test_reference_thrust(void **state) {
   assert_true(thrust_range(hp, n, 31.5, &hmin, &hmax));
 
   vs_run_def d;
-  vs_case_to_def(&c, &d);
   vs_limit_analysis a;
-  vs_error err;
-  vs_error_clear(&err);
-  assert_int_equal(vs_limit_analyse(&d, NULL, &a, &err), VS_OK);
+  analyse(&c, &d, &a);
   print_message("reference: least thrust %.10f N (by hand %.10f), greatest %.10f N (by hand "
                 "%.10f)\n", a.thrust_min.value, hmin, a.thrust_max.value, hmax);
   near(a.thrust_min.value, hmin, 1e-6 * hmin);
@@ -495,6 +515,8 @@ static void test_reference_thrust(void **state) {
   /* the elastic self-weight state (k_n 3 and 48 N/mm^3) is one admissible state: its thrust
    * lies between */
   const double kns[2] = {3.0, 48.0};
+  vs_error err;
+  vs_error_clear(&err);
   for (int i = 0; i < 2; i++) {
     c.kn_N_mm3 = kns[i];
     vs_geometry *g = NULL;
@@ -530,11 +552,8 @@ static void test_reference_thickness(void **state) {
     else lo = mid;
   }
   vs_run_def d;
-  vs_case_to_def(&c, &d);
   vs_limit_analysis a;
-  vs_error err;
-  vs_error_clear(&err);
-  assert_int_equal(vs_limit_analyse(&d, NULL, &a, &err), VS_OK);
+  analyse(&c, &d, &a);
   print_message("reference: thickness factor %.8f [%.8f, %.8f] (by hand %.10f): t_min = %.4f mm, "
                 "geometric factor %.4f; %d LPs\n",
                 a.thickness_factor, a.thickness_bracket[0], a.thickness_bracket[1], hi,
@@ -551,6 +570,8 @@ static void test_reference_thickness(void **state) {
    * weight) */
   const double rel[] = {-1e-4, -9e-5, -8e-5, -7e-5, -6e-5, -5e-5, -4e-5, -3e-5, -2e-5, -1e-5,
                         1e-5,  2e-5,  5e-5,  1e-4};
+  vs_error err;
+  vs_error_clear(&err);
   for (size_t i = 0; i < sizeof rel / sizeof rel[0]; i++) {
     vs_arch_def arch = d.arch;
     arch.thickness *= hi * (1.0 + rel[i]);
@@ -622,11 +643,9 @@ static void test_pinned(void **state) {
 static void test_live_load(void **state) {
   (void)state;
   vs_case c;
-  vs_case_defaults(&c);
-  vs_geometry *g = NULL;
+  vs_geometry *g = reference_arch(&c);
   vs_error err;
   vs_error_clear(&err);
-  assert_int_equal(vs_test_arch(&c, &g, &err), VS_OK);
   const double beta = 0.5 * c.embrace_deg * PI / 180.0, x0 = -0.3 * sin(beta);
   /* a point: on the voussoir the circle puts under it */
   const double xs[] = {1.0, 100.0, 266.1, 400.0, 531.0};
@@ -676,6 +695,96 @@ static void test_live_load(void **state) {
   vs_geometry_destroy(&g);
 }
 
+/* ---------------------------------------------------------------------------------------------
+ * The command line */
+
+static int vsrun(const char *extra) {
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd, "cd '%s' && '%s' run '%s' -q %s >out.txt 2>err.txt", g_dir, VS_BINARY,
+           REFERENCE, extra);
+  return sh(cmd);
+}
+
+static double json_number(const char *text, const char *key) {
+  const char *p = strstr(text, key);
+  if (p == NULL) fail_msg("no %s in %s", key, text);
+  return strtod(p + strlen(key), NULL);
+}
+
+static void test_cli(void **state) {
+  (void)state;
+  char before[4096], after[4096];
+  listing(before, sizeof before);
+  vs_case c;
+  vs_case_defaults(&c);
+  char quarter[128];
+  snprintf(quarter, sizeof quarter, "--set analysis.type=limit --json --set load.kind=point "
+           "--set load.x_mm=%.17g", 0.25 * vs_case_span_mm(&c));
+  assert_int_equal(vsrun(quarter), 0);
+  const char *out = slurp(in_dir("out.txt"), NULL);
+  assert_non_null(strstr(out, "\"analysis\":\"limit\""));
+  assert_non_null(strstr(out, "\"load_factor_exact\":true"));
+  const double lam = json_number(out, "\"load_factor\":");
+  const double tmin = json_number(out, "\"thrust_min_N\":"), tmax = json_number(out, "\"thrust_max_N\":");
+  const double tf = json_number(out, "\"thickness_factor\":");
+  assert_true(tmin > 0.0 && tmin < tmax && tf > 0.0 && tf < 1.0);
+  if (isfinite(g_quarter_lambda)) near(lam, g_quarter_lambda, 1e-6 * g_quarter_lambda);
+  char cmd[512];
+  snprintf(cmd, sizeof cmd, "python3 -c 'import json,sys; json.load(open(sys.argv[1]))' '%s'",
+           in_dir("out.txt"));
+  assert_int_equal(sh(cmd), 0); /* valid JSON */
+  listing(after, sizeof after);
+  assert_string_equal(before, after); /* no record */
+
+  /* the summary */
+  assert_int_equal(vsrun("--set analysis.type=limit --set load.kind=tilt"), 0);
+  out = slurp(in_dir("out.txt"), NULL);
+  assert_non_null(strstr(out, "load factor  lambda = "));
+  assert_non_null(strstr(out, "geometric factor of safety"));
+
+  /* bad input: exit 2, a message naming the key, nothing written */
+  const struct {
+    const char *args, *msg;
+  } bad[] = {
+      {"--set analysis.type=load", "voussoir: analysis.type = load: not yet available"},
+      {"--set load.kind=point --set load.x_mm=100", "load.kind = point: the support's path carries no live load"},
+      {"--set analysis.hold_mm=5", "analysis.hold_mm = 5: a held support displacement needs analysis.type = load"},
+      {"--set analysis.type=limit --set load.kind=point --set load.x_mm=900", "load.x_mm = 900: not over the arch's extrados"},
+      {"--set analysis.type=limit --set load.kind=patch --set load.x_mm=100", "load.width_mm = 0: a patch load needs a width"},
+      {"--set analysis.type=limit -o x.h5", "-o: analysis.type = limit writes no record"},
+      {"--set analysis.type=limit --csv x.csv", "--csv: analysis.type = limit writes no record"},
+      {"--set analysis.type=sideways", "analysis.type = sideways: unknown name (allowed: one of support, load, limit)"},
+      {"--set load.value_N=0", "load.value_N = 0: out of range"},
+  };
+  /* the study commands follow the support's path only */
+  const struct {
+    const char *cmd, *name;
+  } studies[] = {{"sweep '" REFERENCE "' --alpha 0 -q -o sw", "sweep"},
+                 {"montecarlo '" REFERENCE "' --samples 2 -q -o mc", "montecarlo"},
+                 {"calibrate '" REFERENCE "' --target-dz-pct 16 -q", "calibrate"}};
+  for (size_t i = 0; i < sizeof studies / sizeof studies[0]; i++) {
+    listing(before, sizeof before);
+    snprintf(cmd, sizeof cmd, "cd '%s' && '%s' %s --set analysis.type=limit >out.txt 2>err.txt",
+             g_dir, VS_BINARY, studies[i].cmd);
+    assert_int_equal(sh(cmd), 2);
+    char want[160];
+    snprintf(want, sizeof want, "analysis.type = limit: %s follows the support's path",
+             studies[i].name);
+    assert_non_null(strstr(slurp(in_dir("err.txt"), NULL), want));
+    listing(after, sizeof after);
+    assert_string_equal(before, after);
+  }
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+    listing(before, sizeof before);
+    assert_int_equal(vsrun(bad[i].args), 2);
+    const char *e = slurp(in_dir("err.txt"), NULL);
+    if (strstr(e, bad[i].msg) == NULL) fail_msg("%s: stderr %s", bad[i].args, e);
+    assert_string_equal(slurp(in_dir("out.txt"), NULL), "");
+    listing(after, sizeof after);
+    assert_string_equal(before, after);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_column_tilt_overturns),
@@ -688,6 +797,7 @@ int main(void) {
       cmocka_unit_test(test_semicircle_milankovitch),
       cmocka_unit_test(test_pinned),
       cmocka_unit_test(test_live_load),
+      cmocka_unit_test(test_cli),
   };
-  return cmocka_run_group_tests(tests, NULL, NULL);
+  return cmocka_run_group_tests(tests, scratch_setup, scratch_teardown);
 }
