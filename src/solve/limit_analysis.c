@@ -212,11 +212,12 @@ static void widen_touches(vs_limit_solution *s, double tol) {
 }
 
 /* The least thickness factor at which the arch stands: bracketed from [0, 1] when the arch
- * stands (at_one), else from 1 upward by doubling, then bisected to thickness_tol. */
+ * stands (at_one), else from 1 upward by doubling, then bisected to thickness_tol; every trial
+ * starts from the last one's basis, the first from basis (the self-weight LP's; freed here). */
 static vs_status thickness_factor(const vs_run_def *d, const vs_limit_opts *o, int at_one,
-                                  vs_limit_analysis *a, vs_error *err) {
+                                  unsigned char *basis, vs_limit_analysis *a, vs_error *err) {
   vs_limit_solution trial = {0};
-  trials t = {d, o, NULL};
+  trials t = {d, o, basis}; /* the trials own it from here */
   double lo = 0.0, hi = 1.0;
   int ok = at_one;
   vs_status st = VS_OK;
@@ -264,9 +265,10 @@ void vs_limit_analysis_free(vs_limit_analysis *a) {
   vs_limit_solution_free(&a->thickness);
 }
 
-/* The load factor (with a live load) and the thrusts, on the arch as defined. */
+/* The load factor (with a live load) and the thrusts, on the arch as defined; *basis (malloc'd,
+ * or NULL) the least thrust's, from which the others and the thickness's trials start. */
 static vs_status solve_arch(const vs_run_def *d, const vs_limit_opts *o, vs_limit_analysis *a,
-                            vs_error *err) {
+                            unsigned char **basis, vs_error *err) {
   vs_geometry *g = NULL;
   vs_limit *l = NULL;
   vs_limit_force *live = NULL;
@@ -275,11 +277,17 @@ static vs_status solve_arch(const vs_run_def *d, const vs_limit_opts *o, vs_limi
   if (st == VS_OK) st = vs_limit_live_load(g, &d->load, &live, &n_live, err);
   if (st == VS_OK) st = vs_limit_create(g, o, live, n_live, &l, err);
   a->have_load = n_live > 0;
+  /* the least thrust from scratch, the other two from its basis (the same rows and columns) */
+  if (st == VS_OK) st = vs_limit_solve(l, VS_LIMIT_THRUST_MIN, &a->thrust_min, err);
+  if (st == VS_OK && (*basis = malloc(vs_limit_basis_size(l))) == NULL)
+    st = vs_error_set(err, VS_ERR_NOMEM, "limit: out of memory");
+  if (st == VS_OK) vs_limit_basis_save(l, *basis);
+  if (st == VS_OK) vs_limit_basis_start(l, *basis);
+  if (st == VS_OK) st = vs_limit_solve(l, VS_LIMIT_THRUST_MAX, &a->thrust_max, err);
+  if (st == VS_OK) vs_limit_basis_start(l, *basis);
   if (st == VS_OK && a->have_load) st = vs_limit_solve(l, VS_LIMIT_LOAD_FACTOR, &a->collapse, err);
   if (st == VS_OK && (d->load.kind == VS_LOAD_POINT || d->load.kind == VS_LOAD_LINE))
     a->load_block = live[0].block;
-  if (st == VS_OK) st = vs_limit_solve(l, VS_LIMIT_THRUST_MIN, &a->thrust_min, err);
-  if (st == VS_OK) st = vs_limit_solve(l, VS_LIMIT_THRUST_MAX, &a->thrust_max, err);
   free(live);
   vs_limit_destroy(&l);
   vs_geometry_destroy(&g);
@@ -301,9 +309,12 @@ vs_status vs_limit_analyse(const vs_run_def *d, const vs_limit_opts *o, vs_limit
     opts.right_kind = d->support.right_kind;
   }
   const double t0 = vs_cpu_now();
-  vs_status st = solve_arch(d, &opts, a, err);
+  unsigned char *basis = NULL;
+  vs_status st = solve_arch(d, &opts, a, &basis, err);
   if (st == VS_OK)
-    st = thickness_factor(d, &opts, a->thrust_min.outcome != VS_LIMIT_INFEASIBLE, a, err);
+    st = thickness_factor(d, &opts, a->thrust_min.outcome != VS_LIMIT_INFEASIBLE, basis, a, err);
+  else
+    free(basis);
   a->cpu_s = vs_cpu_now() - t0;
   if (st != VS_OK) vs_limit_analysis_free(a);
   return st;
