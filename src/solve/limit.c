@@ -20,7 +20,7 @@
  * absolute). */
 enum { COLS_PER_JOINT = 4, ROWS_PER_BLOCK = 3, FRICTION_ROWS = 4 };
 
-/* CLP's infinity (VS_CLP_INF of its C++ headers) */
+/* CLP's infinity (COIN_DBL_MAX of its C++ headers, which C cannot include) */
 #define VS_CLP_INF DBL_MAX
 
 /* An end that carries less than this fraction of the scale carries nothing. */
