@@ -14,7 +14,12 @@
 #  5. process start-up: `voussoir --version`, mean CPU milliseconds (user + sys) over 50 starts
 #     (HDF5 and cairo are loaded only by the commands that need them: src/plugin/plugin.h);
 #  6. one run to collapse (--no-record) with 55 to 1760 voussoirs: CPU seconds, and the cost
-#     relative to 55 voussoirs (linear: the ratio of the counts).
+#     relative to 55 voussoirs (linear: the ratio of the counts);
+#  7. the limit analysis of the reference specimen (analysis.type = limit, 1 N at quarter span):
+#     the whole analysis (the process, 21 LPs: two thrusts, the load factor, the thickness's
+#     bisection), one LP from scratch (the least thrust's) and one from its basis (the load
+#     factor's; each its cpu_s in the JSON), this build only, each against row 1 (the target:
+#     a limit-analysis solve costs no more than the reference run to collapse).
 # Each row prints both figures and their ratio this / previous (below 1: faster). The full mode
 # then prints runs/scaling.sh for this build (cost against the voussoir count, in detail).
 # --quick (what .ci/run uses): one run each (CI time: the record rows follow the fall to rest,
@@ -134,6 +139,7 @@ sized() { # BINARY COUNT: CPU s, or nothing when that build refuses the count (e
 
 printf '  %-44s %10s %10s %7s\n' "" previous this ratio
 both "reference, --no-record (CPU s)" ref_run --no-record
+ref_cpu="$(ref_run "$bin" --no-record)"
 both "reference, with record (CPU s)" ref_run -o "$work/r.h5"
 both "alpha 90, k_n 48, with record (CPU s)" ref_run --alpha 90 --kn 48 -o "$work/r.h5"
 if ((!quick)); then # where the record rows' time goes: the same runs ending at the collapse
@@ -164,4 +170,16 @@ for nv in "${sizes[@]}"; do
   x="$(awk -v b="$b" -v c="$b55" -v n="$nv" 'BEGIN {printf "x55 %.1f (count x%.0f)", b / c, n / 55}')"
   row "$nv voussoirs   $x" "$a" "$b"
 done
+# row 7: the limit analysis (the previous release has none); ratio: over row 1 (this build)
+lim_args=(--set analysis.type=limit --set load.kind=point --set load.x_mm=133.05)
+lim_lp() { # BINARY SOLUTION: CPU s of that solution's LP (limit.SOLUTION.cpu_s in the JSON)
+  for ((i = 0; i < repeat; i++)); do
+    "$1" run "$ref" -q "${lim_args[@]}" --json | grep -o "\"$2\":{[^}]*}" |
+      grep -o '"cpu_s":[0-9.e+-]*' | cut -d: -f2
+  done | median
+}
+echo "  the limit analysis, 55 voussoirs (ratio: over the reference run to collapse, row 1)"
+row "  the whole analysis, 21 LPs (CPU s)" "$ref_cpu" "$(ref_run "$bin" "${lim_args[@]}")"
+row "  one LP from scratch, the least thrust's" "$ref_cpu" "$(lim_lp "$bin" thrust_min)" "%.4f"
+row "  one LP from its basis, the load factor's" "$ref_cpu" "$(lim_lp "$bin" collapse)" "%.4f"
 ((quick)) || { echo; "$here/scaling.sh" "$bin"; }

@@ -143,12 +143,16 @@ static const key_case all_keys[] = {
     {"imperfections", "support_dx_mm", "-100.1", "100.1", {"-100", "100"}},
     {"imperfections", "support_dz_mm", "-100.1", "100.1", {"-100", "100"}},
     {"run", "max_wall_s", "-1e-9", "1.0000001e6", {"0", "1e6"}},
+    {"load", "value_N", "0", "1.1e9", {"1e9", "1e-6"}},
+    {"load", "x_mm", "-1.1e6", "1.1e6", {"-1e6", "1e6"}},
+    {"load", "width_mm", "-1", "1.1e6", {"0", "1e6"}},
+    {"analysis", "hold_mm", "-0.001", "1.1e6", {"0", "1e6"}},
 };
 #define NKEYS_TESTED (sizeof all_keys / sizeof all_keys[0])
 /* Keys that are named choices, tested by name in test_support_kinds (support.left_kind,
- * support.right_kind), test_named_key (dynamic.damping_model) and test_fall_scheme
- * (fall.scheme, fall.solver). */
-#define NKEYS_NAMED 5
+ * support.right_kind), test_named_key (dynamic.damping_model), test_fall_scheme
+ * (fall.scheme, fall.solver) and test_load_and_analysis (load.kind, analysis.type). */
+#define NKEYS_NAMED 7
 
 /* ---------------------------------------------------------------------------------------------
  * Defaults and a valid file */
@@ -369,7 +373,7 @@ static void check_out_of_range(const key_case *k, const char *value) {
 
 static void test_every_key_out_of_range(void **state) {
   (void)state;
-  assert_int_equal(NKEYS_TESTED, 48);
+  assert_int_equal(NKEYS_TESTED, 52);
   for (size_t i = 0; i < NKEYS_TESTED; i++) {
     check_out_of_range(&all_keys[i], all_keys[i].below);
     if (all_keys[i].above != NULL) check_out_of_range(&all_keys[i], all_keys[i].above);
@@ -453,7 +457,7 @@ static void test_unknown_section(void **state) {
   (void)state;
   expect_read_error("[arch]\nradius_mm = 300\n\n[archh]\nradius_mm = 300\n", VS_ERR_PARSE, 4,
                     "[archh]: unknown section (allowed sections: arch, joints, support, solver, "
-                    "hinges, dynamic, fall, imperfections, run)");
+                    "hinges, dynamic, fall, imperfections, run, load, analysis)");
   /* an empty unknown section is still reported, on its own line */
   expect_read_error("; x\n[nothing]\n", VS_ERR_PARSE, 2, "[nothing]: unknown section");
   expect_read_error("[]\n", VS_ERR_PARSE, 1, "[]: unknown section");
@@ -849,6 +853,47 @@ static void test_fall_scheme(void **state) {
   assert_int_equal(c.solver, VS_FALL_GAUSS_SEIDEL); /* unchanged */
 }
 
+/* load.kind and analysis.type take names only (defaults none and support), and reach the
+ * definition with the load's position and width in metres. */
+static void test_load_and_analysis(void **state) {
+  (void)state;
+  vs_case c;
+  vs_error err;
+  vs_case_defaults(&c);
+  assert_int_equal(c.kind, VS_LOAD_NONE);
+  assert_int_equal(c.type, VS_ANALYSIS_SUPPORT);
+  assert_true(c.value_N == 1.0 && c.x_mm == 0.0 && c.width_mm == 0.0 && c.hold_mm == 0.0);
+  const char *kinds[] = {"none", "point", "line", "patch", "tilt"};
+  for (int i = 0; i < 5; i++) {
+    char buf[64];
+    snprintf(buf, sizeof buf, "load.kind = %s", kinds[i]);
+    assert_int_equal(vs_case_set(&c, buf, &err), VS_OK);
+    assert_int_equal(c.kind, i);
+  }
+  const char *types[] = {"support", "load", "limit"};
+  for (int i = 0; i < 3; i++) {
+    char buf[64];
+    snprintf(buf, sizeof buf, "analysis.type=%s", types[i]);
+    assert_int_equal(vs_case_set(&c, buf, &err), VS_OK);
+    assert_int_equal(c.type, i);
+  }
+  assert_int_equal(vs_case_set(&c, "load.kind=wheel", &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "load.kind = wheel: unknown name (allowed: one of none, point, "
+                                  "line, patch, tilt)"));
+  assert_int_equal(vs_case_set(&c, "analysis.type=2", &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "analysis.type = 2: unknown name (allowed: one of support, "
+                                  "load, limit)"));
+  assert_int_equal(c.type, VS_ANALYSIS_LIMIT); /* unchanged */
+  c.value_N = 250.0, c.x_mm = 133.0, c.width_mm = 40.0, c.hold_mm = 12.5;
+  vs_run_def d;
+  vs_case_to_def(&c, &d);
+  assert_int_equal(d.load.kind, VS_LOAD_TILT);
+  assert_int_equal(d.analysis.type, VS_ANALYSIS_LIMIT);
+  assert_true(d.load.value == 250.0);
+  assert_true(fabs(d.load.x - 0.133) < 1e-15 && fabs(d.load.width - 0.04) < 1e-15);
+  assert_true(fabs(d.analysis.hold - 0.0125) < 1e-15);
+}
+
 /* dynamic.damping_model takes names only; the iterator gives its value's index and name. */
 static void test_named_key(void **state) {
   (void)state;
@@ -1043,6 +1088,8 @@ static void test_ranges_keep_derived_finite(void **state) {
       char set[128];
       vs_case c;
       vs_error err;
+      /* a held displacement is no support run's: vs_run_create refuses it (test_limit) */
+      if (strcmp(all_keys[i].section, "analysis") == 0) continue;
       vs_case_defaults(&c);
       snprintf(set, sizeof set, "%s.%s=%s", all_keys[i].section, all_keys[i].key,
                all_keys[i].edge_ok[j]);
@@ -1078,6 +1125,7 @@ int main(void) {
       cmocka_unit_test(test_key_iterator),
       cmocka_unit_test(test_support_kinds),
       cmocka_unit_test(test_named_key),
+      cmocka_unit_test(test_load_and_analysis),
       cmocka_unit_test(test_fall_scheme),
       cmocka_unit_test(test_defaults),
       cmocka_unit_test(test_to_def),

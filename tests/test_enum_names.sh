@@ -21,6 +21,8 @@ declare -A files=(
   [VS_DAMPING_MODEL_COUNT]="src/case/case.c src/model/damping.c"
   [VS_FALL_SCHEME_COUNT]="src/case/case.c"
   [VS_FALL_SOLVER_COUNT]="src/case/case.c src/fall/fall.c"
+  [VS_LOAD_KIND_COUNT]="src/case/case.c"
+  [VS_ANALYSIS_TYPE_COUNT]="src/case/case.c"
 )
 
 fresh

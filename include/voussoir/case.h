@@ -114,6 +114,19 @@ typedef struct {
   double support_dx_mm; /* initial offset of the moving support, outward, [-100, 100] mm, default 0 */
   double support_dz_mm; /* ... downward, [-100, 100] mm, default 0 */
 
+  /* [load] the live load, scaled by the load factor (issue 28: limit.h) */
+  int kind;          /* vs_load_kind: none (default), point, line, patch, tilt; written by name */
+  double value_N;    /* point, line, patch: the load, N, downward, (0, 1e9], default 1 */
+  double x_mm;       /* its position from the left springing's intrados point, horizontal,
+                        [-1e6, 1e6] mm, default 0 */
+  double width_mm;   /* patch: its horizontal width centred on x_mm, [0, 1e6] mm, default 0 */
+
+  /* [analysis] what the run computes (issue 28) */
+  int type;          /* vs_analysis_type: support (default: the support's path), load (not yet
+                        available), limit (the limit analysis alone, limit.h); by name */
+  double hold_mm;    /* load: the support displacement held before loading, [0, 1e6] mm,
+                        default 0 */
+
   /* [run] how long a run may take */
   double max_wall_s;    /* wall-time limit of a run, [0, 1e6] s, 0 (the default): none. Once
                            passed, the run stops at its next step (VS_ERR_WALL_TIME): its
@@ -164,9 +177,15 @@ VS_API vs_status vs_case_assign(vs_case *c, const char *section, const char *key
                                 const char *where, vs_error *err);
 
 /* Check every field's range again (fields may have been set in code) and the relations between
- * fields: limit_tol_mm <= step_mm <= step_max_mm and step_mm < max_mm. Call it after all
- * overrides. Fails with VS_ERR_INVALID; err names the field(s) and the allowed range. */
+ * fields: limit_tol_mm <= step_mm <= step_max_mm and step_mm < max_mm; analysis.type = load is
+ * not yet available, nor is a non-zero analysis.hold_mm; a live load (load.kind) needs
+ * analysis.type = limit. Call it after all overrides. Fails with VS_ERR_INVALID; err names the
+ * field(s) and the allowed range. */
 VS_API vs_status vs_case_validate(const vs_case *c, vs_error *err);
+
+/* VS_OK when c follows the support's path (analysis.type = support), else VS_ERR_INVALID saying
+ * that `command` (a name, "sweep") follows only that path: the study commands' check. */
+VS_API vs_status vs_case_check_path(const vs_case *c, const char *command, vs_error *err);
 
 /* The case's keys, from the one table that defines them (so that records and tools cannot miss
  * a key): how many, and key i (0-based, in the table's order) with its section, name, unit ("" if

@@ -46,6 +46,27 @@ typedef enum {
   VS_FALL_SOLVER_COUNT
 } vs_fall_solver;
 
+/* The live load (issue 28; limit.h): none, a vertical point load on the extrados, a knife-edge
+ * line load across the barrel, a patch (uniform over a horizontal width), or "tilt": a
+ * horizontal body force lambda x each block's weight (a quasi-static seismic coefficient). */
+typedef enum {
+  VS_LOAD_NONE = 0,
+  VS_LOAD_POINT = 1,
+  VS_LOAD_LINE = 2,
+  VS_LOAD_PATCH = 3,
+  VS_LOAD_TILT = 4,
+  VS_LOAD_KIND_COUNT
+} vs_load_kind;
+
+/* What a run computes: the support's path (today's), the live load's path to collapse (not yet
+ * available), or the limit analysis alone (limit.h). */
+typedef enum {
+  VS_ANALYSIS_SUPPORT = 0,
+  VS_ANALYSIS_LOAD = 1,
+  VS_ANALYSIS_LIMIT = 2,
+  VS_ANALYSIS_TYPE_COUNT
+} vs_analysis_type;
+
 /* A segmental circular arch of equal voussoirs with radial joints (geometry.h). */
 typedef struct {
   double radius;    /* intrados radius, m */
@@ -152,6 +173,21 @@ typedef struct {
   double support_dz;    /* ... downward, m */
 } vs_imperfection_def;
 
+/* The live load, scaled by the load factor lambda (limit.h). */
+typedef struct {
+  vs_load_kind kind;
+  double value; /* point, line, patch: the load, N, downward (tilt: unused) */
+  double x;     /* its position: horizontal distance from the left springing's intrados point, m */
+  double width; /* patch: its horizontal width, centred on x, m */
+} vs_load_def;
+
+/* What the run computes (vs_analysis_type) and, for a load path, the support displacement held
+ * before loading. */
+typedef struct {
+  vs_analysis_type type;
+  double hold; /* m */
+} vs_analysis_def;
+
 typedef struct {
   vs_arch_def arch;
   vs_joints_def joints;
@@ -161,9 +197,14 @@ typedef struct {
   vs_dynamic_def dynamic;
   vs_fall_def fall;
   vs_imperfection_def imperfections;
+  vs_load_def load;         /* the live load (issue 28) */
+  vs_analysis_def analysis; /* what the run computes (issue 28) */
   double max_wall_s; /* wall-time limit of the run, s (0: none): it then stops, as after the
                         stop flag, with VS_ERR_WALL_TIME */
 } vs_run_def;
+
+/* The case file's name of a load kind (load.kind: "point"), "?" when k is none of them. */
+VS_API const char *vs_load_kind_name(vs_load_kind k);
 
 /* Fill d with the defaults: the reference specimen with k_n = 3 N/mm^3, settlement (alpha = 0),
  * the defaults of every solver; the same values as the case file's defaults (case.h). */

@@ -69,6 +69,12 @@ NAMES_OF(fall_schemes, VS_FALL_SCHEME_COUNT);
 static const char *const fall_solvers[] = {"nncg", "gauss_seidel", NULL};
 NAMES_OF(fall_solvers, VS_FALL_SOLVER_COUNT);
 
+/* load.kind: vs_load_kind; analysis.type: vs_analysis_type */
+static const char *const load_kinds[] = {"none", "point", "line", "patch", "tilt", NULL};
+NAMES_OF(load_kinds, VS_LOAD_KIND_COUNT);
+static const char *const analysis_types[] = {"support", "load", "limit", NULL};
+NAMES_OF(analysis_types, VS_ANALYSIS_TYPE_COUNT);
+
 #define INF INFINITY
 /* Every bound is finite (except where a sign is all that matters) so that every quantity derived
  * from the case (areas, masses, weights, times delta / rate, the span) stays a finite, non-zero
@@ -187,6 +193,21 @@ static const key_spec keys[] = {
     KEY(run, max_wall_s, 0.0, 0.0, true, 1e6, true, "s",
         "wall-time limit of a run (0: none); once passed the run stops at its next step, its "
         "record marked stopped"),
+    /* the live load and what the run computes (issue 28): src/solve/limit*.c */
+    KEY_NAMED(load, kind, 0.0, load_kinds,
+              "the live load: none, point (on the extrados at x_mm), line (a knife-edge across "
+              "the barrel at x_mm), patch (uniform over width_mm centred on x_mm), tilt (lambda "
+              "x each block's weight, horizontal, toward the right support)"),
+    KEY(load, value_N, 1.0, 0.0, false, 1e9, true, "N",
+        "point, line, patch: the live load (downward) that the load factor scales"),
+    KEY(load, x_mm, 0.0, -LEN_MAX, true, LEN_MAX, true, "mm",
+        "the load's position: horizontal distance from the left springing's intrados point"),
+    KEY(load, width_mm, 0.0, 0.0, true, LEN_MAX, true, "mm", "patch: its horizontal width"),
+    KEY_NAMED(analysis, type, 0.0, analysis_types,
+              "what a run computes: support (the support's path to collapse), load (the live "
+              "load's path: not yet available), limit (the limit analysis alone, no path)"),
+    KEY(analysis, hold_mm, 0.0, 0.0, true, LEN_MAX, true, "mm",
+        "load: the support displacement held before loading (not yet available)"),
 };
 #undef LEN_MIN
 #undef LEN_MAX
@@ -603,6 +624,24 @@ static vs_status supports_validate(const vs_case *c, vs_error *err) {
   return VS_OK;
 }
 
+/* What each analysis takes (issue 28): the live load's path is not yet available, a held
+ * displacement is its, and the support's path carries no live load. */
+static vs_status validate_analysis(const vs_case *c, vs_error *err) {
+  if (c->type == VS_ANALYSIS_LOAD)
+    return vs_error_set(err, VS_ERR_INVALID, "analysis.type = load: not yet available");
+  if (c->hold_mm != 0.0)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "analysis.hold_mm = %.15g: a held support displacement needs "
+                        "analysis.type = load (not yet available)",
+                        c->hold_mm);
+  if (c->kind != VS_LOAD_NONE && c->type == VS_ANALYSIS_SUPPORT)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "load.kind = %s: the support's path carries no live load (allowed with "
+                        "analysis.type = support: none; a live load: analysis.type = limit)",
+                        vs_load_kind_name((vs_load_kind)c->kind));
+  return VS_OK;
+}
+
 vs_status vs_case_validate(const vs_case *c, vs_error *err) {
   if (c == NULL) return vs_error_set(err, VS_ERR_INVALID, "vs_case_validate: case is NULL");
   char range[96];
@@ -623,7 +662,16 @@ vs_status vs_case_validate(const vs_case *c, vs_error *err) {
                         r->lo_section, r->lo_name, lo, r->strict ? "<" : "<=", r->hi_section,
                         r->hi_name, hi, r->rule);
   }
-  return supports_validate(c, err);
+  const vs_status st = supports_validate(c, err);
+  return st != VS_OK ? st : validate_analysis(c, err);
+}
+
+vs_status vs_case_check_path(const vs_case *c, const char *command, vs_error *err) {
+  if (c->type == VS_ANALYSIS_SUPPORT) return VS_OK;
+  return vs_error_set(err, VS_ERR_INVALID,
+                      "analysis.type = %s: %s follows the support's path (allowed: support; a "
+                      "limit analysis: voussoir run CASE --set analysis.type=limit)",
+                      analysis_types[c->type], command);
 }
 
 double vs_case_span_mm(const vs_case *c) {
@@ -738,6 +786,16 @@ void vs_case_to_def(const vs_case *c, vs_run_def *d) {
                                            .support_dx = c->support_dx_mm * VS_MM,
                                            .support_dz = c->support_dz_mm * VS_MM};
   d->max_wall_s = c->max_wall_s;
+  d->load = (vs_load_def){.kind = (vs_load_kind)c->kind,
+                          .value = c->value_N,
+                          .x = c->x_mm * VS_MM,
+                          .width = c->width_mm * VS_MM};
+  d->analysis = (vs_analysis_def){.type = (vs_analysis_type)c->type, .hold = c->hold_mm * VS_MM};
+
+}
+
+const char *vs_load_kind_name(vs_load_kind k) {
+  return k >= 0 && k < VS_LOAD_KIND_COUNT ? load_kinds[k] : "?";
 }
 
 void vs_run_def_default(vs_run_def *d) {

@@ -36,6 +36,8 @@ const char VS_CLI_RUN_USAGE[] =
     "                         'stopped: wall-time limit S s reached'; 0: no limit (default);\n"
     "                         same as --set run.max_wall_s=S\n"
     "  --json                 print one JSON object on stdout instead of the summary\n"
+    "                         (--set analysis.type=limit: the limit analysis alone, no path and\n"
+    "                         no record: load factor, least and greatest thrust, thickness)\n"
     "  -o FILE.h5             the HDF5 record of the run (default: the case's name with .h5, in\n"
     "                         the current directory) and its XDMF sidecar FILE.xmf (ParaView);\n"
     "                         its name: printable UTF-8 without ':' or '|' (the sidecar names\n"
@@ -350,6 +352,31 @@ static void print_record_line(const run_args *a, const cli_sink *sink) {
   printf("; pictures: voussoir plot %s)\n", a->out_path);
 }
 
+/* analysis.type = limit: the limit analysis alone (limit.h), no path and no record: an explicit
+ * -o or --csv is refused. An exit status. */
+static int run_limit(const run_args *a, const vs_case *c) {
+  if ((a->out_path != NULL && a->out_path != a->default_path) || a->csv_path != NULL) {
+    fprintf(stderr, "voussoir: %s: analysis.type = limit writes no record or history (allowed "
+                    "with it: --json, -q, the overrides)\n", a->csv_path != NULL ? "--csv" : "-o");
+    return EXIT_BAD_INPUT;
+  }
+  vs_run_def d;
+  vs_case_to_def(c, &d);
+  vs_limit_analysis la;
+  vs_error err;
+  vs_error_clear(&err);
+  const vs_status st = vs_limit_analyse(&d, NULL, &la, &err);
+  if (st == VS_ERR_INVALID) { /* the load does not fit the arch: bad input, nothing printed */
+    fprintf(stderr, "voussoir: %s\n", err.msg);
+    return EXIT_BAD_INPUT;
+  }
+  if (a->json) vs_report_limit_json(stdout, c, &la, st, &err, a->case_path);
+  else vs_report_limit_text(stdout, c, &la, st, &err, a->case_path);
+  if (st != VS_OK) fprintf(stderr, "voussoir: limit analysis failed: %s\n", err.msg);
+  vs_limit_analysis_free(&la);
+  return st == VS_OK ? EXIT_SUCCESS : EXIT_RUN_FAILED;
+}
+
 /* *h5_clean becomes 0 when the record failed to be written (see vs_output_process_end). */
 int vs_cli_run(int argc, char **argv, int *h5_clean) {
   run_args a;
@@ -371,6 +398,10 @@ int vs_cli_run(int argc, char **argv, int *h5_clean) {
   if (vs_case_read(&c, a.case_path, &case_text, &err) != VS_OK ||
       apply_overrides(&a, &c, &err) != VS_OK || vs_case_validate(&c, &err) != VS_OK)
     goto input_error;
+  if (c.type == VS_ANALYSIS_LIMIT) {
+    rc = run_limit(&a, &c);
+    goto cleanup;
+  }
   if ((rc = check_outputs(&a)) != 0) goto cleanup;
   if (a.out_path == NULL && a.csv_path == NULL)
     c.fall_s = 0.0; /* nothing records the fall: the run ends at the collapse */

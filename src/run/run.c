@@ -99,8 +99,32 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
   return st;
 }
 
+/* What a run's path computes is the support's: a live load and the other analyses are refused
+ * here, by name (issue 28: the limit analysis is vs_limit_analyse, the load path is to come). */
+static vs_status check_analysis(const vs_run_def *d, vs_error *err) {
+  if (d->analysis.type == VS_ANALYSIS_LOAD)
+    return vs_error_set(err, VS_ERR_INVALID, "analysis.type = load: not yet available");
+  if (d->analysis.type == VS_ANALYSIS_LIMIT)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "analysis.type = limit: a limit analysis has no path to run (voussoir "
+                        "run prints it; the library's vs_limit_analyse computes it)");
+  if (d->analysis.hold != 0.0)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "analysis.hold_mm = %g: a held support displacement needs analysis.type "
+                        "= load (not yet available)",
+                        d->analysis.hold / VS_MM);
+  if (d->load.kind != VS_LOAD_NONE)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "load.kind = %s: the support's path carries no live load (allowed with "
+                        "analysis.type = support: none; a live load: analysis.type = limit)",
+                        vs_load_kind_name(d->load.kind));
+  return VS_OK;
+}
+
 vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) {
   *out = NULL;
+  vs_status st0 = check_analysis(def, err);
+  if (st0 != VS_OK) return st0;
   vs_run *r = calloc(1, sizeof *r);
   if (r == NULL) return vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
   r->def = *def;

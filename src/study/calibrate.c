@@ -59,7 +59,9 @@ int vs_calibrate_main(const vs_calibrate_opts *o) {
   if (load_case(o->case_path, o->sets, o->nsets, &c.base, &err) != VS_OK) goto bad;
   c.base.follow = 1;
   c.base.full = 0;
-  if (vs_case_validate(&c.base, &err) != VS_OK) goto bad;
+  if (vs_case_validate(&c.base, &err) != VS_OK ||
+      vs_case_check_path(&c.base, "calibrate", &err) != VS_OK)
+    goto bad;
   if (c.dx && fabs(sin(c.base.alpha_deg * VS_DEG)) < 1e-12) {
     fprintf(stderr, "voussoir calibrate: --target-dx-pct with alpha = 0: dx is always 0\n");
     return EXIT_USAGE;

@@ -366,6 +366,7 @@ static int load_case(const vs_mc_opts *a, vs_case *c) {
     st = vs_case_set(c, buf, &err);
   }
   if (st == VS_OK) st = vs_case_validate(c, &err);
+  if (st == VS_OK) st = vs_case_check_path(c, "montecarlo", &err);
   if (st == VS_OK) return 0;
   fprintf(stderr, "voussoir montecarlo: %s\n", err.msg);
   return -1;

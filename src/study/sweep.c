@@ -122,7 +122,9 @@ static int validate_all(const char *case_path, const char *const *sets, int nset
       vs_case t = c;
       char buf[160];
       snprintf(buf, sizeof buf, "%.95s=%.17g", ax[x].key, ax[x].v[k]);
-      if (vs_case_set(&t, buf, &err) != VS_OK || vs_case_validate(&t, &err) != VS_OK) goto bad;
+      if (vs_case_set(&t, buf, &err) != VS_OK || vs_case_validate(&t, &err) != VS_OK ||
+          vs_case_check_path(&t, "sweep", &err) != VS_OK)
+        goto bad;
     }
   return 0;
 bad:

@@ -1,0 +1,321 @@
+/* The limit analysis of a run's definition (limit.h): the live load placed on the arch, the load
+ * factor, the least and greatest thrust under self-weight, and the thickness factor at which the
+ * arch just stands (bisection on arch.thickness, the arch rebuilt for every trial). */
+#include "voussoir/limit.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "voussoir/imperfections.h"
+#include "limit_internal.h"
+#include "voussoir/units.h"
+#include "wall_clock.h"
+
+/* ---------------------------------------------------------------------------------------------
+ * The live load */
+
+/* Each block's extrados as seen from above: the horizontal extent of its joints' extrados ends
+ * (xa < xb) and their heights. */
+typedef struct {
+  double xa, za, xb, zb;
+} extent;
+
+static void extrados_extents(const vs_geometry *g, extent *ex) {
+  for (int i = 0; i < g->n_blocks; i++) ex[i] = (extent){INFINITY, 0.0, -INFINITY, 0.0};
+  for (int k = 0; k < g->n_joints; k++) {
+    const vs_joint_geom *j = &g->joints[k];
+    double sx, sz;
+    vs_joint_tangent(j, &sx, &sz);
+    const double x = j->px + 0.5 * j->length * sx, z = j->pz + 0.5 * j->length * sz;
+    const int bodies[2] = {j->a, j->b};
+    for (int s = 0; s < 2; s++) {
+      if (bodies[s] < 0) continue;
+      extent *e = &ex[bodies[s]];
+      if (x < e->xa) e->xa = x, e->za = z;
+      if (x > e->xb) e->xb = x, e->zb = z;
+    }
+  }
+}
+
+/* The extrados' height at x over block extent e (on the chord: a vertical load's line of action
+ * does not depend on it). */
+static double extrados_z(const extent *e, double x) {
+  const double w = e->xb - e->xa;
+  return w > 0.0 ? e->za + (x - e->xa) / w * (e->zb - e->za) : e->za;
+}
+
+/* x of the left springing's intrados point: the intrados end of the left support's joint. */
+static vs_status springing_x(const vs_geometry *g, double *x0, vs_error *err) {
+  for (int k = 0; k < g->n_joints; k++) {
+    const vs_joint_geom *j = &g->joints[k];
+    if (j->a != VS_SUPPORT_LEFT && j->b != VS_SUPPORT_LEFT) continue;
+    double sx, sz;
+    vs_joint_tangent(j, &sx, &sz);
+    *x0 = j->px - 0.5 * j->length * sx;
+    return VS_OK;
+  }
+  return vs_error_set(err, VS_ERR_INVALID,
+                      "load: the assembly has no left support, from which load.x_mm is measured");
+}
+
+static void span_of(const extent *ex, int n, double *lo, double *hi) {
+  *lo = INFINITY, *hi = -INFINITY;
+  for (int i = 0; i < n; i++) *lo = fmin(*lo, ex[i].xa), *hi = fmax(*hi, ex[i].xb);
+}
+
+/* point and line: value down on the block under x. */
+static vs_status place_point(const vs_geometry *g, const extent *ex, double x0, const vs_load_def *ld,
+                             vs_limit_force *f, vs_error *err) {
+  const double x = x0 + ld->x;
+  for (int i = 0; i < g->n_blocks; i++)
+    if (ex[i].xa <= x && x <= ex[i].xb) {
+      *f = (vs_limit_force){i, 0.0, -ld->value, x, extrados_z(&ex[i], x)};
+      return VS_OK;
+    }
+  double lo, hi;
+  span_of(ex, g->n_blocks, &lo, &hi);
+  return vs_error_set(err, VS_ERR_INVALID,
+                      "load.x_mm = %g: not over the arch's extrados (allowed: [%g, %g] mm from "
+                      "the left springing's intrados point)",
+                      ld->x / VS_MM, (lo - x0) / VS_MM, (hi - x0) / VS_MM);
+}
+
+/* patch: value spread uniformly over [x - width/2, x + width/2]; each block's share at the middle
+ * of its part (the resultant of a uniform load). *n forces written. */
+static vs_status place_patch(const vs_geometry *g, const extent *ex, double x0, const vs_load_def *ld,
+                             vs_limit_force *f, int *n, vs_error *err) {
+  if (!(ld->width > 0.0))
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "load.width_mm = %g: a patch load needs a width (allowed: > 0 mm)",
+                        ld->width / VS_MM);
+  const double a = x0 + ld->x - 0.5 * ld->width, b = a + ld->width;
+  double lo, hi;
+  span_of(ex, g->n_blocks, &lo, &hi);
+  if (a < lo || b > hi)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "load.x_mm = %g, load.width_mm = %g: the patch reaches beyond the arch's "
+                        "extrados (allowed: within [%g, %g] mm from the left springing's intrados "
+                        "point)",
+                        ld->x / VS_MM, ld->width / VS_MM, (lo - x0) / VS_MM, (hi - x0) / VS_MM);
+  *n = 0;
+  for (int i = 0; i < g->n_blocks; i++) {
+    const double ca = fmax(a, ex[i].xa), cb = fmin(b, ex[i].xb);
+    if (!(cb > ca)) continue;
+    const double xm = 0.5 * (ca + cb);
+    f[(*n)++] = (vs_limit_force){i, 0.0, -ld->value * (cb - ca) / ld->width, xm,
+                                 extrados_z(&ex[i], xm)};
+  }
+  return VS_OK;
+}
+
+vs_status vs_limit_live_load(const vs_geometry *g, const vs_load_def *ld, vs_limit_force **out,
+                             int *n, vs_error *err) {
+  *out = NULL;
+  *n = 0;
+  if (ld->kind == VS_LOAD_NONE) return VS_OK;
+  if (ld->kind < 0 || ld->kind >= VS_LOAD_KIND_COUNT)
+    return vs_error_set(err, VS_ERR_INVALID, "load.kind = %d (allowed: 0..%d)", (int)ld->kind,
+                        VS_LOAD_KIND_COUNT - 1);
+  if (ld->kind != VS_LOAD_TILT && !(ld->value > 0.0 && isfinite(ld->value)))
+    return vs_error_set(err, VS_ERR_INVALID, "load.value_N = %g (allowed: > 0 N)", ld->value);
+  vs_limit_force *f = malloc((size_t)g->n_blocks * sizeof *f);
+  extent *ex = malloc((size_t)g->n_blocks * sizeof *ex);
+  vs_status st = VS_OK;
+  if (f == NULL || ex == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "load: out of memory");
+  double x0 = 0.0;
+  if (st == VS_OK && ld->kind != VS_LOAD_TILT) {
+    extrados_extents(g, ex);
+    st = springing_x(g, &x0, err);
+  }
+  if (st == VS_OK) switch (ld->kind) {
+    case VS_LOAD_POINT:
+    case VS_LOAD_LINE: /* a knife-edge across the barrel: in the plane, a point load */
+      st = place_point(g, ex, x0, ld, f, err);
+      *n = 1;
+      break;
+    case VS_LOAD_PATCH: st = place_patch(g, ex, x0, ld, f, n, err); break;
+    default: /* tilt: lambda x the weight, horizontal, at the centroid */
+      for (int i = 0; i < g->n_blocks; i++) {
+        const vs_block *b = &g->blocks[i];
+        f[i] = (vs_limit_force){i, b->mass * g->gravity, 0.0, b->cx, b->cz};
+      }
+      *n = g->n_blocks;
+      break;
+    }
+  free(ex);
+  if (st != VS_OK) {
+    free(f);
+    *n = 0;
+    return st;
+  }
+  *out = f;
+  return VS_OK;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * The analysis */
+
+/* The arch of d with its thickness scaled by factor, its imperfections drawn for that arch. */
+static vs_status arch_scaled(const vs_run_def *d, double factor, vs_geometry **g, vs_error *err) {
+  vs_arch_def a = d->arch;
+  a.thickness *= factor;
+  vs_imperfections *imp = NULL;
+  vs_status st = vs_imperfections_draw(&d->imperfections, &a, &imp, err);
+  if (st == VS_OK) st = vs_imperfections_arch(&d->imperfections, &a, imp, g, err);
+  vs_imperfections_destroy(&imp);
+  return st;
+}
+
+/* The trials of the bisection: the options, and the basis of the last trial's LP, from which
+ * the next starts (malloc'd at the first trial; every trial's LP has the same rows, columns). */
+typedef struct {
+  const vs_run_def *d;
+  const vs_limit_opts *o;
+  unsigned char *basis;
+} trials;
+
+/* Does the arch of t->d with thickness x factor stand under its weight? *s: its least thrust. */
+static vs_status stands(trials *t, double factor, int *ok, vs_limit_solution *s, vs_error *err) {
+  vs_geometry *g = NULL;
+  vs_limit *l = NULL;
+  vs_status st = arch_scaled(t->d, factor, &g, err);
+  if (st == VS_OK) st = vs_limit_create(g, t->o, NULL, 0, &l, err);
+  if (st == VS_OK && t->basis != NULL) vs_limit_basis_start(l, t->basis);
+  if (st == VS_OK) st = vs_limit_solve(l, VS_LIMIT_THRUST_MIN, s, err);
+  if (st == VS_OK && t->basis == NULL && (t->basis = malloc(vs_limit_basis_size(l))) == NULL)
+    st = vs_error_set(err, VS_ERR_NOMEM, "limit: out of memory");
+  if (st == VS_OK) vs_limit_basis_save(l, t->basis);
+  *ok = st == VS_OK && s->outcome != VS_LIMIT_INFEASIBLE;
+  vs_limit_destroy(&l);
+  vs_geometry_destroy(&g);
+  return st;
+}
+
+static void swap_solutions(vs_limit_solution *a, vs_limit_solution *b) {
+  const vs_limit_solution t = *a;
+  *a = *b;
+  *b = t;
+}
+
+/* The touches of s within tol of an edge (a fraction of the joint's length): at the upper end
+ * of the bracket the critical thrust line's edges are that much farther out. */
+static void widen_touches(vs_limit_solution *s, double tol) {
+  if (s->touch == NULL) return;
+  s->n_touch = 0;
+  for (int k = 0; k < s->n_joints; k++) {
+    if (s->touch[k] == 'O') continue;
+    if (s->eta[k] <= tol) s->touch[k] = 'I';
+    else if (s->eta[k] >= 1.0 - tol) s->touch[k] = 'E';
+    s->n_touch += s->touch[k] != 0;
+  }
+}
+
+/* The least thickness factor at which the arch stands: bracketed from [0, 1] when the arch
+ * stands (at_one), else from 1 upward by doubling, then bisected to thickness_tol; every trial
+ * starts from the last one's basis, the first from basis (the self-weight LP's; freed here). */
+static vs_status thickness_factor(const vs_run_def *d, const vs_limit_opts *o, int at_one,
+                                  unsigned char *basis, vs_limit_analysis *a, vs_error *err) {
+  vs_limit_solution trial = {0};
+  trials t = {d, o, basis}; /* the trials own it from here */
+  double lo = 0.0, hi = 1.0;
+  int ok = at_one;
+  vs_status st = VS_OK;
+  if (at_one) st = stands(&t, hi, &ok, &a->thickness, err), a->thickness_solves++;
+  while (st == VS_OK && !ok && hi < o->thickness_max) {
+    lo = hi;
+    hi = fmin(2.0 * hi, o->thickness_max);
+    st = stands(&t, hi, &ok, &a->thickness, err);
+    a->thickness_solves++;
+  }
+  if (st == VS_OK && !ok) { /* not even at thickness_max */
+    free(t.basis);
+    a->thickness_bracket[0] = hi;
+    a->thickness_bracket[1] = NAN;
+    vs_limit_solution_free(&a->thickness);
+    a->thickness.outcome = VS_LIMIT_INFEASIBLE;
+    return VS_OK;
+  }
+  while (st == VS_OK && hi - lo > o->thickness_tol) {
+    const double mid = 0.5 * (lo + hi);
+    st = stands(&t, mid, &ok, &trial, err);
+    a->thickness_solves++;
+    if (st != VS_OK) break;
+    if (ok) {
+      hi = mid;
+      swap_solutions(&trial, &a->thickness);
+    } else {
+      lo = mid;
+    }
+  }
+  vs_limit_solution_free(&trial);
+  free(t.basis);
+  a->thickness_bracket[0] = lo;
+  a->thickness_bracket[1] = hi;
+  a->thickness_factor = st == VS_OK ? hi : NAN;
+  if (st == VS_OK) widen_touches(&a->thickness, 2.0 * (hi - lo) / hi);
+  return st;
+}
+
+void vs_limit_analysis_free(vs_limit_analysis *a) {
+  if (a == NULL) return;
+  vs_limit_solution_free(&a->collapse);
+  vs_limit_solution_free(&a->thrust_min);
+  vs_limit_solution_free(&a->thrust_max);
+  vs_limit_solution_free(&a->thickness);
+}
+
+/* The load factor (with a live load) and the thrusts, on the arch as defined; *basis (malloc'd,
+ * or NULL) the least thrust's, from which the others and the thickness's trials start. */
+static vs_status solve_arch(const vs_run_def *d, const vs_limit_opts *o, vs_limit_analysis *a,
+                            unsigned char **basis, vs_error *err) {
+  vs_geometry *g = NULL;
+  vs_limit *l = NULL;
+  vs_limit_force *live = NULL;
+  int n_live = 0;
+  vs_status st = arch_scaled(d, 1.0, &g, err);
+  if (st == VS_OK) st = vs_limit_live_load(g, &d->load, &live, &n_live, err);
+  if (st == VS_OK) st = vs_limit_create(g, o, live, n_live, &l, err);
+  a->have_load = n_live > 0;
+  /* the least thrust from scratch, the other two from its basis (the same rows and columns) */
+  if (st == VS_OK) st = vs_limit_solve(l, VS_LIMIT_THRUST_MIN, &a->thrust_min, err);
+  if (st == VS_OK && (*basis = malloc(vs_limit_basis_size(l))) == NULL)
+    st = vs_error_set(err, VS_ERR_NOMEM, "limit: out of memory");
+  if (st == VS_OK) vs_limit_basis_save(l, *basis);
+  if (st == VS_OK) vs_limit_basis_start(l, *basis);
+  if (st == VS_OK) st = vs_limit_solve(l, VS_LIMIT_THRUST_MAX, &a->thrust_max, err);
+  if (st == VS_OK) vs_limit_basis_start(l, *basis);
+  if (st == VS_OK && a->have_load) st = vs_limit_solve(l, VS_LIMIT_LOAD_FACTOR, &a->collapse, err);
+  if (st == VS_OK && (d->load.kind == VS_LOAD_POINT || d->load.kind == VS_LOAD_LINE))
+    a->load_block = live[0].block;
+  free(live);
+  vs_limit_destroy(&l);
+  vs_geometry_destroy(&g);
+  return st;
+}
+
+vs_status vs_limit_analyse(const vs_run_def *d, const vs_limit_opts *o, vs_limit_analysis *a,
+                           vs_error *err) {
+  memset(a, 0, sizeof *a);
+  a->load_block = -1;
+  a->thickness_factor = a->thickness_bracket[0] = a->thickness_bracket[1] = NAN;
+  vs_limit_opts opts;
+  if (o != NULL) {
+    opts = *o;
+  } else {
+    vs_limit_opts_default(&opts);
+    opts.mu = d->joints.mu;
+    opts.left_kind = d->support.left_kind;
+    opts.right_kind = d->support.right_kind;
+  }
+  const double t0 = vs_cpu_now();
+  unsigned char *basis = NULL;
+  vs_status st = solve_arch(d, &opts, a, &basis, err);
+  if (st == VS_OK)
+    st = thickness_factor(d, &opts, a->thrust_min.outcome != VS_LIMIT_INFEASIBLE, basis, a, err);
+  else
+    free(basis);
+  a->cpu_s = vs_cpu_now() - t0;
+  if (st != VS_OK) vs_limit_analysis_free(a);
+  return st;
+}
