@@ -2,6 +2,8 @@
  * to the arch's geometry and the joint laws (see include/voussoir/imperfections.h). */
 #include "voussoir/imperfections.h"
 
+#include "outline.h"
+
 #include "voussoir/units.h"
 
 #include <math.h>
@@ -117,22 +119,6 @@ vs_status vs_imperfections_draw(const vs_imperfection_def *d, const vs_arch_def 
   return VS_OK;
 }
 
-/* Annular sector ri..re over phi0..phi1 (from the crown, clockwise): as in geometry.c. */
-static void sector(double ri, double re, double phi0, double phi1, double rho_b, vs_block *blk) {
-  const double dphi = phi1 - phi0, half = 0.5 * dphi, mid = 0.5 * (phi0 + phi1);
-  const double area = half * (re * re - ri * ri);
-  const double rc =
-      (2.0 / 3.0) * (re * re * re - ri * ri * ri) / (re * re - ri * ri) * sin(half) / half;
-  const double jo = dphi * (pow(re, 4) - pow(ri, 4)) / 4.0;
-  blk->area = area;
-  blk->mass = rho_b * area;
-  blk->inertia = rho_b * (jo - area * rc * rc);
-  blk->cx = rc * sin(mid);
-  blk->cz = rc * cos(mid);
-  blk->phi0 = phi0;
-  blk->phi1 = phi1;
-}
-
 vs_status vs_imperfections_arch(const vs_imperfection_def *d, const vs_arch_def *a,
                                 const vs_imperfections *imp, vs_geometry **out, vs_error *err) {
   vs_status st = vs_geometry_create_arch(a, out, err);
@@ -151,7 +137,9 @@ vs_status vs_imperfections_arch(const vs_imperfection_def *d, const vs_arch_def 
     }
     dev += imp->angle[i] - dphi;
     const double phi1 = i == n - 1 ? beta : -beta + (i + 1) * dphi + dev;
-    sector(ri, ri + imp->thickness[i], phi0, phi1, a->density * a->depth, &g->blocks[i]);
+    vs_sector_block(ri, ri + imp->thickness[i], phi0, phi1, a->density * a->depth, &g->blocks[i]);
+    vs_sector_edges(ri, ri + imp->thickness[i], phi0, phi1, i, i + 1,
+                    g->edges + g->blocks[i].edge0);
     phi0 = phi1;
   }
   for (int k = 0; k <= n; k++) {

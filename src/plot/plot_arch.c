@@ -47,7 +47,7 @@ static void model_path(cairo_t *cr, const vs_plot_frame *f, const double *x, con
 static void draw_blocks(cairo_t *cr, const arch_data *d, const double *q, int faint) {
   static const vs_rgb stone[2] = {{0.85, 0.69, 0.48}, {0.79, 0.60, 0.38}};
   static const vs_rgb ref_fill = {0.93, 0.93, 0.93}, ref_line = {0.72, 0.72, 0.72};
-  double x[2 * ARC_MAX], z[2 * ARC_MAX];
+  double x[OUTLINE_MAX], z[OUTLINE_MAX];
   cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
   for (int i = 0; i < d->g->n_blocks; i++) {
     model_path(cr, &d->f, x, z, vs_plot_block_outline(d->g, q, d->thick, i, x, z));
@@ -406,8 +406,8 @@ static vs_status arch_data_of(const vs_plot_arch_args *a, arch_data *d, vs_error
   if (!(a->open_m >= 0.0))
     return vs_error_set(err, VS_ERR_INVALID, "plot: open = %g m (allowed: >= 0)", a->open_m);
   for (int i = 0; a->block_thickness != NULL && i < g->n_blocks; i++)
-    if (!(a->block_thickness[i] > 0.0 && a->block_thickness[i] < g->radius))
-      return vs_error_set(err, VS_ERR_INVALID, "plot: block %d thickness %g m (allowed: (0, R))",
+    if (!(a->block_thickness[i] > 0.0 && isfinite(a->block_thickness[i])))
+      return vs_error_set(err, VS_ERR_INVALID, "plot: block %d thickness %g m (allowed: > 0)",
                           i + 1, a->block_thickness[i]);
   for (int s = 0; s < 2; s++)
     if (!isfinite(a->support_theta[s]) || (!a->pinned[s] && a->support_theta[s] != 0.0))

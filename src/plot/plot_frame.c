@@ -43,27 +43,20 @@ void vs_plot_joint_ends(const vs_joint_geom *j, double e[4]) {
   e[3] = j->pz + h * sz;
 }
 
-static int arc_points(double dphi) {
-  int m = (int)ceil(fabs(dphi) / VS_DEG - 1e-9) + 1;
-  if (m < 2) m = 2;
-  return m > ARC_MAX ? ARC_MAX : m;
-}
-
-/* Outline of block i moved by q (NULL: reference): the intrados arc phi0 -> phi1, then the
- * extrados arc back, at the block's own thickness thick[i] (NULL: the geometry's). x, z hold 2
- * ARC_MAX points; returns the number written. */
+/* Outline of block i moved by q (NULL: reference): vs_block_outline with a point at least every
+ * degree of each curved edge (for an arch voussoir the intrados arc phi0 -> phi1, then the
+ * extrados arc back). The outline is the geometry's own, each block at its own thickness (thick
+ * is not used: vs_imperfections_arch builds a scattered arch's outlines). x, z hold
+ * OUTLINE_MAX points; returns the number written. */
 int vs_plot_block_outline(const vs_geometry *g, const double *q, const double *thick, int i,
                           double *x, double *z) {
-  const vs_block *b = &g->blocks[i];
-  const double r[2] = {g->radius, g->radius + (thick != NULL ? thick[i] : g->thickness)};
+  (void)thick;
+  double xz[2 * OUTLINE_MAX];
   const double su[2] = {0.0, 0.0};
-  int m = arc_points(b->phi1 - b->phi0), k = 0;
-  for (int side = 0; side < 2; side++)
-    for (int p = 0; p < m; p++, k++) {
-      double f = (double)(side ? m - 1 - p : p) / (m - 1);
-      double phi = b->phi0 + f * (b->phi1 - b->phi0);
-      vs_plot_body_point(g, q, su, NULL, i, r[side] * sin(phi), r[side] * cos(phi), &x[k], &z[k]);
-    }
+  int k = vs_block_outline(g, i, 2, VS_DEG, xz, OUTLINE_MAX);
+  if (k > OUTLINE_MAX) k = OUTLINE_MAX;
+  for (int p = 0; p < k; p++)
+    vs_plot_body_point(g, q, su, NULL, i, xz[2 * p], xz[2 * p + 1], &x[p], &z[p]);
   return k;
 }
 
@@ -85,17 +78,15 @@ int vs_plot_support_outline(const vs_geometry *g, int left, const double u[2], d
 vs_status vs_plot_check_arch(const vs_geometry *g, const double *q, double delta, double alpha,
                              vs_error *err) {
   if (g == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no geometry");
-  if (!(g->radius > 0.0 && g->thickness > 0.0) || g->n_blocks < 1 ||
-      g->n_joints != g->n_blocks + 1 || g->joints[0].a != VS_SUPPORT_LEFT ||
-      g->joints[g->n_blocks].b != VS_SUPPORT_RIGHT)
+  if (!(g->thickness > 0.0) || g->n_blocks < 1 || g->n_joints < 2 ||
+      g->joints[0].a != VS_SUPPORT_LEFT || g->joints[g->n_joints - 1].b != VS_SUPPORT_RIGHT)
     return vs_error_set(err, VS_ERR_INVALID,
-                        "plot: the geometry is not an arch (radius, thickness, n + 1 joints)");
-  for (int i = 0; i < g->n_blocks; i++) {
-    double d = g->blocks[i].phi1 - g->blocks[i].phi0;
-    if (!(d > 0.0 && d <= VS_PI + 1e-9))
-      return vs_error_set(err, VS_ERR_INVALID, "plot: block %d spans %g rad (allowed: (0, pi])",
-                          i + 1, d);
-  }
+                        "plot: the geometry is not an arch (thickness, joints 1 and n on the "
+                        "left and right supports)");
+  for (int i = 0; i < g->n_blocks; i++)
+    if (g->blocks[i].n_edges < 1)
+      return vs_error_set(err, VS_ERR_INVALID, "plot: block %d has no outline (allowed: an "
+                          "outline, vs_geometry_set_outline)", i + 1);
   if (!isfinite(delta) || !isfinite(alpha))
     return vs_error_set(err, VS_ERR_INVALID, "plot: delta = %g m, alpha = %g rad: not finite",
                         delta, alpha);
@@ -120,7 +111,7 @@ static void box_add(box *b, const double *x, const double *z, int n) {
 
 void vs_plot_frame_of(const vs_geometry *g, const double *q, const double *thick,
                       const double su[2], double ground, vs_plot_frame *f) {
-  double x[2 * ARC_MAX], z[2 * ARC_MAX];
+  double x[OUTLINE_MAX], z[OUTLINE_MAX];
   const double zero[2] = {0.0, 0.0};
   box b = {INFINITY, -INFINITY, INFINITY, -INFINITY};
   for (int i = 0; i < g->n_blocks; i++) {
