@@ -17,17 +17,11 @@
 #include <string.h>
 
 #include "outline.h"
+#include "check_close.h"
 #include "test_support.h"
 #include "voussoir/case.h"
 #include "voussoir/geometry.h"
 
-static void check_close(double got, double want, double rtol, double atol, const char *what,
-                        int line) {
-  if (!(fabs(got - want) <= rtol * fabs(want) + atol))
-    fail_msg("line %d: %s = %.17g, expected %.17g (rtol %g, atol %g, diff %g)", line, what, got,
-             want, rtol, atol, got - want);
-}
-#define CHECK(got, want, rtol, atol) check_close((got), (want), (rtol), (atol), #got, __LINE__)
 
 /* Gauss-Legendre nodes and weights on [-1, 1] (Newton on P_n from the Chebyshev guess). */
 #define NGL 16

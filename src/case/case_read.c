@@ -100,6 +100,23 @@ static char *next_line(char *buf, int size, void *stream) {
   return buf;
 }
 
+/* A relative blocks file names a file beside the case file: prefixed with the case's folder. */
+static vs_status relative_to_case(reader_ctx *x, const char *where) {
+  char *file = x->value.blocks_file;
+  const char *slash = strrchr(x->path, '/');
+  if (file[0] == '\0' || file[0] == '/' || slash == NULL) return VS_OK;
+  const size_t dir = (size_t)(slash - x->path) + 1, len = strlen(file);
+  if (dir + len >= sizeof x->value.blocks_file) {
+    vs_case_echo b;
+    return vs_error_set(x->err, VS_ERR_INVALID, "%s: arch.blocks_file = %s: too long beside the "
+                        "case file (allowed: a file name of at most %d bytes with its folder)",
+                        where, vs_case_clip(file, &b), VS_ARCH_PATH_MAX - 1);
+  }
+  memmove(file + dir, file, len + 1);
+  memcpy(file, x->path, dir);
+  return VS_OK;
+}
+
 static int on_pair_at_line(reader_ctx *x, const char *section, const char *name,
                            const char *value) {
   if (x->error_line > 0) return 0;
@@ -115,6 +132,8 @@ static int on_pair_at_line(reader_ctx *x, const char *section, const char *name,
                       section, name);
   else
     st = vs_case_assign(&x->value, section, name, value, where, x->err);
+  if (st == VS_OK && strcmp(section, "arch") == 0 && strcmp(name, "blocks_file") == 0)
+    st = relative_to_case(x, where);
   if (st == VS_OK) return 1;
   x->error_line = x->lineno;
   x->status = st;

@@ -1,5 +1,4 @@
-/* Block-assembly geometry and the segmental circular arch builder: exact annular-sector
- * properties, radial joints, joint k between voussoir k-1 and voussoir k. */
+/* Block-assembly geometry: creation, destruction, weight (the arch builder is arch.c). */
 #include "voussoir/geometry.h"
 
 #include "outline.h"
@@ -41,43 +40,4 @@ double vs_geometry_weight(const vs_geometry *g) {
   double m = 0.0;
   for (int i = 0; i < g->n_blocks; i++) m += g->blocks[i].mass;
   return m * g->gravity;
-}
-
-vs_status vs_geometry_create_arch(const vs_arch_def *a, vs_geometry **out, vs_error *err) {
-  const int n = a->voussoirs;
-  vs_status st = vs_geometry_create(n, n + 1, out, err);
-  if (st != VS_OK) return st;
-  vs_geometry *g = *out;
-  const double ri = a->radius, t = a->thickness, b = a->depth;
-  const double beta = 0.5 * a->embrace, dphi = 2.0 * beta / n;
-  g->radius = ri;
-  g->thickness = t;
-  g->embrace = 2.0 * beta;
-  g->span = 2.0 * ri * sin(beta);
-  g->rise = ri * (1.0 - cos(beta));
-  g->gravity = a->gravity;
-  for (int i = 0; i < n && st == VS_OK; i++) {
-    const double phi0 = -beta + i * dphi, phi1 = -beta + (i + 1) * dphi;
-    vs_edge e[4];
-    vs_sector_block(ri, ri + t, phi0, phi1, a->density * b, &g->blocks[i]);
-    vs_sector_edges(ri, ri + t, phi0, phi1, i, i + 1, e);
-    st = vs_geometry_set_outline(g, i, 4, e, err);
-  }
-  if (st != VS_OK) {
-    vs_geometry_destroy(out);
-    return st;
-  }
-  for (int k = 0; k <= n; k++) {
-    double phi = -beta + k * dphi, rm = ri + 0.5 * t;
-    vs_joint_geom *j = &g->joints[k];
-    j->a = (k == 0) ? VS_SUPPORT_LEFT : k - 1;
-    j->b = (k == n) ? VS_SUPPORT_RIGHT : k;
-    j->px = rm * sin(phi);
-    j->pz = rm * cos(phi);
-    j->nx = cos(phi);
-    j->nz = -sin(phi);
-    j->length = t;
-    j->depth = b;
-  }
-  return VS_OK;
 }

@@ -182,7 +182,10 @@ static herr_t write_parameters(hid_t file, const vs_case *c) {
       open_name = section;
       if (sec < 0) rc = -1;
     }
-    if (rc >= 0)
+    char text[VS_ARCH_PATH_MAX];
+    if (rc >= 0 && vs_case_key_text(c, i, text, sizeof text) == 1)
+      rc = vs_h5_attr_str(sec, key, text); /* a file name, a list */
+    else if (rc >= 0)
       rc = is_int ? vs_h5_attr_int(sec, key, (int)value) : vs_h5_attr_double(sec, key, value);
   }
   vs_h5_close(sec);

@@ -10,9 +10,17 @@
 #include "voussoir/version.h"
 #include "quote.h"
 
+/* The span the displacements are normalised by, mm: the case's (vs_case_span_mm), or a blocks
+ * file's arch's own when the case does not give it. */
+static double run_span_mm(const vs_run *r) {
+  const double L = vs_case_span_mm(vs_run_case(r));
+  return isfinite(L) ? L : vs_run_geometry(r)->span / VS_MM;
+}
+
 /* Support displacement components over the span, in %. */
-static void components_pct(const vs_case *c, double delta_m, double *dz, double *dx) {
-  const double L = vs_case_span_mm(c), d = delta_m / VS_MM;
+static void components_pct(const vs_run *r, double delta_m, double *dz, double *dx) {
+  const vs_case *c = vs_run_case(r);
+  const double L = run_span_mm(r), d = delta_m / VS_MM;
   const vs_support_dir sd = vs_support_direction(c->alpha_deg * VS_DEG);
   *dz = 100.0 * d * sd.dz / L;
   *dx = 100.0 * d * sd.dx / L;
@@ -22,6 +30,11 @@ static void components_pct(const vs_case *c, double delta_m, double *dz, double 
 static const char *const SUPPORT_KINDS[] = {"fixed", "pinned"};
 _Static_assert(sizeof SUPPORT_KINDS / sizeof SUPPORT_KINDS[0] == VS_SUPPORT_KIND_COUNT,
                "a name for every vs_support_kind");
+
+/* The case file's names of the shapes (arch.shape). */
+static const char *const SHAPES[] = {"circular", "pointed", "elliptical", "basket", "parabolic",
+                                     "catenary", "file"};
+_Static_assert(sizeof SHAPES / sizeof SHAPES[0] == VS_SHAPE_COUNT, "a name for every shape");
 
 static const char *support_kind(int kind) {
   return kind >= 0 && kind < VS_SUPPORT_KIND_COUNT ? SUPPORT_KINDS[kind] : "?";
@@ -72,7 +85,7 @@ static void json_first_limit(FILE *out, const vs_run *r) {
     fputs("null", out);
     return;
   }
-  components_pct(vs_run_case(r), p->delta_limit, &dz, &dx);
+  components_pct(r, p->delta_limit, &dz, &dx);
   jnum(out, "{\"delta_mm\":", p->delta_limit / VS_MM, 10);
   jnum(out, ",\"dz_over_L_pct\":", dz, 10);
   jnum(out, ",\"dx_over_L_pct\":", dx, 10);
@@ -104,7 +117,7 @@ static void json_collapse(FILE *out, const vs_run *r) {
     fputs("null", out);
     return;
   }
-  components_pct(vs_run_case(r), col->delta, &dz, &dx);
+  components_pct(r, col->delta, &dz, &dx);
   jnum(out, "{\"delta_mm\":", col->delta / VS_MM, 10);
   jnum(out, ",\"dz_over_L_pct\":", dz, 10);
   jnum(out, ",\"dx_over_L_pct\":", dx, 10);
@@ -257,7 +270,9 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   else fputs("null", out);
   jnum(out, ",\"alpha_deg\":", c->alpha_deg, 17);
   jnum(out, ",\"kn_N_mm3\":", c->kn_N_mm3, 17);
-  jnum(out, ",\"span_mm\":", vs_case_span_mm(c), 17);
+  jnum(out, ",\"span_mm\":", run_span_mm(r), 17);
+  fprintf(out, ",\"shape\":\"%s\"", c->shape >= 0 && c->shape < VS_SHAPE_COUNT ? SHAPES[c->shape] : "?");
+  jnum(out, ",\"rise_mm\":", vs_run_geometry(r)->rise / VS_MM, 17);
   fprintf(out, ",\"mode_of_run\":\"%s\"",
           c->full ? "dynamic" : c->follow ? "quasistatic+dynamic" : "quasistatic");
   fprintf(out, ",\"supports\":{\"left\":\"%s\",\"right\":\"%s\"}", support_kind(c->left_kind),
@@ -288,17 +303,40 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   json_tail(out, r);
 }
 
+/* The arch line of a shape other than the circle of radius and embrace. */
+static void text_shape(FILE *out, const vs_case *c, const vs_geometry *g) {
+  char q[1100];
+  fprintf(out, "arch     %s", c->shape >= 0 && c->shape < VS_SHAPE_COUNT ? SHAPES[c->shape] : "?");
+  if (c->shape == VS_SHAPE_FILE) {
+    fprintf(out, " %s, %d blocks, %d joints\n", vs_quote(c->blocks_file, q, sizeof q),
+            g->n_blocks, g->n_joints);
+    return;
+  }
+  if (c->shape == VS_SHAPE_POINTED) fprintf(out, ", eccentricity %g", c->eccentricity);
+  if (c->shape == VS_SHAPE_BASKET) fprintf(out, ", haunch arcs %g deg", c->haunch_deg);
+  fprintf(out, ", t = %g mm", c->thickness_mm);
+  if (c->thickness_springing_mm > 0.0) fprintf(out, " (%g mm at the springings)",
+                                               c->thickness_springing_mm);
+  fprintf(out, ", %d voussoirs", c->voussoirs);
+  if (c->keystone_mm > 0.0) fprintf(out, " (keystone %g mm)", c->keystone_mm);
+  if (c->n_joint_positions > 0) fputs(" (joints at given positions)", out);
+  fprintf(out, ", %s joints, b = %g mm\n", c->joints == VS_JOINTS_VERTICAL ? "vertical" : "normal",
+          c->depth_mm);
+}
+
 static void text_header(FILE *out, const vs_run *r, const char *case_path) {
   const vs_case *c = vs_run_case(r);
   const vs_geometry *g = vs_run_geometry(r);
   char q[1024]; /* the case's path, quoted: it may hold anything */
   fprintf(out, "voussoir %s  case %s\n", VS_VERSION,
           case_path ? vs_quote(case_path, q, sizeof q) : "(defaults)");
-  fprintf(out,
-          "arch     R = %g mm, t = %g mm, embrace %g deg, %d voussoirs, b = %g mm\n"
-          "         span L = %.2f mm, rise %.2f mm, weight %.3f N\n",
-          c->radius_mm, c->thickness_mm, c->embrace_deg, c->voussoirs, c->depth_mm,
-          g->span / VS_MM, g->rise / VS_MM, vs_geometry_weight(g));
+  if (c->shape == VS_SHAPE_CIRCULAR && c->span_mm == 0.0)
+    fprintf(out, "arch     R = %g mm, t = %g mm, embrace %g deg, %d voussoirs, b = %g mm\n",
+            c->radius_mm, c->thickness_mm, c->embrace_deg, c->voussoirs, c->depth_mm);
+  else
+    text_shape(out, c, g);
+  fprintf(out, "         span L = %.2f mm, rise %.2f mm, weight %.3f N\n", g->span / VS_MM,
+          g->rise / VS_MM, vs_geometry_weight(g));
   fprintf(out, "joints   k_n = %g N/mm^3, k_s = %g k_n, mu = %g\n", c->kn_N_mm3, c->ks_ratio,
           c->friction);
   fprintf(out, "support  right support moved at alpha = %g deg from the vertical, %g mm/s (left %s",
@@ -316,11 +354,12 @@ static void text_header(FILE *out, const vs_run *r, const char *case_path) {
           c->collapse_ke);
 }
 
-static void text_hinge_row(FILE *out, const vs_case *c, const vs_hinge *hg, int onset_name) {
+static void text_hinge_row(FILE *out, const vs_run *r, const vs_hinge *hg, int onset_name) {
+  const vs_case *c = vs_run_case(r);
   char a[96];
   vs_hinge_name(hg, onset_name, a, sizeof a);
   double dz, dx;
-  components_pct(c, hg->delta_onset, &dz, &dx);
+  components_pct(r, hg->delta_onset, &dz, &dx);
   const char *nth = hg->order == 4 ? " (4th hinge)" : hg->order == 5 ? " (5th hinge)" : "";
   fprintf(out, "  %c  %-16s %9.3f mm %9.2f s  %6.3f %%  %6.3f %%%s\n", hg->label, a,
           hg->delta_onset / VS_MM, hg->delta_onset / (c->rate_mm_s * VS_MM), dz, dx, nth);
@@ -328,11 +367,10 @@ static void text_hinge_row(FILE *out, const vs_case *c, const vs_hinge *hg, int 
 
 /* The first limit point and the evidence that it is one. */
 static void text_first_limit(FILE *out, const vs_run *r) {
-  const vs_case *c = vs_run_case(r);
   const vs_path_result *p = vs_run_path(r);
   double dz, dx;
   if (p->end == VS_PATH_LIMIT_POINT && vs_run_limit_count(r) > 0) {
-    components_pct(c, p->delta_limit, &dz, &dx);
+    components_pct(r, p->delta_limit, &dz, &dx);
     fprintf(out, "first limit point  delta = %.4f mm   dz/L = %.3f %%   dx/L = %.3f %%\n",
             p->delta_limit / VS_MM, dz, dx);
     fprintf(out,
@@ -369,7 +407,7 @@ static void text_collapse(FILE *out, const vs_run *r, vs_status status) {
   const vs_collapse_record *col = vs_run_collapse(r);
   double dz, dx;
   if (col->found) {
-    components_pct(c, col->delta, &dz, &dx);
+    components_pct(r, col->delta, &dz, &dx);
     fprintf(out, "\nCOLLAPSE  delta_u = %.4f mm   dz/L = %.3f %%   dx/L = %.3f %%   at t = %.2f s\n",
             col->delta / VS_MM, dz, dx, col->t);
     fprintf(out, "  departure from the last stable equilibrium (%s); detected (kinetic energy past "
@@ -387,10 +425,10 @@ static void text_collapse(FILE *out, const vs_run *r, vs_status status) {
                    "M %.4f N m; right Fx %.3f N, Fz %.3f N, M %.4f N m\n",
               rc[0], rc[1], rc[2], rc[3], rc[4], rc[5]);
     fprintf(out, "  label  joints          onset delta   onset time    dz/L     dx/L\n");
-    for (int i = 0; i < col->n_hinges; i++) text_hinge_row(out, c, &col->hinges[i], 0);
+    for (int i = 0; i < col->n_hinges; i++) text_hinge_row(out, r, &col->hinges[i], 0);
     if (col->n_hinges == 0) fprintf(out, "  (none open by hinges.open_mm)\n");
   } else if (status == VS_OK && (c->follow || c->full)) {
-    components_pct(c, vs_run_delta(r), &dz, &dx);
+    components_pct(r, vs_run_delta(r), &dz, &dx);
     fprintf(out, "\nno collapse up to delta = %.4f mm (dz/L = %.3f %%, dx/L = %.3f %%)\n",
             vs_run_delta(r) / VS_MM, dz, dx);
   }
@@ -398,14 +436,13 @@ static void text_collapse(FILE *out, const vs_run *r, vs_status status) {
 
 /* Every hinge in order of appearance. */
 static void text_hinges(FILE *out, const vs_run *r) {
-  const vs_case *c = vs_run_case(r);
   const vs_hinges *h = vs_run_hinges(r);
   fprintf(out, "\nhinges in order of appearance (side = edge that stays in contact; joints at onset)\n");
   fprintf(out, "  label  joints          onset delta   onset time    dz/L     dx/L\n");
   int spread = 0;
   for (int i = 0; i < vs_run_hinge_count(r); i++) {
     const vs_hinge *hg = vs_run_hinge(r, i);
-    text_hinge_row(out, c, hg, 1);
+    text_hinge_row(out, r, hg, 1);
     spread |= (hg->last > hg->first) || (hg->onset_last > hg->onset_first);
   }
   if (vs_hinges_count(h) == 0) fprintf(out, "  (none)\n");

@@ -18,17 +18,26 @@
 
 char *vs_manifest_case(const vs_case *c, size_t extra) {
   const int nk = vs_case_key_count();
-  const size_t cap = 96 * (size_t)nk + extra + 1;
-  char *t = malloc(cap);
-  if (t == NULL) return NULL;
+  /* a number's line at most 96 bytes; a file name's or a list's at most these */
+  enum { TEXT_MAX = VS_ARCH_PATH_MAX + 32 * VS_ARCH_MAX_POSITIONS };
+  const size_t cap = (96 + TEXT_MAX) * (size_t)nk + extra + 1;
+  char *t = malloc(cap), *text = malloc(TEXT_MAX);
+  if (t == NULL || text == NULL) {
+    free(t), free(text);
+    return NULL;
+  }
   size_t used = 0;
   t[0] = '\0';
   for (int i = 0; i < nk; i++) {
     const char *sec, *key;
     double v;
     vs_case_key(c, i, &sec, &key, NULL, NULL, &v);
-    used += (size_t)snprintf(t + used, cap - used, "%s.%s=%.17g\n", sec, key, v);
+    if (vs_case_key_text(c, i, text, TEXT_MAX) == 1)
+      used += (size_t)snprintf(t + used, cap - used, "%s.%s=%s\n", sec, key, text);
+    else
+      used += (size_t)snprintf(t + used, cap - used, "%s.%s=%.17g\n", sec, key, v);
   }
+  free(text);
   return t;
 }
 
