@@ -62,7 +62,16 @@ typedef struct {
   double nx, nz;      /* unit normal from a to b */
   double length;      /* joint length t (intrados to extrados), m */
   double depth;       /* out-of-plane depth b, m */
+  double kn, ks_ratio, mu; /* this interface's own law (a blocks file's): k_n (N/m^3), k_s /
+                              k_n, friction; each 0: the run's (def.h: vs_joints_def) */
 } vs_joint_geom;
+
+/* A support's polygon (a blocks file's pier): its outline is edges[edge0 .. edge0 + n_edges - 1]
+ * of the geometry, counter-clockwise, fixed to the support's body. */
+typedef struct {
+  int body; /* VS_SUPPORT_LEFT or VS_SUPPORT_RIGHT */
+  int edge0, n_edges;
+} vs_support_outline;
 
 typedef struct {
   int n_blocks;
@@ -71,6 +80,12 @@ typedef struct {
   vs_joint_geom *joints; /* n_joints, joint k (1-based in output) is joints[k-1] */
   int n_edges;           /* the blocks' outlines, each block's a run of these */
   vs_edge *edges;
+  int ring;              /* joints[0 .. ring - 1] are the arch ring from the left springing
+                            (on the left support) to the right one (on the right support); the
+                            other joints follow (a blocks file's). 0: every joint */
+  int n_supports;        /* the supports' polygons (a blocks file's; 0: none, a pier is drawn
+                            and met under each springing face) */
+  vs_support_outline *supports;
   double span;           /* intrados span L, m (arch) */
   double rise;           /* intrados rise, m (arch) */
   double radius, thickness, embrace; /* arch: intrados radius (m), thickness (m), embrace (rad) */
@@ -84,10 +99,27 @@ static inline void vs_joint_tangent(const vs_joint_geom *j, double *sx, double *
   *sz = j->nx;
 }
 
-/* Build the segmental circular arch a: voussoirs of equal angular size, radial joints,
- * joint 1 on the left springing plane, joint n+1 on the right one. The circle's centre is the
- * origin; the crown is on the +z axis. Exact annular-sector mass, centroid and inertia. */
+/* The joint of the left (right = 0) or right springing: the ring's first or last. */
+static inline int vs_geometry_springing(const vs_geometry *g, int right) {
+  return right ? (g->ring > 0 ? g->ring : g->n_joints) - 1 : 0;
+}
+
+/* Build arch a (def.h; docs/model.md, "Shapes"). By default (a's shape fields 0) the
+ * segmental circular arch: voussoirs of equal angular size, radial joints, joint 1 on the left
+ * springing plane, joint n+1 on the right one, the circle's centre at the origin, the crown on
+ * the +z axis, exact annular-sector mass, centroid and inertia. Other shapes: their generator;
+ * VS_SHAPE_FILE: the blocks of a->blocks_file (docs/blocks-file.md). VS_ERR_INVALID (naming
+ * the case key, or the file's field and block) for a shape that cannot be built; VS_ERR_IO for
+ * a file that cannot be read; VS_ERR_NOMEM. */
 VS_API vs_status vs_geometry_create_arch(const vs_arch_def *a, vs_geometry **out, vs_error *err);
+
+/* The blocks of g as a blocks file (docs/blocks-file.md) into *text (malloc'd, the caller
+ * frees): each block a polygon (a curved edge sampled every 2 degrees of its turn, 6 segments
+ * at most), in mm, named v1 .. vn; a pier under each springing face (its face, a level top
+ * outward, an outer vertical, a base two thicknesses below), the supports; the ring from the
+ * left pier to the right one; every joint's own law. VS_ERR_INVALID for a geometry whose
+ * blocks have no outline or whose first and last joints are not on the supports; VS_ERR_NOMEM. */
+VS_API vs_status vs_geometry_blocks_json(const vs_geometry *g, char **text, vs_error *err);
 
 /* Allocate an empty geometry with room for n_blocks blocks and n_joints joints (tests, other
  * shapes); the caller fills the arrays. */
@@ -104,6 +136,11 @@ VS_API double vs_geometry_weight(const vs_geometry *g);
  * (x0, z0, x1, z1) are recomputed from u0 and u1. VS_ERR_INVALID for a bad block, n < 1, an
  * edge of no length or a loop that does not close; VS_ERR_NOMEM. */
 VS_API vs_status vs_geometry_set_outline(vs_geometry *g, int block, int n, const vs_edge *edges,
+                                         vs_error *err);
+
+/* A polygon of support body (VS_SUPPORT_LEFT or VS_SUPPORT_RIGHT): n edges, a closed loop
+ * counter-clockwise, appended to g's edges and its supports. Errors as vs_geometry_set_outline. */
+VS_API vs_status vs_geometry_add_support(vs_geometry *g, int body, int n, const vs_edge *edges,
                                          vs_error *err);
 
 /* Point p (m) and derivative dp = dp/du of curve c at parameter u (either may be NULL). */

@@ -3,6 +3,7 @@
  * voussoir k), the other shapes and cuts from the generator (shape.c). */
 #include "voussoir/geometry.h"
 
+#include "blocks.h"
 #include "outline.h"
 #include "shape.h"
 
@@ -71,8 +72,7 @@ vs_status vs_geometry_create_arch(const vs_arch_def *a, vs_geometry **out, vs_er
   *out = NULL;
   if (a->voussoirs < 1)
     return vs_error_set(err, VS_ERR_INVALID, "arch.voussoirs = %d (allowed: >= 1)", a->voussoirs);
-  if (a->shape == VS_SHAPE_FILE)
-    return vs_error_set(err, VS_ERR_INVALID, "arch.shape = file: not read yet");
+  if (a->shape == VS_SHAPE_FILE) return vs_blocks_read(a, out, err);
   if (!vs_shape_is_sectors(a)) return vs_shape_build(a, NULL, NULL, out, err);
   return create_sectors(a, out, err);
 }

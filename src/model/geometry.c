@@ -32,6 +32,7 @@ void vs_geometry_destroy(vs_geometry **g) {
   free((*g)->blocks);
   free((*g)->joints);
   free((*g)->edges);
+  free((*g)->supports);
   free(*g);
   *g = NULL;
 }

@@ -90,9 +90,16 @@ static void draw_kn(const vs_imperfection_def *d, double ds, vs_imperfections *p
 
 vs_status vs_imperfections_draw(const vs_imperfection_def *d, const vs_arch_def *a,
                                 vs_imperfections **out, vs_error *err) {
+  return vs_imperfections_draw_counts(d, a, a->voussoirs, a->voussoirs + 1, out, err);
+}
+
+vs_status vs_imperfections_draw_counts(const vs_imperfection_def *d, const vs_arch_def *a,
+                                       int nb, int nj, vs_imperfections **out, vs_error *err) {
   *out = NULL;
+  if (nb < 1 || nj < 1)
+    return vs_error_set(err, VS_ERR_INVALID, "imperfections: %d blocks, %d joints (allowed: >= 1 "
+                        "each)", nb, nj);
   vs_imperfections *p = calloc(1, sizeof *p);
-  const int nb = a->voussoirs, nj = a->voussoirs + 1;
   if (p != NULL) {
     p->n_joints = nj;
     p->n_blocks = nb;

@@ -4,6 +4,7 @@
 #include "outline.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -99,11 +100,9 @@ static double loop_size(const vs_edge *e, int n) {
   return s;
 }
 
-vs_status vs_geometry_set_outline(vs_geometry *g, int block, int n, const vs_edge *edges,
-                                  vs_error *err) {
-  if (block < 0 || block >= g->n_blocks || n < 1 || edges == NULL)
-    return vs_error_set(err, VS_ERR_INVALID, "geometry: outline of block %d with %d edges "
-                        "(allowed: a block 0..%d, >= 1 edge)", block, n, g->n_blocks - 1);
+/* Append n edges (a closed loop) to g's edges; who names the outline in messages. */
+static vs_status append_loop(vs_geometry *g, const char *who, int n, const vs_edge *edges,
+                             vs_error *err) {
   vs_edge *all = realloc(g->edges, (size_t)(g->n_edges + n) * sizeof *all);
   if (all == NULL) return vs_error_set(err, VS_ERR_NOMEM, "geometry: out of memory");
   g->edges = all;
@@ -125,17 +124,45 @@ vs_status vs_geometry_set_outline(vs_geometry *g, int block, int n, const vs_edg
     const double len = hypot(a->x1 - a->x0, a->z1 - a->z0);
     if (!isfinite(a->x0) || !isfinite(a->z0) || !isfinite(a->x1) || !isfinite(a->z1) ||
         !(len > tol || (a->curved && vs_edge_turn(a) > 0.0)))
-      return vs_error_set(err, VS_ERR_INVALID, "geometry: block %d edge %d from (%g, %g) to "
-                          "(%g, %g) m (allowed: finite ends, a length)", block, k, a->x0, a->z0,
-                          a->x1, a->z1);
+      return vs_error_set(err, VS_ERR_INVALID, "geometry: %s edge %d from (%g, %g) to (%g, %g) m "
+                          "(allowed: finite ends, a length)", who, k, a->x0, a->z0, a->x1, a->z1);
     if (!(hypot(b->x0 - a->x1, b->z0 - a->z1) <= tol))
-      return vs_error_set(err, VS_ERR_INVALID, "geometry: block %d edge %d ends at (%g, %g) m, "
-                          "edge %d starts at (%g, %g) m (allowed: a closed loop)", block, k,
-                          a->x1, a->z1, (k + 1) % n, b->x0, b->z0);
+      return vs_error_set(err, VS_ERR_INVALID, "geometry: %s edge %d ends at (%g, %g) m, edge %d "
+                          "starts at (%g, %g) m (allowed: a closed loop)", who, k, a->x1, a->z1,
+                          (k + 1) % n, b->x0, b->z0);
   }
-  g->blocks[block].edge0 = g->n_edges;
-  g->blocks[block].n_edges = n;
   g->n_edges += n;
+  return VS_OK;
+}
+
+vs_status vs_geometry_set_outline(vs_geometry *g, int block, int n, const vs_edge *edges,
+                                  vs_error *err) {
+  if (block < 0 || block >= g->n_blocks || n < 1 || edges == NULL)
+    return vs_error_set(err, VS_ERR_INVALID, "geometry: outline of block %d with %d edges "
+                        "(allowed: a block 0..%d, >= 1 edge)", block, n, g->n_blocks - 1);
+  char who[32];
+  snprintf(who, sizeof who, "block %d", block);
+  const int first = g->n_edges;
+  vs_status st = append_loop(g, who, n, edges, err);
+  if (st != VS_OK) return st;
+  g->blocks[block].edge0 = first;
+  g->blocks[block].n_edges = n;
+  return VS_OK;
+}
+
+vs_status vs_geometry_add_support(vs_geometry *g, int body, int n, const vs_edge *edges,
+                                  vs_error *err) {
+  if ((body != VS_SUPPORT_LEFT && body != VS_SUPPORT_RIGHT) || n < 3 || edges == NULL)
+    return vs_error_set(err, VS_ERR_INVALID, "geometry: support polygon of body %d with %d edges "
+                        "(allowed: VS_SUPPORT_LEFT or VS_SUPPORT_RIGHT, >= 3 edges)", body, n);
+  vs_support_outline *s = realloc(g->supports, (size_t)(g->n_supports + 1) * sizeof *s);
+  if (s == NULL) return vs_error_set(err, VS_ERR_NOMEM, "geometry: out of memory");
+  g->supports = s;
+  const int first = g->n_edges;
+  vs_status st = append_loop(g, body == VS_SUPPORT_LEFT ? "the left support" : "the right support",
+                             n, edges, err);
+  if (st != VS_OK) return st;
+  g->supports[g->n_supports++] = (vs_support_outline){.body = body, .edge0 = first, .n_edges = n};
   return VS_OK;
 }
 
@@ -242,6 +269,28 @@ void vs_sector_block(double ri, double re, double phi0, double phi1, double rho_
   blk->cz = rc * cos(mid);
   blk->phi0 = phi0;
   blk->phi1 = phi1;
+}
+
+static int cmp_point(const void *a, const void *b) {
+  const double *p = a, *q = b;
+  return p[0] < q[0] ? -1 : p[0] > q[0] ? 1 : p[1] < q[1] ? -1 : p[1] > q[1] ? 1 : 0;
+}
+
+int vs_convex_hull(double *xz, int n, double *out) {
+  qsort(xz, (size_t)n, 2 * sizeof *xz, cmp_point);
+  int k = 0;
+#define PUSH(i, least)                                                                           \
+  do {                                                                                           \
+    while (k >= (least) && cross3(out + 2 * (k - 2), out + 2 * (k - 1), xz + 2 * (i)) <= 0.0) k--; \
+    out[2 * k] = xz[2 * (i)], out[2 * k + 1] = xz[2 * (i) + 1];                                   \
+    k++;                                                                                         \
+  } while (0)
+  for (int i = 0; i < n; i++) PUSH(i, 2); /* Andrew's monotone chain: the lower hull */
+  const int lower = k + 1;
+  for (int i = n - 2; i >= 0; i--) PUSH(i, lower); /* the upper, back to the first point */
+#undef PUSH
+  k--; /* the first point, twice */
+  return k < 3 ? 0 : k;
 }
 
 void vs_sector_edges(double ri, double re, double phi0, double phi1, int jl, int jr,

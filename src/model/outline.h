@@ -23,6 +23,11 @@ enum { VS_HULL_MAX = 64 };
  * outline, -1 when it cannot be made convex or has more than VS_HULL_MAX. */
 int vs_block_hull(const vs_geometry *g, int block, double *xz, int *edge_of);
 
+/* The convex hull of the n points xz (x, z pairs, sorted in place) into out (room for n + 1
+ * points), counter-clockwise, without collinear points: Andrew's monotone chain. Returns its
+ * number of vertices, 0 when the points enclose no area. */
+int vs_convex_hull(double *xz, int n, double *out);
+
 /* The annular sector ri..re over phi0..phi1 (from the crown, clockwise) of mass rho_b per unit
  * area: its exact area, mass, centroid and inertia into blk, and phi0, phi1 (not its outline). */
 void vs_sector_block(double ri, double re, double phi0, double phi1, double rho_b, vs_block *blk);

@@ -79,7 +79,7 @@ static void ground(cairo_t *cr, const vs_plot_frame *f, double xa, double xb, do
 /* A pinned support's springer: a plate under the springing face, turned with it about the pin
  * at the face's centre (drawn as a ring). */
 static void draw_springer(cairo_t *cr, const arch_data *d, int left) {
-  const vs_joint_geom *j = &d->g->joints[left ? 0 : d->g->n_joints - 1];
+  const vs_joint_geom *j = &d->g->joints[vs_geometry_springing(d->g, !left)];
   const int body = left ? VS_SUPPORT_LEFT : VS_SUPPORT_RIGHT;
   const double in = left ? -1.0 : 1.0, h = 0.6 * d->g->thickness; /* into the support */
   double e[4], X[4], Z[4], x[4], z[4];
@@ -129,10 +129,41 @@ static void draw_ground(cairo_t *cr, const arch_data *d) {
   vs_plot_text_at(cr, "ground", d->f.width - ARCH_SIDE, py + 4.0, 1.0, 0.0, C_TEXT, 0);
 }
 
+/* A blocks file's supports: each polygon, the right support's dashed where it was and drawn
+ * where it went. */
+static void draw_support_polygons(cairo_t *cr, const arch_data *d) {
+  double x[OUTLINE_MAX], z[OUTLINE_MAX];
+  const double zero[2] = {0.0, 0.0}, dash[2] = {6.0, 4.0};
+  for (int pass = 0; pass < 2; pass++)
+    for (int s = 0; s < d->g->n_supports; s++) {
+      const int moved = d->g->supports[s].body == VS_SUPPORT_RIGHT;
+      if (pass == 0 && !moved) continue;
+      model_path(cr, &d->f, x, z, vs_plot_support_polygon(d->g, s, pass ? d->su : zero,
+                                                           pass ? d->srot : NULL, x, z));
+      if (pass == 0) {
+        cairo_set_source_rgb(cr, 0.55, 0.55, 0.55);
+        cairo_set_line_width(cr, 1.0);
+        cairo_set_dash(cr, dash, 2, 0.0);
+        cairo_stroke(cr);
+        cairo_set_dash(cr, NULL, 0, 0.0);
+        continue;
+      }
+      cairo_set_source_rgb(cr, 0.70, 0.70, 0.70);
+      cairo_fill_preserve(cr);
+      cairo_set_source_rgb(cr, 0.25, 0.25, 0.25);
+      cairo_set_line_width(cr, 1.2);
+      cairo_stroke(cr);
+    }
+}
+
 static void draw_supports(cairo_t *cr, const arch_data *d) {
   double x[SUPPORT_PTS], z[SUPPORT_PTS];
   const double zero[2] = {0.0, 0.0};
   const double dash[2] = {6.0, 4.0};
+  if (d->g->n_supports > 0) {
+    draw_support_polygons(cr, d);
+    return;
+  }
   /* the right support's fixed position, dashed, under everything */
   model_path(cr, &d->f, x, z, vs_plot_support_outline(d->g, 0, zero, x, z));
   cairo_set_source_rgb(cr, 0.55, 0.55, 0.55);
@@ -155,7 +186,7 @@ static void draw_supports(cairo_t *cr, const arch_data *d) {
 
 /* The arrow of the right support's displacement, from the fixed face centre to the moved one. */
 static void draw_support_arrow(cairo_t *cr, const arch_data *d) {
-  const vs_joint_geom *j = &d->g->joints[d->g->n_joints - 1];
+  const vs_joint_geom *j = &d->g->joints[vs_geometry_springing(d->g, 1)];
   double ax, ay, bx, by;
   vs_plot_to_px(&d->f, j->px, j->pz, &ax, &ay);
   vs_plot_to_px(&d->f, j->px + d->su[0], j->pz + d->su[1], &bx, &by);

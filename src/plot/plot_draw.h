@@ -63,6 +63,11 @@ int vs_plot_block_outline(const vs_geometry *g, const double *q, const double *t
  * translated by u. Returns SUPPORT_PTS. */
 int vs_plot_support_outline(const vs_geometry *g, int left, const double u[2], double *x,
                             double *z);
+/* A blocks file's support polygon s (geometry.h: g->supports[s]) moved as its body: the right
+ * support by su, a pinned one turned by srot (NULL: none) as vs_plot_body_point. x, z hold
+ * OUTLINE_MAX points; returns the number written. */
+int vs_plot_support_polygon(const vs_geometry *g, int s, const double su[2], const double *srot,
+                            double *x, double *z);
 /* The arguments every arch picture checks (geometry, state, delta, alpha). */
 vs_status vs_plot_check_arch(const vs_geometry *g, const double *q, double delta, double alpha,
                              vs_error *err);

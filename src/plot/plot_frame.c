@@ -17,7 +17,7 @@ void vs_plot_body_point(const vs_geometry *g, const double *q, const double su[2
     const int moved = body == VS_SUPPORT_RIGHT;
     const double th = body < 0 && srot != NULL ? srot[moved] : 0.0;
     if (th != 0.0) { /* a pinned springer turns about the centre of its springing face */
-      const vs_joint_geom *j = &g->joints[moved ? g->n_joints - 1 : 0];
+      const vs_joint_geom *j = &g->joints[vs_geometry_springing(g, moved)];
       const double c = cos(th), s = sin(th), dx = X - j->px, dz = Z - j->pz;
       X = j->px + c * dx - s * dz;
       Z = j->pz + s * dx + c * dz;
@@ -66,7 +66,7 @@ int vs_plot_block_outline(const vs_geometry *g, const double *q, const double *t
 int vs_plot_support_outline(const vs_geometry *g, int left, const double u[2], double *x,
                             double *z) {
   double e[4];
-  vs_plot_joint_ends(&g->joints[left ? 0 : g->n_joints - 1], e);
+  vs_plot_joint_ends(&g->joints[vs_geometry_springing(g, !left)], e);
   const double t = g->thickness, out = (e[2] < e[0]) ? -1.0 : 1.0;
   const double xo = e[2] + out * 1.5 * t, zb = e[1] - 2.0 * t;
   const double px[SUPPORT_PTS] = {e[0], e[2], xo, xo, e[0]};
@@ -75,11 +75,23 @@ int vs_plot_support_outline(const vs_geometry *g, int left, const double u[2], d
   return SUPPORT_PTS;
 }
 
+int vs_plot_support_polygon(const vs_geometry *g, int s, const double su[2], const double *srot,
+                            double *x, double *z) {
+  const vs_support_outline *o = &g->supports[s];
+  const int n = o->n_edges < OUTLINE_MAX ? o->n_edges : OUTLINE_MAX;
+  for (int k = 0; k < n; k++) {
+    const vs_edge *e = &g->edges[o->edge0 + k];
+    vs_plot_body_point(g, NULL, su, srot, o->body, e->x0, e->z0, &x[k], &z[k]);
+  }
+  return n;
+}
+
 vs_status vs_plot_check_arch(const vs_geometry *g, const double *q, double delta, double alpha,
                              vs_error *err) {
   if (g == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no geometry");
   if (!(g->thickness > 0.0) || g->n_blocks < 1 || g->n_joints < 2 ||
-      g->joints[0].a != VS_SUPPORT_LEFT || g->joints[g->n_joints - 1].b != VS_SUPPORT_RIGHT)
+      g->joints[0].a != VS_SUPPORT_LEFT ||
+      g->joints[vs_geometry_springing(g, 1)].b != VS_SUPPORT_RIGHT)
     return vs_error_set(err, VS_ERR_INVALID,
                         "plot: the geometry is not an arch (thickness, joints 1 and n on the "
                         "left and right supports)");
@@ -118,9 +130,15 @@ void vs_plot_frame_of(const vs_geometry *g, const double *q, const double *thick
     box_add(&b, x, z, vs_plot_block_outline(g, NULL, thick, i, x, z));
     if (q != NULL) box_add(&b, x, z, vs_plot_block_outline(g, q, thick, i, x, z));
   }
-  box_add(&b, x, z, vs_plot_support_outline(g, 1, zero, x, z));
-  box_add(&b, x, z, vs_plot_support_outline(g, 0, zero, x, z));
-  box_add(&b, x, z, vs_plot_support_outline(g, 0, su, x, z));
+  for (int s = 0; s < g->n_supports; s++) {
+    box_add(&b, x, z, vs_plot_support_polygon(g, s, zero, NULL, x, z));
+    box_add(&b, x, z, vs_plot_support_polygon(g, s, su, NULL, x, z));
+  }
+  if (g->n_supports == 0) {
+    box_add(&b, x, z, vs_plot_support_outline(g, 1, zero, x, z));
+    box_add(&b, x, z, vs_plot_support_outline(g, 0, zero, x, z));
+    box_add(&b, x, z, vs_plot_support_outline(g, 0, su, x, z));
+  }
   if (isfinite(ground)) box_add(&b, &b.x0, &ground, 1);
   const int w = VS_PLOT_ARCH_WIDTH, h = VS_PLOT_ARCH_HEIGHT;
   const double aw = w - 2.0 * ARCH_SIDE, ah = h - ARCH_TOP - ARCH_BOTTOM;

@@ -28,12 +28,13 @@ static int attr_value(hid_t a, int key, char *buf, size_t size) {
   hid_t t = H5Aget_type(a);
   const int is_str = t >= 0 && H5Tget_class(t) == H5T_STRING;
   if (t >= 0) H5Tclose(t);
-  if (is_str) {
-    hid_t m = H5Tcopy(H5T_C_S1);
-    H5Tset_size(m, size);
-    int ok = m >= 0 && H5Aread(a, m, buf) >= 0;
-    if (m >= 0) H5Tclose(m);
-    buf[size - 1] = '\0';
+  if (is_str) { /* written as a variable-length string (vs_h5_attr_str) */
+    hid_t m = vs_h5_vlstr_type();
+    char *v = NULL;
+    const int ok = m >= 0 && H5Aread(a, m, &v) >= 0 && v != NULL;
+    if (ok) snprintf(buf, size, "%s", v);
+    if (v != NULL) H5free_memory(v);
+    vs_h5_close(m);
     return ok ? 0 : -1;
   }
   double v = NAN;
