@@ -27,6 +27,7 @@
 #include "check_close.h"
 #include "voussoir/case.h"
 #include "voussoir/geometry.h"
+#include "voussoir/imperfections.h"
 #include "voussoir/run.h"
 #include "voussoir/units.h"
 
@@ -408,8 +409,9 @@ static double ellipse_centre_length(double a, double b, double t, double u1) {
 }
 
 /* Joints at the given fractions of the centre line: for the circle, at the angles they give;
- * for the ellipse, at those lengths along its centre line (measured here); the keystone of the
- * width asked; vertical joints vertical. */
+ * for the ellipse, at those lengths along its centre line (measured here); vertical joints at
+ * their fractions of the span, the keystone of the width asked, each from the intrados to the
+ * extrados (measured here). */
 static void test_positions(void **state) {
   (void)state;
   vs_run_def d = shape_def(VS_SHAPE_CIRCULAR, 0.0, 4, 0.02);
@@ -449,28 +451,77 @@ static void test_positions(void **state) {
   k.arch.keystone = 0.12;
   k.arch.joints = VS_JOINTS_VERTICAL;
   g = build(&k.arch);
-  /* the keystone's faces: vertical, through the centre line's points 0.06 m either side of
-   * the crown along it (measured here: the parabola's offset by 15 mm, from its vertex) */
-  const vs_joint_geom *jl = &g->joints[3], *jr = &g->joints[4];
-  CHECK(jl->nx, 1.0, 0, 1e-15);
-  CHECK(jl->nz, 0.0, 0, 1e-15);
-  CHECK(jr->px, -jl->px, 0, 1e-12);
-  double lo = 0.0, hi = 0.25, s = 0.0;
-  for (int it = 0; it < 100; it++) { /* the centre line's point above x = jr->px */
-    const double u = 0.5 * (lo + hi), sl = -2.0 * 0.15 * u / (0.25 * 0.25);
-    const double x = u - 0.015 * sl / hypot(1.0, sl);
-    if (x < jr->px) lo = u;
-    else hi = u;
+  /* vertical joints: the keystone 0.12 m across the crown, three voussoirs of equal width either
+   * side of it, each joint vertical through its x */
+  for (int j = 1; j < 7; j++) {
+    const double x = j <= 3 ? -0.25 + j * (0.25 - 0.06) / 3.0 : 0.25 - (7 - j) * (0.25 - 0.06) / 3.0;
+    CHECK(g->joints[j].px, x, 0, 1e-13);
+    CHECK(g->joints[j].nx, 1.0, 0, 1e-15);
+    CHECK(g->joints[j].nz, 0.0, 0, 1e-15);
+    /* from the parabola z = 0.15 (1 - (x / 0.25)^2) up to its offset by 0.03 along the normal */
+    const double zi = 0.15 * (1.0 - x * x / 0.0625);
+    double lo = -0.25, hi = 0.25;
+    for (int it = 0; it < 100; it++) { /* the intrados point whose offset lies above x */
+      const double u = 0.5 * (lo + hi), sl = -2.0 * 0.15 * u / 0.0625;
+      if (u - 0.03 * sl / hypot(1.0, sl) < x) lo = u;
+      else hi = u;
+    }
+    const double u = 0.5 * (lo + hi), sl = -2.0 * 0.15 * u / 0.0625;
+    const double ze = 0.15 * (1.0 - u * u / 0.0625) + 0.03 / hypot(1.0, sl);
+    CHECK(g->joints[j].length, ze - zi, 1e-9, 0);
+    CHECK(g->joints[j].pz, 0.5 * (zi + ze), 0, 1e-12);
   }
-  const int P = 4000;
-  for (int i = 0; i < P; i++) { /* from the crown to there */
-    const double du = 0.5 * (lo + hi) / P, u = du * (i + 0.5);
-    const double sl = -2.0 * 0.15 * u / 0.0625, q = hypot(1.0, sl);
-    const double kappa = (-2.0 * 0.15 / 0.0625) / (q * q * q);
-    s += du * q * (1.0 - 0.015 * kappa);
-  }
-  CHECK(2.0 * s, 0.12, 1e-6, 0);
   vs_geometry_destroy(&g);
+}
+
+/* Imperfections on a shape: each voussoir's length along the centre line scaled by its drawn
+ * angle over the nominal one (the lengths rescaled to fill it), its thickness by its drawn
+ * thickness; a joint as long as the thinner of its two voussoirs. */
+static void test_scattered_shape(void **state) {
+  (void)state;
+  vs_run_def d = shape_def(VS_SHAPE_ELLIPTICAL, 0.15, 6, 0.02);
+  d.imperfections.angle_cov = 0.2;
+  d.imperfections.thickness_cov = 0.1;
+  d.imperfections.sample = 3;
+  vs_imperfections *imp = NULL;
+  vs_geometry *g = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  assert_int_equal(vs_imperfections_draw(&d.imperfections, &d.arch, &imp, &err), VS_OK);
+  if (vs_imperfections_arch(&d.imperfections, &d.arch, imp, &g, &err) != VS_OK)
+    fail_msg("%s", err.msg);
+  double r[6], sum = 0.0;
+  for (int i = 0; i < 6; i++) sum += r[i] = imp->angle[i] / (d.arch.embrace / 6);
+  /* the joints cut through the centre line at the cumulative scaled lengths: the centre line of
+   * the nominal thickness, whose point on a joint is where the joint's line meets it */
+  const double total = ellipse_centre_length(0.25, 0.15, 0.02, 0.5 * VS_PI);
+  double cum = 0.0;
+  for (int k = 1; k < 6; k++) {
+    cum += r[k - 1] / sum;
+    const vs_joint_geom *j = &g->joints[k];
+    double sx, sz, lo = -0.5 * VS_PI, hi = 0.5 * VS_PI;
+    vs_joint_tangent(j, &sx, &sz);
+    for (int it = 0; it < 100; it++) { /* the centre line's parameter on the joint's line */
+      const double u = 0.5 * (lo + hi), dx = 0.25 * cos(u), dz = -0.15 * sin(u), q = hypot(dx, dz);
+      const double x = 0.25 * sin(u) - 0.01 * dz / q, z = 0.15 * cos(u) + 0.01 * dx / q;
+      if ((x - j->px) * sz - (z - j->pz) * sx < 0.0) lo = u; /* left of the joint's line */
+      else hi = u;
+    }
+    CHECK(ellipse_centre_length(0.25, 0.15, 0.02, 0.5 * (lo + hi)) / total, cum, 0, 1e-6);
+  }
+  /* each voussoir's thickness: its extrados the intrados offset by its own; the joint the
+   * thinner voussoir's face */
+  for (int i = 0; i < 6; i++) {
+    const vs_block *b = &g->blocks[i];
+    for (int e = 0; e < b->n_edges; e++) {
+      const vs_edge *ed = &g->edges[b->edge0 + e];
+      if (ed->curved && ed->c.d0 > 0.0) CHECK(ed->c.d0, imp->thickness[i], 1e-14, 0);
+    }
+  }
+  for (int k = 1; k < 6; k++) /* one thickness each: the joints along the intrados's normals */
+    CHECK(g->joints[k].length, fmin(imp->thickness[k - 1], imp->thickness[k]), 1e-12, 0);
+  vs_geometry_destroy(&g);
+  vs_imperfections_destroy(&imp);
 }
 
 /* Shapes refused, each naming the key at fault. */
@@ -491,9 +542,9 @@ static void test_refused(void **state) {
   expect_refused(&d.arch, "arch.rise_mm = 300: a basket-handle arch");
   d = shape_def(VS_SHAPE_BASKET, 0.01, 9, 0.03);
   expect_refused(&d.arch, "allowed: rise in (");
-  d = shape_def(VS_SHAPE_ELLIPTICAL, 0.25, 15, 0.03);
-  d.arch.joints = VS_JOINTS_VERTICAL;
-  expect_refused(&d.arch, "arch.joints = vertical: joint 2");
+  d = shape_def(VS_SHAPE_ELLIPTICAL, 0.15, 15, 0.03);
+  d.arch.thickness_springing = 1.0; /* the centre line far out beside the springings */
+  expect_refused(&d.arch, "arch.joints = normal: joint 2, at 0.0666667 of the centre line");
   d = shape_def(VS_SHAPE_PARABOLIC, 0.15, 8, 0.03);
   d.arch.keystone = 0.05;
   expect_refused(&d.arch, "arch.keystone_mm = 50 with arch.voussoirs = 8");
@@ -511,6 +562,7 @@ int main(void) {
       cmocka_unit_test(test_areas),
       cmocka_unit_test(test_positions),
       cmocka_unit_test(test_refused),
+      cmocka_unit_test(test_scattered_shape),
       cmocka_unit_test(test_equal_to_semicircle),
       cmocka_unit_test(test_limit_analysis_semicircle),
       cmocka_unit_test(test_minimum_thickness),

@@ -31,11 +31,12 @@ typedef struct {
   double thickness_springing_mm; /* thickness at the springings, [0, 1e6] mm; 0 (default):
                                     thickness_mm throughout */
   int joints;           /* vs_joint_cut by name: normal (default) or vertical */
-  double keystone_mm;   /* the keystone's width along the centre line, [0, 1e6] mm; 0 (default):
-                           as the other voussoirs */
+  double keystone_mm;   /* the keystone's width along the centre line (across, with vertical
+                           joints), [0, 1e6] mm; 0 (default): as the other voussoirs */
   int n_joint_positions; /* joint_positions: the interior joints at these fractions of the
-                            centre line's length, increasing in (0, 1), voussoirs - 1 of them;
-                            none (default): equal voussoirs */
+                            centre line's length (of the intrados span, with vertical joints),
+                            increasing in (0, 1), voussoirs - 1 of them; none (default): equal
+                            voussoirs */
   double joint_positions[VS_ARCH_MAX_POSITIONS];
   char blocks_file[VS_ARCH_PATH_MAX]; /* shape = file: the JSON of blocks, relative to the case
                                          file's folder (docs/blocks-file.md); default none */

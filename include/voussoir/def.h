@@ -89,10 +89,11 @@ typedef struct {
   double thickness_springing; /* thickness at the springings, m (0: thickness throughout);
                                  between, t(x) = t_c + (t_s - t_c) (x / (span/2))^2 */
   vs_joint_cut joints;
-  double keystone;            /* the keystone's width along the centre line, m (0: as the
-                                 other voussoirs) */
+  double keystone;            /* the keystone's width along the centre line (across, with
+                                 vertical joints), m (0: as the other voussoirs) */
   int n_positions;            /* interior joints at positions[0 .. n_positions - 1], fractions
-                                 of the centre line's length (0: equal voussoirs) */
+                                 of the centre line's length (of the intrados span, with
+                                 vertical joints; 0: equal voussoirs) */
   double positions[VS_ARCH_MAX_POSITIONS];
   char blocks_file[VS_ARCH_PATH_MAX]; /* VS_SHAPE_FILE: the JSON file of blocks */
 } vs_arch_def;

@@ -123,10 +123,11 @@ static const key_spec keys[] = {
     KEY_NAMED(arch, joints, 0.0, joint_cuts,
               "joints normal to the centre line (radial on a circle) or vertical"),
     KEY(arch, keystone_mm, 0.0, 0.0, true, LEN_MAX, true, "mm",
-        "the keystone's width along the centre line (0: as the other voussoirs)"),
+        "the keystone's width along the centre line, across with vertical joints (0: as the "
+        "other voussoirs)"),
     KEY_LIST_ROW(arch, joint_positions, n_joint_positions, 0.0, 1.0,
-                 "the interior joints at these fractions of the centre line's length (none: "
-                 "equal voussoirs)"),
+                 "the interior joints at these fractions of the centre line's length, of the "
+                 "span with vertical joints (none: equal voussoirs)"),
     KEY_TEXT_ROW(arch, blocks_file, "shape = file: the JSON file of blocks"),
     KEY(joints, kn_N_mm3, 3.0, 1e-4, true, 1e4, true, "N/mm^3",
         "normal stiffness k_n (above 1e4 doubles cannot resolve joint forces against a voussoir "

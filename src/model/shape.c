@@ -327,7 +327,7 @@ static void cut_line(const vs_arch_def *a, const ring *mid, const ring_point *c,
 /* ------------------------------------------------------------------------------------------ */
 /* Positions                                                                                   */
 
-vs_status vs_shape_positions(const vs_arch_def *a, double centre, double *f, vs_error *err) {
+vs_status vs_shape_positions(const vs_arch_def *a, double length, double *f, vs_error *err) {
   const int n = a->voussoirs;
   if (a->n_positions > 0 && a->keystone > 0.0)
     return vs_error_set(err, VS_ERR_INVALID, "arch.keystone_mm = %g with arch.joint_positions: "
@@ -346,12 +346,12 @@ vs_status vs_shape_positions(const vs_arch_def *a, double centre, double *f, vs_
     return VS_OK;
   }
   if (a->keystone > 0.0) {
-    const double w = a->keystone / centre;
+    const double w = a->keystone / length;
     if (n % 2 == 0 || n < 3 || !(w < 1.0))
       return vs_error_set(err, VS_ERR_INVALID, "arch.keystone_mm = %g with arch.voussoirs = %d "
                           "(allowed: an odd number of voussoirs, >= 3, and a keystone narrower "
-                          "than the centre line's %g mm)", a->keystone / VS_MM, n,
-                          centre / VS_MM);
+                          "than the %s's %g mm)", a->keystone / VS_MM, n,
+                          a->joints == VS_JOINTS_VERTICAL ? "span" : "centre line", length / VS_MM);
     const int m = (n - 1) / 2;
     for (int k = 1; k <= m; k++) {
       f[k - 1] = 0.5 * (1.0 - w) * k / m;
@@ -424,22 +424,30 @@ static vs_status cut_joint(builder *b, int k, double frac, vs_error *err) {
     }
     return VS_OK;
   }
-  const ring_point m = at_length(&b->mid, frac * b->centre, b->centre);
-  double d[2];
-  cut_line(b->a, &b->mid, &m, d);
-  const double mp[2] = {m.x, m.z};
-  const int bad_in = crossing(&b->in, mp, d, -1, &c->in);
+  double mp[2], d[2];
+  if (b->a->joints == VS_JOINTS_VERTICAL) { /* up from below the arch at its fraction of the span */
+    const ring_point l = end_point(&b->in, 0), r = end_point(&b->in, 1);
+    mp[0] = l.x + frac * (r.x - l.x);
+    mp[1] = fmin(l.z, r.z) - 10.0 * (r.x - l.x + b->f);
+    d[0] = 0.0, d[1] = 1.0;
+  } else { /* normal to the centre line at its fraction of the centre line's length */
+    const ring_point m = at_length(&b->mid, frac * b->centre, b->centre);
+    cut_line(b->a, &b->mid, &m, d);
+    mp[0] = m.x, mp[1] = m.z;
+  }
+  const int vertical = b->a->joints == VS_JOINTS_VERTICAL;
+  const int bad_in = crossing(&b->in, mp, d, vertical ? 1 : -1, &c->in);
+  if (vertical && bad_in == 0) mp[0] = c->in.x, mp[1] = c->in.z; /* the extrados above it */
   int bad_ex = 0;
-  for (int s = 0; s < 2 && bad_ex == 0; s++)
+  for (int s = 0; s < 2 && bad_ex == 0 && bad_in == 0; s++)
     bad_ex = crossing(&b->ext[k - 1 + s], mp, d, 1, &c->ex[s]);
   if (bad_in != 0 || bad_ex != 0)
-    return vs_error_set(err, VS_ERR_INVALID, "arch.joints = %s: joint %d, at %g of the centre "
-                        "line (x = %g mm), misses the %s (allowed: joints that cross the ring "
-                        "from intrados to extrados; fewer voussoirs near the springings, or %s)",
-                        b->a->joints == VS_JOINTS_VERTICAL ? "vertical" : "normal", k + 1, frac,
-                        m.x / VS_MM, bad_in ? "intrados" : "extrados",
-                        b->a->joints == VS_JOINTS_VERTICAL ? "arch.joints = normal"
-                                                           : "a thickness that varies less");
+    return vs_error_set(err, VS_ERR_INVALID, "arch.joints = %s: joint %d, at %g of the %s (x = "
+                        "%g mm), misses the %s (allowed: joints that cross the ring from intrados "
+                        "to extrados; a thickness that varies less, or other positions)",
+                        vertical ? "vertical" : "normal", k + 1, frac,
+                        vertical ? "span" : "centre line", mp[0] / VS_MM,
+                        bad_in ? "intrados" : "extrados");
   return VS_OK;
 }
 
@@ -553,7 +561,9 @@ vs_status vs_shape_build(const vs_arch_def *a, const double *size, const double 
     b.cuts = calloc((size_t)n + 1, sizeof *b.cuts);
     if (f == NULL || b.cuts == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "arch: out of memory");
   }
-  if (st == VS_OK) st = vs_shape_positions(a, b.centre, f, err);
+  /* positions along the centre line (normal joints) or across the span (vertical ones) */
+  if (st == VS_OK)
+    st = vs_shape_positions(a, a->joints == VS_JOINTS_VERTICAL ? 2.0 * b.h : b.centre, f, err);
   if (st == VS_OK && size != NULL) scale_sizes(n, size, f);
   for (int k = 0; st == VS_OK && k <= n; k++)
     st = cut_joint(&b, k, k == 0 ? 0.0 : k == n ? 1.0 : f[k - 1], err);

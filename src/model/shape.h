@@ -17,11 +17,11 @@ int vs_shape_is_sectors(const vs_arch_def *a);
 vs_status vs_shape_circle(const vs_arch_def *a, double *radius, double *half_embrace,
                           vs_error *err);
 
-/* The interior joints' positions as fractions of the centre line's length (n - 1 of them into
- * f): a's positions, or the keystone's and equal voussoirs either side of it, or equal
- * voussoirs. VS_ERR_INVALID naming the key when they do not fit the voussoir count. centre is
- * the centre line's length (m), for the keystone's width. */
-vs_status vs_shape_positions(const vs_arch_def *a, double centre, double *f, vs_error *err);
+/* The interior joints' positions as fractions of a length (the centre line's for normal joints,
+ * the span for vertical ones; n - 1 of them into f): a's positions, or the keystone's and equal
+ * voussoirs either side of it, or equal voussoirs. VS_ERR_INVALID naming the key when they do
+ * not fit the voussoir count. length (m) gives the keystone's width its fraction. */
+vs_status vs_shape_positions(const vs_arch_def *a, double length, double *f, vs_error *err);
 
 /* Arch a (any shape but a file's) built from its intrados, centre line and extrados: joints cut
  * through the centre line at the positions (normal to it, or vertical), blocks with their
