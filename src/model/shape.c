@@ -253,9 +253,23 @@ static ring_point at_length(const ring *r, double s, double total) {
 /* ------------------------------------------------------------------------------------------ */
 /* Joints                                                                                      */
 
+/* Take the point of piece k at u as a crossing on the side sign of m if it is the nearest. */
+static void keep(const ring *r, int k, double u, const double m[2], const double d[2], int sign,
+                 double *best, ring_point *o) {
+  double pt[2];
+  piece_point(&r->p[k], u, pt, NULL);
+  const double along = (pt[0] - m[0]) * d[0] + (pt[1] - m[1]) * d[1];
+  if (sign * along > 0.0 && fabs(along) < *best) {
+    *best = fabs(along);
+    *o = (ring_point){.k = k, .u = u, .x = pt[0], .z = pt[1]};
+  }
+}
+
 /* Where the line through m along the unit direction d (from the intrados out) crosses ring r on
- * the side sign (-1: behind m, the intrados; +1: ahead, the extrados), nearest m. 0, or -1 when
- * it does not. */
+ * the side sign (-1: behind m, the intrados; +1: ahead, the extrados), nearest m: a sign change
+ * of the distance from the line between 64 samples of a piece, bisected; or a piece's end within
+ * round-off of the line (where two pieces meet at the line, their ends may lie a rounding apart
+ * on either side of it). 0, or -1 when it does not. */
 static int crossing(const ring *r, const double m[2], const double d[2], int sign, ring_point *o) {
   double best = INFINITY;
   for (int k = 0; k < r->n; k++) {
@@ -263,10 +277,12 @@ static int crossing(const ring *r, const double m[2], const double d[2], int sig
     const int N = 64;
     double ga = 0.0, ua = p->u0;
     for (int i = 0; i <= N; i++) {
-      const double u = p->u0 + (p->u1 - p->u0) * i / N;
+      const double u = i == N ? p->u1 : p->u0 + (p->u1 - p->u0) * i / N;
       double pt[2];
       piece_point(p, u, pt, NULL);
       const double g = d[0] * (pt[1] - m[1]) - d[1] * (pt[0] - m[0]);
+      const double eps = 1e-13 * (fabs(pt[0]) + fabs(pt[1]) + fabs(m[0]) + fabs(m[1]));
+      if ((i == 0 || i == N) && fabs(g) <= eps) keep(r, k, u, m, d, sign, &best, o);
       if (i > 0 && (g == 0.0 || (g < 0.0) != (ga < 0.0))) {
         double lo = ua, hi = u, glo = ga;
         for (int it = 0; it < 200; it++) {
@@ -277,13 +293,7 @@ static int crossing(const ring *r, const double m[2], const double d[2], int sig
           if ((gc < 0.0) == (glo < 0.0)) lo = c, glo = gc;
           else hi = c;
         }
-        const double uc = 0.5 * (lo + hi);
-        piece_point(p, uc, pt, NULL);
-        const double along = (pt[0] - m[0]) * d[0] + (pt[1] - m[1]) * d[1];
-        if (sign * along > 0.0 && fabs(along) < best) {
-          best = fabs(along);
-          *o = (ring_point){.k = k, .u = uc, .x = pt[0], .z = pt[1]};
-        }
+        keep(r, k, 0.5 * (lo + hi), m, d, sign, &best, o);
       }
       ga = g, ua = u;
     }
@@ -458,8 +468,11 @@ static vs_status check_order(const builder *b, vs_error *err) {
     if (!before(&c0->in, &c1->in) || !before(&c0->ex[1], &c1->ex[0]))
       return vs_error_set(err, VS_ERR_INVALID, "arch: joints %d and %d cross or meet (on the "
                           "%s; allowed: joints in order along the ring: fewer voussoirs, other "
-                          "positions, or arch.joints = normal)", k + 1, k + 2,
-                          before(&c0->in, &c1->in) ? "extrados" : "intrados");
+                          "positions, a wider keystone (arch.keystone_mm) or a crown joint (an "
+                          "even number of voussoirs) where a pointed arch's faces converge at "
+                          "its apex, or arch.joints = %s)", k + 1, k + 2,
+                          before(&c0->in, &c1->in) ? "extrados" : "intrados",
+                          b->a->joints == VS_JOINTS_VERTICAL ? "normal" : "vertical");
   }
   return VS_OK;
 }
