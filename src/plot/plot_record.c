@@ -39,7 +39,8 @@ static int attr_value(hid_t a, int key, char *buf, size_t size) {
   }
   double v = NAN;
   if (H5Aread(a, H5T_NATIVE_DOUBLE, &v) < 0 || !isfinite(v)) return -1;
-  const char *name = v == (int)v ? vs_case_key_name_of(key, (int)v) : NULL;
+  const int small = v >= 0.0 && v <= 1000.0 && v == floor(v); /* a named choice's number */
+  const char *name = small ? vs_case_key_name_of(key, (int)v) : NULL;
   if (name != NULL) snprintf(buf, size, "%s", name);
   else snprintf(buf, size, "%.17g", v);
   return 0;
