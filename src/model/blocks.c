@@ -7,6 +7,7 @@
 #include "blocks.h"
 
 #include "outline.h"
+#include "quote.h"
 #include "voussoir/units.h"
 
 #include <errno.h>
@@ -63,7 +64,8 @@ static vs_status fail(const reader *r, vs_status st, const char *fmt, ...) {
   va_start(ap, fmt);
   vsnprintf(msg, sizeof msg, fmt, ap);
   va_end(ap);
-  return vs_error_set(r->err, st, "%s: %s", r->file, msg);
+  char file[256];
+  return vs_error_set(r->err, st, "%s: %s", vs_quote(r->file, file, sizeof file), msg);
 }
 
 /* "blocks[3] (\"v3\")" */
@@ -605,9 +607,11 @@ vs_status vs_blocks_parse(const char *name, const char *text, size_t len, const 
   json_error_t je;
   json_t *root = json_loadb(text, len, JSON_REJECT_DUPLICATES, &je);
   vs_status st = VS_OK;
+  char qn[256], qt[256];
   if (root == NULL)
-    st = vs_error_set(err, VS_ERR_PARSE, "%s:%d:%d: %s (a blocks file is JSON)", name, je.line,
-                      je.column, je.text);
+    st = vs_error_set(err, VS_ERR_PARSE, "%s:%d:%d: %s (a blocks file is JSON)",
+                      vs_quote(name, qn, sizeof qn), je.line, je.column,
+                      vs_quote(je.text, qt, sizeof qt));
   if (st == VS_OK) st = read_root(&r, root);
   if (st == VS_OK) st = build(&r, out);
   if (st != VS_OK) vs_geometry_destroy(out);
@@ -623,15 +627,17 @@ vs_status vs_blocks_read(const vs_arch_def *a, vs_geometry **out, vs_error *err)
   if (path[0] == '\0')
     return vs_error_set(err, VS_ERR_INVALID, "arch.shape = file: no arch.blocks_file (allowed: "
                         "the JSON file of blocks)");
+  char q[256];
+  vs_quote(path, q, sizeof q);
   int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY);
   if (fd < 0)
-    return vs_error_set(err, VS_ERR_IO, "arch.blocks_file %s: cannot open: %s", path,
+    return vs_error_set(err, VS_ERR_IO, "arch.blocks_file %s: cannot open: %s", q,
                         strerror(errno));
   struct stat sb;
   vs_status st = VS_OK;
   if (fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode) || sb.st_size > VS_BLOCKS_MAX_BYTES)
     st = vs_error_set(err, VS_ERR_IO, "arch.blocks_file %s: not a regular file of at most %d "
-                      "bytes", path, VS_BLOCKS_MAX_BYTES);
+                      "bytes", q, VS_BLOCKS_MAX_BYTES);
   char *text = st == VS_OK ? malloc((size_t)sb.st_size + 1) : NULL;
   size_t used = 0;
   if (st == VS_OK && text == NULL) st = vs_error_set(err, VS_ERR_NOMEM, "out of memory");
@@ -639,7 +645,7 @@ vs_status vs_blocks_read(const vs_arch_def *a, vs_geometry **out, vs_error *err)
     const ssize_t n = read(fd, text + used, (size_t)sb.st_size - used);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
-      st = vs_error_set(err, VS_ERR_IO, "arch.blocks_file %s: cannot read: %s", path,
+      st = vs_error_set(err, VS_ERR_IO, "arch.blocks_file %s: cannot read: %s", q,
                         n < 0 ? strerror(errno) : "it shrank");
       break;
     }
