@@ -941,6 +941,13 @@ static void test_shape_keys(void **state) {
   assert_int_equal(read_text("[arch]\nblocks_file = /x/blocks.json\n", &c, &err, &t), VS_OK);
   drop(&t);
   assert_string_equal(c.blocks_file, "/x/blocks.json");
+  /* a name a case file's line could not give back: a comment would begin there */
+  const char *unwritable[] = {"arch.blocks_file=; x", "arch.blocks_file=a ;b", "arch.blocks_file=#b",
+                              "arch.blocks_file=a\tb"};
+  for (size_t i = 0; i < sizeof unwritable / sizeof unwritable[0]; i++) {
+    assert_int_equal(vs_case_set(&c, unwritable[i], &err), VS_ERR_INVALID);
+    expect_in(err.msg, "a name a case file cannot hold");
+  }
   char longname[1100];
   memset(longname, 'a', sizeof longname - 1);
   longname[sizeof longname - 1] = '\0';

@@ -409,14 +409,14 @@ static vs_status parse_items(const key_spec *k, const char *value, double *out, 
   return VS_OK;
 }
 
-/* Text a case file's line gives back as it is: no control character, no blank at either end,
- * no ';' or '#' after a blank (a comment there). */
+/* Text a case file's line "key = text" gives back as it is: no control character, no blank at
+ * either end, no ';' or '#' first or after a blank (a comment there). */
 static bool text_writable(const char *s) {
   const size_t n = strlen(s);
   if (n > 0 && (vs_case_is_blank(s[0]) || vs_case_is_blank(s[n - 1]))) return false;
   for (size_t i = 0; i < n; i++) {
     if ((unsigned char)s[i] < 0x20 || s[i] == 0x7f) return false;
-    if ((s[i] == ';' || s[i] == '#') && i > 0 && vs_case_is_blank(s[i - 1])) return false;
+    if ((s[i] == ';' || s[i] == '#') && (i == 0 || vs_case_is_blank(s[i - 1]))) return false;
   }
   return true;
 }
@@ -433,7 +433,7 @@ static vs_status assign_text(vs_case *c, const key_spec *k, const char *value, c
     if (!text_writable(value))
       return vs_error_set(err, VS_ERR_INVALID, "%s: %s.%s = %s: a name a case file cannot hold "
                           "(allowed: %s without control characters, blanks at either end, or "
-                          "';' or '#' after a blank)", where, sec, key, val, range);
+                          "';' or '#' first or after a blank)", where, sec, key, val, range);
     memcpy(p, value, strlen(value) + 1);
     return VS_OK;
   }
