@@ -69,6 +69,20 @@ row "--alpha 1e999" 2 nothing -- "$bin" run "$ref" --alpha 1e999 --no-record -q
 row "--kn -3" 2 nothing -- "$bin" run "$ref" --kn -3 --no-record -q
 row "sweep -j 0" 2 no_dir -- "$bin" sweep "$ref" --alpha 0 -j 0 -o out -q
 
+# --- a blocks file (arch.shape = file) ---
+mkfifo fifo.json
+case_file '[arch]\nshape = file\nblocks_file = fifo.json\n'
+row "blocks file: a FIFO (not read, not waited on)" 2 nothing -- "$bin" run case.ini --no-record -q
+printf '{"format": "voussoir-blocks 1", "blocks": [{"name": "L", "support": "left", "polygon": [[-10,0],[0,0],[0,10],[-10,10]]}, {"name": "R", "support": "right", "polygon": [[40,0],[50,0],[50,10],[40,10]]}, {"name": "a", "polygon": [[0,0],[40,0],[40,6],[0,6]]}]}' >partly.json
+case_file '[arch]\nshape = file\nblocks_file = partly.json\n'
+no_record() { [ ! -e r.h5 ] && [ ! -e r.h5.part ]; }
+row "blocks file: edges overlapping partly" 2 no_record -- "$bin" run case.ini -q -o r.h5
+printf '{"format": "voussoir-blocks 1", "blocks": [{"name": "a\\u001b[2J", "polygon": []}, {}, {}]}' >esc.json
+case_file '[arch]\nshape = file\nblocks_file = esc.json\n'
+row "blocks file: an escape sequence in a name" 2 nothing -- "$bin" run case.ini --no-record -q
+rm -f target; echo precious >target; ln -sf "$work/target" blocks.json
+row "blocks -o a symbolic link" 2 target_intact -- "$bin" blocks "$ref" -o blocks.json
+
 # --- output paths ---
 rm -rf out target; echo precious >target; ln -s "$work/target" link.h5
 row "run -o a symbolic link" 2 target_intact -- "$bin" run "$ref" "${small[@]}" --first-limit -q -o link.h5

@@ -11,16 +11,21 @@
 #include <string.h>
 
 /* The "(allowed: ...)" part of the refusal of a value no key accepts (a number beyond every
- * range, which is no integer nor any choice's name). */
+ * range, which is no integer nor any choice's name; for a file name, one too long). */
 static int allowed_text(const char *section, const char *key, const char *unit, char *out,
                         size_t size) {
   vs_case c;
   vs_error err;
-  char set[128];
+  char set[2200];
   vs_case_defaults(&c);
   vs_error_clear(&err);
   snprintf(set, sizeof set, "%s.%s=1e300", section, key);
-  if (vs_case_set(&c, set, &err) == VS_OK) return -1;
+  if (vs_case_set(&c, set, &err) == VS_OK) {
+    int n = snprintf(set, sizeof set, "%s.%s=", section, key);
+    for (; n < (int)sizeof set - 1; n++) set[n] = 'a';
+    set[n] = '\0';
+    if (vs_case_set(&c, set, &err) == VS_OK) return -1;
+  }
   const char *a = strstr(err.msg, "(allowed: ");
   if (a == NULL) return -1;
   a += strlen("(allowed: ");
@@ -46,8 +51,11 @@ int main(void) {
       fprintf(stderr, "case_keys: key %d: no range in the refusal of a value\n", i);
       return 1;
     }
+    char text[256];
     name = is_int ? vs_case_key_name_of(i, (int)v) : NULL;
-    if (name != NULL)
+    if (vs_case_key_text(&c, i, text, sizeof text) == 1)
+      printf("%s\t%s\t%s\t%s\t%s\n", section, key, unit, text[0] ? text : "(none)", allowed);
+    else if (name != NULL)
       printf("%s\t%s\t%s\t%s\t%s\n", section, key, unit, name, allowed);
     else
       printf("%s\t%s\t%s\t%.15g\t%s\n", section, key, unit, v, allowed);

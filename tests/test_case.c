@@ -102,6 +102,12 @@ static const key_case all_keys[] = {
     {"arch", "depth_mm", "-120", "2e6", {"1", "1e6"}},
     {"arch", "density_kg_m3", "9.99", "100001", {"2400", "10"}},
     {"arch", "gravity_m_s2", "-9.81", "1000.5", {"1.62", "0.1"}},
+    {"arch", "span_mm", "-1", "1.1e6", {"0", "1e6"}},
+    {"arch", "rise_mm", "-1", "1.1e6", {"0", "1e6"}},
+    {"arch", "eccentricity", "-0.01", "10.01", {"0", "10"}},
+    {"arch", "haunch_deg", "0", "90", {"89.9", "0.1"}},
+    {"arch", "thickness_springing_mm", "-1", "1.1e6", {"0", "48"}},
+    {"arch", "keystone_mm", "-1", "1.1e6", {"0", "10"}},
     {"joints", "kn_N_mm3", "-3", "1e5", {"48", "1e-4"}},
     {"joints", "ks_ratio", "0", "100.5", {"1", "100"}},
     {"joints", "friction", "0", "101", {"0.01", "100"}},
@@ -151,8 +157,11 @@ static const key_case all_keys[] = {
 #define NKEYS_TESTED (sizeof all_keys / sizeof all_keys[0])
 /* Keys that are named choices, tested by name in test_support_kinds (support.left_kind,
  * support.right_kind), test_named_key (dynamic.damping_model), test_fall_scheme
- * (fall.scheme, fall.solver) and test_load_and_analysis (load.kind, analysis.type). */
-#define NKEYS_NAMED 7
+ * (fall.scheme, fall.solver), test_load_and_analysis (load.kind, analysis.type) and
+ * test_shape_keys (arch.shape, arch.joints); and the text and list keys of test_shape_keys
+ * (arch.blocks_file, arch.joint_positions). */
+#define NKEYS_NAMED 9
+#define NKEYS_TEXT 2
 
 /* ---------------------------------------------------------------------------------------------
  * Defaults and a valid file */
@@ -373,7 +382,7 @@ static void check_out_of_range(const key_case *k, const char *value) {
 
 static void test_every_key_out_of_range(void **state) {
   (void)state;
-  assert_int_equal(NKEYS_TESTED, 52);
+  assert_int_equal(NKEYS_TESTED, 58);
   for (size_t i = 0; i < NKEYS_TESTED; i++) {
     check_out_of_range(&all_keys[i], all_keys[i].below);
     if (all_keys[i].above != NULL) check_out_of_range(&all_keys[i], all_keys[i].above);
@@ -445,7 +454,9 @@ static void test_unknown_key(void **state) {
   (void)state;
   expect_read_error("[arch]\nradius_mm = 300\nfoo = 1\n", VS_ERR_PARSE, 3,
                     "arch.foo = 1: unknown key (allowed keys in [arch]: radius_mm, thickness_mm, "
-                    "embrace_deg, voussoirs, depth_mm, density_kg_m3, gravity_m_s2)");
+                    "embrace_deg, voussoirs, depth_mm, density_kg_m3, gravity_m_s2, shape, "
+                    "span_mm, rise_mm, eccentricity, haunch_deg, thickness_springing_mm, joints, "
+                    "keystone_mm, joint_positions, blocks_file)");
   expect_read_error("[joints]\nkn = 3\n", VS_ERR_PARSE, 2,
                     "joints.kn = 3: unknown key (allowed keys in [joints]: kn_N_mm3, ks_ratio, "
                     "friction)");
@@ -746,7 +757,7 @@ static void test_span(void **state) {
 /* The key iterator enumerates every key of the documented list, and reads what --set wrote. */
 static void test_key_iterator(void **state) {
   (void)state;
-  assert_int_equal(vs_case_key_count(), (int)(NKEYS_TESTED + NKEYS_NAMED));
+  assert_int_equal(vs_case_key_count(), (int)(NKEYS_TESTED + NKEYS_NAMED + NKEYS_TEXT));
   assert_int_equal(vs_case_key(NULL, -1, NULL, NULL, NULL, NULL, NULL), -1);
   assert_int_equal(vs_case_key(NULL, vs_case_key_count(), NULL, NULL, NULL, NULL, NULL), -1);
   for (size_t i = 0; i < NKEYS_TESTED; i++) {
@@ -892,6 +903,113 @@ static void test_load_and_analysis(void **state) {
   assert_true(d.load.value == 250.0);
   assert_true(fabs(d.load.x - 0.133) < 1e-15 && fabs(d.load.width - 0.04) < 1e-15);
   assert_true(fabs(d.analysis.hold - 0.0125) < 1e-15);
+}
+
+/* The key i named section.key. */
+static int key_index_of(const char *section, const char *key) {
+  for (int k = 0; k < vs_case_key_count(); k++) {
+    const char *sec = NULL, *name = NULL;
+    vs_case_key(NULL, k, &sec, &name, NULL, NULL, NULL);
+    if (strcmp(sec, section) == 0 && strcmp(name, key) == 0) return k;
+  }
+  return -1;
+}
+
+/* arch.shape and arch.joints take their names; arch.joint_positions a list of increasing
+ * fractions in (0, 1) (empty: none), arch.blocks_file a file name, relative to the case file's
+ * folder when read from one; both read back as text, and as NaN by the number iterator; the span
+ * is arch.span_mm's when given. */
+static void test_shape_keys(void **state) {
+  (void)state;
+  vs_case c;
+  vs_error err;
+  vs_case_defaults(&c);
+  assert_int_equal(c.shape, VS_SHAPE_CIRCULAR);
+  assert_int_equal(c.joints, VS_JOINTS_NORMAL);
+  assert_true(c.haunch_deg == 60.0 && c.span_mm == 0.0 && c.n_joint_positions == 0);
+  assert_string_equal(c.blocks_file, "");
+  const char *shapes[] = {"circular", "pointed", "elliptical", "basket", "parabolic", "catenary",
+                          "file"};
+  for (int i = 0; i < 7; i++) {
+    char buf[64];
+    snprintf(buf, sizeof buf, "arch.shape=%s", shapes[i]);
+    assert_int_equal(vs_case_set(&c, buf, &err), VS_OK);
+    assert_int_equal(c.shape, i);
+  }
+  assert_int_equal(vs_case_set(&c, "arch.shape=gothic", &err), VS_ERR_INVALID);
+  expect_in(err.msg, "arch.shape = gothic: unknown name (allowed: one of circular, pointed, "
+                     "elliptical, basket, parabolic, catenary, file)");
+  assert_int_equal(vs_case_set(&c, "arch.joints=vertical", &err), VS_OK);
+  assert_int_equal(c.joints, VS_JOINTS_VERTICAL);
+  assert_int_equal(vs_case_validate(&c, &err), VS_ERR_INVALID); /* file, but no file */
+  expect_in(err.msg, "arch.shape = file: no arch.blocks_file");
+  assert_int_equal(vs_case_set(&c, "arch.shape=circular", &err), VS_OK);
+  /* the list */
+  const int lp = key_index_of("arch", "joint_positions"), bf = key_index_of("arch", "blocks_file");
+  assert_true(lp >= 0 && bf >= 0);
+  assert_int_equal(vs_case_set(&c, "arch.joint_positions = 0.1, 0.25,0.5 ,0.9", &err), VS_OK);
+  assert_int_equal(c.n_joint_positions, 4);
+  assert_true(c.joint_positions[1] == 0.25 && c.joint_positions[3] == 0.9);
+  char text[256];
+  assert_int_equal(vs_case_key_text(&c, lp, text, sizeof text), 1);
+  assert_string_equal(text, "0.10000000000000001,0.25,0.5,0.90000000000000002");
+  double v = 0.0;
+  assert_int_equal(vs_case_key(&c, lp, NULL, NULL, NULL, NULL, &v), 0);
+  assert_true(isnan(v));
+  assert_int_equal(vs_case_key_text(&c, 0, text, sizeof text), 0); /* a number */
+  assert_int_equal(vs_case_key_text(&c, -1, text, sizeof text), -1);
+  const char *bad[][2] = {{"0.5,0.4", "number 2: out of range or not increasing"},
+                          {"0,0.5", "number 1: out of range or not increasing"},
+                          {"0.5,1", "number 2: out of range"},
+                          {"0.2,abc", "number 2: not a number"},
+                          {"0.2,", "a comma at the end"},
+                          {"0.2,,0.4", "number 2: empty"}};
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+    char buf[64];
+    snprintf(buf, sizeof buf, "arch.joint_positions=%s", bad[i][0]);
+    assert_int_not_equal(vs_case_set(&c, buf, &err), VS_OK);
+    expect_in(err.msg, bad[i][1]);
+    expect_in(err.msg, "(allowed: at most 64 numbers in (0, 1), comma-separated, increasing)");
+    assert_int_equal(c.n_joint_positions, 4); /* unchanged */
+  }
+  assert_int_equal(vs_case_set(&c, "arch.joint_positions=", &err), VS_OK);
+  assert_int_equal(c.n_joint_positions, 0);
+  assert_int_equal(vs_case_validate(&c, &err), VS_OK);
+  c.n_joint_positions = 2, c.joint_positions[0] = 0.6, c.joint_positions[1] = 0.3;
+  assert_int_equal(vs_case_validate(&c, &err), VS_ERR_INVALID);
+  expect_in(err.msg, "arch.joint_positions: number 2 = 0.3: out of range or not increasing");
+  c.n_joint_positions = 0;
+  /* the file name: as given with --set, beside the case file when read from one */
+  assert_int_equal(vs_case_set(&c, "arch.blocks_file = blocks.json", &err), VS_OK);
+  assert_string_equal(c.blocks_file, "blocks.json");
+  assert_int_equal(vs_case_key_text(&c, bf, text, sizeof text), 1);
+  assert_string_equal(text, "blocks.json");
+  tmpfile_t t;
+  assert_int_equal(read_text("[arch]\nshape = file\nblocks_file = b/blocks.json\n", &c, &err, &t),
+                   VS_OK);
+  drop(&t);
+  assert_string_equal(c.blocks_file, "/tmp/b/blocks.json");
+  assert_int_equal(read_text("[arch]\nblocks_file = /x/blocks.json\n", &c, &err, &t), VS_OK);
+  drop(&t);
+  assert_string_equal(c.blocks_file, "/x/blocks.json");
+  /* a name a case file's line could not give back: a comment would begin there */
+  const char *unwritable[] = {"arch.blocks_file=; x", "arch.blocks_file=a ;b", "arch.blocks_file=#b",
+                              "arch.blocks_file=a\tb"};
+  for (size_t i = 0; i < sizeof unwritable / sizeof unwritable[0]; i++) {
+    assert_int_equal(vs_case_set(&c, unwritable[i], &err), VS_ERR_INVALID);
+    expect_in(err.msg, "a name a case file cannot hold");
+  }
+  char longname[1100];
+  memset(longname, 'a', sizeof longname - 1);
+  longname[sizeof longname - 1] = '\0';
+  char buf[1200];
+  snprintf(buf, sizeof buf, "arch.blocks_file=%s", longname);
+  assert_int_equal(vs_case_set(&c, buf, &err), VS_ERR_INVALID);
+  expect_in(err.msg, "too long (allowed: a file name of at most 1023 bytes)");
+  /* the span */
+  vs_case_defaults(&c);
+  c.span_mm = 600.0;
+  assert_true(vs_case_span_mm(&c) == 600.0);
 }
 
 /* dynamic.damping_model takes names only; the iterator gives its value's index and name. */
@@ -1127,6 +1245,7 @@ int main(void) {
       cmocka_unit_test(test_named_key),
       cmocka_unit_test(test_load_and_analysis),
       cmocka_unit_test(test_fall_scheme),
+      cmocka_unit_test(test_shape_keys),
       cmocka_unit_test(test_defaults),
       cmocka_unit_test(test_to_def),
       cmocka_unit_test(test_full_file),

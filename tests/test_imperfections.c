@@ -150,7 +150,7 @@ static void test_draws_depend_on_key_only(void **state) {
 static void test_tilted_face_closed_form(void **state) {
   (void)state;
   const double kn = 48e9, b = 0.12, t = 0.024, A = 0.05e-3;
-  const vs_joint_geom jg = {VS_SUPPORT_LEFT, 0, 0.0, 0.0, 0.0, 1.0, t, b};
+  const vs_joint_geom jg = {.a = VS_SUPPORT_LEFT, .b = 0, .nz = 1.0, .length = t, .depth = b};
   const vs_joint_law law = {.kn = kn, .ks = 0.5 * kn, .mu = 0.7, .gap0 = 0.5 * A, .gap1 = A / t};
   const double r0[2] = {0, 0}, qa[3] = {0, 0, 0};
   for (int i = 1; i <= 40; i++) {
@@ -181,7 +181,8 @@ static void test_tilted_face_closed_form(void **state) {
 static void test_gap_jacobian_central_differences(void **state) {
   (void)state;
   const double t = 0.024, b = 0.12, kn = 3e9;
-  const vs_joint_geom jg = {0, 1, 0.1, 0.3, cos(0.4), -sin(0.4), t, b};
+  const vs_joint_geom jg = {.a = 0, .b = 1, .px = 0.1, .pz = 0.3, .nx = cos(0.4), .nz = -sin(0.4),
+                            .length = t, .depth = b};
   const vs_joint_law law = {.kn = kn, .ks = 0.5 * kn, .mu = 0.7, .gap0 = 1.5e-6, .gap1 = -2e-4};
   const double ra[2] = {-0.005, 0.002}, rb[2] = {0.006, -0.001};
   /* a partly open state and a closed one (penetrations of a few microns, a rotation) */

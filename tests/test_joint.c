@@ -288,7 +288,8 @@ static void make_qb(const vs_joint_geom *jg, const double qa[3], const double ra
   }
 }
 
-static const vs_joint_geom JG = {0, 1, 0.12, 0.29, 0.0, 0.0, TL, BD};
+static const vs_joint_geom JG = {.a = 0, .b = 1, .px = 0.12, .pz = 0.29, .nx = 0.0, .nz = 0.0,
+                                 .length = TL, .depth = BD};
 static const double RA[2] = {-0.0052, 0.0021};
 static const double RB[2] = {0.0061, -0.0013};
 

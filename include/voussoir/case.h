@@ -30,6 +30,26 @@ typedef struct {
   double depth_mm;      /* out-of-plane depth b, > 0, default 120 */
   double density_kg_m3; /* density, > 0, default 1640 */
   double gravity_m_s2;  /* gravitational acceleration, > 0, default 9.81 */
+  /* [arch] shapes and stereotomy (docs/model.md, "Shapes"); the defaults: the circular arch */
+  int shape;            /* vs_arch_shape by name: circular (default), pointed, elliptical, basket,
+                           parabolic, catenary, file */
+  double span_mm;       /* intrados span, [0, 1e6] mm; 0 (default): 2 R sin(embrace/2) */
+  double rise_mm;       /* intrados rise, [0, 1e6] mm; 0 (default): R (1 - cos(embrace/2)) */
+  double eccentricity;  /* pointed: each centre's offset from the crown line over the half-span,
+                           [0, 10], default 0 (a semicircle) */
+  double haunch_deg;    /* basket: the angle each haunch arc subtends, (0, 90), default 60 */
+  double thickness_springing_mm; /* thickness at the springings, [0, 1e6] mm; 0 (default):
+                                    thickness_mm throughout */
+  int joints;           /* vs_joint_cut by name: normal (default) or vertical */
+  double keystone_mm;   /* the keystone's width along the centre line (across, with vertical
+                           joints), [0, 1e6] mm; 0 (default): as the other voussoirs */
+  int n_joint_positions; /* joint_positions: the interior joints at these fractions of the
+                            centre line's length (of the intrados span, with vertical joints),
+                            increasing in (0, 1), voussoirs - 1 of them; none (default): equal
+                            voussoirs */
+  double joint_positions[VS_ARCH_MAX_POSITIONS];
+  char blocks_file[VS_ARCH_PATH_MAX]; /* shape = file: the JSON of blocks, relative to the case
+                                         file's folder (docs/blocks-file.md); default none */
 
   /* [joints] no-tension, frictional, elastic interfaces */
   double kn_N_mm3; /* normal stiffness per unit area, > 0, default 3 */
@@ -195,6 +215,12 @@ VS_API int vs_case_key_count(void);
 VS_API int vs_case_key(const vs_case *c, int i, const char **section, const char **key,
                        const char **unit, int *is_int, double *value);
 
+/* For a key whose value is text (arch.blocks_file) or a list (arch.joint_positions): its value
+ * in c as a case file writes it, into buf (size bytes, cut short if longer); returns 1. Returns
+ * 0 for a number or a named choice (buf untouched), -1 when i is out of range. vs_case_key gives
+ * such a key the value NaN. */
+VS_API int vs_case_key_text(const vs_case *c, int i, char *buf, size_t size);
+
 /* For a key that is a named choice (support.left_kind, support.right_kind, dynamic.damping_model), the name of value `value` of key i;
  * NULL when key i is a number or value is out of range. */
 VS_API const char *vs_case_key_name_of(int i, int value);
@@ -211,7 +237,9 @@ VS_API int vs_case_text_key(const vs_case *c, int i, const char **section, const
  * the same as vs_support_loading_rate of the case's definition, in mm/s). */
 VS_API double vs_case_loading_rate_mm_s(const vs_case *c);
 
-/* Intrados span L = 2 R sin(embrace/2), in mm: the length the study normalises by. */
+/* Intrados span L, in mm: the length the study normalises by; arch.span_mm when it is given,
+ * else 2 R sin(embrace/2) (a blocks file's arch: NaN when span_mm is not given, the run's
+ * geometry knows it). */
 VS_API double vs_case_span_mm(const vs_case *c);
 
 /* The engine's definition of the run case c asks for (def.h): every length, angle, stiffness

@@ -67,15 +67,56 @@ typedef enum {
   VS_ANALYSIS_TYPE_COUNT
 } vs_analysis_type;
 
-/* A segmental circular arch of equal voussoirs with radial joints (geometry.h). */
+/* The shape of an arch (geometry.h; docs/model.md, "Shapes"). */
+typedef enum {
+  VS_SHAPE_CIRCULAR = 0,   /* segmental or semicircular: radius and embrace, or span and rise */
+  VS_SHAPE_POINTED = 1,    /* two-centred: span and eccentricity */
+  VS_SHAPE_ELLIPTICAL = 2, /* a half-ellipse on the springing line: span and rise */
+  VS_SHAPE_BASKET = 3,     /* three-centred, tangent arcs: span, rise and the haunch arcs' angle */
+  VS_SHAPE_PARABOLIC = 4,  /* span and rise */
+  VS_SHAPE_CATENARY = 5,   /* span and rise */
+  VS_SHAPE_FILE = 6,       /* the blocks of a JSON file (blocks_file) */
+  VS_SHAPE_COUNT
+} vs_arch_shape;
+
+/* How the voussoirs are cut: joints normal to the centre line (radial on a circle), or
+ * vertical; the springing faces are normal to it either way. */
+typedef enum {
+  VS_JOINTS_NORMAL = 0,
+  VS_JOINTS_VERTICAL = 1,
+  VS_JOINT_CUT_COUNT
+} vs_joint_cut;
+
+/* Most interior joints a list of joint positions gives, and the longest blocks file name. */
+#define VS_ARCH_MAX_POSITIONS 64
+#define VS_ARCH_PATH_MAX 1024
+
+/* An arch: by default (the fields after gravity all 0) a segmental circular arch of equal
+ * voussoirs with radial joints (geometry.h). */
 typedef struct {
   double radius;    /* intrados radius, m */
-  double thickness; /* radial thickness, m */
+  double thickness; /* radial thickness (at the crown), m */
   double embrace;   /* angle of embrace, rad, symmetric about the crown */
   double depth;     /* out-of-plane depth, m */
   int voussoirs;    /* number of voussoirs */
   double density;   /* kg/m^3 */
   double gravity;   /* m/s^2 */
+  /* shapes and stereotomy (issue 27; docs/model.md, "Shapes") */
+  vs_arch_shape shape;
+  double span, rise;          /* intrados span and rise, m (0: those of radius and embrace) */
+  double eccentricity;        /* pointed: each centre's offset from the crown line, a fraction
+                                 of the half-span (0: semicircle, 1: equilateral) */
+  double haunch;              /* basket: the angle each haunch arc subtends, rad */
+  double thickness_springing; /* thickness at the springings, m (0: thickness throughout);
+                                 between, t(x) = t_c + (t_s - t_c) (x / (span/2))^2 */
+  vs_joint_cut joints;
+  double keystone;            /* the keystone's width along the centre line (across, with
+                                 vertical joints), m (0: as the other voussoirs) */
+  int n_positions;            /* interior joints at positions[0 .. n_positions - 1], fractions
+                                 of the centre line's length (of the intrados span, with
+                                 vertical joints; 0: equal voussoirs) */
+  double positions[VS_ARCH_MAX_POSITIONS];
+  char blocks_file[VS_ARCH_PATH_MAX]; /* VS_SHAPE_FILE: the JSON file of blocks */
 } vs_arch_def;
 
 /* The interfaces' law (joint.h): no-tension elastic normal response, elastic shear limited by

@@ -52,13 +52,22 @@ typedef struct {
  * caller (vs_imperfections_destroy). VS_ERR_NOMEM only. */
 VS_API vs_status vs_imperfections_draw(const vs_imperfection_def *d, const vs_arch_def *a,
                                        vs_imperfections **out, vs_error *err);
+/* The same for an arch of n_blocks blocks and n_joints joints that a's voussoirs do not count
+ * (a blocks file's: its joints' k_n scatter independent of one another). */
+VS_API vs_status vs_imperfections_draw_counts(const vs_imperfection_def *d, const vs_arch_def *a,
+                                              int n_blocks, int n_joints, vs_imperfections **out,
+                                              vs_error *err);
 VS_API void vs_imperfections_destroy(vs_imperfections **p);
 
 /* 1 when d asks for any imperfection, else 0. */
 VS_API int vs_imperfections_any(const vs_imperfection_def *d);
 
 /* Build arch a with the drawn angles and thickness (vs_geometry_create_arch when d's CoVs of
- * them are 0). */
+ * them are 0; imp is then not read and may be NULL). A circular arch of sectors gets each
+ * voussoir's drawn angle; any other shape each voussoir's length along the centre line scaled
+ * by its drawn angle over the nominal embrace / n, and its thickness by its drawn thickness over
+ * the nominal one. A blocks file's blocks are as drawn: VS_ERR_INVALID with angle or thickness
+ * scatter. */
 VS_API vs_status vs_imperfections_arch(const vs_imperfection_def *d, const vs_arch_def *a,
                                        const vs_imperfections *imp, vs_geometry **out,
                                        vs_error *err);

@@ -52,7 +52,8 @@ static inline void vs_plot_to_px(const vs_plot_frame *f, double x, double z, dou
 /* One arch picture: the arch of g in state q with its supports, open joints, hinges, thrust
  * line and the ground of a fall. Plain data; a field left zero (a designated initialiser) is
  * "none" or the nominal arch, so { .g = g, .q = q } draws the bare arch.
- *   - g: the arch (from vs_geometry_create_arch: blocks with phi0/phi1, n_blocks + 1 joints);
+ *   - g: the arch (any geometry whose blocks have outlines, vs_geometry_set_outline, and whose
+ *     first and last joints are on the left and the right support);
  *   - q: 3 n_blocks entries (ux, uz in m, theta in rad per block, as vs_model); NULL: the
  *     reference configuration;
  *   - delta_m, alpha_rad: the right support moved by delta_m along alpha_rad from the vertical,
@@ -66,8 +67,9 @@ static inline void vs_plot_to_px(const vs_plot_frame *f, double x, double z, dou
  *     vs_joint_state: compression > 0, moment about the joint centre > 0 when the extrados
  *     carries more) for the thrust line; either NULL: no thrust line;
  *   - title: drawn on top (NULL or "": none);
- *   - block_thickness: each voussoir's radial thickness, m (n_blocks; NULL: g->thickness), for
- *     an arch whose thickness scatters (the record's imperfections);
+ *   - block_thickness: each voussoir's radial thickness, m (n_blocks; NULL: none), for an arch
+ *     whose thickness scatters (the record's imperfections): checked only, the outlines being
+ *     the geometry's own (vs_imperfections_arch builds them at those thicknesses);
  *   - pinned[s], support_theta[s] (s = 0 left, 1 right): a pinned support's springer, drawn as a
  *     plate under the springing face turned by support_theta (rad, counter-clockwise) about the
  *     pin at the face's centre, and the support's side of that joint turned with it. A fixed
@@ -78,8 +80,8 @@ static inline void vs_plot_to_px(const vs_plot_frame *f, double x, double z, dou
  * Errors of every function taking it: VS_ERR_INVALID for a NULL a or g, a geometry that is not
  * an arch, non-finite q, delta_m or alpha_rad, n_hinges < 0 (or > 0 with NULL hinges), a hinge
  * whose joints are outside 1..n_joints or whose side is not 'I'/'E', a negative open_m, a block
- * thickness outside (0, R), a non-finite springer rotation or a non-zero one on a fixed
- * support (without supports), a non-finite ground_z with has_ground. */
+ * thickness not > 0, a non-finite springer rotation or a non-zero one on a fixed
+ * support, a non-finite ground_z with has_ground. */
 typedef struct {
   const vs_geometry *g;
   const double *q;
@@ -106,7 +108,7 @@ typedef struct {
  * a symbolic link, FIFO, device or directory is refused, never written through) as a PNG or SVG
  * picture of VS_PLOT_ARCH_WIDTH x VS_PLOT_ARCH_HEIGHT at true scale (vs_plot_arch_frame):
  *   - the reference arch faint in the background, each voussoir of state q as a filled polygon
- *     (its intrados and extrados arcs sampled at least every degree, moved rigidly:
+ *     (its outline's curved edges sampled at least every degree, moved rigidly:
  *     x = c + u + R(theta)(X - c));
  *   - the supports: the left fixed; the right moved, its fixed position dashed and an arrow for
  *     the displacement; a pinned one's springer turned;

@@ -21,7 +21,10 @@
 /* ---------------------------------------------------------------------------------------------
  * The table */
 
-typedef enum { KEY_DOUBLE, KEY_INT } key_type;
+/* KEY_TEXT: a char array of VS_ARCH_PATH_MAX bytes; KEY_LIST: an array of
+ * VS_ARCH_MAX_POSITIONS doubles, each in the key's range, strictly increasing, with its count
+ * in the int at count_offset. */
+typedef enum { KEY_DOUBLE, KEY_INT, KEY_TEXT, KEY_LIST } key_type;
 
 typedef struct {
   const char *section;
@@ -36,21 +39,30 @@ typedef struct {
   const char *const *names; /* a named choice: the names of values 0, 1, ... (NULL-terminated),
                                written in the file as names; NULL for a number */
   bool zero_ok; /* 0 is accepted besides the range (a support's rate: 0, at rest) */
+  size_t count_offset; /* KEY_LIST: of its count in vs_case */
 } key_spec;
 
 /* The field's own type picks the storage, so a row cannot write a double into an int. */
 #define FIELD_TYPE(field) _Generic(((vs_case *)0)->field, double: KEY_DOUBLE, int: KEY_INT)
 #define KEY(sec, field, def, lo, lo_in, hi, hi_in, unit, what)                                    \
   {#sec, #field, FIELD_TYPE(field), offsetof(vs_case, field), def, lo, hi, lo_in, hi_in, unit, what, \
-   NULL, false}
+   NULL, false, 0}
 /* A number that may also be 0 ("0 or [lo, hi]"). */
 #define KEY_OR_ZERO(sec, field, def, lo, hi, unit, what)                                          \
   {#sec, #field, KEY_DOUBLE, offsetof(vs_case, field), def, lo, hi, true, true, unit, what, NULL, \
-   true}
+   true, 0}
 /* A named choice stored as an int field: value i is names[i], i in 0 .. (the names) - 1. */
 #define KEY_NAMED(sec, field, def, names, what)                                                 \
   {#sec, #field, KEY_INT, offsetof(vs_case, field), def, 0.0,                                  \
-   (double)(sizeof names / sizeof names[0]) - 2.0, true, true, "", what, names, false}
+   (double)(sizeof names / sizeof names[0]) - 2.0, true, true, "", what, names, false, 0}
+
+/* A file name (KEY_TEXT), and a list of numbers in (lo, hi) with its count field (KEY_LIST). */
+#define KEY_TEXT_ROW(sec, field, what)                                                          \
+  {#sec, #field, KEY_TEXT, offsetof(vs_case, field), 0.0, 0.0, 0.0, true, true, "", what, NULL,  \
+   false, 0}
+#define KEY_LIST_ROW(sec, field, count, lo, hi, what)                                           \
+  {#sec, #field, KEY_LIST, offsetof(vs_case, field), 0.0, lo, hi, false, false, "", what, NULL,  \
+   false, offsetof(vs_case, count)}
 
 /* The names of each named choice, in the order of its enum (def.h), NULL-terminated: one name
  * for every value, checked against the enum's count when this compiles. */
@@ -68,6 +80,13 @@ NAMES_OF(fall_schemes, VS_FALL_SCHEME_COUNT);
 /* fall.solver: vs_fall_solver */
 static const char *const fall_solvers[] = {"nncg", "gauss_seidel", NULL};
 NAMES_OF(fall_solvers, VS_FALL_SOLVER_COUNT);
+/* arch.shape: vs_arch_shape */
+static const char *const arch_shapes[] = {"circular", "pointed", "elliptical", "basket",
+                                          "parabolic", "catenary", "file", NULL};
+NAMES_OF(arch_shapes, VS_SHAPE_COUNT);
+/* arch.joints: vs_joint_cut */
+static const char *const joint_cuts[] = {"normal", "vertical", NULL};
+NAMES_OF(joint_cuts, VS_JOINT_CUT_COUNT);
 
 /* load.kind: vs_load_kind; analysis.type: vs_analysis_type */
 static const char *const load_kinds[] = {"none", "point", "line", "patch", "tilt", NULL};
@@ -96,6 +115,32 @@ static const key_spec keys[] = {
         "Newton tolerance can resolve against the joint stiffness)"),
     KEY(arch, gravity_m_s2, 9.81, 0.1, true, 1000.0, true, "m/s^2",
         "gravitational acceleration (up to 100 g, as in a centrifuge model)"),
+    /* shapes and stereotomy: src/model/shape.c, docs/model.md "Shapes" */
+    KEY_NAMED(arch, shape, 0.0, arch_shapes,
+              "the arch's shape: circular (radius, embrace; or span, rise), pointed (span, "
+              "eccentricity), elliptical, basket, parabolic, catenary (span, rise), or the blocks "
+              "of blocks_file"),
+    KEY(arch, span_mm, 0.0, 0.0, true, LEN_MAX, true, "mm",
+        "intrados span (0: that of radius_mm and embrace_deg)"),
+    KEY(arch, rise_mm, 0.0, 0.0, true, LEN_MAX, true, "mm",
+        "intrados rise (0: that of radius_mm and embrace_deg; a pointed arch's follows from its "
+        "eccentricity)"),
+    KEY(arch, eccentricity, 0.0, 0.0, true, 10.0, true, "",
+        "pointed: each centre's offset from the crown line over the half-span (0 semicircle, 1 "
+        "equilateral)"),
+    KEY(arch, haunch_deg, 60.0, 0.0, false, 90.0, false, "deg",
+        "basket: the angle each haunch arc subtends"),
+    KEY(arch, thickness_springing_mm, 0.0, 0.0, true, LEN_MAX, true, "mm",
+        "thickness at the springings (0: thickness_mm throughout)"),
+    KEY_NAMED(arch, joints, 0.0, joint_cuts,
+              "joints normal to the centre line (radial on a circle) or vertical"),
+    KEY(arch, keystone_mm, 0.0, 0.0, true, LEN_MAX, true, "mm",
+        "the keystone's width along the centre line, across with vertical joints (0: as the "
+        "other voussoirs)"),
+    KEY_LIST_ROW(arch, joint_positions, n_joint_positions, 0.0, 1.0,
+                 "the interior joints at these fractions of the centre line's length, of the "
+                 "span with vertical joints (none: equal voussoirs)"),
+    KEY_TEXT_ROW(arch, blocks_file, "shape = file: the JSON file of blocks"),
     KEY(joints, kn_N_mm3, 3.0, 1e-4, true, 1e4, true, "N/mm^3",
         "normal stiffness k_n (above 1e4 doubles cannot resolve joint forces against a voussoir "
         "weight; below 1e-4 a lab arch sinks by its own thickness under self-weight)"),
@@ -389,16 +434,22 @@ bool vs_case_section_known(const char *section, size_t len) {
   return false;
 }
 
+/* A text or list key's value is not a number: NaN. */
 static double get_value(const vs_case *c, const key_spec *k) {
   const char *p = (const char *)c + k->offset;
+  if (k->type == KEY_TEXT || k->type == KEY_LIST) return NAN;
   return k->type == KEY_INT ? (double)*(const int *)(const void *)p
                             : *(const double *)(const void *)p;
 }
 
-/* v has been range-checked, so the int conversion is exact. */
+/* v has been range-checked, so the int conversion is exact. A text or list key is emptied. */
 static void set_value(vs_case *c, const key_spec *k, double v) {
   char *p = (char *)c + k->offset;
-  if (k->type == KEY_INT)
+  if (k->type == KEY_TEXT)
+    p[0] = '\0';
+  else if (k->type == KEY_LIST)
+    *(int *)(void *)((char *)c + k->count_offset) = 0;
+  else if (k->type == KEY_INT)
     *(int *)(void *)p = (int)v;
   else
     *(double *)(void *)p = v;
@@ -422,6 +473,15 @@ static void append(char *buf, size_t size, const char *s) {
 
 /* "> 0 N/mm^3", "(0, 180] deg", "integer in [1, 20000]" */
 static void range_text(const key_spec *k, char *buf, size_t size) {
+  if (k->type == KEY_TEXT) {
+    snprintf(buf, size, "a file name of at most %d bytes", VS_ARCH_PATH_MAX - 1);
+    return;
+  }
+  if (k->type == KEY_LIST) {
+    snprintf(buf, size, "at most %d numbers in (%g, %g), comma-separated, increasing",
+             VS_ARCH_MAX_POSITIONS, k->min, k->max);
+    return;
+  }
   if (k->names != NULL) {
     snprintf(buf, size, "one of ");
     for (int i = 0; k->names[i] != NULL; i++) {
@@ -493,6 +553,85 @@ static vs_num_status parse_value(const key_spec *k, const char *s, double *out) 
 }
 
 /* ---------------------------------------------------------------------------------------------
+ * Text and lists */
+
+/* A list's items into out (n of them): each a number of the key's open range, increasing. */
+static vs_status parse_items(const key_spec *k, const char *value, double *out, int *n,
+                             const char *where, const char *sec, const char *key,
+                             const char *val, const char *range, vs_error *err) {
+  char item[64];
+  *n = 0;
+  for (const char *p = value; *p != '\0';) {
+    const char *end = strchr(p, ',');
+    const size_t len = end != NULL ? (size_t)(end - p) : strlen(p);
+    double v = 0.0;
+    vs_num_status r = VS_NUM_OK;
+    if (*n == VS_ARCH_MAX_POSITIONS)
+      return vs_error_set(err, VS_ERR_INVALID, "%s: %s.%s = %s: too many numbers (allowed: %s)",
+                          where, sec, key, val, range);
+    if (len >= sizeof item) r = VS_NUM_TRAILING;
+    else {
+      memcpy(item, p, len);
+      item[len] = '\0';
+      char *t = item;
+      while (vs_case_is_blank(*t)) t++;
+      for (size_t e = strlen(t); e > 0 && vs_case_is_blank(t[e - 1]); e--) t[e - 1] = '\0';
+      r = vs_parse_double(t, &v);
+    }
+    if (r == VS_NUM_OK && (!in_range(k, v) || (*n > 0 && !(v > out[*n - 1]))))
+      r = VS_NUM_OUT_OF_RANGE;
+    if (r != VS_NUM_OK)
+      return vs_error_set(err, r == VS_NUM_OUT_OF_RANGE ? VS_ERR_INVALID : VS_ERR_PARSE,
+                          "%s: %s.%s = %s: number %d: %s (allowed: %s)", where, sec, key, val,
+                          *n + 1, r == VS_NUM_OUT_OF_RANGE ? "out of range or not increasing"
+                                                           : vs_num_reason(r), range);
+    out[(*n)++] = v;
+    p = end != NULL ? end + 1 : p + len;
+    if (end != NULL && *p == '\0')
+      return vs_error_set(err, VS_ERR_PARSE, "%s: %s.%s = %s: a comma at the end (allowed: %s)",
+                          where, sec, key, val, range);
+  }
+  return VS_OK;
+}
+
+/* Text a case file's line "key = text" gives back as it is: no control character, no blank at
+ * either end, no ';' or '#' first or after a blank (a comment there). */
+static bool text_writable(const char *s) {
+  const size_t n = strlen(s);
+  if (n > 0 && (vs_case_is_blank(s[0]) || vs_case_is_blank(s[n - 1]))) return false;
+  for (size_t i = 0; i < n; i++) {
+    if ((unsigned char)s[i] < 0x20 || s[i] == 0x7f) return false;
+    if ((s[i] == ';' || s[i] == '#') && (i == 0 || vs_case_is_blank(s[i - 1]))) return false;
+  }
+  return true;
+}
+
+/* A text key takes the value as it is (empty: none); a list key its numbers (empty: none). */
+static vs_status assign_text(vs_case *c, const key_spec *k, const char *value, const char *where,
+                             const char *sec, const char *key, const char *val, const char *range,
+                             vs_error *err) {
+  char *p = (char *)c + k->offset;
+  if (k->type == KEY_TEXT) {
+    if (strlen(value) >= VS_ARCH_PATH_MAX)
+      return vs_error_set(err, VS_ERR_INVALID, "%s: %s.%s = %s: too long (allowed: %s)", where,
+                          sec, key, val, range);
+    if (!text_writable(value))
+      return vs_error_set(err, VS_ERR_INVALID, "%s: %s.%s = %s: a name a case file cannot hold "
+                          "(allowed: %s without control characters, blanks at either end, or "
+                          "';' or '#' first or after a blank)", where, sec, key, val, range);
+    memcpy(p, value, strlen(value) + 1);
+    return VS_OK;
+  }
+  double items[VS_ARCH_MAX_POSITIONS];
+  int n = 0;
+  vs_status st = parse_items(k, value, items, &n, where, sec, key, val, range, err);
+  if (st != VS_OK) return st;
+  memcpy(p, items, (size_t)n * sizeof *items);
+  *(int *)(void *)((char *)c + k->count_offset) = n;
+  return VS_OK;
+}
+
+/* ---------------------------------------------------------------------------------------------
  * One assignment, shared by the file reader and --set. where is "FILE:LINE" or "--set ...".
  * c is written only when the value is accepted. */
 
@@ -529,6 +668,8 @@ vs_status vs_case_assign(vs_case *c, const char *section, const char *name, cons
   char range[96];
   range_text(k, range, sizeof range);
   double v = 0.0;
+  if (k->type == KEY_TEXT || k->type == KEY_LIST)
+    return assign_text(c, k, value, where, sec, key, val, range, err);
   if (k->names != NULL) {
     for (int i = 0; k->names[i] != NULL; i++)
       if (strcmp(value, k->names[i]) == 0) {
@@ -642,17 +783,78 @@ static vs_status validate_analysis(const vs_case *c, vs_error *err) {
   return VS_OK;
 }
 
+/* A text or list key set in code: a terminated text, a list within its range, increasing. */
+static vs_status validate_text(const vs_case *c, const key_spec *k, vs_error *err) {
+  char range[96];
+  range_text(k, range, sizeof range);
+  const char *p = (const char *)c + k->offset;
+  if (k->type == KEY_TEXT) {
+    if (memchr(p, '\0', VS_ARCH_PATH_MAX) != NULL) return VS_OK;
+    return vs_error_set(err, VS_ERR_INVALID, "%s.%s: not terminated (allowed: %s)", k->section,
+                        k->name, range);
+  }
+  const int n = *(const int *)(const void *)((const char *)c + k->count_offset);
+  const double *v = (const double *)(const void *)p;
+  if (n < 0 || n > VS_ARCH_MAX_POSITIONS)
+    return vs_error_set(err, VS_ERR_INVALID, "%s.%s: %d numbers (allowed: %s)", k->section,
+                        k->name, n, range);
+  for (int i = 0; i < n; i++)
+    if (!in_range(k, v[i]) || (i > 0 && !(v[i] > v[i - 1])))
+      return vs_error_set(err, VS_ERR_INVALID, "%s.%s: number %d = %.15g: out of range or not "
+                          "increasing (allowed: %s)", k->section, k->name, i + 1, v[i], range);
+  return VS_OK;
+}
+
+/* The shape keys' relations (docs/case-file.md, "Relations between keys"); what needs the
+ * geometry (a joint that misses the intrados, a keystone wider than the centre line) is the
+ * generator's to refuse. */
+static vs_status validate_shape(const vs_case *c, vs_error *err) {
+  if (c->shape == VS_SHAPE_CIRCULAR && (c->span_mm > 0.0) != (c->rise_mm > 0.0))
+    return vs_error_set(err, VS_ERR_INVALID, "arch.span_mm = %.15g, arch.rise_mm = %.15g: a "
+                        "circular arch takes both or neither (allowed: both > 0, or both 0 for "
+                        "radius_mm and embrace_deg)", c->span_mm, c->rise_mm);
+  if ((c->shape == VS_SHAPE_CIRCULAR || c->shape == VS_SHAPE_BASKET) && c->span_mm > 0.0 &&
+      c->rise_mm > 0.5 * c->span_mm)
+    return vs_error_set(err, VS_ERR_INVALID, "arch.rise_mm = %.15g: must be <= arch.span_mm / 2 "
+                        "= %.15g for arch.shape = %s (allowed: rise_mm <= span_mm / 2)",
+                        c->rise_mm, 0.5 * c->span_mm, arch_shapes[c->shape]);
+  if (c->shape == VS_SHAPE_POINTED && c->rise_mm != 0.0)
+    return vs_error_set(err, VS_ERR_INVALID, "arch.rise_mm = %.15g: a pointed arch's rise follows "
+                        "from its span and arch.eccentricity (allowed: 0)", c->rise_mm);
+  if (c->n_joint_positions > 0 && c->n_joint_positions != c->voussoirs - 1)
+    return vs_error_set(err, VS_ERR_INVALID, "arch.joint_positions: %d positions, arch.voussoirs "
+                        "= %d (allowed: voussoirs - 1 positions)", c->n_joint_positions,
+                        c->voussoirs);
+  if (c->keystone_mm > 0.0 && (c->n_joint_positions > 0 || c->voussoirs % 2 == 0 ||
+                               c->voussoirs < 3))
+    return vs_error_set(err, VS_ERR_INVALID, "arch.keystone_mm = %.15g with arch.voussoirs = %d%s "
+                        "(allowed: an odd number of voussoirs >= 3, no joint_positions)",
+                        c->keystone_mm, c->voussoirs,
+                        c->n_joint_positions > 0 ? " and arch.joint_positions" : "");
+  if (c->shape == VS_SHAPE_FILE && c->blocks_file[0] == '\0')
+    return vs_error_set(err, VS_ERR_INVALID, "arch.shape = file: no arch.blocks_file (allowed: "
+                        "the JSON file of blocks)");
+  return VS_OK;
+}
+
 vs_status vs_case_validate(const vs_case *c, vs_error *err) {
   if (c == NULL) return vs_error_set(err, VS_ERR_INVALID, "vs_case_validate: case is NULL");
   char range[96];
   for (size_t i = 0; i < NKEYS; i++) {
     const key_spec *k = &keys[i];
+    if (k->type == KEY_TEXT || k->type == KEY_LIST) {
+      vs_status st = validate_text(c, k, err);
+      if (st != VS_OK) return st;
+      continue;
+    }
     double v = get_value(c, k);
     if (in_range(k, v)) continue;
     range_text(k, range, sizeof range);
     return vs_error_set(err, VS_ERR_INVALID, "%s.%s = %.15g: out of range (allowed: %s)",
                         k->section, k->name, v, range);
   }
+  vs_status st = validate_shape(c, err);
+  if (st != VS_OK) return st;
   for (size_t i = 0; i < sizeof relations / sizeof relations[0]; i++) {
     const relation *r = &relations[i];
     double lo = get_value(c, find_key(r->lo_section, r->lo_name));
@@ -662,7 +864,7 @@ vs_status vs_case_validate(const vs_case *c, vs_error *err) {
                         r->lo_section, r->lo_name, lo, r->strict ? "<" : "<=", r->hi_section,
                         r->hi_name, hi, r->rule);
   }
-  const vs_status st = supports_validate(c, err);
+  st = supports_validate(c, err);
   return st != VS_OK ? st : validate_analysis(c, err);
 }
 
@@ -677,6 +879,8 @@ vs_status vs_case_check_path(const vs_case *c, const char *command, vs_error *er
 double vs_case_span_mm(const vs_case *c) {
   const double pi = 3.14159265358979323846;
   if (c == NULL) return NAN;
+  if (c->span_mm > 0.0) return c->span_mm;
+  if (c->shape == VS_SHAPE_FILE) return NAN;
   return 2.0 * c->radius_mm * sin(0.5 * c->embrace_deg * pi / 180.0);
 }
 
@@ -709,6 +913,27 @@ static vs_support_path_def path_def(const vs_case_path *p) {
   return d;
 }
 
+int vs_case_key_text(const vs_case *c, int i, char *buf, size_t size) {
+  if (i < 0 || (size_t)i >= NKEYS) return -1;
+  const key_spec *k = &keys[i];
+  if (k->type != KEY_TEXT && k->type != KEY_LIST) return 0;
+  if (size == 0) return 1;
+  const char *p = (const char *)c + k->offset;
+  buf[0] = '\0';
+  if (k->type == KEY_TEXT) {
+    snprintf(buf, size, "%.*s", VS_ARCH_PATH_MAX - 1, p);
+    return 1;
+  }
+  const int n = *(const int *)(const void *)((const char *)c + k->count_offset);
+  const double *v = (const double *)(const void *)p;
+  for (int j = 0; j < n && j < VS_ARCH_MAX_POSITIONS; j++) {
+    char item[32];
+    snprintf(item, sizeof item, "%s%.17g", j > 0 ? "," : "", v[j]);
+    append(buf, size, item);
+  }
+  return 1;
+}
+
 const char *vs_case_key_name_of(int i, int value) {
   if (i < 0 || (size_t)i >= NKEYS || keys[i].names == NULL || value < 0) return NULL;
   for (int v = 0; keys[i].names[v] != NULL; v++)
@@ -726,8 +951,9 @@ int vs_case_key(const vs_case *c, int i, const char **section, const char **key,
   if (unit != NULL) *unit = k->unit;
   if (is_int != NULL) *is_int = k->type == KEY_INT;
   if (value != NULL)
-    *value = k->type == KEY_INT ? (double)*(const int *)(const void *)field
-                                : *(const double *)(const void *)field;
+    *value = k->type == KEY_TEXT || k->type == KEY_LIST ? NAN
+             : k->type == KEY_INT ? (double)*(const int *)(const void *)field
+                                  : *(const double *)(const void *)field;
   return 0;
 }
 
@@ -738,7 +964,18 @@ void vs_case_to_def(const vs_case *c, vs_run_def *d) {
                           .depth = c->depth_mm * VS_MM,
                           .voussoirs = c->voussoirs,
                           .density = c->density_kg_m3,
-                          .gravity = c->gravity_m_s2};
+                          .gravity = c->gravity_m_s2,
+                          .shape = (vs_arch_shape)c->shape,
+                          .span = c->span_mm * VS_MM,
+                          .rise = c->rise_mm * VS_MM,
+                          .eccentricity = c->eccentricity,
+                          .haunch = c->haunch_deg * VS_DEG,
+                          .thickness_springing = c->thickness_springing_mm * VS_MM,
+                          .joints = (vs_joint_cut)c->joints,
+                          .keystone = c->keystone_mm * VS_MM,
+                          .n_positions = c->n_joint_positions};
+  memcpy(d->arch.positions, c->joint_positions, sizeof d->arch.positions);
+  memcpy(d->arch.blocks_file, c->blocks_file, sizeof d->arch.blocks_file);
   d->joints = (vs_joints_def){.kn = c->kn_N_mm3 * VS_N_MM3,
                               .ks = c->ks_ratio * c->kn_N_mm3 * VS_N_MM3,
                               .mu = c->friction};

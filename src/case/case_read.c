@@ -100,6 +100,23 @@ static char *next_line(char *buf, int size, void *stream) {
   return buf;
 }
 
+/* A relative blocks file names a file beside the case file: prefixed with the case's folder. */
+static vs_status relative_to_case(reader_ctx *x, const char *where) {
+  char *file = x->value.blocks_file;
+  const char *slash = strrchr(x->path, '/');
+  if (file[0] == '\0' || file[0] == '/' || slash == NULL) return VS_OK;
+  const size_t dir = (size_t)(slash - x->path) + 1, len = strlen(file);
+  if (dir + len >= sizeof x->value.blocks_file) {
+    vs_case_echo b;
+    return vs_error_set(x->err, VS_ERR_INVALID, "%s: arch.blocks_file = %s: too long beside the "
+                        "case file (allowed: a file name of at most %d bytes with its folder)",
+                        where, vs_case_clip(file, &b), VS_ARCH_PATH_MAX - 1);
+  }
+  memmove(file + dir, file, len + 1);
+  memcpy(file, x->path, dir);
+  return VS_OK;
+}
+
 static int on_pair_at_line(reader_ctx *x, const char *section, const char *name,
                            const char *value) {
   if (x->error_line > 0) return 0;
@@ -115,6 +132,8 @@ static int on_pair_at_line(reader_ctx *x, const char *section, const char *name,
                       section, name);
   else
     st = vs_case_assign(&x->value, section, name, value, where, x->err);
+  if (st == VS_OK && strcmp(section, "arch") == 0 && strcmp(name, "blocks_file") == 0)
+    st = relative_to_case(x, where);
   if (st == VS_OK) return 1;
   x->error_line = x->lineno;
   x->status = st;
@@ -217,6 +236,26 @@ vs_status vs_case_parse(vs_case *c, const char *name, const char *text, size_t l
   return st;
 }
 
+/* A blocks file the case file names by a relative name (beside the case file, whose own name
+ * may be relative): made absolute from the working directory, so that a record's copy of the
+ * case still finds it from elsewhere. */
+static vs_status absolute(vs_case *c, const char *path, vs_error *err) {
+  char cwd[VS_ARCH_PATH_MAX];
+  if (c->blocks_file[0] == '/' || c->blocks_file[0] == '\0') return VS_OK;
+  const size_t len = strlen(c->blocks_file);
+  if (getcwd(cwd, sizeof cwd) == NULL || strlen(cwd) + 1 + len >= sizeof c->blocks_file) {
+    vs_case_echo b;
+    return vs_error_set(err, VS_ERR_INVALID, "%s: arch.blocks_file = %s: too long with the "
+                        "working directory before it (allowed: a file name of at most %d bytes)",
+                        path, vs_case_clip(c->blocks_file, &b), VS_ARCH_PATH_MAX - 1);
+  }
+  const size_t dir = strlen(cwd);
+  memmove(c->blocks_file + dir + 1, c->blocks_file, len + 1);
+  memcpy(c->blocks_file, cwd, dir);
+  c->blocks_file[dir] = '/';
+  return VS_OK;
+}
+
 vs_status vs_case_read(vs_case *c, const char *path, char **text_out, vs_error *err) {
   if (text_out != NULL) *text_out = NULL;
   if (c == NULL || path == NULL)
@@ -224,7 +263,10 @@ vs_status vs_case_read(vs_case *c, const char *path, char **text_out, vs_error *
   char *text = NULL;
   size_t len = 0;
   vs_status st = read_text(path, &text, &len, err);
-  if (st == VS_OK) st = vs_case_parse(c, path, text, len, err);
+  vs_case v = *c;
+  if (st == VS_OK) st = vs_case_parse(&v, path, text, len, err);
+  if (st == VS_OK && strcmp(v.blocks_file, c->blocks_file) != 0) st = absolute(&v, path, err);
+  if (st == VS_OK) *c = v;
   if (st != VS_OK) {
     free(text);
     return st;

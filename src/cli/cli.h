@@ -3,7 +3,8 @@
  * the same everywhere, every command answers -h/--help with its own usage, and an unknown
  * option, a missing value or an extra operand is refused the same way (exit status 2, the
  * culprit named). One file per command or group of commands: cli_run.c (run), cli_sweep.c
- * (sweep, calibrate), cli_montecarlo.c (montecarlo, merge), cli_plot.c (plot); cli_main.c
+ * (sweep, calibrate), cli_montecarlo.c (montecarlo, merge), cli_plot.c (plot), cli_blocks.c
+ * (blocks); cli_main.c
  * dispatches. The commands' bodies stay where they were (sweep.c, calibrate.c,
  * montecarlo_cmd.c, plot_cmd.c) and receive the parsed options. */
 #ifndef VS_CLI_H
@@ -70,5 +71,6 @@ int vs_cli_calibrate(int argc, char **argv);
 int vs_cli_montecarlo(int argc, char **argv);
 int vs_cli_merge(int argc, char **argv);
 int vs_cli_plot(int argc, char **argv);
+int vs_cli_blocks(int argc, char **argv);
 
 #endif

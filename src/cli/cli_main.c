@@ -17,6 +17,7 @@ static const char *USAGE =
     "       voussoir montecarlo CASE --samples N [...]         (voussoir montecarlo --help)\n"
     "       voussoir merge DIR... -o OUT                       (voussoir merge --help)\n"
     "       voussoir plot RUN.h5 [-o DIR] [--svg]              (voussoir plot --help)\n"
+    "       voussoir blocks CASE [-o FILE]                     (voussoir blocks --help)\n"
     "       voussoir --help | --version\n"
     "\n"
     "Simulates a masonry arch of rigid voussoirs on dry, no-tension, frictional, elastic joints\n"
@@ -47,6 +48,7 @@ static int dispatch(int argc, char **argv, int *h5_clean) {
   if (strcmp(cmd, "montecarlo") == 0) return vs_cli_montecarlo(argc, argv);
   if (strcmp(cmd, "merge") == 0) return vs_cli_merge(argc, argv);
   if (strcmp(cmd, "plot") == 0) return vs_cli_plot(argc, argv);
+  if (strcmp(cmd, "blocks") == 0) return vs_cli_blocks(argc, argv);
   fprintf(stderr, "voussoir: unknown command '%s'\n%s", vs_q(cmd).s, USAGE);
   return VS_EXIT_BAD_INPUT;
 }

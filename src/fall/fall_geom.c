@@ -115,6 +115,10 @@ vs_status vs_fall_geom_init(vs_fall *f, const int *count, const double *xz, vs_e
   if (count == NULL) {
     own = calloc((size_t)f->nb, sizeof *own);
     const int nv = vs_collide_arch_outlines(g, own, NULL);
+    if (nv < 0) {
+      free(own);
+      return vs_error_set(err, VS_ERR_INVALID, "fall: a block's outline cannot be made convex");
+    }
     oxz = malloc((size_t)(2 * nv + 1) * sizeof *oxz);
     if (own == NULL || oxz == NULL) {
       free(own), free(oxz);

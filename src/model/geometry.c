@@ -1,7 +1,7 @@
-/* Block-assembly geometry and the segmental circular arch builder: exact annular-sector
- * properties, radial joints, joint k between voussoir k-1 and voussoir k. */
+/* Block-assembly geometry: creation, destruction, weight (the arch builder is arch.c). */
 #include "voussoir/geometry.h"
 
+#include "outline.h"
 #include "voussoir/units.h"
 
 #include <math.h>
@@ -31,6 +31,8 @@ void vs_geometry_destroy(vs_geometry **g) {
   if (g == NULL || *g == NULL) return;
   free((*g)->blocks);
   free((*g)->joints);
+  free((*g)->edges);
+  free((*g)->supports);
   free(*g);
   *g = NULL;
 }
@@ -39,51 +41,4 @@ double vs_geometry_weight(const vs_geometry *g) {
   double m = 0.0;
   for (int i = 0; i < g->n_blocks; i++) m += g->blocks[i].mass;
   return m * g->gravity;
-}
-
-/* Annular sector ri..re over the angle phi0..phi1 (from the crown, clockwise positive). */
-static void sector_block(double ri, double re, double phi0, double phi1, double rho_b,
-                         vs_block *blk) {
-  double dphi = phi1 - phi0, half = 0.5 * dphi, mid = 0.5 * (phi0 + phi1);
-  double area = half * (re * re - ri * ri);
-  double rc = (2.0 / 3.0) * (re * re * re - ri * ri * ri) / (re * re - ri * ri) * sin(half) / half;
-  double jo = dphi * (pow(re, 4) - pow(ri, 4)) / 4.0; /* polar second moment about the centre */
-  blk->area = area;
-  blk->mass = rho_b * area;
-  blk->inertia = rho_b * (jo - area * rc * rc);
-  blk->cx = rc * sin(mid);
-  blk->cz = rc * cos(mid);
-  blk->phi0 = phi0;
-  blk->phi1 = phi1;
-}
-
-vs_status vs_geometry_create_arch(const vs_arch_def *a, vs_geometry **out, vs_error *err) {
-  const int n = a->voussoirs;
-  vs_status st = vs_geometry_create(n, n + 1, out, err);
-  if (st != VS_OK) return st;
-  vs_geometry *g = *out;
-  const double ri = a->radius, t = a->thickness, b = a->depth;
-  const double beta = 0.5 * a->embrace, dphi = 2.0 * beta / n;
-  g->radius = ri;
-  g->thickness = t;
-  g->embrace = 2.0 * beta;
-  g->span = 2.0 * ri * sin(beta);
-  g->rise = ri * (1.0 - cos(beta));
-  g->gravity = a->gravity;
-  for (int i = 0; i < n; i++)
-    sector_block(ri, ri + t, -beta + i * dphi, -beta + (i + 1) * dphi, a->density * b,
-                 &g->blocks[i]);
-  for (int k = 0; k <= n; k++) {
-    double phi = -beta + k * dphi, rm = ri + 0.5 * t;
-    vs_joint_geom *j = &g->joints[k];
-    j->a = (k == 0) ? VS_SUPPORT_LEFT : k - 1;
-    j->b = (k == n) ? VS_SUPPORT_RIGHT : k;
-    j->px = rm * sin(phi);
-    j->pz = rm * cos(phi);
-    j->nx = cos(phi);
-    j->nz = -sin(phi);
-    j->length = t;
-    j->depth = b;
-  }
-  return VS_OK;
 }

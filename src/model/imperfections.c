@@ -2,6 +2,9 @@
  * to the arch's geometry and the joint laws (see include/voussoir/imperfections.h). */
 #include "voussoir/imperfections.h"
 
+#include "outline.h"
+#include "shape.h"
+
 #include "voussoir/units.h"
 
 #include <math.h>
@@ -57,11 +60,25 @@ void vs_imperfections_destroy(vs_imperfections **p) {
   *p = NULL;
 }
 
-/* k_n factors: lognormal over an Ornstein-Uhlenbeck (or white) normal field along the arch. */
-static void draw_kn(const vs_imperfection_def *d, const vs_arch_def *a, vs_imperfections *p) {
+/* The joints' mean spacing along the centre line, m: the circle's closed form, else the
+ * shape's centre line over the voussoirs (a blocks file: 0, its joints independent). */
+static vs_status joint_spacing(const vs_arch_def *a, double *ds, vs_error *err) {
+  if (a->shape == VS_SHAPE_CIRCULAR && a->span == 0.0 && a->rise == 0.0) {
+    const double dphi = a->embrace / a->voussoirs;
+    *ds = (a->radius + 0.5 * a->thickness) * dphi;
+    return VS_OK;
+  }
+  *ds = 0.0;
+  if (a->shape == VS_SHAPE_FILE) return VS_OK;
+  vs_status st = vs_shape_centre_length(a, ds, err);
+  *ds /= a->voussoirs;
+  return st;
+}
+
+/* k_n factors: lognormal over an Ornstein-Uhlenbeck (or white) normal field along the arch
+ * (joints ds apart, m). */
+static void draw_kn(const vs_imperfection_def *d, double ds, vs_imperfections *p) {
   const uint64_t seed = (uint64_t)d->seed, smp = (uint64_t)d->sample;
-  const double dphi = a->embrace / a->voussoirs;
-  const double ds = (a->radius + 0.5 * a->thickness) * dphi; /* joint spacing, m */
   const double rho = d->kn_corr > 0.0 ? exp(-ds / d->kn_corr) : 0.0;
   double z = 0.0;
   for (int k = 0; k < p->n_joints; k++) {
@@ -73,9 +90,16 @@ static void draw_kn(const vs_imperfection_def *d, const vs_arch_def *a, vs_imper
 
 vs_status vs_imperfections_draw(const vs_imperfection_def *d, const vs_arch_def *a,
                                 vs_imperfections **out, vs_error *err) {
+  return vs_imperfections_draw_counts(d, a, a->voussoirs, a->voussoirs + 1, out, err);
+}
+
+vs_status vs_imperfections_draw_counts(const vs_imperfection_def *d, const vs_arch_def *a,
+                                       int nb, int nj, vs_imperfections **out, vs_error *err) {
   *out = NULL;
+  if (nb < 1 || nj < 1)
+    return vs_error_set(err, VS_ERR_INVALID, "imperfections: %d blocks, %d joints (allowed: >= 1 "
+                        "each)", nb, nj);
   vs_imperfections *p = calloc(1, sizeof *p);
-  const int nb = a->voussoirs, nj = a->voussoirs + 1;
   if (p != NULL) {
     p->n_joints = nj;
     p->n_blocks = nb;
@@ -90,7 +114,13 @@ vs_status vs_imperfections_draw(const vs_imperfection_def *d, const vs_arch_def 
     return vs_error_set(err, VS_ERR_NOMEM, "imperfections: out of memory");
   }
   const uint64_t seed = (uint64_t)d->seed, smp = (uint64_t)d->sample;
-  draw_kn(d, a, p);
+  double ds = 0.0;
+  vs_status st = d->kn_corr > 0.0 ? joint_spacing(a, &ds, err) : VS_OK;
+  if (st != VS_OK) {
+    vs_imperfections_destroy(&p);
+    return st;
+  }
+  draw_kn(d, ds, p);
   for (int k = 0; k < nj; k++)
     p->face_gap[k] =
         d->face > 0.0 ? d->face * vs_rng_normal(seed, smp, STREAM_FACE, (uint64_t)k) : 0.0;
@@ -117,26 +147,39 @@ vs_status vs_imperfections_draw(const vs_imperfection_def *d, const vs_arch_def 
   return VS_OK;
 }
 
-/* Annular sector ri..re over phi0..phi1 (from the crown, clockwise): as in geometry.c. */
-static void sector(double ri, double re, double phi0, double phi1, double rho_b, vs_block *blk) {
-  const double dphi = phi1 - phi0, half = 0.5 * dphi, mid = 0.5 * (phi0 + phi1);
-  const double area = half * (re * re - ri * ri);
-  const double rc =
-      (2.0 / 3.0) * (re * re * re - ri * ri * ri) / (re * re - ri * ri) * sin(half) / half;
-  const double jo = dphi * (pow(re, 4) - pow(ri, 4)) / 4.0;
-  blk->area = area;
-  blk->mass = rho_b * area;
-  blk->inertia = rho_b * (jo - area * rc * rc);
-  blk->cx = rc * sin(mid);
-  blk->cz = rc * cos(mid);
-  blk->phi0 = phi0;
-  blk->phi1 = phi1;
+/* Any shape but the circle of equal sectors: the generator, each voussoir's length along the
+ * centre line scaled by its drawn angle over the nominal one and its thickness by its drawn
+ * thickness over the nominal one. */
+static vs_status scattered_shape(const vs_imperfection_def *d, const vs_arch_def *a,
+                                 const vs_imperfections *imp, vs_geometry **out, vs_error *err) {
+  const int n = a->voussoirs;
+  double *size = malloc((size_t)n * sizeof *size), *thick = malloc((size_t)n * sizeof *thick);
+  vs_status st = size != NULL && thick != NULL ? VS_OK
+                                               : vs_error_set(err, VS_ERR_NOMEM, "imperfections: out of memory");
+  for (int i = 0; st == VS_OK && i < n; i++) {
+    size[i] = imp->angle[i] / (a->embrace / n);
+    thick[i] = imp->thickness[i] / a->thickness;
+    if (!(size[i] > 0.0))
+      st = vs_error_set(err, VS_ERR_INVALID, "imperfections.angle_cov = %g: voussoir %d of sample "
+                        "%d drawn %g times its size (allowed: > 0; lower the CoV)", d->angle_cov,
+                        i + 1, d->sample, size[i]);
+  }
+  if (st == VS_OK) st = vs_shape_build(a, size, thick, out, err);
+  free(size), free(thick);
+  return st;
 }
 
 vs_status vs_imperfections_arch(const vs_imperfection_def *d, const vs_arch_def *a,
                                 const vs_imperfections *imp, vs_geometry **out, vs_error *err) {
+  const int scattered = d->angle_cov != 0.0 || d->thickness_cov != 0.0;
+  if (scattered && a->shape == VS_SHAPE_FILE)
+    return vs_error_set(err, VS_ERR_INVALID, "imperfections.angle_cov = %g, thickness_cov = %g: "
+                        "a blocks file's blocks are as drawn (allowed: 0 with arch.shape = file)",
+                        d->angle_cov, d->thickness_cov);
+  if (scattered && (!vs_shape_is_sectors(a) || a->n_positions > 0 || a->keystone > 0.0))
+    return scattered_shape(d, a, imp, out, err);
   vs_status st = vs_geometry_create_arch(a, out, err);
-  if (st != VS_OK || (d->angle_cov == 0.0 && d->thickness_cov == 0.0)) return st;
+  if (st != VS_OK || !scattered) return st;
   vs_geometry *g = *out;
   const int n = g->n_blocks;
   const double ri = g->radius, beta = 0.5 * g->embrace, dphi = g->embrace / n;
@@ -151,7 +194,9 @@ vs_status vs_imperfections_arch(const vs_imperfection_def *d, const vs_arch_def 
     }
     dev += imp->angle[i] - dphi;
     const double phi1 = i == n - 1 ? beta : -beta + (i + 1) * dphi + dev;
-    sector(ri, ri + imp->thickness[i], phi0, phi1, a->density * a->depth, &g->blocks[i]);
+    vs_sector_block(ri, ri + imp->thickness[i], phi0, phi1, a->density * a->depth, &g->blocks[i]);
+    vs_sector_edges(ri, ri + imp->thickness[i], phi0, phi1, i, i + 1,
+                    g->edges + g->blocks[i].edge0);
     phi0 = phi1;
   }
   for (int k = 0; k <= n; k++) {

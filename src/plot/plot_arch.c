@@ -47,7 +47,7 @@ static void model_path(cairo_t *cr, const vs_plot_frame *f, const double *x, con
 static void draw_blocks(cairo_t *cr, const arch_data *d, const double *q, int faint) {
   static const vs_rgb stone[2] = {{0.85, 0.69, 0.48}, {0.79, 0.60, 0.38}};
   static const vs_rgb ref_fill = {0.93, 0.93, 0.93}, ref_line = {0.72, 0.72, 0.72};
-  double x[2 * ARC_MAX], z[2 * ARC_MAX];
+  double x[OUTLINE_MAX], z[OUTLINE_MAX];
   cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
   for (int i = 0; i < d->g->n_blocks; i++) {
     model_path(cr, &d->f, x, z, vs_plot_block_outline(d->g, q, d->thick, i, x, z));
@@ -79,7 +79,7 @@ static void ground(cairo_t *cr, const vs_plot_frame *f, double xa, double xb, do
 /* A pinned support's springer: a plate under the springing face, turned with it about the pin
  * at the face's centre (drawn as a ring). */
 static void draw_springer(cairo_t *cr, const arch_data *d, int left) {
-  const vs_joint_geom *j = &d->g->joints[left ? 0 : d->g->n_joints - 1];
+  const vs_joint_geom *j = &d->g->joints[vs_geometry_springing(d->g, !left)];
   const int body = left ? VS_SUPPORT_LEFT : VS_SUPPORT_RIGHT;
   const double in = left ? -1.0 : 1.0, h = 0.6 * d->g->thickness; /* into the support */
   double e[4], X[4], Z[4], x[4], z[4];
@@ -129,10 +129,41 @@ static void draw_ground(cairo_t *cr, const arch_data *d) {
   vs_plot_text_at(cr, "ground", d->f.width - ARCH_SIDE, py + 4.0, 1.0, 0.0, C_TEXT, 0);
 }
 
+/* A blocks file's supports: each polygon, the right support's dashed where it was and drawn
+ * where it went. */
+static void draw_support_polygons(cairo_t *cr, const arch_data *d) {
+  double x[OUTLINE_MAX], z[OUTLINE_MAX];
+  const double zero[4] = {0.0, 0.0, 0.0, 0.0}, dash[2] = {6.0, 4.0};
+  for (int pass = 0; pass < 2; pass++)
+    for (int s = 0; s < d->g->n_supports; s++) {
+      const int moved = d->g->supports[s].body == VS_SUPPORT_RIGHT;
+      if (pass == 0 && !moved) continue;
+      model_path(cr, &d->f, x, z, vs_plot_support_polygon(d->g, s, pass ? d->su : zero,
+                                                           pass ? d->srot : NULL, x, z));
+      if (pass == 0) {
+        cairo_set_source_rgb(cr, 0.55, 0.55, 0.55);
+        cairo_set_line_width(cr, 1.0);
+        cairo_set_dash(cr, dash, 2, 0.0);
+        cairo_stroke(cr);
+        cairo_set_dash(cr, NULL, 0, 0.0);
+        continue;
+      }
+      cairo_set_source_rgb(cr, 0.70, 0.70, 0.70);
+      cairo_fill_preserve(cr);
+      cairo_set_source_rgb(cr, 0.25, 0.25, 0.25);
+      cairo_set_line_width(cr, 1.2);
+      cairo_stroke(cr);
+    }
+}
+
 static void draw_supports(cairo_t *cr, const arch_data *d) {
   double x[SUPPORT_PTS], z[SUPPORT_PTS];
-  const double zero[2] = {0.0, 0.0};
+  const double zero[4] = {0.0, 0.0, 0.0, 0.0};
   const double dash[2] = {6.0, 4.0};
+  if (d->g->n_supports > 0) {
+    draw_support_polygons(cr, d);
+    return;
+  }
   /* the right support's fixed position, dashed, under everything (and the left one's if it
    * moves) */
   for (int left = 0; left < 2; left++) {
@@ -160,7 +191,7 @@ static void draw_supports(cairo_t *cr, const arch_data *d) {
 /* The arrow of each support's displacement, from the fixed face centre to the moved one. */
 static void draw_support_arrow(cairo_t *cr, const arch_data *d) {
   for (int s = 1; s >= 0; s--) {
-    const vs_joint_geom *j = &d->g->joints[s ? d->g->n_joints - 1 : 0];
+    const vs_joint_geom *j = &d->g->joints[vs_geometry_springing(d->g, s)];
     double ax, ay, bx, by;
     vs_plot_to_px(&d->f, j->px, j->pz, &ax, &ay);
     vs_plot_to_px(&d->f, j->px + d->su[2 * s], j->pz + d->su[2 * s + 1], &bx, &by);
@@ -418,8 +449,8 @@ static vs_status arch_data_of(const vs_plot_arch_args *a, arch_data *d, vs_error
   if (!(a->open_m >= 0.0))
     return vs_error_set(err, VS_ERR_INVALID, "plot: open = %g m (allowed: >= 0)", a->open_m);
   for (int i = 0; a->block_thickness != NULL && i < g->n_blocks; i++)
-    if (!(a->block_thickness[i] > 0.0 && a->block_thickness[i] < g->radius))
-      return vs_error_set(err, VS_ERR_INVALID, "plot: block %d thickness %g m (allowed: (0, R))",
+    if (!(a->block_thickness[i] > 0.0 && isfinite(a->block_thickness[i])))
+      return vs_error_set(err, VS_ERR_INVALID, "plot: block %d thickness %g m (allowed: > 0)",
                           i + 1, a->block_thickness[i]);
   for (int i = 0; a->supports != NULL && i < 6; i++)
     if (!isfinite(a->supports[i]))

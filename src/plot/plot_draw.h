@@ -43,7 +43,7 @@ void vs_plot_arrow(cairo_t *cr, double x0, double y0, double x1, double y1, doub
 double vs_plot_nice_step(double range, int target);
 
 /* The arch's geometry in model coordinates, m (plot_frame.c) */
-enum { ARC_MAX = 182 }; /* points per arc: one per degree over at most 180 degrees, plus one */
+enum { OUTLINE_MAX = 2048 }; /* points of a block's outline (one per degree of its curves) */
 enum { SUPPORT_PTS = 5 };
 enum { ARCH_SIDE = 50, ARCH_TOP = 95, ARCH_BOTTOM = 75 }; /* margins, px */
 
@@ -55,15 +55,20 @@ void vs_plot_body_point(const vs_geometry *g, const double *q, const double su[4
                         const double *srot, int body, double X, double Z, double *x, double *z);
 /* Reference ends of joint j: intrados (eta = 0) and extrados (eta = length). */
 void vs_plot_joint_ends(const vs_joint_geom *j, double e[4]);
-/* Outline of block i moved by q (NULL: reference): the intrados arc phi0 -> phi1, then the
- * extrados arc back, at the block's own thickness thick[i] (NULL: the geometry's). x, z hold 2
- * ARC_MAX points; returns the number written. */
+/* Outline of block i moved by q (NULL: reference): its outline (vs_block_outline) with a point
+ * at least every degree of a curved edge, at the block's own thickness (thick is not used). x,
+ * z hold OUTLINE_MAX points; returns the number written. */
 int vs_plot_block_outline(const vs_geometry *g, const double *q, const double *thick, int i,
                           double *x, double *z);
 /* A skewback abutment under the springing face of the left (left = 1) or right support,
  * translated by u. Returns SUPPORT_PTS. */
 int vs_plot_support_outline(const vs_geometry *g, int left, const double u[2], double *x,
                             double *z);
+/* A blocks file's support polygon s (geometry.h: g->supports[s]) moved as its body: the right
+ * support by su, a pinned one turned by srot (NULL: none) as vs_plot_body_point. x, z hold
+ * OUTLINE_MAX points; returns the number written. */
+int vs_plot_support_polygon(const vs_geometry *g, int s, const double su[4], const double *srot,
+                            double *x, double *z);
 /* The arguments every arch picture checks (geometry, state, delta, alpha). */
 vs_status vs_plot_check_arch(const vs_geometry *g, const double *q, double delta, double alpha,
                              vs_error *err);

@@ -17,7 +17,7 @@ void vs_plot_body_point(const vs_geometry *g, const double *q, const double su[4
     const int moved = body == VS_SUPPORT_RIGHT;
     const double th = body < 0 && srot != NULL ? srot[moved] : 0.0;
     if (th != 0.0) { /* a pinned springer turns about the centre of its springing face */
-      const vs_joint_geom *j = &g->joints[moved ? g->n_joints - 1 : 0];
+      const vs_joint_geom *j = &g->joints[vs_geometry_springing(g, moved)];
       const double c = cos(th), s = sin(th), dx = X - j->px, dz = Z - j->pz;
       X = j->px + c * dx - s * dz;
       Z = j->pz + s * dx + c * dz;
@@ -43,27 +43,20 @@ void vs_plot_joint_ends(const vs_joint_geom *j, double e[4]) {
   e[3] = j->pz + h * sz;
 }
 
-static int arc_points(double dphi) {
-  int m = (int)ceil(fabs(dphi) / VS_DEG - 1e-9) + 1;
-  if (m < 2) m = 2;
-  return m > ARC_MAX ? ARC_MAX : m;
-}
-
-/* Outline of block i moved by q (NULL: reference): the intrados arc phi0 -> phi1, then the
- * extrados arc back, at the block's own thickness thick[i] (NULL: the geometry's). x, z hold 2
- * ARC_MAX points; returns the number written. */
+/* Outline of block i moved by q (NULL: reference): vs_block_outline with a point at least every
+ * degree of each curved edge (for an arch voussoir the intrados arc phi0 -> phi1, then the
+ * extrados arc back). The outline is the geometry's own, each block at its own thickness (thick
+ * is not used: vs_imperfections_arch builds a scattered arch's outlines). x, z hold
+ * OUTLINE_MAX points; returns the number written. */
 int vs_plot_block_outline(const vs_geometry *g, const double *q, const double *thick, int i,
                           double *x, double *z) {
-  const vs_block *b = &g->blocks[i];
-  const double r[2] = {g->radius, g->radius + (thick != NULL ? thick[i] : g->thickness)};
+  (void)thick;
+  double xz[2 * OUTLINE_MAX];
   const double su[4] = {0.0, 0.0, 0.0, 0.0};
-  int m = arc_points(b->phi1 - b->phi0), k = 0;
-  for (int side = 0; side < 2; side++)
-    for (int p = 0; p < m; p++, k++) {
-      double f = (double)(side ? m - 1 - p : p) / (m - 1);
-      double phi = b->phi0 + f * (b->phi1 - b->phi0);
-      vs_plot_body_point(g, q, su, NULL, i, r[side] * sin(phi), r[side] * cos(phi), &x[k], &z[k]);
-    }
+  int k = vs_block_outline(g, i, 2, VS_DEG, xz, OUTLINE_MAX);
+  if (k > OUTLINE_MAX) k = OUTLINE_MAX;
+  for (int p = 0; p < k; p++)
+    vs_plot_body_point(g, q, su, NULL, i, xz[2 * p], xz[2 * p + 1], &x[p], &z[p]);
   return k;
 }
 
@@ -73,7 +66,7 @@ int vs_plot_block_outline(const vs_geometry *g, const double *q, const double *t
 int vs_plot_support_outline(const vs_geometry *g, int left, const double u[2], double *x,
                             double *z) {
   double e[4];
-  vs_plot_joint_ends(&g->joints[left ? 0 : g->n_joints - 1], e);
+  vs_plot_joint_ends(&g->joints[vs_geometry_springing(g, !left)], e);
   const double t = g->thickness, out = (e[2] < e[0]) ? -1.0 : 1.0;
   const double xo = e[2] + out * 1.5 * t, zb = e[1] - 2.0 * t;
   const double px[SUPPORT_PTS] = {e[0], e[2], xo, xo, e[0]};
@@ -82,20 +75,30 @@ int vs_plot_support_outline(const vs_geometry *g, int left, const double u[2], d
   return SUPPORT_PTS;
 }
 
+int vs_plot_support_polygon(const vs_geometry *g, int s, const double su[4], const double *srot,
+                            double *x, double *z) {
+  const vs_support_outline *o = &g->supports[s];
+  const int n = o->n_edges < OUTLINE_MAX ? o->n_edges : OUTLINE_MAX;
+  for (int k = 0; k < n; k++) {
+    const vs_edge *e = &g->edges[o->edge0 + k];
+    vs_plot_body_point(g, NULL, su, srot, o->body, e->x0, e->z0, &x[k], &z[k]);
+  }
+  return n;
+}
+
 vs_status vs_plot_check_arch(const vs_geometry *g, const double *q, double delta, double alpha,
                              vs_error *err) {
   if (g == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no geometry");
-  if (!(g->radius > 0.0 && g->thickness > 0.0) || g->n_blocks < 1 ||
-      g->n_joints != g->n_blocks + 1 || g->joints[0].a != VS_SUPPORT_LEFT ||
-      g->joints[g->n_blocks].b != VS_SUPPORT_RIGHT)
+  if (!(g->thickness > 0.0) || g->n_blocks < 1 || g->n_joints < 2 ||
+      g->joints[0].a != VS_SUPPORT_LEFT ||
+      g->joints[vs_geometry_springing(g, 1)].b != VS_SUPPORT_RIGHT)
     return vs_error_set(err, VS_ERR_INVALID,
-                        "plot: the geometry is not an arch (radius, thickness, n + 1 joints)");
-  for (int i = 0; i < g->n_blocks; i++) {
-    double d = g->blocks[i].phi1 - g->blocks[i].phi0;
-    if (!(d > 0.0 && d <= VS_PI + 1e-9))
-      return vs_error_set(err, VS_ERR_INVALID, "plot: block %d spans %g rad (allowed: (0, pi])",
-                          i + 1, d);
-  }
+                        "plot: the geometry is not an arch (thickness, joints 1 and n on the "
+                        "left and right supports)");
+  for (int i = 0; i < g->n_blocks; i++)
+    if (g->blocks[i].n_edges < 1)
+      return vs_error_set(err, VS_ERR_INVALID, "plot: block %d has no outline (allowed: an "
+                          "outline, vs_geometry_set_outline)", i + 1);
   if (!isfinite(delta) || !isfinite(alpha))
     return vs_error_set(err, VS_ERR_INVALID, "plot: delta = %g m, alpha = %g rad: not finite",
                         delta, alpha);
@@ -120,17 +123,23 @@ static void box_add(box *b, const double *x, const double *z, int n) {
 
 void vs_plot_frame_of(const vs_geometry *g, const double *q, const double *thick,
                       const double su[4], double ground, vs_plot_frame *f) {
-  double x[2 * ARC_MAX], z[2 * ARC_MAX];
-  const double zero[2] = {0.0, 0.0};
+  double x[OUTLINE_MAX], z[OUTLINE_MAX];
+  const double zero[4] = {0.0, 0.0, 0.0, 0.0};
   box b = {INFINITY, -INFINITY, INFINITY, -INFINITY};
   for (int i = 0; i < g->n_blocks; i++) {
     box_add(&b, x, z, vs_plot_block_outline(g, NULL, thick, i, x, z));
     if (q != NULL) box_add(&b, x, z, vs_plot_block_outline(g, q, thick, i, x, z));
   }
-  box_add(&b, x, z, vs_plot_support_outline(g, 1, zero, x, z));
-  box_add(&b, x, z, vs_plot_support_outline(g, 0, zero, x, z));
-  box_add(&b, x, z, vs_plot_support_outline(g, 0, su + 2, x, z));
-  box_add(&b, x, z, vs_plot_support_outline(g, 1, su, x, z));
+  for (int s = 0; s < g->n_supports; s++) {
+    box_add(&b, x, z, vs_plot_support_polygon(g, s, zero, NULL, x, z));
+    box_add(&b, x, z, vs_plot_support_polygon(g, s, su, NULL, x, z));
+  }
+  if (g->n_supports == 0) {
+    box_add(&b, x, z, vs_plot_support_outline(g, 1, zero, x, z));
+    box_add(&b, x, z, vs_plot_support_outline(g, 0, zero, x, z));
+    box_add(&b, x, z, vs_plot_support_outline(g, 0, su + 2, x, z));
+    box_add(&b, x, z, vs_plot_support_outline(g, 1, su, x, z));
+  }
   if (isfinite(ground)) box_add(&b, &b.x0, &ground, 1);
   const int w = VS_PLOT_ARCH_WIDTH, h = VS_PLOT_ARCH_HEIGHT;
   const double aw = w - 2.0 * ARCH_SIDE, ah = h - ARCH_TOP - ARCH_BOTTOM;

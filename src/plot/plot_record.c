@@ -14,23 +14,53 @@
 #include "voussoir/model.h"
 #include "voussoir/units.h"
 
+/* The case key section.name's index in the table, or -1. */
+static int key_index(const vs_case *c, const char *section, const char *name) {
+  const char *s = NULL, *k = NULL;
+  for (int i = 0; vs_case_key(c, i, &s, &k, NULL, NULL, NULL) == 0; i++)
+    if (strcmp(s, section) == 0 && strcmp(k, name) == 0) return i;
+  return -1;
+}
+
+/* Attribute a's value as a case file writes it into buf: a string as it is, a named choice's
+ * number as its name, a number in full. 0, or -1 when it is none of these. */
+static int attr_value(hid_t a, int key, char *buf, size_t size) {
+  hid_t t = H5Aget_type(a);
+  const int is_str = t >= 0 && H5Tget_class(t) == H5T_STRING;
+  if (t >= 0) H5Tclose(t);
+  if (is_str) { /* written as a variable-length string (vs_h5_attr_str) */
+    hid_t m = vs_h5_vlstr_type();
+    char *v = NULL;
+    const int ok = m >= 0 && H5Aread(a, m, &v) >= 0 && v != NULL;
+    if (ok) snprintf(buf, size, "%s", v);
+    if (v != NULL) H5free_memory(v);
+    vs_h5_close(m);
+    return ok ? 0 : -1;
+  }
+  double v = NAN;
+  if (H5Aread(a, H5T_NATIVE_DOUBLE, &v) < 0 || !isfinite(v)) return -1;
+  const int small = v >= 0.0 && v <= 1000.0 && v == floor(v); /* a named choice's number */
+  const char *name = small ? vs_case_key_name_of(key, (int)v) : NULL;
+  if (name != NULL) snprintf(buf, size, "%s", name);
+  else snprintf(buf, size, "%.17g", v);
+  return 0;
+}
+
 /* The case from /parameters: every attribute of every section group, applied as a --set. */
 static herr_t on_attr(hid_t loc, const char *name, const H5A_info_t *info, void *data) {
   (void)info;
   vs_plotrec *r = data;
-  char section[64] = "", buf[256];
+  char section[64] = "", value[VS_ARCH_PATH_MAX], buf[VS_ARCH_PATH_MAX + 160];
   ssize_t n = H5Iget_name(loc, section, sizeof section);
   if (n <= 0) return 0;
   const char *sec = strrchr(section, '/');
   sec = sec ? sec + 1 : section;
-  hid_t a = H5Aopen(loc, name, H5P_DEFAULT);
-  double v = NAN;
-  if (a >= 0) {
-    H5Aread(a, H5T_NATIVE_DOUBLE, &v);
-    H5Aclose(a);
-  }
-  if (!isfinite(v)) return 0;
-  snprintf(buf, sizeof buf, "%s.%s=%.17g", sec, name, v);
+  const int key = key_index(&r->c, sec, name);
+  hid_t a = key >= 0 ? H5Aopen(loc, name, H5P_DEFAULT) : H5I_INVALID_HID;
+  const int ok = a >= 0 && attr_value(a, key, value, sizeof value) == 0;
+  if (a >= 0) H5Aclose(a);
+  if (!ok) return 0;
+  snprintf(buf, sizeof buf, "%s.%s=%s", sec, name, value);
   vs_error err;
   vs_case_set(&r->c, buf, &err); /* keys the case does not know are ignored */
   return 0;
@@ -132,17 +162,6 @@ static int read_limits(vs_plotrec *r) {
   return ok ? 0 : -1;
 }
 
-/* /parameters/support's attribute `name` (a vs_support_kind); fixed when absent. */
-static int support_kind(hid_t f, const char *name) {
-  int v = VS_SUPPORT_FIXED;
-  if (H5Aexists_by_name(f, "/parameters/support", name, H5P_DEFAULT) > 0) {
-    hid_t a = H5Aopen_by_name(f, "/parameters/support", name, H5P_DEFAULT, H5P_DEFAULT);
-    if (a < 0 || H5Aread(a, H5T_NATIVE_INT, &v) < 0) v = VS_SUPPORT_FIXED;
-    if (a >= 0) H5Aclose(a);
-  }
-  return v == VS_SUPPORT_PINNED ? VS_SUPPORT_PINNED : VS_SUPPORT_FIXED;
-}
-
 /* The arch the run simulated: the voussoirs' angles and thicknesses of /imperfections (written
  * when the case scatters them), else those the case's seed draws. */
 static vs_status record_geometry(vs_plotrec *r, vs_error *err) {
@@ -186,8 +205,6 @@ int vs_plotrec_open(const char *path, vs_plotrec *r) {
   hsize_t idx = 0;
   H5Literate(pg, H5_INDEX_NAME, H5_ITER_NATIVE, &idx, on_section, r);
   H5Gclose(pg);
-  r->c.left_kind = support_kind(r->file, "left_kind"); /* named choices: not applied as --set */
-  r->c.right_kind = support_kind(r->file, "right_kind");
   vs_error err;
   if (record_geometry(r, &err) != VS_OK) {
     snprintf(r->msg, sizeof r->msg, "%.200s: %.300s", path, err.msg);

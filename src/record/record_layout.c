@@ -16,33 +16,30 @@
 /* ------------------------------------------------------------------------------------------ */
 /* Geometry: outlines of the voussoirs and the joint segments                                   */
 
-/* Reference outline of arch block b: the intrados arc from phi0 to phi1, then the extrados arc
- * back (counter-clockwise in the x-z plane), arc_points inside each arc. */
-static void block_outline(const vs_geometry *g, int b, int arc_points, double *pts) {
-  const vs_block *blk = &g->blocks[b];
-  const int per_arc = arc_points + 2;
-  const double ri = g->radius, re = g->radius + g->thickness;
-  for (int k = 0; k < per_arc; k++) {
-    double f = (double)k / (double)(per_arc - 1);
-    double phi_i = blk->phi0 + f * (blk->phi1 - blk->phi0),
-           phi_e = blk->phi1 - f * (blk->phi1 - blk->phi0);
-    pts[2 * k] = ri * sin(phi_i);
-    pts[2 * k + 1] = ri * cos(phi_i);
-    pts[2 * (per_arc + k)] = re * sin(phi_e);
-    pts[2 * (per_arc + k) + 1] = re * cos(phi_e);
-  }
+/* Reference outline of block b in np points (vs_block_outline: each curved edge in arc_points
+ * + 2 points, ends included; for an arch voussoir the intrados arc from phi0 to phi1, then the
+ * extrados arc back, counter-clockwise), the last point repeated to fill np (a block without
+ * an outline: its centroid). */
+static void block_outline(const vs_geometry *g, int b, int arc_points, int np, double *pts) {
+  int k = vs_block_outline(g, b, arc_points + 2, INFINITY, pts, np);
+  if (k == 0) pts[0] = g->blocks[b].cx, pts[1] = g->blocks[b].cz, k = 1;
+  for (; k < np; k++) pts[2 * k] = pts[2 * k - 2], pts[2 * k + 1] = pts[2 * k - 1];
 }
 
 vs_status vs_record_geometry_init(vs_output *o, const vs_geometry *g) {
   o->nb = g->n_blocks;
   o->nj = g->n_joints;
-  o->np = 2 * (o->opts.arc_points + 2);
+  o->np = 1; /* the most points an outline needs */
+  for (int b = 0; b < o->nb; b++) {
+    const int k = vs_block_outline(g, b, o->opts.arc_points + 2, INFINITY, NULL, 0);
+    if (k > o->np) o->np = k;
+  }
   o->bref = malloc((size_t)o->nb * (size_t)o->np * 2 * sizeof *o->bref);
   o->jref = malloc((size_t)o->nj * 4 * sizeof *o->jref);
   o->rot = malloc(2 * (size_t)(o->nb > 0 ? o->nb : 1) * sizeof *o->rot);
   if (o->bref == NULL || o->jref == NULL || o->rot == NULL) return VS_ERR_NOMEM;
   for (int b = 0; b < o->nb; b++)
-    block_outline(g, b, o->opts.arc_points, o->bref + (size_t)b * (size_t)o->np * 2);
+    block_outline(g, b, o->opts.arc_points, o->np, o->bref + (size_t)b * (size_t)o->np * 2);
   for (int k = 0; k < o->nj; k++) {
     const vs_joint_geom *j = &g->joints[k];
     double sx, sz;
@@ -138,8 +135,9 @@ static herr_t geometry_scalars(hid_t grp, const vs_output *o, const vs_geometry 
     rc = vs_h5_attr_str(
         grp, "description",
         "reference configuration; x right, z up, circle centre at the origin. Block i's "
-        "outline is block_points[i*P:(i+1)*P] (P = points_per_block): intrados arc from "
-        "phi0 to phi1, then extrados arc back. Joint k (1-based in reports) is row k-1; "
+        "outline is block_points[i*P:(i+1)*P] (P = points_per_block), counter-clockwise, its "
+        "last point repeated to fill P; a circular arch's voussoir: intrados arc from phi0 to "
+        "phi1, then extrados arc back. Joint k (1-based in reports) is row k-1; "
         "joint_bodies: block index, -1 left support, -2 right support");
   return rc;
 }
@@ -184,7 +182,10 @@ static herr_t write_parameters(hid_t file, const vs_case *c) {
       open_name = section;
       if (sec < 0) rc = -1;
     }
-    if (rc >= 0)
+    char text[VS_ARCH_PATH_MAX];
+    if (rc >= 0 && vs_case_key_text(c, i, text, sizeof text) == 1)
+      rc = vs_h5_attr_str(sec, key, text); /* a file name, a list */
+    else if (rc >= 0)
       rc = is_int ? vs_h5_attr_int(sec, key, (int)value) : vs_h5_attr_double(sec, key, value);
   }
   vs_h5_close(sec);

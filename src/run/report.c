@@ -42,11 +42,18 @@ static void support_relative(const vs_run *r, double delta, double *dx, double *
   *dz = ro[1] - lo[1];
 }
 
+/* The span the displacements are normalised by, mm: the case's (vs_case_span_mm), or a blocks
+ * file's arch's own when the case does not give it. */
+static double run_span_mm(const vs_run *r) {
+  const double L = vs_case_span_mm(vs_run_case(r));
+  return isfinite(L) ? L : vs_run_geometry(r)->span / VS_MM;
+}
+
 /* Support displacement components over the span, in %: delta along alpha when the right support
  * moves alone (as always), else the supports' relative displacement. */
 static void components_pct(const vs_run *r, double delta_m, double *dz, double *dx) {
   const vs_case *c = vs_run_case(r);
-  const double L = vs_case_span_mm(c), d = delta_m / VS_MM;
+  const double L = run_span_mm(r), d = delta_m / VS_MM;
   if (!right_alone(c)) {
     support_relative(r, delta_m, dx, dz);
     *dz *= 100.0 / L;
@@ -62,6 +69,11 @@ static void components_pct(const vs_run *r, double delta_m, double *dz, double *
 static const char *const SUPPORT_KINDS[] = {"fixed", "pinned"};
 _Static_assert(sizeof SUPPORT_KINDS / sizeof SUPPORT_KINDS[0] == VS_SUPPORT_KIND_COUNT,
                "a name for every vs_support_kind");
+
+/* The case file's names of the shapes (arch.shape). */
+static const char *const SHAPES[] = {"circular", "pointed", "elliptical", "basket", "parabolic",
+                                     "catenary", "file"};
+_Static_assert(sizeof SHAPES / sizeof SHAPES[0] == VS_SHAPE_COUNT, "a name for every shape");
 
 static const char *support_kind(int kind) {
   return kind >= 0 && kind < VS_SUPPORT_KIND_COUNT ? SUPPORT_KINDS[kind] : "?";
@@ -347,7 +359,9 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   else fputs("null", out);
   jnum(out, ",\"alpha_deg\":", c->alpha_deg, 17);
   jnum(out, ",\"kn_N_mm3\":", c->kn_N_mm3, 17);
-  jnum(out, ",\"span_mm\":", vs_case_span_mm(c), 17);
+  jnum(out, ",\"span_mm\":", run_span_mm(r), 17);
+  fprintf(out, ",\"shape\":\"%s\"", c->shape >= 0 && c->shape < VS_SHAPE_COUNT ? SHAPES[c->shape] : "?");
+  jnum(out, ",\"rise_mm\":", vs_run_geometry(r)->rise / VS_MM, 17);
   fprintf(out, ",\"mode_of_run\":\"%s\"",
           c->full ? "dynamic" : c->follow ? "quasistatic+dynamic" : "quasistatic");
   fprintf(out, ",\"supports\":{\"left\":\"%s\",\"right\":\"%s\"}", support_kind(c->left_kind),
@@ -408,17 +422,40 @@ static void text_motions(FILE *out, const vs_case *c) {
           support_kind(c->left_kind));
 }
 
+/* The arch line of a shape other than the circle of radius and embrace. */
+static void text_shape(FILE *out, const vs_case *c, const vs_geometry *g) {
+  char q[1100];
+  fprintf(out, "arch     %s", c->shape >= 0 && c->shape < VS_SHAPE_COUNT ? SHAPES[c->shape] : "?");
+  if (c->shape == VS_SHAPE_FILE) {
+    fprintf(out, " %s, %d blocks, %d joints\n", vs_quote(c->blocks_file, q, sizeof q),
+            g->n_blocks, g->n_joints);
+    return;
+  }
+  if (c->shape == VS_SHAPE_POINTED) fprintf(out, ", eccentricity %g", c->eccentricity);
+  if (c->shape == VS_SHAPE_BASKET) fprintf(out, ", haunch arcs %g deg", c->haunch_deg);
+  fprintf(out, ", t = %g mm", c->thickness_mm);
+  if (c->thickness_springing_mm > 0.0) fprintf(out, " (%g mm at the springings)",
+                                               c->thickness_springing_mm);
+  fprintf(out, ", %d voussoirs", c->voussoirs);
+  if (c->keystone_mm > 0.0) fprintf(out, " (keystone %g mm)", c->keystone_mm);
+  if (c->n_joint_positions > 0) fputs(" (joints at given positions)", out);
+  fprintf(out, ", %s joints, b = %g mm\n", c->joints == VS_JOINTS_VERTICAL ? "vertical" : "normal",
+          c->depth_mm);
+}
+
 static void text_header(FILE *out, const vs_run *r, const char *case_path) {
   const vs_case *c = vs_run_case(r);
   const vs_geometry *g = vs_run_geometry(r);
   char q[1024]; /* the case's path, quoted: it may hold anything */
   fprintf(out, "voussoir %s  case %s\n", VS_VERSION,
           case_path ? vs_quote(case_path, q, sizeof q) : "(defaults)");
-  fprintf(out,
-          "arch     R = %g mm, t = %g mm, embrace %g deg, %d voussoirs, b = %g mm\n"
-          "         span L = %.2f mm, rise %.2f mm, weight %.3f N\n",
-          c->radius_mm, c->thickness_mm, c->embrace_deg, c->voussoirs, c->depth_mm,
-          g->span / VS_MM, g->rise / VS_MM, vs_geometry_weight(g));
+  if (c->shape == VS_SHAPE_CIRCULAR && c->span_mm == 0.0)
+    fprintf(out, "arch     R = %g mm, t = %g mm, embrace %g deg, %d voussoirs, b = %g mm\n",
+            c->radius_mm, c->thickness_mm, c->embrace_deg, c->voussoirs, c->depth_mm);
+  else
+    text_shape(out, c, g);
+  fprintf(out, "         span L = %.2f mm, rise %.2f mm, weight %.3f N\n", g->span / VS_MM,
+          g->rise / VS_MM, vs_geometry_weight(g));
   fprintf(out, "joints   k_n = %g N/mm^3, k_s = %g k_n, mu = %g\n", c->kn_N_mm3, c->ks_ratio,
           c->friction);
   if (!right_alone(c)) text_motions(out, c);

@@ -52,7 +52,7 @@ static void dyn_opts_from_def(const vs_run_def *d, const vs_geometry *g, vs_dyn_
   o->open = d->hinges.open;
   /* the collapse threshold rides on the kinetic energy of the arch moving bodily at the
    * support's rate, which fast loading reaches without any collapse; rest stays well below it */
-  o->collapse_ke = d->dynamic.collapse_ke * vs_geometry_weight(g) * d->arch.thickness +
+  o->collapse_ke = d->dynamic.collapse_ke * vs_geometry_weight(g) * g->thickness +
                    0.5 * mass * w * w;
   o->rest_ke = fmin(d->dynamic.rest_factor * 0.5 * mass * w * w,
                     VS_REST_OF_COLLAPSE * o->collapse_ke);
@@ -86,6 +86,49 @@ static vs_status fall_create(vs_run *r, vs_error *err) {
   fo.ground = f->ground;
   fo.deadline = &r->deadline;
   return vs_fall_create(r->m, &fo, NULL, NULL, &r->fall, err);
+}
+
+/* The arch and the imperfections drawn on it: for a blocks file, the blocks first (they say how
+ * many blocks and joints the draws cover), else the draws first (they shape the arch). */
+static vs_status arch_and_imperfections(vs_run *r, vs_error *err) {
+  const vs_run_def *d = &r->def;
+  if (d->arch.shape != VS_SHAPE_FILE) {
+    vs_status st = vs_imperfections_draw(&d->imperfections, &d->arch, &r->imp, err);
+    if (st == VS_OK) st = vs_imperfections_arch(&d->imperfections, &d->arch, r->imp, &r->g, err);
+    return st;
+  }
+  vs_status st = vs_imperfections_arch(&d->imperfections, &d->arch, NULL, &r->g, err);
+  if (st == VS_OK)
+    st = vs_imperfections_draw_counts(&d->imperfections, &d->arch, r->g->n_blocks,
+                                      r->g->n_joints, &r->imp, err);
+  return st;
+}
+
+/* A blocks file's interfaces with a law of their own; a pinned support must have one joint (it
+ * turns about that joint's centre). */
+static vs_status own_laws(vs_run *r, vs_error *err) {
+  const vs_geometry *g = r->g;
+  const vs_joints_def *jd = &r->def.joints;
+  int on[2] = {0, 0};
+  for (int k = 0; k < g->n_joints; k++) {
+    const vs_joint_geom *j = &g->joints[k];
+    for (int s = 0; s < 2; s++) on[s] += j->a == (s ? VS_SUPPORT_RIGHT : VS_SUPPORT_LEFT) ||
+                                         j->b == (s ? VS_SUPPORT_RIGHT : VS_SUPPORT_LEFT);
+    if (!(j->kn > 0.0 || j->ks_ratio > 0.0 || j->mu > 0.0)) continue;
+    vs_joint_law law = *vs_model_joint_law(r->m, k);
+    law.kn = j->kn > 0.0 ? j->kn : jd->kn;
+    law.ks = (j->ks_ratio > 0.0 ? j->ks_ratio : jd->ks / jd->kn) * law.kn;
+    law.mu = j->mu > 0.0 ? j->mu : jd->mu;
+    vs_status st = vs_model_set_joint_law(r->m, k, &law, err);
+    if (st != VS_OK) return st;
+  }
+  const vs_support_kind kind[2] = {r->def.support.left_kind, r->def.support.right_kind};
+  for (int s = 0; s < 2; s++)
+    if (kind[s] == VS_SUPPORT_PINNED && on[s] != 1)
+      return vs_error_set(err, VS_ERR_INVALID, "support.%s_kind = pinned: the %s support has %d "
+                          "joints (allowed: fixed, or pinned with one joint: it turns about its "
+                          "centre)", s ? "right" : "left", s ? "right" : "left", on[s]);
+  return VS_OK;
 }
 
 vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
@@ -130,8 +173,7 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
   r->def = *def;
   const vs_run_def *d = &r->def;
   for (int i = 0; i < 6; i++) r->react[i] = r->react_eq[i] = NAN;
-  vs_status st = vs_imperfections_draw(&d->imperfections, &d->arch, &r->imp, err);
-  if (st == VS_OK) st = vs_imperfections_arch(&d->imperfections, &d->arch, r->imp, &r->g, err);
+  vs_status st = arch_and_imperfections(r, err);
   if (st == VS_OK) {
     vs_joint_law law = {.kn = d->joints.kn, .ks = d->joints.ks, .mu = d->joints.mu};
     st = vs_model_create(r->g, &law, d->support.alpha, &r->m, err);
@@ -142,6 +184,7 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
       st = vs_support_motion_from_def(&d->support, s, &mo, err);
       if (st == VS_OK) st = vs_model_set_support_motion(r->m, s, &mo, err);
     }
+    if (st == VS_OK) st = own_laws(r, err);
   }
   if (st == VS_OK) st = vs_imperfections_apply(&d->imperfections, r->imp, r->m, err);
   if (st == VS_OK && d->dynamic.damping_model == VS_DAMPING_RAYLEIGH &&

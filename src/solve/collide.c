@@ -3,6 +3,8 @@
  * over the two bodies, root functions, stored energy and the friction anchors. */
 #include "collide.h"
 
+#include "outline.h"
+
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -348,22 +350,45 @@ void vs_collide_destroy(vs_collide **c) {
   *c = NULL;
 }
 
+/* The convex hull of support body's polygons (a blocks file's) into xz (NULL: only counted):
+ * its number of vertices, 0 when it has none, -1 when they enclose no area or have too many. */
+static int support_hull(const vs_geometry *g, int body, double *xz) {
+  double pts[2 * VS_HULL_MAX], hull[2 * (VS_HULL_MAX + 1)];
+  int n = 0;
+  for (int s = 0; s < g->n_supports; s++) {
+    if (g->supports[s].body != body) continue;
+    for (int e = 0; e < g->supports[s].n_edges; e++) {
+      if (n == VS_HULL_MAX) return -1;
+      const vs_edge *ed = &g->edges[g->supports[s].edge0 + e];
+      pts[2 * n] = ed->x0, pts[2 * n + 1] = ed->z0;
+      n++;
+    }
+  }
+  if (n == 0) return 0;
+  const int m = vs_convex_hull(pts, n, hull);
+  if (m == 0) return -1;
+  if (xz != NULL) memcpy(xz, hull, (size_t)(2 * m) * sizeof *xz);
+  return m;
+}
+
 int vs_collide_arch_outlines(const vs_geometry *g, int *count, double *xz) {
-  const double ri = g->radius, re = g->radius + g->thickness;
   int n = 0;
   for (int i = 0; i < g->n_blocks; i++) {
-    const vs_block *b = &g->blocks[i];
-    const double ph[5] = {b->phi0, b->phi1, b->phi1, 0.5 * (b->phi0 + b->phi1), b->phi0};
-    const double rr[5] = {ri, ri, re, re, re};
-    for (int v = 0; v < 5 && xz != NULL; v++) {
-      xz[2 * (n + v)] = rr[v] * sin(ph[v]);
-      xz[2 * (n + v) + 1] = rr[v] * cos(ph[v]);
-    }
-    if (count != NULL) count[i] = 5;
-    n += 5;
+    const int nh = vs_block_hull(g, i, xz != NULL ? xz + 2 * n : NULL, NULL);
+    if (nh < 0) return -1;
+    if (count != NULL) count[i] = nh;
+    n += nh;
   }
   for (int s = 0; s < 2; s++) {
-    const vs_joint_geom *j = &g->joints[s == 0 ? 0 : g->n_joints - 1];
+    const int m = support_hull(g, s == 0 ? VS_SUPPORT_LEFT : VS_SUPPORT_RIGHT,
+                               xz != NULL ? xz + 2 * n : NULL);
+    if (m < 0) return -1;
+    if (m > 0) {
+      if (count != NULL) count[g->n_blocks + s] = m;
+      n += m;
+      continue;
+    }
+    const vs_joint_geom *j = &g->joints[vs_geometry_springing(g, s)];
     double sx, sz;
     vs_joint_tangent(j, &sx, &sz);
     const double ix = j->px - 0.5 * j->length * sx, iz = j->pz - 0.5 * j->length * sz;
@@ -474,6 +499,11 @@ vs_status vs_collide_create(const vs_model *m, double restitution, const int *co
   const int nb = g->n_blocks + 2;
   int *own = count == NULL ? calloc((size_t)nb, sizeof *own) : NULL;
   const int nv = count == NULL ? vs_collide_arch_outlines(g, own, NULL) : 0;
+  if (nv < 0) {
+    free(own);
+    return vs_error_set(err, VS_ERR_INVALID, "collide: a block's outline cannot be made convex "
+                        "(allowed: at most %d corners)", VS_HULL_MAX);
+  }
   double *oxz = count == NULL ? malloc((size_t)(2 * nv + 1) * sizeof *oxz) : NULL;
   int total = 0;
   if (count != NULL)

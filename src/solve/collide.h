@@ -3,8 +3,9 @@
  * (contact.h); SI units.
  *
  * Every body (the blocks, then the left and the right support) has a convex outline, a polygon
- * that moves with it. An arch voussoir's: its four corners and its extrados arc's mid-point
- * (the intrados arc replaced by its chord); a pier's: its springing face and the vertical
+ * that moves with it. A block's: the convex polygon of its outline (outline.h: vs_block_hull;
+ * for an arch voussoir its four corners and its extrados arc's mid-point, the intrados arc
+ * replaced by its chord); a pier's: its springing face and the vertical
  * drops from the face's two ends by the arch's span (a column under the face). Broad phase: the
  * outlines' axis-aligned bounding boxes, widened by a margin (the first joint's length), give
  * the candidate pairs of bodies that share no joint; narrow phase: a vertex of one outline
@@ -44,9 +45,10 @@ static inline int vs_collide_body(const vs_geometry *g, int end) {
  * joint's centre. Used by the fall (fall.h) too. */
 void vs_collide_reference_points(const vs_geometry *g, double *ref);
 
-/* The arch's outlines (above): per voussoir 5 vertices, per pier 4, into count (per body) and
- * xz (m, reference configuration) as vs_collide_create takes them; either may be NULL. Returns
- * the number of vertices. Used by the fall (fall.h) too. */
+/* The arch's outlines (above): per block its convex outline's vertices (5 for a voussoir of
+ * the circular arch), per pier 4, into count (per body) and xz (m, reference configuration) as
+ * vs_collide_create takes them; either may be NULL. Returns the number of vertices, -1 when a
+ * block's outline cannot be made convex. Used by the fall (fall.h) too. */
 int vs_collide_arch_outlines(const vs_geometry *g, int *count, double *xz);
 
 /* Outlines from count and xz (as vs_collide_create takes them) into the caller's arrays: per

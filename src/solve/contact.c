@@ -3,6 +3,8 @@
  * crossing the ground, the stored energy and the friction anchors' return mapping. */
 #include "contact.h"
 
+#include "outline.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <sunmatrix/sunmatrix_sparse.h>
@@ -104,26 +106,92 @@ static vs_status add_vertex(vs_contact *c, int k, int block, double x, double z,
   return VS_OK;
 }
 
-/* The arch's vertices: per voussoir its four corners and its extrados arc's mid-point, less the
- * corners on a springing face. */
+/* The end of face edge ei (0: its start, 1: its end) in the hull (edge_of as vs_block_hull's),
+ * or -1 when it is not a vertex there. */
+static int face_end(const vs_block *b, const int *edge_of, int nh, int ei, int end) {
+  const int want = end == 0 ? ei : b->edge0 + (ei - b->edge0 + 1) % b->n_edges;
+  for (int v = 0; v < nh; v++)
+    if (edge_of[v] == want) return v;
+  return -1;
+}
+
+/* Append hull vertex v of block i (unless seen, or on a support's face). */
+static void take(int i, const double *hx, int v, unsigned char *seen, int *block, double *xz,
+                 int *n) {
+  if (v < 0 || seen[v]) return;
+  seen[v] = 1;
+  if (block != NULL) {
+    block[*n] = i;
+    xz[2 * *n] = hx[2 * v];
+    xz[2 * *n + 1] = hx[2 * v + 1];
+  }
+  (*n)++;
+}
+
+/* Face edge ei's two ends, intrados first (along its joint's tangent). */
+static void take_face(const vs_geometry *g, int i, const double *hx, const int *eo, int nh, int ei,
+                      unsigned char *seen, int *block, double *xz, int *n) {
+  const vs_block *b = &g->blocks[i];
+  const vs_joint_geom *j = &g->joints[g->edges[ei].joint];
+  int v[2] = {face_end(b, eo, nh, ei, 0), face_end(b, eo, nh, ei, 1)};
+  double sx, sz, eta[2] = {0.0, 0.0};
+  vs_joint_tangent(j, &sx, &sz);
+  for (int k = 0; k < 2; k++)
+    if (v[k] >= 0) eta[k] = (hx[2 * v[k]] - j->px) * sx + (hx[2 * v[k] + 1] - j->pz) * sz;
+  if (eta[1] < eta[0]) {
+    const int t = v[0];
+    v[0] = v[1], v[1] = t;
+  }
+  if (j->a < 0 || j->b < 0) { /* on a springing face: they sit on the pier */
+    for (int k = 0; k < 2; k++)
+      if (v[k] >= 0) seen[v[k]] = 1;
+    return;
+  }
+  for (int k = 0; k < 2; k++) take(i, hx, v[k], seen, block, xz, n);
+}
+
+/* The blocks' vertices: per block the corners and bulges of its convex outline (outline.h;
+ * for an arch voussoir its four corners and its extrados arc's mid-point), less the corners on
+ * a springing face. Per block, along the arch: the ends of its face on its lowest-numbered joint
+ * (intrados, extrados), the vertices on no face (going back round the outline from there), the
+ * ends of its other faces by joint (intrados, extrados). -1 when an outline cannot be made
+ * convex. */
 static int arch_vertices(const vs_geometry *g, int *block, double *xz) {
   int n = 0;
-  const double ri = g->radius, re = g->radius + g->thickness;
   for (int i = 0; i < g->n_blocks; i++) {
     const vs_block *b = &g->blocks[i];
-    const double phi[3] = {b->phi0, 0.5 * (b->phi0 + b->phi1), b->phi1};
-    for (int a = 0; a < 3; a++) {
-      if ((i == 0 && a == 0) || (i == g->n_blocks - 1 && a == 2)) continue;
-      for (int r = 0; r < 2; r++) {
-        if (a == 1 && r == 0) continue; /* the intrados arc is concave */
-        const double rad = r ? re : ri;
-        if (block != NULL) {
-          block[n] = i;
-          xz[2 * n] = rad * sin(phi[a]);
-          xz[2 * n + 1] = rad * cos(phi[a]);
-        }
-        n++;
+    double hx[2 * VS_HULL_MAX];
+    int eo[VS_HULL_MAX], lo = -1;
+    unsigned char seen[VS_HULL_MAX] = {0}, face[VS_HULL_MAX] = {0};
+    const int nh = vs_block_hull(g, i, hx, eo);
+    if (nh < 0) return -1;
+    for (int k = 0; k < b->n_edges; k++) {
+      const int ei = b->edge0 + k, jn = g->edges[ei].joint;
+      if (jn < 0) continue;
+      if (lo < 0 || jn < g->edges[lo].joint) lo = ei;
+      for (int e = 0; e < 2; e++) {
+        const int v = face_end(b, eo, nh, ei, e);
+        if (v >= 0) face[v] = 1;
       }
+    }
+    int start = 0;
+    if (lo >= 0) {
+      take_face(g, i, hx, eo, nh, lo, seen, block, xz, &n);
+      const int v = face_end(b, eo, nh, lo, 0);
+      start = v >= 0 ? v : 0;
+    }
+    for (int k = 1; k <= nh; k++) { /* back round the outline from the first face */
+      const int v = (start - k + nh) % nh;
+      if (!face[v]) take(i, hx, v, seen, block, xz, &n);
+    }
+    for (int done = lo; done >= 0;) { /* the other faces, by joint */
+      int next = -1;
+      for (int k = 0; k < b->n_edges; k++) {
+        const int ei = b->edge0 + k, jn = g->edges[ei].joint;
+        if (jn > g->edges[done].joint && (next < 0 || jn < g->edges[next].joint)) next = ei;
+      }
+      if (next >= 0) take_face(g, i, hx, eo, nh, next, seen, block, xz, &n);
+      done = next;
     }
   }
   return n;
@@ -147,6 +215,8 @@ vs_status vs_contact_create(const vs_model *m, double restitution, int nv, const
   const vs_geometry *g = vs_model_geometry(m);
   const int own = nv == 0;
   if (own) nv = arch_vertices(g, NULL, NULL);
+  if (nv < 0)
+    return vs_error_set(err, VS_ERR_INVALID, "contact: a block's outline cannot be made convex");
   if (nv < 1) return vs_error_set(err, VS_ERR_INVALID, "contact: no vertices (allowed: >= 1)");
   vs_contact *c = calloc(1, sizeof *c);
   int *ob = own ? malloc((size_t)nv * sizeof *ob) : NULL;
@@ -198,7 +268,7 @@ int vs_contact_count(const vs_contact *c) { return c->nv; }
 
 double vs_contact_springing_base(const vs_model *m, const double *qe) {
   const vs_geometry *g = vs_model_geometry(m);
-  const vs_joint_geom *jg[2] = {&g->joints[0], &g->joints[g->n_joints - 1]};
+  const vs_joint_geom *jg[2] = {&g->joints[0], &g->joints[vs_geometry_springing(g, 1)]};
   double low = INFINITY;
   for (int s = 0; s < 2; s++) {
     const double *qs = qe + 3 * g->n_blocks + 3 * s;

@@ -2,9 +2,9 @@
  * blocks' vertices through the joints' no-tension, frictional, elastic law, lumped at the
  * vertex. Used by the dynamic phase (dynamic.c) during the fall; SI units.
  *
- * A vertex is a corner of a block's outline (for an arch voussoir its four corners and the
- * mid-point of its extrados arc, the only point of a convex arc that can reach further than its
- * chord). At penetration p = level - z_v > 0 the ground pushes the vertex up with
+ * A vertex is a corner of a block's convex outline (outline.h: vs_block_hull; for an arch
+ * voussoir its four corners and the mid-point of its extrados arc, the only point of a convex
+ * arc that can reach further than its chord). At penetration p = level - z_v > 0 the ground pushes the vertex up with
  *   N = k_v p + c_v s(p) p',   k_v = k_n b t / 2,   c_v = 2 zeta sqrt(k_v m_block / 2),
  * k_v being the stiffness of half a joint face (t the thickness, b the depth): a block lying on
  * a face rests on its two end vertices with the face's Winkler stiffness k_n b t. s(p) fades the
@@ -29,8 +29,9 @@ typedef struct vs_contact vs_contact;
 /* Create the ground contact for the blocks of model m (borrowed; its law gives k_n, k_s and mu)
  * with the coefficient of restitution e in (0, 1] of a vertex impact. The vertices: nv of them,
  * vertex k on block block[k] at (xz[2k], xz[2k+1]) in the reference configuration (m); or, when
- * nv is 0, the arch's (the geometry's arch blocks, phi0 < phi1), leaving out the vertices on a
- * springing face (the springer voussoirs' corners on their supports): they sit on the pier.
+ * nv is 0, the blocks' (the corners and bulges of each block's convex outline, outline.h),
+ * leaving out the vertices on a support's face (the springer voussoirs' corners on their
+ * supports): they sit on the pier.
  * The ground starts disarmed (no force, no roots). VS_ERR_INVALID on a bad e or vertex. */
 vs_status vs_contact_create(const vs_model *m, double restitution, int nv, const int *block,
                             const double *xz, vs_contact **out, vs_error *err);

@@ -21,31 +21,36 @@
 
 char *vs_manifest_case(const vs_case *c, size_t extra) {
   const int nk = vs_case_key_count();
-  const size_t cap = 96 * (size_t)nk + (size_t)vs_case_text_key_count() * (VS_MANIFEST_TEXT_MAX + 96) +
-                     extra + 1;
-  char *t = malloc(cap);
-  if (t == NULL) return NULL;
+  /* a number's line at most 96 bytes; a file name's or a list's at most these; a support's
+   * path's at most VS_MANIFEST_TEXT_MAX */
+  enum { TEXT_MAX = VS_ARCH_PATH_MAX + 32 * VS_ARCH_MAX_POSITIONS };
+  const size_t cap = (96 + TEXT_MAX) * (size_t)nk +
+                     (size_t)vs_case_text_key_count() * (VS_MANIFEST_TEXT_MAX + 96) + extra + 1;
+  char *t = malloc(cap), *text = malloc(TEXT_MAX > VS_MANIFEST_TEXT_MAX ? TEXT_MAX
+                                                                         : VS_MANIFEST_TEXT_MAX);
+  if (t == NULL || text == NULL) {
+    free(t), free(text);
+    return NULL;
+  }
   size_t used = 0;
   t[0] = '\0';
   for (int i = 0; i < nk; i++) {
     const char *sec, *key;
     double v;
     vs_case_key(c, i, &sec, &key, NULL, NULL, &v);
-    used += (size_t)snprintf(t + used, cap - used, "%s.%s=%.17g\n", sec, key, v);
+    if (vs_case_key_text(c, i, text, TEXT_MAX) == 1)
+      used += (size_t)snprintf(t + used, cap - used, "%s.%s=%s\n", sec, key, text);
+    else
+      used += (size_t)snprintf(t + used, cap - used, "%s.%s=%.17g\n", sec, key, v);
   }
   /* a support's path, when there is one (a manifest of a case without stays as it was) */
   for (int i = 0; i < vs_case_text_key_count(); i++) {
     const char *sec, *key;
-    char *text = malloc(VS_MANIFEST_TEXT_MAX);
-    if (text == NULL) {
-      free(t);
-      return NULL;
-    }
     vs_case_text_key(c, i, &sec, &key, text, VS_MANIFEST_TEXT_MAX);
     if (text[0] != '\0')
       used += (size_t)snprintf(t + used, cap - used, "%s.%s=%s\n", sec, key, text);
-    free(text);
   }
+  free(text);
   return t;
 }
 

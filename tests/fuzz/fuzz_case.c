@@ -23,7 +23,7 @@
 
 /* Every key of c as INI text (sections in table order); returns a malloc'd string. */
 static char *serialise(const vs_case *c) {
-  size_t cap = 8192, used = 0;
+  size_t cap = 16384, used = 0;
   char *out = malloc(cap);
   CHECK(out != NULL);
   const char *last = "";
@@ -35,7 +35,10 @@ static char *serialise(const vs_case *c) {
     if (strcmp(sec, last) != 0) used += (size_t)snprintf(out + used, cap - used, "[%s]\n", sec);
     last = sec;
     const char *name = is_int ? vs_case_key_name_of(i, (int)v) : NULL;
-    if (name != NULL) /* a named choice (support.left_kind, dynamic.damping_model, ...) */
+    char text[4096];
+    if (vs_case_key_text(c, i, text, sizeof text) == 1) /* a file name, a list */
+      used += (size_t)snprintf(out + used, cap - used, "%s = %s\n", key, text);
+    else if (name != NULL) /* a named choice (support.left_kind, dynamic.damping_model, ...) */
       used += (size_t)snprintf(out + used, cap - used, "%s = %s\n", key, name);
     else if (is_int)
       used += (size_t)snprintf(out + used, cap - used, "%s = %d\n", key, (int)v);
@@ -64,6 +67,11 @@ static void check_case(const uint8_t *data, size_t size) {
   }
   for (int i = 0; i < vs_case_key_count(); i++) {
     double a, b;
+    char ta[4096], tb[4096];
+    if (vs_case_key_text(&c, i, ta, sizeof ta) == 1) { /* a file name, a list: the same text */
+      CHECK(vs_case_key_text(&again, i, tb, sizeof tb) == 1 && strcmp(ta, tb) == 0);
+      continue;
+    }
     CHECK(vs_case_key(&c, i, NULL, NULL, NULL, NULL, &a) == 0);
     CHECK(vs_case_key(&again, i, NULL, NULL, NULL, NULL, &b) == 0);
     CHECK(isfinite(a));
@@ -101,7 +109,9 @@ static void check_options(const char *s) {
   if (vs_case_set(&c, s, &err) != VS_OK) CHECK(memcmp(&c, &before, sizeof c) == 0);
   for (int i = 0; i < vs_case_key_count(); i++) {
     double v;
-    CHECK(vs_case_key(&c, i, NULL, NULL, NULL, NULL, &v) == 0 && isfinite(v));
+    char t[8];
+    CHECK(vs_case_key(&c, i, NULL, NULL, NULL, NULL, &v) == 0 &&
+          (isfinite(v) || vs_case_key_text(&c, i, t, sizeof t) == 1));
   }
   double *values = NULL;
   int n = 0;

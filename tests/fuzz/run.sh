@@ -6,6 +6,7 @@
 #   merge    `voussoir merge`: the shards' tables, and the summary written from them
 #   record   `voussoir plot` and the XDMF sidecar: records of any shapes, types and values
 #   journal  `sweep --resume`, `montecarlo --resume`: the journals' header and rows
+#   blocks   arch.shape = file: the blocks file (JSON), read, written back, read again
 # Usage: tests/fuzz/run.sh [-j N] [SECONDS] [TARGET...]   (default: every target, one at a time;
 # -j N: N targets at once). The scratch directory is $FUZZ_WORK (kept, its corpora growing from
 # run to run), or a new one under /tmp, removed when nothing was found. Prints, per target, the
@@ -16,7 +17,7 @@
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
-all=(case merge record journal)
+all=(case merge record journal blocks)
 jobs=1
 if [ "${1:-}" = -j ]; then
   jobs="${2:-}"
@@ -58,6 +59,8 @@ sed "s/@PROJECT_VERSION@/$ver/; s/@PROJECT_VERSION_MAJOR@/$v1/; s/@PROJECT_VERSI
   >"$work/include/voussoir/version.h"
 case_src=("$s/case/case.c" "$s/case/case_read.c" "$s/base/parse.c" "$s/base/list.c"
           "$s/base/status.c" "$s/base/quote.c")
+geometry_src=("$s/model/geometry.c" "$s/model/outline.c" "$s/model/shape.c" "$s/model/arch.c"
+              "$s/model/blocks.c")
 sources() {
   case "$1" in
   case) echo "${case_src[@]}" ;;
@@ -68,9 +71,10 @@ sources() {
                "$s/plot/plot_sweep.c" "$s/plot/plot.c" "$s/plot/plot_arch.c" "$s/plot/plot_frame.c" \
                "$s/plot/chart.c" "$s/record/xdmf.c" "$s/record/xdmf_file.c" \
                "$s/record/xdmf_record.c" "$s/record/xdmf_rows.c" "$s/record/h5util.c" \
-               "$s/base/outpath.c" "$s/model/imperfections.c" "$s/model/geometry.c" \
+               "$s/base/outpath.c" "$s/model/imperfections.c" "${geometry_src[@]}" \
                "$s/model/support.c" "$s/model/hinges.c" "$s/run/json.c" ;;
   journal) echo "${case_src[@]}" "$s/study/journal.c" "$s/base/outpath.c" ;;
+  blocks) echo "${case_src[@]}" "${geometry_src[@]}" ;;
   esac
 }
 libs() {
@@ -79,8 +83,9 @@ libs() {
   case | journal) echo $(pkg-config --libs inih) -lm ;;
   merge) echo $(pkg-config --libs inih hdf5-serial cairo fontconfig) -lm \
               -Wl,--wrap=vs_mc_write_summary -Wl,--wrap=vs_plot_emit ;;
-  record) echo $(pkg-config --libs inih hdf5-serial cairo fontconfig) -lm \
+  record) echo $(pkg-config --libs inih hdf5-serial cairo fontconfig jansson) -lm \
                -Wl,--wrap=vs_plot_emit ;;
+  blocks) echo $(pkg-config --libs inih jansson) -lm ;;
   esac
 }
 
@@ -91,6 +96,7 @@ max_len() {
   case | journal) echo 8192 ;;
   merge) echo 16384 ;;
   record) echo 4096 ;;
+  blocks) echo 16384 ;;
   esac
 }
 
@@ -99,7 +105,7 @@ build() {
   mkdir -p "$work/$t"
   # shellcheck disable=SC2046
   clang -std=c17 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-    -I"$root/include" "${layer_dirs[@]}" $(pkg-config --cflags inih hdf5-serial cairo) \
+    -I"$root/include" "${layer_dirs[@]}" $(pkg-config --cflags inih hdf5-serial cairo jansson) \
     "$here/fuzz_$t.c" $(sources "$t") $(libs "$t") -o "$work/$t/fuzz_$t" \
     >"$work/$t/build.log" 2>&1 || { cat "$work/$t/build.log" >&2; return 1; }
 }
