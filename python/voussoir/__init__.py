@@ -11,6 +11,6 @@ from .record import Record, Series, open_record
 from .cli import run, sweep, read_table
 from .draw import draw_mechanism, draw_curves, draw_domain
 
-__version__ = "0.2.0"
+__version__ = "0.3.0"
 __all__ = ["Record", "Series", "open_record", "run", "sweep", "read_table", "draw_mechanism",
            "draw_curves", "draw_domain"]
