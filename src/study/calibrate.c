@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "collapse_at.h"
 #include "study.h"
 #include "voussoir/run.h"
 #include "voussoir/support.h"
@@ -42,9 +43,9 @@ static double cal_eval(cal_ctx *c, double kn) {
   c->runs++;
   if (vs_run_create(&k, &r, &err) == VS_OK && vs_run_execute(r, NULL, NULL, NULL, &err) == VS_OK &&
       vs_run_collapse(r)->found) {
-    const double d = vs_run_collapse(r)->delta / VS_MM;
-    const vs_support_dir sd = vs_support_direction(k.alpha_deg * VS_DEG);
-    out = 100.0 * d * (c->dx ? sd.dx : sd.dz) / vs_case_span_mm(&k);
+    double dz, dx; /* as the run's JSON gives them (a blocks file's own span) */
+    vs_study_components_pct(r, vs_run_collapse(r)->delta, &dz, &dx);
+    out = c->dx ? dx : dz;
   }
   vs_run_destroy(&r);
   if (!c->quiet) fprintf(stderr, "  k_n = %-12.6g  collapse %s/L = %.4f %%\n", kn, c->dx ? "dx" : "dz", out);
