@@ -196,5 +196,37 @@ if "pointed" in runs and "file" in runs:
     sides = lambda c: [(h["side"], h["joints"]) for h in c["hinges"]]
     check(sides(a) == sides(b), f"hinges: pointed {sides(a)}, file {sides(b)}")
 
+# both supports: the left one outward at half the right one's rate (closed form in delta), dz/L
+# and dx/L of the relative displacement, as the run's JSON gives them
+rows, _ = table(os.path.join(out, "two_sw", "summary.csv"))
+for r in rows:
+    check(r["status"] == "collapse", f"two supports: sweep run {r['run']}: {r['status']}")
+    if r["status"] != "collapse":
+        continue
+    d, a = float(r["delta_u_mm"]), math.radians(float(r["support.alpha_deg"]))
+    want = {"left_dx_mm": d / 2, "left_dz_mm": 0.0, "right_dx_mm": d * math.sin(a),
+            "right_dz_mm": d * math.cos(a), "dz_over_L_pct": 100 * d * math.cos(a) / SPAN,
+            "dx_over_L_pct": 100 * (d / 2 + d * math.sin(a)) / SPAN}
+    for k, v in want.items():
+        check(abs(float(r[k]) - v) < 1e-8 * max(1, abs(v)), f"two supports: run {r['run']}: "
+              f"{k} = {r[k]}, expected {v}")
+    rj = json.load(open(os.path.join(out, "two_sw", f"run_{int(r['run']):04d}.json")))["collapse"]
+    check(abs(rj["dx_over_L_pct"] - float(r["dx_over_L_pct"])) < 1e-8, "two supports: JSON dx/L")
+mc, _ = table(os.path.join(out, "two_mc", "samples.csv"))
+for r in mc:
+    if r["status"] == "collapse":
+        d = float(r["delta_u_mm"])
+        check(abs(float(r["left_dx_mm"]) - d / 2) < 1e-9 * d and
+              abs(float(r["dx_u_mm"]) - (d / 2 + d * math.sin(ALPHA))) < 1e-9 * d and
+              abs(float(r["dz_u_mm"]) - d * math.cos(ALPHA)) < 1e-9 * d,
+              f"two supports: sample {r['sample']}: {r}")
+whole = open(os.path.join(out, "two_mc", "samples.csv")).read()
+check(open(os.path.join(out, "two_merged", "samples.csv")).read() == whole,
+      "two supports: the merged shards differ from the whole study")
+check(open(os.path.join(out, "two_merged", "statistics.csv")).read() ==
+      open(os.path.join(out, "two_mc", "statistics.csv")).read(), "two supports: merged statistics")
+old, cols = table(os.path.join(out, "old_merged", "samples.csv"))
+check(cols[-1] == "right_dz_mm" and len(old) == 2, f"old table merged: {cols}")
+
 print("commands on shapes:", "FAILED" if failures else "ok", f"({len(shapes)} shapes)")
 sys.exit(1 if failures else 0)

@@ -69,5 +69,29 @@ for s in $shapes; do
   kn=$(sed -nE 's/^k_n = ([0-9.eE+-]+) N\/mm\^3 gives.*/\1/p' "${s}_cal.txt")
   "$vs" run "$s.ini" -q --json --no-record --set dynamic.fall_s=0 --kn "$kn" > "${s}_cal.json"
 done
+# an axis over a key the shape does not read is refused (exit 2, nothing written)
+for bad in "file.ini --vary arch.thickness_mm=30,40" "circular.ini --vary arch.eccentricity=0.1" \
+           "circular.ini --vary arch.radius_mm=300" "pointed.ini --vary arch.rise_mm=200"; do
+  rc=0
+  # shellcheck disable=SC2086
+  "$vs" sweep $bad --alpha 0 -q -o refused 2>refused.txt || rc=$?
+  { [ $rc -eq 2 ] && [ ! -e refused ] && grep -q "arch\." refused.txt; } ||
+    { echo "FAIL: sweep $bad: exit $rc, $(cat refused.txt)"; exit 1; }
+done
+
+# both supports: the left one moves outward at half the right one's rate; the tables' travel
+# columns and dz/L, dx/L (of the relative displacement), and the shards of a montecarlo merged
+two="--set support.left_alpha_deg=90 --set support.left_rate_mm_s=0.02"
+# shellcheck disable=SC2086
+"$vs" sweep pointed.ini --alpha 0,30 $two --set dynamic.fall_s=0 -j 2 -q -o two_sw >/dev/null
+mc="pointed.ini --samples 4 --set imperfections.kn_cov=0.2 $two -j 2 -q"
+# shellcheck disable=SC2086
+{ "$vs" montecarlo $mc -o two_mc && "$vs" montecarlo $mc --shard 1/2 -o two_s1 &&
+  "$vs" montecarlo $mc --shard 2/2 -o two_s2 && "$vs" merge two_s1 two_s2 -o two_merged; } >/dev/null
+# a table written before the travel columns and the header's span and motion still merges
+mkdir old_s1
+sed -E '1s/ L_mm=.*//; 2,$s/(,[^,]*){4}$//' two_s1/samples.csv > old_s1/samples.csv
+"$vs" merge old_s1 -o old_merged >/dev/null
+
 # shellcheck disable=SC2086
 $py "$src/tests/commands_shapes_check.py" "$tmp" $shapes
