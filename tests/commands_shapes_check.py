@@ -225,6 +225,10 @@ check(open(os.path.join(out, "two_merged", "samples.csv")).read() == whole,
       "two supports: the merged shards differ from the whole study")
 check(open(os.path.join(out, "two_merged", "statistics.csv")).read() ==
       open(os.path.join(out, "two_mc", "statistics.csv")).read(), "two supports: merged statistics")
+jc = json.load(open(os.path.join(out, "two_cal.json")))["collapse"]
+check(abs(jc["dx_over_L_pct"] - 4.0) <= 0.011 and
+      abs(jc["dx_over_L_pct"] - 100 * jc["left"]["dx_mm"] / SPAN) < 1e-8,
+      f"two supports: calibrate to dx/L 4 %: the run at its k_n gives {jc}")
 old, cols = table(os.path.join(out, "old_merged", "samples.csv"))
 check(cols[-1] == "right_dz_mm" and len(old) == 2, f"old table merged: {cols}")
 

@@ -88,6 +88,14 @@ mc="pointed.ini --samples 4 --set imperfections.kn_cov=0.2 $two -j 2 -q"
 # shellcheck disable=SC2086
 { "$vs" montecarlo $mc -o two_mc && "$vs" montecarlo $mc --shard 1/2 -o two_s1 &&
   "$vs" montecarlo $mc --shard 2/2 -o two_s2 && "$vs" merge two_s1 two_s2 -o two_merged; } >/dev/null
+# calibrate to the spreading dx/L with the right support settling (alpha = 0): the left one's
+# outward travel is the spreading
+# shellcheck disable=SC2086
+"$vs" calibrate pointed.ini --target-dx-pct 4 --set support.alpha_deg=0 $two --kn-min 1 --kn-max 100 -q > two_cal.txt 2>&1 ||
+  { echo "FAIL: calibrate to dx/L with the left support moving"; cat two_cal.txt; exit 1; }
+kn=$(sed -nE 's/^k_n = ([0-9.eE+-]+) N\/mm\^3 gives.*/\1/p' two_cal.txt)
+# shellcheck disable=SC2086
+"$vs" run pointed.ini -q --json --no-record --set dynamic.fall_s=0 --set support.alpha_deg=0 $two --kn "$kn" > two_cal.json
 # a table written before the travel columns and the header's span and motion still merges
 mkdir old_s1
 sed -E '1s/ L_mm=.*//; 2,$s/(,[^,]*){4}$//' two_s1/samples.csv > old_s1/samples.csv

@@ -63,7 +63,9 @@ int vs_calibrate_main(const vs_calibrate_opts *o) {
   if (vs_case_validate(&c.base, &err) != VS_OK ||
       vs_case_check_path(&c.base, "calibrate", &err) != VS_OK)
     goto bad;
-  if (c.dx && fabs(sin(c.base.alpha_deg * VS_DEG)) < 1e-12) {
+  const int right_alone = c.base.left_rate_mm_s == 0.0 && c.base.left_path.n == 0 &&
+                          c.base.right_path.n == 0; /* else dx is the supports' spreading */
+  if (c.dx && right_alone && fabs(sin(c.base.alpha_deg * VS_DEG)) < 1e-12) {
     fprintf(stderr, "voussoir calibrate: --target-dx-pct with alpha = 0: dx is always 0\n");
     return EXIT_USAGE;
   }
