@@ -99,7 +99,10 @@ kn=$(sed -nE 's/^k_n = ([0-9.eE+-]+) N\/mm\^3 gives.*/\1/p' two_cal.txt)
 # a table written before the travel columns and the header's span and motion still merges
 mkdir old_s1
 sed -E '1s/ L_mm=.*//; 2,$s/(,[^,]*){4}$//' two_s1/samples.csv > old_s1/samples.csv
+# with a sample that failed and one that did not collapse (their travel: nan)
+printf '4,failed,nan,nan,nan,nan,0,,,,,,,the cause\n6,max_displacement,1.5,nan,nan,nan,0,,,,,,,\n' >> old_s1/samples.csv
 "$vs" merge old_s1 -o old_merged >/dev/null
+"$vs" merge old_merged -o old_again >/dev/null
 
 # shellcheck disable=SC2086
 $py "$src/tests/commands_shapes_check.py" "$tmp" $shapes

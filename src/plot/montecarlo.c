@@ -216,8 +216,12 @@ static void mc_travel(const vs_case *c, double delta_mm, double t[4]) {
   for (int s = 0; ok && s < 2; s++) ok = vs_support_motion_from_def(&d->support, s, &mo[s], &e) == VS_OK;
   free(d);
   for (int s = 0; s < 2; s++) {
-    double u[3] = {NAN, NAN, NAN};
-    if (ok) vs_support_motion_at(&mo[s], delta_mm * VS_MM, u, NULL);
+    double u[3];
+    if (!ok) { /* (NAN, not -NAN: the table says nan) */
+      t[2 * s] = t[2 * s + 1] = NAN;
+      continue;
+    }
+    vs_support_motion_at(&mo[s], delta_mm * VS_MM, u, NULL);
     t[2 * s] = (s ? u[0] : -u[0]) / VS_MM + 0.0; /* + 0.0: at rest 0, not -0 */
     t[2 * s + 1] = -u[1] / VS_MM + 0.0;
   }

@@ -29,7 +29,7 @@ enum { EXIT_FAIL = VS_EXIT_FAILED, EXIT_USAGE = VS_EXIT_BAD_INPUT };
  * The fields marked optional came later (the span of any shape, both supports' motion): a table
  * written before them lacks them, and its summary is that of the circular arch and the right
  * support alone, as then. L_mm, the span the ratios are of, becomes the case's arch.span_mm
- * once the case is validated (the case here only writes the summary). */
+ * (the case here only writes the summary). */
 #define TABLE_MAGIC "# voussoir montecarlo "
 static const struct {
   const char *field, *section, *key; /* key: the case key section.key (NULL: field) */
@@ -114,7 +114,14 @@ static vs_status parse_header(const char *where, char *line, vs_case *c, vs_erro
   if (span != NULL && (vs_parse_double(span, &L) != VS_NUM_OK || !isfinite(L) || L <= 0.0))
     return vs_error_set(err, VS_ERR_PARSE, "%s: header field L_mm = '%.64s': not a span (allowed: "
                         "a finite number > 0, mm)", where, span);
-  c->span_mm = L; /* the span the summary's ratios are of (0: the circle's, as before) */
+  /* the span the summary's ratios are of (none: the circle's, as before); the case stays one
+   * that validates, a circle of that span (its rise, any the span allows, is not used) */
+  if (L > 0.0) {
+    c->span_mm = L;
+    c->rise_mm = 0.5 * L;
+    if (vs_case_validate(c, &why) != VS_OK)
+      return vs_error_set(err, VS_ERR_INVALID, "%s: header field L_mm: %s", where, why.msg);
+  }
   return VS_OK;
 }
 
