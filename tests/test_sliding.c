@@ -20,6 +20,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "test_support.h"
 #include "voussoir/report.h"
@@ -204,6 +205,75 @@ static void test_pushed_block(void **s) {
   vs_geometry_destroy(&g);
 }
 
+/* --------------------- the pushed block as a run, from a blocks file ---------------------
+ * The same statics through the whole program: a case (arch.shape = file) whose blocks file puts
+ * one block of 100 x 50 mm on the fixed base (friction 0.3) and the right support against its
+ * side (an interface of its own, friction 1e-6), the support moving inward (alpha = -90 deg).
+ * The run follows the slip of the base and ends on the sliding mechanism that the support drives
+ * (VS_PATH_SLIDING): a collapse named sliding, without "Newton failed", the push at the base's
+ * friction mu W, the block sliding along the push (toward -x: the extrados end of joint 1,
+ * whose tangent from intrados to extrados is the normal +z turned +90 degrees). */
+static const char PUSH_JSON[] =
+    "{\"format\": \"voussoir-blocks 1\", \"units\": \"mm\", \"blocks\": [\n"
+    " {\"name\": \"L\", \"support\": \"left\", \"polygon\": [[0,-50],[100,-50],[100,0],[0,0]]},\n"
+    " {\"name\": \"a\", \"polygon\": [[0,0],[100,0],[100,50],[0,50]]},\n"
+    " {\"name\": \"R\", \"support\": \"right\", \"polygon\": [[100,0],[150,0],[150,50],[100,50]]}],\n"
+    " \"interfaces\": [{\"between\": [\"a\", \"R\"], \"friction\": 1e-6}],\n"
+    " \"ring\": [\"L\", \"a\", \"R\"]}\n";
+
+static void test_run_pushed_block_slides(void **s) {
+  (void)s;
+  char path[] = "/tmp/vs_test_push_XXXXXX";
+  const int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  FILE *f = fdopen(fd, "w");
+  assert_non_null(f);
+  fputs(PUSH_JSON, f);
+  assert_int_equal(fclose(f), 0);
+  static const char *const sets[] = {
+      "arch.shape=file", "arch.depth_mm=100", "arch.density_kg_m3=2000", "joints.kn_N_mm3=3",
+      "joints.friction=0.3", "support.alpha_deg=-90", "support.max_mm=5", "solver.step_mm=0.001",
+      "solver.step_max_mm=0.01", "solver.limit_tol_mm=1e-5", "dynamic.fall_s=0"};
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_error err;
+  vs_error_clear(&err);
+  for (size_t i = 0; i < sizeof sets / sizeof sets[0]; i++)
+    assert_int_equal(vs_case_set(&c, sets[i], &err), VS_OK);
+  snprintf(c.blocks_file, sizeof c.blocks_file, "%s", path);
+  assert_int_equal(vs_case_validate(&c, &err), VS_OK);
+  vs_run *r = NULL;
+  assert_int_equal(vs_run_create(&c, &r, &err), VS_OK);
+  const vs_status st = vs_run_execute(r, NULL, NULL, NULL, &err);
+  unlink(path);
+  if (st != VS_OK) fail_msg("the pushed block: %s", err.msg);
+  const vs_collapse_record *col = vs_run_collapse(r);
+  assert_true(col->found);
+  assert_int_equal(vs_run_path_totals(r)->end, VS_PATH_SLIDING);
+  assert_string_equal(col->mechanism, "sliding");
+  const double W = vs_geometry_weight(vs_run_geometry(r)), mu = 0.3;
+  assert_true(fabs(W - 2000.0 * 0.1 * 0.05 * 0.1 * 9.81) < 1e-9 * W);
+  /* the base carries the weight and the push mu W (its moment tilts the block a few
+   * microradians: the tolerance) */
+  const double *R = col->reactions_limit;
+  if (!(fabs(R[0] - mu * W) < 1e-3 * W && fabs(R[1] - W) < 1e-3 * W && fabs(R[3] + mu * W) < 1e-3 * W))
+    fail_msg("reactions at the collapse: left (%g, %g) N, right Fx %g N; mu W = %g N, W = %g N",
+             R[0], R[1], R[3], mu * W, W);
+  int base = 0;
+  for (int i = 0; i < col->n_slips; i++)
+    if (col->slips[i].joint == 1) base = col->slips[i].side;
+  assert_int_equal(base, 'E');
+  /* where the base starts to slide: the push mu W through the side joint's closure and the
+   * base's shear in series, k_n b h and k_s b w; the block's tilt under the push's moment adds
+   * about a fifth, and the run ends the path within its increments (0.001 mm) */
+  const double kn = 3e9, k_side = kn * 0.1 * 0.05, k_base = 0.5 * kn * 0.1 * 0.1;
+  const double onset = mu * W * (1.0 / k_side + 1.0 / k_base);
+  print_message("the pushed block slides from %.4g mm (statics: %.4g mm, before the tilt)\n",
+                col->delta * 1e3, onset * 1e3);
+  assert_true(col->delta > onset && col->delta < 1.5 * onset + 2e-6); /* + two steps */
+  vs_run_destroy(&r);
+}
+
 /* ----------------------------- the reference arch, named -------------------------------- */
 
 static vs_run *arch_run(double mu) {
@@ -300,6 +370,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_incline_threshold),
       cmocka_unit_test(test_pushed_block),
+      cmocka_unit_test(test_run_pushed_block_slides),
       cmocka_unit_test(test_arch_mixed_mechanism_named),
       cmocka_unit_test(test_arch_rotational),
   };

@@ -226,7 +226,10 @@ VS_API int vs_case_key_text(const vs_case *c, int i, char *buf, size_t size);
 VS_API const char *vs_case_key_name_of(int i, int value);
 
 /* The keys whose value is text, not a number (support.left_path, support.right_path): they are
- * not among vs_case_key's. How many, and key i's section and name, and its value in c as the
+ * not among vs_case_key's. (Two mechanisms for text values, this one and vs_case_key_text's keys
+ * in the main table: folding the paths into the main table would change vs_case_key_count, the
+ * records' /parameters and the study manifests, and drop these two exported functions, an ABI
+ * change: left for a release that raises VS_SOVERSION.) How many, and key i's section and name, and its value in c as the
  * case file would give it ("" when unset; text of at most size - 1 bytes, cut short beyond).
  * Returns 0, or -1 when i is out of range. Any output pointer may be NULL. */
 VS_API int vs_case_text_key_count(void);

@@ -36,9 +36,12 @@ typedef struct {
  * Never fails as a function: a failed run gives status VS_MC_FAILED with its cause. */
 VS_API void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *out);
 
-/* The columns of samples.csv (line 2; `voussoir merge` reads them back). */
+/* The columns of samples.csv (line 2; `voussoir merge` reads them back, and the first 14 of a
+ * table written before the last four were appended: each support's own travel at the collapse,
+ * mm, outward and downward positive, as the JSON's collapse.left and collapse.right). */
 #define VS_MC_TABLE_COLUMNS \
-  "sample,status,first_limit_mm,delta_u_mm,dz_u_mm,dx_u_mm,mode,pattern,A,B,C,D,E,error"
+  "sample,status,first_limit_mm,delta_u_mm,dz_u_mm,dx_u_mm,mode,pattern,A,B,C,D,E,error," \
+  "left_dx_mm,left_dz_mm,right_dx_mm,right_dz_mm"
 
 /* The files vs_mc_write_summary writes into its directory (for an initialiser list). */
 #define VS_MC_OUTPUTS \

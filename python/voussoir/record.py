@@ -85,6 +85,45 @@ class Record:
         pts = np.stack([x, z], axis=-1).reshape(q.shape[0], -1, 2)
         return pts if row is None else pts[0]
 
+    def reference_outlines(self):
+        """Each block's outline in the reference configuration (m), counter-clockwise: a list of
+        (k, 2) arrays, one per block, from /geometry/block_points without the padding (a
+        block's last point repeated to fill the row). Curved edges (any shape's intrados and
+        extrados) are drawn as chords; a blocks file's polygons are exact."""
+        pts = self.file["geometry/block_points"][()]
+        out = []
+        for row in self.file["geometry/block_connectivity"][()]:
+            poly = pts[row]
+            k = len(poly)
+            while k > 1 and np.array_equal(poly[k - 1], poly[k - 2]):
+                k -= 1
+            out.append(poly[:k])
+        return out
+
+    def supports(self, outward=False):
+        """Each support's displacement history: {'left': Series, 'right': Series}, rows first,
+        columns ux, uz (m) and theta (rad) of the centre of its springing face (x right, z up,
+        theta counter-clockwise), from /observables/supports. outward=True: columns dx, dz, rot
+        (m, m, rad), outward, downward and outward-turning positive, as the JSON's
+        collapse.left and collapse.right. A record written before both supports could move
+        (no /observables/supports) gives the right support's /observables/support_displacement
+        and a left support at rest."""
+        if "supports" in self.file["observables"]:
+            v = self.file["observables/supports/value"][:]
+        else:
+            right = self.file["observables/support_displacement/value"][:]
+            v = np.zeros((right.shape[0], 6))
+            v[:, 3:5] = right
+        left, right = v[:, 0:3], v[:, 3:6]
+        if not outward:
+            cols = ["ux", "uz", "theta"]
+            return {"left": Series(left, "m,m,rad", cols), "right": Series(right, "m,m,rad", cols)}
+        cols = ["dx", "dz", "rot"]
+        mirror_left = np.array([-1.0, -1.0, 1.0])  # the left support moves outward to -x
+        mirror_right = np.array([1.0, -1.0, -1.0])  # the right one turns outward clockwise
+        return {"left": Series(left * mirror_left + 0.0, "m,m,rad", cols),
+                "right": Series(right * mirror_right + 0.0, "m,m,rad", cols)}
+
     def time(self):
         ds = self.file["observables/delta/time"]
         return Series(ds[:], _text(ds.attrs.get("unit", "s")))

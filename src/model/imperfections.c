@@ -75,6 +75,16 @@ static vs_status joint_spacing(const vs_arch_def *a, double *ds, vs_error *err) 
   return st;
 }
 
+/* The angle the voussoirs' drawn angles fill, rad: a circle's embrace (also when its span and
+ * rise give it); for another shape a nominal one (arch.embrace_deg), each voussoir's size
+ * scaled by its drawn angle over the nominal share (scattered_shape). */
+static vs_status nominal_embrace(const vs_arch_def *a, double *embrace, vs_error *err) {
+  double radius = 0.0, half = 0.5 * a->embrace;
+  const vs_status st = a->shape == VS_SHAPE_CIRCULAR ? vs_shape_circle(a, &radius, &half, err) : VS_OK;
+  *embrace = 2.0 * half;
+  return st;
+}
+
 /* k_n factors: lognormal over an Ornstein-Uhlenbeck (or white) normal field along the arch
  * (joints ds apart, m). */
 static void draw_kn(const vs_imperfection_def *d, double ds, vs_imperfections *p) {
@@ -124,8 +134,16 @@ vs_status vs_imperfections_draw_counts(const vs_imperfection_def *d, const vs_ar
   for (int k = 0; k < nj; k++)
     p->face_gap[k] =
         d->face > 0.0 ? d->face * vs_rng_normal(seed, smp, STREAM_FACE, (uint64_t)k) : 0.0;
-  /* angles: deviations from nominal, shifted by their mean so that they fill the embrace */
-  const double dphi = a->embrace / nb;
+  /* angles: deviations from nominal, shifted by their mean so that they fill the embrace (a
+   * circle's, also when span and rise give it; another shape's voussoirs scale by the angle
+   * over this nominal one, scattered_shape) */
+  double embrace = 0.0;
+  st = nominal_embrace(a, &embrace, err);
+  if (st != VS_OK) {
+    vs_imperfections_destroy(&p);
+    return st;
+  }
+  const double dphi = embrace / nb;
   double mean = 0.0;
   for (int i = 0; i < nb; i++) {
     const double f = d->angle_cov > 0.0
@@ -153,11 +171,14 @@ vs_status vs_imperfections_draw_counts(const vs_imperfection_def *d, const vs_ar
 static vs_status scattered_shape(const vs_imperfection_def *d, const vs_arch_def *a,
                                  const vs_imperfections *imp, vs_geometry **out, vs_error *err) {
   const int n = a->voussoirs;
+  double embrace = 0.0;
+  vs_status st = nominal_embrace(a, &embrace, err);
+  if (st != VS_OK) return st;
   double *size = malloc((size_t)n * sizeof *size), *thick = malloc((size_t)n * sizeof *thick);
-  vs_status st = size != NULL && thick != NULL ? VS_OK
-                                               : vs_error_set(err, VS_ERR_NOMEM, "imperfections: out of memory");
+  st = size != NULL && thick != NULL ? VS_OK
+                                     : vs_error_set(err, VS_ERR_NOMEM, "imperfections: out of memory");
   for (int i = 0; st == VS_OK && i < n; i++) {
-    size[i] = imp->angle[i] / (a->embrace / n);
+    size[i] = imp->angle[i] / (embrace / n);
     thick[i] = imp->thickness[i] / a->thickness;
     if (!(size[i] > 0.0))
       st = vs_error_set(err, VS_ERR_INVALID, "imperfections.angle_cov = %g: voussoir %d of sample "

@@ -18,7 +18,9 @@
 
 #include "outpath.h"
 #include "voussoir/plot.h"
+#include "voussoir/geometry.h"
 #include "voussoir/run.h"
+#include "voussoir/support.h"
 #include "voussoir/units.h"
 
 /* Confidence of the fragility band: Dvoretzky-Kiefer-Wolfowitz (Massart's constant), a band that
@@ -96,12 +98,27 @@ static void fragility(const vs_mc_sample *s, int n, const vs_case *c, mc_stats *
   }
 }
 
+/* The span the statistics are of, mm: the case's, or (a blocks file that does not give it) the
+ * arch's own, as each run's JSON (span_mm); NaN when the file cannot be read. */
+static double mc_span_mm(const vs_case *c) {
+  double L = vs_case_span_mm(c);
+  if (isfinite(L)) return L;
+  vs_run_def *d = malloc(sizeof *d);
+  vs_geometry *g = NULL;
+  vs_error e;
+  if (d != NULL) vs_case_to_def(c, d);
+  if (d != NULL && vs_geometry_create_arch(&d->arch, &g, &e) == VS_OK) L = g->span / VS_MM;
+  vs_geometry_destroy(&g);
+  free(d);
+  return L;
+}
+
 static vs_status compute(const vs_mc_sample *s, int n, const vs_case *c, mc_stats *st,
                          vs_error *err) {
   memset(st, 0, sizeof *st);
   st->n = n;
   st->n_joints = c->voussoirs + 1;
-  const double L = vs_case_span_mm(c);
+  const double L = mc_span_mm(c);
   double *v = calloc((size_t)n + 1, sizeof *v), *w = calloc((size_t)n + 1, sizeof *w);
   st->run_n = malloc((size_t)n * sizeof(double));
   st->run_mean = malloc((size_t)n * sizeof(double));
@@ -187,16 +204,59 @@ static const char *status_name(int s) {
   return s == VS_MC_COLLAPSE ? "collapse" : s == VS_MC_NO_COLLAPSE ? "max_displacement" : "failed";
 }
 
+/* Each support's own travel (mm: left dx, dz, right dx, dz; outward and downward positive) at
+ * delta_mm, as the case moves them (without an imperfect arch's offset): the JSON's
+ * collapse.left and collapse.right. NaN when delta_mm is, or the case defines no motion. */
+static void mc_travel(const vs_case *c, double delta_mm, double t[4]) {
+  vs_run_def *d = malloc(sizeof *d);
+  vs_support_motion mo[2];
+  vs_error e;
+  int ok = d != NULL && isfinite(delta_mm);
+  if (ok) vs_case_to_def(c, d);
+  for (int s = 0; ok && s < 2; s++) ok = vs_support_motion_from_def(&d->support, s, &mo[s], &e) == VS_OK;
+  free(d);
+  for (int s = 0; s < 2; s++) {
+    double u[3];
+    if (!ok) { /* (NAN, not -NAN: the table says nan) */
+      t[2 * s] = t[2 * s + 1] = NAN;
+      continue;
+    }
+    vs_support_motion_at(&mo[s], delta_mm * VS_MM, u, NULL);
+    t[2 * s] = (s ? u[0] : -u[0]) / VS_MM + 0.0; /* + 0.0: at rest 0, not -0 */
+    t[2 * s + 1] = -u[1] / VS_MM + 0.0;
+  }
+}
+
+/* A path as the table's header writes it: its text without spaces (one word), "none" if none. */
+static void header_path(const vs_case *c, const char *key, char *buf, size_t size) {
+  const char *sec = NULL, *name = NULL;
+  char text[1024] = "";
+  for (int i = 0; vs_case_text_key(c, i, &sec, &name, text, sizeof text) == 0; i++)
+    if (strcmp(sec, "support") == 0 && strcmp(name, key) == 0) break;
+  size_t k = 0;
+  for (const char *p = text; *p && k + 1 < size; p++)
+    if (*p != ' ') buf[k++] = *p;
+  buf[k] = '\0';
+  if (k == 0) snprintf(buf, size, "none");
+}
+
 /* One row per sample, in sample order; no timings, so the file depends only on the inputs.
- * Written at part (created anew), named path in messages. */
+ * Written at part (created anew), named path in messages. Line 1 names what `voussoir merge`
+ * needs to write the summary again: the case keys, the span L (L_mm) and the supports'
+ * motion. */
 static vs_status write_samples_csv(const char *path, const char *part, const vs_case *c,
                                    const vs_mc_sample *s, int n, vs_error *err) {
   FILE *f;
   vs_status st = vs_outpath_fopen(part, &f, err);
   if (st != VS_OK) return st;
+  char lp[1024], rp[1024];
+  header_path(c, "left_path", lp, sizeof lp);
+  header_path(c, "right_path", rp, sizeof rp);
   fprintf(f, "# voussoir montecarlo seed=%d radius_mm=%.17g embrace_deg=%.17g max_mm=%.17g "
-             "alpha_deg=%.17g voussoirs=%d\n",
-          c->seed, c->radius_mm, c->embrace_deg, c->max_mm, c->alpha_deg, c->voussoirs);
+             "alpha_deg=%.17g voussoirs=%d L_mm=%.17g rate_mm_s=%.17g left_alpha_deg=%.17g "
+             "left_rate_mm_s=%.17g left_path=%s right_path=%s\n",
+          c->seed, c->radius_mm, c->embrace_deg, c->max_mm, c->alpha_deg, c->voussoirs,
+          mc_span_mm(c), c->rate_mm_s, c->left_alpha_deg, c->left_rate_mm_s, lp, rp);
   fputs(VS_MC_TABLE_COLUMNS "\n", f);
   for (int i = 0; i < n; i++) {
     const vs_mc_sample *x = &s[i];
@@ -210,7 +270,9 @@ static vs_status write_samples_csv(const char *path, const char *part, const vs_
     snprintf(e, sizeof e, "%s", x->error);
     for (char *p = e; *p; p++)
       if (*p == ',' || *p == '\n' || *p == '"') *p = ';';
-    fprintf(f, ",%s\n", e);
+    double t[4];
+    mc_travel(c, x->status == VS_MC_COLLAPSE ? x->delta_u_mm : NAN, t);
+    fprintf(f, ",%s,%.17g,%.17g,%.17g,%.17g\n", e, t[0], t[1], t[2], t[3]);
   }
   return fclose(f) == 0 ? VS_OK : cannot(path, err);
 }
@@ -338,7 +400,7 @@ static vs_status write_h5(const char *path, const char *part, const vs_case *cs,
   if (file < 0) return err->status;
   char desc[256];
   snprintf(desc, sizeof desc, "voussoir montecarlo: %d samples, seed %d, alpha %g deg, L %.6g mm",
-           n, cs->seed, cs->alpha_deg, vs_case_span_mm(cs));
+           n, cs->seed, cs->alpha_deg, mc_span_mm(cs));
   herr_t rc = vs_h5_attr_cstr(file, "description", desc);
   if (rc >= 0)
     rc = vs_h5_attr_cstr(file, "hinge_histogram",

@@ -134,10 +134,12 @@ static herr_t geometry_scalars(hid_t grp, const vs_output *o, const vs_geometry 
   if (rc >= 0)
     rc = vs_h5_attr_str(
         grp, "description",
-        "reference configuration; x right, z up, circle centre at the origin. Block i's "
-        "outline is block_points[i*P:(i+1)*P] (P = points_per_block), counter-clockwise, its "
-        "last point repeated to fill P; a circular arch's voussoir: intrados arc from phi0 to "
-        "phi1, then extrados arc back. Joint k (1-based in reports) is row k-1; "
+        "reference configuration; x right, z up; the origin at the circle's centre (circular), "
+        "at mid-span on the springing line (the other shapes), the file's own (a blocks file). "
+        "Block i's outline is block_points[i*P:(i+1)*P] (P = points_per_block), "
+        "counter-clockwise, its last point repeated to fill P, a curved edge as chords; a "
+        "circular arch's voussoir: intrados arc from phi0 to phi1, then extrados arc back. "
+        "Joint k (1-based in reports) is row k-1; "
         "joint_bodies: block index, -1 left support, -2 right support");
   return rc;
 }

@@ -34,9 +34,12 @@ typedef struct {
   char hinges[512];                   /* hinges at collapse: "D:1-E A:9-10-I ..." */
   char error[512];                    /* the cause of a failure, "" otherwise */
   double first_limit_mm, delta_u_mm;  /* NaN when absent */
-  double dz_pct, dx_pct;              /* delta_u's components, % of the intrados span */
+  double dz_pct, dx_pct;              /* delta_u's components, % of the intrados span (the
+                                         supports' relative displacement when both move) */
   double wall_s;                      /* the run's wall time */
   int snaps;                          /* limit points the path snapped through */
+  double left_dx_mm, left_dz_mm;      /* each support's own travel at the collapse (outward, */
+  double right_dx_mm, right_dz_mm;    /* downward positive; as the JSON's collapse.left/right) */
 } vs_sweep_row;
 
 /* The summary table of a sweep as DIR/summary.h5 (sweep_summary.c, in the record library).

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "voussoir/model.h"
 #include "voussoir/run.h"
 #include "voussoir/support.h"
 #include "voussoir/units.h"
@@ -25,6 +26,16 @@ static void fill_hinges(const vs_run *r, vs_mc_sample *o) {
   const char *mode = vs_run_mode(r);
   o->mode = mode == NULL ? 0 : strcmp(mode, "I") == 0 ? 1 : strcmp(mode, "II") == 0 ? 2
                                                         : strcmp(mode, "III") == 0 ? 3 : 0;
+}
+
+/* The supports' relative displacement at delta (m) into dz_u_mm (the right one's settlement
+ * below the left one) and dx_u_mm (the spreading), as the run's JSON gives it when both move. */
+static void relative(const vs_run *r, double delta, vs_mc_sample *o) {
+  double u[2][3];
+  for (int s = 0; s < 2; s++)
+    vs_support_motion_at(vs_model_support_motion(vs_run_model(r), s), delta, u[s], NULL);
+  o->dx_u_mm = (u[1][0] - u[0][0]) / VS_MM;
+  o->dz_u_mm = (u[0][1] - u[1][1]) / VS_MM;
 }
 
 void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *o) {
@@ -50,6 +61,8 @@ void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *o) {
     o->delta_u_mm = d;
     o->dz_u_mm = d * sd.dz;
     o->dx_u_mm = d * sd.dx;
+    if (c.left_rate_mm_s != 0.0 || c.left_path.n > 0 || c.right_path.n > 0 || c.rate_mm_s == 0.0)
+      relative(r, vs_run_collapse(r)->delta, o); /* more than the right support moves */
     fill_hinges(r, o);
   } else {
     o->status = VS_MC_NO_COLLAPSE;

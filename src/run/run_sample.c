@@ -248,7 +248,8 @@ static int collapse_hinges(vs_run *r) {
   vs_run_name_first(r, r->hinges_at_onset); /* the snapshot's hinges take the names too */
   for (int i = 0; i < r->hinges_at_onset; i++) r->onset_all[i].label = vs_hinges_get(r->h, i)->label;
   for (int i = 0; i < r->n_onset; i++) r->onset[i].label = vs_hinges_get(r->h, r->onset[i].order - 1)->label;
-  qsort(r->onset, (size_t)r->n_onset, sizeof r->onset[0], cmp_hinge_first);
+  if (r->n_onset > 1) /* (a sliding mechanism may have none: no qsort of a NULL array) */
+    qsort(r->onset, (size_t)r->n_onset, sizeof r->onset[0], cmp_hinge_first);
   c->n_hinges = r->n_onset;
   c->hinges = r->onset;
   memcpy(c->reactions_limit, r->react_eq, sizeof r->react_eq);

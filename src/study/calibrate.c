@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "collapse_at.h"
 #include "study.h"
 #include "voussoir/run.h"
 #include "voussoir/support.h"
@@ -42,9 +43,9 @@ static double cal_eval(cal_ctx *c, double kn) {
   c->runs++;
   if (vs_run_create(&k, &r, &err) == VS_OK && vs_run_execute(r, NULL, NULL, NULL, &err) == VS_OK &&
       vs_run_collapse(r)->found) {
-    const double d = vs_run_collapse(r)->delta / VS_MM;
-    const vs_support_dir sd = vs_support_direction(k.alpha_deg * VS_DEG);
-    out = 100.0 * d * (c->dx ? sd.dx : sd.dz) / vs_case_span_mm(&k);
+    double dz, dx; /* as the run's JSON gives them (a blocks file's own span) */
+    vs_study_components_pct(r, vs_run_collapse(r)->delta, &dz, &dx);
+    out = c->dx ? dx : dz;
   }
   vs_run_destroy(&r);
   if (!c->quiet) fprintf(stderr, "  k_n = %-12.6g  collapse %s/L = %.4f %%\n", kn, c->dx ? "dx" : "dz", out);
@@ -62,7 +63,9 @@ int vs_calibrate_main(const vs_calibrate_opts *o) {
   if (vs_case_validate(&c.base, &err) != VS_OK ||
       vs_case_check_path(&c.base, "calibrate", &err) != VS_OK)
     goto bad;
-  if (c.dx && fabs(sin(c.base.alpha_deg * VS_DEG)) < 1e-12) {
+  const int right_alone = c.base.left_rate_mm_s == 0.0 && c.base.left_path.n == 0 &&
+                          c.base.right_path.n == 0; /* else dx is the supports' spreading */
+  if (c.dx && right_alone && fabs(sin(c.base.alpha_deg * VS_DEG)) < 1e-12) {
     fprintf(stderr, "voussoir calibrate: --target-dx-pct with alpha = 0: dx is always 0\n");
     return EXIT_USAGE;
   }

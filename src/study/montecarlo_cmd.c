@@ -25,6 +25,7 @@
 #include "plugin.h"
 #include "outpath.h"
 #include "parse.h"
+#include "voussoir/geometry.h"
 #include "voussoir/plot.h"
 #include "quote.h"
 
@@ -353,6 +354,21 @@ static int mpi_next(void *user) { return next_sample(user); }
 static void mpi_take(void *user, const vs_mc_sample *r) { take(user, r, 1); }
 #endif
 
+/* A blocks file's arch ring as arch.voussoirs (which the file's blocks do not read): the
+ * hinges' joints the samples are checked against, the hinge histogram's joints, and the table's
+ * header, which `voussoir merge` reads back. The file's errors, as a run gives them. */
+static vs_status file_voussoirs(vs_case *c, vs_error *err) {
+  vs_run_def *d = malloc(sizeof *d);
+  if (d == NULL) return vs_error_set(err, VS_ERR_NOMEM, "out of memory");
+  vs_geometry *g = NULL;
+  vs_case_to_def(c, d);
+  vs_status st = vs_geometry_create_arch(&d->arch, &g, err);
+  if (st == VS_OK) c->voussoirs = (g->ring > 0 ? g->ring : g->n_joints) - 1;
+  vs_geometry_destroy(&g);
+  free(d);
+  return st;
+}
+
 /* The case with the overrides and the seed applied, validated. */
 static int load_case(const vs_mc_opts *a, vs_case *c) {
   vs_error err;
@@ -367,6 +383,7 @@ static int load_case(const vs_mc_opts *a, vs_case *c) {
   }
   if (st == VS_OK) st = vs_case_validate(c, &err);
   if (st == VS_OK) st = vs_case_check_path(c, "montecarlo", &err);
+  if (st == VS_OK && c->shape == VS_SHAPE_FILE) st = file_voussoirs(c, &err);
   if (st == VS_OK) return 0;
   fprintf(stderr, "voussoir montecarlo: %s\n", err.msg);
   return -1;

@@ -25,14 +25,28 @@ enum { EXIT_FAIL = VS_EXIT_FAILED, EXIT_USAGE = VS_EXIT_BAD_INPUT };
 /* A shard's table, as montecarlo.c writes it: line 1 "# voussoir montecarlo" and the case keys
  * its summary needs as NAME=VALUE (HEADER), line 2 the column names (VS_MC_TABLE_COLUMNS), then
  * one row per sample. Nothing in it is trusted: every field is checked as the case file's line
- * would be, and a problem is reported as "FILE:LINE: field = value: reason (allowed: ...)". */
+ * would be, and a problem is reported as "FILE:LINE: field = value: reason (allowed: ...)".
+ * The fields marked optional came later (the span of any shape, both supports' motion): a table
+ * written before them lacks them, and its summary is that of the circular arch and the right
+ * support alone, as then. L_mm, the span the ratios are of, becomes the case's arch.span_mm
+ * (the case here only writes the summary). */
 #define TABLE_MAGIC "# voussoir montecarlo "
 static const struct {
-  const char *field, *section; /* the header's NAME is the case key section.NAME */
-} HEADER[] = {{"seed", "imperfections"}, {"radius_mm", "arch"},     {"embrace_deg", "arch"},
-              {"max_mm", "support"},     {"alpha_deg", "support"}, {"voussoirs", "arch"}};
-enum { N_HEADER = sizeof HEADER / sizeof HEADER[0], N_COLUMNS = 8 + VS_MC_LABELS + 1 };
-#define HEADER_LIST "seed, radius_mm, embrace_deg, max_mm, alpha_deg, voussoirs"
+  const char *field, *section, *key; /* key: the case key section.key (NULL: field) */
+  int optional;
+} HEADER[] = {{"seed", "imperfections", NULL, 0},  {"radius_mm", "arch", NULL, 0},
+              {"embrace_deg", "arch", NULL, 0},    {"max_mm", "support", NULL, 0},
+              {"alpha_deg", "support", NULL, 0},   {"voussoirs", "arch", NULL, 0},
+              {"L_mm", "arch", "span_mm", 1},      {"rate_mm_s", "support", NULL, 1},
+              {"left_alpha_deg", "support", NULL, 1}, {"left_rate_mm_s", "support", NULL, 1},
+              {"left_path", "support", NULL, 1},   {"right_path", "support", NULL, 1}};
+enum { N_HEADER = sizeof HEADER / sizeof HEADER[0], N_OLD_COLUMNS = 8 + VS_MC_LABELS + 1,
+       N_COLUMNS = N_OLD_COLUMNS + 4, H_SPAN = 6 };
+#define HEADER_LIST                                                                              \
+  "seed, radius_mm, embrace_deg, max_mm, alpha_deg, voussoirs; optional: L_mm, rate_mm_s, "     \
+  "left_alpha_deg, left_rate_mm_s, left_path, right_path"
+/* The columns of a table written before the supports' travel was appended. */
+#define OLD_COLUMNS "sample,status,first_limit_mm,delta_u_mm,dz_u_mm,dx_u_mm,mode,pattern,A,B,C,D,E,error"
 
 /* The first shard's header, which every other shard's must equal. */
 typedef struct {
@@ -41,25 +55,35 @@ typedef struct {
   int have;
 } shard_head;
 
-/* The value of header field i in c (the case key it names). */
-static double header_value(const vs_case *c, int i) {
+static const char *header_key(int i) { return HEADER[i].key ? HEADER[i].key : HEADER[i].field; }
+
+/* The value of header field i in c (the case key it names), into text (a path's text, or the
+ * number's); NAN for a text key. */
+static double header_value(const vs_case *c, int i, char *text, size_t size) {
   const char *sec = NULL, *key = NULL;
   double v = NAN;
+  text[0] = '\0';
   for (int k = 0; vs_case_key(c, k, &sec, &key, NULL, NULL, &v) == 0; k++)
-    if (strcmp(sec, HEADER[i].section) == 0 && strcmp(key, HEADER[i].field) == 0) return v;
+    if (strcmp(sec, HEADER[i].section) == 0 && strcmp(key, header_key(i)) == 0) {
+      snprintf(text, size, "%.17g", v);
+      return v;
+    }
+  for (int k = 0; vs_case_text_key(c, k, &sec, &key, text, size) == 0; k++)
+    if (strcmp(sec, HEADER[i].section) == 0 && strcmp(key, header_key(i)) == 0) return NAN;
+  text[0] = '\0';
   return NAN;
 }
 
 /* Line 1 of path (line, its newline gone) into c over the defaults: every field of HEADER
- * exactly once, each value parsed and range-checked by the case's own assignment, and the case
- * they make validated as a case file is. */
+ * exactly once (an optional one at most once), each value parsed and range-checked by the
+ * case's own assignment, and the case they make validated as a case file is. */
 static vs_status parse_header(const char *where, char *line, vs_case *c, vs_error *err) {
   vs_case_defaults(c);
   if (strncmp(line, TABLE_MAGIC, strlen(TABLE_MAGIC)) != 0)
     return vs_error_set(err, VS_ERR_PARSE, "%s: not a montecarlo table (line 1 must start with "
                         "\"%s\")", where, TABLE_MAGIC);
   int seen[N_HEADER] = {0};
-  char *save = NULL;
+  char *save = NULL, *span = NULL;
   for (char *tok = strtok_r(line + strlen(TABLE_MAGIC), " ", &save); tok != NULL;
        tok = strtok_r(NULL, " ", &save)) {
     char *eq = strchr(tok, '=');
@@ -71,17 +95,33 @@ static vs_status parse_header(const char *where, char *line, vs_case *c, vs_erro
                           "NAME=VALUE for each of %s)", where, tok, HEADER_LIST);
     if (seen[i]++)
       return vs_error_set(err, VS_ERR_PARSE, "%s: header field %s given twice", where, tok);
+    if (i == H_SPAN) { /* assigned below, once the case is validated */
+      span = eq + 1;
+      continue;
+    }
     const vs_status st = vs_case_assign(c, HEADER[i].section, tok, eq + 1, where, err);
     if (st != VS_OK) return st;
   }
   for (int i = 0; i < N_HEADER; i++)
-    if (!seen[i])
+    if (!seen[i] && !HEADER[i].optional)
       return vs_error_set(err, VS_ERR_PARSE, "%s: header field %s missing (expected NAME=VALUE "
                           "for each of %s)", where, HEADER[i].field, HEADER_LIST);
   /* and the relations between keys, as for a case file (support.max_mm > solver.step_mm) */
   vs_error why;
   if (vs_case_validate(c, &why) != VS_OK)
     return vs_error_set(err, VS_ERR_INVALID, "%s: %s", where, why.msg);
+  double L = 0.0;
+  if (span != NULL && (vs_parse_double(span, &L) != VS_NUM_OK || !isfinite(L) || L <= 0.0))
+    return vs_error_set(err, VS_ERR_PARSE, "%s: header field L_mm = '%.64s': not a span (allowed: "
+                        "a finite number > 0, mm)", where, span);
+  /* the span the summary's ratios are of (none: the circle's, as before); the case stays one
+   * that validates, a circle of that span (its rise, any the span allows, is not used) */
+  if (L > 0.0) {
+    c->span_mm = L;
+    c->rise_mm = 0.5 * L;
+    if (vs_case_validate(c, &why) != VS_OK)
+      return vs_error_set(err, VS_ERR_INVALID, "%s: header field L_mm: %s", where, why.msg);
+  }
   return VS_OK;
 }
 
@@ -89,11 +129,12 @@ static vs_status parse_header(const char *where, char *line, vs_case *c, vs_erro
 static vs_status same_header(const char *where, const vs_case *c, const shard_head *first,
                              vs_error *err) {
   for (int i = 0; i < N_HEADER; i++) {
-    const double a = header_value(c, i), b = header_value(&first->c, i);
-    if (a != b)
-      return vs_error_set(err, VS_ERR_INVALID, "%s: %s=%.17g, but %s:1 has %s=%.17g (the shards "
-                          "of one study share its case and seed)", where, HEADER[i].field, a,
-                          first->path, HEADER[i].field, b);
+    char ta[1024], tb[1024];
+    const double a = header_value(c, i, ta, sizeof ta), b = header_value(&first->c, i, tb, sizeof tb);
+    if (a != b && strcmp(ta, tb) != 0)
+      return vs_error_set(err, VS_ERR_INVALID, "%s: %s=%s, but %s:1 has %s=%s (the shards "
+                          "of one study share its case and seed)", where, HEADER[i].field, ta,
+                          first->path, HEADER[i].field, tb);
   }
   return VS_OK;
 }
@@ -137,16 +178,17 @@ static int split_csv(char *line, char **f, int n) {
 }
 
 /* One row (where: "FILE:LINE") into x, every field checked; the error text is kept quoted. */
-static vs_status parse_row(const char *where, char *line, int n_joints, vs_mc_sample *x,
-                           vs_error *err) {
+static vs_status parse_row(const char *where, char *line, int n_joints, int ncol,
+                           vs_mc_sample *x, vs_error *err) {
   static const char *const COL[N_COLUMNS] = {"sample", "status", "first_limit_mm", "delta_u_mm",
                                              "dz_u_mm", "dx_u_mm", "mode", "pattern", "A", "B",
-                                             "C", "D", "E", "error"};
+                                             "C", "D", "E", "error", "left_dx_mm", "left_dz_mm",
+                                             "right_dx_mm", "right_dz_mm"};
   char *f[N_COLUMNS];
   memset(x, 0, sizeof *x);
-  if (split_csv(line, f, N_COLUMNS) != N_COLUMNS)
-    return vs_error_set(err, VS_ERR_PARSE, "%s: %d columns expected (%s)", where, N_COLUMNS,
-                        VS_MC_TABLE_COLUMNS);
+  if (split_csv(line, f, ncol) != ncol)
+    return vs_error_set(err, VS_ERR_PARSE, "%s: %d columns expected (%s)", where, ncol,
+                        ncol == N_COLUMNS ? VS_MC_TABLE_COLUMNS : OLD_COLUMNS);
   long smp = -1, mode = -1;
   double num[4];
   int bad = -1; /* the column refused, and why */
@@ -173,6 +215,12 @@ static vs_status parse_row(const char *where, char *line, int n_joints, vs_mc_sa
    * columns than montecarlo writes */
   if (bad < 0 && strpbrk(f[13], ",\"") != NULL)
     bad = 13, why = "a cause without a comma or a quote (montecarlo writes them as ';')";
+  /* the supports' travel: checked, then written again from the header's motion */
+  for (int k = N_OLD_COLUMNS; bad < 0 && k < ncol; k++) {
+    double t;
+    if (table_number(f[k], &t) != 0 || (x->status == VS_MC_COLLAPSE) != !isnan(t))
+      bad = k, why = "a finite number for a collapse, nan otherwise";
+  }
   if (bad >= 0)
     return vs_error_set(err, VS_ERR_PARSE, "%s: %s = '%.64s': not %s", where, COL[bad], f[bad],
                         why);
@@ -235,7 +283,12 @@ static vs_status read_shard(const char *dir, shard_head *first, vs_mc_sample **a
     first->c = c;
     first->have = 1;
   }
-  if (st == VS_OK && (next_line(f, line, sizeof line) != 1 || strcmp(line, VS_MC_TABLE_COLUMNS)))
+  int ncol = 0;
+  if (st == VS_OK && next_line(f, line, sizeof line) == 1)
+    ncol = strcmp(line, VS_MC_TABLE_COLUMNS) == 0 ? N_COLUMNS
+           : strcmp(line, OLD_COLUMNS) == 0       ? N_OLD_COLUMNS
+                                                  : 0;
+  if (st == VS_OK && ncol == 0)
     st = vs_error_set(err, VS_ERR_PARSE, "%s:2: not the columns of a montecarlo table (%s)", path,
                       VS_MC_TABLE_COLUMNS);
   lineno = 2;
@@ -256,7 +309,7 @@ static vs_status read_shard(const char *dir, shard_head *first, vs_mc_sample **a
       *all = b;
       *cap = nc;
     }
-    st = parse_row(where, line, c.voussoirs + 1, &(*all)[*n], err);
+    st = parse_row(where, line, c.voussoirs + 1, ncol, &(*all)[*n], err);
     if (st == VS_OK) (*n)++;
   }
   fclose(f);

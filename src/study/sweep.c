@@ -52,16 +52,17 @@ static void write_csv_row(FILE *csv, const vs_sweep_row *row, int nax) {
     if (*p == '"') *p = '\'';
   fprintf(csv, "%d", row->run);
   for (int x = 0; x < nax; x++) fprintf(csv, ",%.10g", row->axis[x]);
-  fprintf(csv, ",%s,%.10g,%.10g,%.10g,%.10g,\"%s\",%s,%d,%.4g,\"%s\"\n", row->status,
-          row->first_limit_mm, row->delta_u_mm, row->dz_pct, row->dx_pct, row->hinges, row->mode,
-          row->snaps, row->wall_s, error);
+  fprintf(csv, ",%s,%.10g,%.10g,%.10g,%.10g,\"%s\",%s,%d,%.4g,\"%s\",%.10g,%.10g,%.10g,%.10g\n",
+          row->status, row->first_limit_mm, row->delta_u_mm, row->dz_pct, row->dx_pct,
+          row->hinges, row->mode, row->snaps, row->wall_s, error, row->left_dx_mm,
+          row->left_dz_mm, row->right_dx_mm, row->right_dz_mm);
 }
 
 static void write_csv_header(FILE *csv, const axis *ax, int nax) {
   fputs("run", csv);
   for (int x = 0; x < nax; x++) fprintf(csv, ",%s", ax[x].key);
   fputs(",status,first_limit_mm,delta_u_mm,dz_over_L_pct,dx_over_L_pct,hinges_at_collapse,mode,"
-        "snaps,wall_s,error\n",
+        "snaps,wall_s,error,left_dx_mm,left_dz_mm,right_dx_mm,right_dz_mm\n",
         csv);
 }
 
@@ -111,6 +112,48 @@ static vs_status load_case(const char *case_path, const char *const *sets, int n
   return load_case_text(case_path, sets, nsets, c, NULL, err);
 }
 
+/* The shapes that read an [arch] key of the geometry (docs/case-file.md): an axis over a key its
+ * case's shape does not read would run the same arch again and again. Keys not listed are read
+ * by every shape (a blocks file's: depth, density, gravity; span_mm, the span L). */
+static const struct {
+  const char *key, *shapes;
+  unsigned mask; /* 1 << vs_arch_shape */
+} SHAPE_KEYS[] = {
+    {"radius_mm", "circular", 1u << VS_SHAPE_CIRCULAR},
+    {"embrace_deg", "circular", 1u << VS_SHAPE_CIRCULAR},
+    {"eccentricity", "pointed", 1u << VS_SHAPE_POINTED},
+    {"haunch_deg", "basket", 1u << VS_SHAPE_BASKET},
+    {"rise_mm", "every shape but pointed and file",
+     ~((1u << VS_SHAPE_POINTED) | (1u << VS_SHAPE_FILE))},
+    {"thickness_mm", "every shape but file", ~(1u << VS_SHAPE_FILE)},
+    {"thickness_springing_mm", "every shape but file", ~(1u << VS_SHAPE_FILE)},
+    {"voussoirs", "every shape but file", ~(1u << VS_SHAPE_FILE)},
+    {"keystone_mm", "every shape but file", ~(1u << VS_SHAPE_FILE)},
+};
+
+/* Whether case c's shape reads the axis key ("section.key"); if not, why, in err. */
+static int axis_read(const vs_case *c, const char *key, vs_error *err) {
+  static const char *const names[] = {"circular", "pointed", "elliptical", "basket",
+                                      "parabolic", "catenary", "file"};
+  _Static_assert(sizeof names / sizeof names[0] == VS_SHAPE_COUNT, "a name for every shape");
+  if (strncmp(key, "arch.", 5) != 0 || c->shape < 0 || c->shape >= VS_SHAPE_COUNT) return 1;
+  for (size_t i = 0; i < sizeof SHAPE_KEYS / sizeof SHAPE_KEYS[0]; i++)
+    if (strcmp(key + 5, SHAPE_KEYS[i].key) == 0 && !(SHAPE_KEYS[i].mask & (1u << c->shape))) {
+      vs_error_set(err, VS_ERR_INVALID, "--vary %s: arch.shape = %s does not read it, every run "
+                   "would be the same arch (allowed: %s with %s)", key, names[c->shape], key,
+                   SHAPE_KEYS[i].shapes);
+      return 0;
+    }
+  /* a circle from radius and embrace: only when span and rise do not give it */
+  if (c->shape == VS_SHAPE_CIRCULAR && c->span_mm > 0.0 &&
+      (strcmp(key, "arch.radius_mm") == 0 || strcmp(key, "arch.embrace_deg") == 0)) {
+    vs_error_set(err, VS_ERR_INVALID, "--vary %s: arch.span_mm and arch.rise_mm give the circle "
+                 "(allowed: %s with span_mm = rise_mm = 0)", key, key);
+    return 0;
+  }
+  return 1;
+}
+
 /* Validate the case with the fixed overrides and every value of every axis. */
 static int validate_all(const char *case_path, const char *const *sets, int nsets, const axis *ax, int nax) {
   vs_case c;
@@ -123,7 +166,7 @@ static int validate_all(const char *case_path, const char *const *sets, int nset
       char buf[160];
       snprintf(buf, sizeof buf, "%.95s=%.17g", ax[x].key, ax[x].v[k]);
       if (vs_case_set(&t, buf, &err) != VS_OK || vs_case_validate(&t, &err) != VS_OK ||
-          vs_case_check_path(&t, "sweep", &err) != VS_OK)
+          vs_case_check_path(&t, "sweep", &err) != VS_OK || !axis_read(&t, ax[x].key, &err))
         goto bad;
     }
   return 0;
@@ -441,6 +484,7 @@ static int sweep_close(sweep_state *s, double wall, int processes) {
                                                       ? "interrupted (rerun with --resume)"
                                                       : "not started: the sweep was interrupted");
       row.first_limit_mm = row.delta_u_mm = row.dz_pct = row.dx_pct = row.wall_s = NAN;
+      row.left_dx_mm = row.left_dz_mm = row.right_dx_mm = row.right_dz_mm = NAN;
       s->rows[s->n++] = row;
       unfinished++;
     }

@@ -9,6 +9,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "collapse_at.h"
 #include "pipe_io.h"
 #include "sweep_private.h"
 #include "outpath.h"
@@ -57,11 +58,14 @@ static void fill_row(const vs_run *r, vs_status st, const vs_error *err, vs_swee
   if (p->end == VS_PATH_LIMIT_POINT && vs_run_limit_count(r) > 0)
     row->first_limit_mm = p->delta_limit / VS_MM;
   if (col->found) {
-    const double L = vs_case_span_mm(c);
-    const vs_support_dir sd = vs_support_direction(c->alpha_deg * VS_DEG);
+    double t[4];
     row->delta_u_mm = col->delta / VS_MM;
-    row->dz_pct = 100.0 * row->delta_u_mm * sd.dz / L;
-    row->dx_pct = 100.0 * row->delta_u_mm * sd.dx / L;
+    vs_study_travel(r, col->delta, t);
+    row->left_dx_mm = t[0];
+    row->left_dz_mm = t[1];
+    row->right_dx_mm = t[2];
+    row->right_dz_mm = t[3];
+    vs_study_components_pct(r, col->delta, &row->dz_pct, &row->dx_pct);
     vs_hinges_list(col->hinges, col->n_hinges, 0, row->hinges, sizeof row->hinges);
   }
   const char *mode = vs_run_mode(r);
@@ -133,6 +137,7 @@ void vs_sweep_run_case(const vs_sweep_job *job, int run, const volatile sig_atom
   memset(row, 0, sizeof *row);
   row->run = run;
   row->first_limit_mm = row->delta_u_mm = row->dz_pct = row->dx_pct = row->wall_s = NAN;
+  row->left_dx_mm = row->left_dz_mm = row->right_dx_mm = row->right_dz_mm = NAN;
   char h5[1100], json[1100];
   snprintf(h5, sizeof h5, "%s/run_%04d.h5", job->dir, run);
   snprintf(json, sizeof json, "%s/run_%04d.json.part", job->dir, run);

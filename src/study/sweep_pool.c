@@ -3,6 +3,7 @@
  * the workers under way. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -70,6 +71,7 @@ static void finish_worker(worker *w, int status, vs_sweep_row *row) {
     memset(row, 0, sizeof *row);
     row->run = w->run;
     row->code = VS_SWEEP_LOST;
+    row->left_dx_mm = row->left_dz_mm = row->right_dx_mm = row->right_dz_mm = NAN;
     snprintf(row->status, sizeof row->status, "failed");
     if (WIFSIGNALED(status))
       snprintf(row->error, sizeof row->error, "worker killed by signal %d", WTERMSIG(status));

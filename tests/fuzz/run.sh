@@ -66,7 +66,7 @@ sources() {
   case) echo "${case_src[@]}" ;;
   merge) echo "${case_src[@]}" "$s/study/montecarlo_merge.c" "$s/study/journal.c" \
               "$s/plot/montecarlo.c" "$s/record/h5util.c" "$s/base/outpath.c" "$s/plot/plot.c" \
-              "$s/plot/chart.c" ;;
+              "$s/plot/chart.c" "${geometry_src[@]}" "$s/model/support.c" ;;
   record) echo "${case_src[@]}" "$s/plot/plot_cmd.c" "$s/plot/plot_record.c" \
                "$s/plot/plot_sweep.c" "$s/plot/plot.c" "$s/plot/plot_arch.c" "$s/plot/plot_frame.c" \
                "$s/plot/chart.c" "$s/record/xdmf.c" "$s/record/xdmf_file.c" \
@@ -81,7 +81,7 @@ libs() {
   # shellcheck disable=SC2046
   case "$1" in
   case | journal) echo $(pkg-config --libs inih) -lm ;;
-  merge) echo $(pkg-config --libs inih hdf5-serial cairo fontconfig) -lm \
+  merge) echo $(pkg-config --libs inih hdf5-serial cairo fontconfig jansson) -lm \
               -Wl,--wrap=vs_mc_write_summary -Wl,--wrap=vs_plot_emit ;;
   record) echo $(pkg-config --libs inih hdf5-serial cairo fontconfig jansson) -lm \
                -Wl,--wrap=vs_plot_emit ;;
