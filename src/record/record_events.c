@@ -15,6 +15,8 @@ static const char *event_kind_name(vs_event_kind k) {
   case VS_EVENT_SNAP_SETTLED: return "snap_settled";
   case VS_EVENT_COLLAPSE: return "collapse";
   case VS_EVENT_JOINT_SLIPPED: return "joint_slipped";
+  case VS_EVENT_PIER_ROCKED: return "pier_rocked";
+  case VS_EVENT_COURSE_OPENED: return "course_opened";
   }
   return "unknown";
 }
