@@ -287,11 +287,11 @@ static void xdmf_joints(xdmf_ctx *x, hsize_t r) {
   out_s(x, "</Grid>\n");
 }
 
-/* A support at row r: the springing face it carries (joint 1 on the left, n+1 on the right),
- * with the force it exerts on the arch and, for the moved right support, its displacement. */
+/* A support at row r: the face it carries (the springing's, joint 1 on the left, n+1 on the
+ * right; with piers a pier's base), with the force it exerts on the arch and, for the moved
+ * right support, its displacement. */
 static void xdmf_support(xdmf_ctx *x, int right, hsize_t r) {
-  const hsize_t nj = x->ds[X_JCONN].dims[0];
-  const hsize_t start[3] = {r, right ? 2 * nj - 2 : 0, 0}, count[3] = {1, 2, 2};
+  const hsize_t start[3] = {r, 2 * x->sup_joint[right ? 1 : 0], 0}, count[3] = {1, 2, 2};
   const int kind = right ? G_RIGHT : G_LEFT;
   xdmf_grid_open(x, right ? "support_right" : "support_left", kind);
   out_s(x, "<Geometry GeometryType=\"XY\">");
@@ -460,6 +460,7 @@ vs_status vs_xdmf_write_tmp(hid_t file, const char *h5_path, const char *xmf_pat
   if (name == NULL && st == VS_OK) st = vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
   x.h5name = name;
   x.ground = vs_xdmf_has_ground(file);
+  vs_xdmf_support_joints(file, &x);
   x.nan_n = vs_xdmf_nan_count(file);
   if (st == VS_OK) st = vs_xdmf_open_tmp(xmf_path, tmp, size, &x.f, err);
   if (st == VS_OK) {
