@@ -6,7 +6,11 @@
  *    reaches the closed-form overturning force W b / (2 h) (rigid limit, large k_n);
  *  - a stack whose base is less rough slides on it when the push reaches mu_base W;
  *  - the reference arch on two equal piers under symmetric spreading stays a mirror image;
+ *  - in a run the events name what the piers did: slender piers rock on their bases about their
+ *    outer edges, a smooth base slides outward when the arch's thrust on the pier's foundation
+ *    reaches base_friction times the vertical force (Coulomb, from the support's reactions);
  *  - bad pier keys are refused naming the key. SI units. */
+#define _POSIX_C_SOURCE 200809L /* open_memstream */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -23,6 +27,7 @@
 #include "voussoir/hinges.h"
 #include "voussoir/model.h"
 #include "voussoir/quasistatic.h"
+#include "voussoir/report.h"
 #include "voussoir/run.h"
 
 static double deg(double d) { return d * acos(-1.0) / 180; }
@@ -325,11 +330,94 @@ static void test_arch_on_piers_symmetric(void **s) {
   vs_run_destroy(&r);
 }
 
+/* Run the reference specimen with the settings sets; the run (the caller destroys it), its
+ * JSON and text summaries into json and text (malloc'd). */
+static vs_run *run_case(const char *const *sets, size_t n, char **json, char **text) {
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_error err;
+  vs_error_clear(&err);
+  for (size_t i = 0; i < n; i++)
+    if (vs_case_set(&c, sets[i], &err) != VS_OK) fail_msg("%s: %s", sets[i], err.msg);
+  assert_int_equal(vs_case_validate(&c, &err), VS_OK);
+  vs_run *r = NULL;
+  if (vs_run_create(&c, &r, &err) != VS_OK) fail_msg("%s", err.msg);
+  const vs_status st = vs_run_execute(r, NULL, NULL, NULL, &err);
+  if (st != VS_OK) fail_msg("run: %s", err.msg);
+  size_t len = 0;
+  FILE *f = open_memstream(json, &len);
+  vs_report_json(f, r, st, &err, "piers.ini");
+  fclose(f);
+  f = open_memstream(text, &len);
+  vs_report_text(f, r, st, &err, "piers.ini");
+  fclose(f);
+  return r;
+}
+
+/* The first event of kind k at joint (1-based), or NULL. */
+static const vs_run_event *event_at(const vs_run *r, vs_event_kind k, int joint) {
+  for (int i = 0; i < vs_run_event_count(r); i++)
+    if (vs_run_event_get(r, i)->kind == k && vs_run_event_get(r, i)->joint == joint)
+      return vs_run_event_get(r, i);
+  return NULL;
+}
+
+static void test_run_piers_rock(void **s) {
+  (void)s;
+  const char *const sets[] = {"piers.height_mm=300", "piers.width_mm=110", "joints.kn_N_mm3=3",
+                              "support.alpha_deg=90"};
+  char *json = NULL, *text = NULL;
+  vs_run *r = run_case(sets, 4, &json, &text);
+  const vs_geometry *g = vs_run_geometry(r);
+  assert_true(vs_run_collapse(r)->found);
+  for (int p = 0; p < 2; p++) {
+    const vs_run_event *e = event_at(r, VS_EVENT_PIER_ROCKED, g->pier_joint[p] + 1);
+    if (e == NULL) fail_msg("pier %d did not rock", p + 1);
+    assert_int_equal(e->side, 'E'); /* about its outer edge: the thrust pushes it outward */
+  }
+  assert_non_null(strstr(text, "pier 1 rocks on its base about its outer edge"));
+  assert_non_null(strstr(text, "pier 2 rocks on its base about its outer edge"));
+  assert_non_null(strstr(json, "\"piers\":{\"height_mm\":300,"));
+  assert_non_null(strstr(json, "{\"kind\":\"rocking\",\"pier\":2,\"course\":1,\"joint\":61,"
+                               "\"about\":\"outer\""));
+  /* the arch's hinges are the ring's: none at a pier's joint */
+  for (int i = 0; i < vs_run_hinge_count(r); i++) assert_true(vs_run_hinge(r, i)->last <= g->ring);
+  free(json), free(text);
+  vs_run_destroy(&r);
+}
+
+static void test_run_pier_slides(void **s) {
+  (void)s;
+  const double mu = 0.12;
+  const char *const sets[] = {"piers.height_mm=300", "piers.width_mm=150",
+                              "piers.base_friction=0.12", "joints.kn_N_mm3=3"};
+  char *json = NULL, *text = NULL;
+  vs_run *r = run_case(sets, 4, &json, &text);
+  const vs_geometry *g = vs_run_geometry(r);
+  const vs_collapse_record *col = vs_run_collapse(r);
+  const vs_run_event *e = event_at(r, VS_EVENT_JOINT_SLIPPED, g->pier_joint[0] + 1);
+  if (e == NULL) fail_msg("the left pier's base did not slide");
+  assert_int_equal(e->side, 'E'); /* outward: the arch's thrust pushes the left pier left */
+  assert_true(col->found);
+  /* the left support carries the left pier's base alone: its force on the structure at the
+   * collapsing limit point, the base sliding, is on the Coulomb cone */
+  const double Fx = col->reactions_limit[0], Fz = col->reactions_limit[1];
+  print_message("the left base slides at %.4f mm: |Fx| / Fz = %.6f (mu %.2f)\n", e->delta * 1e3,
+                fabs(Fx) / Fz, mu);
+  assert_true(fabs(fabs(Fx) / Fz - mu) < 1e-3 * mu);
+  assert_non_null(strstr(text, "pier 1 slides on its base, outward"));
+  assert_non_null(strstr(json, "{\"kind\":\"sliding\",\"pier\":1,\"course\":1,\"joint\":57,"
+                               "\"toward\":\"outward\""));
+  free(json), free(text);
+  vs_run_destroy(&r);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_pier_mass),        cmocka_unit_test(test_pier_shapes_mirror),
       cmocka_unit_test(test_pier_errors),      cmocka_unit_test(test_stack_rocks),
       cmocka_unit_test(test_stack_slides),     cmocka_unit_test(test_arch_on_piers_symmetric),
+      cmocka_unit_test(test_run_piers_rock),   cmocka_unit_test(test_run_pier_slides),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
