@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "blocks.h"
 #include "test_support.h"
 #include "voussoir/geometry.h"
 #include "voussoir/hinges.h"
@@ -126,6 +127,40 @@ static void test_pier_shapes_mirror(void **s) {
     }
     vs_geometry_destroy(&g);
   }
+}
+
+/* The blocks file of an arch on piers (voussoir blocks) holds the same blocks: read back, its
+ * mass, its blocks' and joints' counts; its ring runs through the piers' courses. */
+static void test_pier_blocks_file(void **s) {
+  (void)s;
+  vs_case c;
+  vs_run_def d;
+  piers_def(&c, &d, 300.0, 150.0, 4);
+  d.arch.piers.base_friction = 0.5;
+  vs_geometry *g = NULL, *h = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  char *text = NULL;
+  assert_int_equal(vs_geometry_create_arch(&d.arch, &g, &err), VS_OK);
+  if (vs_geometry_blocks_json(g, &text, &err) != VS_OK) fail_msg("%s", err.msg);
+  vs_arch_def a = d.arch;
+  a.shape = VS_SHAPE_FILE;
+  a.piers.height = 0.0;
+  if (vs_blocks_parse("piers.json", text, strlen(text), &a, &h, &err) != VS_OK)
+    fail_msg("%s", err.msg);
+  assert_int_equal(h->n_blocks, g->n_blocks);
+  assert_int_equal(h->n_joints, g->n_joints);
+  assert_int_equal(h->ring, g->n_joints); /* every joint on the ring, through the piers */
+  /* the piers' courses are polygons, written exactly; the voussoirs' arcs as chords (a few
+   * 1e-6 of their area) */
+  for (int i = g->pier_block[0]; i < g->n_blocks; i++)
+    assert_true(fabs(h->blocks[i].mass - g->blocks[i].mass) < 1e-9 * g->blocks[i].mass);
+  const double m0 = vs_geometry_weight(g), m1 = vs_geometry_weight(h);
+  assert_true(fabs(m1 - m0) < 1e-4 * m0);
+  assert_true(h->joints[0].a == VS_SUPPORT_LEFT && h->joints[0].mu == 0.5);
+  free(text);
+  vs_geometry_destroy(&g);
+  vs_geometry_destroy(&h);
 }
 
 static void test_pier_errors(void **s) {
@@ -416,6 +451,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_pier_mass),        cmocka_unit_test(test_pier_shapes_mirror),
       cmocka_unit_test(test_pier_errors),      cmocka_unit_test(test_stack_rocks),
+      cmocka_unit_test(test_pier_blocks_file),
       cmocka_unit_test(test_stack_slides),     cmocka_unit_test(test_arch_on_piers_symmetric),
       cmocka_unit_test(test_run_piers_rock),   cmocka_unit_test(test_run_pier_slides),
   };

@@ -145,7 +145,9 @@ VS_API vs_status vs_geometry_create_arch(const vs_arch_def *a, vs_geometry **out
  * frees): each block a polygon (a curved edge sampled every 2 degrees of its turn, 6 segments
  * at most), in mm, named v1 .. vn; a pier under each springing face (its face, a level top
  * outward, an outer vertical, a base two thicknesses below), the supports; the ring from the
- * left pier to the right one; every joint's own law. VS_ERR_INVALID for a geometry whose
+ * left pier to the right one; every joint's own law. An arch on piers (pier_courses > 0): the
+ * piers' courses are blocks too (after the voussoirs), the foundations the supports, the ring
+ * from the left foundation up the left pier, along the arch and down the right pier. VS_ERR_INVALID for a geometry whose
  * blocks have no outline or whose first and last joints are not on the supports; VS_ERR_NOMEM. */
 VS_API vs_status vs_geometry_blocks_json(const vs_geometry *g, char **text, vs_error *err);
 
