@@ -26,6 +26,7 @@
 #include "test_support.h"
 #include "voussoir/geometry.h"
 #include "voussoir/hinges.h"
+#include "voussoir/limit.h"
 #include "voussoir/model.h"
 #include "voussoir/quasistatic.h"
 #include "voussoir/report.h"
@@ -447,11 +448,67 @@ static void test_run_pier_slides(void **s) {
   vs_run_destroy(&r);
 }
 
+/* ------------------------------ the limit analysis on piers ------------------------------
+ * The thrust states of the arch on piers are those of the arch alone whose thrust the piers
+ * also carry: the least thrust is at least, the greatest at most the arch's own. With a smooth
+ * base the greatest is the friction's: every thrust state has one H at both bases, and by
+ * symmetry (the mean of a state and its mirror image is one) it can load each base with half
+ * the weight of the whole, so H_max = mu_base W / 2 when that is below the arch's own bound. */
+static void analyse(double w, double mu_base, vs_limit_analysis *a, double *weight) {
+  vs_case c;
+  vs_run_def d;
+  piers_def(&c, &d, w > 0.0 ? 300.0 : 0.0, w > 0.0 ? w : 150.0, 4);
+  d.arch.piers.base_friction = mu_base;
+  vs_error err;
+  vs_error_clear(&err);
+  if (vs_limit_analyse(&d, NULL, a, &err) != VS_OK) fail_msg("%s", err.msg);
+  vs_geometry *g = NULL;
+  assert_int_equal(vs_geometry_create_arch(&d.arch, &g, &err), VS_OK);
+  *weight = vs_geometry_weight(g);
+  vs_geometry_destroy(&g);
+}
+
+static void test_limit_on_piers(void **s) {
+  (void)s;
+  vs_limit_analysis a0, a1, a2, a3;
+  double w0, w1, w2, w3;
+  analyse(0.0, 0.0, &a0, &w0);   /* rigid springers */
+  analyse(150.0, 0.0, &a1, &w1); /* piers that stand well */
+  analyse(90.0, 0.0, &a2, &w2);  /* slender piers: they limit the thrust by rocking */
+  analyse(150.0, 0.1, &a3, &w3); /* smooth bases: the friction limits it */
+  const double h0 = a0.thrust_min.value, H0 = a0.thrust_max.value, tol = 1e-6 * H0;
+  print_message("thrust (N): springers %.6g .. %.6g; piers 150 mm %.6g .. %.6g; 90 mm %.6g .. "
+                "%.6g; 150 mm, base friction 0.1: %.6g .. %.6g (mu W / 2 = %.6g)\n", h0, H0,
+                a1.thrust_min.value, a1.thrust_max.value, a2.thrust_min.value,
+                a2.thrust_max.value, a3.thrust_min.value, a3.thrust_max.value, 0.1 * w3 / 2);
+  const vs_limit_analysis *on[3] = {&a1, &a2, &a3};
+  for (int i = 0; i < 3; i++) {
+    assert_true(on[i]->thrust_min.value >= h0 - tol);
+    assert_true(on[i]->thrust_max.value <= H0 + tol);
+  }
+  /* the slender piers rock: their bases are hinges of the greatest thrust's line, outer edges */
+  assert_true(a2.thrust_max.value < 0.95 * H0);
+  assert_int_equal(a2.thrust_max.touch[56], 'E');
+  assert_int_equal(a2.thrust_max.touch[60], 'E');
+  assert_true(fabs(a3.thrust_max.value - 0.1 * w3 / 2) < 1e-6 * w3);
+  assert_int_equal(a3.thrust_max.friction[56] + a3.thrust_max.friction[60], 2);
+  vs_limit_analysis_free(&a0), vs_limit_analysis_free(&a1);
+  vs_limit_analysis_free(&a2), vs_limit_analysis_free(&a3);
+  /* piers too narrow for the arch's thrust under its own weight: it does not stand, and the
+   * thickness search ends where a thicker ring's springing face no longer fits (4 t here) */
+  vs_limit_analysis a4;
+  double w4;
+  analyse(70.0, 0.0, &a4, &w4);
+  assert_int_equal(a4.thrust_min.outcome, VS_LIMIT_INFEASIBLE);
+  assert_true(isnan(a4.thickness_factor) && a4.thickness_bracket[0] == 2.0);
+  vs_limit_analysis_free(&a4);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_pier_mass),        cmocka_unit_test(test_pier_shapes_mirror),
       cmocka_unit_test(test_pier_errors),      cmocka_unit_test(test_stack_rocks),
-      cmocka_unit_test(test_pier_blocks_file),
+      cmocka_unit_test(test_pier_blocks_file), cmocka_unit_test(test_limit_on_piers),
       cmocka_unit_test(test_stack_slides),     cmocka_unit_test(test_arch_on_piers_symmetric),
       cmocka_unit_test(test_run_piers_rock),   cmocka_unit_test(test_run_pier_slides),
   };
