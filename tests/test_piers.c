@@ -183,6 +183,11 @@ static void test_pier_errors(void **s) {
   assert_int_equal(vs_case_set(&c, "piers.height_mm=100", &err), VS_OK);
   assert_int_equal(vs_case_validate(&c, &err), VS_ERR_INVALID);
   assert_non_null(strstr(err.msg, "piers.height_mm"));
+  vs_case_defaults(&c);
+  assert_int_equal(vs_case_set(&c, "piers.height_mm=100", &err), VS_OK);
+  assert_int_equal(vs_case_set(&c, "support.right_kind=pinned", &err), VS_OK);
+  assert_int_equal(vs_case_validate(&c, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "support.right_kind = pinned"));
 }
 
 /* ------------------------------- a stack pushed at its top -------------------------------

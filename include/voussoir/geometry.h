@@ -147,8 +147,9 @@ VS_API vs_status vs_geometry_create_arch(const vs_arch_def *a, vs_geometry **out
  * outward, an outer vertical, a base two thicknesses below), the supports; the ring from the
  * left pier to the right one; every joint's own law. An arch on piers (pier_courses > 0): the
  * piers' courses are blocks too (after the voussoirs), the foundations the supports, the ring
- * from the left foundation up the left pier, along the arch and down the right pier. VS_ERR_INVALID for a geometry whose
- * blocks have no outline or whose first and last joints are not on the supports; VS_ERR_NOMEM. */
+ * from the left foundation up the left pier, along the arch and down the right pier.
+ * VS_ERR_INVALID for a geometry whose blocks have no outline or whose first and last joints
+ * are not on the supports; VS_ERR_NOMEM. */
 VS_API vs_status vs_geometry_blocks_json(const vs_geometry *g, char **text, vs_error *err);
 
 /* Allocate an empty geometry with room for n_blocks blocks and n_joints joints (tests, other

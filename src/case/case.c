@@ -842,6 +842,12 @@ static vs_status validate_shape(const vs_case *c, vs_error *err) {
     return vs_error_set(err, VS_ERR_INVALID, "arch.rise_mm = %.15g: must be <= arch.span_mm / 2 "
                         "= %.15g for arch.shape = %s (allowed: rise_mm <= span_mm / 2)",
                         c->rise_mm, 0.5 * c->span_mm, arch_shapes[c->shape]);
+  if (c->pier_height_mm > 0.0 &&
+      (c->left_kind != VS_SUPPORT_FIXED || c->right_kind != VS_SUPPORT_FIXED))
+    return vs_error_set(err, VS_ERR_INVALID, "piers.height_mm = %.15g with support.%s_kind = "
+                        "pinned: a pier on a pinned foundation turns freely about the pin "
+                        "(allowed: fixed supports under piers; a pier's base rocks by itself)",
+                        c->pier_height_mm, c->left_kind != VS_SUPPORT_FIXED ? "left" : "right");
   if (c->shape == VS_SHAPE_FILE && c->pier_height_mm > 0.0)
     return vs_error_set(err, VS_ERR_INVALID, "piers.height_mm = %.15g with arch.shape = file "
                         "(allowed: 0; a blocks file draws its own piers)", c->pier_height_mm);

@@ -822,8 +822,9 @@ static void ring_on_piers(const vs_geometry *g, json_t *ring) {
   body_name(g, g->pier_joint[0], VS_SUPPORT_LEFT, name, sizeof name);
   json_array_append_new(ring, json_string(name));
   for (int i = 0; i < g->n_blocks; i++) {
-    const int b = i < C ? g->pier_block[0] + i : i < g->pier_block[0] + C ? i - C
-                                                                          : g->pier_block[1] + (g->n_blocks - 1 - i);
+    const int b = i < C                       ? g->pier_block[0] + i
+                  : i < g->pier_block[0] + C ? i - C
+                                             : g->pier_block[1] + (g->n_blocks - 1 - i);
     snprintf(name, sizeof name, "v%d", b + 1);
     json_array_append_new(ring, json_string(name));
   }

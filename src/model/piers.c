@@ -175,8 +175,9 @@ vs_status vs_piers_add(vs_geometry **gp, const vs_piers_def *p, double density, 
   vs_geometry *g = *gp;
   vs_status st = check_def(p, err);
   const int ring = g->ring > 0 ? g->ring : g->n_joints, js[2] = {0, ring - 1};
-  if (st == VS_OK && (g->joints[js[0]].a != VS_SUPPORT_LEFT || g->joints[js[1]].b != VS_SUPPORT_RIGHT ||
-                      g->n_supports > 0 || ring != g->n_joints))
+  if (st == VS_OK &&
+      (g->joints[js[0]].a != VS_SUPPORT_LEFT || g->joints[js[1]].b != VS_SUPPORT_RIGHT ||
+       g->n_supports > 0 || ring != g->n_joints))
     st = vs_error_set(err, VS_ERR_INVALID, "piers.height_mm = %g: the arch does not stand on "
                       "two springings (allowed: 0 with arch.shape = file, whose blocks draw "
                       "their own piers)", p->height * 1e3);
