@@ -453,6 +453,39 @@ static void test_run_pier_slides(void **s) {
   vs_run_destroy(&r);
 }
 
+/* The support under a pier is its foundation: a path that turns the right support outward
+ * by 0.2 degrees, about the centre of the pier's base, leans the pier with it (its courses
+ * turned by as much, clockwise, their base's centre still where the path puts it) while the
+ * left pier stays put. */
+static void test_foundation_turns(void **s) {
+  (void)s;
+  const char *const sets[] = {"piers.height_mm=300", "piers.width_mm=150", "joints.kn_N_mm3=48",
+                              "support.right_path=0:0:0:0,100:0:0:0.2", "support.rate_mm_s=0.04",
+                              "support.max_mm=4", "dynamic.follow=0"};
+  char *json = NULL, *text = NULL;
+  vs_run *r = run_case(sets, 7, &json, &text);
+  const vs_geometry *g = vs_run_geometry(r);
+  const double *q = vs_run_state(r), rot = -0.2 * acos(-1.0) / 180.0;
+  assert_true(fabs(vs_run_delta(r) - 4e-3) < 1e-9); /* the whole path: t = 100 s */
+  for (int c = 0; c < g->pier_courses; c++) {
+    const int b = g->pier_block[1] + c, a = g->pier_block[0] + c;
+    assert_true(fabs(q[3 * b + 2] - rot) < 0.02 * fabs(rot)); /* the joints' compliance */
+    assert_true(fabs(q[3 * a + 2]) < 0.02 * fabs(rot));
+  }
+  /* the bottom course's centroid turned about the base's centre */
+  const vs_block *b0 = &g->blocks[g->pier_block[1]];
+  const vs_joint_geom *jb = &g->joints[g->pier_joint[1]];
+  const double dx = b0->cx - jb->px, dz = b0->cz - jb->pz;
+  const double ux = cos(rot) * dx - sin(rot) * dz - dx, uz = sin(rot) * dx + cos(rot) * dz - dz;
+  const double *qb = q + 3 * g->pier_block[1];
+  print_message("bottom course of the right pier: turned %.6g rad (support %.6g), moved (%.4g, "
+                "%.4g) mm against (%.4g, %.4g) mm\n", qb[2], rot, qb[0] * 1e3, qb[1] * 1e3,
+                ux * 1e3, uz * 1e3);
+  assert_true(hypot(qb[0] - ux, qb[1] - uz) < 0.02 * hypot(ux, uz));
+  free(json), free(text);
+  vs_run_destroy(&r);
+}
+
 /* ------------------------------ the limit analysis on piers ------------------------------
  * The thrust states of the arch on piers are those of the arch alone whose thrust the piers
  * also carry: the least thrust is at least, the greatest at most the arch's own. With a smooth
@@ -514,6 +547,7 @@ int main(void) {
       cmocka_unit_test(test_pier_mass),        cmocka_unit_test(test_pier_shapes_mirror),
       cmocka_unit_test(test_pier_errors),      cmocka_unit_test(test_stack_rocks),
       cmocka_unit_test(test_pier_blocks_file), cmocka_unit_test(test_limit_on_piers),
+      cmocka_unit_test(test_foundation_turns),
       cmocka_unit_test(test_stack_slides),     cmocka_unit_test(test_arch_on_piers_symmetric),
       cmocka_unit_test(test_run_piers_rock),   cmocka_unit_test(test_run_pier_slides),
   };
