@@ -19,7 +19,8 @@
 #     the whole analysis (the process, 21 LPs: two thrusts, the load factor, the thickness's
 #     bisection), one LP from scratch (the least thrust's) and one from its basis (the load
 #     factor's; each its cpu_s in the JSON), this build only, each against row 1 (the target:
-#     a limit-analysis solve costs no more than the reference run to collapse).
+#     a limit-analysis solve costs no more than the reference run to collapse); and the whole
+#     analysis of the reference specimen on two piers of 4 courses (issue 28).
 # Each row prints both figures and their ratio this / previous (below 1: faster). The full mode
 # then prints runs/scaling.sh for this build (cost against the voussoir count, in detail).
 # --quick (what .ci/run uses): one run each (CI time: the record rows follow the fall to rest,
@@ -182,4 +183,11 @@ echo "  the limit analysis, 55 voussoirs (ratio: over the reference run to colla
 row "  the whole analysis, 21 LPs (CPU s)" "$ref_cpu" "$(ref_run "$bin" "${lim_args[@]}")"
 row "  one LP from scratch, the least thrust's" "$ref_cpu" "$(lim_lp "$bin" thrust_min)" "%.4f"
 row "  one LP from its basis, the load factor's" "$ref_cpu" "$(lim_lp "$bin" collapse)" "%.4f"
+# the same on two piers of 4 courses (300 mm high, 150 mm wide: docs/studies.md, "Piers"):
+# 63 blocks, 64 joints
+pier_args=(--set piers.height_mm=300 --set piers.width_mm=150 --set piers.courses=4)
+row "  the whole analysis on two 4-course piers (CPU s)" "$ref_cpu" \
+  "$(ref_run "$bin" "${lim_args[@]}" "${pier_args[@]}")"
+lim_args+=("${pier_args[@]}")
+row "  one LP from scratch on the piers, the least thrust's" "$ref_cpu" "$(lim_lp "$bin" thrust_min)" "%.4f"
 ((quick)) || { echo; "$here/scaling.sh" "$bin"; }

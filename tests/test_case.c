@@ -108,6 +108,11 @@ static const key_case all_keys[] = {
     {"arch", "haunch_deg", "0", "90", {"89.9", "0.1"}},
     {"arch", "thickness_springing_mm", "-1", "1.1e6", {"0", "48"}},
     {"arch", "keystone_mm", "-1", "1.1e6", {"0", "10"}},
+    {"piers", "height_mm", "-1", "1.1e6", {"0", "1e6"}},
+    {"piers", "width_mm", "0.0009", "1.1e6", {"1e-3", "1e6"}},
+    {"piers", "courses", "0", "101", {"1", "100"}},
+    {"piers", "density_kg_m3", "9", "100001", {"0", "10"}},
+    {"piers", "base_friction", "5e-4", "101", {"0", "1e-3"}},
     {"joints", "kn_N_mm3", "-3", "1e5", {"48", "1e-4"}},
     {"joints", "ks_ratio", "0", "100.5", {"1", "100"}},
     {"joints", "friction", "0", "101", {"0.01", "100"}},
@@ -382,7 +387,7 @@ static void check_out_of_range(const key_case *k, const char *value) {
 
 static void test_every_key_out_of_range(void **state) {
   (void)state;
-  assert_int_equal(NKEYS_TESTED, 58);
+  assert_int_equal(NKEYS_TESTED, 63);
   for (size_t i = 0; i < NKEYS_TESTED; i++) {
     check_out_of_range(&all_keys[i], all_keys[i].below);
     if (all_keys[i].above != NULL) check_out_of_range(&all_keys[i], all_keys[i].above);
@@ -467,7 +472,7 @@ static void test_unknown_key(void **state) {
 static void test_unknown_section(void **state) {
   (void)state;
   expect_read_error("[arch]\nradius_mm = 300\n\n[archh]\nradius_mm = 300\n", VS_ERR_PARSE, 4,
-                    "[archh]: unknown section (allowed sections: arch, joints, support, solver, "
+                    "[archh]: unknown section (allowed sections: arch, piers, joints, support, solver, "
                     "hinges, dynamic, fall, imperfections, run, load, analysis)");
   /* an empty unknown section is still reported, on its own line */
   expect_read_error("; x\n[nothing]\n", VS_ERR_PARSE, 2, "[nothing]: unknown section");
@@ -646,7 +651,7 @@ static void test_set_errors(void **state) {
   expect_set_error("joints.kn=3", VS_ERR_PARSE,
                    "joints.kn = 3: unknown key (allowed keys in [joints]: kn_N_mm3");
   expect_set_error("joint.kn_N_mm3=3", VS_ERR_PARSE,
-                   "joint.kn_N_mm3 = 3: unknown section (allowed sections: arch, joints");
+                   "joint.kn_N_mm3 = 3: unknown section (allowed sections: arch, piers, joints");
   expect_set_error("arch.radius_mm=big", VS_ERR_PARSE, "arch.radius_mm = big: not a number");
   expect_set_error("arch.radius_mm=3x", VS_ERR_PARSE, "unexpected characters after the number");
   expect_set_error("arch.voussoirs=5.5", VS_ERR_PARSE, "integer expected");

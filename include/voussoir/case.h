@@ -51,6 +51,16 @@ typedef struct {
   char blocks_file[VS_ARCH_PATH_MAX]; /* shape = file: the JSON of blocks, relative to the case
                                          file's folder (docs/blocks-file.md); default none */
 
+  /* [piers] a pier under each springing (issue 28; docs/model.md, "Piers"); height 0: none */
+  double pier_height_mm;  /* piers.height_mm: from the ground to the springing's intrados point,
+                             [0, 1e6] mm, 0 (default): no piers */
+  double pier_width_mm;   /* piers.width_mm: outward from the inner face, [1e-3, 1e6] mm, default
+                             150 (more than the springing face's horizontal extent) */
+  int pier_courses;       /* piers.courses: equal courses, 1 .. 100, default 4 */
+  double pier_density_kg_m3; /* piers.density_kg_m3: 0 (default): the arch's, or [10, 1e5] */
+  double pier_base_friction; /* piers.base_friction: of the foundation interface, 0 (default):
+                                joints.friction, or (0, 100] */
+
   /* [joints] no-tension, frictional, elastic interfaces */
   double kn_N_mm3; /* normal stiffness per unit area, > 0, default 3 */
   double ks_ratio; /* shear stiffness k_s / k_n, > 0, default 0.5 */

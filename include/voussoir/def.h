@@ -91,6 +91,21 @@ typedef enum {
 #define VS_ARCH_MAX_POSITIONS 64
 #define VS_ARCH_PATH_MAX 1024
 
+/* Piers under the springings (issue 28; docs/model.md, "Piers"): under each springing a stack
+ * of equal courses, its inner face flush with the springing's intrados point, its width outward
+ * from there, its height from the ground up to that point, its top course cut along the
+ * springing joint (a skewback). Each course is a rigid block, the course joints have the joints'
+ * law, and the pier stands on the support, now its foundation, across an interface of friction
+ * base_friction. height 0: no piers (the springings on the supports). */
+#define VS_PIERS_MAX_COURSES 100
+typedef struct {
+  double height;        /* m; 0: no piers */
+  double width;         /* m, > the springing face's horizontal extent */
+  int courses;          /* 1 .. VS_PIERS_MAX_COURSES */
+  double density;       /* kg/m^3; 0: the arch's */
+  double base_friction; /* friction of the foundation interface; 0: the joints' */
+} vs_piers_def;
+
 /* An arch: by default (the fields after gravity all 0) a segmental circular arch of equal
  * voussoirs with radial joints (geometry.h). */
 typedef struct {
@@ -117,6 +132,7 @@ typedef struct {
                                  vertical joints; 0: equal voussoirs) */
   double positions[VS_ARCH_MAX_POSITIONS];
   char blocks_file[VS_ARCH_PATH_MAX]; /* VS_SHAPE_FILE: the JSON file of blocks */
+  vs_piers_def piers; /* the piers under the springings (issue 28; zero: none) */
 } vs_arch_def;
 
 /* The interfaces' law (joint.h): no-tension elastic normal response, elastic shear limited by

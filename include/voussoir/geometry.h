@@ -90,6 +90,13 @@ typedef struct {
   double rise;           /* intrados rise, m (arch) */
   double radius, thickness, embrace; /* arch: intrados radius (m), thickness (m), embrace (rad) */
   double gravity;        /* m/s^2 */
+  /* piers (def.h: vs_piers_def; docs/model.md, "Piers"), pier_courses blocks under each
+   * springing (0: none). Pier p (0 left, 1 right): its course c (0 the bottom one) is block
+   * pier_block[p] + c; joint pier_joint[p] + c is its base (c = 0: the foundation interface, on
+   * the support) or the course joint under course c. The springing joints (the ring's first and
+   * last) join the top courses to the arch. */
+  int pier_courses;
+  int pier_block[2], pier_joint[2];
 } vs_geometry;
 
 /* Tangent along joint j from intrados to extrados: the normal turned +90 degrees
@@ -104,21 +111,45 @@ static inline int vs_geometry_springing(const vs_geometry *g, int right) {
   return right ? (g->ring > 0 ? g->ring : g->n_joints) - 1 : 0;
 }
 
+/* What joint k is in a pier: 0 none (the arch ring's, or a blocks file's), 1 a pier's base
+ * (the foundation interface), 2 a course joint; *pier (0 left, 1 right) and *course (the course
+ * above it, 1 the bottom one) are set for 1 and 2 (either may be NULL). */
+static inline int vs_geometry_pier_joint(const vs_geometry *g, int k, int *pier, int *course) {
+  for (int p = 0; p < 2 && g->pier_courses > 0; p++) {
+    const int c = k - g->pier_joint[p];
+    if (c < 0 || c >= g->pier_courses) continue;
+    if (pier != NULL) *pier = p;
+    if (course != NULL) *course = c + 1;
+    return c == 0 ? 1 : 2;
+  }
+  return 0;
+}
+
+/* The joint of the left (right = 0) or right support, about whose centre the support turns:
+ * the springing joint, or with piers the pier's base (the foundation interface). */
+static inline int vs_geometry_support_joint(const vs_geometry *g, int right) {
+  return g->pier_courses > 0 ? g->pier_joint[right ? 1 : 0] : vs_geometry_springing(g, right);
+}
+
 /* Build arch a (def.h; docs/model.md, "Shapes"). By default (a's shape fields 0) the
  * segmental circular arch: voussoirs of equal angular size, radial joints, joint 1 on the left
  * springing plane, joint n+1 on the right one, the circle's centre at the origin, the crown on
  * the +z axis, exact annular-sector mass, centroid and inertia. Other shapes: their generator;
- * VS_SHAPE_FILE: the blocks of a->blocks_file (docs/blocks-file.md). VS_ERR_INVALID (naming
- * the case key, or the file's field and block) for a shape that cannot be built; VS_ERR_IO for
- * a file that cannot be read; VS_ERR_NOMEM. */
+ * VS_SHAPE_FILE: the blocks of a->blocks_file (docs/blocks-file.md). With a->piers.height > 0,
+ * a pier under each springing (vs_piers_def; the geometry's pier_* fields). VS_ERR_INVALID
+ * (naming the case key, or the file's field and block) for a shape that cannot be built;
+ * VS_ERR_IO for a file that cannot be read; VS_ERR_NOMEM. */
 VS_API vs_status vs_geometry_create_arch(const vs_arch_def *a, vs_geometry **out, vs_error *err);
 
 /* The blocks of g as a blocks file (docs/blocks-file.md) into *text (malloc'd, the caller
  * frees): each block a polygon (a curved edge sampled every 2 degrees of its turn, 6 segments
  * at most), in mm, named v1 .. vn; a pier under each springing face (its face, a level top
  * outward, an outer vertical, a base two thicknesses below), the supports; the ring from the
- * left pier to the right one; every joint's own law. VS_ERR_INVALID for a geometry whose
- * blocks have no outline or whose first and last joints are not on the supports; VS_ERR_NOMEM. */
+ * left pier to the right one; every joint's own law. An arch on piers (pier_courses > 0): the
+ * piers' courses are blocks too (after the voussoirs), the foundations the supports, the ring
+ * from the left foundation up the left pier, along the arch and down the right pier.
+ * VS_ERR_INVALID for a geometry whose blocks have no outline or whose first and last joints
+ * are not on the supports; VS_ERR_NOMEM. */
 VS_API vs_status vs_geometry_blocks_json(const vs_geometry *g, char **text, vs_error *err);
 
 /* Allocate an empty geometry with room for n_blocks blocks and n_joints joints (tests, other

@@ -45,7 +45,9 @@ typedef enum {
 
 /* Settings, in vs_limit_opts_default's defaults. */
 typedef struct {
-  double mu;                           /* friction coefficient of every interface, > 0 */
+  double mu;                           /* friction coefficient of every interface without its
+                                          own (vs_joint_geom.mu: a blocks file's, a pier's
+                                          base), > 0 */
   vs_support_kind left_kind, right_kind; /* a pinned support's interface carries its resultant
                                             at its centre (N_I = N_E) */
   double touch;         /* the thrust line touches an edge when its resultant lies within this

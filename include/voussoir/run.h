@@ -50,10 +50,15 @@ typedef enum {
   VS_EVENT_LIMIT_POINT,      /* a limit point of the quasi-static path */
   VS_EVENT_SNAP_SETTLED,     /* the motion after a limit point settled on a stable branch */
   VS_EVENT_COLLAPSE,         /* the collapse criterion fired */
-  VS_EVENT_JOINT_SLIPPED     /* a joint began to slide, or to slide the other way: on the path
+  VS_EVENT_JOINT_SLIPPED,    /* a joint began to slide, or to slide the other way: on the path
                                 at the equilibrium where it slides, at a limit point at the onset
                                 of slip, in the motion (up to the collapse criterion) once its
                                 plastic slip has moved by hinges.open_mm; side: the direction */
+  VS_EVENT_PIER_ROCKED,      /* a pier's base (its foundation interface) opened past
+                                hinges.open_mm: the pier rocks; side: the edge that stays in
+                                contact (I: the inner face's, E: the outer face's) */
+  VS_EVENT_COURSE_OPENED     /* a course joint of a pier opened past hinges.open_mm; side as a
+                                rocking pier's */
 } vs_event_kind;
 
 typedef struct {

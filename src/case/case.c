@@ -57,6 +57,13 @@ typedef struct {
    (double)(sizeof names / sizeof names[0]) - 2.0, true, true, "", what, names, false, 0}
 
 /* A file name (KEY_TEXT), and a list of numbers in (lo, hi) with its count field (KEY_LIST). */
+/* A number whose field is named otherwise than its key (piers.height_mm: pier_height_mm). */
+#define KEY_AS(sec, name, field, def, lo, lo_in, hi, hi_in, unit, what)                          \
+  {#sec, #name, FIELD_TYPE(field), offsetof(vs_case, field), def, lo, hi, lo_in, hi_in, unit,    \
+   what, NULL, false, 0}
+#define KEY_AS_OR_ZERO(sec, name, field, def, lo, hi, unit, what)                                 \
+  {#sec, #name, KEY_DOUBLE, offsetof(vs_case, field), def, lo, hi, true, true, unit, what, NULL,  \
+   true, 0}
 #define KEY_TEXT_ROW(sec, field, what)                                                          \
   {#sec, #field, KEY_TEXT, offsetof(vs_case, field), 0.0, 0.0, 0.0, true, true, "", what, NULL,  \
    false, 0}
@@ -141,6 +148,21 @@ static const key_spec keys[] = {
                  "the interior joints at these fractions of the centre line's length, of the "
                  "span with vertical joints (none: equal voussoirs)"),
     KEY_TEXT_ROW(arch, blocks_file, "shape = file: the JSON file of blocks"),
+    /* piers under the springings (issue 28): src/model/piers.c, docs/model.md "Piers" */
+    KEY_AS(piers, height_mm, pier_height_mm, 0.0, 0.0, true, LEN_MAX, true, "mm",
+           "each pier's height, from the ground to the springing's intrados point (0: no piers, "
+           "the springings on the supports)"),
+    KEY_AS(piers, width_mm, pier_width_mm, 150.0, LEN_MIN, true, LEN_MAX, true, "mm",
+           "each pier's width, outward from its inner face (more than the springing face's "
+           "horizontal extent)"),
+    KEY_AS(piers, courses, pier_courses, 4.0, 1.0, true, (double)VS_PIERS_MAX_COURSES, true, "",
+           "equal courses in each pier, each a rigid block; the top one a skewback cut along "
+           "the springing joint"),
+    KEY_AS_OR_ZERO(piers, density_kg_m3, pier_density_kg_m3, 0.0, 10.0, 1e5, "kg/m^3",
+                   "density of the piers' blocks (0: arch.density_kg_m3)"),
+    KEY_AS_OR_ZERO(piers, base_friction, pier_base_friction, 0.0, 1e-3, 100.0, "",
+                   "friction coefficient of each pier's foundation interface (0: "
+                   "joints.friction)"),
     KEY(joints, kn_N_mm3, 3.0, 1e-4, true, 1e4, true, "N/mm^3",
         "normal stiffness k_n (above 1e4 doubles cannot resolve joint forces against a voussoir "
         "weight; below 1e-4 a lab arch sinks by its own thickness under self-weight)"),
@@ -259,6 +281,8 @@ static const key_spec keys[] = {
 #undef INF
 #undef KEY
 #undef KEY_OR_ZERO
+#undef KEY_AS
+#undef KEY_AS_OR_ZERO
 #undef KEY_NAMED
 #undef NAMES_OF
 #undef FIELD_TYPE
@@ -818,6 +842,15 @@ static vs_status validate_shape(const vs_case *c, vs_error *err) {
     return vs_error_set(err, VS_ERR_INVALID, "arch.rise_mm = %.15g: must be <= arch.span_mm / 2 "
                         "= %.15g for arch.shape = %s (allowed: rise_mm <= span_mm / 2)",
                         c->rise_mm, 0.5 * c->span_mm, arch_shapes[c->shape]);
+  if (c->pier_height_mm > 0.0 &&
+      (c->left_kind != VS_SUPPORT_FIXED || c->right_kind != VS_SUPPORT_FIXED))
+    return vs_error_set(err, VS_ERR_INVALID, "piers.height_mm = %.15g with support.%s_kind = "
+                        "pinned: a pier on a pinned foundation turns freely about the pin "
+                        "(allowed: fixed supports under piers; a pier's base rocks by itself)",
+                        c->pier_height_mm, c->left_kind != VS_SUPPORT_FIXED ? "left" : "right");
+  if (c->shape == VS_SHAPE_FILE && c->pier_height_mm > 0.0)
+    return vs_error_set(err, VS_ERR_INVALID, "piers.height_mm = %.15g with arch.shape = file "
+                        "(allowed: 0; a blocks file draws its own piers)", c->pier_height_mm);
   if (c->shape == VS_SHAPE_POINTED && c->rise_mm != 0.0)
     return vs_error_set(err, VS_ERR_INVALID, "arch.rise_mm = %.15g: a pointed arch's rise follows "
                         "from its span and arch.eccentricity (allowed: 0)", c->rise_mm);
@@ -976,6 +1009,11 @@ void vs_case_to_def(const vs_case *c, vs_run_def *d) {
                           .n_positions = c->n_joint_positions};
   memcpy(d->arch.positions, c->joint_positions, sizeof d->arch.positions);
   memcpy(d->arch.blocks_file, c->blocks_file, sizeof d->arch.blocks_file);
+  d->arch.piers = (vs_piers_def){.height = c->pier_height_mm * VS_MM,
+                                 .width = c->pier_width_mm * VS_MM,
+                                 .courses = c->pier_courses,
+                                 .density = c->pier_density_kg_m3,
+                                 .base_friction = c->pier_base_friction};
   d->joints = (vs_joints_def){.kn = c->kn_N_mm3 * VS_N_MM3,
                               .ks = c->ks_ratio * c->kn_N_mm3 * VS_N_MM3,
                               .mu = c->friction};

@@ -5,6 +5,7 @@
 
 #include "blocks.h"
 #include "outline.h"
+#include "piers.h"
 #include "shape.h"
 
 #include <math.h>
@@ -68,11 +69,20 @@ static vs_status create_sectors(const vs_arch_def *a, vs_geometry **out, vs_erro
   return st;
 }
 
-vs_status vs_geometry_create_arch(const vs_arch_def *a, vs_geometry **out, vs_error *err) {
+vs_status vs_arch_ring(const vs_arch_def *a, vs_geometry **out, vs_error *err) {
   *out = NULL;
   if (a->voussoirs < 1)
     return vs_error_set(err, VS_ERR_INVALID, "arch.voussoirs = %d (allowed: >= 1)", a->voussoirs);
+  if (a->shape == VS_SHAPE_FILE && a->piers.height != 0.0)
+    return vs_error_set(err, VS_ERR_INVALID, "piers.height_mm = %g with arch.shape = file "
+                        "(allowed: 0; a blocks file draws its own piers)", a->piers.height * 1e3);
   if (a->shape == VS_SHAPE_FILE) return vs_blocks_read(a, out, err);
   if (!vs_shape_is_sectors(a)) return vs_shape_build(a, NULL, NULL, out, err);
   return create_sectors(a, out, err);
+}
+
+vs_status vs_geometry_create_arch(const vs_arch_def *a, vs_geometry **out, vs_error *err) {
+  vs_status st = vs_arch_ring(a, out, err);
+  if (st == VS_OK) st = vs_piers_add(out, &a->piers, a->density, a->depth, err);
+  return st;
 }

@@ -814,9 +814,27 @@ static json_t *own_law(const vs_geometry *g, int k) {
   return o;
 }
 
+/* The ring of an arch on piers (geometry.h: pier_courses > 0): the left foundation, the left
+ * pier's courses up, the voussoirs, the right pier's courses down, the right foundation. */
+static void ring_on_piers(const vs_geometry *g, json_t *ring) {
+  char name[32];
+  const int C = g->pier_courses;
+  body_name(g, g->pier_joint[0], VS_SUPPORT_LEFT, name, sizeof name);
+  json_array_append_new(ring, json_string(name));
+  for (int i = 0; i < g->n_blocks; i++) {
+    const int b = i < C                       ? g->pier_block[0] + i
+                  : i < g->pier_block[0] + C ? i - C
+                                             : g->pier_block[1] + (g->n_blocks - 1 - i);
+    snprintf(name, sizeof name, "v%d", b + 1);
+    json_array_append_new(ring, json_string(name));
+  }
+  body_name(g, g->pier_joint[1], VS_SUPPORT_RIGHT, name, sizeof name);
+  json_array_append_new(ring, json_string(name));
+}
+
 vs_status vs_geometry_blocks_json(const vs_geometry *g, char **text, vs_error *err) {
   *text = NULL;
-  const int kl = vs_geometry_springing(g, 0), kr = vs_geometry_springing(g, 1);
+  const int kl = vs_geometry_support_joint(g, 0), kr = vs_geometry_support_joint(g, 1);
   const vs_joint_geom *jl = &g->joints[kl], *jr = &g->joints[kr];
   for (int i = 0; i < g->n_blocks; i++)
     if (g->blocks[i].n_edges < 1)
@@ -850,7 +868,8 @@ vs_status vs_geometry_blocks_json(const vs_geometry *g, char **text, vs_error *e
     json_array_append_new(blocks, json_pack("{s:s, s:f, s:o}", "name", name, "density_kg_m3",
                                             rho, "polygon", block_polygon(g, i)));
   }
-  for (int k = 0; k <= kr; k++) { /* the ring: its joints' bodies in order */
+  if (g->pier_courses > 0) ring_on_piers(g, ring);
+  for (int k = 0; k <= kr && g->pier_courses == 0; k++) { /* the ring: its joints' bodies */
     char name[32];
     body_name(g, k, k == 0 ? VS_SUPPORT_LEFT : g->joints[k].a, name, sizeof name);
     json_array_append_new(ring, json_string(name));

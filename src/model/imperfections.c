@@ -3,6 +3,7 @@
 #include "voussoir/imperfections.h"
 
 #include "outline.h"
+#include "piers.h"
 #include "shape.h"
 
 #include "voussoir/units.h"
@@ -190,7 +191,8 @@ static vs_status scattered_shape(const vs_imperfection_def *d, const vs_arch_def
   return st;
 }
 
-vs_status vs_imperfections_arch(const vs_imperfection_def *d, const vs_arch_def *a,
+/* The ring of arch a, scattered as imp draws it (NULL: as built). */
+static vs_status imperfect_ring(const vs_imperfection_def *d, const vs_arch_def *a,
                                 const vs_imperfections *imp, vs_geometry **out, vs_error *err) {
   const int scattered = d->angle_cov != 0.0 || d->thickness_cov != 0.0;
   if (scattered && a->shape == VS_SHAPE_FILE)
@@ -199,7 +201,7 @@ vs_status vs_imperfections_arch(const vs_imperfection_def *d, const vs_arch_def 
                         d->angle_cov, d->thickness_cov);
   if (scattered && (!vs_shape_is_sectors(a) || a->n_positions > 0 || a->keystone > 0.0))
     return scattered_shape(d, a, imp, out, err);
-  vs_status st = vs_geometry_create_arch(a, out, err);
+  vs_status st = vs_arch_ring(a, out, err);
   if (st != VS_OK || !scattered) return st;
   vs_geometry *g = *out;
   const int n = g->n_blocks;
@@ -235,11 +237,19 @@ vs_status vs_imperfections_arch(const vs_imperfection_def *d, const vs_arch_def 
   return VS_OK;
 }
 
+vs_status vs_imperfections_arch(const vs_imperfection_def *d, const vs_arch_def *a,
+                                const vs_imperfections *imp, vs_geometry **out, vs_error *err) {
+  vs_status st = imperfect_ring(d, a, imp, out, err);
+  if (st == VS_OK) st = vs_piers_add(out, &a->piers, a->density, a->depth, err);
+  return st;
+}
+
 vs_status vs_imperfections_apply(const vs_imperfection_def *d, const vs_imperfections *imp,
                                  vs_model *m, vs_error *err) {
   const vs_geometry *g = vs_model_geometry(m);
   if (d->kn_cov > 0.0 || d->face > 0.0) {
-    for (int k = 0; k < g->n_joints; k++) {
+    /* the joints drawn: the arch's (a pier's joints, after them, keep the nominal law) */
+    for (int k = 0; k < g->n_joints && k < imp->n_joints; k++) {
       vs_joint_law law = *vs_model_joint_law(m, k);
       law.kn *= imp->kn_factor[k];
       law.ks *= imp->kn_factor[k];

@@ -79,7 +79,7 @@ static void ground(cairo_t *cr, const vs_plot_frame *f, double xa, double xb, do
 /* A pinned support's springer: a plate under the springing face, turned with it about the pin
  * at the face's centre (drawn as a ring). */
 static void draw_springer(cairo_t *cr, const arch_data *d, int left) {
-  const vs_joint_geom *j = &d->g->joints[vs_geometry_springing(d->g, !left)];
+  const vs_joint_geom *j = &d->g->joints[vs_geometry_support_joint(d->g, !left)];
   const int body = left ? VS_SUPPORT_LEFT : VS_SUPPORT_RIGHT;
   const double in = left ? -1.0 : 1.0, h = 0.6 * d->g->thickness; /* into the support */
   double e[4], X[4], Z[4], x[4], z[4];
@@ -191,7 +191,7 @@ static void draw_supports(cairo_t *cr, const arch_data *d) {
 /* The arrow of each support's displacement, from the fixed face centre to the moved one. */
 static void draw_support_arrow(cairo_t *cr, const arch_data *d) {
   for (int s = 1; s >= 0; s--) {
-    const vs_joint_geom *j = &d->g->joints[vs_geometry_springing(d->g, s)];
+    const vs_joint_geom *j = &d->g->joints[vs_geometry_support_joint(d->g, s)];
     double ax, ay, bx, by;
     vs_plot_to_px(&d->f, j->px, j->pz, &ax, &ay);
     vs_plot_to_px(&d->f, j->px + d->su[2 * s], j->pz + d->su[2 * s + 1], &bx, &by);
@@ -310,13 +310,24 @@ static int thrust_point(const arch_data *d, int k, double *x, double *z) {
   return 1;
 }
 
+/* The i-th joint along the thrust line: the joints in order, or with piers from the left
+ * pier's base up its courses, along the ring, and down the right pier to its base. */
+static int thrust_joint(const vs_geometry *g, int i) {
+  const int C = g->pier_courses;
+  if (C == 0) return i;
+  if (i < C) return g->pier_joint[0] + i;
+  if (i < C + g->ring) return i - C;
+  return g->pier_joint[1] + C - 1 - (i - C - g->ring);
+}
+
 /* The thrust line: through the centre of pressure of every compressed joint, where the resultant
  * of the contact stresses acts. Broken where a joint carries no compression. */
 static void draw_thrust(cairo_t *cr, const arch_data *d) {
   if (d->N == NULL || d->M == NULL) return;
   int pen = 0;
   cairo_new_path(cr);
-  for (int k = 0; k < d->g->n_joints; k++) {
+  for (int i = 0; i < d->g->n_joints; i++) {
+    const int k = thrust_joint(d->g, i);
     double x, z, px, py;
     if (!thrust_point(d, k, &x, &z)) {
       pen = 0;

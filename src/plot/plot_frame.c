@@ -16,8 +16,8 @@ void vs_plot_body_point(const vs_geometry *g, const double *q, const double su[4
   if (body < 0 || q == NULL) {
     const int moved = body == VS_SUPPORT_RIGHT;
     const double th = body < 0 && srot != NULL ? srot[moved] : 0.0;
-    if (th != 0.0) { /* a pinned springer turns about the centre of its springing face */
-      const vs_joint_geom *j = &g->joints[vs_geometry_springing(g, moved)];
+    if (th != 0.0) { /* a support turns about the centre of its face (a pier's base) */
+      const vs_joint_geom *j = &g->joints[vs_geometry_support_joint(g, moved)];
       const double c = cos(th), s = sin(th), dx = X - j->px, dz = Z - j->pz;
       X = j->px + c * dx - s * dz;
       Z = j->pz + s * dx + c * dz;
@@ -90,8 +90,8 @@ vs_status vs_plot_check_arch(const vs_geometry *g, const double *q, double delta
                              vs_error *err) {
   if (g == NULL) return vs_error_set(err, VS_ERR_INVALID, "plot: no geometry");
   if (!(g->thickness > 0.0) || g->n_blocks < 1 || g->n_joints < 2 ||
-      g->joints[0].a != VS_SUPPORT_LEFT ||
-      g->joints[vs_geometry_springing(g, 1)].b != VS_SUPPORT_RIGHT)
+      g->joints[vs_geometry_support_joint(g, 0)].a != VS_SUPPORT_LEFT ||
+      g->joints[vs_geometry_support_joint(g, 1)].b != VS_SUPPORT_RIGHT)
     return vs_error_set(err, VS_ERR_INVALID,
                         "plot: the geometry is not an arch (thickness, joints 1 and n on the "
                         "left and right supports)");

@@ -15,6 +15,8 @@ static const char *event_kind_name(vs_event_kind k) {
   case VS_EVENT_SNAP_SETTLED: return "snap_settled";
   case VS_EVENT_COLLAPSE: return "collapse";
   case VS_EVENT_JOINT_SLIPPED: return "joint_slipped";
+  case VS_EVENT_PIER_ROCKED: return "pier_rocked";
+  case VS_EVENT_COURSE_OPENED: return "course_opened";
   }
   return "unknown";
 }
@@ -65,7 +67,8 @@ herr_t vs_record_events_create(vs_output *o) {
         "hinge_formed (label A-E, order = order of appearance, delta = interpolated "
         "onset), limit_point, snap_settled, collapse, joint_slipped (the joint began to "
         "slide, or to slide the other way; side = the edge toward which its voussoir slides "
-        "relative to the body across it). joint: 1-based, 0 if none; "
+        "relative to the body across it), pier_rocked/course_opened (a pier's base or course "
+        "joint opened; side = the edge in contact, I inner, E outer). joint: 1-based, 0 if none; "
         "phase: 0 quasi-static, 1 dynamic (IDA), 2 the rigid fall after the collapse");
   vs_h5_close(dcpl);
   vs_h5_close(sp);

@@ -287,11 +287,11 @@ static void xdmf_joints(xdmf_ctx *x, hsize_t r) {
   out_s(x, "</Grid>\n");
 }
 
-/* A support at row r: the springing face it carries (joint 1 on the left, n+1 on the right),
- * with the force it exerts on the arch and, for the moved right support, its displacement. */
+/* A support at row r: the face it carries (the springing's, joint 1 on the left, n+1 on the
+ * right; with piers a pier's base), with the force it exerts on the arch and, for the moved
+ * right support, its displacement. */
 static void xdmf_support(xdmf_ctx *x, int right, hsize_t r) {
-  const hsize_t nj = x->ds[X_JCONN].dims[0];
-  const hsize_t start[3] = {r, right ? 2 * nj - 2 : 0, 0}, count[3] = {1, 2, 2};
+  const hsize_t start[3] = {r, 2 * x->sup_joint[right ? 1 : 0], 0}, count[3] = {1, 2, 2};
   const int kind = right ? G_RIGHT : G_LEFT;
   xdmf_grid_open(x, right ? "support_right" : "support_left", kind);
   out_s(x, "<Geometry GeometryType=\"XY\">");
@@ -414,9 +414,10 @@ static void xdmf_header(xdmf_ctx *x, long rows, long stride) {
         "     joints (segments, intrados to extrados): N_N normal force (compression > 0), T_N "
         "shear force, M_N_m moment about the joint centre, gap_i_m gap_e_m edge openings, "
         "hinge code 0 closed, 1 intrados, 2 extrados;\n"
-        "     support_left, support_right (the springing faces): Fx_N Fz_N force of the support "
-        "on the arch (x right, z up), M_N_m its moment (counter-clockwise, about the springing "
-        "joint's centre), ux_m uz_m displacement of the moved support;\n"
+        "     support_left, support_right (the springing faces; with piers the piers' bases): "
+        "Fx_N Fz_N force of the support on the arch (x right, z up), M_N_m its moment "
+        "(counter-clockwise, about that face's centre), ux_m uz_m displacement of the moved "
+        "support;\n"
         "     ground (a segment, when the fall landed on it): the plane the debris rests on.\n"
         "     What every row shares is defined once, below, and included by xml:id (XInclude): "
         "the topologies tb (blocks), tj (joints), t1 (one segment), the ground's points gg, and "
@@ -460,6 +461,7 @@ vs_status vs_xdmf_write_tmp(hid_t file, const char *h5_path, const char *xmf_pat
   if (name == NULL && st == VS_OK) st = vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
   x.h5name = name;
   x.ground = vs_xdmf_has_ground(file);
+  vs_xdmf_support_joints(file, &x);
   x.nan_n = vs_xdmf_nan_count(file);
   if (st == VS_OK) st = vs_xdmf_open_tmp(xmf_path, tmp, size, &x.f, err);
   if (st == VS_OK) {

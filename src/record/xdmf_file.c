@@ -168,6 +168,23 @@ static herr_t xdmf_read_times(hid_t file, xdmf_ctx *x, long rows, double *t) {
   return rc;
 }
 
+void vs_xdmf_support_joints(hid_t file, xdmf_ctx *x) {
+  const hsize_t nj = x->ds[X_JCONN].dims[0];
+  x->sup_joint[0] = 0;
+  x->sup_joint[1] = nj > 0 ? nj - 1 : 0;
+  double *b = nj > 0 ? malloc(2 * nj * sizeof *b) : NULL;
+  if (b != NULL && H5Lexists(file, "/geometry/joint_bodies", H5P_DEFAULT) > 0 &&
+      vs_h5_read_doubles(file, "/geometry/joint_bodies", b, 2 * nj) == 0) {
+    for (int s = 0; s < 2; s++)
+      for (hsize_t k = 0; k < nj; k++)
+        if (b[2 * k] == -1.0 - s || b[2 * k + 1] == -1.0 - s) {
+          x->sup_joint[s] = k;
+          break;
+        }
+  }
+  free(b);
+}
+
 int vs_xdmf_has_ground(hid_t file) {
   hsize_t d[2];
   return H5Lexists(file, "/summary", H5P_DEFAULT) > 0 &&

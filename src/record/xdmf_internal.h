@@ -56,6 +56,9 @@ typedef struct {
   const char *h5name; /* XML-escaped name of the HDF5 file, relative to the sidecar */
   xdmf_ds ds[X_COUNT];
   int ground;              /* the record has /summary/ground/points */
+  hsize_t sup_joint[2];    /* the joints on the left and the right support: the springings, or
+                              with piers their bases (the first of /geometry/joint_bodies with
+                              body -1, -2; vs_xdmf_support_joints) */
   hsize_t nan_n;           /* values in /xdmf/nan (0: the record has none) */
   char pads[G_COUNT][160]; /* each grid's include of its NaN fields */
   int bp_source;           /* BP_STATES, BP_FRAMES or BP_INLINE */
@@ -90,6 +93,11 @@ vs_status vs_xdmf_listing(hid_t file, xdmf_ctx *x, long rows, int max_grids,
 /* Whether the record has the ground the fall landed on: /summary/ground/points, 2 x 2 (the
  * sidecar refers to it as such). */
 int vs_xdmf_has_ground(hid_t file);
+
+/* x->sup_joint from the record's /geometry/joint_bodies (unreadable: the first joint and the
+ * last, every record's springings before piers). */
+void vs_xdmf_support_joints(hid_t file, xdmf_ctx *x);
+
 /* The number of values of a rank-1 /xdmf/nan, or 0 if the record has none. */
 hsize_t vs_xdmf_nan_count(hid_t file);
 /* Create "<xmf_path>.tmp" (its name into tmp) anew for writing (vs_outpath_fopen): never

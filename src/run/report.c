@@ -9,6 +9,7 @@
 #include "voussoir/units.h"
 #include "voussoir/version.h"
 #include "quote.h"
+#include "report_piers.h"
 
 /* --- both supports (docs/model.md, "Both supports move") --- */
 
@@ -389,6 +390,7 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   fputc(']', out);
   fprintf(out, ",\"hinges_in_fall\":%d", vs_hinges_count(h) - vs_run_hinge_count(r));
   json_slip_events(out, r);
+  vs_report_piers_json(out, r);
   json_damping(out, r);
   json_tail(out, r);
 }
@@ -458,6 +460,7 @@ static void text_header(FILE *out, const vs_run *r, const char *case_path) {
           g->rise / VS_MM, vs_geometry_weight(g));
   fprintf(out, "joints   k_n = %g N/mm^3, k_s = %g k_n, mu = %g\n", c->kn_N_mm3, c->ks_ratio,
           c->friction);
+  vs_report_piers_header(out, r);
   if (!right_alone(c)) text_motions(out, c);
   else
     fprintf(out, "support  right support moved at alpha = %g deg from the vertical, %g mm/s (left %s",
@@ -695,5 +698,6 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
             err != NULL ? err->msg : vs_strerror(status));
   text_hinges(out, r);
   text_slips(out, r);
+  vs_report_piers_text(out, r);
   text_stats(out, r, status);
 }

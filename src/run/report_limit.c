@@ -206,8 +206,13 @@ void vs_report_limit_text(FILE *out, const vs_case *c, const vs_limit_analysis *
                "span L = %.2f mm\n",
           c->radius_mm, c->thickness_mm, c->embrace_deg, c->voussoirs, c->depth_mm,
           vs_case_span_mm(c));
-  fprintf(out, "joints       rigid blocks, no tension, mu = %g; supports left %s, right %s\n\n",
+  fprintf(out, "joints       rigid blocks, no tension, mu = %g; supports left %s, right %s\n",
           c->friction, support_name(c->left_kind), support_name(c->right_kind));
+  if (c->pier_height_mm > 0.0)
+    fprintf(out, "piers        %g mm high, %g mm wide, %d courses each, base friction %g\n",
+            c->pier_height_mm, c->pier_width_mm, c->pier_courses,
+            c->pier_base_friction > 0.0 ? c->pier_base_friction : c->friction);
+  fputc('\n', out);
   fputs("LIMIT ANALYSIS  rigid blocks, no-tension frictional joints: a linear program (COIN-OR "
         "CLP)\n", out);
   if (status != VS_OK) {
@@ -224,4 +229,8 @@ void vs_report_limit_text(FILE *out, const vs_case *c, const vs_limit_analysis *
   if (a->have_load) fprintf(out, "; the load factor's LP %.4f s", a->collapse.cpu_s);
   fputs("\n(hinges and touches: joints 1..n+1 from the left, named by the edge they turn on)\n",
         out);
+  if (c->pier_height_mm > 0.0)
+    fprintf(out, "(joints %d.. are the piers': the left pier's base, its course joints up, then "
+            "the right pier's; on them I is the inner face's edge, E the outer's)\n",
+            c->voussoirs + 2);
 }

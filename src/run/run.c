@@ -200,7 +200,10 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
                        NULL);
     r->hopts.open = d->hinges.open;
     r->hopts.migrate = d->hinges.migrate;
-    st = vs_hinges_create(r->g->n_joints, &r->hopts, &r->h, err);
+    /* with piers, the arch's hinges are the ring's (its joints first); the piers' joints
+     * have their own events (run_sample.c: track_piers) */
+    st = vs_hinges_create(r->g->pier_courses > 0 ? r->g->ring : r->g->n_joints, &r->hopts,
+                          &r->h, err);
   }
   if (st == VS_OK) {
     r->q = calloc((size_t)vs_model_size(r->m), sizeof *r->q);

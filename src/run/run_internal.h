@@ -69,6 +69,8 @@ struct vs_run {
                             every joint stuck) */
   double *slip_onset;   /* ... at the collapse's onset (its hinges' snapshot) */
   vs_slip *mech_slips;   /* the collapse's slips (collapse.slips) */
+  char *pier_side;       /* per joint, a pier's (run_sample.c): its open side when last
+                            tracked ('I', 'E', 0 closed) */
   /* --- damping (damping.h, modal.h): modes under self-weight, set at the first equilibrium --- */
   vs_modal modal;
   double ray_alpha, ray_beta;

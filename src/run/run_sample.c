@@ -52,6 +52,23 @@ void vs_run_name_first(vs_run *r, int n) {
       r->events[e].label = vs_hinges_get(r->h, r->events[e].order - 1)->label;
 }
 
+/* The piers' joints in r->js: each one that opens (from closed) logs that its pier rocks (a
+ * base) or that a course joint opened, with the side that stays in contact. */
+static int track_piers(vs_run *r, double delta) {
+  const vs_geometry *g = r->g;
+  for (int k = g->ring; k < g->n_joints && g->pier_courses > 0; k++) {
+    const int kind = vs_geometry_pier_joint(g, k, NULL, NULL);
+    const char side = kind > 0 ? vs_hinges_joint_side(&r->hopts, &r->js[k]) : 0;
+    const char was = r->pier_side[k];
+    r->pier_side[k] = side;
+    if (side == 0 || side == was) continue;
+    if (vs_run_log_event(r, kind == 1 ? VS_EVENT_PIER_ROCKED : VS_EVENT_COURSE_OPENED,
+                         delta / r->dopts.rate, delta, k + 1, side, 0, 0) != 0)
+      return -1;
+  }
+  return 0;
+}
+
 /* Update the hinges at (delta, q); log the hinges that formed. */
 /* js: the joints' states at (delta, q) if the caller has them (NULL: evaluated here). */
 static int track_hinges(vs_run *r, double delta, const double *q, const vs_joint_state *js) {
@@ -68,7 +85,7 @@ static int track_hinges(vs_run *r, double delta, const double *q, const vs_joint
   }
   /* the first three get their labels together: fix up the events logged before */
   if (before < 3 && vs_hinges_count(r->h) >= 3) relabel_events(r);
-  return 0;
+  return track_piers(r, delta);
 }
 
 /* --- callbacks from the solvers --- */

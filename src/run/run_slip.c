@@ -14,8 +14,11 @@ int vs_run_slips_create(vs_run *r) {
   r->slip_from = calloc(nj, sizeof *r->slip_from);
   r->slip_onset = calloc(nj, sizeof *r->slip_onset);
   r->mech_slips = calloc(nj, sizeof *r->mech_slips);
-  return r->slip_dir && r->slip_anchor && r->slip_from && r->slip_onset && r->mech_slips ? 0
-                                                                                          : -1;
+  r->pier_side = calloc(nj, sizeof *r->pier_side);
+  return r->slip_dir && r->slip_anchor && r->slip_from && r->slip_onset && r->mech_slips &&
+                 r->pier_side
+             ? 0
+             : -1;
 }
 
 void vs_run_slips_free(vs_run *r) {
@@ -24,13 +27,17 @@ void vs_run_slips_free(vs_run *r) {
   free(r->slip_from);
   free(r->slip_onset);
   free(r->mech_slips);
+  free(r->pier_side);
 }
 
 /* The edge toward which joint k's voussoir slides relative to the body across the joint, when
  * body b slides relative to body a along s (sense +1) or against it (-1): at the right
- * springing the voussoir is body a. */
+ * springing the voussoir is body a. At a pier's joint, the edge toward which the course above
+ * slides (I: the inner face, E: the outer): on the right pier it is body a. */
 static char slip_side(const vs_run *r, int k, int sense) {
-  const int voussoir_is_a = r->g->joints[k].b < 0;
+  int pier = 0;
+  const int voussoir_is_a =
+      r->g->joints[k].b < 0 || (vs_geometry_pier_joint(r->g, k, &pier, NULL) > 0 && pier == 1);
   return (sense > 0) != voussoir_is_a ? 'E' : 'I';
 }
 

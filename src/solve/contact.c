@@ -268,7 +268,9 @@ int vs_contact_count(const vs_contact *c) { return c->nv; }
 
 double vs_contact_springing_base(const vs_model *m, const double *qe) {
   const vs_geometry *g = vs_model_geometry(m);
-  const vs_joint_geom *jg[2] = {&g->joints[0], &g->joints[vs_geometry_springing(g, 1)]};
+  /* the supports' faces: the springings, or with piers the piers' bases */
+  const vs_joint_geom *jg[2] = {&g->joints[vs_geometry_support_joint(g, 0)],
+                                &g->joints[vs_geometry_support_joint(g, 1)]};
   double low = INFINITY;
   for (int s = 0; s < 2; s++) {
     const double *qs = qe + 3 * g->n_blocks + 3 * s;

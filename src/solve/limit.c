@@ -109,6 +109,11 @@ static void put_contact(vs_limit *l, int *nz, const vs_joint_geom *j, double fx,
   }
 }
 
+/* Joint j's friction: its own (a blocks file's interface, a pier's base), else the options'. */
+static double joint_mu(const vs_limit *l, const vs_joint_geom *j) {
+  return j->mu > 0.0 ? j->mu : l->o.mu;
+}
+
 static void assemble(vs_limit *l) {
   const vs_geometry *g = l->g;
   int nz = 0, col = 0, pin = ROWS_PER_BLOCK * l->nb + FRICTION_ROWS * l->nj;
@@ -121,7 +126,7 @@ static void assemble(vs_limit *l) {
       double px, pz;
       joint_end(j, e, &px, &pz);
       const int row0 = ROWS_PER_BLOCK * l->nb + FRICTION_ROWS * k + 2 * e;
-      const double frn[2] = {-l->o.mu, -l->o.mu}, frt[2] = {1.0, -1.0};
+      const double mu = joint_mu(l, j), frn[2] = {-mu, -mu}, frt[2] = {1.0, -1.0};
       l->start[col++] = nz; /* N: >= 0 */
       put_contact(l, &nz, j, j->nx, j->nz, px, pz, row0, frn);
       if (pinned) { /* N_I - N_E = 0: the resultant at the pivot */
@@ -322,7 +327,7 @@ static void read_forces(const vs_limit *l, const double *x, const double *hobj,
     /* the joint's resultant: how its shear is split between the ends does not matter (any
      * split of |V| <= mu N in proportion to the ends' N satisfies both ends' rows) */
     const double ni = fmax(f[0], 0.0), ne = fmax(f[2], 0.0), ntot = ni + ne, v = f[1] + f[3];
-    s->friction[k] = ntot > zero && fabs(v) >= l->o.mu * ntot * (1.0 - VS_LIMIT_FRICTION_REL);
+    s->friction[k] = ntot > zero && fabs(v) >= joint_mu(l, j) * ntot * (1.0 - VS_LIMIT_FRICTION_REL);
     s->n_friction += s->friction[k];
     double ix, iz, sx, sz;
     joint_end(j, 0, &ix, &iz);

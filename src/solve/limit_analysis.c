@@ -173,6 +173,7 @@ typedef struct {
   const vs_run_def *d;
   const vs_limit_opts *o;
   unsigned char *basis;
+  int unbuildable; /* a thicker ring's springing face no longer fits its piers' width */
 } trials;
 
 /* Does the arch of t->d with thickness x factor stand under its weight? *s: its least thrust. */
@@ -180,6 +181,13 @@ static vs_status stands(trials *t, double factor, int *ok, vs_limit_solution *s,
   vs_geometry *g = NULL;
   vs_limit *l = NULL;
   vs_status st = arch_scaled(t->d, factor, &g, err);
+  if (st == VS_ERR_INVALID && factor > 1.0 && t->d->arch.piers.height > 0.0) {
+    /* thickened beyond what its piers carry (docs/model.md, "Piers"): the search ends there */
+    t->unbuildable = 1;
+    *ok = 0;
+    vs_error_clear(err);
+    return VS_OK;
+  }
   if (st == VS_OK) st = vs_limit_create(g, t->o, NULL, 0, &l, err);
   if (st == VS_OK && t->basis != NULL) vs_limit_basis_start(l, t->basis);
   if (st == VS_OK) st = vs_limit_solve(l, VS_LIMIT_THRUST_MIN, s, err);
@@ -217,20 +225,20 @@ static void widen_touches(vs_limit_solution *s, double tol) {
 static vs_status thickness_factor(const vs_run_def *d, const vs_limit_opts *o, int at_one,
                                   unsigned char *basis, vs_limit_analysis *a, vs_error *err) {
   vs_limit_solution trial = {0};
-  trials t = {d, o, basis}; /* the trials own it from here */
+  trials t = {d, o, basis, 0}; /* the trials own it from here */
   double lo = 0.0, hi = 1.0;
   int ok = at_one;
   vs_status st = VS_OK;
   if (at_one) st = stands(&t, hi, &ok, &a->thickness, err), a->thickness_solves++;
-  while (st == VS_OK && !ok && hi < o->thickness_max) {
+  while (st == VS_OK && !ok && hi < o->thickness_max && !t.unbuildable) {
     lo = hi;
     hi = fmin(2.0 * hi, o->thickness_max);
     st = stands(&t, hi, &ok, &a->thickness, err);
-    a->thickness_solves++;
+    a->thickness_solves += !t.unbuildable;
   }
-  if (st == VS_OK && !ok) { /* not even at thickness_max */
+  if (st == VS_OK && !ok) { /* not even at thickness_max (or the thickest its piers carry) */
     free(t.basis);
-    a->thickness_bracket[0] = hi;
+    a->thickness_bracket[0] = t.unbuildable ? lo : hi;
     a->thickness_bracket[1] = NAN;
     vs_limit_solution_free(&a->thickness);
     a->thickness.outcome = VS_LIMIT_INFEASIBLE;

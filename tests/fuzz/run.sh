@@ -60,6 +60,7 @@ sed "s/@PROJECT_VERSION@/$ver/; s/@PROJECT_VERSION_MAJOR@/$v1/; s/@PROJECT_VERSI
 case_src=("$s/case/case.c" "$s/case/case_read.c" "$s/base/parse.c" "$s/base/list.c"
           "$s/base/status.c" "$s/base/quote.c")
 geometry_src=("$s/model/geometry.c" "$s/model/outline.c" "$s/model/shape.c" "$s/model/arch.c"
+              "$s/model/piers.c"
               "$s/model/blocks.c")
 sources() {
   case "$1" in
