@@ -127,8 +127,8 @@ class Case:
 
     def __repr__(self):
         src = f"from {self.path!r}, " if self.path else ""
-        return (f"<voussoir.Case {src}alpha {self['support.alpha_deg']:g} deg, "
-                f"kn {self['joints.kn_N_mm3']:g} N/mm^3, {self['arch.voussoirs']} voussoirs>")
+        return (f"<voussoir.Case {src}{self['arch.shape']}, {self['arch.voussoirs']} voussoirs, "
+                f"alpha {self['support.alpha_deg']:g} deg, kn {self['joints.kn_N_mm3']:g} N/mm^3>")
 
 
 _TABLE = None
