@@ -71,6 +71,17 @@ check(np.nanmax(h["kinetic"][~qs]) > 0 and np.all(np.isnan(h["kinetic"][qs])), "
 df = res.to_dataframe()
 check(len(df) == len(h) and df.attrs["units"]["delta"] == "m", "to_dataframe")
 
+# Without pandas (as if python3-pandas were not installed): an ImportError saying what to install.
+saved = sys.modules.get("pandas")
+sys.modules["pandas"] = None  # `import pandas` now raises ImportError
+try:
+    res.to_dataframe()
+    check(False, "to_dataframe without pandas")
+except ImportError as e:
+    check("python3-pandas" in str(e), f"message {e}")
+finally:
+    sys.modules["pandas"] = saved
+
 # 2. Bad input: an exception naming the key and the allowed range, before anything runs.
 for bad in (lambda: voussoir.Case.from_file(case_path, joints__kn_N_mm3=-1),
             lambda: voussoir.Case.from_file(case_path, {"joints.kn_N_mm3": -1}),

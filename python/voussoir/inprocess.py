@@ -208,7 +208,8 @@ class Result:
 
     def to_dataframe(self):
         """The history as a pandas DataFrame (one row per recorded state, units in
-        df.attrs["units"]; the collapse in df.attrs["collapse"])."""
+        df.attrs["units"]; the run's status in df.attrs["status"] and, after a collapse, its
+        displacement in df.attrs["collapse_delta_mm"])."""
         df = self.history.to_dataframe()
         df.attrs["status"] = self.status
         if self.collapse is not None:
