@@ -22,6 +22,9 @@ HISTORY_UNITS = {"time": "s", "delta": "m", "phase": "", "left_Fx": "N", "left_F
                  "elastic": "J", "gravity": "J", "kinetic": "J"}
 
 
+_NAN6 = np.full(6, np.nan).tobytes()
+
+
 def _ch(c):
     c = c if isinstance(c, bytes) else bytes([c])
     return c.decode() if c != b"\0" else ""
@@ -146,7 +149,8 @@ class _Collector:
             return 1
         if self.history:
             self.rows.append(ffi.buffer(s, self.SIZE)[:])
-            self.reactions.append(ffi.buffer(s.reactions, 48)[:])
+            self.reactions.append(ffi.buffer(s.reactions, 48)[:] if s.reactions != ffi.NULL
+                                  else _NAN6)
             e = s.energy
             self.kinetic.append(e.kinetic if e != ffi.NULL else math.nan)
         return 0
