@@ -150,6 +150,18 @@ except KeyboardInterrupt as e:
 check(t_stop < 0.6 * t_full, f"stopped after {t_stop:.3f} s of a {t_full:.3f} s run")
 again = voussoir.run(case)
 check(again.collapse.delta_mm == res.collapse.delta_mm, "a run after the interrupt differs")
+# In a sweep: the waiting thread gets KeyboardInterrupt, which stops the runs under way in
+# the pool's threads at their next state and starts none of the others (four runs of t_full on
+# two threads would take twice t_full).
+threading.Timer(0.1 * t_full, os.kill, (os.getpid(), signal.SIGINT)).start()
+t0 = time.perf_counter()
+try:
+    voussoir.sweep(long_case, alpha=[0, 10, 20, 30], jobs=2)
+    check(False, "SIGINT did not stop the sweep")
+except KeyboardInterrupt:
+    t_stop = time.perf_counter() - t0
+check(t_stop < 0.8 * t_full, f"sweep stopped after {t_stop:.3f} s (one run: {t_full:.3f} s)")
+check(threading.active_count() == 1, f"threads left: {threading.enumerate()}")
 # The same from another thread: a stop event ends the run, status stopped.
 stop = threading.Event()
 threading.Timer(0.1 * t_full, stop.set).start()
