@@ -47,7 +47,7 @@ for i, status in enumerate(("COLLAPSE", "NO_COLLAPSE", "FAILED")):
     check(f"VS_MC_{status} == {i}", f"montecarlo status {status}")
 check(f"sizeof VS_MC_TABLE_COLUMNS == {len(','.join(study.MC_COLUMNS)) + 1}",
       "montecarlo columns")
-lines.append(f'static const char columns[] = VS_MC_TABLE_COLUMNS;')
+lines.append("static const char columns[] = VS_MC_TABLE_COLUMNS;")
 lines.append("int main(void) { return columns[0] == 's' ? 0 : 1; }")
 
 os.makedirs(out, exist_ok=True)

@@ -60,7 +60,8 @@ check(close(res.first_limit.delta_mm, ref["first_limit"]["delta_mm"]), "first li
 # independent figure: density x volume x g of the annular segment), delta increasing there.
 h = res.history
 qs = h["phase"] == 0
-R, t, b = case["arch.radius_mm"] * 1e-3, case["arch.thickness_mm"] * 1e-3, case["arch.depth_mm"] * 1e-3
+R, t = case["arch.radius_mm"] * 1e-3, case["arch.thickness_mm"] * 1e-3
+b = case["arch.depth_mm"] * 1e-3
 weight = (case["arch.density_kg_m3"] * case["arch.gravity_m_s2"] * b
           * math.radians(case["arch.embrace_deg"]) / 2 * ((R + t) ** 2 - R ** 2))
 fz = h["left_Fz"] + h["right_Fz"]
@@ -183,7 +184,8 @@ for a, b in zip(mc.to_dict("records"), prog_mc.to_dict("records")):
     for k in mc.columns:
         x, y = a[k], b[k]
         same = close(float(x), float(y)) if isinstance(x, float) else str(x) == str(y)
-        check(same, f"montecarlo sample {a['sample']}: {k} = {x!r} in process, {y!r} by the program")
+        check(same, f"montecarlo sample {a['sample']}: {k} = {x!r} in process, {y!r} by the "
+              "program")
 
 # 6. A record as an xarray Dataset: the arrays of the program's record, units in attributes.
 rec = os.path.join(out, "ref.h5")

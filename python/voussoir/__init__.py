@@ -25,4 +25,4 @@ __version__ = "0.3.0"
 __all__ = ["Record", "Series", "open_record", "read_table", "draw_mechanism", "draw_curves",
            "draw_domain", "cli", "Case", "run", "Result", "History", "Hinge", "Collapse",
            "LimitPoint", "Event", "sweep", "montecarlo",
-           "record_to_xarray", "Error", "CaseError", "SolverError", "library_path"]
+           "record_to_xarray", "tables", "Error", "CaseError", "SolverError", "library_path"]

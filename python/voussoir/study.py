@@ -106,7 +106,8 @@ def montecarlo(case, samples, seed=None, *, jobs=None):
     the fall) in `jobs` threads. Returns a pandas DataFrame with the columns of `voussoir
     montecarlo`'s samples.csv: sample, status (collapse, max_displacement: none within
     support.max_mm, failed), first_limit_mm, delta_u_mm, dz_u_mm, dx_u_mm, mode (1..3 for
-    I..III, 0 unclassified), pattern, A..E (each hinge at collapse as joint-side, "9-I"), error. A sample's run cannot be stopped from Python: Ctrl-C starts no new sample and
+    I..III, 0 unclassified), pattern, A..E (each hinge at collapse as joint-side, "9-I"),
+    error. A sample's run cannot be stopped from Python: Ctrl-C starts no new sample and
     returns once those under way end."""
     base = case if isinstance(case, Case) else Case.from_file(case)
     if seed is not None:
