@@ -104,6 +104,16 @@ try:
 except voussoir.CaseError as e:
     check("missing.ini" in str(e) and e.status == "VS_ERR_IO", f"message {e}")
 
+# Values from numpy, a list as the case file's comma-separated list; a choice by its name.
+c4 = voussoir.Case(arch__voussoirs=4, arch__joint_positions=np.array([0.25, 0.5, 0.75]),
+                   joints__kn_N_mm3=np.float64(48), dynamic__damping_model="rayleigh")
+check(c4["joints.kn_N_mm3"] == 48.0 and c4["dynamic.damping_model"] == "rayleigh" and
+      [float(x) for x in c4["arch.joint_positions"].split(",")] == [0.25, 0.5, 0.75],
+      f"case from numpy values: {c4.to_dict()}")
+named = voussoir.sweep(case.copy(arch__voussoirs=11), alpha=[0],
+                       dynamic__damping_model=["joint", "rayleigh"], jobs=2)
+check(list(named["dynamic.damping_model"]) == ["joint", "rayleigh"], f"named axis: {named}")
+
 # 3. A sweep over three directions in three threads equals three runs one at a time (the
 # sweep's runs stop at the collapse, as `voussoir sweep`'s).
 alphas = [0, 45, 90]

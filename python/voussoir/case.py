@@ -13,6 +13,8 @@ def _key_name(name):
 
 
 def _value_text(v):
+    if hasattr(v, "tolist"):  # a numpy number or array: as Python's
+        v = v.tolist()
     if isinstance(v, bool):
         return "1" if v else "0"
     if isinstance(v, float):

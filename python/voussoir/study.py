@@ -47,7 +47,8 @@ def _pool(jobs, fn, items):
 def sweep(case, alpha=None, kn=None, *, jobs=None, fall=False, **axes):
     """Run case (a Case or a case file) at every combination of the axes' values: alpha
     (support.alpha_deg, deg), kn (joints.kn_N_mm3, N/mm^3) and any section__key=[values]
-    (the last axis varies fastest, as `voussoir sweep --vary`), in `jobs` threads (default:
+    (numbers, or names of a choice: dynamic__damping_model=["joint", "rayleigh"]; the last
+    axis varies fastest, as `voussoir sweep --vary`), in `jobs` threads (default:
     the number of CPUs). As `voussoir sweep`, the runs stop at the collapse (dynamic.fall_s =
     0) unless fall=True. Every case is checked before any runs (CaseError naming the key).
 
@@ -69,7 +70,7 @@ def sweep(case, alpha=None, kn=None, *, jobs=None, fall=False, **axes):
 
     def one(i, stop):
         row = {"run": i + 1}
-        row.update(zip(keys, (float(x) for x in combos[i])))
+        row.update(zip(keys, (x if isinstance(x, str) else float(x) for x in combos[i])))
         row.update(_sweep_row(cases[i], stop))
         return row
 
