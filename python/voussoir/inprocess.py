@@ -296,20 +296,23 @@ def run(case, *, history=True, stop=None, **overrides):
     case.validate()
     L = _lib.lib()
     err = _lib.new_error()
-    prun = ffi.new("vs_run **")
-    _lib.raise_for(L.vs_run_create(case._c, prun, err), err)
+    prun = ffi.new("vs_run **")  # NULL until created: vs_run_destroy accepts it
     col = _Collector(history, stop)
+    res = None
     try:
+        _lib.raise_for(L.vs_run_create(case._c, prun, err), err)
         st = L.vs_run_execute(prun[0], col.cb, ffi.NULL, ffi.NULL, err)
         if col.interrupted and not isinstance(col.interrupted, KeyboardInterrupt):
             raise col.interrupted
         hist = History(col.columns() if history else {k: np.empty(0) for k in HISTORY_UNITS})
         res = Result(case, prun[0], st, err, hist)
+    except KeyboardInterrupt:  # Ctrl-C outside the sample function (while the run was built)
+        col.interrupted = KeyboardInterrupt()
     finally:
         L.vs_run_destroy(prun)
     if isinstance(col.interrupted, KeyboardInterrupt):
-        raise KeyboardInterrupt("voussoir.run: stopped by Ctrl-C at support displacement "
-                                f"{res.last_delta_mm:.3f} mm")
+        where = f" at support displacement {res.last_delta_mm:.3f} mm" if res else ""
+        raise KeyboardInterrupt(f"voussoir.run: stopped by Ctrl-C{where}")
     if st == _STOPPED:
         res.stopped_by = "stop event"
         return res
