@@ -20,7 +20,7 @@ def check(cond, msg):
 
 case, out = sys.argv[1], sys.argv[2]
 rec_path = os.path.join(out, "ref.h5")
-res = voussoir.run(case, record=rec_path, first_limit=True)
+res = voussoir.cli.run(case, record=rec_path, first_limit=True)
 check(res["status"] == "limit_point", f"status {res['status']}")
 with voussoir.open_record(rec_path) as r:
     check(r.status == "completed", r.status)
@@ -51,12 +51,12 @@ with voussoir.open_record(rec_path) as r:
     voussoir.draw_mechanism(r, -1, ax[0])
     voussoir.draw_curves(r, ax[1])
     fig.savefig(os.path.join(out, "record.png"))
-table = voussoir.sweep(case, os.path.join(out, "sw"), {"support.alpha_deg": [0, 90]},
+table = voussoir.cli.sweep(case, os.path.join(out, "sw"), {"support.alpha_deg": [0, 90]},
                        sets={"arch.voussoirs": 11}, first_limit=True, jobs=2)
 check(len(table) == 2 and {row["support.alpha_deg"] for row in table} == {0.0, 90.0}, f"table {table}")
 # The domain of a sweep over alpha alone (its table has no k_n column): one line through the
 # collapses, in the order of alpha, at the table's own dz/L and dx/L.
-table = voussoir.sweep(case, os.path.join(out, "sw_alpha"), {"support.alpha_deg": "90,0"},
+table = voussoir.cli.sweep(case, os.path.join(out, "sw_alpha"), {"support.alpha_deg": "90,0"},
                        sets={"arch.voussoirs": 11}, jobs=2)
 coll = sorted((r for r in table if r["status"] == "collapse"), key=lambda r: r["support.alpha_deg"])
 check(len(coll) == 2, f"alpha sweep: {table}")
@@ -110,7 +110,7 @@ check(abs(col["left"]["dx_mm"] - 0.5 * d) < 1e-6 * d and
       abs(col["right"]["dz_mm"] - np.cos(a) * d) < 1e-6 * d, f"collapse supports {col}")
 bad = False
 try:
-    voussoir.run(case, sets={"joints.kn_N_mm3": -1})
+    voussoir.cli.run(case, sets={"joints.kn_N_mm3": -1})
 except Exception as e:  # bad input: exit 2 raised, naming the key
     bad = "kn_N_mm3" in str(getattr(e, "stderr", ""))
 check(bad, "bad input not raised with the key named")

@@ -41,6 +41,16 @@ chmod +x "$tmp/bin/cc"
 
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
+# A sanitizer build's library loads into python3 (the package's in-process runs) only after the
+# sanitizers' runtimes: the ```python blocks get them preloaded, without leak detection (the
+# interpreter does not free everything at exit; the library's leaks are the C tests' concern).
+pyenv=""
+if [[ " $extra " == *-fsanitize=*address* ]]; then
+  asan=$("$cc" -print-file-name=libasan.so) ubsan=$("$cc" -print-file-name=libubsan.so)
+  [ -f "$asan" ] && [ -f "$ubsan" ] || fail "$cc does not name its libasan.so and libubsan.so"
+  pyenv="env LD_PRELOAD='$asan $ubsan' ASAN_OPTIONS=\${ASAN_OPTIONS:+\$ASAN_OPTIONS:}detect_leaks=0 "
+fi
+
 # The blocks of a page as a list: LINE, KIND, ARG, FILE (separated by \037, as ARG may be
 # empty), the block's text in FILE.
 # KIND: run-sh, run-python, file, output, output-of, as-readme, text.
@@ -139,7 +149,7 @@ run_page() { # page
           fail "$rel:$line: $(cat "$dir/why"); the command printed:$(printf '\n'; cat "$last")"
         continue ;;
       output-of) printf '%s\n' "$arg" >"$file.cmd" ;;
-      run-python) { echo "python3 - <<'VS_DOCS_PYTHON'"; cat "$file"; echo "VS_DOCS_PYTHON"; } >"$file.cmd" ;;
+      run-python) { echo "${pyenv}python3 - <<'VS_DOCS_PYTHON'"; cat "$file"; echo "VS_DOCS_PYTHON"; } >"$file.cmd" ;;
       run-sh) cp "$file" "$file.cmd" ;;
     esac
     n=$((n + 1))

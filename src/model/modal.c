@@ -10,6 +10,7 @@
 
 #include <arpack.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sundials/sundials_context.h>
@@ -245,7 +246,12 @@ static int arpack_eigenvalues(const band *b, const double *mass, int nm, double 
   }
   if (found == 0 && info == 0) {
     for (int r = 0; r < a.n; r++) a.sm[r] = sqrt(mass[r]);
+    /* ARPACK keeps the state of its reverse communication in Fortran SAVE variables: one
+     * process-wide state, so runs in threads (the Python package's sweep) take turns here. */
+    static pthread_mutex_t arpack_lock = PTHREAD_MUTEX_INITIALIZER;
+    pthread_mutex_lock(&arpack_lock);
     found = arpack_run(&a, nm);
+    pthread_mutex_unlock(&arpack_lock);
     for (int k = 0; found == 1 && k < nm; k++)
       if (!(a.d[k] > 0.0)) found = 0;
     for (int k = 0; found == 1 && k < nm; k++) { /* 1/theta, ascending (insertion sort) */

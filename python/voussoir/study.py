@@ -1,0 +1,139 @@
+"""Studies in process: a sweep over case keys and a Monte Carlo over imperfect arches, each case
+run by libvoussoir in a thread pool (the C calls release the GIL), returned as pandas tables with
+the columns of the program's own tables (`voussoir sweep`'s summary.csv, `voussoir
+montecarlo`'s samples.csv)."""
+import itertools
+import math
+import os
+import threading
+from concurrent.futures import ThreadPoolExecutor
+
+from . import _lib
+from ._lib import ffi
+from .case import Case, _key_name
+from .inprocess import run as _run
+from .tables import pandas
+
+SWEEP_COLUMNS = ["status", "first_limit_mm", "delta_u_mm", "dz_over_L_pct", "dx_over_L_pct",
+                 "hinges_at_collapse", "mode", "snaps", "wall_s", "error"]
+MC_COLUMNS = ["sample", "status", "first_limit_mm", "delta_u_mm", "dz_u_mm", "dx_u_mm", "mode",
+              "pattern", "A", "B", "C", "D", "E", "error"]
+_MC_STATUS = ("collapse", "max_displacement", "failed")
+
+
+def _base(case, fall):
+    if not isinstance(case, Case):
+        case = Case.from_file(case)
+    return case if fall else case.copy(dynamic__fall_s=0)
+
+
+def _pool(jobs, fn, items):
+    """fn over items in jobs threads, results in order. Ctrl-C (or any exception) in the waiting
+    thread sets the stop event, which ends the runs under way at their next state and starts no
+    other; the exception is then raised."""
+    stop = threading.Event()
+    jobs = jobs or os.cpu_count() or 1
+    with ThreadPoolExecutor(max_workers=jobs) as ex:
+        futs = [ex.submit(fn, item, stop) for item in items]
+        try:
+            return [f.result() for f in futs]
+        except BaseException:
+            stop.set()
+            for f in futs:
+                f.cancel()
+            raise
+
+
+def sweep(case, alpha=None, kn=None, *, jobs=None, fall=False, **axes):
+    """Run case (a Case or a case file) at every combination of the axes' values: alpha
+    (support.alpha_deg, deg), kn (joints.kn_N_mm3, N/mm^3) and any section__key=[values]
+    (numbers, or names of a choice: dynamic__damping_model=["joint", "rayleigh"]; the last
+    axis varies fastest, as `voussoir sweep --vary`), in `jobs` threads (default:
+    the number of CPUs). As `voussoir sweep`, the runs stop at the collapse (dynamic.fall_s =
+    0) unless fall=True. Every case is checked before any runs (CaseError naming the key).
+
+    Returns a pandas DataFrame, one row per run, with the columns of the program's
+    summary.csv: run, one per axis (its section.key), status, first_limit_mm, delta_u_mm,
+    dz_over_L_pct, dx_over_L_pct, hinges_at_collapse, mode, snaps, wall_s, error (a run that
+    failed is a row with its error, not an exception)."""
+    base = _base(case, fall)
+    ax = []
+    if alpha is not None:
+        ax.append(("support.alpha_deg", alpha))
+    if kn is not None:
+        ax.append(("joints.kn_N_mm3", kn))
+    ax += [(_key_name(k), v) for k, v in axes.items()]
+    ax = [(k, [v] if isinstance(v, (int, float)) else list(v)) for k, v in ax]
+    keys = [k for k, _ in ax]
+    combos = list(itertools.product(*[v for _, v in ax]))
+    cases = [base.copy(dict(zip(keys, c))).validate() for c in combos]
+
+    def one(i, stop):
+        row = {"run": i + 1}
+        row.update(zip(keys, (x if isinstance(x, str) else float(x) for x in combos[i])))
+        row.update(_sweep_row(cases[i], stop))
+        return row
+
+    rows = _pool(jobs, one, range(len(cases)))
+    return pandas().DataFrame(rows, columns=["run"] + keys + SWEEP_COLUMNS)
+
+
+def _sweep_row(case, stop):
+    nan = math.nan
+    row = dict.fromkeys(SWEEP_COLUMNS, nan)
+    row.update(hinges_at_collapse="", mode="", snaps=0, error="")
+    try:
+        res = _run(case, history=False, stop=stop)
+    except _lib.SolverError as e:
+        res = e.result
+        row["error"] = e.message
+    row["status"] = res.status
+    row["wall_s"] = res.wall_s
+    row["mode"] = res.mode or ""
+    if res.first_limit is not None:
+        row["first_limit_mm"] = res.first_limit.delta_mm
+    row["snaps"] = sum(1 for p in res.limit_points
+                       if not p.collapse and math.isfinite(p.delta_settled_mm))
+    if res.collapse is not None:
+        c = res.collapse
+        row.update(delta_u_mm=c.delta_mm, dz_over_L_pct=c.dz_over_L_pct,
+                   dx_over_L_pct=c.dx_over_L_pct, hinges_at_collapse=res.hinges_at_collapse)
+    return row
+
+
+def montecarlo(case, samples, seed=None, *, jobs=None):
+    """Samples 0 .. samples-1 of case (a Case or a case file) with its [imperfections] (seed:
+    imperfections.seed, else the case's), each run to the collapse (vs_mc_run_sample: without
+    the fall) in `jobs` threads. Returns a pandas DataFrame with the columns of `voussoir
+    montecarlo`'s samples.csv: sample, status (collapse, max_displacement: none within
+    support.max_mm, failed), first_limit_mm, delta_u_mm, dz_u_mm, dx_u_mm, mode (1..3 for
+    I..III, 0 unclassified), pattern, A..E (each hinge at collapse as joint-side, "9-I"),
+    error. A sample's run cannot be stopped from Python: Ctrl-C starts no new sample and
+    returns once those under way end."""
+    base = case if isinstance(case, Case) else Case.from_file(case)
+    if seed is not None:
+        base = base.copy(imperfections__seed=seed)
+    base.validate()
+    err = _lib.new_error()
+    _lib.raise_for(_lib.lib().vs_case_check_path(base._c, b"montecarlo", err), err)
+
+    def one(i, stop):
+        if stop.is_set():
+            raise KeyboardInterrupt
+        out = ffi.new("vs_mc_sample *")
+        _lib.lib().vs_mc_run_sample(base._c, i, out)
+        return _mc_row(out)
+
+    return pandas().DataFrame(_pool(jobs, one, range(samples)), columns=MC_COLUMNS)
+
+
+def _mc_row(s):
+    row = {"sample": s.sample, "status": _MC_STATUS[s.status], "first_limit_mm": s.first_limit_mm,
+           "delta_u_mm": s.delta_u_mm, "dz_u_mm": s.dz_u_mm, "dx_u_mm": s.dx_u_mm,
+           "mode": s.mode,
+           "pattern": ffi.string(s.pattern).decode(),
+           "error": ffi.string(s.error).decode()}
+    for k, label in enumerate("ABCDE"):
+        side = s.hinge_side[k].decode() if s.hinge_side[k] != b"\0" else ""
+        row[label] = f"{s.hinge_joint[k]}-{side}" if s.hinge_joint[k] else ""
+    return row

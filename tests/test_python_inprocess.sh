@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# The Python package in process (libvoussoir through cffi), installed as docs/python.md says: a
+# venv with Debian's packages (--system-site-packages), pip offline; the library found beside
+# the program ($VOUSSOIR). First the cdef against the headers, then the runs against the program.
+# usage: test_python_inprocess.sh VOUSSOIR SOURCE_DIR BUILD_DIR CC [sanitize (a sanitizer build)]
+set -euo pipefail
+vs=$1 src=$2 build=$3 cc=$4
+py=/usr/bin/python3
+# A sanitizer build's library loads into python3 only after the sanitizers' runtimes: they are
+# preloaded, without leak detection (the interpreter does not free everything at exit).
+run=(env)
+if [ "${5:-}" = sanitize ]; then
+  asan=$("$cc" -print-file-name=libasan.so) ubsan=$("$cc" -print-file-name=libubsan.so)
+  [ -f "$asan" ] && [ -f "$ubsan" ] ||
+    { echo "SKIP: $cc does not name its libasan.so and libubsan.so"; exit 77; }
+  run=(env LD_PRELOAD="$asan $ubsan" ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0")
+fi
+$py -c "import cffi, numpy, pandas, xarray, h5py, venv, ensurepip" 2>/dev/null ||
+  { echo "SKIP: $py lacks cffi/numpy/pandas/xarray/h5py/venv (.ci/deps installs them)"; exit 77; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+cp -r "$src/python" "$tmp/src" # pip builds in place; keep the source tree clean
+$py -m venv --system-site-packages "$tmp/venv"
+"$tmp/venv/bin/pip" install --quiet --no-index --no-build-isolation --no-deps "$tmp/src"
+cd "$tmp"
+"$tmp/venv/bin/python" "$src/tests/python_cdef_check.py" "$cc" "$tmp/cdef" -I"$src/include" \
+  -I"$build/include"
+VOUSSOIR=$vs "${run[@]}" "$tmp/venv/bin/python" "$src/tests/python_inprocess_check.py" "$src/runs/reference.ini" "$tmp"
