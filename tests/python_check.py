@@ -72,7 +72,7 @@ with open(pointed, "w") as f:
     f.write("[arch]\nshape = pointed\nspan_mm = 600\neccentricity = 0.3\nthickness_mm = 40\n"
             "voussoirs = 7\ndepth_mm = 100\n[joints]\nkn_N_mm3 = 10\n[support]\nalpha_deg = 30\n"
             "rate_mm_s = 0.04\nleft_alpha_deg = 90\nleft_rate_mm_s = 0.02\n")
-res = voussoir.run(pointed, record=os.path.join(out, "pointed.h5"))
+res = voussoir.cli.run(pointed, record=os.path.join(out, "pointed.h5"))
 check(res["status"] == "collapse", f"pointed: {res['status']} {res['error']}")
 with voussoir.open_record(os.path.join(out, "pointed.h5")) as r:
     # each support's history against the motion the case prescribes (closed form in delta)

@@ -36,6 +36,12 @@ typedef struct {
  * Never fails as a function: a failed run gives status VS_MC_FAILED with its cause. */
 VS_API void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *out);
 
+/* Each support's own travel at delta_mm (the right support's travel, mm) as case c moves them
+ * (without an imperfect arch's offset): t = left dx, dz, right dx, dz, mm, outward and downward
+ * positive, as the JSON's collapse.left and collapse.right and samples.csv's last four columns.
+ * NaN when delta_mm is, or the case defines no motion. */
+VS_API void vs_mc_travel(const vs_case *c, double delta_mm, double t[4]);
+
 /* The columns of samples.csv (line 2; `voussoir merge` reads them back, and the first 14 of a
  * table written before the last four were appended: each support's own travel at the collapse,
  * mm, outward and downward positive, as the JSON's collapse.left and collapse.right). */

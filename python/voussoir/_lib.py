@@ -154,6 +154,7 @@ void vs_support_motion_at(const vs_support_motion *mo, double delta, double u[3]
                           double du[3]);
 void vs_hinges_list(const vs_hinge *h, int n, int open_only, char *buf, size_t size);
 void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *out);
+void vs_mc_travel(const vs_case *c, double delta_mm, double t[4]);
 """
 
 # Status codes (status.h; the check compares them with the header's).

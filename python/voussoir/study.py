@@ -18,6 +18,11 @@ SWEEP_COLUMNS = ["status", "first_limit_mm", "delta_u_mm", "dz_over_L_pct", "dx_
                  "hinges_at_collapse", "mode", "snaps", "wall_s", "error"]
 MC_COLUMNS = ["sample", "status", "first_limit_mm", "delta_u_mm", "dz_u_mm", "dx_u_mm", "mode",
               "pattern", "A", "B", "C", "D", "E", "error"]
+# each support's own travel at the collapse (mm, outward and downward positive), the last four
+# columns of both tables as in the program's summary.csv and samples.csv
+TRAVEL_COLUMNS = ["left_dx_mm", "left_dz_mm", "right_dx_mm", "right_dz_mm"]
+SWEEP_COLUMNS += TRAVEL_COLUMNS
+MC_COLUMNS += TRAVEL_COLUMNS
 _MC_STATUS = ("collapse", "max_displacement", "failed")
 
 
@@ -55,7 +60,8 @@ def sweep(case, alpha=None, kn=None, *, jobs=None, fall=False, **axes):
     Returns a pandas DataFrame, one row per run, with the columns of the program's
     summary.csv: run, one per axis (its section.key), status, first_limit_mm, delta_u_mm,
     dz_over_L_pct, dx_over_L_pct, hinges_at_collapse, mode, snaps, wall_s, error (a run that
-    failed is a row with its error, not an exception)."""
+    failed is a row with its error, not an exception), left_dx_mm, left_dz_mm, right_dx_mm,
+    right_dz_mm (each support's own travel at the collapse, outward and downward positive)."""
     base = _base(case, fall)
     ax = []
     if alpha is not None:
@@ -98,6 +104,7 @@ def _sweep_row(case, stop):
         c = res.collapse
         row.update(delta_u_mm=c.delta_mm, dz_over_L_pct=c.dz_over_L_pct,
                    dx_over_L_pct=c.dx_over_L_pct, hinges_at_collapse=res.hinges_at_collapse)
+        row.update(_travel(case, c.delta_mm))
     return row
 
 
@@ -108,7 +115,7 @@ def montecarlo(case, samples, seed=None, *, jobs=None):
     montecarlo`'s samples.csv: sample, status (collapse, max_displacement: none within
     support.max_mm, failed), first_limit_mm, delta_u_mm, dz_u_mm, dx_u_mm, mode (1..3 for
     I..III, 0 unclassified), pattern, A..E (each hinge at collapse as joint-side, "9-I"),
-    error. A sample's run cannot be stopped from Python: Ctrl-C starts no new sample and
+    error, left_dx_mm, left_dz_mm, right_dx_mm, right_dz_mm (each support's own travel). A sample's run cannot be stopped from Python: Ctrl-C starts no new sample and
     returns once those under way end."""
     base = case if isinstance(case, Case) else Case.from_file(case)
     if seed is not None:
@@ -122,17 +129,25 @@ def montecarlo(case, samples, seed=None, *, jobs=None):
             raise KeyboardInterrupt
         out = ffi.new("vs_mc_sample *")
         _lib.lib().vs_mc_run_sample(base._c, i, out)
-        return _mc_row(out)
+        return _mc_row(out, base)
 
     return pandas().DataFrame(_pool(jobs, one, range(samples)), columns=MC_COLUMNS)
 
 
-def _mc_row(s):
+def _travel(case, delta_mm):
+    """The four travel columns at the right support's travel delta_mm (vs_mc_travel)."""
+    t = ffi.new("double[4]")
+    _lib.lib().vs_mc_travel(case._c, delta_mm, t)
+    return dict(zip(TRAVEL_COLUMNS, t))
+
+
+def _mc_row(s, base):
     row = {"sample": s.sample, "status": _MC_STATUS[s.status], "first_limit_mm": s.first_limit_mm,
            "delta_u_mm": s.delta_u_mm, "dz_u_mm": s.dz_u_mm, "dx_u_mm": s.dx_u_mm,
            "mode": s.mode,
            "pattern": ffi.string(s.pattern).decode(),
            "error": ffi.string(s.error).decode()}
+    row.update(_travel(base, s.delta_u_mm if s.status == 0 else math.nan))
     for k, label in enumerate("ABCDE"):
         side = s.hinge_side[k].decode() if s.hinge_side[k] != b"\0" else ""
         row[label] = f"{s.hinge_joint[k]}-{side}" if s.hinge_joint[k] else ""

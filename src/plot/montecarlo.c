@@ -204,29 +204,6 @@ static const char *status_name(int s) {
   return s == VS_MC_COLLAPSE ? "collapse" : s == VS_MC_NO_COLLAPSE ? "max_displacement" : "failed";
 }
 
-/* Each support's own travel (mm: left dx, dz, right dx, dz; outward and downward positive) at
- * delta_mm, as the case moves them (without an imperfect arch's offset): the JSON's
- * collapse.left and collapse.right. NaN when delta_mm is, or the case defines no motion. */
-static void mc_travel(const vs_case *c, double delta_mm, double t[4]) {
-  vs_run_def *d = malloc(sizeof *d);
-  vs_support_motion mo[2];
-  vs_error e;
-  int ok = d != NULL && isfinite(delta_mm);
-  if (ok) vs_case_to_def(c, d);
-  for (int s = 0; ok && s < 2; s++) ok = vs_support_motion_from_def(&d->support, s, &mo[s], &e) == VS_OK;
-  free(d);
-  for (int s = 0; s < 2; s++) {
-    double u[3];
-    if (!ok) { /* (NAN, not -NAN: the table says nan) */
-      t[2 * s] = t[2 * s + 1] = NAN;
-      continue;
-    }
-    vs_support_motion_at(&mo[s], delta_mm * VS_MM, u, NULL);
-    t[2 * s] = (s ? u[0] : -u[0]) / VS_MM + 0.0; /* + 0.0: at rest 0, not -0 */
-    t[2 * s + 1] = -u[1] / VS_MM + 0.0;
-  }
-}
-
 /* A path as the table's header writes it: its text without spaces (one word), "none" if none. */
 static void header_path(const vs_case *c, const char *key, char *buf, size_t size) {
   const char *sec = NULL, *name = NULL;
@@ -271,7 +248,7 @@ static vs_status write_samples_csv(const char *path, const char *part, const vs_
     for (char *p = e; *p; p++)
       if (*p == ',' || *p == '\n' || *p == '"') *p = ';';
     double t[4];
-    mc_travel(c, x->status == VS_MC_COLLAPSE ? x->delta_u_mm : NAN, t);
+    vs_mc_travel(c, x->status == VS_MC_COLLAPSE ? x->delta_u_mm : NAN, t);
     fprintf(f, ",%s,%.17g,%.17g,%.17g,%.17g\n", e, t[0], t[1], t[2], t[3]);
   }
   return fclose(f) == 0 ? VS_OK : cannot(path, err);
