@@ -7,7 +7,8 @@
  *  - the reference specimen with a point load at quarter span: the incremental load factor
  *    rises toward the limit analysis' (CLP, an independent method) as k_n grows, monotonically,
  *    the gap falling as k_n^(-1/3) as the column's;
- *  - the Jacobian with loads against central differences of the residual. */
+ *  - analysis.hold_mm: the residual load factor falls as the support settles or spreads;
+ *  - the case's rules for a load path. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -25,6 +26,7 @@
 #include "voussoir/limit.h"
 #include "voussoir/model.h"
 #include "voussoir/quasistatic.h"
+#include "voussoir/run.h"
 #include "voussoir/units.h"
 
 #define near(a, b, tol)                                                                        \
@@ -214,11 +216,87 @@ static void test_reference_converges(void **state) {
   near(gap, scaled, 0.15 * scaled);
 }
 
+/* The load factor of the reference specimen, 1 N at quarter span, after the right support has
+ * settled by hold (mm) and been held: the case, the run, its load result. */
+static double residual(double hold_mm, double alpha_deg, vs_run_load_result *out) {
+  vs_case c;
+  vs_case_defaults(&c);
+  c.type = VS_ANALYSIS_LOAD;
+  c.kind = VS_LOAD_POINT;
+  c.x_mm = 0.25 * vs_case_span_mm(&c);
+  c.hold_mm = hold_mm;
+  c.alpha_deg = alpha_deg;
+  vs_error err;
+  vs_error_clear(&err);
+  if (vs_case_validate(&c, &err) != VS_OK) fail_msg("%s", err.msg);
+  vs_run *r = NULL;
+  if (vs_run_create(&c, &r, &err) != VS_OK) fail_msg("%s", err.msg);
+  if (vs_run_execute(r, NULL, NULL, NULL, &err) != VS_OK) fail_msg("%s", err.msg);
+  const vs_run_load_result *l = vs_run_load(r);
+  assert_true(l->done);
+  assert_true(l->n >= 3);
+  assert_true(l->lambda[0] == 0.0 && l->u[0] == 0.0); /* the curve starts where loading began */
+  near(l->hold, hold_mm * VS_MM, 1e-12);
+  *out = *l;
+  out->lambda = out->u = NULL; /* owned by the run */
+  const double lf = l->load_factor;
+  vs_run_destroy(&r);
+  return lf;
+}
+
+/* analysis.hold_mm: the residual capacity falls as the support settles (alpha = 0) or spreads
+ * (90), before the snap-throughs of its path; the mechanism has four hinges. */
+static void test_hold(void **state) {
+  (void)state;
+  /* spreading meets its first snap-through at 9.58 mm: holds before it */
+  const double holds[2][3] = {{0.0, 10.0, 20.0}, {0.0, 4.0, 8.0}};
+  for (int a = 0; a <= 90; a += 90) {
+    double prev = INFINITY;
+    for (size_t i = 0; i < 3; i++) {
+      vs_run_load_result l;
+      const double lf = residual(holds[a / 90][i], a, &l);
+      print_message("alpha %d, hold %4.1f mm: load factor %.5f, deflection %.4f mm, end %d, %s\n",
+                    a, holds[a / 90][i], lf, l.deflection / VS_MM, l.end, l.mechanism);
+      assert_int_equal(l.end, VS_LOAD_END_PEAK);
+      assert_true(lf < prev);
+      prev = lf;
+    }
+  }
+}
+
+/* The case's rules: a load path needs a live load, a hold needs a load path. */
+static void test_case_rules(void **state) {
+  (void)state;
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_error err;
+  vs_error_clear(&err);
+  c.type = VS_ANALYSIS_LOAD;
+  assert_int_equal(vs_case_validate(&c, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "load.kind"));
+  vs_case_defaults(&c);
+  c.hold_mm = 5.0;
+  assert_int_equal(vs_case_validate(&c, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "analysis.hold_mm"));
+  vs_case_defaults(&c);
+  c.type = VS_ANALYSIS_LOAD;
+  c.kind = VS_LOAD_TILT;
+  c.hold_mm = c.max_mm;
+  assert_int_equal(vs_case_validate(&c, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "support.max_mm"));
+  c.hold_mm = 0.0;
+  assert_int_equal(vs_case_validate(&c, &err), VS_OK);
+  assert_int_equal(vs_case_check_path(&c, "sweep", &err), VS_OK);
+  assert_int_equal(vs_case_check_path(&c, "calibrate", &err), VS_ERR_INVALID);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_block_slides),
       cmocka_unit_test(test_column_tilt),
       cmocka_unit_test(test_reference_converges),
+      cmocka_unit_test(test_hold),
+      cmocka_unit_test(test_case_rules),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -152,9 +152,12 @@ typedef struct {
 
 /* The default fall of lambda past the peak that ends a load path: a tenth. */
 #define VS_LOAD_DROP 0.1
+/* The load path's increments against the support path's (solver.step_mm, step_max_mm): a load
+ * deflects the arch by a millimetre or so to its peak, where a support moves by tens. */
+#define VS_LOAD_STEP_SCALE 0.1
 
-/* Options from a run's definition: its path's step, step_max, limit_tol (peak_tol) and Newton
- * settings, the support's largest displacement (max_disp), VS_LOAD_DROP; no stop flag. */
+/* Options from a run's definition: its path's step and step_max times VS_LOAD_STEP_SCALE,
+ * limit_tol (peak_tol) and Newton settings, the support's largest displacement (max_disp), VS_LOAD_DROP; no stop flag. */
 VS_API void vs_load_opts_from_def(const vs_run_def *d, vs_load_opts *o);
 
 typedef enum {

@@ -165,6 +165,25 @@ VS_API const vs_path_result *vs_run_path_totals(const vs_run *r);
 VS_API int vs_run_limit_count(const vs_run *r);
 VS_API const vs_limit_record *vs_run_limit(const vs_run *r, int i);
 VS_API const vs_collapse_record *vs_run_collapse(const vs_run *r);
+/* The live load's path (analysis.type = load, issue 28): the support held at hold, then the
+ * live load times lambda to collapse, through its peak (quasistatic.h, vs_load_path_run). */
+typedef struct {
+  int done;             /* the load path ran (analysis.type = load) */
+  int end;              /* vs_load_end (quasistatic.h); 0 when it did not run or the arch
+                           failed before it (held) */
+  double hold;          /* the support displacement held, m */
+  int held_limit;       /* 1: the support's path met a limit point before hold: no load is
+                           carried (load_factor 0) */
+  double load_factor;   /* the largest lambda on the path: the load factor at collapse */
+  double deflection;    /* the loads' displacement at the peak from where loading began, m */
+  int n;                /* points of the load-deflection curve ... */
+  const double *lambda; /* ... lambda ... */
+  const double *u;      /* ... and the loads' displacement from where loading began, m */
+  char mechanism[160];  /* the hinges open at the end of the path, as vs_run_open_hinges */
+  char cause[192];      /* why the path stopped, when it stalled */
+} vs_run_load_result;
+VS_API const vs_run_load_result *vs_run_load(const vs_run *r);
+
 VS_API const vs_dyn_result *vs_run_dynamic_totals(const vs_run *r);
 
 /* Hinges to report: all of them, or after a collapse those formed up to its onset (the falling

@@ -142,24 +142,35 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
   return st;
 }
 
-/* What a run's path computes is the support's: a live load and the other analyses are refused
- * here, by name (issue 28: the limit analysis is vs_limit_analyse, the load path is to come). */
+/* What a run computes: the support's path, or the live load's after a held support
+ * displacement (analysis.type = load); the limit analysis is vs_limit_analyse's, refused here
+ * by name. */
 static vs_status check_analysis(const vs_run_def *d, vs_error *err) {
-  if (d->analysis.type == VS_ANALYSIS_LOAD)
-    return vs_error_set(err, VS_ERR_INVALID, "analysis.type = load: not yet available");
   if (d->analysis.type == VS_ANALYSIS_LIMIT)
     return vs_error_set(err, VS_ERR_INVALID,
                         "analysis.type = limit: a limit analysis has no path to run (voussoir "
                         "run prints it; the library's vs_limit_analyse computes it)");
+  if (d->analysis.type == VS_ANALYSIS_LOAD) {
+    if (d->load.kind == VS_LOAD_NONE)
+      return vs_error_set(err, VS_ERR_INVALID,
+                          "analysis.type = load needs a live load (load.kind = none; allowed: "
+                          "point, line, patch, tilt)");
+    if (d->dynamic.full)
+      return vs_error_set(err, VS_ERR_INVALID,
+                          "analysis.type = load with dynamic.full = 1: the load path is "
+                          "quasi-static (allowed: dynamic.full = 0)");
+    return VS_OK;
+  }
   if (d->analysis.hold != 0.0)
     return vs_error_set(err, VS_ERR_INVALID,
                         "analysis.hold_mm = %g: a held support displacement needs analysis.type "
-                        "= load (not yet available)",
+                        "= load",
                         d->analysis.hold / VS_MM);
   if (d->load.kind != VS_LOAD_NONE)
     return vs_error_set(err, VS_ERR_INVALID,
                         "load.kind = %s: the support's path carries no live load (allowed with "
-                        "analysis.type = support: none; a live load: analysis.type = limit)",
+                        "analysis.type = support: none; a live load: analysis.type = load or "
+                        "limit)",
                         vs_load_kind_name(d->load.kind));
   return VS_OK;
 }
@@ -185,6 +196,7 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
       if (st == VS_OK) st = vs_model_set_support_motion(r->m, s, &mo, err);
     }
     if (st == VS_OK) st = own_laws(r, err);
+    if (st == VS_OK) st = vs_run_load_setup(r, err);
   }
   if (st == VS_OK) st = vs_imperfections_apply(&d->imperfections, r->imp, r->m, err);
   if (st == VS_OK && d->dynamic.damping_model == VS_DAMPING_RAYLEIGH &&
@@ -267,6 +279,7 @@ void vs_run_destroy(vs_run **r) {
   free(p->onset_all);
   free(p->pattern_u);
   vs_run_slips_free(p);
+  vs_run_load_free(p);
   vs_modal_free(&p->modal);
   vs_dynamic_destroy(&p->dyn);
   vs_path_solver_destroy(&p->ps);
@@ -455,6 +468,39 @@ static vs_status nomem_stop(const vs_run *r, vs_status st, vs_error *err) {
   return vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
 }
 
+/* analysis.type = load: self-weight and the support's path to analysis.hold (none: self-weight
+ * alone), held there, then the live load to collapse (run_load.c). A limit point or a sliding
+ * mechanism before the hold: the arch carries no load (load_factor 0). */
+static vs_status load_phases(vs_run *r, vs_error *err) {
+  vs_run_load_result *l = &r->load;
+  l->done = 1;
+  l->hold = r->def.analysis.hold;
+  vs_path_opts o = r->popts;
+  o.max_delta = l->hold;
+  vs_path_result p;
+  memset(&p, 0, sizeof p);
+  r->phase = VS_PHASE_QUASISTATIC;
+  r->live_path = &p;
+  vs_status st = vs_path_run_with(r->ps, &o, 0.0, r->q, vs_run_on_equilibrium, r, &p, err);
+  r->live_path = NULL;
+  if (r->modal_st != VS_OK) st = vs_error_set(err, r->modal_st, "%s", r->modal_err.msg);
+  add_path_totals(r, &p);
+  if (st != VS_OK) return st;
+  if (p.end == VS_PATH_LIMIT_POINT || p.end == VS_PATH_SLIDING) {
+    l->held_limit = 1;
+    r->delta = p.delta_limit;
+    r->t = r->delta / r->dopts.rate;
+    snprintf(l->cause, sizeof l->cause,
+             "the support's path met a %s at %.6g mm, before the hold (%.6g mm)",
+             p.end == VS_PATH_LIMIT_POINT ? "limit point" : "sliding mechanism",
+             p.delta_limit / VS_MM, l->hold / VS_MM);
+    return vs_run_add_limit(r, p.delta_limit) != 0
+               ? vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller")
+               : VS_OK;
+  }
+  return vs_run_load_path(r, err);
+}
+
 vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn event, void *user,
                          vs_error *err) {
   r->sample_fn = sample;
@@ -464,7 +510,9 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
   r->deadline = r->def.max_wall_s > 0.0 ? vs_monotonic_s() + r->def.max_wall_s : 0.0;
   vs_status st = VS_OK;
   double delta0 = 0.0;
-  if (r->def.dynamic.full) {
+  if (r->def.analysis.type == VS_ANALYSIS_LOAD) {
+    st = load_phases(r, err);
+  } else if (r->def.dynamic.full) {
     /* self-weight by KINSOL, then the whole loading dynamically from rest */
     vs_path_opts sw = r->popts;
     sw.max_delta = 0.0;

@@ -7,6 +7,7 @@
 
 #include "collide.h"
 #include "contact.h"
+#include "voussoir/quasistatic.h"
 #include "voussoir/run.h"
 
 struct vs_run {
@@ -69,6 +70,12 @@ struct vs_run {
                             every joint stuck) */
   double *slip_onset;   /* ... at the collapse's onset (its hinges' snapshot) */
   vs_slip *mech_slips;   /* the collapse's slips (collapse.slips) */
+  /* --- the live load's path (run_load.c) --- */
+  vs_run_load_result load;
+  double *load_lambda, *load_u; /* the curve (load.n points) */
+  int cap_load;
+  double load_u0;               /* the loads' displacement where loading began, m */
+  vs_load_result load_res;      /* the load path's statistics */
   /* --- damping (damping.h, modal.h): modes under self-weight, set at the first equilibrium --- */
   vs_modal modal;
   double ray_alpha, ray_beta;
@@ -111,6 +118,14 @@ int vs_run_record_collapse(vs_run *r, const vs_dyn_result *d);
 int vs_run_record_sliding(vs_run *r, const vs_path_result *p);
 /* The run's initial hinge pattern, the pattern at the collapse and the mode they make. */
 void vs_run_classify(vs_run *r);
+
+/* run_load.c */
+/* The live load of the definition on the model (analysis.type = load); VS_OK without one. */
+vs_status vs_run_load_setup(vs_run *r, vs_error *err);
+/* analysis.type = load, the support held (r->q the equilibrium there, r->load.hold): load to
+ * collapse. */
+vs_status vs_run_load_path(vs_run *r, vs_error *err);
+void vs_run_load_free(vs_run *r);
 
 /* run_slip.c */
 /* The per-joint arrays (0, or -1 when out of memory) and their release. */

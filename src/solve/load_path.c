@@ -32,8 +32,8 @@ static const long VS_LP_EASY = 4;
 static const long VS_LP_MAX_INCREMENTS = 200000;
 
 void vs_load_opts_from_def(const vs_run_def *d, vs_load_opts *o) {
-  o->step = d->path.step;
-  o->step_max = d->path.step_max;
+  o->step = VS_LOAD_STEP_SCALE * d->path.step;
+  o->step_max = VS_LOAD_STEP_SCALE * d->path.step_max;
   o->peak_tol = d->path.limit_tol;
   o->max_disp = d->support.max_delta;
   o->drop = VS_LOAD_DROP;
