@@ -54,7 +54,8 @@ static vs_geometry *column(int n, double b, double h, double mass) {
 
 static vs_load_opts opts(double step, double step_max, double tol, double max_disp) {
   vs_load_opts o = {.step = step, .step_max = step_max, .peak_tol = tol, .max_disp = max_disp,
-                    .drop = VS_LOAD_DROP, .newton_tol = 1e-9, .newton_maxiter = 20};
+                    .drop = VS_LOAD_DROP, .follow = 0.0, .newton_tol = 1e-9,
+                    .newton_maxiter = 20};
   return o;
 }
 

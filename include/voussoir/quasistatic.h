@@ -143,7 +143,9 @@ typedef struct {
                         smaller), m */
   double max_disp;   /* stop once u has grown by this, m */
   double drop;       /* stop once, past the peak, lambda has fallen below (1 - drop) x the
-                        peak's; in (0, 1) */
+                        peak's; in (0, 1) ... */
+  double follow;     /* ... and u has grown by at least this beyond the peak (m, >= 0): a
+                        first peak may be a snap-through, after which lambda rises again */
   double newton_tol; /* scaled residual tolerance, as vs_path_opts' */
   int newton_maxiter;
   const volatile sig_atomic_t *stop; /* as vs_path_opts' */
@@ -157,11 +159,13 @@ typedef struct {
 #define VS_LOAD_STEP_SCALE 0.1
 
 /* Options from a run's definition: its path's step and step_max times VS_LOAD_STEP_SCALE,
- * limit_tol (peak_tol) and Newton settings, the support's largest displacement (max_disp), VS_LOAD_DROP; no stop flag. */
+ * limit_tol (peak_tol) and Newton settings, the support's largest displacement (max_disp),
+ * VS_LOAD_DROP, the arch's thickness (follow); no stop flag. */
 VS_API void vs_load_opts_from_def(const vs_run_def *d, vs_load_opts *o);
 
 typedef enum {
-  VS_LOAD_END_PEAK = 1,     /* past the peak, lambda fell by drop: the collapse */
+  VS_LOAD_END_PEAK = 1,     /* past the peak, lambda fell by drop (and u grew by follow, or no
+                               equilibrium was found further on: cause): the collapse */
   VS_LOAD_END_SLIDING = 2,  /* joints slide at a constant lambda (VS_PATH_PLATEAU_RTOL between
                                two equilibria): a sliding mechanism, the collapse */
   VS_LOAD_END_MAX_DISP = 3, /* max_disp reached with lambda still at or near its peak */
@@ -177,7 +181,8 @@ typedef struct {
   double u_start;        /* u at lambda = 0 (the held support's state), m */
   long steps, rejected, newton_iterations, jacobian_evals;
   double max_residual;   /* largest scaled residual accepted */
-  char cause[192];       /* VS_LOAD_END_STALLED: why */
+  char cause[192];       /* why the path stopped where no equilibrium was found further on
+                            (VS_LOAD_END_STALLED, or _PEAK short of follow); else "" */
 } vs_load_result;
 
 /* Called after every accepted equilibrium: lambda, the pilot u (m), the state q (the committed

@@ -179,7 +179,8 @@ typedef struct {
   int n;                /* points of the load-deflection curve ... */
   const double *lambda; /* ... lambda ... */
   const double *u;      /* ... and the loads' displacement from where loading began, m */
-  char mechanism[160];  /* the hinges open at the end of the path, as vs_run_open_hinges */
+  char mechanism[160];  /* the hinges open where lambda first fell by VS_LOAD_DROP past its
+                           peak (else at the end of the path), as vs_run_open_hinges */
   char cause[192];      /* why the path stopped, when it stalled */
 } vs_run_load_result;
 VS_API const vs_run_load_result *vs_run_load(const vs_run *r);

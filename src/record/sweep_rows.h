@@ -37,6 +37,8 @@ typedef struct {
   double dz_pct, dx_pct;              /* delta_u's components, % of the intrados span */
   double wall_s;                      /* the run's wall time */
   int snaps;                          /* limit points the path snapped through */
+  double load_factor;                 /* analysis.type = load: the load factor at collapse (0:
+                                         the arch failed before the hold); NaN otherwise */
 } vs_sweep_row;
 
 /* The summary table of a sweep as DIR/summary.h5 (sweep_summary.c, in the record library).

@@ -22,6 +22,7 @@ vs_status vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
     const char *status, *mode, *hinges, *error;
     double first_limit, delta_u, dz, dx, wall;
     int snaps;
+    double load_factor;
   } mem;
   mem *m = calloc((size_t)(n > 0 ? n : 1), sizeof *m);
   if (m == NULL) return vs_error_set(err, VS_ERR_NOMEM, "%s: out of memory", path);
@@ -31,7 +32,8 @@ vs_status vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
                  rows[i].hinges,      rows[i].error,
                  rows[i].first_limit_mm, rows[i].delta_u_mm,
                  rows[i].dz_pct,      rows[i].dx_pct,
-                 rows[i].wall_s,      rows[i].snaps};
+                 rows[i].wall_s,      rows[i].snaps,
+                 rows[i].load_factor};
   for (int i = 0; i < n; i++) memcpy(m[i].axis, rows[i].axis, sizeof m[i].axis);
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
   hid_t str = H5Tcopy(H5T_C_S1);
@@ -55,9 +57,10 @@ vs_status vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
   H5Tinsert(t, "snaps", HOFFSET(mem, snaps), H5T_NATIVE_INT);
   H5Tinsert(t, "wall_s", HOFFSET(mem, wall), H5T_NATIVE_DOUBLE);
   H5Tinsert(t, "error", HOFFSET(mem, error), str);
+  H5Tinsert(t, "load_factor", HOFFSET(mem, load_factor), H5T_NATIVE_DOUBLE);
   snprintf(units + used, sizeof units - used,
            "; status, hinges_at_collapse, mode, error: text; first_limit_mm, delta_u_mm: mm; "
-           "dz_over_L_pct, dx_over_L_pct: %% of the intrados span; snaps: count; wall_s: s");
+           "dz_over_L_pct, dx_over_L_pct: %% of the intrados span; snaps: count; wall_s: s; load_factor: - (analysis.type = load)");
   /* written as summary.h5.part and renamed into place (only over a regular file): never
    * half-written */
   char part[1200];

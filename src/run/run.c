@@ -227,6 +227,8 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
     vs_path_opts_from_def(d, &r->popts);
     dyn_opts_from_def(d, r->g, &r->dopts);
     r->popts.deadline = r->dopts.deadline = &r->deadline; /* the wall-time limit's */
+    if (d->analysis.type == VS_ANALYSIS_LOAD) /* the support's path, its motions too, ends held */
+      r->popts.max_delta = r->dopts.max_delta = d->analysis.hold;
     double mass = 0.0;
     for (int i = 0; i < r->g->n_blocks; i++) mass += r->g->blocks[i].mass;
     const double w = deform_speed(&d->support);
@@ -468,35 +470,75 @@ static vs_status nomem_stop(const vs_run *r, vs_status st, vs_error *err) {
   return vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
 }
 
-/* analysis.type = load: self-weight and the support's path to analysis.hold (none: self-weight
- * alone), held there, then the live load to collapse (run_load.c). A limit point or a sliding
- * mechanism before the hold: the arch carries no load (load_factor 0). */
+/* The support's path: the quasi-static path from self-weight, and at each limit point (with
+ * dynamic.follow) the motion, resuming the path where the arch comes to rest, until the collapse
+ * or popts.max_delta. */
+static vs_status support_phases(vs_run *r, vs_error *err) {
+  vs_status st = VS_OK;
+  double delta0 = 0.0;
+  for (;;) {
+    vs_path_result p;
+    r->phase = VS_PHASE_QUASISTATIC;
+    r->pending_snap = (delta0 > 0.0 && r->n_limits > 0) ? r->n_limits - 1 : -1;
+    memset(&p, 0, sizeof p);
+    r->live_path = &p;
+    st = vs_path_run_with(r->ps, &r->popts, delta0, r->q, vs_run_on_equilibrium, r, &p, err);
+    if (st == VS_ERR_NO_EQUILIBRIUM && delta0 > 0.0 && p.steps == 0) {
+      /* Newton from the state at rest missed the equilibrium the probe found from it, with the
+       * slips the probe committed there (a joint sliding along a nearly free mode can throw
+       * its steps onto the reverse branch): the path resumes from that equilibrium itself */
+      add_path_totals(r, &p);
+      memcpy(r->q, r->q_rest, (size_t)vs_model_size(r->m) * sizeof *r->q);
+      memset(&p, 0, sizeof p);
+      st = vs_path_run_with(r->ps, &r->popts, delta0, r->q, vs_run_on_equilibrium, r, &p, err);
+    }
+    r->live_path = NULL;
+    if (r->modal_st != VS_OK) st = vs_error_set(err, r->modal_st, "%s", r->modal_err.msg);
+    add_path_totals(r, &p);
+    if (st == VS_OK && p.end == VS_PATH_SLIDING) {
+      st = sliding_collapse(r, &p, err);
+      break;
+    }
+    if (st != VS_OK || p.end != VS_PATH_LIMIT_POINT) break;
+    if (r->n_limits >= VS_RUN_MAX_LIMITS) {
+      st = vs_error_set(err, VS_ERR_SOLVER, "%d limit points (the limit) up to %.6g mm",
+                        VS_RUN_MAX_LIMITS, p.delta_limit / VS_MM);
+      break;
+    }
+    r->delta = p.delta_limit;
+    r->t = r->delta / r->dopts.rate;
+    vs_model_support_reactions(r->m, r->q, r->delta, r->react_eq);
+    if (limit_slips(r, &p) != 0 || vs_run_add_limit(r, p.delta_limit) != 0) {
+      st = vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
+      break;
+    }
+    if (!r->def.dynamic.follow) break;
+    memset(r->v, 0, (size_t)vs_model_size(r->m) * sizeof *r->v);
+    st = dynamic_phase(r, &delta0, err);
+    if (st != VS_OK || isnan(delta0)) break;
+  }
+  return st;
+}
+
+/* analysis.type = load: the support's path (its snap-throughs followed as always) to
+ * analysis.hold (0: self-weight alone), held there at an equilibrium, then the live load to
+ * collapse (run_load.c). A collapse before the hold, or an arch still moving there (or a limit
+ * point not followed, dynamic.follow = 0): it carries no load (load_factor 0). */
 static vs_status load_phases(vs_run *r, vs_error *err) {
   vs_run_load_result *l = &r->load;
   l->done = 1;
   l->hold = r->def.analysis.hold;
-  vs_path_opts o = r->popts;
-  o.max_delta = l->hold;
-  vs_path_result p;
-  memset(&p, 0, sizeof p);
-  r->phase = VS_PHASE_QUASISTATIC;
-  r->live_path = &p;
-  vs_status st = vs_path_run_with(r->ps, &o, 0.0, r->q, vs_run_on_equilibrium, r, &p, err);
-  r->live_path = NULL;
-  if (r->modal_st != VS_OK) st = vs_error_set(err, r->modal_st, "%s", r->modal_err.msg);
-  add_path_totals(r, &p);
+  vs_status st = support_phases(r, err);
   if (st != VS_OK) return st;
-  if (p.end == VS_PATH_LIMIT_POINT || p.end == VS_PATH_SLIDING) {
+  if (r->collapse.found || r->totals.end != VS_PATH_MAX_DISPLACEMENT) {
     l->held_limit = 1;
-    r->delta = p.delta_limit;
-    r->t = r->delta / r->dopts.rate;
     snprintf(l->cause, sizeof l->cause,
-             "the support's path met a %s at %.6g mm, before the hold (%.6g mm)",
-             p.end == VS_PATH_LIMIT_POINT ? "limit point" : "sliding mechanism",
-             p.delta_limit / VS_MM, l->hold / VS_MM);
-    return vs_run_add_limit(r, p.delta_limit) != 0
-               ? vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller")
-               : VS_OK;
+             "the arch %s at %.6g mm, before the hold (%.6g mm)",
+             r->collapse.found         ? "collapsed"
+             : r->def.dynamic.follow ? "was still moving"
+                                     : "met a limit point (not followed: dynamic.follow = 0)",
+             (r->collapse.found ? r->collapse.delta : r->delta) / VS_MM, l->hold / VS_MM);
+    return VS_OK;
   }
   return vs_run_load_path(r, err);
 }
@@ -531,47 +573,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
     }
     if (st == VS_OK) st = dynamic_phase(r, &delta0, err);
   } else {
-    for (;;) {
-      vs_path_result p;
-      r->phase = VS_PHASE_QUASISTATIC;
-      r->pending_snap = (delta0 > 0.0 && r->n_limits > 0) ? r->n_limits - 1 : -1;
-      memset(&p, 0, sizeof p);
-      r->live_path = &p;
-      st = vs_path_run_with(r->ps, &r->popts, delta0, r->q, vs_run_on_equilibrium, r, &p, err);
-      if (st == VS_ERR_NO_EQUILIBRIUM && delta0 > 0.0 && p.steps == 0) {
-        /* Newton from the state at rest missed the equilibrium the probe found from it, with the
-         * slips the probe committed there (a joint sliding along a nearly free mode can throw
-         * its steps onto the reverse branch): the path resumes from that equilibrium itself */
-        add_path_totals(r, &p);
-        memcpy(r->q, r->q_rest, (size_t)vs_model_size(r->m) * sizeof *r->q);
-        memset(&p, 0, sizeof p);
-        st = vs_path_run_with(r->ps, &r->popts, delta0, r->q, vs_run_on_equilibrium, r, &p, err);
-      }
-      r->live_path = NULL;
-      if (r->modal_st != VS_OK) st = vs_error_set(err, r->modal_st, "%s", r->modal_err.msg);
-      add_path_totals(r, &p);
-      if (st == VS_OK && p.end == VS_PATH_SLIDING) {
-        st = sliding_collapse(r, &p, err);
-        break;
-      }
-      if (st != VS_OK || p.end != VS_PATH_LIMIT_POINT) break;
-      if (r->n_limits >= VS_RUN_MAX_LIMITS) {
-        st = vs_error_set(err, VS_ERR_SOLVER, "%d limit points (the limit) up to %.6g mm",
-                          VS_RUN_MAX_LIMITS, p.delta_limit / VS_MM);
-        break;
-      }
-      r->delta = p.delta_limit;
-      r->t = r->delta / r->dopts.rate;
-      vs_model_support_reactions(r->m, r->q, r->delta, r->react_eq);
-      if (limit_slips(r, &p) != 0 || vs_run_add_limit(r, p.delta_limit) != 0) {
-        st = vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
-        break;
-      }
-      if (!r->def.dynamic.follow) break;
-      memset(r->v, 0, (size_t)vs_model_size(r->m) * sizeof *r->v);
-      st = dynamic_phase(r, &delta0, err);
-      if (st != VS_OK || isnan(delta0)) break;
-    }
+    st = support_phases(r, err);
   }
   if (!r->collapse.found) vs_run_name_first(r, vs_hinges_count(r->h));
   vs_run_classify(r);

@@ -76,6 +76,8 @@ struct vs_run {
   int cap_load;
   double load_u0;               /* the loads' displacement where loading began, m */
   vs_load_result load_res;      /* the load path's statistics */
+  double load_best;             /* the largest lambda so far ... */
+  int load_taken;               /* ... and whether the mechanism was taken past it */
   /* --- damping (damping.h, modal.h): modes under self-weight, set at the first equilibrium --- */
   vs_modal modal;
   double ray_alpha, ray_beta;

@@ -59,7 +59,17 @@ static int on_load_step(void *user, double lambda, double u, const double *q, co
   l->n++;
   l->lambda = r->load_lambda;
   l->u = r->load_u;
-  return vs_run_on_equilibrium(r, l->hold, q, m);
+  const int stop = vs_run_on_equilibrium(r, l->hold, q, m);
+  /* the mechanism: the hinges open where lambda has first fallen by VS_LOAD_DROP from its
+   * largest value so far (later, the mechanism's motion opens more) */
+  if (lambda > r->load_best) {
+    r->load_best = lambda;
+    r->load_taken = 0;
+  } else if (!r->load_taken && lambda < (1.0 - VS_LOAD_DROP) * r->load_best) {
+    vs_run_open_hinges(r, l->mechanism, sizeof l->mechanism);
+    r->load_taken = 1;
+  }
+  return stop;
 }
 
 vs_status vs_run_load_path(vs_run *r, vs_error *err) {
@@ -80,7 +90,7 @@ vs_status vs_run_load_path(vs_run *r, vs_error *err) {
   l->load_factor = res.lambda_peak;
   l->deflection = res.u_peak - r->load_u0;
   snprintf(l->cause, sizeof l->cause, "%s", res.cause);
-  vs_run_open_hinges(r, l->mechanism, sizeof l->mechanism);
+  if (!r->load_taken) vs_run_open_hinges(r, l->mechanism, sizeof l->mechanism);
   if (st == VS_OK && (res.end == VS_LOAD_END_PEAK || res.end == VS_LOAD_END_SLIDING) &&
       vs_run_log_event(r, VS_EVENT_COLLAPSE, r->t, r->delta, 0, 0, 0, 0) != 0)
     st = vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");

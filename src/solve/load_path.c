@@ -37,6 +37,7 @@ void vs_load_opts_from_def(const vs_run_def *d, vs_load_opts *o) {
   o->peak_tol = d->path.limit_tol;
   o->max_disp = d->support.max_delta;
   o->drop = VS_LOAD_DROP;
+  o->follow = d->arch.thickness;
   o->newton_tol = d->path.newton_tol;
   o->newton_maxiter = d->path.newton_maxiter;
   o->stop = NULL;
@@ -273,6 +274,7 @@ typedef struct {
   double *x, *xprev, *xtry; /* n + 1 each: q, then lambda */
   double u, uprev, h;
   int have_prev, bracketing, slid_prev;
+  int bracketed; /* the peak at the largest lambda so far has been bracketed */
 } lp_path;
 
 static vs_status lp_step_accept(vs_lp_solver *s, lp_path *w, double unew, int *slid) {
@@ -318,15 +320,19 @@ static vs_status lp_path_run(vs_lp_solver *s, lp_path *w, vs_load_step_fn fn, vo
         w->h = fmax(0.5 * h, hmin);
         continue;
       }
-      res->end = VS_LOAD_END_STALLED;
+      /* past a fall of drop from the peak, the collapse stands: its mechanism is followed as
+       * far as the pilot could */
+      res->end = res->peaked && w->x[n] < (1.0 - o->drop) * best ? VS_LOAD_END_PEAK
+                                                                  : VS_LOAD_END_STALLED;
       snprintf(res->cause, sizeof res->cause,
-               "no equilibrium beyond the load's displacement %.6g mm at the smallest increment "
-               "(%s, KINSOL flag %d)",
-               w->u / VS_MM, vs_lp_kin_cause(flag), flag);
+               "no equilibrium beyond the load's displacement %.6g mm (from where loading began) "
+               "at the smallest increment (%s, KINSOL flag %d)",
+               (w->u - res->u_start) / VS_MM, vs_lp_kin_cause(flag), flag);
       return VS_OK;
     }
     const double lam = w->xtry[n];
-    if (lam < w->x[n] && !res->peaked && h > hmin) { /* the peak lies within h: bracket it */
+    /* from the largest lambda so far, the peak lies within h: bracket it (each new peak) */
+    if (lam < w->x[n] && w->x[n] >= best && !w->bracketed && h > hmin) {
       res->rejected++;
       w->bracketing = 1;
       w->h = fmax(0.5 * h, hmin);
@@ -339,15 +345,17 @@ static vs_status lp_path_run(vs_lp_solver *s, lp_path *w, vs_load_step_fn fn, vo
       best = lam;
       res->lambda_peak = lam;
       res->u_peak = unew;
-    } else if (!res->peaked) {
+      w->bracketed = 0;
+    } else if (!w->bracketed) {
       res->peaked = 1;
       w->bracketing = 0;
+      w->bracketed = 1;
     }
     res->lambda_last = lam;
     res->u_last = unew;
     if (fn != NULL && fn(user, lam, unew, w->x, s->m) != 0)
       return vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
-    if (res->peaked && lam < (1.0 - o->drop) * best) {
+    if (res->peaked && lam < (1.0 - o->drop) * best && unew - res->u_peak >= o->follow) {
       res->end = VS_LOAD_END_PEAK;
       return VS_OK;
     }
@@ -384,12 +392,12 @@ vs_status vs_load_path_run(vs_model *m, const vs_load_opts *o, double delta, dou
   memset(res, 0, sizeof *res);
   res->lambda_peak = res->lambda_last = 0.0;
   if (!(o->step > 0.0 && o->step_max >= o->step && o->peak_tol > 0.0 && o->max_disp > 0.0 &&
-        o->drop > 0.0 && o->drop < 1.0))
+        o->drop > 0.0 && o->drop < 1.0 && o->follow >= 0.0))
     return vs_error_set(err, VS_ERR_INVALID,
                         "load path: options out of range (step %g m, step_max %g m, peak_tol %g "
-                        "m, max_disp %g m, drop %g; allowed: 0 < step <= step_max, peak_tol > 0, "
-                        "max_disp > 0, 0 < drop < 1)",
-                        o->step, o->step_max, o->peak_tol, o->max_disp, o->drop);
+                        "m, max_disp %g m, drop %g, follow %g m; allowed: 0 < step <= step_max, "
+                        "peak_tol > 0, max_disp > 0, 0 < drop < 1, follow >= 0)",
+                        o->step, o->step_max, o->peak_tol, o->max_disp, o->drop, o->follow);
   vs_lp_solver s;
   vs_status st = vs_lp_create(&s, m, o, err);
   if (st != VS_OK) return st;

@@ -288,6 +288,8 @@ int vs_sweep_row_check(const vs_sweep_row *row, int total, int nax, char *why, s
             : !isfinite(row->dz_pct) || !isfinite(row->dx_pct)))
     return refuse(why, why_size, "dz %g %%, dx %g %%: must be %s, as delta_u_mm is", row->dz_pct,
                   row->dx_pct, none ? "NaN" : "finite");
+  if (!none_or_size(row->load_factor))
+    return refuse(why, why_size, "load_factor %g is not >= 0 or NaN", row->load_factor);
   if (!none_or_size(row->wall_s))
     return refuse(why, why_size, "wall_s %g is not >= 0 or NaN", row->wall_s);
   if (row->snaps < 0 || row->snaps > VS_RUN_MAX_LIMITS)

@@ -31,7 +31,9 @@ static const struct {
   const char *field, *section; /* the header's NAME is the case key section.NAME */
 } HEADER[] = {{"seed", "imperfections"}, {"radius_mm", "arch"},     {"embrace_deg", "arch"},
               {"max_mm", "support"},     {"alpha_deg", "support"}, {"voussoirs", "arch"}};
-enum { N_HEADER = sizeof HEADER / sizeof HEADER[0], N_COLUMNS = 8 + VS_MC_LABELS + 1 };
+enum { N_HEADER = sizeof HEADER / sizeof HEADER[0], N_COLUMNS = 8 + VS_MC_LABELS + 2 };
+/* The columns of a table written before load_factor (0.3.0): still read, load_factor NaN. */
+#define OLD_COLUMNS "sample,status,first_limit_mm,delta_u_mm,dz_u_mm,dx_u_mm,mode,pattern,A,B,C,D,E,error"
 #define HEADER_LIST "seed, radius_mm, embrace_deg, max_mm, alpha_deg, voussoirs"
 
 /* The first shard's header, which every other shard's must equal. */
@@ -137,16 +139,16 @@ static int split_csv(char *line, char **f, int n) {
 }
 
 /* One row (where: "FILE:LINE") into x, every field checked; the error text is kept quoted. */
-static vs_status parse_row(const char *where, char *line, int n_joints, vs_mc_sample *x,
-                           vs_error *err) {
+static vs_status parse_row(const char *where, char *line, int ncols, int n_joints,
+                           vs_mc_sample *x, vs_error *err) {
   static const char *const COL[N_COLUMNS] = {"sample", "status", "first_limit_mm", "delta_u_mm",
                                              "dz_u_mm", "dx_u_mm", "mode", "pattern", "A", "B",
-                                             "C", "D", "E", "error"};
+                                             "C", "D", "E", "error", "load_factor"};
   char *f[N_COLUMNS];
   memset(x, 0, sizeof *x);
-  if (split_csv(line, f, N_COLUMNS) != N_COLUMNS)
-    return vs_error_set(err, VS_ERR_PARSE, "%s: %d columns expected (%s)", where, N_COLUMNS,
-                        VS_MC_TABLE_COLUMNS);
+  if (split_csv(line, f, ncols) != ncols)
+    return vs_error_set(err, VS_ERR_PARSE, "%s: %d columns expected (%s)", where, ncols,
+                        ncols == N_COLUMNS ? VS_MC_TABLE_COLUMNS : OLD_COLUMNS);
   long smp = -1, mode = -1;
   double num[4];
   int bad = -1; /* the column refused, and why */
@@ -173,6 +175,10 @@ static vs_status parse_row(const char *where, char *line, int n_joints, vs_mc_sa
    * columns than montecarlo writes */
   if (bad < 0 && strpbrk(f[13], ",\"") != NULL)
     bad = 13, why = "a cause without a comma or a quote (montecarlo writes them as ';')";
+  double lf = NAN;
+  if (bad < 0 && ncols == N_COLUMNS && (table_number(f[14], &lf) != 0 || lf < 0.0))
+    bad = 14, why = "a finite number >= 0, or nan (a comma in a cause shifts it here: "
+                    "montecarlo writes a cause's commas as ';')";
   if (bad >= 0)
     return vs_error_set(err, VS_ERR_PARSE, "%s: %s = '%.64s': not %s", where, COL[bad], f[bad],
                         why);
@@ -182,6 +188,7 @@ static vs_status parse_row(const char *where, char *line, int n_joints, vs_mc_sa
   x->delta_u_mm = num[1];
   x->dz_u_mm = num[2];
   x->dx_u_mm = num[3];
+  x->load_factor = lf;
   snprintf(x->pattern, sizeof x->pattern, "%s", f[7]);
   vs_quote(f[13], x->error, sizeof x->error); /* shown and written again: no control byte */
   return VS_OK;
@@ -235,7 +242,11 @@ static vs_status read_shard(const char *dir, shard_head *first, vs_mc_sample **a
     first->c = c;
     first->have = 1;
   }
-  if (st == VS_OK && (next_line(f, line, sizeof line) != 1 || strcmp(line, VS_MC_TABLE_COLUMNS)))
+  int ncols = N_COLUMNS;
+  if (st == VS_OK) got = next_line(f, line, sizeof line);
+  if (st == VS_OK && got == 1 && strcmp(line, OLD_COLUMNS) == 0)
+    ncols = N_COLUMNS - 1; /* a table of 0.3.0 and before: no load_factor */
+  else if (st == VS_OK && (got != 1 || strcmp(line, VS_MC_TABLE_COLUMNS) != 0))
     st = vs_error_set(err, VS_ERR_PARSE, "%s:2: not the columns of a montecarlo table (%s)", path,
                       VS_MC_TABLE_COLUMNS);
   lineno = 2;
@@ -256,7 +267,7 @@ static vs_status read_shard(const char *dir, shard_head *first, vs_mc_sample **a
       *all = b;
       *cap = nc;
     }
-    st = parse_row(where, line, c.voussoirs + 1, &(*all)[*n], err);
+    st = parse_row(where, line, ncols, c.voussoirs + 1, &(*all)[*n], err);
     if (st == VS_OK) (*n)++;
   }
   fclose(f);

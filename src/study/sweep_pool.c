@@ -4,6 +4,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
 #include <signal.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -70,6 +71,7 @@ static void finish_worker(worker *w, int status, vs_sweep_row *row) {
     memset(row, 0, sizeof *row);
     row->run = w->run;
     row->code = VS_SWEEP_LOST;
+    row->load_factor = NAN;
     snprintf(row->status, sizeof row->status, "failed");
     if (WIFSIGNALED(status))
       snprintf(row->error, sizeof row->error, "worker killed by signal %d", WTERMSIG(status));
