@@ -176,12 +176,16 @@ typedef struct {
   vs_load_end end;
   int peaked;            /* lambda has fallen at least once (the peak is bracketed) */
   double lambda_peak;    /* the largest lambda on the path: the load factor at collapse */
+  double lambda_first, u_first; /* the first peak of lambda (NaN before one): where load
+                                   control would snap; a snap-back may lead on to a higher one */
   double u_peak;         /* u there, m */
   double lambda_last, u_last; /* the last equilibrium */
   double u_start;        /* u at lambda = 0 (the held support's state), m */
+  double arc_from;       /* where the pilot failed and arc length took over (u turned back:
+                            a snap-back), m; NaN if it never did */
   long steps, rejected, newton_iterations, jacobian_evals;
   double max_residual;   /* largest scaled residual accepted */
-  char cause[192];       /* why the path stopped where no equilibrium was found further on
+  char cause[256];       /* why the path stopped where no equilibrium was found further on
                             (VS_LOAD_END_STALLED, or _PEAK short of follow); else "" */
 } vs_load_result;
 

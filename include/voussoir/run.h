@@ -176,12 +176,15 @@ typedef struct {
                            carried (load_factor 0) */
   double load_factor;   /* the largest lambda on the path: the load factor at collapse */
   double deflection;    /* the loads' displacement at the peak from where loading began, m */
+  double first_peak;    /* the first peak of lambda, where load control would snap (a
+                           snap-back may lead to the higher load_factor); NaN before one */
+  int snap_back;        /* the loads' displacement turned back: followed by arc length */
   int n;                /* points of the load-deflection curve ... */
   const double *lambda; /* ... lambda ... */
   const double *u;      /* ... and the loads' displacement from where loading began, m */
   char mechanism[160];  /* the hinges open where lambda first fell by VS_LOAD_DROP past its
                            peak (else at the end of the path), as vs_run_open_hinges */
-  char cause[192];      /* why the path stopped, when it stalled */
+  char cause[256];      /* why the path stopped, when it stalled */
 } vs_run_load_result;
 VS_API const vs_run_load_result *vs_run_load(const vs_run *r);
 

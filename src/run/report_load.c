@@ -45,6 +45,8 @@ void vs_report_load_json(FILE *out, const vs_run *r) {
   jnum(out, ",\"hold_mm\":", l->hold / VS_MM);
   fprintf(out, ",\"end\":\"%s\"", load_end_name(l));
   jnum(out, ",\"deflection_mm\":", l->deflection / VS_MM);
+  jnum(out, ",\"first_peak\":", l->first_peak);
+  fprintf(out, ",\"snap_back\":%s", l->snap_back ? "true" : "false");
   fputs(",\"mechanism\":", out);
   vs_json_string(out, l->mechanism);
   fputs(",\"cause\":", out);
@@ -74,6 +76,11 @@ void vs_report_load_text(FILE *out, const vs_run *r) {
                                                     : "no collapse";
   fprintf(out, "load factor  lambda = %.6g at collapse (%s; deflection %.4f mm at the peak)\n",
           l->load_factor, how, l->deflection / VS_MM);
+  if (isfinite(l->first_peak) && l->first_peak < l->load_factor)
+    fprintf(out, "             lambda first peaked at %.6g (under load control the arch snaps "
+                 "there)%s\n",
+            l->first_peak, l->snap_back ? "; the path turned back and was followed by arc length"
+                                        : "");
   if (l->end == VS_LOAD_END_MAX_DISP)
     fprintf(out, "             the path reached support.max_mm of the loads' displacement "
                  "before lambda fell: the largest lambda so far\n");

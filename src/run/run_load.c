@@ -89,6 +89,8 @@ vs_status vs_run_load_path(vs_run *r, vs_error *err) {
   l->end = (int)res.end;
   l->load_factor = res.lambda_peak;
   l->deflection = res.u_peak - r->load_u0;
+  l->first_peak = res.lambda_first;
+  l->snap_back = isfinite(res.arc_from);
   snprintf(l->cause, sizeof l->cause, "%s", res.cause);
   if (!r->load_taken) vs_run_open_hinges(r, l->mechanism, sizeof l->mechanism);
   if (st == VS_OK && (res.end == VS_LOAD_END_PEAK || res.end == VS_LOAD_END_SLIDING) &&

@@ -24,6 +24,13 @@ typedef struct {
   SUNLinearSolver LS;
   void *kin;
   double *f;    /* the load vector (n) */
+  /* the arc (pseudo-arclength) control, where the pilot fails (arc = 1): per unknown its scale
+   * sc (1 / block length for translations, 1 for rotations, 1 / the peak lambda for lambda),
+   * the path's unit direction in those units times sc (a), the anchor state xa; the target is
+   * the step's length, arc_min the smallest */
+  int arc;
+  double *a, *xa, *sc;
+  double arc_min;
   double *work; /* 4 (n + 1) */
   double kmax, lmax, wmin;
   double max_residual;

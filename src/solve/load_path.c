@@ -25,6 +25,11 @@ static const double VS_LP_STEPTOL = 1e-14;
 static const double VS_LP_FLOOR_MARGIN = 16.0;
 /* The pilot's equation holds to this fraction of peak_tol (the smallest increment). */
 static const double VS_LP_PILOT_TOL = 1e-3;
+/* On the arc, the smallest increment is this fraction of the last step before it; past a fall
+ * of drop, the arc is followed for this many steps without a larger lambda (a snap-back can
+ * take lambda far down before it rises to a higher peak; the arc may also close on itself). */
+static const long VS_LP_ARC_PATIENCE = 200;
+static const double VS_LP_ARC_MIN = 1e-3;
 /* Increments grow by this factor after a solve of at most VS_LP_EASY Newton iterations. */
 static const double VS_LP_GROW = 2.0;
 static const long VS_LP_EASY = 4;
@@ -51,6 +56,15 @@ static int lp_stopped(vs_lp_solver *s) {
   return s->interrupted;
 }
 
+/* The control's equation at x: the pilot's u(q) - target, or on the arc, the scaled projection
+ * of the step from the anchor on the path's direction, less its length. */
+static double lp_control(const vs_lp_solver *s, const double *x) {
+  if (!s->arc) return vs_model_load_displacement(s->m, x) - s->target;
+  double p = 0.0;
+  for (int i = 0; i <= s->n; i++) p += s->a[i] * (x[i] - s->xa[i]);
+  return p - s->target;
+}
+
 static int lp_sys(N_Vector x, N_Vector f, void *user) {
   vs_lp_solver *s = user;
   if (lp_stopped(s)) return -1;
@@ -62,7 +76,7 @@ static int lp_sys(N_Vector x, N_Vector f, void *user) {
   double *fv = N_VGetArrayPointer(f);
   vs_model_set_load_factor(s->m, xv[s->n]);
   vs_model_residual(s->m, xv, s->delta, fv);
-  fv[s->n] = vs_model_load_displacement(s->m, xv) - s->target;
+  fv[s->n] = lp_control(s, xv);
   for (int i = 0; i <= s->n; i++)
     if (!isfinite(fv[i])) {
       s->nonfinite = 1;
@@ -97,7 +111,7 @@ static int lp_jac(N_Vector x, N_Vector fx, SUNMatrix J, void *user, N_Vector t1,
       d[k] = md[p];
     }
     rv[k] = n;
-    d[k++] = s->f[j] / s->size;
+    d[k++] = s->arc ? s->a[j] : s->f[j] / s->size;
   }
   cp[n] = k;
   for (int i = 0; i < n; i++, k++) {
@@ -105,7 +119,7 @@ static int lp_jac(N_Vector x, N_Vector fx, SUNMatrix J, void *user, N_Vector t1,
     d[k] = -s->f[i];
   }
   rv[k] = n;
-  d[k++] = 0.0;
+  d[k++] = s->arc ? s->a[n] : 0.0;
   cp[n + 1] = k;
   return 0;
 }
@@ -128,6 +142,9 @@ void vs_lp_destroy(vs_lp_solver *s) {
   if (s->ctx != NULL) SUNContext_Free(&s->ctx);
   free(s->f);
   free(s->work);
+  free(s->a);
+  free(s->xa);
+  free(s->sc);
   memset(s, 0, sizeof *s);
 }
 
@@ -184,8 +201,11 @@ vs_status vs_lp_create(vs_lp_solver *s, vs_model *m, const vs_load_opts *o, vs_e
   s->J = SUNSparseMatrix(na, na, nnz + n + na, CSC_MAT, s->ctx);
   s->f = malloc((size_t)n * sizeof *s->f);
   s->work = malloc(4 * (size_t)na * sizeof *s->work);
+  s->a = malloc((size_t)na * sizeof *s->a);
+  s->xa = malloc((size_t)na * sizeof *s->xa);
+  s->sc = malloc((size_t)na * sizeof *s->sc);
   if (s->x == NULL || s->xscale == NULL || s->fscale == NULL || s->Jm == NULL || s->J == NULL ||
-      s->f == NULL || s->work == NULL) {
+      s->f == NULL || s->work == NULL || s->a == NULL || s->xa == NULL || s->sc == NULL) {
     vs_lp_destroy(s);
     return vs_error_set(err, VS_ERR_NOMEM, "load path solver: out of memory");
   }
@@ -218,7 +238,7 @@ static double lp_residual(vs_lp_solver *s, const double *x, double *du) {
   double *r = s->work + s->n + 1, worst = 0.0;
   vs_model_set_load_factor(s->m, x[s->n]);
   vs_model_residual(s->m, x, s->delta, r);
-  *du = fabs(vs_model_load_displacement(s->m, x) - s->target);
+  *du = fabs(lp_control(s, x));
   const double *fs = N_VGetArrayPointer(s->fscale);
   for (int i = 0; i < s->n; i++) worst = fmax(worst, fabs(r[i]) * fs[i]);
   return worst;
@@ -242,7 +262,7 @@ int vs_lp_solve(vs_lp_solver *s, double target, double *x, long *iters) {
   const double *u = N_VGetArrayPointer(s->x);
   double du = 0.0;
   const double r = lp_residual(s, u, &du);
-  if (!(du <= VS_LP_PILOT_TOL * s->o->peak_tol)) return flag == KIN_SUCCESS ? KIN_STEP_LT_STPTOL : flag;
+  if (!(du <= VS_LP_PILOT_TOL * (s->arc ? s->arc_min : s->o->peak_tol))) return flag == KIN_SUCCESS ? KIN_STEP_LT_STPTOL : flag;
   if (r > s->o->newton_tol) {
     double umax = 0.0;
     for (int i = 0; i < s->n; i++)
@@ -272,12 +292,14 @@ static vs_status lp_fatal(const vs_lp_solver *s, double u, vs_error *err) {
 /* The path's state between increments: the last two accepted (q, lambda) and their pilot. */
 typedef struct {
   double *x, *xprev, *xtry; /* n + 1 each: q, then lambda */
-  double u, uprev, h;
-  int have_prev, bracketing, slid_prev;
+  double u, uprev, h;       /* the pilot's u at x and xprev; the next increment (m, or on the
+                               arc its scaled length) */
+  double hmin, hmax;        /* the increment's bounds */
+  int have_prev, bracketing;
   int bracketed; /* the peak at the largest lambda so far has been bracketed */
 } lp_path;
 
-static vs_status lp_step_accept(vs_lp_solver *s, lp_path *w, double unew, int *slid) {
+static void lp_step_accept(vs_lp_solver *s, lp_path *w, double unew, int *slid) {
   const int na = s->n + 1;
   memcpy(w->xprev, w->x, (size_t)na * sizeof *w->x);
   memcpy(w->x, w->xtry, (size_t)na * sizeof *w->x);
@@ -286,60 +308,121 @@ static vs_status lp_step_accept(vs_lp_solver *s, lp_path *w, double unew, int *s
   w->have_prev = 1;
   vs_model_set_load_factor(s->m, w->x[s->n]);
   *slid = vs_model_commit(s->m, w->x, s->delta);
-  return VS_OK;
 }
 
-/* The predictor of an increment h: the secant through the last two states, else the last. */
+/* On the arc: the unit direction of the last step (xprev to x) in scaled units into s->a (times
+ * the scales), anchored at x; its scaled length, 0 if none. */
+static double lp_arc_direction(vs_lp_solver *s, const lp_path *w) {
+  const int na = s->n + 1;
+  double norm = 0.0;
+  for (int i = 0; i < na; i++) {
+    const double d = s->sc[i] * (w->x[i] - w->xprev[i]);
+    norm += d * d;
+  }
+  norm = sqrt(norm);
+  if (!(norm > 0.0)) return 0.0;
+  for (int i = 0; i < na; i++) s->a[i] = s->sc[i] * s->sc[i] * (w->x[i] - w->xprev[i]) / norm;
+  memcpy(s->xa, w->x, (size_t)na * sizeof *s->xa);
+  return norm;
+}
+
+/* The pilot failed at its smallest increment (u turns back: a snap-back): go on by arc length
+ * from the last two states, increments in units of the last step's scaled length. 0, or -1
+ * when the last step has no length. */
+static int lp_arc_start(vs_lp_solver *s, lp_path *w, double best) {
+  const int n = s->n;
+  const double *xs = N_VGetArrayPointer(s->xscale);
+  for (int i = 0; i < n; i++) s->sc[i] = xs[i];
+  s->sc[n] = 1.0 / fmax(fabs(best), 1e-12);
+  const double len = lp_arc_direction(s, w);
+  if (!(len > 0.0)) return -1;
+  s->arc = 1;
+  w->hmin = VS_LP_ARC_MIN * len;
+  w->hmax = len * s->o->step_max / fmin(s->o->peak_tol, s->o->step);
+  w->h = len;
+  s->arc_min = w->hmin;
+  N_VGetArrayPointer(s->fscale)[n] = 1.0 / w->hmin;
+  return 0;
+}
+
+/* The predictor of an increment h: along the secant through the last two states, else the
+ * last state. */
 static void lp_predict(const vs_lp_solver *s, const lp_path *w, double h) {
   const int na = s->n + 1;
-  const double r = w->have_prev && w->u > w->uprev ? h / (w->u - w->uprev) : 0.0;
+  double r = 0.0;
+  if (s->arc) {
+    double norm = 0.0;
+    for (int i = 0; i < na; i++) {
+      const double d = s->sc[i] * (w->x[i] - w->xprev[i]);
+      norm += d * d;
+    }
+    r = norm > 0.0 ? h / sqrt(norm) : 0.0;
+  } else if (w->have_prev && w->u > w->uprev) {
+    r = h / (w->u - w->uprev);
+  }
   for (int i = 0; i < na; i++) w->xtry[i] = w->x[i] + r * (w->x[i] - w->xprev[i]);
+}
+
+/* No equilibrium at the smallest increment: past a fall of drop from the peak the collapse
+ * stands (its mechanism followed as far as it could be), else the path stalled. */
+static void lp_stalled(const vs_lp_solver *s, const lp_path *w, double best, int flag,
+                       vs_load_result *res) {
+  res->end = res->peaked && w->x[s->n] < (1.0 - s->o->drop) * best ? VS_LOAD_END_PEAK
+                                                                    : VS_LOAD_END_STALLED;
+  snprintf(res->cause, sizeof res->cause,
+           "no equilibrium beyond the load's displacement %.6g mm (from where loading began)%s "
+           "at the smallest increment (%s, KINSOL flag %d)",
+           (w->u - res->u_start) / VS_MM, s->arc ? ", by arc length," : "",
+           vs_lp_kin_cause(flag), flag);
 }
 
 static vs_status lp_path_run(vs_lp_solver *s, lp_path *w, vs_load_step_fn fn, void *user,
                              vs_load_result *res, vs_error *err) {
   const vs_load_opts *o = s->o;
   const int n = s->n;
-  const double u0 = w->u, hmin = fmin(o->peak_tol, o->step);
+  const double u0 = w->u;
   double best = w->x[n];
   int slid_last = 0;
+  long arc_since_best = 0;
+  w->hmin = fmin(o->peak_tol, o->step);
+  w->hmax = o->step_max;
   for (;;) {
     if (res->steps + res->rejected >= VS_LP_MAX_INCREMENTS)
       return vs_error_set(err, VS_ERR_SOLVER, "load path: %ld increments (the limit)",
                           VS_LP_MAX_INCREMENTS);
-    const double h = w->h, unew = w->u + h;
+    const double h = w->h;
     lp_predict(s, w, h);
     long it = 0;
-    const int flag = vs_lp_solve(s, unew, w->xtry, &it);
+    const int flag = vs_lp_solve(s, s->arc ? h : w->u + h, w->xtry, &it);
     res->newton_iterations += it;
     if (flag != 0) {
-      vs_status st = lp_fatal(s, unew, err);
+      vs_status st = lp_fatal(s, w->u, err);
       if (st != VS_OK) return st;
       res->rejected++;
-      if (h > hmin) {
-        w->h = fmax(0.5 * h, hmin);
+      if (h > w->hmin) {
+        w->h = fmax(0.5 * h, w->hmin);
         continue;
       }
-      /* past a fall of drop from the peak, the collapse stands: its mechanism is followed as
-       * far as the pilot could */
-      res->end = res->peaked && w->x[n] < (1.0 - o->drop) * best ? VS_LOAD_END_PEAK
-                                                                  : VS_LOAD_END_STALLED;
-      snprintf(res->cause, sizeof res->cause,
-               "no equilibrium beyond the load's displacement %.6g mm (from where loading began) "
-               "at the smallest increment (%s, KINSOL flag %d)",
-               (w->u - res->u_start) / VS_MM, vs_lp_kin_cause(flag), flag);
+      /* near the peak (lambda not yet down by drop), u may have turned back: arc length */
+      if (!s->arc && w->have_prev && w->x[n] >= (1.0 - o->drop) * best &&
+          lp_arc_start(s, w, best) == 0) {
+        res->arc_from = w->u;
+        continue;
+      }
+      lp_stalled(s, w, best, flag, res);
       return VS_OK;
     }
-    const double lam = w->xtry[n];
+    const double lam = w->xtry[n], unew = vs_model_load_displacement(s->m, w->xtry);
     /* from the largest lambda so far, the peak lies within h: bracket it (each new peak) */
-    if (lam < w->x[n] && w->x[n] >= best && !w->bracketed && h > hmin) {
+    if (lam < w->x[n] && w->x[n] >= best && !w->bracketed && h > w->hmin) {
       res->rejected++;
       w->bracketing = 1;
-      w->h = fmax(0.5 * h, hmin);
+      w->h = fmax(0.5 * h, w->hmin);
       continue;
     }
     int slid = 0;
     lp_step_accept(s, w, unew, &slid);
+    if (s->arc) lp_arc_direction(s, w);
     res->steps++;
     if (lam > best) {
       best = lam;
@@ -347,6 +430,10 @@ static vs_status lp_path_run(vs_lp_solver *s, lp_path *w, vs_load_step_fn fn, vo
       res->u_peak = unew;
       w->bracketed = 0;
     } else if (!w->bracketed) {
+      if (!res->peaked) { /* the first limit point of lambda: where load control would snap */
+        res->lambda_first = best;
+        res->u_first = res->u_peak;
+      }
       res->peaked = 1;
       w->bracketing = 0;
       w->bracketed = 1;
@@ -355,7 +442,13 @@ static vs_status lp_path_run(vs_lp_solver *s, lp_path *w, vs_load_step_fn fn, vo
     res->u_last = unew;
     if (fn != NULL && fn(user, lam, unew, w->x, s->m) != 0)
       return vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
-    if (res->peaked && lam < (1.0 - o->drop) * best && unew - res->u_peak >= o->follow) {
+    /* past the peak, lambda down by drop: the collapse, once u has gone follow beyond the peak
+     * (on the arc, where u need not grow, once VS_LP_ARC_PATIENCE steps found no larger
+     * lambda), or once lambda is gone */
+    arc_since_best = lam >= best ? 0 : arc_since_best + s->arc;
+    if (res->peaked && lam < (1.0 - o->drop) * best &&
+        ((!s->arc && unew - res->u_peak >= o->follow) || arc_since_best >= VS_LP_ARC_PATIENCE ||
+         lam <= 0.0)) {
       res->end = VS_LOAD_END_PEAK;
       return VS_OK;
     }
@@ -370,8 +463,8 @@ static vs_status lp_path_run(vs_lp_solver *s, lp_path *w, vs_load_step_fn fn, vo
       res->end = VS_LOAD_END_MAX_DISP;
       return VS_OK;
     }
-    if (it <= VS_LP_EASY && !w->bracketing) w->h = fmin(VS_LP_GROW * h, o->step_max);
-    if (unew + w->h - u0 > o->max_disp) w->h = u0 + o->max_disp - unew;
+    if (it <= VS_LP_EASY && !w->bracketing) w->h = fmin(VS_LP_GROW * h, w->hmax);
+    if (!s->arc && unew + w->h - u0 > o->max_disp) w->h = u0 + o->max_disp - unew;
   }
 }
 
@@ -417,6 +510,7 @@ vs_status vs_load_path_run(vs_model *m, const vs_load_opts *o, double delta, dou
     w.u = w.uprev = vs_model_load_displacement(m, q);
     w.h = o->step;
     res->u_start = res->u_peak = res->u_last = w.u;
+    res->arc_from = res->lambda_first = res->u_first = NAN;
     st = lp_path_run(&s, &w, fn, user, res, err);
     memcpy(q, w.x, (size_t)s.n * sizeof *q);
     vs_model_set_load_factor(m, w.x[s.n]);
