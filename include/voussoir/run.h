@@ -172,13 +172,17 @@ typedef struct {
   int end;              /* vs_load_end (quasistatic.h); 0 when it did not run or the arch
                            failed before it (held) */
   double hold;          /* the support displacement held, m */
-  int held_limit;       /* 1: the support's path met a limit point before hold: no load is
-                           carried (load_factor 0) */
+  int held_limit;       /* 1: the arch did not stand still at the hold: it collapsed before
+                           it (load_factor 0), or was still moving there (a snap-through under
+                           way, no equilibrium found near: load_factor NaN), or met a limit
+                           point not followed (dynamic.follow = 0: NaN) */
   double load_factor;   /* the largest lambda on the path: the load factor at collapse */
   double deflection;    /* the loads' displacement at the peak from where loading began, m */
   double first_peak;    /* the first peak of lambda, where load control would snap (a
                            snap-back may lead to the higher load_factor); NaN before one */
   int snap_back;        /* the loads' displacement turned back: followed by arc length */
+  int settled;          /* the support reached the hold during a snap-through: the arch was
+                           taken at the stable equilibrium Newton found from its moving state */
   int n;                /* points of the load-deflection curve ... */
   const double *lambda; /* ... lambda ... */
   const double *u;      /* ... and the loads' displacement from where loading began, m */

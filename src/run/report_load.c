@@ -46,7 +46,8 @@ void vs_report_load_json(FILE *out, const vs_run *r) {
   fprintf(out, ",\"end\":\"%s\"", load_end_name(l));
   jnum(out, ",\"deflection_mm\":", l->deflection / VS_MM);
   jnum(out, ",\"first_peak\":", l->first_peak);
-  fprintf(out, ",\"snap_back\":%s", l->snap_back ? "true" : "false");
+  fprintf(out, ",\"snap_back\":%s,\"settled\":%s", l->snap_back ? "true" : "false",
+          l->settled ? "true" : "false");
   fputs(",\"mechanism\":", out);
   vs_json_string(out, l->mechanism);
   fputs(",\"cause\":", out);
@@ -66,9 +67,12 @@ void vs_report_load_text(FILE *out, const vs_run *r) {
   if (ld->kind == VS_LOAD_TILT) fputs(" (lambda x each block's weight, horizontal)", out);
   else fprintf(out, " %g N at x = %g mm", ld->value, ld->x / VS_MM);
   if (ld->kind == VS_LOAD_PATCH) fprintf(out, " over %g mm", ld->width / VS_MM);
-  fprintf(out, "; the support held at %.4f mm\n", l->hold / VS_MM);
+  fprintf(out, "; the support held at %.4f mm%s\n", l->hold / VS_MM,
+          l->settled ? " (reached during a snap-through: the arch taken at the equilibrium "
+                       "Newton found from its motion)"
+                     : "");
   if (l->held_limit) {
-    fprintf(out, "load factor  0: %s\n", l->cause);
+    fprintf(out, "load factor  %s: %s\n", isnan(l->load_factor) ? "unknown" : "0", l->cause);
     return;
   }
   const char *how = l->end == VS_LOAD_END_PEAK      ? "past the peak"

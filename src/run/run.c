@@ -528,10 +528,35 @@ static vs_status load_phases(vs_run *r, vs_error *err) {
   vs_run_load_result *l = &r->load;
   l->done = 1;
   l->hold = r->def.analysis.hold;
+  l->first_peak = NAN;
   vs_status st = support_phases(r, err);
   if (st != VS_OK) return st;
+  if (!r->collapse.found && r->totals.end == VS_PATH_LIMIT_POINT && r->def.dynamic.follow &&
+      r->dtot.end == VS_DYN_MAX_DELTA) {
+    /* the support reached the hold while the arch was still moving (a snap-through under way):
+     * held there, the arch settles; its equilibrium is taken as the stable one that Newton
+     * finds from the moving state (as the motion's rest probe does) */
+    const int n = vs_model_size(r->m);
+    memcpy(r->q_rest, r->q, (size_t)n * sizeof *r->q);
+    vs_path_opts probe = r->popts;
+    probe.max_delta = r->delta;
+    vs_path_result pr;
+    vs_error perr;
+    vs_error_clear(&perr);
+    const vs_status ps = vs_path_run_with(r->ps, &probe, r->delta, r->q_rest, NULL, NULL, &pr, &perr);
+    if (ps == VS_ERR_INTERRUPTED) return vs_error_set(err, ps, "interrupted");
+    if (ps == VS_OK) {
+      memcpy(r->q, r->q_rest, (size_t)n * sizeof *r->q);
+      r->totals.end = VS_PATH_MAX_DISPLACEMENT;
+      l->settled = 1;
+      if (vs_run_on_equilibrium(r, r->delta, r->q, r->m) != 0)
+        return vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
+    }
+  }
   if (r->collapse.found || r->totals.end != VS_PATH_MAX_DISPLACEMENT) {
     l->held_limit = 1;
+    /* collapsed: it carries nothing; still moving with no equilibrium found: unknown */
+    l->load_factor = r->collapse.found ? 0.0 : NAN;
     snprintf(l->cause, sizeof l->cause,
              "the arch %s at %.6g mm, before the hold (%.6g mm)",
              r->collapse.found         ? "collapsed"
