@@ -8,7 +8,9 @@
  *    rises toward the limit analysis' (CLP, an independent method) as k_n grows, monotonically,
  *    the gap falling as k_n^(-1/3) as the column's;
  *  - analysis.hold_mm: the residual load factor falls as the support settles or spreads;
- *  - the case's rules for a load path. */
+ *  - the case's rules for a load path;
+ *  - the loads' Jacobian and the pilot's gradient against central differences. */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -20,6 +22,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <sundials/sundials_context.h>
+#include <sunmatrix/sunmatrix_sparse.h>
+
+#include "model_matrix.h"
 #include "test_support.h"
 #include "voussoir/case.h"
 #include "voussoir/geometry.h"
@@ -28,6 +34,11 @@
 #include "voussoir/quasistatic.h"
 #include "voussoir/run.h"
 #include "voussoir/units.h"
+
+#define VS_SCRATCH "load"
+#include "scratch.h"
+
+#define REFERENCE VS_SOURCE_DIR "/runs/reference.ini"
 
 #define near(a, b, tol)                                                                        \
   do {                                                                                         \
@@ -291,6 +302,118 @@ static void test_case_rules(void **state) {
   assert_int_equal(vs_case_check_path(&c, "calibrate", &err), VS_ERR_INVALID);
 }
 
+/* The loads' part of the analytic Jacobian (J at lambda = 1 less J at lambda = 0) against
+ * central differences of their part of the residual, at a turned state: forces off their
+ * blocks' centroids turn their arms with the blocks; and their energy's gradient is minus the
+ * load vector. */
+static void test_jacobian(void **state) {
+  (void)state;
+  vs_geometry *g = column(2, 0.2, 0.3, 5.0);
+  double *q = NULL;
+  vs_model *m = at_rest(g, 1e9, 0.7, &q);
+  const vs_model_force f[3] = {{0, 3.0, -7.0, 0.05, 0.27}, {1, -2.0, 4.0, 0.18, 0.4},
+                               {1, 1.5, 0.0, 0.02, 0.59}};
+  vs_error err;
+  vs_error_clear(&err);
+  assert_int_equal(vs_model_set_loads(m, f, 3, &err), VS_OK);
+  const int n = vs_model_size(m);
+  q[2] += 0.3, q[5] -= 0.2; /* turned far: the arms matter */
+  SUNContext ctx = NULL;
+  assert_int_equal(SUNContext_Create(NULL, &ctx), 0);
+  SUNMatrix J0 = SUNSparseMatrix(n, n, vs_model_nnz(m), CSC_MAT, ctx);
+  SUNMatrix J1 = SUNSparseMatrix(n, n, vs_model_nnz(m), CSC_MAT, ctx);
+  vs_model_set_load_factor(m, 0.0);
+  vs_model_jacobian(m, q, 0.0, J0);
+  vs_model_set_load_factor(m, 1.0);
+  vs_model_jacobian(m, q, 0.0, J1);
+  double *gp = calloc((size_t)n, sizeof *gp), *gm = calloc((size_t)n, sizeof *gm);
+  double *hp = calloc((size_t)n, sizeof *hp), *hm = calloc((size_t)n, sizeof *hm);
+  double *lv = calloc((size_t)n, sizeof *lv);
+  const double h = 1e-6;
+  double worst = 0.0, big = 0.0;
+  for (int j = 0; j < n; j++) {
+    const double qj = q[j];
+    q[j] = qj + h;
+    vs_model_set_load_factor(m, 1.0), vs_model_residual(m, q, 0.0, gp);
+    vs_model_set_load_factor(m, 0.0), vs_model_residual(m, q, 0.0, hp);
+    const double ep = vs_model_load_displacement(m, q);
+    q[j] = qj - h;
+    vs_model_set_load_factor(m, 1.0), vs_model_residual(m, q, 0.0, gm);
+    vs_model_set_load_factor(m, 0.0), vs_model_residual(m, q, 0.0, hm);
+    const double em = vs_model_load_displacement(m, q);
+    q[j] = qj;
+    for (int i = 0; i < n; i++) {
+      const double fd = ((gp[i] - hp[i]) - (gm[i] - hm[i])) / (2.0 * h);
+      double a1 = 0.0, a0 = 0.0;
+      const sunindextype *cp1 = SUNSparseMatrix_IndexPointers(J1), *rv1 = SUNSparseMatrix_IndexValues(J1);
+      for (sunindextype p = cp1[j]; p < cp1[j + 1]; p++)
+        if (rv1[p] == i) a1 = SUNSparseMatrix_Data(J1)[p];
+      const sunindextype *cp0 = SUNSparseMatrix_IndexPointers(J0), *rv0 = SUNSparseMatrix_IndexValues(J0);
+      for (sunindextype p = cp0[j]; p < cp0[j + 1]; p++)
+        if (rv0[p] == i) a0 = SUNSparseMatrix_Data(J0)[p];
+      worst = fmax(worst, fabs((a1 - a0) - fd));
+      big = fmax(big, fabs(a1 - a0));
+    }
+    /* the pilot's gradient is the load vector over the loads' size */
+    vs_model_load_vector(m, q, lv);
+    near((ep - em) / (2.0 * h), lv[j] / vs_model_load_size(m), 1e-6);
+  }
+  /* the joints' forces at so turned a state (1e7 N) leave a rounding of eps 1e7 / h ~ 1e-3 in
+   * each difference, less where they cancel */
+  print_message("loads' Jacobian against central differences: largest error %.3g (largest "
+                "entry %.3g)\n", worst, big);
+  assert_true(big > 0.5);
+  assert_true(worst < 1e-4 * big);
+  free(gp), free(gm), free(hp), free(hm), free(lv);
+  SUNMatDestroy(J0), SUNMatDestroy(J1);
+  SUNContext_Free(&ctx);
+  free(q);
+  vs_model_destroy(&m);
+  vs_geometry_destroy(&g);
+}
+
+/* The command line: the reference specimen tilted to collapse (its load factor below the limit
+ * analysis' 0.368, by the elastic hinges), in the JSON and the summary (the curve); bad input
+ * refused, exit 2, nothing written. */
+static void test_cli(void **state) {
+  (void)state;
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd,
+           "cd '%s' && '%s' run '%s' --set analysis.type=load --set load.kind=tilt --json "
+           "--no-record >out.txt 2>err.txt",
+           g_dir, VS_BINARY, REFERENCE);
+  assert_int_equal(sh(cmd), 0);
+  const char *j = slurp(in_dir("out.txt"), NULL);
+  assert_non_null(strstr(j, "\"status\":\"collapse\""));
+  const char *p = strstr(j, "\"load_factor\":");
+  assert_non_null(p);
+  const double lf = strtod(p + strlen("\"load_factor\":"), NULL);
+  print_message("reference under tilt: load factor %.5f (limit analysis 0.368)\n", lf);
+  assert_true(lf > 0.2 && lf < 0.368);
+  assert_non_null(strstr(j, "\"curve\":{\"load_factor\":[0,"));
+  snprintf(cmd, sizeof cmd,
+           "cd '%s' && '%s' run '%s' --set analysis.type=load --set load.kind=tilt --no-record "
+           ">out.txt 2>err.txt",
+           g_dir, VS_BINARY, REFERENCE);
+  assert_int_equal(sh(cmd), 0);
+  const char *t = slurp(in_dir("out.txt"), NULL);
+  assert_non_null(strstr(t, "load factor  lambda = "));
+  assert_non_null(strstr(t, "load-deflection curve"));
+  const char *bad[] = {"--set analysis.type=load", "--set analysis.hold_mm=5 --set load.kind=tilt",
+                       "--set analysis.type=load --set load.kind=tilt --set analysis.hold_mm=300",
+                       "--set analysis.type=load --set load.kind=point --set load.x_mm=900"};
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+    snprintf(cmd, sizeof cmd, "cd '%s' && rm -f o.h5 && '%s' run '%s' %s -o o.h5 >out.txt 2>err.txt",
+             g_dir, VS_BINARY, REFERENCE, bad[i]);
+    assert_int_equal(sh(cmd), 2);
+    const char *e = slurp(in_dir("err.txt"), NULL);
+    print_message("%s: %s", bad[i], e);
+    assert_true(strstr(e, "analysis.") != NULL || strstr(e, "load.") != NULL);
+    FILE *f = fopen(in_dir("o.h5"), "r");
+    assert_null(f);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_block_slides),
@@ -298,6 +421,8 @@ int main(void) {
       cmocka_unit_test(test_reference_converges),
       cmocka_unit_test(test_hold),
       cmocka_unit_test(test_case_rules),
+      cmocka_unit_test(test_jacobian),
+      cmocka_unit_test(test_cli),
   };
-  return cmocka_run_group_tests(tests, NULL, NULL);
+  return cmocka_run_group_tests(tests, scratch_setup, scratch_teardown);
 }
