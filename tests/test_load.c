@@ -25,6 +25,8 @@
 #include <sundials/sundials_context.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include <hdf5.h>
+
 #include "model_matrix.h"
 #include "test_support.h"
 #include "voussoir/case.h"
@@ -391,6 +393,28 @@ static void test_cli(void **state) {
   print_message("reference under tilt: load factor %.5f (limit analysis 0.368)\n", lf);
   assert_true(lf > 0.2 && lf < 0.368);
   assert_non_null(strstr(j, "\"curve\":{\"load_factor\":[0,"));
+  /* the record has the same load factor and curve (one point per comma in the JSON's list) */
+  snprintf(cmd, sizeof cmd,
+           "cd '%s' && '%s' run '%s' --set analysis.type=load --set load.kind=tilt -o r.h5 "
+           ">out.txt 2>err.txt",
+           g_dir, VS_BINARY, REFERENCE);
+  assert_int_equal(sh(cmd), 0);
+  const char *c0 = strstr(j, "\"curve\":{\"load_factor\":[");
+  int points = 1;
+  for (const char *k = c0 + 24; *k != ']'; k++) points += *k == ',';
+  hid_t f = H5Fopen(in_dir("r.h5"), H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  hid_t d = H5Dopen2(f, "/summary/load/curve", H5P_DEFAULT);
+  hid_t sp = H5Dget_space(d);
+  hsize_t dims[2] = {0, 0};
+  assert_int_equal(H5Sget_simple_extent_dims(sp, dims, NULL), 2);
+  assert_int_equal((int)dims[0], points);
+  assert_int_equal((int)dims[1], 2);
+  double lf_rec = NAN;
+  hid_t s1 = H5Dopen2(f, "/summary/load/load_factor", H5P_DEFAULT);
+  assert_true(H5Dread(s1, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, &lf_rec) >= 0);
+  near(lf_rec, lf, 1e-9 * lf);
+  H5Dclose(s1), H5Sclose(sp), H5Dclose(d), H5Fclose(f);
   snprintf(cmd, sizeof cmd,
            "cd '%s' && '%s' run '%s' --set analysis.type=load --set load.kind=tilt --no-record "
            ">out.txt 2>err.txt",
@@ -409,8 +433,8 @@ static void test_cli(void **state) {
     const char *e = slurp(in_dir("err.txt"), NULL);
     print_message("%s: %s", bad[i], e);
     assert_true(strstr(e, "analysis.") != NULL || strstr(e, "load.") != NULL);
-    FILE *f = fopen(in_dir("o.h5"), "r");
-    assert_null(f);
+    FILE *fo = fopen(in_dir("o.h5"), "r");
+    assert_null(fo);
   }
 }
 

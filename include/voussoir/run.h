@@ -189,6 +189,7 @@ typedef struct {
   char mechanism[160];  /* the hinges open where lambda first fell by VS_LOAD_DROP past its
                            peak (else at the end of the path), as vs_run_open_hinges */
   char cause[256];      /* why the path stopped, when it stalled */
+  long steps, rejected, newton_iterations, jacobian_evals; /* the load path's solver */
 } vs_run_load_result;
 VS_API const vs_run_load_result *vs_run_load(const vs_run *r);
 

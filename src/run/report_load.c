@@ -52,6 +52,8 @@ void vs_report_load_json(FILE *out, const vs_run *r) {
   vs_json_string(out, l->mechanism);
   fputs(",\"cause\":", out);
   vs_json_string(out, l->cause);
+  fprintf(out, ",\"steps\":%ld,\"rejected\":%ld,\"newton_iterations\":%ld", l->steps,
+          l->rejected, l->newton_iterations);
   fputs(",\"curve\":{\"load_factor\":[", out);
   for (int i = 0; i < l->n; i++) fprintf(out, "%s%.10g", i ? "," : "", l->lambda[i]);
   fputs("],\"deflection_mm\":[", out);
@@ -93,4 +95,7 @@ void vs_report_load_text(FILE *out, const vs_run *r) {
   fprintf(out, "\nload-deflection curve (deflection: the loads' displacement along them)\n"
                "  load factor   deflection mm\n");
   for (int i = 0; i < l->n; i++) fprintf(out, "  %11.6g   %13.6g\n", l->lambda[i], l->u[i] / VS_MM);
+  fprintf(out, "load path    %ld equilibria (%ld rejected increments), %ld Newton iterations, %ld "
+               "Jacobians (the support's path to the hold: stats below)\n",
+          l->steps, l->rejected, l->newton_iterations, l->jacobian_evals);
 }

@@ -90,6 +90,10 @@ vs_status vs_run_load_path(vs_run *r, vs_error *err) {
   l->load_factor = res.lambda_peak;
   l->deflection = res.u_peak - r->load_u0;
   l->first_peak = res.lambda_first;
+  l->steps = res.steps;
+  l->rejected = res.rejected;
+  l->newton_iterations = res.newton_iterations;
+  l->jacobian_evals = res.jacobian_evals;
   l->snap_back = isfinite(res.arc_from);
   snprintf(l->cause, sizeof l->cause, "%s", res.cause);
   if (!r->load_taken) vs_run_open_hinges(r, l->mechanism, sizeof l->mechanism);
