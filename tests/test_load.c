@@ -9,7 +9,8 @@
  *    the gap falling as k_n^(-1/3) as the column's;
  *  - analysis.hold_mm: the residual load factor falls as the support settles or spreads;
  *  - the case's rules for a load path;
- *  - the loads' Jacobian and the pilot's gradient against central differences. */
+ *  - the loads' Jacobian and the pilot's gradient against central differences;
+ *  - the fill's weight on the extrados against the geometry by hand, and carried by the run. */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include <stdarg.h>
 #include <stddef.h>
@@ -438,6 +439,68 @@ static void test_cli(void **state) {
   }
 }
 
+/* The fill (vs_limit_fill_load) on the reference specimen against the geometry by hand: over
+ * the extrados chords, up to level above the highest chord ends (the crown voussoir's corners,
+ * at Re cos(theta / 2) over the centre), its weight is gamma b [(Re cos(theta/2) + level) 2a -
+ * (the area under the extrados circle over [-a, a], less the n circular segments the chords cut
+ * off, Re^2 / 2 (theta - sin theta) each)], a = Re sin(beta); symmetric about the crown; and the
+ * run puts it on the model: the self-weight state then carries it (the supports' vertical
+ * reactions are the arch's weight plus the fill's). */
+static void test_fill(void **state) {
+  (void)state;
+  vs_case c;
+  vs_case_defaults(&c);
+  c.unit_weight_kN_m3 = 18.0;
+  vs_run_def d;
+  vs_error err;
+  vs_error_clear(&err);
+  const double PI = acos(-1.0), Re = (c.radius_mm + c.thickness_mm) * 1e-3;
+  const double beta = 0.5 * c.embrace_deg * PI / 180.0, th = 2.0 * beta / c.voussoirs;
+  const double a = Re * sin(beta), b = c.depth_mm * 1e-3, gamma = c.unit_weight_kN_m3 * 1e3;
+  const double under = a * sqrt(Re * Re - a * a) + Re * Re * asin(a / Re) -
+                       c.voussoirs * 0.5 * Re * Re * (th - sin(th));
+  for (int k = 0; k < 2; k++) {
+    c.level_mm = k ? 40.0 : 0.0;
+    vs_case_to_def(&c, &d);
+    vs_geometry *g = NULL;
+    assert_int_equal(vs_geometry_create_arch(&d.arch, &g, &err), VS_OK);
+    vs_limit_force *f = NULL;
+    int n = 0;
+    assert_int_equal(vs_limit_fill_load(g, &d.fill, &f, &n, &err), VS_OK);
+    assert_int_equal(n, g->n_blocks - (k == 0)); /* at level 0 none over the crown voussoir */
+    double W = 0.0, M = 0.0;
+    for (int i = 0; i < n; i++) W -= f[i].fz, M -= f[i].fz * f[i].px;
+    const double hand = gamma * b * ((Re * cos(0.5 * th) + d.fill.level) * 2.0 * a - under);
+    double x0 = INFINITY, x1 = -INFINITY; /* the extrados' ends: the centre's x between them */
+    for (int j = 0; j < g->n_joints; j++) {
+      double sx, sz;
+      vs_joint_tangent(&g->joints[j], &sx, &sz);
+      const double x = g->joints[j].px + 0.5 * g->joints[j].length * sx;
+      x0 = fmin(x0, x), x1 = fmax(x1, x);
+    }
+    print_message("fill 18 kN/m^3 to %g mm above the crown: %.6f N, by hand %.6f N; resultant "
+                  "at %.3g mm from the middle\n",
+                  c.level_mm, W, hand, (M / W - 0.5 * (x0 + x1)) * 1e3);
+    near(W, hand, 1e-9 * hand);
+    near(M / W, 0.5 * (x0 + x1), 1e-9);
+    free(f);
+    vs_geometry_destroy(&g);
+    /* the run: the self-weight state carries the fill */
+    c.type = VS_ANALYSIS_SUPPORT;
+    c.max_mm = 1.0;
+    c.step_mm = 0.5;
+    vs_run *r = NULL;
+    if (vs_run_create(&c, &r, &err) != VS_OK) fail_msg("%s", err.msg);
+    if (vs_run_execute(r, NULL, NULL, NULL, &err) != VS_OK) fail_msg("%s", err.msg);
+    const vs_geometry *rg = vs_run_geometry(r);
+    double left[2], right[2];
+    vs_model_reactions(vs_run_model(r), vs_run_state(r), vs_run_delta(r), left, right);
+    const double total = vs_geometry_weight(rg) + hand;
+    near(left[1] + right[1], -total, 1e-6 * total); /* the arch pushes down on its supports */
+    vs_run_destroy(&r);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_block_slides),
@@ -447,6 +510,7 @@ int main(void) {
       cmocka_unit_test(test_case_rules),
       cmocka_unit_test(test_jacobian),
       cmocka_unit_test(test_cli),
+      cmocka_unit_test(test_fill),
   };
   return cmocka_run_group_tests(tests, scratch_setup, scratch_teardown);
 }

@@ -147,6 +147,10 @@ typedef struct {
   double hold_mm;    /* load: the support displacement held before loading, [0, 1e6] mm,
                         default 0 */
 
+  /* [fill] the fill over the arch, a dead load on its extrados (issue 28) */
+  double unit_weight_kN_m3; /* its unit weight, [0, 1000] kN/m^3, 0 (the default): no fill */
+  double level_mm;          /* its surface above the crown's extrados, [0, 1e6] mm, default 0 */
+
   /* [run] how long a run may take */
   double max_wall_s;    /* wall-time limit of a run, [0, 1e6] s, 0 (the default): none. Once
                            passed, the run stops at its next step (VS_ERR_WALL_TIME): its

@@ -163,6 +163,11 @@ typedef struct {
  * that is not finite, VS_ERR_NOMEM. */
 VS_API vs_status vs_model_set_loads(vs_model *m, const vs_model_force *f, int n, vs_error *err);
 VS_API int vs_model_load_count(const vs_model *m);
+/* Dead forces besides the weight (a fill's), as the loads but always at factor 1 (also in the
+ * residual, the Jacobian, the dynamics and the energy; not in the load vector or the loads'
+ * displacement). Errors as vs_model_set_loads'. */
+VS_API vs_status vs_model_set_dead_loads(vs_model *m, const vs_model_force *f, int n,
+                                         vs_error *err);
 VS_API void vs_model_set_load_factor(vs_model *m, double lambda);
 VS_API double vs_model_load_factor(const vs_model *m);
 /* The loads' generalised forces at lambda = 1 at state q (vs_model_size entries; a pinned

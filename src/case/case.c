@@ -254,6 +254,11 @@ static const key_spec keys[] = {
               "analysis alone, no path)"),
     KEY(analysis, hold_mm, 0.0, 0.0, true, LEN_MAX, true, "mm",
         "load: the support displacement along the support's path held before loading"),
+    KEY(fill, unit_weight_kN_m3, 0.0, 0.0, true, 1000.0, true, "kN/m^3",
+        "the fill's unit weight (0: no fill): a dead load on the extrados, the weight of the fill "
+        "above each voussoir up to level_mm"),
+    KEY(fill, level_mm, 0.0, 0.0, true, LEN_MAX, true, "mm",
+        "the fill's surface above the crown's extrados"),
 };
 #undef LEN_MIN
 #undef LEN_MAX
@@ -1045,6 +1050,7 @@ void vs_case_to_def(const vs_case *c, vs_run_def *d) {
                           .x = c->x_mm * VS_MM,
                           .width = c->width_mm * VS_MM};
   d->analysis = (vs_analysis_def){.type = (vs_analysis_type)c->type, .hold = c->hold_mm * VS_MM};
+  d->fill = (vs_fill_def){.unit_weight = c->unit_weight_kN_m3 * 1e3, .level = c->level_mm * VS_MM};
 
 }
 

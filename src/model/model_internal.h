@@ -41,6 +41,8 @@ struct vs_model {
   vs_model_force *loads; /* external dead forces (model_loads.c), n_loads of them ... */
   int n_loads;
   double lscale;         /* ... times this load factor (default 0) */
+  vs_model_force *dead;  /* dead forces besides the weight (the fill's), n_dead, factor 1 */
+  int n_dead;
   double *cn, *cs; /* per joint: damping coefficients, N s/m^3 */
   int pinned[2];   /* left, right: 1 if the support is pinned (its rotation free) */
   vs_pattern pat;  /* statics: the blocks' 3 n_blocks unknowns, then the pinned supports' rotations */
@@ -187,7 +189,7 @@ void vs_model_memo_fill(const vs_model *m, const double *q, const double qs[6]);
  * stiffness into the CSC values kdata (NULL: none). */
 void vs_model_loads_add(const vs_model *m, const vs_pattern *p, const double *q, double *G,
                         double *kdata);
-/* Their potential, -lambda sum f . u (J). */
+/* Their potential, -sum f . u of the dead loads and -lambda sum f . u of the live ones (J). */
 double vs_model_load_energy(const vs_model *m, const double *q);
 
 #endif

@@ -10,15 +10,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-vs_status vs_model_set_loads(vs_model *m, const vs_model_force *f, int n, vs_error *err) {
+/* Check and copy n forces into *dst (freed first), *nd their count. */
+static vs_status copy_forces(const vs_model *m, const char *what, const vs_model_force *f, int n,
+                             vs_model_force **dst, int *nd, vs_error *err) {
   if (n < 0 || (n > 0 && f == NULL))
-    return vs_error_set(err, VS_ERR_INVALID, "model: %d loads (allowed: >= 0, given)", n);
+    return vs_error_set(err, VS_ERR_INVALID, "model: %d %s (allowed: >= 0, given)", n, what);
   for (int i = 0; i < n; i++) {
     if (f[i].block < 0 || f[i].block >= m->g->n_blocks)
-      return vs_error_set(err, VS_ERR_INVALID, "model: load %d on block %d (allowed: 0..%d)", i,
-                          f[i].block, m->g->n_blocks - 1);
+      return vs_error_set(err, VS_ERR_INVALID, "model: %s %d on block %d (allowed: 0..%d)", what,
+                          i, f[i].block, m->g->n_blocks - 1);
     if (!(isfinite(f[i].fx) && isfinite(f[i].fz) && isfinite(f[i].px) && isfinite(f[i].pz)))
-      return vs_error_set(err, VS_ERR_INVALID, "model: load %d is not finite", i);
+      return vs_error_set(err, VS_ERR_INVALID, "model: %s %d is not finite", what, i);
   }
   vs_model_force *copy = NULL;
   if (n > 0) {
@@ -26,10 +28,18 @@ vs_status vs_model_set_loads(vs_model *m, const vs_model_force *f, int n, vs_err
     if (copy == NULL) return vs_error_set(err, VS_ERR_NOMEM, "model: out of memory");
     memcpy(copy, f, (size_t)n * sizeof *copy);
   }
-  free(m->loads);
-  m->loads = copy;
-  m->n_loads = n;
+  free(*dst);
+  *dst = copy;
+  *nd = n;
   return VS_OK;
+}
+
+vs_status vs_model_set_loads(vs_model *m, const vs_model_force *f, int n, vs_error *err) {
+  return copy_forces(m, "loads", f, n, &m->loads, &m->n_loads, err);
+}
+
+vs_status vs_model_set_dead_loads(vs_model *m, const vs_model_force *f, int n, vs_error *err) {
+  return copy_forces(m, "dead loads", f, n, &m->dead, &m->n_dead, err);
 }
 
 int vs_model_load_count(const vs_model *m) { return m->n_loads; }
@@ -58,35 +68,18 @@ void vs_model_load_vector(const vs_model *m, const double *q, double *out) {
   }
 }
 
-double vs_model_load_displacement(const vs_model *m, const double *q) {
-  double work = 0.0, size = 0.0;
-  for (int i = 0; i < m->n_loads; i++) {
-    const vs_model_force *f = &m->loads[i];
-    const vs_block *b = &m->g->blocks[f->block];
-    double r[2];
-    load_arm(m, f, q, r);
-    const double ux = q[3 * f->block] + r[0] - (f->px - b->cx);
-    const double uz = q[3 * f->block + 1] + r[1] - (f->pz - b->cz);
-    work += f->fx * ux + f->fz * uz;
-    size += hypot(f->fx, f->fz);
-  }
-  return size > 0.0 ? work / size : 0.0;
-}
-
 double vs_model_load_size(const vs_model *m) {
   double size = 0.0;
   for (int i = 0; i < m->n_loads; i++) size += hypot(m->loads[i].fx, m->loads[i].fz);
   return size;
 }
 
-/* The loads' part of the residual and Jacobian over pattern p (blocks are slots 0..n_blocks-1):
- * G -= lambda f(q); K(theta, theta) += lambda (f . r) (d/dtheta of the moment r x f is -f . r). */
-void vs_model_loads_add(const vs_model *m, const vs_pattern *p, const double *q, double *G,
-                        double *kdata) {
-  if (m->n_loads == 0 || m->lscale == 0.0) return;
-  const double lam = m->lscale;
-  for (int i = 0; i < m->n_loads; i++) {
-    const vs_model_force *f = &m->loads[i];
+/* Forces f[0..n) times lam over pattern p (blocks are slots 0..n_blocks-1): G -= lam f(q);
+ * K(theta, theta) += lam (f . r) (d/dtheta of the moment r x f is -f . r). */
+static void add_forces(const vs_model *m, const vs_pattern *p, const vs_model_force *fs, int n,
+                       double lam, const double *q, double *G, double *kdata) {
+  for (int i = 0; i < n; i++) {
+    const vs_model_force *f = &fs[i];
     double r[2];
     load_arm(m, f, q, r);
     const int *d = p->dof + 3 * f->block;
@@ -99,9 +92,38 @@ void vs_model_loads_add(const vs_model *m, const vs_pattern *p, const double *q,
   }
 }
 
+/* The loads' part of the residual and Jacobian: the dead loads, and the live ones times the
+ * load factor. */
+void vs_model_loads_add(const vs_model *m, const vs_pattern *p, const double *q, double *G,
+                        double *kdata) {
+  if (m->n_dead > 0) add_forces(m, p, m->dead, m->n_dead, 1.0, q, G, kdata);
+  if (m->n_loads > 0 && m->lscale != 0.0)
+    add_forces(m, p, m->loads, m->n_loads, m->lscale, q, G, kdata);
+}
+
+/* The work of forces f[0..n) on their points' displacements at q (J). */
+static double forces_work(const vs_model *m, const vs_model_force *fs, int n, const double *q) {
+  double work = 0.0;
+  for (int i = 0; i < n; i++) {
+    const vs_model_force *f = &fs[i];
+    const vs_block *b = &m->g->blocks[f->block];
+    double r[2];
+    load_arm(m, f, q, r);
+    const double ux = q[3 * f->block] + r[0] - (f->px - b->cx);
+    const double uz = q[3 * f->block + 1] + r[1] - (f->pz - b->cz);
+    work += f->fx * ux + f->fz * uz;
+  }
+  return work;
+}
+
 double vs_model_load_energy(const vs_model *m, const double *q) {
-  if (m->n_loads == 0 || m->lscale == 0.0) return 0.0;
-  double size = 0.0;
-  for (int i = 0; i < m->n_loads; i++) size += hypot(m->loads[i].fx, m->loads[i].fz);
-  return -m->lscale * size * vs_model_load_displacement(m, q);
+  double e = 0.0;
+  if (m->n_dead > 0) e -= forces_work(m, m->dead, m->n_dead, q);
+  if (m->n_loads > 0 && m->lscale != 0.0) e -= m->lscale * forces_work(m, m->loads, m->n_loads, q);
+  return e;
+}
+
+double vs_model_load_displacement(const vs_model *m, const double *q) {
+  const double size = vs_model_load_size(m);
+  return size > 0.0 ? forces_work(m, m->loads, m->n_loads, q) / size : 0.0;
 }

@@ -122,7 +122,8 @@ int vs_run_record_sliding(vs_run *r, const vs_path_result *p);
 void vs_run_classify(vs_run *r);
 
 /* run_load.c */
-/* The live load of the definition on the model (analysis.type = load); VS_OK without one. */
+/* The fill's dead load (any analysis) and the live load (analysis.type = load) of the
+ * definition on the model. */
 vs_status vs_run_load_setup(vs_run *r, vs_error *err);
 /* analysis.type = load, the support held (r->q the equilibrium there, r->load.hold): load to
  * collapse. */

@@ -12,13 +12,10 @@
 #include "voussoir/limit.h"
 #include "voussoir/quasistatic.h"
 
-vs_status vs_run_load_setup(vs_run *r, vs_error *err) {
-  const vs_run_def *d = &r->def;
-  if (d->analysis.type != VS_ANALYSIS_LOAD) return VS_OK;
-  vs_limit_force *lf = NULL;
-  int n = 0;
-  vs_status st = vs_limit_live_load(r->g, &d->load, &lf, &n, err);
-  if (st != VS_OK) return st;
+/* The limit analysis' forces lf[0..n) (freed here) on the model: its live loads, or (dead) its
+ * dead loads. */
+static vs_status model_forces(vs_run *r, vs_limit_force *lf, int n, int dead, vs_error *err) {
+  vs_status st = VS_OK;
   vs_model_force *f = malloc((size_t)(n > 0 ? n : 1) * sizeof *f);
   if (f == NULL) {
     free(lf);
@@ -27,10 +24,22 @@ vs_status vs_run_load_setup(vs_run *r, vs_error *err) {
   for (int i = 0; i < n; i++)
     f[i] = (vs_model_force){.block = lf[i].block, .fx = lf[i].fx, .fz = lf[i].fz, .px = lf[i].px,
                             .pz = lf[i].pz};
-  st = vs_model_set_loads(r->m, f, n, err);
+  st = dead ? vs_model_set_dead_loads(r->m, f, n, err) : vs_model_set_loads(r->m, f, n, err);
   free(f);
   free(lf);
   return st;
+}
+
+vs_status vs_run_load_setup(vs_run *r, vs_error *err) {
+  const vs_run_def *d = &r->def;
+  vs_limit_force *lf = NULL;
+  int n = 0;
+  vs_status st = vs_limit_fill_load(r->g, &d->fill, &lf, &n, err); /* every analysis */
+  if (st == VS_OK && n > 0) st = model_forces(r, lf, n, 1, err);
+  else free(lf);
+  if (st != VS_OK || d->analysis.type != VS_ANALYSIS_LOAD) return st;
+  st = vs_limit_live_load(r->g, &d->load, &lf, &n, err);
+  return st == VS_OK ? model_forces(r, lf, n, 0, err) : st;
 }
 
 void vs_run_load_free(vs_run *r) {
