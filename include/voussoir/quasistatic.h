@@ -147,7 +147,7 @@ typedef struct {
   double follow;     /* ... and u has grown by at least this beyond the peak (m, >= 0): a
                         first peak may be a snap-through, after which lambda rises again */
   double newton_tol; /* scaled residual tolerance, as vs_path_opts' */
-  int newton_maxiter;
+  int newton_maxiter; /* at least 30 are allowed */
   const volatile sig_atomic_t *stop; /* as vs_path_opts' */
   const double *deadline;
 } vs_load_opts;

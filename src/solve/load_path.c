@@ -30,6 +30,15 @@ static const double VS_LP_PILOT_TOL = 1e-3;
  * take lambda far down before it rises to a higher peak; the arc may also close on itself). */
 static const long VS_LP_ARC_PATIENCE = 200;
 static const double VS_LP_ARC_MIN = 1e-3;
+/* The first increment, from the held state with no secant to predict from, may be cut down to
+ * this fraction of the smallest increment (peak_tol): stiff joints (k_n = 1e4 N/mm^3 on the
+ * reference specimen) converge only within a few nanometres of that state. */
+static const double VS_LP_FIRST_CUT = 1e-3;
+/* Newton iterations per increment at least: the secant predictor (none at the first increment)
+ * is rougher than the support path's tangent, and stiff joints' contact zones, a few microns
+ * wide, change under it (8, the support path's default, stalls the reference specimen's first
+ * increment at k_n = 300 N/mm^3). */
+static const long VS_LP_MIN_ITERS = 30;
 /* Increments grow by this factor after a solve of at most VS_LP_EASY Newton iterations. */
 static const double VS_LP_GROW = 2.0;
 static const long VS_LP_EASY = 4;
@@ -224,7 +233,9 @@ vs_status vs_lp_create(vs_lp_solver *s, vs_model *m, const vs_load_opts *o, vs_e
   if ((flag = KINSetJacFn(s->kin, lp_jac)) != KIN_SUCCESS) return lp_fail(s, err, "KINSetJacFn", flag);
   if ((flag = KINSetMaxSetupCalls(s->kin, 1)) != KIN_SUCCESS)
     return lp_fail(s, err, "KINSetMaxSetupCalls", flag);
-  if ((flag = KINSetNumMaxIters(s->kin, o->newton_maxiter)) != KIN_SUCCESS)
+  if ((flag = KINSetNumMaxIters(s->kin, o->newton_maxiter > VS_LP_MIN_ITERS ? o->newton_maxiter
+                                                                              : VS_LP_MIN_ITERS)) !=
+      KIN_SUCCESS)
     return lp_fail(s, err, "KINSetNumMaxIters", flag);
   if ((flag = KINSetFuncNormTol(s->kin, o->newton_tol)) != KIN_SUCCESS)
     return lp_fail(s, err, "KINSetFuncNormTol", flag);
@@ -257,7 +268,10 @@ int vs_lp_solve(vs_lp_solver *s, double target, double *x, long *iters) {
   long nni = 0;
   KINGetNumNonlinSolvIters(s->kin, &nni);
   *iters = nni;
-  const int stalled = flag == KIN_STEP_LT_STPTOL || flag == KIN_LINESEARCH_NONCONV;
+  /* a stall, or the iteration cap reached at the round-off floor (stiff joints: Newton wanders
+   * there without its step falling below the step tolerance) */
+  const int stalled = flag == KIN_STEP_LT_STPTOL || flag == KIN_LINESEARCH_NONCONV ||
+                      flag == KIN_MAXITER_REACHED;
   if (flag != KIN_SUCCESS && flag != KIN_INITIAL_GUESS_OK && !stalled) return flag;
   const double *u = N_VGetArrayPointer(s->x);
   double du = 0.0;
@@ -399,8 +413,10 @@ static vs_status lp_path_run(vs_lp_solver *s, lp_path *w, vs_load_step_fn fn, vo
       vs_status st = lp_fatal(s, w->u, err);
       if (st != VS_OK) return st;
       res->rejected++;
-      if (h > w->hmin) {
-        w->h = fmax(0.5 * h, w->hmin);
+      /* the first increment, from no predictor, may be cut further (stiff joints) */
+      const double hlow = res->steps == 0 ? VS_LP_FIRST_CUT * w->hmin : w->hmin;
+      if (h > hlow) {
+        w->h = fmax(0.5 * h, hlow);
         continue;
       }
       /* near the peak (lambda not yet down by drop), u may have turned back: arc length */
