@@ -191,6 +191,8 @@ typedef struct {
   char cause[256];      /* why the path stopped, when it stalled */
   long steps, rejected, newton_iterations, jacobian_evals; /* the load path's solver */
 } vs_run_load_result;
+/* The run's load path (done = 0 unless analysis.type = load): owned by the run, its curve valid
+ * until vs_run_destroy. */
 VS_API const vs_run_load_result *vs_run_load(const vs_run *r);
 
 VS_API const vs_dyn_result *vs_run_dynamic_totals(const vs_run *r);
