@@ -128,8 +128,8 @@ for s in shapes:
     # follows from its eccentricity, h sqrt(1 + 2 e)), each a finite collapse, its supports'
     # travel as the motion gives it
     rows, cols = table(os.path.join(out, f"{s}_sw", "summary.csv"))
-    check(cols[-4:] == ["left_dx_mm", "left_dz_mm", "right_dx_mm", "right_dz_mm"] and
-          cols[-5] == "error", f"{s}: sweep columns {cols}")
+    check(cols[-5:] == ["left_dx_mm", "left_dz_mm", "right_dx_mm", "right_dz_mm", "load_factor"]
+          and cols[-6] == "error", f"{s}: sweep columns {cols}")
     for r in rows:
         check(r["status"] == "collapse" and math.isfinite(float(r["delta_u_mm"])),
               f"{s}: sweep run {r['run']}: {r['status']} {r['error']}")
@@ -152,7 +152,7 @@ for s in shapes:
     # montecarlo with imperfections drawn on the shape: every sample a collapse (or a failure
     # with its cause), the supports' travel of each collapse from its delta_u
     rows, cols = table(os.path.join(out, f"{s}_mc", "samples.csv"))
-    check(cols[-4:] == ["left_dx_mm", "left_dz_mm", "right_dx_mm", "right_dz_mm"],
+    check(cols[-5:-1] == ["left_dx_mm", "left_dz_mm", "right_dx_mm", "right_dz_mm"],
           f"{s}: montecarlo columns {cols}")
     check(len(rows) == 3 and any(r["status"] == "collapse" for r in rows),
           f"{s}: montecarlo: {[(r['status'], r['error']) for r in rows]}")
@@ -235,7 +235,7 @@ for name in ("samples.csv", "statistics.csv"):
     check(open(os.path.join(out, "old_merged", name)).read() ==
           open(os.path.join(out, "old_again", name)).read(), f"merged again: {name} differs")
 old, cols = table(os.path.join(out, "old_merged", "samples.csv"))
-check(cols[-1] == "right_dz_mm" and len(old) == 4, f"old table merged: {cols}")
+check(cols[-2] == "right_dz_mm" and cols[-1] == "load_factor" and len(old) == 4, f"old table merged: {cols}")
 
 print("commands on shapes:", "FAILED" if failures else "ok", f"({len(shapes)} shapes)")
 sys.exit(1 if failures else 0)

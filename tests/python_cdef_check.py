@@ -29,7 +29,7 @@ def check(expr, what):
 
 
 for name in ("vs_error", "vs_energy", "vs_run_sample", "vs_run_event", "vs_hinge", "vs_slip",
-             "vs_limit_record", "vs_collapse_record", "vs_mc_sample"):
+             "vs_limit_record", "vs_collapse_record", "vs_mc_sample", "vs_run_load_result"):
     t = ffi.typeof(name)
     check(f"sizeof({name}) == {ffi.sizeof(t)}", f"{name}: size")
     for field, f in t.fields:

@@ -21,7 +21,9 @@ def check(cond, msg):
         sys.exit(1)
 
 
-def close(a, b, rel=1e-8):  # the JSON prints 10 significant digits
+def close(a, b, rel=1e-8):  # the JSON prints 10 significant digits; NaN (none) equals NaN
+    if math.isnan(a) or math.isnan(b):
+        return math.isnan(a) and math.isnan(b)
     return abs(a - b) <= rel * max(abs(a), abs(b), 1e-300)
 
 

@@ -158,6 +158,8 @@ static const key_case all_keys[] = {
     {"load", "x_mm", "-1.1e6", "1.1e6", {"-1e6", "1e6"}},
     {"load", "width_mm", "-1", "1.1e6", {"0", "1e6"}},
     {"analysis", "hold_mm", "-0.001", "1.1e6", {"0", "1e6"}},
+    {"fill", "unit_weight_kN_m3", "-0.001", "1000.1", {"0", "1000"}},
+    {"fill", "level_mm", "-0.001", "1.1e6", {"0", "1e6"}},
 };
 #define NKEYS_TESTED (sizeof all_keys / sizeof all_keys[0])
 /* Keys that are named choices, tested by name in test_support_kinds (support.left_kind,
@@ -387,7 +389,7 @@ static void check_out_of_range(const key_case *k, const char *value) {
 
 static void test_every_key_out_of_range(void **state) {
   (void)state;
-  assert_int_equal(NKEYS_TESTED, 63);
+  assert_int_equal(NKEYS_TESTED, 65);
   for (size_t i = 0; i < NKEYS_TESTED; i++) {
     check_out_of_range(&all_keys[i], all_keys[i].below);
     if (all_keys[i].above != NULL) check_out_of_range(&all_keys[i], all_keys[i].above);
@@ -473,7 +475,7 @@ static void test_unknown_section(void **state) {
   (void)state;
   expect_read_error("[arch]\nradius_mm = 300\n\n[archh]\nradius_mm = 300\n", VS_ERR_PARSE, 4,
                     "[archh]: unknown section (allowed sections: arch, piers, joints, support, solver, "
-                    "hinges, dynamic, fall, imperfections, run, load, analysis)");
+                    "hinges, dynamic, fall, imperfections, run, load, analysis, fill)");
   /* an empty unknown section is still reported, on its own line */
   expect_read_error("; x\n[nothing]\n", VS_ERR_PARSE, 2, "[nothing]: unknown section");
   expect_read_error("[]\n", VS_ERR_PARSE, 1, "[]: unknown section");

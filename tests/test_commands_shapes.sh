@@ -98,7 +98,7 @@ kn=$(sed -nE 's/^k_n = ([0-9.eE+-]+) N\/mm\^3 gives.*/\1/p' two_cal.txt)
 "$vs" run pointed.ini -q --json --no-record --set dynamic.fall_s=0 --set support.alpha_deg=0 $two --kn "$kn" > two_cal.json
 # a table written before the travel columns and the header's span and motion still merges
 mkdir old_s1
-sed -E '1s/ L_mm=.*//; 2,$s/(,[^,]*){4}$//' two_s1/samples.csv > old_s1/samples.csv
+sed -E '1s/ L_mm=.*//; 2,$s/(,[^,]*){5}$//' two_s1/samples.csv > old_s1/samples.csv
 # with a sample that failed and one that did not collapse (their travel: nan)
 printf '4,failed,nan,nan,nan,nan,0,,,,,,,the cause\n6,max_displacement,1.5,nan,nan,nan,0,,,,,,,\n' >> old_s1/samples.csv
 "$vs" merge old_s1 -o old_merged >/dev/null

@@ -746,7 +746,7 @@ static void test_cli(void **state) {
   const struct {
     const char *args, *msg;
   } bad[] = {
-      {"--set analysis.type=load", "voussoir: analysis.type = load: not yet available"},
+      {"--set analysis.type=load", "voussoir: analysis.type = load needs a live load"},
       {"--set load.kind=point --set load.x_mm=100", "load.kind = point: the support's path carries no live load"},
       {"--set analysis.hold_mm=5", "analysis.hold_mm = 5: a held support displacement needs analysis.type = load"},
       {"--set analysis.type=limit --set load.kind=point --set load.x_mm=900", "load.x_mm = 900: not over the arch's extrados"},

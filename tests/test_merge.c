@@ -23,12 +23,13 @@
 #define MAGIC "# voussoir montecarlo "
 #define HEADER MAGIC "seed=1 radius_mm=300 embrace_deg=125 max_mm=300 alpha_deg=0 voussoirs=55\n"
 #define COLUMNS \
-  "sample,status,first_limit_mm,delta_u_mm,dz_u_mm,dx_u_mm,mode,pattern,A,B,C,D,E,error\n"
+  "sample,status,first_limit_mm,delta_u_mm,dz_u_mm,dx_u_mm,mode,pattern,A,B,C,D,E,error," \
+  "left_dx_mm,left_dz_mm,right_dx_mm,right_dz_mm,load_factor\n"
 /* Rows of two shards (--shard 1/2 and 2/2 of four samples), in the writer's format. */
-#define ROWS_1 "0,collapse,60.5,70.25,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,\n" \
-               "2,failed,nan,nan,nan,nan,0,,,,,,,the arch cannot stand\n"
-#define ROWS_2 "1,collapse,58,66.5,66.5,0,1,E-I-E-E,8-I,29-E,56-E,1-E,,\n" \
-               "3,max_displacement,nan,nan,nan,nan,0,,,,,,,\n"
+#define ROWS_1 "0,collapse,60.5,70.25,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,,0,0,0,70.25,nan\n" \
+               "2,failed,nan,nan,nan,nan,0,,,,,,,the arch cannot stand,nan,nan,nan,nan,nan\n"
+#define ROWS_2 "1,collapse,58,66.5,66.5,0,1,E-I-E-E,8-I,29-E,56-E,1-E,,,0,0,0,70.25,nan\n" \
+               "3,max_displacement,nan,nan,nan,nan,0,,,,,,,,nan,nan,nan,nan,nan\n"
 
 /* DIR/samples.csv with text (mkdir DIR first). */
 static void shard(const char *dir, const char *text) {
@@ -132,22 +133,23 @@ static void test_bad_rows(void **s) {
   static const struct {
     const char *row, *needles[4];
   } cases[] = {
-      {"0,collapse,abc,70.25,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,\n",
+      {"0,collapse,abc,70.25,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,,0,0,0,70.25,nan\n",
        {":3:", "first_limit_mm", NULL}},
-      {"0,collapse,60.5,inf,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,\n", {":3:", "delta_u_mm", NULL}},
-      {"0,collapse,60.5,nan,nan,nan,1,E-I-E-E,9-I,28-E,56-E,1-E,,\n", {":3:", "delta_u_mm", NULL}},
-      {"0,bogus,60.5,70.25,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,\n", {":3:", "status", NULL}},
-      {"0,collapse,60.5,70.25,70.25,0,7,E-I-E-E,9-I,28-E,56-E,1-E,,\n", {":3:", "mode", NULL}},
-      {"0,collapse,60.5,70.25,70.25,0,1,E-I-E-E,57-I,28-E,56-E,1-E,,\n",
+      {"0,collapse,60.5,inf,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,,0,0,0,70.25,nan\n", {":3:", "delta_u_mm", NULL}},
+      {"0,collapse,60.5,nan,nan,nan,1,E-I-E-E,9-I,28-E,56-E,1-E,,,0,0,0,70.25,nan\n", {":3:", "delta_u_mm", NULL}},
+      {"0,bogus,60.5,70.25,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,,0,0,0,70.25,nan\n", {":3:", "status", NULL}},
+      {"0,collapse,60.5,70.25,70.25,0,7,E-I-E-E,9-I,28-E,56-E,1-E,,,0,0,0,70.25,nan\n", {":3:", "mode", NULL}},
+      {"0,collapse,60.5,70.25,70.25,0,1,E-I-E-E,57-I,28-E,56-E,1-E,,,0,0,0,70.25,nan\n",
        {":3:", "A = '57-I'", NULL}},
-      {"0,collapse,60.5,70.25,70.25,0,1,E-I-E-E,9-X,28-E,56-E,1-E,,\n", {":3:", "A = '9-X'", NULL}},
-      {"0,collapse,60.5,70.25,70.25,0,1,E-I-<b>,9-I,28-E,56-E,1-E,,\n", {":3:", "pattern", NULL}},
-      {"-1,collapse,60.5,70.25,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,\n", {":3:", "sample", NULL}},
+      {"0,collapse,60.5,70.25,70.25,0,1,E-I-E-E,9-X,28-E,56-E,1-E,,,0,0,0,70.25,nan\n", {":3:", "A = '9-X'", NULL}},
+      {"0,collapse,60.5,70.25,70.25,0,1,E-I-<b>,9-I,28-E,56-E,1-E,,,0,0,0,70.25,nan\n", {":3:", "pattern", NULL}},
+      {"-1,collapse,60.5,70.25,70.25,0,1,E-I-E-E,9-I,28-E,56-E,1-E,,,0,0,0,70.25,nan\n", {":3:", "sample", NULL}},
       {"0,collapse,60.5\n", {":3:", "columns", NULL}},
       /* more columns than montecarlo writes: its causes' commas and quotes are written ';'
        * (found by tests/fuzz/fuzz_merge.c) */
-      {"0,failed,nan,nan,nan,nan,0,,,,,,,cannot stand, 2 extra\n", {":3:", "error", NULL}},
-      {"0,failed,nan,nan,nan,nan,0,,,,,,,a \"quoted\" cause\n", {":3:", "error", NULL}},
+      {"0,failed,nan,nan,nan,nan,0,,,,,,,cannot stand, 2 extra,nan,nan,nan,nan\n",
+       {":3:", "left_dx_mm", NULL}},
+      {"0,failed,nan,nan,nan,nan,0,,,,,,,a \"quoted\" cause,nan,nan,nan,nan,nan\n", {":3:", "error", NULL}},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     char text[1024], what[32];
@@ -175,7 +177,7 @@ static void test_table_not_regular(void **s) {
 /* An error text with an escape sequence and a bell: merged, quoted. */
 static void test_error_text_quoted(void **s) {
   (void)s;
-  shard("s1", HEADER COLUMNS "0,failed,nan,nan,nan,nan,0,,,,,,,bad \x1b[2J\x07 luck\n");
+  shard("s1", HEADER COLUMNS "0,failed,nan,nan,nan,nan,0,,,,,,,bad \x1b[2J\x07 luck,nan,nan,nan,nan,nan\n");
   assert_int_equal(merge(0), 0);
   const char *out = slurp(in_dir("out/samples.csv"), NULL);
   for (const char *p = out; *p; p++)

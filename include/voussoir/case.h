@@ -152,10 +152,14 @@ typedef struct {
   double width_mm;   /* patch: its horizontal width centred on x_mm, [0, 1e6] mm, default 0 */
 
   /* [analysis] what the run computes (issue 28) */
-  int type;          /* vs_analysis_type: support (default: the support's path), load (not yet
-                        available), limit (the limit analysis alone, limit.h); by name */
+  int type;          /* vs_analysis_type: support (default: the support's path), load (the
+                        live load's path to collapse), limit (the limit analysis alone, limit.h); by name */
   double hold_mm;    /* load: the support displacement held before loading, [0, 1e6] mm,
                         default 0 */
+
+  /* [fill] the fill over the arch, a dead load on its extrados (issue 28) */
+  double unit_weight_kN_m3; /* its unit weight, [0, 1000] kN/m^3, 0 (the default): no fill */
+  double level_mm;          /* its surface above the crown's extrados, [0, 1e6] mm, default 0 */
 
   /* [run] how long a run may take */
   double max_wall_s;    /* wall-time limit of a run, [0, 1e6] s, 0 (the default): none. Once
@@ -207,14 +211,15 @@ VS_API vs_status vs_case_assign(vs_case *c, const char *section, const char *key
                                 const char *where, vs_error *err);
 
 /* Check every field's range again (fields may have been set in code) and the relations between
- * fields: limit_tol_mm <= step_mm <= step_max_mm and step_mm < max_mm; analysis.type = load is
- * not yet available, nor is a non-zero analysis.hold_mm; a live load (load.kind) needs
- * analysis.type = limit. Call it after all overrides. Fails with VS_ERR_INVALID; err names the
+ * fields: limit_tol_mm <= step_mm <= step_max_mm and step_mm < max_mm; analysis.type = load
+ * needs a live load and dynamic.full = 0; a non-zero analysis.hold_mm needs analysis.type =
+ * load and is < max_mm; a live load (load.kind) needs analysis.type = load or limit. Call it after all overrides. Fails with VS_ERR_INVALID; err names the
  * field(s) and the allowed range. */
 VS_API vs_status vs_case_validate(const vs_case *c, vs_error *err);
 
-/* VS_OK when c follows the support's path (analysis.type = support), else VS_ERR_INVALID saying
- * that `command` (a name, "sweep") follows only that path: the study commands' check. */
+/* VS_OK when c follows a path that `command` (a name, "sweep") can study: the support's
+ * (analysis.type = support), or the live load's (load) for any command but "calibrate"; else
+ * VS_ERR_INVALID saying so: the study commands' check. */
 VS_API vs_status vs_case_check_path(const vs_case *c, const char *command, vs_error *err);
 
 /* The case's keys, from the one table that defines them (so that records and tools cannot miss

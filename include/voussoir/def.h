@@ -245,6 +245,13 @@ typedef struct {
   double hold; /* m */
 } vs_analysis_def;
 
+/* The fill over the arch as a dead load (issue 28, item 2; limit.h vs_limit_fill_load): its unit
+ * weight (0: no fill) up to a level above the crown's extrados, on the extrados. */
+typedef struct {
+  double unit_weight; /* N/m^3 */
+  double level;       /* the fill's surface above the crown's extrados, m */
+} vs_fill_def;
+
 typedef struct {
   vs_arch_def arch;
   vs_joints_def joints;
@@ -256,6 +263,7 @@ typedef struct {
   vs_imperfection_def imperfections;
   vs_load_def load;         /* the live load (issue 28) */
   vs_analysis_def analysis; /* what the run computes (issue 28) */
+  vs_fill_def fill;         /* the fill's dead load (issue 28) */
   double max_wall_s; /* wall-time limit of the run, s (0: none): it then stops, as after the
                         stop flag, with VS_ERR_WALL_TIME */
 } vs_run_def;

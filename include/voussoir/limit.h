@@ -108,6 +108,11 @@ VS_API vs_status vs_limit_create(const vs_geometry *g, const vs_limit_opts *o,
 /* Free l and NULL *l; NULL allowed. */
 VS_API void vs_limit_destroy(vs_limit **l);
 
+/* Add dead forces (besides the blocks' weight, e.g. the fill's: vs_limit_fill_load) to l's
+ * equilibrium, before its solves. VS_ERR_INVALID on a block out of range or a force that is
+ * not finite. */
+VS_API vs_status vs_limit_add_dead(vs_limit *l, const vs_limit_force *dead, int n, vs_error *err);
+
 /* Solve for goal into s (its previous arrays are freed). An infeasible or unbounded LP is a
  * result (s->outcome), not an error; errors: VS_ERR_INVALID (the load factor without a live
  * load), VS_ERR_SOLVER (CLP stopped without an answer), VS_ERR_NOMEM. */
@@ -122,6 +127,14 @@ VS_API vs_status vs_limit_solve(vs_limit *l, vs_limit_goal goal, vs_limit_soluti
  * horizontally (+x, toward the right support) at its centroid. VS_ERR_INVALID (naming the
  * case key) when the load does not lie over the extrados or a patch has no width. */
 VS_API vs_status vs_limit_live_load(const vs_geometry *g, const vs_load_def *ld,
+                                    vs_limit_force **out, int *n, vs_error *err);
+
+/* The fill of definition fd on arch geometry g as vertical forces (malloc'd into *out, *n of
+ * them; NULL, 0 without fill, unit_weight 0): on each block, the weight of the fill above its
+ * extrados chord (between its joints' extrados ends) up to fd->level above the highest extrados
+ * point (the crown's), unit_weight x depth x the area of that trapezoid, at its centroid's x on
+ * the chord; nothing over the supports. VS_ERR_INVALID on a value that is not finite, VS_ERR_NOMEM. */
+VS_API vs_status vs_limit_fill_load(const vs_geometry *g, const vs_fill_def *fd,
                                     vs_limit_force **out, int *n, vs_error *err);
 
 /* Everything the limit analysis of a run's definition reports. */

@@ -148,6 +148,39 @@ VS_API void vs_model_residual_scale(const vs_model *m, double *scale);
 VS_API void vs_model_set_gravity_scale(vs_model *m, double lambda);
 VS_API double vs_model_gravity_scale(const vs_model *m);
 
+/* --- external loads ---
+ * Dead forces on the blocks besides their weight (a live load, issue 28; a fill's load), each of
+ * fixed size and direction (fx, fz; N) applied at the material point of its block that lies at
+ * (px, pz) (m) in the reference configuration, so that its arm turns with the block. They act
+ * times the load factor lambda (default 0: none) in the residual (generalised forces on the
+ * block: Fx, Fz, and the moment about its moving centroid), the Jacobian, the dynamic phase and
+ * the potential energy (vs_model_gravity_energy adds -lambda f . u). */
+typedef struct {
+  int block; /* 0-based */
+  double fx, fz, px, pz;
+} vs_model_force;
+/* Set the loads (copied; n = 0 removes them). VS_ERR_INVALID on a block out of range or a value
+ * that is not finite, VS_ERR_NOMEM. */
+VS_API vs_status vs_model_set_loads(vs_model *m, const vs_model_force *f, int n, vs_error *err);
+VS_API int vs_model_load_count(const vs_model *m);
+/* Dead forces besides the weight (a fill's), as the loads but always at factor 1 (also in the
+ * residual, the Jacobian, the dynamics and the energy; not in the load vector or the loads'
+ * displacement). Errors as vs_model_set_loads'. */
+VS_API vs_status vs_model_set_dead_loads(vs_model *m, const vs_model_force *f, int n,
+                                         vs_error *err);
+VS_API void vs_model_set_load_factor(vs_model *m, double lambda);
+VS_API double vs_model_load_factor(const vs_model *m);
+/* The loads' generalised forces at lambda = 1 at state q (vs_model_size entries; a pinned
+ * support's rotation gets 0): dG/dlambda = -out. */
+VS_API void vs_model_load_vector(const vs_model *m, const double *q, double *out);
+/* The loads' displacement at q: the work of the loads at lambda = 1 on the displacements of
+ * their points, over the sum of their sizes |f| (m): for a single force, its point's
+ * displacement along it (a vertical point load's deflection). Its gradient in q is
+ * vs_model_load_vector / vs_model_load_size. 0 without loads. */
+VS_API double vs_model_load_displacement(const vs_model *m, const double *q);
+/* The sum of the loads' sizes |f| at lambda = 1, N. */
+VS_API double vs_model_load_size(const vs_model *m);
+
 /* --- dynamics --- */
 
 /* Joint damping as a fraction zeta (>= 0) of each joint's own critical damping: for a joint of

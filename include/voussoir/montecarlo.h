@@ -29,6 +29,9 @@ typedef struct {
   char pattern[16];        /* sides at collapse, left to right ("E-I-E-E"); of more than 8
                               hinges the first 7 and a '-' (vs_hinges_side_pattern) */
   char error[400];         /* the cause of a failure, "" otherwise */
+  double load_factor;      /* analysis.type = load: the load factor at collapse (0: the arch
+                              failed before the hold), the status then VS_MC_NO_COLLAPSE (the
+                              support did not bring it down); NaN otherwise */
 } vs_mc_sample;
 
 /* Run sample `sample` of case base (validated): base with imperfections.sample = sample and
@@ -43,11 +46,12 @@ VS_API void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *out)
 VS_API void vs_mc_travel(const vs_case *c, double delta_mm, double t[4]);
 
 /* The columns of samples.csv (line 2; `voussoir merge` reads them back, and the first 14 of a
- * table written before the last four were appended: each support's own travel at the collapse,
- * mm, outward and downward positive, as the JSON's collapse.left and collapse.right). */
+ * table of 0.3.0 and before): then each support's own travel at the collapse (mm, outward and
+ * downward positive, as the JSON's collapse.left and collapse.right) and the load factor at
+ * collapse (analysis.type = load; NaN otherwise). */
 #define VS_MC_TABLE_COLUMNS \
   "sample,status,first_limit_mm,delta_u_mm,dz_u_mm,dx_u_mm,mode,pattern,A,B,C,D,E,error," \
-  "left_dx_mm,left_dz_mm,right_dx_mm,right_dz_mm"
+  "left_dx_mm,left_dz_mm,right_dx_mm,right_dz_mm,load_factor"
 
 /* The files vs_mc_write_summary writes into its directory (for an initialiser list). */
 #define VS_MC_OUTPUTS \

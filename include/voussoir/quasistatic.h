@@ -130,4 +130,77 @@ VS_API vs_status vs_path_run_with(vs_path_solver *p, const vs_path_opts *o, doub
 VS_API vs_status vs_equilibrium_solve(vs_model *m, const vs_path_opts *o, double delta, double *q,
                                       long *iters, vs_error *err);
 
+/* --- the live load's path (issue 28) ---
+ * The model's loads (vs_model_set_loads) times a growing factor lambda, at a held support
+ * displacement, under displacement control of the loads' own displacement u
+ * (vs_model_load_displacement: a point load's deflection along it), the "pilot": each
+ * equilibrium solves G(q, lambda) = 0 with u(q) prescribed, so the path passes the peak of
+ * lambda, where load control would fail, and follows its falling branch. */
+typedef struct {
+  double step;       /* first increment of u, m */
+  double step_max;   /* largest increment, m */
+  double peak_tol;   /* the peak is bracketed to this increment of u (and no increment is
+                        smaller), m */
+  double max_disp;   /* stop once u has grown by this, m */
+  double drop;       /* stop once, past the peak, lambda has fallen below (1 - drop) x the
+                        peak's; in (0, 1) ... */
+  double follow;     /* ... and u has grown by at least this beyond the peak (m, >= 0): a
+                        first peak may be a snap-through, after which lambda rises again */
+  double newton_tol; /* scaled residual tolerance, as vs_path_opts' */
+  int newton_maxiter; /* at least 30 are allowed */
+  const volatile sig_atomic_t *stop; /* as vs_path_opts' */
+  const double *deadline;
+} vs_load_opts;
+
+/* The default fall of lambda past the peak that ends a load path: a tenth. */
+#define VS_LOAD_DROP 0.1
+/* The load path's increments against the support path's (solver.step_mm, step_max_mm): a load
+ * deflects the arch by a millimetre or so to its peak, where a support moves by tens. */
+#define VS_LOAD_STEP_SCALE 0.1
+
+/* Options from a run's definition: its path's step and step_max times VS_LOAD_STEP_SCALE,
+ * limit_tol (peak_tol) and Newton settings, the support's largest displacement (max_disp),
+ * VS_LOAD_DROP, the arch's thickness (follow); no stop flag. */
+VS_API void vs_load_opts_from_def(const vs_run_def *d, vs_load_opts *o);
+
+typedef enum {
+  VS_LOAD_END_PEAK = 1,     /* past the peak, lambda fell by drop (and u grew by follow, or no
+                               equilibrium was found further on: cause): the collapse */
+  VS_LOAD_END_SLIDING = 2,  /* joints slide at a constant lambda (VS_PATH_PLATEAU_RTOL between
+                               two equilibria): a sliding mechanism, the collapse */
+  VS_LOAD_END_MAX_DISP = 3, /* max_disp reached with lambda still at or near its peak */
+  VS_LOAD_END_STALLED = 4   /* no equilibrium found beyond at the smallest increment (cause) */
+} vs_load_end;
+
+typedef struct {
+  vs_load_end end;
+  int peaked;            /* lambda has fallen at least once (the peak is bracketed) */
+  double lambda_peak;    /* the largest lambda on the path: the load factor at collapse */
+  double lambda_first, u_first; /* the first peak of lambda (NaN before one): where load
+                                   control would snap; a snap-back may lead on to a higher one */
+  double u_peak;         /* u there, m */
+  double lambda_last, u_last; /* the last equilibrium */
+  double u_start;        /* u at lambda = 0 (the held support's state), m */
+  double arc_from;       /* where the pilot failed and arc length took over (u turned back:
+                            a snap-back), m; NaN if it never did */
+  long steps, rejected, newton_iterations, jacobian_evals;
+  double max_residual;   /* largest scaled residual accepted */
+  char cause[256];       /* why the path stopped where no equilibrium was found further on
+                            (VS_LOAD_END_STALLED, or _PEAK short of follow); else "" */
+} vs_load_result;
+
+/* Called after every accepted equilibrium: lambda, the pilot u (m), the state q (the committed
+ * slips updated). Non-zero stops the path (VS_ERR_STOPPED). */
+typedef int (*vs_load_step_fn)(void *user, double lambda, double u, const double *q,
+                               const vs_model *m);
+
+/* Follow the load path of model m (with loads) at support displacement delta (m) from q, an
+ * equilibrium at lambda = 0 (vs_model_size entries; the last equilibrium on return, and the
+ * model's load factor its lambda). Errors: VS_ERR_INVALID (no loads, options out of range),
+ * VS_ERR_NOMEM, VS_ERR_SOLVER (setup, a residual that is not finite, too many increments),
+ * VS_ERR_INTERRUPTED, VS_ERR_STOPPED. A path that stalls is a result (res->end). */
+VS_API vs_status vs_load_path_run(vs_model *m, const vs_load_opts *o, double delta, double *q,
+                                  vs_load_step_fn fn, void *user, vs_load_result *res,
+                                  vs_error *err);
+
 #endif

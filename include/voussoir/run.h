@@ -170,6 +170,36 @@ VS_API const vs_path_result *vs_run_path_totals(const vs_run *r);
 VS_API int vs_run_limit_count(const vs_run *r);
 VS_API const vs_limit_record *vs_run_limit(const vs_run *r, int i);
 VS_API const vs_collapse_record *vs_run_collapse(const vs_run *r);
+/* The live load's path (analysis.type = load, issue 28): the support held at hold, then the
+ * live load times lambda to collapse, through its peak (quasistatic.h, vs_load_path_run). */
+typedef struct {
+  int done;             /* the load path ran (analysis.type = load) */
+  int end;              /* vs_load_end (quasistatic.h); 0 when it did not run or the arch
+                           failed before it (held) */
+  double hold;          /* the support displacement held, m */
+  int held_limit;       /* 1: the arch did not stand still at the hold: it collapsed before
+                           it (load_factor 0), or was still moving there (a snap-through under
+                           way, no equilibrium found near: load_factor NaN), or met a limit
+                           point not followed (dynamic.follow = 0: NaN) */
+  double load_factor;   /* the largest lambda on the path: the load factor at collapse */
+  double deflection;    /* the loads' displacement at the peak from where loading began, m */
+  double first_peak;    /* the first peak of lambda, where load control would snap (a
+                           snap-back may lead to the higher load_factor); NaN before one */
+  int snap_back;        /* the loads' displacement turned back: followed by arc length */
+  int settled;          /* the support reached the hold during a snap-through: the arch was
+                           taken at the stable equilibrium Newton found from its moving state */
+  int n;                /* points of the load-deflection curve ... */
+  const double *lambda; /* ... lambda ... */
+  const double *u;      /* ... and the loads' displacement from where loading began, m */
+  char mechanism[160];  /* the hinges open where lambda first fell by VS_LOAD_DROP past its
+                           peak (else at the end of the path), as vs_run_open_hinges */
+  char cause[256];      /* why the path stopped, when it stalled */
+  long steps, rejected, newton_iterations, jacobian_evals; /* the load path's solver */
+} vs_run_load_result;
+/* The run's load path (done = 0 unless analysis.type = load): owned by the run, its curve valid
+ * until vs_run_destroy. */
+VS_API const vs_run_load_result *vs_run_load(const vs_run *r);
+
 VS_API const vs_dyn_result *vs_run_dynamic_totals(const vs_run *r);
 
 /* Hinges to report: all of them, or after a collapse those formed up to its onset (the falling

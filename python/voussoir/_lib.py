@@ -104,7 +104,25 @@ typedef struct {
   char hinge_side[5];
   char pattern[16];
   char error[400];
+  double load_factor;
 } vs_mc_sample;
+typedef struct {
+  int done;
+  int end;
+  double hold;
+  int held_limit;
+  double load_factor;
+  double deflection;
+  double first_peak;
+  int snap_back;
+  int settled;
+  int n;
+  const double *lambda;
+  const double *u;
+  char mechanism[160];
+  char cause[256];
+  long steps, rejected, newton_iterations, jacobian_evals;
+} vs_run_load_result;
 typedef int (*vs_run_sample_fn)(void *user, const vs_run *run, const vs_run_sample *s);
 typedef int (*vs_run_event_fn)(void *user, const vs_run *run, const vs_run_event *e);
 """
@@ -139,6 +157,7 @@ const vs_model *vs_run_model(const vs_run *r);
 int vs_run_limit_count(const vs_run *r);
 const vs_limit_record *vs_run_limit(const vs_run *r, int i);
 const vs_collapse_record *vs_run_collapse(const vs_run *r);
+const vs_run_load_result *vs_run_load(const vs_run *r);
 int vs_run_hinge_count(const vs_run *r);
 const vs_hinge *vs_run_hinge(const vs_run *r, int i);
 int vs_run_event_count(const vs_run *r);

@@ -13,7 +13,7 @@ from .case import Case
 MM = 1e-3
 _PHASES = ("quasistatic", "dynamic", "fall")
 _EVENTS = ("joint_opened", "joint_closed", "hinge_formed", "limit_point", "snap_settled",
-           "collapse", "joint_slipped")
+           "collapse", "joint_slipped", "pier_rocked", "course_opened")
 _STOPPED, _WALL = _lib.STATUS["VS_ERR_STOPPED"], _lib.STATUS["VS_ERR_WALL_TIME"]
 
 # What the history keeps of every recorded state, with units (the record's names).
@@ -181,7 +181,9 @@ class Result:
     limit_points, hinges (as reported: order of appearance, each as at the collapse's onset),
     events, mode ('I', 'II', 'III' or None), hinge_sides_initial / hinge_sides_collapse,
     hinges_at_collapse ("D:1-E A:9-10-I ...", "" without a collapse),
-    history (History), wall_s (the run's wall-clock time), case (Case)."""
+    history (History), wall_s (the run's wall-clock time), case (Case), load_factor (with
+    analysis.type = load: the live load's factor at collapse, 0 when the arch fell before the
+    hold; NaN otherwise)."""
 
     def __init__(self, case, run, status, err, history):
         L = _lib.lib()
@@ -209,6 +211,8 @@ class Result:
             L.vs_hinges_list(c.hinges, c.n_hinges, 0, buf, 512)
         self.hinges_at_collapse = ffi.string(buf).decode()
         self.history = history
+        ld = L.vs_run_load(run)
+        self.load_factor = ld.load_factor if ld.done else math.nan
 
     def to_dataframe(self):
         """The history as a pandas DataFrame (one row per recorded state, units in

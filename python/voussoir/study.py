@@ -21,8 +21,8 @@ MC_COLUMNS = ["sample", "status", "first_limit_mm", "delta_u_mm", "dz_u_mm", "dx
 # each support's own travel at the collapse (mm, outward and downward positive), the last four
 # columns of both tables as in the program's summary.csv and samples.csv
 TRAVEL_COLUMNS = ["left_dx_mm", "left_dz_mm", "right_dx_mm", "right_dz_mm"]
-SWEEP_COLUMNS += TRAVEL_COLUMNS
-MC_COLUMNS += TRAVEL_COLUMNS
+SWEEP_COLUMNS += TRAVEL_COLUMNS + ["load_factor"]  # load_factor: analysis.type = load, else NaN
+MC_COLUMNS += TRAVEL_COLUMNS + ["load_factor"]
 _MC_STATUS = ("collapse", "max_displacement", "failed")
 
 
@@ -61,7 +61,8 @@ def sweep(case, alpha=None, kn=None, *, jobs=None, fall=False, **axes):
     summary.csv: run, one per axis (its section.key), status, first_limit_mm, delta_u_mm,
     dz_over_L_pct, dx_over_L_pct, hinges_at_collapse, mode, snaps, wall_s, error (a run that
     failed is a row with its error, not an exception), left_dx_mm, left_dz_mm, right_dx_mm,
-    right_dz_mm (each support's own travel at the collapse, outward and downward positive)."""
+    right_dz_mm (each support's own travel at the collapse, outward and downward positive),
+    load_factor (analysis.type = load)."""
     base = _base(case, fall)
     ax = []
     if alpha is not None:
@@ -95,6 +96,7 @@ def _sweep_row(case, stop):
         row["error"] = e.message
     row["status"] = res.status
     row["wall_s"] = res.wall_s
+    row["load_factor"] = res.load_factor
     row["mode"] = res.mode or ""
     if res.first_limit is not None:
         row["first_limit_mm"] = res.first_limit.delta_mm
@@ -115,7 +117,8 @@ def montecarlo(case, samples, seed=None, *, jobs=None):
     montecarlo`'s samples.csv: sample, status (collapse, max_displacement: none within
     support.max_mm, failed), first_limit_mm, delta_u_mm, dz_u_mm, dx_u_mm, mode (1..3 for
     I..III, 0 unclassified), pattern, A..E (each hinge at collapse as joint-side, "9-I"),
-    error, left_dx_mm, left_dz_mm, right_dx_mm, right_dz_mm (each support's own travel). A sample's run cannot be stopped from Python: Ctrl-C starts no new sample and
+    error, left_dx_mm, left_dz_mm, right_dx_mm, right_dz_mm (each support's own travel),
+    load_factor (analysis.type = load). A sample's run cannot be stopped from Python: Ctrl-C starts no new sample and
     returns once those under way end."""
     base = case if isinstance(case, Case) else Case.from_file(case)
     if seed is not None:
@@ -148,6 +151,7 @@ def _mc_row(s, base):
            "pattern": ffi.string(s.pattern).decode(),
            "error": ffi.string(s.error).decode()}
     row.update(_travel(base, s.delta_u_mm if s.status == 0 else math.nan))
+    row["load_factor"] = s.load_factor
     for k, label in enumerate("ABCDE"):
         side = s.hinge_side[k].decode() if s.hinge_side[k] != b"\0" else ""
         row[label] = f"{s.hinge_joint[k]}-{side}" if s.hinge_joint[k] else ""

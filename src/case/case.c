@@ -272,9 +272,15 @@ static const key_spec keys[] = {
     KEY(load, width_mm, 0.0, 0.0, true, LEN_MAX, true, "mm", "patch: its horizontal width"),
     KEY_NAMED(analysis, type, 0.0, analysis_types,
               "what a run computes: support (the support's path to collapse), load (the live "
-              "load's path: not yet available), limit (the limit analysis alone, no path)"),
+              "load's path to collapse, at the support held at hold_mm), limit (the limit "
+              "analysis alone, no path)"),
     KEY(analysis, hold_mm, 0.0, 0.0, true, LEN_MAX, true, "mm",
-        "load: the support displacement held before loading (not yet available)"),
+        "load: the support displacement along the support's path held before loading"),
+    KEY(fill, unit_weight_kN_m3, 0.0, 0.0, true, 1000.0, true, "kN/m^3",
+        "the fill's unit weight (0: no fill): a dead load on the extrados, the weight of the fill "
+        "above each voussoir up to level_mm"),
+    KEY(fill, level_mm, 0.0, 0.0, true, LEN_MAX, true, "mm",
+        "the fill's surface above the crown's extrados"),
 };
 #undef LEN_MIN
 #undef LEN_MAX
@@ -789,20 +795,32 @@ static vs_status supports_validate(const vs_case *c, vs_error *err) {
   return VS_OK;
 }
 
-/* What each analysis takes (issue 28): the live load's path is not yet available, a held
- * displacement is its, and the support's path carries no live load. */
+/* What each analysis takes (issue 28): the live load's path needs a live load and follows it
+ * quasi-statically, a held displacement is its, and the support's path carries no live load. */
 static vs_status validate_analysis(const vs_case *c, vs_error *err) {
-  if (c->type == VS_ANALYSIS_LOAD)
-    return vs_error_set(err, VS_ERR_INVALID, "analysis.type = load: not yet available");
-  if (c->hold_mm != 0.0)
+  if (c->type == VS_ANALYSIS_LOAD && c->kind == VS_LOAD_NONE)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "analysis.type = load needs a live load (load.kind = none; allowed: "
+                        "point, line, patch, tilt)");
+  if (c->type == VS_ANALYSIS_LOAD && c->full)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "analysis.type = load with dynamic.full = 1: the load path is "
+                        "quasi-static (allowed: dynamic.full = 0)");
+  if (c->hold_mm != 0.0 && c->type != VS_ANALYSIS_LOAD)
     return vs_error_set(err, VS_ERR_INVALID,
                         "analysis.hold_mm = %.15g: a held support displacement needs "
-                        "analysis.type = load (not yet available)",
+                        "analysis.type = load",
                         c->hold_mm);
+  if (c->hold_mm >= c->max_mm)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "analysis.hold_mm = %.15g: must be < support.max_mm = %.15g (allowed: "
+                        "[0, support.max_mm), mm)",
+                        c->hold_mm, c->max_mm);
   if (c->kind != VS_LOAD_NONE && c->type == VS_ANALYSIS_SUPPORT)
     return vs_error_set(err, VS_ERR_INVALID,
                         "load.kind = %s: the support's path carries no live load (allowed with "
-                        "analysis.type = support: none; a live load: analysis.type = limit)",
+                        "analysis.type = support: none; a live load: analysis.type = load or "
+                        "limit)",
                         vs_load_kind_name((vs_load_kind)c->kind));
   return VS_OK;
 }
@@ -903,10 +921,14 @@ vs_status vs_case_validate(const vs_case *c, vs_error *err) {
 
 vs_status vs_case_check_path(const vs_case *c, const char *command, vs_error *err) {
   if (c->type == VS_ANALYSIS_SUPPORT) return VS_OK;
+  /* sweep and montecarlo follow the load path too (their tables gain load_factor); calibrate
+   * fits the support's collapse displacement */
+  if (c->type == VS_ANALYSIS_LOAD && strcmp(command, "calibrate") != 0) return VS_OK;
   return vs_error_set(err, VS_ERR_INVALID,
-                      "analysis.type = %s: %s follows the support's path (allowed: support; a "
+                      "analysis.type = %s: %s follows the support's path (allowed: support%s; a "
                       "limit analysis: voussoir run CASE --set analysis.type=limit)",
-                      analysis_types[c->type], command);
+                      analysis_types[c->type], command,
+                      strcmp(command, "calibrate") != 0 ? ", load" : "");
 }
 
 double vs_case_span_mm(const vs_case *c) {
@@ -1066,6 +1088,7 @@ void vs_case_to_def(const vs_case *c, vs_run_def *d) {
                           .x = c->x_mm * VS_MM,
                           .width = c->width_mm * VS_MM};
   d->analysis = (vs_analysis_def){.type = (vs_analysis_type)c->type, .hold = c->hold_mm * VS_MM};
+  d->fill = (vs_fill_def){.unit_weight = c->unit_weight_kN_m3 * 1e3, .level = c->level_mm * VS_MM};
 
 }
 

@@ -76,6 +76,8 @@ void vs_model_destroy(vs_model **m) {
   free(p->ra);
   free(p->rb);
   free(p->slip_p);
+  free(p->loads);
+  free(p->dead);
   free(p->cn);
   free(p->cs);
   free(p->laws);

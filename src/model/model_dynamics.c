@@ -117,6 +117,7 @@ static void motion_core(const vs_model *m, const vs_pattern *p, const double *q,
     }
     o->fric += jm.friction;
   }
+  vs_model_loads_add(m, p, q, o->G, kdata); /* external forces, as in the statics */
   if (m->alpha_m > 0.0 && v != NULL && o->want_damping) /* HOOK (damping) */
     mass_damping(m, p, v, o->fd, &o->diss, cdata);
 }

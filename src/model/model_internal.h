@@ -38,6 +38,11 @@ struct vs_model {
   double beta_k;   /* stiffness-proportional damping coefficient (Rayleigh), s */
   int damped;      /* any joint dashpot coefficient > 0 */
   double gscale;   /* gravity load factor (1: the arch's own weight) */
+  vs_model_force *loads; /* external dead forces (model_loads.c), n_loads of them ... */
+  int n_loads;
+  double lscale;         /* ... times this load factor (default 0) */
+  vs_model_force *dead;  /* dead forces besides the weight (the fill's), n_dead, factor 1 */
+  int n_dead;
   double *cn, *cs; /* per joint: damping coefficients, N s/m^3 */
   int pinned[2];   /* left, right: 1 if the support is pinned (its rotation free) */
   vs_pattern pat;  /* statics: the blocks' 3 n_blocks unknowns, then the pinned supports' rotations */
@@ -178,5 +183,13 @@ int vs_model_memo_hit(const vs_model *m, const double *q, const double qs[6]);
 void vs_model_memo_eval(const vs_model *m, const double *q, const double qs[6], int k);
 /* Evaluate every joint at (q, qs) into the memo (half angles done) and key it. */
 void vs_model_memo_fill(const vs_model *m, const double *q, const double qs[6]);
+
+/* model_loads.c: external forces */
+/* The loads times the load factor over pattern p: G -= lambda f(q) (G may be NULL), and their
+ * stiffness into the CSC values kdata (NULL: none). */
+void vs_model_loads_add(const vs_model *m, const vs_pattern *p, const double *q, double *G,
+                        double *kdata);
+/* Their potential, -sum f . u of the dead loads and -lambda sum f . u of the live ones (J). */
+double vs_model_load_energy(const vs_model *m, const double *q);
 
 #endif

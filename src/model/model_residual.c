@@ -26,6 +26,7 @@ static void residual_core(const vs_model *m, const vs_pattern *p, const double *
     for (int e = 0; e < 6; e++)
       if (d[e] >= 0) G[d[e]] += f[e];
   }
+  vs_model_loads_add(m, p, q, G, NULL);
 }
 
 void vs_model_residual(const vs_model *m, const double *q, double delta, double *G) {
@@ -47,6 +48,7 @@ static void jacobian_core(const vs_model *m, const vs_pattern *p, const double *
     else vs_model_eval_joint(m, q, qs, k, 1, NULL, NULL, K);
     scatter_joint(p, k, K, data);
   }
+  vs_model_loads_add(m, p, q, NULL, data);
 }
 
 int vs_model_jacobian(const vs_model *m, const double *q, double delta, SUNMatrix J) {

@@ -155,7 +155,7 @@ double vs_model_gravity_energy(const vs_model *m, const double *q) {
   double eg = 0.0;
   for (int i = 0; i < g->n_blocks; i++)
     eg += m->gscale * g->blocks[i].mass * g->gravity * q[3 * i + 1];
-  return eg;
+  return eg + vs_model_load_energy(m, q); /* and the external forces' (none by default) */
 }
 
 /* The elastic energy of the joints and the potential energy of gravity at (q, qs). */

@@ -249,7 +249,7 @@ static vs_status write_samples_csv(const char *path, const char *part, const vs_
       if (*p == ',' || *p == '\n' || *p == '"') *p = ';';
     double t[4];
     vs_mc_travel(c, x->status == VS_MC_COLLAPSE ? x->delta_u_mm : NAN, t);
-    fprintf(f, ",%s,%.17g,%.17g,%.17g,%.17g\n", e, t[0], t[1], t[2], t[3]);
+    fprintf(f, ",%s,%.17g,%.17g,%.17g,%.17g,%.17g\n", e, t[0], t[1], t[2], t[3], x->load_factor);
   }
   return fclose(f) == 0 ? VS_OK : cannot(path, err);
 }
@@ -296,13 +296,14 @@ static herr_t write_samples_h5(hid_t file, const vs_mc_sample *s, int n) {
   double *col = malloc((size_t)(n > 0 ? n : 1) * VS_MC_LABELS * sizeof *col);
   herr_t rc = g >= 0 && col != NULL ? 0 : -1;
   const hsize_t dn = (hsize_t)n, d2[2] = {(hsize_t)n, VS_MC_LABELS};
-  static const char *names[] = {"sample", "status", "first_limit", "delta_u", "dz_u", "dx_u", "mode"};
-  static const char *units[] = {"1", "1", "m", "m", "m", "m", "1"};
-  for (int c = 0; rc >= 0 && c < 7; c++) {
+  static const char *names[] = {"sample", "status", "first_limit", "delta_u", "dz_u", "dx_u", "mode",
+                                "load_factor"};
+  static const char *units[] = {"1", "1", "m", "m", "m", "m", "1", "1"};
+  for (int c = 0; rc >= 0 && c < 8; c++) {
     for (int i = 0; i < n; i++) {
       const vs_mc_sample *x = &s[i];
-      const double v[7] = {x->sample, x->status, x->first_limit_mm * VS_MM, x->delta_u_mm * VS_MM,
-                           x->dz_u_mm * VS_MM, x->dx_u_mm * VS_MM, x->mode};
+      const double v[8] = {x->sample, x->status, x->first_limit_mm * VS_MM, x->delta_u_mm * VS_MM,
+                           x->dz_u_mm * VS_MM, x->dx_u_mm * VS_MM, x->mode, x->load_factor};
       col[i] = v[c];
     }
     rc = h5_dset(g, names[c], 1, &dn, col, units[c]);
@@ -315,7 +316,7 @@ static herr_t write_samples_h5(hid_t file, const vs_mc_sample *s, int n) {
     rc = vs_h5_attr_cstr(
         g, "description",
         "per sample: status 0 collapse, 1 none within support.max_mm, 2 failed; mode "
-        "1..3 (0 unclassified); hinge_joint[sample][A..E]: middle joint at collapse, "
+        "1..3 (0 unclassified); load_factor: analysis.type = load's (NaN otherwise); hinge_joint[sample][A..E]: middle joint at collapse, "
         "positive at the intrados, negative at the extrados, 0 none");
   free(col);
   if (g >= 0) H5Gclose(g);

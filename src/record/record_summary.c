@@ -372,6 +372,40 @@ static herr_t summary_fall(hid_t sum, const vs_run *run) {
   return rc;
 }
 
+/* analysis.type = load: /summary/load, the load factor, the first peak, the mechanism and the
+ * load-deflection curve (vs_run_load). Nothing for the other analyses. */
+static herr_t summary_load(hid_t sum, const vs_run *run) {
+  const vs_run_load_result *l = vs_run_load(run);
+  if (!l->done) return 0;
+  static const char *const ENDS[] = {"none", "peak", "sliding", "max_displacement", "stalled"};
+  const char *end = l->held_limit ? "held_limit"
+                    : l->end >= 0 && l->end <= 4 ? ENDS[l->end]
+                                                 : "?";
+  hid_t g = vs_h5_group_create(sum, "load");
+  herr_t rc = g >= 0 ? vs_h5_attr_str(g, "end", end) : -1;
+  if (rc >= 0) rc = vs_h5_attr_str(g, "mechanism", l->mechanism);
+  if (rc >= 0) rc = vs_h5_attr_str(g, "cause", l->cause);
+  if (rc >= 0) rc = vs_h5_attr_int(g, "snap_back", l->snap_back);
+  if (rc >= 0) rc = vs_h5_attr_int(g, "settled", l->settled);
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "load_factor", l->load_factor, "1");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "first_peak", l->first_peak, "1");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "deflection", l->deflection, "m");
+  if (rc >= 0) rc = vs_h5_dset_scalar(g, "hold", l->hold, "m");
+  double *c = calloc(2 * (size_t)(l->n > 0 ? l->n : 1), sizeof *c);
+  if (c == NULL) rc = -1;
+  for (int i = 0; rc >= 0 && i < l->n; i++) {
+    c[2 * i] = l->lambda[i];
+    c[2 * i + 1] = l->u[i];
+  }
+  const hsize_t dims[2] = {(hsize_t)l->n, 2};
+  if (rc >= 0)
+    rc = vs_h5_dset_write(g, "curve", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, dims, c, "1,m",
+                          "load_factor,deflection");
+  free(c);
+  vs_h5_close(g);
+  return rc;
+}
+
 vs_status vs_record_summary_write(vs_output *o, const vs_run *run) {
   hid_t sum = H5Gopen2(o->file, "summary", H5P_DEFAULT);
   const char *mode = vs_run_mode(run);
@@ -393,6 +427,7 @@ vs_status vs_record_summary_write(vs_output *o, const vs_run *run) {
   if (rc >= 0) rc = summary_damping(sum, run);
   if (rc >= 0) rc = summary_ground(sum, run);
   if (rc >= 0) rc = summary_fall(sum, run);
+  if (rc >= 0) rc = summary_load(sum, run);
   const vs_hinges *h = vs_run_hinges(run);
   const int n = vs_hinges_count(h);
   vs_hinge *all = calloc((size_t)(n > 0 ? n : 1), sizeof *all);

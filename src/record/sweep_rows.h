@@ -40,6 +40,8 @@ typedef struct {
   int snaps;                          /* limit points the path snapped through */
   double left_dx_mm, left_dz_mm;      /* each support's own travel at the collapse (outward, */
   double right_dx_mm, right_dz_mm;    /* downward positive; as the JSON's collapse.left/right) */
+  double load_factor;                 /* analysis.type = load: the load factor at collapse (0:
+                                         the arch failed before the hold); NaN otherwise */
 } vs_sweep_row;
 
 /* The summary table of a sweep as DIR/summary.h5 (sweep_summary.c, in the record library).

@@ -23,6 +23,7 @@ vs_status vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
     double first_limit, delta_u, dz, dx, wall;
     int snaps;
     double travel[4];
+    double load_factor;
   } mem;
   mem *m = calloc((size_t)(n > 0 ? n : 1), sizeof *m);
   if (m == NULL) return vs_error_set(err, VS_ERR_NOMEM, "%s: out of memory", path);
@@ -33,7 +34,7 @@ vs_status vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
                  rows[i].first_limit_mm, rows[i].delta_u_mm,
                  rows[i].dz_pct,      rows[i].dx_pct,
                  rows[i].wall_s,      rows[i].snaps,
-                 {0}};
+                 {0}, rows[i].load_factor};
   for (int i = 0; i < n; i++) {
     memcpy(m[i].axis, rows[i].axis, sizeof m[i].axis);
     const double tr[4] = {rows[i].left_dx_mm, rows[i].left_dz_mm, rows[i].right_dx_mm,
@@ -65,11 +66,12 @@ vs_status vs_sweep_summary_h5(const char *dir, const vs_sweep_axis *ax, int nax,
   static const char *const travel[4] = {"left_dx_mm", "left_dz_mm", "right_dx_mm", "right_dz_mm"};
   for (int k = 0; k < 4; k++)
     H5Tinsert(t, travel[k], HOFFSET(mem, travel) + (size_t)k * sizeof(double), H5T_NATIVE_DOUBLE);
+  H5Tinsert(t, "load_factor", HOFFSET(mem, load_factor), H5T_NATIVE_DOUBLE);
   snprintf(units + used, sizeof units - used,
            "; status, hinges_at_collapse, mode, error: text; first_limit_mm, delta_u_mm: mm; "
            "dz_over_L_pct, dx_over_L_pct: %% of the intrados span; snaps: count; wall_s: s; "
            "left_dx_mm, left_dz_mm, right_dx_mm, right_dz_mm: mm, each support's own travel at "
-           "the collapse, outward and downward positive");
+           "the collapse, outward and downward positive; load_factor: - (analysis.type = load)");
   /* written as summary.h5.part and renamed into place (only over a regular file): never
    * half-written */
   char part[1200];

@@ -42,7 +42,7 @@ static void relative(const vs_run *r, double delta, vs_mc_sample *o) {
 void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *o) {
   memset(o, 0, sizeof *o);
   o->sample = sample;
-  o->first_limit_mm = o->delta_u_mm = o->dz_u_mm = o->dx_u_mm = NAN;
+  o->first_limit_mm = o->delta_u_mm = o->dz_u_mm = o->dx_u_mm = o->load_factor = NAN;
   vs_case c = *base;
   c.sample = sample;
   c.fall_s = 0.0; /* delta_u and the mechanism are read before the fall, which costs the most */
@@ -51,6 +51,7 @@ void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *o) {
   vs_error_clear(&err);
   vs_status st = vs_run_create(&c, &r, &err);
   if (st == VS_OK) st = vs_run_execute(r, NULL, NULL, NULL, &err);
+  if (r != NULL && vs_run_load(r)->done) o->load_factor = vs_run_load(r)->load_factor;
   if (r != NULL && vs_run_limit_count(r) > 0) o->first_limit_mm = vs_run_limit(r, 0)->delta / VS_MM;
   if (st != VS_OK) {
     o->status = VS_MC_FAILED;

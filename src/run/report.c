@@ -6,6 +6,7 @@
 
 #include <math.h>
 
+#include "report_load.h"
 #include "voussoir/units.h"
 #include "voussoir/version.h"
 #include "quote.h"
@@ -83,6 +84,7 @@ static const char *support_kind(int kind) {
 static const char *end_name(const vs_run *r, vs_status st) {
   if (st == VS_ERR_WALL_TIME || st == VS_ERR_STOPPED) return "stopped";
   if (st != VS_OK) return "failed";
+  if (vs_run_load(r)->done) return vs_report_load_status(r);
   if (vs_run_collapse(r)->found) return "collapse";
   if (!vs_run_case(r)->follow && !vs_run_case(r)->full && vs_run_limit_count(r) > 0)
     return "limit_point";
@@ -392,6 +394,7 @@ void vs_report_json(FILE *out, const vs_run *r, vs_status status, const vs_error
   json_slip_events(out, r);
   vs_report_piers_json(out, r);
   json_damping(out, r);
+  if (vs_run_load(r)->done) vs_report_load_json(out, r);
   json_tail(out, r);
 }
 
@@ -686,9 +689,14 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
   text_header(out, r, case_path);
   text_damping(out, r);
   fputc('\n', out);
-  text_first_limit(out, r);
-  text_limits(out, r);
-  text_collapse(out, r, status);
+  if (vs_run_load(r)->done) {
+    vs_report_load_text(out, r);
+    text_limits(out, r);
+  } else {
+    text_first_limit(out, r);
+    text_limits(out, r);
+    text_collapse(out, r, status);
+  }
   /* a stop is not a failure: the results so far stand, as far as they go */
   if (status == VS_ERR_WALL_TIME || status == VS_ERR_STOPPED)
     fprintf(out, "\n%s at delta = %.4f mm, t = %.6g s (the results above are the run's so far)\n",

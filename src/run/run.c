@@ -142,24 +142,35 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
   return st;
 }
 
-/* What a run's path computes is the support's: a live load and the other analyses are refused
- * here, by name (issue 28: the limit analysis is vs_limit_analyse, the load path is to come). */
+/* What a run computes: the support's path, or the live load's after a held support
+ * displacement (analysis.type = load); the limit analysis is vs_limit_analyse's, refused here
+ * by name. */
 static vs_status check_analysis(const vs_run_def *d, vs_error *err) {
-  if (d->analysis.type == VS_ANALYSIS_LOAD)
-    return vs_error_set(err, VS_ERR_INVALID, "analysis.type = load: not yet available");
   if (d->analysis.type == VS_ANALYSIS_LIMIT)
     return vs_error_set(err, VS_ERR_INVALID,
                         "analysis.type = limit: a limit analysis has no path to run (voussoir "
                         "run prints it; the library's vs_limit_analyse computes it)");
+  if (d->analysis.type == VS_ANALYSIS_LOAD) {
+    if (d->load.kind == VS_LOAD_NONE)
+      return vs_error_set(err, VS_ERR_INVALID,
+                          "analysis.type = load needs a live load (load.kind = none; allowed: "
+                          "point, line, patch, tilt)");
+    if (d->dynamic.full)
+      return vs_error_set(err, VS_ERR_INVALID,
+                          "analysis.type = load with dynamic.full = 1: the load path is "
+                          "quasi-static (allowed: dynamic.full = 0)");
+    return VS_OK;
+  }
   if (d->analysis.hold != 0.0)
     return vs_error_set(err, VS_ERR_INVALID,
                         "analysis.hold_mm = %g: a held support displacement needs analysis.type "
-                        "= load (not yet available)",
+                        "= load",
                         d->analysis.hold / VS_MM);
   if (d->load.kind != VS_LOAD_NONE)
     return vs_error_set(err, VS_ERR_INVALID,
                         "load.kind = %s: the support's path carries no live load (allowed with "
-                        "analysis.type = support: none; a live load: analysis.type = limit)",
+                        "analysis.type = support: none; a live load: analysis.type = load or "
+                        "limit)",
                         vs_load_kind_name(d->load.kind));
   return VS_OK;
 }
@@ -185,6 +196,7 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
       if (st == VS_OK) st = vs_model_set_support_motion(r->m, s, &mo, err);
     }
     if (st == VS_OK) st = own_laws(r, err);
+    if (st == VS_OK) st = vs_run_load_setup(r, err);
   }
   if (st == VS_OK) st = vs_imperfections_apply(&d->imperfections, r->imp, r->m, err);
   if (st == VS_OK && d->dynamic.damping_model == VS_DAMPING_RAYLEIGH &&
@@ -218,6 +230,8 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
     vs_path_opts_from_def(d, &r->popts);
     dyn_opts_from_def(d, r->g, &r->dopts);
     r->popts.deadline = r->dopts.deadline = &r->deadline; /* the wall-time limit's */
+    if (d->analysis.type == VS_ANALYSIS_LOAD) /* the support's path, its motions too, ends held */
+      r->popts.max_delta = r->dopts.max_delta = d->analysis.hold;
     double mass = 0.0;
     for (int i = 0; i < r->g->n_blocks; i++) mass += r->g->blocks[i].mass;
     const double w = deform_speed(&d->support);
@@ -270,6 +284,7 @@ void vs_run_destroy(vs_run **r) {
   free(p->onset_all);
   free(p->pattern_u);
   vs_run_slips_free(p);
+  vs_run_load_free(p);
   vs_modal_free(&p->modal);
   vs_dynamic_destroy(&p->dyn);
   vs_path_solver_destroy(&p->ps);
@@ -458,6 +473,104 @@ static vs_status nomem_stop(const vs_run *r, vs_status st, vs_error *err) {
   return vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
 }
 
+/* The support's path: the quasi-static path from self-weight, and at each limit point (with
+ * dynamic.follow) the motion, resuming the path where the arch comes to rest, until the collapse
+ * or popts.max_delta. */
+static vs_status support_phases(vs_run *r, vs_error *err) {
+  vs_status st = VS_OK;
+  double delta0 = 0.0;
+  for (;;) {
+    vs_path_result p;
+    r->phase = VS_PHASE_QUASISTATIC;
+    r->pending_snap = (delta0 > 0.0 && r->n_limits > 0) ? r->n_limits - 1 : -1;
+    memset(&p, 0, sizeof p);
+    r->live_path = &p;
+    st = vs_path_run_with(r->ps, &r->popts, delta0, r->q, vs_run_on_equilibrium, r, &p, err);
+    if (st == VS_ERR_NO_EQUILIBRIUM && delta0 > 0.0 && p.steps == 0) {
+      /* Newton from the state at rest missed the equilibrium the probe found from it, with the
+       * slips the probe committed there (a joint sliding along a nearly free mode can throw
+       * its steps onto the reverse branch): the path resumes from that equilibrium itself */
+      add_path_totals(r, &p);
+      memcpy(r->q, r->q_rest, (size_t)vs_model_size(r->m) * sizeof *r->q);
+      memset(&p, 0, sizeof p);
+      st = vs_path_run_with(r->ps, &r->popts, delta0, r->q, vs_run_on_equilibrium, r, &p, err);
+    }
+    r->live_path = NULL;
+    if (r->modal_st != VS_OK) st = vs_error_set(err, r->modal_st, "%s", r->modal_err.msg);
+    add_path_totals(r, &p);
+    if (st == VS_OK && p.end == VS_PATH_SLIDING) {
+      st = sliding_collapse(r, &p, err);
+      break;
+    }
+    if (st != VS_OK || p.end != VS_PATH_LIMIT_POINT) break;
+    if (r->n_limits >= VS_RUN_MAX_LIMITS) {
+      st = vs_error_set(err, VS_ERR_SOLVER, "%d limit points (the limit) up to %.6g mm",
+                        VS_RUN_MAX_LIMITS, p.delta_limit / VS_MM);
+      break;
+    }
+    r->delta = p.delta_limit;
+    r->t = r->delta / r->dopts.rate;
+    vs_model_support_reactions(r->m, r->q, r->delta, r->react_eq);
+    if (limit_slips(r, &p) != 0 || vs_run_add_limit(r, p.delta_limit) != 0) {
+      st = vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
+      break;
+    }
+    if (!r->def.dynamic.follow) break;
+    memset(r->v, 0, (size_t)vs_model_size(r->m) * sizeof *r->v);
+    st = dynamic_phase(r, &delta0, err);
+    if (st != VS_OK || isnan(delta0)) break;
+  }
+  return st;
+}
+
+/* analysis.type = load: the support's path (its snap-throughs followed as always) to
+ * analysis.hold (0: self-weight alone), held there at an equilibrium, then the live load to
+ * collapse (run_load.c). A collapse before the hold, or an arch still moving there (or a limit
+ * point not followed, dynamic.follow = 0): it carries no load (load_factor 0). */
+static vs_status load_phases(vs_run *r, vs_error *err) {
+  vs_run_load_result *l = &r->load;
+  l->done = 1;
+  l->hold = r->def.analysis.hold;
+  l->first_peak = NAN;
+  vs_status st = support_phases(r, err);
+  if (st != VS_OK) return st;
+  if (!r->collapse.found && r->totals.end == VS_PATH_LIMIT_POINT && r->def.dynamic.follow &&
+      r->dtot.end == VS_DYN_MAX_DELTA) {
+    /* the support reached the hold while the arch was still moving (a snap-through under way):
+     * held there, the arch settles; its equilibrium is taken as the stable one that Newton
+     * finds from the moving state (as the motion's rest probe does) */
+    const int n = vs_model_size(r->m);
+    memcpy(r->q_rest, r->q, (size_t)n * sizeof *r->q);
+    vs_path_opts probe = r->popts;
+    probe.max_delta = r->delta;
+    vs_path_result pr;
+    vs_error perr;
+    vs_error_clear(&perr);
+    const vs_status ps = vs_path_run_with(r->ps, &probe, r->delta, r->q_rest, NULL, NULL, &pr, &perr);
+    if (ps == VS_ERR_INTERRUPTED) return vs_error_set(err, ps, "interrupted");
+    if (ps == VS_OK) {
+      memcpy(r->q, r->q_rest, (size_t)n * sizeof *r->q);
+      r->totals.end = VS_PATH_MAX_DISPLACEMENT;
+      l->settled = 1;
+      if (vs_run_on_equilibrium(r, r->delta, r->q, r->m) != 0)
+        return vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
+    }
+  }
+  if (r->collapse.found || r->totals.end != VS_PATH_MAX_DISPLACEMENT) {
+    l->held_limit = 1;
+    /* collapsed: it carries nothing; still moving with no equilibrium found: unknown */
+    l->load_factor = r->collapse.found ? 0.0 : NAN;
+    snprintf(l->cause, sizeof l->cause,
+             "the arch %s at %.6g mm, before the hold (%.6g mm)",
+             r->collapse.found         ? "collapsed"
+             : r->def.dynamic.follow ? "was still moving"
+                                     : "met a limit point (not followed: dynamic.follow = 0)",
+             (r->collapse.found ? r->collapse.delta : r->delta) / VS_MM, l->hold / VS_MM);
+    return VS_OK;
+  }
+  return vs_run_load_path(r, err);
+}
+
 vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn event, void *user,
                          vs_error *err) {
   r->sample_fn = sample;
@@ -467,7 +580,9 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
   r->deadline = r->def.max_wall_s > 0.0 ? vs_monotonic_s() + r->def.max_wall_s : 0.0;
   vs_status st = VS_OK;
   double delta0 = 0.0;
-  if (r->def.dynamic.full) {
+  if (r->def.analysis.type == VS_ANALYSIS_LOAD) {
+    st = load_phases(r, err);
+  } else if (r->def.dynamic.full) {
     /* self-weight by KINSOL, then the whole loading dynamically from rest */
     vs_path_opts sw = r->popts;
     sw.max_delta = 0.0;
@@ -486,47 +601,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
     }
     if (st == VS_OK) st = dynamic_phase(r, &delta0, err);
   } else {
-    for (;;) {
-      vs_path_result p;
-      r->phase = VS_PHASE_QUASISTATIC;
-      r->pending_snap = (delta0 > 0.0 && r->n_limits > 0) ? r->n_limits - 1 : -1;
-      memset(&p, 0, sizeof p);
-      r->live_path = &p;
-      st = vs_path_run_with(r->ps, &r->popts, delta0, r->q, vs_run_on_equilibrium, r, &p, err);
-      if (st == VS_ERR_NO_EQUILIBRIUM && delta0 > 0.0 && p.steps == 0) {
-        /* Newton from the state at rest missed the equilibrium the probe found from it, with the
-         * slips the probe committed there (a joint sliding along a nearly free mode can throw
-         * its steps onto the reverse branch): the path resumes from that equilibrium itself */
-        add_path_totals(r, &p);
-        memcpy(r->q, r->q_rest, (size_t)vs_model_size(r->m) * sizeof *r->q);
-        memset(&p, 0, sizeof p);
-        st = vs_path_run_with(r->ps, &r->popts, delta0, r->q, vs_run_on_equilibrium, r, &p, err);
-      }
-      r->live_path = NULL;
-      if (r->modal_st != VS_OK) st = vs_error_set(err, r->modal_st, "%s", r->modal_err.msg);
-      add_path_totals(r, &p);
-      if (st == VS_OK && p.end == VS_PATH_SLIDING) {
-        st = sliding_collapse(r, &p, err);
-        break;
-      }
-      if (st != VS_OK || p.end != VS_PATH_LIMIT_POINT) break;
-      if (r->n_limits >= VS_RUN_MAX_LIMITS) {
-        st = vs_error_set(err, VS_ERR_SOLVER, "%d limit points (the limit) up to %.6g mm",
-                          VS_RUN_MAX_LIMITS, p.delta_limit / VS_MM);
-        break;
-      }
-      r->delta = p.delta_limit;
-      r->t = r->delta / r->dopts.rate;
-      vs_model_support_reactions(r->m, r->q, r->delta, r->react_eq);
-      if (limit_slips(r, &p) != 0 || vs_run_add_limit(r, p.delta_limit) != 0) {
-        st = vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
-        break;
-      }
-      if (!r->def.dynamic.follow) break;
-      memset(r->v, 0, (size_t)vs_model_size(r->m) * sizeof *r->v);
-      st = dynamic_phase(r, &delta0, err);
-      if (st != VS_OK || isnan(delta0)) break;
-    }
+    st = support_phases(r, err);
   }
   if (!r->collapse.found) vs_run_name_first(r, vs_hinges_count(r->h));
   vs_run_classify(r);

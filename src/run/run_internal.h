@@ -7,6 +7,7 @@
 
 #include "collide.h"
 #include "contact.h"
+#include "voussoir/quasistatic.h"
 #include "voussoir/run.h"
 
 struct vs_run {
@@ -71,6 +72,14 @@ struct vs_run {
   vs_slip *mech_slips;   /* the collapse's slips (collapse.slips) */
   char *pier_side;       /* per joint, a pier's (run_sample.c): its open side when last
                             tracked ('I', 'E', 0 closed) */
+  /* --- the live load's path (run_load.c) --- */
+  vs_run_load_result load;
+  double *load_lambda, *load_u; /* the curve (load.n points) */
+  int cap_load;
+  double load_u0;               /* the loads' displacement where loading began, m */
+  vs_load_result load_res;      /* the load path's statistics */
+  double load_best;             /* the largest lambda so far ... */
+  int load_taken;               /* ... and whether the mechanism was taken past it */
   /* --- damping (damping.h, modal.h): modes under self-weight, set at the first equilibrium --- */
   vs_modal modal;
   double ray_alpha, ray_beta;
@@ -113,6 +122,15 @@ int vs_run_record_collapse(vs_run *r, const vs_dyn_result *d);
 int vs_run_record_sliding(vs_run *r, const vs_path_result *p);
 /* The run's initial hinge pattern, the pattern at the collapse and the mode they make. */
 void vs_run_classify(vs_run *r);
+
+/* run_load.c */
+/* The fill's dead load (any analysis) and the live load (analysis.type = load) of the
+ * definition on the model. */
+vs_status vs_run_load_setup(vs_run *r, vs_error *err);
+/* analysis.type = load, the support held (r->q the equilibrium there, r->load.hold): load to
+ * collapse. */
+vs_status vs_run_load_path(vs_run *r, vs_error *err);
+void vs_run_load_free(vs_run *r);
 
 /* run_slip.c */
 /* The per-joint arrays (0, or -1 when out of memory) and their release. */

@@ -239,6 +239,21 @@ vs_status vs_limit_create(const vs_geometry *g, const vs_limit_opts *o, const vs
   return VS_OK;
 }
 
+vs_status vs_limit_add_dead(vs_limit *l, const vs_limit_force *dead, int n, vs_error *err) {
+  vs_status st = check_live(l->g, dead, n, err);
+  if (st != VS_OK) return st;
+  for (int f = 0; f < n; f++) { /* equilibrium = -dead load, as the weight's */
+    double gf[3];
+    block_load(l, dead[f].block, dead[f].fx, dead[f].fz, dead[f].px, dead[f].pz, gf);
+    for (int r = 0; r < 3; r++) {
+      const int row = ROWS_PER_BLOCK * dead[f].block + r;
+      l->rowlb[row] -= gf[r];
+      l->rowub[row] -= gf[r];
+    }
+  }
+  return VS_OK;
+}
+
 void vs_limit_destroy(vs_limit **lp) {
   if (lp == NULL || *lp == NULL) return;
   vs_limit *l = *lp;

@@ -109,6 +109,50 @@ static vs_status place_patch(const vs_geometry *g, const extent *ex, double x0, 
   return VS_OK;
 }
 
+vs_status vs_limit_fill_load(const vs_geometry *g, const vs_fill_def *fd, vs_limit_force **out,
+                             int *n, vs_error *err) {
+  *out = NULL;
+  *n = 0;
+  if (!(isfinite(fd->unit_weight) && fd->unit_weight >= 0.0 && isfinite(fd->level) &&
+        fd->level >= 0.0))
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "fill.unit_weight_kN_m3 = %g, fill.level_mm = %g (allowed: >= 0, finite)",
+                        fd->unit_weight / 1e3, fd->level / VS_MM);
+  if (fd->unit_weight == 0.0 || g->n_blocks == 0) return VS_OK;
+  vs_limit_force *f = malloc((size_t)g->n_blocks * sizeof *f);
+  extent *ex = malloc((size_t)g->n_blocks * sizeof *ex);
+  if (f == NULL || ex == NULL) {
+    free(f), free(ex);
+    return vs_error_set(err, VS_ERR_NOMEM, "fill: out of memory");
+  }
+  extrados_extents(g, ex);
+  double top = -INFINITY;
+  for (int i = 0; i < g->n_blocks; i++) top = fmax(top, fmax(ex[i].za, ex[i].zb));
+  const double surface = top + fd->level;
+  for (int i = 0; i < g->n_blocks; i++) {
+    const double w = ex[i].xb - ex[i].xa, ha = surface - ex[i].za, hb = surface - ex[i].zb;
+    const double area = 0.5 * w * (ha + hb); /* the trapezoid over the chord */
+    if (!(w > 0.0 && area > 0.0)) continue;
+    const double xc = ex[i].xa + w * (ha + 2.0 * hb) / (3.0 * (ha + hb));
+    const double depth = g->joints[0].depth;
+    f[(*n)++] = (vs_limit_force){i, 0.0, -fd->unit_weight * depth * area, xc,
+                                 extrados_z(&ex[i], xc)};
+  }
+  free(ex);
+  *out = f;
+  return VS_OK;
+}
+
+/* The fill's forces on geometry g added to l's dead load. */
+static vs_status add_fill(const vs_run_def *d, const vs_geometry *g, vs_limit *l, vs_error *err) {
+  vs_limit_force *f = NULL;
+  int n = 0;
+  vs_status st = vs_limit_fill_load(g, &d->fill, &f, &n, err);
+  if (st == VS_OK && n > 0) st = vs_limit_add_dead(l, f, n, err);
+  free(f);
+  return st;
+}
+
 vs_status vs_limit_live_load(const vs_geometry *g, const vs_load_def *ld, vs_limit_force **out,
                              int *n, vs_error *err) {
   *out = NULL;
@@ -189,6 +233,7 @@ static vs_status stands(trials *t, double factor, int *ok, vs_limit_solution *s,
     return VS_OK;
   }
   if (st == VS_OK) st = vs_limit_create(g, t->o, NULL, 0, &l, err);
+  if (st == VS_OK) st = add_fill(t->d, g, l, err);
   if (st == VS_OK && t->basis != NULL) vs_limit_basis_start(l, t->basis);
   if (st == VS_OK) st = vs_limit_solve(l, VS_LIMIT_THRUST_MIN, s, err);
   if (st == VS_OK && t->basis == NULL && (t->basis = malloc(vs_limit_basis_size(l))) == NULL)
@@ -284,6 +329,7 @@ static vs_status solve_arch(const vs_run_def *d, const vs_limit_opts *o, vs_limi
   vs_status st = arch_scaled(d, 1.0, &g, err);
   if (st == VS_OK) st = vs_limit_live_load(g, &d->load, &live, &n_live, err);
   if (st == VS_OK) st = vs_limit_create(g, o, live, n_live, &l, err);
+  if (st == VS_OK) st = add_fill(d, g, l, err);
   a->have_load = n_live > 0;
   /* the least thrust from scratch, the other two from its basis (the same rows and columns) */
   if (st == VS_OK) st = vs_limit_solve(l, VS_LIMIT_THRUST_MIN, &a->thrust_min, err);

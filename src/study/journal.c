@@ -293,6 +293,8 @@ int vs_sweep_row_check(const vs_sweep_row *row, int total, int nax, char *why, s
     if (none ? !isnan(tr[k]) : !isfinite(tr[k]))
       return refuse(why, why_size, "support travel %g mm: must be %s, as delta_u_mm is", tr[k],
                     none ? "NaN" : "finite");
+  if (!none_or_size(row->load_factor))
+    return refuse(why, why_size, "load_factor %g is not >= 0 or NaN", row->load_factor);
   if (!none_or_size(row->wall_s))
     return refuse(why, why_size, "wall_s %g is not >= 0 or NaN", row->wall_s);
   if (row->snaps < 0 || row->snaps > VS_RUN_MAX_LIMITS)

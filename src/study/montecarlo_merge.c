@@ -41,11 +41,12 @@ static const struct {
               {"left_alpha_deg", "support", NULL, 1}, {"left_rate_mm_s", "support", NULL, 1},
               {"left_path", "support", NULL, 1},   {"right_path", "support", NULL, 1}};
 enum { N_HEADER = sizeof HEADER / sizeof HEADER[0], N_OLD_COLUMNS = 8 + VS_MC_LABELS + 1,
-       N_COLUMNS = N_OLD_COLUMNS + 4, H_SPAN = 6 };
+       N_COLUMNS = N_OLD_COLUMNS + 5, H_SPAN = 6 };
 #define HEADER_LIST                                                                              \
   "seed, radius_mm, embrace_deg, max_mm, alpha_deg, voussoirs; optional: L_mm, rate_mm_s, "     \
   "left_alpha_deg, left_rate_mm_s, left_path, right_path"
-/* The columns of a table written before the supports' travel was appended. */
+/* The columns of a table of 0.3.0 and before (no supports' travel, no load_factor): still read,
+ * the travel from the header's motion, load_factor NaN. */
 #define OLD_COLUMNS "sample,status,first_limit_mm,delta_u_mm,dz_u_mm,dx_u_mm,mode,pattern,A,B,C,D,E,error"
 
 /* The first shard's header, which every other shard's must equal. */
@@ -183,7 +184,7 @@ static vs_status parse_row(const char *where, char *line, int n_joints, int ncol
   static const char *const COL[N_COLUMNS] = {"sample", "status", "first_limit_mm", "delta_u_mm",
                                              "dz_u_mm", "dx_u_mm", "mode", "pattern", "A", "B",
                                              "C", "D", "E", "error", "left_dx_mm", "left_dz_mm",
-                                             "right_dx_mm", "right_dz_mm"};
+                                             "right_dx_mm", "right_dz_mm", "load_factor"};
   char *f[N_COLUMNS];
   memset(x, 0, sizeof *x);
   if (split_csv(line, f, ncol) != ncol)
@@ -216,11 +217,15 @@ static vs_status parse_row(const char *where, char *line, int n_joints, int ncol
   if (bad < 0 && strpbrk(f[13], ",\"") != NULL)
     bad = 13, why = "a cause without a comma or a quote (montecarlo writes them as ';')";
   /* the supports' travel: checked, then written again from the header's motion */
-  for (int k = N_OLD_COLUMNS; bad < 0 && k < ncol; k++) {
+  for (int k = N_OLD_COLUMNS; bad < 0 && k < ncol && k < N_OLD_COLUMNS + 4; k++) {
     double t;
     if (table_number(f[k], &t) != 0 || (x->status == VS_MC_COLLAPSE) != !isnan(t))
       bad = k, why = "a finite number for a collapse, nan otherwise";
   }
+  double lf = NAN;
+  if (bad < 0 && ncol == N_COLUMNS && (table_number(f[N_COLUMNS - 1], &lf) != 0 || lf < 0.0))
+    bad = N_COLUMNS - 1, why = "a finite number >= 0, or nan (a comma in a cause shifts it here: "
+                              "montecarlo writes a cause's commas as ';')";
   if (bad >= 0)
     return vs_error_set(err, VS_ERR_PARSE, "%s: %s = '%.64s': not %s", where, COL[bad], f[bad],
                         why);
@@ -230,6 +235,7 @@ static vs_status parse_row(const char *where, char *line, int n_joints, int ncol
   x->delta_u_mm = num[1];
   x->dz_u_mm = num[2];
   x->dx_u_mm = num[3];
+  x->load_factor = lf;
   snprintf(x->pattern, sizeof x->pattern, "%s", f[7]);
   vs_quote(f[13], x->error, sizeof x->error); /* shown and written again: no control byte */
   return VS_OK;

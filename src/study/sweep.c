@@ -52,17 +52,17 @@ static void write_csv_row(FILE *csv, const vs_sweep_row *row, int nax) {
     if (*p == '"') *p = '\'';
   fprintf(csv, "%d", row->run);
   for (int x = 0; x < nax; x++) fprintf(csv, ",%.10g", row->axis[x]);
-  fprintf(csv, ",%s,%.10g,%.10g,%.10g,%.10g,\"%s\",%s,%d,%.4g,\"%s\",%.10g,%.10g,%.10g,%.10g\n",
+  fprintf(csv, ",%s,%.10g,%.10g,%.10g,%.10g,\"%s\",%s,%d,%.4g,\"%s\",%.10g,%.10g,%.10g,%.10g,%.10g\n",
           row->status, row->first_limit_mm, row->delta_u_mm, row->dz_pct, row->dx_pct,
           row->hinges, row->mode, row->snaps, row->wall_s, error, row->left_dx_mm,
-          row->left_dz_mm, row->right_dx_mm, row->right_dz_mm);
+          row->left_dz_mm, row->right_dx_mm, row->right_dz_mm, row->load_factor);
 }
 
 static void write_csv_header(FILE *csv, const axis *ax, int nax) {
   fputs("run", csv);
   for (int x = 0; x < nax; x++) fprintf(csv, ",%s", ax[x].key);
   fputs(",status,first_limit_mm,delta_u_mm,dz_over_L_pct,dx_over_L_pct,hinges_at_collapse,mode,"
-        "snaps,wall_s,error,left_dx_mm,left_dz_mm,right_dx_mm,right_dz_mm\n",
+        "snaps,wall_s,error,left_dx_mm,left_dz_mm,right_dx_mm,right_dz_mm,load_factor\n",
         csv);
 }
 
@@ -485,6 +485,7 @@ static int sweep_close(sweep_state *s, double wall, int processes) {
                                                       : "not started: the sweep was interrupted");
       row.first_limit_mm = row.delta_u_mm = row.dz_pct = row.dx_pct = row.wall_s = NAN;
       row.left_dx_mm = row.left_dz_mm = row.right_dx_mm = row.right_dz_mm = NAN;
+      row.load_factor = NAN;
       s->rows[s->n++] = row;
       unfinished++;
     }

@@ -14,6 +14,7 @@
 #include "sweep_private.h"
 #include "outpath.h"
 #include "voussoir/output.h"
+#include "voussoir/quasistatic.h"
 #include "voussoir/report.h"
 #include "voussoir/run.h"
 #include "voussoir/support.h"
@@ -54,6 +55,17 @@ static void fill_row(const vs_run *r, vs_status st, const vs_error *err, vs_swee
                        : !c->follow && !c->full && vs_run_limit_count(r) > 0 ? "limit_point"
                                                                              : "max_displacement";
   snprintf(row->status, sizeof row->status, "%s", status);
+  const vs_run_load_result *ld = vs_run_load(r);
+  if (ld->done) { /* the load path: its status, load factor and mechanism, as its JSON's */
+    if (st == VS_OK)
+      snprintf(row->status, sizeof row->status, "%s",
+               ld->held_limit ? "limit_point"
+               : ld->end == VS_LOAD_END_PEAK || ld->end == VS_LOAD_END_SLIDING
+                   ? "collapse"
+                   : "max_displacement");
+    row->load_factor = ld->load_factor;
+    snprintf(row->hinges, sizeof row->hinges, "%s", ld->mechanism);
+  }
   if (st != VS_OK) snprintf(row->error, sizeof row->error, "%s", err->msg);
   if (p->end == VS_PATH_LIMIT_POINT && vs_run_limit_count(r) > 0)
     row->first_limit_mm = p->delta_limit / VS_MM;
@@ -138,6 +150,7 @@ void vs_sweep_run_case(const vs_sweep_job *job, int run, const volatile sig_atom
   row->run = run;
   row->first_limit_mm = row->delta_u_mm = row->dz_pct = row->dx_pct = row->wall_s = NAN;
   row->left_dx_mm = row->left_dz_mm = row->right_dx_mm = row->right_dz_mm = NAN;
+  row->load_factor = NAN;
   char h5[1100], json[1100];
   snprintf(h5, sizeof h5, "%s/run_%04d.h5", job->dir, run);
   snprintf(json, sizeof json, "%s/run_%04d.json.part", job->dir, run);

@@ -5,6 +5,7 @@
 #include <errno.h>
 #include <math.h>
 #include <signal.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -72,6 +73,7 @@ static void finish_worker(worker *w, int status, vs_sweep_row *row) {
     row->run = w->run;
     row->code = VS_SWEEP_LOST;
     row->left_dx_mm = row->left_dz_mm = row->right_dx_mm = row->right_dz_mm = NAN;
+    row->load_factor = NAN;
     snprintf(row->status, sizeof row->status, "failed");
     if (WIFSIGNALED(status))
       snprintf(row->error, sizeof row->error, "worker killed by signal %d", WTERMSIG(status));

@@ -1,0 +1,16 @@
+/* Private to the run's report: the live load's path's part (report_load.c), only for
+ * analysis.type = load. Not installed. */
+#ifndef VOUSSOIR_REPORT_LOAD_H
+#define VOUSSOIR_REPORT_LOAD_H
+
+#include <stdio.h>
+
+#include "voussoir/run.h"
+
+/* The JSON fields ",\"load_factor\":...,\"load\":{...}", the text section, the run's status
+ * name ("collapse", "limit_point": a limit point before the hold, "max_displacement"). */
+void vs_report_load_json(FILE *out, const vs_run *r);
+void vs_report_load_text(FILE *out, const vs_run *r);
+const char *vs_report_load_status(const vs_run *r);
+
+#endif
