@@ -29,6 +29,11 @@ typedef struct {
    * gap gap0 + gap1 xi (m; gap1 dimensionless) adds to the kinematic gap, so the penetration is
    * p(xi) = (a - gap0) + (w - gap1) xi and the closed form stays exact (0, 0: coplanar faces). */
   double gap0, gap1;
+  /* Mortar (vs_joint_normal_mortar; all 0: a dry joint, the law above bit for bit): tensile
+   * strength ft (Pa), cohesion c (Pa), mode-I and mode-II fracture energies gf, gc (N/m, J/m^2).
+   * With ft > 0, gf must exceed ft^2 / (2 kn) (the softening branch then ends beyond the peak's
+   * opening). The model does not use them yet: a run with mortar is refused (case validation). */
+  double ft, c, gf, gc;
 } vs_joint_law;
 
 /* Normal response of a no-tension Winkler joint of length t and depth b to the affine
@@ -48,6 +53,30 @@ typedef struct {
  * w dimensionless (the gap slope). Never fails. */
 VS_API void vs_joint_normal(double kn, double b, double t, double a, double w,
                             vs_normal_response *r);
+
+/* Normal response of a mortared joint (law->kn, ft, gf; b, t, a, w as vs_joint_normal, the
+ * law's initial gap left to the caller). Stress per unit area, compression > 0, as a function
+ * of the penetration p (opening delta = -p):
+ *   sigma = kn p                                   for p >= -d0, d0 = ft / kn (elastic, both ways)
+ *   sigma = -ft (du + p) / (du - d0)                for -du < p < -d0 (linear softening)
+ *   sigma = 0                                       for p <= -du,   du = 2 gf / ft
+ * so that opening a unit area from closed to du takes gf. Damage: crack[0], crack[1] are the
+ * lengths from the intrados and the extrados edge (m) over which the mortar is cracked through
+ * (the opening once reached du there): those parts carry compression only (sigma = kn <p>), the
+ * rest follows the curve above. The profile is piecewise linear in xi and integrated in closed
+ * form; N_a, N_w, M_w are its exact derivatives (the stress is continuous in p, so only the
+ * pieces' slopes enter). energy is the potential int b phi(p) dxi with phi' = sigma (phi = gf
+ * on an intact point opened beyond du). contact: the length where p >= 0. ft = 0 with no crack:
+ * vs_joint_normal, bit for bit; crack[0] + crack[1] >= t: the dry law (to rounding). */
+VS_API void vs_joint_normal_mortar(const vs_joint_law *law, double b, double t, double a, double w,
+                                   const double crack[2], vs_normal_response *r);
+
+/* Irreversible damage after a converged state: each edge's cracked length grows to the part of
+ * the joint next to it where the opening -(a + w xi) reaches du (crack fronts move along eta,
+ * never back). Returns the energy the growth dissipated, gf b (new cracked length - old), J.
+ * ft = 0: nothing changes, returns 0. */
+VS_API double vs_joint_crack_update(const vs_joint_law *law, double b, double t, double a, double w,
+                                    double crack[2]);
 
 /* Everything one joint evaluation yields. */
 typedef struct {
