@@ -635,8 +635,11 @@ static void test_mortar_refused(void **state) {
   expect_bad_input("run '" REFERENCE "' -q --json --set joints.tensile_MPa=0.1 --set "
                    "joints.gf_N_mm=0.05",
                    "joints.tensile_MPa = 0.1: mortar joints are not yet supported");
-  expect_bad_input("run '" REFERENCE "' -q --set joints.cohesion_MPa=0.2",
+  expect_bad_input("run '" REFERENCE "' -q --set joints.cohesion_MPa=0.2 --set "
+                   "joints.gc_N_mm=0.5",
                    "joints.cohesion_MPa = 0.2: mortar joints are not yet supported");
+  expect_bad_input("run '" REFERENCE "' -q --set joints.cohesion_MPa=0.2",
+                   "joints.gc_N_mm = 0: with joints.cohesion_MPa = 0.2 must be >");
   expect_bad_input("run '" REFERENCE "' -q --set joints.gc_N_mm=0.1",
                    "joints.gc_N_mm = 0.1: mortar joints are not yet supported");
   expect_bad_input("run '" REFERENCE "' -q --set joints.tensile_MPa=1",

@@ -258,6 +258,107 @@ static void test_derivatives(void **state) {
   }
 }
 
+/* Shear with cohesion: under constant N the joint slips first at T = c A + mu N; the cohesion
+ * softens over the slip 2 G_c / c, the work of T along the plastic slip is mu N x slip + G_c x
+ * area; afterwards it slides at mu N. A cracked part adds no cohesion, tension lowers the limit. */
+static void test_shear_cohesion(void **state) {
+  (void)state;
+  vs_joint_law law = mortar_law();
+  law.c = 2e5;  /* 0.2 MPa */
+  law.gc = 500; /* 0.5 N/mm: kappa_u = 5 mm */
+  const double N = 500.0, kst = law.ks * BD * TL, ku = 2 * law.gc / law.c;
+  const double none[2] = {0, 0};
+  double peak = law.c * BD * TL + law.mu * N, s_star = peak / kst;
+  vs_shear_response r;
+  vs_joint_shear_mortar(&law, BD, TL, none, N, s_star * (1 - 1e-9), 0, 0, &r);
+  assert_int_equal(r.sliding, 0);
+  CHECK(r.T, peak, 2e-9, 0);
+  vs_joint_shear_mortar(&law, BD, TL, none, N, s_star * (1 + 1e-9), 0, 0, &r);
+  assert_int_equal(r.sliding, 1);
+  CHECK(r.T, peak, 2e-9, 0);
+  /* monotonic slip to 1.5 kappa_u in fine steps, each committed */
+  double sp = 0, kap = 0, work = 0, Tprev = 0, spprev = 0;
+  const int n = 100000;
+  double smax = 1.5 * ku + s_star;
+  for (int i = 1; i <= n; i++) {
+    double s = smax * i / n;
+    vs_joint_shear_mortar(&law, BD, TL, none, N, s, sp, kap, &r);
+    work += 0.5 * (r.T + Tprev) * (r.slip_p - spprev);
+    Tprev = r.T;
+    spprev = r.slip_p;
+    sp = r.slip_p;
+    kap = r.kappa;
+  }
+  CHECK(kap, sp, 1e-12, 0);
+  CHECK(r.T, law.mu * N, 1e-12, 0);
+  CHECK(work, law.mu * N * sp + law.gc * BD * TL, 1e-6, 0);
+  /* cracked through over 10 mm: the cohesion acts on the bonded 14 mm only */
+  const double cr[2] = {0.004, 0.006};
+  double lim = law.c * BD * (TL - 0.010) + law.mu * N;
+  vs_joint_shear_mortar(&law, BD, TL, cr, N, lim / kst * (1 + 1e-9), 0, 0, &r);
+  assert_int_equal(r.sliding, 1);
+  CHECK(r.T, lim, 2e-9, 0);
+  /* tension lowers the limit; enough of it removes it */
+  lim = law.c * BD * TL - law.mu * 100.0;
+  vs_joint_shear_mortar(&law, BD, TL, none, -100.0, lim / kst * (1 + 1e-9), 0, 0, &r);
+  assert_int_equal(r.sliding, 1);
+  CHECK(r.T, lim, 2e-9, 0);
+  vs_joint_shear_mortar(&law, BD, TL, none, -1e6, 1.0, 0, 0, &r);
+  CHECK(r.T, 0.0, 0, 0);
+  CHECK(r.T_N, 0.0, 0, 0);
+  /* c = 0: the dry joint's Coulomb return mapping (vs_joint_eval_h) */
+  vs_joint_law dry = {.kn = KN, .ks = 1.5e9, .mu = 0.7};
+  vs_joint_geom jg = {0};
+  jg.length = TL;
+  jg.depth = BD;
+  jg.nx = 1.0;
+  const double qa[3] = {0, 0, 0}, ra[2] = {0, 0}, rb[2] = {0, 0};
+  double ha[2], hb[2];
+  vs_joint_half_angle(0.0, ha);
+  vs_joint_half_angle(0.0, hb);
+  rng g = {77};
+  for (int i = 0; i < 1000; i++) {
+    const double qb[3] = {-urand(&g, 0, 1e-4), urand(&g, -1e-4, 1e-4), 0};
+    double sp_old = urand(&g, -5e-5, 5e-5);
+    vs_joint_state st;
+    vs_joint_eval_h(&jg, &dry, qa, qb, ha, hb, ra, rb, sp_old, &st, NULL, NULL);
+    vs_joint_shear_mortar(&dry, BD, TL, none, st.N, st.slip, sp_old, 0, &r);
+    assert_int_equal(r.sliding, st.sliding);
+    CHECK(r.T, st.T, 1e-12, 1e-12 * fabs(st.N));
+    CHECK(r.slip_p, st.slip_p, 1e-12, 1e-18);
+  }
+}
+
+/* The shear's consistent tangent against central differences in the slip and in N. */
+static void test_shear_derivatives(void **state) {
+  (void)state;
+  vs_joint_law law = mortar_law();
+  law.c = 2e5;
+  law.gc = 500;
+  const double ku = 2 * law.gc / law.c;
+  rng g = {4242};
+  const double none[2] = {0, 0};
+  int sliding = 0;
+  for (int i = 0; i < 3000; i++) {
+    double N = urand(&g, -800, 2000), sp_old = urand(&g, -1e-3, 1e-3);
+    double kap = urand(&g, 0, 1.2 * ku), s = sp_old + urand(&g, -3e-4, 3e-4);
+    vs_shear_response r, p, m;
+    vs_joint_shear_mortar(&law, BD, TL, none, N, s, sp_old, kap, &r);
+    sliding += r.sliding;
+    double hs = 1e-12, hN = 1e-6;
+    vs_joint_shear_mortar(&law, BD, TL, none, N, s + hs, sp_old, kap, &p);
+    vs_joint_shear_mortar(&law, BD, TL, none, N, s - hs, sp_old, kap, &m);
+    if (p.sliding != m.sliding || (p.T == 0) != (m.T == 0)) continue; /* astride a kink */
+    double kst = law.ks * BD * TL;
+    CHECK(r.T_s, (p.T - m.T) / (2 * hs), 1e-4, 1e-4 * kst);
+    vs_joint_shear_mortar(&law, BD, TL, none, N + hN, s, sp_old, kap, &p);
+    vs_joint_shear_mortar(&law, BD, TL, none, N - hN, s, sp_old, kap, &m);
+    if (p.sliding != m.sliding || (p.T == 0) != (m.T == 0)) continue; /* astride a kink */
+    CHECK(r.T_N, (p.T - m.T) / (2 * hN), 1e-5, 1e-6);
+  }
+  assert_true(sliding > 500);
+}
+
 /* The model does not use the mortar yet: a run's def with any of it is refused by name, and
  * the case's keys reach the def in SI. */
 static void test_run_refuses_mortar(void **state) {
@@ -297,6 +398,8 @@ int main(void) {
       cmocka_unit_test(test_cracking_moment_and_post_peak),
       cmocka_unit_test(test_tension_dissipates_gf),
       cmocka_unit_test(test_derivatives),
+      cmocka_unit_test(test_shear_cohesion),
+      cmocka_unit_test(test_shear_derivatives),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

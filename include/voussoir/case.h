@@ -60,7 +60,7 @@ typedef struct {
   double tensile_MPa;  /* tensile strength f_t, [0, 100] */
   double cohesion_MPa; /* cohesion c, [0, 100] */
   double gf_N_mm;      /* mode-I fracture energy G_f, [0, 1000]; > f_t^2 / (2 k_n) with f_t > 0 */
-  double gc_N_mm;      /* mode-II fracture energy G_c, [0, 1000] */
+  double gc_N_mm;      /* mode-II fracture energy G_c, [0, 1000]; > c^2 / (2 k_s) with c > 0 */
 
   /* [support] the right support moves, the left is fixed */
   double alpha_deg; /* direction from the vertical: 0 = settlement down, 90 = outward; [-180, 180], default 0 */

@@ -78,6 +78,29 @@ VS_API void vs_joint_normal_mortar(const vs_joint_law *law, double b, double t, 
 VS_API double vs_joint_crack_update(const vs_joint_law *law, double b, double t, double a, double w,
                                     double crack[2]);
 
+/* Shear of a mortared joint (vs_joint_shear_mortar). */
+typedef struct {
+  double T;        /* shear force along s, N */
+  double slip_p;   /* plastic slip after the return mapping, m */
+  double kappa;    /* accumulated plastic slip |d slip_p|, the cohesion's softening variable, m */
+  double limit;    /* the slip limit at the returned state, c(kappa) A_c + mu N (>= 0), N */
+  double T_s, T_N; /* exact derivatives of T in the slip and in N (consistent tangent) */
+  int sliding;     /* 1 when the limit is active */
+} vs_shear_response;
+
+/* Elastic shear T = k_s b t (slip - slip_p) with Coulomb's limit and cohesion, tension cut off:
+ * |T| <= max(0, c(kappa) A_c + mu N), A_c = b (t - crack[0] - crack[1]) the bonded area (the
+ * mortar not cracked through, vs_joint_normal_mortar), N the normal force (compression > 0;
+ * tension lowers the limit, to zero at most). The cohesion softens linearly with the
+ * accumulated plastic slip: c(kappa) = c (1 - kappa / kappa_u), kappa_u = 2 G_c / c, zero
+ * beyond, so that sliding a bonded unit area through dissipates G_c beyond the friction's
+ * mu N per unit slip. Return mapping from (slip_p_old, kappa_old), exact (the limit is piecewise
+ * linear in kappa); T_s, T_N its consistent tangent. Needs k_s > c^2 / (2 G_c) (no snap-back;
+ * the case checks it). c = 0: Coulomb's |T| <= mu N of vs_joint_eval_h (N >= 0). */
+VS_API void vs_joint_shear_mortar(const vs_joint_law *law, double b, double t, const double crack[2],
+                                  double N, double slip, double slip_p_old, double kappa_old,
+                                  vs_shear_response *r);
+
 /* Everything one joint evaluation yields. */
 typedef struct {
   double N, T, M;     /* normal force (compression > 0), shear along s, moment about the centre */

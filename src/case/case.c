@@ -847,7 +847,8 @@ static vs_status validate_shape(const vs_case *c, vs_error *err) {
 }
 
 /* Mortar (docs/model.md "Mortar joints"): the softening must end beyond the peak's opening,
- * G_f > f_t^2 / (2 k_n); and the model does not use the mortar yet, so a case that sets it is
+ * G_f > f_t^2 / (2 k_n), and the cohesion's be slower than the shear's unloading,
+ * G_c > c^2 / (2 k_s) (no snap-back within a joint); and the model does not use the mortar yet, so a case that sets it is
  * refused by name rather than run as a dry arch. */
 static vs_status validate_mortar(const vs_case *c, vs_error *err) {
   const double gf_min = c->tensile_MPa * c->tensile_MPa / (2.0 * c->kn_N_mm3);
@@ -856,6 +857,12 @@ static vs_status validate_mortar(const vs_case *c, vs_error *err) {
                         "%.15g must be > tensile_MPa^2 / (2 kn_N_mm3) = %.15g (allowed: the "
                         "softening ends beyond the peak's opening)", c->gf_N_mm, c->tensile_MPa,
                         gf_min);
+  const double gc_min = c->cohesion_MPa * c->cohesion_MPa / (2.0 * c->ks_ratio * c->kn_N_mm3);
+  if (c->cohesion_MPa > 0.0 && !(c->gc_N_mm > gc_min))
+    return vs_error_set(err, VS_ERR_INVALID, "joints.gc_N_mm = %.15g: with joints.cohesion_MPa = "
+                        "%.15g must be > cohesion_MPa^2 / (2 ks_ratio kn_N_mm3) = %.15g (allowed: "
+                        "the cohesion softens more slowly than the joint unloads)", c->gc_N_mm,
+                        c->cohesion_MPa, gc_min);
   static const char *names[4] = {"tensile_MPa", "cohesion_MPa", "gf_N_mm", "gc_N_mm"};
   const double v[4] = {c->tensile_MPa, c->cohesion_MPa, c->gf_N_mm, c->gc_N_mm};
   for (int i = 0; i < 4; i++)

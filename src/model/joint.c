@@ -168,6 +168,66 @@ double vs_joint_crack_update(const vs_joint_law *law, double b, double t, double
   return law->gf * b * (now - old);
 }
 
+/* The cohesive-frictional limit at accumulated slip kappa and its slope in kappa (<= 0). */
+static double shear_limit(double cA, double ku, double muN, double kappa, double *slope) {
+  double coh = 0.0, dcoh = 0.0;
+  if (cA > 0.0 && kappa < ku) coh = cA * (1.0 - kappa / ku), dcoh = -cA / ku;
+  const double y = coh + muN;
+  if (y <= 0.0) {
+    *slope = 0.0;
+    return 0.0;
+  }
+  *slope = dcoh;
+  return y;
+}
+
+void vs_joint_shear_mortar(const vs_joint_law *law, double b, double t, const double crack[2],
+                           double N, double slip, double slip_p_old, double kappa_old,
+                           vs_shear_response *r) {
+  const double kst = law->ks * b * t;
+  const double bonded = fmax(0.0, t - fmax(0.0, crack[0]) - fmax(0.0, crack[1]));
+  const double cA = law->c * b * bonded;
+  const double ku = (law->c > 0.0) ? 2.0 * law->gc / law->c : 0.0;
+  const double muN = law->mu * N;
+  const double T_tr = kst * (slip - slip_p_old);
+  double slope;
+  const double y0 = shear_limit(cA, ku, muN, kappa_old, &slope);
+  memset(r, 0, sizeof *r);
+  r->T = T_tr;
+  r->slip_p = slip_p_old;
+  r->kappa = kappa_old;
+  r->limit = y0;
+  r->T_s = kst;
+  if (fabs(T_tr) <= y0) return;
+  /* sliding: |T_tr| - kst D = Y(kappa_old + D), Y piecewise linear in kappa; walk its pieces */
+  const double sgn = (T_tr > 0.0) ? 1.0 : -1.0;
+  double k0 = kappa_old, y = y0, T_abs = 0.0, D = 0.0, H = 0.0;
+  for (int piece = 0; piece < 4; piece++) {
+    H = -slope; /* the limit falls by H per unit slip on this piece */
+    /* from kappa_old to k0 the plastic slip is k0 - kappa_old; on the piece, Y = y - H (k - k0) */
+    const double rem = fabs(T_tr) - kst * (k0 - kappa_old) - y; /* > 0: slides further */
+    const double d = rem / (kst - H);
+    /* where this piece ends: the cohesion's end (kappa_u) or the limit reaching zero */
+    double k_end = INFINITY;
+    if (H > 0.0) k_end = fmin(ku, k0 + y / H);
+    if (k0 + d <= k_end || piece == 3) {
+      D = k0 + d - kappa_old;
+      T_abs = (y > 0.0) ? fabs(T_tr) - kst * D : 0.0; /* the zero piece: no shear left */
+      break;
+    }
+    k0 = k_end;
+    y = shear_limit(cA, ku, muN, k0, &slope);
+  }
+  r->T = sgn * T_abs;
+  r->slip_p = slip_p_old + sgn * D;
+  r->kappa = kappa_old + D;
+  r->limit = T_abs;
+  r->sliding = 1;
+  r->T_s = -kst * H / (kst - H);
+  /* N enters the limit with mu unless the limit is the zero piece */
+  r->T_N = (T_abs > 0.0) ? sgn * kst * law->mu / (kst - H) : 0.0;
+}
+
 /* J v: v turned +90 degrees. */
 static inline void perp(const double v[2], double out[2]) {
   out[0] = -v[1];
