@@ -65,6 +65,12 @@ typedef struct {
   double kn_N_mm3; /* normal stiffness per unit area, > 0, default 3 */
   double ks_ratio; /* shear stiffness k_s / k_n, > 0, default 0.5 */
   double friction; /* Coulomb friction coefficient mu, > 0, default 0.7 */
+  /* mortar (joint.h, vs_joint_normal_mortar); all 0 by default: dry joints. Not yet used by the
+   * model: vs_case_validate refuses a case that sets any of them */
+  double tensile_MPa;  /* tensile strength f_t, [0, 100] */
+  double cohesion_MPa; /* cohesion c, [0, 100] */
+  double gf_N_mm;      /* mode-I fracture energy G_f, [0, 1000]; > f_t^2 / (2 k_n) with f_t > 0 */
+  double gc_N_mm;      /* mode-II fracture energy G_c, [0, 1000]; > c^2 / (2 k_s) with c > 0 */
 
   /* [support] the right support moves, the left is fixed */
   double alpha_deg; /* direction from the vertical: 0 = settlement down, 90 = outward; [-180, 180], default 0 */

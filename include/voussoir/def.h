@@ -136,11 +136,14 @@ typedef struct {
 } vs_arch_def;
 
 /* The interfaces' law (joint.h): no-tension elastic normal response, elastic shear limited by
- * Coulomb friction. */
+ * Coulomb friction; with mortar (ft, c > 0; vs_joint_normal_mortar) tension and cohesion that
+ * soften to zero. The model does not yet use the mortar's: vs_run refuses a def with any set. */
 typedef struct {
   double kn; /* normal stiffness per unit area, N/m^3 */
   double ks; /* shear stiffness per unit area, N/m^3 */
   double mu; /* friction coefficient */
+  double ft, c;  /* mortar's tensile strength and cohesion, Pa (0: dry) */
+  double gf, gc; /* mode-I and mode-II fracture energies, N/m (J/m^2) */
 } vs_joints_def;
 
 /* Points of a support's path in time (vs_support_def): the support stands in place at t = 0,

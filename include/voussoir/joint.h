@@ -29,6 +29,11 @@ typedef struct {
    * gap gap0 + gap1 xi (m; gap1 dimensionless) adds to the kinematic gap, so the penetration is
    * p(xi) = (a - gap0) + (w - gap1) xi and the closed form stays exact (0, 0: coplanar faces). */
   double gap0, gap1;
+  /* Mortar (vs_joint_normal_mortar; all 0: a dry joint, the law above bit for bit): tensile
+   * strength ft (Pa), cohesion c (Pa), mode-I and mode-II fracture energies gf, gc (N/m, J/m^2).
+   * With ft > 0, gf must exceed ft^2 / (2 kn) (the softening branch then ends beyond the peak's
+   * opening). The model does not use them yet: a run with mortar is refused (case validation). */
+  double ft, c, gf, gc;
 } vs_joint_law;
 
 /* Normal response of a no-tension Winkler joint of length t and depth b to the affine
@@ -48,6 +53,53 @@ typedef struct {
  * w dimensionless (the gap slope). Never fails. */
 VS_API void vs_joint_normal(double kn, double b, double t, double a, double w,
                             vs_normal_response *r);
+
+/* Normal response of a mortared joint (law->kn, ft, gf; b, t, a, w as vs_joint_normal, the
+ * law's initial gap left to the caller). Stress per unit area, compression > 0, as a function
+ * of the penetration p (opening delta = -p):
+ *   sigma = kn p                                   for p >= -d0, d0 = ft / kn (elastic, both ways)
+ *   sigma = -ft (du + p) / (du - d0)                for -du < p < -d0 (linear softening)
+ *   sigma = 0                                       for p <= -du,   du = 2 gf / ft
+ * so that opening a unit area from closed to du takes gf. Damage: crack[0], crack[1] are the
+ * lengths from the intrados and the extrados edge (m) over which the mortar is cracked through
+ * (the opening once reached du there): those parts carry compression only (sigma = kn <p>), the
+ * rest follows the curve above. The profile is piecewise linear in xi and integrated in closed
+ * form; N_a, N_w, M_w are its exact derivatives (the stress is continuous in p, so only the
+ * pieces' slopes enter). energy is the potential int b phi(p) dxi with phi' = sigma (phi = gf
+ * on an intact point opened beyond du). contact: the length where p >= 0. ft = 0 with no crack:
+ * vs_joint_normal, bit for bit; crack[0] + crack[1] >= t: the dry law (to rounding). */
+VS_API void vs_joint_normal_mortar(const vs_joint_law *law, double b, double t, double a, double w,
+                                   const double crack[2], vs_normal_response *r);
+
+/* Irreversible damage after a converged state: each edge's cracked length grows to the part of
+ * the joint next to it where the opening -(a + w xi) reaches du (crack fronts move along eta,
+ * never back). Returns the energy the growth dissipated, gf b (new cracked length - old), J.
+ * ft = 0: nothing changes, returns 0. */
+VS_API double vs_joint_crack_update(const vs_joint_law *law, double b, double t, double a, double w,
+                                    double crack[2]);
+
+/* Shear of a mortared joint (vs_joint_shear_mortar). */
+typedef struct {
+  double T;        /* shear force along s, N */
+  double slip_p;   /* plastic slip after the return mapping, m */
+  double kappa;    /* accumulated plastic slip |d slip_p|, the cohesion's softening variable, m */
+  double limit;    /* the slip limit at the returned state, c(kappa) A_c + mu N (>= 0), N */
+  double T_s, T_N; /* exact derivatives of T in the slip and in N (consistent tangent) */
+  int sliding;     /* 1 when the limit is active */
+} vs_shear_response;
+
+/* Elastic shear T = k_s b t (slip - slip_p) with Coulomb's limit and cohesion, tension cut off:
+ * |T| <= max(0, c(kappa) A_c + mu N), A_c = b (t - crack[0] - crack[1]) the bonded area (the
+ * mortar not cracked through, vs_joint_normal_mortar), N the normal force (compression > 0;
+ * tension lowers the limit, to zero at most). The cohesion softens linearly with the
+ * accumulated plastic slip: c(kappa) = c (1 - kappa / kappa_u), kappa_u = 2 G_c / c, zero
+ * beyond, so that sliding a bonded unit area through dissipates G_c beyond the friction's
+ * mu N per unit slip. Return mapping from (slip_p_old, kappa_old), exact (the limit is piecewise
+ * linear in kappa); T_s, T_N its consistent tangent. Needs k_s > c^2 / (2 G_c) (no snap-back;
+ * the case checks it). c = 0: Coulomb's |T| <= mu N of vs_joint_eval_h (N >= 0). */
+VS_API void vs_joint_shear_mortar(const vs_joint_law *law, double b, double t, const double crack[2],
+                                  double N, double slip, double slip_p_old, double kappa_old,
+                                  vs_shear_response *r);
 
 /* Everything one joint evaluation yields. */
 typedef struct {

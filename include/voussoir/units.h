@@ -7,5 +7,7 @@
 #define VS_MM 1e-3               /* mm -> m */
 #define VS_DEG (VS_PI / 180.0)   /* deg -> rad */
 #define VS_N_MM3 1e9             /* N/mm^3 -> N/m^3 */
+#define VS_MPA 1e6               /* MPa -> Pa */
+#define VS_N_MM 1e3              /* N/mm -> N/m */
 
 #endif

@@ -45,6 +45,189 @@ void vs_joint_normal(double kn, double b, double t, double a, double w, vs_norma
   /* M_w: d(-M+(a,-w))/dw = M+_w, unchanged */
 }
 
+/* --- mortar: tension, softening, cracks (joint.h, vs_joint_normal_mortar) --- */
+
+/* One linear piece of the stress law: sigma = s0 + s1 p, potential phi = e0 + e1 p + e2 p^2. */
+typedef struct {
+  double s0, s1, e0, e1, e2;
+} mortar_piece;
+
+typedef struct {
+  double kn, ft, gf, d0, du, h; /* h = ft / (du - d0), the softening slope */
+} mortar_curve;
+
+/* The piece in force at penetration p: intact mortar (cracked = 0) or a cracked-through part. */
+static mortar_piece mortar_piece_at(const mortar_curve *mc, int cracked, double p) {
+  mortar_piece q = {0.0, 0.0, 0.0, 0.0, 0.0};
+  if (cracked || mc->ft <= 0.0) {
+    if (p > 0.0) q.s1 = mc->kn, q.e2 = 0.5 * mc->kn;
+    return q;
+  }
+  if (p >= -mc->d0) {
+    q.s1 = mc->kn, q.e2 = 0.5 * mc->kn;
+  } else if (p > -mc->du) { /* phi = gf - h (p + du)^2 / 2 */
+    q.s0 = -mc->h * mc->du, q.s1 = -mc->h;
+    q.e0 = mc->gf - 0.5 * mc->h * mc->du * mc->du, q.e1 = -mc->h * mc->du, q.e2 = -0.5 * mc->h;
+  } else {
+    q.e0 = mc->gf;
+  }
+  return q;
+}
+
+/* Adds the integral over xi in [x0, x1] of the law (region intact or cracked) to r (without the
+ * factor b), splitting where p = a + w xi crosses the law's breakpoints. */
+static void mortar_region(const mortar_curve *mc, int cracked, double a, double w, double x0,
+                          double x1, vs_normal_response *r) {
+  if (!(x1 > x0)) return;
+  double cut[5];
+  int n = 0;
+  cut[n++] = x0;
+  const double bp[3] = {0.0, -mc->d0, -mc->du};
+  const int nbp = (cracked || mc->ft <= 0.0) ? 1 : 3;
+  if (w != 0.0)
+    for (int i = 0; i < nbp; i++) {
+      const double x = (bp[i] - a) / w;
+      if (x > x0 && x < x1) cut[n++] = x;
+    }
+  cut[n++] = x1;
+  for (int i = 1; i < n - 1; i++) /* sort the interior cuts (at most 3) */
+    for (int j = i + 1; j < n - 1; j++)
+      if (cut[j] < cut[i]) {
+        const double tmp = cut[i];
+        cut[i] = cut[j];
+        cut[j] = tmp;
+      }
+  for (int i = 0; i + 1 < n; i++) {
+    const double u0 = cut[i], u1 = cut[i + 1];
+    if (!(u1 > u0)) continue;
+    const mortar_piece q = mortar_piece_at(mc, cracked, a + w * 0.5 * (u0 + u1));
+    /* moments of xi over [u0, u1] */
+    const double m0 = u1 - u0, m1 = 0.5 * (u1 * u1 - u0 * u0),
+                 m2 = (u1 * u1 * u1 - u0 * u0 * u0) / 3.0;
+    /* sigma = (s0 + s1 a) + s1 w xi; phi = c0 + c1 xi + c2 xi^2 */
+    const double g0 = q.s0 + q.s1 * a, g1 = q.s1 * w;
+    r->N += g0 * m0 + g1 * m1;
+    r->M += g0 * m1 + g1 * m2;
+    r->N_a += q.s1 * m0;
+    r->N_w += q.s1 * m1;
+    r->M_w += q.s1 * m2;
+    const double c0 = q.e0 + q.e1 * a + q.e2 * a * a, c1 = q.e1 * w + 2.0 * q.e2 * a * w,
+                 c2 = q.e2 * w * w;
+    r->energy += c0 * m0 + c1 * m1 + c2 * m2;
+    /* compressed length: p >= 0 on the piece (p affine: its midpoint decides) */
+    if (a + w * 0.5 * (u0 + u1) >= 0.0) r->contact += m0;
+  }
+}
+
+static mortar_curve mortar_curve_of(const vs_joint_law *law) {
+  mortar_curve mc = {law->kn, law->ft, law->gf, 0.0, 0.0, 0.0};
+  if (law->ft > 0.0) {
+    mc.d0 = law->ft / law->kn;
+    mc.du = 2.0 * law->gf / law->ft;
+    if (!(mc.du > mc.d0)) mc.du = mc.d0 * (1.0 + 1e-9); /* outside the documented range: near brittle */
+    mc.h = law->ft / (mc.du - mc.d0);
+  }
+  return mc;
+}
+
+void vs_joint_normal_mortar(const vs_joint_law *law, double b, double t, double a, double w,
+                            const double crack[2], vs_normal_response *r) {
+  const double ci = fmax(0.0, crack[0]), ce = fmax(0.0, crack[1]);
+  if (law->ft <= 0.0 && ci == 0.0 && ce == 0.0) {
+    vs_joint_normal(law->kn, b, t, a, w, r);
+    return;
+  }
+  const mortar_curve mc = mortar_curve_of(law);
+  memset(r, 0, sizeof *r);
+  const double h = 0.5 * t;
+  const double xi = fmin(h, -h + ci), xe = fmax(xi, h - ce); /* intact: [xi, xe] */
+  mortar_region(&mc, 1, a, w, -h, xi, r);
+  mortar_region(&mc, 0, a, w, xi, xe, r);
+  mortar_region(&mc, 1, a, w, xe, h, r);
+  r->N *= b;
+  r->M *= b;
+  r->N_a *= b;
+  r->N_w *= b;
+  r->M_w *= b;
+  r->energy *= b;
+}
+
+double vs_joint_crack_update(const vs_joint_law *law, double b, double t, double a, double w,
+                             double crack[2]) {
+  if (law->ft <= 0.0) return 0.0;
+  const mortar_curve mc = mortar_curve_of(law);
+  const double h = 0.5 * t;
+  const double old = fmin(t, fmax(0.0, crack[0]) + fmax(0.0, crack[1]));
+  /* p = a + w xi <= -du at each edge, and how far in from it */
+  double li = 0.0, le = 0.0;
+  if (a - w * h <= -mc.du) li = (w > 0.0) ? fmin(t, (-mc.du - a) / w + h) : t;
+  if (a + w * h <= -mc.du) le = (w < 0.0) ? fmin(t, h - (-mc.du - a) / w) : t;
+  crack[0] = fmax(crack[0], li);
+  crack[1] = fmax(crack[1], le);
+  const double now = fmin(t, crack[0] + crack[1]);
+  return law->gf * b * (now - old);
+}
+
+/* The cohesive-frictional limit at accumulated slip kappa and its slope in kappa (<= 0). */
+static double shear_limit(double cA, double ku, double muN, double kappa, double *slope) {
+  double coh = 0.0, dcoh = 0.0;
+  if (cA > 0.0 && kappa < ku) coh = cA * (1.0 - kappa / ku), dcoh = -cA / ku;
+  const double y = coh + muN;
+  if (y <= 0.0) {
+    *slope = 0.0;
+    return 0.0;
+  }
+  *slope = dcoh;
+  return y;
+}
+
+void vs_joint_shear_mortar(const vs_joint_law *law, double b, double t, const double crack[2],
+                           double N, double slip, double slip_p_old, double kappa_old,
+                           vs_shear_response *r) {
+  const double kst = law->ks * b * t;
+  const double bonded = fmax(0.0, t - fmax(0.0, crack[0]) - fmax(0.0, crack[1]));
+  const double cA = law->c * b * bonded;
+  const double ku = (law->c > 0.0) ? 2.0 * law->gc / law->c : 0.0;
+  const double muN = law->mu * N;
+  const double T_tr = kst * (slip - slip_p_old);
+  double slope;
+  const double y0 = shear_limit(cA, ku, muN, kappa_old, &slope);
+  memset(r, 0, sizeof *r);
+  r->T = T_tr;
+  r->slip_p = slip_p_old;
+  r->kappa = kappa_old;
+  r->limit = y0;
+  r->T_s = kst;
+  if (fabs(T_tr) <= y0) return;
+  /* sliding: |T_tr| - kst D = Y(kappa_old + D), Y piecewise linear in kappa; walk its pieces */
+  const double sgn = (T_tr > 0.0) ? 1.0 : -1.0;
+  double k0 = kappa_old, y = y0, T_abs = 0.0, D = 0.0, H = 0.0;
+  for (int piece = 0; piece < 4; piece++) {
+    H = -slope; /* the limit falls by H per unit slip on this piece */
+    /* from kappa_old to k0 the plastic slip is k0 - kappa_old; on the piece, Y = y - H (k - k0) */
+    const double rem = fabs(T_tr) - kst * (k0 - kappa_old) - y; /* > 0: slides further */
+    const double d = rem / (kst - H);
+    /* where this piece ends: the cohesion's end (kappa_u) or the limit reaching zero */
+    double k_end = INFINITY;
+    if (H > 0.0) k_end = fmin(ku, k0 + y / H);
+    if (k0 + d <= k_end || piece == 3) {
+      D = k0 + d - kappa_old;
+      T_abs = (y > 0.0) ? fabs(T_tr) - kst * D : 0.0; /* the zero piece: no shear left */
+      break;
+    }
+    k0 = k_end;
+    y = shear_limit(cA, ku, muN, k0, &slope);
+  }
+  r->T = sgn * T_abs;
+  r->slip_p = slip_p_old + sgn * D;
+  r->kappa = kappa_old + D;
+  r->limit = T_abs;
+  r->sliding = 1;
+  r->T_s = -kst * H / (kst - H);
+  /* N enters the limit with mu unless the limit is the zero piece */
+  r->T_N = (T_abs > 0.0) ? sgn * kst * law->mu / (kst - H) : 0.0;
+}
+
 /* J v: v turned +90 degrees. */
 static inline void perp(const double v[2], double out[2]) {
   out[0] = -v[1];
