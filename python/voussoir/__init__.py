@@ -21,7 +21,7 @@ from . import tables
 from .tables import record_to_xarray
 from .draw import draw_mechanism, draw_curves, draw_domain
 
-__version__ = "0.3.0"
+__version__ = "0.4.0"
 __all__ = ["Record", "Series", "open_record", "read_table", "draw_mechanism", "draw_curves",
            "draw_domain", "cli", "Case", "run", "Result", "History", "Hinge", "Collapse",
            "LimitPoint", "Event", "sweep", "montecarlo",
