@@ -48,6 +48,10 @@ def check_saved(fig, name):
         fail(f"{name}.pdf: no embedded TrueType font (pdf.fonttype 42)")
     if b"/Subtype /Type3" in pdf:
         fail(f"{name}.pdf: Type 3 fonts (text not editable)")
+    fig.savefig(os.path.join(out, name + "_direct.svg"))  # savefig itself keeps the text
+    if len(re.findall(rb"<text[ >]", open(os.path.join(out, name + "_direct.svg"), "rb").read())) \
+            != len(texts):
+        fail(f"{name}: fig.savefig('.svg') draws the text as paths")
     return len(texts)
 
 

@@ -17,6 +17,7 @@ import numpy as np
 COLUMN_IN = 3.5  # one journal column, inches
 STYLE = {"font.size": 8, "axes.titlesize": 8, "axes.labelsize": 8, "legend.fontsize": 7,
          "xtick.labelsize": 7, "ytick.labelsize": 7, "lines.linewidth": 1.0,
+         "lines.markersize": 3.5,
          "axes.linewidth": 0.6, "savefig.dpi": 300,
          "svg.fonttype": "none",  # SVG text stays text
          "pdf.fonttype": 42, "ps.fonttype": 42}  # TrueType in PDF and PS: editable
@@ -36,13 +37,32 @@ def _styled(fn):
     return wrapper
 
 
+_FIGURE = None
+
+
+def _figure_class():
+    """matplotlib's Figure whose savefig writes in STYLE: the text stays editable however the
+    figure is saved (fig.savefig, save(), PdfPages)."""
+    global _FIGURE
+    if _FIGURE is None:
+        import matplotlib
+        from matplotlib.figure import Figure
+
+        class VoussoirFigure(Figure):
+            def savefig(self, *args, **kw):
+                with matplotlib.rc_context(STYLE):
+                    return super().savefig(*args, **kw)
+        _FIGURE = VoussoirFigure
+    return _FIGURE
+
+
 def figure(height_in=2.6, width_in=COLUMN_IN, rows=1, sharex=False):
     """A Figure of width_in x height_in inches with `rows` axes (a list when rows > 1), in the
-    module's STYLE, without pyplot (no global state: safe in threads)."""
+    module's STYLE, without pyplot (no global state: safe in threads; show it in a notebook
+    as the cell's value, or with fig.savefig)."""
     import matplotlib
-    from matplotlib.figure import Figure
     with matplotlib.rc_context(STYLE):
-        fig = Figure(figsize=(width_in, height_in), layout="constrained")
+        fig = _figure_class()(figsize=(width_in, height_in), layout="constrained")
         axes = fig.subplots(rows, 1, sharex=sharex)
     return fig, axes
 
@@ -52,7 +72,7 @@ def save(fig, stem, formats=("png", "pdf", "svg")):
     returns the paths written."""
     import matplotlib
     paths = []
-    with matplotlib.rc_context(STYLE):
+    with matplotlib.rc_context(STYLE):  # also for a figure not made here
         for fmt in formats:
             path = f"{os.fspath(stem)}.{fmt}"
             fig.savefig(path, format=fmt)
@@ -198,7 +218,13 @@ def domain(table):
     fig, ax = figure(height_in=3.0)
     draw_domain(_rows(table), ax=ax)
     ax.legend(frameon=False)
-    ax.set_aspect("equal", adjustable="datalim")
+    for line in ax.get_lines():  # the axes start at 0 (no collapse at a negative travel here)
+        if len(line.get_xdata()) and min(line.get_xdata()) < 0:
+            break
+    else:
+        ax.set_xlim(left=0)
+    if all(min(ln.get_ydata(), default=0) >= 0 for ln in ax.get_lines()):
+        ax.set_ylim(bottom=0)
     return fig
 
 
@@ -274,22 +300,28 @@ def convergence(table, span_mm=None):
 @_styled
 def hinge_histogram(table, joints=None):
     """Where each hinge (A..E) sat at the collapse over a Monte Carlo study's samples: the number
-    of collapses with that hinge at each joint, bars side by side (joints: the number of joints,
+    of collapses with that hinge at each joint, stacked by label (joints: the number of joints,
     voussoirs + 1, for the axis; else up to the largest joint seen)."""
     rows = [r for r in _rows(table) if r["status"] == "collapse"]
     counts = {}
     for label in "ABCDE":
-        js = [int(str(r[label]).split("-")[0]) for r in rows if r.get(label)]
+        js = [int(r[label].split("-")[0]) for r in rows  # "9-I"; empty (or NaN from a csv)
+              if isinstance(r.get(label), str) and r[label]]
         if js:
             counts[label] = np.bincount(js)
     top = joints or max((len(c) - 1 for c in counts.values()), default=1)
     fig, ax = figure()
-    width = 0.8 / max(len(counts), 1)
-    for i, (label, c) in enumerate(counts.items()):
+    bottom = np.zeros(top)
+    for label, c in counts.items():  # stacked: a joint's bar is its collapses, by label
         y = np.zeros(top + 1)
-        y[:len(c)] = c[:top + 1]
-        x = np.arange(1, top + 1) + (i - (len(counts) - 1) / 2) * width
-        ax.bar(x, y[1:], width=width, label=label)
+        n = min(len(c), top + 1)
+        y[:n] = c[:n]
+        ax.bar(np.arange(1, top + 1), y[1:], width=0.8, bottom=bottom, label=label)
+        bottom += y[1:]
+    ax.set_ylim(0, 1.2 * max(bottom.max(), 1))
+    from matplotlib.ticker import MaxNLocator
+    ax.yaxis.set_major_locator(MaxNLocator(integer=True))  # counts
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))  # joints
     ax.set_xlim(0.5, top + 0.5)
     ax.set_xlabel("joint")
     ax.set_ylabel("collapses with the hinge there")
