@@ -2,10 +2,19 @@
 # The gallery: every examples/*.py but the pvpython one runs as its docstring says, the package
 # in place (PYTHONPATH), the library beside the program, and writes a PDF of as many pages as
 # figures it saves (its "/Type /Page" objects), each in a few seconds.
-# usage: test_gallery.sh VOUSSOIR SOURCE_DIR
+# usage: test_gallery.sh VOUSSOIR SOURCE_DIR CC [sanitize (a sanitizer build)]
 set -euo pipefail
-vs=$1 src=$2
+vs=$1 src=$2 cc=$3
 py=/usr/bin/python3
+# A sanitizer build's library loads into python3 only after the sanitizers' runtimes: they are
+# preloaded, without leak detection (the interpreter does not free everything at exit).
+run=(env)
+if [ "${4:-}" = sanitize ]; then
+  asan=$("$cc" -print-file-name=libasan.so) ubsan=$("$cc" -print-file-name=libubsan.so)
+  [ -f "$asan" ] && [ -f "$ubsan" ] ||
+    { echo "SKIP: $cc does not name its libasan.so and libubsan.so"; exit 77; }
+  run=(env LD_PRELOAD="$asan $ubsan" ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0")
+fi
 $py -c "import cffi, numpy, pandas, h5py, matplotlib" 2>/dev/null ||
   { echo "SKIP: $py lacks cffi/numpy/pandas/h5py/matplotlib (.ci/deps installs them)"; exit 77; }
 tmp=$(mktemp -d)
@@ -19,7 +28,7 @@ for ex in "$src"/examples/*.py; do
   [ "$name" = paraview_record ] && continue # pvpython's: tests/test_paraview.sh runs it
   [ -n "${pages[$name]:-}" ] || { echo "FAIL: $name.py is not in this test's list"; exit 1; }
   start=$(date +%s%N)
-  $py "$ex" "$name.pdf" >"$name.out"
+  "${run[@]}" $py "$ex" "$name.pdf" >"$name.out"
   sed 's/^/  /' "$name.out"
   head -c 5 "$name.pdf" | grep -q '%PDF-' || { echo "FAIL: $name.pdf is not a PDF"; exit 1; }
   got=$(grep -a -c '/Type /Page\b' "$name.pdf" || true)
