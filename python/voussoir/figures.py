@@ -150,8 +150,8 @@ def curves(src, fall=False):
     """The supports' forces on the arch (N: Fx dashed, Fz solid; left blue, right red) against
     the support displacement delta (mm), quasi-static path and collapse (the dynamic phases) only,
     with the limit points and the collapse marked. fall=True adds a second panel: the same forces
-    during the rigid fall against time (s), where delta hardly moves and would draw vertical
-    lines. src: a record (path or Record) or a Result (with its history)."""
+    during the rigid fall against the time since it began (s); delta hardly moves then, and
+    against it the fall would be vertical lines. src: a record (path or Record) or a Result (with its history)."""
     run = _Run(src)
     has_fall = fall and bool((run.phase == 2).any())
     fig, axes = figure(height_in=4.4 if has_fall else 2.6, rows=2 if has_fall else 1)
@@ -166,10 +166,12 @@ def curves(src, fall=False):
     ax.legend(ncols=2, frameon=False)
     if has_fall:
         f = run.phase == 2
+        t = run.time[f] - run.time[f][0]
         for name, v in run.forces.items():
             c, ls = FORCE_STYLE[name]
-            axes[1].plot(run.time[f], v[f], color=c, linestyle=ls)
-        axes[1].set_xlabel("time (s), rigid fall after the collapse")
+            axes[1].plot(t, v[f], color=c, linestyle=ls)
+        axes[1].set_xlim(0, t[-1])
+        axes[1].set_xlabel("time since the fall began (s)")
         axes[1].set_ylabel("force on the arch (N)")
     return fig
 
