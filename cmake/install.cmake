@@ -40,5 +40,9 @@ install(FILES man/voussoir.1 DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
 install(FILES runs/reference.ini examples/spreading.ini examples/run_case.c
               examples/CMakeLists.txt
         DESTINATION ${CMAKE_INSTALL_DATADIR}/voussoir)
+# The Python gallery and the pvpython script (docs/python.md#gallery): share/voussoir/examples.
+install(FILES examples/seed_domain.py examples/pointed_arch.py examples/fragility.py
+              examples/paraview_record.py
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/voussoir/examples)
 # The documentation (docs/README.md is its index), next to the man page: share/doc/voussoir.
 install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR})

@@ -17,7 +17,8 @@ for f in bin/voussoir "$libdir/libvoussoir.so" include/voussoir/run.h include/vo
          "$libdir/pkgconfig/voussoir.pc" "$libdir/cmake/voussoir/voussoirConfig.cmake" \
          share/man/man1/voussoir.1 share/voussoir/reference.ini share/voussoir/spreading.ini \
          share/voussoir/run_case.c share/voussoir/CMakeLists.txt share/doc/voussoir/README.md \
-         share/doc/voussoir/case-file.md; do
+         share/doc/voussoir/case-file.md share/voussoir/examples/paraview_record.py \
+         share/voussoir/examples/fragility.py; do
   [ -e "$p/$f" ] || fail "$f not installed"
 done
 [ -e "$p/include/voussoir/sweep.h" ] && fail "sweep.h (CLI only) installed"

@@ -6,6 +6,9 @@
 # the record's frames (/xdmf/block_points) there; two more sidecars, rebuilt by XDMF_REBUILD,
 # take them from elsewhere: a run killed before its status (outlines inline, computed from the
 # positions) and that run turned into an earlier version's record (per-state outlines).
+# Then the shipped examples/paraview_record.py, given the bare name run.xmf: its frames (PNG) colour
+# the blocks by theta_rad with the NaN grids grey, and each frame's support displacement is the
+# record's at that frame's time.
 # usage: test_paraview.sh VOUSSOIR SOURCE_DIR XDMF_REBUILD
 set -euo pipefail
 vs=$1 src=$2 rebuild=$3
@@ -70,13 +73,48 @@ grep -q 'old.h5:/observables/block_points/value|' old.xmf ||
 # connect (measured: 87 of 300 XOpenDisplay calls), and pvpython then aborts with "bad X server
 # connection" before the check starts. That is the X transport, not ParaView reading the record:
 # only that abort is retried, at most 10 times (all 10 failing by chance: below 1e-5).
-for attempt in $(seq 1 10); do
-  set +e
-  pvpython "$src/tests/paraview_check.py" >"$tmp/out" 2>"$tmp/err"
-  rc=$?
-  set -e
-  [ $rc -ne 0 ] && grep -q 'bad X server connection' "$tmp/err" || break
-  echo "pvpython could not connect to the X server (attempt $attempt); again"
-done
+pv() { # pvpython ARGS..., output in $tmp/out and $tmp/err; retried after that abort only
+  for attempt in $(seq 1 10); do
+    set +e
+    pvpython "$@" >"$tmp/out" 2>"$tmp/err"
+    rc=$?
+    set -e
+    [ $rc -ne 0 ] && grep -q 'bad X server connection' "$tmp/err" || break
+    echo "pvpython could not connect to the X server (attempt $attempt); again"
+  done
+}
+pv "$src/tests/paraview_check.py"
 grep -a -v '^$' "$tmp/out" || true
 [ $rc -eq 0 ] && grep -q 'paraview: ok' "$tmp/out" || { grep -a -v '^ *[0-9]* *0x' "$tmp/err" | tail -20; exit 1; }
+pv "$src/examples/paraview_record.py" run.xmf --field theta_rad --frames 4 --size 480x320 --out anim
+[ $rc -eq 0 ] || { grep -a -v '^ *[0-9]* *0x' "$tmp/err" | tail -20; exit 1; }
+/usr/bin/python3 - "$tmp/out" <<'EOF'
+# the frames of paraview_record.py against the record: 4 PNGs, each labelled with the support
+# displacement of the record's row at its time; the blocks in colour, the NaN grids grey
+import re
+import sys
+import h5py
+import numpy as np
+from matplotlib.image import imread
+lines = [l for l in open(sys.argv[1]) if l.startswith("anim/")]
+with h5py.File("run.h5", "r") as f:
+    t, d = f["observables/delta/time"][:], f["observables/delta/value"][:]
+if len(lines) != 4:
+    sys.exit(f"paraview_record.py: {len(lines)} frames, want 4")
+for l in lines:
+    png, ts, dm = re.match(r"(\S+) time_s=(\S+) delta_mm=(\S+)", l).groups()
+    rows = np.flatnonzero(t == float(ts))
+    if rows.size != 1 or abs(float(dm) - d[rows[0]] * 1e3) > 5e-7:
+        sys.exit(f"{png}: labelled {dm} mm at t = {ts} s; the record's row there: "
+                 f"{d[rows] * 1e3} mm")
+    img = imread(png)[:, :, :3]
+    sat = int(((img.max(axis=2) - img.min(axis=2)) > 0.25).sum())
+    # NaN grey in the picture's body (not the label's or the colour bar's antialiased edges)
+    grey = int((np.abs(img[40:, :360] - 0.5).max(axis=2) < 0.02).sum())
+    dark = int((img[:40, :240].max(axis=2) < 0.3).sum())  # the label, upper left
+    if img.shape[:2] != (320, 480) or sat < 300 or grey < 200 or dark < 50:
+        sys.exit(f"{png}: {img.shape}, {sat} coloured, {grey} grey (NaN), {dark} label pixels")
+    print(f"{png}: {sat} coloured, {grey} grey (NaN), {dark} label pixels")
+print(f"paraview_record.py run.xmf (a bare name): {len(lines)} frames, each labelled with the "
+      "record's support displacement at its time; blocks coloured, NaN grids grey")
+EOF

@@ -20,9 +20,10 @@ from .study import sweep, montecarlo
 from . import tables
 from .tables import record_to_xarray
 from .draw import draw_mechanism, draw_curves, draw_domain
+from . import figures
 
 __version__ = "0.4.0"
 __all__ = ["Record", "Series", "open_record", "read_table", "draw_mechanism", "draw_curves",
-           "draw_domain", "cli", "Case", "run", "Result", "History", "Hinge", "Collapse",
+           "draw_domain", "figures", "cli", "Case", "run", "Result", "History", "Hinge", "Collapse",
            "LimitPoint", "Event", "sweep", "montecarlo",
            "record_to_xarray", "tables", "Error", "CaseError", "SolverError", "library_path"]

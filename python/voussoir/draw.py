@@ -47,11 +47,13 @@ def draw_curves(rec, ax=None):
 
 
 def draw_domain(table, ax=None):
-    """Limit displacement domain of a sweep (read_table rows): collapse dz/L against dx/L, one
+    """Limit displacement domain of a sweep (voussoir.sweep's DataFrame or read_table rows): collapse dz/L against dx/L, one
     line per k_n through the directions alpha. A column the sweep did not vary is not in its
     table: without joints.kn_N_mm3 the collapses are one line (the case's k_n), without
     support.alpha_deg they are joined in the table's order."""
     ax = _axes(ax)
+    if hasattr(table, "to_dict"):  # a pandas DataFrame
+        table = table.to_dict("records")
     rows = [r for r in table if r.get("status") == "collapse"]
     kns = {r.get("joints.kn_N_mm3") for r in rows}
     for kn in sorted(kns, key=lambda k: -1.0 if k is None else k):
