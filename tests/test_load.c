@@ -673,6 +673,17 @@ static void test_spread(void **state) {
   assert_int_equal(vs_limit_live_load(g, &steep, &d.fill, &f, &n, &err), VS_ERR_INVALID);
   assert_non_null(strstr(err.msg, "load.spread_deg"));
   vs_geometry_destroy(&g);
+  /* the limit analysis: a point load spread over several voussoirs names none; spread 0 the
+   * voussoir under it; the spread load carries more (it reaches more voussoirs) */
+  d.load = (vs_load_def){.kind = VS_LOAD_POINT, .value = 1.0, .x = 0.133};
+  vs_limit_analysis a0, a1;
+  assert_int_equal(vs_limit_analyse(&d, NULL, &a0, &err), VS_OK);
+  d.load.spread = 30.0 * PI / 180.0;
+  assert_int_equal(vs_limit_analyse(&d, NULL, &a1, &err), VS_OK);
+  assert_true(a0.load_block >= 0 && a1.load_block == -1);
+  assert_true(a1.collapse.value > a0.collapse.value);
+  vs_limit_analysis_free(&a0);
+  vs_limit_analysis_free(&a1);
 }
 
 int main(void) {

@@ -151,7 +151,8 @@ VS_API vs_status vs_limit_fill_load(const vs_geometry *g, const vs_fill_def *fd,
 /* Everything the limit analysis of a run's definition reports. */
 typedef struct {
   int have_load;                   /* d->load.kind != none: collapse was solved */
-  int load_block;                  /* point and line: the loaded block (0-based); else -1 */
+  int load_block;                  /* point and line: the loaded block (0-based); else (also
+                                      when spread over several, load.spread_deg) -1 */
   vs_limit_solution collapse;      /* the largest load factor and its mechanism */
   vs_limit_solution thrust_min, thrust_max; /* self-weight: the least and greatest thrust */
   double thickness_factor;         /* the least factor on arch.thickness at which the arch

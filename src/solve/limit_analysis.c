@@ -410,7 +410,8 @@ static vs_status solve_arch(const vs_run_def *d, const vs_limit_opts *o, vs_limi
   if (st == VS_OK) st = vs_limit_solve(l, VS_LIMIT_THRUST_MAX, &a->thrust_max, err);
   if (st == VS_OK) vs_limit_basis_start(l, *basis);
   if (st == VS_OK && a->have_load) st = vs_limit_solve(l, VS_LIMIT_LOAD_FACTOR, &a->collapse, err);
-  if (st == VS_OK && (d->load.kind == VS_LOAD_POINT || d->load.kind == VS_LOAD_LINE))
+  if (st == VS_OK && (d->load.kind == VS_LOAD_POINT || d->load.kind == VS_LOAD_LINE) &&
+      n_live == 1) /* not spread through the fill over several */
     a->load_block = live[0].block;
   free(live);
   vs_limit_destroy(&l);
