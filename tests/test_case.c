@@ -166,6 +166,8 @@ static const key_case all_keys[] = {
     {"analysis", "hold_mm", "-0.001", "1.1e6", {"0", "1e6"}},
     {"fill", "unit_weight_kN_m3", "-0.001", "1000.1", {"0", "1000"}},
     {"fill", "level_mm", "-0.001", "1.1e6", {"0", "1e6"}},
+    {"fill", "k_horizontal", "-0.001", "100.1", {"0", "100"}},
+    {"load", "spread_deg", "-0.001", "80.1", {"0", "80"}},
 };
 #define NKEYS_TESTED (sizeof all_keys / sizeof all_keys[0])
 /* Keys that are named choices, tested by name in test_support_kinds (support.left_kind,
@@ -395,7 +397,7 @@ static void check_out_of_range(const key_case *k, const char *value) {
 
 static void test_every_key_out_of_range(void **state) {
   (void)state;
-  assert_int_equal(NKEYS_TESTED, 69);
+  assert_int_equal(NKEYS_TESTED, 71);
   for (size_t i = 0; i < NKEYS_TESTED; i++) {
     check_out_of_range(&all_keys[i], all_keys[i].below);
     if (all_keys[i].above != NULL) check_out_of_range(&all_keys[i], all_keys[i].above);

@@ -102,7 +102,7 @@ static void tilt_of(const vs_geometry *g, vs_limit_force **f, int *n) {
   vs_error err;
   vs_error_clear(&err);
   const vs_load_def tilt = {.kind = VS_LOAD_TILT};
-  assert_int_equal(vs_limit_live_load(g, &tilt, f, n, &err), VS_OK);
+  assert_int_equal(vs_limit_live_load(g, &tilt, NULL, f, n, &err), VS_OK);
   assert_int_equal(*n, g->n_blocks);
 }
 
@@ -653,7 +653,7 @@ static void test_live_load(void **state) {
     const vs_load_def ld = {.kind = VS_LOAD_POINT, .value = 7.0, .x = xs[i] * 1e-3};
     vs_limit_force *f = NULL;
     int n = 0;
-    assert_int_equal(vs_limit_live_load(g, &ld, &f, &n, &err), VS_OK);
+    assert_int_equal(vs_limit_live_load(g, &ld, NULL, &f, &n, &err), VS_OK);
     assert_int_equal(n, 1);
     assert_int_equal(f[0].block, block_under(&c, x0 + xs[i] * 1e-3));
     near(f[0].px, x0 + xs[i] * 1e-3, 1e-15);
@@ -664,7 +664,7 @@ static void test_live_load(void **state) {
   const vs_load_def patch = {.kind = VS_LOAD_PATCH, .value = 10.0, .x = 0.2, .width = 0.05};
   vs_limit_force *f = NULL;
   int n = 0;
-  assert_int_equal(vs_limit_live_load(g, &patch, &f, &n, &err), VS_OK);
+  assert_int_equal(vs_limit_live_load(g, &patch, NULL, &f, &n, &err), VS_OK);
   assert_true(n >= 2);
   double sum = 0.0, moment = 0.0;
   for (int i = 0; i < n; i++) sum += f[i].fz, moment += f[i].fz * f[i].px;
@@ -673,14 +673,14 @@ static void test_live_load(void **state) {
   free(f);
   /* errors, naming the key */
   const vs_load_def off = {.kind = VS_LOAD_POINT, .value = 1.0, .x = 0.6};
-  assert_int_equal(vs_limit_live_load(g, &off, &f, &n, &err), VS_ERR_INVALID);
+  assert_int_equal(vs_limit_live_load(g, &off, NULL, &f, &n, &err), VS_ERR_INVALID);
   assert_non_null(strstr(err.msg, "load.x_mm = 600: not over the arch's extrados (allowed: ["));
   assert_null(f);
   const vs_load_def thin = {.kind = VS_LOAD_PATCH, .value = 1.0, .x = 0.2, .width = 0.0};
-  assert_int_equal(vs_limit_live_load(g, &thin, &f, &n, &err), VS_ERR_INVALID);
+  assert_int_equal(vs_limit_live_load(g, &thin, NULL, &f, &n, &err), VS_ERR_INVALID);
   assert_non_null(strstr(err.msg, "load.width_mm = 0"));
   const vs_load_def wide = {.kind = VS_LOAD_PATCH, .value = 1.0, .x = 0.2, .width = 0.5};
-  assert_int_equal(vs_limit_live_load(g, &wide, &f, &n, &err), VS_ERR_INVALID);
+  assert_int_equal(vs_limit_live_load(g, &wide, NULL, &f, &n, &err), VS_ERR_INVALID);
   assert_non_null(strstr(err.msg, "the patch reaches beyond"));
   /* the load factor without a live load, a force on no block */
   vs_limit *l = NULL;

@@ -156,6 +156,8 @@ typedef struct {
   double x_mm;       /* its position from the left springing's intrados point, horizontal,
                         [-1e6, 1e6] mm, default 0 */
   double width_mm;   /* patch: its horizontal width centred on x_mm, [0, 1e6] mm, default 0 */
+  double spread_deg; /* point, line, patch: the spread angle through the fill from the
+                        vertical, [0, 80] deg, 0 (the default): none */
 
   /* [analysis] what the run computes (issue 28) */
   int type;          /* vs_analysis_type: support (default: the support's path), load (the
@@ -166,6 +168,8 @@ typedef struct {
   /* [fill] the fill over the arch, a dead load on its extrados (issue 28) */
   double unit_weight_kN_m3; /* its unit weight, [0, 1000] kN/m^3, 0 (the default): no fill */
   double level_mm;          /* its surface above the crown's extrados, [0, 1e6] mm, default 0 */
+  double k_horizontal;      /* the coefficient of its horizontal pressure on the extrados,
+                               [0, 100], 0 (the default): none */
 
   /* [run] how long a run may take */
   double max_wall_s;    /* wall-time limit of a run, [0, 1e6] s, 0 (the default): none. Once

@@ -239,6 +239,9 @@ typedef struct {
   double value; /* point, line, patch: the load, N, downward (tilt: unused) */
   double x;     /* its position: horizontal distance from the left springing's intrados point, m */
   double width; /* patch: its horizontal width, centred on x, m */
+  double spread; /* point, line, patch: the load's spread angle through the fill, rad (0: none),
+                    from the vertical: on the extrados, width + 2 h tan(spread), h the fill's
+                    depth over the extrados at x (limit.h vs_limit_live_load) */
 } vs_load_def;
 
 /* What the run computes (vs_analysis_type) and, for a load path, the support displacement held
@@ -249,10 +252,13 @@ typedef struct {
 } vs_analysis_def;
 
 /* The fill over the arch as a dead load (issue 28, item 2; limit.h vs_limit_fill_load): its unit
- * weight (0: no fill) up to a level above the crown's extrados, on the extrados. */
+ * weight (0: no fill) up to a level above the crown's extrados, on the extrados, and its
+ * horizontal pressure on the haunches with a stated coefficient. */
 typedef struct {
   double unit_weight; /* N/m^3 */
   double level;       /* the fill's surface above the crown's extrados, m */
+  double k_horizontal; /* the coefficient of its horizontal pressure on the extrados (0: none):
+                          k_horizontal x unit_weight x the depth below the surface, inward */
 } vs_fill_def;
 
 typedef struct {

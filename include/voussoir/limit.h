@@ -124,23 +124,35 @@ VS_API vs_status vs_limit_solve(vs_limit *l, vs_limit_goal goal, vs_limit_soluti
  * (the horizontal distance from the left springing's intrados point; a line load across the
  * barrel is a point load in the plane); patch, value spread uniformly over [x - width/2,
  * x + width/2], each block's share at the middle of its part; tilt, each block's weight
- * horizontally (+x, toward the right support) at its centroid. VS_ERR_INVALID (naming the
- * case key) when the load does not lie over the extrados or a patch has no width. */
+ * horizontally (+x, toward the right support) at its centroid. With ld->spread > 0 a point,
+ * line or patch load stands on the fill's surface (fd->level above the crown's extrados; fd
+ * NULL: level 0) and reaches the extrados spread uniformly over width + 2 h tan(spread) centred
+ * on x (width 0 for point and line), h the fill's depth over the extrados at x; each block's
+ * share at the middle of its part, the part beyond the arch's extrados (into the ground beside
+ * it) dropped. VS_ERR_INVALID (naming the case key) when the load does not lie over the
+ * extrados, a patch has no width or (without spread) reaches beyond the extrados, the spread
+ * is outside [0, 80] deg. */
 VS_API vs_status vs_limit_live_load(const vs_geometry *g, const vs_load_def *ld,
-                                    vs_limit_force **out, int *n, vs_error *err);
+                                    const vs_fill_def *fd, vs_limit_force **out, int *n,
+                                    vs_error *err);
 
-/* The fill of definition fd on arch geometry g as vertical forces (malloc'd into *out, *n of
- * them; NULL, 0 without fill, unit_weight 0): on each block, the weight of the fill above its
- * extrados chord (between its joints' extrados ends) up to fd->level above the highest extrados
- * point (the crown's), unit_weight x depth x the area of that trapezoid, at its centroid's x on
- * the chord; nothing over the supports. VS_ERR_INVALID on a value that is not finite, VS_ERR_NOMEM. */
+/* The fill of definition fd on arch geometry g as forces (malloc'd into *out, *n of them; NULL,
+ * 0 without fill, unit_weight 0): on each block, the weight of the fill above its extrados chord
+ * (between its joints' extrados ends) up to fd->level above the highest extrados point (the
+ * crown's), unit_weight x depth x the area of that trapezoid, vertical at its centroid's x on
+ * the chord; nothing over the supports. With fd->k_horizontal > 0, after the vertical forces,
+ * the horizontal pressure k_horizontal x unit_weight x the depth below the surface on each
+ * chord's vertical projection, inward (toward +x where the chord rises to the right, the left
+ * haunch; -x where it falls), its resultant at the pressure diagram's centroid height on the
+ * chord. VS_ERR_INVALID on a value that is not finite or negative, VS_ERR_NOMEM. */
 VS_API vs_status vs_limit_fill_load(const vs_geometry *g, const vs_fill_def *fd,
                                     vs_limit_force **out, int *n, vs_error *err);
 
 /* Everything the limit analysis of a run's definition reports. */
 typedef struct {
   int have_load;                   /* d->load.kind != none: collapse was solved */
-  int load_block;                  /* point and line: the loaded block (0-based); else -1 */
+  int load_block;                  /* point and line: the loaded block (0-based); else (also
+                                      when spread over several, load.spread_deg) -1 */
   vs_limit_solution collapse;      /* the largest load factor and its mechanism */
   vs_limit_solution thrust_min, thrust_max; /* self-weight: the least and greatest thrust */
   double thickness_factor;         /* the least factor on arch.thickness at which the arch

@@ -279,6 +279,9 @@ static const key_spec keys[] = {
     KEY(load, x_mm, 0.0, -LEN_MAX, true, LEN_MAX, true, "mm",
         "the load's position: horizontal distance from the left springing's intrados point"),
     KEY(load, width_mm, 0.0, 0.0, true, LEN_MAX, true, "mm", "patch: its horizontal width"),
+    KEY(load, spread_deg, 0.0, 0.0, true, 80.0, true, "deg",
+        "point, line, patch: the load's spread through the fill from the vertical (0: none): on "
+        "the extrados, uniform over width_mm + 2 h tan(spread_deg), h the fill's depth at x_mm"),
     KEY_NAMED(analysis, type, 0.0, analysis_types,
               "what a run computes: support (the support's path to collapse), load (the live "
               "load's path to collapse, at the support held at hold_mm), limit (the limit "
@@ -290,6 +293,9 @@ static const key_spec keys[] = {
         "above each voussoir up to level_mm"),
     KEY(fill, level_mm, 0.0, 0.0, true, LEN_MAX, true, "mm",
         "the fill's surface above the crown's extrados"),
+    KEY(fill, k_horizontal, 0.0, 0.0, true, 100.0, true, "",
+        "the coefficient of the fill's horizontal pressure on the extrados (0: none): "
+        "k_horizontal x unit_weight x the depth below the fill's surface, inward"),
 };
 #undef LEN_MIN
 #undef LEN_MAX
@@ -1127,9 +1133,12 @@ void vs_case_to_def(const vs_case *c, vs_run_def *d) {
   d->load = (vs_load_def){.kind = (vs_load_kind)c->kind,
                           .value = c->value_N,
                           .x = c->x_mm * VS_MM,
-                          .width = c->width_mm * VS_MM};
+                          .width = c->width_mm * VS_MM,
+                          .spread = c->spread_deg * VS_DEG};
   d->analysis = (vs_analysis_def){.type = (vs_analysis_type)c->type, .hold = c->hold_mm * VS_MM};
-  d->fill = (vs_fill_def){.unit_weight = c->unit_weight_kN_m3 * 1e3, .level = c->level_mm * VS_MM};
+  d->fill = (vs_fill_def){.unit_weight = c->unit_weight_kN_m3 * 1e3,
+                          .level = c->level_mm * VS_MM,
+                          .k_horizontal = c->k_horizontal};
 
 }
 

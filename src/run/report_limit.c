@@ -93,6 +93,7 @@ void vs_report_limit_json(FILE *out, const vs_case *c, const vs_limit_analysis *
   jnum(out, ",\"value_N\":", c->value_N);
   jnum(out, ",\"x_mm\":", c->x_mm);
   jnum(out, ",\"width_mm\":", c->width_mm);
+  if (c->spread_deg > 0.0) jnum(out, ",\"spread_deg\":", c->spread_deg);
   fputs(",\"voussoir\":", out);
   if (status == VS_OK && a->load_block >= 0) fprintf(out, "%d}", a->load_block + 1);
   else fputs("null}", out);
@@ -148,10 +149,17 @@ static void text_load(FILE *out, const vs_case *c, const vs_limit_analysis *a) {
             c->width_mm, c->x_mm);
     break;
   default:
+    if (a->load_block < 0) { /* spread through the fill over several voussoirs */
+      fprintf(out, "live load    %s load of %g N down at x = %g mm\n",
+              vs_load_kind_name((vs_load_kind)c->kind), c->value_N, c->x_mm);
+      break;
+    }
     fprintf(out, "live load    %s load of %g N down at x = %g mm, on voussoir %d\n",
             vs_load_kind_name((vs_load_kind)c->kind), c->value_N, c->x_mm, a->load_block + 1);
     break;
   }
+  if (c->kind != VS_LOAD_TILT && c->spread_deg > 0.0)
+    fprintf(out, "             on the fill's surface, spread through it at %g deg\n", c->spread_deg);
   if (s->outcome != VS_LIMIT_OPTIMAL) {
     fprintf(out, "load factor  none: %s\n",
             s->outcome == VS_LIMIT_UNBOUNDED ? "unbounded (the load finds no mechanism)"

@@ -38,7 +38,7 @@ vs_status vs_run_load_setup(vs_run *r, vs_error *err) {
   if (st == VS_OK && n > 0) st = model_forces(r, lf, n, 1, err);
   else free(lf);
   if (st != VS_OK || d->analysis.type != VS_ANALYSIS_LOAD) return st;
-  st = vs_limit_live_load(r->g, &d->load, &lf, &n, err);
+  st = vs_limit_live_load(r->g, &d->load, &d->fill, &lf, &n, err);
   return st == VS_OK ? model_forces(r, lf, n, 0, err) : st;
 }
 

@@ -109,6 +109,13 @@ static vs_status place_patch(const vs_geometry *g, const extent *ex, double x0, 
   return VS_OK;
 }
 
+/* The height of the fill's surface over geometry g: level above the highest extrados chord end. */
+static double fill_surface(const vs_geometry *g, const extent *ex, double level) {
+  double top = -INFINITY;
+  for (int i = 0; i < g->n_blocks; i++) top = fmax(top, fmax(ex[i].za, ex[i].zb));
+  return top + level;
+}
+
 vs_status vs_limit_fill_load(const vs_geometry *g, const vs_fill_def *fd, vs_limit_force **out,
                              int *n, vs_error *err) {
   *out = NULL;
@@ -118,25 +125,38 @@ vs_status vs_limit_fill_load(const vs_geometry *g, const vs_fill_def *fd, vs_lim
     return vs_error_set(err, VS_ERR_INVALID,
                         "fill.unit_weight_kN_m3 = %g, fill.level_mm = %g (allowed: >= 0, finite)",
                         fd->unit_weight / 1e3, fd->level / VS_MM);
+  if (!(isfinite(fd->k_horizontal) && fd->k_horizontal >= 0.0))
+    return vs_error_set(err, VS_ERR_INVALID, "fill.k_horizontal = %g (allowed: >= 0, finite)",
+                        fd->k_horizontal);
   if (fd->unit_weight == 0.0 || g->n_blocks == 0) return VS_OK;
-  vs_limit_force *f = malloc((size_t)g->n_blocks * sizeof *f);
+  vs_limit_force *f = malloc(2 * (size_t)g->n_blocks * sizeof *f);
   extent *ex = malloc((size_t)g->n_blocks * sizeof *ex);
   if (f == NULL || ex == NULL) {
     free(f), free(ex);
     return vs_error_set(err, VS_ERR_NOMEM, "fill: out of memory");
   }
   extrados_extents(g, ex);
-  double top = -INFINITY;
-  for (int i = 0; i < g->n_blocks; i++) top = fmax(top, fmax(ex[i].za, ex[i].zb));
-  const double surface = top + fd->level;
+  const double surface = fill_surface(g, ex, fd->level), depth = g->joints[0].depth;
   for (int i = 0; i < g->n_blocks; i++) {
     const double w = ex[i].xb - ex[i].xa, ha = surface - ex[i].za, hb = surface - ex[i].zb;
     const double area = 0.5 * w * (ha + hb); /* the trapezoid over the chord */
     if (!(w > 0.0 && area > 0.0)) continue;
     const double xc = ex[i].xa + w * (ha + 2.0 * hb) / (3.0 * (ha + hb));
-    const double depth = g->joints[0].depth;
     f[(*n)++] = (vs_limit_force){i, 0.0, -fd->unit_weight * depth * area, xc,
                                  extrados_z(&ex[i], xc)};
+  }
+  /* the horizontal pressure k gamma h on the chord's vertical projection, inward: where the
+   * chord rises to the right (the left haunch) toward +x, where it falls toward -x; its
+   * resultant k gamma depth (zb - za)(ha + hb) / 2 at the pressure trapezoid's centroid height,
+   * on the chord */
+  for (int i = 0; i < g->n_blocks && fd->k_horizontal > 0.0; i++) {
+    const double dz = ex[i].zb - ex[i].za, ha = surface - ex[i].za, hb = surface - ex[i].zb;
+    if (!(ex[i].xb > ex[i].xa && fabs(dz) > 1e-12 * (ex[i].xb - ex[i].xa) && ha + hb > 0.0))
+      continue;
+    const double zc = ex[i].za + dz * (ha + 2.0 * hb) / (3.0 * (ha + hb));
+    const double xc = ex[i].xa + (zc - ex[i].za) / dz * (ex[i].xb - ex[i].xa);
+    f[(*n)++] = (vs_limit_force){
+        i, fd->k_horizontal * fd->unit_weight * depth * dz * 0.5 * (ha + hb), 0.0, xc, zc};
   }
   free(ex);
   *out = f;
@@ -153,8 +173,48 @@ static vs_status add_fill(const vs_run_def *d, const vs_geometry *g, vs_limit *l
   return st;
 }
 
-vs_status vs_limit_live_load(const vs_geometry *g, const vs_load_def *ld, vs_limit_force **out,
-                             int *n, vs_error *err) {
+/* A point, line or patch load spread through the fill: uniform over [x - w/2, x + w/2] on the
+ * extrados, w = width + 2 h tan(spread), h the fill's depth over the extrados at x (surface at
+ * fd->level above the crown's extrados); the part of w beyond the arch's extrados goes into the
+ * ground beside it. *n forces written. */
+static vs_status place_spread(const vs_geometry *g, const extent *ex, double x0,
+                              const vs_load_def *ld, const vs_fill_def *fd, vs_limit_force *f,
+                              int *n, vs_error *err) {
+  if (ld->kind == VS_LOAD_PATCH && !(ld->width > 0.0))
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "load.width_mm = %g: a patch load needs a width (allowed: > 0 mm)",
+                        ld->width / VS_MM);
+  const double x = x0 + ld->x;
+  int at = -1;
+  for (int i = 0; i < g->n_blocks && at < 0; i++)
+    if (ex[i].xa <= x && x <= ex[i].xb) at = i;
+  double lo, hi;
+  span_of(ex, g->n_blocks, &lo, &hi);
+  if (at < 0)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "load.x_mm = %g: not over the arch's extrados (allowed: [%g, %g] mm from "
+                        "the left springing's intrados point)",
+                        ld->x / VS_MM, (lo - x0) / VS_MM, (hi - x0) / VS_MM);
+  const double h = fmax(0.0, fill_surface(g, ex, fd->level) - extrados_z(&ex[at], x));
+  const double w = (ld->kind == VS_LOAD_PATCH ? ld->width : 0.0) + 2.0 * h * tan(ld->spread);
+  if (!(w > 0.0)) { /* no depth: the load as given */
+    *n = 1;
+    return ld->kind == VS_LOAD_PATCH ? place_patch(g, ex, x0, ld, f, n, err)
+                                     : place_point(g, ex, x0, ld, f, err);
+  }
+  const double a = x - 0.5 * w, b = x + 0.5 * w;
+  *n = 0;
+  for (int i = 0; i < g->n_blocks; i++) {
+    const double ca = fmax(a, ex[i].xa), cb = fmin(b, ex[i].xb);
+    if (!(cb > ca)) continue;
+    const double xm = 0.5 * (ca + cb);
+    f[(*n)++] = (vs_limit_force){i, 0.0, -ld->value * (cb - ca) / w, xm, extrados_z(&ex[i], xm)};
+  }
+  return VS_OK;
+}
+
+vs_status vs_limit_live_load(const vs_geometry *g, const vs_load_def *ld, const vs_fill_def *fd,
+                             vs_limit_force **out, int *n, vs_error *err) {
   *out = NULL;
   *n = 0;
   if (ld->kind == VS_LOAD_NONE) return VS_OK;
@@ -163,6 +223,14 @@ vs_status vs_limit_live_load(const vs_geometry *g, const vs_load_def *ld, vs_lim
                         VS_LOAD_KIND_COUNT - 1);
   if (ld->kind != VS_LOAD_TILT && !(ld->value > 0.0 && isfinite(ld->value)))
     return vs_error_set(err, VS_ERR_INVALID, "load.value_N = %g (allowed: > 0 N)", ld->value);
+  if (!(ld->spread >= 0.0 && ld->spread <= 80.0 * VS_DEG))
+    return vs_error_set(err, VS_ERR_INVALID, "load.spread_deg = %g (allowed: [0, 80] deg)",
+                        ld->spread / VS_DEG);
+  const vs_fill_def none = {0};
+  if (fd == NULL) fd = &none;
+  if (ld->spread > 0.0 && !(isfinite(fd->level) && fd->level >= 0.0))
+    return vs_error_set(err, VS_ERR_INVALID, "fill.level_mm = %g (allowed: >= 0, finite)",
+                        fd->level / VS_MM);
   vs_limit_force *f = malloc((size_t)g->n_blocks * sizeof *f);
   extent *ex = malloc((size_t)g->n_blocks * sizeof *ex);
   vs_status st = VS_OK;
@@ -172,7 +240,9 @@ vs_status vs_limit_live_load(const vs_geometry *g, const vs_load_def *ld, vs_lim
     extrados_extents(g, ex);
     st = springing_x(g, &x0, err);
   }
-  if (st == VS_OK) switch (ld->kind) {
+  const int spread = ld->kind != VS_LOAD_TILT && ld->spread > 0.0;
+  if (st == VS_OK && spread) st = place_spread(g, ex, x0, ld, fd, f, n, err);
+  else if (st == VS_OK) switch (ld->kind) {
     case VS_LOAD_POINT:
     case VS_LOAD_LINE: /* a knife-edge across the barrel: in the plane, a point load */
       st = place_point(g, ex, x0, ld, f, err);
@@ -327,7 +397,7 @@ static vs_status solve_arch(const vs_run_def *d, const vs_limit_opts *o, vs_limi
   vs_limit_force *live = NULL;
   int n_live = 0;
   vs_status st = arch_scaled(d, 1.0, &g, err);
-  if (st == VS_OK) st = vs_limit_live_load(g, &d->load, &live, &n_live, err);
+  if (st == VS_OK) st = vs_limit_live_load(g, &d->load, &d->fill, &live, &n_live, err);
   if (st == VS_OK) st = vs_limit_create(g, o, live, n_live, &l, err);
   if (st == VS_OK) st = add_fill(d, g, l, err);
   a->have_load = n_live > 0;
@@ -340,7 +410,8 @@ static vs_status solve_arch(const vs_run_def *d, const vs_limit_opts *o, vs_limi
   if (st == VS_OK) st = vs_limit_solve(l, VS_LIMIT_THRUST_MAX, &a->thrust_max, err);
   if (st == VS_OK) vs_limit_basis_start(l, *basis);
   if (st == VS_OK && a->have_load) st = vs_limit_solve(l, VS_LIMIT_LOAD_FACTOR, &a->collapse, err);
-  if (st == VS_OK && (d->load.kind == VS_LOAD_POINT || d->load.kind == VS_LOAD_LINE))
+  if (st == VS_OK && (d->load.kind == VS_LOAD_POINT || d->load.kind == VS_LOAD_LINE) &&
+      n_live == 1) /* not spread through the fill over several */
     a->load_block = live[0].block;
   free(live);
   vs_limit_destroy(&l);
