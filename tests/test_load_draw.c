@@ -2,7 +2,9 @@
  * (/summary/load/forces), its XDMF sidecar a "load" grid with an arrow's shaft ending on the
  * extrados at x_mm from the left springing's intrados point (that point taken from the record's
  * own /geometry/joint_points, the springing joint's inner end), pointing down, Fz the load; a
- * patch's arrows share its value and lie within its width; `voussoir plot` draws the record. The
+ * patch's arrows share its value and lie within its width; `voussoir plot` draws the record; the
+ * load path's events carry the load factor (on the load-deflection curve; the collapse's the
+ * peak), the support path's none. The
  * picture's arrow itself is tested in test_plot (test_live_load_arrow). */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include <stdarg.h>
@@ -55,6 +57,79 @@ static double springing_x(hid_t f) {
   assert_true(H5Dread(d, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, jp) >= 0);
   H5Sclose(ms), H5Sclose(fs), H5Dclose(d);
   return fmax(jp[0], jp[2]);
+}
+
+/* /events' kind and load_factor columns (read by name): n rows into kind (16 bytes each, NUL
+ * added) and lf; the count. */
+typedef struct {
+  char kind[16];
+  double lf;
+} ev_row;
+
+static int read_events(hid_t f, ev_row **out) {
+  hid_t d = H5Dopen2(f, "/events", H5P_DEFAULT);
+  assert_true(d >= 0);
+  hid_t sp = H5Dget_space(d);
+  const int n = (int)H5Sget_simple_extent_npoints(sp);
+  hid_t s16 = H5Tcopy(H5T_C_S1);
+  H5Tset_size(s16, 16);
+  hid_t mt = H5Tcreate(H5T_COMPOUND, sizeof(ev_row));
+  H5Tinsert(mt, "kind", HOFFSET(ev_row, kind), s16);
+  H5Tinsert(mt, "load_factor", HOFFSET(ev_row, lf), H5T_NATIVE_DOUBLE);
+  *out = calloc((size_t)(n > 0 ? n : 1), sizeof **out);
+  assert_non_null(*out);
+  assert_true(n == 0 || H5Dread(d, mt, H5S_ALL, H5S_ALL, H5P_DEFAULT, *out) >= 0);
+  H5Tclose(mt), H5Tclose(s16), H5Sclose(sp), H5Dclose(d);
+  return n;
+}
+
+/* The load path's events carry the load factor: each hinge's is one of the curve's equilibria
+ * (the one where it was found), at most the peak; the collapse's is the peak (the summary's
+ * load_factor); the JSON's hinges give the same as load_factor_onset. */
+static void test_event_load_factor(void **state) {
+  (void)state;
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd,
+           "cd '%s' && '%s' run '%s' --set analysis.type=load --set load.kind=point "
+           "--set load.x_mm=133.05 -o e.h5 --json >e.json 2>err.txt",
+           g_dir, VS_BINARY, REFERENCE);
+  assert_int_equal(sh(cmd), 0);
+  hid_t f = H5Fopen(in_dir("e.h5"), H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  double peak = NAN;
+  hid_t s1 = H5Dopen2(f, "/summary/load/load_factor", H5P_DEFAULT);
+  assert_true(H5Dread(s1, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, &peak) >= 0);
+  H5Dclose(s1);
+  hid_t c = H5Dopen2(f, "/summary/load/curve", H5P_DEFAULT);
+  hid_t csp = H5Dget_space(c);
+  const size_t nc = (size_t)H5Sget_simple_extent_npoints(csp);
+  double *curve = malloc(nc * sizeof *curve);
+  assert_non_null(curve);
+  assert_true(H5Dread(c, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, curve) >= 0);
+  H5Sclose(csp), H5Dclose(c);
+  ev_row *ev = NULL;
+  const int n = read_events(f, &ev);
+  H5Fclose(f);
+  const char *json = slurp(in_dir("e.json"), NULL);
+  int hinges = 0, collapses = 0;
+  for (int i = 0; i < n; i++) {
+    if (strncmp(ev[i].kind, "hinge_formed", 12) == 0) {
+      int on_curve = 0;
+      for (size_t k = 0; k < nc; k += 2) on_curve |= curve[k] == ev[i].lf;
+      assert_true(on_curve && ev[i].lf <= peak);
+      char key[64];
+      snprintf(key, sizeof key, "\"load_factor_onset\":%.10g", ev[i].lf);
+      if (strstr(json, key) == NULL) fail_msg("%s not in the JSON", key);
+      hinges++;
+    } else if (strncmp(ev[i].kind, "collapse", 8) == 0) {
+      assert_true(ev[i].lf == peak);
+      collapses++;
+    }
+  }
+  print_message("%d hinges on the load path, collapse at lambda %.6g\n", hinges, peak);
+  assert_true(hinges >= 4 && collapses == 1);
+  free(ev);
+  free(curve);
 }
 
 /* The sidecar's load grid: its points (x0 z0 x1 z1 per force, 4 n values) and Fz. */
@@ -143,12 +218,22 @@ static void test_patch_load(void **state) {
            g_dir, VS_BINARY, REFERENCE);
   assert_int_equal(sh(cmd), 0);
   assert_null(strstr(slurp(in_dir("s.xmf"), NULL), "<Grid Name=\"load\">"));
+  /* off a load path the events carry no load factor */
+  hid_t f2 = H5Fopen(in_dir("s.h5"), H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f2 >= 0);
+  ev_row *ev = NULL;
+  const int ne = read_events(f2, &ev);
+  H5Fclose(f2);
+  assert_true(ne > 0);
+  for (int i = 0; i < ne; i++) assert_true(isnan(ev[i].lf));
+  free(ev);
 }
 
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_point_load),
       cmocka_unit_test(test_patch_load),
+      cmocka_unit_test(test_event_load_factor),
   };
   return cmocka_run_group_tests(tests, scratch_setup, scratch_teardown);
 }
