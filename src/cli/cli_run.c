@@ -399,6 +399,7 @@ static int run_limit(const run_args *a, const vs_case *c) {
     } else if (!a->json) {
       printf("picture      %s\n", a->plot_path);
     }
+    if (vs_plugin_plot() != NULL) vs_plugin_plot()->plot_release(); /* cairo's, fontconfig's */
   }
   vs_limit_analysis_free(&la);
   return rc;
