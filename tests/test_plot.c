@@ -57,7 +57,7 @@ static void path_in(const fixture *f, const char *name, char *buf, size_t size) 
 
 static const char *const FILES[] = {"ref.png", "ref.svg", "open.png", "open.svg", "curves.png",
                                     "curves.svg", "one.png", "bad.png", "big.png",
-                                    "big.svg"};
+                                    "big.svg", "load.png", "noload.png"};
 
 static int teardown(void **state) {
   fixture *f = *state;
@@ -392,6 +392,65 @@ static void test_curves(void **state) {
 /* ---------------------------------------------------------------------------------------------
  * Errors */
 
+/* The extrados chord's midpoint of voussoir k (0-based), reference configuration: the mean of
+ * the extrados ends of its two joints (centre + t/2 along the tangent (-n_z, n_x)). */
+static void extrados_mid(const vs_geometry *g, int k, double *x, double *z) {
+  *x = *z = 0.0;
+  for (int j = k; j <= k + 1; j++) {
+    const vs_joint_geom *J = &g->joints[j];
+    *x += 0.5 * (J->px - 0.5 * J->length * J->nz);
+    *z += 0.5 * (J->pz + 0.5 * J->length * J->nx);
+  }
+}
+
+/* A live load drawn: an arrow down onto the extrados of the loaded voussoir, so the picture
+ * differs from the unloaded one just above that point and nowhere above another voussoir; a
+ * load on a block that does not exist is refused. */
+static void test_live_load_arrow(void **state) {
+  fixture *f = *state;
+  const int k = 16;
+  double x, z;
+  extrados_mid(f->g, k, &x, &z);
+  const vs_limit_force load = {k, 0.0, -1.0, x, z};
+  char with[128], without[128];
+  path_in(f, "load.png", with, sizeof with);
+  path_in(f, "noload.png", without, sizeof without);
+  vs_error err;
+  vs_error_clear(&err);
+  vs_plot_arch_args a = arch_args(f, f->q);
+  assert_int_equal(vs_plot_arch_draw(without, VS_PLOT_PNG, &a, &err), VS_OK);
+  a.loads = &load;
+  a.n_loads = 1;
+  a.load_note = "live load: a point load";
+  assert_int_equal(vs_plot_arch_draw(with, VS_PLOT_PNG, &a, &err), VS_OK);
+  vs_plot_frame fr;
+  assert_int_equal(vs_plot_arch_frame(&a, &fr, &err), VS_OK);
+  image im1 = load_png(with), im0 = load_png(without);
+  double px, py;
+  vs_plot_to_px(&fr, x, z, &px, &py);
+  int c0[3], c1[3], hits = 0;
+  for (double dy = 8.0; dy <= 50.0; dy += 6.0) { /* the shaft above the point */
+    pixel(&im1, px, py - dy, c1);
+    pixel(&im0, px, py - dy, c0);
+    hits += c1[1] > c1[0] + 40 && c1[1] > c1[2] + 40 && memcmp(c0, c1, sizeof c0) != 0;
+  }
+  assert_true(hits >= 6);
+  /* above the mirror voussoir nothing changed */
+  extrados_mid(f->g, f->n - 1 - k, &x, &z);
+  vs_plot_to_px(&fr, x, z, &px, &py);
+  for (double dy = 8.0; dy <= 50.0; dy += 6.0) {
+    pixel(&im1, px, py - dy, c1);
+    pixel(&im0, px, py - dy, c0);
+    assert_memory_equal(c0, c1, sizeof c0);
+  }
+  cairo_surface_destroy(im1.sf);
+  cairo_surface_destroy(im0.sf);
+  const vs_limit_force bad = {f->n, 0.0, -1.0, x, z};
+  a.loads = &bad;
+  assert_int_equal(vs_plot_arch_draw(with, VS_PLOT_PNG, &a, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "load 1"));
+}
+
 static void test_unwritable_path(void **state) {
   fixture *f = *state;
   char bad[160], dirfile[160];
@@ -515,6 +574,7 @@ int main(void) {
       cmocka_unit_test(test_open_joint_and_hinges),
       cmocka_unit_test(test_reference_without_state),
       cmocka_unit_test(test_curves),
+      cmocka_unit_test(test_live_load_arrow),
       cmocka_unit_test(test_unwritable_path),
       cmocka_unit_test(test_write_error),
       cmocka_unit_test(test_invalid_arguments),

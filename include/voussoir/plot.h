@@ -8,6 +8,7 @@
 
 #include "voussoir/geometry.h"
 #include "voussoir/hinges.h"
+#include "voussoir/limit.h"
 #include "voussoir/status.h"
 
 typedef enum { VS_PLOT_PNG = 0, VS_PLOT_SVG = 1 } vs_plot_format;
@@ -102,6 +103,14 @@ typedef struct {
    * arrow, a fixed one turned by its path turned. NULL: the right one by delta_m along
    * alpha_rad, the left one in place. Non-finite values: VS_ERR_INVALID. */
   const double *supports;
+  /* the live load (issue 28): loads[0 .. n_loads-1] as vs_limit_live_load gives them (the
+   * reference configuration; NULL, 0: none), each vertical force drawn as an arrow down onto its
+   * point moved with its block, its length growing with the force; a horizontal one (tilt) is
+   * not drawn as arrows: load_note (NULL or "": none) names it under the title. Forces or points
+   * not finite, or a block out of range: VS_ERR_INVALID. */
+  const vs_limit_force *loads;
+  int n_loads;
+  const char *load_note;
 } vs_plot_arch_args;
 
 /* Draw the arch picture a into the file path (created anew: a regular file there is replaced;

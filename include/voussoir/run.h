@@ -72,6 +72,9 @@ typedef struct {
                        right springing the last voussoir relative to the right support) */
   char label;       /* hinge label, or 0 */
   int order;        /* hinge order of appearance (4 = the fourth hinge), or 0 */
+  double load_factor; /* analysis.type = load: lambda at the load path's equilibrium where the
+                         event was found (the collapse: the peak's); NaN off the load path (delta
+                         is then the held support displacement) */
 } vs_run_event;
 
 /* A joint's slip in the collapse's mechanism. */

@@ -57,6 +57,7 @@ typedef struct {
   char side;
   char label;
   int order;
+  double load_factor;
 } vs_run_event;
 typedef struct {
   char label;

@@ -135,7 +135,7 @@ class Record:
 
     def events(self):
         """The event table as a list of dicts (time s, delta m, joint, side, label, phase, order,
-        kind)."""
+        kind, and in a record of this version load_factor: lambda on a load path, else NaN)."""
         rows = []
         for e in self.file["events"][:]:
             rows.append({k: (_text(e[k]) if e.dtype[k].kind in "SOU" else e[k].item())

@@ -52,6 +52,9 @@ const char VS_CLI_RUN_USAGE[] =
     "                         killed at any moment leaves a readable record: copies take at\n"
     "                         most this share of the wall time, in [1e-6, 1] (default 0.1;\n"
     "                         1: after every flush, which loses no more than 64 rows)\n"
+    "  --plot FILE            analysis.type=limit only: its picture, PNG (SVG for FILE.svg):\n"
+    "                         the thrust line over the arch, with the mechanism's hinges (a\n"
+    "                         live load's collapse), else at the least thickness, its touches\n"
     "  --csv FILE             also write the history as CSV (one row per equilibrium or dynamic\n"
     "                         sample: phase, time, support displacement, reactions, hinges)\n"
     "  -q                     no progress line\n"
@@ -151,6 +154,7 @@ static vs_status set_option(vs_case *c, const run_override *o, vs_error *err) {
  * or the assignment VALUE (--set, --dynamic, --first-limit). */
 typedef struct {
   const char *case_path, *out_path, *csv_path; /* out_path NULL: no record */
+  const char *plot_path; /* --plot: the limit analysis' picture */
   int json, quiet, record, compress;
   double snapshot_share; /* 0: the default */
   run_override *overrides; /* argc entries at most */
@@ -159,7 +163,7 @@ typedef struct {
 } run_args;
 
 enum { OPT_ALPHA = 256, OPT_KN, OPT_SET, OPT_DYNAMIC, OPT_FIRST_LIMIT, OPT_JSON, OPT_NO_RECORD,
-       OPT_COMPRESS, OPT_CSV, OPT_SNAPSHOT_SHARE, OPT_MAX_WALL };
+       OPT_COMPRESS, OPT_CSV, OPT_SNAPSHOT_SHARE, OPT_MAX_WALL, OPT_PLOT };
 
 static const struct option RUN_OPTIONS[] = {
     {"alpha", required_argument, NULL, OPT_ALPHA},
@@ -171,6 +175,7 @@ static const struct option RUN_OPTIONS[] = {
     {"no-record", no_argument, NULL, OPT_NO_RECORD},
     {"compress", no_argument, NULL, OPT_COMPRESS},
     {"csv", required_argument, NULL, OPT_CSV},
+    {"plot", required_argument, NULL, OPT_PLOT},
     {"snapshot-share", required_argument, NULL, OPT_SNAPSHOT_SHARE},
     {"max-wall-s", required_argument, NULL, OPT_MAX_WALL},
     {0, 0, 0, 0}};
@@ -189,6 +194,7 @@ static int run_option(void *user, int code, const char *value) {
   case OPT_NO_RECORD: a->record = 0; return 0;
   case OPT_COMPRESS: a->compress = 1; return 0;
   case OPT_CSV: a->csv_path = value; return 0;
+  case OPT_PLOT: a->plot_path = value; return 0;
   case OPT_SNAPSHOT_SHARE:
     return cli_double("voussoir", "--snapshot-share", value, 1e-6, 1.0, &a->snapshot_share);
   case 'o': a->out_path = value; return 0;
@@ -360,6 +366,15 @@ static int run_limit(const run_args *a, const vs_case *c) {
                     "with it: --json, -q, the overrides)\n", a->csv_path != NULL ? "--csv" : "-o");
     return EXIT_BAD_INPUT;
   }
+  if (a->plot_path != NULL) {
+    vs_error perr;
+    vs_error_clear(&perr);
+    const vs_outpath_other cs = {a->case_path, "the case file"};
+    if (vs_outpath_check(a->plot_path, &cs, 1, &perr) != VS_OK) {
+      fprintf(stderr, "voussoir: --plot %s\n", perr.msg);
+      return EXIT_BAD_INPUT;
+    }
+  }
   vs_run_def d;
   vs_case_to_def(c, &d);
   vs_limit_analysis la;
@@ -373,8 +388,21 @@ static int run_limit(const run_args *a, const vs_case *c) {
   if (a->json) vs_report_limit_json(stdout, c, &la, st, &err, a->case_path);
   else vs_report_limit_text(stdout, c, &la, st, &err, a->case_path);
   if (st != VS_OK) fprintf(stderr, "voussoir: limit analysis failed: %s\n", err.msg);
+  int rc = st == VS_OK ? EXIT_SUCCESS : EXIT_RUN_FAILED;
+  if (st == VS_OK && a->plot_path != NULL) {
+    vs_error perr;
+    vs_error_clear(&perr);
+    if (vs_plugin_load(VS_PLUGIN_PLOT, "voussoir") != 0) rc = EXIT_RUN_FAILED;
+    else if (vs_plugin_plot()->limit_picture(a->plot_path, &d, &la, &perr) != VS_OK) {
+      fprintf(stderr, "voussoir: --plot %s\n", perr.msg);
+      rc = perr.status == VS_ERR_INVALID ? EXIT_BAD_INPUT : EXIT_RUN_FAILED;
+    } else if (!a->json) {
+      printf("picture      %s\n", a->plot_path);
+    }
+    if (vs_plugin_plot() != NULL) vs_plugin_plot()->plot_release(); /* cairo's, fontconfig's */
+  }
   vs_limit_analysis_free(&la);
-  return st == VS_OK ? EXIT_SUCCESS : EXIT_RUN_FAILED;
+  return rc;
 }
 
 /* *h5_clean becomes 0 when the record failed to be written (see vs_output_process_end). */
@@ -400,6 +428,12 @@ int vs_cli_run(int argc, char **argv, int *h5_clean) {
     goto input_error;
   if (c.type == VS_ANALYSIS_LIMIT) {
     rc = run_limit(&a, &c);
+    goto cleanup;
+  }
+  if (a.plot_path != NULL) {
+    fprintf(stderr, "voussoir: --plot: only with analysis.type = limit (a record's pictures: "
+                    "voussoir plot FILE.h5)\n");
+    rc = EXIT_BAD_INPUT;
     goto cleanup;
   }
   if ((rc = check_outputs(&a)) != 0) goto cleanup;

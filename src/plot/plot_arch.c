@@ -28,6 +28,9 @@ typedef struct {
   const double *thick;  /* per block thickness, m, or NULL: the geometry's */
   int pinned[2];        /* left, right support pinned: its springer drawn turned by srot */
   double srot[2];       /* springer rotations, rad (0 for fixed supports) */
+  const vs_limit_force *loads; /* the live load, n_loads forces (reference configuration) */
+  int n_loads;
+  const char *load_note;
   vs_plot_frame f;
 } arch_data;
 
@@ -343,6 +346,26 @@ static void draw_thrust(cairo_t *cr, const arch_data *d) {
   cairo_stroke(cr);
 }
 
+/* The live load: an arrow down onto each vertical force's point, moved with its block, its
+ * length from 24 px (the least force) to 60 px (the greatest). */
+static void draw_loads(cairo_t *cr, const arch_data *d) {
+  static const vs_rgb c = {0.10, 0.55, 0.15};
+  double big = 0.0;
+  for (int i = 0; i < d->n_loads; i++)
+    if (d->loads[i].fz != 0.0) big = fmax(big, fabs(d->loads[i].fz));
+  if (!(big > 0.0)) return;
+  for (int i = 0; i < d->n_loads; i++) {
+    const vs_limit_force *f = &d->loads[i];
+    if (f->fz == 0.0) continue;
+    double x, z, px, py;
+    vs_plot_body_point(d->g, d->q, d->su, d->srot, f->block, f->px, f->pz, &x, &z);
+    vs_plot_to_px(&d->f, x, z, &px, &py);
+    const double len = 24.0 + 36.0 * fabs(f->fz) / big;
+    const double s = f->fz < 0.0 ? 1.0 : -1.0; /* down: from above */
+    vs_plot_arrow(cr, px, py - s * (len + 2.0), px, py - s * 2.0, 9.0, c);
+  }
+}
+
 /* The scale bar: four alternating segments of a round length in mm, bottom left. */
 static void draw_scale_bar(cairo_t *cr, const vs_plot_frame *f) {
   double len_mm = vs_plot_nice_step(0.2 * (f->width - 2.0 * ARCH_SIDE) / f->scale / VS_MM, 1);
@@ -409,6 +432,7 @@ static void draw_arch(cairo_t *cr, const void *data) {
   draw_open_joints(cr, d);
   draw_thrust(cr, d);
   draw_support_arrow(cr, d);
+  draw_loads(cr, d);
   draw_hinges(cr, d);
 
   double y = 36.0;
@@ -429,6 +453,8 @@ static void draw_arch(cairo_t *cr, const void *data) {
              d->alpha / VS_DEG);
   vs_plot_font(cr, 16.0, 0);
   vs_plot_text_at(cr, buf, ARCH_SIDE, y, 0.0, 1.0, C_TEXT, 0);
+  if (d->load_note != NULL && d->load_note[0] != '\0')
+    vs_plot_text_at(cr, d->load_note, ARCH_SIDE, y + 22.0, 0.0, 1.0, C_TEXT, 0);
   draw_scale_bar(cr, &d->f);
   draw_key(cr, &d->f, d->N != NULL && d->M != NULL);
 }
@@ -472,6 +498,17 @@ static vs_status arch_data_of(const vs_plot_arch_args *a, arch_data *d, vs_error
         (!a->pinned[s] && a->support_theta[s] != 0.0 && a->supports == NULL))
       return vs_error_set(err, VS_ERR_INVALID, "plot: support %d rotation %g rad (allowed: finite, "
                           "0 unless pinned)", s + 1, a->support_theta[s]);
+  if (a->n_loads < 0 || (a->n_loads > 0 && a->loads == NULL))
+    return vs_error_set(err, VS_ERR_INVALID, "plot: %d loads%s (allowed: >= 0)", a->n_loads,
+                        a->n_loads < 0 ? "" : " but no array");
+  for (int i = 0; i < a->n_loads; i++) {
+    const vs_limit_force *f = &a->loads[i];
+    if (f->block < 0 || f->block >= g->n_blocks || !isfinite(f->fx) || !isfinite(f->fz) ||
+        !isfinite(f->px) || !isfinite(f->pz))
+      return vs_error_set(err, VS_ERR_INVALID, "plot: load %d on block %d, force (%g, %g) N at "
+                          "(%g, %g) m (allowed: a block 0..%d, finite values)", i + 1, f->block,
+                          f->fx, f->fz, f->px, f->pz, g->n_blocks - 1);
+  }
   if (a->has_ground && !isfinite(a->ground_z))
     return vs_error_set(err, VS_ERR_INVALID, "plot: ground z = %g m (allowed: finite)",
                         a->ground_z);
@@ -481,7 +518,8 @@ static vs_status arch_data_of(const vs_plot_arch_args *a, arch_data *d, vs_error
                    .title = a->title, .thick = a->block_thickness,
                    .pinned = {a->pinned[0] != 0, a->pinned[1] != 0},
                    .srot = {a->support_theta[0], a->support_theta[1]},
-                   .ground = a->has_ground ? a->ground_z : NAN};
+                   .ground = a->has_ground ? a->ground_z : NAN,
+                   .loads = a->loads, .n_loads = a->n_loads, .load_note = a->load_note};
   if (a->supports != NULL) { /* both, as given; a fixed one's rotation its own */
     const double *u = a->supports;
     d->su[0] = u[0], d->su[1] = u[1], d->su[2] = u[3], d->su[3] = u[4];

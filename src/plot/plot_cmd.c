@@ -106,7 +106,10 @@ static int draw_labelled(vs_plotrec *r, const state *st, const char *dir, const 
       .block_thickness = r->thick,
       .pinned = {r->c.left_kind == VS_SUPPORT_PINNED, r->c.right_kind == VS_SUPPORT_PINNED},
       .has_ground = isfinite(ground),
-      .ground_z = ground};
+      .ground_z = ground,
+      .loads = r->loads,
+      .n_loads = r->n_loads,
+      .load_note = r->load_note};
   springer_rotations(r, st, &a);
   a.supports = st->sup;
   if (vs_plot_arch_draw(path, vs_plot_format_from_path(path), &a, &err) != VS_OK) {

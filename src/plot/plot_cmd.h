@@ -10,6 +10,7 @@
 #include "voussoir/case.h"
 #include "voussoir/geometry.h"
 #include "voussoir/hinges.h"
+#include "voussoir/limit.h"
 
 typedef struct {
   char label, side;
@@ -35,6 +36,9 @@ typedef struct {
   double *thick;   /* per voussoir thickness, m, when the case scatters it; else NULL */
   FILE *json;      /* plots.json: what each picture shows (NULL: not written) */
   int n_pictures;  /* entries written to json so far */
+  vs_limit_force *loads; /* the live load of an analysis.type = load run (vs_limit_live_load) */
+  int n_loads;
+  char load_note[200]; /* what it is, for the pictures ("" without one) */
 } vs_plotrec;
 
 /* Which recorded hinges a picture labels, and where. */

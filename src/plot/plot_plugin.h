@@ -4,6 +4,7 @@
 #define VS_PLOT_PLUGIN_H
 
 #include "plugin_head.h"
+#include "voussoir/limit.h"
 #include "voussoir/montecarlo.h"
 
 /* libvoussoir-plot: exported as vs_plot_plugin_table. */
@@ -15,6 +16,10 @@ typedef struct {
   vs_status (*mc_write_summary)(const char *dir, const vs_case *base, vs_mc_sample *samples,
                                 int n, vs_error *err);
   void (*plot_release)(void);
+  /* analysis.type = limit, --plot: the thrust line of the limit analysis la over its arch into
+   * path (plot_limit.h) */
+  vs_status (*limit_picture)(const char *path, const vs_run_def *d, const vs_limit_analysis *la,
+                             vs_error *err);
 } vs_plot_plugin;
 
 /* The plot command's work (plot_cmd.c, in the plot library), as in vs_plot_plugin. */

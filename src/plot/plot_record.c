@@ -79,6 +79,7 @@ static herr_t on_section(hid_t g, const char *name, const H5L_info_t *info, void
 void vs_plotrec_free(vs_plotrec *r) {
   vs_geometry_destroy(&r->g);
   free(r->thick);
+  free(r->loads);
   free(r->delta);
   free(r->pos);
   free(r->sup);
@@ -186,6 +187,30 @@ static vs_status record_geometry(vs_plotrec *r, vs_error *err) {
   return st;
 }
 
+/* The live load of a load run (analysis.type = load; /parameters holds its [load] keys) on the
+ * record's arch, as the run applied it, and its note for the pictures. */
+static vs_status record_loads(vs_plotrec *r, vs_error *err) {
+  r->load_note[0] = '\0';
+  if (r->c.type != VS_ANALYSIS_LOAD || r->c.kind == VS_LOAD_NONE) return VS_OK;
+  vs_run_def d;
+  vs_case_to_def(&r->c, &d);
+  vs_status st = vs_limit_live_load(r->g, &d.load, &r->loads, &r->n_loads, err);
+  if (st != VS_OK) return st;
+  if (d.load.kind == VS_LOAD_TILT)
+    snprintf(r->load_note, sizeof r->load_note,
+             "live load: tilt, lambda x each voussoir's weight horizontally toward the right "
+             "support; support held at %.2f mm", r->c.hold_mm);
+  else if (d.load.kind == VS_LOAD_PATCH)
+    snprintf(r->load_note, sizeof r->load_note,
+             "live load: lambda x patch of %g N over %g mm at x = %g mm (arrows); support held "
+             "at %.2f mm", r->c.value_N, r->c.width_mm, r->c.x_mm, r->c.hold_mm);
+  else
+    snprintf(r->load_note, sizeof r->load_note,
+             "live load: lambda x %s load of %g N at x = %g mm (arrow); support held at %.2f mm",
+             vs_load_kind_name(d.load.kind), r->c.value_N, r->c.x_mm, r->c.hold_mm);
+  return VS_OK;
+}
+
 int vs_plotrec_open(const char *path, vs_plotrec *r) {
   memset(r, 0, sizeof *r);
   r->file = -1;
@@ -207,6 +232,10 @@ int vs_plotrec_open(const char *path, vs_plotrec *r) {
   H5Gclose(pg);
   vs_error err;
   if (record_geometry(r, &err) != VS_OK) {
+    snprintf(r->msg, sizeof r->msg, "%.200s: %.300s", path, err.msg);
+    return -1;
+  }
+  if (record_loads(r, &err) != VS_OK) {
     snprintf(r->msg, sizeof r->msg, "%.200s: %.300s", path, err.msg);
     return -1;
   }

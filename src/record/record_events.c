@@ -38,6 +38,7 @@ static hid_t event_type(int native) {
   if (rc >= 0) rc = H5Tinsert(t, "phase", EV_PHASE, i8);
   if (rc >= 0) rc = H5Tinsert(t, "order", EV_ORDER, i32);
   if (rc >= 0) rc = H5Tinsert(t, "kind", EV_KIND, vs);
+  if (rc >= 0) rc = H5Tinsert(t, "load_factor", EV_LOAD, f64);
   vs_h5_close(c1);
   vs_h5_close(vs);
   if (rc < 0) {
@@ -47,7 +48,7 @@ static hid_t event_type(int native) {
   return t;
 }
 
-static const char EVENT_UNITS[] = "s,m,,,,,,";
+static const char EVENT_UNITS[] = "s,m,,,,,,,1";
 
 herr_t vs_record_events_create(vs_output *o) {
   o->ev_mtype = event_type(1);
@@ -69,7 +70,10 @@ herr_t vs_record_events_create(vs_output *o) {
         "slide, or to slide the other way; side = the edge toward which its voussoir slides "
         "relative to the body across it), pier_rocked/course_opened (a pier's base or course "
         "joint opened; side = the edge in contact, I inner, E outer). joint: 1-based, 0 if none; "
-        "phase: 0 quasi-static, 1 dynamic (IDA), 2 the rigid fall after the collapse");
+        "phase: 0 quasi-static, 1 dynamic (IDA), 2 the rigid fall after the collapse; "
+        "load_factor: on a load path (analysis.type = load, delta the held support "
+        "displacement), lambda at the equilibrium where the event was found (a collapse: the "
+        "peak's), NaN elsewhere");
   vs_h5_close(dcpl);
   vs_h5_close(sp);
   vs_h5_close(ft);
@@ -89,6 +93,7 @@ static event_row event_to_row(const vs_run_event *e) {
   r.b[EV_LABEL] = (unsigned char)e->label;
   memcpy(r.b + EV_PHASE, &phase, 1);
   memcpy(r.b + EV_ORDER, &order, 4);
+  memcpy(r.b + EV_LOAD, &e->load_factor, 8);
   const char *k = event_kind_name(e->kind);
   const size_t n = strlen(k);
   memcpy(r.b + EV_KIND, k, n < EV_KIND_LEN ? n : EV_KIND_LEN);

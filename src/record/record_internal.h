@@ -70,7 +70,8 @@ enum {
   EV_ORDER = 23,
   EV_KIND = 27,
   EV_KIND_LEN = 16,
-  EV_SIZE = 43
+  EV_LOAD = 43,
+  EV_SIZE = 51
 };
 typedef struct {
   unsigned char b[EV_SIZE];

@@ -6,6 +6,7 @@
 
 #include "record_internal.h"
 #include "voussoir/damping.h"
+#include "voussoir/limit.h"
 #include "voussoir/support.h"
 #include "voussoir/units.h"
 
@@ -372,6 +373,30 @@ static herr_t summary_fall(hid_t sum, const vs_run *run) {
   return rc;
 }
 
+/* /summary/load/forces: the live load as the run applied it (vs_limit_live_load), one row per
+ * force at lambda = 1: block (0-based), fx, fz (N), px, pz (m, the reference configuration). */
+static herr_t load_forces(hid_t g, const vs_run *run) {
+  vs_limit_force *lf = NULL;
+  int n = 0;
+  vs_error err;
+  vs_error_clear(&err);
+  if (vs_limit_live_load(vs_run_geometry(run), &vs_run_def_of(run)->load, &lf, &n, &err) != VS_OK)
+    return -1;
+  double *v = calloc(5 * (size_t)(n > 0 ? n : 1), sizeof *v);
+  herr_t rc = v != NULL ? 0 : -1;
+  for (int i = 0; rc >= 0 && i < n; i++) {
+    const double row[5] = {lf[i].block, lf[i].fx, lf[i].fz, lf[i].px, lf[i].pz};
+    for (int c = 0; c < 5; c++) v[5 * i + c] = row[c];
+  }
+  const hsize_t dims[2] = {(hsize_t)n, 5};
+  if (rc >= 0)
+    rc = vs_h5_dset_write(g, "forces", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, dims, v,
+                          "1,N,N,m,m", "block,fx,fz,px,pz");
+  free(v);
+  free(lf);
+  return rc;
+}
+
 /* analysis.type = load: /summary/load, the load factor, the first peak, the mechanism and the
  * load-deflection curve (vs_run_load). Nothing for the other analyses. */
 static herr_t summary_load(hid_t sum, const vs_run *run) {
@@ -402,6 +427,7 @@ static herr_t summary_load(hid_t sum, const vs_run *run) {
     rc = vs_h5_dset_write(g, "curve", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, dims, c, "1,m",
                           "load_factor,deflection");
   free(c);
+  if (rc >= 0) rc = load_forces(g, run);
   vs_h5_close(g);
   return rc;
 }

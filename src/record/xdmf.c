@@ -1,6 +1,7 @@
 /* The XDMF sidecar of a record (ParaView plays the motion from it), written from what the
  * record's HDF5 file holds: after a run, or for a record left by a killed run. Here its text;
  * the record is read in xdmf_record.c, the listed rows and outlines come from xdmf_rows.c. */
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -35,6 +36,7 @@ static const unsigned GRID_OWN[] = {
     F_BIT(F_FX) | F_BIT(F_FZ) | F_BIT(F_M),
     F_BIT(F_FX) | F_BIT(F_FZ) | F_BIT(F_M) | F_BIT(F_UX) | F_BIT(F_UZ),
     0u, /* the ground */
+    F_BIT(F_FX) | F_BIT(F_FZ), /* the live load */
 };
 _Static_assert(sizeof GRID_OWN / sizeof GRID_OWN[0] == G_COUNT, "the fields of every grid");
 
@@ -51,10 +53,10 @@ _Static_assert(sizeof GRID_OWN / sizeof GRID_OWN[0] == G_COUNT, "the fields of e
  * DataItem included twice is empty the second time (and it does not implement XDMF 2's
  * Reference="XML" items at all). Measured on the reference run (414 states): 6.4 MB of XML
  * with every grid spelling its items out, 2.0 MB this way. */
-enum { PAD_BLOCKS, PAD_JOINTS, PAD_ONE, PAD_COUNT };
-static const char PAD_PREFIX[] = {'b', 'j', 's'};
-static const int GRID_PAD[] = {PAD_BLOCKS, PAD_JOINTS, PAD_ONE, PAD_ONE, PAD_ONE};
-static const char *const GRID_TOPOLOGY[] = {"tb", "tj", "t1", "t1", "t1"};
+enum { PAD_BLOCKS, PAD_JOINTS, PAD_ONE, PAD_LOADS, PAD_COUNT };
+static const char PAD_PREFIX[] = {'b', 'j', 's', 'l'};
+static const int GRID_PAD[] = {PAD_BLOCKS, PAD_JOINTS, PAD_ONE, PAD_ONE, PAD_ONE, PAD_LOADS};
+static const char *const GRID_TOPOLOGY[] = {"tb", "tj", "t1", "t1", "t1", "tl"};
 _Static_assert(sizeof PAD_PREFIX == PAD_COUNT, "a prefix for every padding");
 _Static_assert(sizeof GRID_PAD / sizeof GRID_PAD[0] == G_COUNT &&
                    sizeof GRID_TOPOLOGY / sizeof GRID_TOPOLOGY[0] == G_COUNT,
@@ -317,6 +319,16 @@ static void xdmf_ground(xdmf_ctx *x) {
   out_s(x, "</Grid>\n");
 }
 
+/* The live load (a load run's /summary/load/forces, at lambda = 1): one segment per force, an
+ * arrow's shaft ending at its point in the reference configuration, drawn the same in every row
+ * (the blocks move little before collapse); every part shared (xdmf_load_shared). */
+static void xdmf_load(xdmf_ctx *x) {
+  xdmf_grid_open(x, "load", G_LOAD);
+  out_s(x, "<xi:include xpointer=\"xpointer(id('lg lfx lfz'))\"/>\n");
+  xdmf_pads(x, G_LOAD);
+  out_s(x, "</Grid>\n");
+}
+
 /* One time step: the row's objects as named grids of a spatial collection. */
 static void xdmf_step(xdmf_ctx *x, hsize_t r, double t) {
   out_f(x,
@@ -328,6 +340,7 @@ static void xdmf_step(xdmf_ctx *x, hsize_t r, double t) {
   xdmf_support(x, 0, r);
   xdmf_support(x, 1, r);
   if (x->ground) xdmf_ground(x);
+  if (x->n_loads > 0) xdmf_load(x);
   out_s(x, "</Grid>\n");
 }
 
@@ -335,7 +348,8 @@ static void xdmf_step(xdmf_ctx *x, hsize_t r, double t) {
 static unsigned xdmf_pad_fields(const xdmf_ctx *x, int pad) {
   unsigned m = 0;
   for (int k = 0; k < G_COUNT; k++)
-    if (GRID_PAD[k] == pad && (k != G_GROUND || x->ground)) m |= F_ALL & ~GRID_OWN[k];
+    if (GRID_PAD[k] == pad && (k != G_GROUND || x->ground) && (k != G_LOAD || x->n_loads > 0))
+      m |= F_ALL & ~GRID_OWN[k];
   return m;
 }
 
@@ -354,6 +368,36 @@ static void xdmf_nan_field(xdmf_ctx *x, char prefix, int i, hsize_t n_cells) {
     for (hsize_t c = 0; c < n_cells; c++) out_s(x, c ? " nan" : "nan");
   }
   out_s(x, "</DataItem></Attribute>\n");
+}
+
+/* The live load's shared parts: the topology tl (one segment per force), its points lg (an
+ * arrow's shaft from len x -F / |F|max above the point to the point, len the first joint's
+ * length, the arch's thickness), and its fields lfx, lfz (the forces at lambda = 1, N). */
+static void xdmf_load_shared(xdmf_ctx *x) {
+  const int n = x->n_loads;
+  const double *v = x->loads;
+  double big = 0.0;
+  for (int i = 0; i < n; i++) big = fmax(big, hypot(v[5 * i + 1], v[5 * i + 2]));
+  const double len = x->joint_len > 0.0 ? x->joint_len : 0.01;
+  out_f(x, "<Topology xml:id=\"tl\" TopologyType=\"Polyline\" NodesPerElement=\"2\" "
+           "NumberOfElements=\"%d\"><DataItem Dimensions=\"%d 2\" NumberType=\"Int\" "
+           "Precision=\"4\" Format=\"XML\">", n, n);
+  for (int i = 0; i < 2 * n; i++) out_f(x, i ? " %d" : "%d", i);
+  out_f(x, "</DataItem></Topology>\n<Geometry xml:id=\"lg\" GeometryType=\"XY\"><DataItem "
+           "Dimensions=\"%d 2\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">", 2 * n);
+  for (int i = 0; i < n; i++) {
+    const double fx = v[5 * i + 1], fz = v[5 * i + 2], px = v[5 * i + 3], pz = v[5 * i + 4];
+    const double s = big > 0.0 ? len / big : 0.0;
+    out_f(x, "%s%.17g %.17g %.17g %.17g", i ? " " : "", px - s * fx, pz - s * fz, px, pz);
+  }
+  out_s(x, "</DataItem></Geometry>\n");
+  for (int c = 0; c < 2; c++) {
+    out_f(x, "<Attribute xml:id=\"%s\" Name=\"%s\" Center=\"Cell\"><DataItem Dimensions=\"%d\" "
+             "NumberType=\"Float\" Precision=\"8\" Format=\"XML\">",
+          c ? "lfz" : "lfx", XDMF_FIELDS[c ? F_FZ : F_FX], n);
+    for (int i = 0; i < n; i++) out_f(x, "%s%.17g", i ? " " : "", v[5 * i + 1 + c]);
+    out_s(x, "</DataItem></Attribute>\n");
+  }
 }
 
 /* The items every row includes (see PAD_PREFIX), and each grid's include of its NaN fields. */
@@ -378,7 +422,8 @@ static void xdmf_shared(xdmf_ctx *x) {
           "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">%s:/summary/ground/points"
           "</DataItem></Geometry>\n",
           x->h5name);
-  const hsize_t cells[PAD_COUNT] = {bc->dims[0], jc->dims[0], 1};
+  if (x->n_loads > 0) xdmf_load_shared(x);
+  const hsize_t cells[PAD_COUNT] = {bc->dims[0], jc->dims[0], 1, (hsize_t)x->n_loads};
   for (int p = 0; p < PAD_COUNT; p++) {
     const unsigned m = xdmf_pad_fields(x, p);
     for (int i = 0; i < F_COUNT; i++)
@@ -418,7 +463,9 @@ static void xdmf_header(xdmf_ctx *x, long rows, long stride) {
         "Fx_N Fz_N force of the support on the arch (x right, z up), M_N_m its moment "
         "(counter-clockwise, about that face's centre), ux_m uz_m displacement of the moved "
         "support;\n"
-        "     ground (a segment, when the fall landed on it): the plane the debris rests on.\n"
+        "     ground (a segment, when the fall landed on it): the plane the debris rests on;\n"
+        "     load (a live load's forces, one segment each, ending on its point in the reference "
+        "configuration: tl, lg): Fx_N Fz_N at load factor 1 (lfx, lfz).\n"
         "     What every row shares is defined once, below, and included by xml:id (XInclude): "
         "the topologies tb (blocks), tj (joints), t1 (one segment), the ground's points gg, and "
         "the NaN fields b<i>, j<i>, s<i> (n_blocks, n_joints, one cell; i: the field's place in "
@@ -461,6 +508,8 @@ vs_status vs_xdmf_write_tmp(hid_t file, const char *h5_path, const char *xmf_pat
   if (name == NULL && st == VS_OK) st = vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
   x.h5name = name;
   x.ground = vs_xdmf_has_ground(file);
+  vs_xdmf_loads(file, &x);
+  x.joint_len = vs_xdmf_joint_length(file);
   vs_xdmf_support_joints(file, &x);
   x.nan_n = vs_xdmf_nan_count(file);
   if (st == VS_OK) st = vs_xdmf_open_tmp(xmf_path, tmp, size, &x.f, err);
@@ -490,5 +539,6 @@ vs_status vs_xdmf_write_tmp(hid_t file, const char *h5_path, const char *xmf_pat
   free(x.inl);
   free(x.ref);
   free(x.cen);
+  free(x.loads);
   return st;
 }

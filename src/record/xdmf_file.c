@@ -193,6 +193,38 @@ int vs_xdmf_has_ground(hid_t file) {
          xdmf_dims_of(file, "/summary/ground/points", 2, d) == 0 && d[0] == 2 && d[1] == 2;
 }
 
+void vs_xdmf_loads(hid_t file, xdmf_ctx *x) {
+  hsize_t d[2];
+  x->n_loads = 0;
+  x->loads = NULL;
+  if (H5Lexists(file, "/summary", H5P_DEFAULT) <= 0 ||
+      H5Lexists(file, "/summary/load", H5P_DEFAULT) <= 0 ||
+      H5Lexists(file, "/summary/load/forces", H5P_DEFAULT) <= 0 ||
+      xdmf_dims_of(file, "/summary/load/forces", 2, d) != 0 || d[1] != 5 || d[0] == 0 ||
+      d[0] > 1000000)
+    return;
+  x->loads = malloc(5 * d[0] * sizeof *x->loads);
+  if (x->loads != NULL && vs_h5_read_doubles(file, "/summary/load/forces", x->loads, 5 * d[0]) == 0)
+    x->n_loads = (int)d[0];
+  else {
+    free(x->loads);
+    x->loads = NULL;
+  }
+}
+
+double vs_xdmf_joint_length(hid_t file) {
+  hsize_t d[1];
+  if (H5Lexists(file, "/geometry", H5P_DEFAULT) <= 0 ||
+      H5Lexists(file, "/geometry/joint_length", H5P_DEFAULT) <= 0 ||
+      xdmf_dims_of(file, "/geometry/joint_length", 1, d) != 0 || d[0] == 0)
+    return 0.0;
+  double *v = malloc(d[0] * sizeof *v), len = 0.0;
+  if (v != NULL && vs_h5_read_doubles(file, "/geometry/joint_length", v, d[0]) == 0 && v[0] > 0.0)
+    len = v[0];
+  free(v);
+  return len;
+}
+
 hsize_t vs_xdmf_nan_count(hid_t file) {
   hsize_t n = 0;
   if (H5Lexists(file, "/xdmf", H5P_DEFAULT) <= 0 || H5Lexists(file, XDMF_NAN, H5P_DEFAULT) <= 0)

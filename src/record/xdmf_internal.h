@@ -35,8 +35,9 @@ enum {
   X_COUNT
 };
 
-/* The grids of a row, in this order (the ground only when the fall landed on it). */
-enum { G_BLOCKS, G_JOINTS, G_LEFT, G_RIGHT, G_GROUND, G_COUNT };
+/* The grids of a row, in this order (the ground only when the fall landed on it, the load only
+ * for a live load: /summary/load/forces). */
+enum { G_BLOCKS, G_JOINTS, G_LEFT, G_RIGHT, G_GROUND, G_LOAD, G_COUNT };
 
 /* Where the blocks' moved outlines of a listed row come from: a record written by this version
  * holds them for the rows its sidecar lists (/xdmf/block_points, its row numbers in
@@ -56,6 +57,9 @@ typedef struct {
   const char *h5name; /* XML-escaped name of the HDF5 file, relative to the sidecar */
   xdmf_ds ds[X_COUNT];
   int ground;              /* the record has /summary/ground/points */
+  int n_loads;             /* rows of /summary/load/forces (0: none) */
+  double *loads;           /* those rows: block, fx, fz, px, pz */
+  double joint_len;        /* /geometry/joint_length's first (0: not read) */
   hsize_t sup_joint[2];    /* the joints on the left and the right support: the springings, or
                               with piers their bases (the first of /geometry/joint_bodies with
                               body -1, -2; vs_xdmf_support_joints) */
@@ -93,6 +97,12 @@ vs_status vs_xdmf_listing(hid_t file, xdmf_ctx *x, long rows, int max_grids,
 /* Whether the record has the ground the fall landed on: /summary/ground/points, 2 x 2 (the
  * sidecar refers to it as such). */
 int vs_xdmf_has_ground(hid_t file);
+/* The live load of a load run, /summary/load/forces, into x->loads (malloc'd) and x->n_loads;
+ * none (0) when the record has no such table or it cannot be read. */
+void vs_xdmf_loads(hid_t file, xdmf_ctx *x);
+/* /geometry/joint_length's first value (the springing's: the arch's thickness), 0 when it
+ * cannot be read. */
+double vs_xdmf_joint_length(hid_t file);
 
 /* x->sup_joint from the record's /geometry/joint_bodies (unreadable: the first joint and the
  * last, every record's springings before piers). */

@@ -117,6 +117,14 @@ static void json_hinge(FILE *out, const vs_run *r, const vs_hinge *h, int first,
   }
   jnum(out, "],\"delta_onset_mm\":", h->delta_onset / VS_MM, 10);
   jnum(out, ",\"time_onset_s\":", h->delta_onset / rate, 10);
+  if (vs_run_def_of(r)->analysis.type == VS_ANALYSIS_LOAD) { /* its onset's load factor */
+    double lf = NAN;
+    for (int i = 0; i < vs_run_event_count(r); i++) {
+      const vs_run_event *e = vs_run_event_get(r, i);
+      if (e->kind == VS_EVENT_HINGE_FORMED && e->order == h->order) lf = e->load_factor;
+    }
+    jnum(out, ",\"load_factor_onset\":", lf, 10);
+  }
   fprintf(out, ",\"open\":%s,\"order\":%d}", h->open ? "true" : "false", h->order);
 }
 

@@ -197,6 +197,7 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
   r->def = *def;
   const vs_run_def *d = &r->def;
   for (int i = 0; i < 6; i++) r->react[i] = r->react_eq[i] = NAN;
+  r->load_now = NAN;
   vs_status st = arch_and_imperfections(r, err);
   if (st == VS_OK) {
     vs_joint_law law = {.kn = d->joints.kn, .ks = d->joints.ks, .mu = d->joints.mu};

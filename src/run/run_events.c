@@ -20,7 +20,7 @@ int vs_run_log_event(vs_run *r, vs_event_kind kind, double t, double delta, int 
   }
   vs_run_event *e = &r->events[r->n_events++];
   *e = (vs_run_event){.kind = kind, .phase = r->phase, .t = t, .delta = delta, .joint = joint,
-                      .side = side, .label = label, .order = order};
+                      .side = side, .label = label, .order = order, .load_factor = r->load_now};
   return r->event_fn != NULL ? r->event_fn(r->user, r, e) : 0;
 }
 

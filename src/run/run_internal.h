@@ -77,6 +77,8 @@ struct vs_run {
   double *load_lambda, *load_u; /* the curve (load.n points) */
   int cap_load;
   double load_u0;               /* the loads' displacement where loading began, m */
+  double load_now;              /* lambda of the load path's current equilibrium (events carry
+                                   it); NaN off the load path */
   vs_load_result load_res;      /* the load path's statistics */
   double load_best;             /* the largest lambda so far ... */
   int load_taken;               /* ... and whether the mechanism was taken past it */

@@ -68,6 +68,7 @@ static int on_load_step(void *user, double lambda, double u, const double *q, co
   l->n++;
   l->lambda = r->load_lambda;
   l->u = r->load_u;
+  r->load_now = lambda;
   const int stop = vs_run_on_equilibrium(r, l->hold, q, m);
   /* the mechanism: the hinges open where lambda has first fallen by VS_LOAD_DROP from its
    * largest value so far (later, the mechanism's motion opens more) */
@@ -106,9 +107,11 @@ vs_status vs_run_load_path(vs_run *r, vs_error *err) {
   l->snap_back = isfinite(res.arc_from);
   snprintf(l->cause, sizeof l->cause, "%s", res.cause);
   if (!r->load_taken) vs_run_open_hinges(r, l->mechanism, sizeof l->mechanism);
+  r->load_now = res.lambda_peak;
   if (st == VS_OK && (res.end == VS_LOAD_END_PEAK || res.end == VS_LOAD_END_SLIDING) &&
       vs_run_log_event(r, VS_EVENT_COLLAPSE, r->t, r->delta, 0, 0, 0, 0) != 0)
     st = vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
+  r->load_now = NAN;
   return st;
 }
 

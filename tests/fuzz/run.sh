@@ -73,7 +73,8 @@ sources() {
                "$s/plot/chart.c" "$s/record/xdmf.c" "$s/record/xdmf_file.c" \
                "$s/record/xdmf_record.c" "$s/record/xdmf_rows.c" "$s/record/h5util.c" \
                "$s/base/outpath.c" "$s/model/imperfections.c" "${geometry_src[@]}" \
-               "$s/model/support.c" "$s/model/hinges.c" "$s/run/json.c" ;;
+               "$s/model/support.c" "$s/model/hinges.c" "$s/run/json.c" \
+               "$s/solve/limit_analysis.c" "$s/solve/limit.c" "$s/base/wall_clock.c" ;;
   journal) echo "${case_src[@]}" "$s/study/journal.c" "$s/base/outpath.c" ;;
   blocks) echo "${case_src[@]}" "${geometry_src[@]}" ;;
   esac
@@ -84,7 +85,7 @@ libs() {
   case | journal) echo $(pkg-config --libs inih) -lm ;;
   merge) echo $(pkg-config --libs inih hdf5-serial cairo fontconfig jansson) -lm \
               -Wl,--wrap=vs_mc_write_summary -Wl,--wrap=vs_plot_emit ;;
-  record) echo $(pkg-config --libs inih hdf5-serial cairo fontconfig jansson) -lm \
+  record) echo $(pkg-config --libs inih hdf5-serial cairo fontconfig jansson clp) -lm \
                -Wl,--wrap=vs_plot_emit ;;
   blocks) echo $(pkg-config --libs inih jansson) -lm ;;
   esac
@@ -106,7 +107,7 @@ build() {
   mkdir -p "$work/$t"
   # shellcheck disable=SC2046
   clang -std=c17 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-    -I"$root/include" "${layer_dirs[@]}" $(pkg-config --cflags inih hdf5-serial cairo jansson) \
+    -I"$root/include" "${layer_dirs[@]}" $(pkg-config --cflags inih hdf5-serial cairo jansson clp) \
     "$here/fuzz_$t.c" $(sources "$t") $(libs "$t") -o "$work/$t/fuzz_$t" \
     >"$work/$t/build.log" 2>&1 || { cat "$work/$t/build.log" >&2; return 1; }
 }
