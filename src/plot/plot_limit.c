@@ -97,7 +97,7 @@ vs_status vs_plot_limit_picture(const char *path, const vs_run_def *d,
   if (st != VS_OK) return st;
   vs_limit_force *loads = NULL;
   int n_loads = 0;
-  if (p.s == &la->collapse) st = vs_limit_live_load(p.g, &d->load, &loads, &n_loads, err);
+  if (p.s == &la->collapse) st = vs_limit_live_load(p.g, &d->load, &d->fill, &loads, &n_loads, err);
   vs_plot_arch_args a = vs_plot_limit_args(&p);
   a.loads = loads;
   a.n_loads = n_loads;

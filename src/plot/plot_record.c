@@ -194,7 +194,7 @@ static vs_status record_loads(vs_plotrec *r, vs_error *err) {
   if (r->c.type != VS_ANALYSIS_LOAD || r->c.kind == VS_LOAD_NONE) return VS_OK;
   vs_run_def d;
   vs_case_to_def(&r->c, &d);
-  vs_status st = vs_limit_live_load(r->g, &d.load, &r->loads, &r->n_loads, err);
+  vs_status st = vs_limit_live_load(r->g, &d.load, &d.fill, &r->loads, &r->n_loads, err);
   if (st != VS_OK) return st;
   if (d.load.kind == VS_LOAD_TILT)
     snprintf(r->load_note, sizeof r->load_note,

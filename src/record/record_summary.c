@@ -380,7 +380,8 @@ static herr_t load_forces(hid_t g, const vs_run *run) {
   int n = 0;
   vs_error err;
   vs_error_clear(&err);
-  if (vs_limit_live_load(vs_run_geometry(run), &vs_run_def_of(run)->load, &lf, &n, &err) != VS_OK)
+  const vs_run_def *rd = vs_run_def_of(run);
+  if (vs_limit_live_load(vs_run_geometry(run), &rd->load, &rd->fill, &lf, &n, &err) != VS_OK)
     return -1;
   double *v = calloc(5 * (size_t)(n > 0 ? n : 1), sizeof *v);
   herr_t rc = v != NULL ? 0 : -1;
