@@ -6,15 +6,9 @@
 set -euo pipefail
 vs=$1 src=$2 build=$3 cc=$4
 py=/usr/bin/python3
-# A sanitizer build's library loads into python3 only after the sanitizers' runtimes: they are
-# preloaded, without leak detection (the interpreter does not free everything at exit).
-run=(env)
-if [ "${5:-}" = sanitize ]; then
-  asan=$("$cc" -print-file-name=libasan.so) ubsan=$("$cc" -print-file-name=libubsan.so)
-  [ -f "$asan" ] && [ -f "$ubsan" ] ||
-    { echo "SKIP: $cc does not name its libasan.so and libubsan.so"; exit 77; }
-  run=(env LD_PRELOAD="$asan $ubsan" ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0")
-fi
+# shellcheck source=python_run.sh
+. "$(dirname "$0")/python_run.sh"
+python_runner "$cc" "${5:-}"
 $py -c "import cffi, numpy, pandas, xarray, h5py, venv, ensurepip" 2>/dev/null ||
   { echo "SKIP: $py lacks cffi/numpy/pandas/xarray/h5py/venv (.ci/deps installs them)"; exit 77; }
 tmp=$(mktemp -d)
