@@ -23,18 +23,7 @@
 #include "voussoir/joint.h"
 #include "voussoir/model.h"
 
-/* Deterministic generator (xorshift64*), uniform in [lo, hi). */
-typedef struct {
-  uint64_t s;
-} rng;
-static double urand(rng *r, double lo, double hi) {
-  r->s ^= r->s >> 12;
-  r->s ^= r->s << 25;
-  r->s ^= r->s >> 27;
-  uint64_t x = r->s * 2685821657736338717ULL;
-  return lo + (hi - lo) * ((double)(x >> 11) / 9007199254740992.0);
-}
-static double rsign(rng *r) { return urand(r, 0.0, 1.0) < 0.5 ? -1.0 : 1.0; }
+#include "test_rng.h"
 
 static double deg(double d) { return d * acos(-1.0) / 180; }
 

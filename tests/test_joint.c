@@ -20,18 +20,7 @@ static const double TL = 0.024;
 static const double KS = 1.5e9;
 static const double MU = 0.7;
 
-/* Deterministic generator (xorshift64*), uniform in [lo, hi). */
-typedef struct {
-  uint64_t s;
-} rng;
-static double urand(rng *r, double lo, double hi) {
-  r->s ^= r->s >> 12;
-  r->s ^= r->s << 25;
-  r->s ^= r->s >> 27;
-  uint64_t x = r->s * 2685821657736338717ULL;
-  return lo + (hi - lo) * ((double)(x >> 11) / 9007199254740992.0);
-}
-static double rsign(rng *r) { return urand(r, 0.0, 1.0) < 0.5 ? -1.0 : 1.0; }
+#include "test_rng.h"
 
 /* ---- closed forms of the Winkler joint (derived in the test, not taken from the library) ----
  * p(xi) = a + w xi on xi in [-t/2, t/2]; sigma = kn <p>.

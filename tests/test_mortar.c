@@ -31,17 +31,7 @@ static vs_joint_law mortar_law(void) {
   return (vs_joint_law){.kn = KN, .ks = 1.5e9, .mu = 0.7, .ft = FT, .gf = GF};
 }
 
-/* Deterministic generator (xorshift64*), uniform in [lo, hi). */
-typedef struct {
-  uint64_t s;
-} rng;
-static double urand(rng *r, double lo, double hi) {
-  r->s ^= r->s >> 12;
-  r->s ^= r->s << 25;
-  r->s ^= r->s >> 27;
-  uint64_t x = r->s * 2685821657736338717ULL;
-  return lo + (hi - lo) * ((double)(x >> 11) / 9007199254740992.0);
-}
+#include "test_rng.h"
 
 /* ---- the law written out independently: stress (compression > 0) at penetration p ---- */
 static double sigma_ref(double p, int cracked) {
