@@ -40,6 +40,10 @@ install(FILES man/voussoir.1 DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
 install(FILES runs/reference.ini examples/spreading.ini examples/run_case.c
               examples/CMakeLists.txt
         DESTINATION ${CMAKE_INSTALL_DATADIR}/voussoir)
+# The Python package, where `voussoir plot` finds it for its charts (PREFIX/bin/voussoir ->
+# PREFIX/share/voussoir/python; pip installs it elsewhere too: docs/python.md).
+install(DIRECTORY python/voussoir DESTINATION ${CMAKE_INSTALL_DATADIR}/voussoir/python
+        PATTERN __pycache__ EXCLUDE)
 # The Python gallery and the pvpython script (docs/python.md#gallery): share/voussoir/examples.
 install(FILES examples/seed_domain.py examples/pointed_arch.py examples/fragility.py
               examples/paraview_record.py

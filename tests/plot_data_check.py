@@ -42,9 +42,8 @@ def check_run(tmp, name):
         pics = {p["file"]: p for p in json.load(fh)["pictures"]}
     for fname, p in pics.items():
         check(os.path.exists(os.path.join(plots, fname)), f"{name}: {fname} listed, not written")
+        check(fname.startswith("arch_"), f"{name}: plots.json lists {fname}, not an arch picture")
         check(png_size(os.path.join(plots, fname))[0] == 1200, f"{name}: {fname} is not 1200 px wide")
-        if not fname.startswith("arch_"):
-            continue
         labels = [h["label"] for h in p["hinges"]]
         check(len(labels) == len(set(labels)), f"{name}: {fname} labels {labels} twice")
         for h in p["hinges"]:
@@ -108,40 +107,6 @@ def check_supports(tmp):
           "thick: the pictures do not draw the record's voussoir thicknesses")
 
 
-def check_sweep(tmp):
-    """The domain's points are the sweep's collapses with their modes; the sensitivity's
-    delta_u/L is each run's delta_u over the span in its own record."""
-    with h5py.File(os.path.join(tmp, "sw", "summary.h5"), "r") as f:
-        rows = f["summary"][:]
-    with open(os.path.join(tmp, "sw_plots", "plots.json")) as fh:
-        pics = {p["file"]: p for p in json.load(fh)["pictures"]}
-    check(set(pics) == {"domain.png", "sensitivity.png"}, f"sweep pictures {sorted(pics)}")
-    col = {(float(r["joints.kn_N_mm3"]), float(r["support.alpha_deg"])): r for r in rows
-           if text(r["status"]) == "collapse"}
-    check(len(col) == 6, f"{len(col)} of 6 sweep runs collapsed")
-    for fname in ("domain.png", "sensitivity.png"):
-        pts = pics.get(fname, {"points": []})["points"]
-        check(len(pts) == len(col), f"{fname}: {len(pts)} points, {len(col)} collapses")
-        keys = [(p["kn_N_mm3"], p["alpha_deg"]) for p in pts]
-        check(keys == sorted(keys), f"{fname}: points not along k_n then alpha")
-        for p in pts:
-            r = col.get((p["kn_N_mm3"], p["alpha_deg"]))
-            if r is None:
-                check(False, f"{fname}: point {p} is no collapse of the sweep")
-                continue
-            check(p["mode"] == text(r["mode"]), f"{fname}: mode {p['mode']} at {p}, summary {text(r['mode'])}")
-            if fname == "domain.png":
-                check(abs(p["dz_over_L_pct"] - r["dz_over_L_pct"]) < 1e-6 and abs(p["dx_over_L_pct"] - r["dx_over_L_pct"]) < 1e-6,
-                      f"domain: point {p} differs from the summary")
-            else:
-                with h5py.File(os.path.join(tmp, "sw", f"run_{int(r['run']):04d}.h5"), "r") as rf:
-                    span_mm = 1e3 * float(rf["geometry/span"][()])
-                want = 100.0 * float(r["delta_u_mm"]) / span_mm
-                check(abs(p["delta_u_over_L_pct"] - want) < 1e-6 * want, f"sensitivity: {p} vs delta_u/L {want} %")
-    modes = {p["mode"] for p in pics.get("domain.png", {"points": []})["points"]}
-    check({"I", "III"} <= modes, f"domain modes {modes}: alpha 0 and 90 should give I and III")
-
-
 def main():
     tmp = sys.argv[1]
     ref = check_run(tmp, "ref")
@@ -155,11 +120,10 @@ def main():
         check([text(r["label"]) for r in abc] == ["A", "B", "C"], f"{name}: first three not A, B, C left to right")
     check_run(tmp, "thick")
     check_supports(tmp)
-    check_sweep(tmp)
     for m in failures:
         print("FAIL:", m)
     print(f"plot data: {len(failures)} failures; labels of ref ({len(ref)} hinges), pinned ({len(pin)}), "
-          f"alpha 90 ({len(a90)}) and the sweep's 6 points checked")
+          f"alpha 90 ({len(a90)}) checked")
     sys.exit(1 if failures else 0)
 
 

@@ -55,8 +55,8 @@ static void path_in(const fixture *f, const char *name, char *buf, size_t size) 
   snprintf(buf, size, "%s/%s", f->dir, name);
 }
 
-static const char *const FILES[] = {"ref.png", "ref.svg", "open.png", "open.svg", "curves.png",
-                                    "curves.svg", "one.png", "bad.png", "big.png",
+static const char *const FILES[] = {"ref.png", "ref.svg", "open.png", "open.svg", "one.png", "bad.png",
+                                    "big.png",
                                     "big.svg", "load.png", "noload.png"};
 
 static int teardown(void **state) {
@@ -341,55 +341,6 @@ static void test_reference_without_state(void **state) {
 }
 
 /* ---------------------------------------------------------------------------------------------
- * Curves */
-
-enum { NPTS = 60 };
-
-static void test_curves(void **state) {
-  fixture *f = *state;
-  double x[NPTS], r[NPTS], a[NPTS], b[NPTS], cc[NPTS];
-  for (int k = 0; k < NPTS; k++) {
-    double d = 85e-3 * k / (NPTS - 1); /* m */
-    x[k] = d;
-    r[k] = 15.8 - 40.0 * d;          /* a vertical reaction falling with delta, N */
-    cc[k] = 56.0;                    /* C at the right support from the start */
-    a[k] = k < 10 ? NAN : k < 40 ? 9.0 : 8.0;  /* A forms late, migrates one joint */
-    b[k] = k < 12 ? NAN : k < 30 ? 29.5 : 28.0; /* B: a spread hinge's middle, then one joint */
-  }
-  vs_plot_series rs[1] = {{"right support, vertical", r}};
-  vs_plot_series hs[3] = {{"A", a}, {"B", b}, {"C", cc}};
-  vs_plot_panel panels[2] = {{{"reaction (N)", 1.0, 0}, rs, 1}, {{"hinge joint", 1.0, 1}, hs, 3}};
-  vs_plot_axis xa = {"support displacement delta (mm)", 1e3, 0};
-  char png[128], svg[128];
-  path_in(f, "curves.png", png, sizeof png);
-  path_in(f, "curves.svg", svg, sizeof svg);
-  vs_error err;
-  vs_error_clear(&err);
-  assert_int_equal(vs_plot_curves(png, VS_PLOT_PNG, "test curves", &xa, x, NPTS, panels, 2, &err),
-                   VS_OK);
-  assert_int_equal(vs_plot_curves(svg, VS_PLOT_SVG, "test curves", &xa, x, NPTS, panels, 2, &err),
-                   VS_OK);
-  expect_svg(svg);
-  image im = load_png(png);
-  assert_int_equal(im.w, VS_PLOT_CURVES_WIDTH);
-  assert_int_equal(im.h, VS_PLOT_CURVES_HEIGHT);
-  double ink = ink_fraction(&im);
-  assert_true(ink > 0.02 && ink < 0.6);
-  /* each hinge series is drawn in its label's colour: count blue (A) and green (C) pixels */
-  long blue = 0, green = 0;
-  for (int y = 0; y < im.h; y++)
-    for (int xx = 0; xx < im.w; xx++) {
-      int c[3];
-      pixel(&im, xx, y, c);
-      blue += c[2] > 150 && c[0] < 80 && c[1] < 130;
-      green += c[1] > 120 && c[0] < 60 && c[2] < 100;
-    }
-  assert_true(blue > 200);
-  assert_true(green > 200);
-  cairo_surface_destroy(im.sf);
-}
-
-/* ---------------------------------------------------------------------------------------------
  * Errors */
 
 /* The extrados chord's midpoint of voussoir k (0-based), reference configuration: the mean of
@@ -468,12 +419,6 @@ static void test_unwritable_path(void **state) {
   /* the directory itself is not a file */
   snprintf(dirfile, sizeof dirfile, "%s", f->dir);
   assert_int_equal(vs_plot_arch_draw(dirfile, VS_PLOT_SVG, &a, &err), VS_ERR_IO);
-  double x[2] = {0.0, 1e-3}, y[2] = {1.0, 2.0};
-  vs_plot_series s = {"r", y};
-  vs_plot_panel p = {{"r (N)", 0.0, 0}, &s, 1};
-  assert_int_equal(vs_plot_curves(bad, VS_PLOT_PNG, NULL, NULL, x, 2, &p, 1, &err), VS_ERR_IO);
-  assert_non_null(strstr(err.msg, bad));
-  assert_false(file_exists(bad));
 }
 
 /* A write that fails half-way (the file size limit, like a full disk): VS_ERR_IO with the
@@ -489,23 +434,17 @@ static void test_write_error(void **state) {
   char png[128], svg[128];
   path_in(f, "big.png", png, sizeof png);
   path_in(f, "big.svg", svg, sizeof svg);
-  vs_error e1, e2, e3;
+  vs_error e1, e2;
   vs_error_clear(&e1);
   vs_error_clear(&e2);
-  vs_error_clear(&e3);
   vs_plot_arch_args a = arch_args(f, f->q);
   a.title = "too big";
   vs_status s1 = vs_plot_arch_draw(png, VS_PLOT_PNG, &a, &e1);
   vs_status s2 = vs_plot_arch_draw(svg, VS_PLOT_SVG, &a, &e2);
-  double x[2] = {0.0, 1e-3}, y[2] = {1.0, 2.0};
-  vs_plot_series s = {"r", y};
-  vs_plot_panel p = {{"r (N)", 0.0, 0}, &s, 1};
-  vs_status s3 = vs_plot_curves(svg, VS_PLOT_SVG, "too big", NULL, x, 2, &p, 1, &e3);
   assert_int_equal(setrlimit(RLIMIT_FSIZE, &old), 0);
   signal(SIGXFSZ, prev);
   assert_int_equal(s1, VS_ERR_IO);
   assert_int_equal(s2, VS_ERR_IO);
-  assert_int_equal(s3, VS_ERR_IO);
   assert_non_null(strstr(e1.msg, png));
   assert_non_null(strstr(e2.msg, svg));
   assert_non_null(strstr(e1.msg, strerror(EFBIG)));
@@ -546,20 +485,6 @@ static void test_invalid_arguments(void **state) {
   f->q[5] = 0.0;
   assert_int_equal(vs_plot_arch_draw(png, (vs_plot_format)7, &ok, &err), VS_ERR_INVALID);
 
-  double x[2] = {0.0, 1e-3}, y[2] = {1.0, 2.0};
-  vs_plot_series s = {"r", y}, s0 = {"r", NULL};
-  vs_plot_panel p = {{"r (N)", 0.0, 0}, &s, 1}, p0 = {{"r (N)", 0.0, 0}, &s0, 1};
-  vs_plot_panel pneg = {{"r (N)", -1.0, 0}, &s, 1};
-  assert_int_equal(vs_plot_curves(png, VS_PLOT_PNG, NULL, NULL, x, 0, &p, 1, &err),
-                   VS_ERR_INVALID);
-  assert_int_equal(vs_plot_curves(png, VS_PLOT_PNG, NULL, NULL, NULL, 2, &p, 1, &err),
-                   VS_ERR_INVALID);
-  assert_int_equal(vs_plot_curves(png, VS_PLOT_PNG, NULL, NULL, x, 2, &p, 0, &err),
-                   VS_ERR_INVALID);
-  assert_int_equal(vs_plot_curves(png, VS_PLOT_PNG, NULL, NULL, x, 2, &p0, 1, &err),
-                   VS_ERR_INVALID);
-  assert_int_equal(vs_plot_curves(png, VS_PLOT_PNG, NULL, NULL, x, 2, &pneg, 1, &err),
-                   VS_ERR_INVALID);
   assert_false(file_exists(png));
 
   assert_int_equal(vs_plot_format_from_path("a/b.SVG"), VS_PLOT_SVG);
@@ -573,7 +498,6 @@ int main(void) {
       cmocka_unit_test(test_reference_png_svg),
       cmocka_unit_test(test_open_joint_and_hinges),
       cmocka_unit_test(test_reference_without_state),
-      cmocka_unit_test(test_curves),
       cmocka_unit_test(test_live_load_arrow),
       cmocka_unit_test(test_unwritable_path),
       cmocka_unit_test(test_write_error),

@@ -53,15 +53,16 @@ VS_API void vs_mc_travel(const vs_case *c, double delta_mm, double t[4]);
   "sample,status,first_limit_mm,delta_u_mm,dz_u_mm,dx_u_mm,mode,pattern,A,B,C,D,E,error," \
   "left_dx_mm,left_dz_mm,right_dx_mm,right_dz_mm,load_factor"
 
-/* The files vs_mc_write_summary writes into its directory (for an initialiser list). */
-#define VS_MC_OUTPUTS \
-  "samples.csv", "statistics.csv", "summary.h5", "fragility.png", "convergence.png", "hinges.png"
+/* The files vs_mc_write_summary writes into its directory (for an initialiser list). Its charts
+ * (fragility, convergence, hinge histogram) are matplotlib's: `voussoir plot DIR/summary.h5`,
+ * or voussoir.figures in Python. */
+#define VS_MC_OUTPUTS "samples.csv", "statistics.csv", "summary.h5"
 
 /* Write the summary of n samples (sorted here by sample number) into directory dir (created if
  * missing): VS_MC_OUTPUTS, each written as "<name>.part" and renamed into place (only over a
  * regular file), so that none is ever half-written. span_mm normalises (L). Errors: VS_ERR_IO,
  * VS_ERR_NOMEM, VS_ERR_INVALID (a target became something other than a regular file). In
- * libvoussoir-plot (HDF5 and cairo); the rest of this header is in libvoussoir. */
+ * libvoussoir-plot (with HDF5); the rest of this header is in libvoussoir. */
 VS_API vs_status vs_mc_write_summary(const char *dir, const vs_case *base, vs_mc_sample *samples,
                                      int n, vs_error *err);
 

@@ -1,6 +1,8 @@
 /* Pictures with cairo, PNG or SVG: the arch in a deformed state at true scale (voussoirs, open
- * joints, hinges, supports) and curves against the support displacement (reactions, hinge
- * joints). A pure drawing module: it reads no records; the caller passes the data, in SI units. */
+ * joints, hinges, supports). A pure drawing module: it reads no records; the caller passes the
+ * data, in SI units. The charts (curves against the support displacement, a sweep's domain, a
+ * Monte Carlo study's fragility) are drawn with matplotlib by the Python package's
+ * voussoir.figures. */
 #ifndef VOUSSOIR_PLOT_H
 #define VOUSSOIR_PLOT_H
 
@@ -16,12 +18,6 @@ typedef enum { VS_PLOT_PNG = 0, VS_PLOT_SVG = 1 } vs_plot_format;
 /* Picture sizes, px (SVG: the same size in CSS px). */
 #define VS_PLOT_ARCH_WIDTH 1200
 #define VS_PLOT_ARCH_HEIGHT 700
-#define VS_PLOT_CURVES_WIDTH 1200
-#define VS_PLOT_CURVES_HEIGHT 800
-
-/* Most panels vs_plot_curves stacks, and most series per panel. */
-#define VS_PLOT_MAX_PANELS 4
-#define VS_PLOT_MAX_SERIES 16
 
 /* Format named by a file name's extension: ".svg" (any case) is SVG, anything else PNG. */
 VS_API vs_plot_format vs_plot_format_from_path(const char *path);
@@ -150,75 +146,5 @@ VS_API vs_status vs_plot_arch_frame(const vs_plot_arch_args *a, vs_plot_frame *f
  * joint_N, joint_M, x or z. */
 VS_API vs_status vs_plot_thrust_points(const vs_plot_arch_args *a, double *x, double *z,
                                        vs_error *err);
-
-/* ---------------------------------------------------------------------------------------------
- * Curves */
-
-/* An axis: its label with the unit shown, and the factor from the data (SI) to that unit. */
-typedef struct {
-  const char *label; /* e.g. "support displacement delta (mm)"; NULL: none */
-  double scale;      /* shown value = data * scale (1e3: m -> mm); 0 means 1 */
-  int integer;       /* 1: ticks on whole numbers only (joint numbers) */
-} vs_plot_axis;
-
-/* One curve: n values (the n of vs_plot_curves) against the shared x. A NaN leaves a gap (a
- * hinge not yet formed, or closed). Named "A".."E" it takes that hinge label's colour, the same
- * as in vs_plot_arch_draw; other names take colours in order. */
-/* How a series is drawn (vs_plot_marks.style): a line (markers too when it has at most 80
- * points), or only markers of a shape in the series' colour, outlined in black (points of
- * different kinds on one curve, e.g. the mode of each run of a sweep). */
-typedef enum {
-  VS_PLOT_LINE = 0,
-  VS_PLOT_CIRCLES = 1,
-  VS_PLOT_SQUARES = 2,
-  VS_PLOT_TRIANGLES = 3,
-  VS_PLOT_DIAMONDS = 4
-} vs_plot_style;
-
-typedef struct {
-  const char *name; /* legend entry; NULL or "" for none */
-  const double *y;  /* n values, in the units of the panel's data (SI) */
-} vs_plot_series;
-
-/* A panel: a y axis and its curves. */
-typedef struct {
-  vs_plot_axis y;
-  const vs_plot_series *series;
-  int n_series; /* 1..VS_PLOT_MAX_SERIES */
-} vs_plot_panel;
-
-/* Draw n_panels panels stacked top to bottom, sharing the x axis x_axis with data x (n values,
- * NaN skipped), into the file path as a PNG or SVG picture of VS_PLOT_CURVES_WIDTH x
- * VS_PLOT_CURVES_HEIGHT, with the title (NULL: none) on top. Each panel has its own y range
- * (the finite data rounded out to ticks), ticks with labels, grid lines and a legend; the x tick
- * labels are on the bottom panel. Typically: x = delta (m, scale 1e3, "delta (mm)"); panel 1 the
- * vertical reaction at the moved support (N); panel 2 one series per hinge label, the joint
- * number of that hinge (the middle joint of a spread hinge) or NaN where it is not open.
- * Errors: VS_ERR_INVALID for NULL path, x or panels, n < 1, n_panels outside
- * 1..VS_PLOT_MAX_PANELS, a panel with NULL series or n_series outside 1..VS_PLOT_MAX_SERIES, a
- * series with NULL y, a non-finite or negative axis scale; VS_ERR_IO and VS_ERR_NOMEM as
- * vs_plot_arch_draw (path is created anew, as there). Nothing is printed. */
-VS_API vs_status vs_plot_curves(const char *path, vs_plot_format fmt, const char *title,
-                                const vs_plot_axis *x_axis, const double *x, int n,
-                                const vs_plot_panel *panels, int n_panels, vs_error *err);
-
-/* Extras for vs_plot_curves_marked: vertical marks at n x values (e.g. the limit points), each
- * with a label (NULL: none), dashed across every panel; a second x axis on top of the first
- * panel showing x * x2.scale (x2.label NULL: none), e.g. dz/L in % for x = delta; and the
- * styles of the first panel's series. */
-typedef struct {
-  int n;
-  const double *x;
-  const char *const *label;
-  vs_plot_axis x2;
-  const vs_plot_style *style; /* the first panel's series styles, n_series entries; NULL: lines */
-} vs_plot_marks;
-
-/* vs_plot_curves with marks (NULL: none); errors as vs_plot_curves, and VS_ERR_INVALID for
- * n < 0, NULL x with n > 0, a bad x2 scale or a style outside vs_plot_style. */
-VS_API vs_status vs_plot_curves_marked(const char *path, vs_plot_format fmt, const char *title,
-                                       const vs_plot_axis *x_axis, const double *x, int n,
-                                       const vs_plot_panel *panels, int n_panels,
-                                       const vs_plot_marks *marks, vs_error *err);
 
 #endif

@@ -9,6 +9,7 @@ import numpy as np
 from . import _lib
 from ._lib import ffi
 from .case import Case
+from .record import LoadCurve
 
 MM = 1e-3
 _PHASES = ("quasistatic", "dynamic", "fall")
@@ -85,6 +86,7 @@ class Event:
     side: str
     label: str
     order: int
+    load_factor: float = math.nan  # on a load path (analysis.type = load): lambda there
 
 
 class History:
@@ -213,6 +215,14 @@ class Result:
         self.history = history
         ld = L.vs_run_load(run)
         self.load_factor = ld.load_factor if ld.done else math.nan
+        self._load = _load_curve(ld) if ld.done else None
+
+    def load_curve(self):
+        """The load-deflection curve of a load run (LoadCurve); ValueError for another
+        analysis."""
+        if self._load is None:
+            raise ValueError("not a load run (analysis.type = load): no load-deflection curve")
+        return self._load
 
     def to_dataframe(self):
         """The history as a pandas DataFrame (one row per recorded state, units in
@@ -243,7 +253,21 @@ def _limit(p):
 def _event(e):
     return Event(_EVENTS[e.kind] if 0 <= e.kind < len(_EVENTS) else str(e.kind),
                  _PHASES[e.phase], e.t, e.delta / MM, e.joint, _ch(e.side), _ch(e.label),
-                 e.order)
+                 e.order, e.load_factor)
+
+
+_LOAD_ENDS = ("none", "peak", "sliding", "max_displacement", "stalled")
+
+
+def _load_curve(ld):
+    """LoadCurve of a vs_run_load_result (copied: the run owns its arrays)."""
+    n = ld.n
+    lam = np.array(ffi.unpack(getattr(ld, "lambda"), n) if n else [], float)
+    u = np.array(ffi.unpack(ld.u, n) if n else [], float)
+    end = ("held_limit" if ld.held_limit else
+           _LOAD_ENDS[ld.end] if 0 <= ld.end < len(_LOAD_ENDS) else "?")
+    return LoadCurve(lam, u, ld.load_factor, ld.first_peak, ld.deflection, ld.hold, end,
+                     ffi.string(ld.mechanism).decode())
 
 
 def _support_relative(run, delta):

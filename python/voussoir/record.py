@@ -23,6 +23,25 @@ class Series:
         return Series(self.values[..., i], units[i] if len(units) > 1 else units[0])
 
 
+@dataclass
+class LoadCurve:
+    """A load run's load-deflection curve (analysis.type = load): load_factor (1) and
+    deflection (m: the loads' displacement from where loading began, as the record's
+    /summary/load/curve) at every equilibrium of the load path, numpy arrays; peak: the load
+    factor at collapse (the JSON's load_factor), first_peak, deflection_at_peak (m), hold (m,
+    the held support displacement), end, mechanism. units: {name: unit}."""
+    load_factor: np.ndarray
+    deflection: np.ndarray
+    peak: float
+    first_peak: float
+    deflection_at_peak: float
+    hold: float
+    end: str
+    mechanism: str
+    units = {"load_factor": "1", "deflection": "m", "peak": "1", "first_peak": "1",
+             "deflection_at_peak": "m", "hold": "m"}
+
+
 class Record:
     """An open record (use as a context manager, or call close())."""
 
@@ -141,6 +160,22 @@ class Record:
             rows.append({k: (_text(e[k]) if e.dtype[k].kind in "SOU" else e[k].item())
                          for k in e.dtype.names})
         return rows
+
+    def load_curve(self):
+        """A load run's load-deflection curve (analysis.type = load), /summary/load, as a
+        voussoir.LoadCurve: load_factor (1) and deflection (m, the loads' displacement from where
+        loading began) at every equilibrium of the load path, the peak (the load factor at
+        collapse), first_peak, deflection_at_peak (m), hold (m), end, mechanism. ValueError when
+        the record is not a load run's."""
+        if "summary/load" not in self.file:
+            raise ValueError(f"{self.file.filename}: no /summary/load (not a load run: "
+                             "analysis.type = load)")
+        g = self.file["summary/load"]
+        c = g["curve"][()].reshape(-1, 2)
+        return LoadCurve(c[:, 0].copy(), c[:, 1].copy(), float(g["load_factor"][()]),
+                         float(g["first_peak"][()]), float(g["deflection"][()]),
+                         float(g["hold"][()]), _text(g.attrs.get("end", "")),
+                         _text(g.attrs.get("mechanism", "")))
 
     def summary(self):
         """The summary as nested dicts: scalars as floats, arrays as lists, tables as lists of dicts."""

@@ -1,6 +1,7 @@
 /* Monte Carlo over imperfect arches: the statistics of many samples (mean, CoV, 5 % quantile,
  * fragility curve with its DKW band, hinge histograms, running statistics) and the summary files
- * (CSV, HDF5, PNG), in the plot plugin (HDF5 and cairo). One sample's run is in
+ * (CSV, HDF5; its charts: `voussoir plot DIR/summary.h5`, matplotlib's), in the plot plugin.
+ * One sample's run is in
  * src/run/montecarlo_sample.c (the core library); the process pool and the CLI in
  * src/study/montecarlo_cmd.c and src/cli/cli_montecarlo.c. */
 #define _POSIX_C_SOURCE 200809L /* mkdir */
@@ -17,7 +18,6 @@
 #include <sys/stat.h>
 
 #include "outpath.h"
-#include "voussoir/plot.h"
 #include "voussoir/geometry.h"
 #include "voussoir/run.h"
 #include "voussoir/support.h"
@@ -389,44 +389,6 @@ static vs_status write_h5(const char *path, const char *part, const vs_case *cs,
   return rc >= 0 ? VS_OK : vs_error_set(err, VS_ERR_IO, "montecarlo: %s: cannot write", path);
 }
 
-static vs_status write_plots(const char *dir, const vs_case *c, const mc_stats *st,
-                             vs_error *err) {
-  char path[MC_PATH], title[160];
-  const vs_plot_axis xd = {"support displacement delta (mm)", 1e3, 0};
-  const vs_plot_series fs[3] = {{"P(collapse)", st->frag_p},
-                                {"DKW 95 % band, lower", st->frag_lo},
-                                {"DKW 95 % band, upper", st->frag_hi}};
-  const vs_plot_panel fp = {{"probability of collapse", 1.0, 0}, fs, 3};
-  char part[MC_PART];
-  target(dir, "fragility.png", path, part);
-  snprintf(title, sizeof title, "fragility, alpha = %g deg, %d samples", c->alpha_deg, st->n);
-  vs_status s = publish(path, part, vs_plot_curves(part, VS_PLOT_PNG, title, &xd, st->frag_delta,
-                                                   VS_MC_FRAGILITY_POINTS, &fp, 1, err), err);
-  if (s != VS_OK || st->n < 1) return s;
-  const vs_plot_axis xn = {"samples", 1.0, 1};
-  const vs_plot_series m1 = {"mean delta_u / L", st->run_mean}, m2 = {"5 % quantile", st->run_q05};
-  const vs_plot_series cv = {"CoV of delta_u", st->run_cov};
-  const vs_plot_series ms[2] = {m1, m2};
-  const vs_plot_panel cp[2] = {{{"delta_u / L (%)", 1.0, 0}, ms, 2}, {{"CoV", 1.0, 0}, &cv, 1}};
-  target(dir, "convergence.png", path, part);
-  s = publish(path, part, vs_plot_curves(part, VS_PLOT_PNG, "running statistics", &xn, st->run_n,
-                                         st->n_run, cp, 2, err), err);
-  if (s != VS_OK) return s;
-  double *joints = malloc((size_t)st->n_joints * sizeof *joints);
-  if (joints == NULL) return vs_error_set(err, VS_ERR_NOMEM, "montecarlo: out of memory");
-  for (int k = 0; k < st->n_joints; k++) joints[k] = k + 1;
-  static const char *names[VS_MC_LABELS] = {"A", "B", "C", "D", "E"};
-  vs_plot_series hs[VS_MC_LABELS];
-  for (int l = 0; l < VS_MC_LABELS; l++) hs[l] = (vs_plot_series){names[l], st->hist + l * st->n_joints};
-  const vs_plot_panel hp = {{"collapses with the hinge at that joint", 1.0, 0}, hs, VS_MC_LABELS};
-  const vs_plot_axis xj = {"joint", 1.0, 1};
-  target(dir, "hinges.png", path, part);
-  s = publish(path, part, vs_plot_curves(part, VS_PLOT_PNG, "hinges at collapse", &xj, joints,
-                                         st->n_joints, &hp, 1, err), err);
-  free(joints);
-  return s;
-}
-
 vs_status vs_mc_write_summary(const char *dir, const vs_case *c, vs_mc_sample *s, int n,
                               vs_error *err) {
   if (mkdir(dir, 0755) != 0 && errno != EEXIST)
@@ -441,7 +403,6 @@ vs_status vs_mc_write_summary(const char *dir, const vs_case *c, vs_mc_sample *s
   if (rc == VS_OK) rc = publish(path, part, write_stats_csv(path, part, &st, err), err);
   target(dir, "summary.h5", path, part);
   if (rc == VS_OK) rc = publish(path, part, write_h5(path, part, c, s, n, &st, err), err);
-  if (rc == VS_OK) rc = write_plots(dir, c, &st, err);
   stats_free(&st);
   return rc;
 }

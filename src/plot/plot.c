@@ -1,8 +1,8 @@
-/* Pictures with cairo (PNG, SVG): the deformed arch at true scale, and curves against the
- * support displacement. Drawing only: the caller passes the data; nothing is read or printed.
- * Every picture is drawn by one function on a cairo context; vs_plot_emit() owns the file and
- * surface. This file: the output and the drawing helpers both kinds of picture share
- * (plot_draw.h); the arch is drawn by plot_arch.c, the curves by chart.c. */
+/* Pictures with cairo (PNG, SVG): the deformed arch at true scale (the charts are matplotlib's,
+ * python/voussoir/figures). Drawing only: the caller passes the data; nothing is read or
+ * printed. Every picture is drawn by one function on a cairo context; vs_plot_emit() owns the
+ * file and surface. This file: the output and the drawing helpers (plot_draw.h); the arch is
+ * drawn by plot_arch.c and plot_limit.c. */
 #define _POSIX_C_SOURCE 200809L
 #include "voussoir/plot.h"
 
@@ -127,7 +127,7 @@ void vs_plot_release(void) {
 /* ---------------------------------------------------------------------------------------------
  * Drawing helpers (picture coordinates, px) */
 
-/* Hinge label colours A..E, shared by the arch and the curves; '?' and beyond: grey. */
+/* Hinge label colours A..E; '?' and beyond: grey. */
 vs_rgb vs_plot_label_colour(char label) {
   static const vs_rgb c[5] = {{0.12, 0.37, 0.75}, {0.88, 0.48, 0.0}, {0.10, 0.59, 0.25},
                            {0.48, 0.20, 0.58}, {0.0, 0.55, 0.55}};

@@ -1,7 +1,8 @@
-/* voussoir plot RUN.h5: pictures of a recorded run. The arch at true scale at the reference, at
- * each hinge's onset, at each limit point and settled snap, at the collapse and at the end, and
- * the support reaction and hinge joints against the support displacement. Reads the HDF5 record
- * written by record.c; draws with plot.c. */
+/* voussoir plot RUN.h5: the arch pictures of a recorded run, at true scale: at the reference, at
+ * each hinge's onset, at each limit point and settled snap, at the collapse and at the end.
+ * Reads the HDF5 record written by record.c; draws with plot.c. The charts (curves against the
+ * support displacement, a sweep's domain, a Monte Carlo study's fragility) are matplotlib's:
+ * src/cli/cli_plot.c runs python3 -m voussoir.figures after this. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
 #include <hdf5.h>
@@ -183,84 +184,6 @@ static int draw_at(vs_plotrec *r, double delta, pic_kind kind, int focus, const 
   return rc;
 }
 
-static int draw_curves(vs_plotrec *r, const char *dir, const char *ext) {
-  const size_t n = (size_t)r->rows;
-  double *reac = malloc(4 * n * sizeof(double)), *joint[5];
-  vs_plot_series hs[5];
-  int ns = 0, rc = 0, oom = 0;
-  static const int COL[4] = {0, 1, 3,
-                             4}; /* left Fx, Fz, right Fx, Fz of the supports on the arch */
-  for (size_t i = 0; reac && i < n; i++)
-    for (int c = 0; c < 4; c++) reac[(size_t)c * n + i] = r->react[6 * i + (size_t)COL[c]];
-  vs_hinge *h = malloc((size_t)(r->nh > 0 ? r->nh : 1) * sizeof *h); /* every one it labels */
-  for (int l = 0; l < 5; l++) {
-    joint[l] = h != NULL ? malloc(n * sizeof(double)) : NULL;
-    if (joint[l] == NULL) continue;
-    int any = 0;
-    for (size_t i = 0; i < n; i++) {
-      const int nh = vs_plotrec_hinges_at(r, (int)i, r->delta[i], PIC_ROW, -1, h);
-      oom |= nh < 0;
-      joint[l][i] = NAN;
-      for (int k = 0; k < nh; k++)
-        if (h[k].label == 'A' + l) {
-          joint[l][i] = 0.5 * (h[k].first + h[k].last);
-          any = 1;
-        }
-    }
-    static const char *names[5] = {"A", "B", "C", "D", "E"};
-    if (any) hs[ns++] = (vs_plot_series){names[l], joint[l]};
-  }
-  vs_plot_series rs[4] = {{"left support, horizontal H (x right)", reac},
-                          {"left support, vertical V (z up)", reac + n},
-                          {"right (moved) support, horizontal H", reac + 2 * n},
-                          {"right (moved) support, vertical V", reac + 3 * n}};
-  vs_plot_panel panels[2] = {{{"support reactions on the arch (N)", 1.0, 0}, rs, 4},
-                             {{"hinge joint", 1.0, 1}, hs, ns}};
-  vs_plot_axis x = {"support displacement delta (mm)", 1e3, 0};
-  char lbl[8][32];
-  const char *labels[8];
-  double mx[8];
-  int nm = 0;
-  for (int i = 0; i < r->nl && nm < 8; i++, nm++) {
-    snprintf(lbl[nm], sizeof lbl[nm], "limit %d", i + 1);
-    labels[nm] = lbl[nm], mx[nm] = r->limits[i];
-  }
-  if (isfinite(r->collapse) && nm < 8) labels[nm] = "collapse", mx[nm++] = r->collapse;
-  const double L = r->g->span, ca = vs_support_direction(r->c.alpha_deg * VS_DEG).dz;
-  vs_plot_marks marks = {nm, mx, labels, {NULL, 1.0, 0}, NULL};
-  if (fabs(ca) > 1e-9 && L > 0.0) marks.x2 = (vs_plot_axis){"dz/L (%)", 100.0 * ca / L, 0};
-  char path[1200];
-  snprintf(path, sizeof path, "%s/curves.%s", dir, ext);
-  vs_error err;
-  vs_error_clear(&err);
-  oom |= reac == NULL || h == NULL;
-  if (oom ||
-      vs_plot_curves_marked(path, vs_plot_format_from_path(path),
-                            "Reactions and hinges against the support displacement", &x, r->delta,
-                            (int)n, panels, ns > 0 ? 2 : 1, &marks, &err) != VS_OK) {
-    fprintf(stderr, "voussoir plot: %s\n", oom ? "out of memory" : err.msg);
-    rc = -1;
-  } else {
-    json_picture(r, path, "Reactions and hinges against the support displacement");
-    if (r->json != NULL) {
-      fputs(", \"series\": [", r->json);
-      for (int i = 0; i < 4; i++) fprintf(r->json, "%s\"%s\"", i ? ", " : "", rs[i].name);
-      for (int i = 0; i < ns; i++) fprintf(r->json, ", \"%s\"", hs[i].name);
-      fputs("], \"marks_mm\": [", r->json);
-      for (int i = 0; i < nm; i++) { /* a limit point's delta is the record's: any value */
-        fputs(i ? ", " : "", r->json);
-        vs_plot_json_num(r->json, mx[i] / VS_MM);
-      }
-      fputs("]}", r->json);
-    }
-    printf("  %s\n", path);
-  }
-  free(reac);
-  free(h);
-  for (int l = 0; l < 5; l++) free(joint[l]);
-  return rc;
-}
-
 /* plots.json in dir: what each picture shows, for checking and re-plotting; NULL (and a
  * warning) if it cannot be created. */
 static FILE *json_open(const char *dir, const char *source) {
@@ -290,15 +213,28 @@ static int json_close(FILE **f, const char *dir) {
   return rc;
 }
 
-/* Whether name is one this command may write (arch_*.EXT, curves.EXT, domain.EXT,
- * sensitivity.EXT, plots.json); user: the pictures' extension, as a const char **. */
+/* The charts python3 -m voussoir.figures may write in the same directory (any of its formats). */
+static const char *const CHARTS[] = {"curves",     "hinges",     "load_deflection",
+                                     "domain",     "sensitivity", "fragility",
+                                     "convergence", "hinge_histogram"};
+static const char *const CHART_EXTS[] = {"png", "pdf", "svg"};
+
+/* Whether name is one this command (or the charts after it) may write: arch_*.EXT, a chart's
+ * NAME.png, .pdf or .svg, plots.json; user: the arch pictures' extension, a const char **. */
 static int picture_name(const char *name, void *user) {
   const char *ext = *(const char **)user;
   const size_t n = strlen(name), ne = strlen(ext);
-  return ((strncmp(name, "arch_", 5) == 0 || strncmp(name, "curves.", 7) == 0 ||
-           strncmp(name, "domain.", 7) == 0 || strncmp(name, "sensitivity.", 12) == 0) &&
-          n > ne + 1 && name[n - ne - 1] == '.' && strcmp(name + n - ne, ext) == 0) ||
-         strcmp(name, "plots.json") == 0;
+  if (strcmp(name, "plots.json") == 0) return 1;
+  if (strncmp(name, "arch_", 5) == 0 && n > ne + 1 && name[n - ne - 1] == '.' &&
+      strcmp(name + n - ne, ext) == 0)
+    return 1;
+  for (size_t c = 0; c < sizeof CHARTS / sizeof *CHARTS; c++) {
+    const size_t nc = strlen(CHARTS[c]);
+    if (strncmp(name, CHARTS[c], nc) != 0 || name[nc] != '.') continue;
+    for (size_t e = 0; e < sizeof CHART_EXTS / sizeof *CHART_EXTS; e++)
+      if (strcmp(name + nc + 1, CHART_EXTS[e]) == 0) return 1;
+  }
+  return 0;
 }
 
 /* Every picture this command may write in dir is absent or a regular file, and dir is a
@@ -313,9 +249,10 @@ static int check_picture_dir(const char *dir, const char *ext) {
   return 0;
 }
 
-/* When run is a sweep's summary.h5: its pictures in dir, and the exit status in *status (1). 0
- * when run is not one (nor an HDF5 file). */
-static int plot_if_sweep(const char *run, const char *dir, const char *ext, int *status) {
+/* When run is a sweep's or a Monte Carlo study's summary.h5 (charts only, no arch picture):
+ * dir checked and created, the exit status in *status (0, 1 or 2). 0 when run is neither (nor
+ * an HDF5 file). */
+static int plot_if_study(const char *run, const char *dir, const char *ext, int *status) {
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
   hid_t sf = H5Fopen(run, H5F_ACC_RDONLY, H5P_DEFAULT);
   if (sf < 0) return 0;
@@ -324,21 +261,21 @@ static int plot_if_sweep(const char *run, const char *dir, const char *ext, int 
       H5Lexists(sf, "/summary", H5P_DEFAULT) > 0 &&
       H5Oget_info_by_name2(sf, "/summary", &info, H5O_INFO_BASIC, H5P_DEFAULT) >= 0 &&
       info.type == H5O_TYPE_DATASET;
-  int rc = 0;
-  if (is_sweep && check_picture_dir(dir, ext) != 0) {
-    rc = -2;
-  } else if (is_sweep && mkdir(dir, 0755) != 0 && errno != EEXIST) {
-    fprintf(stderr, "voussoir plot: %s: cannot create: %s\n", dir, strerror(errno));
-    rc = -1;
-  } else if (is_sweep) {
-    FILE *json = json_open(dir, run);
-    rc = vs_plot_sweep(run, sf, dir, ext, json);
-    if (json_close(&json, dir) != 0 && rc == 0) rc = -1;
-  }
+  const int is_mc = H5Lexists(sf, "/samples", H5P_DEFAULT) > 0 &&
+                    H5Lexists(sf, "/fragility", H5P_DEFAULT) > 0;
   H5Fclose(sf);
-  if (!is_sweep) return 0;
-  vs_plot_release();
-  *status = rc == 0 ? 0 : rc == -2 ? 2 : 1;
+  if (!is_sweep && !is_mc) return 0;
+  *status = 0;
+  if (check_picture_dir(dir, ext) != 0) {
+    *status = 2;
+  } else if (mkdir(dir, 0755) != 0 && errno != EEXIST) {
+    fprintf(stderr, "voussoir plot: %s: cannot create: %s\n", dir, strerror(errno));
+    *status = 1;
+  } else {
+    char q[1024];
+    printf("%s %s: no arch picture (the charts follow)\n", is_sweep ? "sweep" : "Monte Carlo study",
+           vs_quote(run, q, sizeof q));
+  }
   return 1;
 }
 
@@ -396,7 +333,6 @@ static int plot_run(const char *run, const char *dir, const char *ext) {
     bad |= draw_at(&r, dc, PIC_COLLAPSE, -1, dir, "collapse", ext, what);
   }
   bad |= draw_row(&r, r.rows - 1, dir, "end", ext, "End of the record");
-  bad |= draw_curves(&r, dir, ext);
   bad |= json_close(&r.json, dir);
   vs_plotrec_free(&r);
   vs_plot_release();
@@ -404,20 +340,7 @@ static int plot_run(const char *run, const char *dir, const char *ext) {
 }
 
 int vs_plot_command(const char *run, const char *dir, const char *ext) {
-  char defdir[VS_OUTPATH_DIR_MAX + 1];
-  if (dir == NULL) { /* RUN without its extension, and "_plots" */
-    const char *dot = strrchr(run, '.'), *slash = strrchr(run, '/');
-    const size_t n = dot != NULL && (slash == NULL || dot > slash) ? (size_t)(dot - run)
-                                                                   : strlen(run);
-    if (n + sizeof "_plots" > sizeof defdir) {
-      fprintf(stderr, "voussoir plot: %s: name too long for the default -o %.*s..._plots (at "
-              "most %d bytes): give -o DIR\n", vs_q(run).s, 32, run, (int)VS_OUTPATH_DIR_MAX);
-      return 2;
-    }
-    snprintf(defdir, sizeof defdir, "%.*s_plots", (int)n, run);
-    dir = defdir;
-  }
   int status;
-  if (plot_if_sweep(run, dir, ext, &status)) return status;
+  if (plot_if_study(run, dir, ext, &status)) return status;
   return plot_run(run, dir, ext);
 }

@@ -1,5 +1,5 @@
-/* Private to `voussoir plot` (plot_cmd.c, plot_record.c, vs_plot_sweep.c): a run's record as the
- * pictures read it, the hinges a picture labels, and a sweep's pictures. */
+/* Private to `voussoir plot` (plot_cmd.c, plot_record.c): a run's record as the arch pictures
+ * read it and the hinges a picture labels. */
 #ifndef VS_PLOT_CMD_H
 #define VS_PLOT_CMD_H
 
@@ -72,10 +72,6 @@ int vs_plotrec_hinges_at(const vs_plotrec *r, int row, double delta, pic_kind ki
                          vs_hinge *out);
 /* The recorded state of row `row`, labelled as PIC_ROW. */
 state vs_plotrec_state(const vs_plotrec *r, int row);
-
-/* A sweep's summary table (the open file f of path): domain and sensitivity pictures in dir,
- * their points in json (may be NULL). 0, or -1 with the reason printed. */
-int vs_plot_sweep(const char *path, hid_t f, const char *dir, const char *ext, FILE *json);
 
 /* A JSON number: v as %.9g, or null when it is not finite (JSON has no NaN nor infinity; a
  * record may hold them). */

@@ -1,5 +1,5 @@
-/* Private to the pictures (plot.c, plot_arch.c, chart.c): the output of one drawing function
- * to a file, colours, text and the small marks both the arch and the curves draw. Picture
+/* Private to the pictures (plot.c, plot_arch.c, plot_limit.c): the output of one drawing
+ * function to a file, colours, text and the small marks the arch pictures draw. Picture
  * coordinates in px. Not installed. */
 #ifndef VS_PLOT_DRAW_H
 #define VS_PLOT_DRAW_H
@@ -24,7 +24,7 @@ static const vs_rgb C_BLACK = {0.0, 0.0, 0.0}, C_WHITE = {1.0, 1.0, 1.0}, C_TEXT
 vs_status vs_plot_emit(const char *path, vs_plot_format fmt, int w, int h, vs_plot_draw_fn draw,
                        const void *data, vs_error *err);
 
-/* Hinge label colours A..E, shared by the arch and the curves; '?' and beyond: grey. */
+/* Hinge label colours A..E (matplotlib's figures take theirs); '?' and beyond: grey. */
 vs_rgb vs_plot_label_colour(char label);
 void vs_plot_set_rgb(cairo_t *cr, vs_rgb c);
 /* Sans-serif of size px, bold or not. */

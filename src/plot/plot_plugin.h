@@ -10,8 +10,9 @@
 /* libvoussoir-plot: exported as vs_plot_plugin_table. */
 typedef struct {
   vs_plugin_head head;
-  /* the plot command's work: the pictures of a record or of a sweep's summary.h5 into dir
-   * (ext "png" or "svg"); an exit status */
+  /* the plot command's work: the arch pictures of a record into dir (ext "png" or "svg"), or,
+   * for a sweep's or a Monte Carlo study's summary.h5, dir checked and created (their charts
+   * are matplotlib's, run by src/cli/cli_plot.c); an exit status */
   int (*plot_command)(const char *record, const char *dir, const char *ext);
   vs_status (*mc_write_summary)(const char *dir, const vs_case *base, vs_mc_sample *samples,
                                 int n, vs_error *err);

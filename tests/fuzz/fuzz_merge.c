@@ -48,7 +48,8 @@ int vs_plugin_load(vs_plugin_kind kind, const char *name) {
   return 0;
 }
 
-/* The pictures: everything but the pixels (vs_plot_curves' checks are the real ones); an empty
+/* The pictures: everything but the pixels (the summary draws none: its charts are matplotlib's,
+ * voussoir plot's); an empty
  * file is written, which the summary renames into place as it would a picture. */
 vs_status __wrap_vs_plot_emit(const char *path, vs_plot_format fmt, int w, int h,
                               vs_plot_draw_fn draw, const void *data, vs_error *err) {

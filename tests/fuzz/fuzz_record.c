@@ -1,5 +1,6 @@
 /* libFuzzer target for the readers of a run's record: `voussoir plot` (vs_plot_command:
- * src/plot_cmd.c, plot_record.c, plot_sweep.c for a sweep's summary.h5) and the XDMF sidecar
+ * src/plot_cmd.c, plot_record.c; a sweep's summary.h5 only recognised, its charts being
+ * matplotlib's) and the XDMF sidecar
  * (vs_output_write_xdmf: src/xdmf_record.c, xdmf.c). Run it with tests/fuzz/run.sh [SECONDS]
  * record.
  *

@@ -88,7 +88,7 @@ class _Run:
     hinges [(label, side, joints_onset, joints, delta_onset_mm)], limits_mm, collapse_mm."""
 
     def __init__(self, src):
-        from .record import Record
+        from ..record import Record
         if hasattr(src, "history"):
             self._result(src)
         elif isinstance(src, Record):
@@ -134,7 +134,7 @@ def _joints(name):
 
 
 def _marks(ax, run):
-    for i, d in enumerate(run.limits_mm):
+    for i, d in enumerate(x for x in run.limits_mm if math.isfinite(x)):
         ax.axvline(d, color="0.6", linewidth=0.6, linestyle=":",
                    label="limit point (snap)" if i == 0 else None)
     if math.isfinite(run.collapse_mm):
@@ -212,21 +212,109 @@ def _rows(table):
     return table.to_dict("records") if hasattr(table, "to_dict") else list(table)
 
 
+MODES = (("I", "mode I", "o"), ("II", "mode II", "s"), ("III", "mode III", "^"),
+         ("", "no mode (sides match none)", "D"))
+
+
+def _collapses(table):
+    """A sweep's collapses (rows with status collapse and a finite dz/L), sorted by k_n then
+    alpha (a column the sweep did not vary reads as NaN: the case's value)."""
+    rows = [r for r in _rows(table) if r.get("status") == "collapse"
+            and _finite(r.get("dz_over_L_pct"))]
+    for r in rows:
+        for k in ("joints.kn_N_mm3", "support.alpha_deg"):
+            r[k] = float(r[k]) if _finite(r.get(k)) else math.nan
+    return sorted(rows, key=lambda r: (_nan_first(r["joints.kn_N_mm3"]),
+                                       _nan_first(r["support.alpha_deg"])))
+
+
+def _finite(v):
+    try:
+        return math.isfinite(float(v))
+    except (TypeError, ValueError):
+        return False
+
+
+def _nan_first(v):
+    return (0, 0.0) if math.isnan(v) else (1, v)
+
+
+def _mode_of(r):
+    m = r.get("mode")
+    return m if m in ("I", "II", "III") else ""
+
+
+def _study_chart(ax, rows, x, y, per_kn):
+    """Lines through the points (one per k_n, or one through all), then the points again, one
+    marker series per mode present (labelled "mode I".., linestyle none)."""
+    groups = {}
+    for r, xi, yi in zip(rows, x, y):
+        key = r["joints.kn_N_mm3"] if per_kn else None
+        groups.setdefault(("nan" if key is not None and math.isnan(key) else key), []).append(
+            (xi, yi))
+    for i, (kn, pts) in enumerate(groups.items()):
+        label = (None if kn is None else "k_n of the case" if kn == "nan"
+                 else f"k_n = {kn:g} N/mm³")
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], color=f"C{i}", label=label)
+    for code, name, marker in MODES:
+        sel = [(xi, yi) for r, xi, yi in zip(rows, x, y) if _mode_of(r) == code]
+        if sel:
+            ax.plot([p[0] for p in sel], [p[1] for p in sel], linestyle="none", marker=marker,
+                    markerfacecolor="white", markeredgecolor="k", markersize=4, label=name)
+
+
 @_styled
 def domain(table):
-    """A sweep's limit displacement domain: collapse dz/L against dx/L (%), one line per k_n
-    through the directions (table: voussoir.sweep's DataFrame or read_table rows)."""
-    from .draw import draw_domain
+    """A sweep's limit displacement domain: the support displacement at collapse, spreading dx/L
+    against settlement dz/L (%), one line per k_n through the directions alpha, each point marked
+    by its mode (I, II, III). table: voussoir.sweep's DataFrame, read_table rows or
+    read_sweep(summary.h5)."""
+    rows = _collapses(table)
+    if not rows:
+        raise ValueError("no run of the sweep collapsed: no domain to draw")
     fig, ax = figure(height_in=3.0)
-    draw_domain(_rows(table), ax=ax)
+    _study_chart(ax, rows, [r["dz_over_L_pct"] for r in rows],
+                 [r["dx_over_L_pct"] for r in rows], per_kn=True)
+    ax.set_xlabel("collapse settlement dz/L (%)")
+    ax.set_ylabel("collapse spreading dx/L (%)")
     ax.legend(frameon=False)
-    for line in ax.get_lines():  # the axes start at 0 (no collapse at a negative travel here)
-        if len(line.get_xdata()) and min(line.get_xdata()) < 0:
-            break
-    else:
+    lines = [ln for ln in ax.get_lines() if len(ln.get_xdata())]
+    if all(min(ln.get_xdata()) >= 0 for ln in lines):  # from 0 when no travel is negative
         ax.set_xlim(left=0)
-    if all(min(ln.get_ydata(), default=0) >= 0 for ln in ax.get_lines()):
+    if all(min(ln.get_ydata()) >= 0 for ln in lines):
         ax.set_ylim(bottom=0)
+    return fig
+
+
+def sensitivity_axis(table):
+    """'alpha' when the sweep's collapses take at least two directions, else 'kn' when they take
+    at least two k_n, else None (nothing to draw against)."""
+    rows = _collapses(table)
+    for key, name in (("support.alpha_deg", "alpha"), ("joints.kn_N_mm3", "kn")):
+        if len({r[key] for r in rows if not math.isnan(r[key])}) >= 2:
+            return name
+    return None
+
+
+@_styled
+def sensitivity(table):
+    """A sweep's collapse displacement delta_u/L = hypot(dz/L, dx/L) (%) against the direction
+    alpha (deg), one line per k_n, or against k_n (N/mm^3) when the sweep varies only k_n; each
+    point marked by its mode. ValueError when the sweep varies neither."""
+    rows = _collapses(table)
+    axis = sensitivity_axis(rows)
+    if axis is None:
+        raise ValueError("the sweep's collapses vary neither alpha nor k_n")
+    by_alpha = axis == "alpha"
+    x = [r["support.alpha_deg" if by_alpha else "joints.kn_N_mm3"] for r in rows]
+    y = [math.hypot(r["dz_over_L_pct"], r["dx_over_L_pct"]) for r in rows]
+    fig, ax = figure()
+    _study_chart(ax, rows, x, y, per_kn=by_alpha)
+    ax.set_xlabel("direction alpha from the vertical (deg)" if by_alpha
+                  else "joint normal stiffness k_n (N/mm³)")
+    ax.set_ylabel("collapse displacement delta_u/L (%)")
+    ax.set_ylim(bottom=0)
+    ax.legend(frameon=False)
     return fig
 
 
@@ -239,7 +327,7 @@ def _mc(table):
     return du, valid
 
 
-def fragility_curve(table, points=200):
+def fragility_curve(table, points=201):
     """(delta_mm, p, lo, hi): the empirical probability of collapse at a support displacement
     (collapses at or below it over the samples that did not fail) and its Dvoretzky-Kiefer-
     Wolfowitz band (95 % simultaneous, half-width sqrt(ln(2/0.05) / (2 n))), clipped to [0, 1].
@@ -330,3 +418,214 @@ def hinge_histogram(table, joints=None):
     ax.legend(frameon=False, ncols=len(counts) or 1)
     return fig
 
+
+
+# --- a load run --------------------------------------------------------------------------------
+
+def _load_curve(src):
+    """A LoadCurve from a load run's record (path or Record), a Result or a LoadCurve."""
+    from ..record import LoadCurve, Record
+    if isinstance(src, LoadCurve):
+        return src
+    if hasattr(src, "load_curve"):
+        return src.load_curve()
+    with Record(src) as r:
+        return r.load_curve()
+
+
+@_styled
+def load_deflection(src):
+    """A load run's load-deflection curve (analysis.type = load): the load factor lambda against
+    the loads' displacement from where loading began (mm), at every equilibrium of the load
+    path, the peak (the load factor at collapse) marked, and the first peak when it comes
+    earlier (where load control would snap). src: the run's record (path or Record), its
+    in-process Result or a LoadCurve."""
+    lc = _load_curve(src)
+    fig, ax = figure()
+    u = lc.deflection / 1e-3
+    ax.plot(u, lc.load_factor, color="C0", marker="o" if len(u) <= 40 else None,
+            label="load path")
+    if math.isfinite(lc.peak) and lc.peak > 0:
+        ax.axhline(lc.peak, color="0.3", linewidth=0.6, linestyle="--",
+                   label=f"collapse, lambda = {lc.peak:.4g}")
+    if math.isfinite(lc.first_peak) and lc.first_peak > 0 and lc.first_peak < 0.999 * lc.peak:
+        ax.axhline(lc.first_peak, color="0.6", linewidth=0.6, linestyle=":",
+                   label=f"first peak, lambda = {lc.first_peak:.4g}")
+    ax.set_xlabel("deflection under the load (mm)")
+    ax.set_ylabel("load factor lambda")
+    ax.set_ylim(bottom=0)
+    if len(u) and u.min() >= 0:
+        ax.set_xlim(left=0)
+    ax.legend(frameon=False)
+    return fig
+
+
+# --- files the program writes ------------------------------------------------------------------
+
+MC_STATUS = {0: "collapse", 1: "max_displacement", 2: "failed"}
+
+
+def read_sweep(path):
+    """A sweep's summary.h5 (/summary, the table voussoir sweep writes) as a list of dicts, the
+    columns of summary.csv (texts decoded, numbers as floats)."""
+    import h5py
+    with h5py.File(path, "r") as f:
+        t = f["summary"][()]
+    if t.ndim != 1 or t.dtype.names is None:
+        raise ValueError(f"/summary is not a sweep's summary table (a table of rank 1: rank "
+                         f"{t.ndim})")
+    return [{k: (_decode(r[k]) if t.dtype[k].kind in "SOU" else float(r[k]))
+             for k in t.dtype.names} for r in t]
+
+
+def _decode(v):
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
+def read_montecarlo(path):
+    """A Monte Carlo study's summary.h5 (voussoir montecarlo) as (rows, span_mm): one dict per
+    sample with the columns fragility, convergence and hinge_histogram read (sample, status
+    'collapse' / 'max_displacement' / 'failed', delta_u_mm, dz_u_mm, dx_u_mm, mode,
+    load_factor, and A..E: the hinge's middle joint and side at the collapse, '9-I', or '');
+    span_mm: the arch's span (None when the files do not say)."""
+    import h5py
+    with h5py.File(path, "r") as f:
+        g = f["samples"]
+        col = {k: g[k][()] for k in ("sample", "status", "delta_u", "dz_u", "dx_u", "mode",
+                                     "load_factor") if k in g}
+        hj = g["hinge_joint"][()].reshape(len(col["status"]), -1)
+        desc = _decode(f.attrs.get("description", ""))
+    span = _mc_span_mm(path, desc)
+    rows = []
+    for i in range(len(col["status"])):
+        r = {"sample": int(col["sample"][i]), "status": MC_STATUS.get(int(col["status"][i]), "?"),
+             "delta_u_mm": col["delta_u"][i] / 1e-3, "dz_u_mm": col["dz_u"][i] / 1e-3,
+             "dx_u_mm": col["dx_u"][i] / 1e-3, "mode": int(col["mode"][i]),
+             "load_factor": float(col["load_factor"][i]) if "load_factor" in col else math.nan}
+        for k, label in enumerate("ABCDE"[:hj.shape[1]]):
+            j = int(hj[i, k])
+            r[label] = "" if j == 0 else f"{abs(j)}-{'I' if j > 0 else 'E'}"
+        rows.append(r)
+    return rows, span
+
+
+def _mc_span_mm(path, desc):
+    """The span of a Monte Carlo study, mm: samples.csv's header beside summary.h5 (L_mm, in
+    full), else summary.h5's description (six digits), else None."""
+    import re
+    csv = os.path.join(os.path.dirname(os.fspath(path)), "samples.csv")
+    try:
+        with open(csv) as f:
+            m = re.search(r"\bL_mm=(\S+)", f.readline())
+        if m:
+            return float(m.group(1))
+    except (OSError, ValueError):
+        pass
+    m = re.search(r"\bL ([0-9.eE+-]+) mm", desc)
+    return float(m.group(1)) if m else None
+
+
+def kind_of(path):
+    """What an HDF5 file voussoir wrote is: 'record' (a run's), 'sweep' (a sweep's summary.h5),
+    'montecarlo' (a Monte Carlo study's summary.h5); ValueError otherwise."""
+    import h5py
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        raise ValueError(f"{path}: not an HDF5 file voussoir wrote ({e})") from None
+    with f:
+        if isinstance(f.get("summary"), h5py.Dataset):
+            return "sweep"
+        if "samples" in f and "fragility" in f:
+            return "montecarlo"
+        if "observables" in f and isinstance(f.get("summary"), h5py.Group):
+            return "record"
+    raise ValueError(f"{path}: neither a run's record, a sweep's summary.h5 nor a Monte Carlo "
+                     "study's summary.h5")
+
+
+def charts(path, out_dir, formats=("png", "pdf", "svg")):
+    """The charts of a file voussoir wrote, saved in out_dir (created when absent) as
+    NAME.FORMAT for each of formats: a run's record: curves, hinges (and load_deflection for a
+    load run); a sweep's summary.h5: domain, sensitivity (when the sweep varies alpha or k_n); a
+    Monte Carlo summary.h5: fragility, convergence, hinge_histogram. Returns the paths written;
+    ValueError for a file of none of these kinds."""
+    kind = kind_of(path)
+    figs = []
+    if kind == "record":
+        from ..record import Record
+        with Record(path) as r:
+            figs = [("curves", curves(r)), ("hinges", hinges(r))]
+            if "summary/load" in r.file:
+                figs.append(("load_deflection", load_deflection(r)))
+    elif kind == "sweep":
+        rows = read_sweep(path)
+        figs = [("domain", domain(rows))]
+        if sensitivity_axis(rows) is not None:
+            figs.append(("sensitivity", sensitivity(rows)))
+    else:
+        rows, span = read_montecarlo(path)
+        figs = [("fragility", fragility(rows)), ("convergence", convergence(rows, span)),
+                ("hinge_histogram", hinge_histogram(rows))]
+    os.makedirs(out_dir, exist_ok=True)
+    paths = []
+    for name, fig in figs:
+        paths += save(fig, os.path.join(out_dir, name), formats)
+    return paths
+
+
+USAGE = """usage: python3 -m voussoir.figures FILE.h5 [-o DIR] [--format png,pdf,svg]
+Draws the charts of a file voussoir wrote with matplotlib, each a journal column wide, as PNG,
+PDF and SVG (text editable): a run's record: curves (the supports' forces against the support
+displacement), hinges (the hinges and open joints against it) and, for a load run
+(analysis.type = load), load_deflection; a sweep's summary.h5: domain (dx/L against dz/L per
+k_n, the points marked by mode) and sensitivity (delta_u/L against alpha, or k_n); a Monte Carlo
+study's summary.h5: fragility (with its 95 % band), convergence, hinge_histogram. DIR: default
+FILE without .h5 and "_plots" (voussoir plot's). exit status: 0 done, 1 a figure could not be
+written, 2 bad input, 3 matplotlib (or h5py, numpy) missing."""
+
+
+def main(argv=None):
+    """The command line (USAGE); returns the exit status."""
+    import argparse
+    import sys
+    p = argparse.ArgumentParser(prog="python3 -m voussoir.figures", usage=USAGE.split("\n")[0][7:],
+                                description=USAGE.split("\n", 1)[1],
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("file")
+    p.add_argument("-o", dest="dir")
+    p.add_argument("--format", default="png,pdf,svg")
+    try:
+        a = p.parse_args(argv)
+    except SystemExit as e:
+        return 0 if e.code == 0 else 2
+    formats = tuple(x for x in a.format.split(",") if x)
+    bad = [x for x in formats if x not in ("png", "pdf", "svg")]
+    if bad or not formats:
+        print(f"voussoir.figures: --format {a.format}: allowed png, pdf, svg (comma-separated)",
+              file=sys.stderr)
+        return 2
+    out = a.dir or (a.file[:-3] if a.file.endswith(".h5") else a.file) + "_plots"
+    try:
+        import h5py  # noqa: F401
+        import matplotlib  # noqa: F401
+    except ImportError as e:
+        print(f"voussoir.figures: no charts: {e} (Debian: apt-get install python3-matplotlib "
+              "python3-h5py python3-numpy)", file=sys.stderr)
+        return 3
+    try:
+        kind_of(a.file)
+    except ValueError as e:
+        print(f"voussoir.figures: {e}", file=sys.stderr)
+        return 2
+    try:
+        paths = charts(a.file, out, formats)
+    except ValueError as e:  # a file of its kind with nothing to draw (no collapse)
+        print(f"voussoir.figures: {a.file}: {e}", file=sys.stderr)
+        return 1
+    except OSError as e:
+        print(f"voussoir.figures: {out}: {e}", file=sys.stderr)
+        return 1
+    for path in paths:
+        print(f"  {path}")
+    return 0
