@@ -16,7 +16,8 @@ from . import cli
 from ._lib import Error, CaseError, SolverError, library_path
 from .case import Case
 from .inprocess import run, Result, History, Hinge, Collapse, LimitPoint, Event
-from .study import sweep, montecarlo
+from .record import LoadCurve
+from .study import sweep, montecarlo, calibrate
 from . import tables
 from .tables import record_to_xarray
 from .draw import draw_mechanism, draw_curves, draw_domain
@@ -25,5 +26,5 @@ from . import figures
 __version__ = "0.4.0"
 __all__ = ["Record", "Series", "open_record", "read_table", "draw_mechanism", "draw_curves",
            "draw_domain", "figures", "cli", "Case", "run", "Result", "History", "Hinge", "Collapse",
-           "LimitPoint", "Event", "sweep", "montecarlo",
+           "LimitPoint", "Event", "LoadCurve", "sweep", "montecarlo", "calibrate",
            "record_to_xarray", "tables", "Error", "CaseError", "SolverError", "library_path"]

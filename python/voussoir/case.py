@@ -60,6 +60,40 @@ class Case:
         return c.set(overrides, **kw)
 
     @classmethod
+    def from_blocks(cls, blocks, overrides=None, /, *, ring=None, interfaces=None,
+                    tolerance_mm=None, path=None, base=None, **kw):
+        """A case whose arch is blocks built in Python (arch.shape = file): blocks is a blocks
+        file's content as a dict ({"blocks": [...], "ring": [...], ...}, docs/blocks-file.md)
+        or its list of blocks, each {"name", "polygon": [[x, z], ...] in mm (a list or an
+        (n, 2) array), "support": "left"/"right" (absent: a block), "density_kg_m3"}, with ring
+        (names from a left support to a right one), interfaces and tolerance_mm given apart.
+        The file is written to path (kept), or to a temporary directory that lives as long as
+        the case and its copies. base: the case the other keys come from (a Case or a case
+        file's path; default the defaults); overrides as Case(); the blocks are read (and
+        checked: CaseError naming the problem) when the case runs or validate() is called."""
+        import json
+        import tempfile
+        doc = dict(blocks) if isinstance(blocks, dict) else {"blocks": list(blocks)}
+        doc.setdefault("format", "voussoir-blocks 1")
+        for k, v in (("ring", ring), ("interfaces", interfaces), ("tolerance_mm", tolerance_mm)):
+            if v is not None:
+                doc[k] = v
+        doc["blocks"] = [dict(b, polygon=[[float(x), float(z)] for x, z in b["polygon"]])
+                         if "polygon" in b else dict(b) for b in doc["blocks"]]
+        keep = None
+        if path is None:
+            keep = tempfile.TemporaryDirectory(prefix="voussoir-blocks-")
+            path = os.path.join(keep.name, "blocks.json")
+        path = os.path.abspath(os.fspath(path))
+        with open(path, "w") as f:
+            json.dump(doc, f)
+        c = (base.copy() if isinstance(base, Case) else
+             cls.from_file(base) if base is not None else cls())
+        c._blocks_dir = keep if keep is not None else getattr(c, "_blocks_dir", None)
+        c.set({"arch.shape": "file", "arch.blocks_file": path})
+        return c.set(overrides, **kw)
+
+    @classmethod
     def from_text(cls, text, name="<text>", overrides=None, /, **kw):
         """A case from the text of a case file (name stands for the file in messages)."""
         c = cls()
@@ -83,6 +117,7 @@ class Case:
         c._c = ffi.new("vs_case *")
         ffi.memmove(c._c, self._c, ffi.sizeof("vs_case"))
         c.path = self.path
+        c._blocks_dir = getattr(self, "_blocks_dir", None)  # from_blocks' file lives on
         return c.set(overrides, **kw)
 
     def validate(self):

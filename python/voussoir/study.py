@@ -156,3 +156,93 @@ def _mc_row(s, base):
         side = s.hinge_side[k].decode() if s.hinge_side[k] != b"\0" else ""
         row[label] = f"{s.hinge_joint[k]}-{side}" if s.hinge_joint[k] else ""
     return row
+
+
+CALIBRATE_SCAN = 9  # log-spaced k_n of the scan, as `voussoir calibrate`
+
+
+def calibrate(case, target_dz_pct=None, *, target_dx_pct=None, kn_min=0.1, kn_max=100.0,
+              tol_pct=0.01):
+    """The joint stiffness k_n (N/mm^3) at which the case's collapse displacement component
+    dz/L (target_dz_pct) or dx/L (target_dx_pct), in % of the span, equals the target: the
+    algorithm of `voussoir calibrate`, each evaluation a run in this process to the collapse
+    (without the fall): a scan of 9 k_n log-spaced over [kn_min, kn_max] up to the first pair
+    that brackets the target, then Illinois false position on log10 k_n until the component is
+    within tol_pct of the target (or the bracket is narrower than 1e-5 decades), then the
+    sensitivity by central differences over +-0.01 decade.
+
+    Returns a pandas DataFrame, one row per run in order: stage ('scan', 'iteration',
+    'bisection': a false-position point without a collapse, bisected instead; 'sensitivity'),
+    kn_N_mm3, the component (dz_over_L_pct or dx_over_L_pct; NaN without a collapse), and
+    residual_pct (component - target). df.attrs: kn_N_mm3 (the result), component,
+    target_pct, tol_pct, converged (within tol_pct), sensitivity_pct_per_decade, runs.
+    ValueError when no k_n of the scan brackets the target (its range is said), or for a bad
+    target; CaseError for a bad case."""
+    if (target_dz_pct is None) == (target_dx_pct is None):
+        raise ValueError("calibrate: give one of target_dz_pct and target_dx_pct")
+    dx = target_dx_pct is not None
+    target = float(target_dx_pct if dx else target_dz_pct)
+    if not (0 < kn_min < kn_max) or not tol_pct > 0 or not math.isfinite(target):
+        raise ValueError(f"calibrate: kn_min {kn_min}, kn_max {kn_max}, tol_pct {tol_pct}, "
+                         f"target {target}: need 0 < kn_min < kn_max, tol_pct > 0, a finite target")
+    base = _base(case, False).validate()
+    comp = "dx_over_L_pct" if dx else "dz_over_L_pct"
+    if dx and base["support.left_rate_mm_s"] == 0 and base["support.left_path"] in ("", None) \
+            and base["support.right_path"] in ("", None) \
+            and abs(math.sin(math.radians(base["support.alpha_deg"]))) < 1e-12:
+        raise ValueError("calibrate: target_dx_pct with alpha = 0: dx is always 0")
+    rows = []
+
+    def f(kn, stage):
+        try:
+            res = _run(base.copy(joints__kn_N_mm3=kn), history=False)
+            v = getattr(res.collapse, comp) if res.collapse is not None else math.nan
+        except _lib.SolverError:
+            v = math.nan
+        rows.append({"stage": stage, "kn_N_mm3": kn, comp: v, "residual_pct": v - target})
+        return v - target
+
+    kn = [kn_min * (kn_max / kn_min) ** (i / (CALIBRATE_SCAN - 1)) for i in range(CALIBRATE_SCAN)]
+    fs, lo = [], -1
+    for i, k in enumerate(kn):
+        fs.append(f(k, "scan"))
+        if i > 0 and math.isfinite(fs[i]) and math.isfinite(fs[i - 1]) and \
+                (fs[i - 1] <= 0) != (fs[i] <= 0):
+            lo = i - 1
+            break
+    if lo < 0:
+        seen = [v + target for v in fs if math.isfinite(v)]
+        span = f"{min(seen):.4f}..{max(seen):.4f} %" if seen else "no collapse"
+        raise ValueError(f"calibrate: no k_n in [{kn_min:g}, {kn_max:g}] N/mm^3 gives a collapse "
+                         f"{comp[:2]}/L of {target:g} %: the scan gives {span}")
+    xa, xb, fa, fb = math.log10(kn[lo]), math.log10(kn[lo + 1]), fs[lo], fs[lo + 1]
+    x, fx, side = xa, fa, 0
+    for _ in range(40):
+        x = (xa * fb - xb * fa) / (fb - fa)
+        fx = f(10.0 ** x, "iteration")
+        if not math.isfinite(fx):  # no collapse there: bisect instead
+            x = 0.5 * (xa + xb)
+            fx = f(10.0 ** x, "bisection")
+            if not math.isfinite(fx):
+                break
+        if abs(fx) <= tol_pct or xb - xa < 1e-5:
+            break
+        if (fx <= 0) == (fa <= 0):
+            xa, fa = x, fx
+            if side == -1:
+                fb *= 0.5
+            side = -1
+        else:
+            xb, fb = x, fx
+            if side == 1:
+                fa *= 0.5
+            side = 1
+    sens = math.nan
+    if math.isfinite(fx):
+        h = 0.01
+        sens = (f(10.0 ** (x + h), "sensitivity") - f(10.0 ** (x - h), "sensitivity")) / (2 * h)
+    df = pandas().DataFrame(rows, columns=["stage", "kn_N_mm3", comp, "residual_pct"])
+    df.attrs.update(kn_N_mm3=10.0 ** x if math.isfinite(fx) else math.nan, component=comp,
+                    target_pct=target, tol_pct=tol_pct, converged=bool(abs(fx) <= tol_pct),
+                    sensitivity_pct_per_decade=sens, runs=len(rows))
+    return df
