@@ -5,7 +5,7 @@
 #define VS_PLUGIN_HEAD_H
 
 /* Bumped whenever a table (record_plugin.h, plot_plugin.h, mpi_plugin.h) changes. */
-#define VS_PLUGIN_ABI 5
+#define VS_PLUGIN_ABI 6
 
 typedef struct {
   int abi;             /* VS_PLUGIN_ABI */
