@@ -18,7 +18,7 @@ for f in bin/voussoir "$libdir/libvoussoir.so" include/voussoir/run.h include/vo
          share/man/man1/voussoir.1 share/voussoir/reference.ini share/voussoir/spreading.ini \
          share/voussoir/run_case.c share/voussoir/CMakeLists.txt share/doc/voussoir/README.md \
          share/doc/voussoir/case-file.md share/voussoir/examples/paraview_record.py \
-         share/voussoir/examples/fragility.py; do
+         share/voussoir/examples/fragility.py share/voussoir/python/voussoir/figures/__init__.py; do
   [ -e "$p/$f" ] || fail "$f not installed"
 done
 [ -e "$p/include/voussoir/sweep.h" ] && fail "sweep.h (CLI only) installed"
@@ -42,6 +42,16 @@ LD_DEBUG=files "$p/bin/voussoir" run "$p/share/voussoir/reference.ini" -q --firs
   -o "$tmp/first.h5" >/dev/null 2>"$tmp/ld" || fail "installed voussoir run -o: $(grep -v '^ *[0-9]*:' "$tmp/ld")"
 grep -q "file=$p/.*libvoussoir-record\.so" "$tmp/ld" || fail "the record plugin not loaded from $p"
 [ -s "$tmp/first.h5" ] || fail "installed voussoir run -o wrote no record"
+# voussoir plot's charts: the package installed beside the program (share/voussoir/python), not
+# the source tree's nor PYTHONPATH's (a decoy there must not be taken)
+if /usr/bin/python3 -c "import matplotlib, h5py, numpy, cffi" 2>/dev/null; then
+  mkdir -p "$tmp/decoy/voussoir"
+  echo 'raise ImportError("the decoy package on PYTHONPATH was taken")' >"$tmp/decoy/voussoir/__init__.py"
+  PYTHONPATH=$tmp/decoy VOUSSOIR_PYTHON=/usr/bin/python3 "$p/bin/voussoir" plot "$tmp/first.h5" \
+    -o "$tmp/pics" >/dev/null 2>"$tmp/err" || fail "installed voussoir plot: $(cat "$tmp/err")"
+  [ -s "$tmp/pics/curves.pdf" ] && [ -s "$tmp/pics/arch_reference.png" ] ||
+    fail "installed voussoir plot: no charts"
+fi
 
 # The example through pkg-config, run on the installed reference case.
 export PKG_CONFIG_PATH=$p/$libdir/pkgconfig
