@@ -1,8 +1,10 @@
 """voussoir records from Python: open a run's HDF5 record into arrays with units, read its
 summary and events as tables, draw the mechanism, the curves and the limit displacement domain
-of a sweep; build a Case and run it in this process (libvoussoir through cffi), alone, as a
-sweep or as a Monte Carlo study, into arrays and pandas tables; or run the voussoir program
-(voussoir.cli.run, voussoir.cli.sweep).
+of a sweep; build a Case (from a case file, keyword arguments, or blocks built in Python:
+Case.from_blocks) and run it in this process (libvoussoir through cffi), alone, as a sweep, a
+calibration or a Monte Carlo study, into arrays and pandas tables; or run the voussoir program
+(voussoir.cli.run, voussoir.cli.sweep). The charts of `voussoir plot` are voussoir.figures'
+(python3 -m voussoir.figures FILE.h5).
 
 Debian packages: python3-h5py, python3-numpy, python3-matplotlib, python3-cffi; for tables
 python3-pandas and python3-xarray (optional: imported when used).
