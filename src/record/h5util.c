@@ -3,6 +3,7 @@
 #include "h5util.h"
 
 #include <limits.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -168,6 +169,38 @@ hid_t vs_h5_group_create(hid_t loc, const char *name) {
   return H5Gcreate2(loc, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
 }
 
+size_t vs_h5_read_budget(hid_t f) {
+  hsize_t size = 0;
+  if (H5Fget_filesize(f, &size) < 0) return 0;
+  if (size > (SIZE_MAX - VS_H5_READ_SLACK) / VS_H5_READ_EXPANSION) return SIZE_MAX;
+  return (size_t)size * VS_H5_READ_EXPANSION + VS_H5_READ_SLACK;
+}
+
+static int fits_budget(hid_t f, size_t n, size_t size) {
+  return size == 0 || n <= vs_h5_read_budget(f) / size;
+}
+
+int vs_h5_check_budget(hid_t f, const char *path, size_t n, const char *what, size_t size,
+                       char *msg, size_t msg_size) {
+  if (fits_budget(f, n, size)) return 0;
+  hsize_t fsize = 0;
+  H5Fget_filesize(f, &fsize);
+  const double mib = (double)n * (double)size / 1048576.0;
+  snprintf(msg, msg_size, "%s declares %zu %s (%.0f MiB in memory): more than a file of %llu "
+           "bytes holds (allowed: at most %d x its size + %zu MiB)", path, n, what, mib,
+           (unsigned long long)fsize, VS_H5_READ_EXPANSION, VS_H5_READ_SLACK >> 20);
+  return -1;
+}
+
+/* Whether dataset d's whole extent, as stored, fits the budget of file f. */
+static int within_budget(hid_t f, hid_t d, hid_t sp) {
+  const hssize_t np = H5Sget_simple_extent_npoints(sp);
+  const hid_t t = H5Dget_type(d);
+  const size_t size = t >= 0 ? H5Tget_size(t) : 0;
+  if (t >= 0) H5Tclose(t);
+  return np >= 0 && size > 0 && fits_budget(f, (size_t)np, size);
+}
+
 int vs_h5_read(hid_t f, const char *path, hid_t mtype, void *out, size_t n) {
   if (H5Lexists(f, path, H5P_DEFAULT) <= 0) return -1;
   hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
@@ -195,9 +228,10 @@ int vs_h5_table_rows(hid_t f, const char *path) {
   const int ok = H5Sget_simple_extent_type(sp) == H5S_SIMPLE &&
                  H5Sget_simple_extent_ndims(sp) == 1 &&
                  H5Sget_simple_extent_dims(sp, &rows, NULL) == 1 && rows <= INT_MAX;
+  const int fits = ok && within_budget(f, d, sp);
   H5Sclose(sp);
   H5Dclose(d);
-  return ok ? (int)rows : -2;
+  return !ok ? -2 : !fits ? -3 : (int)rows;
 }
 
 int vs_h5_rows(hid_t f, const char *path) {
@@ -207,7 +241,8 @@ int vs_h5_rows(hid_t f, const char *path) {
   hid_t sp = H5Dget_space(d);
   hsize_t dims[H5S_MAX_RANK] = {0}; /* it writes as many as the dataset has: any rank */
   int nd = H5Sget_simple_extent_dims(sp, dims, NULL);
+  const int fits = nd >= 1 && within_budget(f, d, sp);
   H5Sclose(sp);
   H5Dclose(d);
-  return nd >= 1 ? (int)dims[0] : -1;
+  return nd < 1 ? -1 : dims[0] > INT_MAX ? -2 : !fits ? -3 : (int)dims[0];
 }

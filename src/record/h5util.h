@@ -59,6 +59,19 @@ herr_t vs_h5_dset_scalar(hid_t loc, const char *name, double v, const char *unit
 /* A group with default properties. */
 hid_t vs_h5_group_create(hid_t loc, const char *name);
 
+/* What a reader may allocate for the values file f declares, bytes: VS_H5_READ_EXPANSION times
+ * the file's size plus VS_H5_READ_SLACK (0 if its size is unknown). A record holds its values
+ * (deflate shrinks them at most 1032-fold, and a float32 is read as a double), whereas a
+ * crafted file may declare dimensions far beyond its size (unwritten chunks read as the fill
+ * value): a reader checks what a file's dimensions make it allocate against this first. */
+#define VS_H5_READ_EXPANSION 2100
+#define VS_H5_READ_SLACK ((size_t)16 << 20)
+size_t vs_h5_read_budget(hid_t f);
+/* 0 when n items of size bytes each fit vs_h5_read_budget(f); otherwise -1 and in msg
+ * "PATH declares N WHAT (M MiB in memory): more than a file of B bytes holds (allowed: ...)". */
+int vs_h5_check_budget(hid_t f, const char *path, size_t n, const char *what, size_t size,
+                       char *msg, size_t msg_size);
+
 /* Read the whole dataset at path (converted to memory type mtype) into out[0..n): 0, or -1 if
  * it is missing, does not hold exactly n values (whatever its rank) or cannot be converted.
  * vs_h5_read_doubles: as double. */
@@ -66,9 +79,11 @@ int vs_h5_read(hid_t f, const char *path, hid_t mtype, void *out, size_t n);
 int vs_h5_read_doubles(hid_t f, const char *path, double *out, size_t n);
 /* The rows of the table at path, a dataset of rank 1 (whose whole read fills that many
  * records): -1 if it is missing, -2 if it is something else (another rank, a scalar, more rows
- * than an int holds). */
+ * than an int holds), -3 if it declares more than the file holds (vs_h5_read_budget). */
 int vs_h5_table_rows(hid_t f, const char *path);
-/* The size of the first dimension of the dataset at path, or -1 if it is missing. */
+/* The size of the first dimension of the dataset at path: -1 if it is missing, -2 if it is
+ * more than an int holds, -3 if the dataset declares more than the file holds
+ * (vs_h5_read_budget). */
 int vs_h5_rows(hid_t f, const char *path);
 
 #endif
