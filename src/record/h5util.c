@@ -1,5 +1,6 @@
 /* Private HDF5 helpers shared by the record's writer, its sidecar and the commands that read
  * records (see h5util.h). */
+#define _POSIX_C_SOURCE 200809L /* fchmod, lstat */
 #include "h5util.h"
 
 #include <limits.h>
@@ -7,6 +8,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "outpath.h"
 
@@ -62,12 +65,50 @@ vs_status vs_h5_fail(vs_error *err, const char *path, const char *what) {
                       c.cause, c.api[0] ? " in " : "", c.api);
 }
 
+/* HDF5 opens files by name, and its exclusive create first opens the name read-write to see
+ * whether a file is there (HDF5 1.10): that open follows a link put at path after the checks,
+ * opening what it points to (a FIFO, a device), though the create then fails. So the file is
+ * created here (vs_outpath_create: O_EXCL | O_NOFOLLOW) and HDF5 is handed it by its
+ * descriptor's name in /proc, which is that file whatever is at path by then; and it must still
+ * be at path once HDF5 has it. Where /proc is not mounted, HDF5's exclusive create at path. */
+static hid_t create_by_fd(const char *path, hid_t fcpl, vs_error *err) {
+  int fd = -1;
+  if (vs_outpath_create(path, &fd, err) != VS_OK) return H5I_INVALID_HID;
+  char byfd[64];
+  snprintf(byfd, sizeof byfd, "/proc/self/fd/%d", fd);
+  struct stat own, now;
+  if (fstat(fd, &own) != 0 || access(byfd, F_OK) != 0) { /* no /proc */
+    close(fd);
+    unlink(path);
+    if (vs_outpath_clear(path, err) != VS_OK) return H5I_INVALID_HID;
+    return H5Fcreate(path, H5F_ACC_EXCL, fcpl, H5P_DEFAULT);
+  }
+  /* HDF5 opens it read-write: so must its owner be allowed to (a umask may forbid it) */
+  const mode_t mode = own.st_mode & 07777;
+  if ((mode & 0600) != 0600) fchmod(fd, mode | 0600);
+  hid_t f = H5Fcreate(byfd, H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+  if ((mode & 0600) != 0600) fchmod(fd, mode);
+  const int ours = lstat(path, &now) == 0 && now.st_dev == own.st_dev && now.st_ino == own.st_ino;
+  if (f < 0) {
+    vs_h5_fail(err, path, "cannot create the file");
+    if (ours) unlink(path);
+  } else if (!ours) {
+    H5Fclose(f); /* written to the file created, which is no longer at path */
+    f = H5I_INVALID_HID;
+    if (vs_outpath_intruded(path, err) == VS_OK)
+      vs_error_set(err, VS_ERR_INVALID, "%s: replaced by another file as it was created (not "
+                   "written over)", path);
+  }
+  close(fd);
+  return f;
+}
+
 hid_t vs_h5_create(const char *path, hid_t fcpl, vs_error *err) {
-  if (vs_outpath_clear(path, err) != VS_OK) return H5I_INVALID_HID;
   const vs_h5_quiet q = vs_h5_quiet_begin();
-  const hid_t f = H5Fcreate(path, H5F_ACC_EXCL, fcpl, H5P_DEFAULT);
+  vs_error_clear(err);
+  const hid_t f = create_by_fd(path, fcpl, err);
   /* something put there meanwhile is named as such; otherwise HDF5's cause */
-  if (f < 0 && vs_outpath_intruded(path, err) == VS_OK)
+  if (f < 0 && err->status == VS_OK && vs_outpath_intruded(path, err) == VS_OK)
     vs_h5_fail(err, path, "cannot create the file");
   H5Eclear2(H5E_DEFAULT);
   vs_h5_quiet_end(q);

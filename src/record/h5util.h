@@ -28,10 +28,13 @@ void vs_h5_close(hid_t id);
 vs_status vs_h5_fail(vs_error *err, const char *path, const char *what);
 
 /* Create the HDF5 file at path anew (fcpl: its creation properties, or H5P_DEFAULT):
- * vs_outpath_clear (a stale regular file removed, anything else refused), then H5Fcreate with
- * H5F_ACC_EXCL, which fails on whatever is put at path meanwhile: a link there is never
- * followed, no file is truncated in place. The file, or H5I_INVALID_HID with err set
- * (VS_ERR_INVALID: something other than a regular file there; VS_ERR_IO with the cause). */
+ * vs_outpath_create (a stale regular file removed, anything else refused, the new file made
+ * with O_EXCL | O_NOFOLLOW), and HDF5 handed that file by its descriptor's name in /proc, never
+ * path, which must still name it after: a link put at path meanwhile is neither followed nor
+ * opened, no file is truncated in place. (Without /proc: H5Fcreate at path with H5F_ACC_EXCL,
+ * which fails on whatever is put there meanwhile, but whose check first opens the name.) The
+ * file, or H5I_INVALID_HID with err set (VS_ERR_INVALID: something other than a regular file
+ * there, or put there meanwhile; VS_ERR_IO with the cause). */
 hid_t vs_h5_create(const char *path, hid_t fcpl, vs_error *err);
 
 /* A variable-length UTF-8 string type; a fixed-length string of n bytes, NUL-padded (n = 1
