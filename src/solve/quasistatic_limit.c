@@ -69,7 +69,7 @@ static vs_status confirm_limit(vs_qs_solver *s, const double *q_prev, double del
                       "Newton failed beyond %.6g mm (%s) but the tangent stiffness there is not "
                       "vanishing (smallest eigenvalue %.4g N/m, extrapolated to zero at %.6g mm, "
                       "det sign %+d): not a limit point",
-                      delta_lo / VS_MM, s->kin_msg[0] ? s->kin_msg : "no convergence", lam_lo,
+                      delta_lo / VS_MM, s->fail_cause[0] ? s->fail_cause : "no convergence", lam_lo,
                       ev->delta_extrap / VS_MM, sign);
 }
 
