@@ -7,7 +7,8 @@
  * - the reference arch written as a blocks file (vs_geometry_blocks_json, the `blocks` command)
  *   and run from it collapses as the arch it came from (its polygons facet the curves: to 1e-3),
  *   with the same hinges;
- * - springings on one vertical (a pushed block, a column): the span is the blocks' width;
+ * - springings on one vertical (a pushed block, a column): the span is the blocks' width; the
+ *   column's path ends with its cause stated (a converged state off the branch);
  * - bad files refused, naming the field or the blocks and what is allowed, and the program's
  *   exit status 2 with nothing written; outputs of `blocks` that are not regular files refused. */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp, mkfifo, symlink */
@@ -234,6 +235,28 @@ static void test_span_of_springings_on_a_vertical(void **state) {
     CHECK(g->span, width[i], 0, 1e-15);
     vs_geometry_destroy(&g);
   }
+  /* A block between a base and a top support moved down along their axis: no path tangent (it
+   * only presses on them), so the first increment's converged state leaves the predictor, which
+   * did not move; the run's error says so (it said "Newton failed", which it had not). */
+  vs_case c = file_case("column.json",
+      "{\"format\": \"voussoir-blocks 1\", \"blocks\": ["
+      "{\"name\": \"L\", \"support\": \"left\", \"polygon\": [[-100,0],[0,0],[0,100],[-100,100]]},"
+      "{\"name\": \"a\", \"polygon\": [[-100,100],[0,100],[0,200],[-100,200]]},"
+      "{\"name\": \"R\", \"support\": \"right\", \"polygon\": [[-100,200],[0,200],[0,300],"
+      "[-100,300]]}]}");
+  c.fall_s = 0.0;
+  vs_run *r = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  if (vs_run_create(&c, &r, &err) != VS_OK) fail_msg("%s", err.msg);
+  if (vs_run_execute(r, NULL, NULL, NULL, &err) == VS_OK) {
+    print_message("the column's run ended without an error: nothing to check\n");
+  } else if (strstr(err.msg, "Newton failed") != NULL ||
+             strstr(err.msg, "Newton converged at") == NULL ||
+             strstr(err.msg, "off the followed branch") == NULL) {
+    fail_msg("the column's run: its cause misstated: %s", err.msg);
+  }
+  vs_run_destroy(&r);
 }
 
 /* A file refused: the status and the message's words. */
