@@ -48,5 +48,10 @@ install(DIRECTORY python/voussoir DESTINATION ${CMAKE_INSTALL_DATADIR}/voussoir/
 install(FILES examples/seed_domain.py examples/pointed_arch.py examples/fragility.py
               examples/paraview_record.py
         DESTINATION ${CMAKE_INSTALL_DATADIR}/voussoir/examples)
-# The documentation (docs/README.md is its index), next to the man page: share/doc/voussoir.
-install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR})
+# The documentation next to the man page, laid out as in the source tree so that its relative
+# links hold: share/doc/voussoir/README.md (the front page), docs/ (docs/README.md is its index)
+# and the two example files the pages link to.
+install(FILES README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)
+install(FILES examples/run_case.c examples/CMakeLists.txt
+        DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples)

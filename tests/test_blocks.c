@@ -7,6 +7,8 @@
  * - the reference arch written as a blocks file (vs_geometry_blocks_json, the `blocks` command)
  *   and run from it collapses as the arch it came from (its polygons facet the curves: to 1e-3),
  *   with the same hinges;
+ * - springings on one vertical (a pushed block, a column): the span is the blocks' width; the
+ *   column's path ends with its cause stated (a converged state off the branch);
  * - bad files refused, naming the field or the blocks and what is allowed, and the program's
  *   exit status 2 with nothing written; outputs of `blocks` that are not regular files refused. */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp, mkfifo, symlink */
@@ -206,6 +208,57 @@ static void test_reference_as_a_file(void **state) {
   assert_non_null(strstr(t, "\"ring\": [\"left pier\",\"v1\",\"v2\","));
 }
 
+/* Springings not apart horizontally: a block pushed sideways on its base (the intrados ends of
+ * its joints both at its bottom right corner) and a column of two blocks on a base (all three
+ * joints level, their intrados ends on one vertical): no intrados span, so the span is the
+ * width of the ring's blocks (it divides the displacements, dz/L, and sizes the fall's ground). */
+static void test_span_of_springings_on_a_vertical(void **state) {
+  (void)state;
+  static const char *const files[2] = {
+      "{\"format\": \"voussoir-blocks 1\", \"blocks\": ["
+      "{\"name\": \"L\", \"support\": \"left\", \"polygon\": [[0,-50],[100,-50],[100,0],[0,0]]},"
+      "{\"name\": \"a\", \"polygon\": [[0,0],[100,0],[100,50],[0,50]]},"
+      "{\"name\": \"R\", \"support\": \"right\", \"polygon\": [[100,0],[150,0],[150,50],"
+      "[100,50]]}], \"ring\": [\"L\", \"a\", \"R\"]}",
+      "{\"format\": \"voussoir-blocks 1\", \"blocks\": ["
+      "{\"name\": \"L\", \"support\": \"left\", \"polygon\": [[-20,0],[60,0],[60,10],[40,10],"
+      "[0,10],[-20,10]]},"
+      "{\"name\": \"a\", \"polygon\": [[0,10],[40,10],[40,20],[0,20]]},"
+      "{\"name\": \"b\", \"polygon\": [[0,20],[40,20],[40,30],[0,30]]},"
+      "{\"name\": \"R\", \"support\": \"right\", \"polygon\": [[0,30],[40,30],[40,40],[0,40]]}]}"};
+  const double width[2] = {0.1, 0.04};
+  for (int i = 0; i < 2; i++) {
+    const vs_case c = file_case("vertical.json", files[i]);
+    vs_geometry *g = NULL;
+    vs_error err;
+    if (geometry_of(&c, &g, &err) != VS_OK) fail_msg("%s", err.msg);
+    CHECK(g->span, width[i], 0, 1e-15);
+    vs_geometry_destroy(&g);
+  }
+  /* A block between a base and a top support moved down along their axis: no path tangent (it
+   * only presses on them), so the first increment's converged state leaves the predictor, which
+   * did not move; the run's error says so (it said "Newton failed", which it had not). */
+  vs_case c = file_case("column.json",
+      "{\"format\": \"voussoir-blocks 1\", \"blocks\": ["
+      "{\"name\": \"L\", \"support\": \"left\", \"polygon\": [[-100,0],[0,0],[0,100],[-100,100]]},"
+      "{\"name\": \"a\", \"polygon\": [[-100,100],[0,100],[0,200],[-100,200]]},"
+      "{\"name\": \"R\", \"support\": \"right\", \"polygon\": [[-100,200],[0,200],[0,300],"
+      "[-100,300]]}]}");
+  c.fall_s = 0.0;
+  vs_run *r = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  if (vs_run_create(&c, &r, &err) != VS_OK) fail_msg("%s", err.msg);
+  if (vs_run_execute(r, NULL, NULL, NULL, &err) == VS_OK) {
+    print_message("the column's run ended without an error: nothing to check\n");
+  } else if (strstr(err.msg, "Newton failed") != NULL ||
+             strstr(err.msg, "Newton converged at") == NULL ||
+             strstr(err.msg, "off the followed branch") == NULL) {
+    fail_msg("the column's run: its cause misstated: %s", err.msg);
+  }
+  vs_run_destroy(&r);
+}
+
 /* A file refused: the status and the message's words. */
 static void refused(const char *text, vs_status want, const char *needle) {
   const vs_case c = file_case("bad.json", text);
@@ -310,6 +363,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_two_blocks),
       cmocka_unit_test(test_lintel_statics),
+      cmocka_unit_test(test_span_of_springings_on_a_vertical),
       cmocka_unit_test(test_refused),
       cmocka_unit_test(test_program_refuses),
       cmocka_unit_test(test_reference_as_a_file),

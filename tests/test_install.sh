@@ -17,11 +17,18 @@ for f in bin/voussoir "$libdir/libvoussoir.so" include/voussoir/run.h include/vo
          "$libdir/pkgconfig/voussoir.pc" "$libdir/cmake/voussoir/voussoirConfig.cmake" \
          share/man/man1/voussoir.1 share/voussoir/reference.ini share/voussoir/spreading.ini \
          share/voussoir/run_case.c share/voussoir/CMakeLists.txt share/doc/voussoir/README.md \
-         share/doc/voussoir/case-file.md share/voussoir/examples/paraview_record.py \
+         share/doc/voussoir/docs/README.md share/doc/voussoir/docs/case-file.md share/voussoir/examples/paraview_record.py \
          share/voussoir/examples/fragility.py share/voussoir/python/voussoir/figures/__init__.py; do
   [ -e "$p/$f" ] || fail "$f not installed"
 done
 [ -e "$p/include/voussoir/sweep.h" ] && fail "sweep.h (CLI only) installed"
+# The installed pages' relative links (to each other, the README, the examples) all lead to an
+# installed file, as in the source tree.
+while IFS= read -r -d '' md; do
+  for l in $(grep -o '](\([^)#]*\)[)#]' "$md" | sed 's/^](\(.*\).$/\1/' | grep -v '^[a-z]*:'); do
+    [ -e "$(dirname "$md")/$l" ] || fail "${md#"$p"/}: its link $l leads to nothing installed"
+  done
+done < <(find "$p/share/doc/voussoir" -name '*.md' -print0)
 so=$(readlink -f "$p/$libdir/libvoussoir.so")
 ver=$(sed -n 's/^project(voussoir VERSION \([0-9.]*\).*/\1/p' "$src/CMakeLists.txt")
 abi=$(sed -n 's/^set(VS_SOVERSION \([0-9]*\)).*/\1/p' "$src/CMakeLists.txt")

@@ -5,7 +5,8 @@
  * after the command's checks. Nothing is ever written through a link: the file it points to
  * keeps its bytes, the link stays, and the command names the path it refused (exit 2 when the
  * link was there before it started; a failure naming it, on stderr or for a sweep's run in its
- * table, when the link appeared meanwhile). */
+ * table, when the link appeared meanwhile). An HDF5 file's link made meanwhile is not even
+ * opened (inotify). */
 #define _DEFAULT_SOURCE /* mkdtemp, symlink */
 
 #include <stdarg.h>
@@ -17,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/inotify.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -197,6 +199,47 @@ static void test_hard_link_at_lock(void **s) {
   }
 }
 
+/* A link made at an HDF5 file's working name just before it is created (the hook, as above),
+ * to a file of the test's watched by inotify: the file is not even opened. HDF5's create opens
+ * the name read-write to see whether a file is there before its exclusive create, which failed
+ * then (so nothing was written) but had opened whatever the link pointed to: a FIFO, a device. */
+static void test_hdf5_link_never_opened(void **s) {
+  (void)s;
+  static const struct {
+    const char *name, *args;
+  } cases[] = {
+      {"r.h5.part", "run " CASE " --first-limit -q -o r.h5"},
+      {"sw/summary.h5.part", "sweep " CASE " --alpha 0 --first-limit -q -o sw"},
+      {"mc/summary.h5.part", "montecarlo " MC_CASE " --samples 2 --seed 1 -j 1 -q -o mc"},
+  };
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+    char dir[256], target[300], cmd[3000];
+    snprintf(dir, sizeof dir, "%s/watched%zu", g_dir, k);
+    snprintf(target, sizeof target, "%s/precious", dir);
+    snprintf(cmd, sizeof cmd, "mkdir -p %s/sw %s/mc && printf '%%s' '%s' > %s", dir, dir,
+             PRECIOUS, target);
+    assert_int_equal(sh(cmd), 0);
+    const int in = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+    assert_true(in >= 0);
+    assert_true(inotify_add_watch(in, target, IN_OPEN | IN_ACCESS | IN_MODIFY) >= 0);
+    snprintf(cmd, sizeof cmd, "cd %s && VS_FAULT_LINK='%s=%s' timeout -s KILL 120 %s %s "
+             "> out.txt 2> err.txt", dir, cases[k].name, target, VS_BINARY, cases[k].args);
+    const int rc = sh(cmd);
+    char ev[4096] __attribute__((aligned(__alignof__(struct inotify_event))));
+    const ssize_t n = read(in, ev, sizeof ev);
+    close(in);
+    snprintf(cmd, sizeof cmd, "%s/err.txt", dir);
+    char *err = slurp(cmd);
+    if (n > 0)
+      fail_msg("%s: a link at %s made as it was created: the file it points to was opened "
+               "(exit %d, stderr \"%s\")", cases[k].args, cases[k].name, rc, err ? err : "");
+    if (rc == 0 || err == NULL || strstr(err, "became a symbolic link") == NULL)
+      fail_msg("%s: a link at %s made as it was created: exit %d, stderr \"%s\": expected a "
+               "failure naming the link", cases[k].args, cases[k].name, rc, err ? err : "");
+    free(err);
+  }
+}
+
 static void test_links_planted_before(void **s) {
   (void)s;
   try_all(0);
@@ -234,6 +277,7 @@ int main(void) {
       cmocka_unit_test(test_hard_link_at_lock),
       cmocka_unit_test(test_links_planted_before),
       cmocka_unit_test(test_links_made_meanwhile),
+      cmocka_unit_test(test_hdf5_link_never_opened),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

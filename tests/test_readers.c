@@ -4,7 +4,8 @@
  * more columns than joints or a hinge beyond the arch's joints is refused, not read past its
  * buffer, and a series of rank 6 is read; a number for plots.json that is NaN or infinite
  * (perhaps only once in mm) is written as null, JSON having neither; the sidecar leaves out a
- * ground of another shape than the 2 x 2 points it names, and a row whose time is not finite.
+ * ground of another shape than the 2 x 2 points it names, and a row whose time is not finite;
+ * dimensions declared far beyond what the file holds are refused before they are allocated.
  * The arch pictures are drawn without the charts' Python (exit status 3); the charts' own
  * readers (python/voussoir/figures) meet a sweep's table of rank 2 and a NaN in it, and a
  * limit point at NaN, when /usr/bin/python3 has matplotlib and h5py. */
@@ -20,6 +21,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -369,6 +371,50 @@ static void test_time_not_finite(void **s) {
   free(xmf);
 }
 
+/* Dimensions far beyond what the file holds (a crafted record: a dataset declared anew without
+ * data reads as its fill value): refused before anything is allocated for them, the budget
+ * being 2100 x the file's size + 16 MiB (h5util.h, docs/record.md). The states of 2^24 rows
+ * (9 GiB with their series), a hinges table of 2^30 rows (48 GiB) and a sweep's table of as
+ * many: refused, exit 2 (1 for the sweep, as for any table not a sweep's); the sidecar's joint
+ * length of 2^28 values (2 GiB) is left out, not read (the process grows by less than 256 MiB). */
+static void test_declared_beyond_the_file(void **s) {
+  (void)s;
+  copy_record("huge_states");
+  hid_t f = open_rw("huge_states");
+  const hsize_t rows = (hsize_t)1 << 24;
+  reshape(f, "/observables/delta/value", 1, &rows);
+  H5Fclose(f);
+  expect_plot("huge_states", 2, "/observables/delta/value declares 16777216 states (");
+  expect_plot("huge_states", 2, "MiB in memory): more than a file of ");
+  copy_record("huge_hinges");
+  f = open_rw("huge_hinges");
+  const hsize_t hinges = (hsize_t)1 << 30;
+  reshape(f, "/summary/hinges", 1, &hinges);
+  H5Fclose(f);
+  expect_plot("huge_hinges", 2, "/summary/hinges or /summary/limit_points declares more rows "
+                                "than the file holds (allowed: at most 2100 x its size + 16 MiB)");
+  sweep_table("huge_sweep", 1);
+  f = open_rw("huge_sweep");
+  reshape(f, "/summary", 1, &hinges);
+  H5Fclose(f);
+  expect_plot("huge_sweep", 1, "/summary is not a sweep's summary table");
+  copy_record("huge_length");
+  f = open_rw("huge_length");
+  const hsize_t lengths = (hsize_t)1 << 28;
+  reshape(f, "/geometry/joint_length", 1, &lengths);
+  H5Fclose(f);
+  char h5[256];
+  snprintf(h5, sizeof h5, "%s/huge_length.h5", g_dir);
+  struct rusage before, after;
+  getrusage(RUSAGE_SELF, &before);
+  vs_error err;
+  assert_int_equal(vs_output_write_xdmf(h5, 0, &err), VS_OK);
+  getrusage(RUSAGE_SELF, &after);
+  if (after.ru_maxrss - before.ru_maxrss > 256 * 1024)
+    fail_msg("the sidecar's writer grew by %ld KiB reading a joint length of 2^28 values",
+             after.ru_maxrss - before.ru_maxrss);
+}
+
 static int setup(void **s) {
   (void)s;
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
@@ -398,6 +444,7 @@ int main(void) {
       cmocka_unit_test(test_delta_beyond_mm),
       cmocka_unit_test(test_ground_of_another_shape),
       cmocka_unit_test(test_time_not_finite),
+      cmocka_unit_test(test_declared_beyond_the_file),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

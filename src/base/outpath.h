@@ -1,8 +1,8 @@
 /* Output paths made safe to write: a target must be absent or a regular file (never a symbolic
  * link, FIFO, device or directory), must not be one of the run's inputs or another of its
  * outputs, and is written by one process at a time (an exclusive lock on "<target>.lock").
- * Every file the program writes is created here, anew (vs_outpath_create; vs_outpath_clear
- * before HDF5's exclusive create): never opened through a link, nor truncated in place (the one
+ * Every file the program writes is created here, anew (vs_outpath_create, HDF5's too; without
+ * /proc, vs_outpath_clear before HDF5's exclusive create): never opened through a link, nor truncated in place (the one
  * exception, a run's --csv kept until the run starts: vs_outpath_open_existing). */
 #ifndef VOUSSOIR_OUTPATH_H
 #define VOUSSOIR_OUTPATH_H
@@ -53,8 +53,8 @@ vs_status vs_outpath_check_entries(const char *dir, int (*ours)(const char *name
  * file a killed process left behind, or the output being replaced), which is removed, never
  * truncated (a hard link to it keeps its bytes). Anything else (a symbolic link, FIFO, device,
  * directory) is left as it is, and refused. For a creator that cannot take a descriptor
- * (HDF5: H5Fcreate with H5F_ACC_EXCL, which then fails on whatever is put there meanwhile);
- * everything else uses vs_outpath_create. Errors: VS_ERR_INVALID "PATH: exists and is ...";
+ * (HDF5 where /proc is not mounted: H5Fcreate with H5F_ACC_EXCL, which then fails on whatever
+ * is put there meanwhile); everything else uses vs_outpath_create. Errors: VS_ERR_INVALID "PATH: exists and is ...";
  * VS_ERR_IO when the stale file cannot be removed. */
 vs_status vs_outpath_clear(const char *path, vs_error *err);
 

@@ -508,8 +508,23 @@ static vs_status set_blocks(const reader *r, vs_geometry *g) {
   return st;
 }
 
-/* Span, rise and a typical thickness from the ring's joints: their intrados ends. */
-static void ring_measures(vs_geometry *g) {
+/* The width of the ring's blocks: their leftmost vertex to their rightmost, m. */
+static double ring_width(const reader *r) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (int i = 0; i < r->nring; i++) {
+    const poly *p = &r->p[r->ring[i]];
+    if (p->side != 0) continue;
+    lo = fmin(lo, p->box[0]);
+    hi = fmax(hi, p->box[1]);
+  }
+  return hi - lo;
+}
+
+/* Span, rise and a typical thickness from the ring's joints: their intrados ends. Springings
+ * not apart horizontally (a block pushed sideways on its base, a column) would give a span of
+ * 0, by which every displacement is divided (dz/L) and the fall's ground is sized: the ring's
+ * blocks' width is the span then. */
+static void ring_measures(const reader *r, vs_geometry *g) {
   double zmax = -INFINITY, zl = 0.0, xl = 0.0, zr = 0.0, xr = 0.0, t = 0.0;
   for (int k = 0; k < g->ring; k++) {
     const vs_joint_geom *j = &g->joints[k];
@@ -521,7 +536,7 @@ static void ring_measures(vs_geometry *g) {
     zmax = fmax(zmax, z);
     t += j->length / g->ring;
   }
-  g->span = fabs(xr - xl);
+  g->span = fabs(xr - xl) > r->tol ? fabs(xr - xl) : ring_width(r);
   g->rise = zmax - fmax(zl, zr);
   g->thickness = t;
 }
@@ -544,7 +559,7 @@ static vs_status build(reader *r, vs_geometry **out) {
   g->ring = r->nring - 1;
   g->gravity = r->a->gravity;
   st = set_blocks(r, g);
-  if (st == VS_OK) ring_measures(g);
+  if (st == VS_OK) ring_measures(r, g);
   return st;
 }
 

@@ -105,12 +105,12 @@ static int hinge_within(const rec_hinge *h, int nj) {
 }
 
 /* /summary/hinges (none when missing): 0, or -1 when it is not a table of hinges within the
- * arch. */
+ * arch (-3: of more rows than the file holds, vs_h5_table_rows). read_limits: the same. */
 static int read_hinges(vs_plotrec *r) {
   const char *path = "/summary/hinges";
   const int n = vs_h5_table_rows(r->file, path); /* a whole read fills n records */
   if (n == -1 || n == 0) return 0;
-  if (n < 0) return -1;
+  if (n < 0) return n;
   hid_t t = H5Tcreate(H5T_COMPOUND, sizeof(rec_hinge)), c1 = H5Tcopy(H5T_C_S1);
   H5Tset_size(c1, 1);
   H5Tset_strpad(c1, H5T_STR_NULLPAD); /* one character, no terminator */
@@ -139,7 +139,7 @@ static int read_limits(vs_plotrec *r) {
   const char *path = "/summary/limit_points";
   const int n = vs_h5_table_rows(r->file, path);
   if (n == -1 || n == 0) return 0;
-  if (n < 0) return -1;
+  if (n < 0) return n;
   typedef struct {
     double delta, settled;
   } lim;
@@ -242,6 +242,16 @@ int vs_plotrec_open(const char *path, vs_plotrec *r) {
   r->nb = r->g->n_blocks;
   r->nj = r->g->n_joints;
   r->rows = vs_h5_rows(r->file, "/observables/delta/value");
+  /* what the states take in memory, checked against the file before it is allocated */
+  const size_t row_bytes = (1 + 3 * (size_t)r->nb + 4 * (size_t)r->nj + 12) * sizeof(double) +
+                           (size_t)r->nj;
+  char big[300] = "/observables/delta/value declares more values than the file holds";
+  if (r->rows < -1 || (r->rows > 0 && vs_h5_check_budget(r->file, "/observables/delta/value",
+                                                         (size_t)r->rows, "states", row_bytes,
+                                                         big, sizeof big) != 0)) {
+    snprintf(r->msg, sizeof r->msg, "%.200s: %s", path, big);
+    return -1;
+  }
   if (r->rows <= 0) {
     snprintf(r->msg, sizeof r->msg, "%.400s: the record holds no state", path);
     return -1;
@@ -284,7 +294,15 @@ int vs_plotrec_open(const char *path, vs_plotrec *r) {
       return -1;
     }
   }
-  if (read_hinges(r) || read_limits(r)) {
+  int tables = read_hinges(r);
+  if (tables == 0) tables = read_limits(r);
+  if (tables == -3) {
+    snprintf(r->msg, sizeof r->msg, "%.300s: /summary/hinges or /summary/limit_points declares "
+             "more rows than the file holds (allowed: at most %d x its size + %zu MiB)", path,
+             VS_H5_READ_EXPANSION, VS_H5_READ_SLACK >> 20);
+    return -1;
+  }
+  if (tables != 0) {
     snprintf(r->msg, sizeof r->msg,
              "%.300s: /summary/hinges or /summary/limit_points is not a table of rank 1 of the "
              "record's layout (hinges within joints 1..%d, on side I or E)",

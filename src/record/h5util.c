@@ -1,11 +1,15 @@
 /* Private HDF5 helpers shared by the record's writer, its sidecar and the commands that read
  * records (see h5util.h). */
+#define _POSIX_C_SOURCE 200809L /* fchmod, lstat */
 #include "h5util.h"
 
 #include <limits.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "outpath.h"
 
@@ -61,12 +65,50 @@ vs_status vs_h5_fail(vs_error *err, const char *path, const char *what) {
                       c.cause, c.api[0] ? " in " : "", c.api);
 }
 
+/* HDF5 opens files by name, and its exclusive create first opens the name read-write to see
+ * whether a file is there (HDF5 1.10): that open follows a link put at path after the checks,
+ * opening what it points to (a FIFO, a device), though the create then fails. So the file is
+ * created here (vs_outpath_create: O_EXCL | O_NOFOLLOW) and HDF5 is handed it by its
+ * descriptor's name in /proc, which is that file whatever is at path by then; and it must still
+ * be at path once HDF5 has it. Where /proc is not mounted, HDF5's exclusive create at path. */
+static hid_t create_by_fd(const char *path, hid_t fcpl, vs_error *err) {
+  int fd = -1;
+  if (vs_outpath_create(path, &fd, err) != VS_OK) return H5I_INVALID_HID;
+  char byfd[64];
+  snprintf(byfd, sizeof byfd, "/proc/self/fd/%d", fd);
+  struct stat own, now;
+  if (fstat(fd, &own) != 0 || access(byfd, F_OK) != 0) { /* no /proc */
+    close(fd);
+    unlink(path);
+    if (vs_outpath_clear(path, err) != VS_OK) return H5I_INVALID_HID;
+    return H5Fcreate(path, H5F_ACC_EXCL, fcpl, H5P_DEFAULT);
+  }
+  /* HDF5 opens it read-write: so must its owner be allowed to (a umask may forbid it) */
+  const mode_t mode = own.st_mode & 07777;
+  if ((mode & 0600) != 0600) fchmod(fd, mode | 0600);
+  hid_t f = H5Fcreate(byfd, H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+  if ((mode & 0600) != 0600) fchmod(fd, mode);
+  const int ours = lstat(path, &now) == 0 && now.st_dev == own.st_dev && now.st_ino == own.st_ino;
+  if (f < 0) {
+    vs_h5_fail(err, path, "cannot create the file");
+    if (ours) unlink(path);
+  } else if (!ours) {
+    H5Fclose(f); /* written to the file created, which is no longer at path */
+    f = H5I_INVALID_HID;
+    if (vs_outpath_intruded(path, err) == VS_OK)
+      vs_error_set(err, VS_ERR_INVALID, "%s: replaced by another file as it was created (not "
+                   "written over)", path);
+  }
+  close(fd);
+  return f;
+}
+
 hid_t vs_h5_create(const char *path, hid_t fcpl, vs_error *err) {
-  if (vs_outpath_clear(path, err) != VS_OK) return H5I_INVALID_HID;
   const vs_h5_quiet q = vs_h5_quiet_begin();
-  const hid_t f = H5Fcreate(path, H5F_ACC_EXCL, fcpl, H5P_DEFAULT);
+  vs_error_clear(err);
+  const hid_t f = create_by_fd(path, fcpl, err);
   /* something put there meanwhile is named as such; otherwise HDF5's cause */
-  if (f < 0 && vs_outpath_intruded(path, err) == VS_OK)
+  if (f < 0 && err->status == VS_OK && vs_outpath_intruded(path, err) == VS_OK)
     vs_h5_fail(err, path, "cannot create the file");
   H5Eclear2(H5E_DEFAULT);
   vs_h5_quiet_end(q);
@@ -168,6 +210,38 @@ hid_t vs_h5_group_create(hid_t loc, const char *name) {
   return H5Gcreate2(loc, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
 }
 
+size_t vs_h5_read_budget(hid_t f) {
+  hsize_t size = 0;
+  if (H5Fget_filesize(f, &size) < 0) return 0;
+  if (size > (SIZE_MAX - VS_H5_READ_SLACK) / VS_H5_READ_EXPANSION) return SIZE_MAX;
+  return (size_t)size * VS_H5_READ_EXPANSION + VS_H5_READ_SLACK;
+}
+
+static int fits_budget(hid_t f, size_t n, size_t size) {
+  return size == 0 || n <= vs_h5_read_budget(f) / size;
+}
+
+int vs_h5_check_budget(hid_t f, const char *path, size_t n, const char *what, size_t size,
+                       char *msg, size_t msg_size) {
+  if (fits_budget(f, n, size)) return 0;
+  hsize_t fsize = 0;
+  H5Fget_filesize(f, &fsize);
+  const double mib = (double)n * (double)size / 1048576.0;
+  snprintf(msg, msg_size, "%s declares %zu %s (%.0f MiB in memory): more than a file of %llu "
+           "bytes holds (allowed: at most %d x its size + %zu MiB)", path, n, what, mib,
+           (unsigned long long)fsize, VS_H5_READ_EXPANSION, VS_H5_READ_SLACK >> 20);
+  return -1;
+}
+
+/* Whether dataset d's whole extent, as stored, fits the budget of file f. */
+static int within_budget(hid_t f, hid_t d, hid_t sp) {
+  const hssize_t np = H5Sget_simple_extent_npoints(sp);
+  const hid_t t = H5Dget_type(d);
+  const size_t size = t >= 0 ? H5Tget_size(t) : 0;
+  if (t >= 0) H5Tclose(t);
+  return np >= 0 && size > 0 && fits_budget(f, (size_t)np, size);
+}
+
 int vs_h5_read(hid_t f, const char *path, hid_t mtype, void *out, size_t n) {
   if (H5Lexists(f, path, H5P_DEFAULT) <= 0) return -1;
   hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
@@ -195,9 +269,10 @@ int vs_h5_table_rows(hid_t f, const char *path) {
   const int ok = H5Sget_simple_extent_type(sp) == H5S_SIMPLE &&
                  H5Sget_simple_extent_ndims(sp) == 1 &&
                  H5Sget_simple_extent_dims(sp, &rows, NULL) == 1 && rows <= INT_MAX;
+  const int fits = ok && within_budget(f, d, sp);
   H5Sclose(sp);
   H5Dclose(d);
-  return ok ? (int)rows : -2;
+  return !ok ? -2 : !fits ? -3 : (int)rows;
 }
 
 int vs_h5_rows(hid_t f, const char *path) {
@@ -207,7 +282,8 @@ int vs_h5_rows(hid_t f, const char *path) {
   hid_t sp = H5Dget_space(d);
   hsize_t dims[H5S_MAX_RANK] = {0}; /* it writes as many as the dataset has: any rank */
   int nd = H5Sget_simple_extent_dims(sp, dims, NULL);
+  const int fits = nd >= 1 && within_budget(f, d, sp);
   H5Sclose(sp);
   H5Dclose(d);
-  return nd >= 1 ? (int)dims[0] : -1;
+  return nd < 1 ? -1 : dims[0] > INT_MAX ? -2 : !fits ? -3 : (int)dims[0];
 }

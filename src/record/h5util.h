@@ -28,10 +28,13 @@ void vs_h5_close(hid_t id);
 vs_status vs_h5_fail(vs_error *err, const char *path, const char *what);
 
 /* Create the HDF5 file at path anew (fcpl: its creation properties, or H5P_DEFAULT):
- * vs_outpath_clear (a stale regular file removed, anything else refused), then H5Fcreate with
- * H5F_ACC_EXCL, which fails on whatever is put at path meanwhile: a link there is never
- * followed, no file is truncated in place. The file, or H5I_INVALID_HID with err set
- * (VS_ERR_INVALID: something other than a regular file there; VS_ERR_IO with the cause). */
+ * vs_outpath_create (a stale regular file removed, anything else refused, the new file made
+ * with O_EXCL | O_NOFOLLOW), and HDF5 handed that file by its descriptor's name in /proc, never
+ * path, which must still name it after: a link put at path meanwhile is neither followed nor
+ * opened, no file is truncated in place. (Without /proc: H5Fcreate at path with H5F_ACC_EXCL,
+ * which fails on whatever is put there meanwhile, but whose check first opens the name.) The
+ * file, or H5I_INVALID_HID with err set (VS_ERR_INVALID: something other than a regular file
+ * there, or put there meanwhile; VS_ERR_IO with the cause). */
 hid_t vs_h5_create(const char *path, hid_t fcpl, vs_error *err);
 
 /* A variable-length UTF-8 string type; a fixed-length string of n bytes, NUL-padded (n = 1
@@ -59,6 +62,19 @@ herr_t vs_h5_dset_scalar(hid_t loc, const char *name, double v, const char *unit
 /* A group with default properties. */
 hid_t vs_h5_group_create(hid_t loc, const char *name);
 
+/* What a reader may allocate for the values file f declares, bytes: VS_H5_READ_EXPANSION times
+ * the file's size plus VS_H5_READ_SLACK (0 if its size is unknown). A record holds its values
+ * (deflate shrinks them at most 1032-fold, and a float32 is read as a double), whereas a
+ * crafted file may declare dimensions far beyond its size (unwritten chunks read as the fill
+ * value): a reader checks what a file's dimensions make it allocate against this first. */
+#define VS_H5_READ_EXPANSION 2100
+#define VS_H5_READ_SLACK ((size_t)16 << 20)
+size_t vs_h5_read_budget(hid_t f);
+/* 0 when n items of size bytes each fit vs_h5_read_budget(f); otherwise -1 and in msg
+ * "PATH declares N WHAT (M MiB in memory): more than a file of B bytes holds (allowed: ...)". */
+int vs_h5_check_budget(hid_t f, const char *path, size_t n, const char *what, size_t size,
+                       char *msg, size_t msg_size);
+
 /* Read the whole dataset at path (converted to memory type mtype) into out[0..n): 0, or -1 if
  * it is missing, does not hold exactly n values (whatever its rank) or cannot be converted.
  * vs_h5_read_doubles: as double. */
@@ -66,9 +82,11 @@ int vs_h5_read(hid_t f, const char *path, hid_t mtype, void *out, size_t n);
 int vs_h5_read_doubles(hid_t f, const char *path, double *out, size_t n);
 /* The rows of the table at path, a dataset of rank 1 (whose whole read fills that many
  * records): -1 if it is missing, -2 if it is something else (another rank, a scalar, more rows
- * than an int holds). */
+ * than an int holds), -3 if it declares more than the file holds (vs_h5_read_budget). */
 int vs_h5_table_rows(hid_t f, const char *path);
-/* The size of the first dimension of the dataset at path, or -1 if it is missing. */
+/* The size of the first dimension of the dataset at path: -1 if it is missing, -2 if it is
+ * more than an int holds, -3 if the dataset declares more than the file holds
+ * (vs_h5_read_budget). */
 int vs_h5_rows(hid_t f, const char *path);
 
 #endif

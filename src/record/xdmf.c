@@ -497,7 +497,8 @@ vs_status vs_xdmf_write_tmp(hid_t file, const char *h5_path, const char *xmf_pat
   if (rows < 0)
     return vs_error_set(err, VS_ERR_INVALID,
                         "output: %s: not a voussoir record (datasets for "
-                        "the XDMF missing or of inconsistent shapes)",
+                        "the XDMF missing, of inconsistent shapes or larger than the file "
+                        "holds)",
                         h5_path);
   double *t = NULL;
   long *sel = NULL, n = 0;

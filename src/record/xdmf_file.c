@@ -36,16 +36,18 @@ _Static_assert(sizeof XDMF_PATHS / sizeof XDMF_PATHS[0] == X_COUNT &&
                    sizeof XDMF_RANKS / sizeof XDMF_RANKS[0] == X_COUNT,
                "a path and a rank for every dataset the sidecar refers to");
 
-/* The dimensions of the dataset at path into dims: 0, or -1 if it is missing or not of rank
- * `rank`. */
+/* The dimensions of the dataset at path into dims: 0, or -1 if it is missing, not of rank
+ * `rank`, or declares more values than the file holds (vs_h5_read_budget: what is allocated
+ * for the sidecar follows from these dimensions). */
 static int xdmf_dims_of(hid_t file, const char *path, int rank, hsize_t *dims) {
   hid_t ds = H5Dopen2(file, path, H5P_DEFAULT);
   hid_t sp = ds >= 0 ? H5Dget_space(ds) : H5I_INVALID_HID;
   const int r = sp >= 0 ? H5Sget_simple_extent_ndims(sp) : -1;
   if (r == rank) H5Sget_simple_extent_dims(sp, dims, NULL);
+  const hssize_t np = r == rank ? H5Sget_simple_extent_npoints(sp) : -1;
   vs_h5_close(sp);
   vs_h5_close(ds);
-  return r == rank ? 0 : -1;
+  return np >= 0 && (size_t)np <= vs_h5_read_budget(file) / sizeof(double) ? 0 : -1;
 }
 
 /* 1 if the record's status is "running" (a killed run's, or one being written), or unreadable. */

@@ -263,7 +263,22 @@ static double scaled_residual(vs_qs_solver *s, const double *q, double delta) {
   return r;
 }
 
-/* Solve G(q; delta) = 0 from the guess q. Returns 0 on convergence, else the KINSOL flag. */
+/* The cause of the solve at delta that failed with flag, into s->fail_cause. A line search cut
+ * short by VS_MAX_LINESEARCH is said as such: KINSOL itself reports it as its system function
+ * failing "in an unrecoverable manner" (the residual's -1 by which it is cut). */
+static int note_failure(vs_qs_solver *s, double delta, int flag) {
+  if (s->backtracked_out && !s->interrupted)
+    snprintf(s->fail_cause, sizeof s->fail_cause, "the line search found no lower residual in "
+             "%d trial steps along the Newton direction at %.6g mm (stopped there)",
+             VS_MAX_LINESEARCH, delta / VS_MM);
+  else
+    snprintf(s->fail_cause, sizeof s->fail_cause, "%s at %.6g mm", vs_qs_kin_cause(flag),
+             delta / VS_MM);
+  return flag;
+}
+
+/* Solve G(q; delta) = 0 from the guess q. Returns 0 on convergence, else the KINSOL flag (the
+ * cause in s->fail_cause). */
 int vs_qs_solve(vs_qs_solver *s, double delta, double *q, long *iters) {
   s->delta = delta;
   s->kin_msg[0] = '\0';
@@ -271,7 +286,7 @@ int vs_qs_solve(vs_qs_solver *s, double delta, double *q, long *iters) {
   s->evals = 0;
   s->backtracked_out = 0;
   if (vs_deadline_passed(s->o->deadline)) s->interrupted = 1; /* once a solve: a clock read */
-  if (qs_stopped(s)) return KIN_SYSFUNC_FAIL;
+  if (qs_stopped(s)) return note_failure(s, delta, KIN_SYSFUNC_FAIL);
   memcpy(N_VGetArrayPointer(s->u), q, (size_t)s->n * sizeof *q);
   int flag = KINSol(s->kin, s->u, KIN_LINESEARCH, s->uscale, s->fscale);
   if (flag == KIN_SYSFUNC_FAIL && s->backtracked_out && !s->interrupted)
@@ -291,14 +306,15 @@ int vs_qs_solve(vs_qs_solver *s, double delta, double *q, long *iters) {
       for (int i = 0; i < s->n; i++)
         if (!is_rotation(s, i)) umax = fmax(umax, fabs(u[i]));
       const double floor = VS_FLOOR_MARGIN * DBL_EPSILON * s->kmax * (umax + s->lmax) / s->wmin;
-      if (!stalled || r > floor) return flag == KIN_SUCCESS ? KIN_STEP_LT_STPTOL : flag;
+      if (!stalled || r > floor)
+        return note_failure(s, delta, flag == KIN_SUCCESS ? KIN_STEP_LT_STPTOL : flag);
       s->floor_limited++;
     }
     s->max_residual = fmax(s->max_residual, r);
     memcpy(q, u, (size_t)s->n * sizeof *q);
     return 0;
   }
-  return flag;
+  return note_failure(s, delta, flag);
 }
 
 void vs_path_opts_from_def(const vs_run_def *d, vs_path_opts *o) {
@@ -346,13 +362,9 @@ vs_status vs_equilibrium_solve(vs_model *m, const vs_path_opts *o, double delta,
   if (st != VS_OK) return st;
   int flag = vs_qs_solve(&s, delta, q, iters);
   if (flag != 0) st = vs_qs_fatal(&s, delta, err);
-  if (flag != 0 && st == VS_OK) {
-    char cause[128];
-    snprintf(cause, sizeof cause, "%s", vs_qs_kin_cause(flag));
-    st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                      "no equilibrium at support displacement %.6g mm: %s (KINSOL flag %d)",
-                      delta / VS_MM, cause, flag);
-  }
+  if (flag != 0 && st == VS_OK)
+    st = vs_error_set(err, VS_ERR_NO_EQUILIBRIUM, "no equilibrium: %s (KINSOL flag %d)",
+                      s.fail_cause, flag);
   qs_destroy(&s);
   return st;
 }
@@ -385,7 +397,7 @@ vs_status vs_qs_rearm(vs_qs_solver *s, const vs_path_opts *o, vs_error *err) {
   s->iters = s->jac_evals = s->floor_limited = 0;
   s->max_residual = 0.0;
   s->interrupted = s->nonfinite = s->evals = s->backtracked_out = 0;
-  s->kin_msg[0] = '\0';
+  s->kin_msg[0] = s->fail_cause[0] = '\0';
   int flag = KINSetNumMaxIters(s->kin, o->newton_maxiter);
   if (flag == KIN_SUCCESS) flag = KINSetFuncNormTol(s->kin, o->newton_tol);
   if (flag == KIN_SUCCESS) flag = SUNLinSolInitialize(s->LSt);

@@ -44,6 +44,8 @@ typedef struct {
   int evals;                  /* residuals since the last Jacobian (1 + line-search trials) */
   int backtracked_out;        /* the last solve was stopped by VS_MAX_LINESEARCH */
   char kin_msg[256];
+  char fail_cause[320];       /* the last failed solve's cause, as messages state it (kept
+                                 through the solves that converge after it) */
 } vs_qs_solver;
 
 struct vs_path_solver {

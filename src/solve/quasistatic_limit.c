@@ -58,18 +58,19 @@ static vs_status confirm_limit(vs_qs_solver *s, const double *q_prev, double del
   free(vec);
   if (flag != 0 || !isfinite(lam_b))
     return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                        "Newton failed beyond %.6g mm but the path could not be re-solved at "
-                        "%.6g mm to examine the tangent (%s)",
-                        delta_lo / VS_MM, delta_b / VS_MM, vs_qs_kin_cause(flag));
+                        "no equilibrium accepted beyond %.6g mm, and the path could not be "
+                        "re-solved at %.6g mm to examine the tangent (%s)",
+                        delta_lo / VS_MM, delta_b / VS_MM,
+                        flag != 0 ? s->fail_cause : "its tangent's eigenvalue not found");
   const double l2b = lam_b * lam_b, l2 = lam_lo * lam_lo;
   ev->delta_extrap = (l2b > l2) ? delta_lo + (delta_lo - delta_b) * l2 / (l2b - l2) : INFINITY;
   const double slack = width + s->o->limit_tol;
   if (sign > 0 && ev->delta_extrap <= delta_fail + slack) return VS_OK;
   return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM,
-                      "Newton failed beyond %.6g mm (%s) but the tangent stiffness there is not "
-                      "vanishing (smallest eigenvalue %.4g N/m, extrapolated to zero at %.6g mm, "
-                      "det sign %+d): not a limit point",
-                      delta_lo / VS_MM, s->kin_msg[0] ? s->kin_msg : "no convergence", lam_lo,
+                      "no equilibrium accepted beyond %.6g mm (%s) but the tangent stiffness "
+                      "there is not vanishing (smallest eigenvalue %.4g N/m, extrapolated to zero "
+                      "at %.6g mm, det sign %+d): not a limit point",
+                      delta_lo / VS_MM, s->fail_cause[0] ? s->fail_cause : "no convergence", lam_lo,
                       ev->delta_extrap / VS_MM, sign);
 }
 

@@ -7,6 +7,7 @@
 #include "quasistatic_internal.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -109,11 +110,21 @@ enum { TRIAL_OK = 0, TRIAL_MISSED = 1, TRIAL_UNSTABLE = 2 };
  * is stable (else it passed a limit point). */
 static int path_trial_check(vs_qs_path *w, int flag) {
   vs_qs_solver *const sp = w->s;
-  if (flag != 0) return TRIAL_MISSED;
+  if (flag != 0) return TRIAL_MISSED; /* its cause in sp->fail_cause */
   const double jump = scaled_norm(sp, w->qtry, w->qpred);
-  if (jump > VS_CORRECTOR_RATIO * scaled_norm(sp, w->qpred, w->q) + 10.0 * w->o->newton_tol)
-    return TRIAL_MISSED; /* left the branch */
-  if (!vs_qs_stable_state(sp, w->qtry, w->delta + w->h)) return TRIAL_UNSTABLE;
+  const double reach = scaled_norm(sp, w->qpred, w->q);
+  if (jump > VS_CORRECTOR_RATIO * reach + 10.0 * w->o->newton_tol) { /* left the branch */
+    char by[64] = "from a predictor that did not move";
+    if (reach > 0.0) snprintf(by, sizeof by, "%.3g times as far as the predictor", jump / reach);
+    snprintf(sp->fail_cause, sizeof sp->fail_cause, "Newton converged at %.6g mm to a state off "
+             "the followed branch, the corrector moving it %s", (w->delta + w->h) / VS_MM, by);
+    return TRIAL_MISSED;
+  }
+  if (!vs_qs_stable_state(sp, w->qtry, w->delta + w->h)) {
+    snprintf(sp->fail_cause, sizeof sp->fail_cause, "the equilibrium found at %.6g mm is not "
+             "stable", (w->delta + w->h) / VS_MM);
+    return TRIAL_UNSTABLE;
+  }
   return TRIAL_OK;
 }
 

@@ -306,10 +306,12 @@ static vs_status read_shard(const char *dir, shard_head *first, vs_mc_sample **a
       break;
     }
     if (*n == *cap) {
-      const int nc = *cap ? 2 * *cap : 256;
-      vs_mc_sample *b = realloc(*all, (size_t)nc * sizeof *b);
+      const int nc = *cap == 0 ? 256 : *cap <= INT_MAX / 2 ? 2 * *cap : INT_MAX;
+      vs_mc_sample *b = *n < INT_MAX ? realloc(*all, (size_t)nc * sizeof *b) : NULL;
       if (b == NULL) {
-        st = vs_error_set(err, VS_ERR_NOMEM, "out of memory");
+        st = vs_error_set(err, VS_ERR_NOMEM, "%s: out of memory holding %d samples (%zu MiB; "
+                          "%d more would not fit)", where, *n,
+                          (size_t)*n * sizeof *b >> 20, nc - *n);
         break;
       }
       *all = b;

@@ -393,7 +393,7 @@ static int resume_journal(sweep_state *s, const char *jpath, const char *head, l
   else if (rc != 0)
     fprintf(stderr, "voussoir sweep: --resume: %s: cannot read or rewrite: %s\n", jpath,
             strerror(errno));
-  else
+  else if (!s->o->quiet) /* progress: -q silences it, as montecarlo's */
     fprintf(stderr, "voussoir sweep: resuming: %d of %d runs already complete\n", s->n, s->total);
   return rc == 0 ? 0 : EXIT_USAGE;
 }
