@@ -397,7 +397,9 @@ static void test_declared_beyond_the_file(void **s) {
   f = open_rw("huge_sweep");
   reshape(f, "/summary", 1, &hinges);
   H5Fclose(f);
-  expect_plot("huge_sweep", 1, "/summary is not a sweep's summary table");
+  expect_plot("huge_sweep", 3, "no charts"); /* the C side reads no sweep table */
+  if (have_python())
+    expect_plot_with("huge_sweep", PYTHON, 1, "/summary declares more rows than the file holds");
   copy_record("huge_length");
   f = open_rw("huge_length");
   const hsize_t lengths = (hsize_t)1 << 28;

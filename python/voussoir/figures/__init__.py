@@ -470,12 +470,25 @@ def read_sweep(path):
     columns of summary.csv (texts decoded, numbers as floats)."""
     import h5py
     with h5py.File(path, "r") as f:
-        t = f["summary"][()]
+        t = _bounded(f, "summary", path)[()]
     if t.ndim != 1 or t.dtype.names is None:
         raise ValueError(f"/summary is not a sweep's summary table (a table of rank 1: rank "
                          f"{t.ndim})")
     return [{k: (_decode(r[k]) if t.dtype[k].kind in "SOU" else float(r[k]))
              for k in t.dtype.names} for r in t]
+
+
+def _bounded(group, name, path):
+    """group[name], a dataset whose declared size a reader may allocate: at most 2100 x the
+    file's size + 16 MiB (what deflate's 1032:1 and a float read as a double allow; the
+    program's readers check the same, docs/record.md), else ValueError naming it."""
+    d = group[name]
+    need = d.size * d.dtype.itemsize
+    have = os.path.getsize(path)
+    if need > 2100 * have + (16 << 20):
+        raise ValueError(f"{d.name} declares more rows than the file holds ({need} bytes in a "
+                         f"file of {have}; allowed: at most 2100 x its size + 16 MiB)")
+    return d
 
 
 def _decode(v):
@@ -491,9 +504,9 @@ def read_montecarlo(path):
     import h5py
     with h5py.File(path, "r") as f:
         g = f["samples"]
-        col = {k: g[k][()] for k in ("sample", "status", "delta_u", "dz_u", "dx_u", "mode",
-                                     "load_factor") if k in g}
-        hj = g["hinge_joint"][()].reshape(len(col["status"]), -1)
+        col = {k: _bounded(g, k, path)[()] for k in ("sample", "status", "delta_u", "dz_u",
+                                                    "dx_u", "mode", "load_factor") if k in g}
+        hj = _bounded(g, "hinge_joint", path)[()].reshape(len(col["status"]), -1)
         desc = _decode(f.attrs.get("description", ""))
     span = _mc_span_mm(path, desc)
     rows = []
