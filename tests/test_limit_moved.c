@@ -1,3 +1,4 @@
+#define _POSIX_C_SOURCE 200809L
 /* The limit analysis of a deformed configuration (vs_limit_analyse_moved, limit.h) against truths
  * that need no LP:
  *  - a rigid translation of the whole assembly (every block and both supports) changes nothing:
@@ -7,7 +8,14 @@
  *    lambda' x weight collapses where tan(beta - phi) = lambda_t, beta = atan lambda' and
  *    lambda_t the unrotated arch's tilt factor, lambda' = tan(atan(lambda_t) + phi); without the
  *    tilt it stands iff |phi| <= atan(lambda_t) (the symmetric arch tilts alike both ways);
- *  - the motion of no block (q = 0) is the initial analysis. */
+ *  - the motion of no block (q = 0) is the initial analysis;
+ *  - a joint open at one end (gap) carries force only where it is open by at most the hinges'
+ *    threshold: the admissible part of the face found by hand from the affine opening, the thrust
+ *    line kept inside it, the least thrust up and the greatest down (a constraint added);
+ *  - the arch held on its path (analysis.type = limit, hold_mm; vs_run_limit_held): near zero
+ *    hold it is the initial analysis; under settlement, on stiff joints, its thickness factor
+ *    grows with the hold toward 1 at the collapse displacement delta_u of the same arch's
+ *    support run, and its load factor (a point load at quarter span) is below the initial one. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -15,6 +23,7 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -22,6 +31,7 @@
 #include "voussoir/case.h"
 #include "voussoir/geometry.h"
 #include "voussoir/limit.h"
+#include "voussoir/run.h"
 
 #define near(a, b, tol)                                                                        \
   do {                                                                                         \
@@ -78,7 +88,7 @@ static void moved(fixture *f, double phi, double tx, double tz, vs_limit_analysi
   rigid(f->g, phi, tx, tz, f->q, qs);
   vs_error err;
   vs_error_clear(&err);
-  assert_int_equal(vs_limit_analyse_moved(&f->d, f->g, f->q, qs, NULL, a, &err), VS_OK);
+  assert_int_equal(vs_limit_analyse_moved(&f->d, f->g, f->q, qs, NULL, NULL, a, &err), VS_OK);
 }
 
 static void test_translation(void **state) {
@@ -147,11 +157,113 @@ static void test_errors(void **state) {
   vs_error err;
   vs_error_clear(&err);
   double qs[6] = {0};
-  assert_int_equal(vs_limit_analyse_moved(&f.d, f.g, NULL, qs, NULL, &a, &err), VS_ERR_INVALID);
+  assert_int_equal(vs_limit_analyse_moved(&f.d, f.g, NULL, qs, NULL, NULL, &a, &err), VS_ERR_INVALID);
   f.q[4] = NAN;
-  assert_int_equal(vs_limit_analyse_moved(&f.d, f.g, f.q, qs, NULL, &a, &err), VS_ERR_INVALID);
+  assert_int_equal(vs_limit_analyse_moved(&f.d, f.g, f.q, qs, NULL, NULL, &a, &err), VS_ERR_INVALID);
   assert_non_null(strstr(err.msg, "block 2"));
   teardown(&f);
+}
+
+/* Joint 1 (the left springing) open at its extrados by 2 x open, penetrating by open at its
+ * intrados: the opening is <= open on [0, 2/3] of the face. */
+static void test_open_joint(void **state) {
+  (void)state;
+  fixture f;
+  setup(&f, VS_LOAD_POINT);
+  const int nj = f.g->n_joints;
+  double *gap = calloc(2 * (size_t)nj, sizeof *gap), qs[6] = {0};
+  assert_non_null(gap);
+  const double open = f.d.hinges.open;
+  gap[0] = -open, gap[1] = 2.0 * open;
+  vs_limit_analysis a0, a;
+  vs_error err;
+  vs_error_clear(&err);
+  assert_int_equal(vs_limit_analyse_moved(&f.d, f.g, f.q, qs, NULL, NULL, &a0, &err), VS_OK);
+  assert_int_equal(vs_limit_analyse_moved(&f.d, f.g, f.q, qs, gap, NULL, &a, &err), VS_OK);
+  /* the initial greatest thrust's line touches 1-E; now it cannot */
+  near(a0.thrust_max.eta[0], 1.0, 1e-6);
+  assert_true(a.thrust_min.eta[0] <= 2.0 / 3.0 + 1e-9);
+  assert_true(a.thrust_max.eta[0] <= 2.0 / 3.0 + 1e-9);
+  assert_true(a.thrust_max.touch[0] != 'E');
+  assert_true(a.thrust_min.value >= a0.thrust_min.value - 1e-9);
+  assert_true(a.thrust_max.value <= a0.thrust_max.value + 1e-9);
+  assert_true(a.thrust_max.value < a0.thrust_max.value - 1e-3); /* it did bind */
+  assert_true(a.thickness_factor >= a0.thickness_factor);
+  vs_limit_analysis_free(&a0);
+  vs_limit_analysis_free(&a);
+  free(gap);
+  teardown(&f);
+}
+
+/* A run of the reference case at k_n (N/mm^3) with the extra assignments. */
+static vs_run *run_case(double kn, const char *const *set, int n) {
+  vs_case c;
+  vs_case_defaults(&c);
+  c.kn_N_mm3 = kn;
+  vs_error err;
+  vs_error_clear(&err);
+  for (int i = 0; i < n; i++) assert_int_equal(vs_case_set(&c, set[i], &err), VS_OK);
+  assert_int_equal(vs_case_validate(&c, &err), VS_OK);
+  vs_run *r = NULL;
+  assert_int_equal(vs_run_create(&c, &r, &err), VS_OK);
+  assert_int_equal(vs_run_execute(r, NULL, NULL, NULL, &err), VS_OK);
+  return r;
+}
+
+/* The held arch's analysis at hold_mm (a quarter-span point load of 1 N). */
+static void held(double kn, double hold_mm, double *thickness, double *lambda) {
+  char h[64], x[64];
+  snprintf(h, sizeof h, "analysis.hold_mm=%.10g", hold_mm);
+  snprintf(x, sizeof x, "load.x_mm=%.10g", 0.25 * 2.0 * 300.0 * sin(62.5 * 3.14159265358979323846 / 180.0));
+  const char *set[] = {"analysis.type=limit", h, "load.kind=point", x};
+  vs_run *r = run_case(kn, set, 4);
+  vs_status st = VS_ERR_INTERNAL;
+  const vs_limit_analysis *a = vs_run_limit_held(r, &st, NULL);
+  assert_non_null(a);
+  assert_int_equal(st, VS_OK);
+  *thickness = a->thickness_factor;
+  *lambda = a->collapse.value;
+  vs_run_destroy(&r);
+}
+
+static void test_held_on_the_path(void **state) {
+  (void)state;
+  const double kn = 1000.0;
+  /* near zero hold: the initial analysis (the self-weight state's rotations are ~1e-6) */
+  fixture f;
+  setup(&f, VS_LOAD_POINT);
+  vs_limit_analysis a0;
+  vs_error err;
+  vs_error_clear(&err);
+  assert_int_equal(vs_limit_analyse(&f.d, NULL, &a0, &err), VS_OK);
+  double t, lam;
+  held(kn, 1e-3, &t, &lam);
+  near(t, a0.thickness_factor, 1e-3 * a0.thickness_factor);
+  near(lam, a0.collapse.value, 1e-3 * a0.collapse.value);
+  vs_limit_analysis_free(&a0);
+  teardown(&f);
+  /* the support run's collapse displacement */
+  vs_run *r = run_case(kn, NULL, 0);
+  const vs_collapse_record *col = vs_run_collapse(r);
+  assert_true(col->found);
+  const double du = col->delta / 1e-3; /* mm */
+  vs_run_destroy(&r);
+  /* the thickness factor grows toward 1, the load factor falls */
+  const double frac[5] = {0.2, 0.5, 0.8, 0.95, 0.998};
+  double t_prev = t;
+  const double l_prev = lam;
+  for (int i = 0; i < 5; i++) {
+    held(kn, frac[i] * du, &t, &lam);
+    print_message("hold %.4g mm of delta_u %.4g: thickness factor %.6g, load factor %.6g\n",
+                  frac[i] * du, du, t, lam);
+    assert_true(t > t_prev);
+    assert_true(lam < l_prev); /* below the initial one (not monotone: past mid-way the
+                                  quarter-span load also holds back the settlement's mechanism) */
+    assert_true(lam > 0.0);
+    assert_true(t < 1.0);
+    t_prev = t;
+  }
+  assert_true(t > 0.97); /* within the hinges' threshold's cut (docs/model.md) */
 }
 
 int main(void) {
@@ -159,6 +271,8 @@ int main(void) {
       cmocka_unit_test(test_translation),
       cmocka_unit_test(test_rotation_is_tilt),
       cmocka_unit_test(test_errors),
+      cmocka_unit_test(test_open_joint),
+      cmocka_unit_test(test_held_on_the_path),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,6 +1,7 @@
 /* The reports of a limit analysis (analysis.type = limit: limit.h): a readable summary and one
  * JSON object, in the units engineers use (mm, N). */
 #include "voussoir/report.h"
+#include "report_load.h"
 
 #include <math.h>
 
@@ -97,20 +98,28 @@ void vs_report_limit_json(FILE *out, const vs_case *c, const vs_limit_analysis *
   fputs(",\"voussoir\":", out);
   if (status == VS_OK && a->load_block >= 0) fprintf(out, "%d}", a->load_block + 1);
   else fputs("null}", out);
+  jnum(out, ",\"hold_mm\":", c->hold_mm);
+  fprintf(out, ",\"configuration\":\"%s\"", c->hold_mm > 0.0 ? "held" : "initial");
   fputs(",\"limit\":", out);
   if (status != VS_OK) {
     fputs("null}\n", out);
     return;
   }
+  vs_report_limit_object(out, a, c->kind, c->value_N, c->thickness_mm);
+  fputs("}\n", out);
+}
+
+void vs_report_limit_object(FILE *out, const vs_limit_analysis *a, int kind, double value_N,
+                            double thickness_mm) {
   const double lam = a->have_load ? optimum(&a->collapse) : NAN;
   jnum(out, "{\"load_factor\":", lam);
-  const int by_value = c->kind != VS_LOAD_TILT;
-  jnum(out, ",\"collapse_load_N\":", by_value ? lam * c->value_N : NAN);
+  const int by_value = kind != VS_LOAD_TILT;
+  jnum(out, ",\"collapse_load_N\":", by_value ? lam * value_N : NAN);
   fputs(",\"load_factor_exact\":", out);
   if (isfinite(lam)) fputs(a->collapse.n_friction == 0 ? "true" : "false", out);
   else fputs("null", out);
   jnum(out, ",\"thickness_factor\":", a->thickness_factor);
-  jnum(out, ",\"min_thickness_mm\":", a->thickness_factor * c->thickness_mm);
+  jnum(out, ",\"min_thickness_mm\":", a->thickness_factor * thickness_mm);
   jnum(out, ",\"geometric_safety_factor\":", 1.0 / a->thickness_factor);
   jnum(out, ",\"thrust_min_N\":", optimum(&a->thrust_min));
   jnum(out, ",\"thrust_max_N\":", optimum(&a->thrust_max));
@@ -127,7 +136,7 @@ void vs_report_limit_json(FILE *out, const vs_case *c, const vs_limit_analysis *
   jnum(out, ",", a->thickness_bracket[1]);
   fprintf(out, "],\"thickness_solves\":%d", a->thickness_solves);
   jnum(out, ",\"cpu_s\":", a->cpu_s);
-  fputs("}}\n", out);
+  fputc('}', out);
 }
 
 /* "9-I 27-E" or "none" */
@@ -220,6 +229,10 @@ void vs_report_limit_text(FILE *out, const vs_case *c, const vs_limit_analysis *
     fprintf(out, "piers        %g mm high, %g mm wide, %d courses each, base friction %g\n",
             c->pier_height_mm, c->pier_width_mm, c->pier_courses,
             c->pier_base_friction > 0.0 ? c->pier_base_friction : c->friction);
+  if (c->hold_mm > 0.0)
+    fprintf(out, "held         the arch where the support's path (alpha = %g deg) left it at %g "
+                 "mm, its blocks moved rigidly, loads moved with them\n",
+            c->alpha_deg, c->hold_mm);
   fputc('\n', out);
   fputs("LIMIT ANALYSIS  rigid blocks, no-tension frictional joints: a linear program (COIN-OR "
         "CLP)\n", out);

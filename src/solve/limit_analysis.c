@@ -266,6 +266,8 @@ vs_status vs_limit_live_load(const vs_geometry *g, const vs_load_def *ld, const 
 typedef struct {
   const vs_geometry *ref;
   const double *q, *qs;
+  double *seg; /* per joint, the part of its face in contact: [eta0, eta1], fractions from the
+                  intrados end (malloc'd; [0, 1] where closed) */
 } pose;
 
 /* Point (x, z) of body `body` (through joint k when a support) at p's motion. */
@@ -306,6 +308,62 @@ static void move_geometry(const pose *p, vs_geometry *g) {
     const double c = cos(th), s = sin(th), nx = j->nx, nz = j->nz;
     j->px = 0.5 * (ax + bx), j->pz = 0.5 * (az + bz);
     j->nx = c * nx - s * nz, j->nz = s * nx + c * nz;
+  }
+}
+
+/* Each joint of g (moved) cut to the part of its face in contact, p->seg (a pinned support's
+ * joint kept whole: it carries its resultant at its centre). */
+static void cut_joints(const pose *p, vs_limit_opts o, vs_geometry *g) {
+  for (int k = 0; k < g->n_joints; k++) {
+    vs_joint_geom *j = &g->joints[k];
+    const double e0 = p->seg[2 * k], e1 = p->seg[2 * k + 1];
+    const int pinned = (j->a == VS_SUPPORT_LEFT || j->b == VS_SUPPORT_LEFT)
+                           ? o.left_kind == VS_SUPPORT_PINNED
+                           : (j->a == VS_SUPPORT_RIGHT || j->b == VS_SUPPORT_RIGHT) &&
+                                 o.right_kind == VS_SUPPORT_PINNED;
+    if (pinned || (e0 <= 0.0 && e1 >= 1.0)) continue;
+    double sx, sz;
+    vs_joint_tangent(j, &sx, &sz);
+    const double shift = (0.5 * (e0 + e1) - 0.5) * j->length;
+    j->px += shift * sx, j->pz += shift * sz;
+    j->length *= e1 - e0;
+  }
+}
+
+/* The part of each joint's face in contact, from its openings at the ends gap[2k] (intrados),
+ * gap[2k + 1] (extrados), m (affine along it): where the opening is at most `open` (the hinges'
+ * threshold, hinges.open_mm), at least VS_LIMIT_CONTACT_MIN of the face at the less open end
+ * (a joint open all along keeps that much there). */
+static const double VS_LIMIT_CONTACT_MIN = 1e-6;
+static void contact_segments(const double *gap, int nj, double open, double *seg) {
+  for (int k = 0; k < nj; k++) {
+    const double gi = gap[2 * k], ge = gap[2 * k + 1];
+    double e0 = 0.0, e1 = 1.0;
+    if (gi > open && ge > open) { /* open all along: a sliver at the less open end */
+      e0 = gi <= ge ? 0.0 : 1.0 - VS_LIMIT_CONTACT_MIN;
+      e1 = e0 + VS_LIMIT_CONTACT_MIN;
+    } else if (ge > open) { /* open at the extrados: in contact from the intrados */
+      e1 = fmax((open - gi) / (ge - gi), VS_LIMIT_CONTACT_MIN);
+    } else if (gi > open) {
+      e0 = fmin(1.0 - (open - ge) / (gi - ge), 1.0 - VS_LIMIT_CONTACT_MIN);
+    }
+    seg[2 * k] = e0, seg[2 * k + 1] = e1;
+  }
+}
+
+/* A solution on the cut joints as one on the whole faces: eta from the intrados end of the face,
+ * the touches where that is within opts.touch of an edge of the face. */
+static void uncut_solution(const pose *p, double touch, vs_limit_solution *s) {
+  if (s->eta == NULL) return;
+  s->n_touch = 0;
+  for (int k = 0; k < s->n_joints; k++) {
+    const double e0 = p->seg[2 * k], e1 = p->seg[2 * k + 1];
+    if (isfinite(s->eta[k])) s->eta[k] = e0 + s->eta[k] * (e1 - e0);
+    if (s->touch[k] == 'O') continue;
+    s->touch[k] = 0;
+    if (s->eta[k] <= touch) s->touch[k] = 'I';
+    else if (s->eta[k] >= 1.0 - touch) s->touch[k] = 'E';
+    s->n_touch += s->touch[k] != 0;
   }
 }
 
@@ -353,6 +411,7 @@ static vs_status lp_of(const vs_run_def *d, vs_geometry *g, const pose *p, vs_li
     move_forces(p, fill, n_fill);
     move_forces(p, live, n_live);
     move_geometry(p, g);
+    cut_joints(p, *o, g);
   }
   if (st == VS_OK) st = vs_limit_create(g, o, live, n_live, l, err);
   if (st == VS_OK && n_fill > 0) st = vs_limit_add_dead(*l, fill, n_fill, err);
@@ -368,10 +427,12 @@ typedef struct {
   const pose *pose; /* a deformed configuration's motions, or NULL */
   unsigned char *basis;
   int unbuildable; /* a thicker ring's springing face no longer fits its piers' width */
+  int inexact;     /* trials taken as not standing: CLP's optimum not accurate enough */
 } trials;
 
-/* Does the arch of t->d with thickness x factor stand under its weight? *s: its least thrust. */
-static vs_status stands(trials *t, double factor, int *ok, vs_limit_solution *s, vs_error *err) {
+/* One trial of stands: from the last trial's basis (warm) or from scratch. */
+static vs_status stands_once(trials *t, double factor, int warm, int *ok, vs_limit_solution *s,
+                             vs_error *err) {
   vs_geometry *g = NULL;
   vs_limit *l = NULL;
   vs_status st = arch_scaled(t->d, factor, &g, err);
@@ -383,7 +444,7 @@ static vs_status stands(trials *t, double factor, int *ok, vs_limit_solution *s,
     return VS_OK;
   }
   if (st == VS_OK) st = lp_of(t->d, g, t->pose, NULL, 0, t->o, &l, err);
-  if (st == VS_OK && t->basis != NULL) vs_limit_basis_start(l, t->basis);
+  if (st == VS_OK && warm && t->basis != NULL) vs_limit_basis_start(l, t->basis);
   if (st == VS_OK) st = vs_limit_solve(l, VS_LIMIT_THRUST_MIN, s, err);
   if (st == VS_OK && t->basis == NULL && (t->basis = malloc(vs_limit_basis_size(l))) == NULL)
     st = vs_error_set(err, VS_ERR_NOMEM, "limit: out of memory");
@@ -391,6 +452,26 @@ static vs_status stands(trials *t, double factor, int *ok, vs_limit_solution *s,
   *ok = st == VS_OK && s->outcome != VS_LIMIT_INFEASIBLE;
   vs_limit_destroy(&l);
   vs_geometry_destroy(&g);
+  return st;
+}
+
+/* Does the arch of t->d with thickness x factor stand under its weight? *s: its least thrust.
+ * A warm start that CLP leaves inaccurate (near the critical thickness of a deformed arch, whose
+ * hinges' faces are cut short) is solved again from scratch; a trial whose optimum still violates
+ * equilibrium by more than the LP's tolerance (VS_LIMIT_FEASIBLE of the weight) has no admissible
+ * thrust line that the solve can show: it does not stand. */
+static vs_status stands(trials *t, double factor, int *ok, vs_limit_solution *s, vs_error *err) {
+  vs_status st = stands_once(t, factor, 1, ok, s, err);
+  if (st == VS_ERR_SOLVER && t->basis != NULL) {
+    vs_error_clear(err);
+    st = stands_once(t, factor, 0, ok, s, err);
+  }
+  if (st == VS_ERR_SOLVER && t->pose != NULL && strstr(err->msg, "violates") != NULL) {
+    vs_error_clear(err);
+    *ok = 0;
+    t->inexact++;
+    return VS_OK;
+  }
   return st;
 }
 
@@ -420,7 +501,7 @@ static vs_status thickness_factor(const vs_run_def *d, const vs_limit_opts *o, c
                                   int at_one, unsigned char *basis, vs_limit_analysis *a,
                                   vs_error *err) {
   vs_limit_solution trial = {0};
-  trials t = {d, o, p, basis, 0}; /* the trials own it from here */
+  trials t = {d, o, p, basis, 0, 0}; /* the trials own it from here */
   double lo = 0.0, hi = 1.0;
   int ok = at_one;
   vs_status st = VS_OK;
@@ -521,6 +602,16 @@ static vs_status analyse(const vs_run_def *d, const vs_limit_opts *o, const pose
                           err);
   else
     free(basis);
+  if (st == VS_OK && p != NULL) {
+    vs_limit_solution *sols[3] = {&a->collapse, &a->thrust_min, &a->thrust_max};
+    for (int i = 0; i < 3; i++) uncut_solution(p, opts.touch, sols[i]);
+    uncut_solution(p, /* the critical line's edges, as widen_touches */
+                   isfinite(a->thickness_factor)
+                       ? 2.0 * (a->thickness_bracket[1] - a->thickness_bracket[0]) /
+                             a->thickness_bracket[1]
+                       : opts.touch,
+                   &a->thickness);
+  }
   a->cpu_s = vs_cpu_now() - t0;
   if (st != VS_OK) vs_limit_analysis_free(a);
   return st;
@@ -532,7 +623,7 @@ vs_status vs_limit_analyse(const vs_run_def *d, const vs_limit_opts *o, vs_limit
 }
 
 vs_status vs_limit_analyse_moved(const vs_run_def *d, const vs_geometry *ref, const double *q,
-                                 const double qs[6], const vs_limit_opts *o,
+                                 const double qs[6], const double *gap, const vs_limit_opts *o,
                                  vs_limit_analysis *a, vs_error *err) {
   if (ref == NULL || q == NULL || qs == NULL) {
     memset(a, 0, sizeof *a);
@@ -540,12 +631,26 @@ vs_status vs_limit_analyse_moved(const vs_run_def *d, const vs_geometry *ref, co
                         "limit: a deformed configuration needs its reference geometry and the "
                         "blocks' and supports' motions (given NULL)");
   }
+  for (int i = 0; gap != NULL && i < 2 * ref->n_joints; i++)
+    if (!isfinite(gap[i])) {
+      memset(a, 0, sizeof *a);
+      return vs_error_set(err, VS_ERR_INVALID, "limit: joint %d's opening is not finite",
+                          i / 2 + 1);
+    }
   for (int i = 0; i < 3 * ref->n_blocks; i++)
     if (!isfinite(q[i])) {
       memset(a, 0, sizeof *a);
       return vs_error_set(err, VS_ERR_INVALID, "limit: block %d's motion is not finite",
                           i / 3 + 1);
     }
-  const pose p = {ref, q, qs};
-  return analyse(d, o, &p, a, err);
+  pose p = {ref, q, qs, calloc(2 * (size_t)(ref->n_joints > 0 ? ref->n_joints : 1), sizeof(double))};
+  if (p.seg == NULL) {
+    memset(a, 0, sizeof *a);
+    return vs_error_set(err, VS_ERR_NOMEM, "limit: out of memory");
+  }
+  for (int k = 0; k < ref->n_joints; k++) p.seg[2 * k + 1] = 1.0;
+  if (gap != NULL) contact_segments(gap, ref->n_joints, d->hinges.open, p.seg);
+  const vs_status st = analyse(d, o, &p, a, err);
+  free(p.seg);
+  return st;
 }
