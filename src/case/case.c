@@ -971,9 +971,13 @@ vs_status vs_case_check_path(const vs_case *c, const char *command, vs_error *er
   if (c->type == VS_ANALYSIS_LOAD && strcmp(command, "calibrate") != 0) return VS_OK;
   return vs_error_set(err, VS_ERR_INVALID,
                       "analysis.type = %s: %s follows the support's path (allowed: support%s; a "
-                      "limit analysis: voussoir run CASE --set analysis.type=limit)",
+                      "limit analysis: voussoir run CASE --set analysis.type=limit, with "
+                      "analysis.hold_mm of the arch held there%s)",
                       analysis_types[c->type], command,
-                      strcmp(command, "calibrate") != 0 ? ", load" : "");
+                      strcmp(command, "calibrate") != 0 ? ", load" : "",
+                      strcmp(command, "calibrate") != 0
+                          ? "; each load run's JSON carries the held arch's as limit"
+                          : "");
 }
 
 double vs_case_span_mm(const vs_case *c) {
