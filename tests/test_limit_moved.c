@@ -31,6 +31,7 @@
 #include "voussoir/case.h"
 #include "voussoir/geometry.h"
 #include "voussoir/limit.h"
+#include "voussoir/report.h"
 #include "voussoir/run.h"
 
 #define near(a, b, tol)                                                                        \
@@ -266,6 +267,39 @@ static void test_held_on_the_path(void **state) {
   assert_true(t > 0.97); /* within the hinges' threshold's cut (docs/model.md) */
 }
 
+/* The report names a pier's joints as the run's pier events do: on the reference arch on 100 mm
+ * piers 150 mm wide (4 courses), tilt opens the right pier's top course joint (the joints' last,
+ * right pier course 4) at both ends: "pier2-course4-open"; the ring's joints keep their numbers. */
+static void test_pier_names(void **state) {
+  (void)state;
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_error err;
+  vs_error_clear(&err);
+  const char *set[] = {"analysis.type=limit", "piers.height_mm=100", "piers.width_mm=150",
+                       "load.kind=tilt"};
+  for (int i = 0; i < 4; i++) assert_int_equal(vs_case_set(&c, set[i], &err), VS_OK);
+  vs_run_def d;
+  vs_case_to_def(&c, &d);
+  vs_limit_analysis a;
+  assert_int_equal(vs_limit_analyse(&d, NULL, &a, &err), VS_OK);
+  const int nj = a.collapse.n_joints;
+  assert_int_equal(nj, c.voussoirs + 1 + 2 * 4);
+  assert_int_equal(a.collapse.hinge[nj - 1], 'O');
+  char *text = NULL;
+  size_t size = 0;
+  FILE *f = open_memstream(&text, &size);
+  assert_non_null(f);
+  vs_report_limit_json(f, &c, &a, VS_OK, NULL, "x.ini");
+  fclose(f);
+  assert_non_null(strstr(text, "\"pier2-course4-open\""));
+  char ring_last[32]; /* no joint beyond the ring by number */
+  snprintf(ring_last, sizeof ring_last, "\"%d-", c.voussoirs + 2);
+  assert_null(strstr(text, ring_last));
+  free(text);
+  vs_limit_analysis_free(&a);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_translation),
@@ -273,6 +307,7 @@ int main(void) {
       cmocka_unit_test(test_errors),
       cmocka_unit_test(test_open_joint),
       cmocka_unit_test(test_held_on_the_path),
+      cmocka_unit_test(test_pier_names),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

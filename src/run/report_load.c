@@ -64,7 +64,8 @@ void vs_report_load_json(FILE *out, const vs_run *r) {
   const vs_limit_analysis *a = vs_run_limit_held(r, &st, NULL);
   fputs(",\"limit\":", out);
   if (a != NULL && st == VS_OK)
-    vs_report_limit_object(out, a, d->load.kind, d->load.value, d->arch.thickness / VS_MM);
+    vs_report_limit_object(out, a, d->load.kind, d->load.value, d->arch.thickness / VS_MM,
+                           d->arch.piers.height > 0.0 ? d->arch.piers.courses : 0);
   else
     fputs("null", out);
 }
