@@ -187,6 +187,16 @@ static void test_load_statistics(void **state) {
   assert_true(fabs(stat_of(st, "q05_load_factor") - q05) < 1e-6);
   free(csv);
   free(st);
+  /* two shards merged: the same statistics (merge reads the samples' load factors) */
+  for (int k = 1; k <= 2; k++) {
+    snprintf(args, sizeof args,
+             "montecarlo %s --set analysis.type=load --set load.kind=point --set load.x_mm=133.05 "
+             "--samples 7 --seed 5 --shard %d/2 -q -o %s/lf%d", CASE, k, g_dir, k);
+    assert_int_equal(run(args), 0);
+  }
+  snprintf(args, sizeof args, "merge %s/lf1 %s/lf2 -o %s/lfm", g_dir, g_dir, g_dir);
+  assert_int_equal(run(args), 0);
+  same_file("lf", "lfm", "statistics.csv");
   st = slurp("j1", "statistics.csv"); /* a support run's */
   assert_true(isnan(stat_of(st, "mean_load_factor")));
   free(st);

@@ -155,7 +155,9 @@ static vs_status compute(const vs_mc_sample *s, int n, const vs_case *c, mc_stat
         st->hist[l * st->n_joints + x->hinge_joint[l] - 1] += 1.0;
   }
   moments(v, n, w, &st->mean_pct, &st->cov, &st->q05_pct);
-  st->load = c->type == VS_ANALYSIS_LOAD;
+  st->load = c->type == VS_ANALYSIS_LOAD; /* or (merge: the table's header has no type) any
+                                             sample with a load factor */
+  for (int i = 0; i < n && !st->load; i++) st->load = isfinite(s[i].load_factor) != 0;
   if (st->load) { /* the load factor over the samples that did not fail and have one */
     for (int i = 0; i < n; i++) {
       v[i] = s[i].status != VS_MC_FAILED ? s[i].load_factor : NAN;
