@@ -148,6 +148,68 @@ static void xmf_load(const char *xmf, int n, double *pts, double *fz) {
   assert_non_null(strstr(xmf, "<Grid Name=\"load\">"));
 }
 
+/* The first dimension of a dataset of any rank. */
+static int first_dim(hid_t f, const char *path) {
+  hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
+  assert_true(d >= 0);
+  hid_t sp = H5Dget_space(d);
+  hsize_t dims[3] = {0, 0, 0};
+  assert_true(H5Sget_simple_extent_dims(sp, dims, NULL) >= 1);
+  H5Sclose(sp);
+  H5Dclose(d);
+  return (int)dims[0];
+}
+
+/* A load run's sidecar lists every state (its load path's rows all share the held support
+ * displacement, so that they are timed by their number), and each row's load grid ends on the
+ * loaded point moved with its block to that row (the record's block position: turned by theta
+ * about the centroid, which moved by ux, uz), its Fz the row's load factor x the load. */
+static void xmf_rows_moved(const char *h5, const char *xmf_path, double value) {
+  hid_t f = H5Fopen(h5, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  const int rows = first_dim(f, "/observables/block_position/value");
+  const int nb = first_dim(f, "/geometry/block_centroid");
+  const int nc = first_dim(f, "/summary/load/curve");
+  double *q = calloc((size_t)rows * 3 * (size_t)nb, sizeof *q), *cen = calloc(2 * (size_t)nb, sizeof *cen);
+  double *curve = calloc(2 * (size_t)nc, sizeof *curve), force[5];
+  assert_true(q != NULL && cen != NULL && curve != NULL);
+  read_doubles(f, "/observables/block_position/value", q, (size_t)rows * 3 * (size_t)nb);
+  read_doubles(f, "/geometry/block_centroid", cen, 2 * (size_t)nb);
+  read_doubles(f, "/summary/load/curve", curve, 2 * (size_t)nc);
+  read_doubles(f, "/summary/load/forces", force, 5);
+  H5Fclose(f);
+  const char *xmf = slurp(xmf_path, NULL);
+  int times = 0;
+  for (const char *p = strstr(xmf, "<Time "); p != NULL; p = strstr(p + 1, "<Time ")) times++;
+  assert_int_equal(times, rows); /* below the sidecar's 500 grids */
+  const int r = rows - 1, b = (int)force[0];
+  char key[64];
+  snprintf(key, sizeof key, "<Grid Name=\"row %d\"", r);
+  const char *g = strstr(xmf, key);
+  assert_non_null(g);
+  g = strstr(g, "<Grid Name=\"load\">");
+  assert_non_null(g);
+  g = strstr(g, "Format=\"XML\">");
+  char *e = (char *)g + strlen("Format=\"XML\">");
+  double pts[4];
+  for (int i = 0; i < 4; i++) pts[i] = strtod(e, &e);
+  const double *qb = q + ((size_t)r * (size_t)nb + (size_t)b) * 3;
+  const double dx = force[3] - cen[2 * b], dz = force[4] - cen[2 * b + 1];
+  const double px = cen[2 * b] + qb[0] + cos(qb[2]) * dx - sin(qb[2]) * dz;
+  const double pz = cen[2 * b + 1] + qb[1] + sin(qb[2]) * dx + cos(qb[2]) * dz;
+  print_message("last row %d: the load's point moved by (%.4g, %.4g) mm\n", r,
+                (px - force[3]) * 1e3, (pz - force[4]) * 1e3);
+  assert_true(fabs(pts[2] - px) <= 1e-12 && fabs(pts[3] - pz) <= 1e-12);
+  assert_true(fabs(pz - force[4]) > 1e-5); /* it did move */
+  assert_true(fabs(pts[0] - px) <= 1e-12 && pts[1] > pts[3]); /* vertical, from above */
+  g = strstr(g, "Name=\"Fz_N\"");
+  assert_non_null(g);
+  g = strstr(g, "Format=\"XML\">");
+  const double fz = strtod(g + strlen("Format=\"XML\">"), NULL);
+  assert_true(fabs(fz - curve[2 * (nc - 1)] * -value) <= 1e-12 * value * fabs(curve[2 * (nc - 1)]));
+  free(q), free(cen), free(curve);
+}
+
 static void test_point_load(void **state) {
   (void)state;
   char cmd[1024];
@@ -174,6 +236,7 @@ static void test_point_load(void **state) {
   assert_true(fabs(pts[3] - row[4]) <= 1e-12); /* ends on the point */
   assert_true(pts[1] > pts[3]);                 /* from above: the load points down */
   assert_true(fz[0] == -value);
+  xmf_rows_moved(in_dir("p.h5"), in_dir("p.xmf"), value);
   /* the pictures of the record draw it (test_plot checks the arrow's pixels) */
   snprintf(cmd, sizeof cmd,
            "cd '%s' && VOUSSOIR_PYTHON=/nonexistent/python3 '%s' plot p.h5 -o pics >out.txt "

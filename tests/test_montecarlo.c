@@ -136,6 +136,71 @@ static void test_same_summary_any_process_count(void **state) {
   assert_int_not_equal(stat(args, &sb), 0);
 }
 
+/* A value of statistics.csv ("name,value,unit" rows); NaN when absent. */
+static double stat_of(const char *text, const char *name) {
+  char key[96];
+  snprintf(key, sizeof key, "\n%s,", name);
+  const char *p = strstr(text, key);
+  return p != NULL ? strtod(p + strlen(key), NULL) : NAN;
+}
+
+static int cmp_d(const void *x, const void *y) {
+  const double a = *(const double *)x, b = *(const double *)y;
+  return (a > b) - (a < b);
+}
+
+/* analysis.type = load: statistics.csv has the load factor's mean, CoV and 5 % quantile, here
+ * recomputed from samples.csv's load_factor column (the sample CoV, n - 1; the type-7 quantile:
+ * x[floor(h)] + frac(h) (x[floor(h) + 1] - x[floor(h)]), h = 0.05 (n - 1)); a support run's has
+ * none of them. */
+static void test_load_statistics(void **state) {
+  (void)state;
+  char args[1400];
+  snprintf(args, sizeof args,
+           "montecarlo %s --set analysis.type=load --set load.kind=point --set load.x_mm=133.05 "
+           "--samples 7 --seed 5 -j 2 -q -o %s/lf", CASE, g_dir);
+  assert_int_equal(run(args), 0);
+  char *csv = slurp("lf", "samples.csv"), *st = slurp("lf", "statistics.csv");
+  double x[16];
+  int n = 0;
+  for (char *line = strchr(csv, '\n'); line != NULL && n < 16; line = strchr(line + 1, '\n')) {
+    if (line[1] == '\0' || line[1] == '#' || strncmp(line + 1, "sample", 6) == 0) continue;
+    const char *last = line + 1;
+    for (const char *c = line + 1; *c != '\0' && *c != '\n'; c++)
+      if (*c == ',') last = c + 1;
+    x[n++] = strtod(last, NULL);
+  }
+  assert_int_equal(n, 7);
+  double mean = 0.0, ss = 0.0;
+  for (int i = 0; i < n; i++) mean += x[i] / n;
+  for (int i = 0; i < n; i++) ss += (x[i] - mean) * (x[i] - mean);
+  const double cov = sqrt(ss / (n - 1)) / mean;
+  qsort(x, (size_t)n, sizeof *x, cmp_d);
+  const double h = 0.05 * (n - 1);
+  const int i0 = (int)h;
+  const double q05 = x[i0] + (h - i0) * (x[i0 + 1] - x[i0]);
+  assert_true(mean > 1.0);
+  assert_int_equal((int)stat_of(st, "load_factor_samples"), 7);
+  assert_true(fabs(stat_of(st, "mean_load_factor") - mean) < 1e-6);
+  assert_true(fabs(stat_of(st, "cov_load_factor") - cov) < 1e-6);
+  assert_true(fabs(stat_of(st, "q05_load_factor") - q05) < 1e-6);
+  free(csv);
+  free(st);
+  /* two shards merged: the same statistics (merge reads the samples' load factors) */
+  for (int k = 1; k <= 2; k++) {
+    snprintf(args, sizeof args,
+             "montecarlo %s --set analysis.type=load --set load.kind=point --set load.x_mm=133.05 "
+             "--samples 7 --seed 5 --shard %d/2 -q -o %s/lf%d", CASE, k, g_dir, k);
+    assert_int_equal(run(args), 0);
+  }
+  snprintf(args, sizeof args, "merge %s/lf1 %s/lf2 -o %s/lfm", g_dir, g_dir, g_dir);
+  assert_int_equal(run(args), 0);
+  same_file("lf", "lfm", "statistics.csv");
+  st = slurp("j1", "statistics.csv"); /* a support run's */
+  assert_true(isnan(stat_of(st, "mean_load_factor")));
+  free(st);
+}
+
 static void test_bad_input(void **state) {
   (void)state;
   char args[1024], path[512];
@@ -635,6 +700,7 @@ int main(void) {
       cmocka_unit_test(test_bad_input),
       cmocka_unit_test(test_merge_bad_rows),
       cmocka_unit_test(test_same_summary_any_process_count),
+      cmocka_unit_test(test_load_statistics), /* after the first, whose j1 it reads */
       cmocka_unit_test(test_interrupted), /* after the run of samples 0-5, which it reads */
       cmocka_unit_test(test_resume),      /* so does this one */
       cmocka_unit_test(test_journal_rows), /* and this one */

@@ -176,6 +176,27 @@ typedef struct {
 VS_API vs_status vs_limit_analyse(const vs_run_def *d, const vs_limit_opts *o,
                                   vs_limit_analysis *a, vs_error *err);
 VS_API void vs_limit_analysis_free(vs_limit_analysis *a);
+/* The limit analysis of definition d (as vs_limit_analyse) in a deformed configuration: ref is
+ * d's arch as built (vs_run_geometry: the geometry q refers to), each block moved rigidly by
+ * q[3i .. 3i+2] (its centroid's displacement, m, and its rotation, rad, counter-clockwise: the
+ * model's state, model.h), each support by qs[0..2] (left) and qs[3..5] (right) (ux, uz, theta
+ * about the centre of the joint it carries: vs_model_support_position). A joint sits at the mean
+ * of where its two bodies carry its centre, its normal turned by their mean rotation; the fill
+ * and the live load, placed on the arch as built, move with their blocks, their directions kept
+ * (the model's forces); the thickness factor's trial arches take the same motions about ref's
+ * centroids. gap (NULL: every joint closed) gives each joint's opening at its intrados and
+ * extrados ends (2 per joint, m, > 0 open: vs_joint_state's gap_i, gap_e): where a joint has
+ * opened by more than d->hinges.open (a hinge) only the part of its face where the opening is
+ * at most that carries force (opening affine along the face; a pinned support's joint whole),
+ * the same fraction of the face in the thickness's trial arches; the solutions' thrust lines
+ * (eta) and touches are given on the whole faces. A rigid motion of the whole assembly (the same translation for every body) leaves
+ * the result unchanged; a rigid rotation is a tilt of gravity. VS_ERR_INVALID on NULL, a motion
+ * that is not finite, a trial arch whose blocks and joints are not ref's; else as
+ * vs_limit_analyse. */
+VS_API vs_status vs_limit_analyse_moved(const vs_run_def *d, const vs_geometry *ref,
+                                        const double *q, const double qs[6], const double *gap,
+                                        const vs_limit_opts *o, vs_limit_analysis *a,
+                                        vs_error *err);
 
 /* The hinges of a solution as text, "9-I 27-E 40-I 56-E" (which: 'h' the mechanism's hinges,
  * 'x' its sliding joints, 't' the thrust line's touches, 'f' joints at the friction limit), into

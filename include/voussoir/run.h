@@ -14,6 +14,7 @@
 #include "voussoir/hinges.h"
 #include "voussoir/modal.h"
 #include "voussoir/imperfections.h"
+#include "voussoir/limit.h"
 #include "voussoir/model.h"
 #include "voussoir/quasistatic.h"
 
@@ -202,6 +203,15 @@ typedef struct {
 /* The run's load path (done = 0 unless analysis.type = load): owned by the run, its curve valid
  * until vs_run_destroy. */
 VS_API const vs_run_load_result *vs_run_load(const vs_run *r);
+
+/* The limit analysis of the held configuration (issue 28, item 5): for analysis.type = load,
+ * and for analysis.type = limit with analysis.hold_mm > 0, the limit analysis
+ * (vs_limit_analyse_moved, limit.h) of the arch in the equilibrium where the support was held,
+ * its blocks where the path left them, before any live load. NULL when it was not computed (the
+ * arch did not stand still at the hold, or another analysis); else *status (may be NULL) how it
+ * ended and *err (may be NULL) its error (owned by the run). */
+VS_API const vs_limit_analysis *vs_run_limit_held(const vs_run *r, vs_status *status,
+                                                  const vs_error **err);
 
 VS_API const vs_dyn_result *vs_run_dynamic_totals(const vs_run *r);
 

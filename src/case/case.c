@@ -285,9 +285,11 @@ static const key_spec keys[] = {
     KEY_NAMED(analysis, type, 0.0, analysis_types,
               "what a run computes: support (the support's path to collapse), load (the live "
               "load's path to collapse, at the support held at hold_mm), limit (the limit "
-              "analysis alone, no path)"),
+              "analysis: of the initial configuration alone, no path; with hold_mm > 0 of the arch held "
+              "there)"),
     KEY(analysis, hold_mm, 0.0, 0.0, true, LEN_MAX, true, "mm",
-        "load: the support displacement along the support's path held before loading"),
+        "load: the support displacement along the support's path held before loading; limit: "
+        "the support displacement at which the deformed arch is analysed (0: the initial one)"),
     KEY(fill, unit_weight_kN_m3, 0.0, 0.0, true, 1000.0, true, "kN/m^3",
         "the fill's unit weight (0: no fill): a dead load on the extrados, the weight of the fill "
         "above each voussoir up to level_mm"),
@@ -821,10 +823,10 @@ static vs_status validate_analysis(const vs_case *c, vs_error *err) {
     return vs_error_set(err, VS_ERR_INVALID,
                         "analysis.type = load with dynamic.full = 1: the load path is "
                         "quasi-static (allowed: dynamic.full = 0)");
-  if (c->hold_mm != 0.0 && c->type != VS_ANALYSIS_LOAD)
+  if (c->hold_mm != 0.0 && c->type != VS_ANALYSIS_LOAD && c->type != VS_ANALYSIS_LIMIT)
     return vs_error_set(err, VS_ERR_INVALID,
                         "analysis.hold_mm = %.15g: a held support displacement needs "
-                        "analysis.type = load",
+                        "analysis.type = load or limit",
                         c->hold_mm);
   if (c->hold_mm >= c->max_mm)
     return vs_error_set(err, VS_ERR_INVALID,
@@ -969,9 +971,13 @@ vs_status vs_case_check_path(const vs_case *c, const char *command, vs_error *er
   if (c->type == VS_ANALYSIS_LOAD && strcmp(command, "calibrate") != 0) return VS_OK;
   return vs_error_set(err, VS_ERR_INVALID,
                       "analysis.type = %s: %s follows the support's path (allowed: support%s; a "
-                      "limit analysis: voussoir run CASE --set analysis.type=limit)",
+                      "limit analysis: voussoir run CASE --set analysis.type=limit, with "
+                      "analysis.hold_mm of the arch held there%s)",
                       analysis_types[c->type], command,
-                      strcmp(command, "calibrate") != 0 ? ", load" : "");
+                      strcmp(command, "calibrate") != 0 ? ", load" : "",
+                      strcmp(command, "calibrate") != 0
+                          ? "; each load run's JSON carries the held arch's as limit"
+                          : "");
 }
 
 double vs_case_span_mm(const vs_case *c) {

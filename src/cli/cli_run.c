@@ -358,12 +358,36 @@ static void print_record_line(const run_args *a, const cli_sink *sink) {
   printf("; pictures: voussoir plot %s)\n", a->out_path);
 }
 
-/* analysis.type = limit: the limit analysis alone (limit.h), no path and no record: an explicit
- * -o or --csv is refused. An exit status. */
+/* analysis.hold_mm > 0: the support's path to the hold (no record), then the limit analysis of
+ * the arch held there, into *held (owned by *run). VS_ERR_NO_EQUILIBRIUM when the arch did not
+ * stand still at the hold. */
+static vs_status limit_held(const vs_case *c, vs_run **run, const vs_limit_analysis **held,
+                            vs_error *err) {
+  vs_status st = vs_run_create(c, run, err);
+  if (st != VS_OK) return st;
+  vs_run_set_stop(*run, vs_stop_flag());
+  st = vs_run_execute(*run, NULL, NULL, NULL, err);
+  if (st != VS_OK) return st;
+  vs_status lst = VS_OK;
+  *held = vs_run_limit_held(*run, &lst, NULL);
+  if (*held == NULL)
+    return vs_error_set(err, VS_ERR_NO_EQUILIBRIUM, "%s", vs_run_load(*run)->cause);
+  return lst;
+}
+
+/* analysis.type = limit: the limit analysis (limit.h) of the initial configuration, or with
+ * analysis.hold_mm > 0 of the arch held there; no record: an explicit -o or --csv is refused.
+ * An exit status. */
 static int run_limit(const run_args *a, const vs_case *c) {
   if ((a->out_path != NULL && a->out_path != a->default_path) || a->csv_path != NULL) {
     fprintf(stderr, "voussoir: %s: analysis.type = limit writes no record or history (allowed "
                     "with it: --json, -q, the overrides)\n", a->csv_path != NULL ? "--csv" : "-o");
+    return EXIT_BAD_INPUT;
+  }
+  if (a->plot_path != NULL && c->hold_mm > 0.0) {
+    fprintf(stderr, "voussoir: --plot: the limit analysis of a held configuration "
+                    "(analysis.hold_mm = %g) is not drawn yet (allowed: analysis.hold_mm = 0)\n",
+            c->hold_mm);
     return EXIT_BAD_INPUT;
   }
   if (a->plot_path != NULL) {
@@ -377,16 +401,25 @@ static int run_limit(const run_args *a, const vs_case *c) {
   }
   vs_run_def d;
   vs_case_to_def(c, &d);
-  vs_limit_analysis la;
+  vs_limit_analysis la = {0};
+  const vs_limit_analysis *held = NULL;
+  vs_run *run = NULL;
   vs_error err;
   vs_error_clear(&err);
-  const vs_status st = vs_limit_analyse(&d, NULL, &la, &err);
+  const vs_status st = c->hold_mm > 0.0 ? limit_held(c, &run, &held, &err)
+                                        : vs_limit_analyse(&d, NULL, &la, &err);
   if (st == VS_ERR_INVALID) { /* the load does not fit the arch: bad input, nothing printed */
     fprintf(stderr, "voussoir: %s\n", err.msg);
+    vs_run_destroy(&run);
     return EXIT_BAD_INPUT;
   }
-  if (a->json) vs_report_limit_json(stdout, c, &la, st, &err, a->case_path);
-  else vs_report_limit_text(stdout, c, &la, st, &err, a->case_path);
+  if (st == VS_ERR_INTERRUPTED) {
+    vs_run_destroy(&run);
+    return EXIT_INTERRUPTED;
+  }
+  const vs_limit_analysis *an = held != NULL ? held : &la;
+  if (a->json) vs_report_limit_json(stdout, c, an, st, &err, a->case_path);
+  else vs_report_limit_text(stdout, c, an, st, &err, a->case_path);
   if (st != VS_OK) fprintf(stderr, "voussoir: limit analysis failed: %s\n", err.msg);
   int rc = st == VS_OK ? EXIT_SUCCESS : EXIT_RUN_FAILED;
   if (st == VS_OK && a->plot_path != NULL) {
@@ -402,6 +435,7 @@ static int run_limit(const run_args *a, const vs_case *c) {
     if (vs_plugin_plot() != NULL) vs_plugin_plot()->plot_release(); /* cairo's, fontconfig's */
   }
   vs_limit_analysis_free(&la);
+  vs_run_destroy(&run);
   return rc;
 }
 

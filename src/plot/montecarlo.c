@@ -43,6 +43,9 @@ typedef struct {
   double frag_lo[VS_MC_FRAGILITY_POINTS], frag_hi[VS_MC_FRAGILITY_POINTS], band_eps;
   int n_joints;
   double *hist; /* VS_MC_LABELS x n_joints counts */
+  int load;     /* analysis.type = load: the load factor's statistics below */
+  int n_lf;     /* samples with a load factor (0 for one that collapsed before the hold) */
+  double lf_mean, lf_cov, lf_q05;
 } mc_stats;
 
 static int cmp_double(const void *x, const void *y) {
@@ -152,6 +155,17 @@ static vs_status compute(const vs_mc_sample *s, int n, const vs_case *c, mc_stat
         st->hist[l * st->n_joints + x->hinge_joint[l] - 1] += 1.0;
   }
   moments(v, n, w, &st->mean_pct, &st->cov, &st->q05_pct);
+  st->load = c->type == VS_ANALYSIS_LOAD; /* or (merge: the table's header has no type) any
+                                             sample with a load factor */
+  for (int i = 0; i < n && !st->load; i++) st->load = isfinite(s[i].load_factor) != 0;
+  if (st->load) { /* the load factor over the samples that did not fail and have one */
+    for (int i = 0; i < n; i++) {
+      v[i] = s[i].status != VS_MC_FAILED ? s[i].load_factor : NAN;
+      st->n_lf += isfinite(v[i]) != 0;
+    }
+    moments(v, n, w, &st->lf_mean, &st->lf_cov, &st->lf_q05);
+    for (int i = 0; i < n; i++) v[i] = s[i].status == VS_MC_COLLAPSE ? 100.0 * s[i].delta_u_mm / L : NAN;
+  }
   st->mean_dz_pct = st->n_collapse ? sdz / st->n_collapse : NAN;
   st->mean_dx_pct = st->n_collapse ? sdx / st->n_collapse : NAN;
   st->mean_first_pct = nfirst ? sfirst / nfirst : NAN;
@@ -270,6 +284,10 @@ static vs_status write_stats_csv(const char *path, const char *part, const mc_st
           st->modes[2], st->modes[3], st->modes[0]);
   fprintf(f, "fragility_band_halfwidth,%.6f,(DKW %.0f %% simultaneous)\n", st->band_eps,
           100.0 * (1.0 - VS_MC_BAND_ALPHA));
+  if (st->load)
+    fprintf(f, "load_factor_samples,%d,\nmean_load_factor,%.6f,\ncov_load_factor,%.6f,\n"
+               "q05_load_factor,%.6f,\n",
+            st->n_lf, st->lf_mean, st->lf_cov, st->lf_q05);
   return fclose(f) == 0 ? VS_OK : cannot(path, err);
 }
 
@@ -339,6 +357,10 @@ static herr_t write_stats_h5(hid_t file, const mc_stats *st) {
   const hsize_t four = 4;
   if (rc >= 0) rc = h5_dset(g, "modes", 1, &four, modes, "1");
   if (rc >= 0) rc = vs_h5_attr_cstr(g, "modes", "counts: unclassified, I, II, III");
+  if (rc >= 0 && st->load) rc = h5_scalar(g, "load_factor_samples", st->n_lf, "1");
+  if (rc >= 0 && st->load) rc = h5_scalar(g, "mean_load_factor", st->lf_mean, "1");
+  if (rc >= 0 && st->load) rc = h5_scalar(g, "cov_load_factor", st->lf_cov, "1");
+  if (rc >= 0 && st->load) rc = h5_scalar(g, "q05_load_factor", st->lf_q05, "1");
   if (g >= 0) H5Gclose(g);
   hid_t f = H5Gcreate2(file, "fragility", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   const hsize_t nf = VS_MC_FRAGILITY_POINTS;

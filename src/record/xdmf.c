@@ -319,12 +319,43 @@ static void xdmf_ground(xdmf_ctx *x) {
   out_s(x, "</Grid>\n");
 }
 
-/* The live load (a load run's /summary/load/forces, at lambda = 1): one segment per force, an
- * arrow's shaft ending at its point in the reference configuration, drawn the same in every row
- * (the blocks move little before collapse); every part shared (xdmf_load_shared). */
-static void xdmf_load(xdmf_ctx *x) {
+/* The load factor of row r: a load run's path's (its last n_curve rows), 0 before it. */
+static double row_lambda(const xdmf_ctx *x, hsize_t r) {
+  const long k = (long)r - (x->rows - x->n_curve);
+  return x->n_curve > 0 && k >= 0 && k < x->n_curve ? x->curve_lambda[k] : 0.0;
+}
+
+/* The live load of row r (a load run's /summary/load/forces): one segment per force, an arrow's
+ * shaft ending at its point moved with its block to the row (x->load_q), its length that of the
+ * shared reference arrows (xdmf_load_shared); Fx_N Fz_N the forces at the row's load factor. */
+static void xdmf_load(xdmf_ctx *x, hsize_t r) {
+  const int n = x->n_loads;
+  const double *v = x->loads;
+  if (vs_xdmf_load_row(x, r) != 0) {
+    x->failed = 1;
+    return;
+  }
   xdmf_grid_open(x, "load", G_LOAD);
-  out_s(x, "<xi:include xpointer=\"xpointer(id('lg lfx lfz'))\"/>\n");
+  out_f(x, "<Geometry GeometryType=\"XY\"><DataItem "
+           "Dimensions=\"%d 2\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">", 2 * n);
+  for (int i = 0; i < n; i++) {
+    const int b = (int)v[5 * i];
+    const double *q = x->load_q + 3 * b, c = cos(q[2]), s = sin(q[2]);
+    double p[2]; /* the point moves with its block; the shaft keeps the load's direction */
+    vs_xdmf_move(x->load_cen[2 * b], x->load_cen[2 * b + 1], q[0], q[1], c, s, v[5 * i + 3],
+                 v[5 * i + 4], p);
+    out_f(x, "%s%.17g %.17g %.17g %.17g", i ? " " : "", p[0] - x->load_arrow * v[5 * i + 1],
+          p[1] - x->load_arrow * v[5 * i + 2], p[0], p[1]);
+  }
+  out_s(x, "</DataItem></Geometry>\n");
+  const double lam = row_lambda(x, r);
+  for (int k = 0; k < 2; k++) {
+    out_f(x, "<Attribute Name=\"%s\" Center=\"Cell\"><DataItem Dimensions=\"%d\" "
+             "NumberType=\"Float\" Precision=\"8\" Format=\"XML\">",
+          XDMF_FIELDS[k ? F_FZ : F_FX], n);
+    for (int i = 0; i < n; i++) out_f(x, "%s%.17g", i ? " " : "", lam * v[5 * i + 1 + k]);
+    out_s(x, "</DataItem></Attribute>\n");
+  }
   xdmf_pads(x, G_LOAD);
   out_s(x, "</Grid>\n");
 }
@@ -340,7 +371,7 @@ static void xdmf_step(xdmf_ctx *x, hsize_t r, double t) {
   xdmf_support(x, 0, r);
   xdmf_support(x, 1, r);
   if (x->ground) xdmf_ground(x);
-  if (x->n_loads > 0) xdmf_load(x);
+  if (x->n_loads > 0) xdmf_load(x, r);
   out_s(x, "</Grid>\n");
 }
 
@@ -379,6 +410,7 @@ static void xdmf_load_shared(xdmf_ctx *x) {
   double big = 0.0;
   for (int i = 0; i < n; i++) big = fmax(big, hypot(v[5 * i + 1], v[5 * i + 2]));
   const double len = x->joint_len > 0.0 ? x->joint_len : 0.01;
+  x->load_arrow = big > 0.0 ? len / big : 0.0; /* m per N: the rows' arrows too */
   out_f(x, "<Topology xml:id=\"tl\" TopologyType=\"Polyline\" NodesPerElement=\"2\" "
            "NumberOfElements=\"%d\"><DataItem Dimensions=\"%d 2\" NumberType=\"Int\" "
            "Precision=\"4\" Format=\"XML\">", n, n);
@@ -450,7 +482,8 @@ static void xdmf_header(xdmf_ctx *x, long rows, long stride) {
   out_f(x,
         "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
         "<!-- voussoir record, %ld rows, every %ld-th shown (and the last), times strictly "
-        "increasing (the loading time delta / rate, s).\n"
+        "increasing (the loading time delta / rate, s; a load run's: the row's number, its "
+        "load path's rows all at the held support displacement).\n"
         "     ParaView: either XDMF 3 reader colours by any field: every grid carries every "
         "field, NaN where it is not the grid's own (slabs of the record's /xdmf/nan; the default "
         "Xdmf3ReaderS keeps only the fields all grids carry); Xdmf3ReaderT also keeps the grids "
@@ -464,8 +497,10 @@ static void xdmf_header(xdmf_ctx *x, long rows, long stride) {
         "(counter-clockwise, about that face's centre), ux_m uz_m displacement of the moved "
         "support;\n"
         "     ground (a segment, when the fall landed on it): the plane the debris rests on;\n"
-        "     load (a live load's forces, one segment each, ending on its point in the reference "
-        "configuration: tl, lg): Fx_N Fz_N at load factor 1 (lfx, lfz).\n"
+        "     load (a live load's forces, one segment each, ending on its point moved with its "
+        "block to the row): Fx_N Fz_N at the row's load factor (0 on the support's path); "
+        "shared: its topology tl, and at load factor 1 in the reference configuration lg, lfx, "
+        "lfz.\n"
         "     What every row shares is defined once, below, and included by xml:id (XInclude): "
         "the topologies tb (blocks), tj (joints), t1 (one segment), the ground's points gg, and "
         "the NaN fields b<i>, j<i>, s<i> (n_blocks, n_joints, one cell; i: the field's place in "
@@ -502,6 +537,8 @@ vs_status vs_xdmf_write_tmp(hid_t file, const char *h5_path, const char *xmf_pat
                         h5_path);
   double *t = NULL;
   long *sel = NULL, n = 0;
+  x.rows = rows;
+  vs_xdmf_loads(file, &x); /* before the listing: a load run's rows are timed by their number */
   vs_status st = vs_xdmf_name_check(h5_path, err);
   if (st == VS_OK) st = vs_xdmf_listing(file, &x, rows, max_grids, h5_path, &t, &sel, &n, err);
   const char *base = strrchr(h5_path, '/');
@@ -509,7 +546,6 @@ vs_status vs_xdmf_write_tmp(hid_t file, const char *h5_path, const char *xmf_pat
   if (name == NULL && st == VS_OK) st = vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
   x.h5name = name;
   x.ground = vs_xdmf_has_ground(file);
-  vs_xdmf_loads(file, &x);
   x.joint_len = vs_xdmf_joint_length(file);
   vs_xdmf_support_joints(file, &x);
   x.nan_n = vs_xdmf_nan_count(file);
@@ -541,5 +577,9 @@ vs_status vs_xdmf_write_tmp(hid_t file, const char *h5_path, const char *xmf_pat
   free(x.ref);
   free(x.cen);
   free(x.loads);
+  free(x.curve_lambda);
+  free(x.load_q);
+  free(x.load_cen);
+  vs_h5_close(x.load_pos);
   return st;
 }

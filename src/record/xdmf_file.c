@@ -195,10 +195,53 @@ int vs_xdmf_has_ground(hid_t file) {
          xdmf_dims_of(file, "/summary/ground/points", 2, d) == 0 && d[0] == 2 && d[1] == 2;
 }
 
+/* x->curve_lambda, x->n_curve, and x->load_pos, load_q, load_cen (the load's n_loads set to 0
+ * when these cannot be read). */
+static void xdmf_load_motion(hid_t file, xdmf_ctx *x) {
+  hsize_t d[2];
+  const hsize_t nb = x->ds[X_BPOS].dims[1];
+  if (H5Lexists(file, "/summary/load/curve", H5P_DEFAULT) > 0 &&
+      xdmf_dims_of(file, "/summary/load/curve", 2, d) == 0 && d[1] == 2 && d[0] > 0 &&
+      (long)d[0] <= x->rows) {
+    double *c = malloc(2 * d[0] * sizeof *c);
+    x->curve_lambda = malloc(d[0] * sizeof *x->curve_lambda);
+    if (c != NULL && x->curve_lambda != NULL &&
+        vs_h5_read_doubles(file, "/summary/load/curve", c, 2 * d[0]) == 0) {
+      for (hsize_t i = 0; i < d[0]; i++) x->curve_lambda[i] = c[2 * i];
+      x->n_curve = (long)d[0];
+    }
+    free(c);
+  }
+  x->load_q = malloc(3 * (nb > 0 ? nb : 1) * sizeof *x->load_q);
+  x->load_cen = malloc(2 * (nb > 0 ? nb : 1) * sizeof *x->load_cen);
+  x->load_pos = H5Dopen2(file, x->ds[X_BPOS].path, H5P_DEFAULT);
+  int ok = x->load_q != NULL && x->load_cen != NULL && x->load_pos >= 0 &&
+           vs_h5_read_doubles(file, "/geometry/block_centroid", x->load_cen, 2 * nb) == 0;
+  for (int i = 0; ok && i < x->n_loads; i++)
+    ok = x->loads[5 * i] >= 0.0 && x->loads[5 * i] < (double)nb;
+  if (!ok) x->n_loads = 0; /* not drawn */
+}
+
+int vs_xdmf_load_row(xdmf_ctx *x, hsize_t r) {
+  const hsize_t nb = x->ds[X_BPOS].dims[1], start[3] = {r, 0, 0}, count[3] = {1, nb, 3};
+  hid_t fs = H5Dget_space(x->load_pos), ms = H5Screate_simple(3, count, NULL);
+  int rc = fs >= 0 && ms >= 0 &&
+                   H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
+                   H5Dread(x->load_pos, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, x->load_q) >= 0
+               ? 0
+               : -1;
+  vs_h5_close(ms);
+  vs_h5_close(fs);
+  return rc;
+}
+
 void vs_xdmf_loads(hid_t file, xdmf_ctx *x) {
   hsize_t d[2];
   x->n_loads = 0;
   x->loads = NULL;
+  x->n_curve = 0;
+  x->curve_lambda = x->load_q = x->load_cen = NULL;
+  x->load_pos = H5I_INVALID_HID;
   if (H5Lexists(file, "/summary", H5P_DEFAULT) <= 0 ||
       H5Lexists(file, "/summary/load", H5P_DEFAULT) <= 0 ||
       H5Lexists(file, "/summary/load/forces", H5P_DEFAULT) <= 0 ||
@@ -212,6 +255,7 @@ void vs_xdmf_loads(hid_t file, xdmf_ctx *x) {
     free(x->loads);
     x->loads = NULL;
   }
+  if (x->n_loads > 0) xdmf_load_motion(file, x);
 }
 
 double vs_xdmf_joint_length(hid_t file) {
@@ -283,6 +327,8 @@ vs_status vs_xdmf_listing(hid_t file, xdmf_ctx *x, long rows, int max_grids,
   if (*t == NULL) return vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");
   if (xdmf_read_times(file, x, rows, *t) < 0)
     return vs_h5_fail(err, h5_path, "cannot read /observables/delta/time");
+  if (x->n_curve > 0) /* a load run: its path's rows share the held time; each row its number */
+    for (long r = 0; r < rows; r++) (*t)[r] = (double)r;
   *n = vs_xdmf_rows(*t, rows, max_grids, NULL);
   *sel = malloc((size_t)(*n > 0 ? *n : 1) * sizeof **sel);
   if (*sel == NULL) return vs_error_set(err, VS_ERR_NOMEM, "output: out of memory");

@@ -59,6 +59,13 @@ typedef struct {
   int ground;              /* the record has /summary/ground/points */
   int n_loads;             /* rows of /summary/load/forces (0: none) */
   double *loads;           /* those rows: block, fx, fz, px, pz */
+  long n_curve;            /* rows of /summary/load/curve: a load run's path, the record's last
+                              n_curve rows (0: none, or not a load run) ... */
+  double *curve_lambda;    /* ... and the load factor of each */
+  long rows;               /* the record's rows */
+  hid_t load_pos;          /* with a live load: /observables/block_position/value, open ... */
+  double *load_q, *load_cen; /* ... a row of it (nb x 3) and /geometry/block_centroid */
+  double load_arrow;       /* an arrow's length per N (xdmf_load_shared), m/N */
   double joint_len;        /* /geometry/joint_length's first (0: not read) */
   hsize_t sup_joint[2];    /* the joints on the left and the right support: the springings, or
                               with piers their bases (the first of /geometry/joint_bodies with
@@ -98,8 +105,13 @@ vs_status vs_xdmf_listing(hid_t file, xdmf_ctx *x, long rows, int max_grids,
  * sidecar refers to it as such). */
 int vs_xdmf_has_ground(hid_t file);
 /* The live load of a load run, /summary/load/forces, into x->loads (malloc'd) and x->n_loads;
- * none (0) when the record has no such table or it cannot be read. */
+ * none (0) when the record has no such table or it cannot be read; then its path's load factors
+ * (/summary/load/curve's first column: x->curve_lambda, x->n_curve) and what moves the load
+ * with its blocks (x->load_pos, load_q, load_cen; the load is not drawn when they cannot be
+ * read). Before vs_xdmf_listing (which times a load run's rows by their number). */
 void vs_xdmf_loads(hid_t file, xdmf_ctx *x);
+/* Row r's block positions into x->load_q (nb x 3); 0, or -1 when it cannot be read. */
+int vs_xdmf_load_row(xdmf_ctx *x, hsize_t r);
 /* /geometry/joint_length's first value (the springing's: the arch's thickness), 0 when it
  * cannot be read. */
 double vs_xdmf_joint_length(hid_t file);

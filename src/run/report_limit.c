@@ -1,8 +1,10 @@
 /* The reports of a limit analysis (analysis.type = limit: limit.h): a readable summary and one
  * JSON object, in the units engineers use (mm, N). */
 #include "voussoir/report.h"
+#include "report_load.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "quote.h"
 #include "voussoir/units.h"
@@ -21,21 +23,51 @@ static void jnum(FILE *out, const char *sep_key, double x) {
   else fputs("null", out);
 }
 
-/* The joints of a solution that `which` selects (vs_limit_list's letters) as a JSON array of
- * names, every one of them. */
-static void json_joints(FILE *out, const vs_limit_solution *s, char which) {
+/* Joint k (0-based) of n as reported, with side (I, E; O open at both ends; 0 none): "9-I" on
+ * the ring; a pier's joint (courses > 0: the last 2 x courses joints, the left pier's from its
+ * base up, then the right's) as the run's pier events name it, "pier1-base-inner",
+ * "pier2-course3-outer" (the joint under course 3; inner: the edge on the face under the
+ * springing). */
+static void joint_token(int courses, int n, int k, char side, char *buf, size_t size) {
+  const int first = n - 2 * courses, pier = courses > 0 && k >= first;
+  char name[48];
+  if (!pier) {
+    snprintf(name, sizeof name, "%d", k + 1);
+  } else {
+    const int p = (k - first) / courses + 1, c = (k - first) % courses + 1;
+    if (c == 1) snprintf(name, sizeof name, "pier%d-base", p);
+    else snprintf(name, sizeof name, "pier%d-course%d", p, c);
+  }
+  if (side == 'I' || side == 'E')
+    snprintf(buf, size, "%s-%s", name, !pier ? (side == 'I' ? "I" : "E")
+                                             : (side == 'I' ? "inner" : "outer"));
+  else if (side == 'O') snprintf(buf, size, "%s-open", name);
+  else snprintf(buf, size, "%s", name);
+}
+
+/* Which joints `which` selects (vs_limit_list's letters): joint k's side, '-' for a joint
+ * without one (sliding, at the friction limit), 0 for a joint not selected. */
+static char selected(const vs_limit_solution *s, char which, int k) {
+  if (which == 'h' && s->hinge != NULL) return s->hinge[k] == 'S' ? 0 : s->hinge[k];
+  if (which == 'x' && s->slip != NULL) return s->slip[k] != 0.0 ? '-' : 0;
+  if (which == 't') return s->touch[k] == 'I' || s->touch[k] == 'E' ? s->touch[k] : 0;
+  if (which == 'f') return s->friction[k] ? '-' : 0;
+  return 0;
+}
+
+/* The case's pier courses, 0 without piers. */
+static int courses_of(const vs_case *c) { return c->pier_height_mm > 0.0 ? c->pier_courses : 0; }
+
+/* The joints of a solution that `which` selects as a JSON array of names, every one of them. */
+static void json_joints(FILE *out, const vs_limit_solution *s, char which, int courses) {
   fputc('[', out);
   int first = 1;
   for (int k = 0; k < s->n_joints; k++) {
-    char side = 0;
-    if (which == 'h' && s->hinge != NULL) side = s->hinge[k] == 'S' ? 0 : s->hinge[k];
-    else if (which == 'x' && s->slip != NULL) side = s->slip[k] != 0.0 ? '-' : 0;
-    else if (which == 't') side = s->touch[k] == 'I' || s->touch[k] == 'E' ? s->touch[k] : 0;
-    else if (which == 'f') side = s->friction[k] ? '-' : 0;
+    const char side = selected(s, which, k);
     if (side == 0) continue;
-    if (side == 'O') fprintf(out, "%s\"%d-open\"", first ? "" : ",", k + 1);
-    else if (side == '-') fprintf(out, "%s\"%d\"", first ? "" : ",", k + 1);
-    else fprintf(out, "%s\"%d-%c\"", first ? "" : ",", k + 1, side);
+    char name[64];
+    joint_token(courses, s->n_joints, k, side, name, sizeof name);
+    fprintf(out, "%s\"%s\"", first ? "" : ",", name);
     first = 0;
   }
   fputc(']', out);
@@ -43,7 +75,7 @@ static void json_joints(FILE *out, const vs_limit_solution *s, char which) {
 
 /* One solution: its outcome, its value, the thrust line (where each joint's resultant crosses
  * it, as a fraction of the joint from the intrados) and what touches; the mechanism if any. */
-static void json_solution(FILE *out, const vs_limit_solution *s) {
+static void json_solution(FILE *out, const vs_limit_solution *s, int courses) {
   if (s->touch == NULL) {
     fprintf(out, "{\"outcome\":\"%s\"}",
             s->outcome >= 0 && s->outcome < VS_LIMIT_OUTCOME_COUNT ? OUTCOMES[s->outcome] : "?");
@@ -53,14 +85,14 @@ static void json_solution(FILE *out, const vs_limit_solution *s) {
   jnum(out, ",\"value\":", s->value);
   jnum(out, ",\"thrust_N\":", s->thrust);
   fputs(",\"touches\":", out);
-  json_joints(out, s, 't');
+  json_joints(out, s, 't', courses);
   fputs(",\"at_friction_limit\":", out);
-  json_joints(out, s, 'f');
+  json_joints(out, s, 'f', courses);
   if (s->hinge != NULL) {
     fputs(",\"mechanism\":", out);
-    json_joints(out, s, 'h');
+    json_joints(out, s, 'h', courses);
     fputs(",\"sliding\":", out);
-    json_joints(out, s, 'x');
+    json_joints(out, s, 'x', courses);
   }
   fputs(",\"thrust_line_eta\":[", out);
   for (int k = 0; k < s->n_joints; k++) {
@@ -97,42 +129,69 @@ void vs_report_limit_json(FILE *out, const vs_case *c, const vs_limit_analysis *
   fputs(",\"voussoir\":", out);
   if (status == VS_OK && a->load_block >= 0) fprintf(out, "%d}", a->load_block + 1);
   else fputs("null}", out);
+  jnum(out, ",\"hold_mm\":", c->hold_mm);
+  fprintf(out, ",\"configuration\":\"%s\"", c->hold_mm > 0.0 ? "held" : "initial");
   fputs(",\"limit\":", out);
   if (status != VS_OK) {
     fputs("null}\n", out);
     return;
   }
+  vs_report_limit_object(out, a, c->kind, c->value_N, c->thickness_mm, courses_of(c));
+  fputs("}\n", out);
+}
+
+void vs_report_limit_object(FILE *out, const vs_limit_analysis *a, int kind, double value_N,
+                            double thickness_mm, int courses) {
   const double lam = a->have_load ? optimum(&a->collapse) : NAN;
   jnum(out, "{\"load_factor\":", lam);
-  const int by_value = c->kind != VS_LOAD_TILT;
-  jnum(out, ",\"collapse_load_N\":", by_value ? lam * c->value_N : NAN);
+  const int by_value = kind != VS_LOAD_TILT;
+  jnum(out, ",\"collapse_load_N\":", by_value ? lam * value_N : NAN);
   fputs(",\"load_factor_exact\":", out);
   if (isfinite(lam)) fputs(a->collapse.n_friction == 0 ? "true" : "false", out);
   else fputs("null", out);
   jnum(out, ",\"thickness_factor\":", a->thickness_factor);
-  jnum(out, ",\"min_thickness_mm\":", a->thickness_factor * c->thickness_mm);
+  jnum(out, ",\"min_thickness_mm\":", a->thickness_factor * thickness_mm);
   jnum(out, ",\"geometric_safety_factor\":", 1.0 / a->thickness_factor);
   jnum(out, ",\"thrust_min_N\":", optimum(&a->thrust_min));
   jnum(out, ",\"thrust_max_N\":", optimum(&a->thrust_max));
   fputs(",\"collapse\":", out);
-  if (a->have_load) json_solution(out, &a->collapse);
+  if (a->have_load) json_solution(out, &a->collapse, courses);
   else fputs("null", out);
   fputs(",\"thrust_min\":", out);
-  json_solution(out, &a->thrust_min);
+  json_solution(out, &a->thrust_min, courses);
   fputs(",\"thrust_max\":", out);
-  json_solution(out, &a->thrust_max);
+  json_solution(out, &a->thrust_max, courses);
   fputs(",\"thickness\":", out);
-  json_solution(out, &a->thickness);
+  json_solution(out, &a->thickness, courses);
   jnum(out, ",\"thickness_bracket\":[", a->thickness_bracket[0]);
   jnum(out, ",", a->thickness_bracket[1]);
   fprintf(out, "],\"thickness_solves\":%d", a->thickness_solves);
   jnum(out, ",\"cpu_s\":", a->cpu_s);
-  fputs("}}\n", out);
+  fputc('}', out);
 }
 
-/* "9-I 27-E" or "none" */
-static const char *list_or_none(const vs_limit_solution *s, char which, char *buf, size_t size) {
-  vs_limit_list(s, which, buf, size);
+/* The joints of a solution that `which` selects, "9-I 27-E pier2-base-outer", into buf (a list
+ * that does not fit ends with "+K more"), or "none". */
+static const char *list_or_none(const vs_limit_solution *s, char which, int courses, char *buf,
+                                size_t size) {
+  buf[0] = '\0';
+  size_t used = 0;
+  int left = 0;
+  for (int k = 0; s->touch != NULL && k < s->n_joints; k++) {
+    const char side = selected(s, which, k);
+    if (side == 0) continue;
+    char item[72];
+    joint_token(courses, s->n_joints, k, side, item + 1, sizeof item - 1);
+    item[0] = ' ';
+    const char *it = used ? item : item + 1;
+    if (left == 0 && used + strlen(it) + 16 < size) { /* room for it and " +K more" */
+      memcpy(buf + used, it, strlen(it) + 1);
+      used += strlen(it);
+    } else {
+      left++;
+    }
+  }
+  if (left > 0) snprintf(buf + used, size - used, "%s+%d more", used ? " " : "", left);
   return buf[0] ? buf : "none";
 }
 
@@ -168,18 +227,18 @@ static void text_load(FILE *out, const vs_case *c, const vs_limit_analysis *a) {
   }
   fprintf(out, "load factor  lambda = %.6g", s->value);
   if (c->kind != VS_LOAD_TILT) fprintf(out, "  (collapse load %.6g N)", s->value * c->value_N);
-  fprintf(out, "\n  mechanism  hinges %s (%d)", list_or_none(s, 'h', list, sizeof list), s->n_hinges);
-  fprintf(out, "; sliding %s\n", list_or_none(s, 'x', list, sizeof list));
+  fprintf(out, "\n  mechanism  hinges %s (%d)", list_or_none(s, 'h', courses_of(c), list, sizeof list), s->n_hinges);
+  fprintf(out, "; sliding %s\n", list_or_none(s, 'x', courses_of(c), list, sizeof list));
   if (s->n_friction == 0)
     fputs("  exact: no joint is at the friction limit (the LP's associative friction does not "
           "enter)\n", out);
   else
     fprintf(out, "  an UPPER BOUND: %d joints at the friction limit (%s); the LP's friction is "
                  "associative, the masonry's is not\n",
-            s->n_friction, list_or_none(s, 'f', list, sizeof list));
+            s->n_friction, list_or_none(s, 'f', courses_of(c), list, sizeof list));
 }
 
-static void text_thrust(FILE *out, const char *what, const vs_limit_solution *s) {
+static void text_thrust(FILE *out, const vs_case *c, const char *what, const vs_limit_solution *s) {
   char list[512];
   if (s->outcome != VS_LIMIT_OPTIMAL) {
     fprintf(out, "  %-10s %s\n", what,
@@ -187,7 +246,7 @@ static void text_thrust(FILE *out, const char *what, const vs_limit_solution *s)
     return;
   }
   fprintf(out, "  %-10s H = %.6g N; its thrust line touches %s\n", what, s->value,
-          list_or_none(s, 't', list, sizeof list));
+          list_or_none(s, 't', courses_of(c), list, sizeof list));
 }
 
 static void text_thickness(FILE *out, const vs_case *c, const vs_limit_analysis *a) {
@@ -202,7 +261,7 @@ static void text_thickness(FILE *out, const vs_case *c, const vs_limit_analysis 
           a->thickness_factor, a->thickness_factor * c->thickness_mm, 1.0 / a->thickness_factor);
   fprintf(out, "  (bracket [%.6g, %.6g] t); its thrust line there touches %s\n",
           a->thickness_bracket[0], a->thickness_bracket[1],
-          list_or_none(&a->thickness, 't', list, sizeof list));
+          list_or_none(&a->thickness, 't', courses_of(c), list, sizeof list));
 }
 
 void vs_report_limit_text(FILE *out, const vs_case *c, const vs_limit_analysis *a,
@@ -220,6 +279,10 @@ void vs_report_limit_text(FILE *out, const vs_case *c, const vs_limit_analysis *
     fprintf(out, "piers        %g mm high, %g mm wide, %d courses each, base friction %g\n",
             c->pier_height_mm, c->pier_width_mm, c->pier_courses,
             c->pier_base_friction > 0.0 ? c->pier_base_friction : c->friction);
+  if (c->hold_mm > 0.0)
+    fprintf(out, "held         the arch where the support's path (alpha = %g deg) left it at %g "
+                 "mm, its blocks moved rigidly, loads moved with them\n",
+            c->alpha_deg, c->hold_mm);
   fputc('\n', out);
   fputs("LIMIT ANALYSIS  rigid blocks, no-tension frictional joints: a linear program (COIN-OR "
         "CLP)\n", out);
@@ -229,8 +292,8 @@ void vs_report_limit_text(FILE *out, const vs_case *c, const vs_limit_analysis *
   }
   text_load(out, c, a);
   fputs("thrust       under self-weight, the left support's horizontal reaction:\n", out);
-  text_thrust(out, "least", &a->thrust_min);
-  text_thrust(out, "greatest", &a->thrust_max);
+  text_thrust(out, c, "least", &a->thrust_min);
+  text_thrust(out, c, "greatest", &a->thrust_max);
   text_thickness(out, c, a);
   fprintf(out, "\nstats        %d LPs (%d for the thickness), CPU %.3f s in all",
           a->thickness_solves + 2 + a->have_load, a->thickness_solves, a->cpu_s);
@@ -238,7 +301,7 @@ void vs_report_limit_text(FILE *out, const vs_case *c, const vs_limit_analysis *
   fputs("\n(hinges and touches: joints 1..n+1 from the left, named by the edge they turn on)\n",
         out);
   if (c->pier_height_mm > 0.0)
-    fprintf(out, "(joints %d.. are the piers': the left pier's base, its course joints up, then "
-            "the right pier's; on them I is the inner face's edge, E the outer's)\n",
-            c->voussoirs + 2);
+    fputs("(the piers' joints: pier1 the left, pier2 the right; base its foundation, courseK the "
+          "joint under course K from the bottom; inner the edge on the face under the "
+          "springing)\n", out);
 }

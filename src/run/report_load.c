@@ -59,6 +59,32 @@ void vs_report_load_json(FILE *out, const vs_run *r) {
   fputs("],\"deflection_mm\":[", out);
   for (int i = 0; i < l->n; i++) fprintf(out, "%s%.10g", i ? "," : "", l->u[i] / VS_MM);
   fputs("]}}", out);
+  /* beside it, the limit analysis of the configuration the load started from */
+  vs_status st = VS_OK;
+  const vs_limit_analysis *a = vs_run_limit_held(r, &st, NULL);
+  fputs(",\"limit\":", out);
+  if (a != NULL && st == VS_OK)
+    vs_report_limit_object(out, a, d->load.kind, d->load.value, d->arch.thickness / VS_MM,
+                           d->arch.piers.height > 0.0 ? d->arch.piers.courses : 0);
+  else
+    fputs("null", out);
+}
+
+/* The limit analysis of the held configuration, beside the path's load factor. */
+static void text_limit(FILE *out, const vs_run *r) {
+  vs_status st = VS_OK;
+  const vs_error *err = NULL;
+  const vs_limit_analysis *a = vs_run_limit_held(r, &st, &err);
+  if (a == NULL) return;
+  if (st != VS_OK) {
+    fprintf(out, "limit analysis of the held arch: failed: %s\n", err->msg);
+    return;
+  }
+  const vs_limit_solution *s = &a->collapse;
+  fputs("limit analysis of the held arch (rigid blocks where the path left them): ", out);
+  if (s->outcome == VS_LIMIT_OPTIMAL) fprintf(out, "lambda = %.6g", s->value);
+  else fprintf(out, "lambda %s", s->outcome == VS_LIMIT_UNBOUNDED ? "unbounded" : "none");
+  fprintf(out, ", thickness factor %.5g\n", a->thickness_factor);
 }
 
 void vs_report_load_text(FILE *out, const vs_run *r) {
@@ -77,6 +103,7 @@ void vs_report_load_text(FILE *out, const vs_run *r) {
     fprintf(out, "load factor  %s: %s\n", isnan(l->load_factor) ? "unknown" : "0", l->cause);
     return;
   }
+  text_limit(out, r);
   const char *how = l->end == VS_LOAD_END_PEAK      ? "past the peak"
                     : l->end == VS_LOAD_END_SLIDING ? "a sliding mechanism"
                                                     : "no collapse";

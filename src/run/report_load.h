@@ -5,6 +5,7 @@
 
 #include <stdio.h>
 
+#include "voussoir/limit.h"
 #include "voussoir/run.h"
 
 /* The JSON fields ",\"load_factor\":...,\"load\":{...}", the text section, the run's status
@@ -12,5 +13,11 @@
 void vs_report_load_json(FILE *out, const vs_run *r);
 void vs_report_load_text(FILE *out, const vs_run *r);
 const char *vs_report_load_status(const vs_run *r);
+
+/* A limit analysis as the JSON object of the "limit" key ({"load_factor": ...}; report_limit.c):
+ * kind (vs_load_kind) and value_N the live load's, thickness_mm the arch's, courses its piers'
+ * (0: none; their joints named as the pier events name them). */
+void vs_report_limit_object(FILE *out, const vs_limit_analysis *a, int kind, double value_N,
+                            double thickness_mm, int courses);
 
 #endif

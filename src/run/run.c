@@ -146,10 +146,19 @@ vs_status vs_run_create(const vs_case *c, vs_run **out, vs_error *err) {
  * displacement (analysis.type = load); the limit analysis is vs_limit_analyse's, refused here
  * by name. */
 static vs_status check_analysis(const vs_run_def *d, vs_error *err) {
-  if (d->analysis.type == VS_ANALYSIS_LIMIT)
+  if (d->analysis.type == VS_ANALYSIS_LIMIT && !(d->analysis.hold > 0.0))
     return vs_error_set(err, VS_ERR_INVALID,
-                        "analysis.type = limit: a limit analysis has no path to run (voussoir "
-                        "run prints it; the library's vs_limit_analyse computes it)");
+                        "analysis.type = limit: a limit analysis of the initial configuration has "
+                        "no path to run (voussoir run prints it; the library's vs_limit_analyse "
+                        "computes it; with analysis.hold_mm > 0 the run follows the support's "
+                        "path to the hold and analyses the arch there)");
+  if (d->analysis.type == VS_ANALYSIS_LIMIT) {
+    if (d->dynamic.full)
+      return vs_error_set(err, VS_ERR_INVALID,
+                          "analysis.type = limit with dynamic.full = 1: the path to the hold is "
+                          "quasi-static (allowed: dynamic.full = 0)");
+    return VS_OK;
+  }
   if (d->analysis.type == VS_ANALYSIS_LOAD) {
     if (d->load.kind == VS_LOAD_NONE)
       return vs_error_set(err, VS_ERR_INVALID,
@@ -164,7 +173,7 @@ static vs_status check_analysis(const vs_run_def *d, vs_error *err) {
   if (d->analysis.hold != 0.0)
     return vs_error_set(err, VS_ERR_INVALID,
                         "analysis.hold_mm = %g: a held support displacement needs analysis.type "
-                        "= load",
+                        "= load or limit",
                         d->analysis.hold / VS_MM);
   if (d->load.kind != VS_LOAD_NONE)
     return vs_error_set(err, VS_ERR_INVALID,
@@ -244,7 +253,7 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
     vs_path_opts_from_def(d, &r->popts);
     dyn_opts_from_def(d, r->g, &r->dopts);
     r->popts.deadline = r->dopts.deadline = &r->deadline; /* the wall-time limit's */
-    if (d->analysis.type == VS_ANALYSIS_LOAD) /* the support's path, its motions too, ends held */
+    if (d->analysis.type != VS_ANALYSIS_SUPPORT) /* the support's path, its motions too, ends held */
       r->popts.max_delta = r->dopts.max_delta = d->analysis.hold;
     double mass = 0.0;
     for (int i = 0; i < r->g->n_blocks; i++) mass += r->g->blocks[i].mass;
@@ -543,7 +552,8 @@ static vs_status support_phases(vs_run *r, vs_error *err) {
  * point not followed, dynamic.follow = 0): it carries no load (load_factor 0). */
 static vs_status load_phases(vs_run *r, vs_error *err) {
   vs_run_load_result *l = &r->load;
-  l->done = 1;
+  const int limit = r->def.analysis.type == VS_ANALYSIS_LIMIT;
+  l->done = !limit;
   l->hold = r->def.analysis.hold;
   l->first_peak = NAN;
   vs_status st = support_phases(r, err);
@@ -582,6 +592,10 @@ static vs_status load_phases(vs_run *r, vs_error *err) {
              (r->collapse.found ? r->collapse.delta : r->delta) / VS_MM, l->hold / VS_MM);
     return VS_OK;
   }
+  vs_run_limit_at_hold(r); /* beside the load path's result; analysis.type = limit: the result */
+  if (limit)
+    return r->held_la_st == VS_OK ? VS_OK
+                                  : vs_error_set(err, r->held_la_st, "%s", r->held_la_err.msg);
   return vs_run_load_path(r, err);
 }
 
@@ -594,7 +608,7 @@ vs_status vs_run_execute(vs_run *r, vs_run_sample_fn sample, vs_run_event_fn eve
   r->deadline = r->def.max_wall_s > 0.0 ? vs_monotonic_s() + r->def.max_wall_s : 0.0;
   vs_status st = VS_OK;
   double delta0 = 0.0;
-  if (r->def.analysis.type == VS_ANALYSIS_LOAD) {
+  if (r->def.analysis.type == VS_ANALYSIS_LOAD || r->def.analysis.type == VS_ANALYSIS_LIMIT) {
     st = load_phases(r, err);
   } else if (r->def.dynamic.full) {
     /* self-weight by KINSOL, then the whole loading dynamically from rest */

@@ -82,6 +82,11 @@ struct vs_run {
   vs_load_result load_res;      /* the load path's statistics */
   double load_best;             /* the largest lambda so far ... */
   int load_taken;               /* ... and whether the mechanism was taken past it */
+  /* --- the limit analysis of the held configuration (run_load.c) --- */
+  int held_la_done;             /* computed (type limit with a hold, type load) */
+  vs_status held_la_st;
+  vs_error held_la_err;
+  vs_limit_analysis held_la;
   /* --- damping (damping.h, modal.h): modes under self-weight, set at the first equilibrium --- */
   vs_modal modal;
   double ray_alpha, ray_beta;
@@ -132,6 +137,8 @@ vs_status vs_run_load_setup(vs_run *r, vs_error *err);
 /* analysis.type = load, the support held (r->q the equilibrium there, r->load.hold): load to
  * collapse. */
 vs_status vs_run_load_path(vs_run *r, vs_error *err);
+/* The limit analysis of the arch held at r->delta in equilibrium r->q (r->held_la*). */
+void vs_run_limit_at_hold(vs_run *r);
 void vs_run_load_free(vs_run *r);
 
 /* run_slip.c */

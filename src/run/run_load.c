@@ -43,6 +43,7 @@ vs_status vs_run_load_setup(vs_run *r, vs_error *err) {
 }
 
 void vs_run_load_free(vs_run *r) {
+  vs_limit_analysis_free(&r->held_la);
   free(r->load_lambda);
   free(r->load_u);
   r->load_lambda = r->load_u = NULL;
@@ -116,3 +117,29 @@ vs_status vs_run_load_path(vs_run *r, vs_error *err) {
 }
 
 const vs_run_load_result *vs_run_load(const vs_run *r) { return &r->load; }
+
+void vs_run_limit_at_hold(vs_run *r) {
+  double qs[6];
+  const int nj = r->g->n_joints;
+  vs_model_support_position(r->m, r->q, r->delta, qs);
+  vs_error_clear(&r->held_la_err);
+  r->held_la_done = 1;
+  double *gap = malloc(2 * (size_t)nj * sizeof *gap);
+  if (gap == NULL) {
+    r->held_la_st = vs_error_set(&r->held_la_err, VS_ERR_NOMEM, "run: out of memory");
+    return;
+  }
+  vs_model_joint_states(r->m, r->q, r->delta, r->js);
+  for (int k = 0; k < nj; k++) gap[2 * k] = r->js[k].gap_i, gap[2 * k + 1] = r->js[k].gap_e;
+  r->held_la_st =
+      vs_limit_analyse_moved(&r->def, r->g, r->q, qs, gap, NULL, &r->held_la, &r->held_la_err);
+  free(gap);
+}
+
+const vs_limit_analysis *vs_run_limit_held(const vs_run *r, vs_status *status,
+                                           const vs_error **err) {
+  if (!r->held_la_done) return NULL;
+  if (status != NULL) *status = r->held_la_st;
+  if (err != NULL) *err = &r->held_la_err;
+  return &r->held_la;
+}

@@ -163,16 +163,6 @@ vs_status vs_limit_fill_load(const vs_geometry *g, const vs_fill_def *fd, vs_lim
   return VS_OK;
 }
 
-/* The fill's forces on geometry g added to l's dead load. */
-static vs_status add_fill(const vs_run_def *d, const vs_geometry *g, vs_limit *l, vs_error *err) {
-  vs_limit_force *f = NULL;
-  int n = 0;
-  vs_status st = vs_limit_fill_load(g, &d->fill, &f, &n, err);
-  if (st == VS_OK && n > 0) st = vs_limit_add_dead(l, f, n, err);
-  free(f);
-  return st;
-}
-
 /* A point, line or patch load spread through the fill: uniform over [x - w/2, x + w/2] on the
  * extrados, w = width + 2 h tan(spread), h the fill's depth over the extrados at x (surface at
  * fd->level above the crown's extrados); the part of w beyond the arch's extrados goes into the
@@ -268,6 +258,134 @@ vs_status vs_limit_live_load(const vs_geometry *g, const vs_load_def *ld, const 
 }
 
 /* ---------------------------------------------------------------------------------------------
+ * A deformed configuration (vs_limit_analyse_moved) */
+
+/* Every body's rigid motion: block i by q[3i..3i+2] (its displacement and rotation) about ref's
+ * centroid i; a support (s 0 left, 1 right) by qs[3s..3s+2] about the centre, in ref, of the
+ * joint it carries (as the model's kinematics: a support's face turns about its joint's centre). */
+typedef struct {
+  const vs_geometry *ref;
+  const double *q, *qs;
+  double *seg; /* per joint, the part of its face in contact: [eta0, eta1], fractions from the
+                  intrados end (malloc'd; [0, 1] where closed) */
+} pose;
+
+/* Point (x, z) of body `body` (through joint k when a support) at p's motion. */
+static void pose_point(const pose *p, int body, int k, double x, double z, double *ox,
+                       double *oz) {
+  double c0x, c0z;
+  const double *u;
+  if (body >= 0) {
+    c0x = p->ref->blocks[body].cx, c0z = p->ref->blocks[body].cz;
+    u = p->q + 3 * body;
+  } else {
+    c0x = p->ref->joints[k].px, c0z = p->ref->joints[k].pz;
+    u = p->qs + (body == VS_SUPPORT_RIGHT ? 3 : 0);
+  }
+  const double c = cos(u[2]), s = sin(u[2]), dx = x - c0x, dz = z - c0z;
+  *ox = c0x + u[0] + c * dx - s * dz;
+  *oz = c0z + u[1] + s * dx + c * dz;
+}
+
+static double pose_angle(const pose *p, int body) {
+  return body >= 0 ? p->q[3 * body + 2] : p->qs[body == VS_SUPPORT_RIGHT ? 5 : 2];
+}
+
+/* g (ref's blocks and joints, of any thickness) moved: each block with its motion; each joint's
+ * centre the mean of where its two bodies carry it, its normal turned by their mean rotation
+ * (the model's joint frame), its length kept. */
+static void move_geometry(const pose *p, vs_geometry *g) {
+  for (int i = 0; i < g->n_blocks; i++) {
+    vs_block *b = &g->blocks[i];
+    pose_point(p, i, -1, b->cx, b->cz, &b->cx, &b->cz);
+  }
+  for (int k = 0; k < g->n_joints; k++) {
+    vs_joint_geom *j = &g->joints[k];
+    double ax, az, bx, bz;
+    pose_point(p, j->a, k, j->px, j->pz, &ax, &az);
+    pose_point(p, j->b, k, j->px, j->pz, &bx, &bz);
+    const double th = 0.5 * (pose_angle(p, j->a) + pose_angle(p, j->b));
+    const double c = cos(th), s = sin(th), nx = j->nx, nz = j->nz;
+    j->px = 0.5 * (ax + bx), j->pz = 0.5 * (az + bz);
+    j->nx = c * nx - s * nz, j->nz = s * nx + c * nz;
+  }
+}
+
+/* Each joint of g (moved) cut to the part of its face in contact, p->seg (a pinned support's
+ * joint kept whole: it carries its resultant at its centre). */
+static void cut_joints(const pose *p, vs_limit_opts o, vs_geometry *g) {
+  for (int k = 0; k < g->n_joints; k++) {
+    vs_joint_geom *j = &g->joints[k];
+    const double e0 = p->seg[2 * k], e1 = p->seg[2 * k + 1];
+    const int pinned = (j->a == VS_SUPPORT_LEFT || j->b == VS_SUPPORT_LEFT)
+                           ? o.left_kind == VS_SUPPORT_PINNED
+                           : (j->a == VS_SUPPORT_RIGHT || j->b == VS_SUPPORT_RIGHT) &&
+                                 o.right_kind == VS_SUPPORT_PINNED;
+    if (pinned || (e0 <= 0.0 && e1 >= 1.0)) continue;
+    double sx, sz;
+    vs_joint_tangent(j, &sx, &sz);
+    const double shift = (0.5 * (e0 + e1) - 0.5) * j->length;
+    j->px += shift * sx, j->pz += shift * sz;
+    j->length *= e1 - e0;
+  }
+}
+
+/* The part of each joint's face in contact, from its openings at the ends gap[2k] (intrados),
+ * gap[2k + 1] (extrados), m (affine along it): where the opening is at most `open` (the hinges'
+ * threshold, hinges.open_mm), at least VS_LIMIT_CONTACT_MIN of the face at the less open end
+ * (a joint open all along keeps that much there). */
+static const double VS_LIMIT_CONTACT_MIN = 1e-6;
+static void contact_segments(const double *gap, int nj, double open, double *seg) {
+  for (int k = 0; k < nj; k++) {
+    const double gi = gap[2 * k], ge = gap[2 * k + 1];
+    double e0 = 0.0, e1 = 1.0;
+    if (gi > open && ge > open) { /* open all along: a sliver at the less open end */
+      e0 = gi <= ge ? 0.0 : 1.0 - VS_LIMIT_CONTACT_MIN;
+      e1 = e0 + VS_LIMIT_CONTACT_MIN;
+    } else if (ge > open) { /* open at the extrados: in contact from the intrados */
+      e1 = fmax((open - gi) / (ge - gi), VS_LIMIT_CONTACT_MIN);
+    } else if (gi > open) {
+      e0 = fmin(1.0 - (open - ge) / (gi - ge), 1.0 - VS_LIMIT_CONTACT_MIN);
+    }
+    seg[2 * k] = e0, seg[2 * k + 1] = e1;
+  }
+}
+
+/* A solution on the cut joints as one on the whole faces: eta from the intrados end of the face,
+ * the touches where that is within opts.touch of an edge of the face. */
+static void uncut_solution(const pose *p, double touch, vs_limit_solution *s) {
+  if (s->eta == NULL) return;
+  s->n_touch = 0;
+  for (int k = 0; k < s->n_joints; k++) {
+    const double e0 = p->seg[2 * k], e1 = p->seg[2 * k + 1];
+    if (isfinite(s->eta[k])) s->eta[k] = e0 + s->eta[k] * (e1 - e0);
+    if (s->touch[k] == 'O') continue;
+    s->touch[k] = 0;
+    if (s->eta[k] <= touch) s->touch[k] = 'I';
+    else if (s->eta[k] >= 1.0 - touch) s->touch[k] = 'E';
+    s->n_touch += s->touch[k] != 0;
+  }
+}
+
+/* Forces fixed to their blocks (a live load, the fill): each point moved with its block, its
+ * direction kept (the model's loads: vs_model_set_loads). */
+static void move_forces(const pose *p, vs_limit_force *f, int n) {
+  for (int i = 0; i < n; i++) pose_point(p, f[i].block, -1, f[i].px, f[i].pz, &f[i].px, &f[i].pz);
+}
+
+/* g may take p's motions: the same blocks and joints between the same bodies as p->ref. */
+static vs_status pose_fits(const pose *p, const vs_geometry *g, vs_error *err) {
+  int same = g->n_blocks == p->ref->n_blocks && g->n_joints == p->ref->n_joints;
+  for (int k = 0; same && k < g->n_joints; k++)
+    same = g->joints[k].a == p->ref->joints[k].a && g->joints[k].b == p->ref->joints[k].b;
+  return same ? VS_OK
+              : vs_error_set(err, VS_ERR_INVALID,
+                             "limit: the deformed configuration's geometry (%d blocks, %d joints) "
+                             "is not the definition's arch (%d blocks, %d joints)",
+                             p->ref->n_blocks, p->ref->n_joints, g->n_blocks, g->n_joints);
+}
+
+/* ---------------------------------------------------------------------------------------------
  * The analysis */
 
 /* The arch of d with its thickness scaled by factor, its imperfections drawn for that arch. */
@@ -281,17 +399,40 @@ static vs_status arch_scaled(const vs_run_def *d, double factor, vs_geometry **g
   return st;
 }
 
+/* The LP of geometry g (moved by p in place, when given) with d's fill as dead load and live[0 ..
+ * n_live) as its live load (moved with their blocks), both placed on g as built. */
+static vs_status lp_of(const vs_run_def *d, vs_geometry *g, const pose *p, vs_limit_force *live,
+                       int n_live, const vs_limit_opts *o, vs_limit **l, vs_error *err) {
+  vs_limit_force *fill = NULL;
+  int n_fill = 0;
+  vs_status st = vs_limit_fill_load(g, &d->fill, &fill, &n_fill, err);
+  if (st == VS_OK && p != NULL) st = pose_fits(p, g, err);
+  if (st == VS_OK && p != NULL) {
+    move_forces(p, fill, n_fill);
+    move_forces(p, live, n_live);
+    move_geometry(p, g);
+    cut_joints(p, *o, g);
+  }
+  if (st == VS_OK) st = vs_limit_create(g, o, live, n_live, l, err);
+  if (st == VS_OK && n_fill > 0) st = vs_limit_add_dead(*l, fill, n_fill, err);
+  free(fill);
+  return st;
+}
+
 /* The trials of the bisection: the options, and the basis of the last trial's LP, from which
  * the next starts (malloc'd at the first trial; every trial's LP has the same rows, columns). */
 typedef struct {
   const vs_run_def *d;
   const vs_limit_opts *o;
+  const pose *pose; /* a deformed configuration's motions, or NULL */
   unsigned char *basis;
   int unbuildable; /* a thicker ring's springing face no longer fits its piers' width */
+  int inexact;     /* trials taken as not standing: CLP's optimum not accurate enough */
 } trials;
 
-/* Does the arch of t->d with thickness x factor stand under its weight? *s: its least thrust. */
-static vs_status stands(trials *t, double factor, int *ok, vs_limit_solution *s, vs_error *err) {
+/* One trial of stands: from the last trial's basis (warm) or from scratch. */
+static vs_status stands_once(trials *t, double factor, int warm, int *ok, vs_limit_solution *s,
+                             vs_error *err) {
   vs_geometry *g = NULL;
   vs_limit *l = NULL;
   vs_status st = arch_scaled(t->d, factor, &g, err);
@@ -302,9 +443,8 @@ static vs_status stands(trials *t, double factor, int *ok, vs_limit_solution *s,
     vs_error_clear(err);
     return VS_OK;
   }
-  if (st == VS_OK) st = vs_limit_create(g, t->o, NULL, 0, &l, err);
-  if (st == VS_OK) st = add_fill(t->d, g, l, err);
-  if (st == VS_OK && t->basis != NULL) vs_limit_basis_start(l, t->basis);
+  if (st == VS_OK) st = lp_of(t->d, g, t->pose, NULL, 0, t->o, &l, err);
+  if (st == VS_OK && warm && t->basis != NULL) vs_limit_basis_start(l, t->basis);
   if (st == VS_OK) st = vs_limit_solve(l, VS_LIMIT_THRUST_MIN, s, err);
   if (st == VS_OK && t->basis == NULL && (t->basis = malloc(vs_limit_basis_size(l))) == NULL)
     st = vs_error_set(err, VS_ERR_NOMEM, "limit: out of memory");
@@ -312,6 +452,26 @@ static vs_status stands(trials *t, double factor, int *ok, vs_limit_solution *s,
   *ok = st == VS_OK && s->outcome != VS_LIMIT_INFEASIBLE;
   vs_limit_destroy(&l);
   vs_geometry_destroy(&g);
+  return st;
+}
+
+/* Does the arch of t->d with thickness x factor stand under its weight? *s: its least thrust.
+ * A warm start that CLP leaves inaccurate (near the critical thickness of a deformed arch, whose
+ * hinges' faces are cut short) is solved again from scratch; a trial whose optimum still violates
+ * equilibrium by more than the LP's tolerance (VS_LIMIT_FEASIBLE of the weight) has no admissible
+ * thrust line that the solve can show: it does not stand. */
+static vs_status stands(trials *t, double factor, int *ok, vs_limit_solution *s, vs_error *err) {
+  vs_status st = stands_once(t, factor, 1, ok, s, err);
+  if (st == VS_ERR_SOLVER && t->basis != NULL) {
+    vs_error_clear(err);
+    st = stands_once(t, factor, 0, ok, s, err);
+  }
+  if (st == VS_ERR_SOLVER && t->pose != NULL && strstr(err->msg, "violates") != NULL) {
+    vs_error_clear(err);
+    *ok = 0;
+    t->inexact++;
+    return VS_OK;
+  }
   return st;
 }
 
@@ -337,10 +497,11 @@ static void widen_touches(vs_limit_solution *s, double tol) {
 /* The least thickness factor at which the arch stands: bracketed from [0, 1] when the arch
  * stands (at_one), else from 1 upward by doubling, then bisected to thickness_tol; every trial
  * starts from the last one's basis, the first from basis (the self-weight LP's; freed here). */
-static vs_status thickness_factor(const vs_run_def *d, const vs_limit_opts *o, int at_one,
-                                  unsigned char *basis, vs_limit_analysis *a, vs_error *err) {
+static vs_status thickness_factor(const vs_run_def *d, const vs_limit_opts *o, const pose *p,
+                                  int at_one, unsigned char *basis, vs_limit_analysis *a,
+                                  vs_error *err) {
   vs_limit_solution trial = {0};
-  trials t = {d, o, basis, 0}; /* the trials own it from here */
+  trials t = {d, o, p, basis, 0, 0}; /* the trials own it from here */
   double lo = 0.0, hi = 1.0;
   int ok = at_one;
   vs_status st = VS_OK;
@@ -390,16 +551,15 @@ void vs_limit_analysis_free(vs_limit_analysis *a) {
 
 /* The load factor (with a live load) and the thrusts, on the arch as defined; *basis (malloc'd,
  * or NULL) the least thrust's, from which the others and the thickness's trials start. */
-static vs_status solve_arch(const vs_run_def *d, const vs_limit_opts *o, vs_limit_analysis *a,
-                            unsigned char **basis, vs_error *err) {
+static vs_status solve_arch(const vs_run_def *d, const vs_limit_opts *o, const pose *p,
+                            vs_limit_analysis *a, unsigned char **basis, vs_error *err) {
   vs_geometry *g = NULL;
   vs_limit *l = NULL;
   vs_limit_force *live = NULL;
   int n_live = 0;
   vs_status st = arch_scaled(d, 1.0, &g, err);
   if (st == VS_OK) st = vs_limit_live_load(g, &d->load, &d->fill, &live, &n_live, err);
-  if (st == VS_OK) st = vs_limit_create(g, o, live, n_live, &l, err);
-  if (st == VS_OK) st = add_fill(d, g, l, err);
+  if (st == VS_OK) st = lp_of(d, g, p, live, n_live, o, &l, err);
   a->have_load = n_live > 0;
   /* the least thrust from scratch, the other two from its basis (the same rows and columns) */
   if (st == VS_OK) st = vs_limit_solve(l, VS_LIMIT_THRUST_MIN, &a->thrust_min, err);
@@ -419,8 +579,9 @@ static vs_status solve_arch(const vs_run_def *d, const vs_limit_opts *o, vs_limi
   return st;
 }
 
-vs_status vs_limit_analyse(const vs_run_def *d, const vs_limit_opts *o, vs_limit_analysis *a,
-                           vs_error *err) {
+/* The analysis of d's arch, moved by p (NULL: as built). */
+static vs_status analyse(const vs_run_def *d, const vs_limit_opts *o, const pose *p,
+                         vs_limit_analysis *a, vs_error *err) {
   memset(a, 0, sizeof *a);
   a->load_block = -1;
   a->thickness_factor = a->thickness_bracket[0] = a->thickness_bracket[1] = NAN;
@@ -435,12 +596,61 @@ vs_status vs_limit_analyse(const vs_run_def *d, const vs_limit_opts *o, vs_limit
   }
   const double t0 = vs_cpu_now();
   unsigned char *basis = NULL;
-  vs_status st = solve_arch(d, &opts, a, &basis, err);
+  vs_status st = solve_arch(d, &opts, p, a, &basis, err);
   if (st == VS_OK)
-    st = thickness_factor(d, &opts, a->thrust_min.outcome != VS_LIMIT_INFEASIBLE, basis, a, err);
+    st = thickness_factor(d, &opts, p, a->thrust_min.outcome != VS_LIMIT_INFEASIBLE, basis, a,
+                          err);
   else
     free(basis);
+  if (st == VS_OK && p != NULL) {
+    vs_limit_solution *sols[3] = {&a->collapse, &a->thrust_min, &a->thrust_max};
+    for (int i = 0; i < 3; i++) uncut_solution(p, opts.touch, sols[i]);
+    uncut_solution(p, /* the critical line's edges, as widen_touches */
+                   isfinite(a->thickness_factor)
+                       ? 2.0 * (a->thickness_bracket[1] - a->thickness_bracket[0]) /
+                             a->thickness_bracket[1]
+                       : opts.touch,
+                   &a->thickness);
+  }
   a->cpu_s = vs_cpu_now() - t0;
   if (st != VS_OK) vs_limit_analysis_free(a);
+  return st;
+}
+
+vs_status vs_limit_analyse(const vs_run_def *d, const vs_limit_opts *o, vs_limit_analysis *a,
+                           vs_error *err) {
+  return analyse(d, o, NULL, a, err);
+}
+
+vs_status vs_limit_analyse_moved(const vs_run_def *d, const vs_geometry *ref, const double *q,
+                                 const double qs[6], const double *gap, const vs_limit_opts *o,
+                                 vs_limit_analysis *a, vs_error *err) {
+  if (ref == NULL || q == NULL || qs == NULL) {
+    memset(a, 0, sizeof *a);
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "limit: a deformed configuration needs its reference geometry and the "
+                        "blocks' and supports' motions (given NULL)");
+  }
+  for (int i = 0; gap != NULL && i < 2 * ref->n_joints; i++)
+    if (!isfinite(gap[i])) {
+      memset(a, 0, sizeof *a);
+      return vs_error_set(err, VS_ERR_INVALID, "limit: joint %d's opening is not finite",
+                          i / 2 + 1);
+    }
+  for (int i = 0; i < 3 * ref->n_blocks; i++)
+    if (!isfinite(q[i])) {
+      memset(a, 0, sizeof *a);
+      return vs_error_set(err, VS_ERR_INVALID, "limit: block %d's motion is not finite",
+                          i / 3 + 1);
+    }
+  pose p = {ref, q, qs, calloc(2 * (size_t)(ref->n_joints > 0 ? ref->n_joints : 1), sizeof(double))};
+  if (p.seg == NULL) {
+    memset(a, 0, sizeof *a);
+    return vs_error_set(err, VS_ERR_NOMEM, "limit: out of memory");
+  }
+  for (int k = 0; k < ref->n_joints; k++) p.seg[2 * k + 1] = 1.0;
+  if (gap != NULL) contact_segments(gap, ref->n_joints, d->hinges.open, p.seg);
+  const vs_status st = analyse(d, o, &p, a, err);
+  free(p.seg);
   return st;
 }

@@ -460,11 +460,12 @@ static vs_status lp_path_run(vs_lp_solver *s, lp_path *w, vs_load_step_fn fn, vo
       return vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
     /* past the peak, lambda down by drop: the collapse, once u has gone follow beyond the peak
      * (on the arc, where u need not grow, once VS_LP_ARC_PATIENCE steps found no larger
-     * lambda), or once lambda is gone */
+     * lambda). Not where lambda is gone: a held arch's snap under the load (a hinge jumping to
+     * the next joint) can take the path through lambda <= 0 and up again beyond its first
+     * peak, to where the arch carries more (the load control's snap lands there) */
     arc_since_best = lam >= best ? 0 : arc_since_best + s->arc;
     if (res->peaked && lam < (1.0 - o->drop) * best &&
-        ((!s->arc && unew - res->u_peak >= o->follow) || arc_since_best >= VS_LP_ARC_PATIENCE ||
-         lam <= 0.0)) {
+        ((!s->arc && unew - res->u_peak >= o->follow) || arc_since_best >= VS_LP_ARC_PATIENCE)) {
       res->end = VS_LOAD_END_PEAK;
       return VS_OK;
     }
