@@ -21,8 +21,10 @@
 #include "list.h"
 
 
-/* Every key of c as INI text (sections in table order); returns a malloc'd string. */
-static char *serialise(const vs_case *c) {
+/* Every key of c as INI text (sections in table order); returns a malloc'd string. *fits: 0 when a
+ * line is longer than the reader takes. */
+static char *serialise(const vs_case *c, int *fits) {
+  *fits = 1;
   size_t cap = 16384, used = 0;
   char *out = malloc(cap);
   CHECK(out != NULL);
@@ -36,8 +38,14 @@ static char *serialise(const vs_case *c) {
     last = sec;
     const char *name = is_int ? vs_case_key_name_of(i, (int)v) : NULL;
     char text[4096];
-    if (vs_case_key_text(c, i, text, sizeof text) == 1) /* a file name, a list */
-      used += (size_t)snprintf(out + used, cap - used, "%s = %s\n", key, text);
+    if (vs_case_key_text(c, i, text, sizeof text) == 1) { /* a file name, a list */
+      /* written key=value, no blanks: the line read held at least that (the reader's limit is
+       * 199 characters a line); a list written with %.17g may be longer than it was read, and
+       * past the limit the round trip does not apply (*fits = 0) */
+      const int n = snprintf(out + used, cap - used, "%s=%s\n", key, text);
+      if (n - 1 > 199) *fits = 0;
+      used += (size_t)n;
+    }
     else if (name != NULL) /* a named choice (support.left_kind, dynamic.damping_model, ...) */
       used += (size_t)snprintf(out + used, cap - used, "%s = %s\n", key, name);
     else if (is_int)
@@ -57,10 +65,14 @@ static void check_case(const uint8_t *data, size_t size) {
     CHECK(err.status != VS_OK && err.msg[0] != '\0');
     return;
   }
-  char *text = serialise(&c);
+  int fits;
+  char *text = serialise(&c, &fits);
   vs_case_defaults(&again);
   again.radius_mm = 1.0; /* so that a key the text omitted would show */
-  if (vs_case_parse(&again, "again.ini", text, strlen(text), &err) != VS_OK) {
+  /* a list written longer than it was read, past the reader's line: no round trip, the values'
+   * own checks below still apply (against themselves) */
+  if (!fits) again = c;
+  else if (vs_case_parse(&again, "again.ini", text, strlen(text), &err) != VS_OK) {
     fprintf(FUZZ_REPORT, "fuzz_case: re-reading the accepted case failed: %s\n%s", err.msg,
             text);
     abort();
