@@ -137,7 +137,7 @@ typedef struct {
 
 /* The interfaces' law (joint.h): no-tension elastic normal response, elastic shear limited by
  * Coulomb friction; with mortar (ft, c > 0; vs_joint_normal_mortar) tension and cohesion that
- * soften to zero. The model does not yet use the mortar's: vs_run refuses a def with any set. */
+ * soften to zero (vs_run checks their ranges). */
 typedef struct {
   double kn; /* normal stiffness per unit area, N/m^3 */
   double ks; /* shear stiffness per unit area, N/m^3 */
