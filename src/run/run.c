@@ -248,7 +248,7 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
     r->q = calloc((size_t)vs_model_size(r->m), sizeof *r->q);
     r->v = calloc((size_t)vs_model_size(r->m), sizeof *r->v);
     r->q_rest = calloc((size_t)vs_model_size(r->m), sizeof *r->q_rest);
-    r->js = calloc((size_t)r->g->n_joints, sizeof *r->js);
+    r->js = calloc(2 * (size_t)r->g->n_joints, sizeof *r->js); /* and the hinges' view */
     if (r->q == NULL || r->v == NULL || r->q_rest == NULL || r->js == NULL ||
         vs_run_slips_create(r) != 0)
       st = vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
