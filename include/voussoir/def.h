@@ -231,6 +231,11 @@ typedef struct {
   double thickness_cov; /* CoV of the voussoirs' thickness */
   double support_dx;    /* initial offset of the moving support, outward, m */
   double support_dz;    /* ... downward, m */
+  /* mortar (joints' ft, gf > 0): each joint's f_t and G_f scattered (lognormal, mean the
+   * nominal), and a fraction of the joints debonded (f_t = c = 0: dry) */
+  double tensile_cov;   /* CoV of each joint's tensile strength f_t */
+  double gf_cov;        /* CoV of each joint's fracture energy G_f */
+  double debonded;      /* probability that a joint is debonded, [0, 1] */
 } vs_imperfection_def;
 
 /* The live load, scaled by the load factor lambda (limit.h). */

@@ -266,6 +266,14 @@ static const key_spec keys[] = {
         "initial offset of the moving support, outward"),
     KEY(imperfections, support_dz_mm, 0.0, -100.0, true, 100.0, true, "mm",
         "initial offset of the moving support, downward"),
+    KEY(imperfections, tensile_cov, 0.0, 0.0, true, 3.0, true, "",
+        "mortar: coefficient of variation of each joint's tensile strength f_t (lognormal, mean "
+        "joints.tensile_MPa)"),
+    KEY(imperfections, gf_cov, 0.0, 0.0, true, 3.0, true, "",
+        "mortar: coefficient of variation of each joint's fracture energy G_f (lognormal, mean "
+        "joints.gf_N_mm)"),
+    KEY(imperfections, debonded, 0.0, 0.0, true, 1.0, true, "",
+        "mortar: probability that a joint is debonded (no tension, no cohesion: a dry joint)"),
     KEY(run, max_wall_s, 0.0, 0.0, true, 1e6, true, "s",
         "wall-time limit of a run (0: none); once passed the run stops at its next step, its "
         "record marked stopped"),
@@ -1120,7 +1128,10 @@ void vs_case_to_def(const vs_case *c, vs_run_def *d) {
                                            .angle_cov = c->angle_cov,
                                            .thickness_cov = c->thickness_cov,
                                            .support_dx = c->support_dx_mm * VS_MM,
-                                           .support_dz = c->support_dz_mm * VS_MM};
+                                           .support_dz = c->support_dz_mm * VS_MM,
+                                           .tensile_cov = c->tensile_cov,
+                                           .gf_cov = c->gf_cov,
+                                           .debonded = c->debonded};
   d->max_wall_s = c->max_wall_s;
   d->load = (vs_load_def){.kind = (vs_load_kind)c->kind,
                           .value = c->value_N,
