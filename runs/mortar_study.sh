@@ -5,7 +5,8 @@
 # / 2), no cohesion; then the sensitivity to G_f at alpha = 0 and f_t = 2 kPa (du = 0.05 to 1
 # mm). Runs to collapse (--no-record). Prints the tables docs/mortar.md shows: delta_u against
 # f_t (the dry arch the limit), the support displacement at the first crack, the hinges and the
-# mode at the collapse, and the G_f table. Writes out/mortar/runs.csv.
+# mode at the collapse, and the G_f table. Writes out/mortar/runs.csv and the figure
+# docs/mortar.png (delta_u / L against f_t, one line per direction; with matplotlib).
 # usage: runs/mortar_study.sh [-j N]
 set -euo pipefail
 source "$(dirname "$0")/lib.sh"
@@ -77,4 +78,25 @@ with open(os.path.join(d, "runs.csv"), "w", newline="") as fh:
     for du, r in G.items():
         w.writerow([0, 0.002, du, r["du"], r["crack"], r["crack_at"], r["hinges"], r["mode"],
                     r["cracking"], r["status"]])
+try:
+    import matplotlib
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+except ImportError:
+    sys.exit(0)
+L = 533.0
+fig = Figure(figsize=(6.5, 4.0), dpi=120)
+ax = fig.add_subplot()
+x = [float(ft) * 1e3 for ft in fts[1:]]
+for a in (0, 15, 30, 45, 90):
+    y = [R[a, ft]["du"] / L * 100 if R[a, ft]["du"] is not None else float("nan") for ft in fts[1:]]
+    line, = ax.plot(x, y, marker="o", label=f"alpha {a} deg")
+    ax.axhline(R[a, "0"]["du"] / L * 100, color=line.get_color(), ls=":", lw=0.8)
+ax.set_xscale("log")
+ax.set_xlabel("mortar tensile strength f_t (kPa; softening to 2 G_f / f_t = 0.2 mm)")
+ax.set_ylabel("delta_u / L (%)")
+ax.set_title("reference specimen, k_n = 3 N/mm^3: dotted, the dry arch", fontsize=9)
+ax.legend(fontsize=8)
+fig.tight_layout()
+fig.savefig(os.environ.get("MORTAR_FIGURE", os.path.join(d, "mortar.png")))
 PY
