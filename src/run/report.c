@@ -314,7 +314,8 @@ static const vs_run_event *first_crack(const vs_run *r) {
   return f;
 }
 
-/* ,"first_crack":{delta_mm, joint, side} (null: no joint cracked), for a mortared run. */
+/* ,"first_crack":{delta_mm, joint, side} (null: no joint cracked), for a mortared run; on a
+ * load path (delta the held support displacement) with the load factor where it cracked. */
 static void json_first_crack(FILE *out, const vs_run *r) {
   if (!is_mortared(r)) return;
   const vs_run_event *f = first_crack(r);
@@ -324,7 +325,9 @@ static void json_first_crack(FILE *out, const vs_run *r) {
     return;
   }
   jnum(out, "{\"delta_mm\":", f->delta / VS_MM, 10);
-  fprintf(out, ",\"joint\":%d,\"side\":\"%c\"}", f->joint, f->side);
+  fprintf(out, ",\"joint\":%d,\"side\":\"%c\"", f->joint, f->side);
+  if (isfinite(f->load_factor)) jnum(out, ",\"load_factor\":", f->load_factor, 10);
+  fputc('}', out);
 }
 
 static void text_mortar(FILE *out, const vs_run *r) {
@@ -334,8 +337,11 @@ static void text_mortar(FILE *out, const vs_run *r) {
           c->tensile_MPa, c->cohesion_MPa, c->gf_N_mm, c->gc_N_mm);
   const vs_run_event *f = first_crack(r);
   if (f != NULL)
-    fprintf(out, "         first crack: joint %d at the %s at %.4f mm (tensile stress f_t)\n",
+    fprintf(out, "         first crack: joint %d at the %s at %.4f mm (tensile stress f_t)",
             f->joint, f->side == 'I' ? "intrados" : "extrados", f->delta / VS_MM);
+  if (f != NULL && isfinite(f->load_factor))
+    fprintf(out, ", load factor %.6g", f->load_factor);
+  if (f != NULL) fputc('\n', out);
   else
     fputs("         no joint cracked\n", out);
   int n = 0;
