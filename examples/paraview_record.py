@@ -8,7 +8,7 @@ usage: pvpython paraview_record.py RECORD.xmf|RECORD.h5 [--field theta_rad] [--o
   RECORD.xmf: the sidecar `voussoir run -o RECORD.h5` writes beside the record (a bare name
   works: it is made absolute before ParaView opens it); --field: a cell field of the sidecar
   (docs/record.md: theta_rad, ux_m, uz_m, speed_m_s, N_N, T_N, M_N_m, gap_i_m, gap_e_m,
-  hinge_0closed_1intrados_2extrados, Fx_N, Fz_N); --frames: N frames evenly spread over the
+  hinge_0closed_1intrados_2extrados, Fx_N, Fz_N, crack_i_m, crack_e_m); --frames: N frames evenly spread over the
   sidecar's steps (default: every step); --out: where STEM.NNNN.png go (default: STEM_frames).
 Prints one line per frame: its file, loading time (s), support displacement (mm) and phase.
 Without a display: run it under xvfb-run, or with pvpython --force-offscreen-rendering."""

@@ -22,7 +22,7 @@ from vtkmodules.vtkIOImage import vtkPNGReader
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 FIELDS = ["theta_rad", "ux_m", "uz_m", "speed_m_s", "N_N", "T_N", "M_N_m", "gap_i_m", "gap_e_m",
-          "hinge_0closed_1intrados_2extrados", "Fx_N", "Fz_N"]
+          "hinge_0closed_1intrados_2extrados", "Fx_N", "Fz_N", "crack_i_m", "crack_e_m"]
 GRIDS = ["blocks", "joints", "support_left", "support_right", "ground"]  # a row's order
 OWN = {"blocks": "theta_rad", "joints": "N_N", "support_left": "Fz_N", "support_right": "Fz_N"}
 
@@ -34,7 +34,7 @@ def fail(msg):
 
 class Record:
     """What a record's row should look like in ParaView: per grid, its points (x, z), cells and
-    the 12 fields (its own from the record, the others NaN)."""
+    the 14 fields (its own from the record, the others NaN)."""
 
     def __init__(self, path):
         with h5py.File(path, "r") as f:
@@ -46,6 +46,7 @@ class Record:
             self.joint = {k: g(f"observables/joint_{v}/value") for k, v in
                           (("N_N", "N"), ("T_N", "T"), ("M_N_m", "M"), ("gap_i_m", "gap_i"),
                            ("gap_e_m", "gap_e"), ("hinge_0closed_1intrados_2extrados", "hinge"))}
+            self.crack = g("observables/joint_crack/value")
             self.react, self.sup = g("observables/reactions/value"), g("observables/support_displacement/value")
             self.bc, self.jc = g("geometry/block_connectivity"), g("geometry/joint_connectivity")
             self.ground = g("summary/ground/points") if "summary/ground/points" in f else None
@@ -75,6 +76,7 @@ class Record:
         b.update(theta_rad=self.bpos[r, :, 2], ux_m=self.bpos[r, :, 0], uz_m=self.bpos[r, :, 1], speed_m_s=self.bs[r])
         j = nan(self.nj)
         j.update({k: v[r] for k, v in self.joint.items()})
+        j.update(crack_i_m=self.crack[r, :, 0], crack_e_m=self.crack[r, :, 1])
         sl, sr = nan(1), nan(1)
         sl.update(Fx_N=self.react[r, 0:1], Fz_N=self.react[r, 1:2], M_N_m=self.react[r, 2:3])
         sr.update(Fx_N=self.react[r, 3:4], Fz_N=self.react[r, 4:5], M_N_m=self.react[r, 5:6],
@@ -250,7 +252,7 @@ def main():
             kind = reader.GetXMLName()
             tag = f"{name}.xmf {kind}"
             steps, checked, grids = check_frames(reader, rec, tag)
-            line = (f"{tag}: {steps} steps; {checked} frames, each grid's points, cells and 12 fields "
+            line = (f"{tag}: {steps} steps; {checked} frames, each grid's points, cells and {len(FIELDS)} fields "
                     f"equal to the record's (NaN off its own)")
             if name == "run":
                 # a quasi-static row: the supports carry the weight, upward, and cancel horizontally

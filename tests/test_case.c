@@ -159,6 +159,9 @@ static const key_case all_keys[] = {
     {"imperfections", "thickness_cov", "-0.01", "0.51", {"0", "0.5"}},
     {"imperfections", "support_dx_mm", "-100.1", "100.1", {"-100", "100"}},
     {"imperfections", "support_dz_mm", "-100.1", "100.1", {"-100", "100"}},
+    {"imperfections", "tensile_cov", "-0.1", "3.01", {"0", "3"}},
+    {"imperfections", "gf_cov", "-0.1", "3.01", {"0", "3"}},
+    {"imperfections", "debonded", "-0.1", "1.01", {"0", "1"}},
     {"run", "max_wall_s", "-1e-9", "1.0000001e6", {"0", "1e6"}},
     {"load", "value_N", "0", "1.1e9", {"1e9", "1e-6"}},
     {"load", "x_mm", "-1.1e6", "1.1e6", {"-1e6", "1e6"}},
@@ -397,7 +400,7 @@ static void check_out_of_range(const key_case *k, const char *value) {
 
 static void test_every_key_out_of_range(void **state) {
   (void)state;
-  assert_int_equal(NKEYS_TESTED, 71);
+  assert_int_equal(NKEYS_TESTED, 74);
   for (size_t i = 0; i < NKEYS_TESTED; i++) {
     check_out_of_range(&all_keys[i], all_keys[i].below);
     if (all_keys[i].above != NULL) check_out_of_range(&all_keys[i], all_keys[i].above);

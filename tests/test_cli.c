@@ -628,24 +628,18 @@ static void test_strict_input(void **state) {
   remove(pb.p);
 }
 
-/* Mortar keys the model does not use yet: refused by name (exit 2, nothing written), never run
- * as a dry arch; the softening's bound G_f > f_t^2 / (2 k_n) named likewise. */
+/* Mortar keys out of range: refused by name (exit 2, nothing written); the softening's bounds
+ * G_f > f_t^2 / (2 k_n) and G_c > c^2 / (2 k_s) named likewise. */
 static void test_mortar_refused(void **state) {
   (void)state;
-  expect_bad_input("run '" REFERENCE "' -q --json --set joints.tensile_MPa=0.1 --set "
-                   "joints.gf_N_mm=0.05",
-                   "joints.tensile_MPa = 0.1: mortar joints are not yet supported");
-  expect_bad_input("run '" REFERENCE "' -q --set joints.cohesion_MPa=0.2 --set "
-                   "joints.gc_N_mm=0.5",
-                   "joints.cohesion_MPa = 0.2: mortar joints are not yet supported");
   expect_bad_input("run '" REFERENCE "' -q --set joints.cohesion_MPa=0.2",
                    "joints.gc_N_mm = 0: with joints.cohesion_MPa = 0.2 must be >");
-  expect_bad_input("run '" REFERENCE "' -q --set joints.gc_N_mm=0.1",
-                   "joints.gc_N_mm = 0.1: mortar joints are not yet supported");
   expect_bad_input("run '" REFERENCE "' -q --set joints.tensile_MPa=1",
                    "joints.gf_N_mm = 0: with joints.tensile_MPa = 1 must be >");
   expect_bad_input("run '" REFERENCE "' -q --set joints.tensile_MPa=-1",
                    "joints.tensile_MPa = -1: out of range (allowed: [0, 100] MPa)");
+  expect_bad_input("run '" REFERENCE "' -q --set joints.gf_N_mm=1001",
+                   "joints.gf_N_mm = 1001: out of range (allowed: [0, 1000] N/mm)");
 }
 
 int main(void) {

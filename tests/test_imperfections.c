@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "check.h"
 #include "joint_reference.h"
 #include "voussoir/imperfections.h"
 #include "voussoir/joint.h"
@@ -269,10 +270,81 @@ static void test_support_offset_is_a_head_start(void **state) {
   }
 }
 
+/* Mortar as an imperfection: over 2000 samples x 56 joints the debonded share is the asked
+ * probability (within 5 binomial standard errors), the f_t factors of the bonded joints and the
+ * G_f factors have mean 1 and their CoV (5 standard errors), the other streams are untouched
+ * (k_n's factors as without the mortar's scatter); and a run's joint laws are the nominal ones
+ * times the factors, a debonded joint dry (f_t = c = 0), every G_f beyond f_t^2 / (2 k_n). */
+static void test_mortar_scatter(void **state) {
+  (void)state;
+  vs_case c, k0;
+  vs_case_defaults(&c);
+  set(&c, "joints.tensile_MPa=0.002");
+  set(&c, "joints.gf_N_mm=0.0002");
+  set(&c, "joints.cohesion_MPa=0.001");
+  set(&c, "joints.gc_N_mm=0.01");
+  set(&c, "imperfections.kn_cov=0.2");
+  k0 = c;
+  set(&c, "imperfections.tensile_cov=0.4");
+  set(&c, "imperfections.gf_cov=0.5");
+  set(&c, "imperfections.debonded=0.3");
+  double n = 0, off = 0, sf = 0, sf2 = 0, nf = 0, sg = 0, sg2 = 0;
+  for (int smp = 0; smp < 2000; smp++) {
+    c.sample = k0.sample = smp;
+    vs_imperfections *p = NULL, *q = NULL;
+    vs_error err;
+    assert_int_equal(draw(&c, &p, &err), VS_OK);
+    assert_int_equal(draw(&k0, &q, &err), VS_OK);
+    assert_memory_equal(p->kn_factor, q->kn_factor, (size_t)p->n_joints * sizeof(double));
+    for (int k = 0; k < q->n_joints; k++) assert_true(q->ft_factor[k] == 1.0 && q->gf_factor[k] == 1.0);
+    for (int k = 0; k < p->n_joints; k++, n++) {
+      const double f = p->ft_factor[k], g = p->gf_factor[k];
+      sg += g, sg2 += g * g;
+      if (f == 0.0) {
+        off++;
+        continue;
+      }
+      sf += f, sf2 += f * f, nf++;
+    }
+    vs_imperfections_destroy(&p);
+    vs_imperfections_destroy(&q);
+  }
+  const double share = off / n, se = sqrt(0.3 * 0.7 / n);
+  if (fabs(share - 0.3) > 5 * se) fail_msg("debonded share %.5f (5 se %.2g)", share, 5 * se);
+  const double mf = sf / nf, cf = sqrt(sf2 / nf - mf * mf), mg = sg / n, cg = sqrt(sg2 / n - mg * mg);
+  if (fabs(mf - 1) > 5 * 0.4 / sqrt(nf)) fail_msg("f_t factor mean %.5f", mf);
+  if (fabs(cf - 0.4) > 5 * 0.4 * sqrt(6.0 / (4.0 * nf))) fail_msg("f_t factor CoV %.5f", cf);
+  if (fabs(mg - 1) > 5 * 0.5 / sqrt(n)) fail_msg("G_f factor mean %.5f", mg);
+  if (fabs(cg - 0.5) > 5 * 0.5 * sqrt(12.0 / (4.0 * n))) fail_msg("G_f factor CoV %.5f", cg);
+  /* the laws of one sample's run */
+  c.sample = 7;
+  vs_run *r = NULL;
+  vs_error err;
+  if (vs_run_create(&c, &r, &err) != VS_OK) fail_msg("%s", err.msg);
+  const vs_imperfections *p = vs_run_imperfections(r);
+  int seen_off = 0;
+  for (int k = 0; k < p->n_joints; k++) {
+    const vs_joint_law *l = vs_model_joint_law(vs_run_model(r), k);
+    const double ft = 0.002 * VS_MPA * p->ft_factor[k], bound = ft * ft / (2 * l->kn);
+    CHECK(l->ft, ft, 1e-15, 0);
+    if (p->ft_factor[k] == 0.0) {
+      seen_off++;
+      assert_true(l->ft == 0.0 && l->c == 0.0);
+    } else {
+      CHECK(l->c, 0.001 * VS_MPA, 1e-15, 0);
+      CHECK(l->gf, fmax(0.0002 * VS_N_MM * p->gf_factor[k], bound * 1.000001), 1e-15, 0);
+      assert_true(l->gf > bound);
+    }
+  }
+  assert_true(seen_off > 0);
+  vs_run_destroy(&r);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_draws_depend_on_key_only),
       cmocka_unit_test(test_lognormal_moments),
+      cmocka_unit_test(test_mortar_scatter),
       cmocka_unit_test(test_tilted_face_closed_form),
       cmocka_unit_test(test_gap_jacobian_central_differences),
       cmocka_unit_test(test_scattered_arch_closes),

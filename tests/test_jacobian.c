@@ -383,6 +383,76 @@ static void test_jacobian_random_states(void **state) {
   SUNContext_Free(&ctx);
 }
 
+/* A mortared arch (tension f_t softening by G_f, cohesion c by G_c; some joints cracked in
+ * from an edge, some with cohesion already softened): the Jacobian against central differences
+ * of the residual, in states where joints are in elastic tension, softening, cracked through,
+ * partly in contact, sticking and sliding; each drawn clear of the law's kinks (within 1e-7 m of
+ * a breakpoint of the stress-opening curve at an edge, within 0.05 N of the shear limit, whose
+ * own kink is where it reaches zero). */
+static int mortar_clear(const fixture *fx, const double *q, double delta, int *soft, int *slid) {
+  vs_joint_state *st = malloc((size_t)fx->nj * sizeof *st);
+  assert_non_null(st);
+  vs_model_joint_states(fx->m, q, delta, st);
+  const double *sp = vs_model_slips(fx->m);
+  int ok = 1;
+  *soft = *slid = 0;
+  for (int j = 0; j < fx->nj; j++) {
+    const vs_joint_law *l = vs_model_joint_law(fx->m, j);
+    const double t = fx->t, b = fx->g->joints[j].depth;
+    const double d0 = l->ft / l->kn, du = 2 * l->gf / l->ft;
+    for (int e = -1; e <= 1; e += 2) {
+      const double p = st[j].a + e * 0.5 * st[j].w * t;
+      if (fabs(p) < 1e-7 || fabs(p + d0) < 1e-7 || fabs(p + du) < 1e-7) ok = 0;
+      if (p < -d0 && p > -du) (*soft)++;
+    }
+    const double ku = 2 * l->gc / l->c, bonded = t - l->crack[0] - l->crack[1];
+    const double coh = l->kappa < ku ? l->c * b * bonded * (1 - l->kappa / ku) : 0;
+    const double lim = fmax(0, coh + l->mu * st[j].N);
+    const double trial = fabs(l->ks * b * t * (st[j].slip - sp[j]));
+    if (fabs(trial - lim) < 0.05 || fabs(coh + l->mu * st[j].N) < 0.05) ok = 0;
+    *slid += st[j].sliding;
+  }
+  free(st);
+  return ok;
+}
+
+static void test_jacobian_mortar(void **state) {
+  (void)state;
+  SUNContext ctx = NULL;
+  assert_int_equal(SUNContext_Create(NULL, &ctx), 0);
+  rng r = {0x13198A2E03707344ULL};
+  fixture fx;
+  fixture_init(&fx, 30);
+  vs_error err;
+  for (int k = 0; k < fx.nj; k++) {
+    vs_joint_law l = fx.law;
+    l.ft = 1e4, l.gf = 0.5, l.c = 1e3, l.gc = 0.05; /* d0 3.3 um, du 100 um */
+    if (k % 3 == 1) l.crack[0] = 0.3 * fx.t;
+    if (k % 3 == 2) l.crack[1] = 0.2 * fx.t, l.kappa = 1e-5;
+    assert_int_equal(vs_model_set_joint_law(fx.m, k, &l, &err), VS_OK);
+  }
+  double *q = malloc((size_t)fx.n * sizeof(double));
+  assert_non_null(q);
+  int checked = 0, soft_all = 0, slid_all = 0;
+  for (int attempt = 0; attempt < 400 && checked < 4; attempt++) {
+    for (int i = 0; i < fx.n; i++) q[i] = 0;
+    state_chain(&r, &fx, 0.01, attempt % 2, q);
+    int soft, slid;
+    if (!mortar_clear(&fx, q, 0.01, &soft, &slid)) continue;
+    char label[96];
+    snprintf(label, sizeof label, "mortar state %d (softening edges %d, sliding %d)", checked,
+             soft, slid);
+    check_jacobian_at(&fx, ctx, q, 0.01, label);
+    checked++, soft_all += soft, slid_all += slid;
+  }
+  assert_int_equal(checked, 4);
+  assert_true(soft_all >= 10); /* the softening branch is exercised */
+  assert_true(slid_all >= 3);
+  free(q);
+  fixture_free(&fx);
+  SUNContext_Free(&ctx);
+}
+
 /* With pinned supports (each alone and both) the static unknowns gain the supports' rotations
  * and their moment equations: the Jacobian, dG/ddelta and G = dE/dq (the rotation's equation is
  * the moment of the springing joint about the pivot) against central differences. */
@@ -630,6 +700,7 @@ int main(void) {
       cmocka_unit_test(test_support_displacement),
       cmocka_unit_test(test_jacobian_random_states),
       cmocka_unit_test(test_jacobian_pinned),
+      cmocka_unit_test(test_jacobian_mortar),
       cmocka_unit_test(test_jacobian_after_commit),
       cmocka_unit_test(test_residual_is_energy_gradient),
       cmocka_unit_test(test_dae_jacobian),

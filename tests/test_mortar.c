@@ -349,9 +349,9 @@ static void test_shear_derivatives(void **state) {
   assert_true(sliding > 500);
 }
 
-/* The model does not use the mortar yet: a run's def with any of it is refused by name, and
- * the case's keys reach the def in SI. */
-static void test_run_refuses_mortar(void **state) {
+/* A case's mortar keys reach the def in SI and a run takes them; out-of-range values are
+ * refused by name with the allowed range, by the case and by the run's def alike. */
+static void test_run_mortar_ranges(void **state) {
   (void)state;
   vs_case c;
   vs_error err;
@@ -366,13 +366,34 @@ static void test_run_refuses_mortar(void **state) {
   CHECK(d.joints.c, 2e5, 1e-15, 0);
   CHECK(d.joints.gf, 50.0, 1e-15, 0);
   CHECK(d.joints.gc, 500.0, 1e-15, 0);
-  assert_int_equal(vs_case_validate(&c, &err), VS_ERR_INVALID);
-  assert_non_null(strstr(err.msg, "not yet supported"));
-  vs_run *r = NULL;
   vs_error_clear(&err);
+  assert_int_equal(vs_case_validate(&c, &err), VS_OK);
+  vs_run *r = NULL;
+  assert_int_equal(vs_run_create_def(&d, &r, &err), VS_OK);
+  vs_run_destroy(&r);
+  /* G_f below f_t^2 / (2 k_n) (= 0.1^2 / 6 N/mm here): refused, naming the key */
+  c.gf_N_mm = 0.9 * 0.1 * 0.1 / (2.0 * c.kn_N_mm3);
+  assert_int_equal(vs_case_validate(&c, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "joints.gf_N_mm"));
+  vs_case_to_def(&c, &d);
   assert_int_equal(vs_run_create_def(&d, &r, &err), VS_ERR_INVALID);
   assert_null(r);
-  assert_non_null(strstr(err.msg, "not yet supported"));
+  assert_non_null(strstr(err.msg, "joints.gf_N_mm"));
+  /* G_c below c^2 / (2 k_s) */
+  c.gf_N_mm = 0.05;
+  c.gc_N_mm = 0.9 * 0.2 * 0.2 / (2.0 * c.ks_ratio * c.kn_N_mm3);
+  assert_int_equal(vs_case_validate(&c, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "joints.gc_N_mm"));
+  vs_case_to_def(&c, &d);
+  assert_int_equal(vs_run_create_def(&d, &r, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "joints.gc_N_mm"));
+  /* a negative strength in a library caller's def */
+  vs_case_defaults(&c);
+  vs_case_to_def(&c, &d);
+  d.joints.ft = -1.0;
+  assert_int_equal(vs_run_create_def(&d, &r, &err), VS_ERR_INVALID);
+  assert_non_null(strstr(err.msg, "joints.tensile_MPa"));
+  assert_non_null(strstr(err.msg, "allowed"));
   /* dry: the same def runs */
   vs_case_defaults(&c);
   vs_case_to_def(&c, &d);
@@ -383,7 +404,7 @@ static void test_run_refuses_mortar(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_run_refuses_mortar),
+      cmocka_unit_test(test_run_mortar_ranges),
       cmocka_unit_test(test_dry_bit_for_bit),
       cmocka_unit_test(test_cracking_moment_and_post_peak),
       cmocka_unit_test(test_tension_dissipates_gf),

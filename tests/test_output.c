@@ -273,7 +273,7 @@ static void check_root(hid_t f, const char *text, const char *status) {
  * XDMF: balanced tags; every HDF data item names an existing dataset of the shape it states;
  * hyperslabs inside their datasets; times strictly increasing; the items every row shares
  * defined once, as children of the Domain named by xml:id, and every XInclude naming such
- * items; every grid, its includes resolved, with one topology, one geometry and each of the 12
+ * items; every grid, its includes resolved, with one topology, one geometry and each of the 14
  * fields once, theta_rad first, every field on every cell, the included ones NaN. */
 
 static const char *attr_in_tag(const char *tag, const char *end, const char *name, char *out,
@@ -302,10 +302,10 @@ static int parse_dims(const char *s, hsize_t *d, int max) {
   return n;
 }
 
-static const char *const XDMF_FIELDS[12] = {
+static const char *const XDMF_FIELDS[14] = {
     "theta_rad", "ux_m",  "uz_m",    "speed_m_s", "N_N",
     "T_N",       "M_N_m", "gap_i_m", "gap_e_m",   "hinge_0closed_1intrados_2extrados",
-    "Fx_N",      "Fz_N"};
+    "Fx_N",      "Fz_N",  "crack_i_m", "crack_e_m"};
 
 typedef struct {
   int grids, hdf_items, slabs; /* time steps; HDF items and slabs in all */
@@ -430,9 +430,9 @@ static void grid_add_field(xdmf_grid *g, const char *name, unsigned long long ce
 static void grid_close(const xdmf_grid *g) {
   assert_int_equal(g->topologies, 1);
   assert_int_equal(g->geometries, 1);
-  assert_int_equal(g->nf, 12);
+  assert_int_equal(g->nf, 14);
   assert_string_equal(g->fields[0], "theta_rad");
-  for (int i = 0; i < 12; i++) {
+  for (int i = 0; i < 14; i++) {
     int n = 0;
     for (int k = 0; k < g->nf; k++) n += strcmp(g->fields[k], XDMF_FIELDS[i]) == 0;
     if (n != 1) fail_msg("XDMF: a grid carries %s %d times", XDMF_FIELDS[i], n);
@@ -893,18 +893,18 @@ static void test_quasistatic_record(void **state) {
   assert_int_equal(os.frames, xs.grids);
   assert_true(os.states == 0 && os.inline_ == 0);
   /* defined once: the topologies of the blocks and the joints (their connectivity), of one
-   * segment (inline), and the NaN fields, slabs of /xdmf/nan: 8 on the blocks' cells, 6 on the
-   * joints', 9 on one cell (those the supports lack) */
-  assert_int_equal(xs.defs, 3 + 23);
-  assert_int_equal(xs.nan_refs, 23);
+   * segment (inline), and the NaN fields, slabs of /xdmf/nan: 10 on the blocks' cells, 6 on the
+   * joints', 11 on one cell (those the supports lack) */
+  assert_int_equal(xs.defs, 3 + 27);
+  assert_int_equal(xs.nan_refs, 27);
   assert_int_equal(xs.nan_inline, 0);
-  /* per step, as slabs of their row: blocks 5 items (points, 4 fields), joints 7 (points, 6
+  /* per step, as slabs of their row: blocks 5 items (points, 4 fields), joints 9 (points, 8
    * fields), left support 4 (points, Fx, Fz, M), right support 6 (and its displacement); each
-   * grid includes its topology and the other of the 12 fields as NaN: 8 + 6 + 9 + 7 */
-  assert_int_equal(xs.hdf_items, 2 + 23 + xs.grids * 22);
-  assert_int_equal(xs.slabs, 23 + xs.grids * 22);
-  assert_int_equal(xs.own, xs.grids * 18);
-  assert_int_equal(xs.padded, xs.grids * 30);
+   * grid includes its topology and the other of the 14 fields as NaN: 10 + 6 + 11 + 9 */
+  assert_int_equal(xs.hdf_items, 2 + 27 + xs.grids * 24);
+  assert_int_equal(xs.slabs, 27 + xs.grids * 24);
+  assert_int_equal(xs.own, xs.grids * 20);
+  assert_int_equal(xs.padded, xs.grids * 36);
   assert_int_equal(xs.includes, xs.grids * 4 * 2);
   double *nan = read_all(f, "/xdmf/nan", &n);
   assert_int_equal(n, (size_t)vs_run_geometry(run)->n_joints); /* the largest grid */
@@ -949,8 +949,8 @@ static void test_quasistatic_record(void **state) {
   assert_int_equal(old.grids, xs.grids);
   assert_int_equal(old.defs, xs.defs);
   assert_int_equal(old.nan_refs, 0);
-  assert_int_equal(old.nan_inline, 23);
-  assert_int_equal(old.hdf_items, 2 + xs.grids * 22);
+  assert_int_equal(old.nan_inline, 27);
+  assert_int_equal(old.hdf_items, 2 + xs.grids * 24);
   assert_int_equal(old.padded, xs.padded);
   os = check_outlines(xmf, f, "qs.h5", 2000);
   assert_true(os.states == xs.grids && os.frames == 0 && os.inline_ == 0);

@@ -526,7 +526,9 @@ static void check_full(const char *prefix, const char *dir, const char *reason) 
 
 static void test_full_disk(void **s) {
   (void)s;
-  const char *sizes[] = {"8k", "48k", "200k"}; /* fails creating, at the layout, during the run */
+  /* fails creating, at the layout, during the run (at 200k the CSV fills the disk first since
+   * the record gained /observables/joint_crack) */
+  const char *sizes[] = {"8k", "48k", "250k"};
   char dir[256];
   snprintf(dir, sizeof dir, "%s/small", g_dir);
   assert_int_equal(mkdir(dir, 0755), 0);

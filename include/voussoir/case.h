@@ -149,6 +149,9 @@ typedef struct {
   double thickness_cov; /* CoV of the voussoirs' thickness (lognormal), [0, 0.5] */
   double support_dx_mm; /* initial offset of the moving support, outward, [-100, 100] mm, default 0 */
   double support_dz_mm; /* ... downward, [-100, 100] mm, default 0 */
+  double tensile_cov;   /* mortar: CoV of each joint's f_t (lognormal, mean f_t), [0, 3], default 0 */
+  double gf_cov;        /* mortar: CoV of each joint's G_f (lognormal, mean G_f), [0, 3], default 0 */
+  double debonded;      /* mortar: probability that a joint is debonded (dry), [0, 1], default 0 */
 
   /* [load] the live load, scaled by the load factor (issue 28: limit.h) */
   int kind;          /* vs_load_kind: none (default), point, line, patch, tilt; written by name */

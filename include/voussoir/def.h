@@ -137,7 +137,7 @@ typedef struct {
 
 /* The interfaces' law (joint.h): no-tension elastic normal response, elastic shear limited by
  * Coulomb friction; with mortar (ft, c > 0; vs_joint_normal_mortar) tension and cohesion that
- * soften to zero. The model does not yet use the mortar's: vs_run refuses a def with any set. */
+ * soften to zero (vs_run checks their ranges). */
 typedef struct {
   double kn; /* normal stiffness per unit area, N/m^3 */
   double ks; /* shear stiffness per unit area, N/m^3 */
@@ -231,6 +231,11 @@ typedef struct {
   double thickness_cov; /* CoV of the voussoirs' thickness */
   double support_dx;    /* initial offset of the moving support, outward, m */
   double support_dz;    /* ... downward, m */
+  /* mortar (joints' ft, gf > 0): each joint's f_t and G_f scattered (lognormal, mean the
+   * nominal), and a fraction of the joints debonded (f_t = c = 0: dry) */
+  double tensile_cov;   /* CoV of each joint's tensile strength f_t */
+  double gf_cov;        /* CoV of each joint's fracture energy G_f */
+  double debonded;      /* probability that a joint is debonded, [0, 1] */
 } vs_imperfection_def;
 
 /* The live load, scaled by the load factor lambda (limit.h). */

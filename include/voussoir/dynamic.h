@@ -52,13 +52,17 @@ typedef enum {
 } vs_dyn_end;
 
 /* Energies at one instant, J. balance = kinetic + gravity + elastic - support_work + damped
- * + friction - (its value at the start) should stay at integrator tolerance. */
+ * + friction + cracking - (its value at the start) should stay at integrator tolerance. */
 typedef struct {
   double kinetic, gravity, elastic;
   double support_work; /* work done on the arch by the moving support */
   double damped;       /* dissipated by joint damping (viscous, or at impacts) */
   double friction;     /* dissipated by frictional slip */
   double balance;      /* energy balance residual */
+  double cracking;     /* dissipated by the mortar's cracking (vs_model_cracking_energy), from the
+                          phase's start: the softening potential the cracked parts had (G_f per
+                          unit area), released as each accepted step commits the cracks; 0 in
+                          the rigid fall and for dry joints */
 } vs_energy;
 
 /* A joint edge crossing the opening threshold (a located IDA root). */

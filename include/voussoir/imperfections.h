@@ -6,7 +6,8 @@
  * x = splitmix64(x + (w + 1) * 0x9E3779B97F4A7C15), with splitmix64's finaliser
  * z = (z ^ z >> 30) * 0xBF58476D1CE4E5B9; z = (z ^ z >> 27) * 0x94D049BB133111EB; z ^ z >> 31.
  * A uniform in (0, 1) is ((x >> 11) + 0.5) 2^-53; a standard normal is Box-Muller on the uniforms
- * of indices 2i and 2i + 1 (the cosine branch). Streams: 1 k_n, 2 faces, 3 angles, 4 thickness.
+ * of indices 2i and 2i + 1 (the cosine branch). Streams: 1 k_n, 2 faces, 3 angles, 4 thickness,
+ * 5 f_t, 6 G_f, 7 debonding.
  *
  * What is drawn (SI, as the definition, def.h):
  * - k_n of joint k: k_n exp(s z_k - s^2/2), s^2 = ln(1 + CoV^2) (lognormal, mean k_n, CoV kn_cov);
@@ -20,6 +21,11 @@
  *   overlap of its two voussoirs' (a support's, its voussoir's), from the intrados.
  * - support: the right support offset by (support_dx outward, support_dz down), entering
  *   as the arch's weight comes on (vs_model_set_support_offset).
+ * - mortar: joint k debonded (f_t = c = 0, a dry joint) when the uniform of stream 7 is below
+ *   debonded; else its f_t times lognormal(tensile_cov) and its G_f times lognormal(gf_cov),
+ *   independent of one another and of the other streams. A joint whose G_f then falls to
+ *   f_t^2 / (2 k_n) or below (its softening would end before its peak) gets 1.000001 times
+ *   that bound: brittle.
  * With every amplitude 0 nothing is changed: the perfect arch, bit for bit. */
 #ifndef VOUSSOIR_IMPERFECTIONS_H
 #define VOUSSOIR_IMPERFECTIONS_H
@@ -46,6 +52,8 @@ typedef struct {
   double *angle;     /* n_blocks: angular size of each voussoir, rad */
   double *thickness; /* n_blocks: radial thickness of each voussoir, m */
   double support[2]; /* offset of the right support: outward, downward, m */
+  double *ft_factor; /* n_joints: f_t / nominal f_t (0: debonded) */
+  double *gf_factor; /* n_joints: G_f / nominal G_f */
 } vs_imperfections;
 
 /* Draw the imperfections d asks for (its seed and sample) on arch a. *out is owned by the
@@ -72,8 +80,8 @@ VS_API vs_status vs_imperfections_arch(const vs_imperfection_def *d, const vs_ar
                                        const vs_imperfections *imp, vs_geometry **out,
                                        vs_error *err);
 
-/* Apply the joint laws (k_n, faces) and the support offset d asks for to model m built over
- * that arch. */
+/* Apply the joint laws (k_n, faces, mortar) and the support offset d asks for to model m built
+ * over that arch. */
 VS_API vs_status vs_imperfections_apply(const vs_imperfection_def *d, const vs_imperfections *imp,
                                         vs_model *m, vs_error *err);
 

@@ -32,8 +32,15 @@ typedef struct {
   /* Mortar (vs_joint_normal_mortar; all 0: a dry joint, the law above bit for bit): tensile
    * strength ft (Pa), cohesion c (Pa), mode-I and mode-II fracture energies gf, gc (N/m, J/m^2).
    * With ft > 0, gf must exceed ft^2 / (2 kn) (the softening branch then ends beyond the peak's
-   * opening). The model does not use them yet: a run with mortar is refused (case validation). */
+   * opening). */
   double ft, c, gf, gc;
+  /* A mortared joint's damage, the state its law carries from one converged state to the next
+   * (all 0: undamaged; a model commits it, vs_model_commit): crack[0], crack[1], the lengths
+   * cracked through from the intrados and the extrados edge (m, vs_joint_crack_update), and
+   * kappa, the accumulated plastic slip that softens the cohesion (m, vs_joint_shear_mortar).
+   * vs_joint_eval_h and the functions below evaluate the mortar law with them when ft, c or a
+   * crack is non-zero, else the dry law (bit for bit). */
+  double crack[2], kappa;
 } vs_joint_law;
 
 /* Normal response of a no-tension Winkler joint of length t and depth b to the affine
@@ -112,7 +119,10 @@ typedef struct {
                          from the as-built fit (the law's initial gap gap0 + gap1 xi excluded) */
   double gap_e;       /* opening at the extrados edge, m (likewise) */
   int sliding;        /* 1 when the Coulomb limit is active */
-  double energy;      /* elastic energy (normal + shear), J */
+  double energy;      /* elastic energy (normal + shear), J; a mortared joint's includes the
+                         potential of its softening (vs_joint_normal_mortar) */
+  double kappa;       /* accumulated plastic slip after the return mapping, m (mortar's
+                         cohesion; a dry joint's: the law's kappa, unchanged) */
 } vs_joint_state;
 
 /* A body's rotation theta (rad) as the cosine and sine of theta / 2, h[0], h[1]: the joint
@@ -153,6 +163,12 @@ typedef struct {
   vs_normal_response nr;
   double kst, T, slip_p, sgn;
   int sliding;
+  /* a mortared joint (the law's ft, c or a crack non-zero; else 0 and unused): the shear's
+   * tangent dT = T_s dslip + T_N dN (vs_shear_response), the accumulated slip kappa and the
+   * bonded length t - crack[0] - crack[1] (m), over which the mortar holds the faces together
+   * whether compressed or not: the joint dashpots act over it as over a contact */
+  int mortar;
+  double T_s, T_N, kappa, bonded;
 } vs_joint_law_state;
 
 /* One evaluation of a joint kept: its state, forces and stiffness then follow from it without
@@ -193,7 +209,9 @@ typedef struct {
  * dependence on the positions.
  * Joint damping c_n, c_s (N s/m^3), when beta = 0: the full section's dashpots, D =
  * diag(b c_n t, b c_n t^3/12, b c_s t), acting while the joint is in contact and fading
- * linearly to zero as the contact length drops below 2 % of t (continuous at separation). A
+ * linearly to zero as the contact length drops below 2 % of t (continuous at separation); a
+ * mortared joint's contact here is at least its bonded length (vs_joint_law_state), so that
+ * its dashpots act until it cracks through. A
  * hinge thus damps its rotation as the closed joint would, which is what makes a rocking
  * mechanism lose energy; a law on the compressed part only would damp a hinge like c^3 and leave
  * rocking undamped.

@@ -58,8 +58,13 @@ typedef enum {
   VS_EVENT_PIER_ROCKED,      /* a pier's base (its foundation interface) opened past
                                 hinges.open_mm: the pier rocks; side: the edge that stays in
                                 contact (I: the inner face's, E: the outer face's) */
-  VS_EVENT_COURSE_OPENED     /* a course joint of a pier opened past hinges.open_mm; side as a
+  VS_EVENT_COURSE_OPENED,    /* a course joint of a pier opened past hinges.open_mm; side as a
                                 rocking pier's */
+  VS_EVENT_CRACK_INITIATED   /* a mortared joint's tensile stress reached f_t at an edge: its
+                                mortar begins to crack there (joints.tensile_MPa > 0); side: the
+                                edge that cracks ('I' intrados, 'E' extrados -- the opposite of
+                                the hinge side it may later become); delta interpolated between
+                                the two states that bracket it */
 } vs_event_kind;
 
 typedef struct {

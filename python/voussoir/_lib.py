@@ -36,6 +36,7 @@ typedef struct {
   double damped;
   double friction;
   double balance;
+  double cracking;
 } vs_energy;
 typedef struct {
   int phase;

@@ -14,7 +14,7 @@ from .record import LoadCurve
 MM = 1e-3
 _PHASES = ("quasistatic", "dynamic", "fall")
 _EVENTS = ("joint_opened", "joint_closed", "hinge_formed", "limit_point", "snap_settled",
-           "collapse", "joint_slipped", "pier_rocked", "course_opened")
+           "collapse", "joint_slipped", "pier_rocked", "course_opened", "crack_initiated")
 _STOPPED, _WALL = _lib.STATUS["VS_ERR_STOPPED"], _lib.STATUS["VS_ERR_WALL_TIME"]
 
 # What the history keeps of every recorded state, with units (the record's names).

@@ -170,9 +170,9 @@ static const key_spec keys[] = {
     KEY(joints, friction, 0.7, 0.0, false, 100.0, true, "", "Coulomb friction coefficient mu"),
     /* mortar: joint.h, vs_joint_normal_mortar; docs/model.md "Mortar joints" */
     KEY(joints, tensile_MPa, 0.0, 0.0, true, 100.0, true, "MPa",
-        "mortar's tensile strength f_t (0: dry, no tension; not yet supported by the model)"),
+        "mortar's tensile strength f_t (0: dry, no tension)"),
     KEY(joints, cohesion_MPa, 0.0, 0.0, true, 100.0, true, "MPa",
-        "mortar's cohesion c (0: dry; not yet supported by the model)"),
+        "mortar's cohesion c (0: dry)"),
     KEY(joints, gf_N_mm, 0.0, 0.0, true, 1000.0, true, "N/mm",
         "mode-I fracture energy G_f, the softening after f_t (> f_t^2 / (2 k_n))"),
     KEY(joints, gc_N_mm, 0.0, 0.0, true, 1000.0, true, "N/mm",
@@ -266,6 +266,14 @@ static const key_spec keys[] = {
         "initial offset of the moving support, outward"),
     KEY(imperfections, support_dz_mm, 0.0, -100.0, true, 100.0, true, "mm",
         "initial offset of the moving support, downward"),
+    KEY(imperfections, tensile_cov, 0.0, 0.0, true, 3.0, true, "",
+        "mortar: coefficient of variation of each joint's tensile strength f_t (lognormal, mean "
+        "joints.tensile_MPa)"),
+    KEY(imperfections, gf_cov, 0.0, 0.0, true, 3.0, true, "",
+        "mortar: coefficient of variation of each joint's fracture energy G_f (lognormal, mean "
+        "joints.gf_N_mm)"),
+    KEY(imperfections, debonded, 0.0, 0.0, true, 1.0, true, "",
+        "mortar: probability that a joint is debonded (no tension, no cohesion: a dry joint)"),
     KEY(run, max_wall_s, 0.0, 0.0, true, 1e6, true, "s",
         "wall-time limit of a run (0: none); once passed the run stops at its next step, its "
         "record marked stopped"),
@@ -907,8 +915,7 @@ static vs_status validate_shape(const vs_case *c, vs_error *err) {
 
 /* Mortar (docs/model.md "Mortar joints"): the softening must end beyond the peak's opening,
  * G_f > f_t^2 / (2 k_n), and the cohesion's be slower than the shear's unloading,
- * G_c > c^2 / (2 k_s) (no snap-back within a joint); and the model does not use the mortar yet, so a case that sets it is
- * refused by name rather than run as a dry arch. */
+ * G_c > c^2 / (2 k_s) (no snap-back within a joint). */
 static vs_status validate_mortar(const vs_case *c, vs_error *err) {
   const double gf_min = c->tensile_MPa * c->tensile_MPa / (2.0 * c->kn_N_mm3);
   if (c->tensile_MPa > 0.0 && !(c->gf_N_mm > gf_min))
@@ -922,13 +929,6 @@ static vs_status validate_mortar(const vs_case *c, vs_error *err) {
                         "%.15g must be > cohesion_MPa^2 / (2 ks_ratio kn_N_mm3) = %.15g (allowed: "
                         "the cohesion softens more slowly than the joint unloads)", c->gc_N_mm,
                         c->cohesion_MPa, gc_min);
-  static const char *names[4] = {"tensile_MPa", "cohesion_MPa", "gf_N_mm", "gc_N_mm"};
-  const double v[4] = {c->tensile_MPa, c->cohesion_MPa, c->gf_N_mm, c->gc_N_mm};
-  for (int i = 0; i < 4; i++)
-    if (v[i] != 0.0)
-      return vs_error_set(err, VS_ERR_INVALID, "joints.%s = %.15g: mortar joints are not yet "
-                          "supported by the model (the joint law has them, the run does not) "
-                          "(allowed: 0, dry joints)", names[i], v[i]);
   return VS_OK;
 }
 
@@ -1134,7 +1134,10 @@ void vs_case_to_def(const vs_case *c, vs_run_def *d) {
                                            .angle_cov = c->angle_cov,
                                            .thickness_cov = c->thickness_cov,
                                            .support_dx = c->support_dx_mm * VS_MM,
-                                           .support_dz = c->support_dz_mm * VS_MM};
+                                           .support_dz = c->support_dz_mm * VS_MM,
+                                           .tensile_cov = c->tensile_cov,
+                                           .gf_cov = c->gf_cov,
+                                           .debonded = c->debonded};
   d->max_wall_s = c->max_wall_s;
   d->load = (vs_load_def){.kind = (vs_load_kind)c->kind,
                           .value = c->value_N,

@@ -605,6 +605,7 @@ static void energy_of(vs_fall *f, const energy_acc *a, vs_energy *e) {
   e->support_work = a->support;
   e->damped = a->normal;
   e->friction = a->tangential;
+  e->cracking = 0.0;
   e->balance = e->kinetic + e->gravity + e->elastic - e->support_work + e->damped + e->friction -
                a->ref;
 }

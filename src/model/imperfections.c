@@ -12,7 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { STREAM_KN = 1, STREAM_FACE = 2, STREAM_ANGLE = 3, STREAM_THICK = 4 };
+enum { STREAM_KN = 1, STREAM_FACE = 2, STREAM_ANGLE = 3, STREAM_THICK = 4, STREAM_FT = 5,
+       STREAM_GF = 6, STREAM_DEBOND = 7 };
 
 static const uint64_t GOLDEN = 0x9E3779B97F4A7C15u;
 
@@ -46,9 +47,14 @@ static double lognormal(double cov, double z) {
   return exp(sqrt(s2) * z - 0.5 * s2);
 }
 
+/* d scatters the joints' mortar. */
+static int mortar_scatter(const vs_imperfection_def *d) {
+  return d->tensile_cov > 0.0 || d->gf_cov > 0.0 || d->debonded > 0.0;
+}
+
 int vs_imperfections_any(const vs_imperfection_def *d) {
   return d->kn_cov > 0.0 || d->face > 0.0 || d->angle_cov > 0.0 || d->thickness_cov > 0.0 ||
-         d->support_dx != 0.0 || d->support_dz != 0.0;
+         d->support_dx != 0.0 || d->support_dz != 0.0 || mortar_scatter(d);
 }
 
 void vs_imperfections_destroy(vs_imperfections **p) {
@@ -57,6 +63,8 @@ void vs_imperfections_destroy(vs_imperfections **p) {
   free((*p)->face_gap);
   free((*p)->angle);
   free((*p)->thickness);
+  free((*p)->ft_factor);
+  free((*p)->gf_factor);
   free(*p);
   *p = NULL;
 }
@@ -118,9 +126,11 @@ vs_status vs_imperfections_draw_counts(const vs_imperfection_def *d, const vs_ar
     p->face_gap = malloc((size_t)nj * sizeof(double));
     p->angle = malloc((size_t)nb * sizeof(double));
     p->thickness = malloc((size_t)nb * sizeof(double));
+    p->ft_factor = malloc((size_t)nj * sizeof(double));
+    p->gf_factor = malloc((size_t)nj * sizeof(double));
   }
   if (p == NULL || p->kn_factor == NULL || p->face_gap == NULL || p->angle == NULL ||
-      p->thickness == NULL) {
+      p->thickness == NULL || p->ft_factor == NULL || p->gf_factor == NULL) {
     vs_imperfections_destroy(&p);
     return vs_error_set(err, VS_ERR_NOMEM, "imperfections: out of memory");
   }
@@ -162,6 +172,15 @@ vs_status vs_imperfections_draw_counts(const vs_imperfection_def *d, const vs_ar
             : a->thickness;
   p->support[0] = d->support_dx;
   p->support[1] = d->support_dz;
+  for (int k = 0; k < nj; k++) {
+    const uint64_t i = (uint64_t)k;
+    const int off = d->debonded > 0.0 && vs_rng_uniform(seed, smp, STREAM_DEBOND, i) < d->debonded;
+    p->ft_factor[k] = off ? 0.0
+                      : d->tensile_cov > 0.0 ? lognormal(d->tensile_cov, vs_rng_normal(seed, smp, STREAM_FT, i))
+                                             : 1.0;
+    p->gf_factor[k] =
+        d->gf_cov > 0.0 ? lognormal(d->gf_cov, vs_rng_normal(seed, smp, STREAM_GF, i)) : 1.0;
+  }
   *out = p;
   return VS_OK;
 }
@@ -244,10 +263,20 @@ vs_status vs_imperfections_arch(const vs_imperfection_def *d, const vs_arch_def 
   return st;
 }
 
+/* Joint k's mortar as drawn (imperfections.h): debonded, or f_t and G_f scattered, G_f kept
+ * beyond its bound f_t^2 / (2 k_n) (at k_n as drawn). */
+static void mortar_draw(const vs_imperfections *imp, int k, vs_joint_law *law) {
+  if (imp->ft_factor[k] == 0.0) law->c = 0.0;
+  law->ft *= imp->ft_factor[k];
+  law->gf *= imp->gf_factor[k];
+  const double bound = law->ft * law->ft / (2.0 * law->kn);
+  if (law->ft > 0.0 && !(law->gf > bound)) law->gf = bound * 1.000001;
+}
+
 vs_status vs_imperfections_apply(const vs_imperfection_def *d, const vs_imperfections *imp,
                                  vs_model *m, vs_error *err) {
   const vs_geometry *g = vs_model_geometry(m);
-  if (d->kn_cov > 0.0 || d->face > 0.0) {
+  if (d->kn_cov > 0.0 || d->face > 0.0 || mortar_scatter(d)) {
     /* the joints drawn: the arch's (a pier's joints, after them, keep the nominal law) */
     for (int k = 0; k < g->n_joints && k < imp->n_joints; k++) {
       vs_joint_law law = *vs_model_joint_law(m, k);
@@ -256,6 +285,7 @@ vs_status vs_imperfections_apply(const vs_imperfection_def *d, const vs_imperfec
       const double a = imp->face_gap[k], t = g->joints[k].length;
       law.gap0 = 0.5 * fabs(a);
       law.gap1 = a / t;
+      mortar_draw(imp, k, &law);
       vs_status st = vs_model_set_joint_law(m, k, &law, err);
       if (st != VS_OK) return st;
     }

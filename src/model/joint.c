@@ -325,9 +325,42 @@ static void joint_rates(const kinematics *k, const double va[3], const double vb
 /* The law at one kinematic state: the normal response and the return-mapped shear. */
 typedef vs_joint_law_state law_state;
 
+/* A joint whose law has mortar or damage (joint.h, vs_joint_law's crack and kappa). */
+static inline int law_is_mortar(const vs_joint_law *law) {
+  return law->ft > 0.0 || law->c > 0.0 || law->crack[0] > 0.0 || law->crack[1] > 0.0;
+}
+
+/* law_eval for a mortared joint: vs_joint_normal_mortar and vs_joint_shear_mortar with the
+ * law's damage. */
+static void law_eval_mortar(const vs_joint_geom *jg, const vs_joint_law *law, const kinematics *k,
+                            double slip_p_old, law_state *ls) {
+  const double t = jg->length, b = jg->depth;
+  vs_joint_normal_mortar(law, b, t, -k->g - law->gap0, k->w - law->gap1, law->crack, &ls->nr);
+  vs_shear_response sr;
+  vs_joint_shear_mortar(law, b, t, law->crack, ls->nr.N, k->sl, slip_p_old, law->kappa, &sr);
+  ls->kst = law->ks * b * t;
+  ls->T = sr.T;
+  ls->slip_p = sr.slip_p;
+  ls->sliding = sr.sliding;
+  ls->sgn = (sr.T < 0.0) ? -1.0 : 1.0;
+  ls->mortar = 1;
+  ls->T_s = sr.T_s;
+  ls->T_N = sr.T_N;
+  ls->kappa = sr.kappa;
+  ls->bonded = fmax(0.0, t - fmax(0.0, law->crack[0]) - fmax(0.0, law->crack[1]));
+}
+
 static void law_eval(const vs_joint_geom *jg, const vs_joint_law *law, const kinematics *k,
                      double slip_p_old, law_state *ls) {
+  if (law_is_mortar(law)) {
+    law_eval_mortar(jg, law, k, slip_p_old, ls);
+    return;
+  }
   const double t = jg->length, b = jg->depth;
+  ls->mortar = 0;
+  ls->T_s = ls->T_N = 0.0;
+  ls->kappa = law->kappa;
+  ls->bonded = 0.0;
   /* the initial gap is a constant offset: the derivatives are unchanged */
   vs_joint_normal(law->kn, b, t, -k->g - law->gap0, k->w - law->gap1, &ls->nr);
   /* shear over the whole joint, Coulomb limit by return mapping */
@@ -361,6 +394,7 @@ static void state_out(const vs_joint_geom *jg, const kinematics *k, const law_st
   st->gap_e = -(a + 0.5 * k->w * t);
   st->sliding = ls->sliding;
   st->energy = ls->nr.energy + 0.5 * ls->kst * (k->sl - ls->slip_p) * (k->sl - ls->slip_p);
+  st->kappa = ls->kappa;
 }
 
 /* f = N grad(a) + M grad(w) + T grad(slip), grad(a) = -grad(g) */
@@ -379,7 +413,8 @@ static void tangent_out(const vs_joint_law *law, const kinematics *k, const law_
     const double da_j = -k->dg[j], dw_j = k->dw[j];
     dN[j] = is_rot(j) ? nr->N_a * da_j + nr->N_w * dw_j : nr->N_a * da_j;
     dM[j] = is_rot(j) ? nr->N_w * da_j + nr->M_w * dw_j : nr->N_w * da_j;
-    dT[j] = ls->sliding ? ls->sgn * law->mu * dN[j] : ls->kst * k->ds[j];
+    if (ls->mortar) dT[j] = ls->T_s * k->ds[j] + ls->T_N * dN[j];
+    else dT[j] = ls->sliding ? ls->sgn * law->mu * dN[j] : ls->kst * k->ds[j];
   }
   /* Action and reaction: the translations of b (3, 4) enter every measure and every one of its
    * Hessian terms with the opposite sign of a's (0, 1), exactly (the gradients are -n, n and -s,
@@ -453,10 +488,11 @@ static const double VS_DAMP_RAMP = 0.02;
 /* Full-section viscous damping (joint.h, vs_joint_dashpot with beta = 0) from the kinematics
  * and normal response. */
 static void dashpot_out(const vs_joint_geom *jg, double cn, double cs, const kinematics *k,
-                        const vs_normal_response *nr, const double va[3], const double vb[3],
+                        const law_state *ls, const double va[3], const double vb[3],
                         double f[6], double C[36], double *power) {
   const double t = jg->length, b = jg->depth;
-  const double phi = fmin(1.0, nr->contact / (VS_DAMP_RAMP * t));
+  const double held = ls->mortar ? fmax(ls->nr.contact, ls->bonded) : ls->nr.contact;
+  const double phi = fmin(1.0, held / (VS_DAMP_RAMP * t));
   /* full-section viscous damping: normal b c_n t, rotational b c_n t^3/12, shear b c_s t */
   const double ca = phi * b * cn * t, cw = phi * b * cn * t * t * t / 12.0, csl = phi * b * cs * t;
   double adot, wdot, sdot;
@@ -516,7 +552,8 @@ static double friction_out(const vs_joint_law *law, const kinematics *k, const l
   if (!ls->sliding) return 0.0;
   double adot, wdot, sdot;
   joint_rates(k, va, vb, &adot, &wdot, &sdot);
-  const double Tdot = ls->sgn * law->mu * (ls->nr.N_a * adot + ls->nr.N_w * wdot);
+  const double Ndot = ls->nr.N_a * adot + ls->nr.N_w * wdot;
+  const double Tdot = ls->mortar ? ls->T_s * sdot + ls->T_N * Ndot : ls->sgn * law->mu * Ndot;
   return ls->T * (sdot - Tdot / ls->kst);
 }
 
@@ -534,6 +571,6 @@ void vs_joint_eval_motion(const vs_joint_geom *jg, const vs_joint_law *law,
   if (dp != NULL && dp->beta > 0.0)
     tangent_dashpot_out(jg, law, dp->beta, &k, &ls.nr, bd->va, bd->vb, out->fd, out->C, &out->power);
   else if (dp != NULL)
-    dashpot_out(jg, dp->cn, dp->cs, &k, &ls.nr, bd->va, bd->vb, out->fd, out->C, &out->power);
+    dashpot_out(jg, dp->cn, dp->cs, &k, &ls, bd->va, bd->vb, out->fd, out->C, &out->power);
   if (out->want_friction) out->friction = friction_out(law, &k, &ls, bd->va, bd->vb);
 }

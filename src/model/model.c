@@ -129,6 +129,7 @@ int vs_model_nnz(const vs_model *m) { return m->pat.nnz; }
 const vs_geometry *vs_model_geometry(const vs_model *m) { return m->g; }
 const vs_joint_law *vs_model_law(const vs_model *m) { return &m->law; }
 const double *vs_model_slips(const vs_model *m) { return m->slip_p; }
+double vs_model_cracking_energy(const vs_model *m) { return m->cracking; }
 
 void vs_model_support_displacement(const vs_model *m, double delta, double u[2]) {
   double qs[6];

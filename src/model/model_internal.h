@@ -33,6 +33,7 @@ struct vs_model {
   int n;           /* unknowns, 3 per block */
   double *ra, *rb; /* per joint: reference point of body a/b -> joint centre, m */
   double *slip_p;  /* per joint: committed plastic slip, m */
+  double cracking; /* energy dissipated by the mortar's cracking, J (vs_model_cracking_energy) */
   double zeta;     /* damping ratio */
   double alpha_m;  /* mass-proportional damping coefficient (Rayleigh), 1/s */
   double beta_k;   /* stiffness-proportional damping coefficient (Rayleigh), s */

@@ -39,6 +39,20 @@ void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_
  * 1e-16 of the joint's displacement) and far below the Newton tolerance. */
 static const double VS_SLIP_HOLD = 1e-9;
 
+/* A mortared joint's damage after the converged state st of joint k: its cracks grown (their
+ * energy into m->cracking) and its cohesion's slip kept. Returns 1 when either changed. */
+static int damage_commit(vs_model *m, int k, const vs_joint_state *st) {
+  vs_joint_law *l = &m->laws[k];
+  if (!(l->ft > 0.0 || l->c > 0.0)) return 0;
+  const vs_joint_geom *j = &m->g->joints[k];
+  /* the law's penetration and slope: the kinematic ones less the initial gap (law_at's) */
+  const double a = st->a - m->mscale * l->gap0, w = st->w - m->mscale * l->gap1;
+  const double before[3] = {l->crack[0], l->crack[1], l->kappa};
+  m->cracking += vs_joint_crack_update(l, j->depth, j->length, a, w, l->crack);
+  l->kappa = st->kappa;
+  return before[0] != l->crack[0] || before[1] != l->crack[1] || before[2] != l->kappa;
+}
+
 /* The plastic slips change. With the memo at these states, a joint whose slip moved is
  * evaluated again into it, so that it stays the joints' points (the joints' states of the
  * equilibrium just committed, which the hinge tracker reads next, are then taken from it);
@@ -54,7 +68,8 @@ static int commit_core(vs_model *m, const double *q, const double qs[6]) {
     if (st.sliding && st.N > 0.0) slid++;
     const double old = m->slip_p[k];
     m->slip_p[k] = st.sliding ? st.slip_p - VS_SLIP_HOLD * (st.slip - st.slip_p) : st.slip_p;
-    if (!hit || memcmp(&old, &m->slip_p[k], sizeof old) == 0) continue;
+    const int damaged = damage_commit(m, k, &st);
+    if (!hit || (!damaged && memcmp(&old, &m->slip_p[k], sizeof old) == 0)) continue;
     if (!rot) vs_model_half_angles(m, q, qs), rot = 1; /* m->rot may hold another state's */
     vs_model_memo_eval(m, q, qs, k);
   }
@@ -74,6 +89,7 @@ int vs_model_commit_states(vs_model *m, const vs_joint_state *st) {
   for (int k = 0; k < m->g->n_joints; k++) {
     if (st[k].sliding && st[k].N > 0.0) slid++;
     m->slip_p[k] = st[k].slip_p;
+    damage_commit(m, k, &st[k]);
   }
   return slid;
 }

@@ -17,6 +17,7 @@ static const char *event_kind_name(vs_event_kind k) {
   case VS_EVENT_JOINT_SLIPPED: return "joint_slipped";
   case VS_EVENT_PIER_ROCKED: return "pier_rocked";
   case VS_EVENT_COURSE_OPENED: return "course_opened";
+  case VS_EVENT_CRACK_INITIATED: return "crack_initiated";
   }
   return "unknown";
 }
@@ -69,7 +70,8 @@ herr_t vs_record_events_create(vs_output *o) {
         "onset), limit_point, snap_settled, collapse, joint_slipped (the joint began to "
         "slide, or to slide the other way; side = the edge toward which its voussoir slides "
         "relative to the body across it), pier_rocked/course_opened (a pier's base or course "
-        "joint opened; side = the edge in contact, I inner, E outer). joint: 1-based, 0 if none; "
+        "joint opened; side = the edge in contact, I inner, E outer), crack_initiated (a mortared "
+        "joint's tensile stress reached f_t at an edge; side = the edge that cracks). joint: 1-based, 0 if none; "
         "phase: 0 quasi-static, 1 dynamic (IDA), 2 the rigid fall after the collapse; "
         "load_factor: on a load path (analysis.type = load, delta the held support "
         "displacement), lambda at the equilibrium where the event was found (a collapse: the "

@@ -43,6 +43,7 @@ enum {
   S_JPTS,
   S_SOLVER,
   S_SUPPORTS, /* both supports (docs/model.md, "Both supports move") */
+  S_CRACK,    /* mortar: each joint's cracked-through lengths */
   S_COUNT
 };
 

@@ -225,6 +225,12 @@ static herr_t write_imperfections(hid_t file, const vs_imperfections *p) {
     rc = vs_h5_dset_write(grp, "face_gap", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &nj, p->face_gap,
                           "m", NULL);
   if (rc >= 0)
+    rc = vs_h5_dset_write(grp, "tensile_factor", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &nj,
+                          p->ft_factor, "1", NULL);
+  if (rc >= 0)
+    rc = vs_h5_dset_write(grp, "gf_factor", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &nj,
+                          p->gf_factor, "1", NULL);
+  if (rc >= 0)
     rc = vs_h5_dset_write(grp, "voussoir_angle", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, &nb,
                           p->angle, "rad", NULL);
   if (rc >= 0)

@@ -83,6 +83,10 @@ static const series_def SERIES[S_COUNT] = {
                     "counter-clockwise about the centre of its springing face): its prescribed "
                     "motion (the right one's initial offset included), a pinned one's rotation "
                     "as solved"},
+    [S_CRACK] = {"joint_crack", "value", K_F64, 3, {DIM_JOINTS, 2}, "m,m", "intrados,extrados",
+                 "length of each joint cracked through from its intrados and from its extrados "
+                 "edge (mortar: where the opening has reached 2 G_f / f_t, irreversibly; "
+                 "committed at the last converged state; 0 for dry joints)"},
 };
 /* clang-format on */
 static size_t kind_size(elem_kind k) {

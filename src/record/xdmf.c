@@ -20,11 +20,12 @@
  * where the field is not its own (ParaView draws NaN in its NaN colour and leaves it out of
  * ranges; the NaN is the record's /xdmf/nan, written once, which the padding refers to);
  * Xdmf3ReaderT keeps the grids as named blocks and reads the same file. */
-enum { F_THETA, F_UX, F_UZ, F_SPEED, F_N, F_T, F_M, F_GAPI, F_GAPE, F_HINGE, F_FX, F_FZ, F_COUNT };
+enum { F_THETA, F_UX, F_UZ, F_SPEED, F_N, F_T, F_M, F_GAPI, F_GAPE, F_HINGE, F_FX, F_FZ,
+       F_CRACKI, F_CRACKE, F_COUNT };
 static const char *const XDMF_FIELDS[] = {
     "theta_rad", "ux_m",  "uz_m",    "speed_m_s", "N_N",
     "T_N",       "M_N_m", "gap_i_m", "gap_e_m",   "hinge_0closed_1intrados_2extrados",
-    "Fx_N",      "Fz_N"};
+    "Fx_N",      "Fz_N",  "crack_i_m", "crack_e_m"};
 _Static_assert(sizeof XDMF_FIELDS / sizeof XDMF_FIELDS[0] == F_COUNT, "a name for every field");
 #define F_BIT(f) (1u << (f))
 #define F_ALL ((1u << F_COUNT) - 1u)
@@ -32,7 +33,8 @@ _Static_assert(sizeof XDMF_FIELDS / sizeof XDMF_FIELDS[0] == F_COUNT, "a name fo
 /* The fields each grid carries itself; the rest it carries as NaN. */
 static const unsigned GRID_OWN[] = {
     F_BIT(F_THETA) | F_BIT(F_UX) | F_BIT(F_UZ) | F_BIT(F_SPEED),
-    F_BIT(F_N) | F_BIT(F_T) | F_BIT(F_M) | F_BIT(F_GAPI) | F_BIT(F_GAPE) | F_BIT(F_HINGE),
+    F_BIT(F_N) | F_BIT(F_T) | F_BIT(F_M) | F_BIT(F_GAPI) | F_BIT(F_GAPE) | F_BIT(F_HINGE) |
+        F_BIT(F_CRACKI) | F_BIT(F_CRACKE),
     F_BIT(F_FX) | F_BIT(F_FZ) | F_BIT(F_M),
     F_BIT(F_FX) | F_BIT(F_FZ) | F_BIT(F_M) | F_BIT(F_UX) | F_BIT(F_UZ),
     0u, /* the ground */
@@ -286,6 +288,9 @@ static void xdmf_joints(xdmf_ctx *x, hsize_t r) {
   xdmf_attribute(x, F_GAPE, X_GAPE, r, 0, 0);
   /* read as a double (HDF5 converts), the type the other grids' NaN has */
   xdmf_attribute(x, F_HINGE, X_HINGE, r, 0, 0);
+  /* mortar: the lengths cracked through from each edge (0 for dry joints) */
+  xdmf_attribute(x, F_CRACKI, X_CRACK, r, 0, 1);
+  xdmf_attribute(x, F_CRACKE, X_CRACK, r, 1, 1);
   out_s(x, "</Grid>\n");
 }
 

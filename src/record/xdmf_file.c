@@ -30,8 +30,9 @@ static const char *const XDMF_PATHS[] = {NULL,
                                          "/observables/joint_gap_e/value",
                                          "/observables/joint_hinge/value",
                                          "/observables/reactions/value",
-                                         "/observables/support_displacement/value"};
-static const int XDMF_RANKS[] = {3, 2, 3, 2, 1, 3, 2, 2, 2, 2, 2, 2, 2, 2, 2};
+                                         "/observables/support_displacement/value",
+                                         "/observables/joint_crack/value"};
+static const int XDMF_RANKS[] = {3, 2, 3, 2, 1, 3, 2, 2, 2, 2, 2, 2, 2, 2, 2, 3};
 _Static_assert(sizeof XDMF_PATHS / sizeof XDMF_PATHS[0] == X_COUNT &&
                    sizeof XDMF_RANKS / sizeof XDMF_RANKS[0] == X_COUNT,
                "a path and a rank for every dataset the sidecar refers to");
@@ -111,7 +112,9 @@ long vs_xdmf_shapes(hid_t file, xdmf_ctx *x) {
     return -1;
   for (int i = X_N; i <= X_HINGE; i++)
     if (x->ds[i].dims[1] != nj) return -1;
-  if (nj < 2 || x->ds[X_REACT].dims[1] != 6 || x->ds[X_SUPPORT].dims[1] != 2) return -1;
+  if (nj < 2 || x->ds[X_REACT].dims[1] != 6 || x->ds[X_SUPPORT].dims[1] != 2 ||
+      x->ds[X_CRACK].dims[1] != nj || x->ds[X_CRACK].dims[2] != 2)
+    return -1;
   return xdmf_outline_source(file, x, &rows) < 0 ? -1 : rows;
 }
 

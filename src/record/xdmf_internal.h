@@ -32,6 +32,7 @@ enum {
   X_HINGE,
   X_REACT,
   X_SUPPORT,
+  X_CRACK,
   X_COUNT
 };
 

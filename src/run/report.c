@@ -296,12 +296,69 @@ static void text_damping(FILE *out, const vs_run *r) {
   fputc('\n', out);
 }
 
+/* --- mortar (joints.tensile_MPa, cohesion_MPa > 0): nothing of it in a dry run's reports --- */
+
+static int is_mortared(const vs_run *r) {
+  const vs_joints_def *j = &vs_run_def_of(r)->joints;
+  return j->ft > 0.0 || j->c > 0.0;
+}
+
+/* The crack initiation at the least support displacement (events are logged as each state is
+ * tracked, several per state), or NULL. */
+static const vs_run_event *first_crack(const vs_run *r) {
+  const vs_run_event *f = NULL;
+  for (int i = 0; i < vs_run_event_count(r); i++) {
+    const vs_run_event *e = vs_run_event_get(r, i);
+    if (e->kind == VS_EVENT_CRACK_INITIATED && (f == NULL || e->delta < f->delta)) f = e;
+  }
+  return f;
+}
+
+/* ,"first_crack":{delta_mm, joint, side} (null: no joint cracked), for a mortared run; on a
+ * load path (delta the held support displacement) with the load factor where it cracked. */
+static void json_first_crack(FILE *out, const vs_run *r) {
+  if (!is_mortared(r)) return;
+  const vs_run_event *f = first_crack(r);
+  fputs(",\"first_crack\":", out);
+  if (f == NULL) {
+    fputs("null", out);
+    return;
+  }
+  jnum(out, "{\"delta_mm\":", f->delta / VS_MM, 10);
+  fprintf(out, ",\"joint\":%d,\"side\":\"%c\"", f->joint, f->side);
+  if (isfinite(f->load_factor)) jnum(out, ",\"load_factor\":", f->load_factor, 10);
+  fputc('}', out);
+}
+
+static void text_mortar(FILE *out, const vs_run *r) {
+  if (!is_mortared(r)) return;
+  const vs_case *c = vs_run_case(r);
+  fprintf(out, "\nmortar   f_t = %g MPa, c = %g MPa, G_f = %g N/mm, G_c = %g N/mm\n",
+          c->tensile_MPa, c->cohesion_MPa, c->gf_N_mm, c->gc_N_mm);
+  const vs_run_event *f = first_crack(r);
+  if (f != NULL)
+    fprintf(out, "         first crack: joint %d at the %s at %.4f mm (tensile stress f_t)",
+            f->joint, f->side == 'I' ? "intrados" : "extrados", f->delta / VS_MM);
+  if (f != NULL && isfinite(f->load_factor))
+    fprintf(out, ", load factor %.6g", f->load_factor);
+  if (f != NULL) fputc('\n', out);
+  else
+    fputs("         no joint cracked\n", out);
+  int n = 0;
+  for (int i = 0; i < vs_run_event_count(r); i++)
+    n += vs_run_event_get(r, i)->kind == VS_EVENT_CRACK_INITIATED;
+  fprintf(out, "         %d joint edges reached f_t; energy dissipated by cracking %.6g J\n", n,
+          vs_model_cracking_energy(vs_run_model(r)));
+}
+
 static void json_tail(FILE *out, const vs_run *r) {
   const vs_case *c = vs_run_case(r);
   const vs_dyn_result *d = vs_run_dynamic_totals(r);
+  json_first_crack(out, r);
   jnum(out, ",\"energy\":{\"balance_error_rel\":", d->balance_error_rel, 6);
   jnum(out, ",\"balance_error_fall_rel\":", d->balance_error_fall, 6);
   jnum(out, ",\"max_kinetic_J\":", d->max_kinetic, 6);
+  if (is_mortared(r)) jnum(out, ",\"cracking_J\":", vs_model_cracking_energy(vs_run_model(r)), 10);
   jnum(out, "},\"parameters\":{\"open_mm\":", c->open_mm, 10);
   fprintf(out, ",\"migrate_joints\":%d", c->migrate_joints);
   jnum(out, ",\"limit_tol_mm\":", c->limit_tol_mm, 10);
@@ -713,6 +770,7 @@ void vs_report_text(FILE *out, const vs_run *r, vs_status status, const vs_error
     fprintf(out, "\nFAILED at delta = %.4f mm: %s\n", vs_run_delta(r) / VS_MM,
             err != NULL ? err->msg : vs_strerror(status));
   text_hinges(out, r);
+  text_mortar(out, r);
   text_slips(out, r);
   vs_report_piers_text(out, r);
   text_stats(out, r, status);

@@ -184,15 +184,27 @@ static vs_status check_analysis(const vs_run_def *d, vs_error *err) {
   return VS_OK;
 }
 
-/* Mortar (vs_joints_def ft, c, gf, gc): the joint law has it, the model does not use it yet; a
- * def that sets it is refused rather than run dry. */
+/* Mortar (vs_joints_def ft, c, gf, gc; SI): each finite and >= 0, and a softening that ends
+ * beyond the peak's opening (gf > ft^2 / (2 kn), gc > c^2 / (2 ks): no snap-back within a
+ * joint), as the case's validation has it for a def built by the library's caller. */
 static vs_status check_mortar(const vs_run_def *d, vs_error *err) {
   const vs_joints_def *j = &d->joints;
-  if (j->ft != 0.0 || j->c != 0.0 || j->gf != 0.0 || j->gc != 0.0)
-    return vs_error_set(err, VS_ERR_INVALID,
-                        "joints: mortar (tensile_MPa %g, cohesion_MPa %g, gf_N_mm %g, gc_N_mm %g) "
-                        "is not yet supported by the model (allowed: all 0, dry joints)",
-                        j->ft / VS_MPA, j->c / VS_MPA, j->gf / VS_N_MM, j->gc / VS_N_MM);
+  static const char *names[4] = {"tensile_MPa", "cohesion_MPa", "gf_N_mm", "gc_N_mm"};
+  const double v[4] = {j->ft / VS_MPA, j->c / VS_MPA, j->gf / VS_N_MM, j->gc / VS_N_MM};
+  for (int i = 0; i < 4; i++)
+    if (!(v[i] >= 0.0 && v[i] <= (i < 2 ? 100.0 : 1000.0)))
+      return vs_error_set(err, VS_ERR_INVALID, "joints.%s = %g (allowed: 0 .. %g)", names[i],
+                          v[i], i < 2 ? 100.0 : 1000.0);
+  if (j->ft > 0.0 && !(j->gf > j->ft * j->ft / (2.0 * j->kn)))
+    return vs_error_set(err, VS_ERR_INVALID, "joints.gf_N_mm = %g: with joints.tensile_MPa = %g "
+                        "must be > tensile_MPa^2 / (2 kn_N_mm3) = %g (allowed: the softening ends "
+                        "beyond the peak's opening)", v[2], v[0],
+                        j->ft * j->ft / (2.0 * j->kn) / VS_N_MM);
+  if (j->c > 0.0 && !(j->gc > j->c * j->c / (2.0 * j->ks)))
+    return vs_error_set(err, VS_ERR_INVALID, "joints.gc_N_mm = %g: with joints.cohesion_MPa = %g "
+                        "must be > cohesion_MPa^2 / (2 ks_ratio kn_N_mm3) = %g (allowed: the "
+                        "cohesion softens more slowly than the joint unloads)", v[3], v[1],
+                        j->c * j->c / (2.0 * j->ks) / VS_N_MM);
   return VS_OK;
 }
 
@@ -209,7 +221,8 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
   r->load_now = NAN;
   vs_status st = arch_and_imperfections(r, err);
   if (st == VS_OK) {
-    vs_joint_law law = {.kn = d->joints.kn, .ks = d->joints.ks, .mu = d->joints.mu};
+    vs_joint_law law = {.kn = d->joints.kn, .ks = d->joints.ks, .mu = d->joints.mu,
+                        .ft = d->joints.ft, .c = d->joints.c, .gf = d->joints.gf, .gc = d->joints.gc};
     st = vs_model_create(r->g, &law, d->support.alpha, &r->m, err);
     if (st == VS_OK)
       st = vs_model_set_support_kinds(r->m, d->support.left_kind, d->support.right_kind, err);
@@ -244,7 +257,7 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
     r->q = calloc((size_t)vs_model_size(r->m), sizeof *r->q);
     r->v = calloc((size_t)vs_model_size(r->m), sizeof *r->v);
     r->q_rest = calloc((size_t)vs_model_size(r->m), sizeof *r->q_rest);
-    r->js = calloc((size_t)r->g->n_joints, sizeof *r->js);
+    r->js = calloc(2 * (size_t)r->g->n_joints, sizeof *r->js); /* and the hinges' view */
     if (r->q == NULL || r->v == NULL || r->q_rest == NULL || r->js == NULL ||
         vs_run_slips_create(r) != 0)
       st = vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");

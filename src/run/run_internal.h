@@ -34,7 +34,8 @@ struct vs_run {
   vs_dyn_result dtot;
   double *q, *v;
   double *q_rest; /* the equilibrium found where the motion came to rest (dynamic_phase) */
-  vs_joint_state *js;
+  vs_joint_state *js; /* the joints' states at the state tracked (n_joints), then the hinge
+                         tracker's view of them (run_sample.c, hinge_view; n_joints) */
   double delta, t, wall_s;
   double deadline; /* of case.max_wall_s: vs_monotonic_s seconds, 0 none; every solver's
                       options point here (set when vs_run_execute starts) */
@@ -72,6 +73,11 @@ struct vs_run {
   vs_slip *mech_slips;   /* the collapse's slips (collapse.slips) */
   char *pier_side;       /* per joint, a pier's (run_sample.c): its open side when last
                             tracked ('I', 'E', 0 closed) */
+  /* --- mortar (run_sample.c, track_cracks), per joint --- */
+  double *crack_margin;  /* each edge's (intrados, extrados) opening short of f_t / k_n at the
+                            last state tracked, m (> 0: below the tensile strength) */
+  unsigned char *cracked; /* bit 0: the intrados edge has reached f_t, bit 1: the extrados */
+  double crack_delta;     /* the support displacement of that state, m (NaN: none yet) */
   /* --- the live load's path (run_load.c) --- */
   vs_run_load_result load;
   double *load_lambda, *load_u; /* the curve (load.n points) */

@@ -69,13 +69,63 @@ static int track_piers(vs_run *r, double delta) {
   return 0;
 }
 
+/* Crack initiation (VS_EVENT_CRACK_INITIATED): an edge of a mortared joint whose opening
+ * (the law's, less its initial gap) passes f_t / k_n, where the tensile stress reaches f_t.
+ * Logged once per edge, at the support displacement interpolated linearly in the opening
+ * between the last state tracked and this one (r->js at delta). */
+static int track_cracks(vs_run *r, double delta) {
+  const vs_geometry *g = r->g;
+  const double before = r->crack_delta;
+  r->crack_delta = delta;
+  for (int k = 0; k < g->n_joints; k++) {
+    const vs_joint_law *l = vs_model_joint_law(r->m, k);
+    if (!(l->ft > 0.0)) continue;
+    const double h = 0.5 * g->joints[k].length, d0 = l->ft / l->kn;
+    const double a = r->js[k].a - l->gap0, w = r->js[k].w - l->gap1;
+    for (int e = 0; e < 2; e++) {
+      const double margin = d0 + (a + (e ? h : -h) * w); /* d0 - opening */
+      const double was = r->crack_margin[2 * k + e];
+      r->crack_margin[2 * k + e] = margin;
+      if ((r->cracked[k] >> e) & 1 || margin > 0.0) continue;
+      r->cracked[k] |= (unsigned char)(1 << e);
+      double at = delta;
+      if (isfinite(before) && was > 0.0) at = before + (delta - before) * was / (was - margin);
+      if (vs_run_log_event(r, VS_EVENT_CRACK_INITIATED, at / r->dopts.rate, at, k + 1,
+                           e ? 'E' : 'I', 0, 0) != 0)
+        return -1;
+    }
+  }
+  return 0;
+}
+
+/* The joints' states as the hinge tracker sees them: a mortared joint's edge can be open only
+ * once its mortar has cracked there (the opening past f_t / k_n, or cracked through); before
+ * that its opening is the mortar's elastic stretch, not a hinge, and it is seen closed. (A
+ * cracked edge is then a hinge past hinges.open_mm, as a dry one.) Dry joints as they are
+ * (r->js itself for a dry arch). */
+static const vs_joint_state *hinge_view(vs_run *r) {
+  const vs_joints_def *jd = &r->def.joints;
+  if (!(jd->ft > 0.0)) return r->js;
+  const int nj = r->g->n_joints;
+  vs_joint_state *v = r->js + nj;
+  memcpy(v, r->js, (size_t)nj * sizeof *v);
+  for (int k = 0; k < nj; k++) {
+    const vs_joint_law *l = vs_model_joint_law(r->m, k);
+    if (!(l->ft > 0.0)) continue;
+    const double d0 = l->ft / l->kn;
+    if (l->crack[0] <= 0.0 && v[k].gap_i < d0) v[k].gap_i = fmin(v[k].gap_i, 0.0);
+    if (l->crack[1] <= 0.0 && v[k].gap_e < d0) v[k].gap_e = fmin(v[k].gap_e, 0.0);
+  }
+  return v;
+}
+
 /* Update the hinges at (delta, q); log the hinges that formed. */
 /* js: the joints' states at (delta, q) if the caller has them (NULL: evaluated here). */
 static int track_hinges(vs_run *r, double delta, const double *q, const vs_joint_state *js) {
   const int before = vs_hinges_count(r->h);
   if (js != NULL) memcpy(r->js, js, (size_t)r->g->n_joints * sizeof *js);
   else vs_model_joint_states(r->m, q, delta, r->js);
-  if (vs_hinges_update(r->h, delta, r->js) < 0) return vs_run_out_of_memory(r);
+  if (vs_hinges_update(r->h, delta, hinge_view(r)) < 0) return vs_run_out_of_memory(r);
   for (int i = before; i < vs_hinges_count(r->h); i++) {
     const vs_hinge *hg = vs_hinges_get(r->h, i);
     /* at its interpolated onset: delta = rate t holds for every event */
@@ -85,6 +135,7 @@ static int track_hinges(vs_run *r, double delta, const double *q, const vs_joint
   }
   /* the first three get their labels together: fix up the events logged before */
   if (before < 3 && vs_hinges_count(r->h) >= 3) relabel_events(r);
+  if (track_cracks(r, delta) != 0) return -1;
   return track_piers(r, delta);
 }
 

@@ -15,8 +15,11 @@ int vs_run_slips_create(vs_run *r) {
   r->slip_onset = calloc(nj, sizeof *r->slip_onset);
   r->mech_slips = calloc(nj, sizeof *r->mech_slips);
   r->pier_side = calloc(nj, sizeof *r->pier_side);
+  r->crack_margin = calloc(2 * nj, sizeof *r->crack_margin);
+  r->cracked = calloc(nj, sizeof *r->cracked);
+  r->crack_delta = NAN;
   return r->slip_dir && r->slip_anchor && r->slip_from && r->slip_onset && r->mech_slips &&
-                 r->pier_side
+                 r->pier_side && r->crack_margin && r->cracked
              ? 0
              : -1;
 }
@@ -28,6 +31,8 @@ void vs_run_slips_free(vs_run *r) {
   free(r->slip_onset);
   free(r->mech_slips);
   free(r->pier_side);
+  free(r->crack_margin);
+  free(r->cracked);
 }
 
 /* The edge toward which joint k's voussoir slides relative to the body across the joint, when

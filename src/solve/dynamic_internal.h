@@ -44,6 +44,7 @@ static const double VS_DYN_NEWTON_COEF_FALL = 0.33;
 
 struct vs_dynamic {
   vs_model *m;
+  double cracking0; /* vs_model_cracking_energy at the phase's start (vs_energy's cracking) */
   vs_dyn_opts o;
   int n;  /* 3 per block */
   int nq; /* the static state's length (vs_model_size): blocks, pinned supports' rotations */

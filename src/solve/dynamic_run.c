@@ -38,7 +38,9 @@ static void energies(vs_dynamic *d, const double *y, double e0, vs_energy *e) {
   e->support_work = y[d->ie];
   e->damped = y[d->ie + 1];
   e->friction = y[d->ie + 2];
-  e->balance = e->kinetic + e->gravity + e->elastic - e->support_work + e->damped + e->friction - e0;
+  e->cracking = vs_model_cracking_energy(d->m) - d->cracking0;
+  e->balance = e->kinetic + e->gravity + e->elastic - e->support_work + e->damped + e->friction +
+               e->cracking - e0;
 }
 
 /* The static state (blocks, pinned supports' rotations) of y into d->qst, d->vst. */
@@ -130,6 +132,7 @@ static vs_status initial_conditions(vs_dynamic *d, double t0, double t_end, vs_e
 static vs_status first_sample(vs_dynamic *d, dyn_run *r, double t0) {
   double *y = N_VGetArrayPointer(d->y);
   if (d->imp != NULL) vs_dyn_impact_arm(d, y, 1);
+  d->cracking0 = vs_model_cracking_energy(d->m);
   energies(d, y, 0.0, &r->e);
   r->e0 = r->e.kinetic + r->e.gravity + r->e.elastic;
   r->scale = fabs(r->e0);

@@ -2,6 +2,7 @@
  * that the tangent's smallest eigenvalue predicts, bracketed when an increment at limit_tol still
  * fails, and confirmed on the tangent (its smallest eigenvalue extrapolated to zero). */
 #include "quasistatic_internal.h"
+#include "stability.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -87,6 +88,34 @@ void vs_qs_fold_limit(vs_qs_path *w) {
     w->h = fmin(w->h, fmax(VS_FOLD_APPROACH * (w->fold - delta), w->o->limit_tol));
 }
 
+/* A limit point of a mortared arch at the softening of a joint: the tangent's smallest
+ * eigenvalue then falls by an amount that grows as the softening zone enters the joint (its
+ * length grows like the opening over the gap slope), not like the square root of a smooth fold,
+ * so that confirm_limit's extrapolation says nothing. The bracket holds the limit when the
+ * tangent at the failed increment's predictor (the path's tangent from the last equilibrium), or
+ * at twice or four times it, is no longer positive definite while the last equilibrium's is. Only for a model with mortar: a
+ * dry arch's limit points are folds or slip corners. */
+/* The predictors tested: at 1, 2, ... up to this many times the failed increment (within
+ * confirm_limit's slack of a bracket width and the bisection tolerance, the increment being at
+ * most the tolerance there). */
+enum { VS_CRACK_CORNER_REACH = 4 };
+
+static int crack_corner(vs_qs_path *w) {
+  vs_qs_solver *const s = w->s;
+  const vs_joint_law *law = vs_model_law(s->m);
+  if (!(law->ft > 0.0 || law->c > 0.0)) return 0;
+  for (int f = 1; f <= VS_CRACK_CORNER_REACH; f *= 2) {
+    for (int i = 0; i < s->n; i++) w->qtry[i] = w->q[i] + f * w->h * w->tan[i];
+    int sign = 0;
+    if (vs_qs_tangent_factor(s, w->qtry, w->delta + f * w->h, &sign) != 0) return 0;
+    if (vs_spd_test(s->spd, s->Jt) == 0) {
+      w->res->evidence.delta_extrap = w->delta + f * w->h;
+      return 1;
+    }
+  }
+  return 0;
+}
+
 vs_status vs_qs_limit_end(vs_qs_path *w, vs_error *err) {
   vs_qs_solver *const s = w->s;
   vs_path_result *const res = w->res;
@@ -102,6 +131,10 @@ vs_status vs_qs_limit_end(vs_qs_path *w, vs_error *err) {
   }
   vs_status st = confirm_limit(s, w->qprev, w->delta_prev, w->q, w->delta, w->delta + w->h, res,
                                err);
+  if (st == VS_ERR_NO_EQUILIBRIUM && !s->interrupted && !s->nonfinite && crack_corner(w)) {
+    vs_error_clear(err);
+    st = VS_OK;
+  }
   if (s->interrupted || s->nonfinite) st = vs_qs_fatal(s, w->delta + w->h, err);
   if (st == VS_OK) res->end = VS_PATH_LIMIT_POINT;
   return st;

@@ -202,6 +202,40 @@ static void path_sliding_end(vs_qs_path *w) {
     }
 }
 
+/* The fraction of the accepted trial's increment at which the arch's first crack begins: an
+ * edge of a mortared joint reaches its tensile strength (its opening, less the initial gap,
+ * passes f_t / k_n), interpolated linearly in the edges' openings; 1 when none does, or when an
+ * edge had cracked before (a dry arch: 1). The mortar's stress-opening law has its peak there:
+ * past it the edge softens and the path's response changes, so the first crack's onset ends an
+ * increment (path_follow), as a support's kink does, and the path resolves it rather than
+ * stepping over it (the reported first crack is then the elastic arch's, not an interpolation
+ * across softening joints). Later onsets are not cut for: each costs an increment more, and
+ * together they doubled the quasi-static path's Newton iterations on the reference arch. */
+static double crack_onset(const vs_qs_path *w) {
+  vs_model *const m = w->s->m;
+  if (!(vs_model_law(m)->ft > 0.0)) return 1.0;
+  const vs_geometry *g = vs_model_geometry(m);
+  const int nj = g->n_joints;
+  vs_joint_state *a = w->s->js, *b = w->s->js + nj;
+  vs_model_joint_states(m, w->q, w->delta, a);
+  vs_model_joint_states(m, w->qtry, w->delta + w->h, b);
+  double f = 1.0;
+  for (int k = 0; k < nj; k++) {
+    const vs_joint_law *l = vs_model_joint_law(m, k);
+    if (!(l->ft > 0.0)) continue;
+    const double d0 = l->ft / l->kn, h = 0.5 * g->joints[k].length;
+    for (int e = 0; e < 2; e++) {
+      if (l->crack[e] > 0.0) return 1.0; /* cracked before */
+      const double x = e ? h : -h;
+      const double m0 = d0 + (a[k].a - l->gap0) + x * (a[k].w - l->gap1);
+      const double m1 = d0 + (b[k].a - l->gap0) + x * (b[k].w - l->gap1);
+      if (!(m0 > 0.0)) return 1.0; /* cracked before */
+      if (m1 <= 0.0) f = fmin(f, m0 / (m0 - m1));
+    }
+  }
+  return f;
+}
+
 /* 2. Increments from the starting equilibrium until the largest displacement (VS_OK), the limit
  * point (vs_qs_limit_end), a sliding mechanism that the support drives (path_sliding_end) or an
  * error: a failed or rejected trial halves the increment, down to limit_tol. */
@@ -244,6 +278,16 @@ static vs_status path_follow(vs_qs_path *w, vs_error *err) {
       if (check == TRIAL_MISSED) check = path_retry_sliding(w, &it, &st, err);
       if (st != VS_OK) return st;
       if (check != TRIAL_OK) return vs_qs_limit_end(w, err);
+    }
+    /* the first crack's onset inside the increment: the increment ends just past it (by half
+     * the bisection tolerance), tried again */
+    if (w->h > o->limit_tol) {
+      const double h_cut = w->h * crack_onset(w) + 0.5 * o->limit_tol;
+      if (h_cut < w->h) {
+        res->rejected++;
+        w->h = h_cut;
+        continue;
+      }
     }
     const double force_prev = w->force;
     const int slid_prev = w->slid;
