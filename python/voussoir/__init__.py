@@ -18,7 +18,7 @@ from . import cli
 from ._lib import Error, CaseError, SolverError, library_path
 from .case import Case
 from .inprocess import run, Result, History, Hinge, Collapse, LimitPoint, Event
-from .record import LoadCurve
+from .record import LoadCurve, FirstCrack
 from .study import sweep, montecarlo, calibrate
 from . import tables
 from .tables import record_to_xarray
@@ -28,5 +28,5 @@ from . import figures
 __version__ = "0.4.0"
 __all__ = ["Record", "Series", "open_record", "read_table", "draw_mechanism", "draw_curves",
            "draw_domain", "figures", "cli", "Case", "run", "Result", "History", "Hinge", "Collapse",
-           "LimitPoint", "Event", "LoadCurve", "sweep", "montecarlo", "calibrate",
+           "LimitPoint", "Event", "LoadCurve", "FirstCrack", "sweep", "montecarlo", "calibrate",
            "record_to_xarray", "tables", "Error", "CaseError", "SolverError", "library_path"]

@@ -9,7 +9,7 @@ import numpy as np
 from . import _lib
 from ._lib import ffi
 from .case import Case
-from .record import LoadCurve
+from .record import FirstCrack, LoadCurve, first_crack_of
 
 MM = 1e-3
 _PHASES = ("quasistatic", "dynamic", "fall")
@@ -185,7 +185,10 @@ class Result:
     hinges_at_collapse ("D:1-E A:9-10-I ...", "" without a collapse),
     history (History), wall_s (the run's wall-clock time), case (Case), load_factor (with
     analysis.type = load: the live load's factor at collapse, 0 when the arch fell before the
-    hold; NaN otherwise)."""
+    hold; NaN otherwise), mortared (joints.tensile_MPa or cohesion_MPa > 0), first_crack
+    (FirstCrack: delta_mm, joint, side, load_factor, the JSON's first_crack; None when no joint
+    cracked or the joints are dry), energy ({"cracking_J": the energy the joints' cracking
+    dissipated, J, the JSON's energy.cracking_J; 0 for dry joints})."""
 
     def __init__(self, case, run, status, err, history):
         L = _lib.lib()
@@ -216,6 +219,9 @@ class Result:
         ld = L.vs_run_load(run)
         self.load_factor = ld.load_factor if ld.done else math.nan
         self._load = _load_curve(ld) if ld.done else None
+        self.mortared = case["joints.tensile_MPa"] > 0 or case["joints.cohesion_MPa"] > 0
+        self.first_crack = first_crack_of(self.events)
+        self.energy = {"cracking_J": L.vs_model_cracking_energy(L.vs_run_model(run))}
 
     def load_curve(self):
         """The load-deflection curve of a load run (LoadCurve); ValueError for another

@@ -42,6 +42,35 @@ class LoadCurve:
              "deflection_at_peak": "m", "hold": "m"}
 
 
+@dataclass
+class FirstCrack:
+    """A mortared run's first crack (the JSON's first_crack): the support displacement delta_mm
+    where the first joint edge's tensile stress reached f_t, its joint (1-based), side (the edge
+    that cracks: 'I' intrados, 'E' extrados) and, on a load path (analysis.type = load), the
+    load factor there (else NaN)."""
+    delta_mm: float
+    joint: int
+    side: str
+    load_factor: float = float("nan")
+
+
+def first_crack_of(events):
+    """The crack_initiated event of least support displacement (the program's rule) among
+    events (dicts or objects with kind, delta m or delta_mm, joint, side, load_factor) as a
+    FirstCrack, or None."""
+    def get(e, k):
+        return e[k] if isinstance(e, dict) else getattr(e, k)
+    cracks = [e for e in events if get(e, "kind") == "crack_initiated"]
+    if not cracks:
+        return None
+    mm = [get(e, "delta") / 1e-3 if isinstance(e, dict) else e.delta_mm for e in cracks]
+    i = int(np.argmin(mm))
+    e = cracks[i]
+    lf = get(e, "load_factor") if (not isinstance(e, dict) or "load_factor" in e) else None
+    return FirstCrack(float(mm[i]), int(get(e, "joint")), str(get(e, "side")),
+                      float("nan") if lf is None else float(lf))
+
+
 class Record:
     """An open record (use as a context manager, or call close())."""
 
@@ -160,6 +189,27 @@ class Record:
             rows.append({k: (_text(e[k]) if e.dtype[k].kind in "SOU" else e[k].item())
                          for k in e.dtype.names})
         return rows
+
+    def mortared(self):
+        """Whether the run had mortar joints (joints.tensile_MPa or cohesion_MPa > 0)."""
+        p = self.parameters()
+        return p.get("joints.tensile_MPa", 0.0) > 0 or p.get("joints.cohesion_MPa", 0.0) > 0
+
+    def first_crack(self):
+        """The first crack (FirstCrack: delta_mm, joint, side, load_factor) from the event
+        table's crack_initiated events, as the JSON's first_crack; None when no joint cracked
+        (and for a dry run)."""
+        return first_crack_of(self.events())
+
+    def joint_crack(self):
+        """/observables/joint_crack: per recorded state and joint the lengths cracked through
+        from the intrados and from the extrados (m), a Series of shape (rows, joints, 2),
+        columns ['intrados', 'extrados']; 0 for dry joints. ValueError for a record written
+        before mortar joints (no joint_crack)."""
+        if "joint_crack" not in self.file["observables"]:
+            raise ValueError(f"{self.file.filename}: no /observables/joint_crack (a record "
+                             "written before mortar joints)")
+        return self.series("joint_crack")
 
     def load_curve(self):
         """A load run's load-deflection curve (analysis.type = load), /summary/load, as a

@@ -4,7 +4,8 @@ SVG's labels are <text> elements, the PDF's fonts TrueType).
 
 A run's charts take a record (a path or an open voussoir.Record) or an in-process Result:
 curves (the supports' forces against the support displacement), hinges (the open joints and
-the hinges against it). A sweep's DataFrame (or read_table rows) gives domain; a Monte Carlo
+the hinges against it); a mortared run's record also gives cracks (each joint's cracked length
+against it). A sweep's DataFrame (or read_table rows) gives domain; a Monte Carlo
 DataFrame (voussoir.montecarlo, or samples.csv read by pandas) gives fragility, convergence and
 hinge_histogram. Axes end where the physics does: the displacement charts stop at the end of
 the collapse (the rigid fall, in which the support hardly moves, is drawn against time on its
@@ -202,6 +203,44 @@ def hinges(src):
     ax.set_ylabel("joint")
     if run.open_joints is not None:
         ax.legend(frameon=False, markerscale=6)
+    return fig
+
+
+@_styled
+def cracks(src):
+    """A mortared run's cracks: the length of each joint cracked through (from the intrados plus
+    from the extrados, mm; /observables/joint_crack) against the support displacement delta
+    (mm), quasi-static path and collapse, one line per joint that cracked, coloured by its
+    number (a length counts once cracked through: past the softening's end, so a joint's line
+    leaves 0 after its crack_initiated event, where its stress reached f_t); the first crack (the JSON's first_crack) marked, the limit points and the collapse
+    as in curves. src: a record (path or Record); ValueError when no joint cracked."""
+    from ..record import Record
+    if not isinstance(src, Record):
+        with Record(src) as r:
+            return cracks(r)
+    run = _Run(src)
+    crack = src.joint_crack().values.sum(axis=2) / 1e-3  # rows x joints, mm
+    path = run.phase != 2
+    cracked = np.nonzero(crack[path].max(axis=0, initial=0.0) > 0)[0]
+    if cracked.size == 0:
+        raise ValueError("no joint cracked (a dry run, or the mortar held): no cracks chart")
+    import matplotlib
+    fig, ax = figure()
+    nj = crack.shape[1]
+    cmap = matplotlib.colormaps["viridis"]
+    norm = matplotlib.colors.Normalize(1, nj)
+    for j in cracked:
+        ax.plot(run.delta[path], crack[path, j], color=cmap(norm(j + 1)), linewidth=0.7)
+    first = src.first_crack()
+    if first is not None:
+        ax.plot([first.delta_mm], [0.0], marker="v", color="k", linestyle="none",
+                label=f"first crack: joint {first.joint}-{first.side}")
+    _marks(ax, run)
+    fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=ax, label="joint")
+    ax.set_xlabel("support displacement delta (mm)")
+    ax.set_ylabel("cracked length (mm)")
+    ax.set_ylim(bottom=0)
+    ax.legend(frameon=False)
     return fig
 
 
@@ -560,7 +599,8 @@ def kind_of(path):
 def charts(path, out_dir, formats=("png", "pdf", "svg")):
     """The charts of a file voussoir wrote, saved in out_dir (created when absent) as
     NAME.FORMAT for each of formats: a run's record: curves, hinges (and load_deflection for a
-    load run); a sweep's summary.h5: domain, sensitivity (when the sweep varies alpha or k_n); a
+    load run, cracks for a mortared run whose joints cracked); a sweep's summary.h5: domain,
+    sensitivity (when the sweep varies alpha or k_n); a
     Monte Carlo summary.h5: fragility, convergence, hinge_histogram. Returns the paths written;
     ValueError for a file of none of these kinds."""
     kind = kind_of(path)
@@ -571,6 +611,8 @@ def charts(path, out_dir, formats=("png", "pdf", "svg")):
             figs = [("curves", curves(r)), ("hinges", hinges(r))]
             if "summary/load" in r.file:
                 figs.append(("load_deflection", load_deflection(r)))
+            if r.mortared() and r.first_crack() is not None:
+                figs.append(("cracks", cracks(r)))
     elif kind == "sweep":
         rows = read_sweep(path)
         figs = [("domain", domain(rows))]
@@ -590,8 +632,9 @@ def charts(path, out_dir, formats=("png", "pdf", "svg")):
 USAGE = """usage: python3 -m voussoir.figures FILE.h5 [-o DIR] [--format png,pdf,svg]
 Draws the charts of a file voussoir wrote with matplotlib, each a journal column wide, as PNG,
 PDF and SVG (text editable): a run's record: curves (the supports' forces against the support
-displacement), hinges (the hinges and open joints against it) and, for a load run
-(analysis.type = load), load_deflection; a sweep's summary.h5: domain (dx/L against dz/L per
+displacement), hinges (the hinges and open joints against it), for a load run
+(analysis.type = load) load_deflection, and for a mortared run whose joints cracked cracks (each
+joint's cracked length against the support displacement); a sweep's summary.h5: domain (dx/L against dz/L per
 k_n, the points marked by mode) and sensitivity (delta_u/L against alpha, or k_n); a Monte Carlo
 study's summary.h5: fragility (with its 95 % band), convergence, hinge_histogram. DIR: default
 FILE without .h5 and "_plots" (voussoir plot's). exit status: 0 done, 1 a figure could not be

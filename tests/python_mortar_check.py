@@ -1,0 +1,126 @@
+"""Mortar joints from Python (voussoir.Case/run, Record, record_to_xarray, figures.cracks)
+against independent paths: the program's JSON (`voussoir run --json`) and its record read with
+h5py for the same case, and the closed form of the cracking energy, G_f x the area cracked
+through (b, the arch's depth, times the cracked lengths the record ends with; docs/mortar.md).
+usage: /usr/bin/python3 python_mortar_check.py CASE DIR  (VOUSSOIR = the program)"""
+import json
+import math
+import os
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+import voussoir
+import voussoir.figures as vf
+
+
+def check(cond, msg):
+    if not cond:
+        print("FAIL:", msg)
+        sys.exit(1)
+
+
+def close(a, b, rel=1e-8):  # the JSON prints 10 significant digits
+    return abs(a - b) <= rel * max(abs(a), abs(b), 1e-300)
+
+
+case_path, out = sys.argv[1], sys.argv[2]
+prog = os.environ["VOUSSOIR"]
+FT, GF = 0.002, 0.0002  # MPa, N/mm: docs/mortar.md's run (softening ends at 0.2 mm)
+SETS = [f"joints.tensile_MPa={FT}", f"joints.gf_N_mm={GF}"]
+
+
+def program(sets, record=None):
+    args = [prog, "run", case_path, "--json", "-q"]
+    args += ["-o", record] if record else ["--no-record"]
+    for s in sets:
+        args += ["--set", s]
+    return json.loads(subprocess.run(args, capture_output=True, text=True, check=True).stdout)
+
+
+# 1. The mortar keys as Case overrides (section__key), read back through the key table.
+case = voussoir.Case.from_file(case_path, joints__tensile_MPa=FT, joints__gf_N_mm=GF)
+check(case["joints.tensile_MPa"] == FT and case["joints.gf_N_mm"] == GF, "mortar keys")
+check(case["joints.cohesion_MPa"] == 0 and case["joints.gc_N_mm"] == 0, "cohesion default 0")
+for bad, field in (({"joints__tensile_MPa": -1}, "joints.tensile_MPa"),
+                   ({"joints__tensile_MPa": FT, "joints__gf_N_mm": 1e-9}, "joints.gf_N_mm")):
+    try:
+        voussoir.run(voussoir.Case.from_file(case_path, **bad))
+        check(False, f"{bad} accepted")
+    except voussoir.CaseError as e:
+        check(field in str(e), f"{bad}: the error names {field}: {e}")
+
+# 2. In process against the program's JSON and record of the same case.
+res = voussoir.run(case, history=False)
+rec_path = os.path.join(out, "mortar.h5")
+ref = program(SETS, rec_path)
+check(res.mortared, "Result.mortared")
+check(res.status == ref["status"], f"status {res.status} / {ref['status']}")
+fc, rfc = res.first_crack, ref["first_crack"]
+check(fc is not None and rfc is not None, f"first crack {fc} / {rfc}")
+check(close(fc.delta_mm, rfc["delta_mm"]) and fc.joint == rfc["joint"] and
+      fc.side == rfc["side"], f"first_crack {fc} in process, {rfc} by the program")
+check(math.isnan(fc.load_factor) and "load_factor" not in rfc, "no load factor off a load path")
+cj = res.energy["cracking_J"]
+check(cj > 0 and close(cj, ref["energy"]["cracking_J"]),
+      f"cracking_J {cj} in process, {ref['energy']['cracking_J']} by the program")
+crack_events = [e for e in res.events if e.kind == "crack_initiated"]
+check(crack_events, "crack_initiated events in Result.events")
+
+# 3. The record read with h5py: the event table and the crack history.
+with h5py.File(rec_path, "r") as f:
+    ev = f["events"][:]
+    kinds = [k.decode() if isinstance(k, bytes) else str(k) for k in ev["kind"]]
+    h5_cracks = sorted((int(e["joint"]), e["side"].decode() if isinstance(e["side"], bytes)
+                        else str(e["side"]), float(e["delta"]))
+                       for e, k in zip(ev, kinds) if k == "crack_initiated")
+    crack = f["observables/joint_crack/value"][()]
+    unit = f["observables/joint_crack/value"].attrs["unit"]
+    unit = unit.decode() if isinstance(unit, bytes) else str(unit)
+    b = float(f["parameters/arch"].attrs["depth_mm"]) * 1e-3
+py_cracks = sorted((e.joint, e.side, e.delta_mm * 1e-3) for e in crack_events)
+check(len(py_cracks) == len(h5_cracks) and
+      all(a[:2] == h[:2] and close(a[2], h[2], 1e-12) for a, h in zip(py_cracks, h5_cracks)),
+      f"crack events: {len(py_cracks)} in process, {len(h5_cracks)} in the record")
+check(unit == "m,m" and crack.ndim == 3 and crack.shape[2] == 2, f"joint_crack {crack.shape} {unit}")
+check(bool((np.diff(crack, axis=0) >= 0).all()), "cracks never close (damage is irreversible)")
+with voussoir.open_record(rec_path) as r:
+    jc = r.joint_crack()
+    check(np.array_equal(jc.values, crack) and jc.columns == ["intrados", "extrados"] and
+          jc.unit == "m,m", "Record.joint_crack against h5py")
+    rfc2 = r.first_crack()
+    check(r.mortared() and rfc2 is not None and rfc2.joint == rfc["joint"] and
+          rfc2.side == rfc["side"] and close(rfc2.delta_mm, rfc["delta_mm"]),
+          f"Record.first_crack {rfc2} / the JSON's {rfc}")
+    ds = voussoir.record_to_xarray(r)
+    da = ds["joint_crack"]
+    check(da.dims == ("state", "joint", "joint_crack_component") and da.attrs["units"] == "m" and
+          np.array_equal(da.values, crack) and
+          list(da["joint_crack_component"].values) == ["intrados", "extrados"],
+          f"xarray joint_crack {da.dims} {da.attrs}")
+    fig = vf.cracks(r)
+    vf.save(fig, os.path.join(out, "cracks"), ("png", "svg"))
+    check(os.path.getsize(os.path.join(out, "cracks.png")) > 0, "cracks.png")
+
+# 4. Closed form: every point cracked through gave up G_f per unit area, so the energy is
+# G_f (N/mm = 1e3 J/m^2) x b x the lengths cracked through that the record ends with.
+area = b * crack[-1].sum()
+want = GF * 1e3 * area
+check(close(cj, want, 1e-9), f"cracking_J {cj} J, G_f x cracked area {want} J")
+print(f"mortar: first crack joint {fc.joint}-{fc.side} at {fc.delta_mm:.4f} mm, "
+      f"{len(crack_events)} edges cracked, {cj:.6g} J = G_f x {area * 1e6:.1f} mm^2")
+
+# 5. python3 -m voussoir.figures draws cracks for this record.
+paths = vf.charts(rec_path, os.path.join(out, "plots"), ("png",))
+check(any(p.endswith("cracks.png") for p in paths), f"charts {paths}")
+
+# 6. A dry arch: no first crack, no cracking energy, no crack events, no cracks chart.
+dry = voussoir.run(voussoir.Case.from_file(case_path), history=False)
+check(not dry.mortared and dry.first_crack is None and dry.energy["cracking_J"] == 0.0,
+      f"dry: {dry.first_crack} {dry.energy}")
+check(not [e for e in dry.events if e.kind == "crack_initiated"], "dry: crack events")
+dref = program([])
+check("first_crack" not in dref and "cracking_J" not in dref["energy"], "dry JSON unchanged")
+print("python_mortar_check: ok")
