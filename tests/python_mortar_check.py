@@ -44,6 +44,10 @@ def program(sets, record=None):
 case = voussoir.Case.from_file(case_path, joints__tensile_MPa=FT, joints__gf_N_mm=GF)
 check(case["joints.tensile_MPa"] == FT and case["joints.gf_N_mm"] == GF, "mortar keys")
 check(case["joints.cohesion_MPa"] == 0 and case["joints.gc_N_mm"] == 0, "cohesion default 0")
+keys = {"joints.cohesion_MPa": 0.001, "joints.gc_N_mm": 0.01, "imperfections.tensile_cov": 0.3,
+        "imperfections.gf_cov": 0.2, "imperfections.debonded": 0.25}
+c2 = voussoir.Case.from_file(case_path, keys)
+check(all(c2[k] == v for k, v in keys.items()), "the other mortar keys, as a dict")
 for bad, field in (({"joints__tensile_MPa": -1}, "joints.tensile_MPa"),
                    ({"joints__tensile_MPa": FT, "joints__gf_N_mm": 1e-9}, "joints.gf_N_mm")):
     try:
@@ -116,11 +120,33 @@ print(f"mortar: first crack joint {fc.joint}-{fc.side} at {fc.delta_mm:.4f} mm, 
 paths = vf.charts(rec_path, os.path.join(out, "plots"), ("png",))
 check(any(p.endswith("cracks.png") for p in paths), f"charts {paths}")
 
-# 6. A dry arch: no first crack, no cracking energy, no crack events, no cracks chart.
+# 6. On a load path (analysis.type = load) the first crack carries the load factor there.
+LOAD = {"analysis.type": "load", "load.kind": "point", "load.x_mm": 150, "load.value_N": 1000,
+        "joints.tensile_MPa": 0.01, "joints.gf_N_mm": 0.001}
+lres = voussoir.run(voussoir.Case.from_file(case_path, LOAD), history=False)
+lrec = os.path.join(out, "load.h5")
+lref = program([f"{k}={v}" for k, v in LOAD.items()], lrec)
+lfc, lrfc = lres.first_crack, lref["first_crack"]
+check(lfc is not None and lrfc is not None and "load_factor" in lrfc, f"load: {lfc} / {lrfc}")
+check(close(lfc.load_factor, lrfc["load_factor"]) and lfc.joint == lrfc["joint"] and
+      lfc.side == lrfc["side"] and close(lfc.delta_mm, lrfc["delta_mm"]),
+      f"load: first_crack {lfc} in process, {lrfc} by the program")
+with voussoir.open_record(lrec) as r:
+    check(close(r.first_crack().load_factor, lrfc["load_factor"]), "load: Record.first_crack")
+check(close(lres.energy["cracking_J"], lref["energy"]["cracking_J"]), "load: cracking_J")
+
+# 7. A dry arch: no first crack, no cracking energy, no crack events, no cracks chart.
 dry = voussoir.run(voussoir.Case.from_file(case_path), history=False)
 check(not dry.mortared and dry.first_crack is None and dry.energy["cracking_J"] == 0.0,
       f"dry: {dry.first_crack} {dry.energy}")
 check(not [e for e in dry.events if e.kind == "crack_initiated"], "dry: crack events")
 dref = program([])
 check("first_crack" not in dref and "cracking_J" not in dref["energy"], "dry JSON unchanged")
+# Every joint debonded (imperfections.debonded = 1): a dry arch however strong the mortar, its
+# collapse the dry one's; no crack.
+deb = voussoir.run(voussoir.Case.from_file(case_path, dict(zip(("joints.tensile_MPa",
+                   "joints.gf_N_mm", "imperfections.debonded"), (FT, GF, 1)))), history=False)
+check(deb.mortared and deb.first_crack is None and deb.energy["cracking_J"] == 0.0 and
+      deb.collapse.delta_mm == dry.collapse.delta_mm, f"all debonded: {deb.first_crack} "
+      f"{deb.energy} {deb.collapse.delta_mm} / dry {dry.collapse.delta_mm}")
 print("python_mortar_check: ok")
