@@ -98,6 +98,7 @@ with voussoir.open_record(rec_path) as r:
     check(r.mortared() and rfc2 is not None and rfc2.joint == rfc["joint"] and
           rfc2.side == rfc["side"] and close(rfc2.delta_mm, rfc["delta_mm"]),
           f"Record.first_crack {rfc2} / the JSON's {rfc}")
+    check(rfc2 == fc, f"Record.first_crack {rfc2} == Result.first_crack {fc}")
     ds = voussoir.record_to_xarray(r)
     da = ds["joint_crack"]
     check(da.dims == ("state", "joint", "joint_crack_component") and da.attrs["units"] == "m" and
@@ -132,7 +133,8 @@ check(close(lfc.load_factor, lrfc["load_factor"]) and lfc.joint == lrfc["joint"]
       lfc.side == lrfc["side"] and close(lfc.delta_mm, lrfc["delta_mm"]),
       f"load: first_crack {lfc} in process, {lrfc} by the program")
 with voussoir.open_record(lrec) as r:
-    check(close(r.first_crack().load_factor, lrfc["load_factor"]), "load: Record.first_crack")
+    check(close(r.first_crack().load_factor, lrfc["load_factor"]) and r.first_crack() == lfc,
+          "load: Record.first_crack")
 check(close(lres.energy["cracking_J"], lref["energy"]["cracking_J"]), "load: cracking_J")
 
 # 7. A dry arch: no first crack, no cracking energy, no crack events, no cracks chart.

@@ -42,7 +42,7 @@ class LoadCurve:
              "deflection_at_peak": "m", "hold": "m"}
 
 
-@dataclass
+@dataclass(eq=False)
 class FirstCrack:
     """A mortared run's first crack (the JSON's first_crack): the support displacement delta_mm
     where the first joint edge's tensile stress reached f_t, its joint (1-based), side (the edge
@@ -52,6 +52,14 @@ class FirstCrack:
     joint: int
     side: str
     load_factor: float = float("nan")
+
+    def __eq__(self, other):  # NaN load factors (off a load path) compare equal
+        if not isinstance(other, FirstCrack):
+            return NotImplemented
+        lf = self.load_factor == other.load_factor or (
+            self.load_factor != self.load_factor and other.load_factor != other.load_factor)
+        return (self.delta_mm, self.joint, self.side) == (other.delta_mm, other.joint,
+                                                          other.side) and lf
 
 
 def first_crack_of(events):
