@@ -120,6 +120,11 @@ print(f"mortar: first crack joint {fc.joint}-{fc.side} at {fc.delta_mm:.4f} mm, 
 # 5. python3 -m voussoir.figures draws cracks for this record.
 paths = vf.charts(rec_path, os.path.join(out, "plots"), ("png",))
 check(any(p.endswith("cracks.png") for p in paths), f"charts {paths}")
+# and `voussoir plot`, which runs it after the arch pictures.
+subprocess.run([prog, "plot", rec_path, "-o", os.path.join(out, "vplot")], check=True,
+               capture_output=True, env=dict(os.environ, VOUSSOIR_PYTHON=sys.executable))
+check(all(os.path.isfile(os.path.join(out, "vplot", f"cracks.{x}")) for x in ("png", "pdf", "svg")),
+      "voussoir plot: cracks.png, .pdf, .svg")
 
 # 6. On a load path (analysis.type = load) the first crack carries the load factor there.
 LOAD = {"analysis.type": "load", "load.kind": "point", "load.x_mm": 150, "load.value_N": 1000,

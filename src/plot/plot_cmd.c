@@ -214,9 +214,9 @@ static int json_close(FILE **f, const char *dir) {
 }
 
 /* The charts python3 -m voussoir.figures may write in the same directory (any of its formats). */
-static const char *const CHARTS[] = {"curves",     "hinges",     "load_deflection",
-                                     "domain",     "sensitivity", "fragility",
-                                     "convergence", "hinge_histogram"};
+static const char *const CHARTS[] = {"curves",      "hinges",         "load_deflection",
+                                     "cracks",      "domain",         "sensitivity",
+                                     "fragility",   "convergence",    "hinge_histogram"};
 static const char *const CHART_EXTS[] = {"png", "pdf", "svg"};
 
 /* Whether name is one this command (or the charts after it) may write: arch_*.EXT, a chart's
