@@ -9,7 +9,7 @@ import numpy as np
 from . import _lib
 from ._lib import ffi
 from .case import Case
-from .record import FirstCrack, LoadCurve, first_crack_of
+from .record import LoadCurve, first_crack_of
 
 MM = 1e-3
 _PHASES = ("quasistatic", "dynamic", "fall")
