@@ -71,7 +71,7 @@ expect_not_loaded "sweep" libmpi libvoussoir-mpi
 # (LD_LIBRARY_PATH); the program looks for its plugins next to the core library it loaded.
 lib=$tmp/lib
 mkdir "$lib"
-cp -L "$bindir/libvoussoir.so.3" "$lib/"
+cp -L "$bindir/libvoussoir.so.4" "$lib/"
 export LD_LIBRARY_PATH=$lib
 nothing_written() { # what, then the paths that must not exist
   local what=$1
@@ -91,32 +91,32 @@ refused() { # what, the file it must name, then the command
   [ "$(wc -l <"$tmp/err")" -eq 1 ] || fail "$what: more than one line: $(cat "$tmp/err")"
 }
 "$exe" run "$ref" --no-record -q --first-limit >/dev/null || fail "run --no-record needs a plugin"
-refused "run -o, no record plugin" "$lib/libvoussoir-record.so.3" \
+refused "run -o, no record plugin" "$lib/libvoussoir-record.so.4" \
   "$exe" run "$ref" -q -o "$tmp/m.h5" --csv "$tmp/m.csv"
 nothing_written "run -o" "$tmp/m.h5" "$tmp/m.h5.part" "$tmp/m.h5.lock" "$tmp/m.xmf" "$tmp/m.csv"
-refused "plot, no plugins" "$lib/libvoussoir-record.so.3" "$exe" plot "$tmp/r.h5" -o "$tmp/p2"
-refused "sweep, no record plugin" "$lib/libvoussoir-record.so.3" \
+refused "plot, no plugins" "$lib/libvoussoir-record.so.4" "$exe" plot "$tmp/r.h5" -o "$tmp/p2"
+refused "sweep, no record plugin" "$lib/libvoussoir-record.so.4" \
   "$exe" sweep "$ref" --alpha 0 -o "$tmp/sw" -q
 nothing_written "plot, sweep" "$tmp/p2" "$tmp/sw"
 
-echo "this is not a library" >"$lib/libvoussoir-record.so.3"
-refused "run -o, a broken record plugin" "$lib/libvoussoir-record.so.3" \
+echo "this is not a library" >"$lib/libvoussoir-record.so.4"
+refused "run -o, a broken record plugin" "$lib/libvoussoir-record.so.4" \
   "$exe" run "$ref" -q -o "$tmp/m.h5"
 nothing_written "run -o" "$tmp/m.h5" "$tmp/m.h5.part" "$tmp/m.xmf"
 
-cp -L "$bindir/libvoussoir-record.so.3" "$lib/"
-cp -L "$bindir/libvoussoir.so.3" "$lib/libvoussoir-plot.so.3" # a library, not the plugin
-refused "plot, a library without the table" "$lib/libvoussoir-plot.so.3" \
+cp -L "$bindir/libvoussoir-record.so.4" "$lib/"
+cp -L "$bindir/libvoussoir.so.4" "$lib/libvoussoir-plot.so.4" # a library, not the plugin
+refused "plot, a library without the table" "$lib/libvoussoir-plot.so.4" \
   "$exe" plot "$tmp/r.h5" -o "$tmp/p3"
 grep -q "no vs_plot_plugin_table" "$tmp/err" || fail "plot: $(cat "$tmp/err")"
-refused "montecarlo, the same" "$lib/libvoussoir-plot.so.3" \
+refused "montecarlo, the same" "$lib/libvoussoir-plot.so.4" \
   "$exe" montecarlo "$ref" --samples 2 -o "$tmp/mc" -q
 nothing_written "plot, montecarlo" "$tmp/p3" "$tmp/mc"
 
 # a build with MPI: started by mpirun (its environment says so) without the MPI plugin next to
 # the core library: refused before anything is run
-if [ -e "$bindir/libvoussoir-mpi.so.3" ]; then
-  refused "sweep under mpirun, no MPI plugin" "$lib/libvoussoir-mpi.so.3" \
+if [ -e "$bindir/libvoussoir-mpi.so.4" ]; then
+  refused "sweep under mpirun, no MPI plugin" "$lib/libvoussoir-mpi.so.4" \
     env OMPI_COMM_WORLD_SIZE=1 "$exe" sweep "$ref" --alpha 0 -o "$tmp/sw1" -q
   nothing_written "sweep under mpirun" "$tmp/sw1/run_0001.h5"
 fi

@@ -25,7 +25,7 @@ from .tables import record_to_xarray
 from .draw import draw_mechanism, draw_curves, draw_domain
 from . import figures
 
-__version__ = "0.4.0"
+__version__ = "0.5.0"
 __all__ = ["Record", "Series", "open_record", "read_table", "draw_mechanism", "draw_curves",
            "draw_domain", "figures", "cli", "Case", "run", "Result", "History", "Hinge", "Collapse",
            "LimitPoint", "Event", "LoadCurve", "FirstCrack", "sweep", "montecarlo", "calibrate",

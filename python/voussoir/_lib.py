@@ -19,7 +19,7 @@ import threading
 from cffi import FFI
 
 # The ABI number (soname libvoussoir.so.N) these declarations are for.
-ABI = 3
+ABI = 4
 
 # Types: layouts of the header's structs (checked by size and offsets), opaque handles.
 CDEF_TYPES = """

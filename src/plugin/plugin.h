@@ -3,10 +3,10 @@
  * needs HDF5, cairo or MPI lives in more libraries that the program loads with dlopen only when a
  * command needs them, so that `voussoir --version` or `voussoir run CASE --no-record` never load
  * HDF5 (and curl, ssl, krb5, ldap with it), cairo or Open MPI:
- *   libvoussoir-record.so.3  the HDF5 record (writer, sidecar) and a sweep's summary.h5;
- *   libvoussoir-plot.so.3    pictures (cairo), the plot command, a Monte Carlo summary; it
+ *   libvoussoir-record.so.4  the HDF5 record (writer, sidecar) and a sweep's summary.h5;
+ *   libvoussoir-plot.so.4    pictures (cairo), the plot command, a Monte Carlo summary; it
  *                            needs the record library (the program loads that first);
- *   libvoussoir-mpi.so.3     sweep and montecarlo across the ranks of an MPI job (only in a
+ *   libvoussoir-mpi.so.4     sweep and montecarlo across the ranks of an MPI job (only in a
  *                            build with MPI; loaded when the process was started by mpirun).
  * They are ordinary shared libraries, installed next to libvoussoir (library users link them
  * like any other: pkg-config voussoir lists them). The program finds them in the directory its
