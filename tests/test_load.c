@@ -227,8 +227,8 @@ static void test_reference_converges(void **state) {
     vs_geometry_destroy(&g);
   }
   /* the hinges of elastic no-tension joints sit c/3 inside the edge, c ~ k_n^(-1/3) (the column
-   * above): the gap shrinks as k_n^(-1/3), 2 % at k_n = 1e4 N/mm^3 on voussoirs this small;
-   * 1 % would take k_n ~ 5e4, beyond the round-off floor of the joints' forces */
+   * above): the gap shrinks as k_n^(-1/3), 2 % at k_n = 1e4 N/mm^3 on voussoirs this small,
+   * 1 % near 5e4 (the joints' forces there above their round-off floor, within its margin) */
   const double scaled = gap300 * cbrt(300.0 / 1e4);
   print_message("gap at 1e4: %.3f %%; from 300 by k_n^(-1/3): %.3f %%\n", 100.0 * gap1e4,
                 100.0 * scaled);
