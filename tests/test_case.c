@@ -113,7 +113,7 @@ static const key_case all_keys[] = {
     {"piers", "courses", "0", "101", {"1", "100"}},
     {"piers", "density_kg_m3", "9", "100001", {"0", "10"}},
     {"piers", "base_friction", "5e-4", "101", {"0", "1e-3"}},
-    {"joints", "kn_N_mm3", "-3", "1e5", {"48", "1e-4"}},
+    {"joints", "kn_N_mm3", "-3", "1.1e6", {"1e6", "1e-4"}},
     {"joints", "ks_ratio", "0", "100.5", {"1", "100"}},
     {"joints", "friction", "0", "101", {"0.01", "100"}},
     /* mortar: in range up to these bounds, but refused while the model does not use it
@@ -437,7 +437,7 @@ static void test_range_message_exact(void **state) {
                      "kn_N_mm3 = -3\n";
   assert_int_equal(read_text(text, &c, &err, &t), VS_ERR_INVALID);
   char want[256];
-  snprintf(want, sizeof want, "%s:4: joints.kn_N_mm3 = -3: out of range (allowed: [0.0001, 10000] N/mm^3)",
+  snprintf(want, sizeof want, "%s:4: joints.kn_N_mm3 = -3: out of range (allowed: [0.0001, 1e+06] N/mm^3)",
            t.path);
   assert_string_equal(err.msg, want);
   drop(&t);
@@ -660,7 +660,7 @@ static void test_set_errors(void **state) {
   expect_set_error("joints.=3", VS_ERR_PARSE, malformed);
   expect_set_error("", VS_ERR_PARSE, malformed);
   expect_set_error("joints.kn_N_mm3=-3", VS_ERR_INVALID,
-                   "joints.kn_N_mm3 = -3: out of range (allowed: [0.0001, 10000] N/mm^3)");
+                   "joints.kn_N_mm3 = -3: out of range (allowed: [0.0001, 1e+06] N/mm^3)");
   expect_set_error("joints.kn=3", VS_ERR_PARSE,
                    "joints.kn = 3: unknown key (allowed keys in [joints]: kn_N_mm3");
   expect_set_error("joint.kn_N_mm3=3", VS_ERR_PARSE,
@@ -730,7 +730,7 @@ static void test_validate(void **state) {
   expect_invalid(&c, "arch.embrace_deg = 190", "[1, 180] deg");
   vs_case_defaults(&c);
   c.kn_N_mm3 = NAN;
-  expect_invalid(&c, "joints.kn_N_mm3", "[0.0001, 10000] N/mm^3");
+  expect_invalid(&c, "joints.kn_N_mm3", "[0.0001, 1e+06] N/mm^3");
   vs_case_defaults(&c);
   c.voussoirs = 0;
   expect_invalid(&c, "arch.voussoirs = 0", "integer in [1, 2000]");

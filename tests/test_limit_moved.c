@@ -15,7 +15,8 @@
  *  - the arch held on its path (analysis.type = limit, hold_mm; vs_run_limit_held): near zero
  *    hold it is the initial analysis; under settlement, on stiff joints, its thickness factor
  *    grows with the hold toward 1 at the collapse displacement delta_u of the same arch's
- *    support run, and its load factor (a point load at quarter span) is below the initial one. */
+ *    support run, and its load factor (a point load at quarter span) is below the initial one;
+ *    the report names what moved the support there (alpha, left_alpha, the paths in time). */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -267,6 +268,54 @@ static void test_held_on_the_path(void **state) {
   assert_true(t > 0.97); /* within the hinges' threshold's cut (docs/model.md) */
 }
 
+/* The report's "held" line names what moved the support to the hold: its directions, or the
+ * paths in time when the case gives them (alpha is then not the motion). */
+static void held_line(const char *const *set, int n, char *line, size_t size) {
+  vs_case c;
+  vs_case_defaults(&c);
+  vs_error err;
+  vs_error_clear(&err);
+  assert_int_equal(vs_case_set(&c, "analysis.type=limit", &err), VS_OK);
+  assert_int_equal(vs_case_set(&c, "analysis.hold_mm=1", &err), VS_OK);
+  for (int i = 0; i < n; i++)
+    if (vs_case_set(&c, set[i], &err) != VS_OK) fail_msg("%s: %s", set[i], err.msg);
+  vs_run_def d;
+  vs_case_to_def(&c, &d);
+  vs_limit_analysis a;
+  assert_int_equal(vs_limit_analyse(&d, NULL, &a, &err), VS_OK);
+  char *text = NULL;
+  size_t len = 0;
+  FILE *f = open_memstream(&text, &len);
+  assert_non_null(f);
+  vs_report_limit_text(f, &c, &a, VS_OK, NULL, "x.ini");
+  fclose(f);
+  const char *h = strstr(text, "\nheld ");
+  assert_non_null(h);
+  snprintf(line, size, "%.*s", (int)strcspn(h + 1, "\n"), h + 1);
+  free(text);
+  vs_limit_analysis_free(&a);
+}
+
+static void test_held_line(void **state) {
+  (void)state;
+  char line[512];
+  const char *alpha[] = {"support.alpha_deg=30"};
+  held_line(alpha, 1, line, sizeof line);
+  assert_non_null(strstr(line, "(alpha = 30 deg)"));
+  const char *path[] = {"support.right_path=0:0:0,100:0:4"};
+  held_line(path, 1, line, sizeof line);
+  print_message("%s\n", line);
+  assert_non_null(strstr(line, "(support.right_path)"));
+  assert_null(strstr(line, "alpha"));
+  const char *both[] = {"support.right_path=0:0:0,100:0:4", "support.left_path=0:0:0,100:1:0"};
+  held_line(both, 2, line, sizeof line);
+  assert_non_null(strstr(line, "(support.left_path and support.right_path)"));
+  const char *left[] = {"support.rate_mm_s=0", "support.left_rate_mm_s=0.04",
+                        "support.left_alpha_deg=90"};
+  held_line(left, 3, line, sizeof line);
+  assert_non_null(strstr(line, "(left_alpha = 90 deg)"));
+}
+
 /* The report names a pier's joints as the run's pier events do: on the reference arch on 100 mm
  * piers 150 mm wide (4 courses), tilt opens the right pier's top course joint (the joints' last,
  * right pier course 4) at both ends: "pier2-course4-open"; the ring's joints keep their numbers. */
@@ -307,6 +356,7 @@ int main(void) {
       cmocka_unit_test(test_errors),
       cmocka_unit_test(test_open_joint),
       cmocka_unit_test(test_held_on_the_path),
+      cmocka_unit_test(test_held_line),
       cmocka_unit_test(test_pier_names),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -6,7 +6,8 @@
  *    below it by the rocking of a block on an elastic no-tension base (by hand, asymptotic);
  *  - the reference specimen with a point load at quarter span: the incremental load factor
  *    rises toward the limit analysis' (CLP, an independent method) as k_n grows, monotonically,
- *    the gap falling as k_n^(-1/3) as the column's;
+ *    within 1 % at k_n = 1e5 N/mm^3, the gap falling as k_n^(-1/3) as the column's (its log-log
+ *    slope near -1/3);
  *  - analysis.hold_mm: the residual load factor falls as the support settles or spreads;
  *  - the case's rules for a load path;
  *  - the loads' Jacobian and the pilot's gradient against central differences;
@@ -176,7 +177,9 @@ static void test_column_tilt(void **state) {
 }
 
 /* The reference specimen, 1 N at quarter span: lambda from the path for k_n rising against
- * the limit analysis (CLP). */
+ * the limit analysis (CLP): monotone, within 1 % at k_n = 1e5 N/mm^3 (issue 28), the gap's
+ * log-log slope near the elastic hinge's -1/3 (runs/load_convergence.sh has the table). With the
+ * stiffest point, 1e5, the whole of test_load takes 1 s in Release, 3 s under the sanitizers. */
 static void test_reference_converges(void **state) {
   (void)state;
   vs_case c;
@@ -192,8 +195,8 @@ static void test_reference_converges(void **state) {
   assert_int_equal(vs_limit_analyse(&d, NULL, &a, &err), VS_OK);
   const double clp = a.collapse.value;
   vs_limit_analysis_free(&a);
-  const double kn[] = {3.0, 30.0, 300.0, 1e4}; /* N/mm^3 */
-  double prev = 0.0, gap = NAN, gap300 = NAN;
+  const double kn[] = {3.0, 30.0, 300.0, 1e4, 1e5}; /* N/mm^3 */
+  double prev = 0.0, gap = NAN, gap300 = NAN, gap1e4 = NAN;
   for (size_t i = 0; i < sizeof kn / sizeof kn[0]; i++) {
     vs_geometry *g = NULL;
     assert_int_equal(vs_geometry_create_arch(&d.arch, &g, &err), VS_OK);
@@ -210,6 +213,7 @@ static void test_reference_converges(void **state) {
     run_load(m, &o, q, &r);
     gap = 1.0 - r.lambda_peak / clp;
     if (kn[i] == 300.0) gap300 = gap;
+    if (kn[i] == 1e4) gap1e4 = gap;
     print_message("reference, 1 N at L/4, k_n %g N/mm^3: lambda %.6f (CLP %.6f, %.3f %% below), "
                   "deflection at the peak %.4f mm, end %d, %ld steps %ld rejected\n",
                   kn[i], r.lambda_peak, clp, 100.0 * gap, (r.u_peak - r.u_start) / VS_MM, r.end,
@@ -223,12 +227,21 @@ static void test_reference_converges(void **state) {
     vs_geometry_destroy(&g);
   }
   /* the hinges of elastic no-tension joints sit c/3 inside the edge, c ~ k_n^(-1/3) (the column
-   * above): the gap shrinks as k_n^(-1/3), 2 % at k_n = 1e4 N/mm^3 on voussoirs this small;
-   * 1 % would take k_n ~ 5e4, beyond the round-off floor of the joints' forces */
+   * above): the gap shrinks as k_n^(-1/3), 2 % at k_n = 1e4 N/mm^3 on voussoirs this small,
+   * 1 % near 5e4 (the joints' forces there above their round-off floor, within its margin) */
   const double scaled = gap300 * cbrt(300.0 / 1e4);
-  print_message("gap at 1e4: %.3f %%; from 300 by k_n^(-1/3): %.3f %%\n", 100.0 * gap, 100.0 * scaled);
-  assert_true(gap > 0.0 && gap < 0.02);
-  near(gap, scaled, 0.15 * scaled);
+  print_message("gap at 1e4: %.3f %%; from 300 by k_n^(-1/3): %.3f %%\n", 100.0 * gap1e4,
+                100.0 * scaled);
+  assert_true(gap1e4 > 0.0 && gap1e4 < 0.02);
+  near(gap1e4, scaled, 0.15 * scaled);
+  /* issue 28: within 1 % at the stiffest, 1e5; from 1e4 to 1e5 the slope on log-log is the
+   * elastic hinge's -1/3 but for the law's higher-order terms (-0.35 measured; they fade as k_n
+   * grows: -0.34 from 3e5 to 1e6 in runs/load_convergence.sh) */
+  const double slope = log(gap / gap1e4) / log(1e5 / 1e4);
+  print_message("gap at 1e5: %.3f %%; log-log slope from 1e4: %.4f (elastic hinge: -1/3)\n",
+                100.0 * gap, slope);
+  assert_true(gap > 0.0 && gap < 0.01);
+  near(slope, -1.0 / 3.0, 0.04);
 }
 
 /* The load factor of the reference specimen, 1 N at quarter span, after the right support has

@@ -163,9 +163,9 @@ static const key_spec keys[] = {
     KEY_AS_OR_ZERO(piers, base_friction, pier_base_friction, 0.0, 1e-3, 100.0, "",
                    "friction coefficient of each pier's foundation interface (0: "
                    "joints.friction)"),
-    KEY(joints, kn_N_mm3, 3.0, 1e-4, true, 1e4, true, "N/mm^3",
-        "normal stiffness k_n (above 1e4 doubles cannot resolve joint forces against a voussoir "
-        "weight; below 1e-4 a lab arch sinks by its own thickness under self-weight)"),
+    KEY(joints, kn_N_mm3, 3.0, 1e-4, true, 1e6, true, "N/mm^3",
+        "normal stiffness k_n (above 1e6 the round-off floor of the joint forces nears 1e-5 of a "
+        "voussoir's weight; below 1e-4 a lab arch sinks by its own thickness under self-weight)"),
     KEY(joints, ks_ratio, 0.5, 0.0, false, 100.0, true, "", "shear stiffness ratio k_s / k_n"),
     KEY(joints, friction, 0.7, 0.0, false, 100.0, true, "", "Coulomb friction coefficient mu"),
     /* mortar: joint.h, vs_joint_normal_mortar; docs/model.md "Mortar joints" */

@@ -279,10 +279,24 @@ void vs_report_limit_text(FILE *out, const vs_case *c, const vs_limit_analysis *
     fprintf(out, "piers        %g mm high, %g mm wide, %d courses each, base friction %g\n",
             c->pier_height_mm, c->pier_width_mm, c->pier_courses,
             c->pier_base_friction > 0.0 ? c->pier_base_friction : c->friction);
-  if (c->hold_mm > 0.0)
-    fprintf(out, "held         the arch where the support's path (alpha = %g deg) left it at %g "
-                 "mm, its blocks moved rigidly, loads moved with them\n",
-            c->alpha_deg, c->hold_mm);
+  if (c->hold_mm > 0.0) {
+    /* the motion that took the arch there: the paths in time when given, else the directions */
+    char how[160];
+    if (c->left_path.n > 0 || c->right_path.n > 0)
+      snprintf(how, sizeof how, "%s%s%s", c->left_path.n > 0 ? "support.left_path" : "",
+               c->left_path.n > 0 && c->right_path.n > 0 ? " and " : "",
+               c->right_path.n > 0 ? "support.right_path" : "");
+    else if (c->left_rate_mm_s != 0.0 && c->rate_mm_s > 0.0)
+      snprintf(how, sizeof how, "alpha = %g deg, left_alpha = %g deg", c->alpha_deg,
+               c->left_alpha_deg);
+    else if (c->left_rate_mm_s != 0.0)
+      snprintf(how, sizeof how, "left_alpha = %g deg", c->left_alpha_deg);
+    else
+      snprintf(how, sizeof how, "alpha = %g deg", c->alpha_deg);
+    fprintf(out, "held         the arch where the support's path (%s) left it at %g mm, its "
+                 "blocks moved rigidly, loads moved with them\n",
+            how, c->hold_mm);
+  }
   fputc('\n', out);
   fputs("LIMIT ANALYSIS  rigid blocks, no-tension frictional joints: a linear program (COIN-OR "
         "CLP)\n", out);
