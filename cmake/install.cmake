@@ -46,7 +46,7 @@ install(DIRECTORY python/voussoir DESTINATION ${CMAKE_INSTALL_DATADIR}/voussoir/
         PATTERN __pycache__ EXCLUDE)
 # The Python gallery and the pvpython script (docs/python.md#gallery): share/voussoir/examples.
 install(FILES examples/seed_domain.py examples/pointed_arch.py examples/fragility.py
-              examples/paraview_record.py
+              examples/load_after_settlement.py examples/paraview_record.py
         DESTINATION ${CMAKE_INSTALL_DATADIR}/voussoir/examples)
 # The documentation next to the man page, laid out as in the source tree so that its relative
 # links hold: share/doc/voussoir/README.md (the front page), docs/ (docs/README.md is its index)

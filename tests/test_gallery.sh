@@ -15,7 +15,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 export PYTHONPATH="$src/python" VOUSSOIR="$vs" MPLBACKEND=Agg
 cd "$tmp"
-declare -A pages=([seed_domain]=1 [pointed_arch]=2 [fragility]=3)
+declare -A pages=([seed_domain]=1 [pointed_arch]=2 [fragility]=3 [load_after_settlement]=2)
 n=0
 for ex in "$src"/examples/*.py; do
   name=$(basename "$ex" .py)
