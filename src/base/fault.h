@@ -1,7 +1,10 @@
 /* Fault injection for the crash tests: the process kills itself with SIGKILL at a named point
  * when the environment variable VS_FAULT_KILL names that point (the record's points: see
  * vs_output_finish; "mid-append": in a write of rows after the first, once half the time series
- * have theirs). Nothing happens when it is unset. */
+ * have theirs; "before-snapshot": as a snapshot is about to read the working file). Nothing
+ * happens when it is unset. For the link tests, VS_FAULT_RELINK = "POINT:PATH=TARGET" replaces
+ * PATH by a symbolic link to TARGET at the point POINT, as another process could during the
+ * run (a file the program created, re-opened by name later, must not be followed). */
 #ifndef VS_FAULT_H
 #define VS_FAULT_H
 

@@ -253,6 +253,26 @@ vs_status vs_outpath_create(const char *path, int *fd, vs_error *err) {
   return vs_error_set(err, VS_ERR_IO, "%s: cannot create: %s", path, strerror(e));
 }
 
+vs_status vs_outpath_open_own(const char *path, dev_t dev, ino_t ino, int *fd, vs_error *err) {
+  struct stat st;
+  *fd = -1;
+  /* looked at before it is opened: nothing put there (a device) is opened at all */
+  if (lstat(path, &st) == 0 && S_ISREG(st.st_mode) && st.st_dev == dev && st.st_ino == ino) {
+    *fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    if (*fd >= 0 && fstat(*fd, &st) == 0 && st.st_dev == dev && st.st_ino == ino) return VS_OK;
+  }
+  const int e = errno;
+  if (*fd >= 0) close(*fd);
+  *fd = -1;
+  if (lstat(path, &st) != 0)
+    return vs_error_set(err, VS_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  if (!S_ISREG(st.st_mode) || st.st_dev != dev || st.st_ino != ino)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "%s: became %s during the run (not opened)",
+                        path, S_ISREG(st.st_mode) ? "another file" : kind_of(st.st_mode));
+  return vs_error_set(err, VS_ERR_IO, "%s: cannot open: %s", path, strerror(e));
+}
+
 vs_status vs_outpath_open_existing(const char *path, int *fd, int *created, vs_error *err) {
   *created = 0;
   *fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);

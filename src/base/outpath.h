@@ -8,6 +8,7 @@
 #define VOUSSOIR_OUTPATH_H
 
 #include <stdio.h>
+#include <sys/types.h>
 
 #include "voussoir/status.h"
 
@@ -77,6 +78,14 @@ vs_status vs_outpath_intruded(const char *path, vs_error *err);
  * *fd receives the descriptor, -1 on failure. Errors: VS_ERR_INVALID "PATH: exists and is ...";
  * VS_ERR_IO with the OS reason. */
 vs_status vs_outpath_open_existing(const char *path, int *fd, int *created, vs_error *err);
+
+/* Open again, read-only, a file this process created at path (dev, ino: its identity, from
+ * the descriptor it was created with), by name: never through a link, and only when path still
+ * names that very file (checked before the open and on the descriptor after), so that nothing
+ * put there during the run (a link, another file, a device) is opened. *fd receives the
+ * descriptor, -1 on failure. Errors: VS_ERR_INVALID "PATH: became ... during the run (not
+ * opened)"; VS_ERR_IO with the OS reason (e.g. removed). */
+vs_status vs_outpath_open_own(const char *path, dev_t dev, ino_t ino, int *fd, vs_error *err);
 
 /* vs_outpath_create as a stdio stream, "wb"; *f is NULL on failure. Errors: as
  * vs_outpath_create, and VS_ERR_NOMEM. */
