@@ -240,6 +240,61 @@ static void test_hdf5_link_never_opened(void **s) {
   }
 }
 
+/* The record's working file FILE.h5.part (and a snapshot's FILE.h5.snap) replaced by a link to
+ * a file of the test's watched by inotify during the run, after they were created (the hook
+ * VS_FAULT_RELINK, at a point of the run: as a snapshot is about to copy the working file, before
+ * the status, whose sidecar reopens the closed working file and which renames it over FILE.h5,
+ * before a snapshot is renamed over FILE.h5). Those re-opened them by name and followed a link;
+ * the renames moved it over FILE.h5. Now the file it points to is not even opened, the run
+ * fails naming the link, and FILE.h5, when there, is a regular file (the last snapshot). */
+static void test_part_relinked_during_run(void **s) {
+  (void)s;
+  static const char *const cases[][2] = {
+      {"before-snapshot", "r.h5.part"}, /* the snapshot's copy */
+      {"before-status", "r.h5.part"},   /* the sidecar's reopen, the final rename */
+      {"before-publish", "r.h5.snap"},  /* a snapshot's rename */
+  };
+  int bad = 0;
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+    char dir[256], target[300], at[600], cmd[3000];
+    snprintf(dir, sizeof dir, "%s/relinked%zu", g_dir, k);
+    snprintf(target, sizeof target, "%s/precious", dir);
+    snprintf(cmd, sizeof cmd, "mkdir -p %s && printf '%%s' '%s' > %s", dir, PRECIOUS, target);
+    assert_int_equal(sh(cmd), 0);
+    const int in = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+    assert_true(in >= 0);
+    assert_true(inotify_add_watch(in, target, IN_OPEN | IN_ACCESS | IN_MODIFY) >= 0);
+    /* --snapshot-share 1: every flush's snapshot taken, so the point is reached in a short run */
+    snprintf(cmd, sizeof cmd, "cd %s && VS_FAULT_RELINK='%s:%s=%s' timeout -s KILL 120 %s run "
+             CASE " --first-limit -q --snapshot-share 1 -o r.h5 > out.txt 2> err.txt", dir,
+             cases[k][0], cases[k][1], target, VS_BINARY);
+    const int rc = sh(cmd);
+    char ev[4096] __attribute__((aligned(__alignof__(struct inotify_event))));
+    const ssize_t n = read(in, ev, sizeof ev);
+    close(in);
+    snprintf(cmd, sizeof cmd, "%s/err.txt", dir);
+    char *err = slurp(cmd), *after = slurp(target);
+    snprintf(at, sizeof at, "%s/r.h5", dir);
+    struct stat st;
+    if (n > 0)
+      bad++, printf("%s at %s: the file a link planted there points to was opened (exit %d, "
+                    "stderr \"%s\")\n", cases[k][1], cases[k][0], rc, err ? err : "");
+    if (after == NULL || strcmp(after, PRECIOUS) != 0)
+      bad++, printf("%s at %s: the file a link planted there points to was overwritten\n",
+                    cases[k][1], cases[k][0]);
+    if (lstat(at, &st) == 0 && !S_ISREG(st.st_mode))
+      bad++, printf("%s at %s: r.h5 is no longer a regular file (the link renamed over it)\n",
+                    cases[k][1], cases[k][0]);
+    if (rc == 0 || err == NULL || strstr(err, cases[k][1]) == NULL ||
+        strstr(err, "became a symbolic link during the run") == NULL)
+      bad++, printf("%s at %s: exit %d, stderr \"%s\": expected a failure naming the link\n",
+                    cases[k][1], cases[k][0], rc, err ? err : "");
+    free(err);
+    free(after);
+  }
+  if (bad > 0) fail_msg("%d faults (above)", bad);
+}
+
 static void test_links_planted_before(void **s) {
   (void)s;
   try_all(0);
@@ -278,6 +333,7 @@ int main(void) {
       cmocka_unit_test(test_links_planted_before),
       cmocka_unit_test(test_links_made_meanwhile),
       cmocka_unit_test(test_hdf5_link_never_opened),
+      cmocka_unit_test(test_part_relinked_during_run),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

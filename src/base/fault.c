@@ -7,7 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
-/* VS_FAULT_RELINK = "POINT:PATH=TARGET": at POINT, PATH is replaced by a symbolic link to TARGET. */
+/* VS_FAULT_RELINK = "POINT:PATH=TARGET": at POINT, PATH replaced by a symbolic link to TARGET. */
 static void relink(const char *name) {
   const char *v = getenv("VS_FAULT_RELINK");
   const char *colon = v != NULL ? strchr(v, ':') : NULL;

@@ -219,7 +219,9 @@ void vs_output_destroy(vs_output **op) {
   vs_h5_quiet_end(q);
   /* not finished: the closed working file, whole, replaces the snapshot; after a write error it
    * is removed, and path keeps the last snapshot; where path is no longer ours it stays */
-  if (o->working && !(closed && o->err.status == VS_OK && vs_record_publish(o, o->part, o->part_dev, o->part_ino) == VS_OK) &&
+  if (o->working &&
+      !(closed && o->err.status == VS_OK &&
+        vs_record_publish(o, o->part, o->part_dev, o->part_ino) == VS_OK) &&
       !(closed && o->stranded))
     unlink(o->part);
   vs_outlock_release(&o->lock);

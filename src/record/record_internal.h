@@ -122,7 +122,8 @@ static inline void *row_ptr(vs_output *o, int i) {
 /* record_snapshot.c: the file at path is a snapshot of the working file (see there) */
 /* Rename `from` (the file this run created there: dev, ino) over o->path, checked just before:
  * never over anything but a regular file, and never anything but that file (a link or another
- * file put at `from` during the run is refused: VS_ERR_INVALID in o->err). The first time, the sidecar at o->xmf_path (a regular file: another record's) is removed first.
+ * file put at `from` during the run is refused: VS_ERR_INVALID in o->err). The first time, the
+ * sidecar at o->xmf_path (a regular file: another record's) is removed first.
  * VS_OK; VS_ERR_INVALID when path has become something else (o->stranded set, o->err left
  * alone: the working file is sound) or was already; VS_ERR_IO (in o->err) when the rename
  * failed. */
