@@ -8,7 +8,7 @@
 #include <unistd.h>
 
 /* VS_FAULT_RELINK = "POINT:PATH=TARGET": at POINT, PATH replaced by a symbolic link to TARGET. */
-static void relink(const char *name) {
+static void relink(const char *name, const char *only) {
   const char *v = getenv("VS_FAULT_RELINK");
   const char *colon = v != NULL ? strchr(v, ':') : NULL;
   const char *eq = colon != NULL ? strchr(colon, '=') : NULL;
@@ -19,12 +19,15 @@ static void relink(const char *name) {
   if (n == 0 || n >= sizeof path) return;
   memcpy(path, colon + 1, n);
   path[n] = '\0';
+  if (only != NULL && strcmp(only, path) != 0) return;
   (void)unlink(path);
   (void)symlink(eq + 1, path);
 }
 
 void vs_fault_point(const char *name) {
-  relink(name);
+  relink(name, NULL);
   const char *v = getenv("VS_FAULT_KILL");
   if (v != NULL && strcmp(v, name) == 0) raise(SIGKILL);
 }
+
+void vs_fault_point_at(const char *name, const char *path) { relink(name, path); }

@@ -9,5 +9,9 @@
 #define VS_FAULT_H
 
 void vs_fault_point(const char *name);
+/* A point of the link tests only where the file at stake is path: VS_FAULT_RELINK relinks PATH
+ * there when PATH is path ("before-replace": a finished working file about to be renamed over
+ * its output, vs_outpath_replace). */
+void vs_fault_point_at(const char *name, const char *path);
 
 #endif

@@ -2,6 +2,7 @@
  * that keeps two processes from writing the same output. */
 #define _DEFAULT_SOURCE /* flock, O_NOFOLLOW */
 #include "outpath.h"
+#include "fault.h"
 #include "quote.h"
 
 #include <dirent.h>
@@ -315,8 +316,11 @@ static void fault_fifo(const char *path) {
 
 int vs_outpath_replace(const char *from, const char *path) {
   fault_fifo(path);
+  vs_fault_point_at("before-replace", from);
   struct stat st;
   if (lstat(path, &st) == 0 && !S_ISREG(st.st_mode)) return 1;
+  /* the working file too: a link put in its place during the run is not moved over path */
+  if (lstat(from, &st) == 0 && !S_ISREG(st.st_mode)) return 2;
   return rename(from, path) == 0 ? 0 : -1;
 }
 
@@ -327,6 +331,10 @@ void vs_outpath_discard(const char *path) {
 
 vs_status vs_outpath_publish(const char *from, const char *path, vs_error *err) {
   const int rc = vs_outpath_replace(from, path);
+  if (rc == 2)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "%s: became something other than a regular file during the run; not "
+                        "renamed over %s", from, path);
   if (rc > 0)
     return vs_error_set(err, VS_ERR_INVALID,
                         "%s: became something other than a regular file; not replaced", path);

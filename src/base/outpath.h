@@ -92,8 +92,10 @@ vs_status vs_outpath_open_own(const char *path, dev_t dev, ino_t ino, int *fd, v
 vs_status vs_outpath_fopen(const char *path, FILE **f, vs_error *err);
 
 /* Rename the finished file `from` over path, checked just before: never over anything but a
- * regular file. 0; 1 when path exists and is something else (nothing renamed); -1 when the
- * rename failed (errno says why). from is left in place either way. */
+ * regular file, and never anything but a regular file (a link put at `from` during the run is
+ * not moved to path). 0; 1 when path exists and is something else, 2 when `from` is something
+ * else (nothing renamed); -1 when the rename failed (errno says why). from is left in place
+ * either way. */
 int vs_outpath_replace(const char *from, const char *path);
 
 /* Remove the working file path after a failure, when it is a regular file: never a link or
@@ -101,7 +103,8 @@ int vs_outpath_replace(const char *from, const char *path);
 void vs_outpath_discard(const char *path);
 
 /* vs_outpath_replace with its outcome as an error: VS_ERR_INVALID "PATH: became something
- * other than a regular file; not replaced", VS_ERR_IO "FROM: cannot rename to PATH: reason".
+ * other than a regular file; not replaced" (or "FROM: became ... during the run; not renamed
+ * over PATH"), VS_ERR_IO "FROM: cannot rename to PATH: reason".
  * from is left in place on failure (the caller removes it). */
 vs_status vs_outpath_publish(const char *from, const char *path, vs_error *err);
 

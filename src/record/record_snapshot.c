@@ -34,6 +34,10 @@ vs_status vs_record_publish(vs_output *o, const char *from, dev_t dev, ino_t ino
     o->replaced = 1;
   }
   const int rc = o->stranded ? 1 : vs_outpath_replace(from, o->path);
+  if (rc == 2)
+    return vs_error_set(&o->err, VS_ERR_INVALID,
+                        "output: %s: %s: became something other than a regular file during the "
+                        "run (not renamed over %s)", o->path, from, o->path);
   if (rc > 0) {
     o->stranded = 1;
     return VS_ERR_INVALID;
