@@ -6,7 +6,8 @@
  * keeps its bytes, the link stays, and the command names the path it refused (exit 2 when the
  * link was there before it started; a failure naming it, on stderr or for a sweep's run in its
  * table, when the link appeared meanwhile). An HDF5 file's link made meanwhile is not even
- * opened (inotify). */
+ * opened (inotify), nor one that replaces a working file later in the run (VS_FAULT_RELINK: as
+ * it is opened again or renamed over its output). */
 #define _DEFAULT_SOURCE /* mkdtemp, symlink */
 
 #include <stdarg.h>
@@ -240,6 +241,127 @@ static void test_hdf5_link_never_opened(void **s) {
   }
 }
 
+/* The record's working file FILE.h5.part (and a snapshot's FILE.h5.snap) replaced by a link to
+ * a file of the test's watched by inotify during the run, after they were created (the hook
+ * VS_FAULT_RELINK, at a point of the run: as a snapshot is about to copy the working file, before
+ * the status, whose sidecar reopens the closed working file and which renames it over FILE.h5,
+ * before a snapshot is renamed over FILE.h5). Those re-opened them by name and followed a link;
+ * the renames moved it over FILE.h5. Now the file it points to is not even opened, the run
+ * fails naming the link, and FILE.h5, when there, is a regular file (the last snapshot). */
+static void test_part_relinked_during_run(void **s) {
+  (void)s;
+  static const char *const cases[][2] = {
+      {"before-snapshot", "r.h5.part"}, /* the snapshot's copy */
+      {"before-status", "r.h5.part"},   /* the sidecar's reopen, the final rename */
+      {"before-publish", "r.h5.snap"},  /* a snapshot's rename */
+  };
+  int bad = 0;
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+    char dir[256], target[300], at[600], cmd[3000];
+    snprintf(dir, sizeof dir, "%s/relinked%zu", g_dir, k);
+    snprintf(target, sizeof target, "%s/precious", dir);
+    snprintf(cmd, sizeof cmd, "mkdir -p %s && printf '%%s' '%s' > %s", dir, PRECIOUS, target);
+    assert_int_equal(sh(cmd), 0);
+    const int in = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+    assert_true(in >= 0);
+    assert_true(inotify_add_watch(in, target, IN_OPEN | IN_ACCESS | IN_MODIFY) >= 0);
+    /* --snapshot-share 1: every flush's snapshot taken, so the point is reached in a short run */
+    snprintf(cmd, sizeof cmd, "cd %s && VS_FAULT_RELINK='%s:%s=%s' timeout -s KILL 120 %s run "
+             CASE " --first-limit -q --snapshot-share 1 -o r.h5 > out.txt 2> err.txt", dir,
+             cases[k][0], cases[k][1], target, VS_BINARY);
+    const int rc = sh(cmd);
+    char ev[4096] __attribute__((aligned(__alignof__(struct inotify_event))));
+    const ssize_t n = read(in, ev, sizeof ev);
+    close(in);
+    snprintf(cmd, sizeof cmd, "%s/err.txt", dir);
+    char *err = slurp(cmd), *after = slurp(target);
+    snprintf(at, sizeof at, "%s/r.h5", dir);
+    struct stat st;
+    if (n > 0) {
+      bad++;
+      printf("%s at %s: the file a link planted there points to was opened (exit %d, "
+             "stderr \"%s\")\n", cases[k][1], cases[k][0], rc, err ? err : "");
+    }
+    if (after == NULL || strcmp(after, PRECIOUS) != 0) {
+      bad++;
+      printf("%s at %s: the file a link planted there points to was overwritten\n",
+             cases[k][1], cases[k][0]);
+    }
+    if (lstat(at, &st) == 0 && !S_ISREG(st.st_mode)) {
+      bad++;
+      printf("%s at %s: r.h5 is no longer a regular file (the link renamed over it)\n",
+             cases[k][1], cases[k][0]);
+    }
+    if (rc == 0 || err == NULL || strstr(err, cases[k][1]) == NULL ||
+        strstr(err, "became a symbolic link during the run") == NULL) {
+      bad++;
+      printf("%s at %s: exit %d, stderr \"%s\": expected a failure naming the link\n",
+             cases[k][1], cases[k][0], rc, err ? err : "");
+    }
+    free(err);
+    free(after);
+  }
+  if (bad > 0) fail_msg("%d faults (above)", bad);
+}
+
+/* A finished working file (a CSV's, an HDF5 summary's, a manifest's, a sidecar's ".part" or
+ * ".tmp") replaced by a link to a file of the test's watched by inotify just before it is
+ * renamed over its output (the hook VS_FAULT_RELINK at "before-replace"): the rename moved the
+ * link there, so that the output named the test's file. Now it is refused: the output is never
+ * a link, the file pointed to is not opened, and the command names the working file. */
+static void test_parts_relinked_before_rename(void **s) {
+  (void)s;
+  static const char *const cases[][2] = {
+      {"r.xmf.tmp", "run " CASE " --first-limit -q -o r.h5"},
+      {"sw/summary.csv.tmp", "sweep " CASE " --alpha 0 --first-limit -q -o sw"},
+      {"sw/summary.h5.part", "sweep " CASE " --alpha 0 --first-limit -q -o sw"},
+      {"sw/run_0001.json.part", "sweep " CASE " --alpha 0 --first-limit -q -o sw"},
+      {"mc/montecarlo.manifest.part", "montecarlo " MC_CASE " --samples 2 --seed 1 -j 1 -q -o mc"},
+      {"mc/samples.csv.part", "montecarlo " MC_CASE " --samples 2 --seed 1 -j 1 -q -o mc"},
+      {"mc/summary.h5.part", "montecarlo " MC_CASE " --samples 2 --seed 1 -j 1 -q -o mc"},
+  };
+  int bad = 0;
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+    char dir[256], target[300], out[600], cmd[3000];
+    snprintf(dir, sizeof dir, "%s/renamed%zu", g_dir, k);
+    snprintf(target, sizeof target, "%s/precious", dir);
+    snprintf(cmd, sizeof cmd, "mkdir -p %s/sw %s/mc && printf '%%s' '%s' > %s", dir, dir,
+             PRECIOUS, target);
+    assert_int_equal(sh(cmd), 0);
+    const int in = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+    assert_true(in >= 0);
+    assert_true(inotify_add_watch(in, target, IN_OPEN | IN_ACCESS | IN_MODIFY) >= 0);
+    snprintf(cmd, sizeof cmd, "cd %s && VS_FAULT_RELINK='before-replace:%s=%s' timeout -s KILL "
+             "120 %s %s > out.txt 2> err.txt", dir, cases[k][0], target, VS_BINARY, cases[k][1]);
+    const int rc = sh(cmd);
+    char ev[4096] __attribute__((aligned(__alignof__(struct inotify_event))));
+    const ssize_t n = read(in, ev, sizeof ev);
+    close(in);
+    snprintf(cmd, sizeof cmd, "%s/err.txt", dir);
+    char *err = slurp(cmd), *after = slurp(target);
+    snprintf(out, sizeof out, "%s/%s", dir, cases[k][0]);
+    *strrchr(out, '.') = '\0'; /* the output: the working file's name without ".part"/".tmp" */
+    struct stat st;
+    if (n > 0 || after == NULL || strcmp(after, PRECIOUS) != 0) {
+      bad++;
+      printf("%s: the file a link planted there points to was opened or changed (exit %d)\n",
+             cases[k][0], rc);
+    }
+    if (lstat(out, &st) == 0 && !S_ISREG(st.st_mode)) {
+      bad++;
+      printf("%s: the link was renamed over %s (exit %d)\n", cases[k][0], out, rc);
+    }
+    if (err == NULL || strstr(err, cases[k][0]) == NULL) {
+      bad++;
+      printf("%s: exit %d, stderr \"%s\": expected the working file named\n", cases[k][0], rc,
+             err ? err : "");
+    }
+    free(err);
+    free(after);
+  }
+  if (bad > 0) fail_msg("%d faults (above)", bad);
+}
+
 static void test_links_planted_before(void **s) {
   (void)s;
   try_all(0);
@@ -278,6 +400,8 @@ int main(void) {
       cmocka_unit_test(test_links_planted_before),
       cmocka_unit_test(test_links_made_meanwhile),
       cmocka_unit_test(test_hdf5_link_never_opened),
+      cmocka_unit_test(test_part_relinked_during_run),
+      cmocka_unit_test(test_parts_relinked_before_rename),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

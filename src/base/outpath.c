@@ -2,6 +2,7 @@
  * that keeps two processes from writing the same output. */
 #define _DEFAULT_SOURCE /* flock, O_NOFOLLOW */
 #include "outpath.h"
+#include "fault.h"
 #include "quote.h"
 
 #include <dirent.h>
@@ -253,6 +254,26 @@ vs_status vs_outpath_create(const char *path, int *fd, vs_error *err) {
   return vs_error_set(err, VS_ERR_IO, "%s: cannot create: %s", path, strerror(e));
 }
 
+vs_status vs_outpath_open_own(const char *path, dev_t dev, ino_t ino, int *fd, vs_error *err) {
+  struct stat st;
+  *fd = -1;
+  /* looked at before it is opened: nothing put there (a device) is opened at all */
+  if (lstat(path, &st) == 0 && S_ISREG(st.st_mode) && st.st_dev == dev && st.st_ino == ino) {
+    *fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    if (*fd >= 0 && fstat(*fd, &st) == 0 && st.st_dev == dev && st.st_ino == ino) return VS_OK;
+  }
+  const int e = errno;
+  if (*fd >= 0) close(*fd);
+  *fd = -1;
+  if (lstat(path, &st) != 0)
+    return vs_error_set(err, VS_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  if (!S_ISREG(st.st_mode) || st.st_dev != dev || st.st_ino != ino)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "%s: became %s during the run (not opened)",
+                        path, S_ISREG(st.st_mode) ? "another file" : kind_of(st.st_mode));
+  return vs_error_set(err, VS_ERR_IO, "%s: cannot open: %s", path, strerror(e));
+}
+
 vs_status vs_outpath_open_existing(const char *path, int *fd, int *created, vs_error *err) {
   *created = 0;
   *fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
@@ -295,8 +316,11 @@ static void fault_fifo(const char *path) {
 
 int vs_outpath_replace(const char *from, const char *path) {
   fault_fifo(path);
+  vs_fault_point_at("before-replace", from);
   struct stat st;
   if (lstat(path, &st) == 0 && !S_ISREG(st.st_mode)) return 1;
+  /* the working file too: a link put in its place during the run is not moved over path */
+  if (lstat(from, &st) == 0 && !S_ISREG(st.st_mode)) return 2;
   return rename(from, path) == 0 ? 0 : -1;
 }
 
@@ -307,6 +331,10 @@ void vs_outpath_discard(const char *path) {
 
 vs_status vs_outpath_publish(const char *from, const char *path, vs_error *err) {
   const int rc = vs_outpath_replace(from, path);
+  if (rc == 2)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "%s: became something other than a regular file during the run; not "
+                        "renamed over %s", from, path);
   if (rc > 0)
     return vs_error_set(err, VS_ERR_INVALID,
                         "%s: became something other than a regular file; not replaced", path);

@@ -8,6 +8,7 @@
 #define VOUSSOIR_OUTPATH_H
 
 #include <stdio.h>
+#include <sys/types.h>
 
 #include "voussoir/status.h"
 
@@ -78,13 +79,23 @@ vs_status vs_outpath_intruded(const char *path, vs_error *err);
  * VS_ERR_IO with the OS reason. */
 vs_status vs_outpath_open_existing(const char *path, int *fd, int *created, vs_error *err);
 
+/* Open again, read-only, a file this process created at path (dev, ino: its identity, from
+ * the descriptor it was created with), by name: never through a link, and only when path still
+ * names that very file (checked before the open and on the descriptor after), so that nothing
+ * put there during the run (a link, another file, a device) is opened. *fd receives the
+ * descriptor, -1 on failure. Errors: VS_ERR_INVALID "PATH: became ... during the run (not
+ * opened)"; VS_ERR_IO with the OS reason (e.g. removed). */
+vs_status vs_outpath_open_own(const char *path, dev_t dev, ino_t ino, int *fd, vs_error *err);
+
 /* vs_outpath_create as a stdio stream, "wb"; *f is NULL on failure. Errors: as
  * vs_outpath_create, and VS_ERR_NOMEM. */
 vs_status vs_outpath_fopen(const char *path, FILE **f, vs_error *err);
 
 /* Rename the finished file `from` over path, checked just before: never over anything but a
- * regular file. 0; 1 when path exists and is something else (nothing renamed); -1 when the
- * rename failed (errno says why). from is left in place either way. */
+ * regular file, and never anything but a regular file (a link put at `from` during the run is
+ * not moved to path). 0; 1 when path exists and is something else, 2 when `from` is something
+ * else (nothing renamed); -1 when the rename failed (errno says why). from is left in place
+ * either way. */
 int vs_outpath_replace(const char *from, const char *path);
 
 /* Remove the working file path after a failure, when it is a regular file: never a link or
@@ -92,7 +103,8 @@ int vs_outpath_replace(const char *from, const char *path);
 void vs_outpath_discard(const char *path);
 
 /* vs_outpath_replace with its outcome as an error: VS_ERR_INVALID "PATH: became something
- * other than a regular file; not replaced", VS_ERR_IO "FROM: cannot rename to PATH: reason".
+ * other than a regular file; not replaced" (or "FROM: became ... during the run; not renamed
+ * over PATH"), VS_ERR_IO "FROM: cannot rename to PATH: reason".
  * from is left in place on failure (the caller removes it). */
 vs_status vs_outpath_publish(const char *from, const char *path, vs_error *err);
 

@@ -7,6 +7,7 @@
 
 #include <hdf5.h>
 #include <stddef.h>
+#include <sys/types.h>
 
 #include "voussoir/status.h"
 
@@ -36,6 +37,17 @@ vs_status vs_h5_fail(vs_error *err, const char *path, const char *what);
  * file, or H5I_INVALID_HID with err set (VS_ERR_INVALID: something other than a regular file
  * there, or put there meanwhile; VS_ERR_IO with the cause). */
 hid_t vs_h5_create(const char *path, hid_t fcpl, vs_error *err);
+
+/* The identity (device, inode) of the file HDF5 has open as f (the default sec2 driver), for
+ * vs_h5_open_own: 0, or -1. */
+int vs_h5_file_id(hid_t f, dev_t *dev, ino_t *ino);
+
+/* Open again, read-only, the HDF5 file this process created at path (dev, ino: from
+ * vs_h5_file_id): vs_outpath_open_own (never through a link, only that very file), and HDF5
+ * handed the descriptor's name in /proc, never path (without /proc: path, just checked). The
+ * file, or H5I_INVALID_HID with err set (VS_ERR_INVALID "PATH: became ... during the run (not
+ * opened)"; VS_ERR_IO with the cause). */
+hid_t vs_h5_open_own(const char *path, dev_t dev, ino_t ino, vs_error *err);
 
 /* A variable-length UTF-8 string type; a fixed-length string of n bytes, NUL-padded (n = 1
  * holds 'I', 'E' or a hinge label, empty for 0); the caller closes them. */

@@ -169,6 +169,8 @@ vs_status vs_output_create(const char *path, const vs_run *run, const char *case
   st = vs_outpath_clear(o->snap, &o->err); /* a kill's leftover removed; created at each snapshot */
   if (st == VS_OK) {
     st = file_create(o, o->part);
+    if (st == VS_OK && vs_h5_file_id(o->file, &o->part_dev, &o->part_ino) != 0)
+      st = vs_h5_fail(&o->err, o->part, "cannot read the identity of the file created");
     /* a part file from here on is ours, even half created (a full disk); not one refused */
     o->working = st != VS_ERR_INVALID;
     /* its last flush takes the first snapshot (always taken: vs_record_snapshot) */
@@ -217,7 +219,9 @@ void vs_output_destroy(vs_output **op) {
   vs_h5_quiet_end(q);
   /* not finished: the closed working file, whole, replaces the snapshot; after a write error it
    * is removed, and path keeps the last snapshot; where path is no longer ours it stays */
-  if (o->working && !(closed && o->err.status == VS_OK && vs_record_publish(o, o->part) == VS_OK) &&
+  if (o->working &&
+      !(closed && o->err.status == VS_OK &&
+        vs_record_publish(o, o->part, o->part_dev, o->part_ino) == VS_OK) &&
       !(closed && o->stranded))
     unlink(o->part);
   vs_outlock_release(&o->lock);
@@ -392,9 +396,12 @@ static vs_status write_outlines(vs_output *o, const vs_run *run) {
 /* The sidecar of the closed working file, naming the record path, written whole at tmp (the
  * name "<xmf_path>.tmp" into tmp, size bytes) and not yet put in place. */
 static vs_status sidecar_tmp(const vs_output *o, char *tmp, size_t size, vs_error *err) {
-  const hid_t f = H5Fopen(o->part, H5F_ACC_RDONLY, H5P_DEFAULT);
+  /* by name, but only the file created there: never a link put there during the run */
+  vs_error why;
+  const hid_t f = vs_h5_open_own(o->part, o->part_dev, o->part_ino, &why);
   const vs_status st =
-      f < 0 ? vs_h5_fail(err, o->path, "cannot reopen")
+      f < 0 ? vs_error_set(err, why.status, "output: %s: cannot reopen the working file: %s",
+                           o->path, why.msg)
             : vs_xdmf_write_tmp(f, o->path, o->xmf_path, o->opts.xdmf_max_grids, tmp, size, err);
   vs_h5_close(f);
   return st;
@@ -443,7 +450,7 @@ vs_status vs_output_finish(vs_output *o, const vs_run *run, vs_status run_status
   if (o->working && st == VS_OK) side.status = sidecar_tmp(o, tmp, sizeof tmp, &side);
   /* the closed working file replaces the snapshot (after a write error: removed, path keeps
    * the last snapshot; where path is no longer ours, the working file stays, whole) */
-  if (o->working && st == VS_OK && vs_record_publish(o, o->part) != VS_OK)
+  if (o->working && st == VS_OK && vs_record_publish(o, o->part, o->part_dev, o->part_ino) != VS_OK)
     st = o->stranded ? vs_record_stranded_error(o, &o->err) : o->err.status;
   if (o->working && st != VS_OK && !o->stranded) unlink(o->part);
   o->working = 0;

@@ -7,6 +7,7 @@
 #include <hdf5.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <sys/types.h>
 
 #include "fault.h"
 #include "h5util.h"
@@ -98,6 +99,8 @@ struct vs_output {
   long ev_pending, ev_cap;
   int interrupted, finished, xmf_written;
   int working;      /* 1 while path.part is ours: created, not yet renamed over path */
+  dev_t part_dev;   /* path.part's identity once created: a reopen by name checks it is the */
+  ino_t part_ino;   /* same file, never a link or another put there (vs_outpath_open_own) */
   int stranded;     /* 1 once path became something other than a regular file during the run:
                        nothing is renamed over it again, and the record stays whole in path.part
                        (record_snapshot.c) */
@@ -117,12 +120,14 @@ static inline void *row_ptr(vs_output *o, int i) {
 }
 
 /* record_snapshot.c: the file at path is a snapshot of the working file (see there) */
-/* Rename `from` over o->path, checked just before: never over anything but a regular file. The
- * first time, the sidecar at o->xmf_path (a regular file: another record's) is removed first.
+/* Rename `from` (the file this run created there: dev, ino) over o->path, checked just before:
+ * never over anything but a regular file, and never anything but that file (a link or another
+ * file put at `from` during the run is refused: VS_ERR_INVALID in o->err). The first time, the
+ * sidecar at o->xmf_path (a regular file: another record's) is removed first.
  * VS_OK; VS_ERR_INVALID when path has become something else (o->stranded set, o->err left
  * alone: the working file is sound) or was already; VS_ERR_IO (in o->err) when the rename
  * failed. */
-vs_status vs_record_publish(vs_output *o, const char *from);
+vs_status vs_record_publish(vs_output *o, const char *from, dev_t dev, ino_t ino);
 /* The error of a stranded record (o->stranded) into err: path not replaced, the record in
  * path.part. */
 vs_status vs_record_stranded_error(const vs_output *o, vs_error *err);

@@ -18,12 +18,26 @@
 #include "outpath.h"
 #include "wall_clock.h"
 
-vs_status vs_record_publish(vs_output *o, const char *from) {
+vs_status vs_record_publish(vs_output *o, const char *from, dev_t dev, ino_t ino) {
+  struct stat st;
+  if (lstat(from, &st) != 0)
+    return vs_error_set(&o->err, VS_ERR_IO, "output: %s: %s: %s", o->path, from, strerror(errno));
+  if (!S_ISREG(st.st_mode) || st.st_dev != dev || st.st_ino != ino)
+    return vs_error_set(&o->err, VS_ERR_INVALID,
+                        "output: %s: %s: became %s during the run (not renamed over %s)", o->path,
+                        from, S_ISLNK(st.st_mode)  ? "a symbolic link"
+                              : S_ISREG(st.st_mode) ? "another file"
+                                                    : "something other than a regular file",
+                        o->path);
   if (!o->replaced && !o->stranded) { /* the record there goes: its sidecar first */
     vs_outpath_discard(o->xmf_path);
     o->replaced = 1;
   }
   const int rc = o->stranded ? 1 : vs_outpath_replace(from, o->path);
+  if (rc == 2)
+    return vs_error_set(&o->err, VS_ERR_INVALID,
+                        "output: %s: %s: became something other than a regular file during the "
+                        "run (not renamed over %s)", o->path, from, o->path);
   if (rc > 0) {
     o->stranded = 1;
     return VS_ERR_INVALID;
@@ -72,11 +86,17 @@ static int copy_bytes(int in, int out, off_t n) {
 
 /* Copy the working file to the snapshot's name and rename that over path. */
 static vs_status take(vs_output *o, off_t *size) {
-  const int in = open(o->part, O_RDONLY | O_CLOEXEC);
+  /* by name, but only the file created there: never a link put there during the run */
+  if (o->snapshots > 0) vs_fault_point("before-snapshot"); /* after the layout's */
+  int in;
+  vs_error why;
+  if (vs_outpath_open_own(o->part, o->part_dev, o->part_ino, &in, &why) != VS_OK)
+    return vs_error_set(&o->err, why.status, "output: %s: cannot read the working file: %s",
+                        o->path, why.msg);
   struct stat st;
-  if (in < 0 || fstat(in, &st) != 0) {
+  if (fstat(in, &st) != 0) {
     const int e = errno;
-    if (in >= 0) close(in);
+    close(in);
     return vs_error_set(&o->err, VS_ERR_IO, "output: %s: cannot read the working file %s: %s",
                         o->path, o->part, strerror(e));
   }
@@ -86,7 +106,9 @@ static vs_status take(vs_output *o, off_t *size) {
     close(in);
     return o->err.status;
   }
-  int rc = copy_bytes(in, out, st.st_size / 2);
+  struct stat made; /* the snapshot's own identity: only that file is renamed over path */
+  int rc = fstat(out, &made);
+  if (rc == 0) rc = copy_bytes(in, out, st.st_size / 2);
   /* the crash tests' points, in a snapshot after the layout's (there is one at path) */
   if (rc == 0 && o->snapshots > 0) vs_fault_point("mid-snapshot"); /* half copied */
   if (rc == 0) rc = copy_bytes(in, out, st.st_size - st.st_size / 2);
@@ -99,7 +121,7 @@ static vs_status take(vs_output *o, off_t *size) {
                         o->path, o->snap, strerror(e));
   }
   if (o->snapshots > 0) vs_fault_point("before-publish");
-  const vs_status s = vs_record_publish(o, o->snap);
+  const vs_status s = vs_record_publish(o, o->snap, made.st_dev, made.st_ino);
   if (s != VS_OK) unlink(o->snap);
   return o->stranded ? VS_OK : s; /* stranded: the run goes on, into the working file */
 }
@@ -111,7 +133,7 @@ vs_status vs_record_snapshot(vs_output *o) {
   if (o->opts.snapshot_share < 1.0 && o->snapshots > 0) {
     /* the next copy's cost, from the last's, grows with the file */
     struct stat st;
-    const double size = stat(o->part, &st) == 0 ? (double)st.st_size : o->snap_size;
+    const double size = lstat(o->part, &st) == 0 ? (double)st.st_size : o->snap_size;
     const double next = o->snap_size > 0.0 ? o->snap_last * size / o->snap_size : o->snap_last;
     if (o->snap_spent + next > o->opts.snapshot_share * (now - o->t_open)) return VS_OK;
   }

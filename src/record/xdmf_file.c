@@ -314,6 +314,10 @@ vs_status vs_xdmf_publish(const char *tmp, const char *xmf_path, vs_error *err) 
   const int rc = vs_outpath_replace(tmp, xmf_path);
   const int e = errno;
   if (rc != 0) remove(tmp);
+  if (rc == 2)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "output: %s: became something other than a regular file during the run; "
+                        "not renamed over %s", tmp, xmf_path);
   if (rc > 0)
     return vs_error_set(err, VS_ERR_INVALID,
                         "output: %s: became something other than a regular file; not replaced",

@@ -309,9 +309,10 @@ static void take_row(void *user, const vs_sweep_row *in) {
   const int written = lstat(part, &st) == 0 && S_ISREG(st.st_mode);
   if (row.code == VS_SWEEP_OK || row.code == VS_SWEEP_FAILED) {
     errno = 0;
-    if (written && vs_outpath_replace(part, json) != 0) {
+    const int moved = written ? vs_outpath_replace(part, json) : 0;
+    if (moved != 0) {
       fprintf(stderr, "voussoir sweep: %s: not renamed to %s (%s)\n", part, json,
-              errno != 0 ? strerror(errno) : "not a regular file");
+              moved > 0 || errno == 0 ? "not a regular file" : strerror(errno));
       remove(part);
     }
     if (vs_journal_append(s->journal, &row, sizeof row) != 0)
