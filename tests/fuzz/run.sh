@@ -66,15 +66,15 @@ sources() {
   case "$1" in
   case) echo "${case_src[@]}" ;;
   merge) echo "${case_src[@]}" "$s/study/montecarlo_merge.c" "$s/study/journal.c" \
-              "$s/plot/montecarlo.c" "$s/record/h5util.c" "$s/base/outpath.c" "$s/plot/plot.c" \
+              "$s/plot/montecarlo.c" "$s/record/h5util.c" "$s/base/outpath.c" "$s/base/fault.c" "$s/plot/plot.c" \
               "${geometry_src[@]}" "$s/model/support.c" "$s/run/montecarlo_travel.c" ;;
   record) echo "${case_src[@]}" "$s/plot/plot_cmd.c" "$s/plot/plot_record.c" \
                "$s/plot/plot.c" "$s/plot/plot_arch.c" "$s/plot/plot_frame.c" "$s/record/xdmf.c" "$s/record/xdmf_file.c" \
                "$s/record/xdmf_record.c" "$s/record/xdmf_rows.c" "$s/record/h5util.c" \
-               "$s/base/outpath.c" "$s/model/imperfections.c" "${geometry_src[@]}" \
+               "$s/base/outpath.c" "$s/base/fault.c" "$s/model/imperfections.c" "${geometry_src[@]}" \
                "$s/model/support.c" "$s/model/hinges.c" "$s/run/json.c" \
                "$s/solve/limit_analysis.c" "$s/solve/limit.c" "$s/base/wall_clock.c" ;;
-  journal) echo "${case_src[@]}" "$s/study/journal.c" "$s/base/outpath.c" ;;
+  journal) echo "${case_src[@]}" "$s/study/journal.c" "$s/base/outpath.c" "$s/base/fault.c" ;;
   blocks) echo "${case_src[@]}" "${geometry_src[@]}" ;;
   esac
 }
