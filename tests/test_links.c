@@ -200,6 +200,35 @@ static void test_hard_link_at_lock(void **s) {
   }
 }
 
+/* A command run with a link planted by a fault hook at one of its files: in g_dir/NAME (with sw/
+ * and mc/ for the studies' outputs) a file of the test's, "precious" (PRECIOUS), watched by
+ * inotify; `cd DIR && HOOK=TARGET' timeout -s KILL 120 voussoir ARGS > out.txt 2> err.txt`, HOOK
+ * the hook's variable and value up to the link's target (as "VS_FAULT_LINK='r.h5.part=").
+ * Returns its exit status; *opened: whether the target was opened, read or written; *err its
+ * stderr, *after the target's bytes afterwards (malloc'd, NULL when gone); dir the directory. */
+static int watched_run(const char *name, const char *hook, const char *args, int *opened,
+                       char **err, char **after, char dir[256]) {
+  char target[300], cmd[3000];
+  snprintf(dir, 256, "%s/%s", g_dir, name);
+  snprintf(target, sizeof target, "%s/precious", dir);
+  snprintf(cmd, sizeof cmd, "mkdir -p %s/sw %s/mc && printf '%%s' '%s' > %s", dir, dir,
+           PRECIOUS, target);
+  assert_int_equal(sh(cmd), 0);
+  const int in = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+  assert_true(in >= 0);
+  assert_true(inotify_add_watch(in, target, IN_OPEN | IN_ACCESS | IN_MODIFY) >= 0);
+  snprintf(cmd, sizeof cmd, "cd %s && %s%s' timeout -s KILL 120 %s %s > out.txt 2> err.txt", dir,
+           hook, target, VS_BINARY, args);
+  const int rc = sh(cmd);
+  char ev[4096] __attribute__((aligned(__alignof__(struct inotify_event))));
+  *opened = read(in, ev, sizeof ev) > 0;
+  close(in);
+  snprintf(cmd, sizeof cmd, "%s/err.txt", dir);
+  *err = slurp(cmd);
+  *after = slurp(target);
+  return rc;
+}
+
 /* A link made at an HDF5 file's working name just before it is created (the hook, as above),
  * to a file of the test's watched by inotify: the file is not even opened. HDF5's create opens
  * the name read-write to see whether a file is there before its exclusive create, which failed
@@ -214,23 +243,12 @@ static void test_hdf5_link_never_opened(void **s) {
       {"mc/summary.h5.part", "montecarlo " MC_CASE " --samples 2 --seed 1 -j 1 -q -o mc"},
   };
   for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
-    char dir[256], target[300], cmd[3000];
-    snprintf(dir, sizeof dir, "%s/watched%zu", g_dir, k);
-    snprintf(target, sizeof target, "%s/precious", dir);
-    snprintf(cmd, sizeof cmd, "mkdir -p %s/sw %s/mc && printf '%%s' '%s' > %s", dir, dir,
-             PRECIOUS, target);
-    assert_int_equal(sh(cmd), 0);
-    const int in = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
-    assert_true(in >= 0);
-    assert_true(inotify_add_watch(in, target, IN_OPEN | IN_ACCESS | IN_MODIFY) >= 0);
-    snprintf(cmd, sizeof cmd, "cd %s && VS_FAULT_LINK='%s=%s' timeout -s KILL 120 %s %s "
-             "> out.txt 2> err.txt", dir, cases[k].name, target, VS_BINARY, cases[k].args);
-    const int rc = sh(cmd);
-    char ev[4096] __attribute__((aligned(__alignof__(struct inotify_event))));
-    const ssize_t n = read(in, ev, sizeof ev);
-    close(in);
-    snprintf(cmd, sizeof cmd, "%s/err.txt", dir);
-    char *err = slurp(cmd);
+    char dir[256], name[32], hook[64], *err, *after;
+    int n;
+    snprintf(name, sizeof name, "watched%zu", k);
+    snprintf(hook, sizeof hook, "VS_FAULT_LINK='%s=", cases[k].name);
+    const int rc = watched_run(name, hook, cases[k].args, &n, &err, &after, dir);
+    free(after);
     if (n > 0)
       fail_msg("%s: a link at %s made as it was created: the file it points to was opened "
                "(exit %d, stderr \"%s\")", cases[k].args, cases[k].name, rc, err ? err : "");
@@ -257,24 +275,14 @@ static void test_part_relinked_during_run(void **s) {
   };
   int bad = 0;
   for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
-    char dir[256], target[300], at[600], cmd[3000];
-    snprintf(dir, sizeof dir, "%s/relinked%zu", g_dir, k);
-    snprintf(target, sizeof target, "%s/precious", dir);
-    snprintf(cmd, sizeof cmd, "mkdir -p %s && printf '%%s' '%s' > %s", dir, PRECIOUS, target);
-    assert_int_equal(sh(cmd), 0);
-    const int in = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
-    assert_true(in >= 0);
-    assert_true(inotify_add_watch(in, target, IN_OPEN | IN_ACCESS | IN_MODIFY) >= 0);
+    char dir[256], name[32], hook[64], at[600], *err, *after;
+    int n;
+    snprintf(name, sizeof name, "relinked%zu", k);
+    snprintf(hook, sizeof hook, "VS_FAULT_RELINK='%s:%s=", cases[k][0], cases[k][1]);
     /* --snapshot-share 1: every flush's snapshot taken, so the point is reached in a short run */
-    snprintf(cmd, sizeof cmd, "cd %s && VS_FAULT_RELINK='%s:%s=%s' timeout -s KILL 120 %s run "
-             CASE " --first-limit -q --snapshot-share 1 -o r.h5 > out.txt 2> err.txt", dir,
-             cases[k][0], cases[k][1], target, VS_BINARY);
-    const int rc = sh(cmd);
-    char ev[4096] __attribute__((aligned(__alignof__(struct inotify_event))));
-    const ssize_t n = read(in, ev, sizeof ev);
-    close(in);
-    snprintf(cmd, sizeof cmd, "%s/err.txt", dir);
-    char *err = slurp(cmd), *after = slurp(target);
+    const int rc = watched_run(name, hook,
+                               "run " CASE " --first-limit -q --snapshot-share 1 -o r.h5", &n,
+                               &err, &after, dir);
     snprintf(at, sizeof at, "%s/r.h5", dir);
     struct stat st;
     if (n > 0) {
@@ -322,23 +330,11 @@ static void test_parts_relinked_before_rename(void **s) {
   };
   int bad = 0;
   for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
-    char dir[256], target[300], out[600], cmd[3000];
-    snprintf(dir, sizeof dir, "%s/renamed%zu", g_dir, k);
-    snprintf(target, sizeof target, "%s/precious", dir);
-    snprintf(cmd, sizeof cmd, "mkdir -p %s/sw %s/mc && printf '%%s' '%s' > %s", dir, dir,
-             PRECIOUS, target);
-    assert_int_equal(sh(cmd), 0);
-    const int in = inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
-    assert_true(in >= 0);
-    assert_true(inotify_add_watch(in, target, IN_OPEN | IN_ACCESS | IN_MODIFY) >= 0);
-    snprintf(cmd, sizeof cmd, "cd %s && VS_FAULT_RELINK='before-replace:%s=%s' timeout -s KILL "
-             "120 %s %s > out.txt 2> err.txt", dir, cases[k][0], target, VS_BINARY, cases[k][1]);
-    const int rc = sh(cmd);
-    char ev[4096] __attribute__((aligned(__alignof__(struct inotify_event))));
-    const ssize_t n = read(in, ev, sizeof ev);
-    close(in);
-    snprintf(cmd, sizeof cmd, "%s/err.txt", dir);
-    char *err = slurp(cmd), *after = slurp(target);
+    char dir[256], name[32], hook[96], out[600], *err, *after;
+    int n;
+    snprintf(name, sizeof name, "renamed%zu", k);
+    snprintf(hook, sizeof hook, "VS_FAULT_RELINK='before-replace:%s=", cases[k][0]);
+    const int rc = watched_run(name, hook, cases[k][1], &n, &err, &after, dir);
     snprintf(out, sizeof out, "%s/%s", dir, cases[k][0]);
     *strrchr(out, '.') = '\0'; /* the output: the working file's name without ".part"/".tmp" */
     struct stat st;
