@@ -11,8 +11,7 @@ py=/usr/bin/python3
 # shellcheck source=python_run.sh
 . "$(dirname "$0")/python_run.sh"
 python_runner "$cc" "${4:-}"
-$py -c "import cffi, numpy, h5py, matplotlib" 2>/dev/null ||
-  { echo "SKIP: $py lacks cffi/numpy/h5py/matplotlib (.ci/deps installs them)"; exit 77; }
+python_needs cffi numpy h5py matplotlib
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 ref=$src/runs/reference.ini

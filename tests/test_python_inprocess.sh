@@ -9,8 +9,7 @@ py=/usr/bin/python3
 # shellcheck source=python_run.sh
 . "$(dirname "$0")/python_run.sh"
 python_runner "$cc" "${5:-}"
-$py -c "import cffi, numpy, pandas, xarray, h5py, venv, ensurepip" 2>/dev/null ||
-  { echo "SKIP: $py lacks cffi/numpy/pandas/xarray/h5py/venv (.ci/deps installs them)"; exit 77; }
+python_needs cffi numpy pandas xarray h5py venv ensurepip
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 cp -r "$src/python" "$tmp/src" # pip builds in place; keep the source tree clean

@@ -8,8 +8,7 @@ py=/usr/bin/python3
 # shellcheck source=python_run.sh
 . "$(dirname "$0")/python_run.sh"
 python_runner "$cc" "${4:-}"
-$py -c "import cffi, numpy, pandas, h5py" 2>/dev/null ||
-  { echo "SKIP: $py lacks cffi/numpy/pandas/h5py (.ci/deps installs them)"; exit 77; }
+python_needs cffi numpy pandas h5py
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 "$vs" calibrate "$src/runs/reference.ini" --target-dz-pct 16.5 >"$tmp/cal.txt" 2>&1
