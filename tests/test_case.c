@@ -141,6 +141,7 @@ static const key_case all_keys[] = {
     {"dynamic", "atol_mm", "0", "2e6", {"1e-9", "1e6"}},
     {"dynamic", "rest_factor", "0.5", "2e12", {"1", "1e12"}},
     {"dynamic", "rest_s", "0", "2e6", {"0.01", "1e6"}},
+    {"dynamic", "ring_periods", "-1", "1001", {"0", "1000"}},
     {"dynamic", "collapse_ke", "0", "2e6", {"0.001", "1e6"}},
     {"dynamic", "fall_s", "-0.1", "2e6", {"0", "1e6"}},
     {"dynamic", "sample_s", "9e-7", "2e6", {"1e-4", "1e-6"}},
@@ -400,7 +401,7 @@ static void check_out_of_range(const key_case *k, const char *value) {
 
 static void test_every_key_out_of_range(void **state) {
   (void)state;
-  assert_int_equal(NKEYS_TESTED, 74);
+  assert_int_equal(NKEYS_TESTED, 75);
   for (size_t i = 0; i < NKEYS_TESTED; i++) {
     check_out_of_range(&all_keys[i], all_keys[i].below);
     if (all_keys[i].above != NULL) check_out_of_range(&all_keys[i], all_keys[i].above);

@@ -115,6 +115,10 @@ typedef struct {
   double rest_factor;  /* at rest when the kinetic energy stays below this many times that of the
                           whole arch moving at the support's rate, [1, 1e12], default 100 */
   double rest_s;       /* ... for this long, > 0, default 1 s */
+  double ring_periods; /* a mortared arch's snap is also over once it has rung this many periods
+                          of its lowest natural frequency under self-weight with nothing
+                          changing and its kinetic energy's peak falling (docs/mortar.md "Cost"),
+                          [0, 1000], default 1; 0: the rest criterion alone; dry arches: unused */
   double collapse_ke;  /* collapsing when the kinetic energy exceeds this fraction of the arch's
                           weight times its thickness, > 0, default 0.1 */
   double fall_s;       /* after the collapse criterion, the fall is followed at most this long

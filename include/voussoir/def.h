@@ -203,6 +203,9 @@ typedef struct {
   double rest_factor;             /* at rest below this many times the kinetic energy of the arch
                                      moving bodily at the support's rate ... */
   double rest_time;               /* ... for this long, s */
+  double ring_periods;            /* a mortared arch's ringing window, in periods of its lowest
+                                     mode under self-weight (0: none; vs_dyn_opts's
+                                     ring_window) */
   double collapse_ke;             /* collapsing beyond this fraction of weight x thickness,
                                      J/(N m) */
   double fall_time;               /* the fall followed at most this long after the collapse, s */

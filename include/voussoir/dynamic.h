@@ -29,6 +29,12 @@ typedef struct {
   int settle;           /* 1: return VS_DYN_SETTLED whenever the arch has been at rest for
                            rest_time (the caller then looks for an equilibrium and calls again
                            if there is none); 0: never (full-dynamic loading) */
+  double ring_window;   /* s; > 0: the motion is also over (VS_DYN_SETTLED, ringing set) at the end
+                           of a window this long in which nothing cracked, slid or crossed the
+                           hinge threshold and the kinetic energy's peak fell below the previous
+                           window's: an elastic oscillation that is dying out, which the caller
+                           ends at the equilibrium it oscillates about (if it finds a stable one
+                           there); 0: never (the rest criterion alone) */
   int impact;           /* 1: the `impact` damping model (impact.h): a plastic impulse where a
                            joint edge that had opened beyond `open` closes (an IDA root on its
                            gap), its energy loss added to the damped energy */
@@ -46,7 +52,7 @@ typedef struct {
 #define VS_DYN_MAX_STEPS 10000000L
 
 typedef enum {
-  VS_DYN_SETTLED = 1,   /* at rest: kinetic energy < rest_ke for rest_time */
+  VS_DYN_SETTLED = 1,   /* at rest: kinetic energy < rest_ke for rest_time (or ringing, below) */
   VS_DYN_COLLAPSED = 2, /* the kinetic energy passed collapse_ke; the fall was then followed */
   VS_DYN_MAX_DELTA = 3  /* reached max_delta */
 } vs_dyn_end;
@@ -103,6 +109,11 @@ typedef struct {
                                   run ends there, the collapse found before it standing */
   char fall_failure[256];      /* ... and IDA's message */
   vs_energy e_end;             /* the energies at the last state */
+  int ringing;                 /* VS_DYN_SETTLED by ring_window (an elastic oscillation dying
+                                  out), not at rest */
+  long ring_settles;           /* snaps the caller ended by ring_window (its tallies) */
+  double ring_energy;          /* ... and the vibration energy they left (J): kinetic + potential
+                                  above the equilibrium the caller settled at */
 } vs_dyn_result;
 
 /* Called at samples (at most every sample_dt, at each event, at the start and at the end) and at
@@ -136,6 +147,10 @@ VS_API vs_status vs_dynamic_set_contact(vs_dynamic *d, struct vs_contact *c, dou
  * its broad phase, and KLU's analysis is redone when those pairs change (jac_fn). */
 struct vs_collide;
 VS_API vs_status vs_dynamic_set_collide(vs_dynamic *d, struct vs_collide *c, vs_error *err);
+
+/* Replace the ringing window of the options d was created with (s, >= 0; vs_dyn_opts's
+ * ring_window): a run sets it once it knows its arch's lowest natural frequency. */
+VS_API void vs_dynamic_set_ring_window(vs_dynamic *d, double window_s);
 
 /* Replace the stop flag of the options d was created with (NULL: none). */
 VS_API void vs_dynamic_set_stop(vs_dynamic *d, const volatile sig_atomic_t *stop);

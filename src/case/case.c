@@ -222,6 +222,9 @@ static const key_spec keys[] = {
     KEY(dynamic, rest_factor, 100.0, 1.0, true, 1e12, true, "",
         "at rest below this many times the kinetic energy of the arch moving at the support rate"),
     KEY(dynamic, rest_s, 1.0, 0.0, false, 1e6, true, "s", "... for this long"),
+    KEY(dynamic, ring_periods, 1.0, 0.0, true, 1000.0, true, "",
+        "mortared arches: a snap is also over once it has rung this many periods of the lowest "
+        "mode with nothing changing and its energy falling; 0: the rest criterion alone"),
     KEY(dynamic, collapse_ke, 0.1, 0.0, false, 1e6, true, "",
         "collapsing beyond this kinetic energy, as a fraction of weight x thickness"),
     KEY(dynamic, fall_s, 5.0, 0.0, true, 1e6, true, "s",
@@ -1115,6 +1118,7 @@ void vs_case_to_def(const vs_case *c, vs_run_def *d) {
                                 .atol_q = c->atol_mm * VS_MM,
                                 .rest_factor = c->rest_factor,
                                 .rest_time = c->rest_s,
+                                .ring_periods = c->ring_periods,
                                 .collapse_ke = c->collapse_ke,
                                 .fall_time = c->fall_s,
                                 .sample_dt = c->sample_s};

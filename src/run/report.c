@@ -349,6 +349,10 @@ static void text_mortar(FILE *out, const vs_run *r) {
     n += vs_run_event_get(r, i)->kind == VS_EVENT_CRACK_INITIATED;
   fprintf(out, "         %d joint edges reached f_t; energy dissipated by cracking %.6g J\n", n,
           vs_model_cracking_energy(vs_run_model(r)));
+  const vs_dyn_result *d = vs_run_dynamic_totals(r);
+  if (d->ring_settles > 0)
+    fprintf(out, "         %ld snap%s ended ringing (dynamic.ring_periods), left with %.6g J of "
+            "vibration\n", d->ring_settles, d->ring_settles > 1 ? "s" : "", d->ring_energy);
 }
 
 static void json_tail(FILE *out, const vs_run *r) {
@@ -358,7 +362,11 @@ static void json_tail(FILE *out, const vs_run *r) {
   jnum(out, ",\"energy\":{\"balance_error_rel\":", d->balance_error_rel, 6);
   jnum(out, ",\"balance_error_fall_rel\":", d->balance_error_fall, 6);
   jnum(out, ",\"max_kinetic_J\":", d->max_kinetic, 6);
-  if (is_mortared(r)) jnum(out, ",\"cracking_J\":", vs_model_cracking_energy(vs_run_model(r)), 10);
+  if (is_mortared(r)) {
+    jnum(out, ",\"cracking_J\":", vs_model_cracking_energy(vs_run_model(r)), 10);
+    fprintf(out, ",\"ringing_snaps\":%ld", d->ring_settles);
+    jnum(out, ",\"ringing_J\":", d->ring_energy, 10);
+  }
   jnum(out, "},\"parameters\":{\"open_mm\":", c->open_mm, 10);
   fprintf(out, ",\"migrate_joints\":%d", c->migrate_joints);
   jnum(out, ",\"limit_tol_mm\":", c->limit_tol_mm, 10);
@@ -540,9 +548,12 @@ static void text_header(FILE *out, const vs_run *r, const char *case_path) {
   fprintf(out,
           "criteria hinge: edge opening > %g mm, migration within %d joints;\n"
           "         limit point bracketed to %g mm; Newton tolerance %g x voussoir weight;\n"
-          "         at rest below %g x the kinetic energy of the arch at the support rate for %g s;\n"
-          "         collapsing beyond a kinetic energy of %g x weight x thickness\n\n",
-          c->open_mm, c->migrate_joints, c->limit_tol_mm, c->newton_tol, c->rest_factor, c->rest_s,
+          "         at rest below %g x the kinetic energy of the arch at the support rate for %g s;\n",
+          c->open_mm, c->migrate_joints, c->limit_tol_mm, c->newton_tol, c->rest_factor, c->rest_s);
+  if (is_mortared(r) && c->ring_periods > 0.0) /* dynamic.ring_periods: mortar only */
+    fprintf(out, "         with mortar, a snap also over once rung out for %g period%s of the "
+            "lowest mode;\n", c->ring_periods, c->ring_periods == 1.0 ? "" : "s");
+  fprintf(out, "         collapsing beyond a kinetic energy of %g x weight x thickness\n\n",
           c->collapse_ke);
 }
 

@@ -412,6 +412,15 @@ static void add_dyn_totals(vs_run *r, const vs_dyn_result *d) {
 }
 
 
+/* A snap ended by its ringing (d) at the equilibrium qe found from its last state r->q: the
+ * vibration energy it left, kinetic + potential above qe, into the tallies. */
+static void ring_settled(vs_run *r, const vs_dyn_result *d, const double *qe) {
+  const double v = d->e_end.kinetic + vs_model_energy(r->m, r->q, r->delta) -
+                   vs_model_energy(r->m, qe, r->delta);
+  r->dtot.ring_settles++;
+  r->dtot.ring_energy += v;
+}
+
 /* The motion from a limit point (or from rest at the start, full-dynamic): integrate; whenever
  * the arch is at rest, look for a stable equilibrium there and resume the quasi-static path from
  * it. Returns through *resume_at the delta to resume from (NaN: the run is over). */
@@ -462,6 +471,7 @@ static vs_status dynamic_phase(vs_run *r, double *resume_at, vs_error *err) {
     vs_error_clear(&perr);
     const vs_status ps = vs_path_run_with(r->ps, &probe, r->delta, qs, NULL, NULL, &pr, &perr);
     if (ps == VS_OK) {
+      if (d.ringing) ring_settled(r, &d, qs);
       *resume_at = r->delta;
       break;
     }

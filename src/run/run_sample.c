@@ -151,6 +151,20 @@ static void fill_counters(const vs_run *r, vs_run_sample *s) {
       r->dtot.newton_iterations + (r->live_dyn != NULL ? r->live_dyn->newton_iterations : 0);
 }
 
+/* The ringing window (vs_dyn_opts's ring_window) of an arch with mortar: dynamic.ring_periods
+ * periods of its lowest natural frequency under self-weight (r->modal), once the modes are
+ * known; none when every joint is dry (imperfections.debonded may have taken all the mortar). */
+static void ring_window(vs_run *r) {
+  if (r->dyn == NULL || r->modal.n_modes < 1) return;
+  int bonded = 0;
+  for (int k = 0; k < r->g->n_joints && !bonded; k++) {
+    const vs_joint_law *law = vs_model_joint_law(r->m, k);
+    bonded = law->ft > 0.0 || law->c > 0.0;
+  }
+  if (bonded)
+    vs_dynamic_set_ring_window(r->dyn, r->def.dynamic.ring_periods / r->modal.freq_hz[0]);
+}
+
 /* HOOK (damping): at the self-weight equilibrium, the natural frequencies; Rayleigh damping is
  * fitted to the two lowest; the ratio every mode gets from the model's damping. Returns non-zero
  * (with r->modal_st, r->modal_err) when the damping cannot be set. */
@@ -165,6 +179,7 @@ static int damping_setup(vs_run *r, double delta, const double *q) {
     return 0;
   }
   if (r->modal_st != VS_OK) return 1;
+  ring_window(r);
   if (rayleigh && r->modal.n_modes >= 2) {
     r->modal_st = vs_damping_apply(r->m, VS_DAMPING_RAYLEIGH, r->def.dynamic.damping, r->modal.omega[0],
                                    r->modal.omega[1], &r->ray_alpha, &r->ray_beta, &r->modal_err);

@@ -39,6 +39,10 @@ static const int VS_DYN_KLU_ORDERING = 0;
  * need steps of 1/omega throughout. BDF1-2 are A-stable and damp those modes at large steps. */
 static const int VS_DYN_MAX_ORDER = 2;
 
+void vs_dynamic_set_ring_window(vs_dynamic *d, double window_s) {
+  d->o.ring_window = window_s > 0.0 ? window_s : 0.0;
+}
+
 void vs_dynamic_set_stop(vs_dynamic *d, const volatile sig_atomic_t *stop) { d->o.stop = stop; }
 
 vs_status vs_dynamic_set_contact(vs_dynamic *d, vs_contact *c, double offset, vs_error *err) {

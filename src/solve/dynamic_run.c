@@ -71,6 +71,11 @@ typedef struct {
   double wall_fall;       /* wall-clock time at the collapse criterion */
   long restarts;          /* vs_dyn_restart_roots so far */
   long base_steps, base_newton; /* IDA's counters up to its last restart */
+  /* the ringing window (vs_dyn_opts's ring_window): its start, whether anything changed in it
+   * (a crack grew, a joint slid, an edge crossed the hinge threshold, an impact), its kinetic
+   * energy's peak and the previous window's */
+  double ring_t0, ring_crack0, ring_peak, ring_peak_prev;
+  int ring_changed;
 } dyn_run;
 
 /* What take_step did: an accepted step, a restart (take another), or the end of the run. */
@@ -191,6 +196,25 @@ static int take_step(vs_dynamic *d, dyn_run *r, long step, int *flag_out) {
   return STEP_TAKEN;
 }
 
+/* The ringing window (vs_dyn_opts's ring_window) after an accepted step, r->e current: at the
+ * end of a window, is the motion an elastic oscillation dying out? Nothing changed in the window
+ * (no crack grew, no joint slid, no edge crossed the hinge threshold, no impact) and its kinetic
+ * energy's peak fell below the previous window's (a decaying vibration; a departure, a collapse
+ * or a snap still under way gains energy). The first window of a run never ends it. */
+static int ringing_over(const vs_dynamic *d, dyn_run *r) {
+  if (!(d->o.ring_window > 0.0) || !d->o.settle || r->collapsed) return 0;
+  if (r->e.cracking != r->ring_crack0) r->ring_changed = 1;
+  r->ring_peak = fmax(r->ring_peak, r->e.kinetic);
+  if (r->t - r->ring_t0 < d->o.ring_window) return 0;
+  const int over = !r->ring_changed && r->ring_peak < r->ring_peak_prev;
+  r->ring_peak_prev = r->ring_peak;
+  r->ring_peak = 0.0;
+  r->ring_t0 = r->t;
+  r->ring_crack0 = r->e.cracking;
+  r->ring_changed = 0;
+  return over;
+}
+
 /* The accepted step's state committed (the joints' slips, the impact model's arming, the
  * contacts' anchors), its energies, drift and extremes into the result, and the motion episodes
  * followed. Returns 1 when the arch is at rest: below rest_ke for the rest window. */
@@ -199,7 +223,8 @@ static int commit_step(vs_dynamic *d, dyn_run *r) {
   double *y = N_VGetArrayPointer(d->y);
   const double t = r->t;
   vs_dyn_joint_states(d, y);
-  vs_model_commit_states(d->m, d->js); /* seamless: the return-mapped force is unchanged */
+  /* seamless: the return-mapped force is unchanged */
+  if (vs_model_commit_states(d->m, d->js) > 0) r->ring_changed = 1;
   if (d->imp != NULL) vs_dyn_impact_arm(d, y, 0);
   if (d->ct != NULL && vs_contact_armed(d->ct)) {
     vs_contact_commit(d->ct, y);
@@ -243,6 +268,7 @@ static vs_status on_roots(vs_dynamic *d, dyn_run *r, double delta, int joint_roo
   IDAGetRootInfo(d->ida, d->roots);
   res->root_events++;
   for (int k = 0; k < 2 * d->nj && joint_root; k++) {
+    if (d->roots[k] != 0) r->ring_changed = 1;
     if (d->roots[k] == 0 || r->event == NULL) continue;
     vs_dyn_event ev = {.t = t, .delta = delta, .joint = k / 2 + 1,
                        .side = (k % 2 == 0) ? 'E' : 'I', .opened = d->roots[k] > 0};
@@ -256,6 +282,7 @@ static vs_status on_roots(vs_dynamic *d, dyn_run *r, double delta, int joint_roo
                          ? vs_error_set(r->err, VS_ERR_INTERRUPTED, "interrupted")
                          : vs_error_set(r->err, VS_ERR_SOLVER, "at t = %.6g s: %s", t, d->msg);
     res->impacts += ni;
+    if (ni > 0) r->ring_changed = 1;
     energies(d, y, r->e0, &r->e);
   }
   if (d->roots[2 * d->nj + 1] > 0 && !r->collapsed) { /* a departure, located */
@@ -293,8 +320,8 @@ static int sample_now(vs_dynamic *d, dyn_run *r, double delta) {
   return r->sample(r->user, r->t, delta, d->qst, d->vst, &r->e);
 }
 
-/* Has the run ended after this step (flag: IDASolve's; at_rest: commit_step's)? The end into
- * the result: the debris at rest on the ground, the fall's time over, max_delta, or settled. */
+/* Has the run ended after this step (flag: IDASolve's; at_rest: commit_step's, or 2 when the
+ * ringing is over)? The end into the result: the debris at rest on the ground, the fall's time over, max_delta, or settled. */
 static int run_over(const vs_dynamic *d, dyn_run *r, int flag, int at_rest) {
   vs_dyn_result *res = r->res;
   if (r->collapsed && d->ct != NULL && at_rest) { /* the debris at rest on the ground */
@@ -312,6 +339,7 @@ static int run_over(const vs_dynamic *d, dyn_run *r, int flag, int at_rest) {
   }
   if (d->o.settle && !r->collapsed && at_rest) {
     res->end = VS_DYN_SETTLED;
+    res->ringing = at_rest == 2;
     return 1;
   }
   return 0;
@@ -353,7 +381,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
   if (st != VS_OK) return st;
   dyn_run r = {.sample = sample, .event = event, .user = user, .res = res, .err = err,
                .st = VS_OK, .t = t0, .t_end = t_end, .t_stop = t_end,
-               .t_last_sample = -INFINITY, .t_rest = t0, .wall_fall = NAN};
+               .t_last_sample = -INFINITY, .t_rest = t0, .wall_fall = NAN, .ring_t0 = t0};
   st = first_sample(d, &r, t0);
   if (st != VS_OK) return st;
   for (long step = 0;; step++) {
@@ -366,6 +394,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
     int stop = 0;
     const int joint_root = flag == IDA_ROOT_RETURN && !r.collapsed; /* the fall's: contacts only */
     if (flag == IDA_ROOT_RETURN && on_roots(d, &r, delta, joint_root, &stop) != VS_OK) break;
+    const int ended = at_rest ? 1 : ringing_over(d, &r) ? 2 : 0; /* after the step's roots */
     if (sample != NULL && (r.t - r.t_last_sample >= d->o.sample_dt || joint_root) &&
         sample_now(d, &r, delta) != 0)
       stop = 1;
@@ -373,7 +402,7 @@ vs_status vs_dynamic_run(vs_dynamic *d, double t0, double *q, double *v, vs_dyn_
       r.st = vs_error_set(err, VS_ERR_STOPPED, "stopped by the caller");
       break;
     }
-    if (run_over(d, &r, flag, at_rest)) break;
+    if (run_over(d, &r, flag, ended)) break;
   }
   return run_finish(d, &r, q, v);
 }
