@@ -2,6 +2,7 @@
 against independent paths: the program's JSON (`voussoir run --json`) and its record read with
 h5py for the same case, and the closed form of the cracking energy, G_f x the area cracked
 through (b, the arch's depth, times the cracked lengths the record ends with; docs/mortar.md).
+Also the record's cracking energy against the JSON's.
 usage: /usr/bin/python3 python_mortar_check.py CASE DIR  (VOUSSOIR = the program)"""
 import json
 import math
@@ -90,10 +91,23 @@ check(len(py_cracks) == len(h5_cracks) and
       f"crack events: {len(py_cracks)} in process, {len(h5_cracks)} in the record")
 check(unit == "m,m" and crack.ndim == 3 and crack.shape[2] == 2, f"joint_crack {crack.shape} {unit}")
 check(bool((np.diff(crack, axis=0) >= 0).all()), "cracks never close (damage is irreversible)")
+# The cracking energy (mortared runs only): J, one value per state, never decreasing, ending at
+# the JSON's energy.cracking_J.
+with h5py.File(rec_path, "r") as f:
+    ce = f["observables/energy_cracking/value"][()]
+    ce_unit = f["observables/energy_cracking/value"].attrs["unit"]
+    ce_unit = ce_unit.decode() if isinstance(ce_unit, bytes) else str(ce_unit)
+check(ce_unit == "J" and ce.shape == (crack.shape[0],), f"energy_cracking {ce.shape} {ce_unit}")
+check(bool((np.diff(ce) >= 0).all()) and ce[0] >= 0, "the cracking energy never decreases")
+check(close(ce[-1], ref["energy"]["cracking_J"]),
+      f"energy_cracking ends at {ce[-1]}, the JSON's cracking_J {ref['energy']['cracking_J']}")
 with voussoir.open_record(rec_path) as r:
     jc = r.joint_crack()
     check(np.array_equal(jc.values, crack) and jc.columns == ["intrados", "extrados"] and
           jc.unit == "m,m", "Record.joint_crack against h5py")
+    rce = r.cracking_energy()
+    check(rce is not None and np.array_equal(rce.values, ce) and rce.unit == "J",
+          "Record.cracking_energy against h5py")
     rfc2 = r.first_crack()
     check(r.mortared() and rfc2 is not None and rfc2.joint == rfc["joint"] and
           rfc2.side == rfc["side"] and close(rfc2.delta_mm, rfc["delta_mm"]),
@@ -147,8 +161,13 @@ dry = voussoir.run(voussoir.Case.from_file(case_path), history=False)
 check(not dry.mortared and dry.first_crack is None and dry.energy["cracking_J"] == 0.0,
       f"dry: {dry.first_crack} {dry.energy}")
 check(not [e for e in dry.events if e.kind == "crack_initiated"], "dry: crack events")
-dref = program([])
+drec = os.path.join(out, "dry.h5")
+dref = program([], drec)
 check("first_crack" not in dref and "cracking_J" not in dref["energy"], "dry JSON unchanged")
+with h5py.File(drec, "r") as f:
+    check("energy_cracking" not in f["observables"], "dry record: no energy_cracking")
+with voussoir.open_record(drec) as r:
+    check(r.cracking_energy() is None, "dry: Record.cracking_energy() is None")
 # Every joint debonded (imperfections.debonded = 1): a dry arch however strong the mortar, its
 # collapse the dry one's; no crack.
 deb = voussoir.run(voussoir.Case.from_file(case_path, dict(zip(("joints.tensile_MPa",
