@@ -2,7 +2,8 @@
 against independent paths: the program's JSON (`voussoir run --json`) and its record read with
 h5py for the same case, and the closed form of the cracking energy, G_f x the area cracked
 through (b, the arch's depth, times the cracked lengths the record ends with; docs/mortar.md).
-Also the record's cracking energy against the JSON's.
+Also the record's cracking energy against the JSON's, the in-process history's crack lengths
+against the record's.
 usage: /usr/bin/python3 python_mortar_check.py CASE DIR  (VOUSSOIR = the program)"""
 import json
 import math
@@ -101,6 +102,13 @@ check(ce_unit == "J" and ce.shape == (crack.shape[0],), f"energy_cracking {ce.sh
 check(bool((np.diff(ce) >= 0).all()) and ce[0] >= 0, "the cracking energy never decreases")
 check(close(ce[-1], ref["energy"]["cracking_J"]),
       f"energy_cracking ends at {ce[-1]}, the JSON's cracking_J {ref['energy']['cracking_J']}")
+# The in-process history's crack lengths, state by state, against the record's (each state the
+# program records is a state the run hands its sample function).
+hist = voussoir.run(case).history
+hc = hist.joint_crack()
+check(hc is not None and hc.shape == crack.shape and np.array_equal(hc, crack),
+      f"History.joint_crack {None if hc is None else hc.shape} against the record's {crack.shape}")
+check(len(hist) == crack.shape[0], "one crack row per state of the history")
 with voussoir.open_record(rec_path) as r:
     jc = r.joint_crack()
     check(np.array_equal(jc.values, crack) and jc.columns == ["intrados", "extrados"] and
@@ -161,6 +169,8 @@ dry = voussoir.run(voussoir.Case.from_file(case_path), history=False)
 check(not dry.mortared and dry.first_crack is None and dry.energy["cracking_J"] == 0.0,
       f"dry: {dry.first_crack} {dry.energy}")
 check(not [e for e in dry.events if e.kind == "crack_initiated"], "dry: crack events")
+check(voussoir.run(voussoir.Case.from_file(case_path)).history.joint_crack() is None,
+      "dry: no crack history")
 drec = os.path.join(out, "dry.h5")
 dref = program([], drec)
 check("first_crack" not in dref and "cracking_J" not in dref["energy"], "dry JSON unchanged")

@@ -250,6 +250,12 @@ VS_API const char *vs_run_pattern_mechanism(const vs_run *r);
 VS_API double vs_run_mechanism_time(const vs_run *r);
 VS_API int vs_run_mode_from_mechanism(const vs_run *r);
 
+/* Each joint's lengths cracked through from its intrados and from its extrados edge (m; 0 for
+ * dry joints), as committed now (a sample function's state: the record's joint_crack row), into
+ * out[2 k], out[2 k + 1] for the geometry's joints k (2 n_joints entries; NULL: none written).
+ * Returns n_joints. */
+VS_API int vs_run_joint_cracks(const vs_run *r, double *out);
+
 /* Last state: positions (vs_model_size entries), support displacement (m), time (s). */
 VS_API const double *vs_run_state(const vs_run *r);
 VS_API double vs_run_delta(const vs_run *r);

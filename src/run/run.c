@@ -702,6 +702,14 @@ double vs_run_mechanism_time(const vs_run *r) {
   return vs_run_mechanism_count(r) > 0 ? r->mech_t : NAN;
 }
 int vs_run_mode_from_mechanism(const vs_run *r) { return r->mode_from_mech; }
+int vs_run_joint_cracks(const vs_run *r, double *out) {
+  for (int k = 0; k < r->g->n_joints && out != NULL; k++) {
+    const vs_joint_law *law = vs_model_joint_law(r->m, k);
+    out[2 * k] = law->crack[0];
+    out[2 * k + 1] = law->crack[1];
+  }
+  return r->g->n_joints;
+}
 const char *vs_run_pattern_collapse(const vs_run *r) {
   return r->collapse.found && r->pattern_u != NULL ? r->pattern_u : "";
 }
