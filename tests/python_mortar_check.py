@@ -3,7 +3,7 @@ against independent paths: the program's JSON (`voussoir run --json`) and its re
 h5py for the same case, and the closed form of the cracking energy, G_f x the area cracked
 through (b, the arch's depth, times the cracked lengths the record ends with; docs/mortar.md).
 Also the record's cracking energy against the JSON's, the in-process history's crack lengths
-against the record's.
+against the record's, and a mortared sweep's first crack columns against each run's JSON.
 usage: /usr/bin/python3 python_mortar_check.py CASE DIR  (VOUSSOIR = the program)"""
 import json
 import math
@@ -15,7 +15,9 @@ import h5py
 import numpy as np
 
 import voussoir
+import voussoir.cli
 import voussoir.figures as vf
+import voussoir.study
 
 
 def check(cond, msg):
@@ -185,4 +187,48 @@ deb = voussoir.run(voussoir.Case.from_file(case_path, dict(zip(("joints.tensile_
 check(deb.mortared and deb.first_crack is None and deb.energy["cracking_J"] == 0.0 and
       deb.collapse.delta_mm == dry.collapse.delta_mm, f"all debonded: {deb.first_crack} "
       f"{deb.energy} {deb.collapse.delta_mm} / dry {dry.collapse.delta_mm}")
+
+# 8. A mortared sweep's tables (summary.csv and summary.h5, read back in Python) carry the first
+# crack of each run as its JSON's first_crack; the in-process study.sweep the same; a dry
+# sweep's tables have none of those columns.
+sw = os.path.join(out, "sweep")
+table = voussoir.cli.sweep(case_path, sw, {"support.alpha_deg": [0, 45],
+                                           "joints.tensile_MPa": [0, FT]},
+                           sets={"joints.gf_N_mm": GF}, jobs=2, program=prog)
+crack_cols = ["first_crack_mm", "first_crack_joint", "first_crack_side"]
+with h5py.File(os.path.join(sw, "summary.h5"), "r") as f:
+    h5rows = f["summary"][()]
+check(len(table) == 4 and all(c in table[0] for c in crack_cols) and
+      all(c in h5rows.dtype.names for c in crack_cols), f"sweep columns {list(table[0])}")
+inproc = voussoir.study.sweep(case_path, alpha=[0, 45], joints__tensile_MPa=[0, FT],
+                              joints__gf_N_mm=GF, jobs=2)
+for row, h in zip(table, h5rows):
+    run = int(row["run"])
+    with open(os.path.join(sw, f"run_{run:04d}.json")) as f:
+        jfc = json.load(f).get("first_crack")
+    side = h["first_crack_side"]
+    side = side.decode() if isinstance(side, bytes) else str(side)
+    ip = inproc[inproc["run"] == run].iloc[0]
+    if jfc is None:  # the dry runs of the study (f_t = 0), or no crack
+        check(math.isnan(row["first_crack_mm"]) and row["first_crack_joint"] == 0 and
+              row["first_crack_side"] == "" and math.isnan(h["first_crack_mm"]) and
+              h["first_crack_joint"] == 0 and side == "" and math.isnan(ip["first_crack_mm"]),
+              f"sweep run {run}: no first crack, {row}")
+    else:
+        check(close(row["first_crack_mm"], jfc["delta_mm"]) and
+              row["first_crack_joint"] == jfc["joint"] and row["first_crack_side"] == jfc["side"],
+              f"sweep run {run}: csv {row} / JSON {jfc}")
+        check(close(h["first_crack_mm"], jfc["delta_mm"]) and h["first_crack_joint"] == jfc["joint"]
+              and side == jfc["side"], f"sweep run {run}: summary.h5 / JSON {jfc}")
+        check(close(ip["first_crack_mm"], jfc["delta_mm"]) and ip["first_crack_joint"] == jfc["joint"]
+              and ip["first_crack_side"] == jfc["side"], f"study.sweep run {run} / JSON {jfc}")
+check(sum(1 for r in table if r["first_crack_side"]) == 2, "the two mortared runs cracked")
+dsw = os.path.join(out, "dry_sweep")
+dtable = voussoir.cli.sweep(case_path, dsw, {"support.alpha_deg": [0]}, program=prog)
+with h5py.File(os.path.join(dsw, "summary.h5"), "r") as f:
+    dnames = f["summary"].dtype.names
+check(not any(c in dtable[0] for c in crack_cols) and not any(c in dnames for c in crack_cols) and
+      list(dtable[0])[-1] == "load_factor", "a dry sweep's tables as they were")
+check(not any(c in voussoir.study.sweep(case_path, alpha=[0]).columns for c in crack_cols),
+      "a dry study.sweep as it was")
 print("python_mortar_check: ok")

@@ -250,6 +250,10 @@ VS_API const char *vs_run_pattern_mechanism(const vs_run *r);
 VS_API double vs_run_mechanism_time(const vs_run *r);
 VS_API int vs_run_mode_from_mechanism(const vs_run *r);
 
+/* The first crack (the JSON's first_crack): the crack_initiated event of least support
+ * displacement; NULL when no joint cracked (and for a dry run). */
+VS_API const vs_run_event *vs_run_first_crack(const vs_run *r);
+
 /* Each joint's lengths cracked through from its intrados and from its extrados edge (m; 0 for
  * dry joints), as committed now (a sample function's state: the record's joint_crack row), into
  * out[2 k], out[2 k + 1] for the geometry's joints k (2 n_joints entries; NULL: none written).

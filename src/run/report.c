@@ -303,22 +303,11 @@ static int is_mortared(const vs_run *r) {
   return j->ft > 0.0 || j->c > 0.0;
 }
 
-/* The crack initiation at the least support displacement (events are logged as each state is
- * tracked, several per state), or NULL. */
-static const vs_run_event *first_crack(const vs_run *r) {
-  const vs_run_event *f = NULL;
-  for (int i = 0; i < vs_run_event_count(r); i++) {
-    const vs_run_event *e = vs_run_event_get(r, i);
-    if (e->kind == VS_EVENT_CRACK_INITIATED && (f == NULL || e->delta < f->delta)) f = e;
-  }
-  return f;
-}
-
 /* ,"first_crack":{delta_mm, joint, side} (null: no joint cracked), for a mortared run; on a
  * load path (delta the held support displacement) with the load factor where it cracked. */
 static void json_first_crack(FILE *out, const vs_run *r) {
   if (!is_mortared(r)) return;
-  const vs_run_event *f = first_crack(r);
+  const vs_run_event *f = vs_run_first_crack(r);
   fputs(",\"first_crack\":", out);
   if (f == NULL) {
     fputs("null", out);
@@ -364,7 +353,7 @@ static void text_mortar(FILE *out, const vs_run *r) {
   const vs_case *c = vs_run_case(r);
   fprintf(out, "\nmortar   f_t = %g MPa, c = %g MPa, G_f = %g N/mm, G_c = %g N/mm\n",
           c->tensile_MPa, c->cohesion_MPa, c->gf_N_mm, c->gc_N_mm);
-  const vs_run_event *f = first_crack(r);
+  const vs_run_event *f = vs_run_first_crack(r);
   if (f != NULL)
     fprintf(out, "         first crack: joint %d at the %s at %.4f mm (tensile stress f_t)",
             f->joint, f->side == 'I' ? "intrados" : "extrados", f->delta / VS_MM);

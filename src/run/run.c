@@ -702,6 +702,15 @@ double vs_run_mechanism_time(const vs_run *r) {
   return vs_run_mechanism_count(r) > 0 ? r->mech_t : NAN;
 }
 int vs_run_mode_from_mechanism(const vs_run *r) { return r->mode_from_mech; }
+const vs_run_event *vs_run_first_crack(const vs_run *r) {
+  const vs_run_event *f = NULL; /* events are logged as each state is tracked, several a state */
+  for (int i = 0; i < r->n_events; i++) {
+    const vs_run_event *e = &r->events[i];
+    if (e->kind == VS_EVENT_CRACK_INITIATED && (f == NULL || e->delta < f->delta)) f = e;
+  }
+  return f;
+}
+
 int vs_run_joint_cracks(const vs_run *r, double *out) {
   for (int k = 0; k < r->g->n_joints && out != NULL; k++) {
     const vs_joint_law *law = vs_model_joint_law(r->m, k);
