@@ -264,7 +264,9 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
       r->mech_w = calloc(nj, sizeof *r->mech_w);
       r->mech = calloc(nj, sizeof *r->mech);
       r->pattern_m = calloc(2 * nj + 1, 1);
-      mech_nomem = r->mech_w == NULL || r->mech == NULL || r->pattern_m == NULL;
+      r->mech_hinge = calloc(nj, sizeof *r->mech_hinge);
+      mech_nomem = r->mech_w == NULL || r->mech == NULL || r->pattern_m == NULL ||
+                   r->mech_hinge == NULL;
     }
     if (mech_nomem || r->q == NULL || r->v == NULL || r->q_rest == NULL || r->js == NULL ||
         vs_run_slips_create(r) != 0)
@@ -331,6 +333,7 @@ void vs_run_destroy(vs_run **r) {
   free(p->mech_w);
   free(p->mech);
   free(p->pattern_m);
+  free(p->mech_hinge);
   vs_run_slips_free(p);
   vs_run_load_free(p);
   vs_modal_free(&p->modal);

@@ -61,6 +61,7 @@ struct vs_run {
    * froze it (at the collapse criterion) --- */
   double *mech_w;          /* the joints' relative rotation rates there, rad/s */
   vs_active_hinge *mech;   /* its hinges, left to right (n_mech) */
+  int *mech_hinge;         /* the tracked hinge each is (its index, -1 none), matched there */
   int n_mech;
   double mech_t;           /* the time of that sample, s (NaN: none) */
   char *pattern_m;         /* their sides, "E-I-E-I" (2 n_joints + 1 bytes) */

@@ -182,6 +182,10 @@ int vs_run_on_equilibrium(void *user, double delta, const double *q, const vs_mo
   r->delta = delta;
   r->t = delta / r->dopts.rate;
   r->phase = VS_PHASE_QUASISTATIC;
+  if (!r->frozen) { /* a motion that comes to rest was not the collapse: no mechanism of it */
+    r->n_mech = 0;
+    r->mech_t = NAN;
+  }
   if (track_hinges(r, delta, q, NULL) != 0) return 1;
   if (vs_run_slips_at_equilibrium(r, delta, r->js) != 0) return 1;
   if (r->pending_snap >= 0) { /* the first equilibrium after a snap-through */
@@ -249,6 +253,22 @@ static void track_mechanism(vs_run *r, double t, double delta, const double *v) 
   vs_mechanism_joint_rates(r->m, v, delta, r->dopts.rate, r->mech_w);
   r->n_mech = vs_mechanism_active(n, r->mech_w, hinge_view(r), &r->hopts, r->mech);
   r->mech_t = t;
+  for (int i = 0; i < r->n_mech; i++) { /* the tracked hinge it is: open there, of its side,
+                                           within hinges.migrate joints; the nearest */
+    const vs_active_hinge *a = &r->mech[i];
+    int best = r->hopts.migrate + 1;
+    r->mech_hinge[i] = -1;
+    for (int k = 0; k < vs_hinges_count(r->h); k++) {
+      const vs_hinge *hg = vs_hinges_get(r->h, k);
+      if (hg->side != a->side || !hg->open) continue;
+      const int d = a->last < hg->first ? hg->first - a->last
+                    : hg->last < a->first ? a->first - hg->last : 0;
+      if (d < best) {
+        best = d;
+        r->mech_hinge[i] = k;
+      }
+    }
+  }
 }
 
 int vs_run_on_dyn_sample(void *user, double t, double delta, const double *q, const double *v,
@@ -370,29 +390,16 @@ int vs_run_record_sliding(vs_run *r, const vs_path_result *p) {
   return 0;
 }
 
-/* A mortared arch's mechanism hinges take the labels of the tracked hinges they are (open, the
- * same side, within hinges.migrate joints; the nearest), their sides the pattern; the mode is
- * read from them when the hinges open at the collapse's onset fit none (docs/mortar.md, "The
- * mode of a mortared arch"). */
+/* A mortared arch's mechanism hinges take the labels of the tracked hinges they are (matched
+ * where they were read: track_mechanism), their sides the pattern; the mode is read from them
+ * when the hinges open at the collapse's onset fit none (docs/mortar.md, "The mode of a
+ * mortared arch"). */
 static void classify_mechanism(vs_run *r) {
   r->mode_from_mech = 0;
   if (r->mech == NULL) return;
   if (!r->collapse.found) r->n_mech = 0; /* a collapse in motion reads it (a sliding one not) */
-  for (int i = 0; i < r->n_mech; i++) {
-    vs_active_hinge *a = &r->mech[i];
-    a->label = 0;
-    int best = r->hopts.migrate + 1;
-    for (int k = 0; k < vs_hinges_count(r->h); k++) {
-      const vs_hinge *hg = vs_hinges_get(r->h, k);
-      if (hg->side != a->side || !hg->open) continue;
-      const int d = a->last < hg->first ? hg->first - a->last
-                    : hg->last < a->first ? a->first - hg->last : 0;
-      if (d < best) {
-        best = d;
-        a->label = hg->label;
-      }
-    }
-  }
+  for (int i = 0; i < r->n_mech; i++)
+    r->mech[i].label = r->mech_hinge[i] >= 0 ? vs_hinges_get(r->h, r->mech_hinge[i])->label : 0;
   size_t used = 0; /* 2 n_joints + 1 bytes hold any */
   for (int i = 0; i < r->n_mech; i++) {
     if (i > 0) r->pattern_m[used++] = '-';
