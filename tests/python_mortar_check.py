@@ -3,8 +3,10 @@ against independent paths: the program's JSON (`voussoir run --json`) and its re
 h5py for the same case, and the closed form of the cracking energy, G_f x the area cracked
 through (b, the arch's depth, times the cracked lengths the record ends with; docs/mortar.md).
 Also the record's cracking energy against the JSON's, the in-process history's crack lengths
-against the record's, and a mortared sweep's first crack columns against each run's JSON.
+against the record's, and a mortared sweep's and Monte Carlo study's first crack columns
+against each run's JSON.
 usage: /usr/bin/python3 python_mortar_check.py CASE DIR  (VOUSSOIR = the program)"""
+import csv
 import json
 import math
 import os
@@ -231,4 +233,46 @@ check(not any(c in dtable[0] for c in crack_cols) and not any(c in dnames for c 
       list(dtable[0])[-1] == "load_factor", "a dry sweep's tables as they were")
 check(not any(c in voussoir.study.sweep(case_path, alpha=[0]).columns for c in crack_cols),
       "a dry study.sweep as it was")
+
+# 9. A mortared Monte Carlo study (f_t scattered per joint): samples.csv, merge's copy of it,
+# summary.h5 and study.montecarlo carry each sample's first crack, that of `voussoir run` of
+# the same sample (imperfections.sample = i) by its JSON; a dry study's table has none.
+MC = {"joints.tensile_MPa": FT, "joints.gf_N_mm": GF, "imperfections.tensile_cov": 0.3}
+mc = os.path.join(out, "mc")
+subprocess.run([prog, "montecarlo", case_path, "--samples", "3", "-j", "2", "-q", "-o", mc] +
+               sum((["--set", f"{k}={v}"] for k, v in MC.items()), []), check=True,
+               capture_output=True)
+merged = os.path.join(out, "mc_merged")
+subprocess.run([prog, "merge", mc, "-o", merged], check=True, capture_output=True)
+with open(os.path.join(mc, "samples.csv"), newline="") as f:
+    next(f)
+    rows = list(csv.DictReader(f))
+with open(os.path.join(merged, "samples.csv"), newline="") as f:
+    next(f)
+    mrows = list(csv.DictReader(f))
+with h5py.File(os.path.join(mc, "summary.h5"), "r") as f:
+    h5c, h5j = f["samples/first_crack"][()], f["samples/first_crack_joint"][()]
+mcp = voussoir.study.montecarlo(voussoir.Case.from_file(case_path, MC), 3, jobs=2)
+check(len(rows) == 3 and list(rows[0])[-3:] == crack_cols and mrows == rows and
+      list(mcp.columns)[-3:] == crack_cols, f"montecarlo columns {list(rows[0])}")
+for i, row in enumerate(rows):
+    jfc = program([f"{k}={v}" for k, v in MC.items()] + [f"imperfections.sample={i}"])["first_crack"]
+    check(jfc is not None, f"sample {i} cracks")
+    check(close(float(row["first_crack_mm"]), jfc["delta_mm"]) and
+          int(row["first_crack_joint"]) == jfc["joint"] and row["first_crack_side"] == jfc["side"],
+          f"samples.csv sample {i}: {row} / JSON {jfc}")
+    check(close(h5c[i], jfc["delta_mm"] * 1e-3) and
+          h5j[i] == jfc["joint"] * (1 if jfc["side"] == "I" else -1), f"summary.h5 sample {i}")
+    p = mcp.iloc[i]
+    check(close(p["first_crack_mm"], jfc["delta_mm"]) and p["first_crack_joint"] == jfc["joint"]
+          and p["first_crack_side"] == jfc["side"], f"study.montecarlo sample {i} / JSON {jfc}")
+dmc = os.path.join(out, "mc_dry")
+subprocess.run([prog, "montecarlo", case_path, "--samples", "1", "-q", "-o", dmc, "--set",
+                "imperfections.kn_cov=0.1"], check=True, capture_output=True)
+with open(os.path.join(dmc, "samples.csv")) as f:
+    f.readline()
+    dhead = f.readline().strip()
+check(dhead.endswith(",load_factor"), f"a dry study's samples.csv as it was: {dhead}")
+with h5py.File(os.path.join(dmc, "summary.h5"), "r") as f:
+    check("first_crack" not in f["samples"], "a dry study's summary.h5 as it was")
 print("python_mortar_check: ok")

@@ -107,6 +107,10 @@ typedef struct {
   char pattern[16];
   char error[400];
   double load_factor;
+  int mortared;
+  double first_crack_mm;
+  int first_crack_joint;
+  char first_crack_side;
 } vs_mc_sample;
 typedef struct {
   int done;

@@ -131,8 +131,10 @@ def montecarlo(case, samples, seed=None, *, jobs=None):
     support.max_mm, failed), first_limit_mm, delta_u_mm, dz_u_mm, dx_u_mm, mode (1..3 for
     I..III, 0 unclassified), pattern, A..E (each hinge at collapse as joint-side, "9-I"),
     error, left_dx_mm, left_dz_mm, right_dx_mm, right_dz_mm (each support's own travel),
-    load_factor (analysis.type = load). A sample's run cannot be stopped from Python: Ctrl-C starts no new sample and
-    returns once those under way end."""
+    load_factor (analysis.type = load), and for a case with mortar (joints.tensile_MPa or
+    cohesion_MPa > 0) the first crack's first_crack_mm, first_crack_joint, first_crack_side
+    (CRACK_COLUMNS). A sample's run cannot be stopped from Python: Ctrl-C starts no new sample
+    and returns once those under way end."""
     base = case if isinstance(case, Case) else Case.from_file(case)
     if seed is not None:
         base = base.copy(imperfections__seed=seed)
@@ -147,7 +149,8 @@ def montecarlo(case, samples, seed=None, *, jobs=None):
         _lib.lib().vs_mc_run_sample(base._c, i, out)
         return _mc_row(out, base)
 
-    return pandas().DataFrame(_pool(jobs, one, range(samples)), columns=MC_COLUMNS)
+    return pandas().DataFrame(_pool(jobs, one, range(samples)),
+                              columns=MC_COLUMNS + (CRACK_COLUMNS if _mortared(base) else []))
 
 
 def _travel(case, delta_mm):
@@ -165,6 +168,9 @@ def _mc_row(s, base):
            "error": ffi.string(s.error).decode()}
     row.update(_travel(base, s.delta_u_mm if s.status == 0 else math.nan))
     row["load_factor"] = s.load_factor
+    side = s.first_crack_side.decode() if s.first_crack_side != b"\0" else ""
+    row.update(first_crack_mm=s.first_crack_mm, first_crack_joint=s.first_crack_joint,
+               first_crack_side=side)
     for k, label in enumerate("ABCDE"):
         side = s.hinge_side[k].decode() if s.hinge_side[k] != b"\0" else ""
         row[label] = f"{s.hinge_joint[k]}-{side}" if s.hinge_joint[k] else ""
