@@ -37,7 +37,12 @@ def load(a, ft, du="0.2"):
     hinges = " ".join(f"{h['label']}:{'-'.join(map(str, h['joints']))}-{h['side']}"
                       for h in c.get("hinges", []))
     fc = j.get("first_crack") or {}
+    m = j.get("mechanism_turning") or {}
+    turning = " ".join(f"{h['label'] or '-'}:{'-'.join(map(str, h['joints']))}-{h['side']}"
+                       + (" closing" if h["closing"] else "") for h in m.get("hinges", []))
     return dict(du=c.get("delta_mm"), hinges=hinges, mode=j.get("mode") or "-",
+                turning=turning, sides=m.get("sides") or "-",
+                from_turning=m.get("mode_from") == "turning",
                 crack=fc.get("delta_mm"), crack_at=(f"{fc['joint']}-{fc['side']}" if fc else "-"),
                 cracking=(j.get("energy") or {}).get("cracking_J"), status=j["status"])
 f = lambda x, p=2: f"{x:.{p}f}" if x is not None else "-"
@@ -53,12 +58,28 @@ print("| alpha (deg) | " + " | ".join(kpa(ft) for ft in fts[1:]) + " |")
 print("|---" * len(fts) + "|")
 for a in alphas:
     print(f"| {a} | " + " | ".join(f"{f(R[a, ft]['crack'])} ({R[a, ft]['crack_at']})" for ft in fts[1:]) + " |")
-print("\nhinges at the collapse and mode (alpha 0, 45, 90):\n")
+print("\nhinges at the collapse's onset and mode (alpha 0, 45, 90; * read from the hinges turning):\n")
 print("| f_t (kPa) | alpha 0 | alpha 45 | alpha 90 |")
 print("|---|---|---|---|")
 for ft in fts:
     print(f"| {'dry' if ft == '0' else kpa(ft)} | " +
-          " | ".join(f"{R[a, ft]['hinges']} ({R[a, ft]['mode']})" for a in (0, 45, 90)) + " |")
+          " | ".join(f"{R[a, ft]['hinges']} ({R[a, ft]['mode']}{'*' if R[a, ft]['from_turning'] else ''})"
+                     for a in (0, 45, 90)) + " |")
+print("\nhinges turning at the collapse criterion and the mode (mortar only; * read from them):\n")
+print("| f_t (kPa) | alpha 0 | alpha 45 | alpha 90 |")
+print("|---|---|---|---|")
+star = lambda r: r["mode"] + ("*" if r["from_turning"] else "")
+for ft in fts[1:]:
+    print(f"| {kpa(ft)} | " +
+          " | ".join(f"{R[a, ft]['turning']} ({star(R[a, ft])})" for a in (0, 45, 90)) + " |")
+print("\nthe mode in every direction (* read from the hinges turning at the criterion; "
+      "unclassified: their sides):\n")
+print("| alpha (deg) | " + " | ".join("dry" if ft == "0" else kpa(ft) for ft in fts) + " |")
+print("|---" * (len(fts) + 1) + "|")
+for a in alphas:
+    print(f"| {a} | " + " | ".join(
+        star(R[a, ft]) if R[a, ft]["mode"] != "-" or ft == "0" else R[a, ft]["sides"]
+        for ft in fts) + " |")
 print("\nsensitivity to G_f, alpha 0, f_t = 2 kPa:\n")
 print("| du = 2 G_f / f_t (mm) | G_f (N/mm) | first crack (mm) | delta_u (mm) | cracking (mJ) | mode |")
 print("|---|---|---|---|---|---|")

@@ -2,7 +2,11 @@
 against independent paths: the program's JSON (`voussoir run --json`) and its record read with
 h5py for the same case, and the closed form of the cracking energy, G_f x the area cracked
 through (b, the arch's depth, times the cracked lengths the record ends with; docs/mortar.md).
+Also the record's cracking energy against the JSON's, the in-process history's crack lengths
+against the record's, and a mortared sweep's and Monte Carlo study's first crack columns
+against each run's JSON.
 usage: /usr/bin/python3 python_mortar_check.py CASE DIR  (VOUSSOIR = the program)"""
+import csv
 import json
 import math
 import os
@@ -13,7 +17,9 @@ import h5py
 import numpy as np
 
 import voussoir
+import voussoir.cli
 import voussoir.figures as vf
+import voussoir.study
 
 
 def check(cond, msg):
@@ -90,10 +96,30 @@ check(len(py_cracks) == len(h5_cracks) and
       f"crack events: {len(py_cracks)} in process, {len(h5_cracks)} in the record")
 check(unit == "m,m" and crack.ndim == 3 and crack.shape[2] == 2, f"joint_crack {crack.shape} {unit}")
 check(bool((np.diff(crack, axis=0) >= 0).all()), "cracks never close (damage is irreversible)")
+# The cracking energy (mortared runs only): J, one value per state, never decreasing, ending at
+# the JSON's energy.cracking_J.
+with h5py.File(rec_path, "r") as f:
+    ce = f["observables/energy_cracking/value"][()]
+    ce_unit = f["observables/energy_cracking/value"].attrs["unit"]
+    ce_unit = ce_unit.decode() if isinstance(ce_unit, bytes) else str(ce_unit)
+check(ce_unit == "J" and ce.shape == (crack.shape[0],), f"energy_cracking {ce.shape} {ce_unit}")
+check(bool((np.diff(ce) >= 0).all()) and ce[0] >= 0, "the cracking energy never decreases")
+check(close(ce[-1], ref["energy"]["cracking_J"]),
+      f"energy_cracking ends at {ce[-1]}, the JSON's cracking_J {ref['energy']['cracking_J']}")
+# The in-process history's crack lengths, state by state, against the record's (each state the
+# program records is a state the run hands its sample function).
+hist = voussoir.run(case).history
+hc = hist.joint_crack()
+check(hc is not None and hc.shape == crack.shape and np.array_equal(hc, crack),
+      f"History.joint_crack {None if hc is None else hc.shape} against the record's {crack.shape}")
+check(len(hist) == crack.shape[0], "one crack row per state of the history")
 with voussoir.open_record(rec_path) as r:
     jc = r.joint_crack()
     check(np.array_equal(jc.values, crack) and jc.columns == ["intrados", "extrados"] and
           jc.unit == "m,m", "Record.joint_crack against h5py")
+    rce = r.cracking_energy()
+    check(rce is not None and np.array_equal(rce.values, ce) and rce.unit == "J",
+          "Record.cracking_energy against h5py")
     rfc2 = r.first_crack()
     check(r.mortared() and rfc2 is not None and rfc2.joint == rfc["joint"] and
           rfc2.side == rfc["side"] and close(rfc2.delta_mm, rfc["delta_mm"]),
@@ -147,8 +173,15 @@ dry = voussoir.run(voussoir.Case.from_file(case_path), history=False)
 check(not dry.mortared and dry.first_crack is None and dry.energy["cracking_J"] == 0.0,
       f"dry: {dry.first_crack} {dry.energy}")
 check(not [e for e in dry.events if e.kind == "crack_initiated"], "dry: crack events")
-dref = program([])
+check(voussoir.run(voussoir.Case.from_file(case_path)).history.joint_crack() is None,
+      "dry: no crack history")
+drec = os.path.join(out, "dry.h5")
+dref = program([], drec)
 check("first_crack" not in dref and "cracking_J" not in dref["energy"], "dry JSON unchanged")
+with h5py.File(drec, "r") as f:
+    check("energy_cracking" not in f["observables"], "dry record: no energy_cracking")
+with voussoir.open_record(drec) as r:
+    check(r.cracking_energy() is None, "dry: Record.cracking_energy() is None")
 # Every joint debonded (imperfections.debonded = 1): a dry arch however strong the mortar, its
 # collapse the dry one's; no crack.
 deb = voussoir.run(voussoir.Case.from_file(case_path, dict(zip(("joints.tensile_MPa",
@@ -156,4 +189,90 @@ deb = voussoir.run(voussoir.Case.from_file(case_path, dict(zip(("joints.tensile_
 check(deb.mortared and deb.first_crack is None and deb.energy["cracking_J"] == 0.0 and
       deb.collapse.delta_mm == dry.collapse.delta_mm, f"all debonded: {deb.first_crack} "
       f"{deb.energy} {deb.collapse.delta_mm} / dry {dry.collapse.delta_mm}")
+
+# 8. A mortared sweep's tables (summary.csv and summary.h5, read back in Python) carry the first
+# crack of each run as its JSON's first_crack; the in-process study.sweep the same; a dry
+# sweep's tables have none of those columns.
+sw = os.path.join(out, "sweep")
+table = voussoir.cli.sweep(case_path, sw, {"support.alpha_deg": [0, 45],
+                                           "joints.tensile_MPa": [0, FT]},
+                           sets={"joints.gf_N_mm": GF}, jobs=2, program=prog)
+crack_cols = ["first_crack_mm", "first_crack_joint", "first_crack_side"]
+with h5py.File(os.path.join(sw, "summary.h5"), "r") as f:
+    h5rows = f["summary"][()]
+check(len(table) == 4 and all(c in table[0] for c in crack_cols) and
+      all(c in h5rows.dtype.names for c in crack_cols), f"sweep columns {list(table[0])}")
+inproc = voussoir.study.sweep(case_path, alpha=[0, 45], joints__tensile_MPa=[0, FT],
+                              joints__gf_N_mm=GF, jobs=2)
+for row, h in zip(table, h5rows):
+    run = int(row["run"])
+    with open(os.path.join(sw, f"run_{run:04d}.json")) as f:
+        jfc = json.load(f).get("first_crack")
+    side = h["first_crack_side"]
+    side = side.decode() if isinstance(side, bytes) else str(side)
+    ip = inproc[inproc["run"] == run].iloc[0]
+    if jfc is None:  # the dry runs of the study (f_t = 0), or no crack
+        check(math.isnan(row["first_crack_mm"]) and row["first_crack_joint"] == 0 and
+              row["first_crack_side"] == "" and math.isnan(h["first_crack_mm"]) and
+              h["first_crack_joint"] == 0 and side == "" and math.isnan(ip["first_crack_mm"]),
+              f"sweep run {run}: no first crack, {row}")
+    else:
+        check(close(row["first_crack_mm"], jfc["delta_mm"]) and
+              row["first_crack_joint"] == jfc["joint"] and row["first_crack_side"] == jfc["side"],
+              f"sweep run {run}: csv {row} / JSON {jfc}")
+        check(close(h["first_crack_mm"], jfc["delta_mm"]) and h["first_crack_joint"] == jfc["joint"]
+              and side == jfc["side"], f"sweep run {run}: summary.h5 / JSON {jfc}")
+        check(close(ip["first_crack_mm"], jfc["delta_mm"]) and ip["first_crack_joint"] == jfc["joint"]
+              and ip["first_crack_side"] == jfc["side"], f"study.sweep run {run} / JSON {jfc}")
+check(sum(1 for r in table if r["first_crack_side"]) == 2, "the two mortared runs cracked")
+dsw = os.path.join(out, "dry_sweep")
+dtable = voussoir.cli.sweep(case_path, dsw, {"support.alpha_deg": [0]}, program=prog)
+with h5py.File(os.path.join(dsw, "summary.h5"), "r") as f:
+    dnames = f["summary"].dtype.names
+check(not any(c in dtable[0] for c in crack_cols) and not any(c in dnames for c in crack_cols) and
+      list(dtable[0])[-1] == "load_factor", "a dry sweep's tables as they were")
+check(not any(c in voussoir.study.sweep(case_path, alpha=[0]).columns for c in crack_cols),
+      "a dry study.sweep as it was")
+
+# 9. A mortared Monte Carlo study (f_t scattered per joint): samples.csv, merge's copy of it,
+# summary.h5 and study.montecarlo carry each sample's first crack, that of `voussoir run` of
+# the same sample (imperfections.sample = i) by its JSON; a dry study's table has none.
+MC = {"joints.tensile_MPa": FT, "joints.gf_N_mm": GF, "imperfections.tensile_cov": 0.3}
+mc = os.path.join(out, "mc")
+subprocess.run([prog, "montecarlo", case_path, "--samples", "3", "-j", "2", "-q", "-o", mc] +
+               sum((["--set", f"{k}={v}"] for k, v in MC.items()), []), check=True,
+               capture_output=True)
+merged = os.path.join(out, "mc_merged")
+subprocess.run([prog, "merge", mc, "-o", merged], check=True, capture_output=True)
+with open(os.path.join(mc, "samples.csv"), newline="") as f:
+    next(f)
+    rows = list(csv.DictReader(f))
+with open(os.path.join(merged, "samples.csv"), newline="") as f:
+    next(f)
+    mrows = list(csv.DictReader(f))
+with h5py.File(os.path.join(mc, "summary.h5"), "r") as f:
+    h5c, h5j = f["samples/first_crack"][()], f["samples/first_crack_joint"][()]
+mcp = voussoir.study.montecarlo(voussoir.Case.from_file(case_path, MC), 3, jobs=2)
+check(len(rows) == 3 and list(rows[0])[-3:] == crack_cols and mrows == rows and
+      list(mcp.columns)[-3:] == crack_cols, f"montecarlo columns {list(rows[0])}")
+for i, row in enumerate(rows):
+    jfc = program([f"{k}={v}" for k, v in MC.items()] + [f"imperfections.sample={i}"])["first_crack"]
+    check(jfc is not None, f"sample {i} cracks")
+    check(close(float(row["first_crack_mm"]), jfc["delta_mm"]) and
+          int(row["first_crack_joint"]) == jfc["joint"] and row["first_crack_side"] == jfc["side"],
+          f"samples.csv sample {i}: {row} / JSON {jfc}")
+    check(close(h5c[i], jfc["delta_mm"] * 1e-3) and
+          h5j[i] == jfc["joint"] * (1 if jfc["side"] == "I" else -1), f"summary.h5 sample {i}")
+    p = mcp.iloc[i]
+    check(close(p["first_crack_mm"], jfc["delta_mm"]) and p["first_crack_joint"] == jfc["joint"]
+          and p["first_crack_side"] == jfc["side"], f"study.montecarlo sample {i} / JSON {jfc}")
+dmc = os.path.join(out, "mc_dry")
+subprocess.run([prog, "montecarlo", case_path, "--samples", "1", "-q", "-o", dmc, "--set",
+                "imperfections.kn_cov=0.1"], check=True, capture_output=True)
+with open(os.path.join(dmc, "samples.csv")) as f:
+    f.readline()
+    dhead = f.readline().strip()
+check(dhead.endswith(",load_factor"), f"a dry study's samples.csv as it was: {dhead}")
+with h5py.File(os.path.join(dmc, "summary.h5"), "r") as f:
+    check("first_crack" not in f["samples"], "a dry study's summary.h5 as it was")
 print("python_mortar_check: ok")

@@ -283,12 +283,103 @@ static void test_first_crack_elastic(void **state) {
     }
 }
 
+/* The velocities of the last sample of the motion (no fall follows: the one at the collapse
+ * criterion, where the run reads the mechanism), and its time. */
+typedef struct {
+  double *v;
+  int n;
+  double t;
+} last_motion;
+
+static int on_motion(void *user, const vs_run *run, const vs_run_sample *s) {
+  last_motion *lm = user;
+  if (s->phase != VS_PHASE_DYNAMIC || s->v == NULL) return 0;
+  if (lm->v == NULL) {
+    lm->n = vs_model_size(vs_run_model(run));
+    lm->v = calloc((size_t)lm->n, sizeof *lm->v);
+    assert_non_null(lm->v);
+  }
+  memcpy(lm->v, s->v, (size_t)lm->n * sizeof *lm->v);
+  lm->t = s->t;
+  return 0;
+}
+
+/* The collapse of the reference specimen with a 2 kPa mortar at alpha = 45 deg: five hinges
+ * open at its onset (A:6-I E:8-9-I B:29-E D:47-I C:50-I), which fit no mode; the hinges
+ * turning at the collapse criterion, E-I-E-I after I-E-I, make it mode III. Checked against the
+ * blocks' velocities there, differenced in the test: the hinges' rates are the sums of their
+ * joints', they carry nearly all the turning of the arch (the rest is the joints' elastic
+ * turning), and the links between them turn as rigid bodies. The dry arch has none of it. */
+static void test_mortar_mechanism(void **state) {
+  (void)state;
+  vs_case c = reference(0.002, 0.2);
+  c.alpha_deg = 45.0;
+  last_motion lm = {0};
+  vs_run *r = NULL;
+  vs_error err;
+  vs_error_clear(&err);
+  if (vs_run_create(&c, &r, &err) != VS_OK) fail_msg("create: %s", err.msg);
+  if (vs_run_execute(r, on_motion, NULL, &lm, &err) != VS_OK) fail_msg("run: %s", err.msg);
+  assert_true(vs_run_collapse(r)->found);
+  assert_string_equal(vs_run_pattern_collapse(r), "I-I-E-I-I"); /* the onset's: no mode */
+  assert_string_equal(vs_run_pattern_initial(r), "I-E-I");
+  const int n = vs_run_mechanism_count(r);
+  assert_int_equal(n, 4);
+  assert_string_equal(vs_run_pattern_mechanism(r), "E-I-E-I");
+  assert_string_equal(vs_run_mode(r), "III");
+  assert_int_equal(vs_run_mode_from_mechanism(r), 1);
+  assert_non_null(lm.v);
+  assert_true(lm.t == vs_run_mechanism_time(r));
+  /* the joints' relative rotation rates from the blocks' (the supports turn not: settlement
+   * and spreading move them without turning) */
+  const vs_geometry *g = vs_run_geometry(r);
+  double *w = calloc((size_t)g->n_joints, sizeof *w);
+  assert_non_null(w);
+  double total = 0.0, fastest = 0.0;
+  for (int k = 0; k < g->n_joints; k++) {
+    const int a = g->joints[k].a, b = g->joints[k].b;
+    w[k] = (b >= 0 ? lm.v[3 * b + 2] : 0.0) - (a >= 0 ? lm.v[3 * a + 2] : 0.0);
+    total += fabs(w[k]);
+    fastest = fmax(fastest, fabs(w[k]));
+  }
+  double carried = 0.0, top = 0.0;
+  for (int i = 0; i < n; i++) {
+    const vs_active_hinge *h = vs_run_mechanism_hinge(r, i);
+    double sum = 0.0;
+    for (int k = h->first - 1; k < h->last; k++) sum += w[k];
+    CHECK(h->rate, sum, 1e-12, 1e-12);
+    carried += fabs(sum);
+    top = fmax(top, fabs(sum));
+    /* a hinge turning about I turns its right body clockwise (w < 0), about E counter-clockwise */
+    assert_true(h->closing ? (h->side == 'I') == (sum > 0.0) : (h->side == 'I') == (sum < 0.0));
+    if (i > 0) /* between two hinges every joint turns at a tenth of the fastest at most */
+      for (int k = vs_run_mechanism_hinge(r, i - 1)->last; k < h->first - 1; k++)
+        assert_true(fabs(w[k]) <= 0.1 * fastest);
+  }
+  for (int i = 0; i < n; i++) CHECK(vs_run_mechanism_hinge(r, i)->share,
+                                    fabs(vs_run_mechanism_hinge(r, i)->rate) / top, 1e-12, 0);
+  assert_true(carried >= 0.85 * total);
+  free(w);
+  free(lm.v);
+  vs_run_destroy(&r);
+  /* the dry arch in the same direction: no mechanism read, its mode that of its onset */
+  c = reference(0.0, 0.2);
+  c.alpha_deg = 45.0;
+  r = run_case(&c, NULL);
+  assert_int_equal(vs_run_mechanism_count(r), 0);
+  assert_string_equal(vs_run_pattern_mechanism(r), "");
+  assert_string_equal(vs_run_mode(r), "III");
+  assert_int_equal(vs_run_mode_from_mechanism(r), 0);
+  vs_run_destroy(&r);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_dry_limit),
       cmocka_unit_test(test_uncracked_limit),
       cmocka_unit_test(test_first_crack_elastic),
       cmocka_unit_test(test_cracking_energy_and_balance),
+      cmocka_unit_test(test_mortar_mechanism),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -29,6 +29,20 @@ typedef struct {
   double delta_closed;   /* support displacement at which it closed, m (NaN while open) */
 } vs_hinge;
 
+/* One hinge of the mechanism a motion turns about (docs/mortar.md, "The mode of a mortared
+ * arch"): joints first..last (1-based) whose bodies turn relative to each other. */
+typedef struct {
+  int first, last;
+  char side;     /* 'I' or 'E': the edge it turns about (that of its open joints, else the edge
+                    its rate turns it about) */
+  char label;    /* the tracked hinge (vs_hinge) it is, by side and place; 0 none */
+  int open;      /* 1 when one of its joints is open (past the hinge threshold) */
+  int closing;   /* 1 when it turns against its opening (it is closing) */
+  double rate;   /* relative rotation rate summed over its joints, rad/s (> 0 counter-clockwise
+                    of the body on the right) */
+  double share;  /* |rate| over the largest hinge's */
+} vs_active_hinge;
+
 typedef struct vs_hinges vs_hinges;
 
 /* Tracker for n_joints joints. */

@@ -32,6 +32,10 @@ typedef struct {
   double load_factor;      /* analysis.type = load: the load factor at collapse (0: the arch
                               failed before the hold), the status then VS_MC_NO_COLLAPSE (the
                               support did not bring it down); NaN otherwise */
+  int mortared;            /* the case has mortar (joints.tensile_MPa or cohesion_MPa > 0) */
+  double first_crack_mm;   /* its first crack (the run's JSON first_crack): the support */
+  int first_crack_joint;   /* displacement (mm), the joint (1-based) and the edge that cracks, */
+  char first_crack_side;   /* 'I' or 'E'; NaN, 0, 0 when none (and for a dry case) */
 } vs_mc_sample;
 
 /* Run sample `sample` of case base (validated): base with imperfections.sample = sample and
@@ -52,6 +56,9 @@ VS_API void vs_mc_travel(const vs_case *c, double delta_mm, double t[4]);
 #define VS_MC_TABLE_COLUMNS \
   "sample,status,first_limit_mm,delta_u_mm,dz_u_mm,dx_u_mm,mode,pattern,A,B,C,D,E,error," \
   "left_dx_mm,left_dz_mm,right_dx_mm,right_dz_mm,load_factor"
+/* A mortared study's samples.csv (a sample's case has mortar) has these columns after them:
+ * the first crack's support displacement (mm, nan none), joint (0 none) and edge (I, E, empty). */
+#define VS_MC_CRACK_COLUMNS ",first_crack_mm,first_crack_joint,first_crack_side"
 
 /* The files vs_mc_write_summary writes into its directory (for an initialiser list). Its charts
  * (fragility, convergence, hinge histogram) are matplotlib's: `voussoir plot DIR/summary.h5`,

@@ -237,6 +237,28 @@ VS_API const vs_run_event *vs_run_event_get(const vs_run *r, int i);
 VS_API const char *vs_run_mode(const vs_run *r);
 VS_API const char *vs_run_pattern_initial(const vs_run *r);
 VS_API const char *vs_run_pattern_collapse(const vs_run *r);
+/* A mortared arch's collapse (joints.tensile_MPa or cohesion_MPa > 0; a dry run has none): the
+ * hinges its motion turns about at the collapse criterion, read from the relative rotation
+ * rates of the joints' bodies (docs/mortar.md, "The mode of a mortared arch"), left to right:
+ * vs_run_mechanism_hinge(r, i) for i in 0 .. vs_run_mechanism_count(r) - 1 (NULL outside; 0 of
+ * them without a collapse in motion); their sides "E-I-E-I" ("" for none); the time they were
+ * read at (s; NaN for none); and whether vs_run_mode was read from them (1: the hinges open at
+ * the collapse's onset fit no mode) or from those (0). */
+VS_API int vs_run_mechanism_count(const vs_run *r);
+VS_API const vs_active_hinge *vs_run_mechanism_hinge(const vs_run *r, int i);
+VS_API const char *vs_run_pattern_mechanism(const vs_run *r);
+VS_API double vs_run_mechanism_time(const vs_run *r);
+VS_API int vs_run_mode_from_mechanism(const vs_run *r);
+
+/* The first crack (the JSON's first_crack): the crack_initiated event of least support
+ * displacement; NULL when no joint cracked (and for a dry run). */
+VS_API const vs_run_event *vs_run_first_crack(const vs_run *r);
+
+/* Each joint's lengths cracked through from its intrados and from its extrados edge (m; 0 for
+ * dry joints), as committed now (a sample function's state: the record's joint_crack row), into
+ * out[2 k], out[2 k + 1] for the geometry's joints k (2 n_joints entries; NULL: none written).
+ * Returns n_joints. */
+VS_API int vs_run_joint_cracks(const vs_run *r, double *out);
 
 /* Last state: positions (vs_model_size entries), support displacement (m), time (s). */
 VS_API const double *vs_run_state(const vs_run *r);

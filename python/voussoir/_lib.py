@@ -107,6 +107,10 @@ typedef struct {
   char pattern[16];
   char error[400];
   double load_factor;
+  int mortared;
+  double first_crack_mm;
+  int first_crack_joint;
+  char first_crack_side;
 } vs_mc_sample;
 typedef struct {
   int done;
@@ -171,6 +175,7 @@ double vs_run_delta(const vs_run *r);
 double vs_run_time(const vs_run *r);
 double vs_run_wall_s(const vs_run *r);
 double vs_model_cracking_energy(const vs_model *m);
+int vs_run_joint_cracks(const vs_run *r, double *out);
 const vs_support_motion *vs_model_support_motion(const vs_model *m, int right);
 void vs_support_motion_at(const vs_support_motion *mo, double delta, double u[3],
                           double du[3]);

@@ -92,11 +92,20 @@ class Event:
 class History:
     """The recorded states as numpy arrays, one per quantity (HISTORY_UNITS: time s, delta m,
     phase 0 quasi-static / 1 dynamic / 2 fall, the supports' forces on the arch N and N m,
-    energies J; kinetic NaN on the quasi-static path): history["delta"], history.unit("delta")."""
+    energies J; kinetic NaN on the quasi-static path): history["delta"], history.unit("delta").
+    A mortared run's also keeps the joints' crack history: joint_crack()."""
 
-    def __init__(self, columns):
+    def __init__(self, columns, joint_crack=None):
         self._cols = columns
+        self._crack = joint_crack
         self.units = dict(HISTORY_UNITS)
+
+    def joint_crack(self):
+        """A mortared run's joints' lengths cracked through from the intrados and from the
+        extrados (m) at every state, shape (states, joints, 2), as committed at each state:
+        what Record.joint_crack() reads from the record (/observables/joint_crack). None for a
+        dry run (joints.tensile_MPa = cohesion_MPa = 0) or without a history."""
+        return self._crack
 
     def __getitem__(self, name):
         return self._cols[name]
@@ -141,9 +150,10 @@ class _Collector:
     SIZE = ffi.sizeof("vs_run_sample")
     DTYPE = None
 
-    def __init__(self, history, stop):
-        self.rows, self.reactions, self.kinetic = [], [], []
+    def __init__(self, history, stop, cracks=False):
+        self.rows, self.reactions, self.kinetic, self.cracks = [], [], [], []
         self.history, self.stop, self.interrupted = history, stop, False
+        self.keep_cracks, self._crack_buf, self.n_joints = history and cracks, None, 0
         self.cb = ffi.callback("vs_run_sample_fn", self._sample, onerror=self._error)
 
     def _sample(self, user, run, s):
@@ -155,6 +165,13 @@ class _Collector:
                                   else _NAN6)
             e = s.energy
             self.kinetic.append(e.kinetic if e != ffi.NULL else math.nan)
+            if self.keep_cracks:  # a mortared run's cracks, as the record's joint_crack row
+                L = _lib.lib()
+                if self._crack_buf is None:
+                    self.n_joints = L.vs_run_joint_cracks(run, ffi.NULL)
+                    self._crack_buf = ffi.new("double[]", 2 * self.n_joints)
+                L.vs_run_joint_cracks(run, self._crack_buf)
+                self.cracks.append(ffi.buffer(self._crack_buf)[:])
         return 0
 
     def _error(self, exc, value, tb):
@@ -175,6 +192,12 @@ class _Collector:
         cols["elastic"], cols["gravity"] = a["elastic"].copy(), a["gravity"].copy()
         cols["kinetic"] = np.array(self.kinetic, dtype="f8")
         return cols
+
+    def joint_crack(self):
+        """The cracks of every state kept (keep_cracks), (states, joints, 2); None if none kept."""
+        if not self.keep_cracks:
+            return None
+        return np.frombuffer(b"".join(self.cracks), dtype="f8").reshape(-1, self.n_joints, 2)
 
 
 class Result:
@@ -331,14 +354,16 @@ def run(case, *, history=True, stop=None, **overrides):
     L = _lib.lib()
     err = _lib.new_error()
     prun = ffi.new("vs_run **")  # NULL until created: vs_run_destroy accepts it
-    col = _Collector(history, stop)
+    mortared = case["joints.tensile_MPa"] > 0 or case["joints.cohesion_MPa"] > 0
+    col = _Collector(history, stop, cracks=mortared)
     res = None
     try:
         _lib.raise_for(L.vs_run_create(case._c, prun, err), err)
         st = L.vs_run_execute(prun[0], col.cb, ffi.NULL, ffi.NULL, err)
         if col.interrupted and not isinstance(col.interrupted, KeyboardInterrupt):
             raise col.interrupted
-        hist = History(col.columns() if history else {k: np.empty(0) for k in HISTORY_UNITS})
+        hist = History(col.columns() if history else {k: np.empty(0) for k in HISTORY_UNITS},
+                       col.joint_crack())
         res = Result(case, prun[0], st, err, hist)
     except KeyboardInterrupt:  # Ctrl-C outside the sample function (while the run was built)
         col.interrupted = KeyboardInterrupt()

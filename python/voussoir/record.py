@@ -219,6 +219,15 @@ class Record:
                              "written before mortar joints)")
         return self.series("joint_crack")
 
+    def cracking_energy(self):
+        """/observables/energy_cracking: per recorded state the energy dissipated by the
+        mortar's cracking since the run's start (J, as committed at that state), a Series of
+        shape (rows,); its last value is the JSON's energy.cracking_J. None for a dry run (its
+        record has none) or a record written before it."""
+        if "energy_cracking" not in self.file["observables"]:
+            return None
+        return self.series("energy_cracking")
+
     def load_curve(self):
         """A load run's load-deflection curve (analysis.type = load), /summary/load, as a
         voussoir.LoadCurve: load_factor (1) and deflection (m, the loads' displacement from where

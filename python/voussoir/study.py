@@ -23,6 +23,9 @@ MC_COLUMNS = ["sample", "status", "first_limit_mm", "delta_u_mm", "dz_u_mm", "dx
 TRAVEL_COLUMNS = ["left_dx_mm", "left_dz_mm", "right_dx_mm", "right_dz_mm"]
 SWEEP_COLUMNS += TRAVEL_COLUMNS + ["load_factor"]  # load_factor: analysis.type = load, else NaN
 MC_COLUMNS += TRAVEL_COLUMNS + ["load_factor"]
+# a mortared study's (a case with joints.tensile_MPa or cohesion_MPa > 0): the first crack, the
+# JSON's first_crack (NaN, 0, "" when none), the program's tables' last three columns
+CRACK_COLUMNS = ["first_crack_mm", "first_crack_joint", "first_crack_side"]
 _MC_STATUS = ("collapse", "max_displacement", "failed")
 
 
@@ -62,7 +65,8 @@ def sweep(case, alpha=None, kn=None, *, jobs=None, fall=False, **axes):
     dz_over_L_pct, dx_over_L_pct, hinges_at_collapse, mode, snaps, wall_s, error (a run that
     failed is a row with its error, not an exception), left_dx_mm, left_dz_mm, right_dx_mm,
     right_dz_mm (each support's own travel at the collapse, outward and downward positive),
-    load_factor (analysis.type = load)."""
+    load_factor (analysis.type = load); and when a case has mortar (joints.tensile_MPa or
+    cohesion_MPa > 0) first_crack_mm, first_crack_joint, first_crack_side (CRACK_COLUMNS)."""
     base = _base(case, fall)
     ax = []
     if alpha is not None:
@@ -82,7 +86,13 @@ def sweep(case, alpha=None, kn=None, *, jobs=None, fall=False, **axes):
         return row
 
     rows = _pool(jobs, one, range(len(cases)))
-    return pandas().DataFrame(rows, columns=["run"] + keys + SWEEP_COLUMNS)
+    mortar = any(_mortared(c) for c in cases)
+    return pandas().DataFrame(rows, columns=["run"] + keys + SWEEP_COLUMNS +
+                              (CRACK_COLUMNS if mortar else []))
+
+
+def _mortared(case):
+    return case["joints.tensile_MPa"] > 0 or case["joints.cohesion_MPa"] > 0
 
 
 def _sweep_row(case, stop):
@@ -96,6 +106,9 @@ def _sweep_row(case, stop):
         row["error"] = e.message
     row["status"] = res.status
     row["wall_s"] = res.wall_s
+    fc = res.first_crack if res.mortared else None
+    row.update(first_crack_mm=fc.delta_mm if fc else nan, first_crack_joint=fc.joint if fc else 0,
+               first_crack_side=fc.side if fc else "")
     row["load_factor"] = res.load_factor
     row["mode"] = res.mode or ""
     if res.first_limit is not None:
@@ -118,8 +131,10 @@ def montecarlo(case, samples, seed=None, *, jobs=None):
     support.max_mm, failed), first_limit_mm, delta_u_mm, dz_u_mm, dx_u_mm, mode (1..3 for
     I..III, 0 unclassified), pattern, A..E (each hinge at collapse as joint-side, "9-I"),
     error, left_dx_mm, left_dz_mm, right_dx_mm, right_dz_mm (each support's own travel),
-    load_factor (analysis.type = load). A sample's run cannot be stopped from Python: Ctrl-C starts no new sample and
-    returns once those under way end."""
+    load_factor (analysis.type = load), and for a case with mortar (joints.tensile_MPa or
+    cohesion_MPa > 0) the first crack's first_crack_mm, first_crack_joint, first_crack_side
+    (CRACK_COLUMNS). A sample's run cannot be stopped from Python: Ctrl-C starts no new sample
+    and returns once those under way end."""
     base = case if isinstance(case, Case) else Case.from_file(case)
     if seed is not None:
         base = base.copy(imperfections__seed=seed)
@@ -134,7 +149,8 @@ def montecarlo(case, samples, seed=None, *, jobs=None):
         _lib.lib().vs_mc_run_sample(base._c, i, out)
         return _mc_row(out, base)
 
-    return pandas().DataFrame(_pool(jobs, one, range(samples)), columns=MC_COLUMNS)
+    return pandas().DataFrame(_pool(jobs, one, range(samples)),
+                              columns=MC_COLUMNS + (CRACK_COLUMNS if _mortared(base) else []))
 
 
 def _travel(case, delta_mm):
@@ -152,6 +168,9 @@ def _mc_row(s, base):
            "error": ffi.string(s.error).decode()}
     row.update(_travel(base, s.delta_u_mm if s.status == 0 else math.nan))
     row["load_factor"] = s.load_factor
+    side = s.first_crack_side.decode() if s.first_crack_side != b"\0" else ""
+    row.update(first_crack_mm=s.first_crack_mm, first_crack_joint=s.first_crack_joint,
+               first_crack_side=side)
     for k, label in enumerate("ABCDE"):
         side = s.hinge_side[k].decode() if s.hinge_side[k] != b"\0" else ""
         row[label] = f"{s.hinge_joint[k]}-{side}" if s.hinge_joint[k] else ""

@@ -106,9 +106,20 @@ int vs_model_set_branches(vs_model *m, const double *q, double delta, const sign
     const vs_joint_geom *j = &m->g->joints[k];
     vs_joint_law tmp;
     const vs_joint_law *law = law_at(m, k, &tmp);
-    const double kst = law->ks * j->depth * j->length, limit = law->mu * st.N / kst;
+    const double kst = law->ks * j->depth * j->length;
+    /* the slip limit: mu N over k_s b t; a mortared joint's shear limit is c(kappa) A_c + mu N
+     * (vs_joint_shear_mortar, its trial at the committed slip: the limit at the committed
+     * kappa, the bonded length its cracks leave) */
+    double limit = law->mu * st.N / kst;
+    const int mortar = law->ft > 0.0 || law->c > 0.0 || law->crack[0] > 0.0 || law->crack[1] > 0.0;
+    if (mortar) {
+      vs_shear_response sr;
+      vs_joint_shear_mortar(law, j->depth, j->length, law->crack, st.N, m->slip_p[k],
+                            m->slip_p[k], law->kappa, &sr);
+      limit = sr.limit / kst;
+    }
     if (branch[k] == VS_BRANCH_STICK) {
-      if (!st.sliding || !(st.N > 0.0)) continue; /* inside the limit already */
+      if (!st.sliding || !(limit > 0.0)) continue; /* inside the limit already */
       /* the trial just inside the limit: its force unchanged, the elastic tangent */
       m->slip_p[k] = st.slip - (st.T > 0.0 ? 1.0 : -1.0) * limit * (1.0 - VS_SLIP_HOLD);
     } else {

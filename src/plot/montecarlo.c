@@ -248,7 +248,9 @@ static vs_status write_samples_csv(const char *path, const char *part, const vs_
              "left_rate_mm_s=%.17g left_path=%s right_path=%s\n",
           c->seed, c->radius_mm, c->embrace_deg, c->max_mm, c->alpha_deg, c->voussoirs,
           mc_span_mm(c), c->rate_mm_s, c->left_alpha_deg, c->left_rate_mm_s, lp, rp);
-  fputs(VS_MC_TABLE_COLUMNS "\n", f);
+  int mortar = 0; /* a mortared study's table: the first crack's columns */
+  for (int i = 0; i < n; i++) mortar |= s[i].mortared;
+  fputs(mortar ? VS_MC_TABLE_COLUMNS VS_MC_CRACK_COLUMNS "\n" : VS_MC_TABLE_COLUMNS "\n", f);
   for (int i = 0; i < n; i++) {
     const vs_mc_sample *x = &s[i];
     fprintf(f, "%d,%s,%.17g,%.17g,%.17g,%.17g,%d,%s", x->sample, status_name(x->status),
@@ -263,7 +265,12 @@ static vs_status write_samples_csv(const char *path, const char *part, const vs_
       if (*p == ',' || *p == '\n' || *p == '"') *p = ';';
     double t[4];
     vs_mc_travel(c, x->status == VS_MC_COLLAPSE ? x->delta_u_mm : NAN, t);
-    fprintf(f, ",%s,%.17g,%.17g,%.17g,%.17g,%.17g\n", e, t[0], t[1], t[2], t[3], x->load_factor);
+    fprintf(f, ",%s,%.17g,%.17g,%.17g,%.17g,%.17g", e, t[0], t[1], t[2], t[3], x->load_factor);
+    if (mortar) {
+      const char side[2] = {x->first_crack_side, '\0'};
+      fprintf(f, ",%.17g,%d,%s", x->first_crack_mm, x->first_crack_joint, side);
+    }
+    fputc('\n', f);
   }
   return fclose(f) == 0 ? VS_OK : cannot(path, err);
 }
@@ -330,12 +337,26 @@ static herr_t write_samples_h5(hid_t file, const vs_mc_sample *s, int n) {
     for (int l = 0; l < VS_MC_LABELS; l++)
       col[i * VS_MC_LABELS + l] = s[i].hinge_joint[l] * (s[i].hinge_side[l] == 'E' ? -1.0 : 1.0);
   if (rc >= 0) rc = h5_dset(g, "hinge_joint", 2, d2, col, "1");
+  int mortar = 0;
+  for (int i = 0; i < n; i++) mortar |= s[i].mortared;
+  for (int i = 0; rc >= 0 && mortar && i < n; i++) col[i] = s[i].first_crack_mm * VS_MM;
+  if (rc >= 0 && mortar) rc = h5_dset(g, "first_crack", 1, &dn, col, "m");
+  for (int i = 0; rc >= 0 && mortar && i < n; i++)
+    col[i] = s[i].first_crack_joint * (s[i].first_crack_side == 'E' ? -1.0 : 1.0);
+  if (rc >= 0 && mortar) rc = h5_dset(g, "first_crack_joint", 1, &dn, col, "1");
+#define SAMPLES_DESCRIPTION                                                                        \
+  "per sample: status 0 collapse, 1 none within support.max_mm, 2 failed; mode "                 \
+  "1..3 (0 unclassified); load_factor: analysis.type = load's (NaN otherwise); hinge_joint[sample][A..E]: middle joint at collapse, " \
+  "positive at the intrados, negative at the extrados, 0 none"
+  /* (a dry study's as it was) */
   if (rc >= 0)
-    rc = vs_h5_attr_cstr(
-        g, "description",
-        "per sample: status 0 collapse, 1 none within support.max_mm, 2 failed; mode "
-        "1..3 (0 unclassified); load_factor: analysis.type = load's (NaN otherwise); hinge_joint[sample][A..E]: middle joint at collapse, "
-        "positive at the intrados, negative at the extrados, 0 none");
+    rc = vs_h5_attr_cstr(g, "description",
+                         mortar ? SAMPLES_DESCRIPTION
+                             "; first_crack (m, the support displacement at the first crack, "
+                             "NaN none) and first_crack_joint (the joint, positive when its "
+                             "intrados edge cracks, negative its extrados, 0 none)"
+                                : SAMPLES_DESCRIPTION);
+#undef SAMPLES_DESCRIPTION
   free(col);
   if (g >= 0) H5Gclose(g);
   return rc;

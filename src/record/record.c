@@ -142,6 +142,8 @@ vs_status vs_output_create(const char *path, const vs_run *run, const char *case
   for (int i = 0; i < S_COUNT; i++) o->s[i].dset = H5I_INVALID_HID;
   o->opts = *opts;
   o->last_phase = -1;
+  const vs_joints_def *jd = &vs_run_def_of(run)->joints;
+  o->mortar = jd->ft > 0.0 || jd->c > 0.0;
   vs_error_clear(&o->err);
   o->path = dup_str(path);
   o->xmf_path = vs_output_xdmf_path_for(path);
@@ -555,6 +557,7 @@ static void fill_row(vs_output *o, const vs_run *run, const vs_run_sample *s) {
   sv[0] = (int64_t)s->newton_iterations;
   sv[1] = (int64_t)s->ida_steps;
   sv[2] = (int64_t)s->ida_newton_iterations;
+  if (o->mortar) *(double *)row_ptr(o, S_CRACKING) = vs_model_cracking_energy(vs_run_model(run));
   double *e = row_ptr(o, S_ENERGY);
   if (s->energy != NULL) {
     const vs_energy *en = s->energy;

@@ -45,6 +45,7 @@ enum {
   S_SOLVER,
   S_SUPPORTS, /* both supports (docs/model.md, "Both supports move") */
   S_CRACK,    /* mortar: each joint's cracked-through lengths */
+  S_CRACKING, /* mortar only (a dry run's record has none): the energy cracking dissipated */
   S_COUNT
 };
 
@@ -85,6 +86,7 @@ struct vs_output {
   char *part, *snap;  /* the working file HDF5 writes, path.part; a snapshot's copy, path.snap */
   vs_output_opts opts;
   int nb, nj, np;     /* blocks, joints, outline points per block */
+  int mortar;         /* a mortared run (joints.tensile_MPa or cohesion_MPa > 0): S_CRACKING */
   size_t flush_rows;  /* rows buffered before a write */
   double *bref;       /* reference outlines, nb * np * 2 (/xdmf/block_points moves them) */
   double *jref;       /* reference joint ends (intrados, extrados), nj * 2 * 2 */
@@ -112,6 +114,9 @@ struct vs_output {
   long snapshots;
   vs_error err;     /* first write error (sticky) */
 };
+
+/* Whether the record has series i (record_series.c). */
+int vs_record_series_used(const vs_output *o, int i);
 
 /* Where row `pending` of series i is buffered. */
 static inline void *row_ptr(vs_output *o, int i) {

@@ -87,6 +87,10 @@ static const series_def SERIES[S_COUNT] = {
                  "length of each joint cracked through from its intrados and from its extrados "
                  "edge (mortar: where the opening has reached 2 G_f / f_t, irreversibly; "
                  "committed at the last converged state; 0 for dry joints)"},
+    [S_CRACKING] = {"energy_cracking", "value", K_F64, 1, {0, 0}, "J", NULL,
+                    "energy dissipated by the mortar's cracking since the run's start, as "
+                    "committed at this row (G_f per unit area cracked through; the term the "
+                    "dynamic phases' balance counts from each phase's start); mortared runs only"},
 };
 /* clang-format on */
 static size_t kind_size(elem_kind k) {
@@ -159,9 +163,13 @@ static hid_t series_dcpl(const vs_output *o, const series *s) {
   return p;
 }
 
+/* Whether the record has series i: all but a dry run's S_CRACKING. */
+int vs_record_series_used(const vs_output *o, int i) { return i != S_CRACKING || o->mortar; }
+
 /* Create series i in /observables (its group first, if new) and link the shared step and time
- * into the group. */
+ * into the group; nothing for a series the record has not (vs_record_series_used). */
 herr_t vs_record_series_create(vs_output *o, hid_t obs, int i) {
+  if (!vs_record_series_used(o, i)) return 0;
   const series_def *def = &SERIES[i];
   series *s = &o->s[i];
   s->rank = def->rank;
@@ -204,6 +212,7 @@ herr_t vs_record_series_create(vs_output *o, hid_t obs, int i) {
 size_t vs_record_buffer_rows(const vs_output *o) {
   size_t bytes = 0;
   for (int i = 0; i < S_COUNT; i++) {
+    if (!vs_record_series_used(o, i)) continue;
     const series_def *d = &SERIES[i];
     size_t e = kind_size(d->kind);
     if (d->rank > 1) e *= (size_t)dim_size(o, d->dim[0]);
@@ -222,6 +231,7 @@ vs_status vs_record_write_pending(vs_output *o) {
   if (o->pending == 0) return VS_OK;
   const hsize_t start0 = (hsize_t)o->rows, n = (hsize_t)o->pending;
   for (int i = 0; i < S_COUNT; i++) {
+    if (!vs_record_series_used(o, i)) continue;
     series *s = &o->s[i];
     hsize_t dims[3] = {start0 + n, s->dims[1], s->dims[2]};
     hsize_t start[3] = {start0, 0, 0}, count[3] = {n, s->dims[1], s->dims[2]};

@@ -442,6 +442,11 @@ vs_status vs_record_summary_write(vs_output *o, const vs_run *run) {
   if (rc >= 0) rc = vs_h5_attr_str(sum, "pattern_initial", vs_run_pattern_initial(run));
   if (rc >= 0) rc = vs_h5_attr_str(sum, "pattern_collapse", vs_run_pattern_collapse(run));
   if (rc >= 0) rc = vs_h5_attr_str(sum, "open_hinges", open);
+  if (rc >= 0 && vs_run_mechanism_count(run) > 0) { /* a mortared arch's (docs/mortar.md) */
+    rc = vs_h5_attr_str(sum, "pattern_turning", vs_run_pattern_mechanism(run));
+    if (rc >= 0)
+      rc = vs_h5_attr_str(sum, "mode_from", vs_run_mode_from_mechanism(run) ? "turning" : "onset");
+  }
   if (rc >= 0) rc = vs_h5_attr_int(sum, "rows", o->rows);
   if (rc >= 0) rc = vs_h5_attr_int(sum, "events", o->n_events);
   if (rc >= 0) rc = vs_h5_dset_scalar(sum, "delta_final", vs_run_delta(run), "m");

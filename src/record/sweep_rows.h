@@ -42,6 +42,11 @@ typedef struct {
   double right_dx_mm, right_dz_mm;    /* downward positive; as the JSON's collapse.left/right) */
   double load_factor;                 /* analysis.type = load: the load factor at collapse (0:
                                          the arch failed before the hold); NaN otherwise */
+  int mortared;                       /* the case has mortar (joints.tensile_MPa or cohesion_MPa
+                                         > 0): its table has the first crack's columns */
+  double first_crack_mm;              /* the first crack (the JSON's first_crack): the support */
+  int first_crack_joint;              /* displacement (mm), the joint (1-based) and the edge */
+  char first_crack_side[2];           /* that cracks, "I" or "E"; NaN, 0, "" when none */
 } vs_sweep_row;
 
 /* The summary table of a sweep as DIR/summary.h5 (sweep_summary.c, in the record library).

@@ -43,6 +43,8 @@ void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *o) {
   memset(o, 0, sizeof *o);
   o->sample = sample;
   o->first_limit_mm = o->delta_u_mm = o->dz_u_mm = o->dx_u_mm = o->load_factor = NAN;
+  o->first_crack_mm = NAN;
+  o->mortared = base->tensile_MPa > 0.0 || base->cohesion_MPa > 0.0;
   vs_case c = *base;
   c.sample = sample;
   c.fall_s = 0.0; /* delta_u and the mechanism are read before the fall, which costs the most */
@@ -53,6 +55,12 @@ void vs_mc_run_sample(const vs_case *base, int sample, vs_mc_sample *o) {
   if (st == VS_OK) st = vs_run_execute(r, NULL, NULL, NULL, &err);
   if (r != NULL && vs_run_load(r)->done) o->load_factor = vs_run_load(r)->load_factor;
   if (r != NULL && vs_run_limit_count(r) > 0) o->first_limit_mm = vs_run_limit(r, 0)->delta / VS_MM;
+  const vs_run_event *fc = r != NULL && o->mortared ? vs_run_first_crack(r) : NULL;
+  if (fc != NULL) {
+    o->first_crack_mm = fc->delta / VS_MM;
+    o->first_crack_joint = fc->joint;
+    o->first_crack_side = fc->side;
+  }
   if (st != VS_OK) {
     o->status = VS_MC_FAILED;
     snprintf(o->error, sizeof o->error, "%.399s", err.msg);

@@ -303,22 +303,11 @@ static int is_mortared(const vs_run *r) {
   return j->ft > 0.0 || j->c > 0.0;
 }
 
-/* The crack initiation at the least support displacement (events are logged as each state is
- * tracked, several per state), or NULL. */
-static const vs_run_event *first_crack(const vs_run *r) {
-  const vs_run_event *f = NULL;
-  for (int i = 0; i < vs_run_event_count(r); i++) {
-    const vs_run_event *e = vs_run_event_get(r, i);
-    if (e->kind == VS_EVENT_CRACK_INITIATED && (f == NULL || e->delta < f->delta)) f = e;
-  }
-  return f;
-}
-
 /* ,"first_crack":{delta_mm, joint, side} (null: no joint cracked), for a mortared run; on a
  * load path (delta the held support displacement) with the load factor where it cracked. */
 static void json_first_crack(FILE *out, const vs_run *r) {
   if (!is_mortared(r)) return;
-  const vs_run_event *f = first_crack(r);
+  const vs_run_event *f = vs_run_first_crack(r);
   fputs(",\"first_crack\":", out);
   if (f == NULL) {
     fputs("null", out);
@@ -330,12 +319,41 @@ static void json_first_crack(FILE *out, const vs_run *r) {
   fputc('}', out);
 }
 
+/* ,"mechanism_turning":{time_s, sides, mode_from, hinges: [{label, side, joints, share, open,
+ * closing}]} for a mortared run (null: no collapse in motion); docs/mortar.md. */
+static void json_active(FILE *out, const vs_run *r) {
+  if (!is_mortared(r)) return;
+  const int n = vs_run_mechanism_count(r);
+  fputs(",\"mechanism_turning\":", out);
+  if (n == 0) {
+    fputs("null", out);
+    return;
+  }
+  jnum(out, "{\"time_s\":", vs_run_mechanism_time(r), 10);
+  fputs(",\"sides\":", out);
+  vs_json_string(out, vs_run_pattern_mechanism(r));
+  fprintf(out, ",\"mode_from\":\"%s\",\"hinges\":[",
+          vs_run_mode_from_mechanism(r) ? "turning" : "onset");
+  for (int i = 0; i < n; i++) {
+    const vs_active_hinge *a = vs_run_mechanism_hinge(r, i);
+    fputs(i ? ",{\"label\":" : "{\"label\":", out);
+    if (a->label) fprintf(out, "\"%c\"", a->label);
+    else fputs("null", out);
+    fprintf(out, ",\"side\":\"%c\",\"joints\":[", a->side);
+    for (int j = a->first; j <= a->last; j++) fprintf(out, j > a->first ? ",%d" : "%d", j);
+    jnum(out, "],\"share\":", a->share, 6);
+    fprintf(out, ",\"open\":%s,\"closing\":%s}", a->open ? "true" : "false",
+            a->closing ? "true" : "false");
+  }
+  fputs("]}", out);
+}
+
 static void text_mortar(FILE *out, const vs_run *r) {
   if (!is_mortared(r)) return;
   const vs_case *c = vs_run_case(r);
   fprintf(out, "\nmortar   f_t = %g MPa, c = %g MPa, G_f = %g N/mm, G_c = %g N/mm\n",
           c->tensile_MPa, c->cohesion_MPa, c->gf_N_mm, c->gc_N_mm);
-  const vs_run_event *f = first_crack(r);
+  const vs_run_event *f = vs_run_first_crack(r);
   if (f != NULL)
     fprintf(out, "         first crack: joint %d at the %s at %.4f mm (tensile stress f_t)",
             f->joint, f->side == 'I' ? "intrados" : "extrados", f->delta / VS_MM);
@@ -359,6 +377,7 @@ static void json_tail(FILE *out, const vs_run *r) {
   const vs_case *c = vs_run_case(r);
   const vs_dyn_result *d = vs_run_dynamic_totals(r);
   json_first_crack(out, r);
+  json_active(out, r);
   jnum(out, ",\"energy\":{\"balance_error_rel\":", d->balance_error_rel, 6);
   jnum(out, ",\"balance_error_fall_rel\":", d->balance_error_fall, 6);
   jnum(out, ",\"max_kinetic_J\":", d->max_kinetic, 6);
@@ -652,6 +671,29 @@ static void text_slips(FILE *out, const vs_run *r) {
   }
 }
 
+/* "9-10-I": an active hinge's joints and side, into buf. */
+static void active_name(const vs_active_hinge *a, char *buf, size_t size) {
+  const vs_hinge h = {.side = a->side, .first = a->first, .last = a->last};
+  vs_hinge_name(&h, 0, buf, size);
+}
+
+/* A mortared arch's mechanism at the collapse criterion: the hinges turning, each with the
+ * label of the tracked hinge it is and its share of the fastest one's rate. */
+static void text_active(FILE *out, const vs_run *r) {
+  const int n = vs_run_mechanism_count(r);
+  if (n == 0) return;
+  fprintf(out, "  turning at the criterion (t = %.2f s; share of the fastest hinge's rotation rate):",
+          vs_run_mechanism_time(r));
+  for (int i = 0; i < n; i++) {
+    const vs_active_hinge *a = vs_run_mechanism_hinge(r, i);
+    char name[96];
+    active_name(a, name, sizeof name);
+    fprintf(out, " %c:%s %.2f%s", a->label ? a->label : '-', name, a->share,
+            a->closing ? " closing" : "");
+  }
+  fprintf(out, ";  sides %s\n", vs_run_pattern_mechanism(r));
+}
+
 /* The collapse (delta_u, its components, mode, reactions, hinges at its onset), or how far the
  * support moved without one. */
 static void text_collapse(FILE *out, const vs_run *r, vs_status status) {
@@ -674,10 +716,12 @@ static void text_collapse(FILE *out, const vs_run *r, vs_status status) {
                       : "the collapsing limit point",
               col->delta_detected / VS_MM, col->t_criterion);
     const char *mode = vs_run_mode(r);
-    fprintf(out, "  hinges at collapse (left to right): %s;  first three: %s;  mode %s\n",
+    fprintf(out, "  hinges at collapse (left to right): %s;  first three: %s;  mode %s%s\n",
             vs_run_pattern_collapse(r)[0] ? vs_run_pattern_collapse(r) : "none",
             vs_run_pattern_initial(r)[0] ? vs_run_pattern_initial(r) : "none",
-            mode ? mode : "unclassified");
+            mode ? mode : "unclassified",
+            vs_run_mode_from_mechanism(r) ? " (from the hinges turning at the criterion)" : "");
+    text_active(out, r);
     text_mechanism(out, col);
     const double *rc = col->reactions_limit;
     if (isfinite(rc[0]))

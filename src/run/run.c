@@ -258,7 +258,17 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
     r->v = calloc((size_t)vs_model_size(r->m), sizeof *r->v);
     r->q_rest = calloc((size_t)vs_model_size(r->m), sizeof *r->q_rest);
     r->js = calloc(2 * (size_t)r->g->n_joints, sizeof *r->js); /* and the hinges' view */
-    if (r->q == NULL || r->v == NULL || r->q_rest == NULL || r->js == NULL ||
+    int mech_nomem = 0;
+    if (d->joints.ft > 0.0 || d->joints.c > 0.0) { /* a mortared arch's mechanism */
+      const size_t nj = (size_t)r->g->n_joints;
+      r->mech_w = calloc(nj, sizeof *r->mech_w);
+      r->mech = calloc(nj, sizeof *r->mech);
+      r->pattern_m = calloc(2 * nj + 1, 1);
+      r->mech_hinge = calloc(nj, sizeof *r->mech_hinge);
+      mech_nomem = r->mech_w == NULL || r->mech == NULL || r->pattern_m == NULL ||
+                   r->mech_hinge == NULL;
+    }
+    if (mech_nomem || r->q == NULL || r->v == NULL || r->q_rest == NULL || r->js == NULL ||
         vs_run_slips_create(r) != 0)
       st = vs_error_set(err, VS_ERR_NOMEM, "run: out of memory");
   }
@@ -294,6 +304,7 @@ vs_status vs_run_create_def(const vs_run_def *def, vs_run **out, vs_error *err) 
     return st;
   }
   r->collapse.delta = r->collapse.t = r->collapse.t_criterion = r->collapse.t_onset = NAN;
+  r->mech_t = NAN;
   r->dtot.fall_failed_t = NAN;
   r->pending_snap = -1;
   *out = r;
@@ -319,6 +330,10 @@ void vs_run_destroy(vs_run **r) {
   free(p->onset);
   free(p->onset_all);
   free(p->pattern_u);
+  free(p->mech_w);
+  free(p->mech);
+  free(p->pattern_m);
+  free(p->mech_hinge);
   vs_run_slips_free(p);
   vs_run_load_free(p);
   vs_modal_free(&p->modal);
@@ -689,6 +704,34 @@ int vs_run_hinge_count(const vs_run *r) {
   return r->collapse.found ? r->hinges_at_onset : vs_hinges_count(r->h);
 }
 const char *vs_run_pattern_initial(const vs_run *r) { return r->pattern0; }
+int vs_run_mechanism_count(const vs_run *r) { return r->collapse.found ? r->n_mech : 0; }
+const vs_active_hinge *vs_run_mechanism_hinge(const vs_run *r, int i) {
+  return (i >= 0 && i < vs_run_mechanism_count(r)) ? &r->mech[i] : NULL;
+}
+const char *vs_run_pattern_mechanism(const vs_run *r) {
+  return vs_run_mechanism_count(r) > 0 ? r->pattern_m : "";
+}
+double vs_run_mechanism_time(const vs_run *r) {
+  return vs_run_mechanism_count(r) > 0 ? r->mech_t : NAN;
+}
+int vs_run_mode_from_mechanism(const vs_run *r) { return r->mode_from_mech; }
+const vs_run_event *vs_run_first_crack(const vs_run *r) {
+  const vs_run_event *f = NULL; /* events are logged as each state is tracked, several a state */
+  for (int i = 0; i < r->n_events; i++) {
+    const vs_run_event *e = &r->events[i];
+    if (e->kind == VS_EVENT_CRACK_INITIATED && (f == NULL || e->delta < f->delta)) f = e;
+  }
+  return f;
+}
+
+int vs_run_joint_cracks(const vs_run *r, double *out) {
+  for (int k = 0; k < r->g->n_joints && out != NULL; k++) {
+    const vs_joint_law *law = vs_model_joint_law(r->m, k);
+    out[2 * k] = law->crack[0];
+    out[2 * k + 1] = law->crack[1];
+  }
+  return r->g->n_joints;
+}
 const char *vs_run_pattern_collapse(const vs_run *r) {
   return r->collapse.found && r->pattern_u != NULL ? r->pattern_u : "";
 }

@@ -56,6 +56,16 @@ struct vs_run {
   int pending_snap;    /* limit record waiting for the equilibrium its snap settled in, or -1 */
   const vs_path_result *live_path; /* the segment or phase under way (its counters so far) */
   const vs_dyn_result *live_dyn;
+  /* --- a mortared arch's mechanism (run_sample.c, track_mechanism), per hinge-tracked joint:
+   * the hinges the motion turns about at the last sample of the motion before the collapse
+   * froze it (at the collapse criterion) --- */
+  double *mech_w;          /* the joints' relative rotation rates there, rad/s */
+  vs_active_hinge *mech;   /* its hinges, left to right (n_mech) */
+  int *mech_hinge;         /* the tracked hinge each is (its index, -1 none), matched there */
+  int n_mech;
+  double mech_t;           /* the time of that sample, s (NaN: none) */
+  char *pattern_m;         /* their sides, "E-I-E-I" (2 n_joints + 1 bytes) */
+  int mode_from_mech;      /* 1 when mode was read from them (the onset's hinges fit no mode) */
   char pattern0[16];
   char *pattern_u; /* the sides at the collapse (2 collapse.n_hinges bytes; NULL: none) */
   const char *mode;

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mechanism.h"
 #include "run_internal.h"
 #include "voussoir/damping.h"
 
@@ -196,6 +197,10 @@ int vs_run_on_equilibrium(void *user, double delta, const double *q, const vs_mo
   r->delta = delta;
   r->t = delta / r->dopts.rate;
   r->phase = VS_PHASE_QUASISTATIC;
+  if (!r->frozen) { /* a motion that comes to rest was not the collapse: no mechanism of it */
+    r->n_mech = 0;
+    r->mech_t = NAN;
+  }
   if (track_hinges(r, delta, q, NULL) != 0) return 1;
   if (vs_run_slips_at_equilibrium(r, delta, r->js) != 0) return 1;
   if (r->pending_snap >= 0) { /* the first equilibrium after a snap-through */
@@ -254,6 +259,33 @@ static int freeze_mechanism(vs_run *r) {
   return 0;
 }
 
+/* A mortared arch's mechanism at this sample of the motion (v its velocities): the hinges
+ * it turns about (mechanism.h), kept until the collapse freezes them. The joints' states are
+ * the hinge tracker's view of them (track_hinges has just set it). */
+static void track_mechanism(vs_run *r, double t, double delta, const double *v) {
+  if (r->mech == NULL) return; /* a dry arch */
+  const int n = r->g->pier_courses > 0 ? r->g->ring : r->g->n_joints; /* the tracker's */
+  vs_mechanism_joint_rates(r->m, v, delta, r->dopts.rate, r->mech_w);
+  r->n_mech = vs_mechanism_active(n, r->mech_w, hinge_view(r), &r->hopts, r->mech);
+  r->mech_t = t;
+  for (int i = 0; i < r->n_mech; i++) { /* the tracked hinge it is: open there, of its side,
+                                           within hinges.migrate joints; the nearest */
+    const vs_active_hinge *a = &r->mech[i];
+    int best = r->hopts.migrate + 1;
+    r->mech_hinge[i] = -1;
+    for (int k = 0; k < vs_hinges_count(r->h); k++) {
+      const vs_hinge *hg = vs_hinges_get(r->h, k);
+      if (hg->side != a->side || !hg->open) continue;
+      const int d = a->last < hg->first ? hg->first - a->last
+                    : hg->last < a->first ? a->first - hg->last : 0;
+      if (d < best) {
+        best = d;
+        r->mech_hinge[i] = k;
+      }
+    }
+  }
+}
+
 int vs_run_on_dyn_sample(void *user, double t, double delta, const double *q, const double *v,
                          const vs_energy *e) {
   vs_run *r = user;
@@ -263,6 +295,7 @@ int vs_run_on_dyn_sample(void *user, double t, double delta, const double *q, co
   /* the joints' states the integrator evaluated at this state (its commit and energies) */
   const vs_joint_state *js = vs_dynamic_joint_states(r->dyn);
   if (!r->frozen && track_hinges(r, delta, q, js) != 0) return 1;
+  if (!r->frozen) track_mechanism(r, t, delta, v);
   if (!r->frozen && vs_run_slips_in_motion(r, t, delta) != 0) return 1;
   const int falling = r->live_dyn != NULL && isfinite(r->live_dyn->t_collapse);
   if (falling) { /* the onset is the collapse's: debris at rest and moving again is not one */
@@ -365,10 +398,33 @@ int vs_run_record_sliding(vs_run *r, const vs_path_result *p) {
   c->t_criterion = c->delta_detected / r->dopts.rate;
   c->t_onset = NAN;
   r->onset_taken = 0; /* the hinges open at the end of the path */
+  r->n_mech = 0;      /* no motion: no mechanism read from one */
   if (freeze_mechanism(r) != 0 || collapse_hinges(r) != 0) return -1;
   vs_model_joint_states(r->m, r->q, r->delta, r->js);
   vs_run_slips_mechanism(r, r->js);
   return 0;
+}
+
+/* A mortared arch's mechanism hinges take the labels of the tracked hinges they are (matched
+ * where they were read: track_mechanism), their sides the pattern; the mode is read from them
+ * when the hinges open at the collapse's onset fit none (docs/mortar.md, "The mode of a
+ * mortared arch"). */
+static void classify_mechanism(vs_run *r) {
+  r->mode_from_mech = 0;
+  if (r->mech == NULL) return;
+  if (!r->collapse.found) r->n_mech = 0; /* a collapse in motion reads it (a sliding one not) */
+  for (int i = 0; i < r->n_mech; i++)
+    r->mech[i].label = r->mech_hinge[i] >= 0 ? vs_hinges_get(r->h, r->mech_hinge[i])->label : 0;
+  size_t used = 0; /* 2 n_joints + 1 bytes hold any */
+  for (int i = 0; i < r->n_mech; i++) {
+    if (i > 0) r->pattern_m[used++] = '-';
+    r->pattern_m[used++] = r->mech[i].side;
+  }
+  r->pattern_m[used] = '\0';
+  if (r->mode == NULL && r->n_mech > 0 && r->pattern0[0] != '\0') {
+    r->mode = vs_hinges_mode(r->pattern0, r->pattern_m);
+    r->mode_from_mech = r->mode != NULL;
+  }
 }
 
 /* Modes (docs/model.md, "Vocabulary") from the first three hinges (A, B, C, left to right) and
@@ -381,4 +437,5 @@ void vs_run_classify(vs_run *r) {
                            2 * (size_t)r->collapse.n_hinges + 1);
   if (r->collapse.found && r->pattern0[0] != '\0')
     r->mode = vs_hinges_mode(r->pattern0, r->pattern_u);
+  classify_mechanism(r);
 }

@@ -243,7 +243,8 @@ static int sweep_texts_ok(const vs_sweep_row *row, char *why, size_t size) {
   } t[] = {{"status", row->status, sizeof row->status},
            {"mode", row->mode, sizeof row->mode},
            {"hinges", row->hinges, sizeof row->hinges},
-           {"error", row->error, sizeof row->error}};
+           {"error", row->error, sizeof row->error},
+           {"first_crack_side", row->first_crack_side, sizeof row->first_crack_side}};
   for (size_t i = 0; i < sizeof t / sizeof t[0]; i++)
     if (!terminated(t[i].text, t[i].n))
       return refuse(why, size, "%s is not NUL-terminated in its %zu bytes", t[i].name, t[i].n);
@@ -295,6 +296,16 @@ int vs_sweep_row_check(const vs_sweep_row *row, int total, int nax, char *why, s
                     none ? "NaN" : "finite");
   if (!none_or_size(row->load_factor))
     return refuse(why, why_size, "load_factor %g is not >= 0 or NaN", row->load_factor);
+  const int crack = !isnan(row->first_crack_mm);
+  if ((row->mortared != 0 && row->mortared != 1) || (crack && !row->mortared) ||
+      !none_or_size(row->first_crack_mm) ||
+      (crack ? row->first_crack_joint < 1 || (strcmp(row->first_crack_side, "I") != 0 &&
+                                               strcmp(row->first_crack_side, "E") != 0)
+             : row->first_crack_joint != 0 || row->first_crack_side[0] != '\0'))
+    return refuse(why, why_size, "first crack %g mm, joint %d, side \"%.1s\" (mortared %d): "
+                  "a crack of a mortared run (>= 0 mm, a joint, I or E) or none (NaN, 0, \"\")",
+                  row->first_crack_mm, row->first_crack_joint, row->first_crack_side,
+                  row->mortared);
   if (!none_or_size(row->wall_s))
     return refuse(why, why_size, "wall_s %g is not >= 0 or NaN", row->wall_s);
   if (row->snaps < 0 || row->snaps > VS_RUN_MAX_LIMITS)

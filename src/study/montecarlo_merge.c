@@ -41,7 +41,7 @@ static const struct {
               {"left_alpha_deg", "support", NULL, 1}, {"left_rate_mm_s", "support", NULL, 1},
               {"left_path", "support", NULL, 1},   {"right_path", "support", NULL, 1}};
 enum { N_HEADER = sizeof HEADER / sizeof HEADER[0], N_OLD_COLUMNS = 8 + VS_MC_LABELS + 1,
-       N_COLUMNS = N_OLD_COLUMNS + 5, H_SPAN = 6 };
+       N_COLUMNS = N_OLD_COLUMNS + 5, N_CRACK_COLUMNS = N_COLUMNS + 3, H_SPAN = 6 };
 #define HEADER_LIST                                                                              \
   "seed, radius_mm, embrace_deg, max_mm, alpha_deg, voussoirs; optional: L_mm, rate_mm_s, "     \
   "left_alpha_deg, left_rate_mm_s, left_path, right_path"
@@ -181,15 +181,17 @@ static int split_csv(char *line, char **f, int n) {
 /* One row (where: "FILE:LINE") into x, every field checked; the error text is kept quoted. */
 static vs_status parse_row(const char *where, char *line, int n_joints, int ncol,
                            vs_mc_sample *x, vs_error *err) {
-  static const char *const COL[N_COLUMNS] = {"sample", "status", "first_limit_mm", "delta_u_mm",
-                                             "dz_u_mm", "dx_u_mm", "mode", "pattern", "A", "B",
-                                             "C", "D", "E", "error", "left_dx_mm", "left_dz_mm",
-                                             "right_dx_mm", "right_dz_mm", "load_factor"};
-  char *f[N_COLUMNS];
+  static const char *const COL[N_CRACK_COLUMNS] = {
+      "sample", "status", "first_limit_mm", "delta_u_mm", "dz_u_mm", "dx_u_mm", "mode",
+      "pattern", "A", "B", "C", "D", "E", "error", "left_dx_mm", "left_dz_mm", "right_dx_mm",
+      "right_dz_mm", "load_factor", "first_crack_mm", "first_crack_joint", "first_crack_side"};
+  char *f[N_CRACK_COLUMNS];
   memset(x, 0, sizeof *x);
   if (split_csv(line, f, ncol) != ncol)
     return vs_error_set(err, VS_ERR_PARSE, "%s: %d columns expected (%s)", where, ncol,
-                        ncol == N_COLUMNS ? VS_MC_TABLE_COLUMNS : OLD_COLUMNS);
+                        ncol == N_CRACK_COLUMNS ? VS_MC_TABLE_COLUMNS VS_MC_CRACK_COLUMNS
+                        : ncol == N_COLUMNS     ? VS_MC_TABLE_COLUMNS
+                                                : OLD_COLUMNS);
   long smp = -1, mode = -1;
   double num[4];
   int bad = -1; /* the column refused, and why */
@@ -223,12 +225,29 @@ static vs_status parse_row(const char *where, char *line, int n_joints, int ncol
       bad = k, why = "a finite number for a collapse, nan otherwise";
   }
   double lf = NAN;
-  if (bad < 0 && ncol == N_COLUMNS && (table_number(f[N_COLUMNS - 1], &lf) != 0 || lf < 0.0))
+  if (bad < 0 && ncol >= N_COLUMNS && (table_number(f[N_COLUMNS - 1], &lf) != 0 || lf < 0.0))
     bad = N_COLUMNS - 1, why = "a finite number >= 0, or nan (a comma in a cause shifts it here: "
                               "montecarlo writes a cause's commas as ';')";
+  /* a mortared study's first crack: none (nan, 0, empty) or a crack (>= 0 mm, a joint, I or E) */
+  double fc = NAN;
+  long fj = 0;
+  const int crack = ncol == N_CRACK_COLUMNS;
+  const char *fs = crack ? f[N_COLUMNS + 2] : "";
+  if (bad < 0 && crack && (table_number(f[N_COLUMNS], &fc) != 0 || fc < 0.0))
+    bad = N_COLUMNS, why = "a finite number >= 0, or nan";
+  if (bad < 0 && crack &&
+      (vs_parse_long(f[N_COLUMNS + 1], &fj) != VS_NUM_OK || fj < 0 || fj > n_joints ||
+       (fj == 0) != isnan(fc)))
+    bad = N_COLUMNS + 1, why = "a joint of the arch with a crack's displacement, 0 without";
+  if (bad < 0 && crack && (fj == 0 ? *fs != '\0' : strcmp(fs, "I") != 0 && strcmp(fs, "E") != 0))
+    bad = N_COLUMNS + 2, why = "I or E with a crack's joint, empty without";
   if (bad >= 0)
     return vs_error_set(err, VS_ERR_PARSE, "%s: %s = '%.64s': not %s", where, COL[bad], f[bad],
                         why);
+  x->mortared = crack;
+  x->first_crack_mm = fc;
+  x->first_crack_joint = (int)fj;
+  x->first_crack_side = *fs;
   x->sample = (int)smp;
   x->mode = (int)mode;
   x->first_limit_mm = num[0];
@@ -291,9 +310,10 @@ static vs_status read_shard(const char *dir, shard_head *first, vs_mc_sample **a
   }
   int ncol = 0;
   if (st == VS_OK && next_line(f, line, sizeof line) == 1)
-    ncol = strcmp(line, VS_MC_TABLE_COLUMNS) == 0 ? N_COLUMNS
-           : strcmp(line, OLD_COLUMNS) == 0       ? N_OLD_COLUMNS
-                                                  : 0;
+    ncol = strcmp(line, VS_MC_TABLE_COLUMNS) == 0                       ? N_COLUMNS
+           : strcmp(line, VS_MC_TABLE_COLUMNS VS_MC_CRACK_COLUMNS) == 0 ? N_CRACK_COLUMNS
+           : strcmp(line, OLD_COLUMNS) == 0                             ? N_OLD_COLUMNS
+                                                                        : 0;
   if (st == VS_OK && ncol == 0)
     st = vs_error_set(err, VS_ERR_PARSE, "%s:2: not the columns of a montecarlo table (%s)", path,
                       VS_MC_TABLE_COLUMNS);

@@ -44,7 +44,7 @@ static double now_s(void) {
 static volatile sig_atomic_t g_stop_signal = 0, g_stop_count = 0;
 
 /* One line of the table (the error's double quotes as single quotes, its first line only). */
-static void write_csv_row(FILE *csv, const vs_sweep_row *row, int nax) {
+static void write_csv_row(FILE *csv, const vs_sweep_row *row, int nax, int mortar) {
   char error[sizeof row->error];
   snprintf(error, sizeof error, "%s", row->error);
   error[strcspn(error, "\n")] = '\0';
@@ -52,18 +52,41 @@ static void write_csv_row(FILE *csv, const vs_sweep_row *row, int nax) {
     if (*p == '"') *p = '\'';
   fprintf(csv, "%d", row->run);
   for (int x = 0; x < nax; x++) fprintf(csv, ",%.10g", row->axis[x]);
-  fprintf(csv, ",%s,%.10g,%.10g,%.10g,%.10g,\"%s\",%s,%d,%.4g,\"%s\",%.10g,%.10g,%.10g,%.10g,%.10g\n",
+  fprintf(csv, ",%s,%.10g,%.10g,%.10g,%.10g,\"%s\",%s,%d,%.4g,\"%s\",%.10g,%.10g,%.10g,%.10g,%.10g",
           row->status, row->first_limit_mm, row->delta_u_mm, row->dz_pct, row->dx_pct,
           row->hinges, row->mode, row->snaps, row->wall_s, error, row->left_dx_mm,
           row->left_dz_mm, row->right_dx_mm, row->right_dz_mm, row->load_factor);
+  if (mortar) /* a mortared study's: the first crack */
+    fprintf(csv, ",%.10g,%d,%s", row->first_crack_mm, row->first_crack_joint,
+            row->first_crack_side);
+  fputc('\n', csv);
 }
 
-static void write_csv_header(FILE *csv, const axis *ax, int nax) {
+static void write_csv_header(FILE *csv, const axis *ax, int nax, int mortar) {
   fputs("run", csv);
   for (int x = 0; x < nax; x++) fprintf(csv, ",%s", ax[x].key);
   fputs(",status,first_limit_mm,delta_u_mm,dz_over_L_pct,dx_over_L_pct,hinges_at_collapse,mode,"
-        "snaps,wall_s,error,left_dx_mm,left_dz_mm,right_dx_mm,right_dz_mm,load_factor\n",
+        "snaps,wall_s,error,left_dx_mm,left_dz_mm,right_dx_mm,right_dz_mm,load_factor",
         csv);
+  if (mortar) fputs(",first_crack_mm,first_crack_joint,first_crack_side", csv);
+  fputc('\n', csv);
+}
+
+/* Whether a case of the study has mortar (joints.tensile_MPa or cohesion_MPa > 0): the base's,
+ * or a value of an axis over either key. Its tables then have the first crack's columns. */
+static int study_mortared(const vs_case *base, const axis *ax, int nax) {
+  static const char *const keys[2] = {"joints.tensile_MPa", "joints.cohesion_MPa"};
+  const double own[2] = {base->tensile_MPa, base->cohesion_MPa};
+  for (int i = 0; i < 2; i++) {
+    int swept = 0, any = 0;
+    for (int x = 0; x < nax; x++) {
+      if (strcmp(ax[x].key, keys[i]) != 0) continue;
+      swept = 1;
+      for (int v = 0; v < ax[x].n; v++) any |= ax[x].v[v] > 0.0;
+    }
+    if (swept ? any : own[i] > 0.0) return 1;
+  }
+  return 0;
 }
 
 static int cmp_sweep_rows(const void *x, const void *y) {
@@ -73,7 +96,7 @@ static int cmp_sweep_rows(const void *x, const void *y) {
 /* The whole table in run order, replacing the one written in completion order, atomically. 0,
  * or -1 after printing why. */
 static int rewrite_table(const char *path, const axis *ax, int nax, const vs_sweep_row *rows,
-                         int n) {
+                         int n, int mortar) {
   char tmp[1200];
   snprintf(tmp, sizeof tmp, "%s.tmp", path);
   FILE *f;
@@ -82,8 +105,8 @@ static int rewrite_table(const char *path, const axis *ax, int nax, const vs_swe
     fprintf(stderr, "voussoir sweep: %s\n", err.msg);
     return -1;
   }
-  write_csv_header(f, ax, nax);
-  for (int i = 0; i < n; i++) write_csv_row(f, &rows[i], nax);
+  write_csv_header(f, ax, nax, mortar);
+  for (int i = 0; i < n; i++) write_csv_row(f, &rows[i], nax, mortar);
   /* renamed never over anything but a regular file */
   const vs_status st =
       fclose(f) == 0 ? vs_outpath_publish(tmp, path, &err)
@@ -262,6 +285,7 @@ typedef struct {
   const sweep_opts *o;
   vs_sweep_job job;
   int total, n, failed, not_started, next, todo;
+  int mortar;         /* a case of the study has mortar: the tables' first crack columns */
   char *state;        /* per run: 0 to run, 1 handed out, 2 done (its row kept) */
   vs_sweep_row *rows; /* the rows kept, in the order they came */
   FILE *csv, *journal;
@@ -274,7 +298,7 @@ static void keep_row(sweep_state *s, const vs_sweep_row *row) {
   s->state[row->run - 1] = 2;
   s->failed += row->code != VS_SWEEP_OK;
   if (s->csv == NULL) return;
-  write_csv_row(s->csv, row, s->o->nax);
+  write_csv_row(s->csv, row, s->o->nax, s->mortar);
   fflush(s->csv);
 }
 
@@ -438,8 +462,8 @@ static int sweep_open(sweep_state *s, const char *manifest) {
     fprintf(stderr, "voussoir sweep: %s\n", err.msg);
     return EXIT_USAGE;
   }
-  write_csv_header(s->csv, o->ax, o->nax);
-  for (int i = 0; i < s->n; i++) write_csv_row(s->csv, &s->rows[i], o->nax);
+  write_csv_header(s->csv, o->ax, o->nax, s->mortar);
+  for (int i = 0; i < s->n; i++) write_csv_row(s->csv, &s->rows[i], o->nax, s->mortar);
   fflush(s->csv);
   s->journal = vs_journal_open(jpath, head, sizeof(vs_sweep_row), rows, &err);
   if (s->journal == NULL) {
@@ -494,7 +518,7 @@ static int sweep_close(sweep_state *s, double wall, int processes) {
   char path[1100];
   snprintf(path, sizeof path, "%s/summary.csv", o->dir);
   /* a table not written is a failed sweep, though its runs are in the journal */
-  int tables_ok = rewrite_table(path, o->ax, o->nax, s->rows, s->n) == 0;
+  int tables_ok = rewrite_table(path, o->ax, o->nax, s->rows, s->n, s->mortar) == 0;
   vs_error err;
   if (vs_sweep_summary_h5(o->dir, o->ax, o->nax, s->rows, s->n, &err) != VS_OK) {
     fprintf(stderr, "voussoir sweep: %s\n", err.msg);
@@ -579,6 +603,7 @@ static int sweep_run(const sweep_opts *o, const vs_case *base, const char *case_
                          o->mode_flag == NULL                        ? NULL
                          : strcmp(o->mode_flag, "--dynamic") == 0 ? "dynamic.full=1"
                                                                    : "dynamic.follow=0"};
+  s.mortar = study_mortared(base, o->ax, o->nax);
   const double t0 = now_s();
   int rc = 0, processes;
 #ifdef VS_HAVE_MPI

@@ -87,6 +87,12 @@ static void fill_row(const vs_run *r, vs_status st, const vs_error *err, vs_swee
     row->snaps += !l->collapse && isfinite(l->delta_settled);
   }
   row->wall_s = vs_run_wall_s(r);
+  const vs_run_event *fc = row->mortared ? vs_run_first_crack(r) : NULL;
+  if (fc != NULL) {
+    row->first_crack_mm = fc->delta / VS_MM;
+    row->first_crack_joint = fc->joint;
+    row->first_crack_side[0] = fc->side;
+  }
 }
 
 /* The run's JSON, as `voussoir run --json` prints it, into path (created anew). VS_OK, or the
@@ -150,7 +156,7 @@ void vs_sweep_run_case(const vs_sweep_job *job, int run, const volatile sig_atom
   row->run = run;
   row->first_limit_mm = row->delta_u_mm = row->dz_pct = row->dx_pct = row->wall_s = NAN;
   row->left_dx_mm = row->left_dz_mm = row->right_dx_mm = row->right_dz_mm = NAN;
-  row->load_factor = NAN;
+  row->load_factor = row->first_crack_mm = NAN;
   char h5[1100], json[1100];
   snprintf(h5, sizeof h5, "%s/run_%04d.h5", job->dir, run);
   snprintf(json, sizeof json, "%s/run_%04d.json.part", job->dir, run);
@@ -159,6 +165,7 @@ void vs_sweep_run_case(const vs_sweep_job *job, int run, const volatile sig_atom
   vs_error err;
   vs_error_clear(&err);
   vs_status st = build_case(job, run, row, &c, &err);
+  row->mortared = c.tensile_MPa > 0.0 || c.cohesion_MPa > 0.0;
   if (st == VS_OK) st = vs_run_create(&c, &r, &err);
   int started = st != VS_ERR_NOMEM; /* out of memory says nothing of the case */
   if (st == VS_OK) {
