@@ -37,7 +37,10 @@ def load(a, ft, du="0.2"):
     hinges = " ".join(f"{h['label']}:{'-'.join(map(str, h['joints']))}-{h['side']}"
                       for h in c.get("hinges", []))
     fc = j.get("first_crack") or {}
+    env = j.get("damage_envelope") or {}
     return dict(du=c.get("delta_mm"), hinges=hinges, mode=j.get("mode") or "-",
+                vertices=env.get("max_vertices", 0), merges=env.get("merges", 0),
+                balance=(j.get("energy") or {}).get("balance_error_rel"),
                 crack=fc.get("delta_mm"), crack_at=(f"{fc['joint']}-{fc['side']}" if fc else "-"),
                 cracking=(j.get("energy") or {}).get("cracking_J"), status=j["status"])
 f = lambda x, p=2: f"{x:.{p}f}" if x is not None else "-"
@@ -68,6 +71,15 @@ for du in ("0.05", "0.1", "0.2", "0.5", "1.0"):
     r = G[du]
     print(f"| {du} | {0.002 * float(du) / 2:g} | {f(r['crack'])} | {f(r['du'])} | "
           f"{f(r['cracking'] * 1e3 if r['cracking'] is not None else None, 3)} | {r['mode']} |")
+runs = list(R.values()) + list(G.values())
+mortared = [r for (a, ft), r in R.items() if ft != "0"] + list(G.values())
+print(f"\ndamage envelopes: {len(mortared)} mortared runs, the most vertices a joint held "
+      f"{max(r['vertices'] for r in mortared)} (cap 16), runs that merged "
+      f"{sum(r['merges'] > 0 for r in mortared)}, merges in all {sum(r['merges'] for r in mortared)}")
+bal = sorted(r["balance"] for r in mortared if r["balance"] is not None)
+dry_bal = [R[a, "0"]["balance"] for a in alphas if R[a, "0"]["balance"] is not None]
+print(f"energy balance error (relative): mortared {bal[0]:.1g} to {bal[-1]:.1g}, median "
+      f"{bal[len(bal) // 2]:.1g}; dry {min(dry_bal):.1g} to {max(dry_bal):.1g}")
 with open(os.path.join(d, "runs.csv"), "w", newline="") as fh:
     w = csv.writer(fh)
     w.writerow(["alpha_deg", "ft_MPa", "du_mm", "delta_u_mm", "first_crack_mm", "first_crack_at",
