@@ -71,8 +71,7 @@ for du in ("0.05", "0.1", "0.2", "0.5", "1.0"):
     r = G[du]
     print(f"| {du} | {0.002 * float(du) / 2:g} | {f(r['crack'])} | {f(r['du'])} | "
           f"{f(r['cracking'] * 1e3 if r['cracking'] is not None else None, 3)} | {r['mode']} |")
-runs = list(R.values()) + list(G.values())
-mortared = [r for (a, ft), r in R.items() if ft != "0"] + list(G.values())
+mortared = [r for (a, ft), r in R.items() if ft != "0"] + [r for du, r in G.items() if du != "0.2"]
 print(f"\ndamage envelopes: {len(mortared)} mortared runs, the most vertices a joint held "
       f"{max(r['vertices'] for r in mortared)} (cap 16), runs that merged "
       f"{sum(r['merges'] > 0 for r in mortared)}, merges in all {sum(r['merges'] for r in mortared)}")

@@ -21,8 +21,12 @@
 
 #include "voussoir/geometry.h"
 
-/* Vertices the damage envelope of a mortared joint keeps exactly (vs_joint_law's env_x, env_k). */
+/* Vertices the damage envelope of a mortared joint keeps exactly (vs_joint_law's env_x, env_k).
+ * A build may set it (-DVS_JOINT_ENV_MAX=N) for the convergence study runs/mortar_cap.sh; it
+ * sets vs_joint_law's layout, so a library and its callers must be built with the same. */
+#ifndef VS_JOINT_ENV_MAX
 #define VS_JOINT_ENV_MAX 16
+#endif
 
 typedef struct {
   double kn; /* normal stiffness per unit area, N/m^3 */
