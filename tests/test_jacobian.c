@@ -11,6 +11,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <sundials/sundials_context.h>
 #include <sunmatrix/sunmatrix_sparse.h>
@@ -441,6 +442,14 @@ static void test_jacobian_mortar(void **state) {
       vs_joint_damage_update(&l, fx.g->joints[k].depth, fx.t, -20e-6, -40e-6 / fx.t);
     }
     assert_int_equal(vs_model_set_joint_law(fx.m, k, &l, &err), VS_OK);
+  }
+  /* a damage envelope with a vertex count outside its storage is refused, naming the field */
+  vs_joint_law bad = *vs_model_joint_law(fx.m, 0);
+  const int counts[3] = {-1, 1, VS_JOINT_ENV_MAX + 1};
+  for (int i = 0; i < 3; i++) {
+    bad.env_n = counts[i];
+    assert_int_equal(vs_model_set_joint_law(fx.m, 0, &bad, &err), VS_ERR_INVALID);
+    assert_non_null(strstr(err.msg, "env_n"));
   }
   double *q = malloc((size_t)fx.n * sizeof(double));
   assert_non_null(q);

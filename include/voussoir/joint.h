@@ -54,7 +54,8 @@ typedef struct {
    * undamaged (kmax = f_t / k_n everywhere). A maximum of the affine committed openings, it
    * is convex; vs_joint_damage_update keeps it exactly up to VS_JOINT_ENV_MAX vertices and
    * beyond merges vertices into the chord above (conservative: more damage), counting the
-   * merges in env_merged. */
+   * merges in env_merged. env_n is 0 or 2..VS_JOINT_ENV_MAX (vs_model_set_joint_law refuses
+   * others). */
   int env_n, env_merged;
   double env_x[VS_JOINT_ENV_MAX], env_k[VS_JOINT_ENV_MAX];
 } vs_joint_law;

@@ -231,15 +231,23 @@ static mortar_curve mortar_curve_of(const vs_joint_law *law) {
   return mc;
 }
 
+/* The law's envelope vertices, 0 (undamaged) or 2..VS_JOINT_ENV_MAX: a count outside (a
+ * caller's law not through vs_model_set_joint_law, which refuses it) is read within the
+ * storage, never past it. */
+static int env_count(const vs_joint_law *law) {
+  return law->env_n < 2 ? 0 : (law->env_n > VS_JOINT_ENV_MAX ? VS_JOINT_ENV_MAX : law->env_n);
+}
+
 /* The intact part [x0, x1] (not cracked through by the fronts): undamaged where the envelope
  * is at its floor d0 (the curve of mortar_region), the secant law where it is above. */
 static void intact_region(const mortar_curve *mc, const vs_joint_law *law, double a, double w,
                           double x0, double x1, vs_normal_response *r) {
-  if (law->env_n < 2 || mc->ft <= 0.0) {
+  const int n = env_count(law);
+  if (n == 0 || mc->ft <= 0.0) {
     mortar_region(mc, 0, a, w, x0, x1, r);
     return;
   }
-  for (int j = 0; j + 1 < law->env_n; j++) {
+  for (int j = 0; j + 1 < n; j++) {
     const double xa = law->env_x[j], xb = law->env_x[j + 1];
     const double u0 = fmax(x0, xa), u1 = fmin(x1, xb);
     if (!(u1 > u0)) continue;
@@ -354,8 +362,8 @@ double vs_joint_damage_update(vs_joint_law *law, double b, double t, double a, d
   /* the opening -(a + w xi) reaches beyond d0 nowhere new: nothing changes */
   double x[VS_JOINT_ENV_MAX + 2] = {-h, h}, y[VS_JOINT_ENV_MAX + 2] = {mc.d0, mc.d0};
   int n = 2;
-  if (law->env_n >= 2) {
-    n = law->env_n;
+  if (env_count(law) > 0) {
+    n = env_count(law);
     memcpy(x, law->env_x, (size_t)n * sizeof *x);
     memcpy(y, law->env_k, (size_t)n * sizeof *y);
   }
