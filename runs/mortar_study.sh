@@ -5,8 +5,10 @@
 # / 2), no cohesion; then the sensitivity to G_f at alpha = 0 and f_t = 2 kPa (du = 0.05 to 1
 # mm). Runs to collapse (--no-record). Prints the tables docs/mortar.md shows: delta_u against
 # f_t (the dry arch the limit), the support displacement at the first crack, the hinges and the
-# mode at the collapse, and the G_f table. Writes out/mortar/runs.csv and the figure
-# docs/mortar.png (delta_u / L against f_t, one line per direction; with matplotlib).
+# mode at the collapse, the G_f table, the damage envelopes' vertices and merges, and a
+# settlement cycled before the collapse against the monotonic one. Writes out/mortar/runs.csv
+# and the figure out/mortar/mortar.png, or MORTAR_FIGURE (delta_u / L against f_t, one line per
+# direction; with matplotlib; docs/mortar.png is it).
 # usage: runs/mortar_study.sh [-j N]
 set -euo pipefail
 source "$(dirname "$0")/lib.sh"
@@ -26,6 +28,15 @@ xargs -P "$jobs" -L 1 bash -c '
   "$bin" run "$ref" --alpha "$a" --no-record -q --json --set joints.tensile_MPa="$ft" \
     --set joints.gf_N_mm="$gf" >"$dir/run-$a-$ft-$du.json" || true
 ' <"$list"
+# cycled: the right support settles 3, 6 and 12 mm and comes back each time, then settles on
+# (the path in time at 0.04 mm/s; beyond its last point it goes on as it went)
+cycle="0:0:0,100:0:3,200:0:0,300:0:6,400:0:0,500:0:12,600:0:0,700:0:40"
+for ft in 0 0.001 0.002 0.005; do echo "$ft"; done | xargs -P "$jobs" -L 1 bash -c '
+  ft=$0
+  gf=$(awk -v f="$ft" "BEGIN { printf \"%.10g\", f * 0.1 }")
+  "$bin" run "$ref" --no-record -q --json --set joints.tensile_MPa="$ft" --set joints.gf_N_mm="$gf" \
+    --set support.right_path='"$cycle"' --set support.max_mm=300 >"$dir/cycled-$ft.json" || true
+'
 "${PYTHON:-/usr/bin/python3}" - "$out_dir/mortar" <<'PY'
 import csv, json, os, sys
 d = sys.argv[1]
@@ -40,9 +51,12 @@ def load(a, ft, du="0.2"):
     m = j.get("mechanism_turning") or {}
     turning = " ".join(f"{h['label'] or '-'}:{'-'.join(map(str, h['joints']))}-{h['side']}"
                        + (" closing" if h["closing"] else "") for h in m.get("hinges", []))
+    env = j.get("damage_envelope") or {}
     return dict(du=c.get("delta_mm"), hinges=hinges, mode=j.get("mode") or "-",
                 turning=turning, sides=m.get("sides") or "-",
                 from_turning=m.get("mode_from") == "turning",
+                vertices=env.get("max_vertices", 0), merges=env.get("merges", 0),
+                balance=(j.get("energy") or {}).get("balance_error_rel"),
                 crack=fc.get("delta_mm"), crack_at=(f"{fc['joint']}-{fc['side']}" if fc else "-"),
                 cracking=(j.get("energy") or {}).get("cracking_J"), status=j["status"])
 f = lambda x, p=2: f"{x:.{p}f}" if x is not None else "-"
@@ -89,6 +103,27 @@ for du in ("0.05", "0.1", "0.2", "0.5", "1.0"):
     r = G[du]
     print(f"| {du} | {0.002 * float(du) / 2:g} | {f(r['crack'])} | {f(r['du'])} | "
           f"{f(r['cracking'] * 1e3 if r['cracking'] is not None else None, 3)} | {r['mode']} |")
+mortared = [r for (a, ft), r in R.items() if ft != "0"] + [r for du, r in G.items() if du != "0.2"]
+print(f"\ndamage envelopes: {len(mortared)} mortared runs, the most vertices a joint held "
+      f"{max(r['vertices'] for r in mortared)} (cap 16), runs that merged "
+      f"{sum(r['merges'] > 0 for r in mortared)}, merges in all {sum(r['merges'] for r in mortared)}")
+bal = sorted(r["balance"] for r in mortared if r["balance"] is not None)
+dry_bal = [R[a, "0"]["balance"] for a in alphas if R[a, "0"]["balance"] is not None]
+print(f"energy balance error (relative): mortared {bal[0]:.1g} to {bal[-1]:.1g}, median "
+      f"{bal[len(bal) // 2]:.1g}; dry {min(dry_bal):.1g} to {max(dry_bal):.1g}")
+print("\ncycled settlement (3, 6, 12 mm down and back, then on), alpha 0: the right support's")
+print("settlement at the collapse (mm) against the monotonic delta_u:\n")
+print("| f_t (kPa) | monotonic delta_u (mm) | cycled (mm) | cracking, monotonic (mJ) | cycled (mJ) | mode cycled |")
+print("|---|---|---|---|---|---|")
+for ft in ("0", "0.001", "0.002", "0.005"):
+    j = json.load(open(os.path.join(d, f"cycled-{ft}.json")))
+    c = j.get("collapse") or {}
+    dz = (c.get("right") or {}).get("dz_mm")
+    cr = (j.get("energy") or {}).get("cracking_J")
+    m = R[0, ft]
+    print(f"| {'dry' if ft == '0' else kpa(ft)} | {f(m['du'])} | {f(dz)} | "
+          f"{f(m['cracking'] * 1e3 if m['cracking'] is not None else None, 3)} | "
+          f"{f(cr * 1e3 if cr is not None else None, 3)} | {j.get('mode') or '-'} |")
 with open(os.path.join(d, "runs.csv"), "w", newline="") as fh:
     w = csv.writer(fh)
     w.writerow(["alpha_deg", "ft_MPa", "du_mm", "delta_u_mm", "first_crack_mm", "first_crack_at",

@@ -11,6 +11,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <sundials/sundials_context.h>
 #include <sunmatrix/sunmatrix_sparse.h>
@@ -384,26 +385,32 @@ static void test_jacobian_random_states(void **state) {
 }
 
 /* A mortared arch (tension f_t softening by G_f, cohesion c by G_c; some joints cracked in
- * from an edge, some with cohesion already softened): the Jacobian against central differences
- * of the residual, in states where joints are in elastic tension, softening, cracked through,
- * partly in contact, sticking and sliding; each drawn clear of the law's kinks (within 1e-7 m of
+ * from an edge, some with cohesion already softened, some damaged from both edges): the
+ * Jacobian against central differences of the residual, in states where joints are in elastic
+ * tension, softening, unloading along the damaged mortar's secant, cracked through, partly in
+ * contact, sticking and sliding; each drawn clear of the law's kinks (within 1e-7 m of
  * a breakpoint of the stress-opening curve at an edge, within 0.05 N of the shear limit, whose
  * own kink is where it reaches zero). */
-static int mortar_clear(const fixture *fx, const double *q, double delta, int *soft, int *slid) {
+static int mortar_clear(const fixture *fx, const double *q, double delta, int *soft, int *slid,
+                        int *secant) {
   vs_joint_state *st = malloc((size_t)fx->nj * sizeof *st);
   assert_non_null(st);
   vs_model_joint_states(fx->m, q, delta, st);
   const double *sp = vs_model_slips(fx->m);
   int ok = 1;
-  *soft = *slid = 0;
+  *soft = *slid = *secant = 0;
   for (int j = 0; j < fx->nj; j++) {
     const vs_joint_law *l = vs_model_joint_law(fx->m, j);
     const double t = fx->t, b = fx->g->joints[j].depth;
     const double d0 = l->ft / l->kn, du = 2 * l->gf / l->ft;
     for (int e = -1; e <= 1; e += 2) {
       const double p = st[j].a + e * 0.5 * st[j].w * t;
-      if (fabs(p) < 1e-7 || fabs(p + d0) < 1e-7 || fabs(p + du) < 1e-7) ok = 0;
-      if (p < -d0 && p > -du) (*soft)++;
+      /* the edge's largest opening so far (the envelope's end vertex; d0 undamaged) */
+      const double km = l->env_n >= 2 ? l->env_k[e < 0 ? 0 : l->env_n - 1] : d0;
+      if (fabs(p) < 1e-7 || fabs(p + d0) < 1e-7 || fabs(p + du) < 1e-7 || fabs(p + km) < 1e-7)
+        ok = 0;
+      if (p < -km && p > -du) (*soft)++;
+      if (km > d0 && p < 0 && p > -km) (*secant)++;
     }
     const double ku = 2 * l->gc / l->c, bonded = t - l->crack[0] - l->crack[1];
     const double coh = l->kappa < ku ? l->c * b * bonded * (1 - l->kappa / ku) : 0;
@@ -429,24 +436,38 @@ static void test_jacobian_mortar(void **state) {
     l.ft = 1e4, l.gf = 0.5, l.c = 1e3, l.gc = 0.05; /* d0 3.3 um, du 100 um */
     if (k % 3 == 1) l.crack[0] = 0.3 * fx.t;
     if (k % 3 == 2) l.crack[1] = 0.2 * fx.t, l.kappa = 1e-5;
+    if (k % 3 == 0) { /* damaged from both edges, its envelope in three pieces: 60 um at the
+                         intrados, 40 um at the extrados, the floor between */
+      vs_joint_damage_update(&l, fx.g->joints[k].depth, fx.t, -30e-6, 60e-6 / fx.t);
+      vs_joint_damage_update(&l, fx.g->joints[k].depth, fx.t, -20e-6, -40e-6 / fx.t);
+    }
     assert_int_equal(vs_model_set_joint_law(fx.m, k, &l, &err), VS_OK);
+  }
+  /* a damage envelope with a vertex count outside its storage is refused, naming the field */
+  vs_joint_law bad = *vs_model_joint_law(fx.m, 0);
+  const int counts[3] = {-1, 1, VS_JOINT_ENV_MAX + 1};
+  for (int i = 0; i < 3; i++) {
+    bad.env_n = counts[i];
+    assert_int_equal(vs_model_set_joint_law(fx.m, 0, &bad, &err), VS_ERR_INVALID);
+    assert_non_null(strstr(err.msg, "env_n"));
   }
   double *q = malloc((size_t)fx.n * sizeof(double));
   assert_non_null(q);
-  int checked = 0, soft_all = 0, slid_all = 0;
+  int checked = 0, soft_all = 0, slid_all = 0, secant_all = 0;
   for (int attempt = 0; attempt < 400 && checked < 4; attempt++) {
     for (int i = 0; i < fx.n; i++) q[i] = 0;
     state_chain(&r, &fx, 0.01, attempt % 2, q);
-    int soft, slid;
-    if (!mortar_clear(&fx, q, 0.01, &soft, &slid)) continue;
-    char label[96];
-    snprintf(label, sizeof label, "mortar state %d (softening edges %d, sliding %d)", checked,
-             soft, slid);
+    int soft, slid, secant;
+    if (!mortar_clear(&fx, q, 0.01, &soft, &slid, &secant)) continue;
+    char label[128];
+    snprintf(label, sizeof label, "mortar state %d (softening edges %d, on the secant %d, "
+             "sliding %d)", checked, soft, secant, slid);
     check_jacobian_at(&fx, ctx, q, 0.01, label);
-    checked++, soft_all += soft, slid_all += slid;
+    checked++, soft_all += soft, slid_all += slid, secant_all += secant;
   }
   assert_int_equal(checked, 4);
-  assert_true(soft_all >= 10); /* the softening branch is exercised */
+  assert_true(soft_all >= 10);  /* the softening branch is exercised */
+  assert_true(secant_all >= 4); /* and the damaged edges' secant unloading */
   assert_true(slid_all >= 3);
   free(q);
   fixture_free(&fx);

@@ -1,8 +1,9 @@
 /* The mortared reference arch against independent limits: as f_t -> 0 (with the softening's end
  * opening 2 G_f / f_t held) it tends to the dry arch; with a tensile strength far above any
- * stress the settlement causes it neither cracks nor hinges; the cracking energy is G_f times
- * the area cracked through; the dynamic phase's energy balance holds with the cracking in it
- * (and fails without it). */
+ * stress the settlement causes it neither cracks nor hinges; the cracking energy is the
+ * dissipation of the joints' damage envelopes (G_f over the area cracked through, the secant's
+ * closed form over the process zones); the dynamic phase's energy balance holds with the
+ * cracking in it (and fails without it). */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -112,10 +113,32 @@ static void test_uncracked_limit(void **state) {
   vs_run_destroy(&r);
 }
 
-/* The cracking energy of the run is G_f times the area cracked through, joint by joint: the
- * crack lengths of every joint (from each edge, at most the joint's length in all) times the
- * depth and G_f; and the dynamic phases' energy balance holds with the cracking in it, to well
- * within the energy the cracking took there, which the balance without it would miss. */
+/* The mortar's dissipation per unit area at a point whose largest opening was k (the envelope
+ * of joint.h): the work of the softening curve up to k less what the secant gives back on
+ * unloading, gf (k - d0) / (du - d0) between d0 and du, gf beyond. */
+static double dissipation(double k, double d0, double du, double gf) {
+  return gf * (fmin(du, fmax(d0, k)) - d0) / (du - d0);
+}
+
+/* The damage envelope of joint k at xi (the law's polyline), its cracked-through fronts taken
+ * as at du. */
+static double kmax_at(const vs_joint_law *l, double t, double xi, double d0, double du) {
+  if (xi < -0.5 * t + l->crack[0] || xi > 0.5 * t - l->crack[1]) return du;
+  if (l->env_n < 2) return d0;
+  for (int i = 0; i + 1 < l->env_n; i++)
+    if (xi <= l->env_x[i + 1] || i + 2 == l->env_n) {
+      const double f = (xi - l->env_x[i]) / (l->env_x[i + 1] - l->env_x[i]);
+      return l->env_k[i] + f * (l->env_k[i + 1] - l->env_k[i]);
+    }
+  return d0;
+}
+
+/* The cracking energy of the run is what the mortar dissipated where it was damaged: the
+ * integral along every joint of the dissipation at its largest opening (G_f over the parts
+ * cracked through, D(k) in closed form over the process zones, where the mortar unloads along
+ * its secant), by quadrature here; and the dynamic phases' energy balance holds with the
+ * cracking in it, to well within the energy the cracking took there, which the balance without
+ * it would miss. */
 static void test_cracking_energy_and_balance(void **state) {
   (void)state;
   vs_case c = reference(0.002, 0.2);
@@ -123,21 +146,33 @@ static void test_cracking_energy_and_balance(void **state) {
   vs_run *r = run_case(&c, &d);
   const vs_model *m = vs_run_model(r);
   const vs_geometry *g = vs_run_geometry(r);
-  double area = 0.0;
-  int cracked = 0;
+  const double gf = c.gf_N_mm * VS_N_MM, ft = c.tensile_MPa * VS_MPA;
+  const double d0 = ft / (c.kn_N_mm3 * VS_N_MM3), du = 2.0 * gf / ft;
+  double area = 0.0, dissipated = 0.0;
+  int cracked = 0, damaged = 0, merged = 0;
   for (int k = 0; k < g->n_joints; k++) {
     const vs_joint_law *l = vs_model_joint_law(m, k);
-    const double len = fmin(g->joints[k].length, l->crack[0] + l->crack[1]);
-    area += g->joints[k].depth * len;
+    const double t = g->joints[k].length, b = g->joints[k].depth;
+    const double len = fmin(t, l->crack[0] + l->crack[1]);
+    area += b * len;
     cracked += len > 0.0;
+    damaged += l->env_n > 0;
+    merged += l->env_merged;
+    const int n = 20000;
+    for (int i = 0; i < n; i++)
+      dissipated += b * (t / n) * dissipation(kmax_at(l, t, -0.5 * t + (i + 0.5) * t / n, d0, du),
+                                              d0, du, gf);
   }
   assert_true(cracked >= 3);
-  const double gf = c.gf_N_mm * VS_N_MM;
-  CHECK(vs_model_cracking_energy(m), gf * area, 1e-12, 0);
-  print_message("cracked joints %d, area %.4g mm^2, cracking %.6g J; dynamic: cracking %.4g J, "
-                "|balance| %.3g J, without the cracking %.3g J\n",
-                cracked, area / (VS_MM * VS_MM), vs_model_cracking_energy(m), d.max_cracking,
-                d.max_abs_balance, d.max_no_crack);
+  print_message("cracked joints %d, damaged %d, area cracked through %.4g mm^2 (G_f x area "
+                "%.6g J), envelope merges %d; cracking %.6g J, dissipation of the envelopes "
+                "%.6g J; dynamic: cracking %.4g J, |balance| %.3g J, without the cracking "
+                "%.3g J\n",
+                cracked, damaged, area / (VS_MM * VS_MM), gf * area, merged,
+                vs_model_cracking_energy(m), dissipated, d.max_cracking, d.max_abs_balance,
+                d.max_no_crack);
+  assert_true(vs_model_cracking_energy(m) >= gf * area * (1.0 - 1e-12));
+  if (merged == 0) CHECK(vs_model_cracking_energy(m), dissipated, 1e-6, 0);
   assert_true(d.max_cracking > 0.0);
   assert_true(d.max_abs_balance < 0.1 * d.max_cracking);
   assert_true(d.max_no_crack > 0.5 * d.max_cracking);

@@ -21,6 +21,13 @@
 
 #include "voussoir/geometry.h"
 
+/* Vertices the damage envelope of a mortared joint keeps exactly (vs_joint_law's env_x, env_k).
+ * A build may set it (-DVS_JOINT_ENV_MAX=N) for the convergence study runs/mortar_cap.sh; it
+ * sets vs_joint_law's layout, so a library and its callers must be built with the same. */
+#ifndef VS_JOINT_ENV_MAX
+#define VS_JOINT_ENV_MAX 16
+#endif
+
 typedef struct {
   double kn; /* normal stiffness per unit area, N/m^3 */
   double ks; /* shear stiffness per unit area, N/m^3 */
@@ -36,11 +43,21 @@ typedef struct {
   double ft, c, gf, gc;
   /* A mortared joint's damage, the state its law carries from one converged state to the next
    * (all 0: undamaged; a model commits it, vs_model_commit): crack[0], crack[1], the lengths
-   * cracked through from the intrados and the extrados edge (m, vs_joint_crack_update), and
+   * cracked through from the intrados and the extrados edge (m, vs_joint_damage_update), and
    * kappa, the accumulated plastic slip that softens the cohesion (m, vs_joint_shear_mortar).
    * vs_joint_eval_h and the functions below evaluate the mortar law with them when ft, c or a
    * crack is non-zero, else the dry law (bit for bit). */
   double crack[2], kappa;
+  /* The mortar's damage along the joint: kmax(xi), the largest opening each point reached at a
+   * committed state, with f_t / k_n as its floor, as the polyline through env_n vertices
+   * (env_x increasing from -t/2 to t/2, xi as vs_normal_response's; env_k, m); env_n = 0:
+   * undamaged (kmax = f_t / k_n everywhere). A maximum of the affine committed openings, it
+   * is convex; vs_joint_damage_update keeps it exactly up to VS_JOINT_ENV_MAX vertices and
+   * beyond merges vertices into the chord above (conservative: more damage), counting the
+   * merges in env_merged. env_n is 0 or 2..VS_JOINT_ENV_MAX (vs_model_set_joint_law refuses
+   * others). */
+  int env_n, env_merged;
+  double env_x[VS_JOINT_ENV_MAX], env_k[VS_JOINT_ENV_MAX];
 } vs_joint_law;
 
 /* Normal response of a no-tension Winkler joint of length t and depth b to the affine
@@ -61,29 +78,39 @@ typedef struct {
 VS_API void vs_joint_normal(double kn, double b, double t, double a, double w,
                             vs_normal_response *r);
 
-/* Normal response of a mortared joint (law->kn, ft, gf; b, t, a, w as vs_joint_normal, the
- * law's initial gap left to the caller). Stress per unit area, compression > 0, as a function
- * of the penetration p (opening delta = -p):
- *   sigma = kn p                                   for p >= -d0, d0 = ft / kn (elastic, both ways)
- *   sigma = -ft (du + p) / (du - d0)                for -du < p < -d0 (linear softening)
- *   sigma = 0                                       for p <= -du,   du = 2 gf / ft
- * so that opening a unit area from closed to du takes gf. Damage: crack[0], crack[1] are the
- * lengths from the intrados and the extrados edge (m) over which the mortar is cracked through
- * (the opening once reached du there): those parts carry compression only (sigma = kn <p>), the
- * rest follows the curve above. The profile is piecewise linear in xi and integrated in closed
- * form; N_a, N_w, M_w are its exact derivatives (the stress is continuous in p, so only the
- * pieces' slopes enter). energy is the potential int b phi(p) dxi with phi' = sigma (phi = gf
- * on an intact point opened beyond du). contact: the length where p >= 0. ft = 0 with no crack:
- * vs_joint_normal, bit for bit; crack[0] + crack[1] >= t: the dry law (to rounding). */
+/* Normal response of a mortared joint (law->kn, ft, gf, its damage env_*; b, t, a, w as
+ * vs_joint_normal, the law's initial gap left to the caller). Stress per unit area,
+ * compression > 0, as a function of the opening delta = -p at a point whose largest committed
+ * opening is k = max(kmax, d0) (vs_joint_law's env_*; d0 = ft / kn, du = 2 gf / ft,
+ * h = ft / (du - d0)):
+ *   sigma = kn p                     for p >= 0 (compression; a damaged point recloses fully)
+ *   sigma = -S(k) delta              for 0 < delta < k, S(k) = h (du - k) / k (secant unloading
+ *                                    and reloading; S(d0) = kn: the elastic branch undamaged)
+ *   sigma = -h (du - delta)          for k <= delta < du (the softening envelope)
+ *   sigma = 0                        for delta >= du, or for p < 0 where k >= du (cracked)
+ * so that opening a unit area from closed to du takes gf, and a point unloaded from k has
+ * dissipated D(k) = gf (k - d0) / (du - d0). crack[0], crack[1]: lengths from the intrados and
+ * the extrados edge (m) cracked through besides (compression only there). The profile is
+ * integrated piecewise in closed form: polynomials on the elastic, envelope and open pieces,
+ * and on a secant piece, where k is affine in xi, the moments int s^m / k ds (m = 0..2) by
+ * log1p or, where k varies little over the piece, by their series. N_a, N_w, M_w are the exact
+ * derivatives (sigma is continuous in p and across the pieces' ends, so only the pieces'
+ * tangents enter). energy is the potential int b phi(p) dxi with phi' = sigma (phi(0) = 0; on a
+ * point opened beyond du, the fracture energy gf - D(k) still held). contact: the length where
+ * p >= 0. ft = 0 with no crack: vs_joint_normal, bit for bit; crack[0] + crack[1] >= t: the
+ * dry law (to rounding). */
 VS_API void vs_joint_normal_mortar(const vs_joint_law *law, double b, double t, double a, double w,
                                    const double crack[2], vs_normal_response *r);
 
-/* Irreversible damage after a converged state: each edge's cracked length grows to the part of
- * the joint next to it where the opening -(a + w xi) reaches du (crack fronts move along eta,
- * never back). Returns the energy the growth dissipated, gf b (new cracked length - old), J.
- * ft = 0: nothing changes, returns 0. */
-VS_API double vs_joint_crack_update(const vs_joint_law *law, double b, double t, double a, double w,
-                                    double crack[2]);
+/* Irreversible damage after a converged state at (a, w): the law's envelope kmax(xi) becomes
+ * max(kmax, -(a + w xi)) (env_*; merged into the chord above it, and env_merged counted, past
+ * VS_JOINT_ENV_MAX vertices), and each edge's cracked length law->crack grows to the part of
+ * the joint next to it where kmax reaches du (crack fronts move along eta, never back). Returns
+ * the energy the damage dissipated, J: the drop of the joint's potential at (a, w)
+ * (vs_joint_normal_mortar's energy, with law->crack), which is int b (D(k_new) - D(k_old)) dxi
+ * (gf b per unit length cracked through from intact) unless vertices were merged. ft = 0:
+ * nothing changes, returns 0. */
+VS_API double vs_joint_damage_update(vs_joint_law *law, double b, double t, double a, double w);
 
 /* Shear of a mortared joint (vs_joint_shear_mortar). */
 typedef struct {

@@ -111,9 +111,9 @@ VS_API int vs_model_commit_states(vs_model *m, const vs_joint_state *st);
 VS_API const double *vs_model_slips(const vs_model *m);
 
 /* Energy dissipated by the mortared joints' cracking since the model was created, J: the sum of
- * vs_joint_crack_update's over every commit (vs_model_commit, vs_model_commit_states,
- * vs_model_ext_commit), which also grow each joint's cracks and cohesion slip (vs_joint_law's
- * crack and kappa, vs_model_joint_law). 0 for dry joints. */
+ * vs_joint_damage_update's over every commit (vs_model_commit, vs_model_commit_states,
+ * vs_model_ext_commit), which also grow each joint's damage envelope, cracks and cohesion slip
+ * (vs_joint_law's env_*, crack and kappa, vs_model_joint_law). 0 for dry joints. */
 VS_API double vs_model_cracking_energy(const vs_model *m);
 
 /* --- slip: a joint at the Coulomb limit put on its sliding branch --- */

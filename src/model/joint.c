@@ -45,7 +45,7 @@ void vs_joint_normal(double kn, double b, double t, double a, double w, vs_norma
   /* M_w: d(-M+(a,-w))/dw = M+_w, unchanged */
 }
 
-/* --- mortar: tension, softening, cracks (joint.h, vs_joint_normal_mortar) --- */
+/* --- mortar: tension, softening, damage, cracks (joint.h, vs_joint_normal_mortar) --- */
 
 /* One linear piece of the stress law: sigma = s0 + s1 p, potential phi = e0 + e1 p + e2 p^2. */
 typedef struct {
@@ -74,6 +74,32 @@ static mortar_piece mortar_piece_at(const mortar_curve *mc, int cracked, double 
   return q;
 }
 
+/* Sorts the interior cuts cut[1..n-2] (a handful) in place. */
+static void sort_cuts(double *cut, int n) {
+  for (int i = 1; i < n - 1; i++)
+    for (int j = i + 1; j < n - 1; j++)
+      if (cut[j] < cut[i]) {
+        const double tmp = cut[i];
+        cut[i] = cut[j];
+        cut[j] = tmp;
+      }
+}
+
+/* Adds the integral over [u0, u1] of sigma = g0 + g1 xi (tangent s1 in p) and of the potential
+ * c0 + c1 xi + c2 xi^2 to r (without the factor b); contact: the piece is compressed. */
+static void add_poly(double u0, double u1, double g0, double g1, double s1, double c0,
+                     double c1, double c2, int contact, vs_normal_response *r) {
+  const double m0 = u1 - u0, m1 = 0.5 * (u1 * u1 - u0 * u0),
+               m2 = (u1 * u1 * u1 - u0 * u0 * u0) / 3.0;
+  r->N += g0 * m0 + g1 * m1;
+  r->M += g0 * m1 + g1 * m2;
+  r->N_a += s1 * m0;
+  r->N_w += s1 * m1;
+  r->M_w += s1 * m2;
+  r->energy += c0 * m0 + c1 * m1 + c2 * m2;
+  if (contact) r->contact += m0;
+}
+
 /* Adds the integral over xi in [x0, x1] of the law (region intact or cracked) to r (without the
  * factor b), splitting where p = a + w xi crosses the law's breakpoints. */
 static void mortar_region(const mortar_curve *mc, int cracked, double a, double w, double x0,
@@ -90,32 +116,107 @@ static void mortar_region(const mortar_curve *mc, int cracked, double a, double 
       if (x > x0 && x < x1) cut[n++] = x;
     }
   cut[n++] = x1;
-  for (int i = 1; i < n - 1; i++) /* sort the interior cuts (at most 3) */
-    for (int j = i + 1; j < n - 1; j++)
-      if (cut[j] < cut[i]) {
-        const double tmp = cut[i];
-        cut[i] = cut[j];
-        cut[j] = tmp;
-      }
+  sort_cuts(cut, n);
   for (int i = 0; i + 1 < n; i++) {
     const double u0 = cut[i], u1 = cut[i + 1];
     if (!(u1 > u0)) continue;
     const mortar_piece q = mortar_piece_at(mc, cracked, a + w * 0.5 * (u0 + u1));
-    /* moments of xi over [u0, u1] */
-    const double m0 = u1 - u0, m1 = 0.5 * (u1 * u1 - u0 * u0),
-                 m2 = (u1 * u1 * u1 - u0 * u0 * u0) / 3.0;
     /* sigma = (s0 + s1 a) + s1 w xi; phi = c0 + c1 xi + c2 xi^2 */
-    const double g0 = q.s0 + q.s1 * a, g1 = q.s1 * w;
-    r->N += g0 * m0 + g1 * m1;
-    r->M += g0 * m1 + g1 * m2;
-    r->N_a += q.s1 * m0;
-    r->N_w += q.s1 * m1;
-    r->M_w += q.s1 * m2;
-    const double c0 = q.e0 + q.e1 * a + q.e2 * a * a, c1 = q.e1 * w + 2.0 * q.e2 * a * w,
-                 c2 = q.e2 * w * w;
-    r->energy += c0 * m0 + c1 * m1 + c2 * m2;
-    /* compressed length: p >= 0 on the piece (p affine: its midpoint decides) */
-    if (a + w * 0.5 * (u0 + u1) >= 0.0) r->contact += m0;
+    add_poly(u0, u1, q.s0 + q.s1 * a, q.s1 * w, q.s1, q.e0 + q.e1 * a + q.e2 * a * a,
+             q.e1 * w + 2.0 * q.e2 * a * w, q.e2 * w * w, a + w * 0.5 * (u0 + u1) >= 0.0, r);
+  }
+}
+
+/* Below this |beta L / k0| the moments int_0^L s^m / (k0 + beta s) ds are summed as their
+ * series (log1p's recurrence would cancel); its terms fall as 0.3^n, some 30 reach round-off. */
+static const double VS_SECANT_SERIES = 0.3;
+
+/* I[m] = int_0^L s^m / (k0 + beta s) ds, m = 0, 1, 2, for k0 > 0 and k0 + beta L > 0. */
+static void inv_moments(double k0, double beta, double L, double I[3]) {
+  const double r = beta * L / k0;
+  if (fabs(r) < VS_SECANT_SERIES) {
+    /* 1 / (k0 (1 + r s / L)) = sum_n (-r s / L)^n / k0: I[m] = L^(m+1) / k0 sum (-r)^n / (m+n+1) */
+    double Lp = L / k0;
+    for (int m = 0; m < 3; m++) {
+      double sum = 0.0, term = 1.0;
+      for (int n = 0; n < 60; n++) {
+        const double c = term / (double)(m + n + 1);
+        sum += c;
+        if (fabs(c) <= 1e-17 * fabs(sum)) break;
+        term *= -r;
+      }
+      I[m] = Lp * sum;
+      Lp *= L;
+    }
+    return;
+  }
+  I[0] = log1p(r) / beta;
+  I[1] = (L - k0 * I[0]) / beta;
+  I[2] = (0.5 * L * L - k0 * I[1]) / beta;
+}
+
+/* A secant piece, xi in [u0, u1], k = k0 + beta (xi - u0) in (d0, du), p = a + w xi < 0:
+ * sigma = h (du / k - 1) p, phi = h (du / k - 1) p^2 / 2. */
+static void secant_piece(const mortar_curve *mc, double a, double w, double u0, double u1,
+                         double k0, double beta, vs_normal_response *r) {
+  const double L = u1 - u0, p0 = a + w * u0;
+  double I[3];
+  inv_moments(k0, beta, L, I);
+  const double P[3] = {L, 0.5 * L * L, L * L * L / 3.0};
+  double A[3]; /* int_0^L h (du / k - 1) s^m ds */
+  for (int m = 0; m < 3; m++) A[m] = mc->h * (mc->du * I[m] - P[m]);
+  const double Nn = p0 * A[0] + w * A[1];
+  r->N += Nn;
+  r->M += u0 * Nn + p0 * A[1] + w * A[2];
+  r->N_a += A[0];
+  r->N_w += u0 * A[0] + A[1];
+  r->M_w += u0 * u0 * A[0] + 2.0 * u0 * A[1] + A[2];
+  r->energy += 0.5 * (p0 * p0 * A[0] + 2.0 * p0 * w * A[1] + w * w * A[2]);
+}
+
+/* A point whose opening lies within this fraction of du below its envelope counts as on the
+ * envelope (loading): at a committed state the opening that set the envelope lies on it up to
+ * the round-off of the polyline, and the tangent there is the loading one, whatever that
+ * round-off (the stresses of the two branches agree there to kn du times this). */
+static const double VS_ENV_ON = 1e-12;
+
+/* A damaged part of the joint, xi in [x0, x1], where the envelope is k = kc0 + kc1 xi (> d0
+ * somewhere on it): split where p = 0, p = -k, p = -du and k = du, each piece integrated in
+ * closed form. */
+static void damaged_region(const mortar_curve *mc, double a, double w, double kc0, double kc1,
+                           double x0, double x1, vs_normal_response *r) {
+  if (!(x1 > x0)) return;
+  double cut[6];
+  int n = 0;
+  cut[n++] = x0;
+  double c[4];
+  int nc = 0;
+  if (w != 0.0) c[nc++] = -a / w, c[nc++] = (-mc->du - a) / w;
+  if (w + kc1 != 0.0) c[nc++] = -(a + kc0) / (w + kc1);
+  if (kc1 != 0.0) c[nc++] = (mc->du - kc0) / kc1;
+  for (int i = 0; i < nc; i++)
+    if (c[i] > x0 && c[i] < x1) cut[n++] = c[i];
+  cut[n++] = x1;
+  sort_cuts(cut, n);
+  const double h = mc->h, du = mc->du, kn = mc->kn;
+  for (int i = 0; i + 1 < n; i++) {
+    const double u0 = cut[i], u1 = cut[i + 1];
+    if (!(u1 > u0)) continue;
+    const double xm = 0.5 * (u0 + u1), pm = a + w * xm, km = kc0 + kc1 * xm;
+    if (pm >= 0.0) { /* compression, damaged or not */
+      add_poly(u0, u1, kn * a, kn * w, kn, 0.5 * kn * a * a, kn * a * w, 0.5 * kn * w * w, 1, r);
+    } else if (km >= du) { /* cracked through: nothing in tension */
+    } else if (-pm < km - VS_ENV_ON * du) {
+      secant_piece(mc, a, w, u0, u1, kc0 + kc1 * u0, kc1, r);
+    } else {
+      /* the fracture energy still held, h du (du - k) / 2 = gf - D(k), affine in xi */
+      const double e0 = 0.5 * h * du * (du - kc0), e1 = -0.5 * h * du * kc1;
+      if (-pm < du) /* the envelope: sigma = -h (du + p), phi = e - h (du + p)^2 / 2 */
+        add_poly(u0, u1, -h * (du + a), -h * w, -h, e0 - 0.5 * h * (du + a) * (du + a),
+                 e1 - h * (du + a) * w, -0.5 * h * w * w, 0, r);
+      else
+        add_poly(u0, u1, 0.0, 0.0, 0.0, e0, e1, 0.0, 0, r);
+    }
   }
 }
 
@@ -130,6 +231,36 @@ static mortar_curve mortar_curve_of(const vs_joint_law *law) {
   return mc;
 }
 
+/* The law's envelope vertices, 0 (undamaged) or 2..VS_JOINT_ENV_MAX: a count outside (a
+ * caller's law not through vs_model_set_joint_law, which refuses it) is read within the
+ * storage, never past it. */
+static int env_count(const vs_joint_law *law) {
+  return law->env_n < 2 ? 0 : (law->env_n > VS_JOINT_ENV_MAX ? VS_JOINT_ENV_MAX : law->env_n);
+}
+
+/* The intact part [x0, x1] (not cracked through by the fronts): undamaged where the envelope
+ * is at its floor d0 (the curve of mortar_region), the secant law where it is above. */
+static void intact_region(const mortar_curve *mc, const vs_joint_law *law, double a, double w,
+                          double x0, double x1, vs_normal_response *r) {
+  const int n = env_count(law);
+  if (n == 0 || mc->ft <= 0.0) {
+    mortar_region(mc, 0, a, w, x0, x1, r);
+    return;
+  }
+  for (int j = 0; j + 1 < n; j++) {
+    const double xa = law->env_x[j], xb = law->env_x[j + 1];
+    const double u0 = fmax(x0, xa), u1 = fmin(x1, xb);
+    if (!(u1 > u0)) continue;
+    const double ka = law->env_k[j], kb = law->env_k[j + 1];
+    if (ka <= mc->d0 && kb <= mc->d0) {
+      mortar_region(mc, 0, a, w, u0, u1, r);
+      continue;
+    }
+    const double kc1 = (kb - ka) / (xb - xa), kc0 = ka - kc1 * xa;
+    damaged_region(mc, a, w, kc0, kc1, u0, u1, r);
+  }
+}
+
 void vs_joint_normal_mortar(const vs_joint_law *law, double b, double t, double a, double w,
                             const double crack[2], vs_normal_response *r) {
   const double ci = fmax(0.0, crack[0]), ce = fmax(0.0, crack[1]);
@@ -142,7 +273,7 @@ void vs_joint_normal_mortar(const vs_joint_law *law, double b, double t, double 
   const double h = 0.5 * t;
   const double xi = fmin(h, -h + ci), xe = fmax(xi, h - ce); /* intact: [xi, xe] */
   mortar_region(&mc, 1, a, w, -h, xi, r);
-  mortar_region(&mc, 0, a, w, xi, xe, r);
+  intact_region(&mc, law, a, w, xi, xe, r);
   mortar_region(&mc, 1, a, w, xe, h, r);
   r->N *= b;
   r->M *= b;
@@ -152,20 +283,106 @@ void vs_joint_normal_mortar(const vs_joint_law *law, double b, double t, double 
   r->energy *= b;
 }
 
-double vs_joint_crack_update(const vs_joint_law *law, double b, double t, double a, double w,
-                             double crack[2]) {
+/* The envelope after a commit: max(P, l) of the polyline P (n vertices x, y) and the line
+ * l(x) = l0 + l1 x, into (xo, yo) (at most n + 2 vertices); on[i]: the vertex lies on l. */
+static int envelope_max(const double *x, const double *y, int n, double l0, double l1, double *xo,
+                        double *yo, unsigned char *on) {
+  int m = 0;
+  double dprev = 0.0;
+  for (int i = 0; i < n; i++) {
+    const double d = l0 + l1 * x[i] - y[i];
+    if (i > 0 && ((dprev > 0.0 && d < 0.0) || (dprev < 0.0 && d > 0.0))) {
+      const double f = dprev / (dprev - d);
+      xo[m] = x[i - 1] + f * (x[i] - x[i - 1]);
+      yo[m] = y[i - 1] + f * (y[i] - y[i - 1]);
+      on[m++] = 1;
+    }
+    xo[m] = x[i];
+    yo[m] = d > 0.0 ? l0 + l1 * x[i] : y[i];
+    on[m++] = d >= 0.0;
+    dprev = d;
+  }
+  return m;
+}
+
+/* Drops the interior vertices that change nothing: inside the stretch now on the line, inside
+ * a stretch at the floor d0, inside a stretch cracked through (>= du). Returns the new count. */
+static int envelope_prune(double *x, double *y, unsigned char *on, int n, double d0, double du) {
+  int m = 1;
+  for (int i = 1; i < n; i++) {
+    if (i + 1 < n) {
+      const int lp = m - 1; /* the last kept */
+      const int line = on[lp] && on[i] && on[i + 1];
+      const int flat = y[lp] <= d0 && y[i] <= d0 && y[i + 1] <= d0;
+      const int gone = y[lp] >= du && y[i] >= du && y[i + 1] >= du;
+      if (line || flat || gone) continue;
+    }
+    x[m] = x[i], y[m] = y[i], on[m] = on[i];
+    m++;
+  }
+  return m;
+}
+
+/* Past VS_JOINT_ENV_MAX vertices: drops the interior vertex whose chord adds the least area
+ * (a convex polyline's chord lies above it: the damage only grows), until n fit. */
+static int envelope_merge(double *x, double *y, int n, int *merged) {
+  while (n > VS_JOINT_ENV_MAX) {
+    int best = 1;
+    double least = INFINITY;
+    for (int i = 1; i + 1 < n; i++) {
+      const double area = fabs((x[i + 1] - x[i - 1]) * (y[i] - y[i - 1]) -
+                               (x[i] - x[i - 1]) * (y[i + 1] - y[i - 1]));
+      if (area < least) least = area, best = i;
+    }
+    for (int i = best; i + 1 < n; i++) x[i] = x[i + 1], y[i] = y[i + 1];
+    n--;
+    (*merged)++;
+  }
+  return n;
+}
+
+/* How far in from the edge (side 0: xi = -t/2, 1: t/2) the envelope stays at or above du. */
+static double envelope_front(const vs_joint_law *law, double du, int side) {
+  const int n = law->env_n, step = side ? -1 : 1;
+  const double *x = law->env_x, *k = law->env_k;
+  int o = side ? n - 1 : 0; /* the last vertex at or above du, from the edge */
+  if (k[o] < du) return 0.0;
+  for (int i = o + step; i >= 0 && i < n; o = i, i += step)
+    if (k[i] < du) {
+      const double xf = x[o] + (k[o] - du) / (k[o] - k[i]) * (x[i] - x[o]);
+      return side ? x[n - 1] - xf : xf - x[0];
+    }
+  return x[n - 1] - x[0];
+}
+
+double vs_joint_damage_update(vs_joint_law *law, double b, double t, double a, double w) {
   if (law->ft <= 0.0) return 0.0;
   const mortar_curve mc = mortar_curve_of(law);
   const double h = 0.5 * t;
-  const double old = fmin(t, fmax(0.0, crack[0]) + fmax(0.0, crack[1]));
-  /* p = a + w xi <= -du at each edge, and how far in from it */
-  double li = 0.0, le = 0.0;
-  if (a - w * h <= -mc.du) li = (w > 0.0) ? fmin(t, (-mc.du - a) / w + h) : t;
-  if (a + w * h <= -mc.du) le = (w < 0.0) ? fmin(t, h - (-mc.du - a) / w) : t;
-  crack[0] = fmax(crack[0], li);
-  crack[1] = fmax(crack[1], le);
-  const double now = fmin(t, crack[0] + crack[1]);
-  return law->gf * b * (now - old);
+  /* the opening -(a + w xi) reaches beyond d0 nowhere new: nothing changes */
+  double x[VS_JOINT_ENV_MAX + 2] = {-h, h}, y[VS_JOINT_ENV_MAX + 2] = {mc.d0, mc.d0};
+  int n = 2;
+  if (env_count(law) > 0) {
+    n = env_count(law);
+    memcpy(x, law->env_x, (size_t)n * sizeof *x);
+    memcpy(y, law->env_k, (size_t)n * sizeof *y);
+  }
+  int above = 0;
+  for (int i = 0; i < n; i++) above |= -(a + w * x[i]) > y[i];
+  if (!above) return 0.0;
+  vs_normal_response before, after;
+  vs_joint_normal_mortar(law, b, t, a, w, law->crack, &before);
+  double xo[VS_JOINT_ENV_MAX + 4], yo[VS_JOINT_ENV_MAX + 4];
+  unsigned char on[VS_JOINT_ENV_MAX + 4];
+  int m = envelope_max(x, y, n, -a, -w, xo, yo, on);
+  m = envelope_prune(xo, yo, on, m, mc.d0, mc.du);
+  m = envelope_merge(xo, yo, m, &law->env_merged);
+  law->env_n = m;
+  memcpy(law->env_x, xo, (size_t)m * sizeof *xo);
+  memcpy(law->env_k, yo, (size_t)m * sizeof *yo);
+  for (int s = 0; s < 2; s++) law->crack[s] = fmax(law->crack[s], envelope_front(law, mc.du, s));
+  vs_joint_normal_mortar(law, b, t, a, w, law->crack, &after);
+  return before.energy - after.energy;
 }
 
 /* The cohesive-frictional limit at accumulated slip kappa and its slope in kappa (<= 0). */
@@ -327,7 +544,8 @@ typedef vs_joint_law_state law_state;
 
 /* A joint whose law has mortar or damage (joint.h, vs_joint_law's crack and kappa). */
 static inline int law_is_mortar(const vs_joint_law *law) {
-  return law->ft > 0.0 || law->c > 0.0 || law->crack[0] > 0.0 || law->crack[1] > 0.0;
+  return law->ft > 0.0 || law->c > 0.0 || law->crack[0] > 0.0 || law->crack[1] > 0.0 ||
+         law->env_n > 0;
 }
 
 /* law_eval for a mortared joint: vs_joint_normal_mortar and vs_joint_shear_mortar with the

@@ -182,6 +182,11 @@ vs_status vs_model_set_joint_law(vs_model *m, int k, const vs_joint_law *law, vs
                         "model: joint %d law kn = %g, ks = %g N/m^3, mu = %g, gap %g m, %g "
                         "(allowed: kn, ks, mu > 0, gaps finite)",
                         k + 1, law->kn, law->ks, law->mu, law->gap0, law->gap1);
+  if (law->env_n < 0 || law->env_n > VS_JOINT_ENV_MAX || law->env_n == 1)
+    return vs_error_set(err, VS_ERR_INVALID,
+                        "model: joint %d law env_n = %d (allowed: 0, undamaged, or 2..%d "
+                        "vertices of its damage envelope)",
+                        k + 1, law->env_n, VS_JOINT_ENV_MAX);
   m->laws[k] = *law;
   memo_drop(m);
   vs_model_set_damping(m, m->zeta); /* the damping coefficients follow the joint's stiffness */

@@ -39,8 +39,9 @@ void vs_model_joint_states(const vs_model *m, const double *q, double delta, vs_
  * 1e-16 of the joint's displacement) and far below the Newton tolerance. */
 static const double VS_SLIP_HOLD = 1e-9;
 
-/* A mortared joint's damage after the converged state st of joint k: its cracks grown (their
- * energy into m->cracking) and its cohesion's slip kept. Returns 1 when either changed. */
+/* A mortared joint's damage after the converged state st of joint k: its damage envelope and
+ * cracks grown (the energy dissipated into m->cracking) and its cohesion's slip kept. Returns 1
+ * when any changed (its point in the memo is then evaluated again). */
 static int damage_commit(vs_model *m, int k, const vs_joint_state *st) {
   vs_joint_law *l = &m->laws[k];
   if (!(l->ft > 0.0 || l->c > 0.0)) return 0;
@@ -48,9 +49,13 @@ static int damage_commit(vs_model *m, int k, const vs_joint_state *st) {
   /* the law's penetration and slope: the kinematic ones less the initial gap (law_at's) */
   const double a = st->a - m->mscale * l->gap0, w = st->w - m->mscale * l->gap1;
   const double before[3] = {l->crack[0], l->crack[1], l->kappa};
-  m->cracking += vs_joint_crack_update(l, j->depth, j->length, a, w, l->crack);
+  const int env_n = l->env_n;
+  double env_k[VS_JOINT_ENV_MAX];
+  memcpy(env_k, l->env_k, sizeof env_k);
+  m->cracking += vs_joint_damage_update(l, j->depth, j->length, a, w);
   l->kappa = st->kappa;
-  return before[0] != l->crack[0] || before[1] != l->crack[1] || before[2] != l->kappa;
+  return before[0] != l->crack[0] || before[1] != l->crack[1] || before[2] != l->kappa ||
+         env_n != l->env_n || memcmp(env_k, l->env_k, sizeof env_k) != 0;
 }
 
 /* The plastic slips change. With the memo at these states, a joint whose slip moved is

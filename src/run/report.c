@@ -373,11 +373,30 @@ static void text_mortar(FILE *out, const vs_run *r) {
             "vibration\n", d->ring_settles, d->ring_settles > 1 ? "s" : "", d->ring_energy);
 }
 
+/* ,"damage_envelope":{joints, max_vertices, merges}, for a mortared run: how many joints the
+ * mortar's damage reached (past f_t somewhere), the most vertices a joint's envelope held, and
+ * how often an envelope passed VS_JOINT_ENV_MAX vertices and was merged into its chord (0: the
+ * damage was kept exactly). */
+static void json_damage_envelope(FILE *out, const vs_run *r) {
+  if (!is_mortared(r)) return;
+  const vs_model *m = vs_run_model(r);
+  int joints = 0, vmax = 0, merges = 0;
+  for (int k = 0; k < vs_model_geometry(m)->n_joints; k++) {
+    const vs_joint_law *l = vs_model_joint_law(m, k);
+    joints += l->env_n > 0;
+    vmax = l->env_n > vmax ? l->env_n : vmax;
+    merges += l->env_merged;
+  }
+  fprintf(out, ",\"damage_envelope\":{\"joints\":%d,\"max_vertices\":%d,\"merges\":%d}", joints,
+          vmax, merges);
+}
+
 static void json_tail(FILE *out, const vs_run *r) {
   const vs_case *c = vs_run_case(r);
   const vs_dyn_result *d = vs_run_dynamic_totals(r);
   json_first_crack(out, r);
   json_active(out, r);
+  json_damage_envelope(out, r);
   jnum(out, ",\"energy\":{\"balance_error_rel\":", d->balance_error_rel, 6);
   jnum(out, ",\"balance_error_fall_rel\":", d->balance_error_fall, 6);
   jnum(out, ",\"max_kinetic_J\":", d->max_kinetic, 6);
