@@ -2,8 +2,8 @@
 # The ringing criterion of mortared arches (dynamic.ring_periods; docs/mortar.md "Cost") against
 # the rest criterion alone (ring_periods = 0) and against a tighter version of itself (4
 # periods): the reference specimen over the seed's directions alpha = 0:45:5, 60, 75, 90 deg,
-# f_t = 0.25 to 10 kPa with G_f = f_t x 0.1 mm (as runs/mortar_study.sh), ring_periods = 0, 1
-# (the default), 2 and 4, to collapse (--no-record). Prints, for each f_t: the largest
+# f_t = 0.25 to 10 kPa with G_f = f_t x 0.1 mm (as runs/mortar_study.sh), ring_periods = 0
+# (the default), 1, 2 and 4, to collapse (--no-record). Prints, for each f_t: the largest
 # difference of delta_u from the rest criterion's and from the 2- and 4-period criterion's, the
 # runs whose first crack, hinges at the collapse (joints and sides) or mode differ, the snaps the
 # ringing ended, the vibration energy those left against the cracking energy, and the IDA steps
@@ -71,7 +71,7 @@ def diff(p, q):
 kpa = lambda ft: f"{float(ft) * 1e3:g}"
 pairs = (("1", "0"), ("1", "2"), ("1", "4"), ("4", "0"))
 D = {pq: diff(*pq) for pq in pairs}
-print("ring_periods = 1 (the default) against the rest criterion alone (0) and against 2 and 4")
+print("ring_periods = 1 (an option) against the rest criterion alone (0, the default) and against 2 and 4")
 print("periods, and 4 against 0: the largest |d delta_u| (mm) over the 13 directions, and the")
 print("directions whose first crack, hinges at the collapse or mode differ (none: all agree):\n")
 print("| f_t (kPa) | " + " | ".join(f"{p} vs {q}" for p, q in pairs) + " |")

@@ -222,9 +222,9 @@ static const key_spec keys[] = {
     KEY(dynamic, rest_factor, 100.0, 1.0, true, 1e12, true, "",
         "at rest below this many times the kinetic energy of the arch moving at the support rate"),
     KEY(dynamic, rest_s, 1.0, 0.0, false, 1e6, true, "s", "... for this long"),
-    KEY(dynamic, ring_periods, 1.0, 0.0, true, 1000.0, true, "",
-        "mortared arches: a snap is also over once it has rung this many periods of the lowest "
-        "mode with nothing changing and its energy falling; 0: the rest criterion alone"),
+    KEY(dynamic, ring_periods, 0.0, 0.0, true, 1000.0, true, "",
+        "0: the rest criterion alone; mortared arches: N > 0 ends a snap also once it has rung "
+        "N periods of the lowest mode with nothing changing and its energy falling"),
     KEY(dynamic, collapse_ke, 0.1, 0.0, false, 1e6, true, "",
         "collapsing beyond this kinetic energy, as a fraction of weight x thickness"),
     KEY(dynamic, fall_s, 5.0, 0.0, true, 1e6, true, "s",
