@@ -774,6 +774,41 @@ static void test_span(void **state) {
 }
 
 /* The key iterator enumerates every key of the documented list, and reads what --set wrote. */
+/* vs_case_key_range against what vs_case_set accepts at each end and just beyond it (closed
+ * ends, joints.kn_N_mm3; open ends, arch.haunch_deg (0, 90)). */
+static void test_key_range(void **state) {
+  (void)state;
+  const char *keys[][2] = {{"joints", "kn_N_mm3"}, {"arch", "haunch_deg"}};
+  for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
+    double lo = NAN, hi = NAN;
+    int lo_in = -1, hi_in = -1;
+    assert_int_equal(vs_case_key_range(keys[i][0], keys[i][1], &lo, &lo_in, &hi, &hi_in), 0);
+    assert_true(lo < hi && lo_in == (i == 0) && hi_in == (i == 0));
+    /* an end: accepted iff included; just beyond it: refused */
+    const double probe[4] = {lo, hi, nextafter(lo, -INFINITY), nextafter(hi, INFINITY)};
+    const int accept[4] = {lo_in, hi_in, 0, 0};
+    for (int p = 0; p < 4; p++) {
+      vs_case c;
+      vs_case_defaults(&c);
+      vs_error err;
+      char set[128];
+      snprintf(set, sizeof set, "%s.%s=%.17g", keys[i][0], keys[i][1], probe[p]);
+      const vs_status st = vs_case_set(&c, set, &err);
+      if ((st == VS_OK) != accept[p]) fail_msg("%s: %s", set, st == VS_OK ? "accepted" : err.msg);
+    }
+  }
+  double lo = 0.0, hi = 0.0;
+  assert_true(vs_case_key_range("joints", "kn_N_mm3", &lo, NULL, &hi, NULL) == 0 && lo == 1e-4 &&
+              hi == 1e6);
+  assert_int_equal(vs_case_key_range("arch", "haunch_deg", NULL, NULL, NULL, NULL), 0);
+  lo = hi = 7.0; /* untouched on -1 */
+  assert_int_equal(vs_case_key_range("joints", "nope", &lo, NULL, &hi, NULL), -1);
+  assert_int_equal(vs_case_key_range("arch", "blocks_file", &lo, NULL, &hi, NULL), -1);
+  assert_int_equal(vs_case_key_range("support", "left_kind", &lo, NULL, &hi, NULL), -1);
+  assert_int_equal(vs_case_key_range(NULL, "kn_N_mm3", &lo, NULL, &hi, NULL), -1);
+  assert_true(lo == 7.0 && hi == 7.0);
+}
+
 static void test_key_iterator(void **state) {
   (void)state;
   assert_int_equal(vs_case_key_count(), (int)(NKEYS_TESTED + NKEYS_NAMED + NKEYS_TEXT));
@@ -1260,6 +1295,7 @@ static void test_ranges_keep_derived_finite(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_key_iterator),
+      cmocka_unit_test(test_key_range),
       cmocka_unit_test(test_support_kinds),
       cmocka_unit_test(test_named_key),
       cmocka_unit_test(test_load_and_analysis),

@@ -192,6 +192,54 @@ static void test_calibrate_inverts(void **s) {
   free(t);
 }
 
+/* --kn-min and --kn-max take joints.kn_N_mm3's range from the case's key table, [1e-4, 1e6]:
+ * the ends accepted (the run goes on to the case, whose bad --set is what stops it), the doubles
+ * just outside refused with the option and the range named, exit 2 and nothing on stdout. Runs
+ * that fail (at k_n 1e4 the 21-block reference arch's path finds no equilibrium beyond 0 mm)
+ * are reported with their cause, not only as no value. */
+static void test_calibrate_kn_range(void **s) {
+  (void)s;
+  double lo = 0.0, hi = 0.0;
+  assert_int_equal(vs_case_key_range("joints", "kn_N_mm3", &lo, NULL, &hi, NULL), 0);
+  char cmd[1024], out[256], err[256];
+  snprintf(out, sizeof out, "%s/knr.out", g_dir);
+  snprintf(err, sizeof err, "%s/knr.err", g_dir);
+  const struct {
+    const char *opts, *stderr_has;
+  } cases[] = {
+      {"--kn-max 1e6 --kn-min 1e-4 --set joints.nope=1", "joints.nope = 1: unknown key"},
+      {"--kn-max 1000000.0000000001", "--kn-max 1000000.0000000001: out of range (allowed: [0.0001, 1e+06])"},
+      {"--kn-max 2e6", "--kn-max 2e6: out of range (allowed: [0.0001, 1e+06])"},
+      {"--kn-min 9.9999e-5", "--kn-min 9.9999e-5: out of range (allowed: [0.0001, 1e+06])"},
+      {"--kn-min 1e6 --kn-max 1e6", "kn-min < kn-max <= 1e+06 N/mm^3"},
+  };
+  /* the message's range is the table's */
+  char range[64];
+  snprintf(range, sizeof range, "[%g, %g]", lo, hi);
+  assert_string_equal(range, "[0.0001, 1e+06]");
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+    snprintf(cmd, sizeof cmd, "%s calibrate %s --target-dz-pct 16 %s > %s 2> %s", VS_BINARY,
+             REFERENCE, cases[i].opts, out, err);
+    assert_int_equal(sh(cmd), 2);
+    char *e = slurp(err), *o = slurp(out);
+    if (strstr(e, cases[i].stderr_has) == NULL)
+      fail_msg("calibrate %s: stderr lacks '%s':\n%s", cases[i].opts, cases[i].stderr_has, e);
+    if (i == 0 && strstr(e, "--kn-") != NULL) fail_msg("--kn-max 1e6 refused:\n%s", e);
+    assert_string_equal(o, "");
+    free(e);
+    free(o);
+  }
+  /* failed runs: their count and the first one's cause */
+  snprintf(cmd, sizeof cmd, "%s calibrate %s --set " COARSE " --target-dz-pct 16 --kn-min 1e4 "
+           "--kn-max 1.5e4 -q > %s", VS_BINARY, REFERENCE, out);
+  assert_int_equal(sh(cmd), 1);
+  char *t = slurp(out);
+  if (strstr(t, "no run of the scan gives a collapse") == NULL ||
+      strstr(t, "9 of the 9 runs failed, the first at k_n = 10000 N/mm^3: no equilibrium") == NULL)
+    fail_msg("calibrate over failing runs:\n%s", t);
+  free(t);
+}
+
 /* Options that atoi/atof read as a prefix ("2x" as 2), and sizes whose product overflowed an
  * int (65536 x 65536 ran 0 cases with exit 0): refused before anything is created. */
 static void test_sweep_strict_options(void **s) {
@@ -894,6 +942,7 @@ int main(void) {
       cmocka_unit_test(test_sweep_table),
       cmocka_unit_test(test_sweep_bad_input),
       cmocka_unit_test(test_calibrate_inverts),
+      cmocka_unit_test(test_calibrate_kn_range),
       cmocka_unit_test(test_sweep_strict_options),
       cmocka_unit_test(test_sweep_interrupt_resume),
       cmocka_unit_test(test_sweep_torn_journal),

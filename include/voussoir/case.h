@@ -253,6 +253,14 @@ VS_API int vs_case_key(const vs_case *c, int i, const char **section, const char
  * such a key the value NaN. */
 VS_API int vs_case_key_text(const vs_case *c, int i, char *buf, size_t size);
 
+/* The range number key section.key accepts, from the key table: its ends and whether each is
+ * included (joints, kn_N_mm3: [1e-4, 1e6], both included; an end may be -/+INFINITY; a key that
+ * also takes 0, such as a support's rate, takes it besides this range). Returns 0, or -1 when
+ * there is no such key or it is text, a list or a named choice (the outputs are then untouched).
+ * Any output pointer may be NULL. A tool's option that sets a key takes its range from here. */
+VS_API int vs_case_key_range(const char *section, const char *key, double *min, int *min_incl,
+                             double *max, int *max_incl);
+
 /* For a key that is a named choice (support.left_kind, support.right_kind, dynamic.damping_model), the name of value `value` of key i;
  * NULL when key i is a number or value is out of range. */
 VS_API const char *vs_case_key_name_of(int i, int value);

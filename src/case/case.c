@@ -1041,6 +1041,17 @@ int vs_case_key_text(const vs_case *c, int i, char *buf, size_t size) {
   return 1;
 }
 
+int vs_case_key_range(const char *section, const char *key, double *min, int *min_incl,
+                      double *max, int *max_incl) {
+  const key_spec *k = section != NULL && key != NULL ? find_key(section, key) : NULL;
+  if (k == NULL || k->type == KEY_TEXT || k->type == KEY_LIST || k->names != NULL) return -1;
+  if (min != NULL) *min = k->min;
+  if (min_incl != NULL) *min_incl = k->min_incl;
+  if (max != NULL) *max = k->max;
+  if (max_incl != NULL) *max_incl = k->max_incl;
+  return 0;
+}
+
 const char *vs_case_key_name_of(int i, int value) {
   if (i < 0 || (size_t)i >= NKEYS || keys[i].names == NULL || value < 0) return NULL;
   for (int v = 0; keys[i].names[v] != NULL; v++)

@@ -146,10 +146,11 @@ static const char *const CAL_USAGE =
     "usage: voussoir calibrate CASE (--target-dz-pct X | --target-dx-pct X) [--kn-min N_MM3]\n"
     "                          [--kn-max N_MM3] [--tol-pct X] [--set SECTION.KEY=VALUE]... [-q]\n"
     "Finds the joint stiffness k_n (N/mm^3) whose collapse displacement component dz/L (or\n"
-    "dx/L), in %, equals the target: a log-spaced scan of [kn-min, kn-max] (default 0.1, 100)\n"
-    "brackets the first crossing, then bracketed false position (Illinois) on log k_n refines it\n"
-    "to tol-pct (default 0.01 % of L). Reports the bracket, every iteration and the sensitivity\n"
-    "d(delta_u/L)/d(log10 k_n) at the answer; says so when no k_n in the range reaches the target.\n"
+    "dx/L), in %, equals the target: a log-spaced scan of [kn-min, kn-max] (default 0.1, 100;\n"
+    "within joints.kn_N_mm3's range) brackets the first crossing, then bracketed false position\n"
+    "(Illinois) on log k_n refines it to tol-pct (default 0.01 % of L). Reports the bracket,\n"
+    "every iteration and the sensitivity d(delta_u/L)/d(log10 k_n) at the answer; says so when\n"
+    "no k_n in the range reaches the target, and why when runs failed.\n"
     "Values: --target-dz-pct 16 or --target-dz-pct=16.\n";
 
 enum { OPT_TARGET_DZ = 256, OPT_TARGET_DX, OPT_KN_MIN, OPT_KN_MAX, OPT_TOL, OPT_CAL_SET };
@@ -170,6 +171,15 @@ typedef struct {
   int have_target;
 } cal_args;
 
+/* joints.kn_N_mm3's range as closed bounds (an open end: the nearest double inside). */
+static int kn_range(double *lo, double *hi) {
+  int lo_in = 1, hi_in = 1;
+  if (vs_case_key_range("joints", "kn_N_mm3", lo, &lo_in, hi, &hi_in) != 0) return -1;
+  if (!lo_in) *lo = nextafter(*lo, INFINITY);
+  if (!hi_in) *hi = nextafter(*hi, -INFINITY);
+  return 0;
+}
+
 static int cal_option(void *user, int code, const char *value) {
   cal_args *a = user;
   const char *name = CALIBRATE.name;
@@ -179,8 +189,15 @@ static int cal_option(void *user, int code, const char *value) {
     a->have_target = 1;
     return cli_double(name, a->o.dx ? "--target-dx-pct" : "--target-dz-pct", value, 1e-9, 1e4,
                       &a->o.target);
-  case OPT_KN_MIN: return cli_double(name, "--kn-min", value, 1e-4, 1e4, &a->o.kn_min);
-  case OPT_KN_MAX: return cli_double(name, "--kn-max", value, 1e-4, 1e4, &a->o.kn_max);
+  case OPT_KN_MIN: case OPT_KN_MAX: { /* within joints.kn_N_mm3's range, from the key table */
+    double lo = 0.0, hi = 0.0;
+    if (kn_range(&lo, &hi) != 0) {
+      fprintf(stderr, "%s: no key joints.kn_N_mm3 in the case's table\n", name);
+      return VS_EXIT_FAILED;
+    }
+    return code == OPT_KN_MIN ? cli_double(name, "--kn-min", value, lo, hi, &a->o.kn_min)
+                              : cli_double(name, "--kn-max", value, lo, hi, &a->o.kn_max);
+  }
   case OPT_TOL: return cli_double(name, "--tol-pct", value, 1e-12, 100.0, &a->o.tol);
   case OPT_CAL_SET: return cli_add_set(name, value, a->o.sets, &a->o.nsets);
   case 'q': a->o.quiet = 1; return 0;
@@ -204,8 +221,11 @@ int vs_cli_calibrate(int argc, char **argv) {
     return VS_EXIT_BAD_INPUT;
   }
   if (!(a.o.kn_max > a.o.kn_min)) {
+    double lo = 0.0, hi = 0.0;
+    kn_range(&lo, &hi);
     fprintf(stderr, "voussoir calibrate: --kn-min %g, --kn-max %g (allowed: "
-                    "1e-4 <= kn-min < kn-max <= 10000 N/mm^3)\n", a.o.kn_min, a.o.kn_max);
+                    "%g <= kn-min < kn-max <= %g N/mm^3, joints.kn_N_mm3's range)\n", a.o.kn_min,
+            a.o.kn_max, lo, hi);
     return VS_EXIT_BAD_INPUT;
   }
   return vs_calibrate_main(&a.o);

@@ -29,9 +29,13 @@ typedef struct {
   int dx;        /* 1: the dx component, 0: dz */
   int quiet;
   int runs;
+  int failed;          /* runs that failed (not a run without a collapse) */
+  double failed_kn;    /* the first failed run's k_n, */
+  char failed_msg[sizeof ((vs_error *)0)->msg]; /* and its cause */
 } cal_ctx;
 
-/* Collapse displacement component (% of L) at k_n; NaN if the run has no collapse. */
+/* Collapse displacement component (% of L) at k_n; NaN if the run has no collapse or fails
+ * (the first failure's k_n and cause are kept for the report). */
 static double cal_eval(cal_ctx *c, double kn) {
   vs_case k = c->base;
   k.kn_N_mm3 = kn;
@@ -41,15 +45,32 @@ static double cal_eval(cal_ctx *c, double kn) {
   vs_error_clear(&err);
   double out = NAN;
   c->runs++;
-  if (vs_run_create(&k, &r, &err) == VS_OK && vs_run_execute(r, NULL, NULL, NULL, &err) == VS_OK &&
-      vs_run_collapse(r)->found) {
+  const int ok =
+      vs_run_create(&k, &r, &err) == VS_OK && vs_run_execute(r, NULL, NULL, NULL, &err) == VS_OK;
+  if (ok && vs_run_collapse(r)->found) {
     double dz, dx; /* as the run's JSON gives them (a blocks file's own span) */
     vs_study_components_pct(r, vs_run_collapse(r)->delta, &dz, &dx);
     out = c->dx ? dx : dz;
   }
   vs_run_destroy(&r);
-  if (!c->quiet) fprintf(stderr, "  k_n = %-12.6g  collapse %s/L = %.4f %%\n", kn, c->dx ? "dx" : "dz", out);
+  if (!ok && c->failed++ == 0) {
+    c->failed_kn = kn;
+    snprintf(c->failed_msg, sizeof c->failed_msg, "%s", err.msg);
+  }
+  if (!c->quiet) {
+    fprintf(stderr, "  k_n = %-12.6g  collapse %s/L = %.4f %%", kn, c->dx ? "dx" : "dz", out);
+    if (!ok) fprintf(stderr, "  (run failed: %s)", err.msg);
+    else if (isnan(out)) fprintf(stderr, "  (no collapse within support.max_mm)");
+    fputc('\n', stderr);
+  }
   return out;
+}
+
+/* Why some k_n gave no value: the failed runs, the first one's k_n and cause (nothing if none). */
+static void print_failures(const cal_ctx *c) {
+  if (c->failed > 0)
+    printf("%d of the %d runs failed, the first at k_n = %g N/mm^3: %s\n", c->failed, c->runs,
+           c->failed_kn, c->failed_msg);
 }
 
 int vs_calibrate_main(const vs_calibrate_opts *o) {
@@ -74,7 +95,7 @@ int vs_calibrate_main(const vs_calibrate_opts *o) {
   double kn[SCAN], f[SCAN];
   int lo = -1;
   for (int i = 0; i < SCAN; i++) {
-    kn[i] = kmin * pow(kmax / kmin, (double)i / (SCAN - 1));
+    kn[i] = fmin(kmax, kmin * pow(kmax / kmin, (double)i / (SCAN - 1))); /* kmax: not above it */
     f[i] = cal_eval(&c, kn[i]) - target;
     if (i > 0 && isfinite(f[i]) && isfinite(f[i - 1]) && (f[i - 1] <= 0.0) != (f[i] <= 0.0)) {
       lo = i - 1;
@@ -88,8 +109,13 @@ int vs_calibrate_main(const vs_calibrate_opts *o) {
         fmin_ = fmin(fmin_, f[i] + target);
         fmax_ = fmax(fmax_, f[i] + target);
       }
-    printf("no k_n in [%g, %g] N/mm^3 gives a collapse %s/L of %g %%: the scan gives %.4f..%.4f %%\n",
-           kmin, kmax, c.dx ? "dx" : "dz", target, fmin_, fmax_);
+    if (fmin_ <= fmax_)
+      printf("no k_n in [%g, %g] N/mm^3 gives a collapse %s/L of %g %%: the scan gives %.4f..%.4f %%\n",
+             kmin, kmax, c.dx ? "dx" : "dz", target, fmin_, fmax_);
+    else
+      printf("no k_n in [%g, %g] N/mm^3 gives a collapse %s/L of %g %%: no run of the scan gives a "
+             "collapse\n", kmin, kmax, c.dx ? "dx" : "dz", target);
+    print_failures(&c);
     return EXIT_FAIL;
   }
   /* Illinois false position on log k_n within the bracket */
@@ -121,15 +147,19 @@ int vs_calibrate_main(const vs_calibrate_opts *o) {
     }
   }
   if (!isfinite(fx)) {
-    printf("calibration failed: no collapse within support.max_mm near k_n = %.6g\n", pow(10.0, x));
+    printf("calibration failed: no collapse value near k_n = %.6g N/mm^3\n", pow(10.0, x));
+    print_failures(&c);
     return EXIT_FAIL;
   }
-  const double k = pow(10.0, x), h = 0.01; /* central difference over +-0.01 in log10 k_n */
-  const double fp = cal_eval(&c, pow(10.0, x + h)), fm = cal_eval(&c, pow(10.0, x - h));
+  /* central difference over +-0.01 in log10 k_n, one-sided at an end of [kn-min, kn-max] (beyond
+   * it k_n may leave joints.kn_N_mm3's range) */
+  const double k = pow(10.0, x), xp = fmin(x + 0.01, log10(kmax)), xm = fmax(x - 0.01, log10(kmin));
+  const double fp = cal_eval(&c, pow(10.0, xp)), fm = cal_eval(&c, pow(10.0, xm));
   printf("k_n = %.6g N/mm^3 gives collapse %s/L = %.4f %% (target %g %%, tolerance %g %%)\n", k,
          c.dx ? "dx" : "dz", fx + target, target, tol);
   printf("sensitivity d(%s/L)/d(log10 k_n) = %.4g %% per decade; %d runs\n", c.dx ? "dx" : "dz",
-         (fp - fm) / (2.0 * h), c.runs);
+         (fp - fm) / (xp - xm), c.runs);
+  if (!isfinite(fp - fm)) print_failures(&c);
   return fabs(fx) <= tol ? 0 : EXIT_FAIL;
 bad:
   fprintf(stderr, "voussoir calibrate: %s\n", err.msg);
