@@ -28,6 +28,10 @@ def check(cond, msg):
         sys.exit(1)
 
 
+def _u(v):
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
 def close(a, b, rel=1e-8):  # the JSON prints 10 significant digits
     return abs(a - b) <= rel * max(abs(a), abs(b), 1e-300)
 
@@ -186,6 +190,54 @@ with h5py.File(drec, "r") as f:
     check("energy_cracking" not in f["observables"], "dry record: no energy_cracking")
 with voussoir.open_record(drec) as r:
     check(r.cracking_energy() is None, "dry: Record.cracking_energy() is None")
+# Record.tensile_factor() and gf_factor(): /imperfections read with h5py, per joint. The dry
+# record's are nominal (1); a scattered run's as drawn: f_t 0 exactly at the debonded joints,
+# each law's draws on its own stream (f_t's the same with or without gf_cov), the log of the
+# lognormal factors (mean 1, CoV c) with mean -s^2/2 and variance s^2 = ln(1 + c^2); a record
+# without the datasets (written before them) gives None.
+with voussoir.open_record(drec) as r:
+    nj = int(r.parameters()["arch.voussoirs"]) + 1  # the joints: springings included
+    check(r.geometry("joint_length").values.shape[0] == nj, "joints: voussoirs + 1")
+    for get in (r.tensile_factor, r.gf_factor):
+        v = get()
+        check(v is not None and v.unit == "1" and np.all(v.values == 1.0) and
+              v.values.shape == (nj,), f"dry record's {get.__name__}: {v}")
+TCOV, GCOV, DEB = 0.3, 0.2, 0.25
+scat = SETS + ["imperfections.seed=7", f"imperfections.tensile_cov={TCOV}",
+               f"imperfections.debonded={DEB}", "dynamic.fall_s=0"]
+srec, frec = os.path.join(out, "scatter.h5"), os.path.join(out, "scatter_ft.h5")
+program(scat + [f"imperfections.gf_cov={GCOV}"], srec)
+program(scat, frec)
+with h5py.File(srec, "r") as f:
+    h5t, h5g = f["imperfections/tensile_factor"][()], f["imperfections/gf_factor"][()]
+    units = (f["imperfections/tensile_factor"].attrs["unit"], f["imperfections/gf_factor"].attrs["unit"])
+with voussoir.open_record(srec) as r:
+    t, g = r.tensile_factor(), r.gf_factor()
+check(np.array_equal(t.values, h5t) and np.array_equal(g.values, h5g) and
+      t.values.shape == g.values.shape == (nj,) == h5t.shape,
+      f"Record factors / h5py: {t.values} {g.values} / {h5t} {h5g}")
+check(t.unit == _u(units[0]) and g.unit == _u(units[1]) == "1", f"units {t.unit} {g.unit} / {units}")
+with voussoir.open_record(frec) as r:
+    t_only, g_only = r.tensile_factor().values, r.gf_factor().values
+check(np.array_equal(t_only, t.values) and np.all(g_only == 1.0),
+      f"gf_cov leaves f_t's draws: {t_only} / {t.values}, gf {g_only}")
+off = t.values == 0.0
+check(0 < off.sum() < len(off) and np.all(t.values[~off] > 0) and np.all(g.values > 0) and
+      len(np.unique(t.values[~off])) == (~off).sum() and len(np.unique(g.values)) == len(g.values),
+      f"debonded joints {off.sum()} of {len(off)}; factors {t.values} {g.values}")
+for vals, cov in ((np.log(t.values[~off]), TCOV), (np.log(g.values), GCOV)):
+    s2 = math.log(1 + cov * cov)
+    check(abs(vals.mean() + s2 / 2) < 4 * math.sqrt(s2 / len(vals)) and
+          0.3 * s2 < vals.var(ddof=1) < 2.5 * s2, f"log factors mean {vals.mean()} var "
+          f"{vals.var(ddof=1)} / {-s2 / 2} {s2}")
+old_rec = os.path.join(out, "old.h5")
+with h5py.File(srec, "r") as f, h5py.File(old_rec, "w") as o:
+    for k in f:
+        f.copy(k, o)
+    del o["imperfections/tensile_factor"], o["imperfections/gf_factor"]
+with voussoir.open_record(old_rec) as r:
+    check(r.tensile_factor() is None and r.gf_factor() is None, "no datasets: None")
+
 # Every joint debonded (imperfections.debonded = 1): a dry arch however strong the mortar, its
 # collapse the dry one's; no crack.
 deb = voussoir.run(voussoir.Case.from_file(case_path, dict(zip(("joints.tensile_MPa",

@@ -228,6 +228,29 @@ class Record:
             return None
         return self.series("energy_cracking")
 
+    def _imperfection(self, name):
+        path = f"imperfections/{name}"
+        if path not in self.file:
+            return None
+        ds = self.file[path]
+        return Series(ds[()], _text(ds.attrs["unit"]) if "unit" in ds.attrs else "1")
+
+    def tensile_factor(self):
+        """/imperfections/tensile_factor: each joint's mortar tensile strength f_t over the
+        nominal joints.tensile_MPa as drawn for the run (imperfections.tensile_cov, lognormal
+        with mean 1; 0 for a debonded joint, imperfections.debonded), a Series of shape
+        (joints,), unit '1'; all 1 without scatter (and for a dry run). None for a record
+        written before the mortar's scatter (no such dataset)."""
+        return self._imperfection("tensile_factor")
+
+    def gf_factor(self):
+        """/imperfections/gf_factor: each joint's mortar fracture energy G_f over the nominal
+        joints.gf_N_mm as drawn for the run (imperfections.gf_cov, lognormal with mean 1; drawn
+        for a debonded joint too, whose f_t of 0 makes it dry), a Series of shape (joints,),
+        unit '1'; all 1 without scatter. None for a record written before the mortar's scatter
+        (no such dataset)."""
+        return self._imperfection("gf_factor")
+
     def load_curve(self):
         """A load run's load-deflection curve (analysis.type = load), /summary/load, as a
         voussoir.LoadCurve: load_factor (1) and deflection (m, the loads' displacement from where
