@@ -2,6 +2,8 @@
  * return mapping, and exact large-rotation kinematics with first and second derivatives. */
 #include "voussoir/joint.h"
 
+#include "joint_law.h"
+
 #include <math.h>
 #include <string.h>
 
@@ -542,12 +544,6 @@ static void joint_rates(const kinematics *k, const double va[3], const double vb
 /* The law at one kinematic state: the normal response and the return-mapped shear. */
 typedef vs_joint_law_state law_state;
 
-/* A joint whose law has mortar or damage (joint.h, vs_joint_law's crack and kappa). */
-static inline int law_is_mortar(const vs_joint_law *law) {
-  return law->ft > 0.0 || law->c > 0.0 || law->crack[0] > 0.0 || law->crack[1] > 0.0 ||
-         law->env_n > 0;
-}
-
 /* law_eval for a mortared joint: vs_joint_normal_mortar and vs_joint_shear_mortar with the
  * law's damage. */
 static void law_eval_mortar(const vs_joint_geom *jg, const vs_joint_law *law, const kinematics *k,
@@ -570,7 +566,7 @@ static void law_eval_mortar(const vs_joint_geom *jg, const vs_joint_law *law, co
 
 static void law_eval(const vs_joint_geom *jg, const vs_joint_law *law, const kinematics *k,
                      double slip_p_old, law_state *ls) {
-  if (law_is_mortar(law)) {
+  if (vs_joint_law_is_mortar(law)) {
     law_eval_mortar(jg, law, k, slip_p_old, ls);
     return;
   }

@@ -1,6 +1,7 @@
 /* What the joints' states give at a state of the model (model.h): the states themselves, the
  * commit of their plastic slips, the support reactions and force, and the energies (elastic and
  * gravity), of the static unknowns and of the extended state. */
+#include "joint_law.h"
 #include "model_internal.h"
 
 #include <string.h>
@@ -116,8 +117,7 @@ int vs_model_set_branches(vs_model *m, const double *q, double delta, const sign
      * (vs_joint_shear_mortar, its trial at the committed slip: the limit at the committed
      * kappa, the bonded length its cracks leave) */
     double limit = law->mu * st.N / kst;
-    const int mortar = law->ft > 0.0 || law->c > 0.0 || law->crack[0] > 0.0 || law->crack[1] > 0.0;
-    if (mortar) {
+    if (vs_joint_law_is_mortar(law)) { /* the law law_eval follows */
       vs_shear_response sr;
       vs_joint_shear_mortar(law, j->depth, j->length, law->crack, st.N, m->slip_p[k],
                             m->slip_p[k], law->kappa, &sr);
