@@ -510,15 +510,13 @@ static void fill_joints(vs_output *o, const vs_run *run, const vs_run_sample *s,
   double *N = row_ptr(o, S_N), *T = row_ptr(o, S_T), *M = row_ptr(o, S_M);
   double *c = row_ptr(o, S_CONTACT), *gi = row_ptr(o, S_GAP_I), *ge = row_ptr(o, S_GAP_E);
   double *sl = row_ptr(o, S_SLIP), *sp = row_ptr(o, S_SLIP_P), *cr = row_ptr(o, S_CRACK);
-  const vs_model *m = vs_run_model(run);
   int8_t *h = row_ptr(o, S_HINGE);
   float *pts = row_ptr(o, S_JPTS);
+  vs_run_joint_cracks(run, cr); /* as committed, per joint from the intrados and extrados */
   for (int k = 0; k < o->nj; k++) {
     const vs_joint_state *st = &s->joints[k]; /* the run's evaluation at this state */
     N[k] = st->N, T[k] = st->T, M[k] = st->M, c[k] = st->contact;
     gi[k] = st->gap_i, ge[k] = st->gap_e, sl[k] = st->slip, sp[k] = st->slip_p;
-    const vs_joint_law *law = vs_model_joint_law(m, k);
-    cr[2 * k] = law->crack[0], cr[2 * k + 1] = law->crack[1];
     const char side = vs_hinges_joint_side(ho, st);
     h[k] = (int8_t)(side == 'I' ? 1 : side == 'E' ? 2 : 0);
     const vs_joint_geom *j = &g->joints[k];
